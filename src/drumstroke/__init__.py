@@ -1,0 +1,39 @@
+"""drumstroke: a human-like stroke palette for robotic drummers.
+
+A physical model of a drumstick bouncing on a drumhead, driven by the force of
+the thumb, makes single, double, triple and buzz strokes.
+
+>>> import drumstroke
+>>> stroke = drumstroke.simulate("low-high")
+>>> stroke.model, len(stroke.impacts) > 10
+('paper', True)
+"""
+
+from .errors import DrumstrokeError, ParameterError, SimulationError
+from .model import MODELS, Stick
+from .presets import PRESETS, preset
+from .profiles import Constant, PiecewiseLinear, Profile, Pulses, Samples, Sum
+from .recipe import Recipe
+from .stroke import Impacts, Stroke, simulate
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "MODELS",
+    "PRESETS",
+    "Constant",
+    "DrumstrokeError",
+    "Impacts",
+    "ParameterError",
+    "PiecewiseLinear",
+    "Profile",
+    "Pulses",
+    "Recipe",
+    "Samples",
+    "SimulationError",
+    "Stick",
+    "Stroke",
+    "Sum",
+    "preset",
+    "simulate",
+]

@@ -1,0 +1,49 @@
+"""Input checks shared by every public entry point.
+
+Each check raises :class:`~drumstroke.errors.ParameterError` with a message that
+names the parameter, the value and the allowed range, and returns the value as
+a float so callers can write ``x = check_real("x", x)``.
+"""
+
+import math
+from numbers import Real
+
+from .errors import ParameterError
+
+
+def check_real(name, value, *, low=-math.inf, high=math.inf, low_open=False, high_open=False, unit=""):
+    """Return ``value`` as a finite float within [low, high] (ends open on request)."""
+    allowed = _range_text(low, high, low_open, high_open, unit)
+    if isinstance(value, bool) or not isinstance(value, Real):
+        raise ParameterError(f"{name} must be a number in {allowed}, got {value!r}")
+    value = float(value)
+    if not math.isfinite(value):
+        raise ParameterError(f"{name} must be a finite number in {allowed}, got {value!r}")
+    too_low = value <= low if low_open else value < low
+    too_high = value >= high if high_open else value > high
+    if too_low or too_high:
+        raise ParameterError(f"{name} must be in {allowed}, got {value!r}")
+    return value
+
+
+def check_choice(name, value, choices):
+    """Return ``value`` if it is one of ``choices``."""
+    if value not in choices:
+        listed = ", ".join(repr(c) for c in choices)
+        raise ParameterError(f"{name} must be one of {listed}, got {value!r}")
+    return value
+
+
+def _range_text(low, high, low_open, high_open, unit):
+    left = "(" if low_open or low == -math.inf else "["
+    right = ")" if high_open or high == math.inf else "]"
+    text = f"{left}{_fmt(low)}, {_fmt(high)}{right}"
+    return f"{text} {unit}" if unit else text
+
+
+def _fmt(x):
+    if x == math.inf:
+        return "inf"
+    if x == -math.inf:
+        return "-inf"
+    return f"{x:g}"

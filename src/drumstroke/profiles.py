@@ -1,0 +1,412 @@
+"""Time profiles for the thumb's acceleration a(t) and for gravity g(t) (SPEC §2).
+
+Every kind is piecewise linear in time, so every profile reduces to
+:class:`Pieces`: edges 0 = e₀ < e₁ < … < eₙ = t_end and, on each [eᵢ, eᵢ₊₁),
+a start value and a slope. The solver treats every edge (a breakpoint, a pulse
+edge, a sample) as a step boundary and never integrates across one.
+
+Kinds (values in m/s², times in s):
+
+``constant``          one value for all t.
+``piecewise-linear``  linear through breakpoints, constant beyond the end points.
+``pulses``            a square wave: ``base`` plus ``amplitude`` during the first
+                      ``duty`` fraction of each ``period``, pulses starting at
+                      ``phase`` + k·``period``.
+``samples``           a recorded signal, a CSV file of ``t,value`` rows, linear
+                      between samples and constant beyond them.
+``sum``               the sum of other profiles.
+
+Examples
+--------
+>>> ramp = PiecewiseLinear([(0.0, 10.0), (1.0, 10.0), (1.05, 220.0)])
+>>> float(ramp(1.025))
+115.0
+>>> pulses = Pulses(amplitude=189.0, period=0.4, duty=0.05)
+>>> [float(v) for v in pulses([0.0, 0.019, 0.02, 0.4])]
+[189.0, 189.0, 0.0, 189.0]
+"""
+
+import csv
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ._checks import check_real
+from .errors import ParameterError
+
+ACCELERATION_LIMIT = 1.0e6
+"""Largest |value| of any profile (m/s²), some 4000 times the human range."""
+
+MAX_PIECES = 200_000
+"""Most pieces a profile may have before t_end (pulse edges, samples, breakpoints)."""
+
+
+@dataclass(frozen=True)
+class Pieces:
+    """A piecewise-linear function of time on [0, t_end].
+
+    Attributes
+    ----------
+    edges : ndarray [shape=(n + 1,)]
+        Strictly increasing, ``edges[0] = 0`` and ``edges[-1] = t_end`` (s).
+    values : ndarray [shape=(n,)]
+        The value just after each left edge (the right limit).
+    slopes : ndarray [shape=(n,)]
+        The slope on each piece (per s).
+    """
+
+    edges: np.ndarray
+    values: np.ndarray
+    slopes: np.ndarray
+
+    def __len__(self):
+        return len(self.values)
+
+
+class Profile:
+    """Base of all profiles: a function of time (s) with values in m/s²."""
+
+    kind = ""
+
+    def __call__(self, t):
+        """The profile's value at times ``t`` (s) [any shape]; right-continuous at jumps."""
+        raise NotImplementedError
+
+    def pieces(self, t_end):
+        """The profile on [0, t_end] as :class:`Pieces`."""
+        edges = np.unique(np.concatenate(([0.0, t_end], self._breaks(t_end))))
+        edges = edges[(edges >= 0.0) & (edges <= t_end)]
+        if len(edges) - 1 > MAX_PIECES:
+            raise ParameterError(
+                f"{self.kind} profile has {len(edges) - 1} pieces before t_end = {t_end:g} s; "
+                f"at most {MAX_PIECES} are allowed (shorten t_end or lengthen the period)"
+            )
+        left, right = edges[:-1], edges[1:]
+        width = right - left
+        # The value at a piece's midpoint is away from every jump, so the slope
+        # from the left edge to it is the piece's own.
+        start = self._right_limit(left)
+        middle = self(left + width / 2)
+        slopes = (middle - start) / (width / 2)
+        slopes[np.abs(slopes) * width < 1e-12 * (1.0 + np.abs(start))] = 0.0
+        return Pieces(edges, start, slopes)
+
+    def to_dict(self):
+        """The profile as a plain dict, in the form a recipe's table takes."""
+        raise NotImplementedError
+
+    def _breaks(self, t_end):
+        """Times in [0, t_end] where the profile jumps or bends."""
+        raise NotImplementedError
+
+    def _right_limit(self, t):
+        return np.asarray(self(t), dtype=float)
+
+    def __add__(self, other):
+        if not isinstance(other, Profile):
+            return NotImplemented
+        return Sum([self, other])
+
+
+@dataclass(frozen=True, eq=True)
+class Constant(Profile):
+    """One value for all time.
+
+    Parameters
+    ----------
+    value : float, |value| ≤ 1e6
+        m/s².
+    """
+
+    value: float
+    kind = "constant"
+
+    def __post_init__(self):
+        object.__setattr__(self, "value", _check_level("constant.value", self.value))
+
+    def __call__(self, t):
+        return np.full(np.shape(t), self.value)
+
+    def _breaks(self, t_end):
+        return np.empty(0)
+
+    def to_dict(self):
+        return {"kind": self.kind, "value": self.value}
+
+
+@dataclass(frozen=True, eq=True)
+class PiecewiseLinear(Profile):
+    """Linear through breakpoints, constant beyond the first and last.
+
+    Parameters
+    ----------
+    points : sequence of (t, value) pairs
+        t (s) ≥ 0 and strictly increasing; value (m/s²) with |value| ≤ 1e6.
+        At least one point.
+    """
+
+    points: tuple
+    kind = "piecewise-linear"
+    _t: np.ndarray = field(init=False, repr=False, compare=False)
+    _v: np.ndarray = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self):
+        t, v = _check_points(f"{self.kind}.points", self.points)
+        object.__setattr__(self, "points", tuple(zip(t.tolist(), v.tolist())))
+        object.__setattr__(self, "_t", t)
+        object.__setattr__(self, "_v", v)
+
+    def __call__(self, t):
+        return np.interp(np.asarray(t, dtype=float), self._t, self._v)
+
+    def _breaks(self, t_end):
+        return self._t
+
+    def to_dict(self):
+        return {"kind": self.kind, "points": [list(p) for p in self.points]}
+
+
+@dataclass(frozen=True, eq=True)
+class Samples(PiecewiseLinear):
+    """A recorded signal read from a CSV file of ``t,value`` rows.
+
+    Linear between samples and constant beyond them. A header row is allowed;
+    times (s) must be ≥ 0 and strictly increasing.
+
+    Parameters
+    ----------
+    file : str or Path
+        The CSV file. Read once, when the profile is made.
+    """
+
+    points: tuple = field(init=False)
+    file: str = ""
+    kind = "samples"
+
+    def __init__(self, file):
+        object.__setattr__(self, "file", str(file))
+        object.__setattr__(self, "points", _read_samples(Path(file)))
+        self.__post_init__()
+
+    def to_dict(self):
+        return {"kind": self.kind, "file": self.file}
+
+
+@dataclass(frozen=True, eq=True)
+class Pulses(Profile):
+    """Square-wave finger pulses (paper Fig. 7: 189 m/s², 0.4 s, 5 %).
+
+    Parameters
+    ----------
+    amplitude : float, |amplitude| ≤ 1e6
+        Added to ``base`` while a pulse is on (m/s²).
+    period : float in [0.001, 3600]
+        s.
+    duty : float in (0, 1)
+        Fraction of each period the pulse is on.
+    phase : float in [0, 3600]
+        Start of the first pulse (s); pulses start at phase + k·period.
+    base : float, |base| ≤ 1e6
+        Value between pulses (m/s²).
+    """
+
+    amplitude: float
+    period: float
+    duty: float
+    phase: float = 0.0
+    base: float = 0.0
+    kind = "pulses"
+
+    def __post_init__(self):
+        checked = {
+            "amplitude": _check_level("pulses.amplitude", self.amplitude),
+            "period": check_real("pulses.period", self.period, low=1e-3, high=3600.0, unit="s"),
+            "duty": check_real("pulses.duty", self.duty, low=0.0, high=1.0, low_open=True, high_open=True),
+            "phase": check_real("pulses.phase", self.phase, low=0.0, high=3600.0, unit="s"),
+            "base": _check_level("pulses.base", self.base),
+        }
+        if abs(checked["amplitude"] + checked["base"]) > ACCELERATION_LIMIT:
+            raise ParameterError(
+                f"pulses.base + pulses.amplitude must be in [-1e+06, 1e+06] m/s^2, "
+                f"got {checked['base'] + checked['amplitude']!r}"
+            )
+        for name, value in checked.items():
+            object.__setattr__(self, name, value)
+
+    def __call__(self, t):
+        t = np.asarray(t, dtype=float)
+        k = np.floor((t - self.phase) / self.period)
+        start = self.phase + k * self.period
+        on = (t >= self.phase) & (t - start < self.duty * self.period)
+        return np.where(on, self.base + self.amplitude, self.base)
+
+    def _breaks(self, t_end):
+        k = np.arange(0, math.floor(max(t_end - self.phase, 0.0) / self.period) + 1)
+        rises = self.phase + k * self.period
+        return np.concatenate((rises, rises + self.duty * self.period))
+
+    def _right_limit(self, t):
+        # Evaluate just inside each piece so a rounding error in the modulo
+        # never puts a pulse edge on the wrong side.
+        return self(t + 1e-9 * self.duty * self.period)
+
+    def to_dict(self):
+        return {
+            "kind": self.kind,
+            "amplitude": self.amplitude,
+            "period": self.period,
+            "duty": self.duty,
+            "phase": self.phase,
+            "base": self.base,
+        }
+
+
+@dataclass(frozen=True, eq=True)
+class Sum(Profile):
+    """The sum of other profiles.
+
+    Parameters
+    ----------
+    parts : sequence of Profile
+        At least one.
+    """
+
+    parts: tuple
+    kind = "sum"
+
+    def __post_init__(self):
+        parts = tuple(self.parts) if isinstance(self.parts, (list, tuple)) else None
+        if not parts or not all(isinstance(p, Profile) for p in parts):
+            raise ParameterError(f"sum.parts must be a non-empty list of profiles, got {self.parts!r}")
+        object.__setattr__(self, "parts", parts)
+
+    def __call__(self, t):
+        return sum(part(t) for part in self.parts)
+
+    def _right_limit(self, t):
+        return sum(part._right_limit(t) for part in self.parts)
+
+    def _breaks(self, t_end):
+        return np.concatenate([part._breaks(t_end) for part in self.parts])
+
+    def to_dict(self):
+        return {"kind": self.kind, "parts": [part.to_dict() for part in self.parts]}
+
+
+def profile_from_dict(spec, *, name="force", base_dir=None):
+    """Build a profile from a recipe table such as ``{"kind": "constant", "value": 9.8}``.
+
+    Parameters
+    ----------
+    spec : dict
+        The table. Keys are the profile's parameters plus ``kind``.
+    name : str
+        Where the table came from, for error messages (e.g. ``"force"``).
+    base_dir : Path or None
+        Directory that a ``samples`` file name is relative to.
+    """
+    if not isinstance(spec, dict):
+        raise ParameterError(f"{name} must be a table with a 'kind' key, got {spec!r}")
+    spec = dict(spec)
+    kind = spec.pop("kind", None)
+    if kind not in _KINDS:
+        raise ParameterError(f"{name}.kind must be one of {', '.join(map(repr, _KINDS))}, got {kind!r}")
+    allowed, required = _KINDS[kind]
+    unknown = sorted(set(spec) - set(allowed))
+    if unknown:
+        raise ParameterError(f"{name} ({kind}) has unknown key {unknown[0]!r}; allowed keys: {', '.join(allowed)}")
+    missing = [key for key in required if key not in spec]
+    if missing:
+        raise ParameterError(f"{name} ({kind}) needs the key {missing[0]!r}")
+    if kind == "constant":
+        return Constant(spec["value"])
+    if kind == "piecewise-linear":
+        return PiecewiseLinear(spec["points"])
+    if kind == "pulses":
+        return Pulses(**spec)
+    if kind == "samples":
+        file = spec["file"]
+        if not isinstance(file, str) or not file:
+            raise ParameterError(f"{name}.file must be a path to a CSV file, got {file!r}")
+        path = Path(file)
+        if base_dir is not None and not path.is_absolute():
+            path = Path(base_dir) / path
+        return Samples(path)
+    parts = spec["parts"]
+    if not isinstance(parts, list) or not parts:
+        raise ParameterError(f"{name}.parts must be a non-empty list of tables, got {parts!r}")
+    return Sum([profile_from_dict(p, name=f"{name}.parts[{i}]", base_dir=base_dir) for i, p in enumerate(parts)])
+
+
+_KINDS = {
+    "constant": (("value",), ("value",)),
+    "piecewise-linear": (("points",), ("points",)),
+    "pulses": (("amplitude", "period", "duty", "phase", "base"), ("amplitude", "period", "duty")),
+    "samples": (("file",), ("file",)),
+    "sum": (("parts",), ("parts",)),
+}
+
+KINDS = tuple(_KINDS)
+"""The names of the profile kinds."""
+
+
+def _check_level(name, value):
+    return check_real(name, value, low=-ACCELERATION_LIMIT, high=ACCELERATION_LIMIT, unit="m/s^2")
+
+
+def _check_points(name, points):
+    try:
+        array = np.array(points, dtype=float)
+    except (TypeError, ValueError):
+        raise ParameterError(f"{name} must be a list of [t, value] pairs of numbers, got {points!r}") from None
+    if array.ndim != 2 or array.shape[1] != 2 or len(array) == 0:
+        raise ParameterError(f"{name} must be a non-empty list of [t, value] pairs, got {points!r}")
+    t, v = array[:, 0], array[:, 1]
+    for i, (ti, vi) in enumerate(array):
+        check_real(f"{name}[{i}] time", ti, low=0.0, high=3600.0, unit="s")
+        _check_level(f"{name}[{i}] value", vi)
+    steps = np.diff(t)
+    if np.any(steps <= 0):
+        i = int(np.argmax(steps <= 0)) + 1
+        raise ParameterError(
+            f"{name} times must be strictly increasing; point {i} has t = {t[i]!r} s "
+            f"after t = {t[i - 1]!r} s (allowed: t > {t[i - 1]!r})"
+        )
+    return t.copy(), v.copy()
+
+
+def _read_samples(path):
+    try:
+        text = path.read_text()
+    except (OSError, UnicodeDecodeError) as error:
+        reason = error.strerror if isinstance(error, OSError) else "not a UTF-8 text file"
+        raise ParameterError(f"samples.file {str(path)!r} cannot be read: {reason}") from None
+    rows = []
+    for number, row in enumerate(csv.reader(text.splitlines()), start=1):
+        if not row or row[0].lstrip().startswith("#"):
+            continue
+        try:
+            if len(row) != 2:
+                raise ValueError
+            rows.append((float(row[0]), float(row[1])))
+        except ValueError:
+            is_header = not rows and not any(_is_number(cell) for cell in row)
+            if not is_header:
+                raise ParameterError(
+                    f"samples.file {str(path)!r} line {number} must be 't,value' with two numbers, "
+                    f"got {','.join(row)!r}"
+                ) from None
+    if not rows:
+        raise ParameterError(f"samples.file {str(path)!r} has no 't,value' rows")
+    t, v = _check_points(f"samples.file {str(path)!r}", rows)
+    return tuple(zip(t.tolist(), v.tolist()))
+
+
+def _is_number(text):
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True

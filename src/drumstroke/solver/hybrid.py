@@ -1,0 +1,331 @@
+"""The hybrid solver: flights, impacts, the Zeno tail, rest and lift-off.
+
+The time line is cut at every edge of a(t) and g(t), so on each piece the
+forcing C(t) = (k·g + k′·a)/D is linear, C₀ + C₁·(t − t₀); no step ever
+crosses an edge. On a piece:
+
+* **Constant forcing pressing down** (C₁ = 0, C₀ > 0) with the stick below the
+  vertical: every flight is an elliptic arc in closed form (:mod:`.elliptic`).
+  After an impact at speed w the launch speeds are c·w, c²·w, …, so a whole
+  run of bounces is computed at once: their flight times, their impact times
+  (a cumulative sum), their speeds.
+* **Anything else** (a ramp, forcing that lifts, a flight near the vertical):
+  Taylor steps of order 24 (:mod:`.taylor`), with the head crossing located on
+  each step's polynomial to full precision.
+
+**Impacts** reverse and scale the speed, ω⁺ = −c·ω⁻ (paper Eq. 6).
+
+**Zeno.** With c < 1 and the forcing pressing down, the bounces accumulate:
+infinitely many impacts before a finite time. Once a launch speed L is below
+:data:`ZENO_SPEED`, flights are so short that the forcing is constant over the
+rest of them and each lasts 2L/A with A = C·cos θ_max (the error of that
+parabola is O(L²) relative, below 1e-12). The tail of the geometric series
+then sums to 2L/(A·(1 − c)): the stick comes to rest at that accumulation
+time. Impacts below ``ZENO_SPEED`` (tip speeds under a micrometre per
+second) are part of that tail and are not listed.
+
+**Rest.** The stick stays on the head while C ≥ 0 and lifts off the moment C
+turns negative, which only un-natural profiles do (a < 0 or g < 0).
+
+**Limits.** The model covers θ in [θ_max, π/2): a stick driven past the
+vertical raises :class:`~drumstroke.errors.SimulationError`, and so does a
+stroke with more than :data:`MAX_IMPACTS` impacts.
+"""
+
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import SimulationError
+from . import elliptic, taylor
+from .arcs import ArcBuilder, Arcs
+
+ZENO_SPEED = 1e-6
+"""Launch speed (rad/s) below which the rest of a bounce sequence is summed, not simulated."""
+
+MAX_IMPACTS = 5_000_000
+"""Most impacts one stroke may have."""
+
+_CHUNK = 4096
+_MAX_STEP = 1.0
+_NEARLY_VERTICAL = 1e-9
+
+
+@dataclass(frozen=True)
+class Solution:
+    """What the solver found.
+
+    Attributes
+    ----------
+    arcs : Arcs
+        The trajectory.
+    impact_t : ndarray [shape=(n,)]
+        Impact times (s), strictly increasing.
+    impact_omega : ndarray [shape=(n,)]
+        ω just before each impact (rad/s, ≤ 0).
+    rests : ndarray [shape=(r, 2)]
+        Start and end (s) of each time the stick lies on the head.
+    """
+
+    arcs: Arcs
+    impact_t: np.ndarray
+    impact_omega: np.ndarray
+    rests: np.ndarray
+
+
+def solve(coefficients, force, gravity, *, theta0, omega0, cor, t_end, method="auto", progress=None):
+    """Simulate the stick from (θ₀, ω₀) at t = 0 to ``t_end``.
+
+    Parameters
+    ----------
+    coefficients : drumstroke.model.Coefficients
+    force, gravity : drumstroke.profiles.Profile
+        a(t) and g(t) (m/s²).
+    theta0 : float in [θ_max, π/2)
+        rad.
+    omega0 : float
+        rad/s.
+    cor : float in [0, 1]
+        Coefficient of restitution.
+    t_end : float > 0
+        s.
+    method : {"auto", "taylor"}
+        "taylor" integrates every flight numerically (a cross-check of the
+        closed forms); "auto" uses the closed forms wherever they apply.
+    progress : callable or None
+        Called now and then with the fraction of ``t_end`` done.
+
+    Returns
+    -------
+    Solution
+    """
+    edges, c0, c1 = _forcing(coefficients, force, gravity, t_end)
+    run = _Run(coefficients.theta_max, theta0, omega0, cor, closed_forms=(method == "auto"))
+    last_report = time.monotonic()
+    for i in range(len(c0)):
+        run.advance(edges[i], edges[i + 1], c0[i], c1[i])
+        if progress is not None and time.monotonic() - last_report > 0.1:
+            progress(edges[i + 1] / t_end)
+            last_report = time.monotonic()
+    return run.solution(t_end)
+
+
+def _forcing(coefficients, force, gravity, t_end):
+    """Edges of the pieces of C(t), with C and its slope at the start of each."""
+    a, g = force.pieces(t_end), gravity.pieces(t_end)
+    edges = np.union1d(a.edges, g.edges)
+    left = edges[:-1]
+    values, slopes = [], []
+    for pieces in (a, g):
+        i = np.searchsorted(pieces.edges, left, side="right") - 1
+        values.append(pieces.values[i] + pieces.slopes[i] * (left - pieces.edges[i]))
+        slopes.append(pieces.slopes[i])
+    c0 = coefficients.torque_rate(values[1], values[0])
+    c1 = coefficients.torque_rate(slopes[1], slopes[0])
+    return edges, c0, c1
+
+
+def _presses(c_now, slope):
+    """Whether forcing C (s⁻²) with slope (s⁻³) holds a resting stick on the head."""
+    return c_now > 0.0 or (c_now == 0.0 and slope >= 0.0)
+
+
+class _Run:
+    """The solver's state as it walks through the pieces."""
+
+    def __init__(self, theta_max, theta0, omega0, cor, *, closed_forms):
+        self.theta_max = theta_max
+        self.sin_head = math.sin(theta_max)
+        self.cos_head = math.cos(theta_max)
+        self.cor = cor
+        self.closed_forms = closed_forms
+        self.t, self.theta, self.omega = 0.0, theta0, omega0
+        self.resting = False
+        self.lifting = False
+        self.arcs = ArcBuilder(theta_max)
+        self.impact_t, self.impact_omega = [], []
+        self.n_impacts = 0
+        self.rests = []
+
+    def advance(self, ts, te, c0, c1):
+        """Carry the stick from ``ts`` to ``te`` where C(t) = c0 + c1·(t − ts)."""
+        self.t = ts
+        while self.t < te:
+            c_now = c0 + c1 * (self.t - ts)
+            if self.resting:
+                lift = _lift_off(ts, te, c0, c1, self.t)
+                if lift is None:
+                    return
+                self._lift(lift)
+                continue
+            if self.theta == self.theta_max and not self.lifting:
+                if self.omega < 0.0:
+                    self._impact(self.t, self.omega, c_now, c1, te, ts)
+                    continue
+                if self.omega == 0.0 and _presses(c_now, c1):
+                    self._rest(self.t, self.t)
+                    continue
+            if self.closed_forms and c1 == 0.0 and c0 > 0.0:
+                m = elliptic.parameter(math.sin(self.theta), self.omega, c0)
+                if m < 1.0 - _NEARLY_VERTICAL:
+                    self._closed_form(te, c0, m)
+                    continue
+            self._taylor_step(ts, te, c0, c1)
+
+    # -- closed forms ------------------------------------------------------
+
+    def _closed_form(self, te, c, m):
+        """Fly under constant C > 0 until the head, then bounce on until ``te`` or rest."""
+        t, sin_theta, omega = self.t, math.sin(self.theta), self.omega
+        since_apex = float(elliptic.time_from_apex(sin_theta, omega, c, m))
+        apex = t + since_apex if omega > 0.0 else t - since_apex
+        speed = math.sqrt(omega * omega + 2.0 * c * max(sin_theta - self.sin_head, 0.0))
+        hit = apex + float(elliptic.time_from_apex(self.sin_head, speed, c, m))
+        self.arcs.elliptic(t, apex, c, m)
+        if hit > te:
+            self._fly_to(te, apex, c, m)
+            return
+        self._record(hit, -speed)
+        self._bounces(hit, speed, c, te)
+
+    def _bounces(self, t, speed, c, te):
+        """The run of bounces after an impact at ``t`` with speed ``speed`` under constant C."""
+        cor = self.cor
+        tail_rate = 2.0 / (c * self.cos_head * (1.0 - cor)) if cor < 1.0 else math.inf
+        launch = cor * speed
+        while True:
+            if launch == 0.0:
+                self._rest(t, t)
+                return
+            if launch < ZENO_SPEED and t + launch * tail_rate <= te:
+                self._rest(t, t + launch * tail_rate)
+                return
+            n = _CHUNK
+            if launch >= ZENO_SPEED and cor < 1.0:
+                n = min(n, max(1, math.ceil(math.log(ZENO_SPEED / launch) / math.log(cor)) + 1))
+            launches = launch * cor ** np.arange(n)
+            flights = elliptic.flight_time(launches, c, self.sin_head)
+            ends = t + np.cumsum(flights)
+            starts = np.concatenate(([t], ends[:-1]))
+            done = int(np.searchsorted(ends, te, side="right"))
+            closing = None
+            below = np.flatnonzero(launches < ZENO_SPEED)
+            if len(below) and below[0] <= done:
+                f = below[0]
+                accumulation = starts[f] + launches[f] * tail_rate
+                if accumulation <= te:
+                    done, closing = f, accumulation
+            m = elliptic.parameter(self.sin_head, launches, c)
+            self.arcs.elliptic(starts[:done], starts[:done] + flights[:done] / 2, c, m[:done])
+            self._record(ends[:done], -launches[:done])
+            if closing is not None:
+                self._rest(starts[done], closing)
+                return
+            if done < n:
+                start, apex = starts[done], starts[done] + flights[done] / 2
+                self.arcs.elliptic(start, apex, c, m[done])
+                if start == te:
+                    self.t, self.theta, self.omega = te, self.theta_max, launches[done]
+                else:
+                    self._fly_to(te, apex, c, m[done])
+                return
+            t, launch = ends[-1], launches[-1] * cor
+
+    def _fly_to(self, te, apex, c, m):
+        theta, omega = elliptic.state(te - apex, c, m)
+        self.t, self.theta, self.omega = te, max(float(theta), self.theta_max), float(omega)
+
+    # -- Taylor steps ------------------------------------------------------
+
+    def _taylor_step(self, ts, te, c0, c1):
+        t = self.t
+        c_now = c0 + c1 * (t - ts)
+        if self.lifting:
+            c_now = min(c_now, 0.0)  # round-off must not press a lifting stick back down
+            self.lifting = False
+        x = taylor.coefficients(self.theta, self.omega, c_now, c1)
+        h = min(taylor.step_size(x), te - t, _MAX_STEP)
+        hit = taylor.first_crossing(x, self.theta_max, h, downward=True)
+        top = taylor.first_crossing(x, 0.5 * math.pi, h if hit is None else hit, downward=False)
+        if top is not None:
+            raise SimulationError(
+                f"the stick reaches the vertical (theta = pi/2 rad) at t = {t + top:.6g} s; the model covers "
+                f"theta in [theta_max, pi/2): lower omega0 or the upward forcing (negative force or gravity)"
+            )
+        self.arcs.taylor(t, x)
+        if hit is None:
+            theta, omega = taylor.evaluate(x, h)
+            self.t = te if h == te - t else t + h
+            self.theta, self.omega = max(float(theta), self.theta_max), float(omega)
+            return
+        _, omega = taylor.evaluate(x, hit)
+        t_hit = t + hit
+        self._impact(t_hit, min(float(omega), 0.0), c0 + c1 * (t_hit - ts), c1, te, ts)
+
+    # -- impacts, rest, lift-off ------------------------------------------
+
+    def _impact(self, t, omega, c_now, c1, te, ts):
+        """An impact at ``t`` with ω⁻ = ``omega`` where the forcing is ``c_now``, outside the closed forms."""
+        self._record(t, omega)
+        launch = -self.cor * omega
+        self.t, self.theta, self.omega = t, self.theta_max, launch
+        if not _presses(c_now, c1):
+            self.lifting = launch == 0.0
+            return
+        if launch == 0.0:
+            self._rest(t, t)
+        elif launch < ZENO_SPEED and self.cor < 1.0:
+            accumulation = t + 2.0 * launch / (c_now * self.cos_head * (1.0 - self.cor))
+            if accumulation <= te and c_now + c1 * (accumulation - t) > 0.0:
+                self._rest(t, accumulation)
+
+    def _record(self, t, omega):
+        t, omega = np.atleast_1d(t), np.atleast_1d(omega)
+        self.impact_t.append(t)
+        self.impact_omega.append(omega)
+        self.n_impacts += len(t)
+        if self.n_impacts > MAX_IMPACTS:
+            raise SimulationError(
+                f"the stroke has more than {MAX_IMPACTS} impacts by t = {float(t[-1]):.6g} s; "
+                f"shorten t_end or lower cor (now {self.cor:g})"
+            )
+
+    def _rest(self, arc_start, rest_start):
+        """The stick lies on the head from ``rest_start``; its trajectory reads θ_max from ``arc_start``."""
+        self.arcs.rest(arc_start)
+        self.rests.append([rest_start, math.nan])
+        self.t, self.theta, self.omega = rest_start, self.theta_max, 0.0
+        self.resting = True
+
+    def _lift(self, t):
+        self.rests[-1][1] = t
+        self.t, self.theta, self.omega = t, self.theta_max, 0.0
+        self.resting = False
+        self.lifting = True
+
+    def solution(self, t_end):
+        if self.resting:
+            self.rests[-1][1] = t_end
+        impact_t = np.concatenate(self.impact_t) if self.impact_t else np.empty(0)
+        impact_omega = np.concatenate(self.impact_omega) if self.impact_omega else np.empty(0)
+        keep = impact_t <= t_end
+        return Solution(
+            arcs=self.arcs.build(),
+            impact_t=impact_t[keep],
+            impact_omega=impact_omega[keep],
+            rests=np.array(self.rests, dtype=float).reshape(-1, 2),
+        )
+
+
+def _lift_off(ts, te, c0, c1, t):
+    """When, in [t, te), a resting stick lifts off under C = c0 + c1·(t − ts); None if it stays."""
+    c_now = c0 + c1 * (t - ts)
+    if c_now < 0.0 or (c_now == 0.0 and c1 < 0.0):
+        return t
+    if c1 < 0.0:
+        zero = ts - c0 / c1
+        if zero < te:
+            return max(zero, t)
+    return None

@@ -1,0 +1,266 @@
+"""A simulated stroke and the function that makes one (SPEC §3).
+
+Examples
+--------
+>>> stroke = simulate("free-bounce")
+>>> stroke.model
+'paper'
+>>> round(float(stroke.impacts.t[0]), 6)
+0.225986
+>>> t, theta, omega = stroke.sample(1000.0)
+>>> len(t), bool(theta.min() >= stroke.recipe.theta_max)
+(5001, True)
+"""
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ._checks import check_choice, check_real
+from .errors import ParameterError
+from .model import coefficients
+from .presets import PRESETS, preset
+from .profiles import Constant, Profile
+from .recipe import Recipe
+from .solver import Arcs, solve
+
+LEVEL_REFERENCE = 1.0
+"""Tip speed (m/s) of a 0 dB impact: ``level_db = 20·log10(tip_speed / 1 m/s)``."""
+
+DEFAULT_RATE = 1000.0
+"""Sampling rate (Hz): the robot's control rate."""
+
+MAX_SAMPLES = 50_000_000
+
+
+@dataclass(frozen=True)
+class Impacts:
+    """The impacts of a stroke.
+
+    Attributes
+    ----------
+    t : ndarray [shape=(n,)]
+        Impact times (s), strictly increasing.
+    omega : ndarray [shape=(n,)]
+        Angular speed just before each impact (rad/s, ≤ 0).
+    tip_distance : float
+        x, fulcrum to tip (m).
+    """
+
+    t: np.ndarray
+    omega: np.ndarray
+    tip_distance: float
+
+    def __len__(self):
+        return len(self.t)
+
+    @property
+    def tip_speed(self):
+        """|ω⁻|·x, the tip's speed at each impact (m/s) [shape=(n,)]."""
+        return np.abs(self.omega) * self.tip_distance
+
+    @property
+    def level_db(self):
+        """20·log10(tip speed / 1 m/s), the dynamic level of each impact (dB) [shape=(n,)]."""
+        with np.errstate(divide="ignore"):
+            return 20.0 * np.log10(self.tip_speed / LEVEL_REFERENCE)
+
+
+@dataclass(frozen=True)
+class Stroke:
+    """The result of one simulation.
+
+    Attributes
+    ----------
+    recipe : Recipe
+        What made it.
+    impacts : Impacts
+    rests : ndarray [shape=(r, 2)]
+        Start and end (s) of each time the stick lies on the head.
+    arcs : Arcs
+        The exact trajectory; use :meth:`sample` or :meth:`state` to read it.
+    """
+
+    recipe: Recipe
+    impacts: Impacts
+    rests: np.ndarray
+    arcs: Arcs
+
+    @property
+    def model(self):
+        """The model that made the stroke, ``"paper"`` or ``"geometry"``."""
+        return self.recipe.model
+
+    @property
+    def t_end(self):
+        """Duration (s)."""
+        return self.recipe.t_end
+
+    @property
+    def rest_time(self):
+        """When the stick comes to rest for good (s), or None if it still moves at ``t_end``.
+
+        For constant forcing with c < 1 this is the accumulation time of the
+        bounces. A stick that rests and lifts off again (un-natural profiles) has
+        the start of its last rest here, if that rest lasts to ``t_end``; all
+        rests are in :attr:`rests`.
+        """
+        if len(self.rests) and self.rests[-1, 1] >= self.t_end:
+            return float(self.rests[-1, 0])
+        return None
+
+    def state(self, t):
+        """θ (rad) and ω (rad/s) at times ``t`` (s) in [0, t_end], exact.
+
+        At an impact time, the state just after the impact.
+        """
+        t = np.asarray(t, dtype=float)
+        if not np.all(np.isfinite(t)) or np.any(t < 0.0) or np.any(t > self.t_end):
+            bad = t[~(np.isfinite(t) & (t >= 0.0) & (t <= self.t_end))].flat[0]
+            raise ParameterError(f"t must be in [0, {self.t_end:g}] s, got {float(bad)!r}")
+        return self.arcs.evaluate(t)
+
+    def sample(self, rate=DEFAULT_RATE):
+        """The trajectory at ``rate`` samples per second, exact at each sample time.
+
+        Parameters
+        ----------
+        rate : float in (0, 1e6]
+            Hz.
+
+        Returns
+        -------
+        t : ndarray [shape=(n,)]
+            k/rate for k = 0, 1, … up to ``t_end`` (s).
+        theta : ndarray [shape=(n,)]
+            rad, never below the head.
+        omega : ndarray [shape=(n,)]
+            rad/s.
+        """
+        rate = check_real("rate", rate, low=0.0, high=1e6, low_open=True, unit="Hz")
+        n = math.floor(self.t_end * rate * (1.0 + 1e-12)) + 1
+        if n > MAX_SAMPLES:
+            raise ParameterError(
+                f"rate x t_end gives {n} samples; at most {MAX_SAMPLES} are allowed (rate must be at most "
+                f"{MAX_SAMPLES / self.t_end:g} Hz for t_end = {self.t_end:g} s)"
+            )
+        t = np.minimum(np.arange(n) / rate, self.t_end)
+        theta, omega = self.arcs.evaluate(t)
+        return t, theta, omega
+
+    def to_dict(self):
+        """The stroke as plain data for JSON: model, recipe, impacts, rests."""
+        impacts = self.impacts
+        return {
+            "model": self.model,
+            "recipe_name": self.recipe.name,
+            "recipe": self.recipe.to_dict(),
+            "t_end": self.t_end,
+            "theta_max": self.recipe.theta_max,
+            "level_reference": {"quantity": "tip speed", "value": LEVEL_REFERENCE, "unit": "m/s"},
+            "impacts": [
+                {"t": float(t), "omega": float(w), "tip_speed": float(v), "level_db": float(db)}
+                for t, w, v, db in zip(impacts.t, impacts.omega, impacts.tip_speed, impacts.level_db)
+            ],
+            "rest_time": self.rest_time,
+            "rests": self.rests.tolist(),
+        }
+
+
+def simulate(
+    recipe=None,
+    *,
+    force=None,
+    gravity=None,
+    model=None,
+    t_end=None,
+    theta0=None,
+    omega0=None,
+    cor=None,
+    stick=None,
+    method="auto",
+    progress=None,
+):
+    """Simulate one stroke.
+
+    Parameters
+    ----------
+    recipe : Recipe, str, Path or None
+        A recipe, a preset name (see :func:`drumstroke.presets`) or a path to
+        a TOML recipe. None starts from the defaults with no thumb force.
+    force, gravity : Profile or float, optional
+        Replace a(t) or g(t) (m/s²); a number means a constant.
+    model : {"paper", "geometry"}, optional
+    t_end : float in (0, 3600], optional
+        s.
+    theta0 : float in [theta_max, pi/2), optional
+        rad.
+    omega0 : float in [-1000, 1000], optional
+        rad/s.
+    cor : float in [0, 1], optional
+    stick : Stick, optional
+    method : {"auto", "taylor"}
+        "taylor" integrates every flight numerically instead of using the
+        closed forms (a cross-check; slower).
+    progress : callable or None
+        Called now and then with the fraction done, in [0, 1].
+
+    Returns
+    -------
+    Stroke
+    """
+    check_choice("method", method, ("auto", "taylor"))
+    base = resolve(recipe)
+    changes = {
+        "force": _as_profile("force", force),
+        "gravity": _as_profile("gravity", gravity),
+        "model": model,
+        "t_end": t_end,
+        "theta0": theta0,
+        "omega0": omega0,
+        "cor": cor,
+        "stick": stick,
+    }
+    changes = {key: value for key, value in changes.items() if value is not None}
+    recipe = base.replace(**changes) if changes else base
+    solution = solve(
+        coefficients(recipe.model, recipe.stick),
+        recipe.force,
+        recipe.gravity,
+        theta0=recipe.theta0,
+        omega0=recipe.omega0,
+        cor=recipe.cor,
+        t_end=recipe.t_end,
+        method=method,
+        progress=progress,
+    )
+    impacts = Impacts(solution.impact_t, solution.impact_omega, recipe.stick.pivot_to_tip)
+    return Stroke(recipe=recipe, impacts=impacts, rests=solution.rests, arcs=solution.arcs)
+
+
+def resolve(recipe):
+    """A :class:`Recipe` from a recipe, a preset name, a TOML path, or None (no thumb force)."""
+    if recipe is None:
+        return Recipe(force=Constant(0.0))
+    if isinstance(recipe, Recipe):
+        return recipe
+    if isinstance(recipe, str) and recipe in PRESETS:
+        return preset(recipe)
+    if isinstance(recipe, (str, Path)):
+        path = Path(recipe)
+        if path.suffix == ".toml" or path.exists():
+            return Recipe.from_toml(path)
+        raise ParameterError(
+            f"recipe must be a preset name ({', '.join(PRESETS)}) or a .toml file, got {str(recipe)!r}"
+        )
+    raise ParameterError(f"recipe must be a Recipe, a preset name or a path, got {recipe!r}")
+
+
+def _as_profile(name, value):
+    if value is None or isinstance(value, Profile):
+        return value
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        return Constant(value)
+    raise ParameterError(f"{name} must be a profile or a number (m/s^2), got {value!r}")
