@@ -15,10 +15,11 @@ from .presets import PRESETS, preset
 from .profiles import Constant, PiecewiseLinear, Profile, Pulses, Samples, Sum
 from .recipe import Recipe
 from .stroke import Impacts, Stroke, simulate
+from ._version import __version__
 
-__version__ = "0.1.0"
 
 __all__ = [
+    "__version__",
     "MODELS",
     "PRESETS",
     "Constant",

@@ -88,10 +88,11 @@ _ALL = [
     _preset(
         "reversed-gravity",
         "un-natural",
-        "Gravity flips to -9.8 m/s^2 from 3.5 to 3.8 s: the resting stick lifts off the head, "
-        "floats up and falls back into a second bounce sequence.",
+        "A free bounce, then gravity flips to -9.8 m/s^2 from 3.2 to 3.45 s: the resting stick lifts "
+        "off the head, floats up and falls back into a second bounce sequence (7 s).",
+        t_end=7.0,
         force=Constant(0.0),
-        gravity=PiecewiseLinear([(0.0, 9.8), (3.5, 9.8), (3.5001, -9.8), (3.8, -9.8), (3.8001, 9.8)]),
+        gravity=PiecewiseLinear([(0.0, 9.8), (3.2, 9.8), (3.2001, -9.8), (3.45, -9.8), (3.4501, 9.8)]),
     ),
     _preset(
         "rising-gravity",

@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from ._checks import check_choice, check_real
+from ._version import __version__
 from .errors import ParameterError
 from .model import coefficients
 from .presets import PRESETS, preset
@@ -154,6 +155,7 @@ class Stroke:
         """The stroke as plain data for JSON: model, recipe, impacts, rests."""
         impacts = self.impacts
         return {
+            "drumstroke": __version__,
             "model": self.model,
             "recipe_name": self.recipe.name,
             "recipe": self.recipe.to_dict(),
