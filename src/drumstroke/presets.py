@@ -72,10 +72,10 @@ _ALL = [
     _preset(
         "high-low",
         "high to low",
-        "A hard grip (200 m/s^2) released at 0.5 s: quick close bounces, then slow wide ones once "
-        "only gravity acts.",
+        "A hard grip (250 m/s^2, the top of the human range) released at 0.57 s, just before an "
+        "impact: quick close bounces, then wide ones over twice as long once only gravity acts.",
         "Fig. 6",
-        force=PiecewiseLinear([(0.0, 200.0), (0.5, 200.0), (0.55, 0.0)]),
+        force=PiecewiseLinear([(0.0, 250.0), (0.57, 250.0), (0.59, 0.0)]),
     ),
     _preset(
         "finger-pulses",

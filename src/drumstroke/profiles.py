@@ -238,8 +238,11 @@ class Pulses(Profile):
     def __call__(self, t):
         t = np.asarray(t, dtype=float)
         k = np.floor((t - self.phase) / self.period)
+        # Edges computed exactly as in _breaks, so values and step boundaries agree.
+        k -= t < self.phase + k * self.period
+        k += t >= self.phase + (k + 1) * self.period
         start = self.phase + k * self.period
-        on = (t >= self.phase) & (t - start < self.duty * self.period)
+        on = (t >= self.phase) & (t < start + self.duty * self.period)
         return np.where(on, self.base + self.amplitude, self.base)
 
     def _breaks(self, t_end):
