@@ -18,8 +18,8 @@ Kinds (values in m/s², times in s):
 
 Examples
 --------
->>> ramp = PiecewiseLinear([(0.0, 10.0), (1.0, 10.0), (1.05, 220.0)])
->>> float(ramp(1.025))
+>>> ramp = PiecewiseLinear([(0.0, 10.0), (1.0, 10.0), (2.0, 220.0)])
+>>> float(ramp(1.5))
 115.0
 >>> pulses = Pulses(amplitude=189.0, period=0.4, duty=0.05)
 >>> [float(v) for v in pulses([0.0, 0.019, 0.02, 0.4])]
