@@ -22,7 +22,7 @@ Examples
 >>> float(ramp(1.5))
 115.0
 >>> pulses = Pulses(amplitude=189.0, period=0.4, duty=0.05)
->>> [float(v) for v in pulses([0.0, 0.019, 0.02, 0.4])]
+>>> [float(v) for v in pulses([0.0, 0.019, 0.021, 0.4])]
 [189.0, 189.0, 0.0, 189.0]
 """
 
