@@ -127,7 +127,7 @@ def test_bad_arguments_give_one_line_and_status_2(args, needles):
     [
         ("cor = 1.5\n[force]\nkind='constant'\nvalue=0.0\n", ["cor", "1.5", "[0, 1]"]),
         ("cor = nan\n[force]\nkind='constant'\nvalue=0.0\n", ["cor", "nan"]),
-        ("t_end = -1.0\n[force]\nkind='constant'\nvalue=0.0\n", ["t_end", "-1.0", "(0, 3600]"]),
+        ("t_end = -1.0\n[force]\nkind='constant'\nvalue=0.0\n", ["t_end", "-1.0", "[1e-06, 3600]"]),
         ("theta0 = -0.5\n[force]\nkind='constant'\nvalue=0.0\n", ["theta0", "-0.5", "theta_max"]),
         ("[force]\nkind='piecewise-linear'\npoints=[[0.0, 1.0], [0.0, 2.0]]\n", ["points", "strictly increasing"]),
         ("[force]\nkind='pulses'\namplitude=1.0\nperiod=0.4\nduty=1.0\n", ["pulses.duty", "1.0", "(0, 1)"]),

@@ -39,6 +39,9 @@ from .errors import ParameterError
 ACCELERATION_LIMIT = 1.0e6
 """Largest |value| of any profile (m/s²), some 4000 times the human range."""
 
+MIN_SPACING = 1e-9
+"""Closest two breakpoints or samples may be (s); closer is a step, for which use ``pulses`` or a ``sum``."""
+
 MAX_PIECES = 200_000
 """Most pieces a profile may have before t_end (pulse edges, samples, breakpoints)."""
 
@@ -89,8 +92,11 @@ class Profile:
         # from the left edge to it is the piece's own.
         start = self._right_limit(left)
         middle = self(left + width / 2)
-        slopes = (middle - start) / (width / 2)
-        slopes[np.abs(slopes) * width < 1e-12 * (1.0 + np.abs(start))] = 0.0
+        with np.errstate(divide="ignore", invalid="ignore"):
+            slopes = (middle - start) / (width / 2)
+        # Constant pieces are exactly constant (the solver's closed forms need C₁ = 0),
+        # and a sliver between two edges of a sum has no slope worth the name.
+        slopes[~np.isfinite(slopes) | (np.abs(slopes) * width < 1e-12 * (1.0 + np.abs(start)))] = 0.0
         return Pieces(edges, start, slopes)
 
     def to_dict(self):
@@ -371,11 +377,11 @@ def _check_points(name, points):
         check_real(f"{name}[{i}] time", ti, low=0.0, high=3600.0, unit="s")
         _check_level(f"{name}[{i}] value", vi)
     steps = np.diff(t)
-    if np.any(steps <= 0):
-        i = int(np.argmax(steps <= 0)) + 1
+    if np.any(steps < MIN_SPACING):
+        i = int(np.argmax(steps < MIN_SPACING)) + 1
         raise ParameterError(
-            f"{name} times must be strictly increasing; point {i} has t = {t[i]!r} s "
-            f"after t = {t[i - 1]!r} s (allowed: t > {t[i - 1]!r})"
+            f"{name} times must be strictly increasing, at least {MIN_SPACING:g} s apart; point {i} has "
+            f"t = {float(t[i])!r} s after t = {float(t[i - 1])!r} s (allowed: t >= {float(t[i - 1]) + MIN_SPACING!r})"
         )
     return t.copy(), v.copy()
 

@@ -56,7 +56,7 @@ class Recipe:
         toward the head.
     model : {"paper", "geometry"}
         Which D = I/m to use (see :mod:`drumstroke.model`).
-    t_end : float in (0, 3600]
+    t_end : float in [1e-6, 3600]
         Duration (s).
     theta0 : float in [theta_max, pi/2)
         Start angle (rad).
@@ -93,7 +93,7 @@ class Recipe:
             raise ParameterError(f"stick must be a drumstroke.Stick, got {self.stick!r}")
         theta_max = self.stick.theta_max
         checked = {
-            "t_end": check_real("t_end", self.t_end, low=0.0, high=T_END_LIMIT, low_open=True, unit="s"),
+            "t_end": check_real("t_end", self.t_end, low=1e-6, high=T_END_LIMIT, unit="s"),
             "theta0": check_real(
                 "theta0", self.theta0, low=theta_max, high=math.pi / 2, high_open=True, unit="rad (theta_max to pi/2)"
             ),

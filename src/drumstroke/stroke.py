@@ -195,7 +195,7 @@ def simulate(
     force, gravity : Profile or float, optional
         Replace a(t) or g(t) (m/s²); a number means a constant.
     model : {"paper", "geometry"}, optional
-    t_end : float in (0, 3600], optional
+    t_end : float in [1e-6, 3600], optional
         s.
     theta0 : float in [theta_max, pi/2), optional
         rad.

@@ -68,7 +68,7 @@ class Arcs:
         stepping = kind == TAYLOR
         if np.any(stepping):
             table = self.taylor[row[stepping]]
-            theta[stepping], omega[stepping] = taylor.evaluate(table[:, 1:].T, t[stepping] - table[:, 0])
+            theta[stepping], omega[stepping] = taylor.evaluate_table(table[:, 1:].T, t[stepping] - table[:, 0])
 
         # Round-off can put a flight a few ulps under the head; the stick is never there.
         np.maximum(theta, self.theta_max, out=theta)
@@ -102,12 +102,16 @@ class ArcBuilder:
         self._elliptic.append(table)
         self._n_elliptic += n
 
-    def taylor(self, start, coefficients):
-        self._start.append(np.atleast_1d(float(start)))
-        self._kind.append(np.array([TAYLOR], dtype=np.int8))
-        self._row.append(np.array([self._n_taylor]))
-        self._taylor.append(np.concatenate(([start], coefficients))[None, :])
-        self._n_taylor += 1
+    def taylor(self, steps):
+        """Taylor steps [shape=(n, ORDER + 2)]: each row a start time (s) and the coefficients of θ."""
+        n = len(steps)
+        if n == 0:
+            return
+        self._start.append(steps[:, 0].copy())
+        self._kind.append(np.full(n, TAYLOR, dtype=np.int8))
+        self._row.append(np.arange(self._n_taylor, self._n_taylor + n))
+        self._taylor.append(steps)
+        self._n_taylor += n
 
     def build(self):
         empty_taylor = np.empty((0, taylor.ORDER + 2))

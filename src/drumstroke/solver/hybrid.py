@@ -22,7 +22,9 @@ rest of them and each lasts 2L/A with A = C·cos θ_max (the error of that
 parabola is O(L²) relative, below 1e-12). The tail of the geometric series
 then sums to 2L/(A·(1 − c)): the stick comes to rest at that accumulation
 time. Impacts below ``ZENO_SPEED`` (tip speeds under a micrometre per
-second) are part of that tail and are not listed.
+second) are part of that tail and are never listed, wherever t_end falls. A
+tail that runs into the next piece has its remaining time rescaled by the new
+forcing (it lasts microseconds), or ends at once if the stick lifts off.
 
 **Rest.** The stick stays on the head while C ≥ 0 and lifts off the moment C
 turns negative, which only un-natural profiles do (a < 0 or g < 0).
@@ -127,11 +129,6 @@ def _forcing(coefficients, force, gravity, t_end):
     return edges, c0, c1
 
 
-def _presses(c_now, slope):
-    """Whether forcing C (s⁻²) with slope (s⁻³) holds a resting stick on the head."""
-    return c_now > 0.0 or (c_now == 0.0 and slope >= 0.0)
-
-
 class _Run:
     """The solver's state as it walks through the pieces."""
 
@@ -144,6 +141,7 @@ class _Run:
         self.t, self.theta, self.omega = 0.0, theta0, omega0
         self.resting = False
         self.lifting = False
+        self.tail_c = math.nan
         self.arcs = ArcBuilder(theta_max)
         self.impact_t, self.impact_omega = [], []
         self.n_impacts = 0
@@ -152,33 +150,37 @@ class _Run:
     def advance(self, ts, te, c0, c1):
         """Carry the stick from ``ts`` to ``te`` where C(t) = c0 + c1·(t − ts)."""
         self.t = ts
+        if self.resting and self.rests[-1][0] > ts:
+            self._retime_tail(c0)
         while self.t < te:
-            c_now = c0 + c1 * (self.t - ts)
             if self.resting:
                 lift = _lift_off(ts, te, c0, c1, self.t)
                 if lift is None:
                     return
                 self._lift(lift)
-                continue
-            if self.theta == self.theta_max and not self.lifting:
-                if self.omega < 0.0:
-                    self._impact(self.t, self.omega, c_now, c1, te, ts)
-                    continue
-                if self.omega == 0.0 and _presses(c_now, c1):
-                    self._rest(self.t, self.t)
-                    continue
-            if self.closed_forms and c1 == 0.0 and c0 > 0.0:
-                m = elliptic.parameter(math.sin(self.theta), self.omega, c0)
-                if m < 1.0 - _NEARLY_VERTICAL:
-                    self._closed_form(te, c0, m)
-                    continue
-            self._taylor_step(ts, te, c0, c1)
+            elif not (self.closed_forms and c1 == 0.0 and c0 > 0.0 and self._closed_form(te, c0)):
+                self._taylor_piece(ts, te, c0, c1)
 
     # -- closed forms ------------------------------------------------------
 
-    def _closed_form(self, te, c, m):
-        """Fly under constant C > 0 until the head, then bounce on until ``te`` or rest."""
-        t, sin_theta, omega = self.t, math.sin(self.theta), self.omega
+    def _closed_form(self, te, c):
+        """Fly under constant C > 0 until the head, then bounce on until ``te`` or rest.
+
+        Returns False, having done nothing, if the flight would come near the vertical.
+        """
+        t, theta, omega = self.t, self.theta, self.omega
+        self.lifting = False
+        if theta == self.theta_max and omega <= 0.0:
+            if omega == 0.0:
+                self._rest(t, t)
+            else:
+                self._record(t, omega)
+                self._bounces(t, -omega, c, te)
+            return True
+        sin_theta = math.sin(theta)
+        m = elliptic.parameter(sin_theta, omega, c)
+        if m >= 1.0 - _NEARLY_VERTICAL:
+            return False
         since_apex = float(elliptic.time_from_apex(sin_theta, omega, c, m))
         apex = t + since_apex if omega > 0.0 else t - since_apex
         speed = math.sqrt(omega * omega + 2.0 * c * max(sin_theta - self.sin_head, 0.0))
@@ -186,42 +188,39 @@ class _Run:
         self.arcs.elliptic(t, apex, c, m)
         if hit > te:
             self._fly_to(te, apex, c, m)
-            return
-        self._record(hit, -speed)
-        self._bounces(hit, speed, c, te)
+        else:
+            self._record(hit, -speed)
+            self._bounces(hit, speed, c, te)
+        return True
 
     def _bounces(self, t, speed, c, te):
         """The run of bounces after an impact at ``t`` with speed ``speed`` under constant C."""
         cor = self.cor
-        tail_rate = 2.0 / (c * self.cos_head * (1.0 - cor)) if cor < 1.0 else math.inf
         launch = cor * speed
+        n = 16  # flights per batch, doubling: short pieces hold few, long ones many
         while True:
             if launch == 0.0:
                 self._rest(t, t)
                 return
-            if launch < ZENO_SPEED and t + launch * tail_rate <= te:
-                self._rest(t, t + launch * tail_rate)
+            if launch < ZENO_SPEED and cor < 1.0:
+                self._settle(t, launch, c)
                 return
-            n = _CHUNK
-            if launch >= ZENO_SPEED and cor < 1.0:
+            if cor < 1.0:  # no more than it takes to fall below ZENO_SPEED
                 n = min(n, max(1, math.ceil(math.log(ZENO_SPEED / launch) / math.log(cor)) + 1))
             launches = launch * cor ** np.arange(n)
             flights = elliptic.flight_time(launches, c, self.sin_head)
             ends = t + np.cumsum(flights)
             starts = np.concatenate(([t], ends[:-1]))
             done = int(np.searchsorted(ends, te, side="right"))
-            closing = None
-            below = np.flatnonzero(launches < ZENO_SPEED)
-            if len(below) and below[0] <= done:
-                f = below[0]
-                accumulation = starts[f] + launches[f] * tail_rate
-                if accumulation <= te:
-                    done, closing = f, accumulation
+            below = np.flatnonzero(launches < ZENO_SPEED) if cor < 1.0 else []
+            settles = len(below) > 0 and below[0] <= done
+            if settles:
+                done = below[0]
             m = elliptic.parameter(self.sin_head, launches, c)
             self.arcs.elliptic(starts[:done], starts[:done] + flights[:done] / 2, c, m[:done])
             self._record(ends[:done], -launches[:done])
-            if closing is not None:
-                self._rest(starts[done], closing)
+            if settles:
+                self._settle(starts[done], launches[done], c)
                 return
             if done < n:
                 start, apex = starts[done], starts[done] + flights[done] / 2
@@ -232,6 +231,7 @@ class _Run:
                     self._fly_to(te, apex, c, m[done])
                 return
             t, launch = ends[-1], launches[-1] * cor
+            n = min(2 * n, _CHUNK)
 
     def _fly_to(self, te, apex, c, m):
         theta, omega = elliptic.state(te - apex, c, m)
@@ -239,50 +239,30 @@ class _Run:
 
     # -- Taylor steps ------------------------------------------------------
 
-    def _taylor_step(self, ts, te, c0, c1):
-        t = self.t
-        c_now = c0 + c1 * (t - ts)
-        if self.lifting:
-            c_now = min(c_now, 0.0)  # round-off must not press a lifting stick back down
-            self.lifting = False
-        x = taylor.coefficients(self.theta, self.omega, c_now, c1)
-        h = min(taylor.step_size(x), te - t, _MAX_STEP)
-        hit = taylor.first_crossing(x, self.theta_max, h, downward=True)
-        top = taylor.first_crossing(x, 0.5 * math.pi, h if hit is None else hit, downward=False)
-        if top is not None:
+    def _taylor_piece(self, ts, te, c0, c1):
+        outcome, t, theta, omega, lifting, extra, steps, impact_t, impact_omega = taylor.run_piece(
+            self.t, self.theta, self.omega, self.lifting, ts, te, c0, c1, self.theta_max, self.cor,
+            ZENO_SPEED, _MAX_STEP, MAX_IMPACTS - self.n_impacts,
+        )
+        self.arcs.taylor(steps)
+        self._record(impact_t, impact_omega)
+        self.t, self.theta, self.omega, self.lifting = t, theta, omega, lifting
+        if outcome == taylor.VERTICAL:
             raise SimulationError(
-                f"the stick reaches the vertical (theta = pi/2 rad) at t = {t + top:.6g} s; the model covers "
+                f"the stick reaches the vertical (theta = pi/2 rad) at t = {extra:.6g} s; the model covers "
                 f"theta in [theta_max, pi/2): lower omega0 or the upward forcing (negative force or gravity)"
             )
-        self.arcs.taylor(t, x)
-        if hit is None:
-            theta, omega = taylor.evaluate(x, h)
-            self.t = te if h == te - t else t + h
-            self.theta, self.omega = max(float(theta), self.theta_max), float(omega)
-            return
-        _, omega = taylor.evaluate(x, hit)
-        t_hit = t + hit
-        self._impact(t_hit, min(float(omega), 0.0), c0 + c1 * (t_hit - ts), c1, te, ts)
+        if outcome == taylor.REST:
+            self._rest(t, t)
+        elif outcome == taylor.SETTLE:
+            self._settle(t, omega, extra)
 
     # -- impacts, rest, lift-off ------------------------------------------
 
-    def _impact(self, t, omega, c_now, c1, te, ts):
-        """An impact at ``t`` with ω⁻ = ``omega`` where the forcing is ``c_now``, outside the closed forms."""
-        self._record(t, omega)
-        launch = -self.cor * omega
-        self.t, self.theta, self.omega = t, self.theta_max, launch
-        if not _presses(c_now, c1):
-            self.lifting = launch == 0.0
-            return
-        if launch == 0.0:
-            self._rest(t, t)
-        elif launch < ZENO_SPEED and self.cor < 1.0:
-            accumulation = t + 2.0 * launch / (c_now * self.cos_head * (1.0 - self.cor))
-            if accumulation <= te and c_now + c1 * (accumulation - t) > 0.0:
-                self._rest(t, accumulation)
-
     def _record(self, t, omega):
         t, omega = np.atleast_1d(t), np.atleast_1d(omega)
+        if len(t) == 0:
+            return
         self.impact_t.append(t)
         self.impact_omega.append(omega)
         self.n_impacts += len(t)
@@ -292,21 +272,45 @@ class _Run:
                 f"shorten t_end or lower cor (now {self.cor:g})"
             )
 
+    def _settle(self, t, launch, c):
+        """Sum the Zeno tail of a bounce launched at ``t`` with speed ``launch`` < ZENO_SPEED under C = ``c``.
+
+        The rest starts at the accumulation time, which may lie beyond the
+        current piece: :meth:`_retime_tail` then carries it into the next one.
+        """
+        self.tail_c = c
+        self._rest(t, t + 2.0 * launch / (c * self.cos_head * (1.0 - self.cor)))
+
+    def _retime_tail(self, c):
+        """A pending Zeno tail enters a piece whose forcing starts at ``c``: its remaining time scales as 1/C."""
+        if c > 0.0:
+            start = self.rests[-1][0]
+            self.rests[-1][0] = self.t + (start - self.t) * self.tail_c / c
+            self.tail_c = c
+
     def _rest(self, arc_start, rest_start):
-        """The stick lies on the head from ``rest_start``; its trajectory reads θ_max from ``arc_start``."""
+        """The stick rests on the head from ``rest_start``; its trajectory reads θ_max from ``arc_start``.
+
+        Between the two lies a summed Zeno tail, whose bounces are below 1e-12 rad.
+        """
         self.arcs.rest(arc_start)
         self.rests.append([rest_start, math.nan])
-        self.t, self.theta, self.omega = rest_start, self.theta_max, 0.0
+        self.t, self.theta, self.omega = arc_start, self.theta_max, 0.0
         self.resting = True
 
     def _lift(self, t):
-        self.rests[-1][1] = t
+        if self.rests[-1][0] >= t:
+            self.rests.pop()  # lifted during the Zeno tail: that rest never began
+        else:
+            self.rests[-1][1] = t
         self.t, self.theta, self.omega = t, self.theta_max, 0.0
         self.resting = False
         self.lifting = True
 
     def solution(self, t_end):
-        if self.resting:
+        if self.resting and self.rests[-1][0] > t_end:
+            self.rests.pop()  # t_end falls inside the Zeno tail: not at rest yet
+        elif self.resting:
             self.rests[-1][1] = t_end
         impact_t = np.concatenate(self.impact_t) if self.impact_t else np.empty(0)
         impact_omega = np.concatenate(self.impact_omega) if self.impact_omega else np.empty(0)
