@@ -184,7 +184,7 @@ class Samples(PiecewiseLinear):
     Parameters
     ----------
     file : str or Path
-        The CSV file. Read once, when the profile is made.
+        The CSV file. Read once, when the profile is made; recorded by its absolute path.
     """
 
     points: tuple = field(init=False)
@@ -192,7 +192,7 @@ class Samples(PiecewiseLinear):
     kind = "samples"
 
     def __init__(self, file):
-        object.__setattr__(self, "file", str(file))
+        object.__setattr__(self, "file", str(Path(file).resolve()))
         object.__setattr__(self, "points", _read_samples(Path(file)))
         self.__post_init__()
 
