@@ -17,12 +17,13 @@ crosses an edge. On a piece:
 
 **Zeno.** With c < 1 and the forcing pressing down, the bounces accumulate:
 infinitely many impacts before a finite time. Once a launch speed L is below
-:data:`ZENO_SPEED`, flights are so short that the forcing is constant over the
-rest of them and each lasts 2L/A with A = C·cos θ_max (the error of that
+:data:`ZENO_SPEED` and the bounce rises less than :data:`ZENO_HEIGHT`
+(L²/(2A) with A = C·cos θ_max), flights are so short that the forcing is
+constant over the rest of them and each lasts 2L/A (the error of that
 parabola is O(L²) relative, below 1e-12). The tail of the geometric series
 then sums to 2L/(A·(1 − c)): the stick comes to rest at that accumulation
-time. Impacts below ``ZENO_SPEED`` (tip speeds under a micrometre per
-second) are part of that tail and are never listed, wherever t_end falls. A
+time. Impacts in that tail (tip speeds under a micrometre per second) are
+never listed, wherever t_end falls. A
 tail that runs into the next piece has its remaining time rescaled by the new
 forcing (it lasts microseconds), or ends at once if the stick lifts off.
 
@@ -45,7 +46,10 @@ from . import elliptic, taylor
 from .arcs import ArcBuilder, Arcs
 
 ZENO_SPEED = 1e-6
-"""Launch speed (rad/s) below which the rest of a bounce sequence is summed, not simulated."""
+"""Launch speed (rad/s) below which the rest of a bounce sequence is summed, not simulated..."""
+
+ZENO_HEIGHT = 1e-12
+"""...provided the bounce also rises less than this (rad) above the head (it does unless C is tiny)."""
 
 MAX_IMPACTS = 5_000_000
 """Most impacts one stroke may have."""
@@ -197,22 +201,23 @@ class _Run:
         """The run of bounces after an impact at ``t`` with speed ``speed`` under constant C."""
         cor = self.cor
         launch = cor * speed
+        floor = _zeno_floor(c * self.cos_head)
         n = 16  # flights per batch, doubling: short pieces hold few, long ones many
         while True:
             if launch == 0.0:
                 self._rest(t, t)
                 return
-            if launch < ZENO_SPEED and cor < 1.0:
+            if launch < floor and cor < 1.0:
                 self._settle(t, launch, c)
                 return
-            if cor < 1.0:  # no more than it takes to fall below ZENO_SPEED
-                n = min(n, max(1, math.ceil(math.log(ZENO_SPEED / launch) / math.log(cor)) + 1))
+            if cor < 1.0:  # no more than it takes to fall below the floor
+                n = min(n, max(1, math.ceil(math.log(floor / launch) / math.log(cor)) + 1))
             launches = launch * cor ** np.arange(n)
             flights = elliptic.flight_time(launches, c, self.sin_head)
             ends = t + np.cumsum(flights)
             starts = np.concatenate(([t], ends[:-1]))
             done = int(np.searchsorted(ends, te, side="right"))
-            below = np.flatnonzero(launches < ZENO_SPEED) if cor < 1.0 else []
+            below = np.flatnonzero(launches < floor) if cor < 1.0 else []
             settles = len(below) > 0 and below[0] <= done
             if settles:
                 done = below[0]
@@ -242,7 +247,7 @@ class _Run:
     def _taylor_piece(self, ts, te, c0, c1):
         outcome, t, theta, omega, lifting, extra, steps, impact_t, impact_omega = taylor.run_piece(
             self.t, self.theta, self.omega, self.lifting, ts, te, c0, c1, self.theta_max, self.cor,
-            ZENO_SPEED, _MAX_STEP, MAX_IMPACTS - self.n_impacts,
+            ZENO_SPEED, ZENO_HEIGHT, _MAX_STEP, MAX_IMPACTS - self.n_impacts,
         )
         self.arcs.taylor(steps)
         self._record(impact_t, impact_omega)
@@ -321,6 +326,11 @@ class _Run:
             impact_omega=impact_omega[keep],
             rests=np.array(self.rests, dtype=float).reshape(-1, 2),
         )
+
+
+def _zeno_floor(a):
+    """Launch speed (rad/s) below which a bounce is part of the Zeno tail, where A = C·cos θ_max = ``a``."""
+    return min(ZENO_SPEED, math.sqrt(2.0 * ZENO_HEIGHT * a))
 
 
 def _lift_off(ts, te, c0, c1, t):

@@ -179,14 +179,16 @@ def _grow(array, n):
 
 
 @njit(cache=True)
-def run_piece(t, theta, omega, lifting, ts, te, c0, c1, theta_max, cor, zeno_speed, max_step, impacts_left):
+def run_piece(t, theta, omega, lifting, ts, te, c0, c1, theta_max, cor, zeno_speed, zeno_height, max_step,
+              impacts_left):
     """Carry the stick from ``t`` to ``te`` where C(t) = c0 + c1·(t − ts), with Taylor steps.
 
     Returns
     -------
     outcome : int
         DONE (reached ``te`` in flight), REST (lies on the head from ``t``),
-        SETTLE (a launch of speed ``extra`` below ``zeno_speed``: sum the tail),
+        SETTLE (a launch slower than ``zeno_speed`` and lower than
+        ``zeno_height`` under forcing C = ``extra``: sum the tail),
         VERTICAL (reaches π/2 at time ``extra``), TOO_MANY (impact limit).
     t, theta, omega : float
         The state where it stopped (after the impact, for SETTLE and REST).
@@ -257,7 +259,7 @@ def run_piece(t, theta, omega, lifting, ts, te, c0, c1, theta_max, cor, zeno_spe
         elif launch == 0.0:
             outcome = REST
             break
-        elif launch < zeno_speed and cor < 1.0 and c_hit > 0.0:
+        elif cor < 1.0 and c_hit > 0.0 and launch < min(zeno_speed, math.sqrt(2.0 * zeno_height * c_hit * math.cos(theta_max))):
             outcome, extra = SETTLE, c_hit
             break
     steps, impact_t, impact_omega = steps[:n_steps], impact_t[:n_impacts], impact_omega[:n_impacts]
