@@ -7,6 +7,7 @@ allowed range.
 
 import argparse
 import math
+import os
 import sys
 import time
 from pathlib import Path
@@ -39,6 +40,9 @@ def main(argv=None):
     except DrumstrokeError as error:
         print(f"drumstroke {args.command}: error: {error}", file=sys.stderr)
         return 2
+    except BrokenPipeError:  # e.g. piped into head: stop quietly, as other tools do
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 141
     except OSError as error:
         where = f" {error.filename!r}" if error.filename else ""
         print(f"drumstroke {args.command}: error:{where} {error.strerror or error}", file=sys.stderr)
