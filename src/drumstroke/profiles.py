@@ -28,6 +28,7 @@ Examples
 
 import csv
 import math
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -320,7 +321,7 @@ def profile_from_dict(spec, *, name="force", base_dir=None):
         raise ParameterError(f"{name} must be a table with a 'kind' key, got {spec!r}")
     spec = dict(spec)
     kind = spec.pop("kind", None)
-    if kind not in _KINDS:
+    if not isinstance(kind, str) or kind not in _KINDS:
         raise ParameterError(f"{name}.kind must be one of {', '.join(map(repr, _KINDS))}, got {kind!r}")
     allowed, required = _KINDS[kind]
     unknown = sorted(set(spec) - set(allowed))
@@ -329,6 +330,11 @@ def profile_from_dict(spec, *, name="force", base_dir=None):
     missing = [key for key in required if key not in spec]
     if missing:
         raise ParameterError(f"{name} ({kind}) needs the key {missing[0]!r}")
+    with named(name, kind):
+        return _build(kind, spec, name, base_dir)
+
+
+def _build(kind, spec, name, base_dir):
     if kind == "constant":
         return Constant(spec["value"])
     if kind == "piecewise-linear":
@@ -349,6 +355,21 @@ def profile_from_dict(spec, *, name="force", base_dir=None):
     return Sum([profile_from_dict(p, name=f"{name}.parts[{i}]", base_dir=base_dir) for i, p in enumerate(parts)])
 
 
+@contextmanager
+def named(name, kind):
+    """Re-raise a profile's ParameterError with the profile's place (``force``) for its kind (``constant``).
+
+    ``constant.value must be ...`` becomes ``force.value must be ...``.
+    """
+    try:
+        yield
+    except ParameterError as error:
+        message = str(error)
+        if message.startswith(kind + "."):
+            raise ParameterError(name + message[len(kind):]) from None
+        raise
+
+
 _KINDS = {
     "constant": (("value",), ("value",)),
     "piecewise-linear": (("points",), ("points",)),
@@ -367,15 +388,16 @@ def _check_level(name, value):
 
 def _check_points(name, points):
     try:
-        array = np.array(points, dtype=float)
-    except (TypeError, ValueError):
-        raise ParameterError(f"{name} must be a list of [t, value] pairs of numbers, got {points!r}") from None
-    if array.ndim != 2 or array.shape[1] != 2 or len(array) == 0:
-        raise ParameterError(f"{name} must be a non-empty list of [t, value] pairs, got {points!r}")
-    t, v = array[:, 0], array[:, 1]
-    for i, (ti, vi) in enumerate(array):
+        rows = [tuple(point) for point in points]
+    except TypeError:
+        raise ParameterError(f"{name} must be a non-empty list of [t, value] pairs of numbers, got {points!r}") from None
+    if not rows or any(len(row) != 2 for row in rows):
+        raise ParameterError(f"{name} must be a non-empty list of [t, value] pairs of numbers, got {points!r}")
+    for i, (ti, vi) in enumerate(rows):
         check_real(f"{name}[{i}] time", ti, low=0.0, high=3600.0, unit="s")
         _check_level(f"{name}[{i}] value", vi)
+    array = np.array(rows, dtype=float)
+    t, v = array[:, 0], array[:, 1]
     steps = np.diff(t)
     if np.any(steps < MIN_SPACING):
         i = int(np.argmax(steps < MIN_SPACING)) + 1
@@ -393,7 +415,11 @@ def _read_samples(path):
         reason = error.strerror if isinstance(error, OSError) else "not a UTF-8 text file"
         raise ParameterError(f"samples.file {str(path)!r} cannot be read: {reason}") from None
     rows = []
-    for number, row in enumerate(csv.reader(text.splitlines()), start=1):
+    try:
+        lines = list(csv.reader(text.splitlines()))
+    except csv.Error as error:
+        raise ParameterError(f"samples.file {str(path)!r} is not a CSV file of 't,value' rows: {error}") from None
+    for number, row in enumerate(lines, start=1):
         if not row or row[0].lstrip().startswith("#"):
             continue
         try:

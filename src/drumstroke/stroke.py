@@ -14,6 +14,7 @@ Examples
 
 import math
 from dataclasses import dataclass
+from numbers import Real
 from pathlib import Path
 
 import numpy as np
@@ -23,7 +24,7 @@ from ._version import __version__
 from .errors import ParameterError
 from .model import coefficients
 from .presets import PRESETS, preset
-from .profiles import Constant, Profile
+from .profiles import Constant, Profile, named
 from .recipe import Recipe
 from .solver import Arcs, solve
 
@@ -117,7 +118,10 @@ class Stroke:
 
         At an impact time, the state just after the impact.
         """
-        t = np.asarray(t, dtype=float)
+        try:
+            t = np.asarray(t, dtype=float)
+        except (TypeError, ValueError):
+            raise ParameterError(f"t must be times in [0, {self.t_end:g}] s, got {t!r}") from None
         if not np.all(np.isfinite(t)) or np.any(t < 0.0) or np.any(t > self.t_end):
             bad = t[~(np.isfinite(t) & (t >= 0.0) & (t <= self.t_end))].flat[0]
             raise ParameterError(f"t must be in [0, {self.t_end:g}] s, got {float(bad)!r}")
@@ -144,8 +148,8 @@ class Stroke:
         n = math.floor(self.t_end * rate * (1.0 + 1e-12)) + 1
         if n > MAX_SAMPLES:
             raise ParameterError(
-                f"rate x t_end gives {n} samples; at most {MAX_SAMPLES} are allowed (rate must be at most "
-                f"{MAX_SAMPLES / self.t_end:g} Hz for t_end = {self.t_end:g} s)"
+                f"rate = {rate:g} Hz over t_end = {self.t_end:g} s gives {n} samples; at most {MAX_SAMPLES} "
+                f"are allowed (rate must be at most {MAX_SAMPLES / self.t_end:g} Hz for this stroke)"
             )
         t = np.minimum(np.arange(n) / rate, self.t_end)
         theta, omega = self.arcs.evaluate(t)
@@ -263,6 +267,7 @@ def resolve(recipe):
 def _as_profile(name, value):
     if value is None or isinstance(value, Profile):
         return value
-    if isinstance(value, (int, float)) and not isinstance(value, bool):
-        return Constant(value)
+    if isinstance(value, Real) and not isinstance(value, bool):
+        with named(name, Constant.kind):
+            return Constant(value)
     raise ParameterError(f"{name} must be a profile or a number (m/s^2), got {value!r}")
