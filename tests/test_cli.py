@@ -129,12 +129,12 @@ def test_bad_arguments_give_one_line_and_status_2(args, needles):
         ("cor = nan\n[force]\nkind='constant'\nvalue=0.0\n", ["cor", "nan"]),
         ("t_end = -1.0\n[force]\nkind='constant'\nvalue=0.0\n", ["t_end", "-1.0", "[1e-06, 3600]"]),
         ("theta0 = -0.5\n[force]\nkind='constant'\nvalue=0.0\n", ["theta0", "-0.5", "theta_max"]),
-        ("[force]\nkind='piecewise-linear'\npoints=[[0.0, 1.0], [0.0, 2.0]]\n", ["points", "strictly increasing"]),
-        ("[force]\nkind='pulses'\namplitude=1.0\nperiod=0.4\nduty=1.0\n", ["pulses.duty", "1.0", "(0, 1)"]),
-        ("[force]\nkind='constant'\nvalue=inf\n", ["constant.value", "inf"]),
+        ("[force]\nkind='piecewise-linear'\npoints=[[0.0, 1.0], [0.0, 2.0]]\n", ["force.points", "strictly increasing"]),
+        ("[force]\nkind='pulses'\namplitude=1.0\nperiod=0.4\nduty=1.0\n", ["force.duty", "1.0", "(0, 1)"]),
+        ("[force]\nkind='constant'\nvalue=inf\n", ["force.value", "inf"]),
         ("[force\nkind='constant'\n", ["not valid TOML"]),
         ("t_end = 5.0\n", ["[force]"]),
-        ("[force]\nkind='samples'\nfile='nowhere.csv'\n", ["samples.file", "nowhere.csv"]),
+        ("[force]\nkind='samples'\nfile='nowhere.csv'\n", ["force.file", "nowhere.csv"]),
         ("[force]\nkind='constant'\nvalue=0.0\n[gravity]\nkind='constant'\nvalue=-60.0\n", ["vertical"]),
     ],
 )
@@ -147,7 +147,7 @@ def test_bad_recipes_give_one_line_and_status_2(tmp_path, text, needles):
 def test_corrupt_samples_file_is_named(tmp_path):
     (tmp_path / "thumb.csv").write_text("t,value\n0.0,1.0\n0.1,oops\n")
     (tmp_path / "r.toml").write_text("[force]\nkind='samples'\nfile='thumb.csv'\n")
-    assert_one_line_error(run("simulate", tmp_path / "r.toml"), "thumb.csv", "line 3", "oops")
+    assert_one_line_error(run("simulate", tmp_path / "r.toml"), "force.file", "thumb.csv", "line 3", "oops")
 
 
 def test_unwritable_output_is_an_error_not_a_traceback(tmp_path):
