@@ -61,3 +61,17 @@ def test_profile_tables_round_trip():
 def test_too_many_pieces_is_refused_not_slow():
     with pytest.raises(ParameterError, match="pieces"):
         Pulses(amplitude=1.0, period=0.001, duty=0.5).pieces(3600.0)
+
+
+def test_samples_file_written_by_a_spreadsheet_with_a_byte_order_mark(tmp_path):
+    path = tmp_path / "excel.csv"
+    path.write_bytes("\ufefft,value\r\n0,1\r\n1,3\r\n".encode("utf-8"))
+    assert Samples(path)(0.5) == 2.0
+
+
+def test_a_subnormal_forcing_simulates_without_warnings():
+    import drumstroke
+
+    # g and a cancel to within one subnormal: the stick floats; no overflow warning (pytest errors on them)
+    stroke = drumstroke.simulate(force=0.0, gravity=5e-324, theta0=0.1, t_end=1.0)
+    assert len(stroke.impacts) == 0

@@ -68,6 +68,34 @@ class Pieces:
     def __len__(self):
         return len(self.values)
 
+    def at(self, left, t_end):
+        """Value and slope of the piece starting at each time in ``left`` (s), as (values, slopes).
+
+        An edge of this function within the merging tolerance of a time counts as at it.
+        """
+        i = np.searchsorted(self.edges, left + merge_tolerance(t_end), side="right") - 1
+        return self.values[i] + self.slopes[i] * (left - self.edges[i]), self.slopes[i]
+
+
+def merge_tolerance(t_end):
+    """Edges closer than this (s) are one edge: round-off in sums of pulse trains, not physics."""
+    return 1e-12 * max(1.0, t_end)
+
+
+def merge_edges(edges, t_end):
+    """Sorted edges in [0, t_end], 0 and t_end included, with near-duplicates merged into the first."""
+    edges = np.unique(np.concatenate(([0.0, t_end], edges)))
+    edges = edges[(edges >= 0.0) & (edges <= t_end)]
+    tol = merge_tolerance(t_end)
+    if np.any(np.diff(edges) <= tol):  # rare: merge each cluster into its first edge
+        kept = [edges[0]]
+        for edge in edges[1:]:
+            if edge - kept[-1] > tol:
+                kept.append(edge)
+        edges = np.array(kept)
+    edges[-1] = t_end
+    return edges
+
 
 class Profile:
     """Base of all profiles: a function of time (s) with values in m/s²."""
@@ -80,25 +108,14 @@ class Profile:
 
     def pieces(self, t_end):
         """The profile on [0, t_end] as :class:`Pieces`."""
-        edges = np.unique(np.concatenate(([0.0, t_end], self._breaks(t_end))))
-        edges = edges[(edges >= 0.0) & (edges <= t_end)]
+        edges = merge_edges(self._breaks(t_end), t_end)
         if len(edges) - 1 > MAX_PIECES:
             raise ParameterError(
                 f"{self.kind} profile has {len(edges) - 1} pieces before t_end = {t_end:g} s; "
                 f"at most {MAX_PIECES} are allowed (shorten t_end or lengthen the period)"
             )
-        left, right = edges[:-1], edges[1:]
-        width = right - left
-        # The value at a piece's midpoint is away from every jump, so the slope
-        # from the left edge to it is the piece's own.
-        start = self._right_limit(left)
-        middle = self(left + width / 2)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            slopes = (middle - start) / (width / 2)
-        # Constant pieces are exactly constant (the solver's closed forms need C₁ = 0),
-        # and a sliver between two edges of a sum has no slope worth the name.
-        slopes[~np.isfinite(slopes) | (np.abs(slopes) * width < 1e-12 * (1.0 + np.abs(start)))] = 0.0
-        return Pieces(edges, start, slopes)
+        values, slopes = self._start_and_slope(edges[:-1], merge_tolerance(t_end))
+        return Pieces(edges, np.asarray(values, dtype=float), np.asarray(slopes, dtype=float))
 
     def to_dict(self):
         """The profile as a plain dict, in the form a recipe's table takes."""
@@ -108,8 +125,12 @@ class Profile:
         """Times in [0, t_end] where the profile jumps or bends."""
         raise NotImplementedError
 
-    def _right_limit(self, t):
-        return np.asarray(self(t), dtype=float)
+    def _start_and_slope(self, left, tol):
+        """Value just after each time in ``left`` and the slope that follows it.
+
+        An edge of the profile within ``tol`` after a time counts as at it.
+        """
+        raise NotImplementedError
 
     def __add__(self, other):
         if not isinstance(other, Profile):
@@ -138,6 +159,9 @@ class Constant(Profile):
 
     def _breaks(self, t_end):
         return np.empty(0)
+
+    def _start_and_slope(self, left, tol):
+        return np.full(len(left), self.value), np.zeros(len(left))
 
     def to_dict(self):
         return {"kind": self.kind, "value": self.value}
@@ -170,6 +194,17 @@ class PiecewiseLinear(Profile):
 
     def _breaks(self, t_end):
         return self._t
+
+    def _start_and_slope(self, left, tol):
+        t, v = self._t, self._v
+        if len(t) == 1:
+            return np.full(len(left), v[0]), np.zeros(len(left))
+        k = np.searchsorted(t, left + tol, side="right") - 1  # the segment each piece lies on
+        inside = (k >= 0) & (k < len(t) - 1)
+        k = np.clip(k, 0, len(t) - 2)
+        slopes = np.where(inside, (v[k + 1] - v[k]) / (t[k + 1] - t[k]), 0.0)
+        values = np.where(inside, v[k] + slopes * (left - t[k]), np.where(left < t[0], v[0], v[-1]))
+        return values, slopes
 
     def to_dict(self):
         return {"kind": self.kind, "points": [list(p) for p in self.points]}
@@ -257,10 +292,8 @@ class Pulses(Profile):
         rises = self.phase + k * self.period
         return np.concatenate((rises, rises + self.duty * self.period))
 
-    def _right_limit(self, t):
-        # Evaluate just inside each piece so a rounding error in the modulo
-        # never puts a pulse edge on the wrong side.
-        return self(t + 1e-9 * self.duty * self.period)
+    def _start_and_slope(self, left, tol):
+        return self(left + tol), np.zeros(len(left))
 
     def to_dict(self):
         return {
@@ -295,8 +328,9 @@ class Sum(Profile):
     def __call__(self, t):
         return sum(part(t) for part in self.parts)
 
-    def _right_limit(self, t):
-        return sum(part._right_limit(t) for part in self.parts)
+    def _start_and_slope(self, left, tol):
+        values, slopes = zip(*(part._start_and_slope(left, tol) for part in self.parts))
+        return sum(values), sum(slopes)
 
     def _breaks(self, t_end):
         return np.concatenate([part._breaks(t_end) for part in self.parts])
@@ -410,7 +444,7 @@ def _check_points(name, points):
 
 def _read_samples(path):
     try:
-        text = path.read_text()
+        text = path.read_text(encoding="utf-8-sig")  # a byte-order mark, as spreadsheets write, is fine
     except (OSError, UnicodeDecodeError) as error:
         reason = error.strerror if isinstance(error, OSError) else "not a UTF-8 text file"
         raise ParameterError(f"samples.file {str(path)!r} cannot be read: {reason}") from None

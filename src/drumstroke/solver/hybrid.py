@@ -25,7 +25,9 @@ then sums to 2L/(A·(1 − c)): the stick comes to rest at that accumulation
 time. Impacts in that tail (tip speeds under a micrometre per second) are
 never listed, wherever t_end falls. A
 tail that runs into the next piece has its remaining time rescaled by the new
-forcing (it lasts microseconds), or ends at once if the stick lifts off.
+forcing (it lasts microseconds), or ends at once if the stick lifts off. With
+c = 1 such a micro-bounce never accumulates, but never rises above
+``ZENO_HEIGHT`` either: the stick counts as resting from that launch.
 
 **Rest.** The stick stays on the head while C ≥ 0 and lifts off the moment C
 turns negative, which only un-natural profiles do (a < 0 or g < 0).
@@ -42,6 +44,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import SimulationError
+from ..profiles import merge_edges
 from . import elliptic, taylor
 from .arcs import ArcBuilder, Arcs
 
@@ -111,7 +114,7 @@ def solve(coefficients, force, gravity, *, theta0, omega0, cor, t_end, method="a
     run = _Run(coefficients.theta_max, theta0, omega0, cor, closed_forms=(method == "auto"))
     last_report = time.monotonic()
     for i in range(len(c0)):
-        run.advance(edges[i], edges[i + 1], c0[i], c1[i])
+        run.advance(float(edges[i]), float(edges[i + 1]), float(c0[i]), float(c1[i]))
         if progress is not None and time.monotonic() - last_report > 0.1:
             progress(edges[i + 1] / t_end)
             last_report = time.monotonic()
@@ -121,16 +124,9 @@ def solve(coefficients, force, gravity, *, theta0, omega0, cor, t_end, method="a
 def _forcing(coefficients, force, gravity, t_end):
     """Edges of the pieces of C(t), with C and its slope at the start of each."""
     a, g = force.pieces(t_end), gravity.pieces(t_end)
-    edges = np.union1d(a.edges, g.edges)
-    left = edges[:-1]
-    values, slopes = [], []
-    for pieces in (a, g):
-        i = np.searchsorted(pieces.edges, left, side="right") - 1
-        values.append(pieces.values[i] + pieces.slopes[i] * (left - pieces.edges[i]))
-        slopes.append(pieces.slopes[i])
-    c0 = coefficients.torque_rate(values[1], values[0])
-    c1 = coefficients.torque_rate(slopes[1], slopes[0])
-    return edges, c0, c1
+    edges = merge_edges(np.concatenate((a.edges, g.edges)), t_end)
+    (a0, a1), (g0, g1) = a.at(edges[:-1], t_end), g.at(edges[:-1], t_end)
+    return edges, coefficients.torque_rate(g0, a0), coefficients.torque_rate(g1, a1)
 
 
 class _Run:
@@ -181,6 +177,9 @@ class _Run:
                 self._record(t, omega)
                 self._bounces(t, -omega, c, te)
             return True
+        if theta == self.theta_max and omega < _zeno_floor(c * self.cos_head):
+            self._settle(t, omega, c)  # a launch too small to see: the Zeno tail from the start
+            return True
         sin_theta = math.sin(theta)
         m = elliptic.parameter(sin_theta, omega, c)
         if m >= 1.0 - _NEARLY_VERTICAL:
@@ -207,17 +206,22 @@ class _Run:
             if launch == 0.0:
                 self._rest(t, t)
                 return
-            if launch < floor and cor < 1.0:
+            if launch < floor:
                 self._settle(t, launch, c)
+                return
+            if elliptic.parameter(self.sin_head, launch, c) >= 1.0 - _NEARLY_VERTICAL:
+                # Launched toward the vertical: the Taylor path takes it (and reports it).
+                self.t, self.theta, self.omega = t, self.theta_max, launch
                 return
             if cor < 1.0:  # no more than it takes to fall below the floor
                 n = min(n, max(1, math.ceil(math.log(floor / launch) / math.log(cor)) + 1))
+            # (floor > 0 here: launch < floor would have settled otherwise)
             launches = launch * cor ** np.arange(n)
             flights = elliptic.flight_time(launches, c, self.sin_head)
             ends = t + np.cumsum(flights)
             starts = np.concatenate(([t], ends[:-1]))
             done = int(np.searchsorted(ends, te, side="right"))
-            below = np.flatnonzero(launches < floor) if cor < 1.0 else []
+            below = np.flatnonzero(launches < floor)
             settles = len(below) > 0 and below[0] <= done
             if settles:
                 done = below[0]
@@ -284,7 +288,9 @@ class _Run:
         current piece: :meth:`_retime_tail` then carries it into the next one.
         """
         self.tail_c = c
-        self._rest(t, t + 2.0 * launch / (c * self.cos_head * (1.0 - self.cor)))
+        # With c = 1 the micro-bounce never ends but never rises above ZENO_HEIGHT: rest from now.
+        tail = 2.0 * launch / (c * self.cos_head * (1.0 - self.cor)) if self.cor < 1.0 else 0.0
+        self._rest(t, t + tail)
 
     def _retime_tail(self, c):
         """A pending Zeno tail enters a piece whose forcing starts at ``c``: its remaining time scales as 1/C."""

@@ -116,8 +116,17 @@ def first_crossing(x, level, h, downward):
         if fb < 0.0:
             if fa > 0.0:
                 return _root(f, a, b)
-            if fa < 0.0 or sa <= 0.0:
+            if fa < 0.0 or sa < 0.0:
                 return a  # on (or past) the level and moving through it
+            if sa == 0.0:
+                # On the level at rest: leaving it if the polynomial rises first, so
+                # find a point above it, halving toward the start.
+                probe = b
+                for _ in range(64):
+                    probe *= 0.5
+                    if evaluate(f, probe)[0] > 0.0:
+                        return _root(f, probe, b)
+                return a
             # On the level and leaving it: the return lies beyond the apex.
             apex = _root(df, a, b)
             if apex < 0.0:  # the slope's sign change was round-off
@@ -170,6 +179,11 @@ def _presses(c_now, slope):
 
 
 @njit(cache=True)
+def _zeno_floor(c, theta_max, zeno_speed, zeno_height):
+    return min(zeno_speed, math.sqrt(2.0 * zeno_height * c * math.cos(theta_max)))
+
+
+@njit(cache=True)
 def _grow(array, n):
     if n < len(array):
         return array
@@ -216,6 +230,9 @@ def run_piece(t, theta, omega, lifting, ts, te, c0, c1, theta_max, cor, zeno_spe
             elif omega == 0.0 and _presses(c_now, c1):
                 outcome = REST
                 break
+            elif c_now > 0.0 and omega < _zeno_floor(c_now, theta_max, zeno_speed, zeno_height):
+                outcome, extra = SETTLE, c_now  # a launch too small to see
+                break
             else:
                 hit, w = -1.0, 0.0
         else:
@@ -241,8 +258,15 @@ def run_piece(t, theta, omega, lifting, ts, te, c0, c1, theta_max, cor, zeno_spe
                 theta = max(theta, theta_max)
                 continue
             w = min(evaluate(x, hit)[1], 0.0)
-        # an impact at t + hit with speed w
         t = t + hit
+        if w == 0.0:  # touching down at zero speed is no impact
+            theta, omega = theta_max, 0.0
+            if _presses(c0 + c1 * (t - ts), c1):
+                outcome = REST
+                break
+            lifting = True
+            continue
+        # an impact at t with speed w
         impact_t = _grow(impact_t, n_impacts)
         impact_omega = _grow(impact_omega, n_impacts)
         impact_t[n_impacts] = t
@@ -259,7 +283,7 @@ def run_piece(t, theta, omega, lifting, ts, te, c0, c1, theta_max, cor, zeno_spe
         elif launch == 0.0:
             outcome = REST
             break
-        elif cor < 1.0 and c_hit > 0.0 and launch < min(zeno_speed, math.sqrt(2.0 * zeno_height * c_hit * math.cos(theta_max))):
+        elif c_hit > 0.0 and launch < _zeno_floor(c_hit, theta_max, zeno_speed, zeno_height):
             outcome, extra = SETTLE, c_hit
             break
     steps, impact_t, impact_omega = steps[:n_steps], impact_t[:n_impacts], impact_omega[:n_impacts]
