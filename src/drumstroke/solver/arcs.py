@@ -14,9 +14,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import elliptic, taylor
+from . import elliptic
 
 REST, ELLIPTIC, TAYLOR = 0, 1, 2
+
+TAYLOR_ORDER = 24
+"""Degree of the Taylor arcs' polynomials (the integrator's order)."""
 
 
 @dataclass(frozen=True)
@@ -33,7 +36,7 @@ class Arcs:
         Each arc's row in its kind's table.
     elliptic : ndarray [shape=(n_elliptic, 3)]
         Apex time (s), C (s⁻²), m.
-    taylor : ndarray [shape=(n_taylor, ORDER + 2)]
+    taylor : ndarray [shape=(n_taylor, TAYLOR_ORDER + 2)]
         Step start time (s), then the coefficients of θ.
     theta_max : float
         The head (rad).
@@ -68,7 +71,7 @@ class Arcs:
         stepping = kind == TAYLOR
         if np.any(stepping):
             table = self.taylor[row[stepping]]
-            theta[stepping], omega[stepping] = taylor.evaluate_table(table[:, 1:].T, t[stepping] - table[:, 0])
+            theta[stepping], omega[stepping] = _polynomials(table[:, 1:].T, t[stepping] - table[:, 0])
 
         # Round-off can put a flight a few ulps under the head; the stick is never there.
         np.maximum(theta, self.theta_max, out=theta)
@@ -103,7 +106,7 @@ class ArcBuilder:
         self._n_elliptic += n
 
     def taylor(self, steps):
-        """Taylor steps [shape=(n, ORDER + 2)]: each row a start time (s) and the coefficients of θ."""
+        """Taylor steps [shape=(n, TAYLOR_ORDER + 2)]: each row a start time (s) and the coefficients of θ."""
         n = len(steps)
         if n == 0:
             return
@@ -114,7 +117,7 @@ class ArcBuilder:
         self._n_taylor += n
 
     def build(self):
-        empty_taylor = np.empty((0, taylor.ORDER + 2))
+        empty_taylor = np.empty((0, TAYLOR_ORDER + 2))
         return Arcs(
             start=np.concatenate(self._start),
             kind=np.concatenate(self._kind),
@@ -123,3 +126,13 @@ class ArcBuilder:
             taylor=np.concatenate(self._taylor) if self._taylor else empty_taylor,
             theta_max=self.theta_max,
         )
+
+
+def _polynomials(table, tau):
+    """Many polynomials at once: ``table`` [shape=(TAYLOR_ORDER + 1, n)], ``tau`` [shape=(n,)] → values, slopes."""
+    p = np.zeros_like(tau) + table[-1]
+    d = np.zeros_like(p)
+    for k in range(len(table) - 2, -1, -1):
+        d = d * tau + p
+        p = p * tau + table[k]
+    return p, d

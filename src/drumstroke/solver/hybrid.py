@@ -45,7 +45,7 @@ import numpy as np
 
 from ..errors import SimulationError
 from ..profiles import merge_edges
-from . import elliptic, taylor
+from . import elliptic
 from .arcs import ArcBuilder, Arcs
 
 ZENO_SPEED = 1e-6
@@ -249,6 +249,8 @@ class _Run:
     # -- Taylor steps ------------------------------------------------------
 
     def _taylor_piece(self, ts, te, c0, c1):
+        from . import taylor  # compiled on first use: strokes in closed form never load numba
+
         outcome, t, theta, omega, lifting, extra, steps, impact_t, impact_omega = taylor.run_piece(
             self.t, self.theta, self.omega, self.lifting, ts, te, c0, c1, self.theta_max, self.cor,
             ZENO_SPEED, ZENO_HEIGHT, _MAX_STEP, MAX_IMPACTS - self.n_impacts,

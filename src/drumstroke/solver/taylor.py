@@ -28,7 +28,8 @@ import math
 import numpy as np
 from numba import njit
 
-ORDER = 24
+from .arcs import TAYLOR_ORDER as ORDER
+
 TOLERANCE = 1e-16
 GRID = 32
 
@@ -81,16 +82,6 @@ def evaluate(x, tau):
     for k in range(len(x) - 2, -1, -1):
         d = d * tau + p
         p = p * tau + x[k]
-    return p, d
-
-
-def evaluate_table(table, tau):
-    """Many polynomials at once: ``table`` [shape=(ORDER + 1, n)], ``tau`` [shape=(n,)] → θ, ω."""
-    p = np.zeros_like(tau) + table[-1]
-    d = np.zeros_like(p)
-    for k in range(len(table) - 2, -1, -1):
-        d = d * tau + p
-        p = p * tau + table[k]
     return p, d
 
 
