@@ -14,7 +14,7 @@ from .model import MODELS, Stick
 from .presets import PRESETS, preset
 from .profiles import Constant, PiecewiseLinear, Profile, Pulses, Samples, Sum
 from .recipe import Recipe
-from .stroke import Impacts, Stroke, simulate
+from .stroke import Batch, Impacts, Stroke, simulate, simulate_many
 from ._version import __version__
 
 
@@ -22,6 +22,7 @@ __all__ = [
     "__version__",
     "MODELS",
     "PRESETS",
+    "Batch",
     "Constant",
     "DrumstrokeError",
     "Impacts",
@@ -37,4 +38,5 @@ __all__ = [
     "Sum",
     "preset",
     "simulate",
+    "simulate_many",
 ]

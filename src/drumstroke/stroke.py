@@ -21,12 +21,12 @@ import numpy as np
 
 from ._checks import check_choice, check_real
 from ._version import __version__
-from .errors import ParameterError
+from .errors import ParameterError, SimulationError
 from .model import coefficients
 from .presets import PRESETS, preset
 from .profiles import Constant, Profile, named
 from .recipe import Recipe
-from .solver import Arcs, solve
+from .solver import MAX_IMPACTS, Arcs, solve
 
 LEVEL_REFERENCE = 1.0
 """Tip speed (m/s) of a 0 dB impact: ``level_db = 20·log10(tip_speed / 1 m/s)``."""
@@ -271,3 +271,76 @@ def _as_profile(name, value):
         with named(name, Constant.kind):
             return Constant(value)
     raise ParameterError(f"{name} must be a profile or a number (m/s^2), got {value!r}")
+
+
+@dataclass(frozen=True)
+class Batch:
+    """The results of :func:`simulate_many`, stroke by stroke.
+
+    Attributes
+    ----------
+    recipes : tuple of Recipe
+    impacts : tuple of Impacts
+    rest_time : ndarray [shape=(n,)]
+        When each stroke comes to rest for good (s); NaN where it is still moving at t_end.
+    trajectories : tuple of (t, theta, omega) or None
+        Sampled at the requested rate, if one was.
+    """
+
+    recipes: tuple
+    impacts: tuple
+    rest_time: np.ndarray
+    trajectories: tuple | None
+
+    def __len__(self):
+        return len(self.recipes)
+
+
+def simulate_many(recipes, *, rate=None):
+    """Simulate many strokes; those with constant forcing in one compiled pass on every core.
+
+    Parameters
+    ----------
+    recipes : sequence of Recipe, preset names or paths
+    rate : float in (0, 1e6] or None
+        Hz. If given, each stroke's trajectory is sampled too (stroke by stroke).
+
+    Returns
+    -------
+    Batch
+        Impacts and rest times equal to :func:`simulate`'s, stroke by stroke.
+    """
+    from .solver.batch import OK, TOO_MANY, constant_batch
+
+    recipes = tuple(resolve(r) for r in recipes)
+    if rate is not None:
+        strokes = [simulate(r) for r in recipes]
+        return Batch(recipes, tuple(s.impacts for s in strokes),
+                     np.array([np.nan if s.rest_time is None else s.rest_time for s in strokes]),
+                     tuple(s.sample(rate) for s in strokes))
+    constant = [isinstance(r.force, Constant) and isinstance(r.gravity, Constant) for r in recipes]
+    index = [i for i, flag in enumerate(constant) if flag]
+    impacts = [None] * len(recipes)
+    rest = np.full(len(recipes), np.nan)
+    if index:
+        chosen = [recipes[i] for i in index]
+        c = [coefficients(r.model, r.stick).torque_rate(r.gravity.value, r.force.value) for r in chosen]
+        status, offsets, count, t, omega, rests = constant_batch(
+            [r.theta0 for r in chosen], [r.omega0 for r in chosen], [r.cor for r in chosen], c,
+            [r.theta_max for r in chosen], [r.t_end for r in chosen], max_impacts=MAX_IMPACTS,
+        )
+        for j, i in enumerate(index):
+            if status[j] == OK:
+                span = slice(offsets[j], offsets[j] + count[j])
+                impacts[i] = Impacts(t[span].copy(), omega[span].copy(), recipes[i].stick.pivot_to_tip)
+                rest[i] = rests[j]
+            elif status[j] == TOO_MANY:
+                raise SimulationError(
+                    f"recipe {i} has more than {MAX_IMPACTS} impacts; shorten t_end or lower cor (now {recipes[i].cor:g})"
+                )
+    for i, recipe in enumerate(recipes):
+        if impacts[i] is None:  # not constant forcing, or outside the kernel's reach
+            stroke = simulate(recipe)
+            impacts[i] = stroke.impacts
+            rest[i] = np.nan if stroke.rest_time is None else stroke.rest_time
+    return Batch(recipes, tuple(impacts), rest, None)

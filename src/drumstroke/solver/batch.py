@@ -1,0 +1,165 @@
+"""Many strokes under constant forcing at once, in compiled code on every core.
+
+The same rules as :mod:`.hybrid` (closed-form flights, c·w launches, the Zeno
+floor on speed and height, rest), one stroke per parallel iteration and no
+Python between steps. Strokes this kernel does not cover (forcing that lifts,
+C ≤ 0, or a flight toward the vertical) are flagged for the general solver.
+
+Two passes: the first bounds each stroke's impact count (one closed-form
+flight per stroke), the second fills one flat array at those offsets.
+"""
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from .carlson import ellipf
+from .hybrid import ZENO_HEIGHT, ZENO_SPEED
+
+OK, UNSUPPORTED, TOO_MANY = 0, 1, 2
+_NEARLY_VERTICAL = 1e-9
+
+
+@njit(cache=True)
+def _time_from_apex(sin_theta, omega, c, m):
+    sin_psi = math.sqrt(max(1.0 + sin_theta, 0.0) / (2.0 * m))
+    cos_psi = abs(omega) / (2.0 * math.sqrt(m * c))
+    return ellipf(math.atan2(cos_psi, math.sqrt(1.0 - m) * sin_psi), m) / math.sqrt(c)
+
+
+@njit(cache=True)
+def _parameter(sin_theta, omega, c):
+    return 0.5 * (1.0 + sin_theta + omega * omega / (2.0 * c))
+
+
+@njit(cache=True)
+def _first_impact(theta, omega, c, theta_max):
+    """(kind, time, speed) of the first event: 0 impact at ``time``, 1 at rest now, 2 settle, 3 unsupported."""
+    sin_head = math.sin(theta_max)
+    if theta == theta_max:
+        if omega == 0.0:
+            return 1, 0.0, 0.0
+        if omega < 0.0:
+            return 0, 0.0, -omega
+        floor = min(ZENO_SPEED, math.sqrt(2.0 * ZENO_HEIGHT * c * math.cos(theta_max)))
+        if omega < floor:
+            return 2, 0.0, omega
+    sin_theta = math.sin(theta)
+    m = _parameter(sin_theta, omega, c)
+    if m >= 1.0 - _NEARLY_VERTICAL:
+        return 3, 0.0, 0.0
+    since_apex = _time_from_apex(sin_theta, omega, c, m)
+    apex = since_apex if omega > 0.0 else -since_apex
+    speed = math.sqrt(omega * omega + 2.0 * c * max(sin_theta - sin_head, 0.0))
+    return 0, apex + _time_from_apex(sin_head, speed, c, m), speed
+
+
+@njit(cache=True)
+def _run(theta0, omega0, cor, c, theta_max, t_end, out_t, out_w, start, capacity):
+    """One stroke: fills out_t/out_w from ``start``; returns (status, count, rest time or NaN)."""
+    if not c > 0.0:
+        return UNSUPPORTED, 0, math.nan
+    a = c * math.cos(theta_max)
+    floor = min(ZENO_SPEED, math.sqrt(2.0 * ZENO_HEIGHT * a))
+    sin_head = math.sin(theta_max)
+    kind, t, speed = _first_impact(theta0, omega0, c, theta_max)
+    if kind == 3:
+        return UNSUPPORTED, 0, math.nan
+    if kind == 1:
+        return OK, 0, 0.0
+    n = 0
+    if kind == 2:
+        launch = speed
+    else:
+        if t > t_end:
+            return OK, 0, math.nan
+        if capacity < 1:
+            return TOO_MANY, 0, math.nan
+        out_t[start] = t
+        out_w[start] = -speed
+        n = 1
+        launch = cor * speed
+    while True:
+        if launch == 0.0:
+            return OK, n, t
+        if launch < floor:
+            rest = t + 2.0 * launch / (a * (1.0 - cor)) if cor < 1.0 else t
+            return OK, n, rest if rest <= t_end else math.nan
+        if _parameter(sin_head, launch, c) >= 1.0 - _NEARLY_VERTICAL:
+            return UNSUPPORTED, 0, math.nan
+        m = _parameter(sin_head, launch, c)
+        end = t + 2.0 * _time_from_apex(sin_head, launch, c, m)
+        if end > t_end:
+            return OK, n, math.nan
+        if n >= capacity:
+            return TOO_MANY, n, math.nan
+        out_t[start + n] = end
+        out_w[start + n] = -launch
+        n += 1
+        t = end
+        launch *= cor
+
+
+@njit(cache=True, parallel=True)
+def _capacities(theta0, omega0, cor, c, theta_max, t_end, max_impacts):
+    """An upper bound on each stroke's impact count (one flight each; exact counts come in the fill)."""
+    out = np.zeros(len(theta0), dtype=np.int64)
+    for i in prange(len(theta0)):
+        if not c[i] > 0.0:
+            continue
+        kind, t, speed = _first_impact(theta0[i], omega0[i], c[i], theta_max[i])
+        if kind != 0:
+            continue
+        a = c[i] * math.cos(theta_max[i])
+        floor = min(ZENO_SPEED, math.sqrt(2.0 * ZENO_HEIGHT * a))
+        launch = cor[i] * speed
+        if launch < floor:
+            out[i] = 1
+        elif cor[i] < 1.0:
+            out[i] = min(max_impacts, int(math.log(floor / launch) / math.log(cor[i])) + 3)
+        else:
+            sin_head = math.sin(theta_max[i])
+            m = _parameter(sin_head, launch, c[i])
+            if m >= 1.0 - _NEARLY_VERTICAL:
+                continue
+            flight = 2.0 * _time_from_apex(sin_head, launch, c[i], m)
+            out[i] = min(max_impacts, int((t_end[i] - t) / flight) + 3)
+    return out
+
+
+@njit(cache=True, parallel=True)
+def _fill(theta0, omega0, cor, c, theta_max, t_end, offsets, out_t, out_w, status, count, rest):
+    for i in prange(len(theta0)):
+        capacity = offsets[i + 1] - offsets[i]
+        status[i], count[i], rest[i] = _run(
+            theta0[i], omega0[i], cor[i], c[i], theta_max[i], t_end[i], out_t, out_w, offsets[i], capacity
+        )
+
+
+def constant_batch(theta0, omega0, cor, c, theta_max, t_end, *, max_impacts):
+    """Impacts of many strokes under constant forcing C (s⁻²), all arrays of one length.
+
+    Returns
+    -------
+    status : ndarray of int
+        OK, UNSUPPORTED (use the general solver) or TOO_MANY (over ``max_impacts``).
+    offsets : ndarray [shape=(n + 1,)]
+        Stroke i's impacts are ``t[offsets[i]:offsets[i] + count[i]]``.
+    count : ndarray of int
+    t, omega : ndarray
+        Impact times (s) and ω just before them (rad/s), stroke after stroke.
+    rest : ndarray
+        When each stroke comes to rest for good (s), NaN if it does not by t_end.
+    """
+    arrays = [np.ascontiguousarray(x, dtype=float) for x in (theta0, omega0, cor, c, theta_max, t_end)]
+    capacity = _capacities(*arrays, max_impacts)
+    offsets = np.concatenate(([0], np.cumsum(capacity)))
+    out_t = np.empty(offsets[-1])
+    out_w = np.empty(offsets[-1])
+    n = len(arrays[0])
+    status = np.zeros(n, dtype=np.int64)
+    count = np.zeros(n, dtype=np.int64)
+    rest = np.full(n, np.nan)
+    _fill(*arrays, offsets, out_t, out_w, status, count, rest)
+    return status, offsets, count, out_t, out_w, rest
