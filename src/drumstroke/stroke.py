@@ -315,8 +315,7 @@ def simulate_many(recipes, *, rate=None):
     recipes = tuple(resolve(r) for r in recipes)
     if rate is not None:
         strokes = [simulate(r) for r in recipes]
-        return Batch(recipes, tuple(s.impacts for s in strokes),
-                     np.array([np.nan if s.rest_time is None else s.rest_time for s in strokes]),
+        return Batch(recipes, tuple(s.impacts for s in strokes), np.array([_rest_or_nan(s) for s in strokes]),
                      tuple(s.sample(rate) for s in strokes))
     constant = [isinstance(r.force, Constant) and isinstance(r.gravity, Constant) for r in recipes]
     index = [i for i, flag in enumerate(constant) if flag]
@@ -341,6 +340,9 @@ def simulate_many(recipes, *, rate=None):
     for i, recipe in enumerate(recipes):
         if impacts[i] is None:  # not constant forcing, or outside the kernel's reach
             stroke = simulate(recipe)
-            impacts[i] = stroke.impacts
-            rest[i] = np.nan if stroke.rest_time is None else stroke.rest_time
+            impacts[i], rest[i] = stroke.impacts, _rest_or_nan(stroke)
     return Batch(recipes, tuple(impacts), rest, None)
+
+
+def _rest_or_nan(stroke):
+    return np.nan if stroke.rest_time is None else stroke.rest_time

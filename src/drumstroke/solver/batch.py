@@ -7,6 +7,10 @@ C ≤ 0, or a flight toward the vertical) are flagged for the general solver.
 
 Two passes: the first bounds each stroke's impact count (one closed-form
 flight per stroke), the second fills one flat array at those offsets.
+
+``_parameter`` and ``_time_from_apex`` are the compiled twins of
+:mod:`.elliptic`'s (scipy's elliptic integrals cannot be called from numba);
+tests/test_batch.py holds the two paths equal, stroke by stroke.
 """
 
 import math
@@ -15,10 +19,10 @@ import numpy as np
 from numba import njit, prange
 
 from .carlson import ellipf
-from .hybrid import ZENO_HEIGHT, ZENO_SPEED
+from .rules import NEARLY_VERTICAL
+from .taylor import zeno_floor
 
 OK, UNSUPPORTED, TOO_MANY = 0, 1, 2
-_NEARLY_VERTICAL = 1e-9
 
 
 @njit(cache=True)
@@ -42,12 +46,11 @@ def _first_impact(theta, omega, c, theta_max):
             return 1, 0.0, 0.0
         if omega < 0.0:
             return 0, 0.0, -omega
-        floor = min(ZENO_SPEED, math.sqrt(2.0 * ZENO_HEIGHT * c * math.cos(theta_max)))
-        if omega < floor:
+        if omega < zeno_floor(c * math.cos(theta_max)):
             return 2, 0.0, omega
     sin_theta = math.sin(theta)
     m = _parameter(sin_theta, omega, c)
-    if m >= 1.0 - _NEARLY_VERTICAL:
+    if m >= 1.0 - NEARLY_VERTICAL:
         return 3, 0.0, 0.0
     since_apex = _time_from_apex(sin_theta, omega, c, m)
     apex = since_apex if omega > 0.0 else -since_apex
@@ -61,7 +64,7 @@ def _run(theta0, omega0, cor, c, theta_max, t_end, out_t, out_w, start, capacity
     if not c > 0.0:
         return UNSUPPORTED, 0, math.nan
     a = c * math.cos(theta_max)
-    floor = min(ZENO_SPEED, math.sqrt(2.0 * ZENO_HEIGHT * a))
+    floor = zeno_floor(a)
     sin_head = math.sin(theta_max)
     kind, t, speed = _first_impact(theta0, omega0, c, theta_max)
     if kind == 3:
@@ -86,7 +89,7 @@ def _run(theta0, omega0, cor, c, theta_max, t_end, out_t, out_w, start, capacity
         if launch < floor:
             rest = t + 2.0 * launch / (a * (1.0 - cor)) if cor < 1.0 else t
             return OK, n, rest if rest <= t_end else math.nan
-        if _parameter(sin_head, launch, c) >= 1.0 - _NEARLY_VERTICAL:
+        if _parameter(sin_head, launch, c) >= 1.0 - NEARLY_VERTICAL:
             return UNSUPPORTED, 0, math.nan
         m = _parameter(sin_head, launch, c)
         end = t + 2.0 * _time_from_apex(sin_head, launch, c, m)
@@ -112,7 +115,7 @@ def _capacities(theta0, omega0, cor, c, theta_max, t_end, max_impacts):
         if kind != 0:
             continue
         a = c[i] * math.cos(theta_max[i])
-        floor = min(ZENO_SPEED, math.sqrt(2.0 * ZENO_HEIGHT * a))
+        floor = zeno_floor(a)
         launch = cor[i] * speed
         if launch < floor:
             out[i] = 1
@@ -121,7 +124,7 @@ def _capacities(theta0, omega0, cor, c, theta_max, t_end, max_impacts):
         else:
             sin_head = math.sin(theta_max[i])
             m = _parameter(sin_head, launch, c[i])
-            if m >= 1.0 - _NEARLY_VERTICAL:
+            if m >= 1.0 - NEARLY_VERTICAL:
                 continue
             flight = 2.0 * _time_from_apex(sin_head, launch, c[i], m)
             out[i] = min(max_impacts, int((t_end[i] - t) / flight) + 3)

@@ -17,7 +17,7 @@ crosses an edge. On a piece:
 
 **Zeno.** With c < 1 and the forcing pressing down, the bounces accumulate:
 infinitely many impacts before a finite time. Once a launch speed L is below
-:data:`ZENO_SPEED` and the bounce rises less than :data:`ZENO_HEIGHT`
+:data:`.rules.ZENO_SPEED` and the bounce rises less than :data:`.rules.ZENO_HEIGHT`
 (L²/(2A) with A = C·cos θ_max), flights are so short that the forcing is
 constant over the rest of them and each lasts 2L/A (the error of that
 parabola is O(L²) relative, below 1e-12). The tail of the geometric series
@@ -47,19 +47,13 @@ from ..errors import SimulationError
 from ..profiles import merge_edges
 from . import elliptic
 from .arcs import ArcBuilder, Arcs
-
-ZENO_SPEED = 1e-6
-"""Launch speed (rad/s) below which the rest of a bounce sequence is summed, not simulated..."""
-
-ZENO_HEIGHT = 1e-12
-"""...provided the bounce also rises less than this (rad) above the head (it does unless C is tiny)."""
+from .rules import NEARLY_VERTICAL, zeno_floor
 
 MAX_IMPACTS = 5_000_000
 """Most impacts one stroke may have."""
 
 _CHUNK = 4096
 _MAX_STEP = 1.0
-_NEARLY_VERTICAL = 1e-9
 
 
 @dataclass(frozen=True)
@@ -177,12 +171,12 @@ class _Run:
                 self._record(t, omega)
                 self._bounces(t, -omega, c, te)
             return True
-        if theta == self.theta_max and omega < _zeno_floor(c * self.cos_head):
+        if theta == self.theta_max and omega < zeno_floor(c * self.cos_head):
             self._settle(t, omega, c)  # a launch too small to see: the Zeno tail from the start
             return True
         sin_theta = math.sin(theta)
         m = elliptic.parameter(sin_theta, omega, c)
-        if m >= 1.0 - _NEARLY_VERTICAL:
+        if m >= 1.0 - NEARLY_VERTICAL:
             return False
         since_apex = float(elliptic.time_from_apex(sin_theta, omega, c, m))
         apex = t + since_apex if omega > 0.0 else t - since_apex
@@ -200,7 +194,7 @@ class _Run:
         """The run of bounces after an impact at ``t`` with speed ``speed`` under constant C."""
         cor = self.cor
         launch = cor * speed
-        floor = _zeno_floor(c * self.cos_head)
+        floor = zeno_floor(c * self.cos_head)
         n = 16  # flights per batch, doubling: short pieces hold few, long ones many
         while True:
             if launch == 0.0:
@@ -209,7 +203,7 @@ class _Run:
             if launch < floor:
                 self._settle(t, launch, c)
                 return
-            if elliptic.parameter(self.sin_head, launch, c) >= 1.0 - _NEARLY_VERTICAL:
+            if elliptic.parameter(self.sin_head, launch, c) >= 1.0 - NEARLY_VERTICAL:
                 # Launched toward the vertical: the Taylor path takes it (and reports it).
                 self.t, self.theta, self.omega = t, self.theta_max, launch
                 return
@@ -253,7 +247,7 @@ class _Run:
 
         outcome, t, theta, omega, lifting, extra, steps, impact_t, impact_omega = taylor.run_piece(
             self.t, self.theta, self.omega, self.lifting, ts, te, c0, c1, self.theta_max, self.cor,
-            ZENO_SPEED, ZENO_HEIGHT, _MAX_STEP, MAX_IMPACTS - self.n_impacts,
+            _MAX_STEP, MAX_IMPACTS - self.n_impacts,
         )
         self.arcs.taylor(steps)
         self._record(impact_t, impact_omega)
@@ -334,11 +328,6 @@ class _Run:
             impact_omega=impact_omega[keep],
             rests=np.array(self.rests, dtype=float).reshape(-1, 2),
         )
-
-
-def _zeno_floor(a):
-    """Launch speed (rad/s) below which a bounce is part of the Zeno tail, where A = C·cos θ_max = ``a``."""
-    return min(ZENO_SPEED, math.sqrt(2.0 * ZENO_HEIGHT * a))
 
 
 def _lift_off(ts, te, c0, c1, t):

@@ -28,10 +28,13 @@ import math
 import numpy as np
 from numba import njit
 
+from . import rules
 from .arcs import TAYLOR_ORDER as ORDER
 
 TOLERANCE = 1e-16
 GRID = 32
+
+zeno_floor = njit(cache=True)(rules.zeno_floor)
 
 # run_piece's outcomes
 DONE, REST, SETTLE, VERTICAL, TOO_MANY = 0, 1, 2, 3, 4
@@ -170,11 +173,6 @@ def _presses(c_now, slope):
 
 
 @njit(cache=True)
-def _zeno_floor(c, theta_max, zeno_speed, zeno_height):
-    return min(zeno_speed, math.sqrt(2.0 * zeno_height * c * math.cos(theta_max)))
-
-
-@njit(cache=True)
 def _grow(array, n):
     if n < len(array):
         return array
@@ -184,16 +182,15 @@ def _grow(array, n):
 
 
 @njit(cache=True)
-def run_piece(t, theta, omega, lifting, ts, te, c0, c1, theta_max, cor, zeno_speed, zeno_height, max_step,
-              impacts_left):
+def run_piece(t, theta, omega, lifting, ts, te, c0, c1, theta_max, cor, max_step, impacts_left):
     """Carry the stick from ``t`` to ``te`` where C(t) = c0 + c1·(t − ts), with Taylor steps.
 
     Returns
     -------
     outcome : int
         DONE (reached ``te`` in flight), REST (lies on the head from ``t``),
-        SETTLE (a launch slower than ``zeno_speed`` and lower than
-        ``zeno_height`` under forcing C = ``extra``: sum the tail),
+        SETTLE (a launch below the Zeno floor of :mod:`.rules` under
+        forcing C = ``extra``: sum the tail),
         VERTICAL (reaches π/2 at time ``extra``), TOO_MANY (impact limit).
     t, theta, omega : float
         The state where it stopped (after the impact, for SETTLE and REST).
@@ -221,7 +218,7 @@ def run_piece(t, theta, omega, lifting, ts, te, c0, c1, theta_max, cor, zeno_spe
             elif omega == 0.0 and _presses(c_now, c1):
                 outcome = REST
                 break
-            elif c_now > 0.0 and omega < _zeno_floor(c_now, theta_max, zeno_speed, zeno_height):
+            elif c_now > 0.0 and omega < zeno_floor(c_now * math.cos(theta_max)):
                 outcome, extra = SETTLE, c_now  # a launch too small to see
                 break
             else:
@@ -274,7 +271,7 @@ def run_piece(t, theta, omega, lifting, ts, te, c0, c1, theta_max, cor, zeno_spe
         elif launch == 0.0:
             outcome = REST
             break
-        elif c_hit > 0.0 and launch < _zeno_floor(c_hit, theta_max, zeno_speed, zeno_height):
+        elif c_hit > 0.0 and launch < zeno_floor(c_hit * math.cos(theta_max)):
             outcome, extra = SETTLE, c_hit
             break
     steps, impact_t, impact_omega = steps[:n_steps], impact_t[:n_impacts], impact_omega[:n_impacts]
