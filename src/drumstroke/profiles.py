@@ -84,6 +84,8 @@ def merge_tolerance(t_end):
 
 def merge_edges(edges, t_end):
     """Sorted edges in [0, t_end], 0 and t_end included, with near-duplicates merged into the first."""
+    if len(edges) == 0:
+        return np.array([0.0, t_end])
     edges = np.unique(np.concatenate(([0.0, t_end], edges)))
     edges = edges[(edges >= 0.0) & (edges <= t_end)]
     tol = merge_tolerance(t_end)

@@ -152,7 +152,7 @@ class Stroke:
                 f"are allowed (rate must be at most {MAX_SAMPLES / self.t_end:g} Hz for this stroke)"
             )
         t = np.minimum(np.arange(n) / rate, self.t_end)
-        theta, omega = self.arcs.evaluate(t)
+        theta, omega = self.arcs.evaluate(t, spacing=1.0 / rate)
         return t, theta, omega
 
     def to_dict(self):

@@ -8,9 +8,7 @@ C ≤ 0, or a flight toward the vertical) are flagged for the general solver.
 Two passes: the first bounds each stroke's impact count (one closed-form
 flight per stroke), the second fills one flat array at those offsets.
 
-``_parameter`` and ``_time_from_apex`` are the compiled twins of
-:mod:`.elliptic`'s (scipy's elliptic integrals cannot be called from numba);
-tests/test_batch.py holds the two paths equal, stroke by stroke.
+tests/test_batch.py holds it equal to :mod:`.kernel`, stroke by stroke.
 """
 
 import math
@@ -18,23 +16,11 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from .carlson import ellipf
+from .elliptic import flight_time, parameter, time_from_apex
 from .rules import NEARLY_VERTICAL
 from .taylor import zeno_floor
 
 OK, UNSUPPORTED, TOO_MANY = 0, 1, 2
-
-
-@njit(cache=True)
-def _time_from_apex(sin_theta, omega, c, m):
-    sin_psi = math.sqrt(max(1.0 + sin_theta, 0.0) / (2.0 * m))
-    cos_psi = abs(omega) / (2.0 * math.sqrt(m * c))
-    return ellipf(math.atan2(cos_psi, math.sqrt(1.0 - m) * sin_psi), m) / math.sqrt(c)
-
-
-@njit(cache=True)
-def _parameter(sin_theta, omega, c):
-    return 0.5 * (1.0 + sin_theta + omega * omega / (2.0 * c))
 
 
 @njit(cache=True)
@@ -49,13 +35,13 @@ def _first_impact(theta, omega, c, theta_max):
         if omega < zeno_floor(c * math.cos(theta_max)):
             return 2, 0.0, omega
     sin_theta = math.sin(theta)
-    m = _parameter(sin_theta, omega, c)
+    m = parameter(sin_theta, omega, c)
     if m >= 1.0 - NEARLY_VERTICAL:
         return 3, 0.0, 0.0
-    since_apex = _time_from_apex(sin_theta, omega, c, m)
+    since_apex = time_from_apex(sin_theta, omega, c, m)
     apex = since_apex if omega > 0.0 else -since_apex
     speed = math.sqrt(omega * omega + 2.0 * c * max(sin_theta - sin_head, 0.0))
-    return 0, apex + _time_from_apex(sin_head, speed, c, m), speed
+    return 0, apex + time_from_apex(sin_head, speed, c, m), speed
 
 
 @njit(cache=True)
@@ -89,10 +75,10 @@ def _run(theta0, omega0, cor, c, theta_max, t_end, out_t, out_w, start, capacity
         if launch < floor:
             rest = t + 2.0 * launch / (a * (1.0 - cor)) if cor < 1.0 else t
             return OK, n, rest if rest <= t_end else math.nan
-        if _parameter(sin_head, launch, c) >= 1.0 - NEARLY_VERTICAL:
+        flight, m = flight_time(launch, c, sin_head)
+        if m >= 1.0 - NEARLY_VERTICAL:
             return UNSUPPORTED, 0, math.nan
-        m = _parameter(sin_head, launch, c)
-        end = t + 2.0 * _time_from_apex(sin_head, launch, c, m)
+        end = t + flight
         if end > t_end:
             return OK, n, math.nan
         if n >= capacity:
@@ -122,11 +108,9 @@ def _capacities(theta0, omega0, cor, c, theta_max, t_end, max_impacts):
         elif cor[i] < 1.0:
             out[i] = min(max_impacts, int(math.log(floor / launch) / math.log(cor[i])) + 3)
         else:
-            sin_head = math.sin(theta_max[i])
-            m = _parameter(sin_head, launch, c[i])
+            flight, m = flight_time(launch, c[i], math.sin(theta_max[i]))
             if m >= 1.0 - NEARLY_VERTICAL:
                 continue
-            flight = 2.0 * _time_from_apex(sin_head, launch, c[i], m)
             out[i] = min(max_impacts, int((t_end[i] - t) / flight) + 3)
     return out
 

@@ -12,20 +12,32 @@ import math
 from numba import njit
 
 
+_Q_FACTOR = (3.0 * 2.0**-53) ** (-1.0 / 6.0)  # the series' relative error is then below 2⁻⁵³
+
+
 @njit(cache=True)
 def rf(x, y, z):
-    """Carlson's symmetric integral R_F(x, y, z) for x, y, z ≥ 0, at most one of them 0."""
+    """Carlson's symmetric integral R_F(x, y, z) for x, y, z ≥ 0, at most one of them 0.
+
+    Carlson's algorithm (1995, §2): duplicate until 4⁻ⁿ·Q < Aₙ, then a series of order 5.
+    """
+    a0 = (x + y + z) / 3.0
+    q = _Q_FACTOR * max(abs(a0 - x), abs(a0 - y), abs(a0 - z))
+    x0, y0 = x, y
+    a, scale = a0, 1.0
     for _ in range(100):
-        mu = (x + y + z) / 3.0
-        dx, dy, dz = 1.0 - x / mu, 1.0 - y / mu, 1.0 - z / mu
-        if max(abs(dx), abs(dy), abs(dz)) < 1e-4:  # the series error is then below 1e-20
-            e2 = dx * dy - dz * dz
-            e3 = dx * dy * dz
-            return (1.0 - e2 / 10.0 + e3 / 14.0 + e2 * e2 / 24.0 - 3.0 * e2 * e3 / 44.0) / math.sqrt(mu)
+        if q * scale < abs(a):
+            break
         sx, sy, sz = math.sqrt(x), math.sqrt(y), math.sqrt(z)
         lam = sx * sy + sy * sz + sz * sx
-        x, y, z = (x + lam) / 4.0, (y + lam) / 4.0, (z + lam) / 4.0
-    return math.nan
+        x, y, z, a = 0.25 * (x + lam), 0.25 * (y + lam), 0.25 * (z + lam), 0.25 * (a + lam)
+        scale *= 0.25
+    dx = (a0 - x0) * scale / a
+    dy = (a0 - y0) * scale / a
+    dz = -(dx + dy)
+    e2 = dx * dy - dz * dz
+    e3 = dx * dy * dz
+    return (1.0 - e2 / 10.0 + e3 / 14.0 + e2 * e2 / 24.0 - 3.0 * e2 * e3 / 44.0) / math.sqrt(a)
 
 
 @njit(cache=True)

@@ -1,26 +1,40 @@
-"""Exact flights under constant forcing, in Jacobi elliptic functions.
+"""Exact flights under constant forcing, in Jacobi elliptic functions, compiled.
 
 With C > 0 constant, φ = θ + π/2 turns θ̈ = −C cos θ into a pendulum. A flight
 whose energy E = ω²/2 + C sin θ is below C (the stick never reaches the
-vertical) is a libration with parameter m = (1 + E/C)/2 ∈ (0, 1), and with τ the
-time since the apex (negative before it), u = K(m) − √C·τ:
+vertical) is a libration with parameter m = (1 + E/C)/2 ∈ (0, 1). With τ the
+time since the apex (negative before it) and v = √C·τ,
 
-    θ(τ) = 2·asin(√m·sn(u | m)) − π/2,      ω(τ) = −2·√(m·C)·cn(u | m).
+    θ(τ) = 2·asin(√m·cd(v | m)) − π/2,      ω(τ) = −2·√(m(1 − m)C)·sd(v | m),
 
-The time from the apex to a state follows by inverting sn: with
+(cd = cn/dn, sd = sn/dn: the apex form of sn(K − v) and cn(K − v), which
+needs no K(m)).
+
+The time from the apex to a state follows by inverting it: with
 sin ψ = √((1 + sin θ)/(2m)) and cos ψ = |ω|/(2√(mC)), |τ| = (K(m) − F(ψ|m))/√C.
 That difference cancels badly near the head of a small bounce, so it is written
 as F(χ|m)/√C with tan χ = cos ψ/(√(1 − m)·sin ψ) (the addition theorem
 F(ψ) + F(χ) = K for tan ψ·tan χ = 1/√(1 − m)), which keeps full relative
-accuracy for flights of any size.
+accuracy for flights of any size; on the orbit sin²χ and cos²χ are rational in
+sin θ, ω², C and m, so no trigonometric function is needed.
 
-All functions take and return numpy arrays or floats, element-wise.
+Every function is compiled (numba) and takes floats; scipy's elliptic
+functions cannot be called from compiled code, so F comes from Carlson's R_F
+(:mod:`.carlson`) and sn, cn, dn from the arithmetic-geometric mean
+(:func:`jacobi`). tests/test_elliptic.py holds both to scipy and mpmath.
 """
 
+import math
+
 import numpy as np
-from scipy.special import ellipj, ellipk, ellipkinc
+from numba import njit
+
+from .carlson import rf
+
+_EPS = 1.1102230246251565e-16  # 2⁻⁵³
 
 
+@njit(cache=True)
 def parameter(sin_theta, omega, c):
     """The elliptic parameter m = (1 + sin θ + ω²/(2C))/2 of the orbit through (θ, ω).
 
@@ -29,32 +43,36 @@ def parameter(sin_theta, omega, c):
     return 0.5 * (1.0 + sin_theta + omega * omega / (2.0 * c))
 
 
+@njit(cache=True)
 def time_from_apex(sin_theta, omega, c, m):
     """|τ|, the time between the apex and the state (θ, ω) on the orbit m (s).
 
     Parameters
     ----------
-    sin_theta : float or ndarray
+    sin_theta : float
         sin θ.
-    omega : float or ndarray
+    omega : float
         ω (rad/s); only its magnitude matters.
     c : float > 0
         C (s⁻²).
-    m : float or ndarray in (0, 1)
+    m : float in (0, 1)
         From :func:`parameter`.
     """
-    sin_psi = np.sqrt(np.maximum(1.0 + sin_theta, 0.0) / (2.0 * m))
-    cos_psi = np.abs(omega) / (2.0 * np.sqrt(m * c))
-    chi = np.arctan2(cos_psi, np.sqrt(1.0 - m) * sin_psi)
-    return ellipkinc(chi, m) / np.sqrt(c)
+    # F(χ|m) = sin χ·R_F(cos²χ, 1 − m·sin²χ, 1) (DLMF 19.25.5), where on the orbit
+    # sin²χ = ω²/(2mC(1 − sin θ)) and cos²χ = (1 − m)(1 + sin θ)/(m(1 − sin θ)).
+    below = 1.0 - sin_theta
+    sin2 = omega * omega / (2.0 * m * c * below)
+    cos2 = (1.0 - m) * max(1.0 + sin_theta, 0.0) / (m * below)
+    return math.sqrt(sin2) * rf(cos2, cos2 + (1.0 - m) * sin2, 1.0) / math.sqrt(c)
 
 
+@njit(cache=True)
 def flight_time(launch_speed, c, sin_head):
-    """Duration of a flight launched upward from the head at ``launch_speed`` (s).
+    """Duration (s) of a flight launched upward from the head at ``launch_speed`` (rad/s), and its m.
 
     Parameters
     ----------
-    launch_speed : float or ndarray ≥ 0
+    launch_speed : float ≥ 0
         ω just after the impact (rad/s).
     c : float > 0
         C (s⁻²).
@@ -62,13 +80,64 @@ def flight_time(launch_speed, c, sin_head):
         sin θ_max.
     """
     m = parameter(sin_head, launch_speed, c)
-    return 2.0 * time_from_apex(sin_head, launch_speed, c, m)
+    return 2.0 * time_from_apex(sin_head, launch_speed, c, m), m
 
 
+@njit(cache=True)
+def jacobi(u, m):
+    """sn, cn and dn of ``u`` for the parameter m in [0, 1), by the AGM and descending Landen steps.
+
+    The algorithm of Abramowitz & Stegun 16.4 (as in Cephes' ``ellpj``, which
+    scipy wraps), accurate to a few units of round-off.
+    """
+    if m < 1e-9:
+        s, c = math.sin(u), math.cos(u)
+        ai = 0.25 * m * (u - s * c)
+        return s - ai * c, c + ai * s, 1.0 - 0.5 * m * s * s
+    a = np.empty(10)  # the AGM's a_i and c_i, at most 9 steps for m < 1 − 1e-16
+    cs = np.empty(10)
+    a[0], cs[0] = 1.0, math.sqrt(m)
+    b = math.sqrt(1.0 - m)
+    twon = 1.0
+    i = 0
+    while abs(cs[i] / a[i]) > _EPS and i < 9:
+        cs[i + 1] = 0.5 * (a[i] - b)
+        a[i + 1], b = 0.5 * (a[i] + b), math.sqrt(a[i] * b)
+        twon *= 2.0
+        i += 1
+    phi = twon * a[i] * u
+    previous = phi
+    while i > 0:
+        previous = phi
+        phi = 0.5 * (math.asin(cs[i] * math.sin(phi) / a[i]) + phi)
+        i -= 1
+    sn, cn = math.sin(phi), math.cos(phi)
+    dn_factor = math.cos(phi - previous)
+    if abs(dn_factor) < 0.1:  # the quotient cancels there (DLMF 22.20.5)
+        return sn, cn, math.sqrt(1.0 - m * sn * sn)
+    return sn, cn, cn / dn_factor
+
+
+@njit(cache=True)
+def shift(sn, cn, dn, sn_h, cn_h, dn_h, m):
+    """sn, cn, dn of u + h from those of u and of h (the addition theorem, DLMF 22.8.1–3)."""
+    d = 1.0 / (1.0 - m * sn * sn * sn_h * sn_h)
+    return (
+        (sn * cn_h * dn_h + sn_h * cn * dn) * d,
+        (cn * cn_h - sn * dn * sn_h * dn_h) * d,
+        (dn * dn_h - m * sn * cn * sn_h * cn_h) * d,
+    )
+
+
+@njit(cache=True)
+def angle(sn, cn, dn, c, m):
+    """θ (rad) and ω (rad/s) at v = √C·τ from sn, cn, dn of v on the orbit ``m`` under C = ``c``."""
+    theta = 2.0 * math.asin(math.sqrt(m) * cn / dn) - 0.5 * math.pi
+    return theta, -2.0 * math.sqrt(m * (1.0 - m) * c) * sn / dn
+
+
+@njit(cache=True)
 def state(tau, c, m):
     """θ (rad) and ω (rad/s) at time ``tau`` after the apex (s) on the orbit ``m``."""
-    u = ellipk(m) - np.sqrt(c) * tau
-    sn, cn, _, _ = ellipj(u, m)
-    theta = 2.0 * np.arcsin(np.sqrt(m) * sn) - 0.5 * np.pi
-    omega = -2.0 * np.sqrt(m * c) * cn
-    return theta, omega
+    sn, cn, dn = jacobi(math.sqrt(c) * tau, m)
+    return angle(sn, cn, dn, c, m)

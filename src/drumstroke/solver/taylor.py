@@ -173,7 +173,8 @@ def _presses(c_now, slope):
 
 
 @njit(cache=True)
-def _grow(array, n):
+def grow(array, n):
+    """``array``, or a copy twice as long, so that row ``n`` exists (a growable buffer)."""
     if n < len(array):
         return array
     bigger = np.empty((2 * len(array),) + array.shape[1:])
@@ -236,7 +237,7 @@ def run_piece(t, theta, omega, lifting, ts, te, c0, c1, theta_max, cor, max_step
             if top >= 0.0:
                 outcome, extra = VERTICAL, t + top
                 break
-            steps = _grow(steps, n_steps)
+            steps = grow(steps, n_steps)
             steps[n_steps, 0] = t
             steps[n_steps, 1:] = x
             n_steps += 1
@@ -255,8 +256,8 @@ def run_piece(t, theta, omega, lifting, ts, te, c0, c1, theta_max, cor, max_step
             lifting = True
             continue
         # an impact at t with speed w
-        impact_t = _grow(impact_t, n_impacts)
-        impact_omega = _grow(impact_omega, n_impacts)
+        impact_t = grow(impact_t, n_impacts)
+        impact_omega = grow(impact_omega, n_impacts)
         impact_t[n_impacts] = t
         impact_omega[n_impacts] = w
         n_impacts += 1

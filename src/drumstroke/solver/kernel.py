@@ -1,0 +1,284 @@
+"""The hybrid solver's loop and the trajectory's evaluation, compiled (numba, cached on disk).
+
+:func:`run` walks the pieces of forcing with the rules of :mod:`.hybrid`:
+closed-form flights one after another where the forcing is constant and
+presses down, :func:`.taylor.run_piece` elsewhere, the Zeno tail, rest and
+lift-off. Nothing returns to Python between flights or pieces.
+
+:func:`evaluate` reads the arcs at many times. Samples at a fixed spacing in
+one elliptic flight are carried from one to the next by the addition theorem
+of sn, cn, dn (a few multiplications), and computed afresh every
+:data:`REANCHOR` samples so that round-off cannot accumulate.
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+from . import elliptic
+from .arcs import ELLIPTIC, REST, TAYLOR, TAYLOR_ORDER
+from .rules import NEARLY_VERTICAL
+from .taylor import DONE as _TAYLOR_DONE
+from .taylor import SETTLE as _TAYLOR_SETTLE
+from .taylor import TOO_MANY as _TAYLOR_TOO_MANY
+from .taylor import VERTICAL as _TAYLOR_VERTICAL
+from .taylor import evaluate as polynomial
+from .taylor import grow, run_piece, zeno_floor
+
+# run's outcomes
+DONE, VERTICAL, TOO_MANY = 0, 1, 2
+
+# slots of the state vector carried from one call of run to the next
+T, THETA, OMEGA, RESTING, LIFTING, TAIL_C, REST_START, IMPACTS, STEPS = range(9)
+STATE_SIZE = 9
+
+REANCHOR = 32
+"""Samples carried by the addition theorem before one is computed afresh."""
+
+
+def initial_state(theta0, omega0):
+    """The state vector at t = 0: in flight at (θ₀, ω₀)."""
+    state = np.zeros(STATE_SIZE)
+    state[THETA], state[OMEGA] = theta0, omega0
+    state[TAIL_C] = state[REST_START] = math.nan
+    return state
+
+
+@njit(cache=True)
+def _lift_off(ts, te, c0, c1, t):
+    """When, in [t, te), a resting stick lifts off under C = c0 + c1·(t − ts); NaN if it stays."""
+    c_now = c0 + c1 * (t - ts)
+    if c_now < 0.0 or (c_now == 0.0 and c1 < 0.0):
+        return t
+    if c1 < 0.0:
+        zero = ts - c0 / c1
+        if zero < te:
+            return max(zero, t)
+    return math.nan
+
+
+@njit(cache=True)
+def _arc(arcs, n, start, kind, apex, c, m):
+    arcs = grow(arcs, n)
+    arcs[n, 0], arcs[n, 1], arcs[n, 2], arcs[n, 3], arcs[n, 4] = start, kind, apex, c, m
+    return arcs, n + 1
+
+
+@njit(cache=True)
+def _impact(impacts, n, t, omega):
+    impacts = grow(impacts, n)
+    impacts[n, 0], impacts[n, 1] = t, omega
+    return impacts, n + 1
+
+
+@njit(cache=True)
+def run(edges, c0, c1, theta_max, cor, closed_forms, max_step, max_impacts, state):
+    """Carry the stick through the pieces [edges[i], edges[i+1]) where C = c0[i] + c1[i]·(t − edges[i]).
+
+    Parameters
+    ----------
+    edges : ndarray [shape=(n + 1,)]
+        s, strictly increasing.
+    c0, c1 : ndarray [shape=(n,)]
+        C at the start of each piece (s⁻²) and its slope (s⁻³).
+    theta_max : float
+        The head (rad).
+    cor : float in [0, 1]
+    closed_forms : bool
+        False integrates every flight with Taylor steps (a cross-check).
+    max_step : float
+        Longest Taylor step (s).
+    max_impacts : int
+        Impacts allowed in all, counting those of earlier calls.
+    state : ndarray [shape=(STATE_SIZE,)]
+        Where the stick is; updated in place.
+
+    Returns
+    -------
+    outcome : int
+        DONE, VERTICAL or TOO_MANY (``extra`` is then the time it happened).
+    extra : float
+    arcs : ndarray [shape=(n_arcs, 5)]
+        Rows of :attr:`.arcs.Arcs.table`.
+    steps : ndarray [shape=(n_steps, TAYLOR_ORDER + 2)]
+        The Taylor arcs' start times and polynomials, in order.
+    impacts : ndarray [shape=(n_impacts, 2)]
+        Time (s) and ω just before (rad/s).
+    rests : ndarray [shape=(n_rests, 2)]
+        Rests that ended (by lift-off) in these pieces; one still going is in ``state``.
+    """
+    sin_head, cos_head = math.sin(theta_max), math.cos(theta_max)
+    t, theta, omega = state[T], state[THETA], state[OMEGA]
+    resting, lifting = state[RESTING] != 0.0, state[LIFTING] != 0.0
+    tail_c, rest_start = state[TAIL_C], state[REST_START]
+    n_before, steps_before = int(state[IMPACTS]), int(state[STEPS])
+    arcs, n_arcs = np.empty((256, 5)), 0
+    steps, n_steps = np.empty((4, TAYLOR_ORDER + 2)), 0
+    impacts, n_impacts = np.empty((256, 2)), 0
+    rests, n_rests = np.empty((4, 2)), 0
+    outcome, extra = DONE, math.nan
+
+    for i in range(len(c0)):
+        ts, te, a, b = edges[i], edges[i + 1], c0[i], c1[i]
+        t = ts
+        if resting and rest_start > ts and a > 0.0:
+            # A Zeno tail summed under the last piece's forcing runs on into this one:
+            # its remaining time scales as 1/C.
+            rest_start = ts + (rest_start - ts) * tail_c / a
+            tail_c = a
+        while t < te and outcome == DONE:
+            if resting:
+                lift = _lift_off(ts, te, a, b, t)
+                if math.isnan(lift):
+                    break
+                if rest_start < lift:  # (lifting during the Zeno tail: that rest never began)
+                    rests = grow(rests, n_rests)
+                    rests[n_rests, 0], rests[n_rests, 1] = rest_start, lift
+                    n_rests += 1
+                t, theta, omega = lift, theta_max, 0.0
+                resting, lifting = False, True
+                continue
+
+            settle, settle_c = -1.0, a  # settle ≥ 0: the stick rests after a launch this slow at t
+            taylor = True
+            if closed_forms and b == 0.0 and a > 0.0:
+                floor = zeno_floor(a * cos_head)
+                launch = -1.0  # ≥ 0: a run of bounces starts from the head at t
+                if theta == theta_max and omega <= 0.0:
+                    taylor, lifting = False, False
+                    if omega == 0.0:
+                        launch = 0.0
+                    else:
+                        impacts, n_impacts = _impact(impacts, n_impacts, t, omega)
+                        launch = -cor * omega
+                elif theta == theta_max and omega < floor:
+                    taylor, lifting = False, False
+                    settle = omega  # a launch too small to see: the Zeno tail from the start
+                else:
+                    sin_theta = math.sin(theta)
+                    m = elliptic.parameter(sin_theta, omega, a)
+                    if m < 1.0 - NEARLY_VERTICAL:
+                        taylor, lifting = False, False
+                        since_apex = elliptic.time_from_apex(sin_theta, omega, a, m)
+                        apex = t + since_apex if omega > 0.0 else t - since_apex
+                        speed = math.sqrt(omega * omega + 2.0 * a * max(sin_theta - sin_head, 0.0))
+                        hit = apex + elliptic.time_from_apex(sin_head, speed, a, m)
+                        arcs, n_arcs = _arc(arcs, n_arcs, t, ELLIPTIC, apex, a, m)
+                        if hit > te:
+                            theta, omega = elliptic.state(te - apex, a, m)
+                            t, theta = te, max(theta, theta_max)
+                            continue
+                        t = hit
+                        impacts, n_impacts = _impact(impacts, n_impacts, t, -speed)
+                        launch = cor * speed
+                # After an impact at speed w the launches are c·w, c²·w, …: one closed-form flight each.
+                while launch >= 0.0 and n_before + n_impacts <= max_impacts:
+                    if launch < floor:  # (launch = 0 included)
+                        settle = launch
+                        break
+                    flight, m = elliptic.flight_time(launch, a, sin_head)
+                    if m >= 1.0 - NEARLY_VERTICAL:  # toward the vertical: the Taylor steps take it
+                        theta, omega = theta_max, launch
+                        break
+                    arcs, n_arcs = _arc(arcs, n_arcs, t, ELLIPTIC, t + 0.5 * flight, a, m)
+                    if t + flight > te:
+                        if t == te:
+                            theta, omega = theta_max, launch
+                        else:
+                            theta, omega = elliptic.state(te - (t + 0.5 * flight), a, m)
+                            t, theta = te, max(theta, theta_max)
+                        break
+                    t += flight
+                    impacts, n_impacts = _impact(impacts, n_impacts, t, -launch)
+                    launch *= cor
+                if n_before + n_impacts > max_impacts:
+                    outcome, extra = TOO_MANY, t
+                    break
+                if settle < 0.0 and launch >= 0.0:
+                    continue  # the bounces reached te, or left the rest of the piece to the Taylor steps
+            if taylor and settle < 0.0:
+                (piece_outcome, t, theta, omega, lifting, piece_extra, piece_steps, piece_t,
+                 piece_omega) = run_piece(t, theta, omega, lifting, ts, te, a, b, theta_max, cor, max_step,
+                                          max_impacts - n_before - n_impacts)
+                for k in range(len(piece_steps)):
+                    arcs, n_arcs = _arc(arcs, n_arcs, piece_steps[k, 0], TAYLOR, steps_before + n_steps, 0.0, 0.0)
+                    steps = grow(steps, n_steps)
+                    steps[n_steps] = piece_steps[k]
+                    n_steps += 1
+                for k in range(len(piece_t)):
+                    impacts, n_impacts = _impact(impacts, n_impacts, piece_t[k], piece_omega[k])
+                if piece_outcome == _TAYLOR_VERTICAL:
+                    outcome, extra = VERTICAL, piece_extra
+                    break
+                if piece_outcome == _TAYLOR_TOO_MANY:
+                    outcome, extra = TOO_MANY, t
+                    break
+                if piece_outcome == _TAYLOR_DONE:
+                    continue
+                if piece_outcome == _TAYLOR_SETTLE:
+                    settle, settle_c = omega, piece_extra
+                else:
+                    settle = 0.0
+            # Rest: at once after a zero-speed launch, or at the accumulation time of the
+            # Zeno tail, 2L/(A·(1 − c)) after a launch L, with A = C·cos θ_max. With c = 1
+            # such a micro-bounce never ends but never rises above ZENO_HEIGHT: rest from now.
+            tail = 2.0 * settle / (settle_c * cos_head * (1.0 - cor)) if settle > 0.0 and cor < 1.0 else 0.0
+            arcs, n_arcs = _arc(arcs, n_arcs, t, REST, 0.0, 0.0, 0.0)
+            tail_c, rest_start = settle_c, t + tail
+            theta, omega, resting = theta_max, 0.0, True
+        if outcome != DONE:
+            break
+
+    state[T], state[THETA], state[OMEGA] = t, theta, omega
+    state[RESTING], state[LIFTING] = 1.0 if resting else 0.0, 1.0 if lifting else 0.0
+    state[TAIL_C], state[REST_START] = tail_c, rest_start
+    state[IMPACTS], state[STEPS] = n_before + n_impacts, steps_before + n_steps
+    return outcome, extra, arcs[:n_arcs], steps[:n_steps], impacts[:n_impacts], rests[:n_rests]
+
+
+@njit(cache=True)
+def evaluate(table, steps, theta_max, t, spacing):
+    """θ (rad) and ω (rad/s) of the arcs (see :class:`.arcs.Arcs`) at the times ``t`` (s).
+
+    With ``spacing`` > 0 the times are increasing and ``t[k + 1] − t[k] = spacing``
+    (s) up to round-off, except perhaps for the last; with 0 they may be anything.
+    At an arc's start time the new arc holds (the state just after an impact).
+    """
+    n = len(t)
+    start = table[:, 0]
+    theta = np.empty(n)
+    omega = np.empty(n)
+    j = 0
+    current = -1  # the flight whose sn, cn, dn are being carried, or −1
+    age = 0
+    sn = cn = dn = sn_h = cn_h = dn_h = 0.0
+    for k in range(n):
+        if spacing > 0.0:
+            while j + 1 < len(start) and start[j + 1] <= t[k]:
+                j += 1
+        else:
+            j = max(np.searchsorted(start, t[k], side="right") - 1, 0)
+        kind = table[j, 1]
+        if kind == ELLIPTIC:
+            apex, c, m = table[j, 2], table[j, 3], table[j, 4]
+            if j == current and age < REANCHOR and k < n - 1:
+                sn, cn, dn = elliptic.shift(sn, cn, dn, sn_h, cn_h, dn_h, m)
+                age += 1
+            else:
+                sn, cn, dn = elliptic.jacobi(math.sqrt(c) * (t[k] - apex), m)
+                age = 0
+                if spacing > 0.0 and j != current:
+                    sn_h, cn_h, dn_h = elliptic.jacobi(math.sqrt(c) * spacing, m)
+                    current = j
+            theta[k], omega[k] = elliptic.angle(sn, cn, dn, c, m)
+        elif kind == TAYLOR:
+            current = -1
+            row = int(table[j, 2])
+            theta[k], omega[k] = polynomial(steps[row, 1:], t[k] - steps[row, 0])
+        else:
+            current = -1
+            theta[k], omega[k] = theta_max, 0.0
+        # Round-off can put a flight a few ulps under the head; the stick is never there.
+        theta[k] = max(theta[k], theta_max)
+    return theta, omega
