@@ -28,12 +28,13 @@ import math
 import os
 import tomllib
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 from pathlib import Path
 
 from ._atomic import write_atomic
 from ._checks import check_choice, check_real
 from .errors import ParameterError
-from .model import MODELS, Stick
+from .model import MODELS, Stick, coefficients
 from .profiles import Constant, Profile, Samples, profile_from_dict
 
 T_END_LIMIT = 3600.0
@@ -107,6 +108,11 @@ class Recipe:
     def theta_max(self):
         """The drumhead angle of this recipe's stick (rad)."""
         return self.stick.theta_max
+
+    @cached_property
+    def coefficients(self):
+        """The solver's :class:`~drumstroke.model.Coefficients` for this recipe's model and stick."""
+        return coefficients(self.model, self.stick)
 
     def replace(self, **changes):
         """A copy with some fields changed (validated again)."""

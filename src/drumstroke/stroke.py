@@ -22,7 +22,6 @@ import numpy as np
 from ._checks import check_choice, check_real
 from ._version import __version__
 from .errors import ParameterError, SimulationError
-from .model import coefficients
 from .presets import PRESETS, preset
 from .profiles import Constant, Profile, named
 from .recipe import Recipe
@@ -232,7 +231,7 @@ def simulate(
     changes = {key: value for key, value in changes.items() if value is not None}
     recipe = base.replace(**changes) if changes else base
     solution = solve(
-        coefficients(recipe.model, recipe.stick),
+        recipe.coefficients,
         recipe.force,
         recipe.gravity,
         theta0=recipe.theta0,
@@ -323,7 +322,7 @@ def simulate_many(recipes, *, rate=None):
     rest = np.full(len(recipes), np.nan)
     if index:
         chosen = [recipes[i] for i in index]
-        c = [coefficients(r.model, r.stick).torque_rate(r.gravity.value, r.force.value) for r in chosen]
+        c = [r.coefficients.torque_rate(r.gravity.value, r.force.value) for r in chosen]
         status, offsets, count, t, omega, rests = constant_batch(
             [r.theta0 for r in chosen], [r.omega0 for r in chosen], [r.cor for r in chosen], c,
             [r.theta_max for r in chosen], [r.t_end for r in chosen], max_impacts=MAX_IMPACTS,

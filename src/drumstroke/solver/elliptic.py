@@ -132,8 +132,14 @@ def shift(sn, cn, dn, sn_h, cn_h, dn_h, m):
 @njit(cache=True)
 def angle(sn, cn, dn, c, m):
     """θ (rad) and ω (rad/s) at v = √C·τ from sn, cn, dn of v on the orbit ``m`` under C = ``c``."""
-    theta = 2.0 * math.asin(math.sqrt(m) * cn / dn) - 0.5 * math.pi
-    return theta, -2.0 * math.sqrt(m * (1.0 - m) * c) * sn / dn
+    return apex_form(sn, cn, dn, math.sqrt(m), 2.0 * math.sqrt(m * (1.0 - m) * c))
+
+
+@njit(cache=True)
+def apex_form(sn, cn, dn, root_m, speed):
+    """θ = 2·asin(√m·cd) − π/2 (rad) and ω = −speed·sd (rad/s), given √m and speed = 2√(m(1 − m)C)."""
+    inverse = 1.0 / dn
+    return 2.0 * math.asin(root_m * cn * inverse) - 0.5 * math.pi, -speed * sn * inverse
 
 
 @njit(cache=True)

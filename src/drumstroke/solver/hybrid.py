@@ -46,7 +46,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import SimulationError
-from ..profiles import merge_edges
+from ..profiles import Constant, merge_edges
 from .arcs import Arcs
 
 MAX_IMPACTS = 5_000_000
@@ -109,43 +109,53 @@ def solve(coefficients, force, gravity, *, theta0, omega0, cor, t_end, method="a
     edges, c0, c1 = _forcing(coefficients, force, gravity, t_end)
     theta_max = coefficients.theta_max
     state = kernel.initial_state(theta0, omega0)
-    chunk = len(c0) if progress is None else max(1, -(-len(c0) // _PROGRESS_CHUNKS))
-    parts = []
-    last_report = time.monotonic()
-    for first in range(0, len(c0), chunk):
-        last = min(first + chunk, len(c0))
-        outcome, extra, *part = kernel.run(
-            edges[first:last + 1], c0[first:last], c1[first:last], theta_max, cor, method == "auto", _MAX_STEP,
-            MAX_IMPACTS, state,
+    closed_forms = method == "auto"
+    if progress is None:
+        arcs, steps, impacts, rests = _checked(
+            kernel.run(edges, c0, c1, theta_max, cor, closed_forms, _MAX_STEP, MAX_IMPACTS, True, state), cor
         )
-        parts.append(part)
-        if outcome == kernel.VERTICAL:
-            raise SimulationError(
-                f"the stick reaches the vertical (theta = pi/2 rad) at t = {extra:.6g} s; the model covers "
-                f"theta in [theta_max, pi/2): lower omega0 or the upward forcing (negative force or gravity)"
-            )
-        if outcome == kernel.TOO_MANY:
-            raise SimulationError(
-                f"the stroke has more than {MAX_IMPACTS} impacts by t = {extra:.6g} s; "
-                f"shorten t_end or lower cor (now {cor:g})"
-            )
-        if progress is not None and time.monotonic() - last_report > 0.1:
-            progress(edges[last] / t_end)
-            last_report = time.monotonic()
-    arcs, steps, impacts, rests = parts[0] if len(parts) == 1 else (np.concatenate(c) for c in zip(*parts))
-    if state[kernel.RESTING] and state[kernel.REST_START] <= t_end:
-        # (a rest starting beyond t_end means t_end falls inside the Zeno tail: not at rest yet)
-        rests = np.concatenate((rests, [[state[kernel.REST_START], t_end]]))
+    else:
+        chunk = max(1, -(-len(c0) // _PROGRESS_CHUNKS))
+        parts = []
+        last_report = time.monotonic()
+        for first in range(0, len(c0), chunk):
+            last = min(first + chunk, len(c0))
+            parts.append(_checked(kernel.run(
+                edges[first:last + 1], c0[first:last], c1[first:last], theta_max, cor, closed_forms, _MAX_STEP,
+                MAX_IMPACTS, last == len(c0), state,
+            ), cor))
+            if time.monotonic() - last_report > 0.1:
+                progress(edges[last] / t_end)
+                last_report = time.monotonic()
+        arcs, steps, impacts, rests = (np.concatenate(column) for column in zip(*parts))
     if len(impacts) and impacts[-1, 0] > t_end:
         impacts = impacts[impacts[:, 0] <= t_end]
     return Solution(arcs=Arcs(arcs, steps, theta_max), impact_t=impacts[:, 0], impact_omega=impacts[:, 1], rests=rests)
 
 
+def _checked(result, cor):
+    """The kernel's arrays, or the error it ran into."""
+    from .kernel import TOO_MANY, VERTICAL
+
+    outcome, extra, *arrays = result
+    if outcome == VERTICAL:
+        raise SimulationError(
+            f"the stick reaches the vertical (theta = pi/2 rad) at t = {extra:.6g} s; the model covers "
+            f"theta in [theta_max, pi/2): lower omega0 or the upward forcing (negative force or gravity)"
+        )
+    if outcome == TOO_MANY:
+        raise SimulationError(
+            f"the stroke has more than {MAX_IMPACTS} impacts by t = {extra:.6g} s; shorten t_end or lower cor "
+            f"(now {cor:g})"
+        )
+    return arrays
+
+
 def _forcing(coefficients, force, gravity, t_end):
     """Edges of the pieces of C(t), with C and its slope at the start of each."""
+    if isinstance(force, Constant) and isinstance(gravity, Constant):  # the commonest stroke, made quick
+        return np.array([0.0, t_end]), np.array([coefficients.torque_rate(gravity.value, force.value)]), np.zeros(1)
     a, g = force.pieces(t_end), gravity.pieces(t_end)
-    if len(a) == 1 and len(g) == 1:  # the commonest stroke: one piece, no edges to merge
-        return a.edges, coefficients.torque_rate(g.values, a.values), coefficients.torque_rate(g.slopes, a.slopes)
     edges = merge_edges(np.concatenate((a.edges[1:-1], g.edges[1:-1])), t_end)
     (a0, a1), (g0, g1) = a.at(edges[:-1], t_end), g.at(edges[:-1], t_end)
     return edges, coefficients.torque_rate(g0, a0), coefficients.torque_rate(g1, a1)

@@ -58,14 +58,14 @@ def _lift_off(ts, te, c0, c1, t):
     return math.nan
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _arc(arcs, n, start, kind, apex, c, m):
     arcs = grow(arcs, n)
     arcs[n, 0], arcs[n, 1], arcs[n, 2], arcs[n, 3], arcs[n, 4] = start, kind, apex, c, m
     return arcs, n + 1
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _impact(impacts, n, t, omega):
     impacts = grow(impacts, n)
     impacts[n, 0], impacts[n, 1] = t, omega
@@ -73,7 +73,7 @@ def _impact(impacts, n, t, omega):
 
 
 @njit(cache=True)
-def run(edges, c0, c1, theta_max, cor, closed_forms, max_step, max_impacts, state):
+def run(edges, c0, c1, theta_max, cor, closed_forms, max_step, max_impacts, finish, state):
     """Carry the stick through the pieces [edges[i], edges[i+1]) where C = c0[i] + c1[i]·(t − edges[i]).
 
     Parameters
@@ -91,6 +91,8 @@ def run(edges, c0, c1, theta_max, cor, closed_forms, max_step, max_impacts, stat
         Longest Taylor step (s).
     max_impacts : int
         Impacts allowed in all, counting those of earlier calls.
+    finish : bool
+        These are the last pieces: a rest still going ends at ``edges[-1]`` (t_end).
     state : ndarray [shape=(STATE_SIZE,)]
         Where the stick is; updated in place.
 
@@ -106,7 +108,8 @@ def run(edges, c0, c1, theta_max, cor, closed_forms, max_step, max_impacts, stat
     impacts : ndarray [shape=(n_impacts, 2)]
         Time (s) and ω just before (rad/s).
     rests : ndarray [shape=(n_rests, 2)]
-        Rests that ended (by lift-off) in these pieces; one still going is in ``state``.
+        Start and end (s) of the rests that ended in these pieces (by lift-off, or at
+        t_end if ``finish``); one still going is in ``state``.
     """
     sin_head, cos_head = math.sin(theta_max), math.cos(theta_max)
     t, theta, omega = state[T], state[THETA], state[OMEGA]
@@ -230,6 +233,11 @@ def run(edges, c0, c1, theta_max, cor, closed_forms, max_step, max_impacts, stat
         if outcome != DONE:
             break
 
+    if finish and resting and rest_start <= edges[-1]:
+        # (a rest starting beyond t_end means t_end falls inside the Zeno tail: not at rest yet)
+        rests = grow(rests, n_rests)
+        rests[n_rests, 0], rests[n_rests, 1] = rest_start, edges[-1]
+        n_rests += 1
     state[T], state[THETA], state[OMEGA] = t, theta, omega
     state[RESTING], state[LIFTING] = 1.0 if resting else 0.0, 1.0 if lifting else 0.0
     state[TAIL_C], state[REST_START] = tail_c, rest_start
@@ -252,7 +260,7 @@ def evaluate(table, steps, theta_max, t, spacing):
     j = 0
     current = -1  # the flight whose sn, cn, dn are being carried, or −1
     age = 0
-    sn = cn = dn = sn_h = cn_h = dn_h = 0.0
+    sn = cn = dn = sn_h = cn_h = dn_h = root_m = speed = 0.0
     for k in range(n):
         if spacing > 0.0:
             while j + 1 < len(start) and start[j + 1] <= t[k]:
@@ -268,10 +276,12 @@ def evaluate(table, steps, theta_max, t, spacing):
             else:
                 sn, cn, dn = elliptic.jacobi(math.sqrt(c) * (t[k] - apex), m)
                 age = 0
-                if spacing > 0.0 and j != current:
-                    sn_h, cn_h, dn_h = elliptic.jacobi(math.sqrt(c) * spacing, m)
-                    current = j
-            theta[k], omega[k] = elliptic.angle(sn, cn, dn, c, m)
+                if j != current:
+                    root_m, speed = math.sqrt(m), 2.0 * math.sqrt(m * (1.0 - m) * c)
+                    if spacing > 0.0:
+                        sn_h, cn_h, dn_h = elliptic.jacobi(math.sqrt(c) * spacing, m)
+                        current = j
+            theta[k], omega[k] = elliptic.apex_form(sn, cn, dn, root_m, speed)
         elif kind == TAYLOR:
             current = -1
             row = int(table[j, 2])

@@ -172,7 +172,7 @@ def _presses(c_now, slope):
     return c_now > 0.0 or (c_now == 0.0 and slope >= 0.0)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def grow(array, n):
     """``array``, or a copy twice as long, so that row ``n`` exists (a growable buffer)."""
     if n < len(array):
