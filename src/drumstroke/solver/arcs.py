@@ -60,5 +60,11 @@ class Arcs:
         from .kernel import evaluate  # compiled on first use
 
         t = np.asarray(t, dtype=float)
-        theta, omega = evaluate(self.table, self.taylor, self.theta_max, t.ravel(), float(spacing))
+        theta, omega, flying = evaluate(self.table, self.taylor, self.theta_max, t.ravel(), float(spacing))
+        # In flight the kernel leaves θ's last step, θ = 2·asin(value) − π/2, to numpy's vectorised asin.
+        np.arcsin(theta, out=theta, where=flying)
+        np.multiply(theta, 2.0, out=theta, where=flying)
+        np.subtract(theta, 0.5 * np.pi, out=theta, where=flying)
+        # Round-off can put a flight a few ulps under the head; the stick is never there.
+        np.maximum(theta, self.theta_max, out=theta)
         return theta.reshape(t.shape), omega.reshape(t.shape)

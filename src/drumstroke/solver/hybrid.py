@@ -153,9 +153,13 @@ def _checked(result, cor):
 
 def _forcing(coefficients, force, gravity, t_end):
     """Edges of the pieces of C(t), with C and its slope at the start of each."""
-    if isinstance(force, Constant) and isinstance(gravity, Constant):  # the commonest stroke, made quick
-        return np.array([0.0, t_end]), np.array([coefficients.torque_rate(gravity.value, force.value)]), np.zeros(1)
+    rate = coefficients.torque_rate
+    if isinstance(gravity, Constant):  # the commonest strokes, made quick
+        if isinstance(force, Constant):
+            return np.array([0.0, t_end]), np.array([rate(gravity.value, force.value)]), np.zeros(1)
+        a = force.pieces(t_end)
+        return a.edges, rate(gravity.value, a.values), rate(0.0, a.slopes)
     a, g = force.pieces(t_end), gravity.pieces(t_end)
     edges = merge_edges(np.concatenate((a.edges[1:-1], g.edges[1:-1])), t_end)
     (a0, a1), (g0, g1) = a.at(edges[:-1], t_end), g.at(edges[:-1], t_end)
-    return edges, coefficients.torque_rate(g0, a0), coefficients.torque_rate(g1, a1)
+    return edges, rate(g0, a0), rate(g1, a1)
