@@ -1,11 +1,12 @@
 """The ``drumstroke`` command: a thin layer over the API, and the only place that prints.
 
-Sub-commands: ``simulate``, ``presets``, ``figures``, ``demo``. Bad input ends
+Sub-commands: ``simulate``, ``presets``, ``figures``, ``sweep``, ``demo``. Bad input ends
 with exit status 2 and one line naming the parameter, the value and the
 allowed range.
 """
 
 import argparse
+import dataclasses
 import math
 import os
 import sys
@@ -14,7 +15,7 @@ from pathlib import Path
 
 from . import __version__
 from ._checks import check_real
-from .errors import DrumstrokeError
+from .errors import DrumstrokeError, ParameterError
 from .model import MODELS, inertia_ratio
 from .presets import PRESETS
 from .stroke import DEFAULT_RATE, simulate
@@ -78,6 +79,14 @@ def _build_parser():
     fig.add_argument("--model", choices=MODELS, default="paper", help="model to draw them with (default paper)")
     fig.set_defaults(run=_figures)
 
+    swp = commands.add_parser("sweep", help="simulate a grid or random sample of recipes; one row of features each")
+    swp.add_argument("grid", type=Path, metavar="GRID", help="a sweep .toml file (see the README)")
+    swp.add_argument("--out", type=Path, required=True, metavar="TABLE", help="the table to write: .csv or .parquet")
+    swp.add_argument("--scheduler", metavar="ADDRESS", help="a Dask scheduler (tcp://host:8786) to run on")
+    swp.add_argument("--audible-db", type=float, metavar="DB",
+                     help="override the file's audibility threshold (dB below the loudest impact)")
+    swp.set_defaults(run=_sweep)
+
     demo = commands.add_parser("demo", help="simulate the paper's four figure cases: plots, JSON and CSV")
     demo.add_argument("outdir", type=Path, metavar="OUTDIR")
     demo.set_defaults(run=_demo)
@@ -128,6 +137,26 @@ def _print_summary(stroke, *, rows=10):
             )
         if len(impacts) > rows:
             print(f"{'...':>5} ({len(impacts) - rows} more; level re 1 m/s tip speed)")
+
+
+def _sweep(args):
+    from .sweep import Grid, run_sweep, write_table
+
+    grid = Grid.from_toml(args.grid)
+    if args.audible_db is not None:
+        grid = dataclasses.replace(grid, audible_db=args.audible_db)
+    if args.out.suffix not in (".csv", ".parquet"):
+        raise ParameterError(f"--out must end in .csv or .parquet, got {str(args.out)!r}")
+    where = f"on {args.scheduler}" if args.scheduler else "here"
+    print(f"sweep {args.grid}: {len(grid)} points ({grid.mode}), {where}")
+    started = time.monotonic()
+    bar = _Bar("sweeping")
+    table = run_sweep(grid, scheduler=args.scheduler, progress=bar.update)
+    bar.close()
+    write_table(table, args.out)
+    failed = int(sum(1 for error in table["error"] if error))
+    note = f"; {failed} could not be simulated (see the error column)" if failed else ""
+    print(f"wrote {args.out}: {len(table['point'])} rows in {time.monotonic() - started:.1f} s{note}")
 
 
 def _presets(args):
