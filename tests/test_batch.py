@@ -59,3 +59,53 @@ def test_trajectories_on_request():
     batch = drumstroke.simulate_many(["free-bounce", "constant"], rate=100.0)
     t, theta, omega = batch.trajectories[1]
     assert len(t) == 501 and np.array_equal(theta, drumstroke.simulate("constant").sample(100.0)[1])
+
+
+def test_parameter_arrays_equal_the_recipes_they_describe(rng):
+    n = 400
+    theta_max = Stick().theta_max
+    theta0 = rng.uniform(theta_max, 0.5, n)
+    omega0 = rng.uniform(-4.0, 4.0, n)
+    cor = rng.uniform(0.0, 1.0, n)
+    force = rng.uniform(0.0, 300.0, n)
+    batch = drumstroke.simulate_many(theta0=theta0, omega0=omega0, cor=cor, force=force, t_end=3.0, model="geometry")
+    assert len(batch) == n
+    for i in rng.choice(n, 60, replace=False):
+        recipe = batch.recipes[i]
+        assert (recipe.theta0, recipe.omega0, recipe.cor, recipe.force.value, recipe.t_end, recipe.model) == (
+            theta0[i], omega0[i], cor[i], force[i], 3.0, "geometry")
+        single = drumstroke.simulate(recipe)
+        np.testing.assert_allclose(batch.impacts[i].t, single.impacts.t, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(batch.impacts[i].omega, single.impacts.omega, rtol=1e-12, atol=1e-15)
+        assert np.isnan(batch.rest_time[i]) == (single.rest_time is None)
+
+
+def test_parameter_arrays_broadcast_and_default():
+    batch = drumstroke.simulate_many(cor=np.array([[0.5], [0.9]]), force=[0.0, 100.0, 200.0])
+    assert len(batch) == 6
+    expected = drumstroke.simulate(force=200.0, cor=0.9)  # row-major: the last pair
+    np.testing.assert_allclose(batch.impacts[5].t, expected.impacts.t, rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"theta0": [0.0, 2.0]}, r"theta0\[1\] must be in \[-0.262255, 1.5708\) rad"),
+        ({"cor": [0.5, np.nan]}, r"cor\[1\] must be a finite number in \[0, 1\]"),
+        ({"t_end": -1.0}, r"t_end\[0\] must be in \[1e-06, 3600\] s"),
+        ({"force": [1e7]}, r"force\[0\] must be in \[-1e\+06, 1e\+06\] m/s\^2"),
+        ({"cor": [0.5, 0.6], "force": [1, 2, 3]}, r"must broadcast together"),
+        ({"force": "hard"}, r"force must be a number or an array of numbers"),
+        ({"force": 1.0, "model": "toy"}, r"model must be one of"),
+        ({"force": 1.0, "stick": 3}, r"stick must be a Stick"),
+        ({}, r"needs recipes or at least one parameter array"),
+    ],
+)
+def test_bad_parameter_arrays_are_named(kwargs, message):
+    with pytest.raises(drumstroke.ParameterError, match=message):
+        drumstroke.simulate_many(**kwargs)
+
+
+def test_recipes_and_arrays_together_are_refused():
+    with pytest.raises(drumstroke.ParameterError, match="not both"):
+        drumstroke.simulate_many(["free-bounce"], cor=0.5)

@@ -22,9 +22,10 @@ import numpy as np
 from ._checks import check_choice, check_real
 from ._version import __version__
 from .errors import ParameterError, SimulationError
+from .model import MODELS, Stick, coefficients
 from .presets import PRESETS, preset
-from .profiles import Constant, Profile, named
-from .recipe import Recipe
+from .profiles import ACCELERATION_LIMIT, Constant, Profile, named
+from .recipe import OMEGA_LIMIT, T_END_LIMIT, Recipe
 from .solver import MAX_IMPACTS, Arcs, solve
 
 LEVEL_REFERENCE = 1.0
@@ -279,6 +280,7 @@ class Batch:
     Attributes
     ----------
     recipes : tuple of Recipe
+        What made each stroke. From parameter arrays they are built on first use.
     impacts : tuple of Impacts
     rest_time : ndarray [shape=(n,)]
         When each stroke comes to rest for good (s); NaN where it is still moving at t_end.
@@ -292,53 +294,166 @@ class Batch:
     trajectories: tuple | None
 
     def __len__(self):
-        return len(self.recipes)
+        return len(self.impacts)
 
 
-def simulate_many(recipes, *, rate=None):
+class _Recipes(tuple):
+    """Recipes of strokes simulated from parameter arrays, each built when first read."""
+
+    def __new__(cls, parameters, model, stick):
+        self = super().__new__(cls, range(len(parameters["theta0"])))
+        self._parameters, self._model, self._stick = parameters, model, stick
+        return self
+
+    def __getitem__(self, i):
+        if isinstance(i, slice):
+            return tuple(self[j] for j in range(*i.indices(len(self))))
+        p = {key: float(values[i]) for key, values in self._parameters.items()}
+        return Recipe(force=Constant(p.pop("force")), gravity=Constant(p.pop("gravity")), model=self._model,
+                      stick=self._stick, **p)
+
+    def __iter__(self):
+        return (self[i] for i in range(len(self)))
+
+
+_ARRAY_DEFAULTS = {"force": 0.0, "gravity": 9.8, "theta0": 0.0, "omega0": 0.0, "cor": 0.86, "t_end": 5.0}
+
+
+def simulate_many(recipes=None, *, rate=None, force=None, gravity=None, theta0=None, omega0=None, cor=None,
+                  t_end=None, model="paper", stick=None):
     """Simulate many strokes; those with constant forcing in one compiled pass on every core.
+
+    Give either ``recipes`` or parameter arrays of strokes under constant forcing
+    (numbers or arrays, broadcast together; unnamed ones take a recipe's defaults).
 
     Parameters
     ----------
-    recipes : sequence of Recipe, preset names or paths
+    recipes : sequence of Recipe, preset names or paths, optional
     rate : float in (0, 1e6] or None
         Hz. If given, each stroke's trajectory is sampled too (stroke by stroke).
+    force, gravity : float or ndarray, optional
+        Constant a and g (m/s², |value| ≤ 1e6); defaults 0 and 9.8.
+    theta0 : float or ndarray in [theta_max, pi/2), optional
+        rad; default 0.
+    omega0 : float or ndarray in [-1000, 1000], optional
+        rad/s; default 0.
+    cor : float or ndarray in [0, 1], optional
+        Default 0.86.
+    t_end : float or ndarray in [1e-6, 3600], optional
+        s; default 5.
+    model : {"paper", "geometry"}
+        For parameter arrays.
+    stick : Stick, optional
+        For parameter arrays; default Table 1's.
 
     Returns
     -------
     Batch
         Impacts and rest times equal to :func:`simulate`'s, stroke by stroke.
-    """
-    from .solver.batch import OK, TOO_MANY, constant_batch
 
-    recipes = tuple(resolve(r) for r in recipes)
+    Examples
+    --------
+    >>> batch = simulate_many(cor=[0.5, 0.86, 0.95], force=100.0)
+    >>> [len(impacts) for impacts in batch.impacts]
+    [22, 101, 38]
+    >>> batch.recipes[1].model
+    'paper'
+    """
+    arrays = {"force": force, "gravity": gravity, "theta0": theta0, "omega0": omega0, "cor": cor, "t_end": t_end}
+    named = [key for key, value in arrays.items() if value is not None]
+    if recipes is not None and named:
+        raise ParameterError(f"give recipes or parameter arrays, not both (got recipes and {named[0]})")
+    if recipes is None:
+        if not named:
+            raise ParameterError("simulate_many needs recipes or at least one parameter array (e.g. force=...)")
+        check_choice("model", model, MODELS)
+        stick = Stick() if stick is None else stick
+        if not isinstance(stick, Stick):
+            raise ParameterError(f"stick must be a Stick, got {stick!r}")
+        parameters = _parameter_arrays(arrays, stick.theta_max)
+        recipes = _Recipes(parameters, model, stick)
+        constant = np.ones(len(recipes), dtype=bool)
+        c = coefficients(model, stick).torque_rate(parameters["gravity"], parameters["force"])
+        columns = [parameters[key] for key in ("theta0", "omega0", "cor")] + [c, np.full(len(c), stick.theta_max),
+                                                                             parameters["t_end"]]
+    else:
+        recipes = tuple(resolve(r) for r in recipes)
+        constant = np.array([isinstance(r.force, Constant) and isinstance(r.gravity, Constant) for r in recipes],
+                            dtype=bool)
+        chosen = [r for r, flag in zip(recipes, constant) if flag]
+        columns = [[r.theta0 for r in chosen], [r.omega0 for r in chosen], [r.cor for r in chosen],
+                   [r.coefficients.torque_rate(r.gravity.value, r.force.value) for r in chosen],
+                   [r.theta_max for r in chosen], [r.t_end for r in chosen]]
     if rate is not None:
         strokes = [simulate(r) for r in recipes]
         return Batch(recipes, tuple(s.impacts for s in strokes), np.array([_rest_or_nan(s) for s in strokes]),
                      tuple(s.sample(rate) for s in strokes))
-    constant = [isinstance(r.force, Constant) and isinstance(r.gravity, Constant) for r in recipes]
-    index = [i for i, flag in enumerate(constant) if flag]
+    return _constant_batch(recipes, constant, columns)
+
+
+def _parameter_arrays(arrays, theta_max):
+    """The parameter arrays broadcast together and checked; an error names the parameter, index and value."""
+    limits = {
+        "force": (-ACCELERATION_LIMIT, ACCELERATION_LIMIT, "m/s^2"),
+        "gravity": (-ACCELERATION_LIMIT, ACCELERATION_LIMIT, "m/s^2"),
+        "theta0": (theta_max, math.pi / 2, "rad (theta_max to pi/2)"),
+        "omega0": (-OMEGA_LIMIT, OMEGA_LIMIT, "rad/s"),
+        "cor": (0.0, 1.0, ""),
+        "t_end": (1e-6, T_END_LIMIT, "s"),
+    }
+    values = {}
+    for key, value in arrays.items():
+        value = _ARRAY_DEFAULTS[key] if value is None else value
+        try:
+            values[key] = np.asarray(value, dtype=float)
+        except (TypeError, ValueError):
+            raise ParameterError(f"{key} must be a number or an array of numbers, got {value!r}") from None
+    try:
+        shape = np.broadcast_shapes(*(v.shape for v in values.values()))
+    except ValueError:
+        shapes = ", ".join(f"{k} {v.shape}" for k, v in values.items())
+        raise ParameterError(f"the parameter arrays must broadcast together, got {shapes}") from None
+    out = {}
+    for key, value in values.items():
+        low, high, unit = limits[key]
+        flat = np.broadcast_to(value, shape).ravel()
+        bad = ~np.isfinite(flat) | (flat < low) | (flat > high) | ((flat >= high) if key == "theta0" else False)
+        if np.any(bad):
+            i = int(np.flatnonzero(bad)[0])
+            check_real(f"{key}[{i}]", float(flat[i]), low=low, high=high, high_open=key == "theta0", unit=unit)
+        out[key] = np.ascontiguousarray(flat)
+    return out
+
+
+def _constant_batch(recipes, constant, columns):
+    """Strokes with constant forcing through the compiled batch kernel, the rest (and its refusals) one by one."""
+    from .solver.batch import OK, TOO_MANY, constant_batch
+
+    index = np.flatnonzero(constant)
     impacts = [None] * len(recipes)
     rest = np.full(len(recipes), np.nan)
-    if index:
-        chosen = [recipes[i] for i in index]
-        c = [r.coefficients.torque_rate(r.gravity.value, r.force.value) for r in chosen]
-        status, offsets, count, t, omega, rests = constant_batch(
-            [r.theta0 for r in chosen], [r.omega0 for r in chosen], [r.cor for r in chosen], c,
-            [r.theta_max for r in chosen], [r.t_end for r in chosen], max_impacts=MAX_IMPACTS,
-        )
-        for j, i in enumerate(index):
-            if status[j] == OK:
-                span = slice(offsets[j], offsets[j] + count[j])
-                impacts[i] = Impacts(t[span].copy(), omega[span].copy(), recipes[i].stick.pivot_to_tip)
-                rest[i] = rests[j]
-            elif status[j] == TOO_MANY:
-                raise SimulationError(
-                    f"recipe {i} has more than {MAX_IMPACTS} impacts; shorten t_end or lower cor (now {recipes[i].cor:g})"
-                )
-    for i, recipe in enumerate(recipes):
+    if len(index):
+        status, offsets, count, t, omega, rests = constant_batch(*columns, max_impacts=MAX_IMPACTS)
+        if np.any(status == TOO_MANY):
+            i = int(index[np.flatnonzero(status == TOO_MANY)[0]])
+            raise SimulationError(
+                f"stroke {i} has more than {MAX_IMPACTS} impacts; shorten t_end or lower cor (now {recipes[i].cor:g})"
+            )
+        done = status == OK
+        rest[index[done]] = rests[done]
+        if isinstance(recipes, _Recipes):
+            tips = [recipes._stick.pivot_to_tip] * len(index)
+        else:
+            tips = [recipes[i].stick.pivot_to_tip for i in index]
+        starts, ends = offsets[:-1].tolist(), (offsets[:-1] + count).tolist()
+        for j in np.flatnonzero(done).tolist():  # views into the kernel's arrays, one per stroke
+            impacts[index[j]] = Impacts(t[starts[j]:ends[j]], omega[starts[j]:ends[j]], tips[j])
+    for i in range(len(recipes)):
         if impacts[i] is None:  # not constant forcing, or outside the kernel's reach
-            stroke = simulate(recipe)
+            try:
+                stroke = simulate(recipes[i])
+            except SimulationError as error:
+                raise SimulationError(f"stroke {i}: {error}") from None
             impacts[i], rest[i] = stroke.impacts, _rest_or_nan(stroke)
     return Batch(recipes, tuple(impacts), rest, None)
 
