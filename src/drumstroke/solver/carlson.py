@@ -1,7 +1,7 @@
-"""Incomplete elliptic integrals of the first kind in compiled code (Carlson's R_F).
+"""Carlson's symmetric elliptic integral R_F in compiled code.
 
-scipy.special's ``ellipkinc`` cannot be called from numba, so the batch
-kernels use F(φ|m) = sin φ · R_F(cos²φ, 1 − m·sin²φ, 1) for φ in [0, π/2]
+scipy.special's ``ellipkinc`` cannot be called from numba, so the compiled
+solver writes F(φ|m) = sin φ · R_F(cos²φ, 1 − m·sin²φ, 1) for φ in [0, π/2]
 (DLMF 19.25.5), with R_F by the duplication theorem (Carlson, 1995, Numer.
 Algorithms 10; DLMF 19.36.1), iterated until the series' error term is below
 double-precision round-off.
@@ -38,11 +38,3 @@ def rf(x, y, z):
     e2 = dx * dy - dz * dz
     e3 = dx * dy * dz
     return (1.0 - e2 / 10.0 + e3 / 14.0 + e2 * e2 / 24.0 - 3.0 * e2 * e3 / 44.0) / math.sqrt(a)
-
-
-@njit(cache=True)
-def ellipf(phi, m):
-    """F(φ|m) for φ in [0, π/2] and m in [0, 1)."""
-    s = math.sin(phi)
-    c = math.cos(phi)
-    return s * rf(c * c, 1.0 - m * s * s, 1.0)
