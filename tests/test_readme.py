@@ -28,3 +28,14 @@ def test_the_extras_the_commands_install_exist():
     pyproject = (ROOT / "pyproject.toml").read_text()
     assert re.search(r"^all = \[", pyproject, re.M) and re.search(r"^test = \[", pyproject, re.M)
     assert 'drumstroke = "drumstroke.cli:main"' in pyproject
+
+
+def test_the_python_tour_runs(tmp_path, monkeypatch):
+    readme = (ROOT / "README.md").read_text()
+    tour = readme.split("## A quick tour", 1)[1].split("\n## ", 1)[0]
+    (code,) = re.findall(r"```python\n(.+?)\n```", tour, re.S)
+    monkeypatch.chdir(tmp_path)
+    namespace = {}
+    exec(compile(code, "README.md", "exec"), namespace)
+    assert (tmp_path / "softer-head.toml").exists()
+    assert len(namespace["batch"].trajectories) == 2 and namespace["stroke"].model == "geometry"

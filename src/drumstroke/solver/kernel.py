@@ -8,7 +8,8 @@ lift-off. Nothing returns to Python between flights or pieces.
 :func:`evaluate` reads the arcs at many times. Samples at a fixed spacing in
 one elliptic flight are carried from one to the next by the addition theorem
 of sn, cn, dn (a few multiplications), and computed afresh every
-:data:`REANCHOR` samples so that round-off cannot accumulate.
+:data:`REANCHOR` samples, or sooner on fast orbits (:data:`REACH`), so that
+round-off cannot accumulate.
 """
 
 import math
@@ -34,7 +35,15 @@ T, THETA, OMEGA, RESTING, LIFTING, TAIL_C, REST_START, IMPACTS, STEPS = range(9)
 STATE_SIZE = 9
 
 REANCHOR = 128
-"""Samples carried by the addition theorem before one is computed afresh."""
+"""Most samples carried by the addition theorem before one is computed afresh..."""
+
+REACH = 0.25
+"""...the farthest (in v = √C·τ) they are carried: near the vertical (m → 1) the
+carried round-off grows like e^(2v), so the reach, not the count, bounds it (by 1.7×)..."""
+
+STEADY = 1000.0
+"""...and at most STEADY·√(1 − m) of them: each carried step adds about ε/√(1 − m) to θ
+near the vertical, where dn falls to √(1 − m); orbits that close are computed afresh."""
 
 
 def initial_state(theta0, omega0):
@@ -270,7 +279,7 @@ def evaluate(table, steps, theta_max, t, spacing):
     flying = np.zeros(n, dtype=np.bool_)
     j = 0
     current = -1  # the flight whose sn, cn, dn are being carried, or −1
-    age = 0
+    age = carry = 0
     sn = cn = dn = sn_h = cn_h = dn_h = root_m = speed = 0.0
     for k in range(n):
         if spacing > 0.0:
@@ -281,7 +290,7 @@ def evaluate(table, steps, theta_max, t, spacing):
         kind = table[j, 1]
         if kind == ELLIPTIC:
             apex, c, m = table[j, 2], table[j, 3], table[j, 4]
-            if j == current and age < REANCHOR and k < n - 1:
+            if j == current and age < carry and k < n - 1:
                 sn, cn, dn = elliptic.shift(sn, cn, dn, sn_h, cn_h, dn_h, m)
                 age += 1
             else:
@@ -290,7 +299,9 @@ def evaluate(table, steps, theta_max, t, spacing):
                 if j != current:
                     root_m, speed = math.sqrt(m), 2.0 * math.sqrt(m * (1.0 - m) * c)
                     if spacing > 0.0:
-                        sn_h, cn_h, dn_h = elliptic.jacobi(math.sqrt(c) * spacing, m)
+                        step = math.sqrt(c) * spacing
+                        sn_h, cn_h, dn_h = elliptic.jacobi(step, m)
+                        carry = int(min(REANCHOR, REACH / step, STEADY * math.sqrt(1.0 - m)))
                         current = j
             inverse = 1.0 / dn
             value[k], omega[k], flying[k] = root_m * cn * inverse, -speed * sn * inverse, True
