@@ -37,9 +37,9 @@ STATE_SIZE = 9
 REANCHOR = 128
 """Most samples carried by the addition theorem before one is computed afresh..."""
 
-REACH = 0.25
+REACH = 1.0
 """...the farthest (in v = √C·τ) they are carried: near the vertical (m → 1) the
-carried round-off grows like e^(2v), so the reach, not the count, bounds it (by 1.7×)..."""
+carried round-off grows like e^(2v), so the reach, not the count, bounds it (by e²)..."""
 
 STEADY = 1000.0
 """...and at most STEADY·√(1 − m) of them: each carried step adds about ε/√(1 − m) to θ
