@@ -312,9 +312,7 @@ def _on_dask(address, chunks, audible_db, progress):
         raise ImportError("--scheduler needs Dask: pip install 'drumstroke[sweep]'") from None
     with Client(address) as client:
         futures = client.map(_rows, chunks, audible_db=audible_db, pure=False)
-        done = 0
-        for future in as_completed(futures):
-            done += 1
+        for done, _ in enumerate(as_completed(futures), start=1):
             if progress is not None:
                 progress(done / len(futures))
         return [row for chunk in client.gather(futures) for row in chunk]

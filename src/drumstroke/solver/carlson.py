@@ -11,7 +11,6 @@ import math
 
 from numba import njit
 
-
 _Q_FACTOR = (3.0 * 2.0**-53) ** (-1.0 / 6.0)  # the series' relative error is then below 2⁻⁵³
 
 

@@ -6,9 +6,8 @@ crosses an edge. On a piece:
 
 * **Constant forcing pressing down** (C₁ = 0, C₀ > 0) with the stick below the
   vertical: every flight is an elliptic arc in closed form (:mod:`.elliptic`).
-  After an impact at speed w the launch speeds are c·w, c²·w, …, so a whole
-  run of bounces is computed at once: their flight times, their impact times
-  (a cumulative sum), their speeds.
+  After an impact at speed w the launch speeds are c·w, c²·w, …: one
+  closed-form flight after another, each costing one R_F.
 * **Anything else** (a ramp, forcing that lifts, a flight near the vertical):
   Taylor steps of order 24 (:mod:`.taylor`), with the head crossing located on
   each step's polynomial to full precision.
@@ -23,8 +22,7 @@ constant over the rest of them and each lasts 2L/A (the error of that
 parabola is O(L²) relative, below 1e-12). The tail of the geometric series
 then sums to 2L/(A·(1 − c)): the stick comes to rest at that accumulation
 time. Impacts in that tail (tip speeds under a micrometre per second) are
-never listed, wherever t_end falls. A
-tail that runs into the next piece has its remaining time rescaled by the new
+never listed, wherever t_end falls. A tail that runs into the next piece has its remaining time rescaled by the new
 forcing (it lasts microseconds), or ends at once if the stick lifts off. With
 c = 1 such a micro-bounce never accumulates, but never rises above
 ``ZENO_HEIGHT`` either: the stick counts as resting from that launch.
