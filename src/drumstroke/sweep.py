@@ -68,7 +68,7 @@ FEATURES = (
 _RECIPE_KEYS = ("model", "t_end", "theta0", "omega0", "cor")
 _TABLES = ("force", "gravity", "stick")
 _TOP_KEYS = ("base", "mode", "samples", "seed", "audible_db", "parameters")
-_CHUNK = 1000  # points per task
+_CHUNK = 1000  # most points per chunk
 
 
 @dataclass(frozen=True)
@@ -244,7 +244,10 @@ def run_sweep(grid, *, scheduler=None, progress=None):
     """
     points = grid.points()
     recipes = grid.recipes(points)
-    chunks = [recipes[i:i + _CHUNK] for i in range(0, len(recipes), _CHUNK)]
+    # Here, chunks small enough for a smooth progress bar (a hundred steps); on Dask, big enough
+    # to pay for a task's overhead.
+    size = min(_CHUNK, max(1, math.ceil(len(recipes) / 100))) if scheduler is None else _CHUNK
+    chunks = [recipes[i:i + size] for i in range(0, len(recipes), size)]
     if scheduler is None:
         rows = []
         for chunk in chunks:
