@@ -9,14 +9,13 @@ the thumb, makes single, double, triple and buzz strokes.
 ('paper', True)
 """
 
+from ._version import __version__
 from .errors import DrumstrokeError, ParameterError, SimulationError
 from .model import MODELS, Stick
 from .presets import PRESETS, preset
 from .profiles import Constant, PiecewiseLinear, Profile, Pulses, Samples, Sum
 from .recipe import Recipe
 from .stroke import Batch, Impacts, Stroke, simulate, simulate_many
-from ._version import __version__
-
 
 __all__ = [
     "__version__",

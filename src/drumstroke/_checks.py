@@ -6,7 +6,9 @@ a float so callers can write ``x = check_real("x", x)``.
 """
 
 import math
+import tomllib
 from numbers import Real
+from pathlib import Path
 
 from .errors import ParameterError
 
@@ -32,6 +34,24 @@ def check_choice(name, value, choices):
         listed = ", ".join(repr(c) for c in choices)
         raise ParameterError(f"{name} must be one of {listed}, got {value!r}")
     return value
+
+
+def check_keys(name, table, allowed):
+    """Raise unless every key of the dict ``table`` (called ``name`` in the message) is in ``allowed``."""
+    unknown = sorted(set(table) - set(allowed))
+    if unknown:
+        raise ParameterError(f"{name} has unknown key {unknown[0]!r}; allowed keys: {', '.join(allowed)}")
+
+
+def read_toml(path, what):
+    """The TOML file at ``path`` as a dict; an unreadable or invalid file is a ParameterError naming the ``what``."""
+    try:
+        return tomllib.loads(Path(path).read_text())
+    except (OSError, UnicodeDecodeError) as error:
+        reason = error.strerror if isinstance(error, OSError) else "not a UTF-8 text file"
+        raise ParameterError(f"{what} {str(path)!r} cannot be read: {reason}") from None
+    except tomllib.TOMLDecodeError as error:
+        raise ParameterError(f"{what} {str(path)!r} is not valid TOML: {error}") from None
 
 
 def _range_text(low, high, low_open, high_open, unit):

@@ -15,7 +15,7 @@ from pathlib import Path
 
 from . import __version__
 from ._checks import check_real
-from .errors import DrumstrokeError, ParameterError
+from .errors import DrumstrokeError
 from .model import MODELS, inertia_ratio
 from .presets import PRESETS
 from .stroke import DEFAULT_RATE, simulate
@@ -140,13 +140,12 @@ def _print_summary(stroke, *, rows=10):
 
 
 def _sweep(args):
-    from .sweep import Grid, run_sweep, write_table
+    from .sweep import Grid, check_table_path, run_sweep, write_table
 
     grid = Grid.from_toml(args.grid)
     if args.audible_db is not None:
         grid = dataclasses.replace(grid, audible_db=args.audible_db)
-    if args.out.suffix not in (".csv", ".parquet"):
-        raise ParameterError(f"--out must end in .csv or .parquet, got {str(args.out)!r}")
+    check_table_path(args.out, name="--out")  # before the work, not after it
     where = f"on {args.scheduler}" if args.scheduler else "here"
     print(f"sweep {args.grid}: {len(grid)} points ({grid.mode}), {where}")
     started = time.monotonic()

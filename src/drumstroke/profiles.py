@@ -34,7 +34,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ._checks import check_real
+from ._checks import check_keys, check_real
 from .errors import ParameterError
 
 ACCELERATION_LIMIT = 1.0e6
@@ -360,9 +360,7 @@ def profile_from_dict(spec, *, name="force", base_dir=None):
     if not isinstance(kind, str) or kind not in _KINDS:
         raise ParameterError(f"{name}.kind must be one of {', '.join(map(repr, _KINDS))}, got {kind!r}")
     allowed, required = _KINDS[kind]
-    unknown = sorted(set(spec) - set(allowed))
-    if unknown:
-        raise ParameterError(f"{name} ({kind}) has unknown key {unknown[0]!r}; allowed keys: {', '.join(allowed)}")
+    check_keys(f"{name} ({kind})", spec, allowed)
     missing = [key for key in required if key not in spec]
     if missing:
         raise ParameterError(f"{name} ({kind}) needs the key {missing[0]!r}")

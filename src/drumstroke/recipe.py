@@ -26,13 +26,12 @@ required in a file::
 
 import math
 import os
-import tomllib
 from dataclasses import dataclass, field, replace
 from functools import cached_property
 from pathlib import Path
 
 from ._atomic import write_atomic
-from ._checks import check_choice, check_real
+from ._checks import check_choice, check_keys, check_real, read_toml
 from .errors import ParameterError
 from .model import MODELS, Stick, coefficients
 from .profiles import Constant, Profile, Samples, profile_from_dict
@@ -136,19 +135,13 @@ class Recipe:
         """Build a recipe from plain data (as read from TOML); ``base_dir`` anchors ``samples`` files."""
         if not isinstance(data, dict):
             raise ParameterError(f"a recipe must be a table, got {data!r}")
-        unknown = sorted(set(data) - set(_TOP_KEYS))
-        if unknown:
-            raise ParameterError(f"recipe has unknown key {unknown[0]!r}; allowed keys: {', '.join(_TOP_KEYS)}")
+        check_keys("recipe", data, _TOP_KEYS)
         if "force" not in data:
             raise ParameterError("recipe needs a [force] table (the thumb's acceleration a(t))")
         stick = data.get("stick", {})
         if not isinstance(stick, dict):
             raise ParameterError(f"stick must be a table, got {stick!r}")
-        unknown = sorted(set(stick) - set(Stick().to_dict()))
-        if unknown:
-            raise ParameterError(
-                f"stick has unknown key {unknown[0]!r}; allowed keys: {', '.join(Stick().to_dict())}"
-            )
+        check_keys("stick", stick, list(Stick().to_dict()))
         options = {key: data[key] for key in ("model", "t_end", "theta0", "omega0", "cor") if key in data}
         gravity = data.get("gravity", {"kind": "constant", "value": 9.8})
         return cls(
@@ -163,16 +156,7 @@ class Recipe:
     def from_toml(cls, path):
         """Read a recipe file; ``samples`` files are found relative to it."""
         path = Path(path)
-        try:
-            text = path.read_text()
-        except (OSError, UnicodeDecodeError) as error:
-            reason = error.strerror if isinstance(error, OSError) else "not a UTF-8 text file"
-            raise ParameterError(f"recipe {str(path)!r} cannot be read: {reason}") from None
-        try:
-            data = tomllib.loads(text)
-        except tomllib.TOMLDecodeError as error:
-            raise ParameterError(f"recipe {str(path)!r} is not valid TOML: {error}") from None
-        return cls.from_dict(data, name=path.stem, base_dir=path.parent)
+        return cls.from_dict(read_toml(path, "recipe"), name=path.stem, base_dir=path.parent)
 
     def to_toml(self, path):
         """Write the recipe as TOML, atomically (a crash leaves any old file whole).

@@ -13,6 +13,7 @@ Examples
 """
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from numbers import Real
 from pathlib import Path
@@ -279,8 +280,8 @@ class Batch:
 
     Attributes
     ----------
-    recipes : tuple of Recipe
-        What made each stroke. From parameter arrays they are built on first use.
+    recipes : sequence of Recipe
+        What made each stroke. From parameter arrays each is built when read.
     impacts : tuple of Impacts
     rest_time : ndarray [shape=(n,)]
         When each stroke comes to rest for good (s); NaN where it is still moving at t_end.
@@ -288,7 +289,7 @@ class Batch:
         Sampled at the requested rate, if one was.
     """
 
-    recipes: tuple
+    recipes: Sequence
     impacts: tuple
     rest_time: np.ndarray
     trajectories: tuple | None
@@ -297,13 +298,14 @@ class Batch:
         return len(self.impacts)
 
 
-class _Recipes(tuple):
-    """Recipes of strokes simulated from parameter arrays, each built when first read."""
+class _Recipes(Sequence):
+    """Recipes of strokes simulated from parameter arrays, each built when read."""
 
-    def __new__(cls, parameters, model, stick):
-        self = super().__new__(cls, range(len(parameters["theta0"])))
+    def __init__(self, parameters, model, stick):
         self._parameters, self._model, self._stick = parameters, model, stick
-        return self
+
+    def __len__(self):
+        return len(self._parameters["theta0"])
 
     def __getitem__(self, i):
         if isinstance(i, slice):
@@ -311,9 +313,6 @@ class _Recipes(tuple):
         p = {key: float(values[i]) for key, values in self._parameters.items()}
         return Recipe(force=Constant(p.pop("force")), gravity=Constant(p.pop("gravity")), model=self._model,
                       stick=self._stick, **p)
-
-    def __iter__(self):
-        return (self[i] for i in range(len(self)))
 
 
 _ARRAY_DEFAULTS = {"force": 0.0, "gravity": 9.8, "theta0": 0.0, "omega0": 0.0, "cor": 0.86, "t_end": 5.0}
@@ -376,6 +375,7 @@ def simulate_many(recipes=None, *, rate=None, force=None, gravity=None, theta0=N
         c = coefficients(model, stick).torque_rate(parameters["gravity"], parameters["force"])
         columns = [parameters[key] for key in ("theta0", "omega0", "cor")] + [c, np.full(len(c), stick.theta_max),
                                                                              parameters["t_end"]]
+        tips = [stick.pivot_to_tip] * len(c)
     else:
         recipes = tuple(resolve(r) for r in recipes)
         constant = np.array([isinstance(r.force, Constant) and isinstance(r.gravity, Constant) for r in recipes],
@@ -384,11 +384,12 @@ def simulate_many(recipes=None, *, rate=None, force=None, gravity=None, theta0=N
         columns = [[r.theta0 for r in chosen], [r.omega0 for r in chosen], [r.cor for r in chosen],
                    [r.coefficients.torque_rate(r.gravity.value, r.force.value) for r in chosen],
                    [r.theta_max for r in chosen], [r.t_end for r in chosen]]
+        tips = [r.stick.pivot_to_tip for r in chosen]
     if rate is not None:
         strokes = [simulate(r) for r in recipes]
         return Batch(recipes, tuple(s.impacts for s in strokes), np.array([_rest_or_nan(s) for s in strokes]),
                      tuple(s.sample(rate) for s in strokes))
-    return _constant_batch(recipes, constant, columns)
+    return _constant_batch(recipes, constant, columns, tips)
 
 
 def _parameter_arrays(arrays, theta_max):
@@ -425,8 +426,11 @@ def _parameter_arrays(arrays, theta_max):
     return out
 
 
-def _constant_batch(recipes, constant, columns):
-    """Strokes with constant forcing through the compiled batch kernel, the rest (and its refusals) one by one."""
+def _constant_batch(recipes, constant, columns, tips):
+    """Strokes with constant forcing through the compiled batch kernel, the rest (and its refusals) one by one.
+
+    ``columns`` are the kernel's inputs and ``tips`` the tip distances (m) of the strokes flagged ``constant``.
+    """
     from .solver.batch import OK, TOO_MANY, constant_batch
 
     index = np.flatnonzero(constant)
@@ -441,10 +445,6 @@ def _constant_batch(recipes, constant, columns):
             )
         done = status == OK
         rest[index[done]] = rests[done]
-        if isinstance(recipes, _Recipes):
-            tips = [recipes._stick.pivot_to_tip] * len(index)
-        else:
-            tips = [recipes[i].stick.pivot_to_tip for i in index]
         starts, ends = offsets[:-1].tolist(), (offsets[:-1] + count).tolist()
         for j in np.flatnonzero(done).tolist():  # views into the kernel's arrays, one per stroke
             impacts[index[j]] = Impacts(t[starts[j]:ends[j]], omega[starts[j]:ends[j]], tips[j])

@@ -35,14 +35,13 @@ import io
 import itertools
 import json
 import math
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from ._atomic import write_atomic
-from ._checks import check_choice, check_real
+from ._checks import check_choice, check_keys, check_real, read_toml
 from ._version import __version__
 from .errors import ParameterError, SimulationError
 from .recipe import Recipe
@@ -124,9 +123,7 @@ class Grid:
         """A grid from plain data (as read from TOML); ``base_dir`` anchors a ``base`` recipe file."""
         if not isinstance(data, dict):
             raise ParameterError(f"a sweep must be a table, got {data!r}")
-        unknown = sorted(set(data) - set(_TOP_KEYS))
-        if unknown:
-            raise ParameterError(f"sweep has unknown key {unknown[0]!r}; allowed keys: {', '.join(_TOP_KEYS)}")
+        check_keys("sweep", data, _TOP_KEYS)
         if "parameters" not in data:
             raise ParameterError("sweep needs a [parameters] table naming what to vary")
         base = data.get("base")
@@ -139,14 +136,7 @@ class Grid:
     def from_toml(cls, path):
         """Read a sweep file."""
         path = Path(path)
-        try:
-            data = tomllib.loads(path.read_text())
-        except (OSError, UnicodeDecodeError) as error:
-            reason = error.strerror if isinstance(error, OSError) else "not a UTF-8 text file"
-            raise ParameterError(f"sweep {str(path)!r} cannot be read: {reason}") from None
-        except tomllib.TOMLDecodeError as error:
-            raise ParameterError(f"sweep {str(path)!r} is not valid TOML: {error}") from None
-        return cls.from_dict(data, base_dir=path.parent)
+        return cls.from_dict(read_toml(path, "sweep"), base_dir=path.parent)
 
     def points(self):
         """Each point as a dict of parameter name → value, in the table's order."""
@@ -259,9 +249,17 @@ def run_sweep(grid, *, scheduler=None, progress=None):
     return _columns(grid, points, recipes, rows)
 
 
+def check_table_path(path, *, name="out"):
+    """``path`` as a Path if it names a table this module writes (.csv or .parquet); ``name`` is its parameter."""
+    path = Path(path)
+    if path.suffix not in (".csv", ".parquet"):
+        raise ParameterError(f"{name} must end in .csv or .parquet, got {str(path)!r}")
+    return path
+
+
 def write_table(table, path):
     """Write a sweep's columns to ``path``: ``.csv`` or ``.parquet`` (needs pyarrow), atomically."""
-    path = Path(path)
+    path = check_table_path(path)
     if path.suffix == ".csv":
         buffer = io.StringIO()
         writer = csv.writer(buffer, lineterminator="\n")
@@ -269,7 +267,7 @@ def write_table(table, path):
         for row in zip(*table.values()):
             writer.writerow(_cell(value) for value in row)
         write_atomic(path, buffer.getvalue())
-    elif path.suffix == ".parquet":
+    else:
         try:
             import pyarrow as pa
             import pyarrow.parquet as pq
@@ -280,8 +278,6 @@ def write_table(table, path):
         buffer = io.BytesIO()
         pq.write_table(arrow, buffer)
         write_atomic(path, buffer.getvalue())
-    else:
-        raise ParameterError(f"out must end in .csv or .parquet, got {str(path)!r}")
 
 
 def _rows(recipes, audible_db):
@@ -342,13 +338,8 @@ def _columns(grid, points, recipes, rows):
 
 def _check_name(name):
     table, _, field = name.partition(".")
-    if field:
-        if table not in _TABLES or "." in field:
-            raise ParameterError(
-                f"parameter {name!r} is not one a sweep can vary: use a recipe key ({', '.join(_RECIPE_KEYS)}), "
-                f"a whole profile (force, gravity) or a field of a table (force.value, stick.pivot_to_tip, ...)"
-            )
-    elif name not in _RECIPE_KEYS and name not in ("force", "gravity"):
+    valid = (table in _TABLES and "." not in field) if field else name in (*_RECIPE_KEYS, "force", "gravity")
+    if not valid:
         raise ParameterError(
             f"parameter {name!r} is not one a sweep can vary: use a recipe key ({', '.join(_RECIPE_KEYS)}), "
             f"a whole profile (force, gravity) or a field of a table (force.value, stick.pivot_to_tip, ...)"

@@ -16,7 +16,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from .elliptic import flight_time, parameter, time_from_apex
+from .elliptic import flight_time, parameter, to_head
 from .rules import NEARLY_VERTICAL
 from .taylor import zeno_floor
 
@@ -38,10 +38,8 @@ def _first_impact(theta, omega, c, theta_max):
     m = parameter(sin_theta, omega, c)
     if m >= 1.0 - NEARLY_VERTICAL:
         return 3, 0.0, 0.0
-    since_apex = time_from_apex(sin_theta, omega, c, m)
-    apex = since_apex if omega > 0.0 else -since_apex
-    speed = math.sqrt(omega * omega + 2.0 * c * max(sin_theta - sin_head, 0.0))
-    return 0, apex + time_from_apex(sin_head, speed, c, m), speed
+    to_apex, apex_to_head, speed = to_head(sin_theta, omega, c, m, sin_head)
+    return 0, to_apex + apex_to_head, speed
 
 
 @njit(cache=True)

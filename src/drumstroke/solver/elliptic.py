@@ -67,6 +67,24 @@ def time_from_apex(sin_theta, omega, c, m):
 
 
 @njit(cache=True)
+def to_head(sin_theta, omega, c, m, sin_head):
+    """From a state (θ, ω) on the orbit m under C = ``c``: the way down to the head.
+
+    Returns
+    -------
+    to_apex : float
+        Time from now to the apex (s), negative if the apex is past.
+    apex_to_head : float
+        Time from the apex down to the head (s).
+    speed : float
+        |ω| on reaching the head (rad/s).
+    """
+    since_apex = time_from_apex(sin_theta, omega, c, m)
+    speed = math.sqrt(omega * omega + 2.0 * c * max(sin_theta - sin_head, 0.0))
+    return (since_apex if omega > 0.0 else -since_apex), time_from_apex(sin_head, speed, c, m), speed
+
+
+@njit(cache=True)
 def flight_time(launch_speed, c, sin_head):
     """Duration (s) of a flight launched upward from the head at ``launch_speed`` (rad/s), and its m.
 
@@ -130,12 +148,6 @@ def shift(sn, cn, dn, sn_h, cn_h, dn_h, m):
 
 
 @njit(cache=True)
-def angle(sn, cn, dn, c, m):
-    """θ (rad) and ω (rad/s) at v = √C·τ from sn, cn, dn of v on the orbit ``m`` under C = ``c``."""
-    return apex_form(sn, cn, dn, math.sqrt(m), 2.0 * math.sqrt(m * (1.0 - m) * c))
-
-
-@njit(cache=True)
 def apex_form(sn, cn, dn, root_m, speed):
     """θ = 2·asin(√m·cd) − π/2 (rad) and ω = −speed·sd (rad/s), given √m and speed = 2√(m(1 − m)C)."""
     inverse = 1.0 / dn
@@ -146,4 +158,4 @@ def apex_form(sn, cn, dn, root_m, speed):
 def state(tau, c, m):
     """θ (rad) and ω (rad/s) at time ``tau`` after the apex (s) on the orbit ``m``."""
     sn, cn, dn = jacobi(math.sqrt(c) * tau, m)
-    return angle(sn, cn, dn, c, m)
+    return apex_form(sn, cn, dn, math.sqrt(m), 2.0 * math.sqrt(m * (1.0 - m) * c))

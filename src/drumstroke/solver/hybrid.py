@@ -108,24 +108,19 @@ def solve(coefficients, force, gravity, *, theta0, omega0, cor, t_end, method="a
     theta_max = coefficients.theta_max
     state = kernel.initial_state(theta0, omega0)
     closed_forms = method == "auto"
-    if progress is None:
-        arcs, steps, impacts, rests = _checked(
-            kernel.run(edges, c0, c1, theta_max, cor, closed_forms, _MAX_STEP, MAX_IMPACTS, True, state), cor
-        )
-    else:
-        chunk = max(1, -(-len(c0) // _PROGRESS_CHUNKS))
-        parts = []
-        last_report = time.monotonic()
-        for first in range(0, len(c0), chunk):
-            last = min(first + chunk, len(c0))
-            parts.append(_checked(kernel.run(
-                edges[first:last + 1], c0[first:last], c1[first:last], theta_max, cor, closed_forms, _MAX_STEP,
-                MAX_IMPACTS, last == len(c0), state,
-            ), cor))
-            if time.monotonic() - last_report > 0.1:
-                progress(edges[last] / t_end)
-                last_report = time.monotonic()
-        arcs, steps, impacts, rests = (np.concatenate(column) for column in zip(*parts))
+    chunk = len(c0) if progress is None else max(1, -(-len(c0) // _PROGRESS_CHUNKS))
+    parts = []
+    last_report = time.monotonic()
+    for first in range(0, len(c0), chunk):
+        last = min(first + chunk, len(c0))
+        parts.append(_checked(kernel.run(
+            edges[first:last + 1], c0[first:last], c1[first:last], theta_max, cor, closed_forms, _MAX_STEP,
+            MAX_IMPACTS, last == len(c0), state,
+        ), cor))
+        if progress is not None and time.monotonic() - last_report > 0.1:
+            progress(edges[last] / t_end)
+            last_report = time.monotonic()
+    arcs, steps, impacts, rests = parts[0] if len(parts) == 1 else (np.concatenate(c) for c in zip(*parts))
     if len(impacts) and impacts[-1, 0] > t_end:
         impacts = impacts[impacts[:, 0] <= t_end]
     return Solution(arcs=Arcs(arcs, steps, theta_max), impact_t=impacts[:, 0], impact_omega=impacts[:, 1], rests=rests)

@@ -172,10 +172,9 @@ def run(edges, c0, c1, theta_max, cor, closed_forms, max_step, max_impacts, fini
                     m = elliptic.parameter(sin_theta, omega, a)
                     if m < 1.0 - NEARLY_VERTICAL:
                         taylor, lifting = False, False
-                        since_apex = elliptic.time_from_apex(sin_theta, omega, a, m)
-                        apex = t + since_apex if omega > 0.0 else t - since_apex
-                        speed = math.sqrt(omega * omega + 2.0 * a * max(sin_theta - sin_head, 0.0))
-                        hit = apex + elliptic.time_from_apex(sin_head, speed, a, m)
+                        to_apex, apex_to_head, speed = elliptic.to_head(sin_theta, omega, a, m, sin_head)
+                        apex = t + to_apex
+                        hit = apex + apex_to_head
                         arcs, n_arcs = _arc(arcs, n_arcs, t, ELLIPTIC, apex, a, m)
                         if hit > te:
                             theta, omega = elliptic.state(te - apex, a, m)
