@@ -6,6 +6,8 @@ allowed range.
 """
 
 import argparse
+import contextlib
+import io
 import dataclasses
 import math
 import os
@@ -18,7 +20,7 @@ from ._checks import check_real
 from .errors import DrumstrokeError
 from .model import MODELS, inertia_ratio
 from .presets import PRESETS
-from .stroke import DEFAULT_RATE, simulate
+from .stroke import DEFAULT_RATE, Stroke, simulate
 
 FIGURES = {p.figure: name for name, p in PRESETS.items() if p.figure}
 """The paper's figures and the presets that reproduce them."""
@@ -69,7 +71,39 @@ def _build_parser():
     sim.add_argument("--json", type=Path, metavar="PATH", help="write recipe, impacts and rests as JSON")
     sim.add_argument("--csv", type=Path, metavar="PATH", help="write t,theta,omega at --rate as CSV")
     sim.add_argument("--plot", type=Path, metavar="PATH", help="write a PNG of theta(t), impacts and a(t)")
-    sim.set_defaults(run=_simulate)
+    _add_sound_options(sim)
+    steps = sim.add_argument_group("post-processing, applied in the order given")
+    steps.add_argument("--stretch", action=_Step, type=float, metavar="F", help="play F times slower (F < 1: faster)")
+    steps.add_argument("--compress", action=_Step, type=float, metavar="F",
+                       help="scale the height above the head by F (louder or softer)")
+    steps.add_argument("--reverse", action=_Step, nargs=0, help="play backwards")
+    steps.add_argument("--trim", action=_Step, metavar="T0:T1", help="keep the part from T0 to T1 s (either may be empty)")
+    steps.add_argument("--catch", action=_Step, type=int, metavar="N", help="end at the top of the rebound after impact N")
+    sim.set_defaults(run=_simulate, steps=[])
+
+    lib = commands.add_parser("library", help="build or list a stroke library (text files a robot host loads)")
+    lib_commands = lib.add_subparsers(dest="library_command", parser_class=_Parser, metavar="ACTION", required=True)
+    build = lib_commands.add_parser("build", help="simulate a palette and write it as a library folder")
+    build.add_argument("directory", type=Path, metavar="DIR")
+    build.add_argument("--rate", type=float, default=DEFAULT_RATE, metavar="HZ",
+                       help=f"samples per second of the trajectories (default {DEFAULT_RATE:g})")
+    build.add_argument("--palette", type=Path, metavar="FILE", help="a palette .toml file (default: the shipped 20 strokes)")
+    build.set_defaults(run=_library_build)
+    listing = lib_commands.add_parser("list", help="list a library's strokes")
+    listing.add_argument("directory", type=Path, metavar="DIR")
+    listing.set_defaults(run=_library_list)
+
+    comp = commands.add_parser("compose", help="turn a score (MIDI file or text pattern) into one trajectory per stick")
+    comp.add_argument("score", type=Path, metavar="SCORE", help="a .mid/.midi file or a text pattern (see the README)")
+    comp.add_argument("--library", type=Path, required=True, metavar="DIR", help="a library folder ('library build')")
+    comp.add_argument("--rate", type=float, metavar="HZ", help="control rate of the result (default: the library's)")
+    comp.add_argument("--mapping", type=Path, metavar="FILE", help="MIDI note -> stroke mapping .toml (default: see README)")
+    comp.add_argument("--csv", type=Path, metavar="PATH", help="write t and theta, omega per stick as CSV")
+    comp.add_argument("--json", type=Path, metavar="PATH", help="write the notes, placements and impacts as JSON")
+    comp.add_argument("--plot", type=Path, metavar="PATH", help="write a PNG of theta(t) per stick with the notes")
+    _add_sound_options(comp)
+    comp.add_argument("--strict", action="store_true", help="exit with status 3 if any note was left out")
+    comp.set_defaults(run=_compose)
 
     pre = commands.add_parser("presets", help="list the named recipes")
     pre.set_defaults(run=_presets)
@@ -87,7 +121,7 @@ def _build_parser():
                      help="override the file's audibility threshold (dB below the loudest impact)")
     swp.set_defaults(run=_sweep)
 
-    demo = commands.add_parser("demo", help="simulate the paper's four figure cases: plots, JSON and CSV")
+    demo = commands.add_parser("demo", help="build the library, render every stroke, compose a groove, write index.html")
     demo.add_argument("outdir", type=Path, metavar="OUTDIR")
     demo.set_defaults(run=_demo)
     return parser
@@ -99,23 +133,64 @@ def _simulate(args):
     stroke = simulate(args.recipe, model=args.model, progress=bar.update)
     bar.close()
     _print_summary(stroke)
-    _write_outputs(stroke, json_path=args.json, csv_path=args.csv, plot_path=args.plot, rate=rate)
+    if args.steps:
+        from .palette.transforms import apply_step
+
+        for op, value in args.steps:
+            try:
+                stroke = apply_step(stroke, op, value)
+            except DrumstrokeError as error:
+                raise type(error)(f"--{op}: {error}") from None
+        impacts = stroke.impacts
+        print(f"after {', '.join(stroke.history[1:])}: {len(impacts)} impacts over {stroke.t_end:.6g} s")
+    _write_outputs(stroke, json_path=args.json, csv_path=args.csv, plot_path=args.plot, wav_path=args.wav,
+                   midi_path=args.midi, rate=rate, snares=not args.no_snares)
 
 
-def _write_outputs(stroke, *, json_path=None, csv_path=None, plot_path=None, rate=DEFAULT_RATE, title=None):
+def _write_outputs(stroke, *, json_path=None, csv_path=None, plot_path=None, wav_path=None, midi_path=None,
+                   rate=DEFAULT_RATE, title=None, snares=True):
+    """Write a Stroke's or a Trajectory's files; return the paths written."""
     from .render.data import write_csv, write_json
 
+    written = []
     if json_path:
         write_json(stroke, json_path)
-        print(f"wrote {json_path}")
+        written.append(json_path)
     if csv_path:
         write_csv(stroke, csv_path, rate=rate)
-        print(f"wrote {csv_path} ({rate:g} Hz)")
+        written.append(csv_path)
     if plot_path:
         from .render.plot import save_stroke_plot
 
         save_stroke_plot(stroke, plot_path, title=title)
-        print(f"wrote {plot_path}")
+        written.append(plot_path)
+    name = stroke.recipe.name if isinstance(stroke, Stroke) else stroke.name
+    _write_sound(stroke.impacts.t, stroke.impacts.tip_speed, stroke.impacts.level_db, wav_path=wav_path,
+                 midi_path=midi_path, duration=None, title=f"{name or 'custom'} (model {stroke.model})",
+                 snares=snares, written=written)
+    for path in written:
+        print(f"wrote {path}")
+    return written
+
+
+def _add_sound_options(parser):
+    parser.add_argument("--wav", type=Path, metavar="PATH", help="write 48 kHz mono audio of the impacts")
+    parser.add_argument("--no-snares", action="store_true", help="render --wav with the snare wires off")
+    parser.add_argument("--midi", type=Path, metavar="PATH",
+                        help="write the impacts as General MIDI percussion (channel 10, note 38)")
+
+
+def _write_sound(times, tip_speeds, levels, *, wav_path, midi_path, duration, title, snares, written):
+    if wav_path:
+        from .render.audio import Drum, render_wav
+
+        render_wav(wav_path, times, tip_speeds, duration=duration, drum=Drum(snares=snares))
+        written.append(wav_path)
+    if midi_path:
+        from .render.midi import write_midi
+
+        write_midi(midi_path, times, levels, title=title)
+        written.append(midi_path)
 
 
 def _print_summary(stroke, *, rows=10):
@@ -158,6 +233,94 @@ def _sweep(args):
     print(f"wrote {args.out}: {len(table['point'])} rows in {time.monotonic() - started:.1f} s{note}")
 
 
+def _library_build(args):
+    from .palette.library import build_library
+
+    rate = check_real("--rate", args.rate, low=1.0, high=1e5, unit="Hz")
+    started = time.monotonic()
+    bar = _Bar("building")
+    library = build_library(args.directory, rate=rate, palette=args.palette, progress=bar.update)
+    bar.close()
+    print(f"wrote {args.directory}/: {len(library)} strokes at {rate:g} Hz in {time.monotonic() - started:.1f} s")
+
+
+def _library_list(args):
+    from .dynamics import level_to_velocity
+    from .palette.library import load_library
+    from .score import default_mapping
+
+    library = load_library(args.directory)
+    notes = {stroke: note for note, (stroke, _) in sorted(default_mapping(list(library)).items(), reverse=True)}
+    width = max(len(name) for name in library)
+    print(f"{library.path}: {len(library)} strokes at {library.rate:g} Hz")
+    print(f"{'stroke':<{width}}  {'note':>4}  {'impacts':>7}  {'length':>7}  {'vel':>3}  category: description")
+    for name, entry in library.items():
+        impacts = entry.trajectory.impacts
+        velocity = level_to_velocity(impacts.level_db[0]) if len(impacts) else "-"
+        print(f"{name:<{width}}  {notes.get(name, '-'):>4}  {len(impacts):>7}  {entry.trajectory.t_end:>6.3f}s  "
+              f"{velocity:>3}  {entry.category}: {entry.description}")
+
+
+def _compose(args):
+    from .compose import compose
+    from .palette.library import load_library
+
+    library = load_library(args.library)
+    notes, unmapped = _read_score(args.score, args.mapping, library)
+    rate = None if args.rate is None else check_real("--rate", args.rate, low=1.0, high=1e5, unit="Hz")
+    piece = compose(notes, library, rate=rate)
+    played = sum(p.played for p in piece.placements)
+    sticks = ", ".join(f"{name} ({len(s.impacts)} impacts)" for name, s in piece.sticks.items())
+    print(f"composed {played} of {len(notes)} notes from {args.score} (model {piece.model}): {piece.t_end:.3f} s at "
+          f"{piece.rate:g} Hz, score time 0 at {piece.offset:g} s; sticks: {sticks}")
+    for note, count in sorted(unmapped.items()):
+        print(f"warning: {count} MIDI notes with number {note} have no mapping; left out", file=sys.stderr)
+    for problem in piece.problems:
+        print(f"warning: {problem}", file=sys.stderr)
+    _write_composition(piece, args, title=args.score.stem)
+    if args.strict and (unmapped or played < len(notes)):
+        print("drumstroke compose: error: notes were left out (--strict)", file=sys.stderr)
+        return 3
+    return 0
+
+
+def _read_score(path, mapping_path, library):
+    from .score import default_mapping, from_midi_notes, read_mapping, read_pattern
+
+    if path.suffix.lower() in (".mid", ".midi"):
+        from .render.midi import read_midi_notes
+
+        mapping = read_mapping(mapping_path) if mapping_path else default_mapping(list(library))
+        return from_midi_notes(read_midi_notes(path), mapping)
+    return read_pattern(path), {}
+
+
+def _write_composition(piece, args, *, title):
+    from .render.data import composition_to_dict, write_composition_csv
+
+    written = []
+    if args.csv:
+        write_composition_csv(piece, args.csv)
+        written.append(args.csv)
+    if args.json:
+        import json
+
+        from ._atomic import write_atomic
+
+        write_atomic(args.json, json.dumps(composition_to_dict(piece), indent=1) + "\n")
+        written.append(args.json)
+    if args.plot:
+        from .render.plot import composition_figure, save_figure
+
+        save_figure(composition_figure(piece, title=title), args.plot)
+        written.append(args.plot)
+    times, speeds, levels = piece.impacts()
+    _write_sound(times, speeds, levels, wav_path=args.wav, midi_path=args.midi, duration=None,
+                 title=f"{title} (model {piece.model})", snares=not args.no_snares, written=written)
+    for path in written:
+        print(f"wrote {path}")
+
+
 def _presets(args):
     width = max(len(name) for name in PRESETS)
     for name, p in PRESETS.items():
@@ -176,26 +339,83 @@ def _figures(args):
 
 
 def _demo(args):
+    from .compose import compose
+    from .palette.library import DEMO_PATTERN, build_library
+    from .render.page import Card, write_index
+    from .score import read_pattern
+
+    out = args.outdir
     bar = _Bar("demo")
     for i, (figure, name) in enumerate(FIGURES.items()):
         stroke = simulate(name)
-        stem = args.outdir / f"{_slug(figure)}-{name}"
+        stem = out / f"{_slug(figure)}-{name}"
         print()
         _print_summary(stroke, rows=3)
-        _write_outputs(
-            stroke,
-            json_path=stem.with_suffix(".json"),
-            csv_path=stem.with_suffix(".csv"),
-            plot_path=stem.with_suffix(".png"),
-            title=f"{figure} {name}",
-        )
-        bar.update((i + 1) / len(FIGURES))
+        _write_outputs(stroke, json_path=stem.with_suffix(".json"), csv_path=stem.with_suffix(".csv"),
+                       plot_path=stem.with_suffix(".png"), title=f"{figure} {name}")
+        bar.update(0.2 * (i + 1) / len(FIGURES))
+    library = build_library(out / "library", progress=lambda f: bar.update(0.2 + 0.2 * f))
+    print(f"\nwrote {out / 'library'}/: {len(library)} strokes at {library.rate:g} Hz")
+    cards = []
+    for i, (name, entry) in enumerate(library.items()):
+        stem = out / "strokes" / name
+        trajectory = entry.trajectory
+        _quietly(_write_outputs, trajectory, plot_path=stem.with_suffix(".png"), wav_path=stem.with_suffix(".wav"),
+                 midi_path=stem.with_suffix(".mid"))
+        impacts = trajectory.impacts
+        facts = (f"{len(impacts)} impacts in {trajectory.t_end:.2f} s; first at {impacts.t[0]:.3f} s, "
+                 f"{impacts.tip_speed[0]:.2f} m/s tip speed; model {trajectory.model}.")
+        cards.append(Card(name, entry.category, entry.description, f"strokes/{name}.png", f"strokes/{name}.wav",
+                          f"strokes/{name}.mid", facts))
+        bar.update(0.4 + 0.5 * (i + 1) / len(library))
+    piece = compose(read_pattern(DEMO_PATTERN), library)
+    (out / "groove.pattern").write_text(DEMO_PATTERN.read_text())
+    groove = argparse.Namespace(csv=out / "groove.csv", json=out / "groove.json", plot=out / "groove.png",
+                                wav=out / "groove.wav", midi=out / "groove.mid", no_snares=False)
+    _quietly(_write_composition, piece, groove, title="groove")
+    played = sum(p.played for p in piece.placements)
+    print(f"composed groove.pattern: {played} of {len(piece.placements)} notes on {len(piece.sticks)} sticks, "
+          f"{piece.t_end:.2f} s")
+    facts = f"{played} notes on the sticks {', '.join(piece.sticks)}; {piece.t_end:.2f} s at {piece.rate:g} Hz."
+    groove_card = Card("groove", "composition", "Four bars at 96 bpm composed from the library (groove.pattern): "
+                       "backbeat singles, ghost taps, a double, a triplet ruff, rolls and a free bounce.",
+                       "groove.png", "groove.wav", "groove.mid", facts)
+    write_index(out / "index.html", title="drumstroke: the stroke palette",
+                intro="Each stroke of the shipped library as the robot's motor angle θ(t) with its impacts, "
+                      "and as it sounds on a synthesized snare drum; first a groove composed from them.",
+                cards=[groove_card, *cards])
+    bar.update(1.0)
     bar.close()
-    print(f"\ndemo written to {args.outdir}/")
+    print(f"\ndemo written to {out}/: open {out / 'index.html'} in a browser")
+
+
+def _quietly(function, *args, **kwargs):
+    """Call ``function`` without its 'wrote ...' lines (the demo writes too many files to list)."""
+    with contextlib.redirect_stdout(io.StringIO()):
+        return function(*args, **kwargs)
 
 
 def _slug(figure):
     return figure.lower().replace(". ", "").replace(" ", "")
+
+
+class _Step(argparse.Action):
+    """Record a post-processing option and its value in ``steps``, in command-line order."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        if self.dest == "reverse":
+            values = True
+        elif self.dest == "trim":
+            values = _trim_value(parser, values)
+        namespace.steps = [*namespace.steps, (self.dest, values)]
+
+
+def _trim_value(parser, text):
+    start, sep, end = text.partition(":")
+    try:
+        return [float(start) if start else 0.0, float(end) if end else None] if sep else parser.error("")
+    except (ValueError, SystemExit):
+        parser.error(f"argument --trim: must be START:END in seconds (either may be empty), got {text!r}")
 
 
 class _Bar:

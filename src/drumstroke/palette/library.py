@@ -50,13 +50,15 @@ from ..presets import PRESETS
 from ..recipe import Recipe
 from ..stroke import DEFAULT_RATE, Impacts, simulate
 from .transforms import apply_steps, trim
-from .trajectory import Trajectory
+from .trajectory import Trajectory, csv_header, csv_text
 
 FORMAT = "drumstroke-library"
 FORMAT_VERSION = 1
 MANIFEST = "manifest.json"
 DEFAULT_PALETTE = Path(__file__).with_name("default.toml")
 """The shipped palette: 20 strokes covering every category of the paper."""
+DEMO_PATTERN = Path(__file__).with_name("groove.pattern")
+"""The shipped text pattern the demo composes: four bars at 96 bpm on two sticks."""
 
 _NAME = re.compile(r"^[a-z0-9][a-z0-9._-]{0,63}$")
 _ENTRY_KEYS = ("name", "category", "description", "recipe", "transforms")
@@ -242,9 +244,8 @@ def _write_stroke(folder, entry, trajectory, rate):
     files = {"recipe": f"{entry.name}.toml", "trajectory": f"{entry.name}.csv", "impacts": f"{entry.name}.json"}
     entry.recipe.to_toml(folder / files["recipe"])
     t, theta, omega = trajectory.sample(rate)
-    (folder / files["trajectory"]).write_text(csv_text(
-        f"drumstroke {__version__}; model={trajectory.model}; stroke={entry.name}; rate={rate:g} Hz; "
-        f"units s, rad, rad/s", ("t", "theta", "omega"), (t, theta, omega)))
+    (folder / files["trajectory"]).write_text(
+        csv_text(csv_header(trajectory.model, entry.name, rate), ("t", "theta", "omega"), (t, theta, omega)))
     impacts = trajectory.to_dict() | {"rate": rate}
     (folder / files["impacts"]).write_text(json.dumps(impacts, indent=1) + "\n")
     impacts_list = trajectory.impacts
@@ -263,14 +264,6 @@ def _write_stroke(folder, entry, trajectory, rate):
         "files": files,
         "sha256": {key: _sha256(folder / name) for key, name in files.items()},
     }
-
-
-def csv_text(comment, names, columns):
-    """CSV text: one ``#`` comment line, a header of ``names``, then the columns at full precision."""
-    buffer = io.StringIO()
-    buffer.write(f"# {comment}\n")
-    np.savetxt(buffer, np.column_stack(columns), delimiter=",", header=",".join(names), comments="", fmt="%.17g")
-    return buffer.getvalue()
 
 
 def _sha256(path):

@@ -14,12 +14,13 @@ Examples
 >>> import drumstroke
 >>> trajectory = Trajectory.from_stroke(drumstroke.simulate("free-bounce"))
 >>> trajectory.model, len(trajectory.impacts)
-('paper', 64)
+('paper', 98)
 >>> theta, omega = trajectory.state(trajectory.impacts.t[:2])
 >>> bool(abs(theta - trajectory.theta_max).max() < 1e-12)
 True
 """
 
+import io
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -28,6 +29,7 @@ from functools import cached_property
 import numpy as np
 
 from .._checks import check_real
+from .._version import __version__
 from ..errors import ParameterError
 from ..recipe import Recipe
 from ..stroke import DEFAULT_RATE, MAX_SAMPLES, Impacts
@@ -189,8 +191,10 @@ class Trajectory:
         """Impacts and provenance as plain data for JSON (the library's impacts file)."""
         impacts = self.impacts
         return {
+            "drumstroke": __version__,
             "name": self.name,
             "model": self.model,
+            "recipe": self.recipe.to_dict() if self.recipe is not None else None,
             "theta_max": self.theta_max,
             "t_end": self.t_end,
             "tip_distance": impacts.tip_distance,
@@ -202,6 +206,19 @@ class Trajectory:
                                           impacts.level_db)
             ],
         }
+
+
+def csv_header(model, name, rate):
+    """The comment line of a trajectory CSV: the version, the model, the stroke and the rate."""
+    return f"drumstroke {__version__}; model={model}; stroke={name or 'custom'}; rate={rate:g} Hz; units s, rad, rad/s"
+
+
+def csv_text(comment, names, columns):
+    """CSV text: one ``#`` comment line, a header of ``names``, then the columns at full precision."""
+    buffer = io.StringIO()
+    buffer.write(f"# {comment}\n")
+    np.savetxt(buffer, np.column_stack(columns), delimiter=",", header=",".join(names), comments="", fmt="%.17g")
+    return buffer.getvalue()
 
 
 def _identity(t):

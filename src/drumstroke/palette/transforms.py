@@ -24,7 +24,7 @@ Examples
 >>> float(slow.impacts.t[0] / bounce.impacts.t[0]), float(slow.impacts.omega[0] / bounce.impacts.omega[0])
 (2.0, 0.5)
 >>> [len(s.impacts) for s in (trim(bounce, 0.0, bounce.apex_after(3)), reverse(bounce))]
-[3, 64]
+[3, 98]
 """
 
 import math
@@ -438,13 +438,15 @@ def apply_steps(stroke, steps, *, where="transforms"):
                                  f"got {step!r}")
         (op, value), = step.items()
         try:
-            s = _step(s, op, value)
+            s = apply_step(s, op, value)
         except ParameterError as error:
             raise ParameterError(f"{where}[{i}] ({op}): {error}") from None
     return s
 
 
-def _step(s, op, value):
+def apply_step(s, op, value):
+    """Apply one transform named in :data:`STEPS` with its value (see :func:`apply_steps`)."""
+    s = as_trajectory(s)
     if op == "stretch":
         return stretch(s, value)
     if op == "compress":

@@ -1,35 +1,61 @@
-"""A stroke as data files: JSON (recipe, impacts, rests) and CSV (t, θ, ω at a rate).
+"""Strokes, trajectories and compositions as data files: JSON and CSV.
 
-Both record which model made the stroke; both are written atomically.
+Every file records the model that made it; every file is written atomically.
 """
 
-import io
 import json
 
-import numpy as np
-
 from .._atomic import write_atomic
-from .._version import __version__
-from ..stroke import DEFAULT_RATE
+from ..palette.trajectory import csv_header, csv_text
+from ..stroke import DEFAULT_RATE, Stroke
 
 
 def write_json(stroke, path):
-    """Write ``stroke.to_dict()`` as JSON to ``path``."""
+    """Write a Stroke's or a Trajectory's ``to_dict()`` as JSON to ``path``."""
     write_atomic(path, json.dumps(stroke.to_dict(), indent=1) + "\n")
 
 
 def write_csv(stroke, path, *, rate=DEFAULT_RATE):
-    """Write the trajectory sampled at ``rate`` (Hz) as CSV with the header ``t,theta,omega``.
+    """Write a Stroke's or a Trajectory's θ(t) sampled at ``rate`` (Hz) as CSV with the header ``t,theta,omega``.
 
     One comment line (``#``) comes first: the drumstroke version, the model, the
-    recipe's name and the rate. Units: s, rad, rad/s.
+    stroke's name and the rate. Units: s, rad, rad/s.
     """
     t, theta, omega = stroke.sample(rate)
-    buffer = io.StringIO()
-    buffer.write(
-        f"# drumstroke {__version__}; model={stroke.model}; recipe={stroke.recipe.name or 'custom'}; "
-        f"rate={rate:g} Hz; units s, rad, rad/s\n"
-    )
-    np.savetxt(buffer, np.column_stack((t, theta, omega)), delimiter=",", header="t,theta,omega",
-               comments="", fmt="%.17g")
-    write_atomic(path, buffer.getvalue())
+    name = stroke.recipe.name if isinstance(stroke, Stroke) else stroke.name
+    write_atomic(path, csv_text(csv_header(stroke.model, name, rate), ("t", "theta", "omega"), (t, theta, omega)))
+
+
+def write_composition_csv(composition, path, *, rate=None):
+    """Write a :class:`~drumstroke.compose.Composition` at ``rate`` (Hz; default its own) as CSV.
+
+    One stick: the header ``t,theta,omega``, like a stroke. Several: ``t`` then
+    ``theta_<stick>,omega_<stick>`` for each stick in turn.
+    """
+    rate = composition.rate if rate is None else rate
+    t, columns = composition.sample(rate)
+    if len(columns) == 1:
+        names, values = ("t", "theta", "omega"), (t, *next(iter(columns.values())))
+    else:
+        names = ("t", *(f"{q}_{stick}" for stick in columns for q in ("theta", "omega")))
+        values = (t, *(v for pair in columns.values() for v in pair))
+    header = csv_header(composition.model, f"composition of {len(composition.placements)} notes", rate)
+    write_atomic(path, csv_text(f"{header}; score time 0 at t = {composition.offset:g} s", names, values))
+
+
+def composition_to_dict(composition):
+    """A composition's notes and impacts as plain data for JSON."""
+    return {
+        "model": composition.model,
+        "rate": composition.rate,
+        "offset": composition.offset,
+        "t_end": composition.t_end,
+        "notes": [
+            {"time": p.note.time, "stroke": p.note.stroke, "velocity": p.note.velocity, "stick": p.note.stick,
+             "source": p.note.source, "played": p.played, "impact": p.impact if p.played else None,
+             "start": p.start if p.played else None, "factor": p.factor, "cut": p.cut}
+            for p in composition.placements
+        ],
+        "impacts": {stick: s.to_dict()["impacts"] for stick, s in composition.sticks.items()},
+        "problems": list(composition.problems),
+    }

@@ -11,6 +11,8 @@ import numpy as np
 
 from .._atomic import write_atomic
 from ..model import inertia_ratio
+from ..palette.transforms import as_trajectory
+from ..stroke import Stroke
 
 try:
     from matplotlib.figure import Figure
@@ -19,58 +21,109 @@ except ImportError as error:  # pragma: no cover - exercised only without the ex
 
 
 def stroke_figure(stroke, *, title=None, rate=2000.0):
-    """A matplotlib Figure of ``stroke``: θ(t) with impacts over a(t) (and g(t)).
+    """A matplotlib Figure of a Stroke or Trajectory: θ(t) with impacts over a(t) (and g(t)).
+
+    A post-processed trajectory draws its recipe's a(t) on its own time axis
+    (stretched, reversed or trimmed with it); one with no recipe has no lower panel.
 
     Parameters
     ----------
-    stroke : drumstroke.Stroke
+    stroke : drumstroke.Stroke or drumstroke.palette.Trajectory
     title : str or None
-        Defaults to the recipe's name.
+        Defaults to the stroke's name.
     rate : float > 0
         Samples per second drawn (Hz).
     """
-    recipe = stroke.recipe
-    t, theta, _ = stroke.sample(rate)
-    figure = Figure(figsize=(9.0, 5.6), layout="constrained")
-    top, bottom = figure.subplots(2, 1, sharex=True, height_ratios=(2.2, 1.0))
+    rests = stroke.rests if isinstance(stroke, Stroke) else np.empty((0, 2))
+    rest_time = stroke.rest_time if isinstance(stroke, Stroke) else None
+    trajectory = as_trajectory(stroke)
+    recipe = trajectory.recipe
+    forced = recipe is not None and trajectory.recipe_time is not None
+    t, theta, _ = trajectory.sample(rate)
+    figure = Figure(figsize=(9.0, 5.6 if forced else 4.0), layout="constrained")
+    if forced:
+        top, bottom = figure.subplots(2, 1, sharex=True, height_ratios=(2.2, 1.0))
+    else:
+        top, bottom = figure.subplots(1, 1), None
+    _draw_theta(top, t, theta, trajectory)
+    for start, end in rests:
+        top.axvspan(start, end, color="C2", alpha=0.12, lw=0)
+    if rest_time is not None:
+        top.axvline(rest_time, color="C2", lw=1.0, label=f"at rest from {rest_time:.4f} s")
+    top.legend(loc="upper right", fontsize=8)
+    if bottom is not None:
+        source = trajectory.recipe_time(t)
+        bottom.plot(t, recipe.force(source), color="C1", lw=1.2, label="a(t), thumb")
+        bottom.set_ylabel("a (m/s²)")
+        bottom.grid(alpha=0.25)
+        gravity = recipe.gravity(source)
+        if np.ptp(gravity) > 0:
+            twin = bottom.twinx()
+            twin.plot(t, gravity, color="C4", lw=1.0, ls="-.", label="g(t)")
+            twin.set_ylabel("g (m/s²)")
+            twin.legend(loc="lower right", fontsize=8)
+        bottom.legend(loc="upper right", fontsize=8)
+    (bottom or top).set_xlabel("t (s)")
+    top.set_xlim(0.0, trajectory.t_end)
+    name = title or trajectory.name or "stroke"
+    if recipe is not None:
+        d = inertia_ratio(recipe.model, recipe.stick)
+        detail = f"model: {trajectory.model} (D = {d:.4f} m², c = {recipe.cor:g})"
+    else:
+        detail = f"model: {trajectory.model}"
+    steps = list(trajectory.history[1:])
+    suffix = f"\n{' → '.join(steps)}" if steps else ""
+    figure.suptitle(f"{name} — {detail}{suffix}", fontsize=11)
+    return figure
 
-    top.axhline(recipe.theta_max, color="0.55", lw=1.0, ls="--", label=f"drumhead θ_max = {recipe.theta_max:.4f} rad")
-    top.plot(t, theta, color="C0", lw=1.1, label="θ(t)")
-    impacts = stroke.impacts
+
+def composition_figure(composition, *, title="composition", rate=1000.0):
+    """A matplotlib Figure of a composition: θ(t) per stick with impacts, notes and left-out notes marked."""
+    sticks = composition.sticks
+    figure = Figure(figsize=(11.0, 1.0 + 2.4 * len(sticks)), layout="constrained")
+    axes = np.atleast_1d(figure.subplots(len(sticks), 1, sharex=True, squeeze=False)[:, 0])
+    for ax, (name, trajectory) in zip(axes, sticks.items()):
+        t, theta, _ = trajectory.sample(rate)
+        _draw_theta(ax, t, theta, trajectory)
+        for p in composition.placements:
+            if p.note.stick != name:
+                continue
+            time = composition.offset + p.note.time
+            ax.axvline(time, color="0.3" if p.played else "C3", lw=0.6, ls=":" if p.played else "--", zorder=0)
+            ax.annotate(p.note.stroke if p.played else f"{p.note.stroke} (left out)", (time, 1.0),
+                        xycoords=("data", "axes fraction"), rotation=90, fontsize=7, va="top", ha="right",
+                        color="0.25" if p.played else "C3")
+        ax.set_ylabel(f"θ {name} (rad)")
+        ax.legend(loc="upper left", bbox_to_anchor=(1.005, 1.0), fontsize=8)
+    axes[-1].set_xlabel("t (s)")
+    axes[-1].set_xlim(0.0, composition.t_end)
+    figure.suptitle(f"{title} — model: {composition.model}, score time 0 at {composition.offset:.3f} s, "
+                    f"{sum(p.played for p in composition.placements)} of {len(composition.placements)} notes",
+                    fontsize=11)
+    return figure
+
+
+def _draw_theta(ax, t, theta, trajectory):
+    head = trajectory.theta_max
+    ax.axhline(head, color="0.55", lw=1.0, ls="--", label=f"drumhead θ_max = {head:.4f} rad")
+    ax.plot(t, theta, color="C0", lw=1.1, label="θ(t)")
+    impacts = trajectory.impacts
     if len(impacts):
         level = impacts.level_db
         size = np.clip(4.0 + (level - level.max() + 40.0), 1.0, 44.0)
-        top.scatter(impacts.t, np.full(len(impacts), recipe.theta_max), s=size, color="C3", zorder=3,
-                    label=f"{len(impacts)} impacts")
-    for start, end in stroke.rests:
-        top.axvspan(start, end, color="C2", alpha=0.12, lw=0)
-    if stroke.rest_time is not None:
-        top.axvline(stroke.rest_time, color="C2", lw=1.0, label=f"at rest from {stroke.rest_time:.4f} s")
-    top.set_ylabel("θ (rad)")
-    top.legend(loc="upper right", fontsize=8)
-    top.grid(alpha=0.25)
-
-    bottom.plot(t, recipe.force(t), color="C1", lw=1.2, label="a(t), thumb")
-    bottom.set_ylabel("a (m/s²)")
-    bottom.set_xlabel("t (s)")
-    bottom.grid(alpha=0.25)
-    gravity = recipe.gravity(t)
-    if np.ptp(gravity) > 0:
-        twin = bottom.twinx()
-        twin.plot(t, gravity, color="C4", lw=1.0, ls="-.", label="g(t)")
-        twin.set_ylabel("g (m/s²)")
-        twin.legend(loc="lower right", fontsize=8)
-    bottom.legend(loc="upper right", fontsize=8)
-    bottom.set_xlim(0.0, recipe.t_end)
-
-    d = inertia_ratio(recipe.model, recipe.stick)
-    name = title or recipe.name or "stroke"
-    figure.suptitle(f"{name} — model: {recipe.model} (D = {d:.4f} m², c = {recipe.cor:g})", fontsize=11)
-    return figure
+        ax.scatter(impacts.t, np.full(len(impacts), head), s=size, color="C3", zorder=3,
+                   label=f"{len(impacts)} impacts")
+    ax.set_ylabel("θ (rad)")
+    ax.grid(alpha=0.25)
 
 
 def save_stroke_plot(stroke, path, *, title=None):
     """Draw ``stroke`` (see :func:`stroke_figure`) to a PNG file, written atomically."""
+    save_figure(stroke_figure(stroke, title=title), path)
+
+
+def save_figure(figure, path):
+    """Write a Figure to a PNG file, atomically."""
     buffer = io.BytesIO()
-    stroke_figure(stroke, title=title).savefig(buffer, format="png", dpi=110)
+    figure.savefig(buffer, format="png", dpi=110)
     write_atomic(path, buffer.getvalue())

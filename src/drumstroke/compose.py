@@ -1,0 +1,281 @@
+"""Composition: a score becomes one continuous motor-angle trajectory per stick (SPEC §4).
+
+For each note the library stroke is set to the note's velocity and placed so
+that its first impact lands exactly on the note's time; between strokes the
+stick returns smoothly to the next stroke's start angle (quintic moves within
+:class:`~drumstroke.palette.Limits`, never below the head); a stroke that
+cannot finish before the next one must start is cut at the top of a rebound
+(an apex, where the stick stands still), the latest that leaves time for the
+return. A note that comes too soon after the previous one on the same stick,
+even when that stroke is cut at its first rebound, is left out and reported in
+:attr:`Composition.problems` — never dropped silently.
+
+Velocity sets the level of the stroke's first impact: the stroke's excursion
+above the head is scaled (:func:`~drumstroke.palette.compress`) by
+``10 ** ((velocity_to_level(v) − L₀) / 20)``, where L₀ is the first impact's
+level in the library, so the first impact's tip speed is exactly the
+velocity's level (:mod:`drumstroke.dynamics`): monotonic in velocity, and a
+louder note starts from higher up, as a drummer's does. A velocity whose
+stroke would pass upright is played as loud as the stick can go, and reported.
+
+Examples
+--------
+>>> import tempfile
+>>> from drumstroke.palette.library import build_library, read_palette
+>>> from drumstroke.score import parse_pattern
+>>> library = build_library(tempfile.mkdtemp(), palette=[e for e in read_palette() if e.name == "single"])
+>>> piece = compose(parse_pattern("tempo 120\\n0 single 100\\n1 single 64\\n"), library)
+>>> [round(float(t - piece.offset), 9) for t in piece.sticks["right"].impacts.t]
+[0.0, 0.5]
+>>> piece.problems
+()
+"""
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from ._checks import check_real
+from .dynamics import level_to_velocity, velocity_to_level
+from .errors import ParameterError
+from .palette.transforms import Limits, assemble, compress, compress_limit, plan_return, return_time, trim
+from .score import ScoreNote
+
+HOLD_AFTER = 0.25
+"""Time (s) the stick holds still at the end of a composition, after its last return."""
+
+
+@dataclass(frozen=True)
+class Placement:
+    """What became of one note.
+
+    Attributes
+    ----------
+    note : ScoreNote
+    played : bool
+        False when it was left out (see the problems).
+    start : float
+        When its stroke starts on the composition's timeline (s).
+    impact : float
+        When its first impact lands (s): the note's time plus the offset.
+    factor : float
+        The compress factor its velocity asked for (1 = as in the library).
+    cut : float or None
+        Where the stroke was cut (s, its own time), or None if played to its end.
+    """
+
+    note: ScoreNote
+    played: bool
+    start: float = math.nan
+    impact: float = math.nan
+    factor: float = math.nan
+    cut: float | None = None
+
+
+@dataclass(frozen=True)
+class Composition:
+    """A composed piece: one trajectory per stick on one timeline.
+
+    Attributes
+    ----------
+    sticks : dict of str to Trajectory
+        Each from 0 to the same end, continuous in θ and ω.
+    rate : float
+        The control rate (Hz) for sampling.
+    offset : float
+        Where the score's time 0 is on the timeline (s): room for the first
+        stroke's downstroke before its note.
+    placements : tuple of Placement
+        One per note, in time order.
+    problems : tuple of str
+        Notes left out, velocities out of reach, notes with no mapping.
+    """
+
+    sticks: dict
+    rate: float
+    offset: float
+    placements: tuple
+    problems: tuple
+
+    @property
+    def model(self):
+        """The model that made the strokes ("mixed" if more than one)."""
+        models = {s.model for s in self.sticks.values()}
+        return models.pop() if len(models) == 1 else "mixed"
+
+    @property
+    def t_end(self):
+        """Duration (s)."""
+        return next(iter(self.sticks.values())).t_end
+
+    def sample(self, rate=None):
+        """Times (s) and, per stick, (θ rad, ω rad/s) at ``rate`` (Hz; default the composition's)."""
+        rate = self.rate if rate is None else rate
+        columns = {}
+        for name, stick in self.sticks.items():
+            t, theta, omega = stick.sample(rate)
+            columns[name] = (theta, omega)
+        return t, columns
+
+    def impacts(self):
+        """All impacts of all sticks in time order: times (s), tip speeds (m/s) and levels (dB re 1 m/s)."""
+        t, speed, level = (np.concatenate([getattr(s.impacts, key) for s in self.sticks.values()])
+                           for key in ("t", "tip_speed", "level_db"))
+        order = np.argsort(t, kind="stable")
+        return t[order], speed[order], level[order]
+
+
+def compose(notes, library, *, rate=None, limits=None):
+    """Compose ``notes`` from ``library`` strokes into one trajectory per stick.
+
+    Parameters
+    ----------
+    notes : sequence of ScoreNote
+        At least one; their strokes must be in the library.
+    library : drumstroke.palette.library.Library
+    rate : float in [1, 100000] or None
+        Control rate (Hz) of the result; default the library's.
+    limits : Limits or None
+        Bounds on the returns between strokes (default :class:`~drumstroke.palette.Limits`).
+
+    Returns
+    -------
+    Composition
+    """
+    limits = limits or Limits()
+    rate = library.rate if rate is None else check_real("rate", rate, low=1.0, high=1e5, unit="Hz")
+    notes = sorted(notes, key=lambda n: n.time)
+    if not notes:
+        raise ParameterError("notes must hold at least one note")
+    problems = []
+    variants = {}
+    for note in notes:
+        if not isinstance(note, ScoreNote):
+            raise ParameterError(f"notes must be ScoreNote objects, got {note!r}")
+        if note.stroke not in library:
+            raise ParameterError(f"{note.source or 'note'}: stroke {note.stroke!r} is not in the library; it has "
+                                 f"{', '.join(library)}")
+        key = (note.stroke, note.velocity)
+        if key not in variants:
+            variants[key] = _at_velocity(library[note.stroke].trajectory, note, problems)
+    head = library[notes[0].stroke].trajectory.theta_max
+    offset = _offset(notes, variants, head, limits, rate)
+    by_stick = {}
+    for note in notes:
+        by_stick.setdefault(note.stick, []).append(note)
+    plans = {stick: _place(stick_notes, variants, offset, head, limits, problems)
+             for stick, stick_notes in by_stick.items()}
+    end = max(_finish(plan, head, limits) for plan in plans.values()) + HOLD_AFTER
+    sticks = {}
+    for stick, plan in plans.items():
+        played = [p for p, _ in plan if p.played]
+        pieces = [trim(s, 0.0, p.cut) if p.cut is not None else s for p, s in plan if p.played]
+        sticks[stick] = assemble(pieces, [p.start for p in played], limits=limits, end=end,
+                                 name=f"composition ({stick} stick)")
+    placements = sorted((p for plan in plans.values() for p, _ in plan), key=lambda p: p.note.time)
+    return Composition(sticks, rate, offset, tuple(placements), tuple(problems))
+
+
+def _at_velocity(stroke, note, problems):
+    """The stroke compressed so its first impact has the note's velocity level, with the factor."""
+    if not len(stroke.impacts):
+        raise ParameterError(f"{note.source or 'note'}: stroke {note.stroke!r} has no impact to land on the note")
+    first = stroke.impacts.level_db[0]
+    factor = 10.0 ** ((velocity_to_level(note.velocity) - first) / 20.0)
+    top = compress_limit(stroke)
+    if factor > top:
+        reached = level_to_velocity(first + 20.0 * math.log10(top))
+        problems.append(f"{note.source}: velocity {note.velocity} would lift {note.stroke!r} past upright; "
+                        f"played at velocity {reached}, the loudest it can go")
+        factor = top
+    scaled = stroke if factor == 1.0 else compress(stroke, factor)
+    return scaled, factor
+
+
+def _offset(notes, variants, head, limits, rate):
+    """The lead (s) before the score's time 0 so every stick's first downstroke fits, on the control grid."""
+    need = 0.0
+    firsts = {}
+    for note in notes:
+        firsts.setdefault(note.stick, note)
+    for note in firsts.values():
+        stroke, _ = variants[(note.stroke, note.velocity)]
+        theta, omega = _state(stroke, 0.0)
+        wind = return_time((theta, 0.0), (theta, omega), head, limits)
+        need = max(need, stroke.impacts.t[0] + wind - note.time)
+    return math.ceil(need * rate - 1e-9) / rate if need > 0 else 0.0
+
+
+def _place(notes, variants, offset, head, limits, problems):
+    """Placements on one stick: (Placement, stroke) in time order, cuts chosen."""
+    plan = []
+    for note in notes:
+        stroke, factor = variants[(note.stroke, note.velocity)]
+        start = offset + note.time - stroke.impacts.t[0]
+        placed = Placement(note, True, start, offset + note.time, factor)
+        previous = next((i for i in range(len(plan) - 1, -1, -1) if plan[i][0].played), None)
+        if previous is not None:
+            before, before_stroke = plan[previous]
+            cut = _latest_cut(before_stroke, before.start, stroke, start, head, limits)
+            if cut is None:
+                need = _earliest_start(before_stroke, before.start, stroke, head, limits) - start
+                problems.append(
+                    f"{note.source}: {note.stroke!r} on the {note.stick} stick comes {need * 1e3:.0f} ms too soon "
+                    f"after {before.note.stroke!r} at {before.note.time:.6g} s; left out")
+                plan.append((Placement(note, False, factor=factor), stroke))
+                continue
+            plan[previous] = (replace(before, cut=cut), before_stroke)
+        plan.append((placed, stroke))
+    last = next((i for i in range(len(plan) - 1, -1, -1) if plan[i][0].played), None)
+    if last is not None:
+        p, s = plan[last]
+        settle = _settle(s)
+        plan[last] = (replace(p, cut=settle if settle < s.t_end else None), s)
+    return plan
+
+
+def _candidates(stroke):
+    """Where a stroke may be cut (its own time, s), latest first: where it settles, then its apexes."""
+    settle = _settle(stroke)
+    apexes = stroke.apexes[np.isfinite(stroke.apexes)]
+    apexes = apexes[(apexes > stroke.impacts.t[0]) & (apexes < settle)]
+    return [settle, *apexes[::-1].tolist()]
+
+
+def _latest_cut(stroke, start, following, following_start, head, limits):
+    target = _state(following, 0.0)
+    for cut in _candidates(stroke):
+        window = following_start - (start + cut)
+        if window >= 0.0 and plan_return(_state(stroke, cut), target, window, head, limits) is not None:
+            return cut
+    return None
+
+
+def _earliest_start(stroke, start, following, head, limits):
+    cut = _candidates(stroke)[-1]
+    return start + cut + return_time(_state(stroke, cut), _state(following, 0.0), head, limits)
+
+
+def _finish(plan, head, limits):
+    """When the stick is home after its last stroke (s)."""
+    played = [(p, s) for p, s in plan if p.played]
+    p, s = played[-1]
+    end = p.cut if p.cut is not None else s.t_end
+    theta0 = _state(s, 0.0)[0]
+    return p.start + end + return_time(_state(s, end), (theta0, 0.0), head, limits)
+
+
+def _settle(stroke):
+    """When the stroke comes to rest on the head for good (s, its own time), or its end."""
+    t, theta, omega = stroke.sample(max(1000.0, 2.0 / max(stroke.t_end, 1e-9)))
+    moving = (theta - stroke.theta_max > 1e-9) | (np.abs(omega) > 1e-6)
+    if moving[-1]:
+        return stroke.t_end
+    last = np.flatnonzero(moving)
+    return float(t[last[-1] + 1]) if len(last) else 0.0
+
+
+def _state(stroke, t):
+    theta, omega = stroke.path(np.array([t]))
+    return float(theta[0]), float(omega[0])

@@ -1,0 +1,65 @@
+"""The demo's web page: every stroke's picture and sound on one static HTML page.
+
+The page links its files by relative paths, so the folder can be moved or
+served as it is (``python -m http.server``). Written atomically.
+"""
+
+import html
+from dataclasses import dataclass
+
+from .._atomic import write_atomic
+from .._version import __version__
+
+
+@dataclass(frozen=True)
+class Card:
+    """One stroke (or the groove) on the page; paths relative to the page."""
+
+    title: str
+    subtitle: str
+    description: str
+    image: str
+    audio: str
+    midi: str
+    facts: str = ""
+
+
+_STYLE = """
+body { font-family: system-ui, sans-serif; margin: 2rem auto; max-width: 1100px; color: #222; padding: 0 1rem; }
+h1 { margin-bottom: 0.2rem; } .lead { color: #555; margin-top: 0; }
+section { border-top: 1px solid #ddd; padding: 1rem 0; }
+section h2 { margin: 0; font-size: 1.15rem; } .category { color: #666; font-weight: normal; }
+img { width: 100%; height: auto; border: 1px solid #eee; }
+audio { width: 100%; margin: 0.4rem 0; } .facts { color: #555; font-size: 0.9rem; }
+"""
+
+
+def write_index(path, *, title, intro, cards):
+    """Write the page to ``path``: a heading, an introduction and one section per :class:`Card`."""
+    sections = "\n".join(_section(card) for card in cards)
+    page = f"""<!DOCTYPE html>
+<html lang="en">
+<head>
+<meta charset="utf-8">
+<title>{html.escape(title)}</title>
+<style>{_STYLE}</style>
+</head>
+<body>
+<h1>{html.escape(title)}</h1>
+<p class="lead">{html.escape(intro)} Made by drumstroke {__version__}.</p>
+{sections}
+</body>
+</html>
+"""
+    write_atomic(path, page)
+
+
+def _section(card):
+    e = html.escape
+    return f"""<section id="{e(card.title)}">
+<h2>{e(card.title)} <span class="category">— {e(card.subtitle)}</span></h2>
+<p>{e(card.description)}</p>
+<audio controls preload="none" src="{e(card.audio)}"></audio>
+<p class="facts">{e(card.facts)} <a href="{e(card.midi)}">MIDI</a></p>
+<img src="{e(card.image)}" alt="θ(t) of {e(card.title)}" loading="lazy">
+</section>"""
