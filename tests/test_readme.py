@@ -1,6 +1,7 @@
 """The README's two set-up commands stay what CI runs and what the package provides."""
 
 import re
+import shutil
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -39,3 +40,17 @@ def test_the_python_tour_runs(tmp_path, monkeypatch):
     exec(compile(code, "README.md", "exec"), namespace)
     assert (tmp_path / "softer-head.toml").exists()
     assert len(namespace["batch"].trajectories) == 2 and namespace["stroke"].model == "geometry"
+
+
+def test_the_palette_python_runs(tmp_path, monkeypatch):
+    readme = (ROOT / "README.md").read_text()
+    section = readme.split("## The stroke palette", 1)[1].split("\n## ", 1)[0]
+    (code,) = re.findall(r"```python\n(.+?)\n```", section, re.S)
+    (tmp_path / "examples").mkdir()
+    shutil.copy(ROOT / "examples" / "backbeat.pattern", tmp_path / "examples")
+    monkeypatch.chdir(tmp_path)
+    namespace = {}
+    exec(compile(code, "README.md", "exec"), namespace)
+    assert (tmp_path / "lib" / "manifest.json").exists() and namespace["piece"].problems == ()
+    assert len(namespace["up"].impacts) == 3 and len(namespace["roll"].impacts) == 4
+    assert set(namespace["sticks"]) == {"right", "left"}
