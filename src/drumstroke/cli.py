@@ -7,8 +7,8 @@ allowed range.
 
 import argparse
 import contextlib
-import io
 import dataclasses
+import io
 import math
 import os
 import sys

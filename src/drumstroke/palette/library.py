@@ -49,8 +49,8 @@ from ..errors import ParameterError
 from ..presets import PRESETS
 from ..recipe import Recipe
 from ..stroke import DEFAULT_RATE, Impacts, simulate
-from .transforms import apply_steps, trim
 from .trajectory import Trajectory, csv_header, csv_text
+from .transforms import apply_steps, trim
 
 FORMAT = "drumstroke-library"
 FORMAT_VERSION = 1

@@ -107,7 +107,7 @@ class Drum:
     snares : bool
         Whether the snare wires sound.
     snare_level : float in [0, 10]
-        RMS of the snare noise relative to the modal gain (per m/s of tip speed).
+        RMS of the snare noise just after an impact, in units of G · v (dimensionless).
     snare_decay : float in (0, 1]
         Time for the snare noise to fall by 1/e after an impact (s).
     seed : int ≥ 0
@@ -226,7 +226,7 @@ def synthesize(times, tip_speeds, *, duration=None, drum=Drum(), rate=SAMPLE_RAT
     >>> import numpy as np
     >>> signal = synthesize([0.0], [0.5], duration=0.1, drum=Drum(snares=False))
     >>> len(signal), round(float(np.abs(signal).max()), 3)
-    (4800, 0.093)
+    (4800, 0.127)
     """
     times = _impact_array("times", times, unit="s")
     tip_speeds = _impact_array("tip_speeds", tip_speeds, unit="m/s")
@@ -240,11 +240,13 @@ def synthesize(times, tip_speeds, *, duration=None, drum=Drum(), rate=SAMPLE_RAT
         duration = last + TAIL_DECAYS * drum.decay
     duration = check_real("duration", duration, low=last, unit="s")
 
-    size = int(round(duration * rate))
+    size = round(duration * rate)
     start = np.ceil(times * rate).astype(np.int64)
     inside = start < size
     start, offset = start[inside], start[inside] - times[inside] * rate
     amplitude = GAIN * tip_speeds[inside]
+    if not len(start):
+        return np.zeros(size)
 
     signal = _membrane(start, offset, amplitude, tip_speeds[inside], drum, rate, size)
     if drum.snares and drum.snare_level > 0.0:
@@ -268,12 +270,15 @@ def write_wav(path, signal, *, rate=SAMPLE_RATE):
         Samples per second (Hz).
     """
     soundfile = _soundfile()
-    signal = np.asarray(signal, dtype=float)
+    try:
+        signal = np.asarray(signal, dtype=float)
+    except (TypeError, ValueError):
+        raise ParameterError(f"signal must be a sequence of numbers in [-1, 1], got {signal!r}") from None
     if signal.ndim != 1:
         raise ParameterError(f"signal must be one-dimensional (mono), got shape {signal.shape}")
     bad = np.flatnonzero(~(np.abs(signal) <= 1.0))
     if len(bad):
-        raise ParameterError(f"signal[{bad[0]}] must be a finite number in [-1, 1], got {signal[bad[0]]!r}")
+        raise ParameterError(f"signal[{bad[0]}] must be a finite number in [-1, 1], got {float(signal[bad[0]])!r}")
     if isinstance(rate, bool) or not isinstance(rate, Integral) or rate <= 0:
         raise ParameterError(f"rate must be an integer in [1, inf) Hz, got {rate!r}")
     buffer = io.BytesIO()
@@ -303,6 +308,13 @@ def render_wav(path, times, tip_speeds, *, duration=None, drum=Drum(), rate=SAMP
     -------
     signal : ndarray [shape=(round(duration · rate),)]
         The samples written, before 24-bit quantisation.
+
+    >>> import pathlib, tempfile
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     path = pathlib.Path(folder) / "two.wav"
+    ...     signal = render_wav(path, [0.0, 0.1], [1.0, 0.3], duration=0.2)
+    ...     len(signal), path.stat().st_size  # a 44-byte header, then 3 bytes a sample
+    (9600, 28844)
     """
     signal = synthesize(times, tip_speeds, duration=duration, drum=drum, rate=rate)
     write_wav(path, signal, rate=rate)
@@ -320,7 +332,7 @@ def _impact_array(name, values, *, unit):
     bad = np.flatnonzero(~(np.isfinite(array) & (array >= 0.0)))
     if len(bad):
         i = bad[0]
-        raise ParameterError(f"{name}[{i}] must be a finite number in [0, inf) {unit}, got {array[i]!r}")
+        raise ParameterError(f"{name}[{i}] must be a finite number in [0, inf) {unit}, got {float(array[i])!r}")
     return array
 
 
@@ -330,6 +342,7 @@ def _membrane(start, offset, amplitude, tip_speeds, drum, rate, size):
     frequencies = drum.fundamental * ratios
     shape = np.abs(jv(orders[:, 0], ratios * jn_zeros(0, 1)[0] * drum.position))
     shape /= shape.sum()
+    # A resting stick (v = 0) is silent anyway; the floor only keeps its contact time finite.
     durations = contact_time(np.maximum(tip_speeds, 1e-12), reference=drum.contact_time)
     weights = amplitude[:, None] * shape * half_sine_spectrum(frequencies, durations[:, None])
 
