@@ -65,7 +65,7 @@ from scipy.signal import butter, lfilter, sosfilt
 from scipy.special import jn_zeros, jv
 
 from .._atomic import write_atomic
-from .._checks import check_real
+from .._checks import check_real, check_vector
 from ..errors import ParameterError
 
 SAMPLE_RATE = 48000
@@ -228,8 +228,8 @@ def synthesize(times, tip_speeds, *, duration=None, drum=Drum(), rate=SAMPLE_RAT
     >>> len(signal), round(float(np.abs(signal).max()), 3)
     (4800, 0.127)
     """
-    times = _impact_array("times", times, unit="s")
-    tip_speeds = _impact_array("tip_speeds", tip_speeds, unit="m/s")
+    times = check_vector("times", times, low=0.0, unit="s")
+    tip_speeds = check_vector("tip_speeds", tip_speeds, low=0.0, unit="m/s")
     if len(times) != len(tip_speeds):
         raise ParameterError(f"times and tip_speeds must have the same length, got {len(times)} and {len(tip_speeds)}")
     if not isinstance(drum, Drum):
@@ -319,21 +319,6 @@ def render_wav(path, times, tip_speeds, *, duration=None, drum=Drum(), rate=SAMP
     signal = synthesize(times, tip_speeds, duration=duration, drum=drum, rate=rate)
     write_wav(path, signal, rate=rate)
     return signal
-
-
-def _impact_array(name, values, *, unit):
-    """``values`` as a 1-D float array of finite numbers ≥ 0; else a ParameterError naming the first bad index."""
-    try:
-        array = np.asarray(values, dtype=float)
-    except (TypeError, ValueError):
-        raise ParameterError(f"{name} must be a sequence of numbers in [0, inf) {unit}, got {values!r}") from None
-    if array.ndim != 1:
-        raise ParameterError(f"{name} must be one-dimensional, got shape {array.shape}")
-    bad = np.flatnonzero(~(np.isfinite(array) & (array >= 0.0)))
-    if len(bad):
-        i = bad[0]
-        raise ParameterError(f"{name}[{i}] must be a finite number in [0, inf) {unit}, got {float(array[i])!r}")
-    return array
 
 
 def _membrane(start, offset, amplitude, tip_speeds, drum, rate, size):

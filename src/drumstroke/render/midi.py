@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from .._atomic import write_atomic
-from .._checks import check_real
+from .._checks import check_real, check_vector
 from ..dynamics import FLOOR_DB, level_to_velocity
 from ..errors import ParameterError
 
@@ -230,15 +230,17 @@ def _merge_same_ticks(ticks, levels_db):
 
 def _check_impacts(times, levels_db):
     """``times`` and ``levels_db`` as float arrays of equal length, checked entry by entry."""
-    times = _as_vector("times", times)
-    levels_db = _as_vector("levels_db", levels_db)
+    times = check_vector("times", times, low=0.0, unit="s")
+    try:
+        levels_db = np.asarray(levels_db, dtype=float)
+    except (TypeError, ValueError):
+        raise ParameterError(f"levels_db must be a 1-D array of numbers, got {levels_db!r}") from None
+    if levels_db.ndim != 1:
+        raise ParameterError(f"levels_db must be a 1-D array of numbers, got shape {levels_db.shape}")
     if times.shape != levels_db.shape:
         raise ParameterError(
             f"times and levels_db must have the same length, got {times.size} and {levels_db.size}"
         )
-    for i, t in enumerate(times.tolist()):
-        if not (math.isfinite(t) and t >= 0.0):
-            raise ParameterError(f"times[{i}] must be a finite number in [0, inf) s, got {t!r}")
     decreasing = np.flatnonzero(np.diff(times) < 0)
     if decreasing.size:
         i = decreasing[0] + 1
@@ -250,16 +252,6 @@ def _check_impacts(times, levels_db):
         if math.isnan(level) or level == math.inf:
             raise ParameterError(f"levels_db[{i}] must be a number in [-inf, inf) dB, got {level!r}")
     return times, levels_db
-
-
-def _as_vector(name, values):
-    try:
-        vector = np.asarray(values, dtype=float)
-    except (TypeError, ValueError):
-        raise ParameterError(f"{name} must be a 1-D array of numbers, got {values!r}") from None
-    if vector.ndim != 1:
-        raise ParameterError(f"{name} must be a 1-D array of numbers, got shape {vector.shape}")
-    return vector
 
 
 def _check_int(name, value, low, high):
