@@ -17,7 +17,7 @@ from pathlib import Path
 
 from . import __version__
 from ._checks import check_real
-from .errors import DrumstrokeError
+from .errors import DrumstrokeError, ParameterError
 from .model import MODELS, inertia_ratio
 from .presets import PRESETS
 from .stroke import DEFAULT_RATE, Stroke, simulate
@@ -292,6 +292,9 @@ def _read_score(path, mapping_path, library):
 
         mapping = read_mapping(mapping_path) if mapping_path else default_mapping(list(library))
         return from_midi_notes(read_midi_notes(path), mapping)
+    if mapping_path:
+        raise ParameterError(f"--mapping applies to MIDI scores (.mid, .midi); {str(path)!r} is a text pattern, "
+                             "which names its strokes")
     return read_pattern(path), {}
 
 

@@ -267,13 +267,8 @@ def _finish(plan, head, limits):
 
 
 def _settle(stroke):
-    """When the stroke comes to rest on the head for good (s, its own time), or its end."""
-    t, theta, omega = stroke.sample(max(1000.0, 2.0 / max(stroke.t_end, 1e-9)))
-    moving = (theta - stroke.theta_max > 1e-9) | (np.abs(omega) > 1e-6)
-    if moving[-1]:
-        return stroke.t_end
-    last = np.flatnonzero(moving)
-    return float(t[last[-1] + 1]) if len(last) else 0.0
+    """When the stroke comes to rest for good, or its end (s, its own time)."""
+    return stroke.t_end if stroke.rest_time is None else stroke.rest_time
 
 
 def _state(stroke, t):

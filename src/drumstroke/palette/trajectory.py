@@ -180,6 +180,20 @@ class Trajectory:
         return float(apex)
 
     @cached_property
+    def rest_time(self):
+        """When the stick comes to rest on the head for good (s), or None if it still moves at t_end.
+
+        Found on a sampling at 1 kHz or finer: the first sample after the last one off the head
+        (θ − θ_max > 1e-9 rad or |ω| > 1e-6 rad/s).
+        """
+        t, theta, omega = self.sample(max(1000.0, 2.0 / max(self.t_end, 1e-9)))
+        moving = (theta - self.theta_max > 1e-9) | (np.abs(omega) > 1e-6)
+        if moving[-1]:
+            return None
+        last = np.flatnonzero(moving)
+        return float(t[last[-1] + 1]) if len(last) else 0.0
+
+    @cached_property
     def peak(self):
         """The highest angle reached (rad): the larger of the start, the apexes and 10 kHz samples."""
         _, theta, _ = self.sample(min(10_000.0, 5e6 / max(self.t_end, 1e-9)))

@@ -112,9 +112,12 @@ def compress(stroke, factor):
         theta, omega = path(t)
         return head + f * (theta - head), f * omega
 
-    return _derived(s, f"compress {f:g}", path=compressed, t_end=s.t_end,
-                    impacts=_impacts(s, s.impacts.t, s.impacts.omega * f), omega_after=s.omega_after * f,
-                    recipe_time=s.recipe_time)
+    result = _derived(s, f"compress {f:g}", path=compressed, t_end=s.t_end,
+                      impacts=_impacts(s, s.impacts.t, s.impacts.omega * f), omega_after=s.omega_after * f,
+                      recipe_time=s.recipe_time)
+    # Scaling the height keeps every time where the stick turns or lands: no need to search again.
+    result.__dict__.update(apexes=s.apexes, rest_time=s.rest_time, peak=head + f * (s.peak - head))
+    return result
 
 
 def compress_limit(stroke):
@@ -296,17 +299,25 @@ def return_time(start, target, theta_max, limits):
     return min(total, direct)
 
 
-_DURATIONS = 1e-4 * 1.06 ** np.arange(260)  # 0.1 ms to ~370 s
-_S = np.linspace(0.0, 1.0, 257)
+_COARSE = 1e-4 * 1.25 ** np.arange(64)  # 0.1 ms to ~130 s
+_S = np.linspace(0.0, 1.0, 129)
 
 
 def _shortest(start, target, theta_max, limits, longest):
-    """The shortest duration (s) of a quintic move within the limits, 0 for none needed, or inf."""
+    """The shortest duration (s) of a quintic move within the limits (to 1 %), 0 for none needed, or inf."""
     if abs(start[0] - target[0]) < 1e-15 and abs(start[1]) < 1e-15 and abs(target[1]) < 1e-15:
         return 0.0
-    d = _DURATIONS[_DURATIONS <= max(longest, _DURATIONS[0]) * 1.0000001] if math.isfinite(longest) else _DURATIONS
-    ok = _fits_many(start, target, d, theta_max, limits)
-    return float(d[np.argmax(ok)]) if ok.any() else math.inf
+    coarse = _COARSE[_COARSE <= longest * 1.0000001] if math.isfinite(longest) else _COARSE
+    ok = _fits_many(start, target, coarse, theta_max, limits) if len(coarse) else np.zeros(0, bool)
+    if not ok.any():
+        return math.inf
+    k = int(np.argmax(ok))
+    if k == 0:
+        return float(coarse[0])
+    fine = coarse[k - 1] * 1.01 ** np.arange(1, 24)  # 1.01**23 > 1.25
+    fine = fine[fine < coarse[k]]
+    ok_fine = _fits_many(start, target, fine, theta_max, limits)
+    return float(fine[np.argmax(ok_fine)]) if ok_fine.any() else float(coarse[k])
 
 
 def _fits(start, target, duration, theta_max, limits):
