@@ -145,20 +145,22 @@ def compose(notes, library, *, rate=None, limits=None):
     """
     limits = limits or Limits()
     rate = library.rate if rate is None else check_real("rate", rate, low=1.0, high=1e5, unit="Hz")
-    notes = sorted(notes, key=lambda n: n.time)
+    notes = list(notes)
     if not notes:
         raise ParameterError("notes must hold at least one note")
-    problems = []
-    variants = {}
     for note in notes:
         if not isinstance(note, ScoreNote):
             raise ParameterError(f"notes must be ScoreNote objects, got {note!r}")
+    notes.sort(key=lambda n: n.time)
+    problems = []
+    variants = {}
+    for note in notes:
         if note.stroke not in library:
             raise ParameterError(f"{note.source or 'note'}: stroke {note.stroke!r} is not in the library; it has "
                                  f"{', '.join(library)}")
         key = (note.stroke, note.velocity)
         if key not in variants:
-            variants[key] = _at_velocity(library[note.stroke].trajectory, note, problems)
+            variants[key] = _at_velocity(library[note.stroke].trajectory, note, problems, limits)
     head = library[notes[0].stroke].trajectory.theta_max
     offset = _offset(notes, variants, head, limits, rate)
     by_stick = {}
@@ -177,20 +179,29 @@ def compose(notes, library, *, rate=None, limits=None):
     return Composition(sticks, rate, offset, tuple(placements), tuple(problems))
 
 
-def _at_velocity(stroke, note, problems):
+def _at_velocity(stroke, note, problems, limits):
     """The stroke compressed so its first impact has the note's velocity level, with the factor."""
     if not len(stroke.impacts):
         raise ParameterError(f"{note.source or 'note'}: stroke {note.stroke!r} has no impact to land on the note")
     first = stroke.impacts.level_db[0]
     factor = 10.0 ** ((velocity_to_level(note.velocity) - first) / 20.0)
     top = compress_limit(stroke)
-    if factor > top:
-        reached = level_to_velocity(first + 20.0 * math.log10(top))
+    wanted = factor
+    factor = min(factor, top)
+    scaled = stroke if factor == 1.0 else compress(stroke, factor)
+    while not _can_wind_up(scaled, limits) and factor > 1e-6:  # a stroke that starts moving needs room above
+        factor *= 0.98
+        scaled = compress(stroke, factor)
+    if factor < wanted:
+        reached = level_to_velocity(first + 20.0 * math.log10(factor))
         problems.append(f"{note.source}: velocity {note.velocity} would lift {note.stroke!r} past upright; "
                         f"played at velocity {reached}, the loudest it can go")
-        factor = top
-    scaled = stroke if factor == 1.0 else compress(stroke, factor)
     return scaled, factor
+
+
+def _can_wind_up(stroke, limits):
+    theta, omega = _state(stroke, 0.0)
+    return math.isfinite(return_time((theta, 0.0), (theta, omega), stroke.theta_max, limits))
 
 
 def _offset(notes, variants, head, limits, rate):
@@ -225,7 +236,7 @@ def _place(notes, variants, offset, head, limits, problems):
                     f"after {before.note.stroke!r} at {before.note.time:.6g} s; left out")
                 plan.append((Placement(note, False, factor=factor), stroke))
                 continue
-            plan[previous] = (replace(before, cut=cut), before_stroke)
+            plan[previous] = (replace(before, cut=cut if cut < before_stroke.t_end else None), before_stroke)
         plan.append((placed, stroke))
     last = next((i for i in range(len(plan) - 1, -1, -1) if plan[i][0].played), None)
     if last is not None:

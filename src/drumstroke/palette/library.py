@@ -174,6 +174,12 @@ class Library(Mapping):
             raise ParameterError(f"stroke {name!r} is not in the library {str(self.path)!r}; it has "
                                  f"{', '.join(self._strokes)}") from None
 
+    def __contains__(self, name):
+        return name in self._strokes
+
+    def get(self, name, default=None):
+        return self._strokes.get(name, default)
+
     def __iter__(self):
         return iter(self._strokes)
 

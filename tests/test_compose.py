@@ -1,0 +1,397 @@
+"""Composition: a score becomes one continuous trajectory per stick, its first impacts on the notes.
+
+Oracles are the note times written here (beats at a tempo, MIDI ticks through a tempo change, both worked
+out by hand), the library strokes' own paths (apexes found here with brentq), the documented velocity map
+written out by hand (127 is 4 m/s, 48 dB down to velocity 1, linear in dB), and invariants: θ between the
+head and upright, returns within the speed and acceleration limits, one time grid for every stick.
+"""
+
+import math
+import shutil
+import subprocess
+import sys
+
+import mido
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+
+from drumstroke.compose import compose
+from drumstroke.dynamics import level_to_velocity
+from drumstroke.errors import ParameterError
+from drumstroke.palette.library import Entry, build_library, load_library, read_palette
+from drumstroke.palette.transforms import Limits
+from drumstroke.recipe import Recipe
+from drumstroke.render.midi import read_midi_notes
+from drumstroke.score import ScoreNote, default_mapping, from_midi_notes, parse_pattern
+
+STROKES = ("single", "tap", "double", "triple", "press-roll")  # in the shipped palette's order
+TIP = 0.27  # pivot to tip (m) of the paper's stick, which every shipped stroke uses
+UPRIGHT = math.pi / 2
+
+PATTERN = """\
+# two sticks, every kind of stroke in the small library
+tempo 120
+
+0     single      100
+0.5   tap         30    left
+1     double      80          # a diddle on the right
+2     triple      64    left
+3     press-roll  127
+4     single      45    left
+4.5   tap         90
+6     single      110
+"""
+# beat · 60 / 120 bpm, by hand: (time s, stick)
+PATTERN_NOTES = [(0.0, "right"), (0.25, "left"), (0.5, "right"), (1.0, "left"), (1.5, "right"), (2.0, "left"),
+                 (2.25, "right"), (3.0, "right")]
+
+# A type 1 MIDI score: 480 ticks a beat, 120 bpm (0.5 s a beat) until tick 960, then 60 bpm (1 s a beat).
+# (tick, note, velocity): 38 → single, 37 → tap, 40 → press-roll; 42 has no mapping.
+MIDI_EVENTS = [(0, 38, 100), (240, 42, 70), (480, 37, 40), (960, 40, 90), (1920, 38, 120), (2400, 37, 64)]
+# seconds by hand: tick·0.5/480 up to tick 960 (1.0 s), then 1.0 + (tick − 960)·1.0/480
+MIDI_NOTES = [(0.0, "right"), (0.5, "right"), (1.0, "right"), (3.0, "right"), (4.0, "right")]
+
+
+def run(*args):
+    exe = shutil.which("drumstroke")
+    command = [exe] if exe else [sys.executable, "-m", "drumstroke.cli"]
+    return subprocess.run([*command, *map(str, args)], check=False, capture_output=True, text=True, timeout=120)
+
+
+@pytest.fixture(scope="module")
+def library(tmp_path_factory):
+    return build_library(tmp_path_factory.mktemp("lib"), palette=[e for e in read_palette() if e.name in STROKES])
+
+
+@pytest.fixture(scope="module")
+def loaded(library):
+    """The same library read back from its files (Hermite curves through the samples), as the CLI uses it."""
+    return load_library(library.path)
+
+
+def write_score_midi(path):
+    tempo = mido.MidiTrack([mido.MetaMessage("set_tempo", tempo=500_000, time=0),
+                            mido.MetaMessage("set_tempo", tempo=1_000_000, time=960),
+                            mido.MetaMessage("end_of_track", time=0)])
+    messages = []
+    for i, (tick, note, velocity) in enumerate(MIDI_EVENTS):
+        messages.append((tick, 1, mido.Message("note_on", channel=9, note=note, velocity=velocity)))
+        # alternate the two ways of ending a note: note_off, and note_on with velocity 0
+        end = mido.Message("note_off", channel=9, note=note, velocity=64) if i % 2 else \
+            mido.Message("note_on", channel=9, note=note, velocity=0)
+        messages.append((tick + 60, 0, end))
+    notes, now = mido.MidiTrack(), 0
+    for tick, _, message in sorted(messages, key=lambda m: (m[0], m[1])):
+        notes.append(message.copy(time=tick - now))
+        now = tick
+    notes.append(mido.MetaMessage("end_of_track", time=0))
+    mido.MidiFile(type=1, ticks_per_beat=480, tracks=[tempo, notes]).save(path)
+
+
+def score(kind, library, tmp_path):
+    """(notes, [(time s, stick)] written by hand) for a text pattern or a MIDI file."""
+    if kind == "pattern":
+        return parse_pattern(PATTERN), PATTERN_NOTES
+    path = tmp_path / "score.mid"
+    write_score_midi(path)
+    midi_notes = read_midi_notes(path)
+    assert [n.time for n in midi_notes] == pytest.approx([0.0, 0.25, 0.5, 1.0, 3.0, 4.0], abs=1e-12)
+    notes, unmapped = from_midi_notes(midi_notes, default_mapping(list(library)))
+    assert unmapped == {42: 1}
+    assert [n.stroke for n in notes] == ["single", "tap", "press-roll", "single", "tap"]
+    return notes, MIDI_NOTES
+
+
+def head_of(library):
+    return library["single"].trajectory.theta_max
+
+
+# --- first impacts on the notes ------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("which", ["built", "loaded"])
+@pytest.mark.parametrize("kind", ["pattern", "midi"])
+def test_every_note_first_impact_lands_on_offset_plus_its_time(library, loaded, tmp_path, kind, which):
+    lib = library if which == "built" else loaded
+    notes, expected = score(kind, lib, tmp_path)
+    piece = compose(notes, lib)
+    head = head_of(lib)
+    assert piece.problems == ()
+    assert all(p.played for p in piece.placements)
+    assert [p.note.stick for p in piece.placements] == [stick for _, stick in expected]
+    assert [p.note.time for p in piece.placements] == pytest.approx([time for time, _ in expected], abs=1e-12)
+    assert piece.offset * piece.rate == pytest.approx(round(piece.offset * piece.rate), abs=1e-9)  # on the grid
+    t, columns = piece.sample()
+    errors = []
+    for (time, stick), placement in zip(expected, piece.placements):
+        target = piece.offset + time
+        impacts = piece.sticks[stick].impacts.t
+        nearest = impacts[np.argmin(np.abs(impacts - target))]
+        errors.append(abs(nearest - target))
+        assert abs(nearest - target) <= 1.0 / piece.rate
+        # it is the stroke's first impact: none of this stick's impacts between the stroke's start and the note
+        assert not np.any((impacts >= placement.start) & (impacts < target - 1e-9)), (time, stick)
+        # the stick is on the head there
+        assert piece.sticks[stick].state(np.array([target]))[0][0] == pytest.approx(head, abs=1e-9)
+        theta, omega = columns[stick]
+        k = round(target * piece.rate)
+        assert t[k] == pytest.approx(target, abs=0.5 / piece.rate)
+        assert 0.0 <= theta[k] - head <= np.abs(omega).max() / piece.rate
+    assert max(errors) <= 1e-9, max(errors)
+
+
+# --- continuity, bounds, one time grid -----------------------------------------------------------------------------
+
+@pytest.mark.parametrize("rate", [1000.0, 10000.0])
+def test_theta_is_continuous_between_head_and_upright_on_one_grid(library, rate):
+    """|Δθ| ≤ max|ω|·dt: max|ω| from 100 kHz samples and the impact speeds, +1 % for peaks between samples."""
+    piece = compose(parse_pattern(PATTERN), library)
+    head = head_of(library)
+    assert len({s.t_end for s in piece.sticks.values()}) == 1
+    t, columns = piece.sample(rate)
+    assert t == pytest.approx(np.arange(len(t)) / rate, abs=1e-12)
+    assert piece.t_end - 1.0 / rate < t[-1] <= piece.t_end
+    _, fine = piece.sample(100_000.0)
+    assert set(columns) == {"left", "right"}
+    for stick, (theta, omega) in columns.items():
+        assert theta.shape == omega.shape == t.shape
+        assert np.all(np.isfinite(theta)) and np.all(np.isfinite(omega))
+        top_speed = max(np.abs(fine[stick][1]).max(), np.abs(piece.sticks[stick].impacts.omega).max())
+        steps = np.abs(np.diff(theta))
+        assert steps.max() <= top_speed / rate * 1.01, (stick, steps.max(), top_speed / rate)
+        assert theta.min() >= head - 1e-12
+        assert theta.max() <= UPRIGHT
+        assert fine[stick][0].min() >= head - 1e-12 and fine[stick][0].max() <= UPRIGHT
+
+
+def test_theta_and_omega_are_continuous_where_strokes_start_and_end(library):
+    piece = compose(parse_pattern(PATTERN), library)
+    eps = 1e-9
+    for p in piece.placements:
+        stick = piece.sticks[p.note.stick]
+        length = p.cut if p.cut is not None else library[p.note.stroke].trajectory.t_end
+        for junction in (p.start, p.start + length):
+            if junction >= stick.t_end - eps:
+                continue
+            (theta0, theta1), (omega0, omega1) = stick.state(np.array([junction - eps, junction + eps]))
+            assert theta1 == pytest.approx(theta0, abs=1e-6), (p.note, junction)
+            assert omega1 == pytest.approx(omega0, abs=1e-3), (p.note, junction)
+
+
+# --- returns within the limits -------------------------------------------------------------------------------------
+
+def returns(piece, library):
+    """Per stick, the intervals (s) where the stick is between strokes: lead-in, returns, the way home."""
+    out = {}
+    for stick in piece.sticks:
+        played = sorted((p for p in piece.placements if p.played and p.note.stick == stick), key=lambda p: p.start)
+        ends = [p.start + (p.cut if p.cut is not None else library[p.note.stroke].trajectory.t_end) for p in played]
+        starts = [p.start for p in played]
+        out[stick] = list(zip([0.0, *ends], [*starts, piece.t_end]))
+    return out
+
+
+def return_extremes(piece, library, rate=10_000.0):
+    """Largest |ω| and central-difference |α| seen on the returns, sampled at ``rate``; and the lowest θ."""
+    t, columns = piece.sample(rate)
+    dt = 1.0 / rate
+    speed = accel = 0.0
+    low = math.inf
+    for stick, intervals in returns(piece, library).items():
+        theta, omega = columns[stick]
+        for a, b in intervals:
+            k = np.flatnonzero((t >= a + dt) & (t <= b - dt))  # k − 1 and k + 1 inside too
+            if len(k) == 0:
+                continue
+            speed = max(speed, np.abs(omega[k]).max())
+            accel = max(accel, (np.abs(omega[k + 1] - omega[k - 1]) / (2 * dt)).max())
+            low = min(low, theta[k].min())
+    return speed, accel, low
+
+
+@pytest.mark.parametrize("limits", [None, Limits(max_speed=5.0, max_acceleration=300.0)])
+def test_returns_between_strokes_stay_within_the_limits(library, limits):
+    """Speed within 1e-9 relative; acceleration by central differences at 10 kHz within 0.1 %
+    (the quintics' jerk makes the difference err by ~1e-5 of the limit)."""
+    piece = compose(parse_pattern(PATTERN), library, limits=limits)
+    bounds = limits or Limits()
+    assert all(p.played for p in piece.placements)
+    speed, accel, low = return_extremes(piece, library)
+    print(f"limits {bounds}: max return speed {speed:.4f} rad/s, max return acceleration {accel:.2f} rad/s^2")
+    assert speed <= bounds.max_speed * (1 + 1e-9)
+    assert accel <= bounds.max_acceleration * (1 + 1e-3)
+    assert low >= head_of(library) - 1e-12
+    assert speed > 0.0 and accel > 0.0  # there were returns to look at
+
+
+def test_the_default_limits_are_binding_for_the_tight_ones(library):
+    """The check above means something: with the default limits the returns go past 5 rad/s or 300 rad/s²."""
+    speed, accel, _ = return_extremes(compose(parse_pattern(PATTERN), library), library)
+    assert speed > 5.0 or accel > 300.0
+
+
+# --- velocity ------------------------------------------------------------------------------------------------------
+
+def hand_tip_speed(velocity):
+    """The documented map written out: velocity 127 is 4 m/s, velocity 1 is 48 dB lower, linear in dB."""
+    return 4.0 * 10.0 ** (-48.0 * (127 - velocity) / 126.0 / 20.0)
+
+
+def test_velocity_sets_the_first_impact_level_monotonically(library):
+    velocities = [1, 20, 64, 100, 127]
+    notes = [ScoreNote(2.0 * i, "single", v, source=f"note {i}") for i, v in enumerate(velocities)]
+    piece = compose(notes, library)
+    assert piece.problems == ()
+    impacts = piece.sticks["right"].impacts
+    speeds, starts = [], []
+    for note, placement in zip(notes, piece.placements):
+        k = np.flatnonzero(np.abs(impacts.t - (piece.offset + note.time)) < 1e-9)
+        assert len(k) == 1
+        speed = abs(impacts.omega[k[0]]) * TIP
+        assert speed == pytest.approx(hand_tip_speed(note.velocity), rel=1e-9)
+        assert level_to_velocity(20 * math.log10(speed)) == note.velocity
+        assert level_to_velocity(impacts.level_db[k[0]]) == note.velocity
+        speeds.append(speed)
+        starts.append(piece.sticks["right"].state(np.array([placement.start]))[0][0])
+    assert np.all(np.diff(speeds) > 0)
+    assert np.all(np.diff(starts) > 0)  # a louder note starts from higher up
+
+
+def drop_library(folder, omega0):
+    """A one-stroke library: the stick dropped from 1.3 rad (near upright), caught after its first bounce."""
+    recipe = Recipe.from_dict({"theta0": 1.3, "omega0": omega0, "t_end": 2.0,
+                               "force": {"kind": "constant", "value": 0.0}}, name="drop")
+    return build_library(folder, palette=[Entry("drop", "test", "a drop from near upright", recipe,
+                                                ({"catch": 1},))])
+
+
+def test_a_velocity_out_of_reach_is_played_as_loud_as_it_can_go_and_reported(tmp_path):
+    lib = drop_library(tmp_path, 0.0)
+    drop = lib["drop"].trajectory
+    head = drop.theta_max
+    top = (UPRIGHT - head) / (1.3 - head)  # the drop's highest point is its start
+    loudest = abs(drop.impacts.omega[0]) * TIP * top
+    assert loudest < hand_tip_speed(127)  # so 127 is out of reach
+    piece = compose([ScoreNote(0.0, "drop", 127, source="line 7"), ScoreNote(3.0, "drop", 30)], lib)
+    assert all(p.played for p in piece.placements)
+    (problem,) = piece.problems
+    reached = level_to_velocity(20 * math.log10(loudest))
+    assert problem.startswith("line 7: velocity 127") and "past upright" in problem
+    assert f"played at velocity {reached}," in problem
+    impacts = piece.sticks["right"].impacts
+    assert abs(impacts.omega[0]) * TIP == pytest.approx(loudest, rel=1e-9)
+    assert abs(impacts.omega[1]) * TIP == pytest.approx(hand_tip_speed(30), rel=1e-9)
+    _, columns = piece.sample(10_000.0)
+    assert columns["right"][0].max() <= UPRIGHT
+    assert columns["right"][0].max() == pytest.approx(UPRIGHT, abs=1e-9)
+
+
+def test_a_loud_note_on_a_stroke_falling_from_near_upright_is_reported_not_a_crash(tmp_path):
+    """The same drop thrown down at 1 rad/s: played as loud as it can go and reported (compose's docstring).
+
+    Exposes a bug: the velocity is clamped to compress_limit, which puts the stroke's start at exactly
+    upright moving down; no lead-in can wind up into that, return_time is inf and compose._offset does
+    math.ceil(inf) → OverflowError (not even a ParameterError)."""
+    lib = drop_library(tmp_path, -1.0)
+    piece = compose([ScoreNote(0.0, "drop", 127, source="line 3")], lib)
+    assert any(p.startswith("line 3:") for p in piece.problems)
+    _, columns = piece.sample(10_000.0)
+    assert columns["right"][0].max() <= UPRIGHT
+
+
+# --- cuts ------------------------------------------------------------------------------------------------------------
+
+def apex_between(trajectory, k):
+    """The time (s) where ω turns from up to down between impacts k and k + 1 (0-based), by brentq on ω."""
+    a, b = trajectory.impacts.t[k], trajectory.impacts.t[k + 1]
+    grid = np.linspace(a, b, 2001)[1:-1]
+    omega = trajectory.path(grid)[1]
+    i = np.flatnonzero((omega[:-1] >= 0) & (omega[1:] < 0))[0]
+    return brentq(lambda s: float(trajectory.path(np.array([s]))[1][0]), grid[i], grid[i + 1], xtol=1e-14)
+
+
+@pytest.mark.parametrize("stroke, gap, kept", [("double", 0.45, 1), ("triple", 0.75, 2)])
+def test_a_stroke_too_long_for_the_next_note_is_cut_at_its_latest_possible_apex(library, stroke, gap, kept):
+    """double: impacts at +0 and +0.309 s, 0.442 s long after its note; a single starts 0.095 s before its own.
+    triple: impacts at +0, +0.309, +0.576 s, 0.690 s long. Cut after ``kept`` impacts at the apex there."""
+    source = library[stroke].trajectory
+    piece = compose([ScoreNote(0.0, stroke, 100), ScoreNote(gap, "single", 100)], library)
+    assert piece.problems == () and all(p.played for p in piece.placements)
+    first = piece.placements[0]
+    apex = apex_between(source, kept - 1)
+    assert first.cut is not None
+    assert first.cut == pytest.approx(apex, abs=1e-9)
+    stick = piece.sticks["right"]
+    assert stick.state(np.array([first.start + first.cut]))[1][0] == pytest.approx(0.0, abs=1e-6)
+    expected = [piece.offset + t - source.impacts.t[0] for t in source.impacts.t[:kept]] + [piece.offset + gap]
+    assert stick.impacts.t == pytest.approx(expected, abs=1e-9)
+    # between the last kept impact and the single's, the stick stays off the head
+    t, columns = piece.sample(10_000.0)
+    between = (t > expected[-2] + 1e-3) & (t < expected[-1] - 1e-3)
+    assert columns["right"][0][between].min() > source.theta_max + 1e-6
+
+
+def test_a_stroke_played_to_its_end_reports_no_cut(library):
+    """Placement.cut is 'None if played to its end'. The double (0.548 s, caught at its second apex, so
+    still moving at its end) has 1.3 s of room before the single: it is played whole, both impacts.
+
+    Exposes a bug: _place stores the first candidate of _latest_cut — _settle(stroke), which is t_end for a
+    stroke still moving at its end — so cut == t_end instead of None for every stroke but the last."""
+    source = library["double"].trajectory
+    piece = compose([ScoreNote(0.0, "double", 100), ScoreNote(1.5, "single", 100)], library)
+    impacts = piece.sticks["right"].impacts.t
+    assert len(impacts) == 3  # both of the double's and the single's: nothing was cut
+    assert impacts[1] - impacts[0] == pytest.approx(source.impacts.t[1] - source.impacts.t[0], abs=1e-9)
+    assert piece.placements[0].cut is None
+
+
+# --- notes that cannot be played -----------------------------------------------------------------------------------
+
+def test_a_note_too_soon_on_the_same_stick_is_reported_and_left_out(library):
+    piece = compose(parse_pattern("tempo 60\n0 single 100\n0.02 single 90\n"), library)
+    assert [p.played for p in piece.placements] == [True, False]
+    assert math.isnan(piece.placements[1].impact)
+    (problem,) = piece.problems
+    assert problem.startswith("pattern line 3:") and "too soon" in problem and "left out" in problem
+    assert piece.sticks["right"].impacts.t == pytest.approx([piece.offset], abs=1e-12)
+
+
+def test_the_same_two_notes_on_two_sticks_both_play(library):
+    piece = compose(parse_pattern("tempo 60\n0 single 100\n0.02 single 90 left\n"), library)
+    assert piece.problems == ()
+    assert [p.played for p in piece.placements] == [True, True]
+    assert piece.sticks["right"].impacts.t == pytest.approx([piece.offset], abs=1e-9)
+    assert piece.sticks["left"].impacts.t == pytest.approx([piece.offset + 0.02], abs=1e-9)
+
+
+@pytest.mark.parametrize("strict, status", [(True, 3), (False, 0)])
+def test_compose_command_warns_and_strict_fails_on_a_note_left_out(library, tmp_path, strict, status):
+    pattern = tmp_path / "close.pattern"
+    pattern.write_text("tempo 60\n0 single 100\n0.02 single 90\n")
+    result = run("compose", pattern, "--library", library.path, *(["--strict"] if strict else []))
+    assert result.returncode == status, result
+    assert "Traceback" not in result.stderr
+    warnings = [line for line in result.stderr.splitlines() if line.startswith("warning:")]
+    assert len(warnings) == 1 and "line 3" in warnings[0] and "too soon" in warnings[0]
+    assert ("--strict" in result.stderr) == strict
+    assert "composed 1 of 2 notes" in result.stdout
+
+
+def test_a_stroke_not_in_the_library_is_named_with_its_line(library):
+    """Exposes a bug: Library.__getitem__ raises ParameterError, not KeyError, so Mapping.__contains__ in
+    ``note.stroke not in library`` raises the library's message (no line) instead of answering False."""
+    notes = parse_pattern("tempo 100\n0 single 100\n\n1 flam 80\n")
+    with pytest.raises(ParameterError, match=r"pattern line 4: stroke 'flam' is not in the library; "
+                                             r"it has single, tap, double, triple, press-roll"):
+        compose(notes, library)
+
+
+def test_no_notes_is_refused(library):
+    with pytest.raises(ParameterError, match="notes must hold at least one note"):
+        compose([], library)
+
+
+def test_something_else_than_score_notes_is_a_parameter_error(library):
+    """Exposes a bug: compose sorts by ``n.time`` before its ScoreNote check, so a tuple is an AttributeError."""
+    with pytest.raises(ParameterError, match=r"notes must be ScoreNote objects, got \(0.0, 'single', 100\)"):
+        compose([(0.0, "single", 100)], library)
