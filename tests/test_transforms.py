@@ -475,3 +475,20 @@ def test_samples_at_1khz_reproduce_the_exact_trajectory(strokes, name, rng):
     assert np.array_equal(at_grid[1], omega_grid)
     impact_theta, _ = sampled.state(stroke.impacts.t)
     assert np.all(impact_theta == stroke.recipe.theta_max)
+
+
+def test_samples_landing_on_an_impact_keep_the_curve_whole(exact, rng):
+    # Trimmed so that the first impact falls on the 1 kHz grid (to round-off): the curve through the
+    # samples must still break cleanly there, not divide by a zero-length piece.
+    bounce = exact["free-bounce"]
+    t0 = float(bounce.impacts.t[0]) - 0.1
+    s = trim(bounce, t0, 3.0)
+    on_grid = s.impacts.t * 1000.0
+    assert abs(on_grid[0] - 100.0) < 1e-9
+    t, theta, omega = s.sample(1000.0)
+    sampled = Trajectory.from_samples(t, theta, omega, s.impacts, s.omega_after, theta_max=s.theta_max)
+    times = np.concatenate((rng.uniform(0.0, s.t_end, 50_000), s.impacts.t[:3] + 1e-7, s.impacts.t[:3] - 1e-7))
+    got, want = sampled.state(times), s.state(times)
+    assert np.all(np.isfinite(got[0])) and np.all(np.isfinite(got[1]))
+    assert np.abs(got[0] - want[0]).max() < HERMITE_TOL
+    np.testing.assert_allclose(got[1], want[1], rtol=0, atol=1e-6)

@@ -307,12 +307,31 @@ def load_library(directory):
         for i, record in enumerate(records):
             if not isinstance(record, dict) or set(record) != set(_STROKE_KEYS):
                 raise ParameterError(f"strokes[{i}] must have the keys {', '.join(_STROKE_KEYS)}")
-            if not all(isinstance(record[key], dict) for key in ("files", "sha256")):
-                raise ParameterError(f"strokes[{i}].files and .sha256 must be tables")
+            _check_record(record, f"strokes[{i}]")
     except ParameterError as error:
         raise ParameterError(f"library manifest {str(manifest_path)!r} is corrupt: {error}") from None
     strokes = [_load_stroke(folder, record, rate) for record in records]
     return Library(directory, rate, strokes)
+
+
+def _check_record(record, where):
+    for key in ("name", "category", "description", "model"):
+        if not isinstance(record[key], str):
+            raise ParameterError(f"{where}.{key} must be text, got {record[key]!r}")
+    check_real(f"{where}.theta_max", record["theta_max"], low=-math.pi / 2, high=0.0, unit="rad")
+    check_real(f"{where}.t_end", record["t_end"], low=0.0, low_open=True, unit="s")
+    for key, low in (("samples", 2), ("impacts", 0)):
+        value = record[key]
+        if isinstance(value, bool) or not isinstance(value, int) or value < low:
+            raise ParameterError(f"{where}.{key} must be an integer >= {low}, got {value!r}")
+    for key in ("first_impact", "first_level_db"):
+        if record[key] is not None:
+            check_real(f"{where}.{key}", record[key])
+    if not isinstance(record["history"], list) or not all(isinstance(h, str) for h in record["history"]):
+        raise ParameterError(f"{where}.history must be a list of text, got {record['history']!r}")
+    for key in ("files", "sha256"):
+        if not isinstance(record[key], dict) or not all(isinstance(v, str) for v in record[key].values()):
+            raise ParameterError(f"{where}.{key} must be a table of text, got {record[key]!r}")
 
 
 def _load_stroke(folder, record, rate):
@@ -323,7 +342,12 @@ def _load_stroke(folder, record, rate):
             raise ParameterError(f"library file {str(path)!r} is missing (stroke {name!r})")
         if _sha256(path) != record["sha256"].get(key):
             raise ParameterError(f"library file {str(path)!r} is corrupt: its SHA-256 differs from the manifest's")
-    recipe = Recipe.from_toml(paths["recipe"])
+    try:
+        recipe = Recipe.from_toml(paths["recipe"])
+    except ParameterError as error:
+        text = str(error)
+        raise ParameterError(text if str(paths["recipe"]) in text else f"library file {str(paths['recipe'])!r}: "
+                             f"{text}") from None
     impacts_data = _read_json(paths["impacts"], "library file")
     t, theta, omega = _read_trajectory(paths["trajectory"], record, rate)
     impacts, omega_after = _read_impacts(paths["impacts"], impacts_data, record, t[-1])

@@ -110,13 +110,13 @@ def compress(stroke, factor):
 
     def compressed(t):
         theta, omega = path(t)
-        return head + f * (theta - head), f * omega
+        return np.minimum(head + f * (theta - head), THETA_TOP), f * omega
 
     result = _derived(s, f"compress {f:g}", path=compressed, t_end=s.t_end,
                       impacts=_impacts(s, s.impacts.t, s.impacts.omega * f), omega_after=s.omega_after * f,
                       recipe_time=s.recipe_time)
     # Scaling the height keeps every time where the stick turns or lands: no need to search again.
-    result.__dict__.update(apexes=s.apexes, rest_time=s.rest_time, peak=head + f * (s.peak - head))
+    result.__dict__.update(apexes=s.apexes, rest_time=s.rest_time, peak=min(head + f * (s.peak - head), THETA_TOP))
     return result
 
 
