@@ -74,7 +74,7 @@ def test_the_shipped_palette_builds_into_a_library_that_meets_the_requirements(t
     assert (impacts["single"], impacts["double"], impacts["triple"]) == (1, 2, 3)
     for s in strokes:
         assert s.description.strip() and "\n" not in s.description
-        t, theta, omega = read_csv(stroke_files(tmp_path / "full", s.name)[1])
+        _, theta, omega = read_csv(stroke_files(tmp_path / "full", s.name)[1])
         assert theta.min() >= s.trajectory.theta_max, s.name
         assert np.all(np.isfinite(omega)), s.name
         assert len(s.trajectory.impacts) >= 1, s.name
@@ -391,8 +391,8 @@ def test_a_failed_manifest_write_leaves_the_previous_library(palette, library_a,
     assert list(load_library(folder)) == [e.name for e in other_entries(palette)]
 
 
-def test_a_rebuild_replaces_the_old_library(palette, library_a, tmp_path):
-    folder, before = library_a
+def test_a_rebuild_replaces_the_old_library(palette, library_a):
+    folder, _ = library_a
     old = manifest_of(folder)["folder"]
     built = build_library(folder, palette=other_entries(palette))
     new = manifest_of(folder)["folder"]
@@ -459,7 +459,7 @@ def test_a_user_palette_finds_its_recipe_files_beside_it(tmp_path, monkeypatch):
 
 
 def test_a_missing_stroke_is_refused_listing_the_names(small):
-    built, folder, entries = small
+    built, folder, _ = small
     for library in (built, load_library(folder)):
         with pytest.raises(ParameterError, match=r"^stroke 'nope' is not in the library") as error:
             library["nope"]
