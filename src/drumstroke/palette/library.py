@@ -377,13 +377,13 @@ def _read_trajectory(path, record, rate):
     off = np.abs(t - np.arange(len(t)) / rate) > 1e-9 * max(1.0, t[-1])
     if np.any(off):
         i = int(np.flatnonzero(off)[0])
-        raise ParameterError(f"{where} is corrupt: t[{i}] = {t[i]!r} s is not {i}/{rate:g} Hz")
+        raise ParameterError(f"{where} is corrupt: t[{i}] = {float(t[i])!r} s is not {i}/{rate:g} Hz")
     if abs(t[-1] - record["t_end"]) > 1e-9:
-        raise ParameterError(f"{where} ends at {t[-1]!r} s; the manifest says t_end = {record['t_end']!r} s")
+        raise ParameterError(f"{where} ends at {float(t[-1])!r} s; the manifest says t_end = {record['t_end']!r} s")
     below = theta < record["theta_max"] - 1e-12
     if np.any(below):
         i = int(np.flatnonzero(below)[0])
-        raise ParameterError(f"{where} is corrupt: theta[{i}] = {theta[i]!r} rad is below the head "
+        raise ParameterError(f"{where} is corrupt: theta[{i}] = {float(theta[i])!r} rad is below the head "
                              f"({record['theta_max']!r} rad)")
     return t, theta, omega
 
