@@ -169,6 +169,8 @@ def compose(notes, library, *, rate=None, limits=None):
     plans = {stick: _place(stick_notes, variants, offset, head, limits, problems)
              for stick, stick_notes in by_stick.items()}
     end = max(_finish(plan, head, limits) for plan in plans.values()) + HOLD_AFTER
+    if not math.isfinite(end):
+        raise ParameterError(f"the last stroke cannot return to its start angle within {limits}")
     sticks = {}
     for stick, plan in plans.items():
         played = [p for p, _ in plan if p.played]
@@ -239,10 +241,12 @@ def _place(notes, variants, offset, head, limits, problems):
             plan[previous] = (replace(before, cut=cut if cut < before_stroke.t_end else None), before_stroke)
         plan.append((placed, stroke))
     last = next((i for i in range(len(plan) - 1, -1, -1) if plan[i][0].played), None)
-    if last is not None:
+    if last is not None:  # the last stroke plays on until it settles, or until its latest apex the stick can leave
         p, s = plan[last]
-        settle = _settle(s)
-        plan[last] = (replace(p, cut=settle if settle < s.t_end else None), s)
+        home = (_state(s, 0.0)[0], 0.0)
+        cut = next((c for c in _candidates(s)
+                    if math.isfinite(return_time(_state(s, c), home, head, limits))), _candidates(s)[-1])
+        plan[last] = (replace(p, cut=cut if cut < s.t_end else None), s)
     return plan
 
 
