@@ -401,7 +401,7 @@ def test_bad_input_is_a_parameter_error(call, parts):
         pytest.param([0.0, 1.5], SAMPLE_RATE, ("signal[1]", "[-1, 1]", "1.5"), id="over full scale"),
         pytest.param([-1.0001], SAMPLE_RATE, ("signal[0]", "[-1, 1]", "-1.0001"), id="under full scale"),
         pytest.param([0.0, 0.0, NAN], SAMPLE_RATE, ("signal[2]", "finite", "nan"), id="nan sample"),
-        pytest.param([[0.0, 0.1]], SAMPLE_RATE, ("signal", "mono", "(1, 2)"), id="two-dimensional"),
+        pytest.param([[0.0, 0.1]], SAMPLE_RATE, ("signal", "1-D", "(1, 2)"), id="two-dimensional"),
         pytest.param(["loud"], SAMPLE_RATE, ("signal", "numbers", "'loud'"), id="text"),
         pytest.param([0.0], 44100.5, ("rate", "integer", "44100.5"), id="fractional rate"),
         pytest.param([0.0], 0, ("rate", "[1, inf) Hz", "0"), id="zero rate"),

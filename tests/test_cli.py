@@ -3,32 +3,14 @@
 import csv
 import json
 import math
-import shutil
-import subprocess
-import sys
 
 import matplotlib.image
 import numpy as np
 import pytest
 
 import drumstroke
+from _cli import EXE, assert_one_line_error, run
 from drumstroke.cli import main
-
-EXE = shutil.which("drumstroke")
-
-
-def run(*args, cwd=None):
-    command = [EXE] if EXE else [sys.executable, "-m", "drumstroke.cli"]
-    return subprocess.run([*command, *map(str, args)], capture_output=True, text=True, cwd=cwd, timeout=120)
-
-
-def assert_one_line_error(result, *needles):
-    assert result.returncode == 2, result
-    lines = result.stderr.strip().splitlines()
-    assert len(lines) == 1, result.stderr
-    assert "Traceback" not in result.stderr
-    for needle in needles:
-        assert needle in lines[0], (needle, lines[0])
 
 
 def test_console_script_is_installed():

@@ -9,8 +9,6 @@ librosa's onset detector for the audio — and compared with values worked out h
 import json
 import math
 import shutil
-import subprocess
-import sys
 from html.parser import HTMLParser
 
 import librosa
@@ -21,27 +19,12 @@ import pytest
 import soundfile
 
 import drumstroke
+from _cli import assert_one_line_error, run
 from drumstroke.palette.library import load_library
 
 PNG = b"\x89PNG\r\n\x1a\n"
 TIP = 0.27  # pivot to tip (m) of the paper's stick
 FLOOR_DB = 20 * math.log10(4.0) - 48.0  # velocity 1: 48 dB below 4 m/s
-
-
-def run(*args, cwd=None):
-    exe = shutil.which("drumstroke")
-    command = [exe] if exe else [sys.executable, "-m", "drumstroke.cli"]
-    return subprocess.run([*command, *map(str, args)], check=False, capture_output=True, text=True, cwd=cwd,
-                          timeout=120)
-
-
-def assert_one_line_error(result, *needles):
-    assert result.returncode == 2, result
-    lines = result.stderr.strip().splitlines()
-    assert len(lines) == 1, result.stderr
-    assert "Traceback" not in result.stderr
-    for needle in needles:
-        assert needle in lines[0], (needle, lines[0])
 
 
 def hand_velocity(level_db):

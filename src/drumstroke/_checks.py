@@ -32,17 +32,23 @@ def check_real(name, value, *, low=-math.inf, high=math.inf, low_open=False, hig
 
 def check_vector(name, values, *, low=-math.inf, high=math.inf, unit=""):
     """Return ``values`` as a 1-D float array of finite numbers in [low, high]; a bad entry is named by index."""
+    vector = as_vector(name, values)
+    bad = np.flatnonzero(~(np.isfinite(vector) & (vector >= low) & (vector <= high)))
+    if len(bad):
+        i = int(bad[0])
+        allowed = _range_text(low, high, False, False, unit)
+        raise ParameterError(f"{name}[{i}] must be a finite number in {allowed}, got {float(vector[i])!r}")
+    return vector
+
+
+def as_vector(name, values):
+    """Return ``values`` as a 1-D float array (any values), or raise naming ``name``."""
     try:
         vector = np.asarray(values, dtype=float)
     except (TypeError, ValueError):
         raise ParameterError(f"{name} must be a 1-D array of numbers, got {values!r}") from None
     if vector.ndim != 1:
         raise ParameterError(f"{name} must be a 1-D array of numbers, got shape {vector.shape}")
-    bad = np.flatnonzero(~(np.isfinite(vector) & (vector >= low) & (vector <= high)))
-    if len(bad):
-        i = int(bad[0])
-        allowed = _range_text(low, high, False, False, unit)
-        raise ParameterError(f"{name}[{i}] must be a finite number in {allowed}, got {float(vector[i])!r}")
     return vector
 
 

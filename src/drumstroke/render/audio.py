@@ -270,15 +270,7 @@ def write_wav(path, signal, *, rate=SAMPLE_RATE):
         Samples per second (Hz).
     """
     soundfile = _soundfile()
-    try:
-        signal = np.asarray(signal, dtype=float)
-    except (TypeError, ValueError):
-        raise ParameterError(f"signal must be a sequence of numbers in [-1, 1], got {signal!r}") from None
-    if signal.ndim != 1:
-        raise ParameterError(f"signal must be one-dimensional (mono), got shape {signal.shape}")
-    bad = np.flatnonzero(~(np.abs(signal) <= 1.0))
-    if len(bad):
-        raise ParameterError(f"signal[{bad[0]}] must be a finite number in [-1, 1], got {float(signal[bad[0]])!r}")
+    signal = check_vector("signal", signal, low=-1.0, high=1.0)
     if isinstance(rate, bool) or not isinstance(rate, Integral) or rate <= 0:
         raise ParameterError(f"rate must be an integer in [1, inf) Hz, got {rate!r}")
     buffer = io.BytesIO()

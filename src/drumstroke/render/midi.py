@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from .._atomic import write_atomic
-from .._checks import check_real, check_vector
+from .._checks import as_vector, check_real, check_vector
 from ..dynamics import FLOOR_DB, level_to_velocity
 from ..errors import ParameterError
 
@@ -231,12 +231,7 @@ def _merge_same_ticks(ticks, levels_db):
 def _check_impacts(times, levels_db):
     """``times`` and ``levels_db`` as float arrays of equal length, checked entry by entry."""
     times = check_vector("times", times, low=0.0, unit="s")
-    try:
-        levels_db = np.asarray(levels_db, dtype=float)
-    except (TypeError, ValueError):
-        raise ParameterError(f"levels_db must be a 1-D array of numbers, got {levels_db!r}") from None
-    if levels_db.ndim != 1:
-        raise ParameterError(f"levels_db must be a 1-D array of numbers, got shape {levels_db.shape}")
+    levels_db = as_vector("levels_db", levels_db)
     if times.shape != levels_db.shape:
         raise ParameterError(
             f"times and levels_db must have the same length, got {times.size} and {levels_db.size}"
