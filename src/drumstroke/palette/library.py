@@ -29,7 +29,6 @@ Examples
 """
 
 import hashlib
-import io
 import json
 import math
 import os
@@ -49,7 +48,7 @@ from ..errors import ParameterError
 from ..presets import PRESETS
 from ..recipe import Recipe
 from ..stroke import DEFAULT_RATE, Impacts, simulate
-from .trajectory import Trajectory, csv_header, csv_text
+from .trajectory import Trajectory, csv_header, csv_text, read_csv
 from .transforms import apply_steps, trim
 
 FORMAT = "drumstroke-library"
@@ -359,21 +358,11 @@ def _load_stroke(folder, record, rate):
 
 def _read_trajectory(path, record, rate):
     where = f"library file {str(path)!r}"
-    text = path.read_text()
-    lines = text.split("\n", 2)
-    if len(lines) < 3 or not lines[0].startswith("#") or lines[1].strip() != "t,theta,omega":
-        raise ParameterError(f"{where} is corrupt: it must start with a # line and the header t,theta,omega")
-    try:
-        data = np.loadtxt(io.StringIO(lines[2]), delimiter=",", ndmin=2)
-    except ValueError as error:
-        raise ParameterError(f"{where} is corrupt: {error}") from None
-    if data.shape[1] != 3 or len(data) != record["samples"] or len(data) < 2:
-        raise ParameterError(f"{where} is corrupt: {len(data)} rows of {data.shape[1]} columns; the manifest "
+    _, columns = read_csv(path, what="library file")
+    if list(columns) != ["t", "theta", "omega"] or len(columns["t"]) != record["samples"]:
+        raise ParameterError(f"{where} is corrupt: {len(columns['t'])} rows of {','.join(columns)}; the manifest "
                              f"says {record['samples']} rows of t,theta,omega")
-    if not np.all(np.isfinite(data)):
-        raise ParameterError(f"{where} is corrupt: row {int(np.flatnonzero(~np.isfinite(data).all(1))[0])} "
-                             "is not finite")
-    t, theta, omega = data.T
+    t, theta, omega = columns.values()
     off = np.abs(t - np.arange(len(t)) / rate) > 1e-9 * max(1.0, t[-1])
     if np.any(off):
         i = int(np.flatnonzero(off)[0])
