@@ -1,0 +1,227 @@
+"""The simulated robot joint: a DC motor and gearbox swinging the stick onto a drumhead (SPEC §5).
+
+Joint-side equation of motion, θ the stick's angle (rad) as in the model::
+
+    J·θ̈ = τ_m − m·g·k·cos θ − b·θ̇ − τ_c·sign(θ̇) + τ_h
+
+- J = m·D_geometry (the stick, Eq. 1) + N²·J_rotor (the motor's rotor through the gearbox);
+- τ_m, the motor torque at the joint, is limited by the DC motor's torque–speed line:
+  at most τ_max·(1 − |θ̇|/ω_max) in the direction of motion (none beyond the no-load
+  speed ω_max), τ_max against it;
+- b viscous and τ_c Coulomb friction (the Coulomb term fades to zero inside ±1e-3 rad/s);
+- the drumhead is a unilateral spring–damper on the penetration δ = θ_head − θ > 0:
+  τ_h = max(0, K·δ − B·θ̇). K and B are found (:func:`contact_gains`) so that the
+  joint, dropped with the motor off, rebounds with the recipe's coefficient of
+  restitution c and stays on the head for ``contact_time`` (3–6 ms for real sticks);
+- the controller reads an encoder: θ quantised to 2π/(counts·N) rad.
+
+Defaults are a small joint like the paper's prosthesis (a 20 W class brushless
+motor with a 20:1 gearbox); every value can be set in a TOML ``[plant]`` table.
+
+Examples
+--------
+>>> plant = Plant()
+>>> round(plant.inertia, 6), round(plant.resolution, 7)
+(0.001083, 3.83e-05)
+>>> drop = drop_test(plant, cor=0.86)
+>>> round(drop.restitution, 3), 0.003 <= drop.contact_time <= 0.006
+(0.86, True)
+"""
+
+import math
+from dataclasses import asdict, dataclass, field
+from functools import lru_cache
+
+import numpy as np
+
+from .._checks import check_keys, check_real, read_toml
+from ..errors import ParameterError
+from ..model import Stick, inertia_ratio
+
+GRAVITY = 9.8
+"""m/s²."""
+
+
+@dataclass(frozen=True)
+class Plant:
+    """Parameters of the robot joint (joint side unless said otherwise).
+
+    Parameters
+    ----------
+    stick : Stick
+        Its mass, geometry and head angle.
+    rotor_inertia : float in [0, 1e-2]
+        Motor rotor inertia (kg·m², motor side).
+    gear_ratio : float in [1, 1000]
+    max_torque : float in (0, 100]
+        Stall torque at the joint (N·m).
+    max_speed : float in (0, 1000]
+        No-load speed at the joint (rad/s).
+    viscous : float in [0, 10]
+        b (N·m·s/rad).
+    coulomb : float in [0, 10]
+        τ_c (N·m).
+    encoder_counts : int in [16, 2**24]
+        Counts per motor revolution.
+    contact_time : float in [0.0005, 0.05]
+        How long a dropped stick stays on the head (s).
+    substeps : int in [4, 1000]
+        Integration steps per control period.
+    """
+
+    stick: Stick = field(default_factory=Stick)
+    rotor_inertia: float = 1.0e-6
+    gear_ratio: float = 20.0
+    max_torque: float = 2.0
+    max_speed: float = 40.0
+    viscous: float = 2.0e-4
+    coulomb: float = 2.0e-3
+    encoder_counts: int = 8192
+    contact_time: float = 0.004
+    substeps: int = 40
+
+    def __post_init__(self):
+        if not isinstance(self.stick, Stick):
+            raise ParameterError(f"stick must be a drumstroke.Stick, got {self.stick!r}")
+        check_real("rotor_inertia", self.rotor_inertia, low=0.0, high=1e-2, unit="kg m^2")
+        check_real("gear_ratio", self.gear_ratio, low=1.0, high=1000.0)
+        check_real("max_torque", self.max_torque, low=0.0, high=100.0, low_open=True, unit="N m")
+        check_real("max_speed", self.max_speed, low=0.0, high=1000.0, low_open=True, unit="rad/s")
+        check_real("viscous", self.viscous, low=0.0, high=10.0, unit="N m s/rad")
+        check_real("coulomb", self.coulomb, low=0.0, high=10.0, unit="N m")
+        check_real("contact_time", self.contact_time, low=5e-4, high=0.05, unit="s")
+        for name, low, high in (("encoder_counts", 16, 2**24), ("substeps", 4, 1000)):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
+                raise ParameterError(f"{name} must be an integer in [{low}, {high}], got {value!r}")
+
+    @property
+    def inertia(self):
+        """J, the joint's inertia: the stick (geometry model) plus the reflected rotor (kg·m²)."""
+        stick = self.stick
+        return stick.mass * inertia_ratio("geometry", stick) + self.gear_ratio**2 * self.rotor_inertia
+
+    @property
+    def gravity_torque(self):
+        """m·g·k, the stick's gravity torque at level (N·m); at θ it is this times cos θ."""
+        return self.stick.mass * GRAVITY * self.stick.pivot_to_com
+
+    @property
+    def resolution(self):
+        """The encoder's step at the joint (rad)."""
+        return 2.0 * math.pi / (self.encoder_counts * self.gear_ratio)
+
+    @property
+    def head(self):
+        """The head angle θ_max (rad)."""
+        return self.stick.theta_max
+
+    @classmethod
+    def from_dict(cls, table):
+        """A plant from a TOML ``[plant]`` table (``stick`` a sub-table of Stick fields)."""
+        if not isinstance(table, dict):
+            raise ParameterError(f"plant must be a table, got {table!r}")
+        keys = [name for name in cls.__dataclass_fields__]
+        check_keys("plant", table, keys)
+        values = dict(table)
+        if "stick" in values:
+            stick = values["stick"]
+            if not isinstance(stick, dict):
+                raise ParameterError(f"plant.stick must be a table, got {stick!r}")
+            check_keys("plant.stick", stick, list(Stick().to_dict()))
+            values["stick"] = Stick(**stick)
+        return cls(**values)
+
+    @classmethod
+    def from_toml(cls, path):
+        """A plant from the ``[plant]`` table of a TOML file (other tables are left for their readers)."""
+        return cls.from_dict(read_toml(path, "robot config").get("plant", {}))
+
+    def to_dict(self):
+        """The parameters as plain data (a ``[plant]`` table)."""
+        data = asdict(self)
+        data["stick"] = self.stick.to_dict()
+        return data
+
+
+def contact_gains(plant, cor):
+    """K (N·m/rad) and B (N·m·s/rad) of the head so a dropped joint rebounds with ``cor`` after ``contact_time``.
+
+    Calibrated on the joint dropped from level with the motor off: starting from
+    the linear spring–damper's closed forms (c = exp(−ζπ/√(1−ζ²)), contact =
+    π/ω_d), ζ and ω_n are corrected by simulating that contact, because the
+    unilateral clamp ends it early and gravity acts during it.
+    """
+    cor = check_real("cor", cor, low=0.0, high=1.0)
+    weight = plant.gravity_torque * math.cos(plant.head)
+    speed = math.sqrt(2.0 * plant.gravity_torque * (0.0 - math.sin(plant.head)) / plant.inertia)
+    return _contact_gains(plant.inertia, plant.contact_time, cor, weight, speed)
+
+
+@lru_cache(maxsize=256)
+def _contact_gains(inertia, contact_time, cor, weight, speed):
+    from scipy.optimize import brentq
+
+    def gains(zeta, period):
+        omega_n = math.pi / (period * math.sqrt(1.0 - zeta**2))
+        return inertia * omega_n**2, 2.0 * zeta * omega_n * inertia
+
+    def rebound(zeta, period):
+        return _contact(inertia, *gains(zeta, period), weight, speed)
+
+    period, zeta = contact_time, 0.0
+    for _ in range(4):  # alternately: ζ for the restitution, the period for the contact time
+        if cor > 0.0:
+            zeta = brentq(lambda z: rebound(z, period)[0] - cor, 0.0, 0.9999, xtol=1e-13)
+        else:
+            zeta = 0.9999
+        period *= contact_time / rebound(zeta, period)[1]
+    return gains(zeta, period)
+
+
+def _contact(inertia, k, b, weight, speed):
+    """Rebound ratio and duration of a contact entered at ``speed`` (rad/s) with ``weight`` (N·m) pressing down."""
+    omega_n = math.sqrt(k / inertia)
+    dt = 1e-3 / omega_n
+    delta, rate, t = 0.0, speed, 0.0  # penetration (rad) and its rate (rad/s)
+    while True:
+        force = max(0.0, k * delta + b * rate)
+        rate += (weight - force) / inertia * dt
+        delta += rate * dt
+        t += dt
+        if delta <= 0.0:
+            return -rate / speed, t
+
+
+@dataclass(frozen=True)
+class Drop:
+    """A dropped joint, motor off: the first impact's speeds and how long it stayed on the head."""
+
+    speed_in: float
+    speed_out: float
+    contact_time: float
+
+    @property
+    def restitution(self):
+        """speed_out / speed_in."""
+        return self.speed_out / self.speed_in
+
+
+def drop_test(plant, cor, *, theta0=0.0):
+    """Drop the joint from ``theta0`` (rad) with the motor off and no friction; measure its first bounce."""
+    from .kernel import run_plant
+
+    free = _frictionless(plant)
+    k, b = contact_gains(free, cor)
+    rate = 1000.0
+    n = 2000
+    log = run_plant(free, k, b, np.zeros(n), rate, theta0=theta0)
+    if not len(log.onsets):
+        raise ParameterError("the dropped stick never reached the head")
+    return Drop(-log.onset_speed[0], log.release_speed[0], log.release[0] - log.onsets[0])
+
+
+def _frictionless(plant):
+    from dataclasses import replace
+
+    return replace(plant, viscous=0.0, coulomb=0.0)

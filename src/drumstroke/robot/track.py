@@ -1,0 +1,137 @@
+"""Playing a reference on the simulated joint: the reference at the control rate, the run, what was played.
+
+Examples
+--------
+>>> import drumstroke
+>>> from drumstroke.robot.controllers import controller
+>>> ref = reference(drumstroke.simulate("finger-pulses"))
+>>> played = track(ref, controller("impedance"))
+>>> played.controller, len(played.reference.t)
+('impedance', 5001)
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .._checks import check_real
+from ..errors import ParameterError
+from ..palette.transforms import as_trajectory
+from ..stroke import DEFAULT_RATE
+from .kernel import run_loop
+from .plant import Plant, contact_gains
+
+_DIFF = 1e-6  # s, the step of the acceleration's central difference on the exact path
+
+
+@dataclass(frozen=True)
+class Reference:
+    """What the robot is asked to play, at the control rate.
+
+    Attributes
+    ----------
+    t, theta, omega, alpha : ndarray [shape=(n,)]
+        s; rad; rad/s; the flight acceleration (rad/s²) — impacts excluded.
+    impact_t, impact_speed : ndarray [shape=(m,)]
+        The reference's impacts: times (s) and tip speeds (m/s).
+    rate : float
+        Hz.
+    name, model : str
+    head : float
+        θ_max (rad).
+    cor : float
+        The coefficient of restitution the reference was made with (the head's).
+    """
+
+    t: np.ndarray
+    theta: np.ndarray
+    omega: np.ndarray
+    alpha: np.ndarray
+    impact_t: np.ndarray
+    impact_speed: np.ndarray
+    rate: float
+    name: str
+    model: str
+    head: float
+    cor: float
+
+
+def reference(source, rate=DEFAULT_RATE, *, cor=None):
+    """A :class:`Reference` from a Stroke or Trajectory sampled at ``rate`` (Hz).
+
+    ``cor`` (the head's coefficient of restitution) defaults to the recipe's.
+    """
+    rate = check_real("rate", rate, low=10.0, high=1e5, unit="Hz")
+    trajectory = as_trajectory(source)
+    if cor is None:
+        cor = trajectory.recipe.cor if trajectory.recipe is not None else 0.86
+    cor = check_real("cor", cor, low=0.0, high=1.0)
+    t, theta, omega = trajectory.sample(rate)
+    alpha = _flight_acceleration(trajectory, t)
+    impacts = trajectory.impacts
+    return Reference(t, theta, omega, alpha, impacts.t.copy(), impacts.tip_speed.copy(), rate, trajectory.name,
+                     trajectory.model, trajectory.theta_max, cor)
+
+
+def _flight_acceleration(trajectory, t):
+    """dω/dt away from impacts: a central difference, one-sided where an impact is within the step."""
+    lo = np.clip(t - _DIFF, 0.0, trajectory.t_end)
+    hi = np.clip(t + _DIFF, 0.0, trajectory.t_end)
+    impacts = trajectory.impacts.t
+    if len(impacts):
+        j = np.searchsorted(impacts, t, side="right")
+        before = impacts[np.clip(j - 1, 0, len(impacts) - 1)]
+        after = impacts[np.clip(j, 0, len(impacts) - 1)]
+        lo = np.where((j > 0) & (before > lo), t, lo)  # an impact just behind: look ahead only
+        hi = np.where((j < len(impacts)) & (after < hi), t, hi)
+    mid = np.where(hi > lo, 0.5 * (lo + hi), t)
+    _, w_hi = trajectory.path(hi)
+    _, w_lo = trajectory.path(lo)
+    alpha = np.where(hi > lo, (w_hi - w_lo) / np.where(hi > lo, hi - lo, 1.0), 0.0)
+    del mid
+    return alpha
+
+
+@dataclass(frozen=True)
+class Played:
+    """A reference played by a controller on a plant.
+
+    Attributes
+    ----------
+    reference : Reference
+    controller : str
+    theta, omega, torque : ndarray [shape=(n,)]
+        The joint at each control period: rad, rad/s, N·m.
+    onsets, onset_speed : ndarray [shape=(m,)]
+        When the stick touched the head (s) and its tip speed then (m/s).
+    max_torque : float
+        The plant's torque limit (N·m).
+    plant : str
+        "simple" or "mujoco".
+    """
+
+    reference: Reference
+    controller: str
+    theta: np.ndarray
+    omega: np.ndarray
+    torque: np.ndarray
+    onsets: np.ndarray
+    onset_speed: np.ndarray
+    max_torque: float
+    plant: str = "simple"
+
+
+def track(ref, controller, plant=None):
+    """Play ``ref`` (a :class:`Reference`) with ``controller`` on ``plant`` (default :class:`Plant`)."""
+    plant = plant or Plant()
+    if not isinstance(ref, Reference):
+        raise ParameterError(f"ref must be a drumstroke.robot.track.Reference, got {ref!r}")
+    if abs(plant.head - ref.head) > 1e-9:
+        raise ParameterError(f"the reference's head ({ref.head:.6g} rad) is not the plant's ({plant.head:.6g} rad); "
+                             "give the plant the stick the reference was made with")
+    stiffness, damping = contact_gains(plant, ref.cor)
+    log = run_loop(plant, stiffness, damping, controller.law, controller.gains(), ref.theta, ref.omega, ref.alpha,
+                   ref.rate, theta0=float(ref.theta[0]), omega0=float(ref.omega[0]))
+    tip = plant.stick.pivot_to_tip
+    return Played(ref, controller.name, log.theta, log.omega, log.torque, log.onsets, np.abs(log.onset_speed) * tip,
+                  plant.max_torque)
