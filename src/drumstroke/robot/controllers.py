@@ -93,12 +93,17 @@ class Impedance:
         Height above the head (rad) below which the spring softens.
     floor : float in [0, 1]
         What is left of it on the head.
+    lead : float in [0, 0.02]
+        How long the head holds the stick at each impact (s): each flight is
+        steered to leave that much later and land on time
+        (:func:`drumstroke.robot.track.lead_in_contact`); 0 follows the reference as it is.
     """
 
-    kp: float = 30.0
-    kd: float = 0.3
+    kp: float = 100.0
+    kd: float = 2.0
     band: float = 0.05
-    floor: float = 0.2
+    floor: float = 0.5
+    lead: float = 0.002
     name = "impedance"
     law = kernel.IMPEDANCE
 
@@ -114,7 +119,7 @@ CONTROLLERS = {c.name: c for c in (PI, PIDFeedforward, Impedance)}
 """Every controller by name."""
 
 _RANGES = {"kp": (0.0, 1e4, "N m/rad"), "ki": (0.0, 1e6, "N m/(rad s)"), "kd": (0.0, 1e3, "N m s/rad"),
-           "band": (1e-4, 1.0, "rad"), "floor": (0.0, 1.0, "")}
+           "band": (1e-4, 1.0, "rad"), "floor": (0.0, 1.0, ""), "lead": (0.0, 0.02, "s")}
 
 
 def _check_gains(controller):

@@ -26,6 +26,9 @@ from numba import njit
 
 OPEN, PI, PID_FF, IMPEDANCE = 0, 1, 2, 3
 
+SPEED_FILTER = 1.0
+"""How much of each new encoder difference the speed estimate takes (1: the raw difference over one period)."""
+
 
 @dataclass(frozen=True)
 class Log:
@@ -96,6 +99,39 @@ def _limit(tau, omega, tau_max, w_max):
 
 
 @njit(cache=True)
+def command(law, gains, ref_theta, ref_omega, ref_alpha, measured, omega_hat, integral, dt, J, mgk, tau_max, head):
+    """One control period of ``law``: the torque (N·m) and the updated error integral (rad·s)."""
+    e = ref_theta - measured
+    de = ref_omega - omega_hat
+    ff = J * ref_alpha + mgk * math.cos(ref_theta)
+    if law == PI or law == PID_FF:
+        ki = gains[1]
+        if ki > 0.0:
+            integral = min(max(integral + e * dt, -tau_max / ki), tau_max / ki)
+        if law == PI:
+            return gains[0] * e + ki * integral, integral
+        return ff + gains[0] * e + ki * integral + gains[2] * de, integral
+    s = gains[3] + (1.0 - gains[3]) * min(1.0, max(0.0, (ref_theta - head) / gains[2]))
+    return ff + s * (gains[0] * e + gains[1] * de), integral
+
+
+def estimate_speed(omega_hat, measured, measured_prev, rate):
+    """The speed estimate's update: the encoder's difference over a period through a first-order filter."""
+    return omega_hat + SPEED_FILTER * ((measured - measured_prev) * rate - omega_hat)
+
+
+_estimate_speed = njit(cache=True)(estimate_speed)
+
+
+def quantize(theta, resolution):
+    """The encoder's reading of θ (rad): the nearest multiple of ``resolution`` (rad)."""
+    return math.floor(theta / resolution + 0.5) * resolution
+
+
+_quantize = njit(cache=True)(quantize)
+
+
+@njit(cache=True)
 def _loop(law, gains, ref_theta, ref_omega, ref_alpha, open_torque, rate, substeps, J, mgk, b, tc, tau_max, w_max,
           q, head, K, B, theta0, omega0):
     n = len(ref_theta)
@@ -108,34 +144,19 @@ def _loop(law, gains, ref_theta, ref_omega, ref_alpha, open_torque, rate, subste
     count = 0
     theta, omega = theta0, omega0
     integral = 0.0
-    measured_prev = math.floor(theta0 / q + 0.5) * q
+    measured_prev = _quantize(theta0, q)
     omega_hat = omega0
     in_contact = theta < head
     for k in range(n):
-        measured = math.floor(theta / q + 0.5) * q
+        measured = _quantize(theta, q)
         if k > 0:
-            omega_hat += 0.5 * ((measured - measured_prev) * rate - omega_hat)
+            omega_hat = _estimate_speed(omega_hat, measured, measured_prev, rate)
         measured_prev = measured
-        e = ref_theta[k] - measured
-        de = ref_omega[k] - omega_hat
         if law == 0:
             tau = open_torque[k]
         else:
-            ff = J * ref_alpha[k] + mgk * math.cos(ref_theta[k])
-            if law == 1:
-                ki = gains[1]
-                if ki > 0.0:
-                    integral = min(max(integral + e * dt, -tau_max / ki), tau_max / ki)
-                tau = gains[0] * e + ki * integral
-            elif law == 2:
-                ki = gains[1]
-                if ki > 0.0:
-                    integral = min(max(integral + e * dt, -tau_max / ki), tau_max / ki)
-                tau = ff + gains[0] * e + ki * integral + gains[2] * de
-            else:
-                band = gains[2]
-                s = gains[3] + (1.0 - gains[3]) * min(1.0, max(0.0, (ref_theta[k] - head) / band))
-                tau = ff + s * (gains[0] * e + gains[1] * de)
+            tau, integral = command(law, gains, ref_theta[k], ref_omega[k], ref_alpha[k], measured, omega_hat,
+                                    integral, dt, J, mgk, tau_max, head)
         theta_log[k] = theta
         omega_log[k] = omega
         t0 = k * dt

@@ -77,7 +77,7 @@ class Plant:
     viscous: float = 2.0e-4
     coulomb: float = 2.0e-3
     encoder_counts: int = 8192
-    contact_time: float = 0.004
+    contact_time: float = 0.0035
     substeps: int = 40
 
     def __post_init__(self):
@@ -218,7 +218,7 @@ def drop_test(plant, cor, *, theta0=0.0):
     log = run_plant(free, k, b, np.zeros(n), rate, theta0=theta0)
     if not len(log.onsets):
         raise ParameterError("the dropped stick never reached the head")
-    return Drop(-log.onset_speed[0], log.release_speed[0], log.release[0] - log.onsets[0])
+    return Drop(float(-log.onset_speed[0]), float(log.release_speed[0]), float(log.release[0] - log.onsets[0]))
 
 
 def _frictionless(plant):

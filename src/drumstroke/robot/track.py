@@ -41,6 +41,8 @@ class Reference:
         θ_max (rad).
     cor : float
         The coefficient of restitution the reference was made with (the head's).
+    trajectory : Trajectory
+        The curve it samples.
     """
 
     t: np.ndarray
@@ -54,6 +56,7 @@ class Reference:
     model: str
     head: float
     cor: float
+    trajectory: object = None
 
 
 def reference(source, rate=DEFAULT_RATE, *, cor=None):
@@ -70,7 +73,40 @@ def reference(source, rate=DEFAULT_RATE, *, cor=None):
     alpha = _flight_acceleration(trajectory, t)
     impacts = trajectory.impacts
     return Reference(t, theta, omega, alpha, impacts.t.copy(), impacts.tip_speed.copy(), rate, trajectory.name,
-                     trajectory.model, trajectory.theta_max, cor)
+                     trajectory.model, trajectory.theta_max, cor, trajectory)
+
+
+def lead_in_contact(ref, lead):
+    """θ, ω, α to steer by when the head holds the stick ``lead`` seconds at each impact (arrays like ref's).
+
+    A real head keeps the stick for a few milliseconds where the model's impact is
+    instantaneous, so a stick that follows the reference leaves every impact late
+    and lands late. Flight by flight (impact i to i+1, duration d > 2·lead), the
+    stick is held on the head for ``lead`` and the flight is replayed
+    d/(d − lead) times faster: θ_w(t) = θ(t_i + (t − t_i − lead)·d/(d − lead)),
+    so it leaves when the head lets go and lands on the reference's next impact.
+    Shorter flights are left as they are.
+    """
+    theta, omega, alpha = ref.theta.copy(), ref.omega.copy(), ref.alpha.copy()
+    impacts = ref.trajectory.impacts.t
+    if lead <= 0.0 or len(impacts) < 2:
+        return theta, omega, alpha
+    t = ref.t
+    i = np.searchsorted(impacts, t, side="right") - 1
+    inside = (i >= 0) & (i < len(impacts) - 1)
+    i = np.clip(i, 0, len(impacts) - 2)
+    start, d = impacts[i], impacts[i + 1] - impacts[i]
+    warp = inside & (d > 2.0 * lead)
+    held = warp & (t < start + lead)
+    flying = warp & ~held
+    speed = np.where(warp, d / np.maximum(d - lead, 1e-12), 1.0)
+    source = np.clip(start + (t - start - lead) * speed, 0.0, ref.trajectory.t_end)
+    if flying.any():
+        th, om = ref.trajectory.path(source[flying])
+        theta[flying], omega[flying] = th, om * speed[flying]
+        alpha[flying] = _flight_acceleration(ref.trajectory, source[flying]) * speed[flying] ** 2
+    theta[held], omega[held], alpha[held] = ref.head, 0.0, 0.0
+    return theta, omega, alpha
 
 
 def _flight_acceleration(trajectory, t):
@@ -84,11 +120,9 @@ def _flight_acceleration(trajectory, t):
         after = impacts[np.clip(j, 0, len(impacts) - 1)]
         lo = np.where((j > 0) & (before > lo), t, lo)  # an impact just behind: look ahead only
         hi = np.where((j < len(impacts)) & (after < hi), t, hi)
-    mid = np.where(hi > lo, 0.5 * (lo + hi), t)
     _, w_hi = trajectory.path(hi)
     _, w_lo = trajectory.path(lo)
     alpha = np.where(hi > lo, (w_hi - w_lo) / np.where(hi > lo, hi - lo, 1.0), 0.0)
-    del mid
     return alpha
 
 
@@ -130,7 +164,8 @@ def track(ref, controller, plant=None):
         raise ParameterError(f"the reference's head ({ref.head:.6g} rad) is not the plant's ({plant.head:.6g} rad); "
                              "give the plant the stick the reference was made with")
     stiffness, damping = contact_gains(plant, ref.cor)
-    log = run_loop(plant, stiffness, damping, controller.law, controller.gains(), ref.theta, ref.omega, ref.alpha,
+    theta, omega, alpha = lead_in_contact(ref, getattr(controller, "lead", 0.0))
+    log = run_loop(plant, stiffness, damping, controller.law, controller.gains(), theta, omega, alpha,
                    ref.rate, theta0=float(ref.theta[0]), omega0=float(ref.omega[0]))
     tip = plant.stick.pivot_to_tip
     return Played(ref, controller.name, log.theta, log.omega, log.torque, log.onsets, np.abs(log.onset_speed) * tip,

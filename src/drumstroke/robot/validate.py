@@ -30,10 +30,9 @@ Examples
 >>> validate(t, theta, 20 * omega)
 Traceback (most recent call last):
 ...
-drumstroke.robot.validate.TrajectoryError: sample 95: speed 30.2186 rad/s exceeds max_speed 30 rad/s
+drumstroke.robot.validate.TrajectoryError: sample 51: speed 30.054 rad/s exceeds max_speed 30 rad/s
 """
 
-import math
 import re
 from dataclasses import dataclass, fields
 from pathlib import Path
@@ -284,17 +283,17 @@ def validate_file(path, *, stick=None, rate=None, head=None, limits=None, start=
     """
     t, theta, omega, _ = read_trajectory_csv(path, stick=stick)
     where = f"trajectory file {str(path)!r}"
-    if rate is None:
-        step = t[1] - t[0]
-        if not step > 0.0:
-            raise TrajectoryError(f"{where}: sample 1: time {t[1]!r} s does not come after sample 0 ({t[0]!r} s)")
-        rate = 1.0 / step
-    else:
-        rate = check_real("rate", rate, low=0.0, high=1e6, low_open=True, unit="Hz")
     stated = _stated_rate(path)
+    if rate is not None:
+        rate = check_real("rate", rate, low=0.0, high=1e6, low_open=True, unit="Hz")
+    elif t[1] > t[0]:
+        rate = 1.0 / (t[1] - t[0])
+    else:
+        raise TrajectoryError(f"{where}: sample 1: time {float(t[1])!r} s does not come after sample 0 "
+                              f"({float(t[0])!r} s); times must increase strictly")
     if stated is not None and abs(rate - stated) > 1e-6 * stated:
-        raise TrajectoryError(f"{where}: its time step gives rate {rate:.9g} Hz, but its comment says "
-                              f"rate={stated:g} Hz")
+        raise TrajectoryError(f"{where}: rate {rate:.9g} Hz (its time step is {t[1] - t[0]:.9g} s) disagrees with "
+                              f"its comment's rate={stated:g} Hz")
     try:
         return validate(t, theta, omega, rate=stated if stated is not None else rate, head=head, limits=limits,
                         start=start)
@@ -312,7 +311,7 @@ def _check_limits(limits):
 
 def _check_start(start):
     try:
-        theta_now, omega_now = start
+        theta_now, omega_now = (v.item() if isinstance(v, np.ndarray) and v.ndim == 0 else v for v in start)
     except (TypeError, ValueError):
         raise ParameterError(f"start must be the joint's (angle rad, speed rad/s), got {start!r}") from None
     return (check_real("start angle", theta_now, unit="rad"), check_real("start speed", omega_now, unit="rad/s"))
@@ -331,8 +330,8 @@ def _check_times(t, rate):
     if len(back):
         i = int(back[0]) + 1
         how = "repeats the time of" if step[i - 1] == 0.0 else "goes back in time from"
-        raise TrajectoryError(f"sample {i}: time {t[i]!r} s {how} sample {i - 1} ({t[i - 1]!r} s); times must "
-                              "increase strictly")
+        raise TrajectoryError(f"sample {i}: time {float(t[i])!r} s {how} sample {i - 1} ({float(t[i - 1])!r} s); "
+                              "times must increase strictly")
     period = 1.0 / rate
     k = np.arange(len(t))
     expected = t[0] + k / rate
@@ -343,15 +342,15 @@ def _check_times(t, rate):
     gap = step[i - 1] * rate
     uniform = np.all(np.abs(step - step[0]) <= _TIME_TOLERANCE * max(1.0, abs(t[-1])))
     if uniform:
-        raise TrajectoryError(f"sample {i}: time {t[i]!r} s is off the control period grid by "
+        raise TrajectoryError(f"sample {i}: time {float(t[i])!r} s is off the control period grid by "
                               f"{t[i] - expected[i]:.3g} s: the time step is {step[0]:.9g} s ({1.0 / step[0]:.9g} Hz), "
                               f"not the control period {period:.9g} s (rate {rate:g} Hz)")
     if round(gap) >= 2 and abs(gap - round(gap)) < 1e-6:
-        raise TrajectoryError(f"sample {i}: time {t[i]!r} s comes {step[i - 1]:.9g} s after sample {i - 1}: a gap "
-                              f"of {round(gap) - 1} missing sample(s) at the control period {period:.9g} s "
+        raise TrajectoryError(f"sample {i}: time {float(t[i])!r} s comes {step[i - 1]:.9g} s after sample {i - 1}: "
+                              f"a gap of {round(gap) - 1} missing sample(s) at the control period {period:.9g} s "
                               f"(rate {rate:g} Hz)")
-    raise TrajectoryError(f"sample {i}: time {t[i]!r} s is off the control period grid: expected t[0] + {i}/rate = "
-                          f"{expected[i]!r} s at rate {rate:g} Hz")
+    raise TrajectoryError(f"sample {i}: time {float(t[i])!r} s is off the control period grid: expected "
+                          f"t[0] + {i}/rate = {float(expected[i])!r} s at rate {rate:g} Hz")
 
 
 def _check_angles(theta, head, limits):
