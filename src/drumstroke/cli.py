@@ -121,6 +121,41 @@ def _build_parser():
                      help="override the file's audibility threshold (dB below the loudest impact)")
     swp.set_defaults(run=_sweep)
 
+    robot = commands.add_parser("robot", help="play strokes on a simulated robot joint; validate and export trajectories")
+    robot_commands = robot.add_subparsers(dest="robot_command", parser_class=_Parser, metavar="ACTION", required=True)
+    trk = robot_commands.add_parser("track", help="play a stroke with one controller or all, and score it")
+    trk.add_argument("source", metavar="SOURCE",
+                     help="a recipe .toml, a preset, a library stroke (with --library) or a trajectory .csv")
+    trk.add_argument("--library", type=Path, metavar="DIR", help="the library SOURCE names a stroke of")
+    trk.add_argument("--stick", help="the stick to play from a composition CSV")
+    trk.add_argument("--controller", default="all", metavar="NAME", help="pi, pid-ff, impedance or all (default)")
+    trk.add_argument("--plant", choices=("simple", "mujoco"), default="simple", help="the joint model (default simple)")
+    trk.add_argument("--config", type=Path, metavar="TOML", help="robot config: [plant], [controller.NAME] gains")
+    trk.add_argument("--rate", type=float, default=DEFAULT_RATE, metavar="HZ", help="control rate (default 1000)")
+    trk.add_argument("--report", type=Path, metavar="JSON", help="write the metrics as JSON")
+    trk.add_argument("--plot", type=Path, metavar="PNG", help="draw reference and played theta(t) with their onsets")
+    trk.set_defaults(run=_robot_track)
+    tun = robot_commands.add_parser("tune", help="tune a controller's gains over a library, before/after table")
+    tun.add_argument("--library", type=Path, required=True, metavar="DIR")
+    tun.add_argument("--controller", default="pi", metavar="NAME", help="pi (default), pid-ff or impedance")
+    tun.add_argument("--per-stroke", action="store_true", help="one gain set per stroke (gain scheduling)")
+    tun.add_argument("--evaluations", type=int, default=100, metavar="N", help="objective evaluations (default 100)")
+    tun.add_argument("--config", type=Path, metavar="TOML", help="robot config: [plant], starting gains")
+    tun.add_argument("--report", type=Path, metavar="JSON", help="write gains and metrics as JSON")
+    tun.set_defaults(run=_robot_tune)
+    val = robot_commands.add_parser("validate", help="check a trajectory CSV before it goes to hardware")
+    val.add_argument("trajectory", type=Path, metavar="TRAJECTORY")
+    val.add_argument("--stick", help="the stick of a composition CSV")
+    val.add_argument("--config", type=Path, metavar="TOML", help="robot config with a [limits] table")
+    val.set_defaults(run=_robot_validate)
+    exp = robot_commands.add_parser("export", help="validate and export a trajectory CSV for a robot stack")
+    exp.add_argument("trajectory", type=Path, metavar="TRAJECTORY")
+    exp.add_argument("--format", choices=("csv", "ros-json"), required=True)
+    exp.add_argument("--out", type=Path, required=True, metavar="PATH")
+    exp.add_argument("--stick", help="the stick of a composition CSV")
+    exp.add_argument("--config", type=Path, metavar="TOML", help="robot config with a [limits] table")
+    exp.set_defaults(run=_robot_export)
+
     demo = commands.add_parser("demo", help="build the library, render every stroke, compose a groove, write index.html")
     demo.add_argument("outdir", type=Path, metavar="OUTDIR")
     demo.set_defaults(run=_demo)
@@ -322,6 +357,166 @@ def _write_composition(piece, args, *, title):
                  title=f"{title} (model {piece.model})", snares=not args.no_snares, written=written)
     for path in written:
         print(f"wrote {path}")
+
+
+def _robot_setup(config):
+    """The plant and the controllers' starting gains from a robot config file (or the defaults)."""
+    from ._checks import check_keys, read_toml
+    from .robot.controllers import CONTROLLERS, controller_from_dict
+    from .robot.plant import Plant
+
+    data = read_toml(config, "robot config") if config else {}
+    check_keys("robot config", data, ("plant", "controller", "limits"))
+    plant = Plant.from_dict(data.get("plant", {}))
+    tables = data.get("controller", {})
+    if not isinstance(tables, dict):
+        raise ParameterError(f"controller must be a table of [controller.NAME] tables, got {tables!r}")
+    check_keys("controller", tables, list(CONTROLLERS))
+    controllers = {name: controller_from_dict(name, tables.get(name, {})) for name in CONTROLLERS}
+    return plant, controllers, data
+
+
+def _robot_limits(data):
+    from .robot.validate import JointLimits
+
+    return JointLimits.from_dict(data.get("limits", {}))
+
+
+def _robot_source(args, plant):
+    """The stroke SOURCE names, as a Trajectory."""
+    from .palette.transforms import as_trajectory
+
+    source = args.source
+    if args.library:
+        from .palette.library import load_library
+
+        return load_library(args.library)[source].trajectory
+    if source.lower().endswith(".csv"):
+        from .palette.trajectory import read_trajectory_csv
+        from .robot.track import trajectory_from_samples
+
+        t, theta, omega, model = read_trajectory_csv(source, stick=args.stick)
+        return trajectory_from_samples(t, theta, omega, head=plant.head, tip_distance=plant.stick.pivot_to_tip,
+                                       name=Path(source).stem, model=model)
+    return as_trajectory(simulate(source))
+
+
+def _robot_track(args):
+    from .robot.metrics import metrics
+    from .robot.track import reference, track
+
+    plant, controllers, _ = _robot_setup(args.config)
+    names = list(controllers) if args.controller == "all" else [args.controller]
+    for name in names:
+        if name not in controllers:
+            raise ParameterError(f"--controller must be one of {', '.join(controllers)} or all, got {name!r}")
+    rate = check_real("--rate", args.rate, low=10.0, high=1e5, unit="Hz")
+    ref = reference(_robot_source(args, plant), rate)
+    if args.plant == "mujoco":
+        from .robot.mujoco_plant import track_mujoco as run
+    else:
+        run = track
+    played = [run(ref, controllers[name], plant) for name in names]
+    scores = [metrics(p) for p in played]
+    print(f"{ref.name} (model {ref.model}) on the {args.plant} plant at {rate:g} Hz: "
+          f"{scores[0].reference_onsets} reference onsets (audible impacts)")
+    print(f"{'controller':<10} {'kept':>9} {'tail':>6} {'timing mean/p95 (ms)':>21} {'rms (rad)':>10} "
+          f"{'shortfall (s)':>13} {'peak torque':>14}")
+    for p, m in zip(played, scores):
+        print(f"{p.controller:<10} {m.kept:>4}/{m.reference_onsets:<4} {100 * m.tail_kept_fraction:>5.0f}% "
+              f"{1e3 * m.timing_mean:>10.2f} /{1e3 * m.timing_p95:>5.2f}    {m.rms_error:>10.4f} "
+              f"{m.tail_shortfall:>13.3f} {m.peak_torque:>6.2f}/{m.torque_limit:g} N m")
+    written = []
+    if args.report:
+        import json
+
+        from ._atomic import write_atomic
+        from .robot.controllers import to_dict
+
+        report = {"reference": ref.name, "model": ref.model, "plant": args.plant, "rate": rate,
+                  "plant_parameters": plant.to_dict(),
+                  "controllers": [{"name": p.controller, "gains": to_dict(controllers[p.controller]),
+                                   "metrics": m.to_dict()} for p, m in zip(played, scores)]}
+        write_atomic(args.report, json.dumps(report, indent=1) + "\n")
+        written.append(args.report)
+    if args.plot:
+        from .render.plot import save_figure, tracking_figure
+
+        save_figure(tracking_figure(played), args.plot)
+        written.append(args.plot)
+    for path in written:
+        print(f"wrote {path}")
+
+
+def _robot_tune(args):
+    from .palette.library import load_library
+    from .robot.track import reference
+    from .robot.tune import tune
+
+    plant, controllers, _ = _robot_setup(args.config)
+    if args.controller not in controllers:
+        raise ParameterError(f"--controller must be one of {', '.join(controllers)}, got {args.controller!r}")
+    library = load_library(args.library)
+    refs = [reference(s.trajectory, library.rate) for s in library.values()]
+    start = controllers[args.controller]
+    scope = "one gain set per stroke" if args.per_stroke else "one gain set for all"
+    print(f"tuning {args.controller} on {len(refs)} strokes of {args.library} ({scope}, "
+          f"{args.evaluations} evaluations each)")
+    bar = _Bar("tuning")
+    result = tune(refs, start, plant=plant, per_stroke=args.per_stroke, evaluations=args.evaluations,
+                  progress=bar.update)
+    bar.close()
+    print(f"{'stroke':<18} {'before':>9} {'after':>9} {'shortfall before/after (s)':>27}")
+    for ref, b, a in zip(refs, result.before, result.after):
+        print(f"{ref.name:<18} {b.kept:>4}/{b.reference_onsets:<4} {a.kept:>4}/{a.reference_onsets:<4} "
+              f"{b.tail_shortfall:>13.3f} / {a.tail_shortfall:.3f}")
+    total = sum(m.reference_onsets for m in result.before)
+    before, after = (sum(m.kept for m in ms) for ms in (result.before, result.after))
+    print(f"{'all':<18} {before:>4}/{total:<4} {after:>4}/{total:<4}  kept within 2 ms: "
+          f"{100 * before / total:.1f}% -> {100 * after / total:.1f}%")
+    if not args.per_stroke:
+        print(f"tuned gains: {result.controllers[0]}")
+    if args.report:
+        import json
+
+        from ._atomic import write_atomic
+        from .robot.controllers import to_dict
+
+        report = {"controller": args.controller, "per_stroke": args.per_stroke, "evaluations": result.evaluations,
+                  "strokes": [{"name": r.name, "gains": to_dict(c), "before": b.to_dict(), "after": a.to_dict()}
+                              for r, c, b, a in zip(refs, result.controllers, result.before, result.after)]}
+        write_atomic(args.report, json.dumps(report, indent=1) + "\n")
+        print(f"wrote {args.report}")
+
+
+def _robot_validate(args):
+    from .robot.validate import validate_file
+
+    plant, _, data = _robot_setup(args.config)
+    checked = validate_file(args.trajectory, stick=args.stick, head=plant.head, limits=_robot_limits(data))
+    print(f"{args.trajectory}: valid: {_peaks(checked)}")
+
+
+def _robot_export(args):
+    from .palette.trajectory import read_trajectory_csv
+    from .robot.export import export_csv, export_ros_json
+    from .robot.validate import validate_file
+
+    plant, _, data = _robot_setup(args.config)
+    limits = _robot_limits(data)
+    checked = validate_file(args.trajectory, stick=args.stick, head=plant.head, limits=limits)
+    t, theta, omega, model = read_trajectory_csv(args.trajectory, stick=args.stick)
+    rate = 1.0 / (t[1] - t[0])
+    name = args.trajectory.stem + (f"-{args.stick}" if args.stick else "")
+    write = export_csv if args.format == "csv" else export_ros_json
+    write(args.out, t, theta, omega, rate=round(rate, 9), model=model, name=name, head=plant.head, limits=limits)
+    print(f"wrote {args.out} ({args.format}): {_peaks(checked)}")
+
+
+def _peaks(checked):
+    return (f"{len(checked.t)} samples at {checked.rate:g} Hz, theta {checked.lowest_angle:.4f} to "
+            f"{checked.highest_angle:.4f} rad, peak speed {checked.peak_speed:.3g} rad/s, acceleration "
+            f"{checked.peak_acceleration:.3g} rad/s^2, jerk {checked.peak_jerk:.3g} rad/s^3 (head {checked.head:.4f} rad)")
 
 
 def _presets(args):
