@@ -217,7 +217,7 @@ def validate(t, theta, omega, *, rate=DEFAULT_RATE, head=None, limits=None, star
     head : float in [-π/2, π/2] or None
         The drumhead angle (rad) θ may not go below; default ``limits.theta_low``.
     limits : JointLimits or None
-        Default :class:`JointLimits`\\ ().
+        Default ``JointLimits()``.
     start : (float, float) or None
         The joint's angle (rad) and speed (rad/s) now: the trajectory must start
         there, within the limits' start tolerances.

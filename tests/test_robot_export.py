@@ -1,0 +1,287 @@
+"""Export: validated first, written atomically, and read back exactly (CSV and ROS JointTrajectory JSON)."""
+
+import json
+from fractions import Fraction
+
+import numpy as np
+import pytest
+
+import drumstroke
+from drumstroke._version import __version__
+from drumstroke.errors import ParameterError
+from drumstroke.model import Stick
+from drumstroke.palette.library import read_palette
+from drumstroke.palette.trajectory import Trajectory, read_trajectory_csv
+from drumstroke.robot.export import export_csv, export_ros_json, read_ros_json, seconds_to_duration
+from drumstroke.robot.validate import JointLimits, TrajectoryError, validate_file
+
+RATE = 1000.0
+HEAD = Stick().theta_max
+
+
+@pytest.fixture(scope="module")
+def stroke():
+    """The shipped palette's double stroke at 1 kHz: two impacts and their rebounds, 549 samples."""
+    entry = next(e for e in read_palette() if e.name == "double")
+    return entry.make().sample(RATE)
+
+
+def bad_copy(stroke, index=123):
+    t, theta, omega = (a.copy() for a in stroke)
+    theta[index] = HEAD - 0.05
+    return t, theta, omega
+
+
+def exact_seconds(duration):
+    return duration["sec"] + Fraction(duration["nanosec"], 10**9)
+
+
+# --- CSV -----------------------------------------------------------------------------------------------------------
+
+def test_csv_round_trips_to_17_digits(stroke, tmp_path):
+    t, theta, omega = stroke
+    path = tmp_path / "double.csv"
+    checked = export_csv(path, t, theta, omega, rate=RATE, model="paper", name="double")
+    lines = path.read_text().splitlines()
+    assert lines[0].startswith(f"# drumstroke {__version__}; model=paper; stroke=double; rate=1000 Hz; units s, rad")
+    assert "alpha is the forward difference" in lines[0]
+    assert lines[1] == "t,theta,omega,alpha"
+    data = np.loadtxt(path, delimiter=",", skiprows=2)
+    assert data.shape == (len(t), 4)
+    assert np.array_equal(data[:, 0], t) and np.array_equal(data[:, 1], theta) and np.array_equal(data[:, 2], omega)
+    assert np.array_equal(data[:, 3], np.append(np.diff(omega) * RATE, 0.0))
+    assert checked.peak_speed == np.abs(omega).max()
+
+
+def test_an_exported_csv_reads_and_validates_again(stroke, tmp_path):
+    path = tmp_path / "double.csv"
+    export_csv(path, *stroke, rate=RATE, model="paper", name="double")
+    t, theta, omega, model = read_trajectory_csv(path)
+    assert model == "paper" and all(np.array_equal(a, b) for a, b in zip((t, theta, omega), stroke))
+    again = validate_file(path)
+    assert again.rate == RATE and again.peak_acceleration == pytest.approx(np.abs(np.diff(omega)).max() * RATE)
+
+
+def test_csv_at_another_rate_carries_its_rate(tmp_path):
+    t, theta, omega = Trajectory.from_stroke(drumstroke.simulate("free-bounce")).sample(500.0)
+    path = tmp_path / "bounce.csv"
+    export_csv(path, t, theta, omega, rate=500.0, model="paper", name="free-bounce")
+    assert "rate=500 Hz" in path.read_text().splitlines()[0]
+    assert np.array_equal(np.loadtxt(path, delimiter=",", skiprows=2)[:, 3], np.append(np.diff(omega) * 500.0, 0.0))
+    assert validate_file(path).rate == 500.0
+
+
+# --- ROS JSON ------------------------------------------------------------------------------------------------------
+
+def test_ros_json_is_a_joint_trajectory_read_independently(stroke, tmp_path):
+    t, theta, omega = stroke
+    path = tmp_path / "double.json"
+    export_ros_json(path, t, theta, omega, rate=RATE, model="paper", name="double")
+    document = json.loads(path.read_text())
+    assert set(document) == {"header", "joint_names", "points", "drumstroke"}
+    assert document["header"] == {"stamp": {"sec": 0, "nanosec": 0}, "frame_id": ""}
+    assert document["joint_names"] == ["stick_joint"]
+    assert document["drumstroke"] == {"version": __version__, "model": "paper", "name": "double", "rate": RATE}
+    points = document["points"]
+    assert len(points) == len(t)
+    alpha = np.append(np.diff(omega) * RATE, 0.0)
+    for k, point in enumerate(points):
+        assert set(point) == {"positions", "velocities", "accelerations", "effort", "time_from_start"}
+        assert point["positions"] == [theta[k]] and point["velocities"] == [omega[k]]
+        assert point["accelerations"] == [alpha[k]] and point["effort"] == []
+        duration = point["time_from_start"]
+        assert type(duration["sec"]) is int and type(duration["nanosec"]) is int
+        assert 0 <= duration["nanosec"] < 10**9
+        assert abs(exact_seconds(duration) - Fraction(float(t[k]))) <= Fraction(1, 2 * 10**9)
+
+
+def test_read_ros_json_gives_the_same_arrays(stroke, tmp_path):
+    t, theta, omega = stroke
+    path = tmp_path / "double.json"
+    export_ros_json(path, t, theta, omega, rate=RATE, model="paper", name="double", joint_names=["right_wrist"])
+    back = read_ros_json(path)
+    assert back.joint_names == ("right_wrist",)
+    assert back.positions.shape == back.velocities.shape == back.accelerations.shape == (len(t), 1)
+    assert np.array_equal(back.positions[:, 0], theta) and np.array_equal(back.velocities[:, 0], omega)
+    assert np.array_equal(back.accelerations[:, 0], np.append(np.diff(omega) * RATE, 0.0))
+    assert np.max(np.abs(back.t - t)) <= 0.5e-9
+    unpacked = tuple(back)  # the documented tuple
+    assert len(unpacked) == 5 and unpacked[1] is back.positions and unpacked[4] == ("right_wrist",)
+
+
+def test_time_from_start_is_split_exactly_with_a_carry(tmp_path):
+    assert seconds_to_duration(0.0) == (0, 0)
+    assert seconds_to_duration(1.5) == (1, 500_000_000)
+    assert seconds_to_duration(2.9999999996) == (3, 0)
+    assert seconds_to_duration(2.9999999994) == (2, 999_999_999)
+    assert seconds_to_duration(1e-10) == (0, 0)
+    t = 0.9999999996 + np.arange(3001) / RATE  # sample 0 rounds up to 1 s; later ones straddle whole seconds
+    theta = np.full(len(t), 0.1)
+    omega = np.zeros(len(t))
+    path = tmp_path / "hold.json"
+    export_ros_json(path, t, theta, omega, rate=RATE, model="paper", name="hold")
+    points = json.loads(path.read_text())["points"]
+    assert points[0]["time_from_start"] == {"sec": 1, "nanosec": 0}
+    assert points[1000]["time_from_start"] == {"sec": 2, "nanosec": 0}
+    for k, point in enumerate(points):
+        duration = point["time_from_start"]
+        assert 0 <= duration["nanosec"] < 10**9
+        assert abs(exact_seconds(duration) - Fraction(float(t[k]))) <= Fraction(1, 2 * 10**9)
+
+
+def test_several_joints_at_once(stroke, tmp_path):
+    t, theta, omega = stroke
+    lifted = np.maximum(HEAD, theta[::-1])  # any second valid joint: the stroke reversed in time
+    thetas = np.column_stack((theta, lifted))
+    omegas = np.column_stack((omega, -omega[::-1]))
+    path = tmp_path / "two.json"
+    checked = export_ros_json(path, t, thetas, omegas, rate=RATE, model="paper", name="two",
+                              joint_names=("left", "right"), start=[(theta[0], omega[0]), (lifted[0], -omega[-1])])
+    assert len(checked) == 2 and checked[1].peak_speed == np.abs(omega).max()
+    document = json.loads(path.read_text())
+    assert document["joint_names"] == ["left", "right"]
+    assert document["points"][7]["positions"] == [theta[7], lifted[7]]
+    back = read_ros_json(path)
+    assert np.array_equal(back.positions, thetas) and np.array_equal(back.velocities, omegas)
+
+
+def test_a_defect_in_one_joint_names_the_joint(stroke, tmp_path):
+    t, theta, omega = stroke
+    bad_theta = bad_copy(stroke, index=200)[1]
+    path = tmp_path / "two.json"
+    with pytest.raises(TrajectoryError, match=r"^joint 'right': sample 200: theta .* is below the head"):
+        export_ros_json(path, t, np.column_stack((theta, bad_theta)), np.column_stack((omega, omega)), rate=RATE,
+                        model="paper", name="two", joint_names=("left", "right"))
+    assert not path.exists()
+
+
+def test_metadata_can_be_left_out(stroke, tmp_path):
+    path = tmp_path / "plain.json"
+    export_ros_json(path, *stroke, rate=RATE, model="paper", name="double", metadata=False)
+    assert set(json.loads(path.read_text())) == {"header", "joint_names", "points"}
+    assert read_ros_json(path).positions.shape == (len(stroke[0]), 1)
+
+
+@pytest.mark.parametrize("edit, message", [
+    (lambda d: d.pop("points"), r"key 'points' is missing"),
+    (lambda d: d.pop("joint_names"), r"key 'joint_names' is missing"),
+    (lambda d: d.update(extra=1), r"key 'extra' is not a JointTrajectory field"),
+    (lambda d: d.update(joint_names=[]), r"joint_names must be a non-empty list of names"),
+    (lambda d: d["points"][3].pop("positions"), r"key points\[3\]\.positions is missing"),
+    (lambda d: d["points"][4].update(velocities=[1.0, 2.0]), r"points\[4\]\.velocities must be a list of 1 numbers"),
+    (lambda d: d["points"][5].update(positions=["x"]), r"points\[5\]\.positions\[0\] must be a number"),
+    (lambda d: d["points"][6].pop("time_from_start"), r"key points\[6\]\.time_from_start is missing"),
+    (lambda d: d["points"][7]["time_from_start"].update(nanosec=10**9),
+     r"points\[7\]\.time_from_start\.nanosec must be an integer in \[0, 999999999\], got 1000000000"),
+    (lambda d: d["points"][8]["time_from_start"].update(sec=1.5), r"points\[8\]\.time_from_start\.sec must be an int32"),
+    (lambda d: d["points"][9].update(accelerations=[]), r"points\[9\]\.accelerations must have 1 values like"),
+    (lambda d: d.update(points=d["points"][:1]), r"points must be a list of at least 2 points"),
+])
+def test_read_ros_json_names_the_path_and_the_key(stroke, tmp_path, edit, message):
+    path = tmp_path / "double.json"
+    export_ros_json(path, *stroke, rate=RATE, model="paper", name="double")
+    document = json.loads(path.read_text())
+    edit(document)
+    path.write_text(json.dumps(document))
+    with pytest.raises(ParameterError, match=rf"^ROS trajectory file '.*double\.json': {message}"):
+        read_ros_json(path)
+
+
+def test_read_ros_json_refuses_non_finite_values_and_non_json(stroke, tmp_path):
+    path = tmp_path / "nan.json"
+    export_ros_json(path, *stroke, rate=RATE, model="paper", name="double")
+    document = json.loads(path.read_text())
+    document["points"][0]["positions"] = [float("nan")]
+    path.write_text(json.dumps(document))  # Python's json writes and reads the non-standard NaN
+    assert "[NaN]" in path.read_text()
+    with pytest.raises(ParameterError, match=r"points\[0\]\.positions\[0\] must be a finite number in \(-inf, inf\), got nan"):
+        read_ros_json(path)
+    path.write_text("{not json")
+    with pytest.raises(ParameterError, match=r"^ROS trajectory file '.*nan\.json' is not readable JSON"):
+        read_ros_json(path)
+    with pytest.raises(ParameterError, match=r"^ROS trajectory file '.*none\.json' is missing"):
+        read_ros_json(tmp_path / "none.json")
+
+
+def test_empty_accelerations_everywhere_read_as_none(stroke, tmp_path):
+    path = tmp_path / "double.json"
+    export_ros_json(path, *stroke, rate=RATE, model="paper", name="double")
+    document = json.loads(path.read_text())
+    for point in document["points"]:
+        point["accelerations"] = []
+    path.write_text(json.dumps(document))
+    assert read_ros_json(path).accelerations is None
+
+
+# --- refusals: nothing written, old files kept ---------------------------------------------------------------------
+
+@pytest.mark.parametrize("export", [export_csv, export_ros_json])
+def test_an_invalid_trajectory_is_not_exported(stroke, tmp_path, export):
+    path = tmp_path / "new.out"
+    with pytest.raises(TrajectoryError, match="sample 123: theta .* below the head"):
+        export(path, *bad_copy(stroke), rate=RATE, model="paper", name="bad")
+    assert not path.exists() and list(tmp_path.iterdir()) == []
+    old = tmp_path / "old.out"
+    old.write_text("the old trajectory\n")
+    with pytest.raises(TrajectoryError, match="sample 123"):
+        export(old, *bad_copy(stroke), rate=RATE, model="paper", name="bad")
+    assert old.read_text() == "the old trajectory\n"
+
+
+@pytest.mark.parametrize("export", [export_csv, export_ros_json])
+def test_limits_and_start_reach_the_validator(stroke, tmp_path, export):
+    path = tmp_path / "out"
+    with pytest.raises(TrajectoryError, match=r"exceeds max_speed 3 rad/s"):
+        export(path, *stroke, rate=RATE, model="paper", name="x", limits=JointLimits(max_speed=3.0))
+    with pytest.raises(TrajectoryError, match=r"sample 0: theta .* beyond start_angle_tolerance"):
+        export(path, *stroke, rate=RATE, model="paper", name="x", start=(stroke[1][0] + 0.1, stroke[2][0]))
+    with pytest.raises(TrajectoryError, match=r"sample 1: .*not the control period 0\.0005 s"):
+        export(path, *stroke, rate=2000.0, model="paper", name="x")
+    assert not path.exists()
+
+
+@pytest.mark.parametrize("export", [export_csv, export_ros_json])
+def test_a_failed_write_leaves_the_old_file_whole(stroke, tmp_path, monkeypatch, export):
+    path = tmp_path / "double.out"
+    export(path, *stroke, rate=RATE, model="paper", name="double")
+    before = path.read_bytes()
+
+    def fail(*args):
+        raise OSError("disk full")
+
+    monkeypatch.setattr("drumstroke._atomic.os.replace", fail)
+    t, theta, omega = stroke
+    with pytest.raises(OSError, match="disk full"):
+        export(path, t, theta * 0.5 + 0.5 * HEAD, omega * 0.5, rate=RATE, model="paper", name="softer")
+    assert path.read_bytes() == before
+    assert [p.name for p in tmp_path.iterdir()] == ["double.out"]
+
+
+@pytest.mark.parametrize("options, message", [
+    ({"model": "paper; rate=1 Hz"}, r"model must be one line of text without ';'"),
+    ({"name": "two\nlines"}, r"name must be one line of text without ';'"),
+    ({"model": None}, r"model must be one line of text"),
+])
+@pytest.mark.parametrize("export", [export_csv, export_ros_json])
+def test_bad_text_is_refused(stroke, tmp_path, export, options, message):
+    with pytest.raises(ParameterError, match=message):
+        export(tmp_path / "out", *stroke, rate=RATE, **({"model": "paper", "name": "x"} | options))
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("options, message", [
+    ({"joint_names": "stick"}, r"joint_names must be a sequence of names, got the string 'stick'"),
+    ({"joint_names": ("a", "a")}, r"joint_names must be distinct non-empty names"),
+    ({"joint_names": ()}, r"joint_names must be distinct non-empty names, at least one"),
+    ({"joint_names": ("a", "b")}, r"theta must have shape \(n, 2\) for 2 joint name\(s\), got shape \(549,\)"),
+])
+def test_bad_joints_are_refused(stroke, tmp_path, options, message):
+    with pytest.raises(ParameterError, match=message):
+        export_ros_json(tmp_path / "out.json", *stroke, rate=RATE, model="paper", name="x", **options)
+
+
+def test_ros_time_must_start_at_or_after_the_stamp(stroke, tmp_path):
+    t, theta, omega = stroke
+    with pytest.raises(ParameterError, match=r"t must be in \[0, 2147483647\) s for time_from_start, got -1\.0"):
+        export_ros_json(tmp_path / "out.json", t - 1.0, theta, omega, rate=RATE, model="paper", name="x")
+    assert not (tmp_path / "out.json").exists()
