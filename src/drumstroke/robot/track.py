@@ -80,7 +80,7 @@ def trajectory_from_samples(t, theta, omega, *, head, tip_distance, name="trajec
     """A :class:`~drumstroke.palette.Trajectory` through samples (a CSV) with its impacts found in them.
 
     An impact lies between samples k and k+1 where ω turns from down to up within
-    one period's travel of the head; its time is where sample k's motion reaches
+    two periods' travel of the head; its time is where sample k's motion reaches
     the head, t_k + (θ_k − θ_head)/|ω_k| (to a small fraction of a period).
     """
     from ..palette.trajectory import Trajectory
@@ -88,7 +88,7 @@ def trajectory_from_samples(t, theta, omega, *, head, tip_distance, name="trajec
 
     t, theta, omega = (np.asarray(a, dtype=float) for a in (t, theta, omega))
     dt = np.diff(t)
-    near = theta[:-1] - head <= np.abs(omega[:-1]) * dt + 1e-9
+    near = theta[:-1] - head <= 2.0 * np.abs(omega[:-1]) * dt + 1e-9  # twice: the stick speeds up on its way
     k = np.flatnonzero((omega[:-1] < 0.0) & (omega[1:] > 0.0) & near)
     when = t[k] + np.clip((theta[k] - head) / -omega[k], 0.0, dt[k]) - t[0]
     return Trajectory.from_samples(t - t[0], theta, omega, Impacts(when, omega[k].copy(), tip_distance),
