@@ -1,7 +1,7 @@
 """Controllers at the control rate, behind one interface: each names its law and its gains.
 
 - :class:`PI`, the paper's: position error in, torque out, gains fixed for every stroke (the
-  defaults are the best of a hand search over a small grid, as a hand tuning would find them).
+  defaults were picked by hand, as the paper's were, for a small tracking error on Figs. 4–7).
 - :class:`PIDFeedforward`: PID plus the model's feedforward, J·α_ref + m·g·k·cos θ_ref, the torque
   the reference itself needs.
 - :class:`Impedance`: the same feedforward with a PD spring whose stiffness fades near the head,
@@ -13,7 +13,7 @@ The laws run compiled in :mod:`drumstroke.robot.kernel`.
 Examples
 --------
 >>> controller("pi").gains()
-array([30., 10.,  0.,  0.])
+array([3., 2., 0., 0.])
 >>> controller("impedance", kp=40.0).kp
 40.0
 """
@@ -39,8 +39,8 @@ class PI:
         N·m/(rad·s).
     """
 
-    kp: float = 30.0
-    ki: float = 10.0
+    kp: float = 3.0
+    ki: float = 2.0
     name = "pi"
     law = kernel.PI
 

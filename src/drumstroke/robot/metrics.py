@@ -8,8 +8,10 @@
 - The tail is the later half of the reference onsets (by count).
 - Timing error: |played − reference| of the kept onsets (mean, 95th percentile).
 - RMS tracking error: θ against θ_ref over the control periods.
-- Tail-length shortfall: how much sooner the played onsets end than the reference's,
-  (last reference onset − first) − (last played onset − first), floored at 0.
+- Tail-length shortfall: how much of the reference's tail was not played, the time
+  from the last reference onset that was kept to the last reference onset (s; all
+  of the reference's span when none was kept). Extra onsets (a stick chattering on
+  the head) do not make a tail longer.
 - Peak torque: max |τ| against the plant's limit.
 
 Examples
@@ -84,8 +86,12 @@ def metrics(played, *, window=WINDOW):
     kept = match >= 0
     errors = np.abs(got_t[match[kept]] - ref_t[kept])
     tail = kept[len(kept) // 2:]
-    span_ref = ref_t[-1] - ref_t[0] if len(ref_t) else 0.0
-    span_got = got_t[-1] - got_t[0] if len(got_t) else 0.0
+    if not len(ref_t):
+        shortfall = 0.0
+    elif kept.any():
+        shortfall = ref_t[-1] - ref_t[np.flatnonzero(kept)[-1]]
+    else:
+        shortfall = ref_t[-1] - ref_t[0]
     return Metrics(
         reference_onsets=len(ref_t),
         played_onsets=len(got_t),
@@ -95,7 +101,7 @@ def metrics(played, *, window=WINDOW):
         timing_mean=float(errors.mean()) if len(errors) else float("nan"),
         timing_p95=float(np.percentile(errors, 95)) if len(errors) else float("nan"),
         rms_error=float(np.sqrt(np.mean((played.theta - ref.theta) ** 2))),
-        tail_shortfall=float(max(0.0, span_ref - span_got)),
+        tail_shortfall=float(shortfall),
         peak_torque=float(np.abs(played.torque).max()),
         torque_limit=played.max_torque,
     )

@@ -107,9 +107,9 @@ def lead_in_contact(ref, lead):
     Shorter flights are left as they are.
     """
     theta, omega, alpha = ref.theta.copy(), ref.omega.copy(), ref.alpha.copy()
-    impacts = ref.trajectory.impacts.t
-    if lead <= 0.0 or len(impacts) < 2:
+    if lead <= 0.0 or ref.trajectory is None or len(ref.trajectory.impacts) < 2:
         return theta, omega, alpha
+    impacts = ref.trajectory.impacts.t
     t = ref.t
     i = np.searchsorted(impacts, t, side="right") - 1
     inside = (i >= 0) & (i < len(impacts) - 1)

@@ -1,0 +1,355 @@
+"""The robot joint as a MuJoCo model, driven by the same compiled control laws (SPEC §5).
+
+An independent check of the simple plant (:mod:`drumstroke.robot.plant`): the same
+motor, gearbox, stick and drumhead written as MJCF and integrated by MuJoCo, the
+controller the very same code (:func:`drumstroke.robot.kernel.command`).
+
+The model, built from a :class:`~drumstroke.robot.plant.Plant`:
+
+- a hinge at the fulcrum, axis −y, so θ > 0 lifts the tip (θ = 0 level, the head at
+  θ_max < 0, as everywhere in the package); the stick a body of mass m with its
+  centre of mass k along it and its inertia about the hinge m·D_geometry (an explicit
+  ``inertial``: about the centre of mass m·D − m·k² on the hinge's axis, that of a thin
+  rod on the others); the rotor's N²·J_rotor as the joint's ``armature``; viscous
+  friction as ``damping``; gravity 9.8 m/s² along −z, so its torque is −m·g·k·cos θ;
+- Coulomb friction as ``frictionloss``, MuJoCo's friction constraint, its reference
+  (``solreffriction``) set so that below τ_c it damps with the simple plant's slope
+  (τ_c per 1e-3 rad/s; the simple plant smooths sign(θ̇) with tanh(θ̇/1e-3));
+- the tip a small sphere at x from the fulcrum, the drumhead a plane; the pivot is h
+  above the plane's height at the sphere's centre, so the two touch at exactly
+  sin θ = −h/x. Only they collide (``condim`` 1: no friction on the head, as in the
+  simple plant). The head owns the contact's parameters (``priority``):
+  ``solimp`` a constant impedance d = 1e-4 (MuJoCo's floor) and ``solref`` the direct
+  form (−stiffness, −damping). With d that small MuJoCo's contact is a spring–damper
+  on the penetration that carries the whole load, r̈ = a₀ − ω_n²·r − 2ζω_n·ṙ: a motor
+  pressing on the head sinks into it as it does on the simple plant. (MuJoCo's default
+  d ≈ 0.9 would keep only a tenth of a₀, the motor's push and gravity, in contact.)
+  ζ and ω_n are calibrated (:func:`contact_solref`) by MuJoCo drops, so the joint
+  dropped with the motor off rebounds with the head's c after ``plant.contact_time``;
+- a ``<motor>`` on the hinge (gear 1, ctrlrange ±τ_max); the DC motor's torque–speed
+  line is applied before each step (:func:`drumstroke.robot.kernel._limit`'s rule).
+
+Integrated with RK4 (MuJoCo's explicit fourth order, like the simple plant's) at the
+control period / ``plant.substeps`` (25 µs by default): the contact's natural period,
+a few ms, takes over a hundred steps, and with no friction and no contact energy
+drifts by parts in 1e9 over a second.
+
+Examples
+--------
+>>> from drumstroke.robot.plant import Plant
+>>> model = mujoco_model(Plant(), cor=0.86)
+>>> model.nv, model.nu, round(model.opt.timestep * 1e6, 6)
+(1, 1, 25.0)
+>>> drop = mujoco_drop_test(Plant(), cor=0.86)
+>>> round(drop.restitution, 3), 0.003 <= drop.contact_time <= 0.006
+(0.86, True)
+"""
+
+import math
+from dataclasses import replace
+from functools import lru_cache
+
+import numpy as np
+
+try:
+    import mujoco
+except ImportError as error:  # pragma: no cover - exercised only where mujoco is absent
+    raise ImportError("drumstroke's MuJoCo plant needs mujoco: pip install 'drumstroke[robot]'") from error
+
+from .._checks import check_real
+from ..errors import ParameterError
+from ..model import inertia_ratio
+from ..stroke import DEFAULT_RATE
+from . import kernel
+from .plant import GRAVITY, Drop, Plant
+from .track import Played, Reference, lead_in_contact
+
+IMPEDANCE = 1e-4
+"""The head's ``solimp`` impedance d (MuJoCo clamps it to [1e-4, 0.9999]): the contact carries the whole load."""
+
+TIP_RADIUS = 0.005
+"""The tip sphere's radius (m); any small value gives the same contact."""
+
+_COULOMB_WIDTH = 1e-3  # rad/s, the speed over which the simple plant's Coulomb torque builds up (kernel._accel)
+_RING = 0.05  # s, longest contact a calibration drop waits for
+_STIFF = 0.9999  # the largest damping ratio tried
+
+
+def mujoco_model(plant, cor, *, rate=DEFAULT_RATE):
+    """The joint of ``plant`` as a compiled MuJoCo model, its head calibrated to ``cor``.
+
+    Parameters
+    ----------
+    plant : Plant
+    cor : float in [0, 1]
+        The head's coefficient of restitution.
+    rate : float in [10, 1e5]
+        The control rate (Hz); the timestep is 1 / (rate · plant.substeps) s.
+
+    Returns
+    -------
+    mujoco.MjModel
+        One hinge (qpos[0] = θ, rad), one motor (ctrl[0] = τ, N·m), geoms "tip" and "head".
+    """
+    plant, cor, timestep = _checked(plant, cor, rate)
+    return _compile(plant, timestep, contact_solref(plant, cor, rate=rate))
+
+
+def contact_solref(plant, cor, *, rate=DEFAULT_RATE):
+    """The head's ``solref`` (−stiffness 1/s², −damping 1/s) for restitution ``cor`` and ``plant.contact_time``.
+
+    Calibrated like :func:`drumstroke.robot.plant.contact_gains`, on MuJoCo itself:
+    the joint enters the head with the speed of a drop from level (motor off, no
+    friction); starting from the linear spring–damper's closed forms, the damping
+    ratio ζ is solved (brentq) so the rebound speed ratio is ``cor`` and the natural
+    period scaled so the contact lasts ``contact_time``, alternately, four times.
+    The spring acts on the normal distance r (m); MuJoCo's impedance divides it by
+    d + (1 − d)·Â/A (Â its estimate of the contact's inverse inertia, A the real one),
+    which the stiffness and damping are multiplied by.
+
+    Parameters
+    ----------
+    plant : Plant
+    cor : float in [0, 1]
+    rate : float in [10, 1e5]
+        The control rate (Hz) the model will run at.
+
+    Returns
+    -------
+    (float, float)
+        solref: −stiffness, −damping.
+    """
+    plant, cor, timestep = _checked(plant, cor, rate)
+    return _calibrated(plant.stick, _armature(plant), plant.contact_time, cor, timestep)
+
+
+def mujoco_drop_test(plant, cor, *, theta0=0.0, rate=DEFAULT_RATE):
+    """Drop the MuJoCo joint from ``theta0`` (rad) with the motor off and no friction; measure its first bounce.
+
+    Returns
+    -------
+    Drop
+        Speeds (rad/s) into and out of the first contact and how long it lasted (s).
+    """
+    plant, cor, _ = _checked(plant, cor, rate)
+    theta0 = check_real("theta0", theta0, low=plant.head, high=math.pi / 2, unit="rad")
+    free = replace(plant, viscous=0.0, coulomb=0.0)
+    model = mujoco_model(free, cor, rate=rate)
+    n = int(math.ceil(rate))  # 1 s: long enough to fall from vertical
+    zeros = np.zeros(n)
+    run = _run(model, free, kernel.OPEN, np.zeros(4), zeros, zeros, zeros, rate, theta0, 0.0)
+    onsets, speed_in, release, speed_out = run[2:]
+    if not len(onsets) or math.isnan(release[0]):
+        raise ParameterError(f"the stick dropped from theta0 = {theta0!r} rad did not bounce off the head")
+    return Drop(float(-speed_in[0]), float(speed_out[0]), float(release[0] - onsets[0]))
+
+
+def track_mujoco(ref, controller, plant=None):
+    """Play ``ref`` (a :class:`~drumstroke.robot.track.Reference`) with ``controller`` on the MuJoCo joint.
+
+    As :func:`drumstroke.robot.track.track` on the simple plant: each control period
+    the encoder reading (θ quantised to ``plant.resolution``) and its speed estimate
+    go into the controller's law (compiled, the same code), whose torque, limited by
+    the motor's torque–speed line at each substep, drives ``plant.substeps`` MuJoCo
+    steps. The joint starts at the reference's θ[0], ω[0].
+
+    Parameters
+    ----------
+    ref : Reference
+    controller : PI, PIDFeedforward or Impedance
+    plant : Plant, optional
+        Default :class:`~drumstroke.robot.plant.Plant`; its head must be the reference's.
+
+    Returns
+    -------
+    Played
+        ``plant="mujoco"``; onsets are the moments the tip meets the head (s, interpolated
+        within the step) and the tip speed then (m/s).
+    """
+    plant = Plant() if plant is None else plant
+    if not isinstance(ref, Reference):
+        raise ParameterError(f"ref must be a drumstroke.robot.track.Reference, got {ref!r}")
+    if not isinstance(plant, Plant):
+        raise ParameterError(f"plant must be a drumstroke.robot.plant.Plant, got {plant!r}")
+    if abs(plant.head - ref.head) > 1e-9:
+        raise ParameterError(f"the reference's head ({ref.head:.6g} rad) is not the plant's ({plant.head:.6g} rad); "
+                             "give the plant the stick the reference was made with")
+    model = mujoco_model(plant, ref.cor, rate=ref.rate)
+    theta, omega, alpha = lead_in_contact(ref, getattr(controller, "lead", 0.0))
+    gains = np.asarray(controller.gains(), dtype=float)
+    log, torque, onsets, onset_speed, _, _ = _run(model, plant, controller.law, gains, theta, omega, alpha, ref.rate,
+                                                  float(ref.theta[0]), float(ref.omega[0]))
+    tip = plant.stick.pivot_to_tip
+    return Played(ref, controller.name, log[:, 0], log[:, 1], torque, onsets, np.abs(onset_speed) * tip,
+                  plant.max_torque, plant="mujoco")
+
+
+def head_gap(plant, theta):
+    """The tip's height above the head (m) at ``theta`` (rad): h + x·sin θ, negative when it presses in."""
+    return plant.stick.pivot_height + plant.stick.pivot_to_tip * np.sin(theta)
+
+
+def _checked(plant, cor, rate):
+    if not isinstance(plant, Plant):
+        raise ParameterError(f"plant must be a drumstroke.robot.plant.Plant, got {plant!r}")
+    cor = check_real("cor", cor, low=0.0, high=1.0)
+    rate = check_real("rate", rate, low=10.0, high=1e5, unit="Hz")
+    return plant, cor, 1.0 / (rate * plant.substeps)
+
+
+def _armature(plant):
+    return plant.gear_ratio**2 * plant.rotor_inertia
+
+
+def _mjcf(stick, armature, timestep, solref, *, damping=0.0, frictionloss=0.0, max_torque=1.0):
+    """The MJCF text of the joint (SI units, radians)."""
+    mass, com, tip = stick.mass, stick.pivot_to_com, stick.pivot_to_tip
+    hinge = mass * inertia_ratio("geometry", stick)
+    across = hinge - mass * com**2  # about the centre of mass, across the stick
+    along = 1e-3 * across  # a thin rod about its own axis; it never turns that way
+    inertia = armature + hinge
+    # below τ_c, friction damps at the simple plant's slope τ_c / width; its time constant 2J·width/τ_c
+    friction_time = max(2.0 * inertia * _COULOMB_WIDTH / frictionloss, 2.0 * timestep) if frictionloss else 0.02
+    butt = stick.length - tip
+    d = IMPEDANCE
+    return f"""<mujoco model="drumstroke-joint">
+  <compiler angle="radian"/>
+  <option timestep="{timestep!r}" integrator="RK4" gravity="0 0 {-GRAVITY!r}"/>
+  <worldbody>
+    <geom name="head" type="plane" size="0.3 0.3 0.01" pos="0 0 {-TIP_RADIUS!r}" condim="1" priority="1"
+          solref="{solref[0]!r} {solref[1]!r}" solimp="{d!r} {d!r} 0.001 0.5 2"/>
+    <body name="stick" pos="0 0 {stick.pivot_height!r}">
+      <joint name="fulcrum" type="hinge" axis="0 -1 0" armature="{armature!r}" damping="{damping!r}"
+             frictionloss="{frictionloss!r}" solreffriction="{friction_time!r} 1"
+             solimpfriction="0.9999 0.9999 0.001 0.5 2"/>
+      <inertial pos="{com!r} 0 0" mass="{mass!r}" diaginertia="{along!r} {across!r} {across!r}"/>
+      <geom name="shaft" type="capsule" fromto="{-butt!r} 0 0 {tip!r} 0 0" size="0.006" contype="0"
+            conaffinity="0" group="1"/>
+      <geom name="tip" type="sphere" size="{TIP_RADIUS!r}" pos="{tip!r} 0 0" condim="1"/>
+    </body>
+  </worldbody>
+  <actuator>
+    <motor name="motor" joint="fulcrum" gear="1" ctrllimited="true" ctrlrange="{-max_torque!r} {max_torque!r}"/>
+  </actuator>
+</mujoco>
+"""
+
+
+def _compile(plant, timestep, solref):
+    xml = _mjcf(plant.stick, _armature(plant), timestep, solref, damping=plant.viscous, frictionloss=plant.coulomb,
+                max_torque=plant.max_torque)
+    return mujoco.MjModel.from_xml_string(xml)
+
+
+@lru_cache(maxsize=256)
+def _calibrated(stick, armature, contact_time, cor, timestep):
+    from scipy.optimize import brentq
+
+    model = mujoco.MjModel.from_xml_string(_mjcf(stick, armature, timestep, (-1.0, -1.0)))
+    data = mujoco.MjData(model)
+    head = stick.theta_max
+    inertia = stick.mass * inertia_ratio("geometry", stick) + armature
+    gravity = stick.mass * GRAVITY * stick.pivot_to_com
+    speed = math.sqrt(2.0 * gravity * (0.0 - math.sin(head)) / inertia)
+    # MuJoCo's impedance d acts through its own estimate Â of the contact's inverse inertia
+    reach = (stick.pivot_to_tip * math.cos(head)) ** 2 / inertia
+    estimate = float(model.body_invweight0[model.body("stick").id, 0])
+    scale = IMPEDANCE + (1.0 - IMPEDANCE) * estimate / reach
+    geom = model.geom("head").id
+
+    def solref(zeta, period):
+        omega_n = math.pi / (period * math.sqrt(1.0 - zeta**2))
+        return -scale * omega_n**2, -scale * 2.0 * zeta * omega_n
+
+    def rebound(zeta, period):
+        model.geom_solref[geom] = solref(zeta, period)
+        return _bounce(model, data, stick, speed)
+
+    period, zeta = contact_time, 0.0
+    for _ in range(4):  # alternately: ζ for the restitution, the period for the contact time
+        if rebound(0.0, period)[0] <= cor:
+            zeta = 0.0
+        elif rebound(_STIFF, period)[0] >= cor:  # below the clamped spring's least rebound (≈ 0.12): that least
+            zeta = _STIFF
+        else:
+            zeta = brentq(lambda z: rebound(z, period)[0] - cor, 0.0, _STIFF, xtol=1e-12)
+        period *= contact_time / rebound(zeta, period)[1]
+    return solref(zeta, period)
+
+
+def _bounce(model, data, stick, speed):
+    """Rebound ratio and duration (s) of a contact entered at ``speed`` (rad/s), motor off; (0, _RING) if it stays."""
+    mujoco.mj_resetData(model, data)
+    data.qpos[0] = stick.theta_max
+    data.qvel[0] = -speed
+    h, x = stick.pivot_height, stick.pivot_to_tip
+    step = model.opt.timestep
+    gap, omega = 0.0, -speed
+    for n in range(1, int(_RING / step)):
+        mujoco.mj_step(model, data)
+        gap_new, omega_new = h + x * math.sin(data.qpos[0]), data.qvel[0]
+        if gap_new > 0.0 and n > 1:
+            frac = -gap / (gap_new - gap)
+            return (omega + frac * (omega_new - omega)) / speed, (n - 1 + frac) * step
+        gap, omega = gap_new, omega_new
+    return 0.0, _RING
+
+
+def _run(model, plant, law, gains, ref_theta, ref_omega, ref_alpha, rate, theta0, omega0):
+    """The closed loop on MuJoCo: θ, ω per period [shape=(n, 2)], torque [shape=(n,)], and the contacts.
+
+    Contacts: onset times (s), ω then (rad/s), release times (s) and ω then (NaN while still on the head).
+    """
+    data = mujoco.MjData(model)
+    data.qpos[0], data.qvel[0] = theta0, omega0
+    qpos, qvel, ctrl = data.qpos, data.qvel, data.ctrl
+    step = mujoco.mj_step
+    limit = kernel._limit.py_func  # the motor's torque–speed line, as the compiled loop applies it
+    command = kernel.command
+    estimate_speed, quantize = kernel.estimate_speed, kernel.quantize
+    J, mgk, tau_max, w_max, q, head = (plant.inertia, plant.gravity_torque, plant.max_torque, plant.max_speed,
+                                       plant.resolution, plant.head)
+    h, x = plant.stick.pivot_height, plant.stick.pivot_to_tip
+    substeps = plant.substeps
+    dt = 1.0 / rate
+    hstep = model.opt.timestep
+    n = len(ref_theta)
+    log = np.empty((n, 2))
+    torque = np.empty(n)
+    events = []
+    theta, omega = theta0, omega0
+    gap = h + x * math.sin(theta)
+    integral = 0.0
+    measured_prev = quantize(theta0, q)
+    omega_hat = omega0
+    for k in range(n):
+        measured = quantize(theta, q)
+        if k > 0:
+            omega_hat = estimate_speed(omega_hat, measured, measured_prev, rate)
+        measured_prev = measured
+        if law == kernel.OPEN:
+            tau = 0.0
+        else:
+            tau, integral = command(law, gains, ref_theta[k], ref_omega[k], ref_alpha[k], measured, omega_hat,
+                                    integral, dt, J, mgk, tau_max, head)
+        log[k] = theta, omega
+        t0 = k * dt
+        applied = 0.0
+        for j in range(substeps):
+            tau_j = limit(tau, omega, tau_max, w_max)
+            applied += tau_j
+            ctrl[0] = tau_j
+            step(model, data)
+            theta_new, omega_new = qpos[0], qvel[0]
+            gap_new = h + x * math.sin(theta_new)
+            if (gap_new < 0.0) != (gap < 0.0):  # the tip met or left the head within this step
+                frac = gap / (gap - gap_new)
+                when, speed = t0 + (j + frac) * hstep, omega + frac * (omega_new - omega)
+                if gap_new < 0.0:
+                    events.append([when, speed, math.nan, math.nan])
+                elif events:
+                    events[-1][2:] = when, speed
+            theta, omega, gap = theta_new, omega_new, gap_new
+        torque[k] = applied / substeps
+    events = np.array(events, dtype=float).reshape(-1, 4)
+    return log, torque, events[:, 0].copy(), events[:, 1].copy(), events[:, 2].copy(), events[:, 3].copy()
