@@ -72,7 +72,11 @@ TIP_RADIUS = 0.005
 
 _COULOMB_WIDTH = 1e-3  # rad/s, the speed over which the simple plant's Coulomb torque builds up (kernel._accel)
 _RING = 0.05  # s, longest contact a calibration drop waits for
-_STIFF = 0.9999  # the largest damping ratio tried
+_ROUNDS = 12  # at most, of the calibration's alternation (4 or 5 are enough above c = 0.1)
+_SHORT = 0.999  # of the free-flight estimate of the time to the head, aimed at (_split_at_contact)
+_NEAR = 1e-4  # of a step from the head is near enough to step across it
+_TRIES = 20
+_HOLD = 3.0  # a damping ratio at which the head holds a dropped stick (it lets go of one below ζ ≈ 2)
 
 
 def mujoco_model(plant, cor, *, rate=DEFAULT_RATE):
@@ -100,12 +104,14 @@ def contact_solref(plant, cor, *, rate=DEFAULT_RATE):
 
     Calibrated like :func:`drumstroke.robot.plant.contact_gains`, on MuJoCo itself:
     the joint enters the head with the speed of a drop from level (motor off, no
-    friction); starting from the linear spring–damper's closed forms, the damping
-    ratio ζ is solved (brentq) so the rebound speed ratio is ``cor`` and the natural
-    period scaled so the contact lasts ``contact_time``, alternately, four times.
-    The spring acts on the normal distance r (m); MuJoCo's impedance divides it by
-    d + (1 − d)·Â/A (Â its estimate of the contact's inverse inertia, A the real one),
-    which the stiffness and damping are multiplied by.
+    friction); starting from ω_n = π/contact_time, the damping ratio ζ is solved
+    (brentq) so the rebound speed ratio is ``cor`` and ω_n scaled so the contact lasts
+    ``contact_time``, alternately, until the contact time is right to 1e-6. ζ may exceed 1: the clamped contact lets
+    go while its spring still holds energy, so a rebound below ≈ 0.12 needs more than
+    critical damping, and at ``cor`` = 0 the head holds the stick (ζ = 3, ω_n = π/contact_time).
+    The spring acts on the normal distance r (m); MuJoCo's impedance d divides it by
+    d + (1 − d)·Â/A (Â its estimate of the contact's inverse inertia, A the real one,
+    (x·cos θ_max)²/J), which the stiffness and damping are multiplied by.
 
     Parameters
     ----------
@@ -129,7 +135,8 @@ def mujoco_drop_test(plant, cor, *, theta0=0.0, rate=DEFAULT_RATE):
     Returns
     -------
     Drop
-        Speeds (rad/s) into and out of the first contact and how long it lasted (s).
+        Speeds (rad/s) into and out of the first contact and how long it lasted (s);
+        0 and inf if the head holds the stick (c = 0).
     """
     plant, cor, _ = _checked(plant, cor, rate)
     theta0 = check_real("theta0", theta0, low=plant.head, high=math.pi / 2, unit="rad")
@@ -139,8 +146,10 @@ def mujoco_drop_test(plant, cor, *, theta0=0.0, rate=DEFAULT_RATE):
     zeros = np.zeros(n)
     run = _run(model, free, kernel.OPEN, np.zeros(4), zeros, zeros, zeros, rate, theta0, 0.0)
     onsets, speed_in, release, speed_out = run[2:]
-    if not len(onsets) or math.isnan(release[0]):
-        raise ParameterError(f"the stick dropped from theta0 = {theta0!r} rad did not bounce off the head")
+    if not len(onsets):
+        raise ParameterError(f"the stick dropped from theta0 = {theta0!r} rad never reached the head")
+    if math.isnan(release[0]):  # c = 0: the head holds it
+        return Drop(float(-speed_in[0]), 0.0, math.inf)
     return Drop(float(-speed_in[0]), float(speed_out[0]), float(release[0] - onsets[0]))
 
 
@@ -257,41 +266,44 @@ def _calibrated(stick, armature, contact_time, cor, timestep):
     scale = IMPEDANCE + (1.0 - IMPEDANCE) * estimate / reach
     geom = model.geom("head").id
 
-    def solref(zeta, period):
-        omega_n = math.pi / (period * math.sqrt(1.0 - zeta**2))
+    def solref(zeta, omega_n):
         return -scale * omega_n**2, -scale * 2.0 * zeta * omega_n
 
-    def rebound(zeta, period):
-        model.geom_solref[geom] = solref(zeta, period)
+    def rebound(zeta, omega_n):
+        model.geom_solref[geom] = solref(zeta, omega_n)
         return _bounce(model, data, stick, speed)
 
-    period, zeta = contact_time, 0.0
-    for _ in range(4):  # alternately: ζ for the restitution, the period for the contact time
-        if rebound(0.0, period)[0] <= cor:
+    omega_n, zeta = math.pi / contact_time, 0.0
+    for _ in range(_ROUNDS):  # alternately: ζ for the restitution, ω_n for the contact time
+        if rebound(0.0, omega_n)[0] <= cor:
             zeta = 0.0
-        elif rebound(_STIFF, period)[0] >= cor:  # below the clamped spring's least rebound (≈ 0.12): that least
-            zeta = _STIFF
+        elif rebound(1.0, omega_n)[0] <= cor:
+            zeta = brentq(lambda z: rebound(z, omega_n)[0] - cor, 0.0, 1.0, xtol=1e-12)
+        elif rebound(_HOLD, omega_n)[0] >= cor:  # cor = 0: the head holds the stick; no contact time to fit
+            return solref(_HOLD, omega_n)
         else:
-            zeta = brentq(lambda z: rebound(z, period)[0] - cor, 0.0, _STIFF, xtol=1e-12)
-        period *= contact_time / rebound(zeta, period)[1]
-    return solref(zeta, period)
+            zeta = brentq(lambda z: rebound(z, omega_n)[0] - cor, 1.0, _HOLD, xtol=1e-12)
+        ratio = rebound(zeta, omega_n)[1] / contact_time
+        omega_n *= ratio  # a contact's duration goes as 1/ω_n
+        if abs(ratio - 1.0) < 1e-6:
+            break
+    return solref(zeta, omega_n)
 
 
 def _bounce(model, data, stick, speed):
     """Rebound ratio and duration (s) of a contact entered at ``speed`` (rad/s), motor off; (0, _RING) if it stays."""
     mujoco.mj_resetData(model, data)
-    data.qpos[0] = stick.theta_max
+    data.qpos[0] = stick.theta_max - 1e-12  # just in: the first step sees the contact from its start
     data.qvel[0] = -speed
     h, x = stick.pivot_height, stick.pivot_to_tip
     step = model.opt.timestep
-    gap, omega = 0.0, -speed
+    gap = 0.0
     for n in range(1, int(_RING / step)):
         mujoco.mj_step(model, data)
-        gap_new, omega_new = h + x * math.sin(data.qpos[0]), data.qvel[0]
-        if gap_new > 0.0 and n > 1:
-            frac = -gap / (gap_new - gap)
-            return (omega + frac * (omega_new - omega)) / speed, (n - 1 + frac) * step
-        gap, omega = gap_new, omega_new
+        gap_new = h + x * math.sin(data.qpos[0])
+        if gap_new > 0.0 and n > 1:  # the head has already let go: the step ends in free flight
+            return data.qvel[0] / speed, (n - 1 + gap / (gap - gap_new)) * step
+        gap = gap_new
     return 0.0, _RING
 
 
@@ -343,13 +355,61 @@ def _run(model, plant, law, gains, ref_theta, ref_omega, ref_alpha, rate, theta0
             theta_new, omega_new = qpos[0], qvel[0]
             gap_new = h + x * math.sin(theta_new)
             if (gap_new < 0.0) != (gap < 0.0):  # the tip met or left the head within this step
-                frac = gap / (gap - gap_new)
-                when, speed = t0 + (j + frac) * hstep, omega + frac * (omega_new - omega)
                 if gap_new < 0.0:
-                    events.append([when, speed, math.nan, math.nan])
-                elif events:
-                    events[-1][2:] = when, speed
+                    when, speed = _split_at_contact(model, data, theta, omega, h, x)
+                    theta_new, omega_new = qpos[0], qvel[0]
+                    gap_new = h + x * math.sin(theta_new)
+                    events.append([t0 + j * hstep + when, speed, math.nan, math.nan])
+                elif events:  # the head lets go before the tip reaches its surface: this is free flight
+                    events[-1][2:] = t0 + (j + gap / (gap - gap_new)) * hstep, omega_new
             theta, omega, gap = theta_new, omega_new, gap_new
         torque[k] = applied / substeps
     events = np.array(events, dtype=float).reshape(-1, 4)
     return log, torque, events[:, 0].copy(), events[:, 1].copy(), events[:, 2].copy(), events[:, 3].copy()
+
+
+def _split_at_contact(model, data, theta, omega, height, x):
+    """Redo the step in which the tip met the head so that the contact starts between steps; ω there (rad/s).
+
+    The head's damping force starts at its full value, B·speed, so an RK4 step with
+    the meeting inside it blurs the impact (by ≈ 0.3 % of the rebound speed at c = 0.5
+    and 25 µs). Instead: free flight to just short of the head (each try aims at 99.9 %
+    of the linear estimate; halved if it lands in the head), a step of a few ns across
+    it, and the rest of the step with the contact on from its start.
+    Returns the time into the step at which the tip met the head (s) and ω then (rad/s).
+    """
+    step = model.opt.timestep
+    qpos, qvel = data.qpos, data.qvel
+    qpos[0], qvel[0] = theta, omega
+    data.time -= step
+    done = 0.0
+    try:
+        for _ in range(_TRIES):
+            approach = x * math.cos(qpos[0]) * qvel[0]  # d(gap)/dt, m/s (< 0)
+            gap = height + x * math.sin(qpos[0])
+            if approach >= 0.0 or gap <= _NEAR * -approach * step:
+                break
+            tau = min(_SHORT * gap / -approach, step - done)
+            before = qpos[0], qvel[0], data.time
+            model.opt.timestep = tau
+            mujoco.mj_step(model, data)
+            if height + x * math.sin(qpos[0]) < 0.0:  # in the head already: go back, aim shorter
+                qpos[0], qvel[0], data.time = before
+                gap = gap * 0.5
+                continue
+            done += tau
+        when, speed = done, qvel[0]
+        if done < step:
+            approach = x * math.cos(qpos[0]) * qvel[0]
+            gap = height + x * math.sin(qpos[0])
+            across = min(2.0 * gap / -approach + 1e-12, step - done) if approach < 0.0 else step - done
+            model.opt.timestep = across
+            mujoco.mj_step(model, data)
+            when += gap / -approach if approach < 0.0 else 0.0
+            done += across
+        if done < step:
+            model.opt.timestep = step - done
+            mujoco.mj_step(model, data)
+    finally:
+        model.opt.timestep = step
+    return when, speed
