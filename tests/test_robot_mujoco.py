@@ -13,7 +13,7 @@ from drumstroke.model import Stick
 from drumstroke.robot.controllers import controller
 from drumstroke.robot.metrics import AUDIBLE_SPEED, match_onsets, metrics
 from drumstroke.robot.mujoco_plant import contact_solref, head_gap, mujoco_drop_test, mujoco_model, track_mujoco
-from drumstroke.robot.plant import Plant, drop_test
+from drumstroke.robot.plant import Plant, contact_gains, drop_test
 from drumstroke.robot.track import reference, track
 
 FREE = replace(Plant(), viscous=0.0, coulomb=0.0)  # no friction: the drop and energy checks
@@ -107,17 +107,18 @@ def test_a_dropped_stick_rebounds_with_the_heads_restitution_after_a_few_ms(cor)
     assert speed_out / speed_in == pytest.approx(cor, rel=0.02)
     assert 0.003 <= contact <= 0.006
     assert contact == pytest.approx(FREE.contact_time, abs=2e-4)  # to a few steps of 25 µs
+    fall = math.sqrt(2.0 * FREE.gravity_torque * -math.sin(FREE.head) / FREE.inertia)  # energy, level to head
+    assert speed_in == pytest.approx(fall, rel=1e-3)
+    drop = mujoco_drop_test(FREE, cor)  # the module's own contact log, the meeting located within the step
+    assert drop.speed_in == pytest.approx(fall, rel=1e-9)
+    assert drop.restitution == pytest.approx(cor, rel=1e-3)
+    assert drop.contact_time == pytest.approx(FREE.contact_time, rel=1e-4)
     simple = drop_test(FREE, cor)
-    assert speed_in == pytest.approx(simple.speed_in, rel=1e-3)  # the same fall onto the same head
-    drop = mujoco_drop_test(FREE, cor)
-    assert drop.restitution == pytest.approx(cor, rel=2e-3)
-    assert drop.contact_time == pytest.approx(FREE.contact_time, rel=2e-3)
+    assert drop.restitution == pytest.approx(simple.speed_out / fall, rel=0.01)  # the simple plant's true ratio
 
 
 def test_the_head_is_a_spring_that_carries_the_motors_push_as_the_simple_plants_does():
     """Pressing with 0.5 N·m, the tip settles δ = (τ + m·g·k·cos θ)/K into the head, K the simple plant's."""
-    from drumstroke.robot.plant import contact_gains
-
     model = mujoco_model(FREE, 0.86)
     data = mujoco.MjData(model)
     data.qpos[0], data.ctrl[0] = FREE.head, -0.5
@@ -125,14 +126,26 @@ def test_the_head_is_a_spring_that_carries_the_motors_push_as_the_simple_plants_
         mujoco.mj_step(model, data)
     stiffness, _ = contact_gains(FREE, 0.86)
     expected = (0.5 + FREE.gravity_torque * math.cos(FREE.head)) / stiffness
-    assert FREE.head - data.qpos[0] == pytest.approx(expected, rel=0.03)
+    assert FREE.head - data.qpos[0] == pytest.approx(expected, rel=0.01)
 
 
-def test_the_calibration_is_cached_and_restitution_below_the_springs_least_is_that_least():
-    assert contact_solref(FREE, 0.86) is contact_solref(Plant(), 0.86)  # friction does not enter it
-    least = mujoco_drop_test(FREE, 0.0).restitution
-    assert 0.05 < least < 0.2
-    assert mujoco_drop_test(FREE, 0.02).restitution == pytest.approx(least, rel=1e-6)
+def test_the_calibration_is_cached_and_independent_of_friction():
+    assert contact_solref(FREE, 0.86) is contact_solref(Plant(), 0.86)
+    stiffness, damping = (-v for v in contact_solref(FREE, 0.86))
+    assert stiffness > 0.0 and damping > 0.0
+
+
+@pytest.mark.parametrize("cor", [0.02, 0.1])
+def test_a_dead_head_takes_more_than_critical_damping_and_still_rebounds_as_asked(cor):
+    """The clamped spring lets go with energy left, so c < 0.12 needs ζ > 1 (the simple plant cannot: brentq fails)."""
+    drop = mujoco_drop_test(FREE, cor)
+    assert drop.restitution == pytest.approx(cor, rel=0.01)
+    assert drop.contact_time == pytest.approx(FREE.contact_time, rel=1e-3)
+
+
+def test_with_no_restitution_the_head_holds_the_stick():
+    drop = mujoco_drop_test(FREE, 0.0)
+    assert drop.speed_in > 3.0 and drop.speed_out == 0.0 and drop.contact_time == math.inf
 
 
 # --- the same strokes on both plants -------------------------------------------------------------------------------
@@ -164,7 +177,11 @@ def test_the_played_record_is_the_simple_plants_shape(both, free_bounce):
 
 
 def test_both_plants_play_the_same_onsets_within_half_a_millisecond(both):
-    """Measured (impedance, PI): 28 and 94 audible onsets on each; 27/28 and 94/94 within 0.5 / 1.1 ms."""
+    """Audible onsets: as many within 10 % (or 2), 90 % matched within 2 ms, the median under 0.5 ms.
+
+    Measured at the time of writing: impedance 28 and 28, 27 matched, max 0.42 ms; PI (3, 2)
+    15 and 15, all matched, max 0.25 ms.
+    """
     simple, played = both
     a, b = audible(simple), audible(played)
     assert abs(len(a) - len(b)) <= max(2, round(0.1 * len(a)))
@@ -176,7 +193,7 @@ def test_both_plants_play_the_same_onsets_within_half_a_millisecond(both):
 
 
 def test_both_plants_score_the_same(both):
-    """Measured kept fractions, simple vs MuJoCo: impedance 1.00 vs 1.00, PI 0.20 vs 0.24."""
+    """Kept fractions within 0.1 (measured: impedance 1.00 and 1.00, PI 0.44 and 0.44), RMS error within 5 %."""
     simple, played = (metrics(p) for p in both)
     assert simple.reference_onsets == played.reference_onsets
     assert played.kept_fraction == pytest.approx(simple.kept_fraction, abs=0.1)
@@ -199,7 +216,7 @@ def test_what_is_not_a_reference_is_refused():
 @pytest.mark.parametrize("kwargs, message", [
     ({"plant": "plant", "cor": 0.86}, "plant must be a drumstroke.robot.plant.Plant"),
     ({"plant": Plant(), "cor": 1.5}, r"cor must be in \[0, 1\], got 1.5"),
-    ({"plant": Plant(), "cor": 0.86, "rate": 5.0}, r"rate must be in \[10, 1e\+05\] Hz, got 5.0"),
+    ({"plant": Plant(), "cor": 0.86, "rate": 5.0}, r"rate must be in \[10, 100000\] Hz, got 5.0"),
 ])
 def test_bad_model_parameters_are_refused(kwargs, message):
     with pytest.raises(ParameterError, match=message):

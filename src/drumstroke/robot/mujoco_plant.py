@@ -75,7 +75,7 @@ _RING = 0.05  # s, longest contact a calibration drop waits for
 _ROUNDS = 12  # at most, of the calibration's alternation (4 or 5 are enough above c = 0.1)
 _SHORT = 0.999  # of the free-flight estimate of the time to the head, aimed at (_split_at_contact)
 _NEAR = 1e-4  # of a step from the head is near enough to step across it
-_TRIES = 20
+_TRIES = 20  # at most, to get there
 _HOLD = 3.0  # a damping ratio at which the head holds a dropped stick (it lets go of one below ζ ≈ 2)
 
 
@@ -105,13 +105,16 @@ def contact_solref(plant, cor, *, rate=DEFAULT_RATE):
     Calibrated like :func:`drumstroke.robot.plant.contact_gains`, on MuJoCo itself:
     the joint enters the head with the speed of a drop from level (motor off, no
     friction); starting from ω_n = π/contact_time, the damping ratio ζ is solved
-    (brentq) so the rebound speed ratio is ``cor`` and ω_n scaled so the contact lasts
-    ``contact_time``, alternately, until the contact time is right to 1e-6. ζ may exceed 1: the clamped contact lets
-    go while its spring still holds energy, so a rebound below ≈ 0.12 needs more than
-    critical damping, and at ``cor`` = 0 the head holds the stick (ζ = 3, ω_n = π/contact_time).
-    The spring acts on the normal distance r (m); MuJoCo's impedance d divides it by
-    d + (1 − d)·Â/A (Â its estimate of the contact's inverse inertia, A the real one,
-    (x·cos θ_max)²/J), which the stiffness and damping are multiplied by.
+    (brentq) so the rebound speed ratio is ``cor``, then ω_n scaled so the contact
+    lasts ``contact_time``, alternately, until that is right to 1e-6. ζ may exceed 1:
+    the clamped contact lets go while its spring still holds energy, so a rebound below
+    ≈ 0.12 needs more than critical damping; at ``cor`` = 0 the head holds the stick
+    (ζ = 3, ω_n = π/contact_time).
+
+    The spring acts on the normal distance r (m). MuJoCo weighs it by the impedance
+    through its own estimate Â of the contact's inverse inertia, which for this joint
+    is not the real one, A = (x·cos θ_max)²/J, so the stiffness and damping are
+    multiplied by d + (1 − d)·Â/A.
 
     Parameters
     ----------
@@ -142,7 +145,7 @@ def mujoco_drop_test(plant, cor, *, theta0=0.0, rate=DEFAULT_RATE):
     theta0 = check_real("theta0", theta0, low=plant.head, high=math.pi / 2, unit="rad")
     free = replace(plant, viscous=0.0, coulomb=0.0)
     model = mujoco_model(free, cor, rate=rate)
-    n = int(math.ceil(rate))  # 1 s: long enough to fall from vertical
+    n = math.ceil(rate)  # 1 s: long enough to fall from vertical
     zeros = np.zeros(n)
     run = _run(model, free, kernel.OPEN, np.zeros(4), zeros, zeros, zeros, rate, theta0, 0.0)
     onsets, speed_in, release, speed_out = run[2:]
@@ -273,16 +276,21 @@ def _calibrated(stick, armature, contact_time, cor, timestep):
         model.geom_solref[geom] = solref(zeta, omega_n)
         return _bounce(model, data, stick, speed)
 
-    omega_n, zeta = math.pi / contact_time, 0.0
-    for _ in range(_ROUNDS):  # alternately: ζ for the restitution, ω_n for the contact time
+    def restitution(omega_n):
+        """ζ giving the rebound ``cor`` at ``omega_n``; None if the head holds the stick even so (cor = 0)."""
         if rebound(0.0, omega_n)[0] <= cor:
-            zeta = 0.0
-        elif rebound(1.0, omega_n)[0] <= cor:
-            zeta = brentq(lambda z: rebound(z, omega_n)[0] - cor, 0.0, 1.0, xtol=1e-12)
-        elif rebound(_HOLD, omega_n)[0] >= cor:  # cor = 0: the head holds the stick; no contact time to fit
+            return 0.0
+        if rebound(1.0, omega_n)[0] <= cor:
+            return brentq(lambda z: rebound(z, omega_n)[0] - cor, 0.0, 1.0, xtol=1e-12)
+        if rebound(_HOLD, omega_n)[0] >= cor:
+            return None
+        return brentq(lambda z: rebound(z, omega_n)[0] - cor, 1.0, _HOLD, xtol=1e-12)
+
+    omega_n = math.pi / contact_time
+    for _ in range(_ROUNDS):  # alternately: ζ for the restitution, ω_n for the contact time
+        zeta = restitution(omega_n)
+        if zeta is None:  # no contact time to fit
             return solref(_HOLD, omega_n)
-        else:
-            zeta = brentq(lambda z: rebound(z, omega_n)[0] - cor, 1.0, _HOLD, xtol=1e-12)
         ratio = rebound(zeta, omega_n)[1] / contact_time
         omega_n *= ratio  # a contact's duration goes as 1/ω_n
         if abs(ratio - 1.0) < 1e-6:
@@ -360,6 +368,8 @@ def _run(model, plant, law, gains, ref_theta, ref_omega, ref_alpha, rate, theta0
                     theta_new, omega_new = qpos[0], qvel[0]
                     gap_new = h + x * math.sin(theta_new)
                     events.append([t0 + j * hstep + when, speed, math.nan, math.nan])
+                    if gap_new >= 0.0:  # in and out within the step
+                        events[-1][2:] = t0 + (j + 1) * hstep, omega_new
                 elif events:  # the head lets go before the tip reaches its surface: this is free flight
                     events[-1][2:] = t0 + (j + gap / (gap - gap_new)) * hstep, omega_new
             theta, omega, gap = theta_new, omega_new, gap_new
@@ -369,47 +379,49 @@ def _run(model, plant, law, gains, ref_theta, ref_omega, ref_alpha, rate, theta0
 
 
 def _split_at_contact(model, data, theta, omega, height, x):
-    """Redo the step in which the tip met the head so that the contact starts between steps; ω there (rad/s).
+    """Redo the step in which the tip met the head so that the contact starts between steps.
 
     The head's damping force starts at its full value, B·speed, so an RK4 step with
     the meeting inside it blurs the impact (by ≈ 0.3 % of the rebound speed at c = 0.5
-    and 25 µs). Instead: free flight to just short of the head (each try aims at 99.9 %
-    of the linear estimate; halved if it lands in the head), a step of a few ns across
-    it, and the rest of the step with the contact on from its start.
-    Returns the time into the step at which the tip met the head (s) and ω then (rad/s).
+    and 25 µs). Instead: free flight to just short of the head (aiming at 99.9 % of the
+    linear estimate of the time to it, shorter if that lands in the head), a step of a
+    few ns across it, and the rest of the step with the contact on from its start.
+
+    Returns
+    -------
+    (float, float)
+        When the tip met the head, from the step's start (s), and ω then (rad/s).
     """
     step = model.opt.timestep
     qpos, qvel = data.qpos, data.qvel
     qpos[0], qvel[0] = theta, omega
     data.time -= step
-    done = 0.0
+    done, aim = 0.0, _SHORT
     try:
         for _ in range(_TRIES):
-            approach = x * math.cos(qpos[0]) * qvel[0]  # d(gap)/dt, m/s (< 0)
-            gap = height + x * math.sin(qpos[0])
+            gap, approach = height + x * math.sin(qpos[0]), x * math.cos(qpos[0]) * qvel[0]
             if approach >= 0.0 or gap <= _NEAR * -approach * step:
                 break
-            tau = min(_SHORT * gap / -approach, step - done)
             before = qpos[0], qvel[0], data.time
-            model.opt.timestep = tau
-            mujoco.mj_step(model, data)
-            if height + x * math.sin(qpos[0]) < 0.0:  # in the head already: go back, aim shorter
+            tau = min(aim * gap / -approach, step - done)
+            _advance(model, data, tau)
+            if height + x * math.sin(qpos[0]) < 0.0:  # the motor sped it up: back, and aim shorter
                 qpos[0], qvel[0], data.time = before
-                gap = gap * 0.5
-                continue
-            done += tau
-        when, speed = done, qvel[0]
-        if done < step:
-            approach = x * math.cos(qpos[0]) * qvel[0]
-            gap = height + x * math.sin(qpos[0])
-            across = min(2.0 * gap / -approach + 1e-12, step - done) if approach < 0.0 else step - done
-            model.opt.timestep = across
-            mujoco.mj_step(model, data)
-            when += gap / -approach if approach < 0.0 else 0.0
-            done += across
-        if done < step:
-            model.opt.timestep = step - done
-            mujoco.mj_step(model, data)
+                aim *= 0.5
+            else:
+                done += tau
+        gap, approach = height + x * math.sin(qpos[0]), x * math.cos(qpos[0]) * qvel[0]
+        to_head = gap / -approach if approach < 0.0 else 0.0
+        when, speed = done + to_head, qvel[0]
+        for tau in (min(2.0 * to_head + 1e-12, step - done), step - done - min(2.0 * to_head + 1e-12, step - done)):
+            if tau > 0.0:
+                _advance(model, data, tau)
     finally:
         model.opt.timestep = step
     return when, speed
+
+
+def _advance(model, data, duration):
+    """One MuJoCo step of ``duration`` (s); the caller restores the model's timestep."""
+    model.opt.timestep = duration
+    mujoco.mj_step(model, data)
