@@ -176,7 +176,8 @@ def _loop(law, gains, ref_theta, ref_omega, ref_alpha, open_torque, rate, subste
             if touching != in_contact:
                 frac = (theta - head) / (theta - theta_new) if theta != theta_new else 0.0
                 when = t0 + (j + frac) * h
-                speed = omega + frac * (omega_new - omega)
+                # the speed on the free side of the step: the head's damping switches on in full at contact
+                speed = omega if touching else omega_new
                 if touching:
                     if count == len(events):
                         grown = np.full((2 * count, 4), np.nan)

@@ -171,10 +171,11 @@ def _contact_gains(inertia, contact_time, cor, weight, speed):
 
     period, zeta = contact_time, 0.0
     for _ in range(4):  # alternately: ζ for the restitution, the period for the contact time
-        if cor > 0.0:
-            zeta = brentq(lambda z: rebound(z, period)[0] - cor, 0.0, 0.9999, xtol=1e-13)
-        else:
-            zeta = 0.9999
+        deadest = rebound(0.9999, period)[0]
+        if cor < deadest:
+            raise ParameterError(f"cor must be at least {deadest:.3g} for this plant's head (a spring-damper "
+                                 f"that lets go after {contact_time * 1e3:.3g} ms), got {cor!r}")
+        zeta = brentq(lambda z: rebound(z, period)[0] - cor, 0.0, 0.9999, xtol=1e-13)
         period *= contact_time / rebound(zeta, period)[1]
     return gains(zeta, period)
 
