@@ -27,8 +27,24 @@ from ..errors import ParameterError
 from . import kernel
 
 
+class _Controller:
+    """What every controller shares: its gains checked on creation, and packed for the kernel in ``slots`` order."""
+
+    slots = ()
+
+    def __post_init__(self):
+        for f in fields(self):
+            low, high, unit = _RANGES[f.name]
+            object.__setattr__(self, f.name, check_real(f"{self.name}.{f.name}", getattr(self, f.name),
+                                                        low=low, high=high, unit=unit))
+
+    def gains(self):
+        """The gains as the kernel takes them [shape=(4,)]."""
+        return np.array([getattr(self, slot) if slot else 0.0 for slot in self.slots])
+
+
 @dataclass(frozen=True)
-class PI:
+class PI(_Controller):
     """τ = Kp·e + Ki·∫e (the paper's controller).
 
     Parameters
@@ -43,17 +59,12 @@ class PI:
     ki: float = 2.0
     name = "pi"
     law = kernel.PI
+    slots = ("kp", "ki", "", "")
 
-    def __post_init__(self):
-        _check_gains(self)
-
-    def gains(self):
-        """The gains as the kernel takes them [shape=(4,)]."""
-        return np.array([self.kp, self.ki, 0.0, 0.0])
 
 
 @dataclass(frozen=True)
-class PIDFeedforward:
+class PIDFeedforward(_Controller):
     """τ = J·α_ref + m·g·k·cos θ_ref + Kp·e + Ki·∫e + Kd·ė.
 
     Parameters
@@ -71,17 +82,12 @@ class PIDFeedforward:
     kd: float = 0.3
     name = "pid-ff"
     law = kernel.PID_FF
+    slots = ("kp", "ki", "kd", "")
 
-    def __post_init__(self):
-        _check_gains(self)
-
-    def gains(self):
-        """The gains as the kernel takes them [shape=(4,)]."""
-        return np.array([self.kp, self.ki, self.kd, 0.0])
 
 
 @dataclass(frozen=True)
-class Impedance:
+class Impedance(_Controller):
     """τ = J·α_ref + m·g·k·cos θ_ref + s(θ_ref)·(Kp·e + Kd·ė), s fading to ``floor`` at the head.
 
     Parameters
@@ -107,13 +113,8 @@ class Impedance:
     lead: float = 0.002
     name = "impedance"
     law = kernel.IMPEDANCE
+    slots = ("kp", "kd", "band", "floor")
 
-    def __post_init__(self):
-        _check_gains(self)
-
-    def gains(self):
-        """The gains as the kernel takes them [shape=(4,)]."""
-        return np.array([self.kp, self.kd, self.band, self.floor])
 
 
 CONTROLLERS = {c.name: c for c in (PI, PIDFeedforward, Impedance)}
@@ -121,13 +122,6 @@ CONTROLLERS = {c.name: c for c in (PI, PIDFeedforward, Impedance)}
 
 _RANGES = {"kp": (0.0, 1e4, "N m/rad"), "ki": (0.0, 1e6, "N m/(rad s)"), "kd": (0.0, 1e3, "N m s/rad"),
            "band": (1e-4, 1.0, "rad"), "floor": (0.0, 1.0, ""), "lead": (0.0, 0.02, "s")}
-
-
-def _check_gains(controller):
-    for f in fields(controller):
-        low, high, unit = _RANGES[f.name]
-        object.__setattr__(controller, f.name, check_real(f"{controller.name}.{f.name}", getattr(controller, f.name),
-                                                          low=low, high=high, unit=unit))
 
 
 def controller(name, **gains):
