@@ -175,7 +175,7 @@ def _contact_gains(inertia, contact_time, cor, weight, speed):
         if cor < deadest:
             raise ParameterError(f"cor must be at least {deadest:.3g} for this plant's head (a spring-damper "
                                  f"that lets go after {contact_time * 1e3:.3g} ms), got {cor!r}")
-        zeta = brentq(lambda z: rebound(z, period)[0] - cor, 0.0, 0.9999, xtol=1e-13)
+        zeta = brentq(lambda z, p=period: rebound(z, p)[0] - cor, 0.0, 0.9999, xtol=1e-13)
         period *= contact_time / rebound(zeta, period)[1]
     return gains(zeta, period)
 
