@@ -121,6 +121,18 @@ def _build_parser():
                      help="override the file's audibility threshold (dB below the loudest impact)")
     swp.set_defaults(run=_sweep)
 
+    sts = commands.add_parser("stats", help="listening-test statistics: Tryon's ICIs, Rg, TOST, correlations")
+    sts.add_argument("responses", type=Path, nargs="?", metavar="RESPONSES",
+                     help="a CSV with subject,pair,robot,answer,confidence,similarity")
+    sts.add_argument("--summary", metavar="MEAN_A,SD_A,MEAN_B,SD_B,N",
+                     help="use two groups' summary numbers instead (e.g. the paper's 4.227,2.654,4.999,1.564,22)")
+    sts.add_argument("--pairs", type=int, default=10, help="pairs per subject for --summary (default 10)")
+    sts.add_argument("--delta", type=float, metavar="D", help="equivalence margin in answers")
+    sts.add_argument("--alpha", type=float, default=0.05, help="significance level (default 0.05)")
+    sts.add_argument("--seed", type=int, default=0, help="seed of the simulated Group B (default 0)")
+    sts.add_argument("--json", type=Path, metavar="OUT", help="write the statistics as JSON")
+    sts.set_defaults(run=_stats)
+
     robot = commands.add_parser("robot", help="play strokes on a simulated robot joint; validate and export trajectories")
     robot_commands = robot.add_subparsers(dest="robot_command", parser_class=_Parser, metavar="ACTION", required=True)
     trk = robot_commands.add_parser("track", help="play a stroke with one controller or all, and score it")
@@ -517,6 +529,57 @@ def _peaks(checked):
     return (f"{len(checked.t)} samples at {checked.rate:g} Hz, theta {checked.lowest_angle:.4f} to "
             f"{checked.highest_angle:.4f} rad, peak speed {checked.peak_speed:.3g} rad/s, acceleration "
             f"{checked.peak_acceleration:.3g} rad/s^2, jerk {checked.peak_jerk:.3g} rad/s^3 (head {checked.head:.4f} rad)")
+
+
+def _stats(args):
+    from .evaluation import stats
+
+    if (args.responses is None) == (args.summary is None):
+        raise ParameterError("give either RESPONSES (a CSV) or --summary MEAN_A,SD_A,MEAN_B,SD_B,N")
+    if args.summary:
+        try:
+            mean_a, sd_a, mean_b, sd_b, n = (float(x) for x in args.summary.split(","))
+        except ValueError:
+            raise ParameterError(f"--summary must be MEAN_A,SD_A,MEAN_B,SD_B,N, got {args.summary!r}") from None
+        if not n.is_integer():
+            raise ParameterError(f"--summary's N must be a whole number of subjects, got {n:g}")
+        result = stats.from_summary(mean_a, sd_a, mean_b, sd_b, int(n), pairs=args.pairs, alpha=args.alpha)
+        data = result.to_dict()
+    else:
+        analysis = stats.analyze(stats.read_responses(args.responses), alpha=args.alpha, seed=args.seed)
+        result, data = analysis.tryon, analysis.to_dict()
+    a, b = result.a, result.b
+    print(f"{'':<26}{'Group A':>10}{'Group B':>10}")
+    for label, x, y in (("mean incorrect answers", a.mean, b.mean), ("SD", a.sd, b.sd), ("SE", a.se, b.se)):
+        print(f"{label:<26}{x:>10.3f}{y:>10.3f}")
+    print(f"{'N':<26}{a.n:>10}{b.n:>10}")
+    ici_a, ici_b = (f"{lo:.3f}-{hi:.3f}" for lo, hi in (result.ici_a, result.ici_b))
+    print(f"{'inferential CI':<26}{ici_a:>12}{ici_b:>12}")
+    print(f"t_pq = {result.t_pq:.4f}, t_p = {result.t_p:.4f} (alpha {result.alpha:g}); E = {result.e:.4f}")
+    print(f"maximum probable difference Rg = {result.rg:.4f} answers = {result.rg_percent:.2f} % of {result.pairs} "
+          "pairs")
+    if args.delta is not None:
+        p_low, p_high, same = result.tost(args.delta)
+        verdict = "equivalent" if result.equivalent(args.delta) else "not shown equivalent"
+        print(f"delta = {args.delta:g} answers: {verdict} (Rg {'<' if result.rg < args.delta else '>='} delta); "
+              f"TOST p = {p_low:.4g}, {p_high:.4g} at alpha/2 each: {'equivalent' if same else 'not equivalent'}")
+        data["delta"] = {"delta": args.delta, "equivalent": result.equivalent(args.delta),
+                         "tost_p": [p_low, p_high], "tost_equivalent": same}
+    if not args.summary:
+        for key, value in data["correlations"].items():
+            r = "n/a" if value["r"] is None else f"r = {value['r']:+.3f}, p = {value['p']:.3g}"
+            print(f"incorrect answers vs {key.replace('_', ' ')}: {r}")
+    if args.json:
+        import json
+
+        from ._atomic import write_atomic
+
+        write_atomic(args.json, json.dumps(data, indent=1, default=_plain) + "\n")
+        print(f"wrote {args.json}")
+
+
+def _plain(value):
+    return value.tolist() if hasattr(value, "tolist") else str(value)
 
 
 def _presets(args):

@@ -1,0 +1,1 @@
+"""Evaluation (SPEC §6): the listening test's statistics."""
