@@ -5,12 +5,20 @@ import math
 
 import numpy as np
 import pytest
-from _cli import assert_one_line_error, run
 from scipy import stats as scipy_stats
 
+from _cli import assert_one_line_error, run
 from drumstroke.errors import ParameterError
-from drumstroke.evaluation.stats import (Group, analyze, from_summary, parse_responses, read_responses,
-                                         simulate_guessing, tryon, tryon_with)
+from drumstroke.evaluation.stats import (
+    Group,
+    analyze,
+    from_summary,
+    parse_responses,
+    read_responses,
+    simulate_guessing,
+    tryon,
+    tryon_with,
+)
 
 HEADER = "subject,pair,robot,answer,confidence,similarity\n"
 
