@@ -435,8 +435,9 @@ def _robot_track(args):
     print(f"{'controller':<10} {'kept':>9} {'tail':>6} {'timing mean/p95 (ms)':>21} {'rms (rad)':>10} "
           f"{'shortfall (s)':>13} {'peak torque':>14}")
     for p, m in zip(played, scores):
+        timing = f"{1e3 * m.timing_mean:>10.2f} /{1e3 * m.timing_p95:>5.2f}" if m.kept else f"{'- /  -':>17}"
         print(f"{p.controller:<10} {m.kept:>4}/{m.reference_onsets:<4} {100 * m.tail_kept_fraction:>5.0f}% "
-              f"{1e3 * m.timing_mean:>10.2f} /{1e3 * m.timing_p95:>5.2f}    {m.rms_error:>10.4f} "
+              f"{timing}    {m.rms_error:>10.4f} "
               f"{m.tail_shortfall:>13.3f} {m.peak_torque:>6.2f}/{m.torque_limit:g} N m")
     written = []
     if args.report:
