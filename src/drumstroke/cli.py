@@ -133,6 +133,25 @@ def _build_parser():
     sts.add_argument("--json", type=Path, metavar="OUT", help="write the statistics as JSON")
     sts.set_defaults(run=_stats)
 
+    lis = commands.add_parser("listen", help="the listening-test web app: serve it, analyse it, make its stimuli")
+    lis_commands = lis.add_subparsers(dest="listen_command", parser_class=_Parser, metavar="ACTION", required=True)
+    srv = lis_commands.add_parser("serve", help="serve the listening test in a browser")
+    srv.add_argument("config", type=Path, metavar="CONFIG", help="the test's .toml (title, admin_token, seed, pairs)")
+    srv.add_argument("--db", type=Path, required=True, metavar="SQLITE", help="where answers are stored")
+    srv.add_argument("--host", default="127.0.0.1")
+    srv.add_argument("--port", type=int, default=8000)
+    srv.set_defaults(run=_listen_serve)
+    ana = lis_commands.add_parser("analyze", help="run the statistics on the answers collected")
+    ana.add_argument("--db", type=Path, required=True, metavar="SQLITE")
+    ana.add_argument("--delta", type=float, metavar="D", help="equivalence margin in answers")
+    ana.add_argument("--json", type=Path, metavar="OUT", help="write the statistics as JSON")
+    ana.set_defaults(run=_listen_analyze)
+    mks = lis_commands.add_parser("make-stimuli", help="render the robot's side of each pair from library strokes")
+    mks.add_argument("--library", type=Path, required=True, metavar="DIR")
+    mks.add_argument("--out", type=Path, required=True, metavar="DIR")
+    mks.add_argument("--strokes", metavar="A,B,...", help="which strokes (default: all)")
+    mks.set_defaults(run=_listen_make_stimuli)
+
     robot = commands.add_parser("robot", help="play strokes on a simulated robot joint; validate and export trajectories")
     robot_commands = robot.add_subparsers(dest="robot_command", parser_class=_Parser, metavar="ACTION", required=True)
     trk = robot_commands.add_parser("track", help="play a stroke with one controller or all, and score it")
@@ -532,6 +551,54 @@ def _peaks(checked):
             f"{checked.peak_acceleration:.3g} rad/s^2, jerk {checked.peak_jerk:.3g} rad/s^3 (head {checked.head:.4f} rad)")
 
 
+def _listen_serve(args):
+    from .evaluation.app import Config, Store, make_server
+
+    config = Config.from_toml(args.config)
+    store = Store(args.db)
+    server = make_server(config, store, host=args.host, port=args.port)
+    host, port = server.server_address[:2]
+    print(f"serving {config.title!r} ({len(config.pairs)} pairs, seed {config.seed}) on http://{host}:{port}/ ; "
+          f"answers in {args.db}; export: http://{host}:{port}/admin/export.csv?token=...; Ctrl-C stops")
+    try:
+        server.serve_forever()
+    finally:
+        server.server_close()
+
+
+def _listen_analyze(args):
+    from .evaluation.app import Store
+    from .evaluation.stats import parse_responses
+
+    if not args.db.is_file():
+        raise ParameterError(f"--db {str(args.db)!r} does not exist")
+    rows = [[str(v) for v in row] for row in Store(args.db).rows()]
+    if not rows:
+        raise ParameterError(f"--db {str(args.db)!r} holds no answers yet")
+    _print_stats(args, responses=parse_responses(rows, name=str(args.db)))
+
+
+def _listen_make_stimuli(args):
+    from .palette.library import load_library
+    from .render.audio import render_wav
+    from .robot.controllers import controller
+    from .robot.track import reference, track
+
+    library = load_library(args.library)
+    names = args.strokes.split(",") if args.strokes else list(library)
+    lines = ['title = "Robot or human?"', 'admin_token = "change-this-token"', "seed = 1", ""]
+    for name in names:
+        played = track(reference(library[name].trajectory, library.rate), controller("impedance"))
+        wav = args.out / f"robot-{name}.wav"
+        render_wav(wav, played.onsets, played.onset_speed)
+        print(f"wrote {wav} ({len(played.onsets)} onsets played by the simulated robot)")
+        lines += ["[[pair]]", f'id = "{name}"', f'human = "human-{name}.wav"   # record this', f'robot = "robot-{name}.wav"', ""]
+    from ._atomic import write_atomic
+
+    write_atomic(args.out / "listening-test.toml", "\n".join(lines))
+    print(f"wrote {args.out / 'listening-test.toml'}: add the human recordings it names, set admin_token and seed")
+
+
 def _stats(args):
     from .evaluation import stats
 
@@ -547,8 +614,24 @@ def _stats(args):
         result = stats.from_summary(mean_a, sd_a, mean_b, sd_b, int(n), pairs=args.pairs, alpha=args.alpha)
         data = result.to_dict()
     else:
-        analysis = stats.analyze(stats.read_responses(args.responses), alpha=args.alpha, seed=args.seed)
-        result, data = analysis.tryon, analysis.to_dict()
+        return _print_stats(args, responses=stats.read_responses(args.responses))
+    _print_result(args, result, data)
+    _write_stats_json(args, data)
+
+
+def _print_stats(args, *, responses):
+    from .evaluation import stats
+
+    analysis = stats.analyze(responses, alpha=getattr(args, "alpha", stats.ALPHA), seed=getattr(args, "seed", 0))
+    data = analysis.to_dict()
+    _print_result(args, analysis.tryon, data)
+    for key, value in data["correlations"].items():
+        r = "n/a" if value["r"] is None else f"r = {value['r']:+.3f}, p = {value['p']:.3g}"
+        print(f"incorrect answers vs {key.replace('_', ' ')}: {r}")
+    _write_stats_json(args, data)
+
+
+def _print_result(args, result, data):
     a, b = result.a, result.b
     print(f"{'':<26}{'Group A':>10}{'Group B':>10}")
     for label, x, y in (("mean incorrect answers", a.mean, b.mean), ("SD", a.sd, b.sd), ("SE", a.se, b.se)):
@@ -566,10 +649,9 @@ def _stats(args):
               f"TOST p = {p_low:.4g}, {p_high:.4g} at alpha/2 each: {'equivalent' if same else 'not equivalent'}")
         data["delta"] = {"delta": args.delta, "equivalent": result.equivalent(args.delta),
                          "tost_p": [p_low, p_high], "tost_equivalent": same}
-    if not args.summary:
-        for key, value in data["correlations"].items():
-            r = "n/a" if value["r"] is None else f"r = {value['r']:+.3f}, p = {value['p']:.3g}"
-            print(f"incorrect answers vs {key.replace('_', ' ')}: {r}")
+
+
+def _write_stats_json(args, data):
     if args.json:
         import json
 
