@@ -74,7 +74,7 @@ def export(base, token="s3cret-token"):
 
 
 def test_a_whole_session_is_stored_exactly_as_answered(app):
-    base, config, store, _ = app
+    base, config, _, _ = app
     status, _, page = request(base + "/")
     assert status == 200 and b"consent" in page
     participant = start(base)
@@ -140,7 +140,7 @@ def test_a_malformed_submission_gets_a_4xx_and_stores_nothing(app, form, needle)
 
 
 def test_unknown_participants_consent_and_the_export_token(app):
-    base, _, store, _ = app
+    base, _, _, _ = app
     assert request(base + "/start", {})[0] == 400  # no consent, no participant
     assert request(base + "/p/nobody/pair/0")[0] == 404
     assert request(base + "/p/nobody/pair/0/answer", {"answer": "A"})[0] == 404
@@ -162,7 +162,7 @@ def test_fifty_concurrent_participants_with_repeats_and_reloads(app, rng):
     with ThreadPoolExecutor(max_workers=50) as pool:
         participants = list(pool.map(participant_session, range(50)))
     rows = store.rows()
-    assert len(rows) == 50 * PAIRS and len(set((r[0], r[1]) for r in rows)) == 50 * PAIRS
+    assert len(rows) == 50 * PAIRS and len({(r[0], r[1]) for r in rows}) == 50 * PAIRS
     for i, participant in enumerate(participants):
         mine = {r[1]: r for r in rows if r[0] == participant}
         for k, (pair, robot) in enumerate(plan(config, participant)):
@@ -196,7 +196,7 @@ def test_the_listen_commands(app, tmp_path):
 
     from _cli import run
 
-    base, config, store, folder = app
+    base, config, _, folder = app
     participants = [start(base) for _ in range(6)]
     for i, participant in enumerate(participants):
         for k in range(PAIRS):
