@@ -256,7 +256,7 @@ class _Handler(BaseHTTPRequestHandler):
             if steps is None:
                 return self._error(HTTPStatus.NOT_FOUND, "unknown participant")
             if parts[2:] == ["done"]:
-                return self._page(_finish(self.config))
+                return self._page(_finish(self.config, participant))
             if len(parts) == 4 and parts[2] == "pair" and parts[3].isdigit():
                 position = int(parts[3])
                 if position >= len(steps):
@@ -385,7 +385,8 @@ def _pair_page(config, participant, position, total):
     base = f"/p/{participant}"
     scale = "".join(f'<label><input type="radio" name="{{name}}" value="{v}" required> {v}</label> '
                     for v in range(1, 6))
-    return _shell(config.title, f"""<p>Pair {position + 1} of {total}</p>
+    return _shell(config.title, f"""<p>Pair {position + 1} of {total} <small>(participant
+<span id="participant">{participant}</span>)</small></p>
 <p>A <audio id="audio-A" controls preload="none" src="{base}/audio/{position}/A"></audio></p>
 <p>B <audio id="audio-B" controls preload="none" src="{base}/audio/{position}/B"></audio></p>
 <form method="post" action="{base}/pair/{position}/answer" id="answer-form">
@@ -414,5 +415,6 @@ document.getElementById("answer-form").addEventListener("submit", () => {{
 </script>""")
 
 
-def _finish(config):
-    return _shell(config.title, "<p id=\"finished\">Thank you: your answers are saved. You can close this page.</p>")
+def _finish(config, participant):
+    return _shell(config.title, f"""<p id="finished">Thank you: your answers are saved (participant
+{participant}). You can close this page.</p>""")
