@@ -2,7 +2,6 @@
 
 import csv
 import io
-import threading
 import urllib.error
 import urllib.parse
 import urllib.request
@@ -11,10 +10,10 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 import pytest
 
+from _listen import start_test, stop
 from drumstroke.errors import ParameterError
-from drumstroke.evaluation.app import Config, Store, make_server, plan
+from drumstroke.evaluation.app import Config, Store, plan
 from drumstroke.evaluation.stats import parse_responses
-from drumstroke.render.audio import render_wav
 
 PAIRS = 4
 
@@ -39,20 +38,9 @@ def request(url, data=None):
 
 @pytest.fixture()
 def app(tmp_path):
-    for i in range(PAIRS):
-        for side, speed in (("human", 1.0), ("robot", 0.8)):
-            render_wav(tmp_path / f"{side}-{i}.wav", [0.01, 0.1], [speed, 0.5 * speed], duration=0.3)
-    pairs = "".join(f'[[pair]]\nid = "p{i}"\nhuman = "human-{i}.wav"\nrobot = "robot-{i}.wav"\n'
-                    for i in range(PAIRS))
-    (tmp_path / "test.toml").write_text(f'title = "Robot or human?"\nadmin_token = "s3cret-token"\nseed = 7\n{pairs}')
-    config = Config.from_toml(tmp_path / "test.toml")
-    store = Store(tmp_path / "results.sqlite")
-    server = make_server(config, store, port=0)
-    thread = threading.Thread(target=server.serve_forever, daemon=True)
-    thread.start()
-    yield f"http://127.0.0.1:{server.server_address[1]}", config, store, tmp_path
-    server.shutdown()
-    server.server_close()
+    base, config, store, server = start_test(tmp_path, pairs=PAIRS, token="s3cret-token", seed=7)
+    yield base, config, store, tmp_path
+    stop(server)
 
 
 def start(base):

@@ -1,12 +1,10 @@
 """A real browser — Debian's Chromium driven by Playwright — through a whole listening-test session."""
 
-import threading
-
 import pytest
 from playwright.sync_api import sync_playwright
 
-from drumstroke.evaluation.app import Config, Store, make_server, plan
-from drumstroke.render.audio import render_wav
+from _listen import start_test, stop
+from drumstroke.evaluation.app import plan
 
 CHROMIUM = "/usr/bin/chromium"
 PAIRS = 3
@@ -14,19 +12,9 @@ PAIRS = 3
 
 @pytest.fixture()
 def served(tmp_path):
-    for i in range(PAIRS):
-        for side, speed in (("human", 1.0), ("robot", 0.7)):
-            render_wav(tmp_path / f"{side}-{i}.wav", [0.01, 0.12], [speed, 0.5 * speed], duration=0.3)
-    pairs = "".join(f'[[pair]]\nid = "p{i}"\nhuman = "human-{i}.wav"\nrobot = "robot-{i}.wav"\n'
-                    for i in range(PAIRS))
-    (tmp_path / "test.toml").write_text(f'admin_token = "browser-token"\nseed = 11\n{pairs}')
-    config = Config.from_toml(tmp_path / "test.toml")
-    store = Store(tmp_path / "results.sqlite")
-    server = make_server(config, store, port=0)
-    threading.Thread(target=server.serve_forever, daemon=True).start()
-    yield f"http://127.0.0.1:{server.server_address[1]}", config, store
-    server.shutdown()
-    server.server_close()
+    base, config, store, server = start_test(tmp_path, pairs=PAIRS, token="browser-token", seed=11)
+    yield base, config, store
+    stop(server)
 
 
 def test_a_whole_session_in_chromium_is_stored_as_clicked(served):

@@ -161,14 +161,17 @@ class Store:
             (participant, time.time(), config.seed, json.dumps(order))))
         return participant
 
-    def plan_of(self, participant):
-        """The participant's stored plan, or None for an unknown id."""
+    def _read(self, sql, args=()):
         db = self._connect()
         try:
-            row = db.execute("SELECT plan FROM participants WHERE id = ?", (participant,)).fetchone()
+            return db.execute(sql, args).fetchall()
         finally:
             db.close()
-        return None if row is None else [tuple(x) for x in json.loads(row[0])]
+
+    def plan_of(self, participant):
+        """The participant's stored plan, or None for an unknown id."""
+        rows = self._read("SELECT plan FROM participants WHERE id = ?", (participant,))
+        return [tuple(x) for x in json.loads(rows[0][0])] if rows else None
 
     def played(self, participant, position, side):
         """Record that a stimulus was played (idempotent)."""
@@ -176,12 +179,8 @@ class Store:
             "INSERT OR IGNORE INTO plays VALUES (?, ?, ?, ?)", (participant, position, side, time.time())))
 
     def sides_played(self, participant, position):
-        db = self._connect()
-        try:
-            rows = db.execute("SELECT side FROM plays WHERE participant = ? AND position = ?",
-                              (participant, position)).fetchall()
-        finally:
-            db.close()
+        """The sides (A, B) the participant has played of the pair at ``position``."""
+        rows = self._read("SELECT side FROM plays WHERE participant = ? AND position = ?", (participant, position))
         return {r[0] for r in rows}
 
     def answer(self, participant, position, pair, robot, answer, confidence, similarity):
@@ -195,21 +194,12 @@ class Store:
 
     def answered(self, participant):
         """The positions the participant has answered."""
-        db = self._connect()
-        try:
-            rows = db.execute("SELECT position FROM answers WHERE participant = ?", (participant,)).fetchall()
-        finally:
-            db.close()
-        return {r[0] for r in rows}
+        return {r[0] for r in self._read("SELECT position FROM answers WHERE participant = ?", (participant,))}
 
     def rows(self):
         """Every answer as (subject, pair, robot, answer, confidence, similarity), in a stable order."""
-        db = self._connect()
-        try:
-            return db.execute("SELECT participant, pair, robot, answer, confidence, similarity FROM answers "
-                              "ORDER BY participant, position").fetchall()
-        finally:
-            db.close()
+        return self._read("SELECT participant, pair, robot, answer, confidence, similarity FROM answers "
+                          "ORDER BY participant, position")
 
     def export_csv(self):
         """The answers as CSV text with the header ``drumstroke stats`` reads."""
