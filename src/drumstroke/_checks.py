@@ -7,7 +7,7 @@ a float so callers can write ``x = check_real("x", x)``.
 
 import math
 import tomllib
-from numbers import Real
+from numbers import Integral, Real
 from pathlib import Path
 
 import numpy as np
@@ -50,6 +50,15 @@ def as_vector(name, values):
     if vector.ndim != 1:
         raise ParameterError(f"{name} must be a 1-D array of numbers, got shape {vector.shape}")
     return vector
+
+
+def check_int(name, value, *, low, high=None, unit=""):
+    """Return ``value`` as an int if it is an integer (not a bool) in [low, high] ([low, inf) without high)."""
+    allowed = f"[{low}, {high}]" if high is not None else f"[{low}, inf)"
+    allowed = f"{allowed} {unit}" if unit else allowed
+    if isinstance(value, bool) or not isinstance(value, Integral) or value < low or (high is not None and value > high):
+        raise ParameterError(f"{name} must be an integer in {allowed}, got {value!r}")
+    return int(value)
 
 
 def check_choice(name, value, choices):

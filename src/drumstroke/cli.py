@@ -20,7 +20,7 @@ from ._checks import check_real
 from .errors import DrumstrokeError, ParameterError
 from .model import MODELS, inertia_ratio
 from .presets import PRESETS
-from .stroke import DEFAULT_RATE, Stroke, simulate
+from .stroke import DEFAULT_RATE, simulate
 
 FIGURES = {p.figure: name for name, p in PRESETS.items() if p.figure}
 """The paper's figures and the presets that reproduce them."""
@@ -230,9 +230,8 @@ def _write_outputs(stroke, *, json_path=None, csv_path=None, plot_path=None, wav
 
         save_stroke_plot(stroke, plot_path, title=title)
         written.append(plot_path)
-    name = stroke.recipe.name if isinstance(stroke, Stroke) else stroke.name
     _write_sound(stroke.impacts.t, stroke.impacts.tip_speed, stroke.impacts.level_db, wav_path=wav_path,
-                 midi_path=midi_path, duration=None, title=f"{name or 'custom'} (model {stroke.model})",
+                 midi_path=midi_path, duration=None, title=f"{stroke.name} (model {stroke.model})",
                  snares=snares, written=written)
     for path in written:
         print(f"wrote {path}")
@@ -343,7 +342,8 @@ def _compose(args):
         print(f"warning: {count} MIDI notes with number {note} have no mapping; left out", file=sys.stderr)
     for problem in piece.problems:
         print(f"warning: {problem}", file=sys.stderr)
-    _write_composition(piece, args, title=args.score.stem)
+    _write_composition(piece, title=args.score.stem, csv=args.csv, json=args.json, plot=args.plot, wav=args.wav,
+                       midi=args.midi, snares=not args.no_snares)
     if args.strict and (unmapped or played < len(notes)):
         print("drumstroke compose: error: notes were left out (--strict)", file=sys.stderr)
         return 3
@@ -364,28 +364,24 @@ def _read_score(path, mapping_path, library):
     return read_pattern(path), {}
 
 
-def _write_composition(piece, args, *, title):
-    from .render.data import composition_to_dict, write_composition_csv
+def _write_composition(piece, *, title, csv=None, json=None, plot=None, wav=None, midi=None, snares=True):
+    from .render.data import write_composition_csv, write_composition_json
 
     written = []
-    if args.csv:
-        write_composition_csv(piece, args.csv)
-        written.append(args.csv)
-    if args.json:
-        import json
-
-        from ._atomic import write_atomic
-
-        write_atomic(args.json, json.dumps(composition_to_dict(piece), indent=1) + "\n")
-        written.append(args.json)
-    if args.plot:
+    if csv:
+        write_composition_csv(piece, csv)
+        written.append(csv)
+    if json:
+        write_composition_json(piece, json)
+        written.append(json)
+    if plot:
         from .render.plot import composition_figure, save_figure
 
-        save_figure(composition_figure(piece, title=title), args.plot)
-        written.append(args.plot)
+        save_figure(composition_figure(piece, title=title), plot)
+        written.append(plot)
     times, speeds, levels = piece.impacts()
-    _write_sound(times, speeds, levels, wav_path=args.wav, midi_path=args.midi, duration=None,
-                 title=f"{title} (model {piece.model})", snares=not args.no_snares, written=written)
+    _write_sound(times, speeds, levels, wav_path=wav, midi_path=midi, duration=None,
+                 title=f"{title} (model {piece.model})", snares=snares, written=written)
     for path in written:
         print(f"wrote {path}")
 
@@ -460,16 +456,14 @@ def _robot_track(args):
               f"{m.tail_shortfall:>13.3f} {m.peak_torque:>6.2f}/{m.torque_limit:g} N m")
     written = []
     if args.report:
-        import json
-
-        from ._atomic import write_atomic
+        from ._atomic import write_json
         from .robot.controllers import to_dict
 
         report = {"reference": ref.name, "model": ref.model, "plant": args.plant, "rate": rate,
                   "plant_parameters": plant.to_dict(),
                   "controllers": [{"name": p.controller, "gains": to_dict(controllers[p.controller]),
                                    "metrics": m.to_dict()} for p, m in zip(played, scores)]}
-        write_atomic(args.report, json.dumps(report, indent=1) + "\n")
+        write_json(args.report, report)
         written.append(args.report)
     if args.plot:
         from .render.plot import save_figure, tracking_figure
@@ -509,15 +503,13 @@ def _robot_tune(args):
     if not args.per_stroke:
         print(f"tuned gains: {result.controllers[0]}")
     if args.report:
-        import json
-
-        from ._atomic import write_atomic
+        from ._atomic import write_json
         from .robot.controllers import to_dict
 
         report = {"controller": args.controller, "per_stroke": args.per_stroke, "evaluations": result.evaluations,
                   "strokes": [{"name": r.name, "gains": to_dict(c), "before": b.to_dict(), "after": a.to_dict()}
                               for r, c, b, a in zip(refs, result.controllers, result.before, result.after)]}
-        write_atomic(args.report, json.dumps(report, indent=1) + "\n")
+        write_json(args.report, report)
         print(f"wrote {args.report}")
 
 
@@ -536,12 +528,12 @@ def _robot_export(args):
 
     plant, _, data = _robot_setup(args.config)
     limits = _robot_limits(data)
-    checked = validate_file(args.trajectory, stick=args.stick, head=plant.head, limits=limits)
-    t, theta, omega, model = read_trajectory_csv(args.trajectory, stick=args.stick)
-    rate = 1.0 / (t[1] - t[0])
+    checked = validate_file(args.trajectory, stick=args.stick, head=plant.head, limits=limits)  # the file's rate too
+    model = read_trajectory_csv(args.trajectory, stick=args.stick)[3]
     name = args.trajectory.stem + (f"-{args.stick}" if args.stick else "")
     write = export_csv if args.format == "csv" else export_ros_json
-    write(args.out, t, theta, omega, rate=round(rate, 9), model=model, name=name, head=plant.head, limits=limits)
+    write(args.out, checked.t, checked.theta, checked.omega, rate=checked.rate, model=model, name=name,
+          head=plant.head, limits=limits)
     print(f"wrote {args.out} ({args.format}): {_peaks(checked)}")
 
 
@@ -653,16 +645,10 @@ def _print_result(args, result, data):
 
 def _write_stats_json(args, data):
     if args.json:
-        import json
+        from ._atomic import write_json
 
-        from ._atomic import write_atomic
-
-        write_atomic(args.json, json.dumps(data, indent=1, default=_plain) + "\n")
+        write_json(args.json, data)
         print(f"wrote {args.json}")
-
-
-def _plain(value):
-    return value.tolist() if hasattr(value, "tolist") else str(value)
 
 
 def _presets(args):
@@ -714,9 +700,8 @@ def _demo(args):
         bar.update(0.4 + 0.5 * (i + 1) / len(library))
     piece = compose(read_pattern(DEMO_PATTERN), library)
     (out / "groove.pattern").write_text(DEMO_PATTERN.read_text())
-    groove = argparse.Namespace(csv=out / "groove.csv", json=out / "groove.json", plot=out / "groove.png",
-                                wav=out / "groove.wav", midi=out / "groove.mid", no_snares=False)
-    _quietly(_write_composition, piece, groove, title="groove")
+    _quietly(_write_composition, piece, title="groove", csv=out / "groove.csv", json=out / "groove.json",
+             plot=out / "groove.png", wav=out / "groove.wav", midi=out / "groove.mid")
     played = sum(p.played for p in piece.placements)
     print(f"composed groove.pattern: {played} of {len(piece.placements)} notes on {len(piece.sticks)} sticks, "
           f"{piece.t_end:.2f} s")

@@ -244,8 +244,9 @@ def _place(notes, variants, offset, head, limits, problems):
     if last is not None:  # the last stroke plays on until it settles, or until its latest apex the stick can leave
         p, s = plan[last]
         home = (_state(s, 0.0)[0], 0.0)
-        cut = next((c for c in _candidates(s)
-                    if math.isfinite(return_time(_state(s, c), home, head, limits))), _candidates(s)[-1])
+        candidates = _candidates(s)
+        cut = next((c for c in candidates if math.isfinite(return_time(_state(s, c), home, head, limits))),
+                   candidates[-1])
         plan[last] = (replace(p, cut=cut if cut < s.t_end else None), s)
     return plan
 

@@ -42,6 +42,12 @@ T_END_LIMIT = 3600.0
 OMEGA_LIMIT = 1000.0
 """Largest |ω₀| (rad/s)."""
 
+STANDARD_GRAVITY = 9.8
+"""g of the paper's runs (m/s²), the default gravity."""
+
+DEFAULT_COR = 0.86
+"""The paper's coefficient of restitution between stick and head."""
+
 _TOP_KEYS = ("model", "t_end", "theta0", "omega0", "cor", "stick", "force", "gravity")
 
 
@@ -78,9 +84,9 @@ class Recipe:
     t_end: float = 5.0
     theta0: float = 0.0
     omega0: float = 0.0
-    cor: float = 0.86
+    cor: float = DEFAULT_COR
     stick: Stick = field(default_factory=Stick)
-    gravity: Profile = field(default_factory=lambda: Constant(9.8))
+    gravity: Profile = field(default_factory=lambda: Constant(STANDARD_GRAVITY))
     name: str = ""
 
     def __post_init__(self):
@@ -143,7 +149,7 @@ class Recipe:
             raise ParameterError(f"stick must be a table, got {stick!r}")
         check_keys("stick", stick, list(Stick().to_dict()))
         options = {key: data[key] for key in ("model", "t_end", "theta0", "omega0", "cor") if key in data}
-        gravity = data.get("gravity", {"kind": "constant", "value": 9.8})
+        gravity = data.get("gravity", {"kind": "constant", "value": STANDARD_GRAVITY})
         return cls(
             force=profile_from_dict(data["force"], name="force", base_dir=base_dir),
             gravity=profile_from_dict(gravity, name="gravity", base_dir=base_dir),

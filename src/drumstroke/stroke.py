@@ -26,7 +26,7 @@ from .errors import ParameterError, SimulationError
 from .model import MODELS, Stick, coefficients
 from .presets import PRESETS, preset
 from .profiles import ACCELERATION_LIMIT, Constant, Profile, named
-from .recipe import OMEGA_LIMIT, T_END_LIMIT, Recipe
+from .recipe import DEFAULT_COR, OMEGA_LIMIT, STANDARD_GRAVITY, T_END_LIMIT, Recipe
 from .solver import MAX_IMPACTS, Arcs, solve
 
 LEVEL_REFERENCE = 1.0
@@ -95,6 +95,11 @@ class Stroke:
     def model(self):
         """The model that made the stroke, ``"paper"`` or ``"geometry"``."""
         return self.recipe.model
+
+    @property
+    def name(self):
+        """The recipe's name, or ``"custom"``."""
+        return self.recipe.name or "custom"
 
     @property
     def t_end(self):
@@ -315,7 +320,8 @@ class _Recipes(Sequence):
                       stick=self._stick, **p)
 
 
-_ARRAY_DEFAULTS = {"force": 0.0, "gravity": 9.8, "theta0": 0.0, "omega0": 0.0, "cor": 0.86, "t_end": 5.0}
+_ARRAY_DEFAULTS = {"force": 0.0, "gravity": STANDARD_GRAVITY, "theta0": 0.0, "omega0": 0.0, "cor": DEFAULT_COR,
+                   "t_end": 5.0}
 
 
 def simulate_many(recipes=None, *, rate=None, force=None, gravity=None, theta0=None, omega0=None, cor=None,

@@ -38,7 +38,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .._checks import check_real
+from .._checks import check_int, check_real
 from ..errors import ParameterError
 
 ALPHA = 0.05
@@ -127,7 +127,7 @@ def tryon(a, b, *, pairs, alpha=ALPHA):
     from scipy import stats
 
     alpha = check_real("alpha", alpha, low=0.0, high=0.5, low_open=True, high_open=True)
-    pairs = _positive_int("pairs", pairs)
+    pairs = check_int("pairs", pairs, low=1)
     for name, g in (("a", a), ("b", b)):
         if g.n < 2:
             raise ParameterError(f"group {name} needs at least 2 subjects, got {g.n}")
@@ -151,7 +151,7 @@ def tryon_with(a, b, *, pairs, alpha, t_pq, t_p, t_q):
 
 def from_summary(mean_a, sd_a, mean_b, sd_b, n, *, pairs=10, alpha=ALPHA):
     """Tryon statistics from two groups' means and SDs with ``n`` subjects each (the paper's Table 2)."""
-    n = _positive_int("n", n)
+    n = check_int("n", n, low=1)
     a = Group(check_real("mean_a", mean_a, low=0.0), check_real("sd_a", sd_a, low=0.0), n)
     b = Group(check_real("mean_b", mean_b, low=0.0), check_real("sd_b", sd_b, low=0.0), n)
     return tryon(a, b, pairs=pairs, alpha=alpha)
@@ -164,8 +164,8 @@ def simulate_guessing(subjects, pairs, *, runs=1000, seed=0):
     variance, which tends to √(pairs/4). (Averaging the runs' SDs instead tends to
     c₄·√(pairs/4), 1.562 for 22 subjects and 10 pairs: the paper's 1.564.)
     """
-    subjects, pairs = _positive_int("subjects", subjects), _positive_int("pairs", pairs)
-    runs = _positive_int("runs", runs)
+    subjects, pairs = check_int("subjects", subjects, low=1), check_int("pairs", pairs, low=1)
+    runs = check_int("runs", runs, low=1)
     rng = np.random.default_rng(seed)
     wrong = rng.binomial(pairs, 0.5, size=(runs, subjects))
     variance = wrong.var(axis=1, ddof=1) if subjects > 1 else np.zeros(runs)
@@ -292,8 +292,3 @@ def analyze(responses, *, alpha=ALPHA, runs=1000, seed=0):
             correlations[f"{name}_{method}"] = {"r": float(result[0]), "p": float(result[1])}
     return Analysis(wrong, tryon(a, b, pairs=pairs, alpha=alpha), correlations, runs, seed)
 
-
-def _positive_int(name, value):
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
-        raise ParameterError(f"{name} must be an integer >= 1, got {value!r}")
-    return int(value)

@@ -42,7 +42,7 @@ from pathlib import Path
 import numpy as np
 
 from .._atomic import write_atomic
-from .._checks import check_keys, check_real, read_toml
+from .._checks import check_int, check_keys, check_real, read_toml
 from .._version import __version__
 from ..errors import ParameterError
 from ..presets import PRESETS
@@ -319,10 +319,8 @@ def _check_record(record, where):
             raise ParameterError(f"{where}.{key} must be text, got {record[key]!r}")
     check_real(f"{where}.theta_max", record["theta_max"], low=-math.pi / 2, high=0.0, unit="rad")
     check_real(f"{where}.t_end", record["t_end"], low=0.0, low_open=True, unit="s")
-    for key, low in (("samples", 2), ("impacts", 0)):
-        value = record[key]
-        if isinstance(value, bool) or not isinstance(value, int) or value < low:
-            raise ParameterError(f"{where}.{key} must be an integer >= {low}, got {value!r}")
+    check_int(f"{where}.samples", record["samples"], low=2)
+    check_int(f"{where}.impacts", record["impacts"], low=0)
     for key in ("first_impact", "first_level_db"):
         if record[key] is not None:
             check_real(f"{where}.{key}", record[key])

@@ -193,13 +193,13 @@ def concat(strokes, gaps=0.0, *, limits=None, name="concat"):
     return assemble(pieces, starts, limits=limits or Limits(), name=name)
 
 
-def assemble(pieces, starts, *, limits, name, end=None, gap_names=None):
+def assemble(pieces, starts, *, limits, name, end=None):
     """Place trajectories at ``starts`` (s) on one timeline, with smooth returns between them.
 
     Before the first piece the stick holds its start angle (and winds up into
     its start speed); after the last, if ``end`` (s) is given, it returns to the
     last piece's start angle and holds there until ``end``. Raises
-    ParameterError naming ``gap_names[i]`` (default ``gaps[i]``) when a return
+    ParameterError naming ``gaps[i]`` when a return
     does not fit.
     """
     head = pieces[0].theta_max
@@ -221,7 +221,7 @@ def assemble(pieces, starts, *, limits, name, end=None, gap_names=None):
             window = starts[i + 1] - after
             plan = plan_return(_end_state(piece), _start_state(pieces[i + 1]), window, head, limits)
             if plan is None:
-                label = (gap_names or [f"gaps[{j}]" for j in range(len(pieces))])[i]
+                label = f"gaps[{i}]"
                 need = return_time(_end_state(piece), _start_state(pieces[i + 1]), head, limits)
                 needed = f"at least {need:.4g} s" if math.isfinite(need) else "a different end or start state"
                 raise ParameterError(

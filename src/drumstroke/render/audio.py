@@ -58,14 +58,13 @@ True
 
 import io
 from dataclasses import dataclass
-from numbers import Integral
 
 import numpy as np
 from scipy.signal import butter, lfilter, sosfilt
 from scipy.special import jn_zeros, jv
 
 from .._atomic import write_atomic
-from .._checks import check_real, check_vector
+from .._checks import check_int, check_real, check_vector
 from ..errors import ParameterError
 
 SAMPLE_RATE = 48000
@@ -132,8 +131,7 @@ class Drum:
             raise ParameterError(f"snares must be True or False, got {self.snares!r}")
         check_real("snare_level", self.snare_level, low=0.0, high=10.0)
         check_real("snare_decay", self.snare_decay, low=0.0, high=1.0, low_open=True, unit="s")
-        if isinstance(self.seed, bool) or not isinstance(self.seed, Integral) or self.seed < 0:
-            raise ParameterError(f"seed must be an integer in [0, inf), got {self.seed!r}")
+        check_int("seed", self.seed, low=0)
 
 
 def membrane_modes(count=N_MODES):
@@ -157,8 +155,7 @@ def membrane_modes(count=N_MODES):
     >>> orders.tolist()
     [[0, 1], [1, 1], [2, 1], [0, 2], [3, 1], [1, 2]]
     """
-    if isinstance(count, bool) or not isinstance(count, Integral) or count < 1:
-        raise ParameterError(f"count must be an integer in [1, inf), got {count!r}")
+    check_int("count", count, low=1)
     # The count lowest zeros overall have m < count and n ≤ count.
     zeros = np.array([jn_zeros(m, count) for m in range(count)])
     m, n = np.unravel_index(np.argsort(zeros, axis=None, kind="stable")[:count], zeros.shape)
@@ -271,8 +268,7 @@ def write_wav(path, signal, *, rate=SAMPLE_RATE):
     """
     soundfile = _soundfile()
     signal = check_vector("signal", signal, low=-1.0, high=1.0)
-    if isinstance(rate, bool) or not isinstance(rate, Integral) or rate <= 0:
-        raise ParameterError(f"rate must be an integer in [1, inf) Hz, got {rate!r}")
+    check_int("rate", rate, low=1, unit="Hz")
     buffer = io.BytesIO()
     soundfile.write(buffer, signal, rate, subtype="PCM_24", format="WAV")
     write_atomic(path, buffer.getvalue())

@@ -3,16 +3,20 @@
 Every file records the model that made it; every file is written atomically.
 """
 
-import json
-
 from .._atomic import write_atomic
+from .._atomic import write_json as write_json_data
 from ..palette.trajectory import csv_header, csv_text
-from ..stroke import DEFAULT_RATE, Stroke
+from ..stroke import DEFAULT_RATE
 
 
 def write_json(stroke, path):
     """Write a Stroke's or a Trajectory's ``to_dict()`` as JSON to ``path``."""
-    write_atomic(path, json.dumps(stroke.to_dict(), indent=1) + "\n")
+    write_json_data(path, stroke.to_dict())
+
+
+def write_composition_json(composition, path):
+    """Write a composition's notes, placements, impacts and problems (:func:`composition_to_dict`) as JSON."""
+    write_json_data(path, composition_to_dict(composition))
 
 
 def write_csv(stroke, path, *, rate=DEFAULT_RATE):
@@ -22,8 +26,7 @@ def write_csv(stroke, path, *, rate=DEFAULT_RATE):
     stroke's name and the rate. Units: s, rad, rad/s.
     """
     t, theta, omega = stroke.sample(rate)
-    name = stroke.recipe.name if isinstance(stroke, Stroke) else stroke.name
-    write_atomic(path, csv_text(csv_header(stroke.model, name, rate), ("t", "theta", "omega"), (t, theta, omega)))
+    write_atomic(path, csv_text(csv_header(stroke.model, stroke.name, rate), ("t", "theta", "omega"), (t, theta, omega)))
 
 
 def write_composition_csv(composition, path, *, rate=None):

@@ -62,7 +62,6 @@ class PI(_Controller):
     slots = ("kp", "ki", "", "")
 
 
-
 @dataclass(frozen=True)
 class PIDFeedforward(_Controller):
     """τ = J·α_ref + m·g·k·cos θ_ref + Kp·e + Ki·∫e + Kd·ė.
@@ -83,7 +82,6 @@ class PIDFeedforward(_Controller):
     name = "pid-ff"
     law = kernel.PID_FF
     slots = ("kp", "ki", "kd", "")
-
 
 
 @dataclass(frozen=True)

@@ -13,9 +13,11 @@ IMPEDANCE   τ = J·α_ref + m g k cos θ_ref + s·(Kp·e + Kd·ė)        gains
             with s = floor + (1 − floor)·min(1, (θ_ref − θ_head)/band): a stiff arm in the
             air and a soft one near the head, so the contact bounces the stick, not the motor.
 
-e = θ_ref − θ̂, ė = ω_ref − ω̂, with θ̂ the encoder reading and ω̂ its difference over
-one period through a first-order filter (time constant one period). The integral
-is clamped so Ki·∫e stays within the torque limit (anti-windup).
+e = θ_ref − θ̂, ė = ω_ref − ω̂, with θ̂ the encoder reading and ω̂ the estimate of
+:func:`estimate_speed` (with :data:`SPEED_FILTER` = 1, the encoder's difference over one
+period). The integral is clamped so Ki·∫e stays within the torque limit (anti-windup).
+The impedance controller's ``lead`` acts on the reference, before the loop
+(:func:`drumstroke.robot.track.lead_in_contact`).
 """
 
 import math
@@ -88,14 +90,16 @@ def _accel(theta, omega, tau, J, mgk, b, tc, head, K, B):
     return (tau - mgk * math.cos(theta) - friction + contact) / J
 
 
-@njit(cache=True)
-def _limit(tau, omega, tau_max, w_max):
-    """The DC motor's torque–speed line: less torque the faster it already turns that way."""
+def limit_torque(tau, omega, tau_max, w_max):
+    """The DC motor's torque–speed line: the torque (N·m) it gives for ``tau``, less the faster it already turns that way."""
     if tau * omega > 0.0:
         top = tau_max * max(0.0, 1.0 - abs(omega) / w_max)
     else:
         top = tau_max
     return min(max(tau, -top), top)
+
+
+_limit = njit(cache=True)(limit_torque)
 
 
 @njit(cache=True)
@@ -116,7 +120,7 @@ def command(law, gains, ref_theta, ref_omega, ref_alpha, measured, omega_hat, in
 
 
 def estimate_speed(omega_hat, measured, measured_prev, rate):
-    """The speed estimate's update: the encoder's difference over a period through a first-order filter."""
+    """The speed estimate's update (rad/s): ``SPEED_FILTER`` of the way to the encoder's difference over a period."""
     return omega_hat + SPEED_FILTER * ((measured - measured_prev) * rate - omega_hat)
 
 

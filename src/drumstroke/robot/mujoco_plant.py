@@ -27,7 +27,7 @@ The model, built from a :class:`~drumstroke.robot.plant.Plant`:
   ζ and ω_n are calibrated (:func:`contact_solref`) by MuJoCo drops, so the joint
   dropped with the motor off rebounds with the head's c after ``plant.contact_time``;
 - a ``<motor>`` on the hinge (gear 1, ctrlrange ±τ_max); the DC motor's torque–speed
-  line is applied before each step (:func:`drumstroke.robot.kernel._limit`'s rule).
+  line is applied before each step (:func:`drumstroke.robot.kernel.limit_torque`).
 
 Integrated with RK4 (MuJoCo's explicit fourth order, like the simple plant's) at the
 control period / ``plant.substeps`` (25 µs by default): the contact's natural period,
@@ -324,7 +324,7 @@ def _run(model, plant, law, gains, ref_theta, ref_omega, ref_alpha, rate, theta0
     data.qpos[0], data.qvel[0] = theta0, omega0
     qpos, qvel, ctrl = data.qpos, data.qvel, data.ctrl
     step = mujoco.mj_step
-    limit = kernel._limit.py_func  # the motor's torque–speed line, as the compiled loop applies it
+    limit = kernel.limit_torque  # the motor's torque–speed line, as the compiled loop applies it
     command = kernel.command
     estimate_speed, quantize = kernel.estimate_speed, kernel.quantize
     J, mgk, tau_max, w_max, q, head = (plant.inertia, plant.gravity_torque, plant.max_torque, plant.max_speed,

@@ -34,11 +34,12 @@ from functools import lru_cache
 
 import numpy as np
 
-from .._checks import check_keys, check_real, read_toml
+from .._checks import check_int, check_keys, check_real, read_toml
 from ..errors import ParameterError
 from ..model import Stick, inertia_ratio
+from ..recipe import STANDARD_GRAVITY
 
-GRAVITY = 9.8
+GRAVITY = STANDARD_GRAVITY
 """m/s²."""
 
 
@@ -90,10 +91,8 @@ class Plant:
         check_real("viscous", self.viscous, low=0.0, high=10.0, unit="N m s/rad")
         check_real("coulomb", self.coulomb, low=0.0, high=10.0, unit="N m")
         check_real("contact_time", self.contact_time, low=5e-4, high=0.05, unit="s")
-        for name, low, high in (("encoder_counts", 16, 2**24), ("substeps", 4, 1000)):
-            value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
-                raise ParameterError(f"{name} must be an integer in [{low}, {high}], got {value!r}")
+        check_int("encoder_counts", self.encoder_counts, low=16, high=2**24)
+        check_int("substeps", self.substeps, low=4, high=1000)
 
     @property
     def inertia(self):

@@ -17,6 +17,7 @@ import numpy as np
 from .._checks import check_real
 from ..errors import ParameterError
 from ..palette.transforms import as_trajectory
+from ..recipe import DEFAULT_COR
 from ..stroke import DEFAULT_RATE
 from .kernel import run_loop
 from .plant import Plant, contact_gains
@@ -67,7 +68,7 @@ def reference(source, rate=DEFAULT_RATE, *, cor=None):
     rate = check_real("rate", rate, low=10.0, high=1e5, unit="Hz")
     trajectory = as_trajectory(source)
     if cor is None:
-        cor = trajectory.recipe.cor if trajectory.recipe is not None else 0.86
+        cor = trajectory.recipe.cor if trajectory.recipe is not None else DEFAULT_COR
     cor = check_real("cor", cor, low=0.0, high=1.0)
     t, theta, omega = trajectory.sample(rate)
     alpha = _flight_acceleration(trajectory, t)

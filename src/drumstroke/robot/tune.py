@@ -15,6 +15,7 @@ from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
+from .._checks import check_int
 from ..errors import ParameterError
 from .metrics import WINDOW, metrics
 from .track import track
@@ -71,8 +72,7 @@ def tune(references, controller, *, plant=None, per_stroke=False, evaluations=15
     references = list(references)
     if not references:
         raise ParameterError("references must hold at least one stroke")
-    if isinstance(evaluations, bool) or not isinstance(evaluations, int) or not 1 <= evaluations <= 10000:
-        raise ParameterError(f"evaluations must be an integer in [1, 10000], got {evaluations!r}")
+    check_int("evaluations", evaluations, low=1, high=10000)
     groups = [[r] for r in references] if per_stroke else [references]
     names = [f.name for f in fields(controller)]
     tuned, count = [], 0
