@@ -33,7 +33,7 @@ class _Parser(argparse.ArgumentParser):
 
 def main(argv=None):
     """Run the command line with ``argv`` (default: ``sys.argv[1:]``); return the exit status."""
-    parser = _build_parser()
+    parser = build_parser()
     args = parser.parse_args(argv)
     if not hasattr(args, "run"):
         parser.print_help()
@@ -58,7 +58,7 @@ def main(argv=None):
         return 130
 
 
-def _build_parser():
+def build_parser():
     parser = _Parser(prog="drumstroke", description="Drum strokes from a physical model of a bouncing stick.")
     parser.add_argument("--version", action="version", version=f"drumstroke {__version__}")
     commands = parser.add_subparsers(dest="command", parser_class=_Parser, metavar="COMMAND")
