@@ -15,7 +15,7 @@ inputs: the recipe, its profiles (called at interior points of each piece) and
 * Zeno: once a launch speed L is below 1e-6 rad/s and the bounce rises less than 1e-12
   rad (L²/(2A) with A = C·cos θ_max), the rest of the geometric series is summed:
   the stick rests from t + 2L/(A(1 − c)). This is drumstroke's documented rule
-  (``drumstroke.solver.rules.ZENO_SPEED``/``ZENO_HEIGHT``), so both list the same
+  (``drumstroke.solver.constants.ZENO_SPEED``/``ZENO_HEIGHT``), so both list the same
   impacts. A tail that runs into the next piece has its remaining time scaled by
   C_old/C_new (as drumstroke does; it lasts microseconds).
 * Rest holds while C ≥ 0; the stick lifts off (ω = 0) when C turns negative.

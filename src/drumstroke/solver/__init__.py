@@ -2,6 +2,6 @@
 
 from .arcs import Arcs
 from .hybrid import MAX_IMPACTS, Solution, solve
-from .rules import ZENO_HEIGHT, ZENO_SPEED
+from .constants import ZENO_HEIGHT, ZENO_SPEED
 
 __all__ = ["Arcs", "MAX_IMPACTS", "ZENO_HEIGHT", "ZENO_SPEED", "Solution", "solve"]

@@ -14,10 +14,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-REST, ELLIPTIC, TAYLOR = 0, 1, 2
+from .constants import ELLIPTIC, REST, TAYLOR, TAYLOR_ORDER
 
-TAYLOR_ORDER = 24
-"""Degree of the Taylor arcs' polynomials (the integrator's order)."""
+__all__ = ["Arcs", "ELLIPTIC", "REST", "TAYLOR", "TAYLOR_ORDER"]
 
 
 @dataclass(frozen=True)

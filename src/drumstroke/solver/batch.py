@@ -17,7 +17,7 @@ import numpy as np
 from numba import njit, prange
 
 from .elliptic import flight_time, parameter, to_head
-from .rules import NEARLY_VERTICAL
+from .constants import NEARLY_VERTICAL
 from .taylor import zeno_floor
 
 OK, UNSUPPORTED, TOO_MANY = 0, 1, 2

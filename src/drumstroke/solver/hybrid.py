@@ -16,7 +16,7 @@ crosses an edge. On a piece:
 
 **Zeno.** With c < 1 and the forcing pressing down, the bounces accumulate:
 infinitely many impacts before a finite time. Once a launch speed L is below
-:data:`.rules.ZENO_SPEED` and the bounce rises less than :data:`.rules.ZENO_HEIGHT`
+:data:`.constants.ZENO_SPEED` and the bounce rises less than :data:`.constants.ZENO_HEIGHT`
 (L²/(2A) with A = C·cos θ_max), flights are so short that the forcing is
 constant over the rest of them and each lasts 2L/A (the error of that
 parabola is O(L²) relative, below 1e-12). The tail of the geometric series

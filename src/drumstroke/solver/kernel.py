@@ -18,8 +18,7 @@ import numpy as np
 from numba import njit
 
 from . import elliptic
-from .arcs import ELLIPTIC, REST, TAYLOR, TAYLOR_ORDER
-from .rules import NEARLY_VERTICAL
+from .constants import ELLIPTIC, NEARLY_VERTICAL, REST, TAYLOR, TAYLOR_ORDER
 from .taylor import DONE as _TAYLOR_DONE
 from .taylor import SETTLE as _TAYLOR_SETTLE
 from .taylor import TOO_MANY as _TAYLOR_TOO_MANY

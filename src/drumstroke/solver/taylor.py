@@ -28,13 +28,13 @@ import math
 import numpy as np
 from numba import njit
 
-from . import rules
-from .arcs import TAYLOR_ORDER as ORDER
+from . import constants
+from .constants import TAYLOR_ORDER as ORDER
 
 TOLERANCE = 1e-16
 GRID = 32
 
-zeno_floor = njit(cache=True)(rules.zeno_floor)
+zeno_floor = njit(cache=True)(constants.zeno_floor)
 
 # run_piece's outcomes
 DONE, REST, SETTLE, VERTICAL, TOO_MANY = 0, 1, 2, 3, 4
@@ -190,7 +190,7 @@ def run_piece(t, theta, omega, lifting, ts, te, c0, c1, theta_max, cor, max_step
     -------
     outcome : int
         DONE (reached ``te`` in flight), REST (lies on the head from ``t``),
-        SETTLE (a launch below the Zeno floor of :mod:`.rules` under
+        SETTLE (a launch below the Zeno floor of :mod:`.constants` under
         forcing C = ``extra``: sum the tail),
         VERTICAL (reaches π/2 at time ``extra``), TOO_MANY (impact limit).
     t, theta, omega : float

@@ -1,6 +1,17 @@
-"""The solver's thresholds, in one place for the Python solver and the compiled kernels."""
+"""The solver's shared constants, in one place for the Python solver and the compiled kernels.
+
+The arc kinds and the Taylor order are read by the kernels that write arcs and by
+:mod:`.arcs`, which reads them; the thresholds by every kernel. Keeping them here,
+below all of those modules, keeps the solver's imports one-way.
+"""
 
 import math
+
+REST, ELLIPTIC, TAYLOR = 0, 1, 2
+"""Kinds of arc: the stick at rest on the head; a closed-form flight; a Taylor step (see :mod:`.arcs`)."""
+
+TAYLOR_ORDER = 24
+"""Degree of the Taylor arcs' polynomials (the integrator's order)."""
 
 ZENO_SPEED = 1e-6
 """Launch speed (rad/s) below which the rest of a bounce sequence is summed, not simulated..."""
