@@ -58,7 +58,7 @@ def test_batch_mixes_kernel_and_general_strokes():
 def test_trajectories_on_request():
     batch = drumstroke.simulate_many(["free-bounce", "constant"], rate=100.0)
     t, theta, omega = batch.trajectories[1]
-    assert len(t) == 501 and np.array_equal(theta, drumstroke.simulate("constant").sample(100.0)[1])
+    assert len(t) == 501 and np.array_equal(theta, drumstroke.simulate("constant").sample(100.0).theta)
 
 
 def test_parameter_arrays_equal_the_recipes_they_describe(rng):

@@ -155,7 +155,7 @@ def test_another_rate_puts_samples_on_its_grid(palette, tmp_path):
         t, _, _ = read_csv(path)
         assert np.array_equal(t, np.arange(len(t)) / 500.0)
         assert "rate=500 Hz" in path.read_text().split("\n", 1)[0]
-        assert np.array_equal(loaded[name].trajectory.sample(500.0)[0], t)
+        assert np.array_equal(loaded[name].trajectory.sample(500.0).t, t)
     assert len(read_csv(stroke_files(tmp_path, "free-bounce")[1])[0]) == 2501
 
 
@@ -401,7 +401,7 @@ def test_a_rebuild_replaces_the_old_library(palette, library_a):
     loaded = load_library(folder)
     assert list(loaded) == [e.name for e in other_entries(palette)]
     for name in loaded:
-        assert np.array_equal(loaded[name].trajectory.sample(1000.0)[1], built[name].trajectory.sample(1000.0)[1])
+        assert np.array_equal(loaded[name].trajectory.sample(1000.0).theta, built[name].trajectory.sample(1000.0).theta)
 
 
 # --- palette files -------------------------------------------------------------------------------------------------

@@ -23,7 +23,7 @@ HEAD = Stick().theta_max
 def stroke():
     """The shipped palette's double stroke at 1 kHz: two impacts and their rebounds, 549 samples."""
     entry = next(e for e in read_palette() if e.name == "double")
-    return entry.make().sample(RATE)
+    return tuple(entry.make().sample(RATE))  # t, theta, omega
 
 
 def bad_copy(stroke, index=123):

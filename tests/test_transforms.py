@@ -74,7 +74,7 @@ def stroke_from(theta0, omega0, force, t_end=1.5, **recipe):
 def assert_same_trajectory(a, b, times, tol=IDENTITY_TOL):
     """θ, ω at ``times`` and at 1 kHz, the impacts and ω after them agree within ``tol``."""
     assert abs(a.t_end - b.t_end) <= tol
-    for x, y in ((a.state(times), b.state(times)), (a.sample(1000.0)[1:], b.sample(1000.0)[1:])):
+    for x, y in ((a.state(times), b.state(times)), (a.sample(1000.0).columns()[1:], b.sample(1000.0).columns()[1:])):
         np.testing.assert_allclose(x[0], y[0], rtol=0, atol=tol)
         np.testing.assert_allclose(x[1], y[1], rtol=0, atol=tol)
     assert len(a.impacts) == len(b.impacts)
@@ -375,7 +375,7 @@ def check_returns(c, pieces, starts, limits):
         assert (np.abs(np.diff(omega)) / np.diff(t)).max() <= limits.max_acceleration * (1 + 1e-6)
         assert theta.min() >= c.theta_max and theta.max() <= THETA_TOP
     # No jump anywhere: θ moves at most max|ω|·dt between 10 kHz samples.
-    theta, omega = c.sample(1.0 / dt)[1:]
+    theta, omega = c.sample(1.0 / dt).columns()[1:]
     assert np.abs(np.diff(theta)).max() <= np.abs(omega).max() * dt * 1.01
 
 

@@ -15,7 +15,8 @@ from .model import MODELS, Stick
 from .presets import PRESETS, preset
 from .profiles import Constant, PiecewiseLinear, Profile, Pulses, Samples, Sum
 from .recipe import Recipe
-from .stroke import Batch, Impacts, Stroke, simulate, simulate_many
+from .stroke import Batch, Stroke, simulate, simulate_many
+from .trajectory import Impacts, Trajectory
 
 __all__ = [
     "__version__",
@@ -35,6 +36,7 @@ __all__ = [
     "Stick",
     "Stroke",
     "Sum",
+    "Trajectory",
     "preset",
     "simulate",
     "simulate_many",

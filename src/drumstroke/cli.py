@@ -20,7 +20,8 @@ from ._checks import check_real
 from .errors import DrumstrokeError, ParameterError
 from .model import MODELS, inertia_ratio
 from .presets import PRESETS
-from .stroke import DEFAULT_RATE, simulate
+from .stroke import simulate
+from .trajectory import DEFAULT_RATE
 
 FIGURES = {p.figure: name for name, p in PRESETS.items() if p.figure}
 """The paper's figures and the presets that reproduce them."""
@@ -411,7 +412,7 @@ def _robot_limits(data):
 
 def _robot_source(args, plant):
     """The stroke SOURCE names, as a Trajectory."""
-    from .palette.transforms import as_trajectory
+    from .stroke import as_trajectory
 
     source = args.source
     if args.library:

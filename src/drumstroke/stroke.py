@@ -28,47 +28,7 @@ from .presets import PRESETS, preset
 from .profiles import ACCELERATION_LIMIT, Constant, Profile, named
 from .recipe import DEFAULT_COR, OMEGA_LIMIT, STANDARD_GRAVITY, T_END_LIMIT, Recipe
 from .solver import MAX_IMPACTS, Arcs, solve
-
-LEVEL_REFERENCE = 1.0
-"""Tip speed (m/s) of a 0 dB impact: ``level_db = 20·log10(tip_speed / 1 m/s)``."""
-
-DEFAULT_RATE = 1000.0
-"""Sampling rate (Hz): the robot's control rate."""
-
-MAX_SAMPLES = 50_000_000
-
-
-@dataclass(frozen=True)
-class Impacts:
-    """The impacts of a stroke.
-
-    Attributes
-    ----------
-    t : ndarray [shape=(n,)]
-        Impact times (s), strictly increasing.
-    omega : ndarray [shape=(n,)]
-        Angular speed just before each impact (rad/s, ≤ 0).
-    tip_distance : float
-        x, fulcrum to tip (m).
-    """
-
-    t: np.ndarray
-    omega: np.ndarray
-    tip_distance: float
-
-    def __len__(self):
-        return len(self.t)
-
-    @property
-    def tip_speed(self):
-        """|ω⁻|·x, the tip's speed at each impact (m/s) [shape=(n,)]."""
-        return np.abs(self.omega) * self.tip_distance
-
-    @property
-    def level_db(self):
-        """20·log10(tip speed / 1 m/s), the dynamic level of each impact (dB) [shape=(n,)]."""
-        with np.errstate(divide="ignore"):
-            return 20.0 * np.log10(self.tip_speed / LEVEL_REFERENCE)
+from .trajectory import DEFAULT_RATE, LEVEL_REFERENCE, Impacts, Trajectory
 
 
 @dataclass(frozen=True)
@@ -134,7 +94,11 @@ class Stroke:
         return self.arcs.evaluate(t)
 
     def sample(self, rate=DEFAULT_RATE):
-        """The trajectory at ``rate`` samples per second, exact at each sample time.
+        """The stroke as a :class:`~drumstroke.trajectory.Trajectory` at ``rate`` samples per second.
+
+        Exact at each sample time (it reads the solver's arcs). It unpacks as its columns,
+        ``t, theta, omega = stroke.sample(rate)``: t = k/rate for k = 0, 1, … up to
+        ``t_end`` (s), θ (rad, never below the head), ω (rad/s).
 
         Parameters
         ----------
@@ -143,23 +107,11 @@ class Stroke:
 
         Returns
         -------
-        t : ndarray [shape=(n,)]
-            k/rate for k = 0, 1, … up to ``t_end`` (s).
-        theta : ndarray [shape=(n,)]
-            rad, never below the head.
-        omega : ndarray [shape=(n,)]
-            rad/s.
+        Trajectory
         """
-        rate = check_real("rate", rate, low=0.0, high=1e6, low_open=True, unit="Hz")
-        n = math.floor(self.t_end * rate * (1.0 + 1e-12)) + 1
-        if n > MAX_SAMPLES:
-            raise ParameterError(
-                f"rate = {rate:g} Hz over t_end = {self.t_end:g} s gives {n} samples; at most {MAX_SAMPLES} "
-                f"are allowed (rate must be at most {MAX_SAMPLES / self.t_end:g} Hz for this stroke)"
-            )
-        t = np.minimum(np.arange(n) / rate, self.t_end)
-        theta, omega = self.arcs.evaluate(t, spacing=1.0 / rate)
-        return t, theta, omega
+        trajectory = Trajectory.from_stroke(self, rate=rate)
+        len(trajectory)  # refuses too many samples now, not when they are read
+        return trajectory
 
     def to_dict(self):
         """The stroke as plain data for JSON: model, recipe, impacts, rests."""
@@ -250,6 +202,25 @@ def simulate(
     )
     impacts = Impacts(solution.impact_t, solution.impact_omega, recipe.stick.pivot_to_tip)
     return Stroke(recipe=recipe, impacts=impacts, rests=solution.rests, arcs=solution.arcs)
+
+
+def as_trajectory(source, *, rate=None):
+    """A one-stick :class:`~drumstroke.trajectory.Trajectory` from a Trajectory or a Stroke (exact).
+
+    Parameters
+    ----------
+    source : Trajectory or Stroke
+    rate : float in (0, 1e6] or None
+        Hz; default a Trajectory's own, a Stroke's :data:`~drumstroke.trajectory.DEFAULT_RATE`.
+    """
+    if isinstance(source, Stroke):
+        return source.sample(DEFAULT_RATE if rate is None else rate)
+    if isinstance(source, Trajectory):
+        if len(source.sticks) != 1:
+            raise ParameterError(f"stroke must be a one-stick trajectory; this one has the sticks "
+                                 f"{', '.join(source.sticks)}: pick one with trajectory.stick(name)")
+        return source.sample(rate)
+    raise ParameterError(f"stroke must be a drumstroke Stroke or Trajectory, got {source!r}")
 
 
 def resolve(recipe):

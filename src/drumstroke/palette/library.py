@@ -47,8 +47,9 @@ from .._version import __version__
 from ..errors import ParameterError
 from ..presets import PRESETS
 from ..recipe import Recipe
-from ..stroke import DEFAULT_RATE, Impacts, simulate
-from .trajectory import Trajectory, csv_header, csv_text, read_csv
+from ..stroke import simulate
+from ..trajectory import DEFAULT_RATE, Impacts, Trajectory
+from .trajectory import csv_header, csv_text, read_csv
 from .transforms import apply_steps, trim
 
 FORMAT = "drumstroke-library"

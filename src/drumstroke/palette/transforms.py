@@ -34,8 +34,8 @@ import numpy as np
 
 from .._checks import check_real
 from ..errors import ParameterError
-from ..stroke import Impacts, Stroke
-from .trajectory import THETA_TOP, Trajectory
+from ..stroke import Stroke, as_trajectory
+from ..trajectory import THETA_TOP, Impacts, Trajectory
 
 STRETCH_LIMIT = 100.0
 """Largest stretch factor (and 1/smallest)."""
@@ -59,15 +59,6 @@ class Limits:
     def __post_init__(self):
         check_real("max_speed", self.max_speed, low=0.0, high=1000.0, low_open=True, unit="rad/s")
         check_real("max_acceleration", self.max_acceleration, low=0.0, high=1e6, low_open=True, unit="rad/s^2")
-
-
-def as_trajectory(stroke):
-    """A :class:`Trajectory` from a Trajectory or a Stroke (exact)."""
-    if isinstance(stroke, Trajectory):
-        return stroke
-    if isinstance(stroke, Stroke):
-        return Trajectory.from_stroke(stroke)
-    raise ParameterError(f"stroke must be a drumstroke Stroke or Trajectory, got {stroke!r}")
 
 
 def stretch(stroke, factor):
@@ -243,17 +234,11 @@ def assemble(pieces, starts, *, limits, name, end=None):
     after = np.concatenate([p.omega_after for p in pieces])
     models = sorted({p.model for p in pieces})
     recipes = {id(p.recipe) for p in pieces}
-    return Trajectory(
-        name=name,
-        model=models[0] if len(models) == 1 else "mixed",
-        theta_max=head,
-        t_end=float(t_end),
-        impacts=Impacts(impacts_t, omega, pieces[0].impacts.tip_distance),
-        omega_after=after,
-        path=_sequence(segments),
+    return Trajectory.single(
+        _sequence(segments), Impacts(impacts_t, omega, pieces[0].impacts.tip_distance), after, theta_max=head,
+        t_end=float(t_end), rate=pieces[0].rate, name=name, model=models[0] if len(models) == 1 else "mixed",
         recipe=pieces[0].recipe if len(recipes) == 1 else None,
-        history=(f"{name} of " + ", ".join(p.name for p in pieces),),
-    )
+        history=(f"{name} of " + ", ".join(p.name for p in pieces),))
 
 
 # --- returns between strokes: quintic moves with zero end accelerations --------------------------------------------
@@ -412,9 +397,10 @@ def _then(outer, inner):
     return lambda t: inner(outer(t))
 
 
-def _derived(s, step, **fields):
-    return Trajectory(name=s.name, model=s.model, theta_max=s.theta_max, recipe=s.recipe,
-                      history=(*s.history, step), **fields)
+def _derived(s, step, *, path, t_end, impacts, omega_after, recipe_time):
+    return Trajectory.single(path, impacts, omega_after, theta_max=s.theta_max, t_end=t_end, rate=s.rate,
+                             stick=s.sticks[0], name=s.name, model=s.model, recipe=s.recipe,
+                             history=(*s.history, step), recipe_time=recipe_time)
 
 
 STEPS = ("stretch", "compress", "reverse", "trim", "catch")

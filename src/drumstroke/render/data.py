@@ -6,7 +6,7 @@ Every file records the model that made it; every file is written atomically.
 from .._atomic import write_atomic
 from .._atomic import write_json as write_json_data
 from ..palette.trajectory import csv_header, csv_text
-from ..stroke import DEFAULT_RATE
+from ..trajectory import DEFAULT_RATE
 
 
 def write_json(stroke, path):

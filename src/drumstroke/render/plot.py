@@ -11,8 +11,7 @@ import numpy as np
 
 from .._atomic import write_atomic
 from ..model import inertia_ratio
-from ..palette.transforms import as_trajectory
-from ..stroke import Stroke
+from ..stroke import Stroke, as_trajectory
 
 try:
     from matplotlib.figure import Figure

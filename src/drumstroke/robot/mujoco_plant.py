@@ -59,7 +59,7 @@ except ImportError as error:  # pragma: no cover - exercised only where mujoco i
 from .._checks import check_real
 from ..errors import ParameterError
 from ..model import inertia_ratio
-from ..stroke import DEFAULT_RATE
+from ..trajectory import DEFAULT_RATE
 from . import kernel
 from .plant import GRAVITY, Drop, Plant
 from .track import Played, Reference, lead_in_contact

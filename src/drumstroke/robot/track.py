@@ -16,9 +16,9 @@ import numpy as np
 
 from .._checks import check_real
 from ..errors import ParameterError
-from ..palette.transforms import as_trajectory
 from ..recipe import DEFAULT_COR
-from ..stroke import DEFAULT_RATE
+from ..stroke import as_trajectory
+from ..trajectory import DEFAULT_RATE, Trajectory
 from .kernel import run_loop
 from .plant import Plant, contact_gains
 
@@ -84,16 +84,9 @@ def trajectory_from_samples(t, theta, omega, *, head, tip_distance, name="trajec
     two periods' travel of the head; its time is where sample k's motion reaches
     the head, t_k + (θ_k − θ_head)/|ω_k| (to a small fraction of a period).
     """
-    from ..palette.trajectory import Trajectory
-    from ..stroke import Impacts
-
-    t, theta, omega = (np.asarray(a, dtype=float) for a in (t, theta, omega))
-    dt = np.diff(t)
-    near = theta[:-1] - head <= 2.0 * np.abs(omega[:-1]) * dt + 1e-9  # twice: the stick speeds up on its way
-    k = np.flatnonzero((omega[:-1] < 0.0) & (omega[1:] > 0.0) & near)
-    when = t[k] + np.clip((theta[k] - head) / -omega[k], 0.0, dt[k]) - t[0]
-    return Trajectory.from_samples(t - t[0], theta, omega, Impacts(when, omega[k].copy(), tip_distance),
-                                   omega[k + 1].copy(), theta_max=head, name=name, model=model)
+    t = np.asarray(t, dtype=float)
+    return Trajectory.from_samples(t - t[0], theta, omega, theta_max=head, tip_distance=tip_distance, name=name,
+                                   model=model)
 
 
 def lead_in_contact(ref, lead):
