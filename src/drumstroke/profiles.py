@@ -16,6 +16,66 @@ Kinds (values in m/s², times in s):
                       between samples and constant beyond them.
 ``sum``               the sum of other profiles.
 
+A recipe's table names its kind (``kind = "pulses"``); :func:`profile_from_dict`
+finds the class registered under that name and builds it with the class's
+:meth:`Profile.from_table`.
+
+Adding a kind
+-------------
+A kind is a subclass of :class:`Profile` that sets ``kind`` and declares its
+``parameters``; defining the class registers it, and recipes, sums, sweeps and
+``simulate`` take it at once. Nothing else in the package is edited. Ranges are
+checked in ``__post_init__``, with messages that start with the kind's name so
+that an error in a recipe names the table (``force.duration must be ...``).
+A ramp from ``start`` to ``end`` (m/s²) over the first ``duration`` (s), constant
+after it::
+
+    from dataclasses import dataclass
+
+    import numpy as np
+
+    from drumstroke import ParameterError
+    from drumstroke.profiles import Parameter, Profile
+
+    @dataclass(frozen=True)
+    class Ramp(Profile):
+        start: float
+        end: float
+        duration: float
+        kind = "ramp"
+        parameters = (
+            Parameter("start", unit="m/s^2", description="value at t = 0"),
+            Parameter("end", unit="m/s^2", description="value from t = duration on"),
+            Parameter("duration", unit="s", description="length of the ramp, > 0"),
+        )
+
+        def __post_init__(self):
+            if not self.duration > 0:
+                raise ParameterError(f"ramp.duration must be > 0 s, got {self.duration!r}")
+
+        def __call__(self, t):
+            return np.interp(t, [0.0, self.duration], [self.start, self.end])
+
+        def _breaks(self, t_end):
+            return np.array([self.duration])
+
+        def _start_and_slope(self, left, tol):
+            slope = (self.end - self.start) / self.duration
+            return self(left), np.where(left + tol < self.duration, slope, 0.0)
+
+after which a recipe may say::
+
+    [force]
+    kind = "ramp"
+    start = 10.0
+    end = 220.0
+    duration = 1.5
+
+The default :meth:`Profile.from_table` refuses unknown and missing keys and
+calls ``cls(**table)``; the default :meth:`Profile.to_dict` writes ``kind`` and
+the declared parameters. Override either when the table is not the
+constructor's arguments (``samples`` resolves its file, ``sum`` builds parts).
+
 Examples
 --------
 >>> ramp = PiecewiseLinear([(0.0, 10.0), (1.0, 10.0), (2.0, 220.0)])
@@ -24,12 +84,16 @@ Examples
 >>> pulses = Pulses(amplitude=189.0, period=0.4, duty=0.05)
 >>> [float(v) for v in pulses([0.0, 0.019, 0.021, 0.4])]
 [189.0, 189.0, 0.0, 189.0]
+>>> profile_from_dict({"kind": "constant", "value": 9.8})
+Constant(value=9.8)
+>>> kinds()
+('constant', 'piecewise-linear', 'pulses', 'samples', 'sum')
 """
 
 import csv
 import math
 from contextlib import contextmanager
-from dataclasses import dataclass, field
+from dataclasses import KW_ONLY, dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -99,10 +163,84 @@ def merge_edges(edges, t_end):
     return edges
 
 
+@dataclass(frozen=True)
+class Parameter:
+    """One key of a profile kind's recipe table, as the kind declares it.
+
+    Parameters
+    ----------
+    name : str
+        The key (``"amplitude"``).
+    unit : str
+        SI unit of the value (``"m/s^2"``, ``"s"``); ``""`` for a number without one or a non-number.
+    required : bool
+        Whether a table must give the key; an optional one takes the class's default.
+    description : str
+        What the value is and its allowed range, for people and generated docs.
+    """
+
+    name: str
+    _: KW_ONLY
+    unit: str = ""
+    required: bool = True
+    description: str = ""
+
+
+_REGISTRY = {}
+"""Every profile class by its kind, in the order they were defined."""
+
+
 class Profile:
-    """Base of all profiles: a function of time (s) with values in m/s²."""
+    """Base of all profiles: a function of time (s) with values in m/s².
+
+    A subclass that sets ``kind`` is registered under that name (see "Adding a
+    kind" in :mod:`drumstroke.profiles`); one that does not, like this base, is
+    not.
+
+    Attributes
+    ----------
+    kind : str
+        The name a recipe table gives in its ``kind`` key.
+    parameters : tuple of Parameter
+        The table's other keys, in the order messages and :meth:`to_dict` list them.
+    """
 
     kind = ""
+    parameters = ()
+
+    def __init_subclass__(cls, **kwargs):
+        super().__init_subclass__(**kwargs)
+        if cls.__dict__.get("kind"):
+            _register(cls)
+
+    @classmethod
+    def from_table(cls, table, *, name, base_dir):
+        """Build the profile from a recipe table without its ``kind`` key.
+
+        Parameters
+        ----------
+        table : dict
+            The declared parameters by name; :meth:`check_table` says which are allowed.
+        name : str
+            Where the table came from, for error messages (``"force"``, ``"gravity.parts[1]"``).
+        base_dir : Path or None
+            Directory that file names in the table are relative to.
+
+        Returns
+        -------
+        Profile
+            An instance of ``cls``.
+        """
+        cls.check_table(table, name=name)
+        return cls(**table)
+
+    @classmethod
+    def check_table(cls, table, *, name):
+        """Refuse a key of ``table`` that is not a declared parameter, or a required parameter it lacks."""
+        check_keys(f"{name} ({cls.kind})", table, [p.name for p in cls.parameters])
+        missing = [p.name for p in cls.parameters if p.required and p.name not in table]
+        if missing:
+            raise ParameterError(f"{name} ({cls.kind}) needs the key {missing[0]!r}")
 
     def __call__(self, t):
         """The profile's value at times ``t`` (s) [any shape]; right-continuous at jumps."""
@@ -120,17 +258,17 @@ class Profile:
         return Pieces(edges, np.asarray(values, dtype=float), np.asarray(slopes, dtype=float))
 
     def to_dict(self):
-        """The profile as a plain dict, in the form a recipe's table takes."""
-        raise NotImplementedError
+        """The profile as a plain dict, in the form a recipe's table takes: ``kind``, then each parameter."""
+        return {"kind": self.kind, **{p.name: getattr(self, p.name) for p in self.parameters}}
 
     def _breaks(self, t_end):
-        """Times in [0, t_end] where the profile jumps or bends."""
+        """Times in [0, t_end] (s) where the profile jumps or bends [shape=(n,)], in any order."""
         raise NotImplementedError
 
     def _start_and_slope(self, left, tol):
-        """Value just after each time in ``left`` and the slope that follows it.
+        """Value just after each time in ``left`` (s) and the slope that follows it, as (values, slopes).
 
-        An edge of the profile within ``tol`` after a time counts as at it.
+        An edge of the profile within ``tol`` (s) after a time counts as at it.
         """
         raise NotImplementedError
 
@@ -138,6 +276,30 @@ class Profile:
         if not isinstance(other, Profile):
             return NotImplemented
         return Sum([self, other])
+
+
+def _register(cls):
+    """Add ``cls`` to the registry under its kind; a class defined again (a re-run notebook cell) replaces itself."""
+    kind, parameters = cls.kind, cls.parameters
+    if not isinstance(kind, str):
+        raise ParameterError(f"{cls.__qualname__}.kind must be a string, got {kind!r}")
+    if not isinstance(parameters, tuple) or not all(isinstance(p, Parameter) for p in parameters):
+        raise ParameterError(f"{cls.__qualname__}.parameters must be a tuple of Parameter, got {parameters!r}")
+    names = [p.name for p in parameters]
+    if len(set(names)) != len(names) or "kind" in names:
+        raise ParameterError(f"{cls.__qualname__}.parameters must have distinct names other than 'kind', got {names}")
+    known = _REGISTRY.get(kind)
+    if known is not None and (known.__module__, known.__qualname__) != (cls.__module__, cls.__qualname__):
+        raise ParameterError(
+            f"profile kind {kind!r} is already registered by {known.__module__}.{known.__qualname__}; "
+            f"give {cls.__module__}.{cls.__qualname__} another kind"
+        )
+    _REGISTRY[kind] = cls
+
+
+def kinds():
+    """The names of every registered profile kind, built-in ones first, in the order they were defined."""
+    return tuple(_REGISTRY)
 
 
 @dataclass(frozen=True, eq=True)
@@ -152,6 +314,7 @@ class Constant(Profile):
 
     value: float
     kind = "constant"
+    parameters = (Parameter("value", unit="m/s^2", description="the value for all t, |value| <= 1e6"),)
 
     def __post_init__(self):
         object.__setattr__(self, "value", _check_level("constant.value", self.value))
@@ -164,9 +327,6 @@ class Constant(Profile):
 
     def _start_and_slope(self, left, tol):
         return np.full(len(left), self.value), np.zeros(len(left))
-
-    def to_dict(self):
-        return {"kind": self.kind, "value": self.value}
 
 
 @dataclass(frozen=True, eq=True)
@@ -182,6 +342,13 @@ class PiecewiseLinear(Profile):
 
     points: tuple
     kind = "piecewise-linear"
+    parameters = (
+        Parameter(
+            "points",
+            unit="s, m/s^2",
+            description="[t, value] pairs: t in [0, 3600], increasing, at least 1e-9 apart; |value| <= 1e6",
+        ),
+    )
     _t: np.ndarray = field(init=False, repr=False, compare=False)
     _v: np.ndarray = field(init=False, repr=False, compare=False)
 
@@ -213,32 +380,6 @@ class PiecewiseLinear(Profile):
 
 
 @dataclass(frozen=True, eq=True)
-class Samples(PiecewiseLinear):
-    """A recorded signal read from a CSV file of ``t,value`` rows.
-
-    Linear between samples and constant beyond them. A header row is allowed;
-    times (s) must be ≥ 0 and strictly increasing.
-
-    Parameters
-    ----------
-    file : str or Path
-        The CSV file. Read once, when the profile is made; recorded by its absolute path.
-    """
-
-    points: tuple = field(init=False)
-    file: str = ""
-    kind = "samples"
-
-    def __init__(self, file):
-        object.__setattr__(self, "file", str(Path(file).resolve()))
-        object.__setattr__(self, "points", _read_samples(Path(file)))
-        self.__post_init__()
-
-    def to_dict(self):
-        return {"kind": self.kind, "file": self.file}
-
-
-@dataclass(frozen=True, eq=True)
 class Pulses(Profile):
     """Square-wave finger pulses (paper Fig. 7: 189 m/s², 0.4 s, 5 %).
 
@@ -262,6 +403,13 @@ class Pulses(Profile):
     phase: float = 0.0
     base: float = 0.0
     kind = "pulses"
+    parameters = (
+        Parameter("amplitude", unit="m/s^2", description="added to base while a pulse is on, |amplitude| <= 1e6"),
+        Parameter("period", unit="s", description="time from one pulse's start to the next, in [0.001, 3600]"),
+        Parameter("duty", description="fraction of each period the pulse is on, in (0, 1)"),
+        Parameter("phase", unit="s", required=False, description="start of the first pulse, in [0, 3600]; 0"),
+        Parameter("base", unit="m/s^2", required=False, description="value between pulses, |base| <= 1e6; 0"),
+    )
 
     def __post_init__(self):
         checked = {
@@ -297,15 +445,46 @@ class Pulses(Profile):
     def _start_and_slope(self, left, tol):
         return self(left + tol), np.zeros(len(left))
 
+
+@dataclass(frozen=True, eq=True)
+class Samples(PiecewiseLinear):
+    """A recorded signal read from a CSV file of ``t,value`` rows.
+
+    Linear between samples and constant beyond them. A header row is allowed;
+    times (s) must be ≥ 0 and strictly increasing.
+
+    Parameters
+    ----------
+    file : str or Path
+        The CSV file. Read once, when the profile is made; recorded by its absolute path.
+    """
+
+    points: tuple = field(init=False)
+    file: str = ""
+    kind = "samples"
+    parameters = (
+        Parameter("file", description="CSV file of 't,value' rows (s, m/s^2), relative to the recipe's folder"),
+    )
+
+    def __init__(self, file):
+        object.__setattr__(self, "file", str(Path(file).resolve()))
+        object.__setattr__(self, "points", _read_samples(Path(file)))
+        self.__post_init__()
+
+    @classmethod
+    def from_table(cls, table, *, name, base_dir):
+        """Build the profile from ``{"file": ...}``; a relative file name is relative to ``base_dir``."""
+        cls.check_table(table, name=name)
+        file = table["file"]
+        if not isinstance(file, str) or not file:
+            raise ParameterError(f"{name}.file must be a path to a CSV file, got {file!r}")
+        path = Path(file)
+        if base_dir is not None and not path.is_absolute():
+            path = Path(base_dir) / path
+        return cls(path)
+
     def to_dict(self):
-        return {
-            "kind": self.kind,
-            "amplitude": self.amplitude,
-            "period": self.period,
-            "duty": self.duty,
-            "phase": self.phase,
-            "base": self.base,
-        }
+        return {"kind": self.kind, "file": self.file}
 
 
 @dataclass(frozen=True, eq=True)
@@ -320,6 +499,7 @@ class Sum(Profile):
 
     parts: tuple
     kind = "sum"
+    parameters = (Parameter("parts", description="the profiles' tables, each with its own kind; at least one"),)
 
     def __post_init__(self):
         parts = tuple(self.parts) if isinstance(self.parts, (list, tuple)) else None
@@ -337,6 +517,15 @@ class Sum(Profile):
     def _breaks(self, t_end):
         return np.concatenate([part._breaks(t_end) for part in self.parts])
 
+    @classmethod
+    def from_table(cls, table, *, name, base_dir):
+        """Build the sum from ``{"parts": [table, ...]}``, each part's table as :func:`profile_from_dict` takes it."""
+        cls.check_table(table, name=name)
+        parts = table["parts"]
+        if not isinstance(parts, list) or not parts:
+            raise ParameterError(f"{name}.parts must be a non-empty list of tables, got {parts!r}")
+        return cls([profile_from_dict(p, name=f"{name}.parts[{i}]", base_dir=base_dir) for i, p in enumerate(parts)])
+
     def to_dict(self):
         return {"kind": self.kind, "parts": [part.to_dict() for part in self.parts]}
 
@@ -347,46 +536,25 @@ def profile_from_dict(spec, *, name="force", base_dir=None):
     Parameters
     ----------
     spec : dict
-        The table. Keys are the profile's parameters plus ``kind``.
+        The table: ``kind``, one of :func:`kinds`, and that kind's parameters.
     name : str
         Where the table came from, for error messages (e.g. ``"force"``).
     base_dir : Path or None
         Directory that a ``samples`` file name is relative to.
+
+    Returns
+    -------
+    Profile
+        An instance of the class registered under ``kind``.
     """
     if not isinstance(spec, dict):
         raise ParameterError(f"{name} must be a table with a 'kind' key, got {spec!r}")
-    spec = dict(spec)
-    kind = spec.pop("kind", None)
-    if not isinstance(kind, str) or kind not in _KINDS:
-        raise ParameterError(f"{name}.kind must be one of {', '.join(map(repr, _KINDS))}, got {kind!r}")
-    allowed, required = _KINDS[kind]
-    check_keys(f"{name} ({kind})", spec, allowed)
-    missing = [key for key in required if key not in spec]
-    if missing:
-        raise ParameterError(f"{name} ({kind}) needs the key {missing[0]!r}")
+    table = dict(spec)
+    kind = table.pop("kind", None)
+    if not isinstance(kind, str) or kind not in _REGISTRY:
+        raise ParameterError(f"{name}.kind must be one of {', '.join(map(repr, _REGISTRY))}, got {kind!r}")
     with named(name, kind):
-        return _build(kind, spec, name, base_dir)
-
-
-def _build(kind, spec, name, base_dir):
-    if kind == "constant":
-        return Constant(spec["value"])
-    if kind == "piecewise-linear":
-        return PiecewiseLinear(spec["points"])
-    if kind == "pulses":
-        return Pulses(**spec)
-    if kind == "samples":
-        file = spec["file"]
-        if not isinstance(file, str) or not file:
-            raise ParameterError(f"{name}.file must be a path to a CSV file, got {file!r}")
-        path = Path(file)
-        if base_dir is not None and not path.is_absolute():
-            path = Path(base_dir) / path
-        return Samples(path)
-    parts = spec["parts"]
-    if not isinstance(parts, list) or not parts:
-        raise ParameterError(f"{name}.parts must be a non-empty list of tables, got {parts!r}")
-    return Sum([profile_from_dict(p, name=f"{name}.parts[{i}]", base_dir=base_dir) for i, p in enumerate(parts)])
+        return _REGISTRY[kind].from_table(table, name=name, base_dir=base_dir)
 
 
 @contextmanager
@@ -404,16 +572,8 @@ def named(name, kind):
         raise
 
 
-_KINDS = {
-    "constant": (("value",), ("value",)),
-    "piecewise-linear": (("points",), ("points",)),
-    "pulses": (("amplitude", "period", "duty", "phase", "base"), ("amplitude", "period", "duty")),
-    "samples": (("file",), ("file",)),
-    "sum": (("parts",), ("parts",)),
-}
-
-KINDS = tuple(_KINDS)
-"""The names of the profile kinds."""
+KINDS = kinds()
+"""The names of the built-in profile kinds; :func:`kinds` also lists those registered since."""
 
 
 def _check_level(name, value):
