@@ -20,7 +20,7 @@ from drumstroke.compose import compose
 from drumstroke.dynamics import level_to_velocity
 from drumstroke.errors import ParameterError
 from drumstroke.palette.library import Entry, build_library, load_library, read_palette
-from drumstroke.palette.transforms import Limits
+from drumstroke.palette.motion import RETURN_LIMITS, Limits
 from drumstroke.recipe import Recipe
 from drumstroke.render.midi import read_midi_notes
 from drumstroke.score import ScoreNote, default_mapping, from_midi_notes, parse_pattern
@@ -214,7 +214,7 @@ def test_returns_between_strokes_stay_within_the_limits(library, limits):
     """Speed within 1e-9 relative; acceleration by central differences at 10 kHz within 0.1 %
     (the quintics' jerk makes the difference err by ~1e-5 of the limit)."""
     piece = compose(parse_pattern(PATTERN), library, limits=limits)
-    bounds = limits or Limits()
+    bounds = limits or RETURN_LIMITS
     assert all(p.played for p in piece.placements)
     speed, accel, low = return_extremes(piece, library)
     print(f"limits {bounds}: max return speed {speed:.4f} rad/s, max return acceleration {accel:.2f} rad/s^2")

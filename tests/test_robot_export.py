@@ -13,7 +13,9 @@ from drumstroke.model import Stick
 from drumstroke.palette.library import read_palette
 from drumstroke.palette.trajectory import Trajectory, read_trajectory_csv
 from drumstroke.robot.export import export_csv, export_ros_json, read_ros_json, seconds_to_duration
-from drumstroke.robot.validate import JointLimits, TrajectoryError, validate_file
+from drumstroke.errors import TrajectoryError
+from drumstroke.palette.motion import Limits
+from drumstroke.robot.validate import validate_file
 
 RATE = 1000.0
 HEAD = Stick().theta_max
@@ -232,7 +234,7 @@ def test_an_invalid_trajectory_is_not_exported(stroke, tmp_path, export):
 def test_limits_and_start_reach_the_validator(stroke, tmp_path, export):
     path = tmp_path / "out"
     with pytest.raises(TrajectoryError, match=r"exceeds max_speed 3 rad/s"):
-        export(path, *stroke, rate=RATE, model="paper", name="x", limits=JointLimits(max_speed=3.0))
+        export(path, *stroke, rate=RATE, model="paper", name="x", limits=Limits(max_speed=3.0))
     with pytest.raises(TrajectoryError, match=r"sample 0: theta .* beyond start_angle_tolerance"):
         export(path, *stroke, rate=RATE, model="paper", name="x", start=(stroke[1][0] + 0.1, stroke[2][0]))
     with pytest.raises(TrajectoryError, match=r"sample 1: .*not the control period 0\.0005 s"):

@@ -9,9 +9,12 @@ from drumstroke.compose import compose
 from drumstroke.errors import ParameterError
 from drumstroke.model import Stick
 from drumstroke.palette.library import DEMO_PATTERN, build_library
-from drumstroke.palette.trajectory import csv_header, csv_text
+from drumstroke.formats.trajectory_csv import columns_text as csv_text
+from drumstroke.formats.trajectory_csv import comment_line as csv_header
 from drumstroke.render.data import write_composition_csv
-from drumstroke.robot.validate import JointLimits, TrajectoryError, read_limits, validate, validate_file
+from drumstroke.errors import TrajectoryError
+from drumstroke.palette.motion import Limits
+from drumstroke.robot.validate import read_limits, validate, validate_file
 from drumstroke.score import read_pattern
 
 RATE = 1000.0
@@ -176,11 +179,11 @@ def test_a_sample_over_max_acceleration(move, step, sign):
     t, theta, omega = move
     omega = omega.copy()
     omega[260:] += step  # α_259 = (ω[260] − ω[259])·rate ≈ ±200 rad/s²; the move's own peak is 11.5
-    limits = JointLimits(max_acceleration=100.0)
+    limits = Limits(max_acceleration=100.0)
     with pytest.raises(TrajectoryError, match=rf"^sample 259: acceleration {sign}(19\d|20\d)(\.\d+)? rad/s² exceeds "
                                               r"max_acceleration 100 rad/s² in magnitude$"):
         validate(t, theta, omega, limits=limits)
-    validate(t, theta, omega, limits=JointLimits(max_acceleration=250.0, max_jerk=1e6))
+    validate(t, theta, omega, limits=Limits(max_acceleration=250.0, max_jerk=1e6))
 
 
 def test_a_sample_over_max_jerk(move):
@@ -189,8 +192,8 @@ def test_a_sample_over_max_jerk(move):
     omega[300:] += 5.0 * np.arange(len(omega) - 300) / RATE  # α steps up by 5 rad/s² from α_300: j_299 ≈ 5000
     with pytest.raises(TrajectoryError, match=r"^sample 299: jerk (49|50|51)\d\d(\.\d+)? rad/s³ exceeds max_jerk "
                                               r"1000 rad/s³ in magnitude$"):
-        validate(t, theta, omega, limits=JointLimits(max_jerk=1000.0))
-    validate(t, theta, omega, limits=JointLimits(max_jerk=6000.0))
+        validate(t, theta, omega, limits=Limits(max_jerk=1000.0))
+    validate(t, theta, omega, limits=Limits(max_jerk=6000.0))
 
 
 def test_the_checks_run_in_order(move):
@@ -223,7 +226,7 @@ def test_a_start_far_from_the_joints_speed(move):
 def test_a_start_within_the_tolerances_passes(move):
     t, theta, omega = move
     validate(t, theta, omega, start=(0.3 + 0.0099, 0.49))
-    validate(t, theta, omega, start=(0.3, 0.0), limits=JointLimits(start_angle_tolerance=0.0,
+    validate(t, theta, omega, start=(0.3, 0.0), limits=Limits(start_angle_tolerance=0.0,
                                                                    start_speed_tolerance=0.0))
 
 
@@ -244,7 +247,7 @@ def test_malformed_arrays_are_refused(move, change, message):
     ({"rate": 0.0}, r"rate must be in \(0, 1e\+06\] Hz"),
     ({"rate": math.nan}, r"rate must be a finite number"),
     ({"head": math.nan}, r"head must be a finite number"),
-    ({"limits": {"max_speed": 3}}, r"limits must be a JointLimits"),
+    ({"limits": {"max_speed": 3}}, r"limits must be a Limits"),
     ({"start": 0.3}, r"start must be the joint's \(angle rad, speed rad/s\)"),
     ({"start": (0.3, math.inf)}, r"start speed must be a finite number"),
 ])
@@ -256,7 +259,7 @@ def test_bad_options_are_refused(move, options, message):
 # --- limits --------------------------------------------------------------------------------------------------------
 
 def test_default_limits():
-    limits = JointLimits()
+    limits = Limits()
     assert limits.theta_low == Stick().theta_max and limits.theta_high == math.pi / 2
     assert (limits.max_speed, limits.max_acceleration, limits.max_jerk) == (30.0, 6e4, 6e7)
     assert (limits.start_angle_tolerance, limits.start_speed_tolerance) == (0.01, 0.5)
@@ -274,20 +277,20 @@ def test_default_limits():
 ])
 def test_bad_limits_are_refused(options, message):
     with pytest.raises(ParameterError, match=message):
-        JointLimits(**options)
+        Limits(**options)
 
 
 def test_limits_from_a_table_and_a_file(tmp_path):
-    assert JointLimits.from_dict({"max_speed": 40, "theta_low": -0.3}) == JointLimits(max_speed=40.0, theta_low=-0.3)
-    assert JointLimits.from_dict(JointLimits().to_dict()) == JointLimits()
+    assert Limits.from_dict({"max_speed": 40, "theta_low": -0.3}) == Limits(max_speed=40.0, theta_low=-0.3)
+    assert Limits.from_dict(Limits().to_dict()) == Limits()
     path = tmp_path / "joint.toml"
     path.write_text("[limits]\nmax_speed = 12.5\nmax_jerk = 1e8\n")
-    assert read_limits(path) == JointLimits(max_speed=12.5, max_jerk=1e8)
+    assert read_limits(path) == Limits(max_speed=12.5, max_jerk=1e8)
 
 
 def test_a_limits_table_with_an_unknown_key_is_refused(tmp_path):
     with pytest.raises(ParameterError, match=r"^limits has unknown key 'max_sped'; allowed keys: theta_low, "):
-        JointLimits.from_dict({"max_sped": 3.0})
+        Limits.from_dict({"max_sped": 3.0})
     path = tmp_path / "joint.toml"
     path.write_text("[limits]\nmax_sped = 3.0\n")
     with pytest.raises(ParameterError, match=r"^limits file '.*joint\.toml': limits has unknown key 'max_sped'"):
@@ -335,7 +338,7 @@ def test_the_defaults_keep_a_twofold_margin_over_the_library(library):
         speed = max(speed, np.abs(omega).max())
         acceleration = max(acceleration, np.abs(np.diff(omega)).max() * RATE)
         jerk = max(jerk, np.abs(np.diff(omega, n=2)).max() * RATE**2)
-    limits = JointLimits()
+    limits = Limits()
     assert 2.0 * speed <= limits.max_speed and 2.0 * acceleration <= limits.max_acceleration
     assert 2.0 * jerk <= limits.max_jerk
     assert speed > 12.0 and acceleration > 22_000.0 and jerk > 2.2e7  # the figures the docstring quotes
@@ -397,4 +400,4 @@ def test_a_defect_in_a_file_names_the_file_and_the_sample(move, tmp_path):
     with pytest.raises(TrajectoryError, match=r"^trajectory file '.*fast\.csv': sample 42: speed 45 rad/s exceeds "
                                               r"max_speed 30 rad/s$"):
         validate_file(path)
-    assert validate_file(path, limits=JointLimits(max_speed=50.0, max_acceleration=1e5, max_jerk=1e8)).peak_speed == 45
+    assert validate_file(path, limits=Limits(max_speed=50.0, max_acceleration=1e5, max_jerk=1e8)).peak_speed == 45

@@ -23,14 +23,13 @@ import pytest
 
 import drumstroke
 from drumstroke import ParameterError
-from drumstroke.palette.trajectory import THETA_TOP, Trajectory
+from drumstroke.trajectory import THETA_TOP, Trajectory
+from drumstroke.palette.motion import RETURN_LIMITS, Limits, concat
 from drumstroke.palette.transforms import (
-    Limits,
     apply_steps,
     catch,
     compress,
     compress_limit,
-    concat,
     reverse,
     stretch,
     trim,
@@ -379,7 +378,7 @@ def check_returns(c, pieces, starts, limits):
     assert np.abs(np.diff(theta)).max() <= np.abs(omega).max() * dt * 1.01
 
 
-@pytest.mark.parametrize("limits", [Limits(), Limits(max_speed=6.0, max_acceleration=300.0)])
+@pytest.mark.parametrize("limits", [RETURN_LIMITS, Limits(max_speed=6.0, max_acceleration=300.0)])
 def test_concat_places_strokes_after_their_gaps_and_returns_smoothly(caught, limits):
     single, double, bounce = caught
     pieces, gaps = [single, double, bounce], [0.3, 0.45]
@@ -409,7 +408,7 @@ def test_concat_names_a_gap_too_short_and_how_long_it_needs(caught):
     need = float(re.search(r"it needs at least ([0-9.e+-]+) s", str(error.value)).group(1))
     assert 0.001 < need < 1.0
     c = concat([single, single], need * 1.001)  # the stated need (to its 4 printed digits) is enough
-    check_returns(c, [single, single], [0.0, single.t_end + need * 1.001], Limits())
+    check_returns(c, [single, single], [0.0, single.t_end + need * 1.001], RETURN_LIMITS)
     with pytest.raises(ParameterError, match=r"^gaps\[1\] = 0 s is too short.*it needs at least"):
         concat([single, double, single], [0.5, 0.0])
 

@@ -3,7 +3,7 @@
 For each note the library stroke is set to the note's velocity and placed so
 that its first impact lands exactly on the note's time; between strokes the
 stick returns smoothly to the next stroke's start angle (quintic moves within
-:class:`~drumstroke.palette.Limits`, never below the head); a stroke that
+:data:`~drumstroke.palette.motion.RETURN_LIMITS` by default, never below the head); a stroke that
 cannot finish before the next one must start is cut at the top of a rebound
 (an apex, where the stick stands still), the latest that leaves time for the
 return. A note that comes too soon after the previous one on the same stick,
@@ -39,7 +39,8 @@ import numpy as np
 from ._checks import check_real
 from .dynamics import level_to_velocity, velocity_to_level
 from .errors import ParameterError
-from .palette.transforms import Limits, assemble, compress, compress_limit, plan_return, return_time, trim
+from .palette.motion import RETURN_LIMITS, assemble, plan_return, return_time
+from .palette.transforms import compress, compress_limit, trim
 from .score import ScoreNote
 
 HOLD_AFTER = 0.25
@@ -137,13 +138,13 @@ def compose(notes, library, *, rate=None, limits=None):
     rate : float in [1, 100000] or None
         Control rate (Hz) of the result; default the library's.
     limits : Limits or None
-        Bounds on the returns between strokes (default :class:`~drumstroke.palette.Limits`).
+        Bounds on the returns between strokes (default :data:`~drumstroke.palette.motion.RETURN_LIMITS`).
 
     Returns
     -------
     Composition
     """
-    limits = limits or Limits()
+    limits = limits or RETURN_LIMITS
     rate = library.rate if rate is None else check_real("rate", rate, low=1.0, high=1e5, unit="Hz")
     notes = list(notes)
     if not notes:

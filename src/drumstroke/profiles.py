@@ -90,7 +90,6 @@ Constant(value=9.8)
 ('constant', 'piecewise-linear', 'pulses', 'samples', 'sum')
 """
 
-import csv
 import math
 from contextlib import contextmanager
 from dataclasses import KW_ONLY, dataclass, field
@@ -100,6 +99,7 @@ import numpy as np
 
 from ._checks import check_keys, check_real
 from .errors import ParameterError
+from .formats.signal_csv import read_signal
 
 ACCELERATION_LIMIT = 1.0e6
 """Largest |value| of any profile (m/s²), some 4000 times the human range."""
@@ -603,39 +603,6 @@ def _check_points(name, points):
 
 
 def _read_samples(path):
-    try:
-        text = path.read_text(encoding="utf-8-sig")  # a byte-order mark, as spreadsheets write, is fine
-    except (OSError, UnicodeDecodeError) as error:
-        reason = error.strerror if isinstance(error, OSError) else "not a UTF-8 text file"
-        raise ParameterError(f"samples.file {str(path)!r} cannot be read: {reason}") from None
-    rows = []
-    try:
-        lines = list(csv.reader(text.splitlines()))
-    except csv.Error as error:
-        raise ParameterError(f"samples.file {str(path)!r} is not a CSV file of 't,value' rows: {error}") from None
-    for number, row in enumerate(lines, start=1):
-        if not row or row[0].lstrip().startswith("#"):
-            continue
-        try:
-            if len(row) != 2:
-                raise ValueError
-            rows.append((float(row[0]), float(row[1])))
-        except ValueError:
-            is_header = not rows and not any(_is_number(cell) for cell in row)
-            if not is_header:
-                raise ParameterError(
-                    f"samples.file {str(path)!r} line {number} must be 't,value' with two numbers, "
-                    f"got {','.join(row)!r}"
-                ) from None
-    if not rows:
-        raise ParameterError(f"samples.file {str(path)!r} has no 't,value' rows")
+    rows = read_signal(path, "samples.file")
     t, v = _check_points(f"samples.file {str(path)!r}", rows)
     return tuple(zip(t.tolist(), v.tolist()))
-
-
-def _is_number(text):
-    try:
-        float(text)
-    except ValueError:
-        return False
-    return True

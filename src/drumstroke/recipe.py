@@ -30,9 +30,9 @@ from dataclasses import dataclass, field, replace
 from functools import cached_property
 from pathlib import Path
 
-from ._atomic import write_atomic
-from ._checks import check_choice, check_keys, check_real, read_toml
+from ._checks import check_choice, check_keys, check_real
 from .errors import ParameterError
+from .formats.toml import read_toml, write_toml
 from .model import MODELS, Stick, coefficients
 from .profiles import Constant, Profile, Samples, profile_from_dict
 
@@ -173,31 +173,7 @@ class Recipe:
         data = self.to_dict()
         _relocate_samples(data["force"], self.force, path.parent)
         _relocate_samples(data["gravity"], self.gravity, path.parent)
-        write_atomic(path, to_toml_text(data))
-
-
-def to_toml_text(data):
-    """TOML text for recipe data: top-level scalars, then one table per mapping."""
-    lines = [f"{key} = {_toml_value(value)}" for key, value in data.items() if not isinstance(value, dict)]
-    for key, value in data.items():
-        if isinstance(value, dict):
-            lines.append(f"\n[{key}]")
-            lines.extend(f"{k} = {_toml_value(v)}" for k, v in value.items())
-    return "\n".join(lines) + "\n"
-
-
-def _toml_value(value):
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, (int, float)):
-        return repr(float(value))
-    if isinstance(value, str):
-        return '"' + value.replace("\\", "\\\\").replace('"', '\\"') + '"'
-    if isinstance(value, (list, tuple)):
-        return "[" + ", ".join(_toml_value(v) for v in value) + "]"
-    if isinstance(value, dict):
-        return "{" + ", ".join(f"{k} = {_toml_value(v)}" for k, v in value.items()) + "}"
-    raise TypeError(f"cannot write {value!r} as TOML")
+        write_toml(path, data)
 
 
 def _relocate_samples(data, profile, folder):

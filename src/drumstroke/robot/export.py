@@ -41,9 +41,10 @@ import numpy as np
 from .._atomic import write_atomic
 from .._checks import check_real
 from .._version import __version__
-from ..errors import ParameterError
-from ..palette.trajectory import csv_header, csv_text
-from .validate import TrajectoryError, validate
+from ..errors import ParameterError, TrajectoryError
+from ..formats.trajectory_csv import columns_text as csv_text
+from ..formats.trajectory_csv import comment_line as csv_header
+from .validate import validate
 
 NANOSECONDS = 1_000_000_000
 _MAX_SECONDS = 2**31 - 1

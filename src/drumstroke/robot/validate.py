@@ -30,122 +30,33 @@ Examples
 >>> validate(t, theta, 20 * omega)
 Traceback (most recent call last):
 ...
-drumstroke.robot.validate.TrajectoryError: sample 51: speed 30.054 rad/s exceeds max_speed 30 rad/s
+drumstroke.errors.TrajectoryError: sample 51: speed 30.054 rad/s exceeds max_speed 30 rad/s
 """
 
-import re
-from dataclasses import dataclass, fields
-from pathlib import Path
+from dataclasses import dataclass
 
 import numpy as np
 
-from .._checks import as_vector, check_keys, check_real, read_toml
-from ..errors import ParameterError
-from ..model import Stick
-from ..palette.trajectory import THETA_TOP, read_trajectory_csv
+from .._checks import as_vector, check_keys, check_real
+from ..errors import ParameterError, TrajectoryError
+from ..formats.toml import read_toml
+from ..formats.trajectory_csv import read_stick, stated_rate
+from ..palette.motion import Limits
+from ..trajectory import DEFAULT_RATE, THETA_TOP, Trajectory, check_grid
 
-DEFAULT_RATE = 1000.0
-"""The control rate the default limits are set for (Hz)."""
-
-_TIME_TOLERANCE = 1e-9
-"""Relative tolerance of a sample time against its place on the control period grid."""
-
-
-class TrajectoryError(ParameterError):
-    """A trajectory breaks a check of :func:`validate`; the message names the sample, quantity, value and limit."""
-
-
-@dataclass(frozen=True)
-class JointLimits:
-    """What the robot joint can do: its range and its speed, acceleration and jerk limits.
-
-    The defaults are those of a strong joint that can play the shipped palette
-    at 1 kHz, composed at any velocity. Impacts are velocity reversals within
-    one control period, so the finite-difference acceleration and jerk at an
-    impact are about (1 + c)·|ω|·rate and that times the rate; the defaults are
-    set at least twice the largest values measured at 1 kHz: the shipped
-    library reaches 12.12 rad/s, 22 544 rad/s² and 2.283e7 rad/s³
-    (``superhuman-press``), compositions at velocity 127 (a 4 m/s tip speed)
-    14.81 rad/s, 27 458 rad/s² and 2.756e7 rad/s³. At another rate r the
-    impacts' acceleration scales with r/1000 and their jerk with (r/1000)².
-
-    Parameters
-    ----------
-    theta_low : float in [-π/2, π/2)
-        The lowest angle the joint may reach (rad). Default: the paper stick's
-        head, ``Stick().theta_max`` ≈ −0.2623 rad.
-    theta_high : float in (theta_low, π/2]
-        The highest angle (rad). Default π/2, the stick upright.
-    max_speed : float > 0
-        |ω| limit (rad/s). Default 30.
-    max_acceleration : float > 0
-        |α| limit (rad/s²). Default 60 000.
-    max_jerk : float > 0
-        |j| limit (rad/s³). Default 6e7.
-    start_angle_tolerance : float ≥ 0
-        How far the first sample's θ may be from the joint's angle (rad). Default 0.01.
-    start_speed_tolerance : float ≥ 0
-        How far the first sample's ω may be from the joint's speed (rad/s). Default 0.5.
-
-    Examples
-    --------
-    >>> JointLimits().max_speed
-    30.0
-    >>> JointLimits(max_speed=-1)
-    Traceback (most recent call last):
-    ...
-    drumstroke.errors.ParameterError: limits.max_speed must be in (0, inf) rad/s, got -1.0
-    """
-
-    theta_low: float = Stick().theta_max
-    theta_high: float = THETA_TOP
-    max_speed: float = 30.0
-    max_acceleration: float = 6.0e4
-    max_jerk: float = 6.0e7
-    start_angle_tolerance: float = 0.01
-    start_speed_tolerance: float = 0.5
-
-    def __post_init__(self):
-        low = check_real("limits.theta_low", self.theta_low, low=-THETA_TOP, high=THETA_TOP, high_open=True,
-                         unit="rad")
-        values = {
-            "theta_low": low,
-            "theta_high": check_real("limits.theta_high", self.theta_high, low=low, high=THETA_TOP, low_open=True,
-                                     unit="rad"),
-            "max_speed": check_real("limits.max_speed", self.max_speed, low=0.0, low_open=True, unit="rad/s"),
-            "max_acceleration": check_real("limits.max_acceleration", self.max_acceleration, low=0.0,
-                                           low_open=True, unit="rad/s^2"),
-            "max_jerk": check_real("limits.max_jerk", self.max_jerk, low=0.0, low_open=True, unit="rad/s^3"),
-            "start_angle_tolerance": check_real("limits.start_angle_tolerance", self.start_angle_tolerance,
-                                                low=0.0, unit="rad"),
-            "start_speed_tolerance": check_real("limits.start_speed_tolerance", self.start_speed_tolerance,
-                                                low=0.0, unit="rad/s"),
-        }
-        for name, value in values.items():
-            object.__setattr__(self, name, value)
-
-    @classmethod
-    def from_dict(cls, table):
-        """Limits from a TOML ``[limits]`` table (a dict); keys as the parameters, missing ones default."""
-        if not isinstance(table, dict):
-            raise ParameterError(f"limits must be a table, got {table!r}")
-        check_keys("limits", table, [f.name for f in fields(cls)])
-        return cls(**table)
-
-    def to_dict(self):
-        """The limits as a plain dict, keys as in a ``[limits]`` table."""
-        return {f.name: getattr(self, f.name) for f in fields(self)}
+JointLimits = Limits
+"""The joint's limits: :class:`drumstroke.palette.motion.Limits`, the one joint-limits type (this name while the command line moves)."""
 
 
 def read_limits(path):
-    """The :class:`JointLimits` of the ``[limits]`` table of the TOML file at ``path``."""
+    """The :class:`~drumstroke.palette.motion.Limits` of the ``[limits]`` table of the TOML file at ``path``."""
     data = read_toml(path, "limits file")
     where = f"limits file {str(path)!r}"
     try:
         check_keys(where, data, ("limits",))
         if "limits" not in data:
             raise ParameterError(f"{where} needs a [limits] table")
-        return JointLimits.from_dict(data["limits"])
+        return Limits.from_dict(data["limits"])
     except ParameterError as error:
         text = str(error)
         raise ParameterError(text if where in text else f"{where}: {text}") from None
@@ -169,7 +80,7 @@ class Checked:
         The control rate (Hz).
     head : float
         The drumhead angle it was checked against (rad).
-    limits : JointLimits
+    limits : Limits
     lowest_angle, highest_angle : float
         min θ and max θ (rad).
     peak_speed : float
@@ -201,26 +112,28 @@ class Checked:
                 "peak_jerk": self.peak_jerk}
 
 
-def validate(t, theta, omega, *, rate=DEFAULT_RATE, head=None, limits=None, start=None):
+def validate(trajectory, theta=None, omega=None, *, rate=None, head=None, limits=None, start=None, stick=None):
     """Check a joint trajectory before it goes to hardware; return it as :class:`Checked`.
 
     Parameters
     ----------
-    t : ndarray [shape=(n,)]
-        Sample times (s), n ≥ 2.
-    theta : ndarray [shape=(n,)]
-        Joint angles (rad).
-    omega : ndarray [shape=(n,)]
-        Joint angular speeds (rad/s).
-    rate : float in (0, 1e6]
-        The control rate (Hz): the samples must be 1/rate apart.
+    trajectory : Trajectory or ndarray
+        A :class:`~drumstroke.trajectory.Trajectory` (one stick, or name its ``stick``), or the
+        sample times t (s) [shape=(n,)] of a chunk given as arrays with ``theta`` and ``omega``.
+    theta, omega : ndarray [shape=(n,)] or None
+        With times: the joint angles (rad) and speeds (rad/s).
+    rate : float in (0, 1e6] or None
+        The control rate (Hz): the samples must be 1/rate apart. Default the trajectory's;
+        for arrays :data:`~drumstroke.trajectory.DEFAULT_RATE`.
     head : float in [-π/2, π/2] or None
         The drumhead angle (rad) θ may not go below; default ``limits.theta_low``.
-    limits : JointLimits or None
-        Default ``JointLimits()``.
+    limits : Limits or None
+        Default ``Limits()``.
     start : (float, float) or None
         The joint's angle (rad) and speed (rad/s) now: the trajectory must start
         there, within the limits' start tolerances.
+    stick : str or None
+        The stick to check of a trajectory with several.
 
     Returns
     -------
@@ -234,18 +147,16 @@ def validate(t, theta, omega, *, rate=DEFAULT_RATE, head=None, limits=None, star
         Malformed input (arrays of different lengths, a bad rate, …).
     """
     limits = _check_limits(limits)
-    rate = check_real("rate", rate, low=0.0, high=1e6, low_open=True, unit="Hz")
+    if rate is not None:
+        rate = check_real("rate", rate, low=0.0, high=1e6, low_open=True, unit="Hz")
     head = limits.theta_low if head is None else check_real("head", head, low=-THETA_TOP, high=THETA_TOP, unit="rad")
     if start is not None:
         start = _check_start(start)
-    t, theta, omega = (np.array(as_vector(name, values), dtype=float)
-                       for name, values in (("t", t), ("theta", theta), ("omega", omega)))
-    if not len(t) == len(theta) == len(omega) or len(t) < 2:
-        raise ParameterError(f"t, theta and omega must have the same length >= 2, got {len(t)}, {len(theta)} and "
-                             f"{len(omega)}")
-    for name, values in (("t", t), ("theta", theta), ("omega", omega)):
-        _check_finite(name, values)
-    _check_times(t, rate)
+    trajectory = _as_trajectory(trajectory, theta, omega, rate, stick)
+    t, theta, omega = (np.array(a) for a in trajectory.columns())
+    rate = trajectory.rate if rate is None else rate
+    if rate != trajectory.rate:
+        check_grid(t, rate)
     _check_angles(theta, head, limits)
     alpha = np.diff(omega) * rate
     jerk = np.diff(alpha) * rate
@@ -260,6 +171,22 @@ def validate(t, theta, omega, *, rate=DEFAULT_RATE, head=None, limits=None, star
                    lowest_angle=float(theta.min()), highest_angle=float(theta.max()),
                    peak_speed=float(np.abs(omega).max()), peak_acceleration=float(np.abs(alpha).max()),
                    peak_jerk=float(np.abs(jerk).max()) if len(jerk) else 0.0)
+
+
+def _as_trajectory(trajectory, theta, omega, rate, stick):
+    """One stick's Trajectory from a Trajectory or from arrays (checked: finite, on the time grid)."""
+    if isinstance(trajectory, Trajectory):
+        if theta is not None or omega is not None:
+            raise ParameterError("give a Trajectory, or the arrays t, theta and omega, not both")
+        return trajectory if stick is None and len(trajectory.sticks) == 1 else trajectory.stick(
+            stick if stick is not None else _one_stick(trajectory))
+    t, theta, omega = (as_vector(name, values) for name, values in (("t", trajectory), ("theta", theta),
+                                                                   ("omega", omega)))
+    return Trajectory.from_samples(t, theta, omega, rate=DEFAULT_RATE if rate is None else rate)
+
+
+def _one_stick(trajectory):
+    raise ParameterError(f"the trajectory has the sticks {', '.join(trajectory.sticks)}; name one (stick)")
 
 
 def validate_file(path, *, stick=None, rate=None, head=None, limits=None, start=None):
@@ -281,9 +208,9 @@ def validate_file(path, *, stick=None, rate=None, head=None, limits=None, start=
     -------
     Checked
     """
-    t, theta, omega, _ = read_trajectory_csv(path, stick=stick)
+    t, theta, omega, _, comment = read_stick(path, stick=stick)
     where = f"trajectory file {str(path)!r}"
-    stated = _stated_rate(path)
+    stated = stated_rate(comment)
     if rate is not None:
         rate = check_real("rate", rate, low=0.0, high=1e6, low_open=True, unit="Hz")
     elif t[1] > t[0]:
@@ -303,9 +230,9 @@ def validate_file(path, *, stick=None, rate=None, head=None, limits=None, start=
 
 def _check_limits(limits):
     if limits is None:
-        return JointLimits()
-    if not isinstance(limits, JointLimits):
-        raise ParameterError(f"limits must be a JointLimits, got {limits!r}")
+        return Limits()
+    if not isinstance(limits, Limits):
+        raise ParameterError(f"limits must be a Limits, got {limits!r}")
     return limits
 
 
@@ -315,42 +242,6 @@ def _check_start(start):
     except (TypeError, ValueError):
         raise ParameterError(f"start must be the joint's (angle rad, speed rad/s), got {start!r}") from None
     return (check_real("start angle", theta_now, unit="rad"), check_real("start speed", omega_now, unit="rad/s"))
-
-
-def _check_finite(name, values):
-    bad = np.flatnonzero(~np.isfinite(values))
-    if len(bad):
-        i = int(bad[0])
-        raise TrajectoryError(f"sample {i}: {name} is {float(values[i])!r}; t, theta and omega must be finite")
-
-
-def _check_times(t, rate):
-    step = np.diff(t)
-    back = np.flatnonzero(step <= 0.0)
-    if len(back):
-        i = int(back[0]) + 1
-        how = "repeats the time of" if step[i - 1] == 0.0 else "goes back in time from"
-        raise TrajectoryError(f"sample {i}: time {float(t[i])!r} s {how} sample {i - 1} ({float(t[i - 1])!r} s); "
-                              "times must increase strictly")
-    period = 1.0 / rate
-    k = np.arange(len(t))
-    expected = t[0] + k / rate
-    off = np.flatnonzero(np.abs(t - expected) > _TIME_TOLERANCE * np.maximum(1.0, np.abs(t)))
-    if not len(off):
-        return
-    i = int(off[0])
-    gap = step[i - 1] * rate
-    uniform = np.all(np.abs(step - step[0]) <= _TIME_TOLERANCE * max(1.0, abs(t[-1])))
-    if uniform:
-        raise TrajectoryError(f"sample {i}: time {float(t[i])!r} s is off the control period grid by "
-                              f"{t[i] - expected[i]:.3g} s: the time step is {step[0]:.9g} s ({1.0 / step[0]:.9g} Hz), "
-                              f"not the control period {period:.9g} s (rate {rate:g} Hz)")
-    if round(gap) >= 2 and abs(gap - round(gap)) < 1e-6:
-        raise TrajectoryError(f"sample {i}: time {float(t[i])!r} s comes {step[i - 1]:.9g} s after sample {i - 1}: "
-                              f"a gap of {round(gap) - 1} missing sample(s) at the control period {period:.9g} s "
-                              f"(rate {rate:g} Hz)")
-    raise TrajectoryError(f"sample {i}: time {float(t[i])!r} s is off the control period grid: expected "
-                          f"t[0] + {i}/rate = {float(expected[i])!r} s at rate {rate:g} Hz")
 
 
 def _check_angles(theta, head, limits):
@@ -384,18 +275,3 @@ def _check_start_state(theta0, omega0, start, limits):
         raise TrajectoryError(f"sample 0: omega {omega0:.6g} rad/s is {abs(omega0 - omega_now):.6g} rad/s from the "
                               f"joint's speed {omega_now:.6g} rad/s, beyond start_speed_tolerance "
                               f"{limits.start_speed_tolerance:g} rad/s")
-
-
-_RATE = re.compile(r"(?:^|; )rate=([^ ;]+) Hz(?:;|$)")
-
-
-def _stated_rate(path):
-    """The rate of a drumstroke CSV's comment line (Hz), or None when it states none."""
-    with Path(path).open() as handle:
-        match = _RATE.search(handle.readline().lstrip("#").strip())
-    if match is None:
-        return None
-    try:
-        return float(match.group(1))
-    except ValueError:
-        return None
