@@ -32,8 +32,8 @@ from drumstroke.render.audio import (
     membrane_modes,
     render_wav,
     synthesize,
-    write_wav,
 )
+from drumstroke.formats.wav import write_wav
 
 LITERATURE_RATIOS = (1.0, 1.593, 2.136, 2.295, 2.653, 2.917)
 """f_mn / f_01 of an ideal membrane for (0,1), (1,1), (2,1), (0,2), (3,1), (1,2) (e.g. Fletcher & Rossing, Table 3.2)."""
@@ -277,7 +277,7 @@ def test_wav_round_trip(tmp_path, soundfile):
 
 def test_full_scale_is_written_without_wrapping(tmp_path, soundfile):
     path = tmp_path / "edges.wav"
-    write_wav(path, [1.0, -1.0, 0.0, 0.5])
+    write_wav(path, [1.0, -1.0, 0.0, 0.5], rate=SAMPLE_RATE)
     back, _ = soundfile.read(path, dtype="float64")
     np.testing.assert_allclose(back, [1.0, -1.0, 0.0, 0.5], rtol=0, atol=2.0**-23)
 
@@ -285,7 +285,7 @@ def test_full_scale_is_written_without_wrapping(tmp_path, soundfile):
 @pytest.mark.parametrize("failure", ["encoder", "disk"])
 def test_a_failed_write_leaves_the_old_file_whole(tmp_path, soundfile, monkeypatch, failure):
     path = tmp_path / "stroke.wav"
-    write_wav(path, synthesize([0.0], [1.0], duration=0.1))
+    write_wav(path, synthesize([0.0], [1.0], duration=0.1), rate=SAMPLE_RATE)
     old = path.read_bytes()
 
     def boom(*args, **kwargs):
@@ -295,7 +295,7 @@ def test_a_failed_write_leaves_the_old_file_whole(tmp_path, soundfile, monkeypat
     # temporary file, before the rename.
     monkeypatch.setattr(*((soundfile, "write") if failure == "encoder" else (os, "fsync")), boom)
     with pytest.raises(OSError, match="simulated failure"):
-        write_wav(path, synthesize([0.0], [2.0], duration=0.2))
+        write_wav(path, synthesize([0.0], [2.0], duration=0.2), rate=SAMPLE_RATE)
     assert path.read_bytes() == old
     assert [p.name for p in tmp_path.iterdir()] == ["stroke.wav"]
 

@@ -22,7 +22,7 @@ from drumstroke.errors import ParameterError
 from drumstroke.palette.library import Entry, build_library, load_library, read_palette
 from drumstroke.palette.motion import RETURN_LIMITS, Limits
 from drumstroke.recipe import Recipe
-from drumstroke.render.midi import read_midi_notes
+from drumstroke.formats.midi import read_midi_notes
 from drumstroke.score import ScoreNote, default_mapping, from_midi_notes, parse_pattern
 
 STROKES = ("single", "tap", "double", "triple", "press-roll")  # in the shipped palette's order

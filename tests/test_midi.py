@@ -17,7 +17,7 @@ import drumstroke
 import drumstroke._atomic
 from drumstroke import ParameterError
 from drumstroke.dynamics import CEILING_DB, FLOOR_DB, level_to_velocity
-from drumstroke.render import midi
+from drumstroke.formats import midi
 
 HALF_MS = 0.5e-3
 

@@ -7,7 +7,7 @@ and the documented default mapping written out.
 import pytest
 
 from drumstroke.errors import ParameterError
-from drumstroke.render.midi import Note
+from drumstroke.formats.midi import Note
 from drumstroke.score import (
     DEFAULT_STICK,
     ScoreNote,

@@ -56,16 +56,16 @@ Timing
 True
 """
 
-import io
 from dataclasses import dataclass
 
 import numpy as np
 from scipy.signal import butter, lfilter, sosfilt
 from scipy.special import jn_zeros, jv
 
-from .._atomic import write_atomic
 from .._checks import check_int, check_real, check_vector
 from ..errors import ParameterError
+from ..formats.wav import write_wav
+from ..trajectory import LEVEL_REFERENCE
 
 SAMPLE_RATE = 48000
 """Samples per second of the rendered audio (Hz)."""
@@ -85,8 +85,6 @@ SNARE_BAND = (2000.0, 9000.0)
 TAIL_DECAYS = 7.0
 """Default ring-out after the last impact, in fundamental decay times (7 T_1: −61 dB)."""
 
-REFERENCE_SPEED = 1.0
-"""Tip speed at which the contact lasts ``Drum.contact_time`` (m/s)."""
 
 
 @dataclass(frozen=True)
@@ -175,7 +173,7 @@ def contact_time(tip_speed, *, reference=1e-3):
     >>> round(float(contact_time(32.0)), 6)
     0.0005
     """
-    return reference * (np.asarray(tip_speed, dtype=float) / REFERENCE_SPEED) ** -0.2
+    return reference * (np.asarray(tip_speed, dtype=float) / LEVEL_REFERENCE) ** -0.2
 
 
 def half_sine_spectrum(frequency, duration):
@@ -254,26 +252,6 @@ def synthesize(times, tip_speeds, *, duration=None, drum=Drum(), rate=SAMPLE_RAT
     return signal
 
 
-def write_wav(path, signal, *, rate=SAMPLE_RATE):
-    """Write ``signal`` as a mono 24-bit PCM WAV file, atomically.
-
-    Parameters
-    ----------
-    path : str or os.PathLike
-        Where to write; the parent directory is created if needed.
-    signal : array_like [shape=(n,)]
-        Samples, finite and in [-1, 1] (full scale).
-    rate : int > 0
-        Samples per second (Hz).
-    """
-    soundfile = _soundfile()
-    signal = check_vector("signal", signal, low=-1.0, high=1.0)
-    check_int("rate", rate, low=1, unit="Hz")
-    buffer = io.BytesIO()
-    soundfile.write(buffer, signal, rate, subtype="PCM_24", format="WAV")
-    write_atomic(path, buffer.getvalue())
-
-
 def render_wav(path, times, tip_speeds, *, duration=None, drum=Drum(), rate=SAMPLE_RATE):
     """Synthesize impacts (see :func:`synthesize`) and write them as a WAV file (see :func:`write_wav`).
 
@@ -341,11 +319,3 @@ def _ring(start, weight, pole, size):
     drive = np.zeros(size, dtype=np.result_type(weight, pole))
     np.add.at(drive, start, weight)
     return lfilter([1.0], [1.0, -pole], drive)
-
-
-def _soundfile():
-    try:
-        import soundfile
-    except ImportError as error:  # pragma: no cover - exercised only without the extra
-        raise ImportError("drumstroke audio needs soundfile: pip install 'drumstroke[audio]'") from error
-    return soundfile

@@ -1,0 +1,192 @@
+"""ROS 2 ``trajectory_msgs/msg/JointTrajectory`` as JSON, both ways.
+
+The document has the message's fields — ``header`` {stamp, frame_id}, ``joint_names``,
+``points`` with ``positions``, ``velocities``, ``accelerations``, ``effort`` and
+``time_from_start`` {sec, nanosec} — and, unless left out, a top-level ``drumstroke`` key
+(version, model, name, rate). ROS's own ``rosidl_runtime_py.set_message_fields`` refuses keys
+the message does not have: drop that key, or write with ``metadata=None``, for a file that is
+exactly the message.
+
+Examples
+--------
+>>> import pathlib, tempfile
+>>> import numpy as np
+>>> path = pathlib.Path(tempfile.mkdtemp()) / "move.json"
+>>> t = np.arange(3) / 1000.0
+>>> write_joint_trajectory(path, t, 0.1 * t[:, None], np.full((3, 1), 0.1), np.zeros((3, 1)), ("stick_joint",))
+>>> back = read_ros_json(path)
+>>> back.joint_names, back.positions.shape, back.t.tolist()
+(('stick_joint',), (3, 1), [0.0, 0.001, 0.002])
+"""
+
+import json
+from fractions import Fraction
+from pathlib import Path
+from typing import NamedTuple
+
+import numpy as np
+
+from .._atomic import write_atomic
+from .._checks import check_real
+from ..errors import ParameterError
+
+NANOSECONDS = 1_000_000_000
+_MAX_SECONDS = 2**31 - 1
+"""builtin_interfaces/Duration.sec is an int32."""
+
+
+def write_joint_trajectory(path, t, positions, velocities, accelerations, joint_names, *, metadata=None):
+    """Write a JointTrajectory document to ``path``, atomically.
+
+    Parameters
+    ----------
+    t : ndarray [shape=(n,)]
+        Times from the header stamp (s), in [0, 2**31 − 1): written exactly split as
+        ``time_from_start`` {sec, nanosec}, rounded to the nearest nanosecond.
+    positions, velocities, accelerations : ndarray [shape=(n, joints)]
+        rad, rad/s, rad/s².
+    joint_names : sequence of str
+    metadata : dict or None
+        Written under the top-level ``drumstroke`` key.
+    """
+    t = np.asarray(t, dtype=float)
+    if t[0] < 0.0 or t[-1] >= _MAX_SECONDS:
+        raise ParameterError(f"t must be in [0, {_MAX_SECONDS}) s for time_from_start, got {float(t[0])!r} "
+                             f"to {float(t[-1])!r} s")
+    points = [
+        {"positions": p, "velocities": v, "accelerations": a, "effort": [],
+         "time_from_start": {"sec": sec, "nanosec": nanosec}}
+        for p, v, a, (sec, nanosec) in zip(np.asarray(positions, float).tolist(), np.asarray(velocities, float).tolist(),
+                                           np.asarray(accelerations, float).tolist(), map(seconds_to_duration, t))
+    ]
+    document = {"header": {"stamp": {"sec": 0, "nanosec": 0}, "frame_id": ""}, "joint_names": list(joint_names),
+                "points": points}
+    if metadata is not None:
+        document["drumstroke"] = metadata
+    write_atomic(path, json.dumps(document, allow_nan=False) + "\n")
+
+
+def seconds_to_duration(seconds):
+    """A time (s) as ROS ``builtin_interfaces/Duration`` (sec, nanosec): exact to the nearest nanosecond.
+
+    nanosec is in [0, 1e9); a time that rounds up to a whole second carries.
+
+    Examples
+    --------
+    >>> seconds_to_duration(1.5), seconds_to_duration(2.9999999999)
+    ((1, 500000000), (3, 0))
+    """
+    return divmod(round(Fraction(float(seconds)) * NANOSECONDS), NANOSECONDS)
+
+
+class RosTrajectory(NamedTuple):
+    """A trajectory read from ROS ``JointTrajectory``-shaped JSON.
+
+    Attributes
+    ----------
+    t : ndarray [shape=(n,)]
+        sec + nanosec·1e-9 of each point (s).
+    positions, velocities : ndarray [shape=(n, joints)]
+        rad, rad/s.
+    accelerations : ndarray [shape=(n, joints)] or None
+        rad/s²; None when every point's list is empty (ROS allows it).
+    joint_names : tuple of str
+    """
+
+    t: np.ndarray
+    positions: np.ndarray
+    velocities: np.ndarray
+    accelerations: np.ndarray | None
+    joint_names: tuple
+
+
+def read_ros_json(path):
+    """Read and check ROS ``JointTrajectory``-shaped JSON as :func:`write_joint_trajectory` writes it.
+
+    Returns
+    -------
+    RosTrajectory
+        (t, positions, velocities, accelerations, joint_names).
+
+    Raises
+    ------
+    ParameterError
+        Naming the path and the key when the file cannot be read, is not JSON,
+        or a key is missing, of the wrong type or length, or not finite.
+    """
+    where = f"ROS trajectory file {str(path)!r}"
+    try:
+        document = json.loads(Path(path).read_text())
+    except FileNotFoundError:
+        raise ParameterError(f"{where} is missing") from None
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as error:
+        raise ParameterError(f"{where} is not readable JSON: {error}") from None
+    try:
+        return _parse_trajectory(document)
+    except ParameterError as error:
+        raise ParameterError(f"{where}: {error}") from None
+
+
+def _parse_trajectory(document):
+    if not isinstance(document, dict):
+        raise ParameterError("the document must be a JointTrajectory object")
+    for key in ("joint_names", "points"):
+        if key not in document:
+            raise ParameterError(f"key {key!r} is missing")
+    unknown = sorted(set(document) - {"header", "joint_names", "points", "drumstroke"})
+    if unknown:
+        raise ParameterError(f"key {unknown[0]!r} is not a JointTrajectory field (nor 'drumstroke')")
+    names = document["joint_names"]
+    if not isinstance(names, list) or not names or not all(isinstance(n, str) and n for n in names):
+        raise ParameterError(f"joint_names must be a non-empty list of names, got {names!r}")
+    points = document["points"]
+    if not isinstance(points, list) or len(points) < 2:
+        raise ParameterError("points must be a list of at least 2 points")
+    joints = len(names)
+    t, positions, velocities, accelerations = [], [], [], []
+    for i, point in enumerate(points):
+        key = f"points[{i}]"
+        if not isinstance(point, dict):
+            raise ParameterError(f"{key} must be a JointTrajectoryPoint object, got {point!r}")
+        positions.append(_numbers(point, "positions", key, joints))
+        velocities.append(_numbers(point, "velocities", key, joints))
+        accelerations.append(_numbers(point, "accelerations", key, joints, empty_ok=True))
+        t.append(_duration(point, key))
+    empty = [len(a) == 0 for a in accelerations]
+    if any(empty) and not all(empty):
+        i = empty.index(not empty[0])
+        raise ParameterError(f"points[{i}].accelerations must have {joints} values like points[0]'s, or every "
+                             "point none")
+    return RosTrajectory(t=np.array(t), positions=np.array(positions), velocities=np.array(velocities),
+                         accelerations=None if all(empty) else np.array(accelerations), joint_names=tuple(names))
+
+
+def _numbers(point, field, key, joints, empty_ok=False):
+    values = point.get(field)
+    if values is None:
+        raise ParameterError(f"key {key}.{field} is missing")
+    ok = isinstance(values, list) and (len(values) == joints or (empty_ok and not values))
+    if not ok:
+        raise ParameterError(f"{key}.{field} must be a list of {joints} numbers (one per joint), got {values!r}")
+    for j, value in enumerate(values):
+        check_real(f"{key}.{field}[{j}]", value)
+    return [float(v) for v in values]
+
+
+def _duration(point, key):
+    duration = point.get("time_from_start")
+    if duration is None:
+        raise ParameterError(f"key {key}.time_from_start is missing")
+    if not isinstance(duration, dict) or "sec" not in duration or "nanosec" not in duration:
+        raise ParameterError(f"{key}.time_from_start must be {{'sec': int, 'nanosec': int}}, got {duration!r}")
+    sec, nanosec = duration["sec"], duration["nanosec"]
+    if not _is_int(sec) or not -(2**31) <= sec < 2**31:
+        raise ParameterError(f"{key}.time_from_start.sec must be an int32, got {sec!r}")
+    if not _is_int(nanosec) or not 0 <= nanosec < NANOSECONDS:
+        raise ParameterError(f"{key}.time_from_start.nanosec must be an integer in [0, {NANOSECONDS - 1}], "
+                             f"got {nanosec!r}")
+    return (sec * NANOSECONDS + nanosec) / NANOSECONDS
+
+
+def _is_int(value):
+    return isinstance(value, int) and not isinstance(value, bool)
