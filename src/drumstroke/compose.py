@@ -42,6 +42,7 @@ from .errors import ParameterError
 from .palette.motion import RETURN_LIMITS, assemble, plan_return, return_time
 from .palette.transforms import compress, compress_limit, trim
 from .score import ScoreNote
+from .trajectory import Trajectory
 
 HOLD_AFTER = 0.25
 """Time (s) the stick holds still at the end of a composition, after its last return."""
@@ -76,14 +77,13 @@ class Placement:
 
 @dataclass(frozen=True)
 class Composition:
-    """A composed piece: one trajectory per stick on one timeline.
+    """A composed piece: one trajectory of all its sticks, and what became of each note.
 
     Attributes
     ----------
-    sticks : dict of str to Trajectory
-        Each from 0 to the same end, continuous in θ and ω.
-    rate : float
-        The control rate (Hz) for sampling.
+    trajectory : Trajectory
+        Every stick on one timeline from 0 to the same end, continuous in θ and ω, at the
+        control rate.
     offset : float
         Where the score's time 0 is on the timeline (s): room for the first
         stroke's downstroke before its note.
@@ -93,35 +93,41 @@ class Composition:
         Notes left out, velocities out of reach, notes with no mapping.
     """
 
-    sticks: dict
-    rate: float
+    trajectory: Trajectory
     offset: float
     placements: tuple
     problems: tuple
 
     @property
+    def sticks(self):
+        """Each stick's one-stick trajectory, by name: ``{stick: Trajectory}``."""
+        return {name: self.trajectory.stick(name) for name in self.trajectory.sticks}
+
+    @property
+    def rate(self):
+        """The control rate (Hz)."""
+        return self.trajectory.rate
+
+    @property
     def model(self):
         """The model that made the strokes ("mixed" if more than one)."""
-        models = {s.model for s in self.sticks.values()}
-        return models.pop() if len(models) == 1 else "mixed"
+        return self.trajectory.model
 
     @property
     def t_end(self):
         """Duration (s)."""
-        return next(iter(self.sticks.values())).t_end
+        return self.trajectory.t_end
 
     def sample(self, rate=None):
         """Times (s) and, per stick, (θ rad, ω rad/s) at ``rate`` (Hz; default the composition's)."""
-        rate = self.rate if rate is None else rate
-        columns = {}
-        for name, stick in self.sticks.items():
-            t, theta, omega = stick.sample(rate)
-            columns[name] = (theta, omega)
-        return t, columns
+        trajectory = self.trajectory.sample(rate)
+        return trajectory.t, {name: (part.theta, part.omega) for name, part in
+                              ((n, trajectory.stick(n)) for n in trajectory.sticks)}
 
     def impacts(self):
         """All impacts of all sticks in time order: times (s), tip speeds (m/s) and levels (dB re 1 m/s)."""
-        t, speed, level = (np.concatenate([getattr(s.impacts, key) for s in self.sticks.values()])
+        motions = self.trajectory.motions
+        t, speed, level = (np.concatenate([getattr(m.impacts, key) for m in motions])
                            for key in ("t", "tip_speed", "level_db"))
         order = np.argsort(t, kind="stable")
         return t[order], speed[order], level[order]
@@ -177,9 +183,11 @@ def compose(notes, library, *, rate=None, limits=None):
         played = [p for p, _ in plan if p.played]
         pieces = [trim(s, 0.0, p.cut) if p.cut is not None else s for p, s in plan if p.played]
         sticks[stick] = assemble(pieces, [p.start for p in played], limits=limits, end=end,
-                                 name=f"composition ({stick} stick)")
+                                 name=f"composition ({stick} stick)").sample(rate)
     placements = sorted((p for plan in plans.values() for p, _ in plan), key=lambda p: p.note.time)
-    return Composition(sticks, rate, offset, tuple(placements), tuple(problems))
+    trajectory = Trajectory.from_sticks(sticks, name=f"composition of {len(placements)} notes",
+                                        history=(f"compose {len(placements)} notes",))
+    return Composition(trajectory, offset, tuple(placements), tuple(problems))
 
 
 def _at_velocity(stroke, note, problems, limits):

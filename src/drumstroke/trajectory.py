@@ -40,12 +40,14 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from functools import cached_property
+from pathlib import Path
 
 import numpy as np
 
 from ._checks import as_vector, check_real
 from ._version import __version__
 from .errors import ParameterError, TrajectoryError
+from .formats import trajectory_csv
 from .model import Stick
 from .solver.arcs import Arcs
 
@@ -299,6 +301,48 @@ class Trajectory:
         return cls(tuple(p.motions[0] for _, p in parts), tuple(stick for stick, _ in parts), first.t_end,
                    first.rate, name, models[0] if len(models) == 1 else "mixed", None, tuple(history),
                    start=first.start, _stored=stored)
+
+    @classmethod
+    def read_csv(cls, path, *, stick=None, rate=None, theta_max=None, tip_distance=None):
+        """A trajectory CSV (:mod:`drumstroke.formats.trajectory_csv`): one stick, or every stick of the file.
+
+        Parameters
+        ----------
+        path : str or Path
+        stick : str or None
+            The stick to read of a file with several; None reads them all.
+        rate : float or None
+            Hz; default the comment's ``rate=``, else 1 / the first time step.
+        theta_max, tip_distance : float or None
+            The head (rad) and x (m) for the impacts found in the samples; default the paper's stick's.
+        """
+        comment, columns = trajectory_csv.read_columns(path)
+        sticks = trajectory_csv.sticks_in(columns)
+        stated = trajectory_csv.stated_rate(comment)
+        rate = rate if rate is not None else stated
+        if stick is not None or not sticks:
+            t, theta, omega, alpha, _ = trajectory_csv.read_stick(path, stick=stick)
+            names = (stick or DEFAULT_STICK,)
+        else:
+            t = columns["t"]
+            theta = np.column_stack([columns[f"theta_{s}"] for s in sticks])
+            omega = np.column_stack([columns[f"omega_{s}"] for s in sticks])
+            alpha, names = None, sticks
+        return cls.from_samples(t, theta, omega, theta_max=theta_max, tip_distance=tip_distance, rate=rate,
+                                alpha=alpha, sticks=names, name=Path(path).stem,
+                                model=trajectory_csv.stated_model(comment))
+
+    def write_csv(self, path, *, alpha=False, note=""):
+        """Write the samples as a trajectory CSV, atomically: ``t,theta,omega`` or per stick (and α if asked).
+
+        ``note`` is added to the comment line (e.g. where a score's time 0 falls).
+        """
+        t, theta, omega, acceleration = self.samples() if alpha else (*self._all, None)
+        names, columns = trajectory_csv.stick_columns(self.sticks, theta, omega, acceleration)
+        comment = trajectory_csv.comment_line(self.model, self.name, self.rate)
+        if alpha:
+            comment += ", rad/s^2"
+        trajectory_csv.write_columns(path, ("t", *names), (t, *columns), comment=comment + (f"; {note}" if note else ""))
 
     # --- the samples -------------------------------------------------------------------------------------------------
 

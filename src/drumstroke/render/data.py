@@ -3,9 +3,8 @@
 Every file records the model that made it; every file is written atomically.
 """
 
-from .._atomic import write_atomic
 from .._atomic import write_json as write_json_data
-from ..palette.trajectory import csv_header, csv_text
+from ..stroke import as_trajectory
 from ..trajectory import DEFAULT_RATE
 
 
@@ -25,8 +24,7 @@ def write_csv(stroke, path, *, rate=DEFAULT_RATE):
     One comment line (``#``) comes first: the drumstroke version, the model, the
     stroke's name and the rate. Units: s, rad, rad/s.
     """
-    t, theta, omega = stroke.sample(rate)
-    write_atomic(path, csv_text(csv_header(stroke.model, stroke.name, rate), ("t", "theta", "omega"), (t, theta, omega)))
+    as_trajectory(stroke, rate=rate).write_csv(path)
 
 
 def write_composition_csv(composition, path, *, rate=None):
@@ -35,15 +33,7 @@ def write_composition_csv(composition, path, *, rate=None):
     One stick: the header ``t,theta,omega``, like a stroke. Several: ``t`` then
     ``theta_<stick>,omega_<stick>`` for each stick in turn.
     """
-    rate = composition.rate if rate is None else rate
-    t, columns = composition.sample(rate)
-    if len(columns) == 1:
-        names, values = ("t", "theta", "omega"), (t, *next(iter(columns.values())))
-    else:
-        names = ("t", *(f"{q}_{stick}" for stick in columns for q in ("theta", "omega")))
-        values = (t, *(v for pair in columns.values() for v in pair))
-    header = csv_header(composition.model, f"composition of {len(composition.placements)} notes", rate)
-    write_atomic(path, csv_text(f"{header}; score time 0 at t = {composition.offset:g} s", names, values))
+    composition.trajectory.sample(rate).write_csv(path, note=f"score time 0 at t = {composition.offset:g} s")
 
 
 def composition_to_dict(composition):
