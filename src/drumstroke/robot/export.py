@@ -39,12 +39,14 @@ from ..errors import ParameterError, TrajectoryError
 from ..formats.ros_json import read_ros_json, seconds_to_duration, write_joint_trajectory
 from ..formats.trajectory_csv import columns_text as csv_text
 from ..formats.trajectory_csv import comment_line as csv_header
+from ..trajectory import Trajectory
 from .validate import validate
 
 __all__ = ["export_csv", "export_ros_json", "read_ros_json", "seconds_to_duration"]
 
 
-def export_csv(path, t, theta, omega, *, rate, model, name, head=None, limits=None, start=None):
+def export_csv(path, trajectory, theta=None, omega=None, *, rate=None, model=None, name=None, head=None, limits=None,
+               start=None, stick=None):
     """Validate a trajectory and write it as CSV ``t,theta,omega,alpha`` (s, rad, rad/s, rad/s²).
 
     One ``#`` comment line comes first: the drumstroke version, the model, the
@@ -54,13 +56,15 @@ def export_csv(path, t, theta, omega, *, rate, model, name, head=None, limits=No
     Parameters
     ----------
     path : str or Path
-    t, theta, omega : ndarray [shape=(n,)]
-        s, rad, rad/s at the control rate.
-    rate : float
-        The control rate (Hz).
-    model, name : str
-        What made the trajectory and what it is called (one line each, no ';').
-    head, limits, start
+    trajectory : Trajectory or ndarray
+        A :class:`~drumstroke.trajectory.Trajectory` (one stick, or name its ``stick``), or the
+        times t (s) [shape=(n,)] of samples given as arrays with ``theta`` (rad) and ``omega`` (rad/s).
+    rate : float or None
+        The control rate (Hz); default the trajectory's (arrays: 1000).
+    model, name : str or None
+        What made the trajectory and what it is called (one line each, no ';'); default the
+        trajectory's (arrays must give them).
+    head, limits, start, stick
         As for :func:`~drumstroke.robot.validate.validate`.
 
     Returns
@@ -68,8 +72,8 @@ def export_csv(path, t, theta, omega, *, rate, model, name, head=None, limits=No
     Checked
         What was validated and written.
     """
-    model, name = _check_text("model", model), _check_text("name", name)
-    checked = validate(t, theta, omega, rate=rate, head=head, limits=limits, start=start)
+    model, name = _labels(trajectory, model, name, stick)
+    checked = validate(trajectory, theta, omega, rate=rate, head=head, limits=limits, start=start, stick=stick)
     alpha = np.append(checked.alpha, 0.0)
     comment = (f"{csv_header(model, name, checked.rate)}, rad/s^2; alpha is the forward difference "
                "(omega[k+1] - omega[k])*rate, 0 at the last sample")
@@ -78,25 +82,25 @@ def export_csv(path, t, theta, omega, *, rate, model, name, head=None, limits=No
     return checked
 
 
-def export_ros_json(path, t, theta, omega, *, rate, model, name, joint_names=("stick_joint",), head=None,
-                    limits=None, start=None, metadata=True):
+def export_ros_json(path, trajectory, theta=None, omega=None, *, rate=None, model=None, name=None, joint_names=None,
+                    head=None, limits=None, start=None, metadata=True):
     """Validate a trajectory of one or several joints and write it as ROS ``JointTrajectory``-shaped JSON.
 
     Parameters
     ----------
     path : str or Path
-    t : ndarray [shape=(n,)]
-        Times (s) from the header stamp, t[0] ≥ 0; written exactly split as
-        ``time_from_start`` {sec, nanosec}, nanosec in [0, 1e9), rounded to the
-        nearest nanosecond.
-    theta, omega : ndarray [shape=(n,) or (n, joints)]
-        rad, rad/s; one column per joint.
-    rate : float
-        The control rate (Hz).
-    model, name : str
-        One line each, no ';'.
-    joint_names : sequence of str
-        One distinct name per joint.
+    trajectory : Trajectory or ndarray
+        A :class:`~drumstroke.trajectory.Trajectory`, one joint per stick; or the times (s) from the
+        header stamp [shape=(n,)] of samples given as arrays, t[0] ≥ 0, written exactly split as
+        ``time_from_start`` {sec, nanosec}, nanosec in [0, 1e9), rounded to the nearest nanosecond.
+    theta, omega : ndarray [shape=(n,) or (n, joints)] or None
+        With times: rad, rad/s; one column per joint.
+    rate : float or None
+        The control rate (Hz); default the trajectory's (arrays: 1000).
+    model, name : str or None
+        One line each, no ';'; default the trajectory's (arrays must give them).
+    joint_names : sequence of str or None
+        One distinct name per joint; default ``<stick>_joint`` for each stick ("stick_joint" for one).
     head, limits
         As for :func:`~drumstroke.robot.validate.validate`, the same for every joint.
     start : (float, float), sequence of them, or None
@@ -110,9 +114,23 @@ def export_ros_json(path, t, theta, omega, *, rate, model, name, joint_names=("s
     tuple of Checked
         One per joint.
     """
-    model, name = _check_text("model", model), _check_text("name", name)
-    names = _check_joint_names(joint_names)
-    thetas, omegas, starts = _joint_columns(theta, omega, start, len(names))
+    model, name = _labels(trajectory, model, name, None)
+    if isinstance(trajectory, Trajectory):
+        sticks = trajectory.sticks
+        names = _check_joint_names(joint_names if joint_names is not None else [f"{s}_joint" for s in sticks])
+        if len(names) != len(sticks):
+            raise ParameterError(f"joint_names must name each of the {len(sticks)} sticks, got {joint_names!r}")
+        t, thetas, omegas = trajectory.t, [], []
+        for stick in sticks:
+            part = trajectory.stick(stick)
+            thetas.append(part.theta)
+            omegas.append(part.omega)
+        starts = [start] if len(sticks) == 1 else (list(start) if start is not None else [None] * len(sticks))
+        rate = trajectory.rate if rate is None else rate
+    else:
+        t = trajectory
+        names = _check_joint_names(joint_names if joint_names is not None else ("stick_joint",))
+        thetas, omegas, starts = _joint_columns(theta, omega, start, len(names))
     checked = []
     for joint, theta_j, omega_j, start_j in zip(names, thetas, omegas, starts):
         try:
@@ -125,6 +143,14 @@ def export_ros_json(path, t, theta, omega, *, rate, model, name, joint_names=("s
                            np.column_stack([c.omega for c in checked]),
                            np.column_stack([np.append(c.alpha, 0.0) for c in checked]), names, metadata=metadata)
     return tuple(checked)
+
+
+def _labels(trajectory, model, name, stick):
+    """The model and name written: given, else (for a Trajectory) its own; arrays must name them."""
+    if isinstance(trajectory, Trajectory):
+        model = trajectory.model if model is None else model
+        name = (trajectory.name or "trajectory") + (f"-{stick}" if stick else "") if name is None else name
+    return _check_text("model", model), _check_text("name", name)
 
 
 def _check_text(name, value):
