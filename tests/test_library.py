@@ -17,6 +17,7 @@ import pytest
 
 import drumstroke
 from drumstroke import ParameterError
+from drumstroke.formats import library as library_format
 from drumstroke.palette import library as library_module
 from drumstroke.palette.library import Entry, build_library, load_library, read_palette
 
@@ -380,7 +381,7 @@ def test_a_failed_manifest_write_leaves_the_previous_library(palette, library_a,
         raise OSError("killed while writing the manifest")
 
     with monkeypatch.context() as patch:
-        patch.setattr(library_module, "write_atomic", failing)
+        patch.setattr(library_format, "write_atomic", failing)
         with pytest.raises(OSError, match="killed"):
             build_library(folder, palette=other_entries(palette))
     assert_same_snapshot(snapshot(folder), before)

@@ -170,10 +170,14 @@ class Recipe:
         A ``samples`` file is written relative to the new file's folder when it can be.
         """
         path = Path(path)
+        write_toml(path, self.toml_data(path.parent))
+
+    def toml_data(self, folder):
+        """The recipe as TOML data for a file in ``folder``: ``samples`` files relative to it when they can be."""
         data = self.to_dict()
-        _relocate_samples(data["force"], self.force, path.parent)
-        _relocate_samples(data["gravity"], self.gravity, path.parent)
-        write_toml(path, data)
+        _relocate_samples(data["force"], self.force, Path(folder))
+        _relocate_samples(data["gravity"], self.gravity, Path(folder))
+        return data
 
 
 def _relocate_samples(data, profile, folder):
