@@ -12,7 +12,8 @@ from scipy.special import ellipk, ellipkinc
 
 import drumstroke
 from drumstroke import ParameterError
-from drumstroke.sweep import FEATURES, Grid, run_sweep, stroke_features, write_table
+from drumstroke.formats.table import write_table
+from drumstroke.sweep import FEATURES, Grid, run_sweep, stroke_features
 
 GRID_TOML = """
 base = "free-bounce"

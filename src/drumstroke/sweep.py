@@ -30,8 +30,6 @@ Examples
 [6.0206, 1.31]
 """
 
-import csv
-import io
 import itertools
 import json
 import math
@@ -40,10 +38,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ._atomic import write_atomic
-from ._checks import check_choice, check_keys, check_real, read_toml
-from ._version import __version__
+from ._checks import check_choice, check_keys, check_real
 from .errors import ParameterError, SimulationError
+from .formats.table import check_table_path, write_table  # noqa: F401 (until the command line imports formats)
+from .formats.toml import read_toml
 from .recipe import Recipe
 from .stroke import resolve, simulate, simulate_many
 
@@ -249,37 +247,6 @@ def run_sweep(grid, *, scheduler=None, progress=None):
     return _columns(grid, points, recipes, rows)
 
 
-def check_table_path(path, *, name="out"):
-    """``path`` as a Path if it names a table this module writes (.csv or .parquet); ``name`` is its parameter."""
-    path = Path(path)
-    if path.suffix not in (".csv", ".parquet"):
-        raise ParameterError(f"{name} must end in .csv or .parquet, got {str(path)!r}")
-    return path
-
-
-def write_table(table, path):
-    """Write a sweep's columns to ``path``: ``.csv`` or ``.parquet`` (needs pyarrow), atomically."""
-    path = check_table_path(path)
-    if path.suffix == ".csv":
-        buffer = io.StringIO()
-        writer = csv.writer(buffer, lineterminator="\n")
-        writer.writerow(table)
-        for row in zip(*table.values()):
-            writer.writerow(_cell(value) for value in row)
-        write_atomic(path, buffer.getvalue())
-    else:
-        try:
-            import pyarrow as pa
-            import pyarrow.parquet as pq
-        except ImportError:
-            raise ImportError("writing parquet needs pyarrow: pip install 'drumstroke[sweep]'") from None
-        arrow = pa.table({name: list(values) if values.dtype == object else values for name, values in table.items()})
-        arrow = arrow.replace_schema_metadata({"drumstroke": __version__})
-        buffer = io.BytesIO()
-        pq.write_table(arrow, buffer)
-        write_atomic(path, buffer.getvalue())
-
-
 def _rows(recipes, audible_db):
     """Features (and an error message) of each recipe; strokes the solver refuses get NaN and the reason."""
     try:
@@ -387,9 +354,3 @@ def _draw(spec, rng, n):
 
 def _describe(point):
     return ", ".join(f"{name} = {value!r}" for name, value in point.items())
-
-
-def _cell(value):
-    if isinstance(value, (float, np.floating)):
-        return "" if math.isnan(value) else repr(float(value))
-    return value

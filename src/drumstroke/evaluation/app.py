@@ -38,8 +38,10 @@ from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
 from urllib.parse import parse_qs, urlsplit
 
-from .._checks import check_keys, read_toml
+from .._checks import check_keys
 from ..errors import ParameterError
+from ..formats.responses_csv import responses_text
+from ..formats.toml import read_toml
 
 QUESTIONS = ("answer", "confidence", "similarity")
 _ID = re.compile(r"^[A-Za-z0-9._-]{1,64}$")
@@ -203,9 +205,7 @@ class Store:
 
     def export_csv(self):
         """The answers as CSV text with the header ``drumstroke stats`` reads."""
-        lines = ["subject,pair,robot,answer,confidence,similarity"]
-        lines += [",".join(str(v) for v in row) for row in self.rows()]
-        return "\n".join(lines) + "\n"
+        return responses_text(self.rows())
 
 
 def make_server(config, store, *, host="127.0.0.1", port=8000):

@@ -31,18 +31,17 @@ Examples
 20.97
 """
 
-import csv
 import math
 from dataclasses import asdict, dataclass
-from pathlib import Path
 
 import numpy as np
 
 from .._checks import check_int, check_real
 from ..errors import ParameterError
+from ..formats.responses_csv import COLUMNS, read_responses_csv
 
 ALPHA = 0.05
-COLUMNS = ("subject", "pair", "robot", "answer", "confidence", "similarity")
+
 CHOICES = ("A", "B")
 
 
@@ -204,16 +203,7 @@ def read_responses(path):
     robot and answer are A or B; confidence and similarity integers 1–5. Every
     subject must judge the same pairs, each once. Errors name the line.
     """
-    path = Path(path)
-    try:
-        with path.open(newline="") as handle:
-            rows = list(csv.reader(handle))
-    except (OSError, UnicodeDecodeError) as error:
-        reason = error.strerror if isinstance(error, OSError) else "not a UTF-8 text file"
-        raise ParameterError(f"responses {str(path)!r} cannot be read: {reason}") from None
-    if not rows or tuple(c.strip() for c in rows[0]) != COLUMNS:
-        raise ParameterError(f"responses {str(path)!r} must start with the header {','.join(COLUMNS)}")
-    return parse_responses(rows[1:], name=str(path))
+    return parse_responses(read_responses_csv(path), name=str(path))
 
 
 def parse_responses(rows, *, name="responses"):
