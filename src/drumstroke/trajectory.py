@@ -154,7 +154,7 @@ def _grown(array, n, capacity):
     return out
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, repr=False)
 class Trajectory:
     """The motion of one stick or several on one timeline, sampled at a control rate.
 
@@ -213,9 +213,12 @@ class Trajectory:
         recipe = stroke.recipe
         rate = _check_rate(rate)
         label = recipe.name or "custom"
-        motion = Motion(stroke.arcs.evaluate, stroke.impacts, -recipe.cor * stroke.impacts.omega, recipe.theta_max)
-        return cls((motion,), (DEFAULT_STICK,), recipe.t_end, rate, name or label, recipe.model, recipe,
-                   (f"simulate {label} (model {recipe.model})",), _identity)
+        # Built field by field: this is every sampled stroke's path, and dataclass __init__ would double its overhead.
+        motion = _made(Motion, path=stroke.arcs.evaluate, impacts=stroke.impacts,
+                       omega_after=-recipe.cor * stroke.impacts.omega, theta_max=recipe.theta_max)
+        return _made(cls, motions=(motion,), sticks=(DEFAULT_STICK,), t_end=recipe.t_end, rate=rate, name=name or label,
+                     model=recipe.model, recipe=recipe, history=(f"simulate {label} (model {recipe.model})",),
+                     recipe_time=_identity, start=0.0, _stored=None)
 
     @classmethod
     def from_samples(cls, t, theta, omega, impacts=None, omega_after=None, *, theta_max=None, tip_distance=None,
@@ -359,6 +362,11 @@ class Trajectory:
 
     def __bool__(self):
         return True
+
+    def __repr__(self):
+        impacts = ", ".join(f"{stick} {len(m.impacts)}" for stick, m in zip(self.sticks, self.motions))
+        return (f"Trajectory({self.name!r}, model={self.model!r}, {len(self)} samples at {self.rate:g} Hz over "
+                f"[{self.start:g}, {self.t_end:g}] s; impacts: {impacts})")
 
     def samples(self, first=0, stop=None):
         """Samples ``first`` to ``stop`` − 1 (all by default): t (s), θ (rad), ω (rad/s), α (rad/s²).
@@ -874,6 +882,13 @@ def _check_chunk(trajectory, buffer, n, t, theta, omega):
 
 def _identity(t):
     return t
+
+
+def _made(cls, **fields):
+    """An instance of the frozen dataclass ``cls`` with ``fields`` (all of them, already valid)."""
+    made = object.__new__(cls)
+    made.__dict__.update(fields)
+    return made
 
 
 def _flight_acceleration(path, impacts, t, start, t_end):
