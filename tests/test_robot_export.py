@@ -8,14 +8,13 @@ import pytest
 
 import drumstroke
 from drumstroke._version import __version__
-from drumstroke.errors import ParameterError
+from drumstroke.errors import ParameterError, TrajectoryError
 from drumstroke.model import Stick
 from drumstroke.palette.library import read_palette
-from drumstroke.palette.trajectory import Trajectory, read_trajectory_csv
-from drumstroke.robot.export import export_csv, export_ros_json, read_ros_json, seconds_to_duration
-from drumstroke.errors import TrajectoryError
 from drumstroke.palette.motion import Limits
+from drumstroke.robot.export import export_csv, export_ros_json, read_ros_json, seconds_to_duration
 from drumstroke.robot.validate import validate_file
+from drumstroke.trajectory import Trajectory
 
 RATE = 1000.0
 HEAD = Stick().theta_max
@@ -58,7 +57,8 @@ def test_csv_round_trips_to_17_digits(stroke, tmp_path):
 def test_an_exported_csv_reads_and_validates_again(stroke, tmp_path):
     path = tmp_path / "double.csv"
     export_csv(path, *stroke, rate=RATE, model="paper", name="double")
-    t, theta, omega, model = read_trajectory_csv(path)
+    back = Trajectory.read_csv(path)
+    t, theta, omega, model = back.t, back.theta, back.omega, back.model
     assert model == "paper" and all(np.array_equal(a, b) for a, b in zip((t, theta, omega), stroke))
     again = validate_file(path)
     assert again.rate == RATE and again.peak_acceleration == pytest.approx(np.abs(np.diff(omega)).max() * RATE)

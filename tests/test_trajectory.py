@@ -4,6 +4,7 @@ Oracles: the exact stroke the samples come from (the solver's arcs), numpy's and
 files, and the invariants of the stepping seam (chunks put end to end equal the whole).
 """
 
+import itertools
 import json
 
 import numpy as np
@@ -60,7 +61,7 @@ def test_alpha_is_the_flight_acceleration(bounce):
 
 def test_chunks_of_an_exact_curve_put_end_to_end_equal_the_whole(bounce):
     cuts = [0, 1, 7, 128, 129, 1000, 2500, 4999, 5001]
-    parts = [bounce.samples(a, b) for a, b in zip(cuts[:-1], cuts[1:])]
+    parts = [bounce.samples(a, b) for a, b in itertools.pairwise(cuts)]
     for k, whole in enumerate(bounce.samples()):
         joined = np.concatenate([p[k] for p in parts])
         np.testing.assert_allclose(joined, whole, rtol=0, atol=1e-12)
@@ -83,7 +84,7 @@ def test_several_sticks_share_one_timeline(pair, bounce):
     assert np.array_equal(pair.stick("right").theta, bounce.theta)
     assert len(pair.columns()) == 5 and np.array_equal(pair.columns()[3], pair.theta[:, 1])
     with pytest.raises(ParameterError, match="impacts needs one stick; this trajectory has the sticks right, left"):
-        pair.impacts
+        _ = pair.impacts
     with pytest.raises(ParameterError, match="stick must be one of right, left, got 'middle'"):
         pair.stick("middle")
 

@@ -1,6 +1,5 @@
 """Atomic file writes: a crash mid-write leaves the old file whole."""
 
-import json
 import os
 import tempfile
 from pathlib import Path
@@ -21,17 +20,6 @@ def write_atomic(path, data):
     except BaseException:
         Path(temporary).unlink(missing_ok=True)
         raise
-
-
-def write_json(path, data):
-    """Write ``data`` as indented JSON to ``path`` atomically; numpy arrays and numbers become lists and numbers."""
-    write_atomic(path, json.dumps(data, indent=1, default=_plain) + "\n")
-
-
-def _plain(value):
-    if hasattr(value, "tolist"):  # numpy arrays and scalars
-        return value.tolist()
-    raise TypeError(f"cannot write {type(value).__name__} as JSON")
 
 
 def _mode_for(path):

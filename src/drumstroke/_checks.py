@@ -6,9 +6,7 @@ a float so callers can write ``x = check_real("x", x)``.
 """
 
 import math
-import tomllib
 from numbers import Integral, Real
-from pathlib import Path
 
 import numpy as np
 
@@ -74,17 +72,6 @@ def check_keys(name, table, allowed):
     unknown = sorted(set(table) - set(allowed))
     if unknown:
         raise ParameterError(f"{name} has unknown key {unknown[0]!r}; allowed keys: {', '.join(allowed)}")
-
-
-def read_toml(path, what):
-    """The TOML file at ``path`` as a dict; an unreadable or invalid file is a ParameterError naming the ``what``."""
-    try:
-        return tomllib.loads(Path(path).read_text())
-    except (OSError, UnicodeDecodeError) as error:
-        reason = error.strerror if isinstance(error, OSError) else "not a UTF-8 text file"
-        raise ParameterError(f"{what} {str(path)!r} cannot be read: {reason}") from None
-    except tomllib.TOMLDecodeError as error:
-        raise ParameterError(f"{what} {str(path)!r} is not valid TOML: {error}") from None
 
 
 def _range_text(low, high, low_open, high_open, unit):

@@ -13,7 +13,7 @@ A text pattern is the tempo, then one note per line::
 Beats count from 0 in quarter notes at the tempo (beats per minute); stroke
 names are the library's; velocity is MIDI's 1–127; the stick is any name
 (a-z, 0-9, ``_``, ``-``), one trajectory per stick. A MIDI score's notes
-(read with :func:`drumstroke.render.midi.read_midi_notes`) become score notes
+(read with :func:`drumstroke.formats.midi.read_midi_notes`) become score notes
 through a note mapping (:func:`read_mapping`): a TOML file ::
 
     [notes]
@@ -23,6 +23,8 @@ through a note mapping (:func:`read_mapping`): a TOML file ::
 Without one, :func:`default_mapping` maps 38 (acoustic snare) to ``single``,
 37 (side stick) to ``tap``, 40 (electric snare) to ``press-roll``, and note
 60 + i to the library's i-th stroke (the order of ``drumstroke library list``).
+
+:func:`read_score` reads either kind of file, by its name's ending.
 
 Examples
 --------
@@ -35,8 +37,11 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
-from ._checks import check_keys, check_real, read_toml
+from ._checks import check_keys, check_real
 from .errors import ParameterError
+from .formats.pattern import parse_pattern as pattern_rows
+from .formats.pattern import read_pattern_file
+from .formats.toml import read_toml
 
 DEFAULT_STICK = "right"
 _STICK = re.compile(r"^[a-z0-9_-]{1,32}$")
@@ -81,53 +86,18 @@ class ScoreNote:
 
 def read_pattern(path):
     """The notes of a text pattern file (see the module docstring), in time order."""
-    path = Path(path)
-    try:
-        text = path.read_text()
-    except (OSError, UnicodeDecodeError) as error:
-        reason = error.strerror if isinstance(error, OSError) else "not a UTF-8 text file"
-        raise ParameterError(f"pattern {str(path)!r} cannot be read: {reason}") from None
-    return parse_pattern(text, name=str(path))
+    return _notes(*read_pattern_file(path))
 
 
 def parse_pattern(text, *, name="pattern"):
     """The notes of a text pattern given as a string, in time order."""
-    tempo, notes = None, []
-    for number, line in enumerate(text.splitlines(), start=1):
-        fields = line.split("#", 1)[0].split()
-        if not fields:
-            continue
-        where = f"{name} line {number}"
-        if tempo is None:
-            if len(fields) != 2 or fields[0] != "tempo":
-                raise ParameterError(f"{where}: the first line must be 'tempo BPM', got {line.strip()!r}")
-            tempo = check_real(f"{where}: tempo", _number(fields[1], where, "tempo"), low=0.0, high=1000.0,
-                               low_open=True, unit="beats per minute")
-            continue
-        if len(fields) not in (3, 4):
-            raise ParameterError(f"{where}: a note is 'beat stroke velocity [stick]', got {line.strip()!r}")
-        beat = check_real(f"{where}: beat", _number(fields[0], where, "beat"), low=0.0, high=1e6)
-        velocity = _integer(fields[2], where)
-        stick = fields[3] if len(fields) == 4 else DEFAULT_STICK
-        notes.append(ScoreNote(beat * 60.0 / tempo, fields[1], velocity, stick, source=where))
-    if tempo is None:
-        raise ParameterError(f"{name} is empty: it needs a 'tempo BPM' line and notes")
-    if not notes:
-        raise ParameterError(f"{name} has a tempo but no notes")
+    return _notes(*pattern_rows(text, name=name))
+
+
+def _notes(tempo, rows):
+    notes = [ScoreNote(row.beat * 60.0 / tempo, row.stroke, row.velocity, row.stick or DEFAULT_STICK,
+                       source=row.source) for row in rows]
     return sorted(notes, key=lambda n: n.time)
-
-
-def _number(text, where, what):
-    try:
-        return float(text)
-    except ValueError:
-        raise ParameterError(f"{where}: {what} must be a number, got {text!r}") from None
-
-
-def _integer(text, where):
-    if not re.fullmatch(r"\d{1,3}", text) or not 1 <= int(text) <= 127:
-        raise ParameterError(f"{where}: velocity must be an integer in [1, 127], got {text!r}")
-    return int(text)
 
 
 def default_mapping(stroke_names):
@@ -183,3 +153,51 @@ def from_midi_notes(midi_notes, mapping):
         notes.append(ScoreNote(float(note.time), stroke, int(note.velocity), stick, source=source))
     return sorted(notes, key=lambda n: n.time), unmapped
 
+
+
+MIDI_SUFFIXES = (".mid", ".midi")
+"""File name endings :func:`read_score` reads as MIDI files; any other file is a text pattern."""
+
+
+def read_score(path, *, mapping=None, stroke_names=None):
+    """The notes of a score file: a MIDI file through a note mapping, or a text pattern.
+
+    Parameters
+    ----------
+    path : str or Path
+        A ``.mid``/``.midi`` file (times in s from its ticks and tempo changes) or a text pattern
+        (see the module docstring), which names its strokes itself.
+    mapping : str, Path, dict or None
+        For a MIDI file only: a mapping file (:func:`read_mapping`) or ``{MIDI note: (stroke, stick)}``.
+        Default: :func:`default_mapping` of ``stroke_names``.
+    stroke_names : sequence of str or None
+        The library's stroke names in its order, for the default mapping.
+
+    Returns
+    -------
+    notes : list of ScoreNote
+        In time order.
+    unmapped : dict
+        {MIDI note number: how many notes had no mapping}; they are left out. Empty for a pattern.
+
+    Raises
+    ------
+    ParameterError
+        If the file cannot be read, a mapping is given for a text pattern, or a MIDI file comes with
+        neither a mapping nor stroke names.
+    """
+    path = Path(path)
+    if path.suffix.lower() not in MIDI_SUFFIXES:
+        if mapping is not None:
+            raise ParameterError(f"mapping applies to MIDI scores (.mid, .midi); {str(path)!r} is a text pattern, "
+                                 "which names its strokes")
+        return read_pattern(path), {}
+    from .formats.midi import read_midi_notes
+
+    if mapping is None:
+        if stroke_names is None:
+            raise ParameterError(f"MIDI score {str(path)!r} needs a mapping or the library's stroke_names")
+        mapping = default_mapping(list(stroke_names))
+    elif not isinstance(mapping, dict):
+        mapping = read_mapping(mapping)
+    return from_midi_notes(read_midi_notes(path), mapping)

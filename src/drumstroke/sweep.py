@@ -40,7 +40,6 @@ import numpy as np
 
 from ._checks import check_choice, check_keys, check_real
 from .errors import ParameterError, SimulationError
-from .formats.table import check_table_path, write_table  # noqa: F401 (until the command line imports formats)
 from .formats.toml import read_toml
 from .recipe import Recipe
 from .stroke import resolve, simulate, simulate_many

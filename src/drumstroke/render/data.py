@@ -3,7 +3,7 @@
 Every file records the model that made it; every file is written atomically.
 """
 
-from .._atomic import write_json as write_json_data
+from ..formats.json import write_json as write_json_data
 from ..stroke import as_trajectory
 from ..trajectory import DEFAULT_RATE
 

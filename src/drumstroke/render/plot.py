@@ -105,15 +105,16 @@ def composition_figure(composition, *, title="composition", rate=1000.0):
 def tracking_figure(played):
     """A matplotlib Figure of a reference and what each controller played: θ(t) and the onsets of each."""
     ref = played[0].reference
+    head = ref.theta_max
     figure = Figure(figsize=(11.0, 1.6 + 2.4 * len(played)), layout="constrained")
     axes = np.atleast_1d(figure.subplots(len(played), 1, sharex=True, squeeze=False)[:, 0])
     for ax, p in zip(axes, played):
-        ax.axhline(ref.head, color="0.55", lw=1.0, ls="--", label="drumhead")
+        ax.axhline(head, color="0.55", lw=1.0, ls="--", label="drumhead")
         ax.plot(ref.t, ref.theta, color="0.35", lw=1.0, label="reference θ")
         ax.plot(ref.t, p.theta, color="C0", lw=1.0, alpha=0.85, label=f"played θ ({p.controller})")
-        ax.scatter(ref.impact_t, np.full(len(ref.impact_t), ref.head + 0.01), marker="v", s=14, color="0.2",
+        ax.scatter(ref.impacts.t, np.full(len(ref.impacts), head + 0.01), marker="v", s=14, color="0.2",
                    label="reference onsets")
-        ax.scatter(p.onsets, np.full(len(p.onsets), ref.head - 0.01), marker="^", s=14, color="C3",
+        ax.scatter(p.onsets, np.full(len(p.onsets), head - 0.01), marker="^", s=14, color="C3",
                    label="played onsets")
         ax.set_ylabel("θ (rad)")
         ax.grid(alpha=0.25)

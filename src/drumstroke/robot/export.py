@@ -51,7 +51,7 @@ def export_csv(path, trajectory, theta=None, omega=None, *, rate=None, model=Non
 
     One ``#`` comment line comes first: the drumstroke version, the model, the
     name, the rate and the units. :func:`~drumstroke.robot.validate.validate_file`
-    and :func:`~drumstroke.palette.trajectory.read_trajectory_csv` read it back.
+    and :meth:`drumstroke.trajectory.Trajectory.read_csv` read it back.
 
     Parameters
     ----------

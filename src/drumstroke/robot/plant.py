@@ -34,7 +34,8 @@ from functools import lru_cache
 
 import numpy as np
 
-from .._checks import check_int, check_keys, check_real, read_toml
+from .._checks import check_int, check_keys, check_real
+from ..formats.toml import read_toml
 from ..errors import ParameterError
 from ..model import Stick, inertia_ratio
 from ..recipe import STANDARD_GRAVITY

@@ -44,9 +44,6 @@ from ..formats.trajectory_csv import read_stick, stated_rate
 from ..palette.motion import Limits
 from ..trajectory import DEFAULT_RATE, THETA_TOP, Trajectory, check_grid
 
-JointLimits = Limits
-"""The joint's limits: :class:`drumstroke.palette.motion.Limits`, the one joint-limits type (this name while the command line moves)."""
-
 
 def read_limits(path):
     """The :class:`~drumstroke.palette.motion.Limits` of the ``[limits]`` table of the TOML file at ``path``."""
@@ -98,7 +95,7 @@ class Checked:
     jerk: np.ndarray
     rate: float
     head: float
-    limits: JointLimits
+    limits: Limits
     lowest_angle: float
     highest_angle: float
     peak_speed: float

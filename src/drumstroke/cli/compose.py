@@ -1,0 +1,55 @@
+"""``drumstroke compose``: a score (MIDI file or text pattern) into one trajectory per stick."""
+
+import sys
+from pathlib import Path
+
+from .._checks import check_real
+from ..errors import ParameterError
+from ._common import add_sound_options, print_written
+
+
+def add_compose(commands):
+    """Register ``compose``."""
+    comp = commands.add_parser("compose", help="turn a score (MIDI file or text pattern) into one trajectory per stick")
+    comp.add_argument("score", type=Path, metavar="SCORE", help="a .mid/.midi file or a text pattern (see the README)")
+    comp.add_argument("--library", type=Path, required=True, metavar="DIR", help="a library folder ('library build')")
+    comp.add_argument("--rate", type=float, metavar="HZ", help="control rate of the result (default: the library's)")
+    comp.add_argument("--mapping", type=Path, metavar="FILE", help="MIDI note -> stroke mapping .toml (default: see README)")
+    comp.add_argument("--csv", type=Path, metavar="PATH", help="write t and theta, omega per stick as CSV")
+    comp.add_argument("--json", type=Path, metavar="PATH", help="write the notes, placements and impacts as JSON")
+    comp.add_argument("--plot", type=Path, metavar="PATH", help="write a PNG of theta(t) per stick with the notes")
+    add_sound_options(comp)
+    comp.add_argument("--strict", action="store_true", help="exit with status 3 if any note was left out")
+    comp.set_defaults(run=_compose)
+
+
+def _compose(args):
+    from ..compose import compose
+    from ..palette.library import load_library
+    from ..render.outputs import write_composition_outputs
+    from ..score import read_score
+
+    library = load_library(args.library)
+    try:
+        notes, unmapped = read_score(args.score, mapping=args.mapping, stroke_names=list(library))
+    except ParameterError as error:
+        if str(error).startswith("mapping applies"):  # the library names its parameter; here it is an option
+            raise ParameterError(f"--{error}") from None
+        raise
+    rate = None if args.rate is None else check_real("--rate", args.rate, low=1.0, high=1e5, unit="Hz")
+    piece = compose(notes, library, rate=rate)
+    played = sum(p.played for p in piece.placements)
+    sticks = ", ".join(f"{name} ({len(s.impacts)} impacts)" for name, s in piece.sticks.items())
+    print(f"composed {played} of {len(notes)} notes from {args.score} (model {piece.model}): {piece.t_end:.3f} s at "
+          f"{piece.rate:g} Hz, score time 0 at {piece.offset:g} s; sticks: {sticks}")
+    for note, count in sorted(unmapped.items()):
+        print(f"warning: {count} MIDI notes with number {note} have no mapping; left out", file=sys.stderr)
+    for problem in piece.problems:
+        print(f"warning: {problem}", file=sys.stderr)
+    print_written(write_composition_outputs(piece, title=args.score.stem, csv=args.csv, json=args.json,
+                                            plot=args.plot, wav=args.wav, midi=args.midi,
+                                            snares=not args.no_snares))
+    if args.strict and (unmapped or played < len(notes)):
+        print("drumstroke compose: error: notes were left out (--strict)", file=sys.stderr)
+        return 3
+    return 0

@@ -1,0 +1,51 @@
+"""``drumstroke library build`` and ``library list``: stroke libraries, the text files a robot host loads."""
+
+import time
+from pathlib import Path
+
+from .._checks import check_real
+from ..trajectory import DEFAULT_RATE
+from ._common import Bar, Parser
+
+
+def add_library(commands):
+    """Register ``library`` and its actions."""
+    lib = commands.add_parser("library", help="build or list a stroke library (text files a robot host loads)")
+    actions = lib.add_subparsers(dest="library_command", parser_class=Parser, metavar="ACTION", required=True)
+    build = actions.add_parser("build", help="simulate a palette and write it as a library folder")
+    build.add_argument("directory", type=Path, metavar="DIR")
+    build.add_argument("--rate", type=float, default=DEFAULT_RATE, metavar="HZ",
+                       help=f"samples per second of the trajectories (default {DEFAULT_RATE:g})")
+    build.add_argument("--palette", type=Path, metavar="FILE", help="a palette .toml file (default: the shipped 20 strokes)")
+    build.set_defaults(run=_build)
+    listing = actions.add_parser("list", help="list a library's strokes")
+    listing.add_argument("directory", type=Path, metavar="DIR")
+    listing.set_defaults(run=_list)
+
+
+def _build(args):
+    from ..palette.library import build_library
+
+    rate = check_real("--rate", args.rate, low=1.0, high=1e5, unit="Hz")
+    started = time.monotonic()
+    bar = Bar("building")
+    library = build_library(args.directory, rate=rate, palette=args.palette, progress=bar.update)
+    bar.close()
+    print(f"wrote {args.directory}/: {len(library)} strokes at {rate:g} Hz in {time.monotonic() - started:.1f} s")
+
+
+def _list(args):
+    from ..dynamics import level_to_velocity
+    from ..palette.library import load_library
+    from ..score import default_mapping
+
+    library = load_library(args.directory)
+    notes = {stroke: note for note, (stroke, _) in sorted(default_mapping(list(library)).items(), reverse=True)}
+    width = max(len(name) for name in library)
+    print(f"{library.path}: {len(library)} strokes at {library.rate:g} Hz")
+    print(f"{'stroke':<{width}}  {'note':>4}  {'impacts':>7}  {'length':>7}  {'vel':>3}  category: description")
+    for name, entry in library.items():
+        impacts = entry.trajectory.impacts
+        velocity = level_to_velocity(impacts.level_db[0]) if len(impacts) else "-"
+        print(f"{name:<{width}}  {notes.get(name, '-'):>4}  {len(impacts):>7}  {entry.trajectory.t_end:>6.3f}s  "
+              f"{velocity:>3}  {entry.category}: {entry.description}")

@@ -1,0 +1,83 @@
+"""``drumstroke stats``: the listening test's statistics — Tryon's inferential CIs, Rg, TOST, correlations."""
+
+from pathlib import Path
+
+from ..errors import ParameterError
+
+
+def add_stats(commands):
+    """Register ``stats``."""
+    sts = commands.add_parser("stats", help="listening-test statistics: Tryon's ICIs, Rg, TOST, correlations")
+    sts.add_argument("responses", type=Path, nargs="?", metavar="RESPONSES",
+                     help="a CSV with subject,pair,robot,answer,confidence,similarity")
+    sts.add_argument("--summary", metavar="MEAN_A,SD_A,MEAN_B,SD_B,N",
+                     help="use two groups' summary numbers instead (e.g. the paper's 4.227,2.654,4.999,1.564,22)")
+    sts.add_argument("--pairs", type=int, default=10, help="pairs per subject for --summary (default 10)")
+    sts.add_argument("--delta", type=float, metavar="D", help="equivalence margin in answers")
+    sts.add_argument("--alpha", type=float, default=0.05, help="significance level (default 0.05)")
+    sts.add_argument("--seed", type=int, default=0, help="seed of the simulated Group B (default 0)")
+    sts.add_argument("--json", type=Path, metavar="OUT", help="write the statistics as JSON")
+    sts.set_defaults(run=_stats)
+
+
+def _stats(args):
+    from ..evaluation import stats
+
+    if (args.responses is None) == (args.summary is None):
+        raise ParameterError("give either RESPONSES (a CSV) or --summary MEAN_A,SD_A,MEAN_B,SD_B,N")
+    if not args.summary:
+        return print_analysis(args, stats.read_responses(args.responses))
+    try:
+        mean_a, sd_a, mean_b, sd_b, n = (float(x) for x in args.summary.split(","))
+    except ValueError:
+        raise ParameterError(f"--summary must be MEAN_A,SD_A,MEAN_B,SD_B,N, got {args.summary!r}") from None
+    if not n.is_integer():
+        raise ParameterError(f"--summary's N must be a whole number of subjects, got {n:g}")
+    result = stats.from_summary(mean_a, sd_a, mean_b, sd_b, int(n), pairs=args.pairs, alpha=args.alpha)
+    data = result.to_dict()
+    _print_result(args, result, data)
+    _write_json(args, data)
+
+
+def print_analysis(args, responses):
+    """Analyse ``responses`` and print the two groups, Rg, TOST (with ``args.delta``) and the correlations.
+
+    ``args`` may lack ``alpha`` and ``seed`` (``listen analyze`` has neither): the defaults are used.
+    """
+    from ..evaluation import stats
+
+    analysis = stats.analyze(responses, alpha=getattr(args, "alpha", stats.ALPHA), seed=getattr(args, "seed", 0))
+    data = analysis.to_dict()
+    _print_result(args, analysis.tryon, data)
+    for key, value in data["correlations"].items():
+        r = "n/a" if value["r"] is None else f"r = {value['r']:+.3f}, p = {value['p']:.3g}"
+        print(f"incorrect answers vs {key.replace('_', ' ')}: {r}")
+    _write_json(args, data)
+
+
+def _print_result(args, result, data):
+    a, b = result.a, result.b
+    print(f"{'':<26}{'Group A':>10}{'Group B':>10}")
+    for label, x, y in (("mean incorrect answers", a.mean, b.mean), ("SD", a.sd, b.sd), ("SE", a.se, b.se)):
+        print(f"{label:<26}{x:>10.3f}{y:>10.3f}")
+    print(f"{'N':<26}{a.n:>10}{b.n:>10}")
+    ici_a, ici_b = (f"{lo:.3f}-{hi:.3f}" for lo, hi in (result.ici_a, result.ici_b))
+    print(f"{'inferential CI':<26}{ici_a:>12}{ici_b:>12}")
+    print(f"t_pq = {result.t_pq:.4f}, t_p = {result.t_p:.4f} (alpha {result.alpha:g}); E = {result.e:.4f}")
+    print(f"maximum probable difference Rg = {result.rg:.4f} answers = {result.rg_percent:.2f} % of {result.pairs} "
+          "pairs")
+    if args.delta is not None:
+        p_low, p_high, same = result.tost(args.delta)
+        verdict = "equivalent" if result.equivalent(args.delta) else "not shown equivalent"
+        print(f"delta = {args.delta:g} answers: {verdict} (Rg {'<' if result.rg < args.delta else '>='} delta); "
+              f"TOST p = {p_low:.4g}, {p_high:.4g} at alpha/2 each: {'equivalent' if same else 'not equivalent'}")
+        data["delta"] = {"delta": args.delta, "equivalent": result.equivalent(args.delta),
+                         "tost_p": [p_low, p_high], "tost_equivalent": same}
+
+
+def _write_json(args, data):
+    if args.json:
+        from ..formats.json import write_json
+
+        write_json(args.json, data)
+        print(f"wrote {args.json}")

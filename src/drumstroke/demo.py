@@ -1,0 +1,167 @@
+"""The paper's figures and the demo: every shipped stroke drawn and heard on one web page.
+
+:func:`write_figures` simulates the presets that reproduce the paper's Figs. 4–7 and writes their files;
+:func:`run_demo` does that, builds the shipped library, renders each stroke as a picture, a sound and
+MIDI, composes the demo groove from them and writes ``index.html`` linking it all. Both need the
+``plot`` extra; the demo also ``audio`` and ``midi``.
+"""
+
+from dataclasses import dataclass
+from pathlib import Path
+
+from .presets import PRESETS
+
+FIGURES = {p.figure: name for name, p in PRESETS.items() if p.figure}
+"""The paper's figures and the presets that reproduce them: {"Fig. 4": "free-bounce", ...}."""
+
+_SUFFIXES = {"json": ".json", "csv": ".csv", "plot": ".png"}
+
+
+@dataclass(frozen=True)
+class Figure:
+    """One of the paper's figures, simulated and written.
+
+    Attributes
+    ----------
+    figure : str
+        As the paper numbers it ("Fig. 4").
+    preset : str
+        The preset that reproduces it.
+    stroke : Stroke
+    paths : tuple of Path
+        The files written, in the order json, csv, plot (those asked for).
+    """
+
+    figure: str
+    preset: str
+    stroke: object
+    paths: tuple
+
+
+@dataclass(frozen=True)
+class Demo:
+    """What :func:`run_demo` made.
+
+    Attributes
+    ----------
+    outdir : Path
+    figures : tuple of Figure
+        The paper's figures, with their strokes.
+    library : Library
+        The shipped library, built in ``outdir / "library"``.
+    piece : Composition
+        The demo groove composed from it.
+    played : int
+        How many of the groove's notes were played (of ``len(piece.placements)``).
+    index : Path
+        The page linking every picture, sound and MIDI file.
+    """
+
+    outdir: Path
+    figures: tuple
+    library: object
+    piece: object
+    played: int
+    index: Path
+
+
+def figure_stem(figure, preset):
+    """The file name, without suffix, of a figure's files: ``figure_stem("Fig. 4", "free-bounce")`` is
+    ``"fig4-free-bounce"``."""
+    return f"{figure.lower().replace('. ', '').replace(' ', '')}-{preset}"
+
+
+def write_figures(outdir, *, model=None, outputs=("plot",), progress=None):
+    """Simulate the paper's figures (:data:`FIGURES`) and write each one's files to ``outdir``.
+
+    Parameters
+    ----------
+    outdir : str or Path
+        Created if missing; the files are named by :func:`figure_stem`.
+    model : str or None
+        The model to simulate with (see :data:`drumstroke.model.MODELS`); default each preset's.
+    outputs : sequence of {"json", "csv", "plot"}
+        Which files to write for each figure: the stroke as JSON, θ(t) as CSV at 1 kHz, a PNG plot.
+    progress : callable or None
+        Called with the fraction done, in [0, 1].
+
+    Returns
+    -------
+    list of Figure
+    """
+    from .errors import ParameterError
+    from .render.outputs import write_stroke_outputs
+    from .stroke import simulate
+
+    unknown = sorted(set(outputs) - set(_SUFFIXES))
+    if unknown:
+        raise ParameterError(f"outputs must be among {', '.join(_SUFFIXES)}, got {unknown[0]!r}")
+    outdir = Path(outdir)
+    figures = []
+    for i, (figure, preset) in enumerate(FIGURES.items()):
+        stroke = simulate(preset, model=model)
+        stem = outdir / figure_stem(figure, preset)
+        files = {key: stem.with_suffix(suffix) for key, suffix in _SUFFIXES.items() if key in outputs}
+        paths = write_stroke_outputs(stroke, **files, title=f"{figure} {preset}")
+        figures.append(Figure(figure, preset, stroke, tuple(paths)))
+        if progress:
+            progress((i + 1) / len(FIGURES))
+    return figures
+
+
+def run_demo(outdir, *, progress=None):
+    """Write the demo to ``outdir``: the paper's figures, the shipped library, every stroke and a groove, a page.
+
+    Parameters
+    ----------
+    outdir : str or Path
+        Created if missing. It receives the figures' JSON, CSV and PNG files, ``library/``,
+        ``strokes/NAME.png|wav|mid`` for every library stroke, ``groove.pattern`` and the groove's
+        CSV, JSON, PNG, WAV and MIDI files, and ``index.html``, which links the pictures, sounds and
+        MIDI files by relative paths.
+    progress : callable or None
+        Called with the fraction done, in [0, 1].
+
+    Returns
+    -------
+    Demo
+    """
+    from ._atomic import write_atomic
+    from .compose import compose
+    from .palette.library import DEMO_PATTERN, build_library
+    from .render.outputs import write_composition_outputs, write_stroke_outputs
+    from .render.page import Card, write_index
+    from .score import read_pattern
+
+    out = Path(outdir)
+    report = progress or (lambda fraction: None)
+    figures = write_figures(out, outputs=("json", "csv", "plot"), progress=lambda f: report(0.2 * f))
+    library = build_library(out / "library", progress=lambda f: report(0.2 + 0.2 * f))
+    cards = []
+    for i, (name, entry) in enumerate(library.items()):
+        stem = out / "strokes" / name
+        trajectory = entry.trajectory
+        write_stroke_outputs(trajectory, plot=stem.with_suffix(".png"), wav=stem.with_suffix(".wav"),
+                             midi=stem.with_suffix(".mid"))
+        impacts = trajectory.impacts
+        facts = (f"{len(impacts)} impacts in {trajectory.t_end:.2f} s; first at {impacts.t[0]:.3f} s, "
+                 f"{impacts.tip_speed[0]:.2f} m/s tip speed; model {trajectory.model}.")
+        cards.append(Card(name, entry.category, entry.description, f"strokes/{name}.png", f"strokes/{name}.wav",
+                          f"strokes/{name}.mid", facts))
+        report(0.4 + 0.5 * (i + 1) / len(library))
+    piece = compose(read_pattern(DEMO_PATTERN), library)
+    write_atomic(out / "groove.pattern", DEMO_PATTERN.read_text())
+    write_composition_outputs(piece, title="groove", csv=out / "groove.csv", json=out / "groove.json",
+                              plot=out / "groove.png", wav=out / "groove.wav", midi=out / "groove.mid")
+    played = sum(p.played for p in piece.placements)
+    facts = f"{played} notes on the sticks {', '.join(piece.sticks)}; {piece.t_end:.2f} s at {piece.rate:g} Hz."
+    groove_card = Card("groove", "composition", "Four bars at 96 bpm composed from the library (groove.pattern): "
+                       "backbeat singles, ghost taps, a double, a triplet ruff, rolls and a free bounce.",
+                       "groove.png", "groove.wav", "groove.mid", facts)
+    index = out / "index.html"
+    write_index(index, title="drumstroke: the stroke palette",
+                intro="Each stroke of the shipped library as the robot's motor angle θ(t) with its impacts, "
+                      "and as it sounds on a synthesized snare drum; first a groove composed from them.",
+                cards=[groove_card, *cards])
+    report(1.0)
+    return Demo(out, tuple(figures), library, piece, played, index)

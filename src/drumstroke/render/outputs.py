@@ -1,0 +1,138 @@
+"""Output bundles: every file a stroke or a composition can be written as, in one call.
+
+Each function writes the files it is given paths for and returns those paths in the order written;
+it prints nothing. Plots need matplotlib, WAV files soundfile and MIDI files mido (the extras
+``plot``, ``audio`` and ``midi``); they are imported only when such a file is asked for.
+"""
+
+from pathlib import Path
+
+from ..trajectory import DEFAULT_RATE
+from . import data
+
+
+def write_stroke_outputs(stroke, *, json=None, csv=None, plot=None, wav=None, midi=None, rate=DEFAULT_RATE,
+                         title=None, snares=True):
+    """Write a stroke's files: its data, its plot, its sound.
+
+    Parameters
+    ----------
+    stroke : Stroke or Trajectory
+    json : str, Path or None
+        The recipe (if any), impacts and rests as JSON.
+    csv : str, Path or None
+        t (s), θ (rad), ω (rad/s) sampled at ``rate``.
+    plot : str, Path or None
+        A PNG of θ(t) with the impacts (and a(t) for a Stroke).
+    wav : str, Path or None
+        48 kHz mono audio of the impacts on a synthesized snare drum.
+    midi : str, Path or None
+        The impacts as General MIDI percussion (channel 10, note 38).
+    rate : float > 0
+        Samples per second of ``csv`` (Hz).
+    title : str or None
+        The plot's title (default: the stroke's name).
+    snares : bool
+        Whether the drum of ``wav`` has its snare wires on.
+
+    Returns
+    -------
+    list of Path
+        The files written: json, csv, plot, wav, midi, those given.
+    """
+    written = []
+    if json:
+        data.write_json(stroke, json)
+        written.append(Path(json))
+    if csv:
+        data.write_csv(stroke, csv, rate=rate)
+        written.append(Path(csv))
+    if plot:
+        from .plot import save_stroke_plot
+
+        save_stroke_plot(stroke, plot, title=title)
+        written.append(Path(plot))
+    impacts = stroke.impacts
+    return written + write_sound(impacts.t, impacts.tip_speed, impacts.level_db, wav=wav, midi=midi,
+                                 title=f"{stroke.name} (model {stroke.model})", snares=snares)
+
+
+def write_composition_outputs(piece, *, title, csv=None, json=None, plot=None, wav=None, midi=None, snares=True):
+    """Write a composition's files: its trajectories, notes and placements, its plot, its sound.
+
+    Parameters
+    ----------
+    piece : Composition
+        What :func:`drumstroke.compose.compose` returns.
+    title : str
+        Names the plot and the MIDI track (e.g. the score file's stem).
+    csv : str, Path or None
+        t (s) and θ (rad), ω (rad/s) per stick at the composition's rate.
+    json : str, Path or None
+        The notes, their placements and the impacts.
+    plot : str, Path or None
+        A PNG of θ(t) per stick with the notes.
+    wav, midi : str, Path or None
+        Every stick's impacts as 48 kHz mono audio; as General MIDI percussion.
+    snares : bool
+        Whether the drum of ``wav`` has its snare wires on.
+
+    Returns
+    -------
+    list of Path
+        The files written: csv, json, plot, wav, midi, those given.
+    """
+    written = []
+    if csv:
+        data.write_composition_csv(piece, csv)
+        written.append(Path(csv))
+    if json:
+        data.write_composition_json(piece, json)
+        written.append(Path(json))
+    if plot:
+        from .plot import composition_figure, save_figure
+
+        save_figure(composition_figure(piece, title=title), plot)
+        written.append(Path(plot))
+    times, speeds, levels = piece.impacts()
+    return written + write_sound(times, speeds, levels, wav=wav, midi=midi, title=f"{title} (model {piece.model})",
+                                 snares=snares)
+
+
+def write_sound(times, tip_speeds, levels_db, *, wav=None, midi=None, title="", snares=True, duration=None):
+    """Write impacts as audio and as MIDI.
+
+    Parameters
+    ----------
+    times : array_like [shape=(n,)]
+        Impact times (s).
+    tip_speeds : array_like [shape=(n,)]
+        Tip speeds at impact (m/s).
+    levels_db : array_like [shape=(n,)]
+        Impact levels (dB re 1 m/s tip speed), for the MIDI velocities.
+    wav, midi : str, Path or None
+        Where to write 48 kHz mono audio; General MIDI percussion (channel 10, note 38).
+    title : str
+        The MIDI track's name.
+    snares : bool
+        Whether the drum has its snare wires on.
+    duration : float or None
+        Length of the audio (s); default: until the last impact has rung out.
+
+    Returns
+    -------
+    list of Path
+        The files written: wav, midi, those given.
+    """
+    written = []
+    if wav:
+        from .audio import Drum, render_wav
+
+        render_wav(wav, times, tip_speeds, duration=duration, drum=Drum(snares=snares))
+        written.append(Path(wav))
+    if midi:
+        from ..formats.midi import write_midi
+
+        write_midi(midi, times, levels_db, title=title)
+        written.append(Path(midi))
+    return written
