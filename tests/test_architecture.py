@@ -41,3 +41,16 @@ def test_importing_the_core_loads_no_heavy_dependency(modules):
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=False)
     assert result.returncode == 0, result.stderr
     assert result.stdout.strip() == "", f"{modules} imported {result.stdout.strip()}"
+
+
+def test_each_command_module_is_thin():
+    """The CLI is one module per command group, each parsing, calling the library and printing: under ~200 lines."""
+    modules = sorted((ROOT / "src" / "drumstroke" / "cli").glob("*.py"))
+    assert {p.stem for p in modules} >= {"simulate", "library", "compose", "robot", "listen", "stats", "demo"}
+    sizes = {p.name: len(p.read_text().splitlines()) for p in modules}
+    assert max(sizes.values()) <= 200, sizes
+
+
+def test_the_readme_is_a_front_door():
+    lines = (ROOT / "README.md").read_text().splitlines()
+    assert len(lines) <= 300, len(lines)
