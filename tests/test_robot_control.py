@@ -6,7 +6,7 @@ matches, counts, fractions, timing statistics and spans of hand-made onset lists
 """
 
 import math
-from dataclasses import replace
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -14,13 +14,21 @@ import pytest
 import drumstroke
 from drumstroke.errors import ParameterError
 from drumstroke.palette.library import build_library, read_palette
-from drumstroke.palette.trajectory import Trajectory
-from drumstroke.robot.controllers import CONTROLLERS, PI, Impedance, controller, controller_from_dict, to_dict
+from drumstroke.robot.controllers import (
+    CONTROLLERS,
+    PI,
+    Impedance,
+    controller,
+    controller_from_dict,
+    declared_gains,
+    lead_in_contact,
+    to_dict,
+)
 from drumstroke.robot.metrics import AUDIBLE_SPEED, WINDOW, match_onsets, metrics
 from drumstroke.robot.plant import Plant
-from drumstroke.robot.track import Played, Reference, lead_in_contact, reference, track
+from drumstroke.robot.track import Played, reference, track
 from drumstroke.robot.tune import score, tune
-from drumstroke.stroke import Impacts
+from drumstroke.trajectory import Impacts, Trajectory
 
 RATE = 1000.0
 PLANT = Plant()
@@ -28,16 +36,14 @@ HEAD = PLANT.head
 TIP = PLANT.stick.pivot_to_tip
 
 
-def hold(theta, duration, *, trajectory=True):
-    """A reference holding the stick still at ``theta`` (rad) for ``duration`` (s), no impacts."""
+def hold(theta, duration, *, alpha=True):
+    """A reference holding the stick still at ``theta`` (rad) for ``duration`` (s), no impacts (α stored or not)."""
     n = round(duration * RATE) + 1
     t = np.arange(n) / RATE
     th, zero = np.full(n, theta), np.zeros(n)
-    curve = None
-    if trajectory:
-        curve = Trajectory.from_samples(t, th, zero, Impacts(np.empty(0), np.empty(0), TIP), np.empty(0),
-                                        theta_max=HEAD, name="hold")
-    return Reference(t, th, zero, zero.copy(), np.empty(0), np.empty(0), RATE, "hold", "paper", HEAD, 0.86, curve)
+    return Trajectory.from_samples(t, th, zero, Impacts(np.empty(0), np.empty(0), TIP), np.empty(0),
+                                   theta_max=HEAD, rate=RATE, alpha=zero.copy() if alpha else None, name="hold",
+                                   model="paper")
 
 
 @pytest.fixture(scope="module")
@@ -90,18 +96,21 @@ def test_the_feedforward_alone_cancels_gravity():
     assert np.abs(0.1 - played.theta[ref.t >= 2.5]).max() <= PLANT.resolution
 
 
-def test_a_reference_without_its_trajectory_plays_with_a_controller_that_has_no_lead():
-    """Reference.trajectory defaults to None and lead 0 follows the reference as it is: no curve is needed."""
-    with_curve = track(hold(0.1, 1.0), controller("pi"))
-    played = track(hold(0.1, 1.0, trajectory=False), controller("pi"))
-    assert np.array_equal(played.theta, with_curve.theta)
+def test_a_controller_without_steering_plays_the_reference_samples_as_they_are():
+    """The default steering is the reference itself; α from the samples' curve (0 on a hold) plays as α stored."""
+    ref = hold(0.1, 1.0)
+    steered = controller("pid-ff").steer(ref)
+    assert all(a is b for a, b in zip(steered, (ref.theta, ref.omega, ref.alpha)))
+    stored = track(ref, controller("pid-ff"))
+    played = track(hold(0.1, 1.0, alpha=False), controller("pid-ff"))
+    assert np.array_equal(played.theta, stored.theta) and np.array_equal(played.torque, stored.torque)
 
 
 def test_a_reference_for_another_stick_is_refused():
     plant = Plant(stick=drumstroke.Stick(pivot_to_tip=0.3))
     with pytest.raises(ParameterError, match=r"^the reference's head \(-0.262255 rad\) is not the plant's"):
         track(hold(0.1, 1.0), controller("pi"), plant)
-    with pytest.raises(ParameterError, match=r"^ref must be a drumstroke.robot.track.Reference"):
+    with pytest.raises(ParameterError, match=r"^reference must be a one-stick drumstroke Trajectory"):
         track(np.zeros(10), controller("pi"))
 
 
@@ -148,8 +157,8 @@ def hand_made(played_onsets, played_speed, theta_offset, torque):
     theta = 0.2 * np.cos(t)
     ref_t = np.array([0.1 * k for k in range(1, 11)] + [1.1, 1.15])
     ref_speed = np.array([1.0] * 10 + [0.5 * AUDIBLE_SPEED] * 2)  # the last two are too quiet to count
-    ref = Reference(t, theta, np.zeros_like(t), np.zeros_like(t), ref_t, ref_speed, RATE, "hand", "paper", HEAD,
-                    0.86)
+    ref = Trajectory.from_samples(t, theta, np.zeros_like(t), Impacts(ref_t, -ref_speed / TIP, TIP),
+                                  np.zeros_like(ref_t), theta_max=HEAD, rate=RATE, name="hand", model="paper")
     return Played(ref, "pi", theta + theta_offset, np.zeros_like(t), torque, np.asarray(played_onsets, float),
                   np.asarray(played_speed, float), 2.0)
 
@@ -281,10 +290,28 @@ def test_bad_gains_are_refused_naming_the_controller_and_gain(name, gains, patte
         controller(name, **gains)
 
 
+def test_every_gain_declares_its_unit_range_and_tuning_scale():
+    """The declarations drive the checks and the tuning: a gain searched on its scale comes back as it was."""
+    for cls in CONTROLLERS.values():
+        declared = declared_gains(cls)
+        assert list(declared) == list(to_dict(cls()))  # every gain is declared
+        for name, gain in declared.items():
+            value = getattr(cls(), name)
+            assert gain.low <= value <= gain.high
+            assert gain.from_search(gain.to_search(value)) == pytest.approx(value, rel=1e-12)
+    impedance = declared_gains(Impedance)
+    assert (impedance["floor"].scale, impedance["lead"].scale, impedance["lead"].step) == ("logit", "linear", 1e-3)
+    assert impedance["kp"].scale == "log" and impedance["kp"].unit == "N m/rad"
+    assert impedance["lead"].to_search(0.002) == 2.0  # searched in ms
+    assert impedance["lead"].from_search(30.0) == 0.02  # clipped to its range
+
+
 def test_gains_from_a_table():
     assert controller_from_dict("impedance", {"kp": 40.0}) == Impedance(kp=40.0)
-    assert controller("pid-ff", kp=1, ki=2, kd=3).gains().tolist() == [1.0, 2.0, 3.0, 0.0]
-    assert controller("impedance", kp=5, kd=6, band=0.1, floor=0.2).gains().tolist() == [5.0, 6.0, 0.1, 0.2]
+    assert to_dict(controller("pid-ff", kp=1, ki=2, kd=3)) == {"kp": 1.0, "ki": 2.0, "kd": 3.0}
+    gains = to_dict(controller("impedance", kp=5, kd=6, band=0.1, floor=0.2))
+    assert gains == {"kp": 5.0, "kd": 6.0, "band": 0.1, "floor": 0.2, "lead": Impedance().lead}
+    assert all(type(v) is float for v in gains.values())  # ints are taken as floats
     with pytest.raises(ParameterError, match=r"^controller.pi must be a table of gains"):
         controller_from_dict("pi", 3.0)
 
@@ -301,19 +328,18 @@ LEAD = 0.004  # s
 
 @pytest.fixture(scope="module")
 def warped(strokes):
-    """free-bounce on a time grid with points in each held part, in each flight, at each warped apex and just
-    before each impact."""
+    """free-bounce steered on a time grid with points in each held part, in each flight, at each warped apex and
+    just before each impact: the grid (the reference, t, its θ and ω there) and the steered θ, ω, α."""
     ref = strokes["free-bounce"]
-    curve = ref.trajectory
-    impacts = curve.impacts.t
+    impacts = ref.impacts.t
     d = np.diff(impacts)
     probes = np.concatenate([impacts[:-1] + LEAD / 2, impacts[:-1] + LEAD * 0.999,
                              impacts[:-1] + LEAD + 0.3 * (d - LEAD), impacts[:-1] + LEAD + 0.7 * (d - LEAD),
-                             impacts[1:] - 1e-9, impacts[:-1] + LEAD + (curve.apexes[:-1] - impacts[:-1]) * (d - LEAD) / d])
-    t = np.unique(np.concatenate([probes, np.linspace(0.0, curve.t_end, 200)]))
-    theta, omega = curve.path(t)
-    grid = replace(ref, t=t, theta=theta, omega=omega, alpha=np.zeros_like(t))
-    return grid, lead_in_contact(grid, LEAD)
+                             impacts[1:] - 1e-9, impacts[:-1] + LEAD + (ref.apexes[:-1] - impacts[:-1]) * (d - LEAD) / d])
+    t = np.unique(np.concatenate([probes, np.linspace(0.0, ref.t_end, 200)]))
+    theta, omega = ref.path(t)
+    grid = SimpleNamespace(trajectory=ref, t=t, theta=theta, omega=omega, head=ref.theta_max)
+    return grid, lead_in_contact(ref, LEAD, t=t)
 
 
 def test_lead_holds_the_stick_on_the_head_then_lands_on_the_reference_impact(warped):

@@ -12,7 +12,7 @@ from drumstroke.errors import ParameterError
 from drumstroke.model import Stick
 from drumstroke.robot.controllers import controller
 from drumstroke.robot.metrics import AUDIBLE_SPEED, match_onsets, metrics
-from drumstroke.robot.mujoco_plant import contact_solref, head_gap, mujoco_drop_test, mujoco_model, track_mujoco
+from drumstroke.robot.mujoco_plant import contact_solref, head_gap, mujoco_drop_test, mujoco_model
 from drumstroke.robot.plant import Plant, contact_gains, drop_test
 from drumstroke.robot.track import reference, track
 
@@ -158,7 +158,7 @@ def free_bounce():
 @pytest.fixture(scope="module", params=["impedance", "pi"])
 def both(request, free_bounce):
     c = controller(request.param)
-    return track(free_bounce, c), track_mujoco(free_bounce, c)
+    return track(free_bounce, c), track(free_bounce, c, engine="mujoco")
 
 
 def audible(played):
@@ -205,12 +205,12 @@ def test_both_plants_score_the_same(both):
 def test_a_reference_for_another_head_is_refused(free_bounce):
     other = Plant(stick=Stick(pivot_height=0.08))
     with pytest.raises(ParameterError, match=r"the reference's head \(-0\.262255 rad\) is not the plant's"):
-        track_mujoco(free_bounce, controller("impedance"), other)
+        track(free_bounce, controller("impedance"), other, engine="mujoco")
 
 
 def test_what_is_not_a_reference_is_refused():
-    with pytest.raises(ParameterError, match="ref must be a drumstroke.robot.track.Reference"):
-        track_mujoco(drumstroke.simulate("free-bounce"), controller("pi"))
+    with pytest.raises(ParameterError, match="reference must be a one-stick drumstroke Trajectory"):
+        track(drumstroke.simulate("free-bounce"), controller("pi"), engine="mujoco")
 
 
 @pytest.mark.parametrize("kwargs, message", [

@@ -15,8 +15,8 @@ from scipy.optimize import brentq
 
 from drumstroke.errors import ParameterError
 from drumstroke.model import Stick
-from drumstroke.robot.kernel import quantize, run_plant
-from drumstroke.robot.plant import Plant, contact_gains, drop_test
+from drumstroke.robot.kernel import quantize
+from drumstroke.robot.plant import Plant, contact_gains, drop_test, run_plant
 
 RATE = 1000.0
 CORS = (0.3, 0.6, 0.86, 0.95)

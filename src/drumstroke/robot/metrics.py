@@ -1,6 +1,6 @@
 """What the robot played, measured against the reference (SPEC §5).
 
-- Reference onsets are the reference's audible impacts: tip speed at or above
+- Reference onsets are the reference trajectory's audible impacts: tip speed at or above
   MIDI velocity 1's level (:data:`drumstroke.dynamics.FLOOR_DB`, 1.6 cm/s).
   Played onsets are the plant's contacts with the head at or above the same level.
 - An onset is kept when a played onset lies within ``window`` (±2 ms) of it;
@@ -80,7 +80,8 @@ class Metrics:
 def metrics(played, *, window=WINDOW):
     """The :class:`Metrics` of a :class:`~drumstroke.robot.track.Played`."""
     ref = played.reference
-    ref_t = ref.impact_t[ref.impact_speed >= AUDIBLE_SPEED]
+    impacts = ref.impacts
+    ref_t = impacts.t[impacts.tip_speed >= AUDIBLE_SPEED]
     got_t = played.onsets[played.onset_speed >= AUDIBLE_SPEED]
     match = match_onsets(ref_t, got_t, window=window)
     kept = match >= 0

@@ -1,8 +1,10 @@
-"""The robot joint as a MuJoCo model, driven by the same compiled control laws (SPEC §5).
+"""The robot joint as a MuJoCo model, driven by the same control loop (SPEC §5).
 
 An independent check of the simple plant (:mod:`drumstroke.robot.plant`): the same
-motor, gearbox, stick and drumhead written as MJCF and integrated by MuJoCo, the
-controller the very same code (:func:`drumstroke.robot.kernel.command`).
+motor, gearbox, stick and drumhead written as MJCF and integrated by MuJoCo, behind the
+same plant interface (:class:`MujocoJoint`, a :class:`~drumstroke.robot.loop.Joint`), so
+the control loop, the encoder and the controllers' laws are the very same code
+(:class:`~drumstroke.robot.loop.ControlLoop`).
 
 The model, built from a :class:`~drumstroke.robot.plant.Plant`:
 
@@ -61,8 +63,8 @@ from ..errors import ParameterError
 from ..model import inertia_ratio
 from ..trajectory import DEFAULT_RATE
 from . import kernel
+from .loop import Contacts, open_loop
 from .plant import GRAVITY, Drop, Plant
-from .track import Played, Reference, lead_in_contact
 
 IMPEDANCE = 1e-4
 """The head's ``solimp`` impedance d (MuJoCo clamps it to [1e-4, 0.9999]): the contact carries the whole load."""
@@ -143,57 +145,104 @@ def mujoco_drop_test(plant, cor, *, theta0=0.0, rate=DEFAULT_RATE):
     """
     plant, cor, _ = _checked(plant, cor, rate)
     theta0 = check_real("theta0", theta0, low=plant.head, high=math.pi / 2, unit="rad")
-    free = replace(plant, viscous=0.0, coulomb=0.0)
-    model = mujoco_model(free, cor, rate=rate)
-    n = math.ceil(rate)  # 1 s: long enough to fall from vertical
-    zeros = np.zeros(n)
-    run = _run(model, free, kernel.OPEN, np.zeros(4), zeros, zeros, zeros, rate, theta0, 0.0)
-    onsets, speed_in, release, speed_out = run[2:]
-    if not len(onsets):
+    joint = MujocoJoint(replace(plant, viscous=0.0, coulomb=0.0), cor, rate=rate, theta0=theta0)
+    contacts = open_loop(joint, np.zeros(math.ceil(rate)), rate).contacts  # 1 s: long enough to fall from vertical
+    if not len(contacts):
         raise ParameterError(f"the stick dropped from theta0 = {theta0!r} rad never reached the head")
-    if math.isnan(release[0]):  # c = 0: the head holds it
-        return Drop(float(-speed_in[0]), 0.0, math.inf)
-    return Drop(float(-speed_in[0]), float(speed_out[0]), float(release[0] - onsets[0]))
+    if math.isnan(contacts.release[0]):  # c = 0: the head holds it
+        return Drop(float(-contacts.omega[0]), 0.0, math.inf)
+    return Drop(float(-contacts.omega[0]), float(contacts.omega_after[0]),
+                float(contacts.release[0] - contacts.t[0]))
 
 
-def track_mujoco(ref, controller, plant=None):
-    """Play ``ref`` (a :class:`~drumstroke.robot.track.Reference`) with ``controller`` on the MuJoCo joint.
+class MujocoJoint:
+    """The joint of a :class:`~drumstroke.robot.plant.Plant` in MuJoCo: the control loop's second plant.
 
-    As :func:`drumstroke.robot.track.track` on the simple plant: each control period
-    the encoder reading (θ quantised to ``plant.resolution``) and its speed estimate
-    go into the controller's law (compiled, the same code), whose torque, limited by
-    the motor's torque–speed line at each substep, drives ``plant.substeps`` MuJoCo
-    steps. The joint starts at the reference's θ[0], ω[0].
+    Keeps to :class:`drumstroke.robot.loop.Joint`. Each :meth:`advance` runs
+    ``plant.substeps`` MuJoCo steps (the model's timestep is the control period over
+    them), the command limited by the motor's torque–speed line
+    (:func:`drumstroke.robot.kernel.limit_torque`) before each. A step in which the tip
+    meets the head is redone so the contact starts between steps (:func:`_split_at_contact`);
+    contacts are logged where the tip meets and leaves the head's surface.
 
     Parameters
     ----------
-    ref : Reference
-    controller : PI, PIDFeedforward or Impedance
-    plant : Plant, optional
-        Default :class:`~drumstroke.robot.plant.Plant`; its head must be the reference's.
-
-    Returns
-    -------
-    Played
-        ``plant="mujoco"``; onsets are the moments the tip meets the head (s, interpolated
-        within the step) and the tip speed then (m/s).
+    plant : Plant
+    cor : float in [0, 1]
+        The head's coefficient of restitution (:func:`contact_solref`).
+    rate : float in [10, 1e5]
+        The control rate (Hz): every period is 1/rate.
+    theta0 : float
+        θ at the start (rad).
+    omega0 : float
+        ω at the start (rad/s).
+    start : float
+        The time at the start (s): contacts are logged on this clock.
     """
-    plant = Plant() if plant is None else plant
-    if not isinstance(ref, Reference):
-        raise ParameterError(f"ref must be a drumstroke.robot.track.Reference, got {ref!r}")
-    if not isinstance(plant, Plant):
-        raise ParameterError(f"plant must be a drumstroke.robot.plant.Plant, got {plant!r}")
-    if abs(plant.head - ref.head) > 1e-9:
-        raise ParameterError(f"the reference's head ({ref.head:.6g} rad) is not the plant's ({plant.head:.6g} rad); "
-                             "give the plant the stick the reference was made with")
-    model = mujoco_model(plant, ref.cor, rate=ref.rate)
-    theta, omega, alpha = lead_in_contact(ref, getattr(controller, "lead", 0.0))
-    gains = np.asarray(controller.gains(), dtype=float)
-    log, torque, onsets, onset_speed, _, _ = _run(model, plant, controller.law, gains, theta, omega, alpha, ref.rate,
-                                                  float(ref.theta[0]), float(ref.omega[0]))
-    tip = plant.stick.pivot_to_tip
-    return Played(ref, controller.name, log[:, 0], log[:, 1], torque, onsets, np.abs(onset_speed) * tip,
-                  plant.max_torque, plant="mujoco")
+
+    def __init__(self, plant, cor, *, rate=DEFAULT_RATE, theta0=0.0, omega0=0.0, start=0.0):
+        plant, cor, _ = _checked(plant, cor, rate)
+        self.plant = plant
+        self.rate = float(rate)
+        self.model = mujoco_model(plant, cor, rate=rate)
+        self.data = mujoco.MjData(self.model)
+        self.data.qpos[0] = check_real("theta0", theta0, unit="rad")
+        self.data.qvel[0] = check_real("omega0", omega0, unit="rad/s")
+        stick = plant.stick
+        self._height, self._tip = stick.pivot_height, stick.pivot_to_tip
+        self._gap = self._height + self._tip * math.sin(self.data.qpos[0])
+        self._events = []
+        self._origin, self._periods = check_real("start", start, unit="s"), 0
+
+    @property
+    def theta(self):
+        """θ now (rad)."""
+        return self.data.qpos.item(0)
+
+    @property
+    def omega(self):
+        """ω now (rad/s)."""
+        return self.data.qvel.item(0)
+
+    def advance(self, torque, duration):
+        """Advance one control period of ``duration`` (s, the model's: 1/rate) under ``torque`` (N·m): the mean torque."""
+        if abs(duration * self.rate - 1.0) > 1e-9:
+            raise ParameterError(f"duration must be the control period the model was built for, "
+                                 f"{1.0 / self.rate!r} s, got {duration!r}")
+        model, data, plant, events = self.model, self.data, self.plant, self._events
+        qpos, qvel, ctrl = data.qpos, data.qvel, data.ctrl
+        step, limit = mujoco.mj_step, kernel.limit_torque
+        tau_max, w_max, substeps = plant.max_torque, plant.max_speed, plant.substeps
+        h, x = self._height, self._tip
+        hstep = model.opt.timestep
+        t0 = self._origin + self._periods * duration
+        theta, omega, gap = qpos[0], qvel[0], self._gap
+        applied = 0.0
+        for j in range(substeps):
+            tau_j = limit(torque, omega, tau_max, w_max)
+            applied += tau_j
+            ctrl[0] = tau_j
+            step(model, data)
+            theta_new, omega_new = qpos[0], qvel[0]
+            gap_new = h + x * math.sin(theta_new)
+            if (gap_new < 0.0) != (gap < 0.0):  # the tip met or left the head within this step
+                if gap_new < 0.0:
+                    when, speed = _split_at_contact(model, data, theta, omega, h, x)
+                    theta_new, omega_new = qpos[0], qvel[0]
+                    gap_new = h + x * math.sin(theta_new)
+                    events.append([t0 + j * hstep + when, speed, math.nan, math.nan])
+                    if gap_new >= 0.0:  # in and out within the step
+                        events[-1][2:] = t0 + (j + 1) * hstep, omega_new
+                elif events:  # the head lets go before the tip reaches its surface: this is free flight
+                    events[-1][2:] = t0 + (j + gap / (gap - gap_new)) * hstep, omega_new
+            theta, omega, gap = theta_new, omega_new, gap_new
+        self._gap = gap
+        self._periods += 1
+        return applied / substeps
+
+    def contacts(self):
+        """The :class:`~drumstroke.robot.loop.Contacts` so far."""
+        return Contacts.from_events(self._events, self._tip)
 
 
 def head_gap(plant, theta):
@@ -313,69 +362,6 @@ def _bounce(model, data, stick, speed):
             return data.qvel[0] / speed, (n - 1 + gap / (gap - gap_new)) * step
         gap = gap_new
     return 0.0, _RING
-
-
-def _run(model, plant, law, gains, ref_theta, ref_omega, ref_alpha, rate, theta0, omega0):
-    """The closed loop on MuJoCo: θ, ω per period [shape=(n, 2)], torque [shape=(n,)], and the contacts.
-
-    Contacts: onset times (s), ω then (rad/s), release times (s) and ω then (NaN while still on the head).
-    """
-    data = mujoco.MjData(model)
-    data.qpos[0], data.qvel[0] = theta0, omega0
-    qpos, qvel, ctrl = data.qpos, data.qvel, data.ctrl
-    step = mujoco.mj_step
-    limit = kernel.limit_torque  # the motor's torque–speed line, as the compiled loop applies it
-    command = kernel.command
-    estimate_speed, quantize = kernel.estimate_speed, kernel.quantize
-    J, mgk, tau_max, w_max, q, head = (plant.inertia, plant.gravity_torque, plant.max_torque, plant.max_speed,
-                                       plant.resolution, plant.head)
-    h, x = plant.stick.pivot_height, plant.stick.pivot_to_tip
-    substeps = plant.substeps
-    dt = 1.0 / rate
-    hstep = model.opt.timestep
-    n = len(ref_theta)
-    log = np.empty((n, 2))
-    torque = np.empty(n)
-    events = []
-    theta, omega = theta0, omega0
-    gap = h + x * math.sin(theta)
-    integral = 0.0
-    measured_prev = quantize(theta0, q)
-    omega_hat = omega0
-    for k in range(n):
-        measured = quantize(theta, q)
-        if k > 0:
-            omega_hat = estimate_speed(omega_hat, measured, measured_prev, rate)
-        measured_prev = measured
-        if law == kernel.OPEN:
-            tau = 0.0
-        else:
-            tau, integral = command(law, gains, ref_theta[k], ref_omega[k], ref_alpha[k], measured, omega_hat,
-                                    integral, dt, J, mgk, tau_max, head)
-        log[k] = theta, omega
-        t0 = k * dt
-        applied = 0.0
-        for j in range(substeps):
-            tau_j = limit(tau, omega, tau_max, w_max)
-            applied += tau_j
-            ctrl[0] = tau_j
-            step(model, data)
-            theta_new, omega_new = qpos[0], qvel[0]
-            gap_new = h + x * math.sin(theta_new)
-            if (gap_new < 0.0) != (gap < 0.0):  # the tip met or left the head within this step
-                if gap_new < 0.0:
-                    when, speed = _split_at_contact(model, data, theta, omega, h, x)
-                    theta_new, omega_new = qpos[0], qvel[0]
-                    gap_new = h + x * math.sin(theta_new)
-                    events.append([t0 + j * hstep + when, speed, math.nan, math.nan])
-                    if gap_new >= 0.0:  # in and out within the step
-                        events[-1][2:] = t0 + (j + 1) * hstep, omega_new
-                elif events:  # the head lets go before the tip reaches its surface: this is free flight
-                    events[-1][2:] = t0 + (j + gap / (gap - gap_new)) * hstep, omega_new
-            theta, omega, gap = theta_new, omega_new, gap_new
-        torque[k] = applied / substeps
-    events = np.array(events, dtype=float).reshape(-1, 4)
-    return log, torque, events[:, 0].copy(), events[:, 1].copy(), events[:, 2].copy(), events[:, 3].copy()
 
 
 def _split_at_contact(model, data, theta, omega, height, x):

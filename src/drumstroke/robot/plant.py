@@ -29,16 +29,18 @@ Examples
 """
 
 import math
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from functools import lru_cache
 
 import numpy as np
 
 from .._checks import check_int, check_keys, check_real
-from ..formats.toml import read_toml
 from ..errors import ParameterError
+from ..formats.toml import read_toml
 from ..model import Stick, inertia_ratio
 from ..recipe import STANDARD_GRAVITY
+from .kernel import advance_joint
+from .loop import Contacts, open_loop
 
 GRAVITY = STANDARD_GRAVITY
 """m/s²."""
@@ -194,6 +196,101 @@ def _contact(inertia, k, b, weight, speed):
             return -rate / speed, t
 
 
+class SimpleJoint:
+    """The joint of a :class:`Plant` integrated in compiled RK4 substeps: the control loop's simple plant.
+
+    Keeps to :class:`drumstroke.robot.loop.Joint`. Each :meth:`advance` integrates one control
+    period in ``plant.substeps`` RK4 steps (:func:`drumstroke.robot.kernel.advance_joint`),
+    the motor's torque–speed line applied at each, and logs the contacts with the head.
+
+    Parameters
+    ----------
+    plant : Plant
+    cor : float in [0, 1] or None
+        The head's coefficient of restitution: its gains are :func:`contact_gains` of it.
+    stiffness, damping : float or None
+        Or the head's gains K (N·m/rad) and B (N·m·s/rad) themselves, instead of ``cor``.
+    theta0 : float
+        θ at the start (rad).
+    omega0 : float
+        ω at the start (rad/s).
+    start : float
+        The time at the start (s): contacts are logged on this clock.
+    """
+
+    def __init__(self, plant, cor=None, *, stiffness=None, damping=None, theta0=0.0, omega0=0.0, start=0.0):
+        if not isinstance(plant, Plant):
+            raise ParameterError(f"plant must be a drumstroke.robot.plant.Plant, got {plant!r}")
+        if (cor is None) == (stiffness is None or damping is None):
+            raise ParameterError("give the head either cor or both stiffness and damping")
+        if cor is not None:
+            stiffness, damping = contact_gains(plant, cor)
+        self.plant = plant
+        self.stiffness = check_real("stiffness", stiffness, low=0.0, unit="N m/rad")
+        self.damping = check_real("damping", damping, low=0.0, unit="N m s/rad")
+        self._params = np.array([plant.inertia, plant.gravity_torque, plant.viscous, plant.coulomb, plant.max_torque,
+                                 plant.max_speed, plant.head, self.stiffness, self.damping])
+        self._state = np.array([check_real("theta0", theta0, unit="rad"), check_real("omega0", omega0, unit="rad/s"),
+                                0.0, 0.0])
+        self._state[2] = 1.0 if self._state[0] < plant.head else 0.0
+        self._events = np.full((16, 4), np.nan)
+        self._substeps = plant.substeps
+        self._origin, self._periods, self._period = check_real("start", start, unit="s"), 0, None
+
+    @property
+    def theta(self):
+        """θ now (rad)."""
+        return self._state.item(0)
+
+    @property
+    def omega(self):
+        """ω now (rad/s)."""
+        return self._state.item(1)
+
+    @property
+    def time(self):
+        """The time now (s)."""
+        return self._origin + self._periods * self._period if self._periods else self._origin
+
+    def advance(self, torque, duration):
+        """Advance one control period of ``duration`` (s) under the command ``torque`` (N·m): the mean torque applied.
+
+        Times are counted in whole periods from the last change of ``duration``, so the
+        clock does not drift by adding periods up.
+        """
+        if duration != self._period:
+            self._origin, self._periods, self._period = self.time, 0, duration
+        events = self._events
+        if self._state.item(3) + self._substeps > len(events):  # each substep may start one contact
+            self._events = events = np.concatenate((events, np.full((len(events) + self._substeps, 4), np.nan)))
+        applied = advance_joint(self._state, self._params, events, float(torque), self._substeps,
+                                duration / self._substeps, self._origin + self._periods * duration)
+        self._periods += 1
+        return applied
+
+    def contacts(self):
+        """The :class:`~drumstroke.robot.loop.Contacts` so far."""
+        return Contacts.from_events(self._events[:int(self._state.item(3))], self.plant.stick.pivot_to_tip)
+
+
+def run_plant(plant, stiffness, damping, torque, rate, *, theta0=0.0, omega0=0.0):
+    """Drive the simple joint open loop with ``torque`` (N·m, one per control period at ``rate`` Hz): its Log.
+
+    Parameters
+    ----------
+    plant : Plant
+    stiffness, damping : float
+        The head's K (N·m/rad) and B (N·m·s/rad).
+    torque : ndarray [shape=(n,)]
+    rate : float in [10, 1e5]
+        Hz.
+    theta0, omega0 : float
+        The start (rad, rad/s).
+    """
+    joint = SimpleJoint(plant, stiffness=stiffness, damping=damping, theta0=theta0, omega0=omega0)
+    return open_loop(joint, torque, rate)
+
+
 @dataclass(frozen=True)
 class Drop:
     """A dropped joint, motor off: the first impact's speeds and how long it stayed on the head."""
@@ -210,19 +307,8 @@ class Drop:
 
 def drop_test(plant, cor, *, theta0=0.0):
     """Drop the joint from ``theta0`` (rad) with the motor off and no friction; measure its first bounce."""
-    from .kernel import run_plant
-
-    free = _frictionless(plant)
-    k, b = contact_gains(free, cor)
-    rate = 1000.0
-    n = 2000
-    log = run_plant(free, k, b, np.zeros(n), rate, theta0=theta0)
+    joint = SimpleJoint(replace(plant, viscous=0.0, coulomb=0.0), cor, theta0=theta0)
+    log = open_loop(joint, np.zeros(2000), 1000.0)  # 2 s at 1 kHz
     if not len(log.onsets):
         raise ParameterError("the dropped stick never reached the head")
     return Drop(float(-log.onset_speed[0]), float(log.release_speed[0]), float(log.release[0] - log.onsets[0]))
-
-
-def _frictionless(plant):
-    from dataclasses import replace
-
-    return replace(plant, viscous=0.0, coulomb=0.0)

@@ -1,4 +1,8 @@
-"""Playing a reference on the simulated joint: the reference at the control rate, the run, what was played.
+"""Playing a reference on a simulated joint: the reference at the control rate, the run, what was played.
+
+The reference is a one-stick :class:`~drumstroke.trajectory.Trajectory` at the control rate
+(:func:`reference`); :func:`track` steps the one control loop
+(:class:`~drumstroke.robot.loop.ControlLoop`) through it on the simple joint or on MuJoCo's.
 
 Examples
 --------
@@ -6,11 +10,11 @@ Examples
 >>> from drumstroke.robot.controllers import controller
 >>> ref = reference(drumstroke.simulate("finger-pulses"))
 >>> played = track(ref, controller("impedance"))
->>> played.controller, len(played.reference.t)
-('impedance', 5001)
+>>> played.controller, len(played.reference.t), len(played.trajectory.impacts) == len(played.onsets)
+('impedance', 5001, True)
 """
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -18,125 +22,32 @@ from .._checks import check_real
 from ..errors import ParameterError
 from ..recipe import DEFAULT_COR
 from ..stroke import as_trajectory
-from ..trajectory import DEFAULT_RATE, Trajectory
-from .kernel import run_loop
-from .plant import Plant, contact_gains
+from ..trajectory import DEFAULT_RATE, Impacts, Trajectory
+from .controllers import Controller
+from .loop import ControlLoop
+from .plant import Plant, SimpleJoint
 
-_DIFF = 1e-6  # s, the step of the acceleration's central difference on the exact path
+ENGINES = ("simple", "mujoco")
+"""The plants a reference can be played on: the simple joint, MuJoCo's (the ``robot`` extra)."""
 
 
-@dataclass(frozen=True)
-class Reference:
-    """What the robot is asked to play, at the control rate.
+def reference(source, rate=DEFAULT_RATE):
+    """What the robot is asked to play: ``source`` (a Stroke or a one-stick Trajectory) at ``rate`` (Hz).
 
-    Attributes
+    Parameters
     ----------
-    t, theta, omega, alpha : ndarray [shape=(n,)]
-        s; rad; rad/s; the flight acceleration (rad/s²) — impacts excluded.
-    impact_t, impact_speed : ndarray [shape=(m,)]
-        The reference's impacts: times (s) and tip speeds (m/s).
-    rate : float
-        Hz.
-    name, model : str
-    head : float
-        θ_max (rad).
-    cor : float
-        The coefficient of restitution the reference was made with (the head's).
-    trajectory : Trajectory
-        The curve it samples.
-    """
+    source : Stroke or Trajectory
+    rate : float in [10, 1e5]
+        The control rate (Hz).
 
-    t: np.ndarray
-    theta: np.ndarray
-    omega: np.ndarray
-    alpha: np.ndarray
-    impact_t: np.ndarray
-    impact_speed: np.ndarray
-    rate: float
-    name: str
-    model: str
-    head: float
-    cor: float
-    trajectory: object = None
-
-
-def reference(source, rate=DEFAULT_RATE, *, cor=None):
-    """A :class:`Reference` from a Stroke or Trajectory sampled at ``rate`` (Hz).
-
-    ``cor`` (the head's coefficient of restitution) defaults to the recipe's.
+    Returns
+    -------
+    Trajectory
+        One stick, sampled at ``rate`` (each sample evaluated afresh): θ, ω, the flight acceleration α, the impacts.
     """
     rate = check_real("rate", rate, low=10.0, high=1e5, unit="Hz")
-    trajectory = as_trajectory(source)
-    if cor is None:
-        cor = trajectory.recipe.cor if trajectory.recipe is not None else DEFAULT_COR
-    cor = check_real("cor", cor, low=0.0, high=1.0)
-    t, theta, omega = trajectory.sample(rate)
-    alpha = _flight_acceleration(trajectory, t)
-    impacts = trajectory.impacts
-    return Reference(t, theta, omega, alpha, impacts.t.copy(), impacts.tip_speed.copy(), rate, trajectory.name,
-                     trajectory.model, trajectory.theta_max, cor, trajectory)
-
-
-def trajectory_from_samples(t, theta, omega, *, head, tip_distance, name="trajectory", model="unknown"):
-    """A :class:`~drumstroke.palette.Trajectory` through samples (a CSV) with its impacts found in them.
-
-    An impact lies between samples k and k+1 where ω turns from down to up within
-    two periods' travel of the head; its time is where sample k's motion reaches
-    the head, t_k + (θ_k − θ_head)/|ω_k| (to a small fraction of a period).
-    """
-    t = np.asarray(t, dtype=float)
-    return Trajectory.from_samples(t - t[0], theta, omega, theta_max=head, tip_distance=tip_distance, name=name,
-                                   model=model)
-
-
-def lead_in_contact(ref, lead):
-    """θ, ω, α to steer by when the head holds the stick ``lead`` seconds at each impact (arrays like ref's).
-
-    A real head keeps the stick for a few milliseconds where the model's impact is
-    instantaneous, so a stick that follows the reference leaves every impact late
-    and lands late. Flight by flight (impact i to i+1, duration d > 2·lead), the
-    stick is held on the head for ``lead`` and the flight is replayed
-    d/(d − lead) times faster: θ_w(t) = θ(t_i + (t − t_i − lead)·d/(d − lead)),
-    so it leaves when the head lets go and lands on the reference's next impact.
-    Shorter flights are left as they are.
-    """
-    theta, omega, alpha = ref.theta.copy(), ref.omega.copy(), ref.alpha.copy()
-    if lead <= 0.0 or ref.trajectory is None or len(ref.trajectory.impacts) < 2:
-        return theta, omega, alpha
-    impacts = ref.trajectory.impacts.t
-    t = ref.t
-    i = np.searchsorted(impacts, t, side="right") - 1
-    inside = (i >= 0) & (i < len(impacts) - 1)
-    i = np.clip(i, 0, len(impacts) - 2)
-    start, d = impacts[i], impacts[i + 1] - impacts[i]
-    warp = inside & (d > 2.0 * lead)
-    held = warp & (t < start + lead)
-    flying = warp & ~held
-    speed = np.where(warp, d / np.maximum(d - lead, 1e-12), 1.0)
-    source = np.clip(start + (t - start - lead) * speed, 0.0, ref.trajectory.t_end)
-    if flying.any():
-        th, om = ref.trajectory.path(source[flying])
-        theta[flying], omega[flying] = th, om * speed[flying]
-        alpha[flying] = _flight_acceleration(ref.trajectory, source[flying]) * speed[flying] ** 2
-    theta[held], omega[held], alpha[held] = ref.head, 0.0, 0.0
-    return theta, omega, alpha
-
-
-def _flight_acceleration(trajectory, t):
-    """dω/dt away from impacts: a central difference, one-sided where an impact is within the step."""
-    lo = np.clip(t - _DIFF, 0.0, trajectory.t_end)
-    hi = np.clip(t + _DIFF, 0.0, trajectory.t_end)
-    impacts = trajectory.impacts.t
-    if len(impacts):
-        j = np.searchsorted(impacts, t, side="right")
-        before = impacts[np.clip(j - 1, 0, len(impacts) - 1)]
-        after = impacts[np.clip(j, 0, len(impacts) - 1)]
-        lo = np.where((j > 0) & (before > lo), t, lo)  # an impact just behind: look ahead only
-        hi = np.where((j < len(impacts)) & (after < hi), t, hi)
-    _, w_hi = trajectory.path(hi)
-    _, w_lo = trajectory.path(lo)
-    alpha = np.where(hi > lo, (w_hi - w_lo) / np.where(hi > lo, hi - lo, 1.0), 0.0)
-    return alpha
+    trajectory = as_trajectory(source, rate=rate)
+    return trajectory if not trajectory.carry else replace(trajectory, carry=False)  # each sample afresh
 
 
 @dataclass(frozen=True)
@@ -145,7 +56,7 @@ class Played:
 
     Attributes
     ----------
-    reference : Reference
+    reference : Trajectory
     controller : str
     theta, omega, torque : ndarray [shape=(n,)]
         The joint at each control period: rad, rad/s, N·m.
@@ -155,9 +66,11 @@ class Played:
         The plant's torque limit (N·m).
     plant : str
         "simple" or "mujoco".
+    contacts : Contacts or None
+        The joint's contacts as it logged them (ω in rad/s, releases).
     """
 
-    reference: Reference
+    reference: Trajectory
     controller: str
     theta: np.ndarray
     omega: np.ndarray
@@ -166,20 +79,76 @@ class Played:
     onset_speed: np.ndarray
     max_torque: float
     plant: str = "simple"
+    contacts: object = None
+
+    @property
+    def trajectory(self):
+        """What the joint played, as a Trajectory at the control rate with its contacts as the impacts.
+
+        Each impact leaves with the speed the head let the stick go with (0 if it was still
+        on the head at the end). Without ``contacts`` the impacts are found in the samples.
+        """
+        ref = self.reference
+        info = {"theta_max": ref.theta_max, "rate": ref.rate, "name": f"{ref.name} played by {self.controller}",
+                "model": ref.model}
+        if self.contacts is None:
+            return Trajectory.from_samples(ref.t, self.theta, self.omega, tip_distance=ref.impacts.tip_distance,
+                                           **info)
+        c = self.contacts
+        return Trajectory.from_samples(ref.t, self.theta, self.omega, Impacts(c.t, c.omega, c.tip_distance),
+                                       np.nan_to_num(c.omega_after, nan=0.0), **info)
 
 
-def track(ref, controller, plant=None):
-    """Play ``ref`` (a :class:`Reference`) with ``controller`` on ``plant`` (default :class:`Plant`)."""
-    plant = plant or Plant()
-    if not isinstance(ref, Reference):
-        raise ParameterError(f"ref must be a drumstroke.robot.track.Reference, got {ref!r}")
-    if abs(plant.head - ref.head) > 1e-9:
-        raise ParameterError(f"the reference's head ({ref.head:.6g} rad) is not the plant's ({plant.head:.6g} rad); "
-                             "give the plant the stick the reference was made with")
-    stiffness, damping = contact_gains(plant, ref.cor)
-    theta, omega, alpha = lead_in_contact(ref, getattr(controller, "lead", 0.0))
-    log = run_loop(plant, stiffness, damping, controller.law, controller.gains(), theta, omega, alpha,
-                   ref.rate, theta0=float(ref.theta[0]), omega0=float(ref.omega[0]))
-    tip = plant.stick.pivot_to_tip
-    return Played(ref, controller.name, log.theta, log.omega, log.torque, log.onsets, np.abs(log.onset_speed) * tip,
-                  plant.max_torque)
+def track(reference, controller, plant=None, *, engine="simple", cor=None):
+    """Play ``reference`` with ``controller`` on ``plant``: many steps of the one control loop.
+
+    The controller steers by the reference (:meth:`~drumstroke.robot.controllers.Controller.steer`);
+    the joint starts at the reference's θ[0], ω[0] and its clock at the reference's start.
+
+    Parameters
+    ----------
+    reference : Trajectory
+        One stick at the control rate in [10, 1e5] Hz (:func:`reference`).
+    controller : Controller
+    plant : Plant, optional
+        Default :class:`~drumstroke.robot.plant.Plant`; its head must be the reference's.
+    engine : {"simple", "mujoco"}
+        The simple joint (:class:`~drumstroke.robot.plant.SimpleJoint`) or MuJoCo's
+        (:class:`~drumstroke.robot.mujoco_plant.MujocoJoint`, needs the ``robot`` extra).
+    cor : float in [0, 1] or None
+        The head's coefficient of restitution; default the reference's recipe's, else
+        :data:`drumstroke.recipe.DEFAULT_COR`.
+
+    Returns
+    -------
+    Played
+    """
+    plant = Plant() if plant is None else plant
+    if not isinstance(reference, Trajectory) or len(reference.sticks) != 1:
+        raise ParameterError("reference must be a one-stick drumstroke Trajectory (see drumstroke.robot.track."
+                             f"reference), got {reference!r}")
+    if not isinstance(controller, Controller):
+        raise ParameterError(f"controller must be a drumstroke.robot.controllers.Controller, got {controller!r}")
+    if not isinstance(plant, Plant):
+        raise ParameterError(f"plant must be a drumstroke.robot.plant.Plant, got {plant!r}")
+    if engine not in ENGINES:
+        raise ParameterError(f"engine must be one of {', '.join(ENGINES)}, got {engine!r}")
+    rate = check_real("reference.rate", reference.rate, low=10.0, high=1e5, unit="Hz")
+    if abs(plant.head - reference.theta_max) > 1e-9:
+        raise ParameterError(f"the reference's head ({reference.theta_max:.6g} rad) is not the plant's "
+                             f"({plant.head:.6g} rad); give the plant the stick the reference was made with")
+    if cor is None:
+        cor = reference.recipe.cor if reference.recipe is not None else DEFAULT_COR
+    cor = check_real("cor", cor, low=0.0, high=1.0)
+    start = {"theta0": float(reference.theta[0]), "omega0": float(reference.omega[0]), "start": float(reference.t[0])}
+    if engine == "mujoco":
+        from .mujoco_plant import MujocoJoint
+
+        joint = MujocoJoint(plant, cor, rate=rate, **start)
+    else:
+        joint = SimpleJoint(plant, cor, **start)
+    loop = ControlLoop(joint, controller, rate)
+    loop.run(*controller.steer(reference))
+    log = loop.log()
+    return Played(reference, controller.name, log.theta, log.omega, log.torque, log.onsets,
+                  log.contacts.tip_speed, plant.max_torque, engine, log.contacts)

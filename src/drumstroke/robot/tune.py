@@ -6,22 +6,20 @@ stroke at a time (gain scheduling: one set per stroke)::
     missed onsets / reference onsets  +  0.1 · mean |timing error| / window  +  0.01 · RMS error / 1 rad
 
 — the count of onsets kept decides, the timing and the tracking error break ties
-and give the search a slope. scipy's Nelder–Mead searches the logarithms of the
-positive gains (and ``floor`` through its logit), from the controller's current gains.
+and give the search a slope. scipy's Nelder–Mead searches each gain on the scale its
+controller declares (:class:`drumstroke.robot.controllers.Gain`: the logarithm of a
+positive gain, the logit of a fraction, a time in ms), from the controller's current gains.
 """
 
-import math
-from dataclasses import dataclass, fields, replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from .._checks import check_int
 from ..errors import ParameterError
+from .controllers import declared_gains
 from .metrics import WINDOW, metrics
 from .track import track
-
-_LOGIT = ("floor",)
-_LINEAR = ("lead",)
 
 
 @dataclass(frozen=True)
@@ -45,7 +43,7 @@ class Tuned:
 
 
 def score(references, controller, plant=None):
-    """The objective (see the module docstring) and the metrics of each stroke."""
+    """The objective (see the module docstring) and the metrics of each stroke (Trajectories at the control rate)."""
     results = [metrics(track(ref, controller, plant)) for ref in references]
     total = sum(m.reference_onsets for m in results)
     kept = sum(m.kept for m in results)
@@ -56,10 +54,14 @@ def score(references, controller, plant=None):
 
 
 def tune(references, controller, *, plant=None, per_stroke=False, evaluations=150, progress=None):
-    """Tune ``controller``'s gains on ``references`` (a sequence of Reference).
+    """Tune ``controller``'s declared gains on ``references`` (Trajectories at the control rate, :func:`reference`).
 
     Parameters
     ----------
+    references : sequence of Trajectory
+    controller : Controller
+        Where the search starts; every gain it declares is searched.
+    plant : Plant, optional
     per_stroke : bool
         One gain set per stroke (scheduling) instead of one for all.
     evaluations : int in [1, 10000]
@@ -74,23 +76,23 @@ def tune(references, controller, *, plant=None, per_stroke=False, evaluations=15
         raise ParameterError("references must hold at least one stroke")
     check_int("evaluations", evaluations, low=1, high=10000)
     groups = [[r] for r in references] if per_stroke else [references]
-    names = [f.name for f in fields(controller)]
+    declared = declared_gains(controller)
     tuned, count = [], 0
     for g, group in enumerate(groups):
         def objective(x, group=group):
             nonlocal count
             count += 1
             try:
-                candidate = _from_vector(controller, names, x)
+                candidate = _from_vector(controller, declared, x)
             except ParameterError:
                 return 10.0
             return score(group, candidate, plant)[0]
 
-        start = _to_vector(controller, names)
+        start = _to_vector(controller, declared)
         simplex = np.vstack([start, start + 0.5 * np.eye(len(start))])  # steps of ×1.65 (0.5 ms for lead)
         best = minimize(objective, start, method="Nelder-Mead",
                         options={"maxfev": evaluations, "xatol": 1e-3, "fatol": 1e-6, "initial_simplex": simplex})
-        found = _from_vector(controller, names, best.x)
+        found = _from_vector(controller, declared, best.x)
         if score(group, found, plant)[0] > score(group, controller, plant)[0]:
             found = controller  # never worse than where it started
         tuned.extend([found] * len(group))
@@ -101,27 +103,9 @@ def tune(references, controller, *, plant=None, per_stroke=False, evaluations=15
     return Tuned(tuple(tuned), before, after, count)
 
 
-def _to_vector(controller, names):
-    out = []
-    for name in names:
-        value = getattr(controller, name)
-        if name in _LOGIT:
-            value = min(max(value, 1e-4), 1 - 1e-4)
-            out.append(math.log(value / (1.0 - value)))
-        elif name in _LINEAR:
-            out.append(value * 1e3)  # ms
-        else:
-            out.append(math.log(max(value, 1e-6)))
-    return np.array(out)
+def _to_vector(controller, declared):
+    return np.array([gain.to_search(getattr(controller, name)) for name, gain in declared.items()])
 
 
-def _from_vector(controller, names, x):
-    values = {}
-    for name, v in zip(names, x):
-        if name in _LOGIT:
-            values[name] = 1.0 / (1.0 + math.exp(-v))
-        elif name in _LINEAR:
-            values[name] = min(max(v * 1e-3, 0.0), 0.02)
-        else:
-            values[name] = math.exp(min(v, 30.0))
-    return replace(controller, **values)
+def _from_vector(controller, declared, x):
+    return replace(controller, **{name: gain.from_search(v) for (name, gain), v in zip(declared.items(), x)})
