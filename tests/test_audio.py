@@ -21,6 +21,7 @@ from scipy.special import jn_zeros, jv
 
 import drumstroke
 from drumstroke import ParameterError
+from drumstroke.formats.wav import write_wav
 from drumstroke.render.audio import (
     GAIN,
     N_MODES,
@@ -33,7 +34,6 @@ from drumstroke.render.audio import (
     render_wav,
     synthesize,
 )
-from drumstroke.formats.wav import write_wav
 
 LITERATURE_RATIOS = (1.0, 1.593, 2.136, 2.295, 2.653, 2.917)
 """f_mn / f_01 of an ideal membrane for (0,1), (1,1), (2,1), (0,2), (3,1), (1,2) (e.g. Fletcher & Rossing, Table 3.2)."""

@@ -19,10 +19,10 @@ from scipy.optimize import brentq
 from drumstroke.compose import compose
 from drumstroke.dynamics import level_to_velocity
 from drumstroke.errors import ParameterError
+from drumstroke.formats.midi import read_midi_notes
 from drumstroke.palette.library import Entry, build_library, load_library, read_palette
 from drumstroke.palette.motion import RETURN_LIMITS, Limits
 from drumstroke.recipe import Recipe
-from drumstroke.formats.midi import read_midi_notes
 from drumstroke.score import ScoreNote, default_mapping, from_midi_notes, parse_pattern
 
 STROKES = ("single", "tap", "double", "triple", "press-roll")  # in the shipped palette's order

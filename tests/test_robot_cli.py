@@ -4,8 +4,8 @@ import json
 
 import numpy as np
 import pytest
-from _cli import assert_one_line_error, run
 
+from _cli import assert_one_line_error, run
 from drumstroke.palette.library import build_library, read_palette
 
 PNG = b"\x89PNG\r\n\x1a\n"

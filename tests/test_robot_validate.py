@@ -6,14 +6,13 @@ import numpy as np
 import pytest
 
 from drumstroke.compose import compose
-from drumstroke.errors import ParameterError
-from drumstroke.model import Stick
-from drumstroke.palette.library import DEMO_PATTERN, build_library
+from drumstroke.errors import ParameterError, TrajectoryError
 from drumstroke.formats.trajectory_csv import columns_text as csv_text
 from drumstroke.formats.trajectory_csv import comment_line as csv_header
-from drumstroke.render.data import write_composition_csv
-from drumstroke.errors import TrajectoryError
+from drumstroke.model import Stick
+from drumstroke.palette.library import DEMO_PATTERN, build_library
 from drumstroke.palette.motion import Limits
+from drumstroke.render.data import write_composition_csv
 from drumstroke.robot.validate import read_limits, validate, validate_file
 from drumstroke.score import read_pattern
 

@@ -23,7 +23,6 @@ import pytest
 
 import drumstroke
 from drumstroke import ParameterError
-from drumstroke.trajectory import THETA_TOP, Trajectory
 from drumstroke.palette.motion import RETURN_LIMITS, Limits, concat
 from drumstroke.palette.transforms import (
     apply_steps,
@@ -34,6 +33,7 @@ from drumstroke.palette.transforms import (
     stretch,
     trim,
 )
+from drumstroke.trajectory import THETA_TOP, Trajectory
 
 PRESETS = ("free-bounce", "finger-pulses", "high-low", "reversed-gravity", "low-high", "constant",
            "rising-gravity", "superhuman-press")

@@ -16,7 +16,7 @@ import numpy as np
 
 from .constants import ELLIPTIC, REST, TAYLOR, TAYLOR_ORDER
 
-__all__ = ["Arcs", "ELLIPTIC", "REST", "TAYLOR", "TAYLOR_ORDER"]
+__all__ = ["ELLIPTIC", "REST", "TAYLOR", "TAYLOR_ORDER", "Arcs"]
 
 
 @dataclass(frozen=True)

@@ -16,8 +16,8 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from .elliptic import flight_time, parameter, to_head
 from .constants import NEARLY_VERTICAL
+from .elliptic import flight_time, parameter, to_head
 from .taylor import zeno_floor
 
 OK, UNSUPPORTED, TOO_MANY = 0, 1, 2
