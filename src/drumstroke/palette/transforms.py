@@ -1,6 +1,6 @@
 """Post-processing of strokes (paper §3.5): stretch, compress, reverse, trim, catch.
 
-Each transform takes a :class:`~drumstroke.palette.Trajectory` (or a
+Each transform takes a :class:`~drumstroke.trajectory.Trajectory` (or a
 :class:`~drumstroke.Stroke`, taken exactly) and returns a new one whose impacts
 agree with its curve: θ = θ_max at every impact time.
 

@@ -27,7 +27,7 @@ def stroke_figure(stroke, *, title=None, rate=2000.0):
 
     Parameters
     ----------
-    stroke : drumstroke.Stroke or drumstroke.palette.Trajectory
+    stroke : drumstroke.Stroke or drumstroke.Trajectory
     title : str or None
         Defaults to the stroke's name.
     rate : float > 0
