@@ -8,7 +8,7 @@ A config file has up to three tables, each optional (missing values take the def
     [controller.impedance]   # one table per controller (pi, pid-ff, impedance) of its gains
     kp = 40.0
 
-    [limits]                 # drumstroke.robot.validate.Limits' fields
+    [limits]                 # drumstroke.palette.motion.Limits' fields
     max_speed = 30.0
 
 :func:`load_source` turns what a user names (a preset, a recipe file, a library stroke or a

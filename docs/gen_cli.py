@@ -1,0 +1,64 @@
+"""Write cli.md, the command-line reference, from the argument parsers themselves (run by mkdocs-gen-files).
+
+Every command and sub-command's ``--help`` text, walked recursively through argparse's sub-parsers, so
+the page cannot drift from what ``drumstroke ... --help`` prints.
+"""
+
+import argparse
+import os
+
+import mkdocs_gen_files
+
+from drumstroke.cli import build_parser
+
+WIDTH = "80"  # columns of the help text, whatever terminal builds the site
+
+
+def commands(parser, path=()):
+    """Yield (words after 'drumstroke', one-line help, parser) for the parser and every sub-command below it."""
+    yield path, None, parser
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            helps = {choice.dest: choice.help for choice in action._choices_actions}
+            for name, sub in action.choices.items():
+                for words, summary, found in commands(sub, (*path, name)):
+                    yield words, summary if words != (*path, name) else helps.get(name), found
+
+
+def page():
+    lines = [
+        "# Command line",
+        "",
+        "`drumstroke COMMAND ...` runs one job and prints what it did; every command is a thin layer over the",
+        "Python API. Bad input ends with exit status 2 and one line naming the parameter, the value and the",
+        "allowed range; `compose --strict` exits with 3 when a note was left out.",
+        "",
+        "This page is generated when the site is built, from the same argument parsers the command uses",
+        "(`drumstroke.cli.build_parser()`): it is exactly what `--help` prints.",
+        "",
+    ]
+    for words, summary, parser in commands(build_parser()):
+        name = " ".join(("drumstroke", *words))
+        lines += [f"## `{name}`", ""]
+        if summary:
+            lines += [summary[0].upper() + summary[1:] + ".", ""]
+        lines += ["```text", parser.format_help().rstrip(), "```", ""]
+    return "\n".join(lines)
+
+
+def main():
+    before = os.environ.get("COLUMNS")
+    os.environ["COLUMNS"] = WIDTH
+    try:
+        text = page()
+    finally:
+        if before is None:
+            del os.environ["COLUMNS"]
+        else:
+            os.environ["COLUMNS"] = before
+    with mkdocs_gen_files.open("cli.md", "w") as out:
+        out.write(text)
+    mkdocs_gen_files.set_edit_path("cli.md", "gen_cli.py")
+
+
+main()

@@ -1,0 +1,156 @@
+"""The documentation site builds with --strict, and every example in the README and docs/ runs.
+
+Examples run page by page in a fresh folder holding a copy of examples/: a page's ```python blocks
+in order in one namespace, and each `drumstroke ...` line of its ```sh blocks with exit status 0,
+interleaved in page order (a command may use a file an earlier block wrote). The README's set-up
+section is left out: CI runs those two commands itself. `drumstroke listen serve` serves forever, so
+it is started in the background, checked to answer HTTP on its port, and stopped.
+"""
+
+import argparse
+import os
+import re
+import shutil
+import socket
+import subprocess
+import sys
+import sysconfig
+import time
+import urllib.request
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+DOCS = ROOT / "docs"
+PAGES = [ROOT / "README.md", *sorted(DOCS.glob("*.md"))]
+FENCE = re.compile(r"^```(\w*)[^\n]*\n(.*?)^```[ \t]*$", re.MULTILINE | re.DOTALL)
+QUIET = {"NO_MKDOCS_2_WARNING": "1", "DISABLE_MKDOCS_2_WARNING": "true", "MPLBACKEND": "Agg"}
+
+
+def page_blocks(page):
+    """The page's ```python and ```sh blocks in order, as (language, code); the README's set-up section left out."""
+    text = page.read_text(encoding="utf-8")
+    if page.name == "README.md":
+        head, _, rest = text.partition("## Set-up: two commands")
+        text = head + ("\n## " + rest.split("\n## ", 1)[1] if "\n## " in rest else "")
+    return [(lang, code) for lang, code in FENCE.findall(text) if lang in ("python", "sh")]
+
+
+def commands(code):
+    """The `drumstroke ...` command lines of a shell block (continuation lines joined)."""
+    joined = re.sub(r"\\\n\s*", " ", code)
+    return [line.strip() for line in joined.splitlines() if line.strip().startswith("drumstroke ")]
+
+
+def _environment():
+    scripts = sysconfig.get_path("scripts")
+    return {**os.environ, **QUIET, "PATH": os.pathsep.join([scripts, str(Path(sys.executable).parent),
+                                                            os.environ.get("PATH", "")])}
+
+
+def _free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def _run(command, folder, env):
+    result = subprocess.run(command, shell=True, cwd=folder, env=env, capture_output=True, text=True, timeout=300,
+                            check=False)
+    assert result.returncode == 0, (
+        f"{command!r} exited with {result.returncode}\n--- stdout\n{result.stdout[-3000:]}\n"
+        f"--- stderr\n{result.stderr[-3000:]}")
+
+
+def _serve(command, folder, env):
+    """Start a serving command, wait until it answers HTTP on its port, and stop it."""
+    port = _free_port()
+    command = re.sub(r"--port\s+\d+", f"--port {port}", command) if "--port" in command else f"{command} --port {port}"
+    server = subprocess.Popen(command, shell=True, cwd=folder, env=env, stdout=subprocess.PIPE,
+                              stderr=subprocess.PIPE, text=True, start_new_session=True)
+    try:
+        deadline = time.monotonic() + 60.0
+        while True:
+            assert server.poll() is None, f"{command!r} stopped: {server.communicate()[1][-2000:]}"
+            try:
+                with urllib.request.urlopen(f"http://127.0.0.1:{port}/", timeout=2.0) as response:
+                    assert response.status == 200
+                    return
+            except OSError:
+                assert time.monotonic() < deadline, f"{command!r} did not answer on port {port} within 60 s"
+                time.sleep(0.2)
+    finally:
+        os.killpg(server.pid, 15)
+        server.communicate(timeout=30)
+
+
+@pytest.mark.parametrize("page", PAGES, ids=[p.relative_to(ROOT).as_posix() for p in PAGES])
+def test_every_example_on_the_page_runs(page, tmp_path, monkeypatch):
+    shutil.copytree(ROOT / "examples", tmp_path / "examples")
+    monkeypatch.chdir(tmp_path)
+    for name, value in QUIET.items():
+        monkeypatch.setenv(name, value)
+    env = _environment()
+    namespace = {"__name__": "__docs__"}
+    for number, (language, code) in enumerate(page_blocks(page), start=1):
+        if language == "python":
+            code = compile(code, f"{page.name}, block {number}", "exec")
+            exec(code, namespace)  # noqa: S102 - running the docs' examples is the test
+            continue
+        for command in commands(code):
+            if command.startswith("drumstroke listen serve"):
+                _serve(command, tmp_path, env)
+            else:
+                _run(command, tmp_path, env)
+
+
+def test_the_pages_have_examples():
+    """The pages that teach by example keep their examples (a broken fence would silently drop them)."""
+    for name in ("README.md", "tutorial.md", "model.md", "profiles.md", "palette.md", "robot.md", "listening-test.md"):
+        page = ROOT / name if name == "README.md" else DOCS / name
+        blocks = page_blocks(page)
+        assert any(lang == "sh" and commands(code) for lang, code in blocks), name
+        assert any(lang == "python" for lang, _ in blocks), name
+
+
+def _subcommands(parser, words=()):
+    yield " ".join(("drumstroke", *words))
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for name, sub in action.choices.items():
+                yield from _subcommands(sub, (*words, name))
+
+
+def _public_modules():
+    package = ROOT / "src" / "drumstroke"
+    for path in sorted(package.rglob("*.py")):
+        parts = path.relative_to(package.parent).with_suffix("").parts
+        if parts[-1] == "__init__" or not any(part.startswith("_") for part in parts):
+            yield Path(*parts)
+
+
+def test_the_site_builds_strictly(tmp_path):
+    site = tmp_path / "site"
+    result = subprocess.run([sys.executable, "-m", "mkdocs", "build", "--strict", "-d", str(site)], cwd=ROOT,
+                            env={**os.environ, **QUIET}, capture_output=True, text=True, timeout=300, check=False)
+    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-6000:]
+
+    for page in sorted(DOCS.glob("*.md")):
+        target = site / "index.html" if page.stem == "index" else site / page.stem / "index.html"
+        assert target.is_file(), page.name
+
+    from drumstroke.cli import build_parser
+
+    cli = (site / "cli" / "index.html").read_text(encoding="utf-8")
+    for command in _subcommands(build_parser()):
+        assert f"<code>{command}</code>" in cli, f"the CLI reference lacks {command!r}"
+    assert "usage: drumstroke robot tune" in cli
+
+    for module in _public_modules():
+        parts = module.parts[:-1] if module.name == "__init__" else module.parts
+        assert (site / "reference" / Path(*parts) / "index.html").is_file(), f"no API page for {'.'.join(parts)}"
+
+    drawing = (site / "architecture-layers.svg").read_text(encoding="utf-8")
+    assert drawing.lstrip().startswith("<?xml") and "<svg" in drawing and "compose.py" in drawing
+    assert 'src="../architecture-layers.svg"' in (site / "architecture" / "index.html").read_text(encoding="utf-8")
