@@ -129,7 +129,7 @@ def run_stroke_case(name, recipe, *, rate, oracle):
     def ours_fn():
         stroke = simulate(recipe)
         if rate is not None:
-            stroke.sample(rate)
+            t, theta, omega = stroke.sample(rate)  # read the samples: a Trajectory computes them when read
 
     def ref_fn():
         reference_simulate(recipe, rate=rate)

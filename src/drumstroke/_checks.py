@@ -15,15 +15,17 @@ from .errors import ParameterError
 
 def check_real(name, value, *, low=-math.inf, high=math.inf, low_open=False, high_open=False, unit=""):
     """Return ``value`` as a finite float within [low, high] (ends open on request)."""
-    allowed = _range_text(low, high, low_open, high_open, unit)
     if isinstance(value, bool) or not isinstance(value, Real):
+        allowed = _range_text(low, high, low_open, high_open, unit)
         raise ParameterError(f"{name} must be a number in {allowed}, got {value!r}")
     value = float(value)
     if not math.isfinite(value):
+        allowed = _range_text(low, high, low_open, high_open, unit)
         raise ParameterError(f"{name} must be a finite number in {allowed}, got {value!r}")
     too_low = value <= low if low_open else value < low
     too_high = value >= high if high_open else value > high
     if too_low or too_high:
+        allowed = _range_text(low, high, low_open, high_open, unit)
         raise ParameterError(f"{name} must be in {allowed}, got {value!r}")
     return value
 

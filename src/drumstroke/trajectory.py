@@ -405,7 +405,11 @@ class Trajectory:
             buffer = self._stored[0]
             return (buffer.t[first:stop], self._shaped(buffer.theta[first:stop]),
                     self._shaped(buffer.omega[first:stop]))
-        t = np.minimum(self.start + np.arange(first, stop) / self.rate, self.t_end)
+        t = np.arange(first, stop, dtype=float)
+        t /= self.rate
+        if self.start:
+            t += self.start
+        np.minimum(t, self.t_end, out=t)
         if len(self.motions) == 1:
             return (t, *self._evaluate(0, t))
         pairs = [self._evaluate(j, t) for j in range(len(self.motions))]
@@ -413,7 +417,7 @@ class Trajectory:
 
     def _evaluate(self, j, t):
         """Stick j's curve at evenly spaced times ``t`` (the solver's arcs carry sn, cn, dn from one to the next)."""
-        path = self.curves[j]
+        path = self.motions[j].path if self._stored is None else self.curves[j]
         if self.carry and isinstance(getattr(path, "__self__", None), Arcs):
             return path(t, spacing=1.0 / self.rate)
         return path(t)
@@ -422,11 +426,16 @@ class Trajectory:
         """A stored (n, sticks) array as the samples' shape: (n,) for one stick."""
         return array[:, 0] if array.ndim == 2 and len(self.motions) == 1 else array
 
-    @cached_property
+    @property
     def _all(self):
-        arrays = self._positions()
-        for array in arrays:
-            array.flags.writeable = False
+        # Cached by hand: functools.cached_property takes a lock on every first read (Python 3.11), a
+        # measurable share of sampling a stroke.
+        arrays = self.__dict__.get("_samples_read")
+        if arrays is None:
+            arrays = self._positions()
+            for array in arrays:
+                array.flags.writeable = False
+            self.__dict__["_samples_read"] = arrays
         return arrays
 
     @cached_property
