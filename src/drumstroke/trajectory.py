@@ -701,6 +701,16 @@ class Trajectory:
         shape = (len(t), len(self.sticks))
         return _Buffer(t.copy(), theta.reshape(shape).copy(), omega.reshape(shape).copy(), None), len(t)
 
+    def flight_acceleration(self, t):
+        """dω/dt (rad/s²) on the curve at times ``t`` (s) in [start, t_end], impacts excluded (one stick).
+
+        A central difference over 2 µs of the curve's ω, one-sided where an impact lies within the
+        step: what :attr:`alpha` holds at the samples, at any times.
+        """
+        motion = self._one("flight_acceleration")
+        return _flight_acceleration(self.curves[0], motion.impacts.t, np.asarray(t, dtype=float), self.start,
+                                    self.t_end)
+
     def _alpha_at(self, t):
         if len(self.motions) == 1:
             return _flight_acceleration(self.curves[0], self.motions[0].impacts.t, t, self.start, self.t_end)

@@ -39,7 +39,6 @@ from numba import njit
 
 from .._checks import check_keys, check_real
 from ..errors import ParameterError
-from ..trajectory import _flight_acceleration
 
 CONTROLLERS = {}
 """Every controller class by name, in the order they were defined (filled by defining them)."""
@@ -316,7 +315,7 @@ def lead_in_contact(ref, lead, *, t=None):
     else:
         t = np.asarray(t, dtype=float)
         theta, omega = ref.path(t)
-        alpha = _flight_acceleration(ref.path, ref.impacts.t, t, ref.start, ref.t_end)
+        alpha = ref.flight_acceleration(t)
     impacts = ref.impacts.t
     if lead <= 0.0 or len(impacts) < 2:
         return theta, omega, alpha
@@ -332,8 +331,7 @@ def lead_in_contact(ref, lead, *, t=None):
     if flying.any():
         th, om = ref.path(source[flying])
         theta[flying], omega[flying] = th, om * speed[flying]
-        alpha[flying] = (_flight_acceleration(ref.path, impacts, source[flying], ref.start, ref.t_end)
-                         * speed[flying] ** 2)
+        alpha[flying] = ref.flight_acceleration(source[flying]) * speed[flying] ** 2
     theta[held], omega[held], alpha[held] = ref.theta_max, 0.0, 0.0
     return theta, omega, alpha
 
