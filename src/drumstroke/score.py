@@ -159,7 +159,7 @@ MIDI_SUFFIXES = (".mid", ".midi")
 """File name endings :func:`read_score` reads as MIDI files; any other file is a text pattern."""
 
 
-def read_score(path, *, mapping=None, stroke_names=None):
+def read_score(path, *, mapping=None, stroke_names=None, mapping_name="mapping"):
     """The notes of a score file: a MIDI file through a note mapping, or a text pattern.
 
     Parameters
@@ -172,6 +172,8 @@ def read_score(path, *, mapping=None, stroke_names=None):
         Default: :func:`default_mapping` of ``stroke_names``.
     stroke_names : sequence of str or None
         The library's stroke names in its order, for the default mapping.
+    mapping_name : str
+        What the caller calls ``mapping``, for messages (the command line: ``--mapping``).
 
     Returns
     -------
@@ -189,7 +191,7 @@ def read_score(path, *, mapping=None, stroke_names=None):
     path = Path(path)
     if path.suffix.lower() not in MIDI_SUFFIXES:
         if mapping is not None:
-            raise ParameterError(f"mapping applies to MIDI scores (.mid, .midi); {str(path)!r} is a text pattern, "
+            raise ParameterError(f"{mapping_name} applies to MIDI scores (.mid, .midi); {str(path)!r} is a text pattern, "
                                  "which names its strokes")
         return read_pattern(path), {}
     from .formats.midi import read_midi_notes

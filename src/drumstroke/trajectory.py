@@ -300,12 +300,13 @@ class Trajectory:
         models = sorted({p.model for _, p in parts})
         stored = None
         if all(p._stored is not None for _, p in parts):
-            columns = [p.samples() for _, p in parts]
-            alphas = [c[3] for c in columns]
+            columns = [p._positions() for _, p in parts]
+            alphas = [p._stored[0].alpha for _, p in parts]
+            n = len(columns[0][0])
             buffer = _Buffer(columns[0][0].copy(), np.column_stack([c[1] for c in columns]),
                              np.column_stack([c[2] for c in columns]),
-                             None if any(a is None for a in alphas) else np.column_stack(alphas))
-            stored = (buffer, len(buffer.t))
+                             None if any(a is None for a in alphas) else np.column_stack([a[:n, 0] for a in alphas]))
+            stored = (buffer, n)
         return cls(tuple(p.motions[0] for _, p in parts), tuple(stick for stick, _ in parts), first.t_end,
                    first.rate, name, models[0] if len(models) == 1 else "mixed", None, tuple(history),
                    start=first.start, _stored=stored)
@@ -329,7 +330,7 @@ class Trajectory:
         stated = trajectory_csv.stated_rate(comment)
         rate = rate if rate is not None else stated
         if stick is not None or not sticks:
-            t, theta, omega, alpha, _ = trajectory_csv.read_stick(path, stick=stick)
+            t, theta, omega, alpha = trajectory_csv.stick_of(columns, stick, path)
             names = (stick or DEFAULT_STICK,)
         else:
             t = columns["t"]
@@ -707,9 +708,8 @@ class Trajectory:
         A central difference over 2 µs of the curve's ω, one-sided where an impact lies within the
         step: what :attr:`alpha` holds at the samples, at any times.
         """
-        motion = self._one("flight_acceleration")
-        return _flight_acceleration(self.curves[0], motion.impacts.t, np.asarray(t, dtype=float), self.start,
-                                    self.t_end)
+        self._one("flight_acceleration")
+        return self._alpha_at(np.asarray(t, dtype=float))
 
     def _alpha_at(self, t):
         if len(self.motions) == 1:

@@ -4,7 +4,6 @@ import sys
 from pathlib import Path
 
 from .._checks import check_real
-from ..errors import ParameterError
 from ._common import add_sound_options, print_written
 
 
@@ -30,12 +29,7 @@ def _compose(args):
     from ..score import read_score
 
     library = load_library(args.library)
-    try:
-        notes, unmapped = read_score(args.score, mapping=args.mapping, stroke_names=list(library))
-    except ParameterError as error:
-        if str(error).startswith("mapping applies"):  # the library names its parameter; here it is an option
-            raise ParameterError(f"--{error}") from None
-        raise
+    notes, unmapped = read_score(args.score, mapping=args.mapping, stroke_names=list(library), mapping_name="--mapping")
     rate = None if args.rate is None else check_real("--rate", args.rate, low=1.0, high=1e5, unit="Hz")
     piece = compose(notes, library, rate=rate)
     played = sum(p.played for p in piece.placements)

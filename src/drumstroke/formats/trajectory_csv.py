@@ -119,6 +119,11 @@ def read_stick(path, *, stick=None):
     A file with several sticks has ``theta_<stick>`` columns: name the ``stick`` to read.
     """
     comment, columns = read_columns(path)
+    return (*stick_of(columns, stick, path), comment)
+
+
+def stick_of(columns, stick, path):
+    """t, θ, ω and α (or None) of one stick from a file's ``columns`` (see :func:`read_stick`)."""
     sticks = sticks_in(columns)
     if stick is None and not sticks:
         keys = ("theta", "omega", "alpha")
@@ -130,7 +135,7 @@ def read_stick(path, *, stick=None):
         raise ParameterError(f"stick must be one of {', '.join(sticks) or '(none: one stick)'}, got {stick!r}")
     if not all(key in columns for key in keys[:2]):
         raise ParameterError(f"trajectory file {str(path)!r} needs the columns t,{','.join(keys[:2])}")
-    return columns["t"], columns[keys[0]], columns[keys[1]], columns.get(keys[2]), comment
+    return columns["t"], columns[keys[0]], columns[keys[1]], columns.get(keys[2])
 
 
 def stated_model(comment):

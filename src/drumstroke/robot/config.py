@@ -66,7 +66,7 @@ class RobotConfig:
         if not isinstance(self.plant, Plant):
             raise ParameterError(f"plant must be a drumstroke.robot.plant.Plant, got {self.plant!r}")
         if not isinstance(self.limits, Limits):
-            raise ParameterError(f"limits must be a drumstroke.robot.validate.Limits, got {self.limits!r}")
+            raise ParameterError(f"limits must be a drumstroke.palette.motion.Limits, got {self.limits!r}")
         try:
             controllers = dict(self.controllers)
         except (TypeError, ValueError):
