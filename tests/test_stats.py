@@ -47,18 +47,63 @@ def test_e_ici_and_rg_against_hand_computation():
     assert result.rg - 2.0 == pytest.approx(2.0 * math.sqrt(0.5**2 + 0.25**2), rel=1e-14)
 
 
-def test_tost_agrees_with_the_ici_decision_on_random_data(rng):
+def test_the_ici_test_decides_exactly_as_rg_below_delta_on_random_data(rng):
     decisions = []
     for _ in range(2000):
         n = int(rng.integers(5, 40))
         a = Group(float(rng.uniform(0, 10)), float(rng.uniform(0.2, 4)), n)
-        b = Group(float(rng.uniform(0, 10)), float(rng.uniform(0.2, 4)), n)
+        b = Group(float(rng.uniform(0, 10)), float(rng.uniform(0.2, 4)), int(rng.integers(5, 40)))
         result = tryon(a, b, pairs=10)
         delta = float(rng.uniform(0.1, 8))
-        _, _, same = result.tost(delta)
-        assert same == result.equivalent(delta)
-        decisions.append(same)
+        ici = result.ici_test(delta)
+        assert ici.equivalent == result.equivalent(delta) and ici.side_alpha == 0.025
+        assert ici.interval[1] == pytest.approx(result.b.mean - result.a.mean + (result.rg - abs(ici.difference)))
+        decisions.append(ici.equivalent)
     assert 0.1 < np.mean(decisions) < 0.9  # both decisions occur
+
+
+def exact_sample(rng, mean, sd, n):
+    """n numbers whose mean and SD (ddof 1) are exactly ``mean`` and ``sd``."""
+    z = rng.normal(size=n)
+    return mean + sd * (z - z.mean()) / z.std(ddof=1)
+
+
+def test_both_tests_against_statsmodels_and_pingouin_on_raw_data(rng):
+    from pingouin import tost as pingouin_tost
+    from statsmodels.stats.weightstats import ttost_ind
+
+    for _ in range(60):
+        n_a, n_b = int(rng.integers(4, 40)), int(rng.integers(4, 40))
+        x = rng.normal(rng.uniform(2, 8), rng.uniform(0.5, 3), n_a)  # Group A's incorrect answers
+        y = rng.normal(rng.uniform(2, 8), rng.uniform(0.5, 3), n_b)  # Group B's
+        result = tryon(Group(x.mean(), x.std(ddof=1), n_a), Group(y.mean(), y.std(ddof=1), n_b), pairs=10)
+        delta = float(rng.uniform(0.2, 4))
+        p, lower, upper = ttost_ind(y, x, -delta, delta, usevar="pooled")  # low < m_B - m_A < upp
+        tost = result.tost(delta)
+        assert tost.p == pytest.approx(p, rel=1e-9, abs=1e-15)
+        assert (tost.p_lower, tost.p_upper) == pytest.approx((lower[1], upper[1]), rel=1e-9, abs=1e-15)
+        assert tost.equivalent == (p < 0.05) and tost.test == "Schuirmann's TOST"
+        assert tost.p == pytest.approx(float(pingouin_tost(y, x, bound=delta, correction=False)["pval"].iloc[0]),
+                                       rel=1e-9, abs=1e-15)
+        if n_a == n_b:  # then Tryon's standard error is the pooled one: the same p, judged at alpha/2
+            assert result.ici_test(delta).p == pytest.approx(p, rel=1e-9, abs=1e-15)
+            assert result.ici_test(delta).equivalent == (p < 0.025)
+
+
+def test_table_2_at_delta_2_the_two_tests_disagree_as_statsmodels_says(rng):
+    """Rg = 2.097 answers > 2, so Tryon's test (the paper's) says no; the standard TOST says yes."""
+    from statsmodels.stats.weightstats import ttost_ind
+
+    result = from_summary(4.227, 2.654, 4.999, 1.564, 22, pairs=10)
+    ici, tost = result.ici_test(2.0), result.tost(2.0)
+    assert not ici.equivalent and tost.equivalent
+    x, y = exact_sample(rng, 4.227, 2.654, 22), exact_sample(rng, 4.999, 1.564, 22)
+    p, _, _ = ttost_ind(y, x, -2.0, 2.0)
+    assert tost.p == pytest.approx(p, rel=1e-9) and ici.p == pytest.approx(p, rel=1e-9)
+    assert 0.025 < p < 0.05
+    assert ici.interval[1] == pytest.approx(result.rg, rel=1e-12)  # the 95 % interval ends at Rg
+    assert tost.interval[1] == pytest.approx(0.772 + scipy_stats.t.ppf(0.95, 42) * math.hypot(result.a.se,
+                                                                                             result.b.se))
 
 
 def test_group_b_converges_to_5_and_root_2_5_for_10_pairs():
@@ -132,7 +177,13 @@ def test_the_stats_command(tmp_path, rng):
     assert result.returncode == 0, result.stderr
     data = json.loads((tmp_path / "s.json").read_text())
     assert len(data["incorrect"]) == 12 and data["delta"]["equivalent"] == data["delta"]["tost_equivalent"]
+    assert data["delta"]["ici_test"]["equivalent"] == data["delta"]["equivalent"]
+    assert data["delta"]["schuirmann_tost"]["side_alpha"] == 0.05 and data["delta"]["ici_test"]["side_alpha"] == 0.025
     assert "Rg" in result.stdout and "spearman" in result.stdout
+    result = run("stats", "--summary", "4.227,2.654,4.999,1.564,22", "--delta", "2")
+    lines = [line for line in result.stdout.splitlines() if "p = 0.0342" in line]
+    assert [line.split("(")[0].strip() for line in lines] == ["Tryon's ICI test", "Schuirmann's TOST"]
+    assert "not shown equivalent" in lines[0] and ": equivalent" in lines[1]
     result = run("stats", "--summary", "4.227,2.654,4.999,1.564,22")
     assert result.returncode == 0 and "20.97 %" in result.stdout
     assert_one_line_error(run("stats"), "RESPONSES", "--summary")

@@ -1,4 +1,4 @@
-"""``drumstroke stats``: the listening test's statistics — Tryon's inferential CIs, Rg, TOST, correlations."""
+"""``drumstroke stats``: the listening test's statistics — Tryon's inferential CIs, Rg, two equivalence tests."""
 
 from pathlib import Path
 
@@ -7,13 +7,20 @@ from ..errors import ParameterError
 
 def add_stats(commands):
     """Register ``stats``."""
-    sts = commands.add_parser("stats", help="listening-test statistics: Tryon's ICIs, Rg, TOST, correlations")
+    sts = commands.add_parser(
+        "stats", help="listening-test statistics: Tryon's ICIs, Rg, equivalence tests, correlations",
+        description="Group A (incorrect answers per subject) against Group B (subjects guessing 50-50): Tryon's "
+                    "inferential confidence intervals and the maximum probable difference Rg (the paper's Table 2); "
+                    "with --delta, Tryon's ICI test (each side at alpha/2, the paper's Rg < delta) and Schuirmann's "
+                    "standard TOST (each side at alpha), each with its p-value; correlations of the answers with "
+                    "confidence and similarity.")
     sts.add_argument("responses", type=Path, nargs="?", metavar="RESPONSES",
                      help="a CSV with subject,pair,robot,answer,confidence,similarity")
     sts.add_argument("--summary", metavar="MEAN_A,SD_A,MEAN_B,SD_B,N",
                      help="use two groups' summary numbers instead (e.g. the paper's 4.227,2.654,4.999,1.564,22)")
     sts.add_argument("--pairs", type=int, default=10, help="pairs per subject for --summary (default 10)")
-    sts.add_argument("--delta", type=float, metavar="D", help="equivalence margin in answers")
+    sts.add_argument("--delta", type=float, metavar="D",
+                     help="equivalence margin in answers (> 0): run both equivalence tests")
     sts.add_argument("--alpha", type=float, default=0.05, help="significance level (default 0.05)")
     sts.add_argument("--seed", type=int, default=0, help="seed of the simulated Group B (default 0)")
     sts.add_argument("--json", type=Path, metavar="OUT", help="write the statistics as JSON")
@@ -58,7 +65,7 @@ def print_analysis(args, responses):
 def _print_result(args, result, data):
     a, b = result.a, result.b
     print(f"{'':<26}{'Group A':>10}{'Group B':>10}")
-    for label, x, y in (("mean incorrect answers", a.mean, b.mean), ("SD", a.sd, b.sd), ("SE", a.se, b.se)):
+    for label, x, y in (("mean incorrect answers", a.mean, b.mean), ("SD", a.sd, b.sd), ("SE = SD/sqrt(N)", a.se, b.se)):
         print(f"{label:<26}{x:>10.3f}{y:>10.3f}")
     print(f"{'N':<26}{a.n:>10}{b.n:>10}")
     ici_a, ici_b = (f"{lo:.3f}-{hi:.3f}" for lo, hi in (result.ici_a, result.ici_b))
@@ -67,12 +74,18 @@ def _print_result(args, result, data):
     print(f"maximum probable difference Rg = {result.rg:.4f} answers = {result.rg_percent:.2f} % of {result.pairs} "
           "pairs")
     if args.delta is not None:
-        p_low, p_high, same = result.tost(args.delta)
-        verdict = "equivalent" if result.equivalent(args.delta) else "not shown equivalent"
-        print(f"delta = {args.delta:g} answers: {verdict} (Rg {'<' if result.rg < args.delta else '>='} delta); "
-              f"TOST p = {p_low:.4g}, {p_high:.4g} at alpha/2 each: {'equivalent' if same else 'not equivalent'}")
+        ici, tost = result.ici_test(args.delta), result.tost(args.delta)
+        print(f"equivalence within delta = {args.delta:g} answers (difference B - A = {ici.difference:.3f}):")
+        for test, how in ((ici, "the paper's: Rg < delta"), (tost, "the standard one")):
+            low, high = test.interval
+            verdict = "equivalent" if test.equivalent else "not shown equivalent"
+            print(f"  {test.test} ({how}; each side at {test.side_alpha:g}): {verdict}, p = {test.p:.4g} "
+                  f"({'<' if test.equivalent else '>='} {test.side_alpha:g}); {100 * test.level:g} % CI of the "
+                  f"difference {low:.3f} to {high:.3f}")
+        # tost_p and tost_equivalent keep their first meaning: the one-sided p-values and Tryon's decision
         data["delta"] = {"delta": args.delta, "equivalent": result.equivalent(args.delta),
-                         "tost_p": [p_low, p_high], "tost_equivalent": same}
+                         "tost_p": [ici.p_lower, ici.p_upper], "tost_equivalent": ici.equivalent,
+                         "ici_test": ici.to_dict(), "schuirmann_tost": tost.to_dict()}
 
 
 def _write_json(args, data):

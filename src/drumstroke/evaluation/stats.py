@@ -17,10 +17,18 @@ stimulus was the robot, the answer to "which is the robot?", the confidence
   the inferential confidence intervals m ± t_p·E·S, and the maximum probable
   difference (Eq. 9) Rg = |m_q − m_p| + t_p·E·(S_p + S_q), in answers and in %
   of the pairs. The groups are equivalent within Δ when Rg < Δ.
-- Schuirmann's TOST as a cross-check: two one-sided t-tests of the difference
-  against −Δ and +Δ, each at α/2, so that it decides exactly as Rg < Δ does
-  (t_p·E·(S_p + S_q) = t_pq·√(S_p² + S_q²), the half-width of the difference's
-  two-sided 1 − α interval).
+- Two equivalence tests within ±Δ, each named for what it is. Both are two one-sided t tests
+  of the difference m_b − m_a against −Δ and +Δ (df = N_a + N_b − 2); they differ in the level
+  of each side (and, when N_a ≠ N_b, in the standard error):
+
+  - **Tryon's ICI test** (the paper's): each side at α/2. It decides exactly as Rg < Δ does,
+    since t_p·E·(S_p + S_q) = t_pq·√(S_p² + S_q²) is the half-width of the difference's
+    two-sided 1 − α interval; its standard error is Tryon's √(S_p² + S_q²) (:meth:`Tryon.ici_test`).
+  - **Schuirmann's TOST** (the standard one, as statsmodels' ``ttost_ind`` and pingouin's
+    ``tost`` compute it): each side at α, i.e. the difference's 1 − 2α interval inside ±Δ, with
+    Student's pooled standard error (equal to Tryon's when N_a = N_b) (:meth:`Tryon.tost`). It is the less strict of the two and can decide "equivalent" where
+    Rg ≥ Δ: on the paper's Table 2 at Δ = 2 answers, Rg = 2.097 but the 90 % interval ends at 1.879.
+
 - Pearson and Spearman correlations (with p-values) of a subject's incorrect
   answers with their mean confidence and with their mean similarity rating.
 
@@ -29,6 +37,8 @@ Examples
 >>> result = from_summary(4.227, 2.654, 4.999, 1.564, 22, pairs=10)
 >>> round(result.rg_percent, 2)  # the paper's 20.99 % (see the README for the roundings)
 20.97
+>>> result.ici_test(2.0).equivalent, result.tost(2.0).equivalent  # Rg = 2.097 answers
+(False, True)
 """
 
 import math
@@ -102,23 +112,87 @@ class Tryon:
         delta = check_real("delta", delta, low=0.0, low_open=True, unit="answers")
         return self.rg < delta
 
-    def tost(self, delta):
-        """Schuirmann's TOST within ±``delta`` (answers): (p lower, p upper, equivalent) at α/2 each side."""
-        from scipy import stats
+    def ici_test(self, delta):
+        """Tryon's ICI test within ±``delta`` (answers), each side at α/2: the paper's Rg < Δ (an :class:`Equivalence`)."""
+        se = math.sqrt(self.a.se**2 + self.b.se**2)  # Tryon's: so that it decides exactly as Rg < Δ
+        return _two_one_sided(self, delta, se, side_alpha=self.alpha / 2, test="Tryon's ICI test")
 
-        delta = check_real("delta", delta, low=0.0, low_open=True, unit="answers")
-        diff = self.b.mean - self.a.mean
-        se = math.sqrt(self.a.se**2 + self.b.se**2)
-        df = self.a.n + self.b.n - 2
-        p_lower = float(stats.t.sf((diff + delta) / se, df))  # H0: diff ≤ −Δ
-        p_upper = float(stats.t.cdf((diff - delta) / se, df))  # H0: diff ≥ +Δ
-        return p_lower, p_upper, max(p_lower, p_upper) < self.alpha / 2
+    def tost(self, delta):
+        """Schuirmann's standard TOST within ±``delta`` (answers), each side at α (an :class:`Equivalence`)."""
+        a, b = self.a, self.b
+        pooled = ((a.n - 1) * a.sd**2 + (b.n - 1) * b.sd**2) / (a.n + b.n - 2)
+        se = math.sqrt(pooled * (1.0 / a.n + 1.0 / b.n))  # Student's pooled SE, as statsmodels' default
+        return _two_one_sided(self, delta, se, side_alpha=self.alpha, test="Schuirmann's TOST")
 
     def to_dict(self):
         """Plain data for JSON."""
         data = asdict(self)
         data.update(rg_percent=self.rg_percent, se_a=self.a.se, se_b=self.b.se)
         return data
+
+
+@dataclass(frozen=True)
+class Equivalence:
+    """The verdict of two one-sided t tests of the difference of means against ±Δ.
+
+    Attributes
+    ----------
+    test : str
+        "Tryon's ICI test" (each side at α/2) or "Schuirmann's TOST" (each side at α).
+    delta : float
+        The margin Δ (answers).
+    side_alpha : float
+        The level of each one-sided test.
+    difference : float
+        m_b − m_a (answers).
+    p_lower, p_upper : float
+        One-sided p-values against H0: difference ≤ −Δ and H0: difference ≥ +Δ.
+    interval : tuple of float
+        The difference's two-sided 1 − 2·side_alpha confidence interval (answers): equivalence
+        is this interval inside (−Δ, +Δ).
+    equivalent : bool
+        Both one-sided tests reject: max(p_lower, p_upper) < side_alpha.
+    """
+
+    test: str
+    delta: float
+    side_alpha: float
+    difference: float
+    p_lower: float
+    p_upper: float
+    interval: tuple
+    equivalent: bool
+
+    @property
+    def p(self):
+        """The test's p-value, max(p_lower, p_upper), compared with ``side_alpha``."""
+        return max(self.p_lower, self.p_upper)
+
+    @property
+    def level(self):
+        """The confidence level of ``interval``, 1 − 2·side_alpha."""
+        return 1.0 - 2.0 * self.side_alpha
+
+    def to_dict(self):
+        """Plain data for JSON."""
+        return {**asdict(self), "p": self.p, "level": self.level}
+
+
+def _two_one_sided(result, delta, se, *, side_alpha, test):
+    """Two one-sided t tests of m_b − m_a against ±``delta`` with standard error ``se``, df = N_a + N_b − 2."""
+    from scipy import stats
+
+    delta = check_real("delta", delta, low=0.0, low_open=True, unit="answers")
+    a, b = result.a, result.b
+    df = a.n + b.n - 2
+    if se == 0.0:
+        raise ParameterError("both groups have SD 0: the t tests are undefined")
+    diff = b.mean - a.mean
+    p_lower = float(stats.t.sf((diff + delta) / se, df))
+    p_upper = float(stats.t.cdf((diff - delta) / se, df))
+    half = float(stats.t.ppf(1.0 - side_alpha, df)) * se
+    return Equivalence(test, delta, side_alpha, diff, p_lower, p_upper, (diff - half, diff + half),
+                       max(p_lower, p_upper) < side_alpha)
 
 
 def tryon(a, b, *, pairs, alpha=ALPHA):
