@@ -1,0 +1,11 @@
+"""The inverse of the model: from the notes a stick must play to the force that plays them (SPEC §8).
+
+- :mod:`.flight`: one flight in closed form — the apex and the two forces of a flight of given
+  duration, launch and arrival speeds.
+- :mod:`.chain`: :func:`design`, the stroke that plays one stick's notes as consecutive bounces,
+  checked by simulating it.
+"""
+
+from .chain import ENDS, FORCE_LIMIT, HUMAN_FORCE, Design, ForceRange, Piece, Start, Unreachable, design
+
+__all__ = ["ENDS", "FORCE_LIMIT", "HUMAN_FORCE", "Design", "ForceRange", "Piece", "Start", "Unreachable", "design"]

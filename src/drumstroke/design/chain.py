@@ -1,0 +1,656 @@
+"""Inverse design of one stick's notes: the force profile whose stroke plays exactly those impacts (SPEC §8).
+
+The notes one stick must play — times (s) and levels (dB re 1 m/s tip speed) — are played
+as consecutive bounces of one stroke. The stroke is built from exact flights
+(:mod:`.flight`):
+
+- the **approach**: from rest at a height (where the stick was lifted or caught) a constant
+  force throws it onto the head so that it arrives at the first note's time and speed; the
+  height comes from the start state or, without one, from a fall of ``lead`` seconds;
+- one **flight per gap**: after each impact the stick leaves at c times its speed, rises
+  under one force to an apex and falls under another, arriving at the next note's time and
+  speed; the two equations fix the apex and both forces exactly;
+- the **end** after the last note: ``"catch"`` (caught at the apex of the rebound: the
+  stroke ends there, at rest), ``"press"`` (pressed into the head with the strongest force:
+  the bounces die in a quick buzz and the stick rests) or ``"bounce"`` (let bounce under
+  gravity alone until it rests).
+
+The forces form a piecewise-constant a(t), written as a ``piecewise-linear`` profile whose
+steps take 2 ns (centred on the switch, so their impulse is the step's). Every design is
+simulated forwards by the solver and checked: its impacts up to the last note are exactly
+the notes (times within :data:`TIME_TOLERANCE`, levels within :data:`LEVEL_TOLERANCE`;
+in practice within a nanosecond and 1e-6 dB), with no other impact in between.
+
+A note that cannot be played within the limits raises :class:`Unreachable`, naming the
+note, what it needs and the limit, and the nearest time and level that can be reached.
+
+Examples
+--------
+>>> diddle = design([0.2, 0.3], velocities=[100, 100])        # two equal notes 100 ms apart
+>>> [round(float(t), 9) for t in diddle.impacts.t]
+[0.2, 0.3]
+>>> [round(float(db), 6) for db in diddle.impacts.level_db] == [round(float(db), 6) for db in diddle.levels]
+True
+>>> diddle.end, diddle.model, diddle.recipe.force.kind
+('catch', 'paper', 'piecewise-linear')
+"""
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .._checks import check_choice, check_real
+from ..dynamics import CEILING_DB, FLOOR_DB, velocity_to_level
+from ..errors import ParameterError, SimulationError
+from ..model import MODELS, Stick, coefficients
+from ..palette.motion import Limits
+from ..profiles import ACCELERATION_LIMIT, Constant, PiecewiseLinear
+from ..recipe import DEFAULT_COR, STANDARD_GRAVITY, Recipe
+from ..stroke import simulate
+from ..trajectory import LEVEL_REFERENCE, Impacts
+from .flight import apex_for_fall, flight_time, force_to_reach, height_time, solve_apex, solve_flight
+
+HUMAN_FORCE = 250.0
+"""The top of the human thumb's range of a(t) (m/s², paper §3.3: about 10 N on this stick)."""
+
+FORCE_LIMIT = 3000.0
+"""The default strongest a(t) a design may ask for (m/s²): 12 times the human thumb."""
+
+ENDS = ("catch", "press", "bounce")
+"""What may follow the last note: caught at its rebound's apex, pressed to rest, or let bounce."""
+
+LEAD = 0.1
+"""Default duration (s) of the approach, the throw from rest onto the first note."""
+
+MIN_GAP = 1e-3
+"""Closest two notes of one stick may be (s)."""
+
+TIME_TOLERANCE = 1e-4
+"""Largest |impact time − note time| (s) a design is allowed; designs reach about 1e-9."""
+
+LEVEL_TOLERANCE = 0.5
+"""Largest |impact level − note level| (dB) a design is allowed; designs reach about 1e-6."""
+
+_RAMP = 1e-9
+"""Half the time (s) a force step takes in the written profile."""
+
+_TOP_MARGIN = 1e-9
+"""How far below sin θ = 1 an apex may go (the vertical is an unstable rest)."""
+
+_SWITCH = 0.05
+"""Where a force changes next to an impact: this fraction of the flight's height above the head."""
+
+_SETTLE_ROUNDS = 30
+"""Most rounds of solving each flight with its neighbours' forces (they settle in a handful)."""
+
+
+@dataclass(frozen=True)
+class ForceRange:
+    """The thumb accelerations a design may use (m/s²).
+
+    Parameters
+    ----------
+    low : float in [-1e6, high)
+        m/s²; default 0, the thumb only presses (negative values pull the stick up: un-natural).
+    high : float in (low, 1e6]
+        m/s²; default :data:`FORCE_LIMIT`.
+    """
+
+    low: float = 0.0
+    high: float = FORCE_LIMIT
+
+    def __post_init__(self):
+        low = check_real("forces.low", self.low, low=-ACCELERATION_LIMIT, high=ACCELERATION_LIMIT, unit="m/s^2")
+        high = check_real("forces.high", self.high, low=low, high=ACCELERATION_LIMIT, low_open=True, unit="m/s^2")
+        object.__setattr__(self, "low", low)
+        object.__setattr__(self, "high", high)
+
+
+@dataclass(frozen=True)
+class Start:
+    """The stick's state where a design starts.
+
+    Parameters
+    ----------
+    t : float
+        s, on the notes' timeline; before the first note.
+    theta : float in [theta_max, pi/2)
+        rad. Above the head at rest (``omega = 0``): the stick is held there and released when
+        the approach must begin.
+    omega : float
+        rad/s. Rising (> 0): the first flight rises to an apex and falls onto the first note.
+        Falling (< 0): one force brings it down; its arrival time is then fixed.
+    """
+
+    t: float
+    theta: float
+    omega: float = 0.0
+
+    def __post_init__(self):
+        object.__setattr__(self, "t", check_real("start.t", self.t, low=-1e6, high=1e6, unit="s"))
+        object.__setattr__(self, "theta", check_real("start.theta", self.theta, low=-math.pi / 2, high=math.pi / 2,
+                                                     high_open=True, unit="rad"))
+        object.__setattr__(self, "omega", check_real("start.omega", self.omega, low=-1000.0, high=1000.0,
+                                                     unit="rad/s"))
+
+
+class Unreachable(ParameterError):
+    """A note that cannot be played within the limits.
+
+    Attributes
+    ----------
+    note : int
+        Its index among the notes (0 first).
+    nearest_time : float or None
+        The nearest time (s) it can be played at, at its level (None if none).
+    nearest_level : float or None
+        The nearest level (dB) it can be played at, at its time (None if none).
+    """
+
+    def __init__(self, message, *, note, nearest_time=None, nearest_level=None):
+        super().__init__(message)
+        self.note = note
+        self.nearest_time = nearest_time
+        self.nearest_level = nearest_level
+
+
+@dataclass(frozen=True)
+class Piece:
+    """One constant force of a design.
+
+    Attributes
+    ----------
+    start, end : float
+        s, on the recipe's clock (0 at the release).
+    force : float
+        a (m/s²).
+    phase : str
+        ``"approach"``, ``"rise"`` (after note ``note`` to the apex), ``"fall"`` (from the apex to note
+        ``note + 1``) or ``"end"``.
+    note : int
+        The note the piece leaves from (−1 for the approach).
+    """
+
+    start: float
+    end: float
+    force: float
+    phase: str
+    note: int
+
+
+@dataclass(frozen=True, repr=False)
+class Design:
+    """A designed stroke: the recipe that plays the notes, placed on the notes' timeline, and its check.
+
+    Attributes
+    ----------
+    recipe : Recipe
+        Its t = 0 is the release, at ``release`` on the notes' timeline.
+    release : float
+        s: when the stroke starts (the stick leaves the start state or the height it was held at).
+    times, levels : ndarray [shape=(n,)]
+        The notes: s and dB re 1 m/s tip speed.
+    end : str
+        One of :data:`ENDS`.
+    pieces : tuple of Piece
+    stroke : Stroke
+        The recipe simulated by the solver (checked against the notes).
+    hold : float
+        s the stick was held still at the start before the release (0 without a resting start).
+    """
+
+    recipe: object
+    release: float
+    times: np.ndarray
+    levels: np.ndarray
+    end: str
+    pieces: tuple
+    stroke: object
+    hold: float = 0.0
+    _errors: tuple = field(default=(0.0, 0.0), compare=False)
+
+    def __repr__(self):
+        return (f"Design({len(self.times)} notes {self.times[0]:.6g}-{self.times[-1]:.6g} s, model={self.model!r}, "
+                f"end={self.end!r}, forces {self.min_force:.4g}-{self.max_force:.4g} m/s^2)")
+
+    @property
+    def model(self):
+        """The model that made the stroke."""
+        return self.recipe.model
+
+    @property
+    def impacts(self):
+        """Every impact of the stroke on the notes' timeline (the notes first, then what the end makes)."""
+        impacts = self.stroke.impacts
+        return Impacts(impacts.t + self.release, impacts.omega, impacts.tip_distance)
+
+    @property
+    def t_end(self):
+        """s, on the notes' timeline: where the stroke ends (the catch's apex, or its rest)."""
+        return self.release + self.recipe.t_end
+
+    @property
+    def max_force(self):
+        """The strongest a(t) the design uses (m/s²)."""
+        return max(piece.force for piece in self.pieces)
+
+    @property
+    def min_force(self):
+        """The weakest a(t) the design uses (m/s²)."""
+        return min(piece.force for piece in self.pieces)
+
+    @property
+    def beyond_human(self):
+        """Whether the design needs a thumb outside the human range, 0–:data:`HUMAN_FORCE` m/s²."""
+        return self.max_force > HUMAN_FORCE or self.min_force < 0.0
+
+    @property
+    def time_error(self):
+        """Largest |impact time − note time| of the forward simulation (s)."""
+        return self._errors[0]
+
+    @property
+    def level_error(self):
+        """Largest |impact level − note level| of the forward simulation (dB)."""
+        return self._errors[1]
+
+    def state(self, t):
+        """θ (rad) and ω (rad/s) at times ``t`` (s, notes' timeline) within [release, t_end], exact."""
+        return self.stroke.state(np.asarray(t, dtype=float) - self.release)
+
+
+def design(times, levels=None, *, velocities=None, start=None, end="catch", model="paper", cor=DEFAULT_COR,
+           stick=None, forces=None, limits=None, lead=LEAD, tail=None):
+    """Design the stroke that plays ``times`` at ``levels`` on one stick, and check it by simulating it.
+
+    Parameters
+    ----------
+    times : array_like [shape=(n,)]
+        s; strictly increasing, at least :data:`MIN_GAP` apart, n ≥ 1.
+    levels : array_like [shape=(n,)], optional
+        dB re 1 m/s tip speed, within the MIDI map [:data:`~drumstroke.dynamics.FLOOR_DB`,
+        :data:`~drumstroke.dynamics.CEILING_DB`] (−35.96 to 12.04 dB). Give these or ``velocities``.
+    velocities : array_like [shape=(n,)], optional
+        MIDI velocities 1–127, through :func:`drumstroke.dynamics.velocity_to_level`.
+    start : Start, optional
+        The stick's state before the first note. Default: held at rest at the height from
+        which a throw of ``lead`` s plays the first note (lower if that needs more force
+        than ``forces.high``, higher if less than ``forces.low``).
+    end : {"catch", "press", "bounce"}
+        What follows the last note (see :data:`ENDS`).
+    model : {"paper", "geometry"}
+    cor : float in [0, 1)
+        Coefficient of restitution c.
+    stick : Stick, optional
+    forces : ForceRange, optional
+        The thumb accelerations allowed (m/s²). Default 0 to :data:`FORCE_LIMIT`.
+    limits : Limits, optional
+        The joint's range (the stick's highest angle), speed and acceleration
+        (:class:`~drumstroke.palette.motion.Limits`; default ``Limits()``).
+    lead : float in (0, 10]
+        s, the approach's duration when no ``start`` is given.
+    tail : float in (0, 60], optional
+        s after the last note for ``end="bounce"`` (default: until the stick rests).
+
+    Returns
+    -------
+    Design
+
+    Raises
+    ------
+    Unreachable
+        A note cannot be played within the limits; it names the note, the need, the limit and
+        the nearest reachable time and level.
+    """
+    plan = _Plan.of(times, levels, velocities, start=start, end=end, model=model, cor=cor, stick=stick,
+                    forces=forces, limits=limits, lead=lead, tail=tail)
+    return plan.build()
+
+
+@dataclass
+class _Plan:
+    """What a design is worked out from, in the solver's units (sin θ, rad/s, torque rates C)."""
+
+    times: np.ndarray
+    levels: np.ndarray
+    speeds: np.ndarray
+    start: Start | None
+    end: str
+    recipe: Recipe
+    forces: ForceRange
+    limits: Limits
+    lead: float
+    tail: float | None
+
+    @classmethod
+    def of(cls, times, levels, velocities, *, start, end, model, cor, stick, forces, limits, lead, tail):
+        check_choice("model", model, MODELS)
+        check_choice("end", end, ENDS)
+        cor = check_real("cor", cor, low=0.0, high=1.0, high_open=True)
+        stick = Stick() if stick is None else stick
+        if not isinstance(stick, Stick):
+            raise ParameterError(f"stick must be a drumstroke.Stick, got {stick!r}")
+        forces = ForceRange() if forces is None else forces
+        if not isinstance(forces, ForceRange):
+            raise ParameterError(f"forces must be a drumstroke.design.ForceRange, got {forces!r}")
+        limits = Limits() if limits is None else limits
+        if not isinstance(limits, Limits):
+            raise ParameterError(f"limits must be a drumstroke.palette.motion.Limits, got {limits!r}")
+        if start is not None and not isinstance(start, Start):
+            raise ParameterError(f"start must be a drumstroke.design.Start or None, got {start!r}")
+        lead = check_real("lead", lead, low=0.0, high=10.0, low_open=True, unit="s")
+        if tail is not None:
+            tail = check_real("tail", tail, low=0.0, high=60.0, low_open=True, unit="s")
+        times, levels = check_notes(times, levels, velocities)
+        if start is not None and not start.t < times[0]:
+            raise ParameterError(f"start.t must be before the first note at {times[0]!r} s, got {start.t!r}")
+        if start is not None and start.theta < stick.theta_max:
+            raise ParameterError(f"start.theta must be at or above the head, theta_max = {stick.theta_max:.6g} rad, "
+                                 f"got {start.theta!r}")
+        speeds = 10.0 ** (levels / 20.0) * LEVEL_REFERENCE / stick.pivot_to_tip
+        too_fast = np.flatnonzero(speeds > limits.max_speed)
+        if len(too_fast):
+            i = int(too_fast[0])
+            loudest = 20.0 * math.log10(limits.max_speed * stick.pivot_to_tip / LEVEL_REFERENCE)
+            raise Unreachable(f"note {i} ({levels[i]:.2f} dB) needs the stick at {speeds[i]:.4g} rad/s, over the "
+                              f"joint's max_speed {limits.max_speed:g} rad/s; the loudest reachable is {loudest:.2f} dB",
+                              note=i, nearest_level=loudest)
+        recipe = Recipe(force=Constant(0.0), model=model, cor=cor, stick=stick)
+        return cls(times, levels, speeds, start, end, recipe, forces, limits, lead, tail)
+
+    # The model in torque rates: C = (k·g + k′·a)/D presses the stick toward the head.
+    def rate_of(self, force):
+        return self.recipe.coefficients.torque_rate(STANDARD_GRAVITY, force)
+
+    def force_of(self, rate):
+        co = self.recipe.coefficients
+        return (rate * co.inertia_ratio - co.k * STANDARD_GRAVITY) / co.k_thumb
+
+    @property
+    def head(self):
+        return math.sin(self.recipe.theta_max)
+
+    @property
+    def top(self):
+        return min(math.sin(self.limits.theta_high), 1.0 - _TOP_MARGIN)
+
+    def build(self):
+        pieces, release, hold, theta0 = self.pieces()
+        recipe = self.recipe.replace(force=_profile(pieces), t_end=pieces[-1].end, theta0=theta0,
+                                     omega0=self.start.omega if self.start is not None else 0.0, name="designed")
+        stroke = simulate(recipe)
+        errors = self.check(stroke, release)
+        return Design(recipe, release, self.times, self.levels, self.end, tuple(pieces), stroke, hold, errors)
+
+    def pieces(self):
+        """The constant-force pieces on the recipe's clock, the release (notes' timeline), the hold (s) and θ₀."""
+        pieces, release, hold, theta0 = self.approach()
+        times = self.times - release
+        for i, flight in enumerate(self.flights()):
+            t = times[i]
+            if flight.first is not None:
+                pieces.append(Piece(t, t + flight.t_rise, self.force_of(flight.first), "rise", i))
+            pieces.append(Piece(t + flight.t_rise, t + flight.t_apex, self.force_of(flight.rise), "rise", i))
+            pieces.append(Piece(t + flight.t_apex, t + flight.t_last, self.force_of(flight.fall), "fall", i))
+            if flight.last is not None:
+                pieces.append(Piece(t + flight.t_last, times[i + 1], self.force_of(flight.last), "fall", i))
+        pieces.append(self.ending(self.recipe.cor * self.speeds[-1], times[-1], pieces))
+        return pieces, release, hold, theta0
+
+    def flights(self):
+        """The flights between the notes, with no change of force at any impact between two of them.
+
+        A force that changes at an impact would make the chain unstable: an impact a little early or
+        late meets the other force for that little time, and the error grows from bounce to bounce
+        (about twice per bounce in a buzz). So the change is moved a little off the impact, to the
+        side where it steadies the chain instead: a weaker force takes over just before the impact
+        (a late stick then arrives slower and its next flight is shorter), a stronger one just after
+        it. The flights are solved first as if the force changed at the impacts, to know which side
+        each change goes to, then again with those short parts, each flight with its neighbours'
+        forces, until the forces settle.
+        """
+        n = len(self.times)
+        if n < 2:
+            return []
+        plain = [self.bounce(i) for i in range(n - 1)]
+        heights = [self.head + _SWITCH * (flight.apex - self.head) for flight in plain]
+        # at impact i (between flight i − 1 and flight i): the weaker force takes over before it, a stronger after
+        before = [False] + [plain[i].rise < plain[i - 1].fall for i in range(1, n - 1)]
+        flights = plain
+        for _ in range(_SETTLE_ROUNDS):
+            settled = []
+            for i in range(n - 1):
+                first = (flights[i - 1].fall, heights[i]) if i > 0 and not before[i] else None
+                last = (flights[i + 1].rise, heights[i]) if i + 1 < n - 1 and before[i + 1] else None
+                settled.append(self.bounce(i, first=first, last=last))
+            change = max(abs(a.fall - b.fall) + abs(a.rise - b.rise) for a, b in zip(settled, flights))
+            flights = settled
+            if change <= 1e-13 * max(flight.fall for flight in flights):
+                break
+        return flights
+
+    def approach(self):
+        """The pieces down to the first note, the release time, the hold and the start angle."""
+        v, t1, head = self.speeds[0], self.times[0], self.head
+        start = self.start
+        if start is None:
+            rate, height = self.throw(v)
+            duration = height_time(height, head) / v
+            return [Piece(0.0, duration, self.force_of(rate), "approach", -1)], t1 - duration, 0.0, math.asin(height)
+        s0 = math.sin(start.theta)
+        if start.omega == 0.0:
+            if s0 <= head:
+                raise Unreachable("note 0: the start is at rest on the head; the stick must be lifted first (a move)",
+                                  note=0)
+            rate = force_to_reach(v, s0 - head)
+            self.check_rate(0, rate, "the throw from the start")
+            duration = height_time(s0, head) / v
+            release = t1 - duration
+            if release < start.t:
+                raise Unreachable(f"note 0 (t = {t1:.6g} s) needs a throw of {duration:.6g} s from the start at "
+                                  f"{start.theta:.4g} rad, but only {t1 - start.t:.6g} s are left; nearest reachable "
+                                  f"time {start.t + duration:.6g} s", note=0, nearest_time=start.t + duration)
+            return ([Piece(0.0, duration, self.force_of(rate), "approach", -1)], release, release - start.t,
+                    start.theta)
+        duration = t1 - start.t
+        if start.omega < 0.0:
+            return [self.falling_start(s0, v, duration)], start.t, 0.0, start.theta
+        apex = solve_apex(duration, u=start.omega, v=v, s0=s0, sh=head, top=self.top)
+        if apex is None:
+            raise Unreachable(f"note 0 (t = {t1:.6g} s) cannot be reached from the rising start in {duration:.6g} s "
+                              "below the joint's highest angle", note=0)
+        rise_rate, fall_rate = force_to_reach(start.omega, apex - s0), force_to_reach(v, apex - head)
+        self.check_rate(0, rise_rate, "the rise from the start")
+        self.check_rate(0, fall_rate, "the fall onto it")
+        rise = height_time(apex, s0) / start.omega
+        return ([Piece(0.0, rise, self.force_of(rise_rate), "approach", -1),
+                 Piece(rise, duration, self.force_of(fall_rate), "approach", -1)], start.t, 0.0, start.theta)
+
+    def falling_start(self, s0, v, duration):
+        from ..solver.elliptic import parameter, to_head
+
+        start, head = self.start, self.head
+        if s0 <= head or v * v <= start.omega**2:
+            raise Unreachable(f"note 0 needs {v:.4g} rad/s at the head, but the stick already falls at "
+                              f"{-start.omega:.4g} rad/s from {start.theta:.4g} rad", note=0)
+        rate = (v * v - start.omega**2) / (2.0 * (s0 - head))
+        self.check_rate(0, rate, "the fall from the start")
+        to_apex, apex_to_head, _ = to_head(s0, start.omega, rate, parameter(s0, start.omega, rate), head)
+        arrival = to_apex + apex_to_head
+        if abs(arrival - duration) > TIME_TOLERANCE / 10:
+            raise Unreachable(f"note 0 (t = {self.times[0]:.6g} s): falling from the start, the stick reaches the "
+                              f"head at {start.t + arrival:.6g} s at that level", note=0,
+                              nearest_time=start.t + arrival)
+        return Piece(0.0, duration, self.force_of(rate), "approach", -1)
+
+    def throw(self, v):
+        """The torque rate and rest height (sin θ) of the default approach onto a note at speed ``v``."""
+        head, top = self.head, self.top
+        low, high = self.rate_of(self.forces.low), self.rate_of(self.forces.high)
+        height = apex_for_fall(self.lead, v=v, sh=head, top=top)
+        rate = force_to_reach(v, (top if height is None else height) - head)
+        if rate > high:
+            rate = high
+        elif rate < low:
+            rate = low
+        if rate > high or rate <= 0.0:
+            raise Unreachable(f"note 0 ({self.levels[0]:.2f} dB) needs more than the strongest force "
+                              f"{self.forces.high:g} m/s^2 from the joint's highest angle", note=0,
+                              nearest_level=self.level_of(math.sqrt(2.0 * high * (top - head))) if high > 0 else None)
+        return rate, head + force_to_reach(v, rate)
+
+    def bounce(self, i, *, first=None, last=None):
+        """The flight from note ``i`` to note ``i + 1`` (see :func:`~drumstroke.design.flight.solve_flight`)."""
+        u, v = self.recipe.cor * self.speeds[i], self.speeds[i + 1]
+        flight = solve_flight(self.times[i + 1] - self.times[i], u=u, v=v, sh=self.head, top=self.top, first=first,
+                              last=last)
+        if flight is None:
+            self.unreachable(i + 1, u, "the bounce would rise above the joint's highest angle")
+        for rate, what in ((flight.rise, "on the way up"), (flight.fall, "on the way down")):
+            if not self.rate_of(self.forces.low) <= rate <= self.rate_of(self.forces.high):
+                limit = self.forces.high if rate > self.rate_of(self.forces.high) else self.forces.low
+                self.unreachable(i + 1, u, f"the flight from note {i} needs a = {self.force_of(rate):.5g} m/s^2 "
+                                           f"{what}, beyond the force limit {limit:g} m/s^2")
+        self.check_acceleration(i + 1, max(flight.rise, flight.fall), flight.apex)
+        return flight
+
+    def ending(self, u, t_last, pieces):
+        """The last piece: after the last note, to the catch, the rest or the end of the free bounce.
+
+        A catch keeps the grip of the stroke's last rise (or of its throw), so a single note's rebound
+        mirrors its throw; only if that would carry the stick above the joint's range is it held harder.
+        """
+        head, top, last = self.head, self.top, len(self.times) - 1
+        low, high = self.rate_of(self.forces.low), self.rate_of(self.forces.high)
+        if self.end == "catch":
+            grip = self.rate_of(next(piece.force for piece in reversed(pieces) if piece.phase != "fall"))
+            rate = max(grip, force_to_reach(u, top - head), 1e-12)
+            apex = head + force_to_reach(u, rate)
+            return Piece(t_last, t_last + height_time(apex, head) / u, self.force_of(rate), "end", last)
+        rate = high if self.end == "press" else max(low, self.rate_of(0.0))
+        if rate <= 0.0:
+            raise ParameterError(f"end {self.end!r} needs a force that presses the stick down; forces.high = "
+                                 f"{self.forces.high:g} m/s^2 does not")
+        if self.end == "bounce" and self.tail is not None:
+            duration = self.tail
+        else:  # the bounces' accumulation time, a geometric series of flights, and a margin for round-off
+            apex = head + force_to_reach(u, rate)
+            if apex >= top:
+                raise Unreachable(f"after the last note the stick would rise above the joint's highest angle under "
+                                  f"a = {self.force_of(rate):.5g} m/s^2", note=last)
+            duration = 1.01 * 2.0 * height_time(apex, head) / u / (1.0 - self.recipe.cor) + 1e-3
+        return Piece(t_last, t_last + duration, self.force_of(rate), "end", last)
+
+    def check_rate(self, note, rate, what):
+        low, high = self.rate_of(self.forces.low), self.rate_of(self.forces.high)
+        if not low <= rate <= high:
+            limit = self.forces.high if rate > high else self.forces.low
+            raise Unreachable(f"note {note} ({self.times[note]:.6g} s, {self.levels[note]:.2f} dB): {what} needs "
+                              f"a = {self.force_of(rate):.5g} m/s^2, beyond the force limit {limit:g} m/s^2",
+                              note=note)
+
+    def check_acceleration(self, note, rate, apex):
+        # |dω/dt| = C·cos θ, largest where θ is nearest 0 along the flight
+        lowest_cos = max(math.cos(self.recipe.theta_max), math.sqrt(max(0.0, 1.0 - apex * apex)))
+        peak = rate * (1.0 if apex >= 0.0 else lowest_cos)
+        if peak > self.limits.max_acceleration:
+            raise Unreachable(f"note {note}: its flight accelerates the stick at {peak:.5g} rad/s^2, over the "
+                              f"joint's max_acceleration {self.limits.max_acceleration:g} rad/s^2", note=note)
+
+    def unreachable(self, note, u, reason):
+        nearest_time, nearest_level = self.nearest(note, u)
+        near = []
+        if nearest_time is not None:
+            near.append(f"t = {nearest_time:.6g} s at its level")
+        if nearest_level is not None:
+            near.append(f"{nearest_level:.2f} dB at its time")
+        nearest = f"; nearest reachable: {' or '.join(near)}" if near else "; nothing near it is reachable"
+        raise Unreachable(f"note {note} (t = {self.times[note]:.6g} s, {self.levels[note]:.2f} dB): {reason}{nearest}",
+                          note=note, nearest_time=nearest_time, nearest_level=nearest_level)
+
+    def nearest(self, note, u):
+        """The nearest time at the note's level, and the nearest level at its time, of the flight into ``note``."""
+        head, top = self.head, self.top
+        low = max(self.rate_of(self.forces.low), 1e-12)
+        high = self.rate_of(self.forces.high)
+        if high <= 0.0:
+            return None, None
+        # apexes the rise allows: C_up = u²/(2(a − head)) within [low, high]
+        a_low, a_high = head + force_to_reach(u, high), min(top, head + force_to_reach(u, low))
+        previous = self.times[note - 1]
+
+        def feasible(v):  # apexes where the fall onto the note at v is within the forces too
+            lo, hi = max(a_low, head + force_to_reach(v, high)), min(a_high, head + force_to_reach(v, low))
+            return (lo, hi) if lo <= hi else None
+
+        nearest_time = None
+        window = feasible(self.speeds[note])
+        if window is not None:
+            spans = [previous + flight_time(a, u=u, v=self.speeds[note], s0=head, sh=head) for a in window]
+            nearest_time = float(np.clip(self.times[note], *spans))
+        levels = np.linspace(FLOOR_DB, CEILING_DB, 241)
+        reachable = []
+        for level in levels:
+            v = 10.0 ** (level / 20.0) * LEVEL_REFERENCE / self.recipe.stick.pivot_to_tip
+            window = feasible(v)
+            if window is not None:
+                spans = [previous + flight_time(a, u=u, v=v, s0=head, sh=head) for a in window]
+                if spans[0] <= self.times[note] <= spans[1]:
+                    reachable.append(level)
+        nearest_level = min(reachable, key=lambda x: abs(x - self.levels[note])) if reachable else None
+        return nearest_time, nearest_level
+
+    def level_of(self, speed):
+        return 20.0 * math.log10(speed * self.recipe.stick.pivot_to_tip / LEVEL_REFERENCE)
+
+    def check(self, stroke, release):
+        """Hold the simulated stroke to the notes; return its largest time and level errors."""
+        n = len(self.times)
+        impacts = stroke.impacts
+        if len(impacts) < n:
+            raise SimulationError(f"the designed stroke made {len(impacts)} impacts for {n} notes (a bug: please "
+                                  "report it with the notes)")
+        time_error = float(np.max(np.abs(impacts.t[:n] + release - self.times)))
+        level_error = float(np.max(np.abs(impacts.level_db[:n] - self.levels)))
+        if time_error > TIME_TOLERANCE or level_error > LEVEL_TOLERANCE:
+            raise SimulationError(f"the designed stroke misses its notes by {time_error:.3g} s and {level_error:.3g} "
+                                  "dB (a bug: please report it with the notes)")
+        return time_error, level_error
+
+
+def check_notes(times, levels, velocities):
+    """The notes' times (s) and levels (dB) as arrays, checked (see :func:`design`)."""
+    from .._checks import check_vector
+
+    times = check_vector("times", times, low=-1e6, high=1e6, unit="s")
+    if len(times) == 0:
+        raise ParameterError("times must hold at least one note, got none")
+    if (levels is None) == (velocities is None):
+        raise ParameterError("give the notes' levels (dB) or their velocities (1-127), not both or neither")
+    if velocities is not None:
+        velocities = check_vector("velocities", velocities, low=1.0, high=127.0)
+        levels = np.array([velocity_to_level(float(v)) for v in velocities])
+    else:
+        levels = check_vector("levels", levels, low=FLOOR_DB, high=CEILING_DB, unit="dB re 1 m/s")
+    if len(levels) != len(times):
+        raise ParameterError(f"levels must give one level per note: {len(times)} times, {len(levels)} levels")
+    gaps = np.diff(times)
+    close = np.flatnonzero(gaps < MIN_GAP)
+    if len(close):
+        i = int(close[0]) + 1
+        raise ParameterError(f"times must increase by at least {MIN_GAP:g} s from note to note; note {i} at "
+                             f"{times[i]!r} s follows {times[i - 1]!r} s")
+    return times, levels
+
+
+def _profile(pieces):
+    """a(t) of constant pieces, each step a 2-ns ramp centred on it (a piecewise-linear profile)."""
+    forces = [piece.force for piece in pieces]
+    if all(force == forces[0] for force in forces):
+        return Constant(forces[0])
+    points = [(0.0, forces[0])]
+    for before, after in zip(pieces, pieces[1:]):
+        if after.force != before.force:
+            points += [(after.start - _RAMP, before.force), (after.start + _RAMP, after.force)]
+    return PiecewiseLinear(points)
