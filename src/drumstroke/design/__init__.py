@@ -4,8 +4,10 @@
   duration, launch and arrival speeds.
 - :mod:`.chain`: :func:`design`, the stroke that plays one stick's notes as consecutive bounces,
   checked by simulating it.
+- :mod:`.buzz`: :func:`buzz`, a multiple-bounce stroke of a given density and level envelope.
 """
 
+from .buzz import DENSITY, buzz
 from .chain import ENDS, FORCE_LIMIT, HUMAN_FORCE, Design, ForceRange, Piece, Start, Unreachable, design
 
-__all__ = ["ENDS", "FORCE_LIMIT", "HUMAN_FORCE", "Design", "ForceRange", "Piece", "Start", "Unreachable", "design"]
+__all__ = ["DENSITY", "buzz", "ENDS", "FORCE_LIMIT", "HUMAN_FORCE", "Design", "ForceRange", "Piece", "Start", "Unreachable", "design"]

@@ -228,7 +228,7 @@ class Design:
     @property
     def t_end(self):
         """s, on the notes' timeline: where the stroke ends (the catch's apex, or its rest)."""
-        return self.release + self.recipe.t_end
+        return float(self.release + self.recipe.t_end)
 
     @property
     def max_force(self):
