@@ -19,7 +19,7 @@ The forces form a piecewise-constant a(t), written as a ``piecewise-linear`` pro
 steps take 2 ns (centred on the switch, so their impulse is the step's). Every design is
 simulated forwards by the solver and checked: its impacts up to the last note are exactly
 the notes (times within :data:`TIME_TOLERANCE`, levels within :data:`LEVEL_TOLERANCE`;
-in practice within a nanosecond and 1e-6 dB), with no other impact in between.
+in practice within a few nanoseconds and 1e-6 dB), with no other impact in between.
 
 A note that cannot be played within the limits raises :class:`Unreachable`, naming the
 note, what it needs and the limit, and the nearest time and level that can be reached.
@@ -257,7 +257,9 @@ class Design:
 
     def state(self, t):
         """θ (rad) and ω (rad/s) at times ``t`` (s, notes' timeline) within [release, t_end], exact."""
-        return self.stroke.state(np.asarray(t, dtype=float) - self.release)
+        local = np.asarray(t, dtype=float) - self.release
+        # t_end itself may land a rounding past the recipe's end on the recipe's clock
+        return self.stroke.state(np.where(np.abs(local - self.recipe.t_end) < 1e-12, self.recipe.t_end, local))
 
 
 def design(times, levels=None, *, velocities=None, start=None, end="catch", model="paper", cor=DEFAULT_COR,
@@ -508,7 +510,7 @@ class _Plan:
         if flight is None:
             self.unreachable(i + 1, u, "the bounce would rise above the joint's highest angle")
         for rate, what in ((flight.rise, "on the way up"), (flight.fall, "on the way down")):
-            if not self.rate_of(self.forces.low) <= rate <= self.rate_of(self.forces.high):
+            if not self.within(rate):
                 limit = self.forces.high if rate > self.rate_of(self.forces.high) else self.forces.low
                 self.unreachable(i + 1, u, f"the flight from note {i} needs a = {self.force_of(rate):.5g} m/s^2 "
                                            f"{what}, beyond the force limit {limit:g} m/s^2")
@@ -534,17 +536,22 @@ class _Plan:
                                  f"{self.forces.high:g} m/s^2 does not")
         if self.end == "bounce" and self.tail is not None:
             duration = self.tail
-        else:  # the bounces' accumulation time, a geometric series of flights, and a margin for round-off
-            apex = head + force_to_reach(u, rate)
-            if apex >= top:
+        else:
+            if head + force_to_reach(u, rate) >= top:
                 raise Unreachable(f"after the last note the stick would rise above the joint's highest angle under "
                                   f"a = {self.force_of(rate):.5g} m/s^2", note=last)
-            duration = 1.01 * 2.0 * height_time(apex, head) / u / (1.0 - self.recipe.cor) + 1e-3
+            duration = _accumulation(u, rate, head, self.recipe.cor) + 1e-3
         return Piece(t_last, t_last + duration, self.force_of(rate), "end", last)
+
+    def within(self, rate):
+        """Whether the torque rate is within the force range (to round-off: designs land on its ends exactly)."""
+        low, high = self.rate_of(self.forces.low), self.rate_of(self.forces.high)
+        slack = 1e-9 * max(abs(low), abs(high))
+        return low - slack <= rate <= high + slack
 
     def check_rate(self, note, rate, what):
         low, high = self.rate_of(self.forces.low), self.rate_of(self.forces.high)
-        if not low <= rate <= high:
+        if not self.within(rate):
             limit = self.forces.high if rate > high else self.forces.low
             raise Unreachable(f"note {note} ({self.times[note]:.6g} s, {self.levels[note]:.2f} dB): {what} needs "
                               f"a = {self.force_of(rate):.5g} m/s^2, beyond the force limit {limit:g} m/s^2",
@@ -642,6 +649,21 @@ def check_notes(times, levels, velocities):
         raise ParameterError(f"times must increase by at least {MIN_GAP:g} s from note to note; note {i} at "
                              f"{times[i]!r} s follows {times[i - 1]!r} s")
     return times, levels
+
+
+def _accumulation(u, rate, head, cor):
+    """When bounces launched at ``u`` (rad/s) under a constant ``rate`` come to rest (s after the first launch).
+
+    The flights' durations, in closed form, until they are a millionth of the first; the rest of the
+    series is then geometric (small flights last in proportion to their speed).
+    """
+    if cor == 0.0:
+        return 0.0
+    total, speed = 0.0, u
+    while speed > 1e-6 * u:
+        total += 2.0 * height_time(head + force_to_reach(speed, rate), head) / speed
+        speed *= cor
+    return total + 2.0 * height_time(head + force_to_reach(speed, rate), head) / speed / (1.0 - cor)
 
 
 def _profile(pieces):
