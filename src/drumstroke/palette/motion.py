@@ -7,8 +7,10 @@ that plays the shipped palette at 1 kHz; :data:`RETURN_LIMITS` is the gentler de
 the moves between strokes.
 
 - :func:`plan_return`: from where one stroke ends to where the next begins in a given time —
-  a quintic move to the target angle at rest, a hold, a quintic wind-up into the target speed —
-  every move with zero acceleration at its ends, within the limits, never below the head.
+  a move to the target angle at rest, a hold, a wind-up into the target speed — every move
+  time-optimal and jerk-limited (ruckig, the standard online trajectory generator), with zero
+  acceleration at its ends, within the limits, never below the head; :func:`plan_move`, one such
+  move of a given duration.
 - :func:`assemble`: trajectories placed on one timeline with the returns between them;
   :func:`concat`: one after another with given gaps.
 
@@ -119,8 +121,8 @@ class Limits:
         return {f.name: getattr(self, f.name) for f in fields(self)}
 
 
-RETURN_LIMITS = Limits(max_speed=20.0, max_acceleration=1000.0)
-"""The default budget of the moves between strokes: 20 rad/s, 1000 rad/s² (gentler than the joint can)."""
+RETURN_LIMITS = Limits(max_speed=20.0, max_acceleration=1000.0, max_jerk=1.0e5)
+"""The default budget of the moves between strokes: 20 rad/s, 1000 rad/s², 1e5 rad/s³ (gentler than the joint can)."""
 
 
 def concat(strokes, gaps=0.0, *, limits=None, name="concat"):
@@ -211,11 +213,11 @@ _COMFORT = 1.5  # returns take this many times their shortest duration within th
 def plan_return(start, target, window, theta_max, limits):
     """How the stick gets from ``start`` to ``target`` (θ rad, ω rad/s) in ``window`` seconds, or None.
 
-    A quintic move to the target angle at rest, a hold, then (if the target
-    moves) a quintic wind-up from rest into the target speed — each with zero
-    acceleration at its ends, velocity continuous throughout — or, when that
-    does not fit, one quintic over the whole window. Every move stays within
-    ``limits`` and on or above the head.
+    A time-optimal jerk-limited move to the target angle at rest (ruckig), a hold, then (if the
+    target moves) a move from rest into the target speed — each starting and ending with zero
+    acceleration, velocity continuous throughout, taking :data:`_COMFORT` times their shortest
+    duration when there is room — or, when that does not fit, one move stretched over the whole
+    window. Every move stays within ``limits`` (speed, acceleration, jerk) and on or above the head.
 
     Returns
     -------
@@ -225,82 +227,116 @@ def plan_return(start, target, window, theta_max, limits):
         return None
     window = max(window, 0.0)
     rest = (target[0], 0.0)
-    move = _shortest(start, rest, theta_max, limits, window)
-    wind = _shortest(rest, target, theta_max, limits, window)
+    move = _shortest(start, rest, theta_max, limits)
+    wind = _shortest(rest, target, theta_max, limits)
     for scale in (_COMFORT, 1.0):
         a, b = move * scale, wind * scale
-        if a + b <= window + 1e-12 and _fits(start, rest, a, theta_max, limits) and _fits(rest, target, b, theta_max,
-                                                                                          limits):
-            return [p for p in (_quintic(start, rest, a), _hold(target[0], window - a - b), _quintic(rest, target, b))
-                    if p[0] > 0.0]
-    if _fits(start, target, window, theta_max, limits):
-        return [_quintic(start, target, window)] if window > 0.0 else []
+        if a + b <= window + 1e-12:
+            parts = [_move(start, rest, a, theta_max, limits), _hold(target[0], window - a - b),
+                     _move(rest, target, b, theta_max, limits)]
+            if all(part is not None for part in parts):
+                return [part for part in parts if part[0] > 0.0]
+    direct = _move(start, target, window, theta_max, limits)
+    if direct is not None and _shortest(start, target, theta_max, limits) <= window + 1e-12:
+        return [direct] if window > 0.0 else []
     return None
 
 
 def return_time(start, target, theta_max, limits):
     """The shortest window (s) :func:`plan_return` can use, or inf."""
     rest = (target[0], 0.0)
-    total = _shortest(start, rest, theta_max, limits, math.inf) + _shortest(rest, target, theta_max, limits, math.inf)
-    direct = _shortest(start, target, theta_max, limits, math.inf)
-    return min(total, direct)
+    total = _shortest(start, rest, theta_max, limits) + _shortest(rest, target, theta_max, limits)
+    return min(total, _shortest(start, target, theta_max, limits))
 
 
-_COARSE = 1e-4 * 1.25 ** np.arange(64)  # 0.1 ms to ~130 s
-_S = np.linspace(0.0, 1.0, 129)
+def plan_move(start, target, duration, *, theta_max, limits):
+    """One jerk-limited move from ``start`` to ``target`` (θ rad, ω rad/s, at zero acceleration) in ``duration`` s.
+
+    Returns
+    -------
+    (duration, path) or None
+        ``path(t)`` gives θ and ω at ``t`` s into the move; None when the move cannot take that long
+        within ``limits`` and above the head (``theta_max``).
+    """
+    if duration + 1e-12 < _shortest(start, target, theta_max, limits):
+        return None
+    return _move(start, target, max(duration, 0.0), theta_max, limits)
 
 
-def _shortest(start, target, theta_max, limits, longest):
-    """The shortest duration (s) of a quintic move within the limits (to 1 %), 0 for none needed, or inf."""
+def _shortest(start, target, theta_max, limits):
+    """The duration (s) of the time-optimal move within the limits, 0 for none needed, inf if none stays above the head."""
     if abs(start[0] - target[0]) < 1e-15 and abs(start[1]) < 1e-15 and abs(target[1]) < 1e-15:
         return 0.0
-    coarse = _COARSE[_COARSE <= longest * 1.0000001] if math.isfinite(longest) else _COARSE
-    ok = _fits_many(start, target, coarse, theta_max, limits) if len(coarse) else np.zeros(0, bool)
-    if not ok.any():
+    solved = _ruckig(start, target, 0.0, limits)
+    if solved is None or not _above(solved, theta_max):
         return math.inf
-    k = int(np.argmax(ok))
-    if k == 0:
-        return float(coarse[0])
-    fine = coarse[k - 1] * 1.01 ** np.arange(1, 24)  # 1.01**23 > 1.25
-    fine = fine[fine < coarse[k]]
-    ok_fine = _fits_many(start, target, fine, theta_max, limits)
-    return float(fine[np.argmax(ok_fine)]) if ok_fine.any() else float(coarse[k])
+    return solved.duration
 
 
-def _fits(start, target, duration, theta_max, limits):
+def _move(start, target, duration, theta_max, limits):
+    """(duration, path) of the move taking exactly ``duration`` s, or None (outside the limits or below the head)."""
     if duration <= 0.0:
-        return abs(start[0] - target[0]) < 1e-12 and abs(start[1] - target[1]) < 1e-9
-    return bool(_fits_many(start, target, np.array([duration]), theta_max, limits)[0])
+        if abs(start[0] - target[0]) < 1e-12 and abs(start[1] - target[1]) < 1e-9:
+            return 0.0, lambda t: (np.full(np.shape(t), target[0]), np.full(np.shape(t), target[1]))
+        return None
+    solved = _ruckig(start, target, duration, limits)
+    if solved is None or abs(solved.duration - duration) > 1e-9 * max(1.0, duration) or not _above(solved, theta_max):
+        return None
+    return duration, _path_of(solved)
 
 
-def _fits_many(start, target, durations, theta_max, limits):
-    d = durations[:, None]
-    c3, c4, c5 = _coefficients(start, target, d)
-    s = _S[None, :]
-    theta = start[0] + start[1] * d * s + c3 * s**3 + c4 * s**4 + c5 * s**5
-    omega = (start[1] * d + 3 * c3 * s**2 + 4 * c4 * s**3 + 5 * c5 * s**4) / d
-    alpha = (6 * c3 * s + 12 * c4 * s**2 + 20 * c5 * s**3) / d**2
-    margin = 0.98  # the peaks may fall between the checked points
-    return ((np.abs(omega).max(axis=1) <= margin * limits.max_speed)
-            & (np.abs(alpha).max(axis=1) <= margin * limits.max_acceleration)
-            & (theta.min(axis=1) >= theta_max - 1e-12) & (theta.max(axis=1) <= THETA_TOP))
+def _ruckig(start, target, minimum, limits):
+    """ruckig's move (a one-joint jerk-limited trajectory) from ``start`` to ``target`` lasting at least ``minimum`` s."""
+    try:
+        from ruckig import InputParameter, Result, Ruckig, Trajectory
+    except ImportError:
+        raise ImportError("moving the stick between strokes needs ruckig: pip install ruckig") from None
+    parameters = InputParameter(1)
+    parameters.current_position, parameters.current_velocity = [start[0]], [start[1]]
+    parameters.current_acceleration = [0.0]
+    parameters.target_position, parameters.target_velocity = [target[0]], [target[1]]
+    parameters.target_acceleration = [0.0]
+    parameters.max_velocity = [_MARGIN * limits.max_speed]
+    parameters.max_acceleration = [_MARGIN * limits.max_acceleration]
+    parameters.max_jerk = [_MARGIN * limits.max_jerk]
+    if minimum > 0.0:
+        parameters.minimum_duration = minimum
+    trajectory = Trajectory(1)
+    if Ruckig(1).calculate(parameters, trajectory) not in (Result.Working, Result.Finished):
+        return None
+    return trajectory
 
 
-def _coefficients(start, target, d):
-    h, v0, v1 = target[0] - start[0], start[1] * d, target[1] * d
-    return 10 * h - 6 * v0 - 4 * v1, -15 * h + 8 * v0 + 7 * v1, 6 * h - 3 * v0 - 3 * v1
+_MARGIN = 0.98  # moves plan a little inside the limits, so sampled round-off never crosses them
 
 
-def _quintic(start, target, duration):
-    c3, c4, c5 = _coefficients(start, target, duration)
-    theta0, v0 = start[0], start[1] * duration
+def _above(trajectory, theta_max):
+    extrema = trajectory.position_extrema[0]
+    return extrema.min >= theta_max - 1e-12 and extrema.max <= THETA_TOP
 
-    def move(t):
-        s = np.asarray(t, dtype=float) / duration
-        theta = theta0 + v0 * s + c3 * s**3 + c4 * s**4 + c5 * s**5
-        return theta, (v0 + 3 * c3 * s**2 + 4 * c4 * s**3 + 5 * c5 * s**4) / duration
 
-    return duration, move
+def _path_of(trajectory):
+    """θ(t), ω(t) of a ruckig trajectory, evaluated phase by phase (constant jerk: cubic in time), vectorised."""
+    profile = trajectory.profiles[0][0]
+    if profile.brake.duration > 0.0 or profile.accel.duration > 0.0:  # a start outside the limits: ruckig's own
+        def path(t):
+            t = np.asarray(t, dtype=float)
+            states = [trajectory.at_time(float(x)) for x in t.ravel()]
+            return (np.array([s[0][0] for s in states]).reshape(t.shape),
+                    np.array([s[1][0] for s in states]).reshape(t.shape))
+        return path
+    edges = np.concatenate(([0.0], np.cumsum(profile.t)))
+    jerk, acceleration = np.array(profile.j), np.array(profile.a)
+    speed, position = np.array(profile.v), np.array(profile.p)
+
+    def path(t):
+        t = np.asarray(t, dtype=float)
+        k = np.clip(np.searchsorted(edges, t, side="right") - 1, 0, len(jerk) - 1)
+        dt = np.clip(t - edges[k], 0.0, None)
+        theta = position[k] + dt * (speed[k] + dt * (acceleration[k] / 2.0 + dt * jerk[k] / 6.0))
+        return theta, speed[k] + dt * (acceleration[k] + dt * jerk[k] / 2.0)
+
+    return path
 
 
 def _hold(theta, duration):
