@@ -5,9 +5,12 @@
 - :mod:`.chain`: :func:`design`, the stroke that plays one stick's notes as consecutive bounces,
   checked by simulating it.
 - :mod:`.buzz`: :func:`buzz`, a multiple-bounce stroke of a given density and level envelope.
+- :mod:`.planner`: :func:`plan_stick`, one stick's notes as chains of designed strokes joined by
+  moves, the unplayable reported; :func:`assign_sticks`, sticking for parts that name no stick.
 """
 
 from .buzz import DENSITY, buzz
+from .planner import Problem, StickPlan, Target, assign_sticks, plan_stick
 from .chain import ENDS, FORCE_LIMIT, HUMAN_FORCE, Design, ForceRange, Piece, Start, Unreachable, design
 
-__all__ = ["DENSITY", "buzz", "ENDS", "FORCE_LIMIT", "HUMAN_FORCE", "Design", "ForceRange", "Piece", "Start", "Unreachable", "design"]
+__all__ = ["DENSITY", "buzz", "Problem", "StickPlan", "Target", "assign_sticks", "plan_stick", "ENDS", "FORCE_LIMIT", "HUMAN_FORCE", "Design", "ForceRange", "Piece", "Start", "Unreachable", "design"]

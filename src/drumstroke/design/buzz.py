@@ -27,6 +27,11 @@ DENSITY_RANGE = (1.0, 200.0)
 """Bounces per second a buzz may ask for."""
 
 
+def buzz_times(start, end, density):
+    """The bounce times (s) of a buzz from ``start`` to ``end`` at ``density`` per second: start + k/density < end."""
+    return start + np.arange(int(np.ceil((end - start) * density - 1e-9))) / density
+
+
 def buzz(start, end, *, level=None, velocity=None, density=DENSITY, decay=0.0, finish="press", **options):
     """Design a buzz from ``start`` to ``end`` (s): bounces at ``density`` per second, at rest (or caught) by ``end``.
 
@@ -60,15 +65,14 @@ def buzz(start, end, *, level=None, velocity=None, density=DENSITY, decay=0.0, f
     if (level is None) == (velocity is None):
         raise ParameterError("give the buzz's first level (dB) or its velocity (1-127), not both or neither")
     first = velocity_to_level(velocity) if velocity is not None else check_real("level", level, unit="dB")
-    count = int(np.floor((end - start) * density + 1e-9))
-    if count < 2:
+    times = buzz_times(start, end, density)
+    if len(times) < 2:
         raise ParameterError(f"a buzz of {density:g} bounces/s needs at least {2 / density:.4g} s, got "
                              f"{end - start:.4g} s from {start:g} to {end:g}")
     start_state = options.pop("start_state", None)
-    while count >= 1:
-        times = start + np.arange(count) / density
-        designed = design(times, first - decay * (times - start), start=start_state, end=finish, **options)
+    for count in range(len(times), 0, -1):
+        designed = design(times[:count], first - decay * (times[:count] - start), start=start_state, end=finish,
+                          **options)
         if designed.t_end <= end:
             return designed
-        count -= 1
     raise ParameterError(f"the buzz cannot {finish} by {end:g} s")  # pragma: no cover - one bounce always fits

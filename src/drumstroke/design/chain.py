@@ -626,6 +626,29 @@ class _Plan:
         return time_error, level_error
 
 
+def flights_within(times, levels, *, model="paper", cor=DEFAULT_COR, stick=None, forces=None, limits=None):
+    """For each pair of consecutive notes, whether one flight within the limits plays the second after the first.
+
+    The quick test the planner uses to chain notes (each flight solved once, as if the force changed
+    at the impacts; the design itself then settles the forces, rarely breaking a chain further).
+
+    Returns
+    -------
+    list of bool [len(times) − 1]
+    """
+    plan = _Plan.of(times, levels, None, start=None, end="catch", model=model, cor=cor, stick=stick, forces=forces,
+                    limits=limits, lead=LEAD, tail=None)
+    within = []
+    for i in range(len(plan.times) - 1):
+        try:
+            plan.bounce(i)
+        except Unreachable:
+            within.append(False)
+        else:
+            within.append(True)
+    return within
+
+
 def check_notes(times, levels, velocities):
     """The notes' times (s) and levels (dB) as arrays, checked (see :func:`design`)."""
     from .._checks import check_vector

@@ -1,0 +1,334 @@
+"""The performance planner: one stick's notes become designed strokes joined by moves (SPEC §8).
+
+Per stick, in time order, the planner decides which notes form one bounce chain and which start
+a new stroke:
+
+- a note joins the chain of the note before it when the flight between them is within the force
+  limits (:func:`~drumstroke.design.chain.design`'s flights);
+- otherwise the chain ends caught at its last rebound's apex, and the next stroke starts, if it
+  can, by a throw from where the stick was caught (held there until the throw), else from the
+  height of a standard throw (``lead`` s, shorter ones when time is short), reached by a
+  time-optimal, jerk-limited move (:func:`~drumstroke.palette.motion.plan_return`);
+- a buzz note is bounces at :data:`~drumstroke.design.buzz.DENSITY` per second over its span (by
+  default until the stick's next note), chained like notes: into the next note when the flight
+  allows (a press roll flows into its release), pressed to rest otherwise.
+
+A note that cannot be played within the limits is left out and reported with its reason and the
+nearest reachable time and level (:class:`Problem`) — never dropped silently; the rest are played
+exactly (times within nanoseconds, levels within 1e-6 dB).
+
+Examples
+--------
+>>> plan = plan_stick([Target(0.5, -6.0), Target(0.6, -6.0), Target(1.5, 0.0)])
+>>> [len(d.times) for d in plan.designs], plan.problems
+([2, 1], ())
+"""
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .._checks import check_real
+from ..dynamics import velocity_to_level
+from ..errors import ParameterError
+from ..palette.motion import RETURN_LIMITS, Limits, assemble, return_time
+from ..trajectory import DEFAULT_RATE
+from .buzz import DENSITY, buzz_times
+from .chain import LEAD, ForceRange, Start, Unreachable, design, flights_within
+
+KINDS = ("auto", "buzz")
+"""What a target asks for: a note the planner designs, or a buzz over a span."""
+
+LEADS = (LEAD, LEAD / 2, LEAD / 4, LEAD / 8)
+"""The throws (s) tried, longest first, when a stroke starts from a standard height."""
+
+
+@dataclass(frozen=True)
+class Target:
+    """One note a stick must play.
+
+    Parameters
+    ----------
+    t : float
+        s.
+    level : float
+        dB re 1 m/s tip speed (see :mod:`drumstroke.dynamics`).
+    kind : {"auto", "buzz"}
+    duration : float or None
+        s, a buzz's span; None: until the stick's next note (or 0.25 s for the last).
+    key : object
+        The caller's name for the note (an index), used in :class:`Problem` and the placements.
+    """
+
+    t: float
+    level: float
+    kind: str = "auto"
+    duration: float | None = None
+    key: object = None
+
+    def __post_init__(self):
+        object.__setattr__(self, "t", check_real("target.t", self.t, low=-1e6, high=1e6, unit="s"))
+        object.__setattr__(self, "level", check_real("target.level", self.level, low=-200.0, high=200.0, unit="dB"))
+        if self.kind not in KINDS:
+            raise ParameterError(f"target.kind must be one of {', '.join(KINDS)}, got {self.kind!r}")
+        if self.duration is not None:
+            object.__setattr__(self, "duration", check_real("target.duration", self.duration, low=0.0, high=3600.0,
+                                                            low_open=True, unit="s"))
+
+    @classmethod
+    def from_velocity(cls, t, velocity, **options):
+        """A target at MIDI ``velocity`` (1–127)."""
+        return cls(t, velocity_to_level(velocity), **options)
+
+
+@dataclass(frozen=True)
+class Problem:
+    """A note left out: its key, time, what stood in the way, and the nearest time and level reachable."""
+
+    key: object
+    t: float
+    reason: str
+    nearest_time: float | None = None
+    nearest_level: float | None = None
+
+    def __str__(self):
+        return f"note {self.key} at {self.t:.6g} s not played: {self.reason}"
+
+
+@dataclass(frozen=True, repr=False)
+class StickPlan:
+    """What the planner made of one stick's notes.
+
+    Attributes
+    ----------
+    designs : tuple of Design
+        The strokes, in time order; each plays a chain of notes.
+    keys : tuple of tuple
+        The keys of the notes each design plays (a buzz: its one note).
+    problems : tuple of Problem
+    limits : Limits
+        The budget of the moves between strokes.
+    """
+
+    designs: tuple
+    keys: tuple
+    problems: tuple
+    limits: Limits
+
+    def __repr__(self):
+        return f"StickPlan({len(self.designs)} strokes, {sum(map(len, self.keys))} notes, {len(self.problems)} problems)"
+
+    @property
+    def release(self):
+        """When the first stroke starts (s), or None without strokes."""
+        return self.designs[0].release if self.designs else None
+
+    def trajectory(self, *, t_end, rate=DEFAULT_RATE, name="planned"):
+        """The stick's motion on [0, ``t_end``] s: held before its first stroke, the strokes, the moves between.
+
+        Parameters
+        ----------
+        t_end : float
+            s, at or after the last stroke's end.
+        rate : float
+            Hz.
+        """
+        if not self.designs:
+            raise ParameterError("the plan has no strokes to play")
+        if self.designs[0].release < 0.0:
+            raise ParameterError(f"the first stroke starts at {self.designs[0].release:.6g} s, before 0: shift the "
+                                 "notes later")
+        from ..trajectory import Trajectory
+
+        pieces = [Trajectory.from_stroke(d.stroke, rate=rate, name=f"designed {len(d.times)}") for d in self.designs]
+        return assemble(pieces, np.array([d.release for d in self.designs]), limits=self.limits, name=name,
+                        end=max(t_end, self.designs[-1].t_end))
+
+
+def plan_stick(targets, *, model="paper", cor=None, stick=None, forces=None, limits=None, moves=None,
+               gap=0.25):
+    """Plan one stick's notes: chains of bounces, designed; strokes joined; the unplayable reported.
+
+    Parameters
+    ----------
+    targets : sequence of Target
+        In any order; times at least 1 ms apart.
+    model : {"paper", "geometry"}
+    cor : float in [0, 1), optional
+    stick : Stick, optional
+    forces : ForceRange, optional
+        The thumb accelerations allowed (m/s²).
+    limits : Limits, optional
+        The joint's limits the strokes keep (default ``Limits()``).
+    moves : Limits, optional
+        The budget of the moves between strokes (default :data:`~drumstroke.palette.motion.RETURN_LIMITS`).
+    gap : float
+        s, the span of a buzz that is the stick's last note and gives no duration.
+
+    Returns
+    -------
+    StickPlan
+    """
+    from ..recipe import DEFAULT_COR
+
+    targets = sorted(targets, key=lambda target: target.t)
+    for target in targets:
+        if not isinstance(target, Target):
+            raise ParameterError(f"targets must be drumstroke.design.Target, got {target!r}")
+    options = dict(model=model, cor=DEFAULT_COR if cor is None else cor, stick=stick,
+                   forces=forces or ForceRange(), limits=limits or Limits())
+    moves = moves or RETURN_LIMITS
+    return _Planner(targets, options, moves, gap).run()
+
+
+@dataclass(frozen=True)
+class _Atom:
+    """One impact the planner must make: a note, or one bounce of a buzz (``bounce`` > 0)."""
+
+    t: float
+    level: float
+    target: Target
+    bounce: int = 0
+    last: bool = False  # the last bounce of its buzz
+
+
+class _Planner:
+    def __init__(self, targets, options, moves, gap):
+        self.targets, self.options, self.moves, self.gap = targets, options, moves, gap
+        self.designs, self.keys, self.problems = [], [], []
+
+    def run(self):
+        atoms = self.atoms()
+        joins = flights_within([a.t for a in atoms], [a.level for a in atoms], **self.options) if len(atoms) > 1 else []
+        i = 0
+        while i < len(atoms):
+            j = i
+            while j + 1 < len(atoms) and joins[j]:
+                j += 1
+            i = self.chain(atoms, i, j)
+        return StickPlan(tuple(self.designs), tuple(self.keys), tuple(self.problems), self.moves)
+
+    def atoms(self):
+        """The notes, each buzz spread into its bounces (at :data:`~drumstroke.design.buzz.DENSITY` per second)."""
+        atoms = []
+        for k, target in enumerate(self.targets):
+            if target.kind == "auto":
+                atoms.append(_Atom(target.t, target.level, target))
+                continue
+            following = self.targets[k + 1].t if k + 1 < len(self.targets) else None
+            span = target.duration if target.duration is not None else (
+                following - target.t if following is not None else self.gap)
+            if following is not None:
+                span = min(span, following - target.t)
+            times = buzz_times(target.t, target.t + span, DENSITY)
+            atoms += [_Atom(t, target.level, target, b, b == len(times) - 1) for b, t in enumerate(times)]
+        return atoms
+
+    def chain(self, atoms, i, j):
+        """Design atoms i..j as one stroke (fewer if a flight fails); return the index of the next atom."""
+        chain = atoms[i:j + 1]
+        while True:
+            end = "press" if chain[-1].last else "catch"
+            try:
+                made = self.stroke([a.t for a in chain], [a.level for a in chain], end=end)
+            except Unreachable as error:
+                if error.note > 0:  # the chain breaks before that note; it starts the next one
+                    chain = chain[:error.note]
+                    continue
+                self.leave_out(atoms[i].target, error)
+                return self.skip(atoms, i)
+            self.keep(made, [a.target.key for a in chain if a.bounce == 0])
+            return i + len(chain)
+
+    def skip(self, atoms, i):
+        """The next atom after leaving out atom i: a buzz is left out whole if its first bounce is."""
+        k = i + 1
+        if atoms[i].bounce == 0 and atoms[i].target.kind == "buzz":
+            while k < len(atoms) and atoms[k].target is atoms[i].target:
+                k += 1
+        return k
+
+    def stroke(self, times, levels, *, end):
+        """The design of the notes from where the stick is: caught and thrown again, or moved to a standard throw."""
+        previous = self.designs[-1] if self.designs else None
+        if previous is None:
+            return design(times, levels, end=end, **self.options)
+        theta = float(previous.state(previous.t_end)[0])
+        failure = None
+        if previous.end == "catch" and previous.t_end < times[0]:
+            try:
+                return design(times, levels, start=Start(previous.t_end, theta), end=end, **self.options)
+            except Unreachable as error:
+                if error.note > 0:
+                    raise
+                failure = error
+        for lead in LEADS:
+            try:
+                made = design(times, levels, end=end, lead=lead, **self.options)
+            except Unreachable as error:
+                if error.note > 0:
+                    raise
+                failure = failure or error
+                continue
+            window = made.release - previous.t_end
+            need = return_time((theta, 0.0), (float(made.recipe.theta0), 0.0), made.recipe.theta_max, self.moves)
+            if need <= window:
+                return made
+            failure = failure or Unreachable(
+                f"the stick, free at {previous.t_end:.6g} s, needs {need:.4g} s to reach the height of its next "
+                f"throw, but only {max(window, 0.0):.4g} s are left", note=0)
+        raise failure
+
+    def keep(self, made, keys):
+        self.designs.append(made)
+        self.keys.append(tuple(keys))
+
+    def leave_out(self, target, error):
+        self.problems.append(Problem(target.key, target.t, str(error), getattr(error, "nearest_time", None),
+                                     getattr(error, "nearest_level", None)))
+
+
+def assign_sticks(times, *, beats=None, sticks=2, lead="right", other="left", fastest=0.25):
+    """The stick for each note of a part that does not name them, as a drummer sticks it.
+
+    The lead hand plays the notes on the beat; off the beat the hands alternate; a note the stick
+    of the note before cannot make in time (closer than ``fastest`` s to that stick's last note) goes
+    to the other stick. With one stick, every note is the lead's.
+
+    Parameters
+    ----------
+    times : array_like [shape=(n,)]
+        s, in time order.
+    beats : array_like [shape=(n,)], optional
+        Each note's position in beats; a whole number is on the beat. Default: every note off it.
+    sticks : {1, 2}
+    lead, other : str
+        The sticks' names.
+    fastest : float
+        s, the shortest gap one stick takes between two notes before the other stick plays.
+
+    Returns
+    -------
+    list of str
+    """
+    times = np.asarray(times, dtype=float)
+    if sticks not in (1, 2):
+        raise ParameterError(f"sticks must be 1 or 2, got {sticks!r}")
+    if sticks == 1:
+        return [lead] * len(times)
+    on_beat = (np.zeros(len(times), bool) if beats is None
+               else np.abs(np.asarray(beats, dtype=float) - np.round(beats)) < 1e-6)
+    chosen, last = [], {lead: -math.inf, other: -math.inf}
+    for k, t in enumerate(times):
+        if on_beat[k]:
+            hand = lead
+        elif chosen:
+            hand = other if chosen[-1] == lead else lead
+        else:
+            hand = lead
+        if t - last[hand] < fastest:
+            hand = other if hand == lead else lead
+        chosen.append(hand)
+        last[hand] = t
+    return chosen
