@@ -662,7 +662,8 @@ def check_notes(times, levels, velocities):
         velocities = check_vector("velocities", velocities, low=1.0, high=127.0)
         levels = np.array([velocity_to_level(float(v)) for v in velocities])
     else:
-        levels = check_vector("levels", levels, low=FLOOR_DB, high=CEILING_DB, unit="dB re 1 m/s")
+        # the map's ends to round-off: velocity_to_level(127) lands a rounding above CEILING_DB
+        levels = check_vector("levels", levels, low=FLOOR_DB - 1e-9, high=CEILING_DB + 1e-9, unit="dB re 1 m/s")
     if len(levels) != len(times):
         raise ParameterError(f"levels must give one level per note: {len(times)} times, {len(levels)} levels")
     gaps = np.diff(times)

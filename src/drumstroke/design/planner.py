@@ -172,10 +172,10 @@ def plan_stick(targets, *, model="paper", cor=None, stick=None, forces=None, lim
     """
     from ..recipe import DEFAULT_COR
 
-    targets = sorted(targets, key=lambda target: target.t)
     for target in targets:
         if not isinstance(target, Target):
             raise ParameterError(f"targets must be drumstroke.design.Target, got {target!r}")
+    targets = sorted(targets, key=lambda target: target.t)
     options = dict(model=model, cor=DEFAULT_COR if cor is None else cor, stick=stick,
                    forces=forces or ForceRange(), limits=limits or Limits())
     moves = moves or RETURN_LIMITS

@@ -1,0 +1,110 @@
+"""The performance planner: one stick's notes become designed strokes and moves, every note played or reported."""
+
+import numpy as np
+import pytest
+
+import drumstroke
+import drumstroke.dynamics
+from drumstroke.design import Problem, Target, assign_sticks, plan_stick
+from drumstroke.palette.motion import RETURN_LIMITS, Limits
+from drumstroke.robot.validate import validate
+
+
+def targets(notes):
+    return [Target.from_velocity(t, v, kind=kind, duration=duration, key=k)
+            for k, (t, v, kind, duration) in enumerate(notes)]
+
+
+def check_trajectory(plan, t_end):
+    trajectory = plan.trajectory(t_end=t_end)
+    validate(trajectory, limits=Limits())  # the default joint's limits: speed, acceleration, jerk, the head
+    t, theta, omega = trajectory
+    assert theta.min() >= trajectory.theta_max - 1e-12
+    # continuous: no sample farther from the last than the speed allows
+    assert np.all(np.abs(np.diff(theta)) <= np.maximum(np.abs(omega[1:]), np.abs(omega[:-1])) / trajectory.rate
+                  + 0.5 * 60000.0 / trajectory.rate**2)
+    return trajectory
+
+
+@pytest.mark.parametrize("model", drumstroke.MODELS)
+@pytest.mark.parametrize("name, notes", [
+    ("eighths at 120 bpm on one stick", [(0.5 + k * 0.25, 100, "auto", None) for k in range(16)]),
+    ("sixteenths at 120 bpm on one stick", [(0.5 + k * 0.125, 100, "auto", None) for k in range(16)]),
+    ("RR of RRLL in 32nds at 100 bpm", [(0.5 + k * 0.075 + (k // 2) * 0.075, 96, "auto", None) for k in range(16)]),
+    ("accents and taps", [(0.5 + k * 0.25, 120 if k % 4 == 0 else 48, "auto", None) for k in range(16)]),
+    ("a press roll into its release", [(0.5, 90, "buzz", 1.0), (1.75, 110, "auto", None)]),
+    ("quarter notes at 60 bpm", [(0.5 + k, 100, "auto", None) for k in range(5)]),
+])
+def test_every_note_is_played_on_time_and_level(model, name, notes):
+    plan = plan_stick(targets(notes), model=model)
+    assert plan.problems == ()
+    assert sorted(k for keys in plan.keys for k in keys) == list(range(len(notes)))
+    for design, keys in zip(plan.designs, plan.keys):
+        n = len(design.times)
+        assert design.impacts.t[:n] == pytest.approx(design.times, abs=1e-8)
+        assert design.impacts.level_db[:n] == pytest.approx(design.levels, abs=1e-5)
+    impacts = np.concatenate([d.impacts.t[:len(d.times)] for d in plan.designs])
+    levels = np.concatenate([d.impacts.level_db[:len(d.times)] for d in plan.designs])
+    for t, velocity, _, _ in notes:  # each note's own impact, at its time and its velocity's level
+        i = int(np.argmin(np.abs(impacts - t)))
+        assert impacts[i] == pytest.approx(t, abs=1e-8)
+        assert levels[i] == pytest.approx(drumstroke.dynamics.velocity_to_level(velocity), abs=1e-5)
+    check_trajectory(plan, notes[-1][0] + 0.5)
+
+
+def test_the_first_stroke_chains_and_breaks_as_the_forces_allow():
+    plan = plan_stick(targets([(0.5, 100, "auto", None), (0.6, 100, "auto", None), (1.5, 127, "auto", None)]))
+    assert [len(k) for k in plan.keys] == [2, 1]  # a diddle, then a new stroke a second later
+    assert plan.designs[1].recipe.theta0 > plan.designs[0].recipe.theta0 - 1.0
+
+
+def test_a_flam_on_one_stick_is_reported_not_dropped():
+    """The grace note 30 ms before a note 18 dB louder on the same stick: the main note cannot be thrown in time."""
+    plan = plan_stick(targets([(0.5, 40, "auto", None), (0.53, 110, "auto", None), (1.0, 100, "auto", None)]))
+    assert [p.key for p in plan.problems] == [1]
+    problem = plan.problems[0]
+    assert isinstance(problem, Problem) and problem.t == 0.53 and "force limit" in problem.reason
+    assert "note 1 at 0.53 s not played" in str(problem)
+    assert sorted(k for keys in plan.keys for k in keys) == [0, 2]
+
+
+def test_buzzes_make_their_bounces():
+    """A buzz of a sixteenth at 120 bpm makes at least 3 impacts; its bounces are at the buzz density."""
+    plan = plan_stick(targets([(0.5, 90, "buzz", 0.125), (1.0, 90, "buzz", 0.125)]))
+    assert plan.problems == ()
+    impacts = np.concatenate([d.impacts.t for d in plan.designs])
+    for start in (0.5, 1.0):
+        assert np.sum((impacts >= start - 1e-9) & (impacts < start + 0.125)) >= 3
+
+
+def test_the_moves_between_strokes_keep_their_budget():
+    plan = plan_stick(targets([(0.5, 127, "auto", None), (0.8, 30, "auto", None), (1.1, 127, "auto", None)]),
+                      moves=RETURN_LIMITS)
+    assert plan.problems == ()
+    trajectory = check_trajectory(plan, 1.5)
+    assert np.abs(trajectory.omega).max() <= Limits().max_speed
+
+
+def test_bad_targets():
+    with pytest.raises(drumstroke.ParameterError, match="target.kind must be one of auto, buzz"):
+        Target(0.1, -3.0, kind="flam")
+    with pytest.raises(drumstroke.ParameterError, match="target.t must be a finite number"):
+        Target(float("nan"), -3.0)
+    with pytest.raises(drumstroke.ParameterError, match="targets must be drumstroke.design.Target"):
+        plan_stick([(0.1, -3.0)])
+    with pytest.raises(drumstroke.ParameterError, match="increase by at least"):
+        plan_stick([Target(0.1, -3.0), Target(0.1, -3.0)])
+
+
+def test_sticking_a_part_that_names_no_stick():
+    times = np.arange(8) * 0.125  # sixteenths at 120 bpm: beats at 0, 0.5 s
+    beats = times / 0.5
+    sticks = assign_sticks(times, beats=beats)
+    assert sticks == ["right", "left", "right", "left", "right", "left", "right", "left"]
+    # two notes 30 ms apart (a flam): the other hand takes the second
+    assert assign_sticks([0.0, 0.03], beats=[0.0, 0.06]) == ["right", "left"]
+    # the lead hand on every beat, even after an off-beat right note
+    assert assign_sticks([0.0, 0.75, 1.0], beats=[0.0, 1.5, 2.0]) == ["right", "left", "right"]
+    assert assign_sticks([0.0, 0.1], sticks=1) == ["right", "right"]
+    with pytest.raises(drumstroke.ParameterError, match="sticks must be 1 or 2"):
+        assign_sticks([0.0], sticks=3)
