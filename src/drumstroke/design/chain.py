@@ -75,8 +75,9 @@ LEVEL_TOLERANCE = 0.5
 _RAMP = 1e-9
 """Half the time (s) a force step takes in the written profile."""
 
-_TOP_MARGIN = 1e-9
-"""How far below sin θ = 1 an apex may go (the vertical is an unstable rest)."""
+HIGHEST = 1.25
+"""The highest a designed stroke takes the stick (rad, about 72°; a drummer's full stroke, tip 30 cm above the
+head, is about 1 rad): lower if the joint's ``theta_high`` is lower. Near the vertical the stick balances."""
 
 _SWITCH = 0.05
 """Where a force changes next to an impact: this fraction of the flight's height above the head."""
@@ -148,11 +149,38 @@ class Unreachable(ParameterError):
         The nearest level (dB) it can be played at, at its time (None if none).
     """
 
-    def __init__(self, message, *, note, nearest_time=None, nearest_level=None):
+    def __init__(self, message, *, note, nearest_time=None, nearest_level=None, nearest=None):
         super().__init__(message)
         self.note = note
-        self.nearest_time = nearest_time
-        self.nearest_level = nearest_level
+        self._nearest = (nearest_time, nearest_level) if nearest is None else None
+        self._find = nearest  # worked out when asked for: a planner catches most of these and needs none
+
+    @property
+    def nearest_time(self):
+        return self.nearest[0]
+
+    @property
+    def nearest_level(self):
+        return self.nearest[1]
+
+    @property
+    def nearest(self):
+        """(nearest time, nearest level)."""
+        if self._nearest is None:
+            self._nearest = self._find()
+        return self._nearest
+
+    def __str__(self):
+        if self._find is None:
+            return super().__str__()
+        nearest_time, nearest_level = self.nearest
+        near = []
+        if nearest_time is not None:
+            near.append(f"t = {nearest_time:.6g} s at its level")
+        if nearest_level is not None:
+            near.append(f"{nearest_level:.2f} dB at its time")
+        return super().__str__() + (f"; nearest reachable: {' or '.join(near)}" if near
+                                    else "; nothing near it is reachable")
 
 
 @dataclass(frozen=True)
@@ -263,7 +291,7 @@ class Design:
 
 
 def design(times, levels=None, *, velocities=None, start=None, end="catch", model="paper", cor=DEFAULT_COR,
-           stick=None, forces=None, limits=None, lead=LEAD, tail=None):
+           stick=None, forces=None, limits=None, lead=LEAD, tail=None, catch_at=None):
     """Design the stroke that plays ``times`` at ``levels`` on one stick, and check it by simulating it.
 
     Parameters
@@ -294,6 +322,9 @@ def design(times, levels=None, *, velocities=None, start=None, end="catch", mode
         s, the approach's duration when no ``start`` is given.
     tail : float in (0, 60], optional
         s after the last note for ``end="bounce"`` (default: until the stick rests).
+    catch_at : float, optional
+        rad: for ``end="catch"``, the height to catch the last rebound at (the force after the
+        last note follows from it). Default: the grip of the stroke's last rise.
 
     Returns
     -------
@@ -306,7 +337,7 @@ def design(times, levels=None, *, velocities=None, start=None, end="catch", mode
         the nearest reachable time and level.
     """
     plan = _Plan.of(times, levels, velocities, start=start, end=end, model=model, cor=cor, stick=stick,
-                    forces=forces, limits=limits, lead=lead, tail=tail)
+                    forces=forces, limits=limits, lead=lead, tail=tail, catch_at=catch_at)
     return plan.build()
 
 
@@ -324,9 +355,11 @@ class _Plan:
     limits: Limits
     lead: float
     tail: float | None
+    catch_at: float | None = None
 
     @classmethod
-    def of(cls, times, levels, velocities, *, start, end, model, cor, stick, forces, limits, lead, tail):
+    def of(cls, times, levels, velocities, *, start, end, model, cor, stick, forces, limits, lead, tail,
+           catch_at=None):
         check_choice("model", model, MODELS)
         check_choice("end", end, ENDS)
         cor = check_real("cor", cor, low=0.0, high=1.0, high_open=True)
@@ -359,7 +392,12 @@ class _Plan:
                               f"joint's max_speed {limits.max_speed:g} rad/s; the loudest reachable is {loudest:.2f} dB",
                               note=i, nearest_level=loudest)
         recipe = Recipe(force=Constant(0.0), model=model, cor=cor, stick=stick)
-        return cls(times, levels, speeds, start, end, recipe, forces, limits, lead, tail)
+        if catch_at is not None:
+            if end != "catch":
+                raise ParameterError(f"catch_at is for end='catch', got end={end!r}")
+            catch_at = check_real("catch_at", catch_at, low=stick.theta_max, high=min(limits.theta_high, HIGHEST),
+                                  low_open=True, unit="rad")
+        return cls(times, levels, speeds, start, end, recipe, forces, limits, lead, tail, catch_at)
 
     # The model in torque rates: C = (k·g + k′·a)/D presses the stick toward the head.
     def rate_of(self, force):
@@ -375,7 +413,7 @@ class _Plan:
 
     @property
     def top(self):
-        return min(math.sin(self.limits.theta_high), 1.0 - _TOP_MARGIN)
+        return math.sin(min(self.limits.theta_high, HIGHEST))
 
     def build(self):
         pieces, release, hold, theta0 = self.pieces()
@@ -525,6 +563,11 @@ class _Plan:
         """
         head, top, last = self.head, self.top, len(self.times) - 1
         low, high = self.rate_of(self.forces.low), self.rate_of(self.forces.high)
+        if self.end == "catch" and self.catch_at is not None:
+            apex = math.sin(self.catch_at)
+            rate = force_to_reach(u, apex - head) if apex > head else math.inf
+            self.check_rate(last, rate, f"the catch at {self.catch_at:.4g} rad")
+            return Piece(t_last, t_last + height_time(apex, head) / u, self.force_of(rate), "end", last)
         if self.end == "catch":
             grip = self.rate_of(next(piece.force for piece in reversed(pieces) if piece.phase != "fall"))
             rate = max(grip, force_to_reach(u, top - head), 1e-12)
@@ -566,15 +609,8 @@ class _Plan:
                               f"joint's max_acceleration {self.limits.max_acceleration:g} rad/s^2", note=note)
 
     def unreachable(self, note, u, reason):
-        nearest_time, nearest_level = self.nearest(note, u)
-        near = []
-        if nearest_time is not None:
-            near.append(f"t = {nearest_time:.6g} s at its level")
-        if nearest_level is not None:
-            near.append(f"{nearest_level:.2f} dB at its time")
-        nearest = f"; nearest reachable: {' or '.join(near)}" if near else "; nothing near it is reachable"
-        raise Unreachable(f"note {note} (t = {self.times[note]:.6g} s, {self.levels[note]:.2f} dB): {reason}{nearest}",
-                          note=note, nearest_time=nearest_time, nearest_level=nearest_level)
+        raise Unreachable(f"note {note} (t = {self.times[note]:.6g} s, {self.levels[note]:.2f} dB): {reason}",
+                          note=note, nearest=lambda: self.nearest(note, u))
 
     def nearest(self, note, u):
         """The nearest time at the note's level, and the nearest level at its time, of the flight into ``note``."""
@@ -596,7 +632,7 @@ class _Plan:
         if window is not None:
             spans = [previous + flight_time(a, u=u, v=self.speeds[note], s0=head, sh=head) for a in window]
             nearest_time = float(np.clip(self.times[note], *spans))
-        levels = np.linspace(FLOOR_DB, CEILING_DB, 241)
+        levels = np.linspace(FLOOR_DB, CEILING_DB, 97)  # half-dB steps
         reachable = []
         for level in levels:
             v = 10.0 ** (level / 20.0) * LEVEL_REFERENCE / self.recipe.stick.pivot_to_tip
@@ -647,6 +683,52 @@ def flights_within(times, levels, *, model="paper", cor=DEFAULT_COR, stick=None,
         else:
             within.append(True)
     return within
+
+
+def catch_height(last, following, gap, *, model="paper", cor=DEFAULT_COR, stick=None, forces=None, limits=None,
+                 lead=LEAD):
+    """Where to catch a stroke after its last note so that the next stroke is thrown from there, or None.
+
+    The stick leaves the head at c times the last note's speed, is caught at rest at the height
+    returned, held, and thrown from there onto the next note ``gap`` s later: both forces (the
+    catch's and the throw's) within ``forces``, the rise and the throw within the gap. Of the
+    heights that do, the one nearest the next note's standard throw (``lead`` s) is chosen. When
+    none does (a tap after an accent: from any height the accent's rebound reaches, the tap would
+    need the thumb to pull), the lowest catch, the quickest: the stick is then moved to the next
+    throw's height.
+
+    Parameters
+    ----------
+    last, following : float
+        dB, the levels of the stroke's last note and of the next note.
+    gap : float
+        s between them.
+
+    Returns
+    -------
+    float or None
+        rad; None when even the strongest force cannot catch the stick below the joint's highest angle.
+    """
+    plan = _Plan.of([0.0, max(gap, 2 * MIN_GAP)], [last, following], None, start=None, end="catch", model=model,
+                    cor=cor, stick=stick, forces=forces, limits=limits, lead=lead, tail=None)
+    head, top = plan.head, plan.top
+    u, v = plan.recipe.cor * plan.speeds[0], plan.speeds[1]
+    low, high = plan.rate_of(plan.forces.low), plan.rate_of(plan.forces.high)
+    if high <= 0.0 or u == 0.0:
+        return None
+    slack = 1.0 + 1e-9  # strictly inside the force range, so the designs' own checks pass
+    quickest = head + u * u / (2.0 * high) * slack
+    if quickest >= top:
+        return None
+    lowest = head + max(u, v) ** 2 / (2.0 * high) * slack
+    highest = min(top, head + min(u, v) ** 2 / (2.0 * low) / slack) if low > 0.0 else top
+    if lowest > highest or flight_time(lowest, u=u, v=v, s0=head, sh=head) > gap:
+        return math.asin(quickest)
+    in_time = solve_apex(gap, u=u, v=v, s0=head, sh=head, top=highest)
+    ceiling = highest if in_time is None else in_time
+    preferred = apex_for_fall(lead, v=v, sh=head, top=top)
+    height = min(max(preferred if preferred is not None else top, lowest), ceiling)
+    return math.asin(height)
 
 
 def check_notes(times, levels, velocities):

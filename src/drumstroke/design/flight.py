@@ -33,14 +33,17 @@ Examples
 import math
 from dataclasses import dataclass
 
-from scipy.optimize import brentq
+from numba import njit
 
 from ..solver.elliptic import parameter, time_from_apex
 
 _XTOL = 1e-15
 """Absolute tolerance of the apex (in sin θ); flight times come out to ~1e-13 s."""
 
+_EPS = 2.220446049250313e-16
 
+
+@njit(cache=True)
 def height_time(apex, s):
     """H(a, s): the time (s) to fall from rest at ``sin θ = apex`` to ``sin θ = s`` times the speed there, at C = 1.
 
@@ -64,10 +67,15 @@ def height_time(apex, s):
     return time_from_apex(s, w, 1.0, 0.5 * (1.0 + apex)) * w
 
 
-def flight_time(apex, *, u, v, s0, sh):
-    """Duration (s) of a flight that rises from ``s0`` at ``u`` (rad/s) to ``apex`` and falls to ``sh`` at ``v``."""
+@njit(cache=True)
+def _flight_time(apex, u, v, s0, sh):
     rise = height_time(apex, s0) / u if u > 0.0 else 0.0
     return rise + height_time(apex, sh) / v
+
+
+def flight_time(apex, *, u, v, s0, sh):
+    """Duration (s) of a flight that rises from ``s0`` at ``u`` (rad/s) to ``apex`` and falls to ``sh`` at ``v``."""
+    return _flight_time(apex, u, v, s0, sh)
 
 
 def solve_apex(duration, *, u, v, s0, sh, top):
@@ -76,11 +84,55 @@ def solve_apex(duration, *, u, v, s0, sh, top):
     Returns None when no apex in (max(s0, sh), top) gives that duration: the flight is
     too short (shorter than falling from rest at s0) or too long (the apex would pass ``top``).
     """
-    low = max(s0, sh)
-    if not flight_time(low, u=u, v=v, s0=s0, sh=sh) < duration < flight_time(top, u=u, v=v, s0=s0, sh=sh):
-        return None
-    return brentq(lambda a: flight_time(a, u=u, v=v, s0=s0, sh=sh) - duration, low, top, xtol=_XTOL,
-                  rtol=1e-15, maxiter=200)
+    apex = _solve_apex(duration, u, v, s0, sh, top)
+    return None if math.isnan(apex) else apex
+
+
+@njit(cache=True)
+def _solve_apex(duration, u, v, s0, sh, top):
+    """:func:`solve_apex` compiled, NaN for none: Brent's method on the strictly increasing flight time."""
+    a = max(s0, sh)
+    b = top
+    fa = _flight_time(a, u, v, s0, sh) - duration
+    fb = _flight_time(b, u, v, s0, sh) - duration
+    if not (fa < 0.0 < fb):
+        return math.nan
+    c, fc = a, fa
+    d = e = b - a
+    for _ in range(200):
+        if (fb > 0.0) == (fc > 0.0):
+            c, fc = a, fa
+            d = e = b - a
+        if abs(fc) < abs(fb):
+            a, b, c = b, c, b
+            fa, fb, fc = fb, fc, fb
+        tol = 2.0 * _EPS * abs(b) + 0.5 * _XTOL
+        m = 0.5 * (c - b)
+        if abs(m) <= tol or fb == 0.0:
+            return b
+        if abs(e) >= tol and abs(fa) > abs(fb):
+            s = fb / fa
+            if a == c:
+                p = 2.0 * m * s
+                q = 1.0 - s
+            else:
+                q, r = fa / fc, fb / fc
+                p = s * (2.0 * m * q * (q - r) - (b - a) * (r - 1.0))
+                q = (q - 1.0) * (r - 1.0) * (s - 1.0)
+            if p > 0.0:
+                q = -q
+            else:
+                p = -p
+            if 2.0 * p < min(3.0 * m * q - abs(tol * q), abs(e * q)):
+                e, d = d, p / q
+            else:
+                d = e = m
+        else:
+            d = e = m
+        a, fa = b, fb
+        b += d if abs(d) > tol else (tol if m > 0.0 else -tol)
+        fb = _flight_time(b, u, v, s0, sh) - duration
+    return b
 
 
 def apex_for_fall(duration, *, v, sh, top):
@@ -146,12 +198,11 @@ def solve_flight(duration, *, u, v, sh, top, first=None, last=None):
             return None
         t1 = orbit_time(sh, v, rate) - orbit_time(s1, w1, rate)
     span = duration - t0 - t1
-    low = max(s0, s1)
-    if span <= 0.0 or not flight_time(low, u=w0, v=w1, s0=s0, sh=s1) < span < flight_time(top, u=w0, v=w1, s0=s0,
-                                                                                             sh=s1):
+    if span <= 0.0:
         return None
-    apex = brentq(lambda a: flight_time(a, u=w0, v=w1, s0=s0, sh=s1) - span, low, top, xtol=_XTOL, rtol=1e-15,
-                  maxiter=200)
+    apex = _solve_apex(span, w0, w1, s0, s1, top)
+    if math.isnan(apex):
+        return None
     t_apex = t0 + height_time(apex, s0) / w0
     return Flight(apex, force_to_reach(w0, apex - s0), force_to_reach(w1, apex - s1), t0, t_apex, duration - t1,
                   duration, None if first is None else first[0], None if last is None else last[0])

@@ -35,13 +35,16 @@ from ..errors import ParameterError
 from ..palette.motion import RETURN_LIMITS, Limits, assemble, return_time
 from ..trajectory import DEFAULT_RATE
 from .buzz import DENSITY, buzz_times
-from .chain import LEAD, ForceRange, Start, Unreachable, design, flights_within
+from .chain import LEAD, ForceRange, Start, Unreachable, catch_height, design, flights_within
 
 KINDS = ("auto", "buzz")
 """What a target asks for: a note the planner designs, or a buzz over a span."""
 
 LEADS = (LEAD, LEAD / 2, LEAD / 4, LEAD / 8)
 """The throws (s) tried, longest first, when a stroke starts from a standard height."""
+
+_PRESS_GAP = 1.0
+"""s: a buzz followed by its stick's next note sooner than this is caught for it, not pressed to rest."""
 
 
 @dataclass(frozen=True)
@@ -227,19 +230,26 @@ class _Planner:
 
     def chain(self, atoms, i, j):
         """Design atoms i..j as one stroke (fewer if a flight fails); return the index of the next atom."""
-        chain = atoms[i:j + 1]
         while True:
-            end = "press" if chain[-1].last else "catch"
+            chain = atoms[i:j + 1]
+            end, catch_at = self.ending(chain[-1], atoms[j + 1] if j + 1 < len(atoms) else None)
             try:
-                made = self.stroke([a.t for a in chain], [a.level for a in chain], end=end)
+                made = self.stroke([a.t for a in chain], [a.level for a in chain], end=end, catch_at=catch_at)
             except Unreachable as error:
                 if error.note > 0:  # the chain breaks before that note; it starts the next one
-                    chain = chain[:error.note]
+                    j = i + error.note - 1
                     continue
                 self.leave_out(atoms[i].target, error)
                 return self.skip(atoms, i)
             self.keep(made, [a.target.key for a in chain if a.bounce == 0])
-            return i + len(chain)
+            return j + 1
+
+    def ending(self, last, following):
+        """How a stroke ending on atom ``last`` ends: pressed (a buzz's end), or caught where the next throw starts."""
+        if following is None or (last.last and following.t - last.t > _PRESS_GAP):
+            return ("press" if last.last else "catch"), None
+        options = {key: self.options[key] for key in ("model", "cor", "stick", "forces", "limits")}
+        return "catch", catch_height(last.level, following.level, following.t - last.t, **options)
 
     def skip(self, atoms, i):
         """The next atom after leaving out atom i: a buzz is left out whole if its first bounce is."""
@@ -249,23 +259,24 @@ class _Planner:
                 k += 1
         return k
 
-    def stroke(self, times, levels, *, end):
+    def stroke(self, times, levels, *, end, catch_at):
         """The design of the notes from where the stick is: caught and thrown again, or moved to a standard throw."""
+        options = dict(end=end, catch_at=catch_at, **self.options)
         previous = self.designs[-1] if self.designs else None
         if previous is None:
-            return design(times, levels, end=end, **self.options)
+            return design(times, levels, **options)
         theta = float(previous.state(previous.t_end)[0])
         failure = None
         if previous.end == "catch" and previous.t_end < times[0]:
             try:
-                return design(times, levels, start=Start(previous.t_end, theta), end=end, **self.options)
+                return design(times, levels, start=Start(previous.t_end, theta), **options)
             except Unreachable as error:
                 if error.note > 0:
                     raise
                 failure = error
         for lead in LEADS:
             try:
-                made = design(times, levels, end=end, lead=lead, **self.options)
+                made = design(times, levels, lead=lead, **options)
             except Unreachable as error:
                 if error.note > 0:
                     raise
@@ -292,9 +303,9 @@ class _Planner:
 def assign_sticks(times, *, beats=None, sticks=2, lead="right", other="left", fastest=0.25):
     """The stick for each note of a part that does not name them, as a drummer sticks it.
 
-    The lead hand plays the notes on the beat; off the beat the hands alternate; a note the stick
-    of the note before cannot make in time (closer than ``fastest`` s to that stick's last note) goes
-    to the other stick. With one stick, every note is the lead's.
+    The lead hand plays the notes on the beat; off the beat the hands alternate; a note that comes
+    sooner than ``fastest`` s after its hand's last note goes to the other hand if that one has been
+    free for longer. With one stick, every note is the lead's.
 
     Parameters
     ----------
@@ -327,8 +338,9 @@ def assign_sticks(times, *, beats=None, sticks=2, lead="right", other="left", fa
             hand = other if chosen[-1] == lead else lead
         else:
             hand = lead
-        if t - last[hand] < fastest:
-            hand = other if hand == lead else lead
+        spare = other if hand == lead else lead
+        if t - last[hand] < fastest and last[spare] < last[hand]:  # the hand free for longer takes it
+            hand = spare
         chosen.append(hand)
         last[hand] = t
     return chosen

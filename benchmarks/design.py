@@ -1,0 +1,198 @@
+"""Time the inverse design against a scipy shooting reference, in one process: ``python benchmarks/design.py``.
+
+Cases:
+
+- a diddle (two notes 100 ms apart at velocity 100), both models: ``drumstroke.design.design``
+  against the reference a user would write without drumstroke: the flight's two forces (one up to
+  the apex, one down) found by ``scipy.optimize.fsolve`` on a ``solve_ivp`` (DOP853) simulation with
+  an apex event and a head event. Both are checked by simulating their forces with drumstroke.
+- a one-second buzz at 30 bounces/s: ``drumstroke.design.buzz`` against the same reference run
+  flight by flight.
+- planning a 1,000-note two-stick piece (sixteenths at 120 bpm with accents, taps, diddles, flams
+  and buzzes; sticks assigned by the planner): ``assign_sticks`` and ``plan_stick`` for each stick,
+  and the trajectories sampled at 1 kHz. No reference: the figure is the target's (≤ 2 s on 2 cores).
+
+Prints a table and writes it with the machine and date to benchmarks/design_results.json.
+"""
+
+import datetime
+import json
+import math
+import platform
+import statistics
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import scipy
+from scipy.integrate import solve_ivp
+from scipy.optimize import fsolve
+
+import drumstroke
+from drumstroke.design import Target, assign_sticks, buzz, design, plan_stick
+from drumstroke.dynamics import velocity_to_level
+from drumstroke.model import coefficients
+
+HERE = Path(__file__).resolve().parent
+REPEATS = 7
+STICK = drumstroke.Stick()
+
+
+def progress(message):
+    print(message, file=sys.stderr, flush=True)
+
+
+def median_time(fn, repeats=REPEATS):
+    fn()  # warm-up: numba's cache, imports
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - start)
+    return statistics.median(times)
+
+
+def reference_flight(duration, u, v, model):
+    """The forces (m/s²) of a flight of ``duration`` from the head at ``u`` to the head at ``v`` (rad/s), by shooting.
+
+    Unknowns: the thumb's acceleration up to the apex and after it. Each guess is simulated with
+    solve_ivp (DOP853, rtol 1e-12) from the head to the apex (event ω = 0) and on to the head (event
+    θ = θ_max); fsolve drives the arrival time and speed to the targets.
+    """
+    co = coefficients(model, STICK)
+
+    def rate(a):
+        return (co.k * 9.8 + co.k_thumb * a) / co.inertia_ratio
+
+    def fly(forces):
+        up, down = rate(forces[0]), rate(forces[1])
+
+        def apex(t, y):
+            return y[1]
+
+        def head(t, y):
+            return y[0] - co.theta_max
+
+        apex.terminal, apex.direction = True, -1
+        head.terminal, head.direction = True, -1
+        rise = solve_ivp(lambda t, y: [y[1], -up * math.cos(y[0])], (0.0, 10.0), [co.theta_max, u], method="DOP853",
+                         events=apex, rtol=1e-12, atol=1e-14)
+        if not rise.t_events[0].size:
+            return 10.0, 0.0
+        t_apex, state = rise.t_events[0][0], rise.y_events[0][0]
+        fall = solve_ivp(lambda t, y: [y[1], -down * math.cos(y[0])], (t_apex, t_apex + 10.0), state,
+                         method="DOP853", events=head, first_step=1e-6, rtol=1e-12, atol=1e-14)
+        if not fall.t_events[0].size:
+            return 10.0, 0.0
+        return fall.t_events[0][0], -fall.y_events[0][0][1]
+
+    guess = (2.0 * u / duration * co.inertia_ratio - co.k * 9.8) / co.k_thumb  # constant deceleration
+    forces = fsolve(lambda f: [fly(f)[0] - duration, fly(f)[1] - v], [guess, guess * (v / u) ** 2], xtol=1e-12)
+    return forces
+
+
+def diddle_case(model):
+    times, velocities = [0.2, 0.3], [100, 100]
+    levels = [velocity_to_level(v) for v in velocities]
+    v = 10 ** (levels[1] / 20) / STICK.pivot_to_tip
+    u = 0.86 * 10 ** (levels[0] / 20) / STICK.pivot_to_tip
+    ours = median_time(lambda: design(times, levels, model=model))
+    reference = median_time(lambda: reference_flight(0.1, u, v, model), repeats=3)
+    made = design(times, levels, model=model)
+    up, down = reference_flight(0.1, u, v, model)
+    rise, fall = [p.force for p in made.pieces if p.phase in ("rise", "fall")][:2]
+    return {"case": f"diddle, 100 ms at velocity 100 ({model})", "ours": ours, "reference": reference,
+            "ratio": reference / ours, "time_error": made.time_error, "level_error": made.level_error,
+            "force_difference": max(abs(up - rise), abs(down - fall))}
+
+
+def buzz_case(model):
+    ours = median_time(lambda: buzz(0.0, 1.0, velocity=90, density=30.0, model=model))
+    made = buzz(0.0, 1.0, velocity=90, density=30.0, model=model)
+    level = velocity_to_level(90)
+    v = 10 ** (level / 20) / STICK.pivot_to_tip
+
+    def reference():
+        for _ in range(len(made.times) - 1):
+            reference_flight(1.0 / 30.0, 0.86 * v, v, model)
+
+    reference_time = median_time(reference, repeats=1)
+    return {"case": f"buzz, 1 s at 30/s ({model})", "ours": ours, "reference": reference_time,
+            "ratio": reference_time / ours, "time_error": made.time_error, "level_error": made.level_error,
+            "bounces": len(made.times)}
+
+
+def piece(notes=1000, seed=20261124):
+    """A two-stick part: sixteenths at 120 bpm, accents on beats, taps, diddles, flams, buzzes (seeded)."""
+    rng = np.random.default_rng(seed)
+    out, beat = [], 0.0
+    while len(out) < notes:
+        figure = rng.choice(["sixteenths", "accents", "diddles", "flam", "buzz", "rest"], p=[.3, .2, .2, .1, .1, .1])
+        t = 0.5 + beat * 0.5
+        if figure == "sixteenths":
+            out += [(t + k * 0.125, beat + k / 4, 90, "auto") for k in range(4)]
+        elif figure == "accents":
+            out += [(t + k * 0.125, beat + k / 4, 120 if k == 0 else 50, "auto") for k in range(4)]
+        elif figure == "diddles":
+            out += [(t + k * 0.0625, beat + k / 8, 96, "auto") for k in range(8)]
+        elif figure == "flam":
+            out += [(t - 0.03, beat - 0.06, 50, "auto"), (t, beat, 115, "auto")]
+        elif figure == "buzz":
+            out += [(t + k * 0.125, beat + k / 4, 90, "buzz") for k in range(4)]
+        beat += 1.0
+    return out[:notes]
+
+
+def plan_case(model):
+    notes = piece()
+    times = np.array([n[0] for n in notes])
+    beats = np.array([n[1] for n in notes])
+
+    def plan():
+        sticks = assign_sticks(times, beats=beats)
+        plans = {}
+        for hand in ("right", "left"):
+            chosen = [Target.from_velocity(t, v, kind=kind, duration=0.0625 if kind == "buzz" else None, key=k)
+                      for k, ((t, _, v, kind), s) in enumerate(zip(notes, sticks)) if s == hand]
+            plans[hand] = plan_stick(chosen, model=model)
+        end = times[-1] + 1.0
+        return {hand: p.trajectory(t_end=end).theta for hand, p in plans.items()}, plans
+
+    progress(f"  planning {len(notes)} notes ({model}) ...")
+    start = time.perf_counter()
+    plan()
+    first = time.perf_counter() - start
+    ours = median_time(lambda: plan(), repeats=3)
+    _, plans = plan()
+    problems = sum(len(p.problems) for p in plans.values())
+    played = sum(sum(map(len, p.keys)) for p in plans.values())
+    return {"case": f"plan a {len(notes)}-note two-stick piece ({model})", "ours": ours, "reference": None,
+            "ratio": None, "first_run": first, "played": played, "problems": problems}
+
+
+def main():
+    rows = []
+    for model in drumstroke.MODELS:
+        progress(f"diddle ({model})")
+        rows.append(diddle_case(model))
+        progress(f"buzz ({model})")
+        rows.append(buzz_case(model))
+        rows.append(plan_case(model))
+    header = f"{'case':<48} {'ours':>10} {'reference':>10} {'ratio':>8}  notes"
+    lines = [header, "-" * len(header)]
+    for row in rows:
+        ref = "—" if row["reference"] is None else f"{row['reference'] * 1e3:.4g} ms"
+        ratio = "—" if row["ratio"] is None else f"{row['ratio']:.0f}x"
+        extra = (f"played {row['played']}, problems {row['problems']}" if "played" in row
+                 else f"time error {row['time_error']:.1e} s, level error {row['level_error']:.1e} dB")
+        lines.append(f"{row['case']:<48} {row['ours'] * 1e3:>7.4g} ms {ref:>10} {ratio:>8}  {extra}")
+    print("\n".join(lines))
+    machine = {"date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
+               "platform": platform.platform(), "processor": platform.processor(), "python": platform.python_version(),
+               "numpy": np.__version__, "scipy": scipy.__version__, "drumstroke": drumstroke.__version__}
+    (HERE / "design_results.json").write_text(json.dumps({"machine": machine, "rows": rows}, indent=2) + "\n")
+
+
+if __name__ == "__main__":
+    main()
