@@ -88,7 +88,7 @@ def test_validate_and_export_a_library_stroke(library, tmp_path):
 def test_a_trajectory_below_the_head_is_refused_naming_the_sample(library, tmp_path):
     csv = next(library.glob("strokes-*/double.csv"))
     lines = csv.read_text().splitlines()
-    t, theta, omega = lines[101].split(",")  # sample 100, after the header
+    t, _, omega = lines[101].split(",")  # sample 100, after the header
     lines[101] = f"{t},-0.5,{omega}"
     bad = tmp_path / "bad.csv"
     bad.write_text("\n".join(lines) + "\n")
