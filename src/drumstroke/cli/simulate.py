@@ -21,7 +21,7 @@ def add_simulate(commands):
                      help=f"sampling rate of --csv in Hz (default {DEFAULT_RATE:g})")
     sim.add_argument("--model", choices=MODELS, help="override the recipe's model")
     sim.add_argument("--json", type=Path, metavar="PATH", help="write recipe, impacts and rests as JSON")
-    sim.add_argument("--csv", type=Path, metavar="PATH", help="write t,theta,omega at --rate as CSV")
+    sim.add_argument("--csv", type=Path, metavar="PATH", help="write t,theta,omega at --rate as CSV; its model, rate and units go in the JSON beside it")
     sim.add_argument("--plot", type=Path, metavar="PATH", help="write a PNG of theta(t), impacts and a(t)")
     add_sound_options(sim)
     steps = sim.add_argument_group("post-processing, applied in the order given")
