@@ -5,7 +5,7 @@ digits, never ``-0``), so any CSV reader reads it as it is (``pandas.read_csv(pa
 
     t,theta,omega
     0,0,0
-    0.001,-5.1470588231516962e-06,-0.010294117647031554
+    0.001,-5.1470588231516956e-06,-0.010294117647031554
     ...
 
 One stick has the columns ``t,theta,omega`` (an export adds ``alpha``, rad/s²); several have
