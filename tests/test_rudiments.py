@@ -371,7 +371,7 @@ def test_the_pattern_gives_the_same_notes_and_reads_with_the_pattern_parser(name
     assert parsed_tempo == tempo and len(rows) == len(played)
     for row, note in zip(rows, played):
         assert row.stroke == "auto" and row.stick == note.stick and row.velocity == note.velocity
-        assert row.beat * 60.0 / tempo == pytest.approx(note.time, abs=1e-12)
+        assert row.beat * 60.0 / tempo == pytest.approx(note.time, abs=1e-9)
 
 
 def test_a_buzz_line_carries_its_length_in_beats():

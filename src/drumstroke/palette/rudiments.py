@@ -259,37 +259,35 @@ class Rudiment:
             whole rudiment starts a whole number of beats later (``downbeat``).
         """
         events, lead, _ = self._events(tempo, bars, beats_per_bar)
-        notes = tuple(PlayedNote(time, STICKS[note.stick], DYNAMICS[note.dynamic],
-                                 "buzz" if note.kind == "buzz" else "auto", length)
-                      for time, _, note, length, _ in events)
+        notes = tuple(PlayedNote(event.time, STICKS[event.note.stick], DYNAMICS[event.note.dynamic],
+                                 "buzz" if event.note.kind == "buzz" else "auto", event.length) for event in events)
         return RudimentNotes(self.name, float(tempo), self.tempo, notes, lead * 60.0 / tempo)
 
     def pattern_text(self, tempo, *, bars=2, beats_per_bar=None):
         """The notes of :meth:`notes_at` as a text pattern: ``tempo BPM``, then ``beat auto velocity stick``
         lines, and ``beat buzz velocity stick BEATS`` for a buzz (its length in beats as a fifth field).
 
-        Beats count from the pattern's start (the lead-in included), so they give the same times.
+        Beats count from the pattern's start (the lead-in included), so they give the same times (to 12 digits).
         """
         events, lead, span = self._events(tempo, bars, beats_per_bar)
         tempo = float(tempo)
-        head = f"# PAS {self.number}, {self.title}: {_count(bars, 'bar')} of {_count(span / bars, 'beat')} at {tempo:g} bpm"
+        bar = span / bars
+        head = f"# PAS {self.number}, {self.title}: {_count(bars, 'bar')} of {_count(bar, 'beat')} at {tempo:g} bpm"
         if lead:
             head += f", after a lead-in of {_count(lead, 'beat')} for the grace notes"
         lines = [head]
         if not self.tempo[0] <= tempo <= self.tempo[1]:
             lines.append(f"# {self.tempo[0]:g}-{self.tempo[1]:g} bpm is this rudiment's range")
         lines.append(f"tempo {tempo:g}")
-        for _, beat, note, _, length_beats in events:
-            stick, velocity = STICKS[note.stick], DYNAMICS[note.dynamic]
-            if note.kind == "buzz":
-                lines.append(f"{_text(beat)} buzz {velocity} {stick} {_text(length_beats)}")
-            else:
-                lines.append(f"{_text(beat)} auto {velocity} {stick}")
+        for event in events:
+            buzz = event.note.kind == "buzz"
+            line = (f"{_text(event.beat)} {'buzz' if buzz else 'auto'} {DYNAMICS[event.note.dynamic]} "
+                    f"{STICKS[event.note.stick]}")
+            lines.append(f"{line} {_text(event.length_beats)}" if buzz else line)
         return "\n".join(lines) + "\n"
 
     def _events(self, tempo, bars, beats_per_bar):
-        """(time s, beat from the start, note, buzz length s, buzz length beats) in time order; the lead-in and
-        the span played (beats)."""
+        """The notes placed over the bars, in time order; the lead-in (beats) and the span played (beats)."""
         tempo = check_real("tempo", tempo, low=TEMPO_LIMITS[0], high=TEMPO_LIMITS[1], unit="beats per minute")
         check_int("bars", bars, low=1, high=10_000)
         span = _span(self.cycle, bars, beats_per_bar)
@@ -306,9 +304,19 @@ class Rudiment:
         events = []
         for beat, note in placed:
             length = float(note.value) if note.kind == "buzz" else 0.0
-            events.append(((beat + lead) * seconds_per_beat, beat + lead, note, length * seconds_per_beat, length))
-        events.sort(key=lambda event: (event[0], event[2].stick))
+            events.append(_Event((beat + lead) * seconds_per_beat, beat + lead, note, length * seconds_per_beat, length))
+        events.sort(key=lambda event: (event.time, event.note.stick))
         return events, lead, span
+
+
+class _Event(NamedTuple):
+    """A note placed in a performance: time (s) and beat from the start, the note, a buzz's length (s, beats)."""
+
+    time: float
+    beat: float
+    note: Note
+    length: float
+    length_beats: float
 
 
 def read_rudiments(path=None):
@@ -491,6 +499,5 @@ def _count(number, unit):
 
 
 def _text(number):
-    """A number as short as it reads back exactly."""
-    short = f"{number:.12g}"
-    return short if float(short) == number else repr(float(number))
+    """A number to 12 significant digits (a beat read back within 1e-11 of itself, far below a sample)."""
+    return f"{float(number):.12g}"
