@@ -110,7 +110,7 @@ class PlayedNote(NamedTuple):
     Attributes
     ----------
     time : float
-        s from the start (the first note, or the lead-in before it).
+        s from 0: the first note, or the start of a lead-in (:attr:`RudimentNotes.downbeat`) before it.
     stick : {"right", "left"}
     velocity : int in [1, 127]
     kind : {"auto", "buzz"}
@@ -178,8 +178,8 @@ class Rudiment:
 
     Attributes
     ----------
-    number : int in [1, 40]
-        PAS's number.
+    number : int >= 1
+        PAS's number, 1 to 40.
     name : str
         Kebab-case, unique: ``double-stroke-open-roll``.
     title : str
