@@ -34,14 +34,18 @@ def test_simulate_writes_json_csv_and_plot(tmp_path):
     assert first["level_db"] == pytest.approx(20 * math.log10(first["tip_speed"]), rel=1e-12)
 
     with open(tmp_path / "s.csv", newline="") as handle:
-        comment = handle.readline()
         rows = list(csv.reader(handle))
-    assert comment.startswith("#") and "model=paper" in comment and "rate=500 Hz" in comment
-    assert rows[0] == ["t", "theta", "omega"]
+    assert rows[0] == ["t", "theta", "omega"]  # the header first
+    # s.json is the JSON beside s.csv: the CSV's metadata is added to it, its own fields kept
+    assert data["csv"] == {"file": "s.csv", "drumstroke": drumstroke.__version__, "model": "paper",
+                           "name": "free-bounce", "rate": 500.0, "sticks": ["stick"],
+                           "columns": ["t", "theta", "omega"], "units": {"t": "s", "theta": "rad", "omega": "rad/s"}}
+    assert "wrote " + str(tmp_path / "s.json") + " (with the metadata of s.csv)" in result.stdout
+    assert not (tmp_path / "s.csv.json").exists() and len(list(tmp_path.iterdir())) == 3
     table = np.array(rows[1:], dtype=float)
     assert len(table) == 5 * 500 + 1
     assert np.allclose(np.diff(table[:, 0]), 1 / 500, atol=1e-12, rtol=0)
-    t, theta, omega = stroke.sample(500)
+    _, theta, omega = stroke.sample(500)
     assert np.array_equal(table[:, 1], theta) and np.array_equal(table[:, 2], omega)
 
     image = matplotlib.image.imread(tmp_path / "s.png")
@@ -83,7 +87,8 @@ def test_demo_writes_plots_and_json_for_the_four_figures(tmp_path):
         data = json.loads((tmp_path / "out" / f"{stem}.json").read_text())
         assert data["model"] == "paper" and len(data["impacts"]) > 5
         assert (tmp_path / "out" / f"{stem}.png").stat().st_size > 10_000
-        assert (tmp_path / "out" / f"{stem}.csv").read_text().splitlines()[1] == "t,theta,omega"
+        assert (tmp_path / "out" / f"{stem}.csv").read_text().splitlines()[0] == "t,theta,omega"
+        assert data["csv"]["file"] == f"{stem}.csv" and data["csv"]["model"] == "paper"
 
 
 @pytest.mark.parametrize(

@@ -1,19 +1,22 @@
 """The formats both ways: what drumstroke writes, independent readers read, and drumstroke reads back the same.
 
-Oracles: the shipped example files, numpy's and the csv module's readers, and soundfile.
+Oracles: the shipped example files, numpy's and the csv module's readers, tomllib, and soundfile.
 """
 
 import csv
+import tomllib
 from pathlib import Path
 
 import numpy as np
 import pytest
 import soundfile
 
+import drumstroke
 from drumstroke.errors import ParameterError
 from drumstroke.formats.pattern import parse_pattern, read_pattern_file, write_pattern
 from drumstroke.formats.responses_csv import COLUMNS, read_responses_csv, write_responses_csv
 from drumstroke.formats.signal_csv import read_signal, write_signal
+from drumstroke.formats.toml import read_toml, write_toml
 from drumstroke.formats.wav import read_wav, write_wav
 from drumstroke.palette.library import DEMO_PATTERN
 from drumstroke.score import read_pattern
@@ -74,3 +77,46 @@ def test_a_file_that_is_not_wav_is_named(tmp_path):
     path.write_text("RIFF? no")
     with pytest.raises(ParameterError, match=r"WAV file '.*not\.wav' cannot be read"):
         read_wav(path)
+
+
+# --- TOML, written by tomli-w, read by tomllib ---------------------------------------------------------------------
+
+AWKWARD = 'a "quoted" word, a back\\slash, a\nnew line, a\ttab, \x01 a control, é, 🥁, and [brackets] = "="'
+
+
+def test_toml_round_trips_through_tomllib(rng, tmp_path):
+    floats = rng.normal(size=8) * 10.0 ** rng.integers(-300, 300, size=8)  # every bit of the mantissa matters
+    data = {
+        "name": AWKWARD,
+        "cor": 0.1 + 0.2,  # 0.30000000000000004, not 0.3
+        "tiny": 5e-324,
+        "count": np.int64(7),  # numpy numbers are written as the numbers they are
+        "values": np.array(floats),
+        "force": {"kind": "sum", "parts": [{"kind": "constant", "value": float(floats[0])},
+                                           {"kind": "piecewise-linear",
+                                            "points": [[0.0, 10.0], [1.0, float(floats[1])], [1.05, 220.0]]},
+                                           {"kind": "pulses", "amplitude": 189.0, "period": 0.4, "duty": 0.05}]},
+        "parameters": {"force.value": {"start": 0.0, "stop": 250.0, "num": 11}, "cor": [0.6, 0.86]},
+        "pair": [{"id": "free-bounce", "human": "human free bounce.wav", "robot": "robot-free-bounce.wav"}],
+        "deep": {"er": {"still": {"value": -0.0, "flag": True, "empty": []}}},
+    }
+    path = tmp_path / "awkward.toml"
+    write_toml(path, data)
+    expected = {**data, "count": 7, "values": floats.tolist()}
+    read = tomllib.loads(path.read_text())  # the standard library's reader, not drumstroke's
+    assert read == expected and read["name"] == AWKWARD
+    assert [x.hex() for x in read["values"]] == [x.hex() for x in floats.tolist()]  # bit for bit
+    assert read_toml(path, "test") == expected
+
+
+def test_a_recipe_with_nested_profiles_round_trips(tmp_path):
+    force = drumstroke.Sum([drumstroke.PiecewiseLinear([(0.0, 10.0), (1.0, 1 / 3), (1.05, 220.0)]),
+                            drumstroke.Pulses(amplitude=189.0, period=0.4, duty=0.05, phase=0.08)])
+    recipe = drumstroke.Recipe(force=force, gravity=drumstroke.PiecewiseLinear([(0.0, 9.8), (2.0, -1.5)]),
+                               theta0=0.1 + 0.2, omega0=-2.0, cor=0.86, t_end=2.5, name="nested")
+    path = tmp_path / "nested.toml"
+    recipe.to_toml(path)
+    assert tomllib.loads(path.read_text()) == recipe.to_dict()
+    again = drumstroke.Recipe.from_toml(path)
+    assert again == recipe
+    assert np.array_equal(drumstroke.simulate(again).impacts.t, drumstroke.simulate(recipe).impacts.t)

@@ -52,7 +52,7 @@ def stroke_files(folder, name):
 
 
 def read_csv(path):
-    return np.loadtxt(path, skiprows=2, delimiter=",").T
+    return np.loadtxt(path, skiprows=1, delimiter=",").T  # the header, then the rows
 
 
 def sha256(path):
@@ -92,8 +92,15 @@ def test_the_files_hold_the_built_trajectories_bit_for_bit(small):
         written = read_csv(csv_path)
         for column, sampled in zip(written, trajectory.sample(1000.0)):
             assert np.array_equal(column, sampled)
-        impacts = json.loads(json_path.read_text())["impacts"]
+        data = json.loads(json_path.read_text())
+        impacts = data["impacts"]
         assert np.array_equal([i["t"] for i in impacts], trajectory.impacts.t)
+        # NAME.json is the JSON beside NAME.csv: it holds the CSV's metadata too
+        assert csv_path.read_text().split("\n", 1)[0] == "t,theta,omega"
+        assert data["csv"] == {"file": f"{entry.name}.csv", "drumstroke": drumstroke.__version__,
+                               "model": trajectory.model, "name": entry.name, "rate": 1000.0, "sticks": ["stick"],
+                               "columns": ["t", "theta", "omega"],
+                               "units": {"t": "s", "theta": "rad", "omega": "rad/s"}}
         assert np.array_equal([i["omega"] for i in impacts], trajectory.impacts.omega)
         assert np.array_equal([i["omega_after"] for i in impacts], trajectory.omega_after)
 
@@ -132,7 +139,7 @@ def test_the_loaded_curve_follows_the_built_one_between_samples(small, rng):
 def test_the_manifest_describes_the_files(small):
     built, folder, entries = small
     manifest = manifest_of(folder)
-    assert manifest["format"] == "drumstroke-library" and manifest["rate"] == 1000.0
+    assert manifest["format"] == "drumstroke-library" and manifest["rate"] == 1000.0 and manifest["version"] == 2
     assert [r["name"] for r in manifest["strokes"]] == [e.name for e in entries]
     for record, entry in zip(manifest["strokes"], entries):
         paths = stroke_files(folder, entry.name)
@@ -155,9 +162,40 @@ def test_another_rate_puts_samples_on_its_grid(palette, tmp_path):
         path = stroke_files(tmp_path, name)[1]
         t, _, _ = read_csv(path)
         assert np.array_equal(t, np.arange(len(t)) / 500.0)
-        assert "rate=500 Hz" in path.read_text().split("\n", 1)[0]
+        assert json.loads(stroke_files(tmp_path, name)[2].read_text())["csv"]["rate"] == 500.0
         assert np.array_equal(loaded[name].trajectory.sample(500.0).t, t)
     assert len(read_csv(stroke_files(tmp_path, "free-bounce")[1])[0]) == 2501
+
+
+def test_a_library_of_the_old_format_still_loads(small, tmp_path):
+    """Version 1, as drumstroke 0.1.0 wrote it: a # comment line first in each CSV, no "csv" block in NAME.json."""
+    built, _, entries = small
+    folder = tmp_path / "old"
+    shutil.copytree(small[1], folder)
+    manifest = manifest_of(folder)
+    for record in manifest["strokes"]:
+        _, csv_path, json_path = (folder / manifest["folder"] / record["files"][key]
+                                  for key in ("recipe", "trajectory", "impacts"))
+        comment = (f"# drumstroke 0.1.0; model={record['model']}; stroke={record['name']}; rate=1000 Hz; "
+                   "units s, rad, rad/s\n")
+        csv_path.write_text(comment + csv_path.read_text())
+        data = json.loads(json_path.read_text())
+        del data["csv"]
+        json_path.write_text(json.dumps(data, indent=1) + "\n")
+        record["sha256"].update(trajectory=sha256(csv_path), impacts=sha256(json_path))
+    manifest["version"] = 1
+    (folder / "manifest.json").write_text(json.dumps(manifest))
+    loaded = load_library(folder)
+    assert loaded.rate == 1000.0 and list(loaded) == [e.name for e in entries]
+    for entry in entries:
+        got, want = loaded[entry.name].trajectory, built[entry.name].trajectory.sample(1000.0)
+        assert np.array_equal(got.t, want.t) and np.array_equal(got.theta, want.theta)
+        assert np.array_equal(got.omega, want.omega) and got.model == want.model
+        assert np.array_equal(got.impacts.t, want.impacts.t)
+    manifest["version"] = 3
+    (folder / "manifest.json").write_text(json.dumps(manifest))
+    with pytest.raises(ParameterError, match=r"manifest\.json' has version 3; this drumstroke reads the versions 1, 2"):
+        load_library(folder)
 
 
 # --- corruption is named -------------------------------------------------------------------------------------------
@@ -166,9 +204,9 @@ def test_another_rate_puts_samples_on_its_grid(palette, tmp_path):
 def edit_row(path, row, column, value):
     """Set one CSV value (row of data, column 0..2) as text."""
     lines = path.read_text().split("\n")
-    fields = lines[2 + row].split(",")
+    fields = lines[1 + row].split(",")
     fields[column] = value
-    lines[2 + row] = ",".join(fields)
+    lines[1 + row] = ",".join(fields)
     path.write_text("\n".join(lines))
 
 
@@ -265,7 +303,7 @@ def truncated_resealed(folder):
     path = stroke_files(folder, "double")[1]
     path.write_text("".join(path.read_text().splitlines(keepends=True)[:40]))
     reseal(folder, "double", "trajectory", path)
-    return path, "38 rows"
+    return path, "39 rows"
 
 
 def impacts_out_of_order(folder):

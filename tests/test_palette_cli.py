@@ -33,10 +33,10 @@ def hand_velocity(level_db):
 
 
 def read_csv(path):
-    """The comment line, the header and the numbers of a drumstroke CSV, read with numpy."""
+    """The header and the numbers of a drumstroke CSV (its first line is the header), read with numpy."""
     with open(path) as handle:
-        comment, header = handle.readline(), handle.readline().strip()
-    return comment, header.split(","), np.loadtxt(path, delimiter=",", skiprows=2, ndmin=2)
+        header = handle.readline().strip()
+    return header.split(","), np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
 
 
 def midi_note_ons(path):
@@ -74,8 +74,9 @@ def test_simulate_catch_stretch_reverse_writes_every_file(tmp_path):
         assert row["omega_after"] == pytest.approx(abs(omega[i]) / 2, rel=1e-9)
     head = data["theta_max"]
 
-    comment, header, table = read_csv(paths["csv"])
-    assert comment.startswith("#") and "rate=1000 Hz" in comment and header == ["t", "theta", "omega"]
+    header, table = read_csv(paths["csv"])
+    assert header == ["t", "theta", "omega"]
+    assert data["csv"]["rate"] == 1000.0 and data["csv"]["file"] == "fb.csv"  # fb.json is the JSON beside fb.csv
     times, theta, speed = table.T
     assert times == pytest.approx(np.arange(len(times)) / 1000.0, abs=1e-12)
     assert 2 * caught - 1e-3 < times[-1] <= 2 * caught
@@ -174,8 +175,10 @@ def test_library_build_writes_every_stroke_on_the_rate(built):
     manifest = json.loads((folder / "manifest.json").read_text())
     assert manifest["rate"] == 500 and [s["name"] for s in manifest["strokes"]] == NAMES
     for record in manifest["strokes"]:
-        comment, header, table = read_csv(folder / manifest["folder"] / record["files"]["trajectory"])
-        assert "rate=500 Hz" in comment and header == ["t", "theta", "omega"]
+        header, table = read_csv(folder / manifest["folder"] / record["files"]["trajectory"])
+        assert header == ["t", "theta", "omega"]
+        impacts_file = folder / manifest["folder"] / record["files"]["impacts"]
+        assert json.loads(impacts_file.read_text())["csv"]["rate"] == 500.0
         t, theta, _ = table.T
         assert t == pytest.approx(np.arange(len(t)) / 500.0, abs=1e-12)
         assert t[-1] == pytest.approx(record["t_end"], abs=1e-12)
@@ -270,10 +273,12 @@ def test_compose_json_places_every_note(composed):
 
 def test_compose_csv_has_theta_and_omega_per_stick_on_the_rate(composed, built):
     paths, data = composed
-    comment, header, table = read_csv(paths["csv"])
-    assert comment.startswith("#") and "rate=500 Hz" in comment
-    assert f"score time 0 at t = {data['offset']:g} s" in comment
+    header, table = read_csv(paths["csv"])
     assert header == ["t", "theta_right", "omega_right", "theta_left", "omega_left"]
+    # groove.json is the JSON beside groove.csv: the CSV's metadata is in it, with where the score's time 0 is
+    meta = data["csv"]
+    assert (meta["rate"], meta["offset"], meta["sticks"], meta["columns"]) == (500.0, data["offset"], ["right", "left"],
+                                                                               header)
     t = table[:, 0]
     assert t == pytest.approx(np.arange(len(t)) / 500.0, abs=1e-12)
     assert data["t_end"] - 1 / 500 < t[-1] <= data["t_end"]
@@ -292,8 +297,10 @@ def test_compose_csv_of_one_stick_is_t_theta_omega(built, tmp_path):
     pattern.write_text("tempo 120\n0 single 100\n1 single 80\n")
     result = run("compose", pattern, "--library", built[0], "--csv", tmp_path / "solo.csv")
     assert result.returncode == 0, result.stderr
-    _, header, table = read_csv(tmp_path / "solo.csv")
+    header, table = read_csv(tmp_path / "solo.csv")
     assert header == ["t", "theta", "omega"] and table.shape[1] == 3
+    assert f"wrote {tmp_path / 'solo.json'} (with the metadata of solo.csv)" in result.stdout
+    assert json.loads((tmp_path / "solo.json").read_text())["csv"]["sticks"] == ["right"]
 
 
 def test_compose_midi_round_trips_time_and_velocity(composed):

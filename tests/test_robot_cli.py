@@ -67,22 +67,29 @@ def test_validate_and_export_a_library_stroke(library, tmp_path):
     result = run("robot", "export", csv, "--format", "ros-json", "--out", out)
     assert result.returncode == 0, result.stderr
     document = json.loads(out.read_text())
-    table = np.loadtxt(csv, delimiter=",", skiprows=2)
+    table = np.loadtxt(csv, delimiter=",", skiprows=1)
     positions = np.array([p["positions"][0] for p in document["points"]])
     times = np.array([p["time_from_start"]["sec"] + 1e-9 * p["time_from_start"]["nanosec"]
                       for p in document["points"]])
     assert document["joint_names"] == ["stick_joint"]
     assert np.array_equal(positions, table[:, 1]) and np.abs(times - table[:, 0]).max() < 1e-9
+    # single.csv would keep its metadata in single.json, the ROS export: refused, that file kept whole
+    ros = out.read_bytes()
     result = run("robot", "export", csv, "--format", "csv", "--out", tmp_path / "single.csv")
-    assert result.returncode == 0
-    assert (tmp_path / "single.csv").read_text().splitlines()[1] == "t,theta,omega,alpha"
+    assert_one_line_error(result, "single.json", "is not drumstroke's metadata of 'single.csv'")
+    assert out.read_bytes() == ros and not (tmp_path / "single.csv").exists()
+    result = run("robot", "export", csv, "--format", "csv", "--out", tmp_path / "csv" / "single.csv")
+    assert result.returncode == 0, result.stderr
+    assert (tmp_path / "csv" / "single.csv").read_text().splitlines()[0] == "t,theta,omega,alpha"
+    assert f"wrote {tmp_path / 'csv' / 'single.json'} (with the metadata of single.csv)" in result.stdout
+    assert json.loads((tmp_path / "csv" / "single.json").read_text())["csv"]["model"] == "paper"
 
 
 def test_a_trajectory_below_the_head_is_refused_naming_the_sample(library, tmp_path):
     csv = next(library.glob("strokes-*/double.csv"))
     lines = csv.read_text().splitlines()
-    t, theta, omega = lines[102].split(",")
-    lines[102] = f"{t},-0.5,{omega}"
+    t, _, omega = lines[101].split(",")  # sample 100, after the header
+    lines[101] = f"{t},-0.5,{omega}"
     bad = tmp_path / "bad.csv"
     bad.write_text("\n".join(lines) + "\n")
     assert_one_line_error(run("robot", "validate", bad), "sample 100", "head")

@@ -44,10 +44,13 @@ def test_csv_round_trips_to_17_digits(stroke, tmp_path):
     path = tmp_path / "double.csv"
     checked = export_csv(path, t, theta, omega, rate=RATE, model="paper", name="double")
     lines = path.read_text().splitlines()
-    assert lines[0].startswith(f"# drumstroke {__version__}; model=paper; stroke=double; rate=1000 Hz; units s, rad")
-    assert "alpha is the forward difference" in lines[0]
-    assert lines[1] == "t,theta,omega,alpha"
-    data = np.loadtxt(path, delimiter=",", skiprows=2)
+    assert lines[0] == "t,theta,omega,alpha"  # the header first; what it is, in the JSON beside it
+    meta = json.loads((tmp_path / "double.json").read_text())["csv"]
+    assert meta == {"file": "double.csv", "drumstroke": __version__, "model": "paper", "name": "double",
+                    "rate": 1000.0, "sticks": ["stick"], "note": meta["note"], "columns": ["t", "theta", "omega", "alpha"],
+                    "units": {"t": "s", "theta": "rad", "omega": "rad/s", "alpha": "rad/s^2"}}
+    assert meta["note"].startswith("alpha is the forward difference")
+    data = np.loadtxt(path, delimiter=",", skiprows=1)
     assert data.shape == (len(t), 4)
     assert np.array_equal(data[:, 0], t) and np.array_equal(data[:, 1], theta) and np.array_equal(data[:, 2], omega)
     assert np.array_equal(data[:, 3], np.append(np.diff(omega) * RATE, 0.0))
@@ -68,8 +71,8 @@ def test_csv_at_another_rate_carries_its_rate(tmp_path):
     t, theta, omega = Trajectory.from_stroke(drumstroke.simulate("free-bounce")).sample(500.0)
     path = tmp_path / "bounce.csv"
     export_csv(path, t, theta, omega, rate=500.0, model="paper", name="free-bounce")
-    assert "rate=500 Hz" in path.read_text().splitlines()[0]
-    assert np.array_equal(np.loadtxt(path, delimiter=",", skiprows=2)[:, 3], np.append(np.diff(omega) * 500.0, 0.0))
+    assert json.loads((tmp_path / "bounce.json").read_text())["csv"]["rate"] == 500.0
+    assert np.array_equal(np.loadtxt(path, delimiter=",", skiprows=1)[:, 3], np.append(np.diff(omega) * 500.0, 0.0))
     assert validate_file(path).rate == 500.0
 
 
@@ -246,7 +249,7 @@ def test_limits_and_start_reach_the_validator(stroke, tmp_path, export):
 def test_a_failed_write_leaves_the_old_file_whole(stroke, tmp_path, monkeypatch, export):
     path = tmp_path / "double.out"
     export(path, *stroke, rate=RATE, model="paper", name="double")
-    before = path.read_bytes()
+    before = {p.name: p.read_bytes() for p in tmp_path.iterdir()}  # the CSV's JSON beside it too
 
     def fail(*args):
         raise OSError("disk full")
@@ -255,8 +258,8 @@ def test_a_failed_write_leaves_the_old_file_whole(stroke, tmp_path, monkeypatch,
     t, theta, omega = stroke
     with pytest.raises(OSError, match="disk full"):
         export(path, t, theta * 0.5 + 0.5 * HEAD, omega * 0.5, rate=RATE, model="paper", name="softer")
-    assert path.read_bytes() == before
-    assert [p.name for p in tmp_path.iterdir()] == ["double.out"]
+    assert {p.name: p.read_bytes() for p in tmp_path.iterdir()} == before
+    assert sorted(before) == (["double.json", "double.out"] if export is export_csv else ["double.out"])
 
 
 @pytest.mark.parametrize("options, message", [

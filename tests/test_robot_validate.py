@@ -7,8 +7,9 @@ import pytest
 
 from drumstroke.compose import compose
 from drumstroke.errors import ParameterError, TrajectoryError
+from drumstroke.formats.sidecar import write_sidecar
 from drumstroke.formats.trajectory_csv import columns_text as csv_text
-from drumstroke.formats.trajectory_csv import comment_line as csv_header
+from drumstroke.formats.trajectory_csv import metadata
 from drumstroke.model import Stick
 from drumstroke.palette.library import DEMO_PATTERN, build_library
 from drumstroke.palette.motion import Limits
@@ -370,32 +371,53 @@ def test_a_composition_validates_per_stick(library, tmp_path):
 
 # --- files ---------------------------------------------------------------------------------------------------------
 
-def _write(path, comment, t, theta, omega):
-    path.write_text(csv_text(comment, ("t", "theta", "omega"), (t, theta, omega)))
+def _write(path, t, theta, omega, *, rate=None):
+    """A trajectory CSV as drumstroke writes it: header first; with a ``rate``, the JSON beside it stating it."""
+    path.write_text(csv_text(("t", "theta", "omega"), (t, theta, omega)))
+    if rate is not None:
+        block = metadata(path, ("t", "theta", "omega"), model="paper", name=path.stem, rate=rate, sticks=("stick",))
+        write_sidecar(path.with_suffix(".json"), block)
     return path
 
 
-def test_a_file_whose_rate_disagrees_with_its_comment(move, tmp_path):
-    path = _write(tmp_path / "move.csv", csv_header("paper", "move", 500.0), *move)
+def _write_old(path, comment, t, theta, omega):
+    """A trajectory CSV as drumstroke 0.1.0 wrote it: a # comment line, then the header and the rows."""
+    path.write_text(f"# {comment}\n" + csv_text(("t", "theta", "omega"), (t, theta, omega)))
+    return path
+
+
+def test_a_file_whose_rate_disagrees_with_its_metadata(move, tmp_path):
+    path = _write(tmp_path / "move.csv", *move, rate=500.0)
     with pytest.raises(TrajectoryError, match=r"^trajectory file '.*move\.csv': rate 1000 Hz \(its time step is "
-                                              r"0\.001 s\) disagrees with its comment's rate=500 Hz"):
+                                              r"0\.001 s\) disagrees with the rate 500 Hz of its metadata "
+                                              r"'.*move\.json'$"):
         validate_file(path)
-    with pytest.raises(TrajectoryError, match=r"rate 250 Hz .* disagrees with its comment's rate=500 Hz"):
+    with pytest.raises(TrajectoryError, match=r"rate 250 Hz .* disagrees with the rate 500 Hz of its metadata"):
         validate_file(path, rate=250.0)
+
+
+def test_an_old_file_whose_rate_disagrees_with_its_comment(move, tmp_path):
+    comment = "drumstroke 0.1.0; model=paper; stroke=move; rate=500 Hz; units s, rad, rad/s"
+    path = _write_old(tmp_path / "move.csv", comment, *move)
+    with pytest.raises(TrajectoryError, match=r"^trajectory file '.*move\.csv': rate 1000 Hz \(its time step is "
+                                              r"0\.001 s\) disagrees with the rate 500 Hz of its comment line$"):
+        validate_file(path)
+    assert validate_file(_write_old(tmp_path / "ok.csv", comment.replace("500", "1000"), *move)).rate == 1000.0
 
 
 def test_a_file_without_a_rate_takes_its_time_step(move, tmp_path):
     t, theta, omega = move
-    path = _write(tmp_path / "hand.csv", "made by hand", t * 2, theta, omega)
-    assert validate_file(path).rate == pytest.approx(500.0, rel=1e-12)
-    with pytest.raises(TrajectoryError, match=r"^trajectory file '.*hand\.csv': sample 1: .*rate 1000 Hz"):
-        validate_file(path, rate=1000.0)
+    for path in (_write(tmp_path / "hand.csv", t * 2, theta, omega),
+                 _write_old(tmp_path / "old.csv", "made by hand", t * 2, theta, omega)):
+        assert validate_file(path).rate == pytest.approx(500.0, rel=1e-12)
+        with pytest.raises(TrajectoryError, match=r"^trajectory file '.*\.csv': sample 1: .*rate 1000 Hz"):
+            validate_file(path, rate=1000.0)
 
 
 def test_a_defect_in_a_file_names_the_file_and_the_sample(move, tmp_path):
     t, theta, omega = (a.copy() for a in move)
     omega[42] = 45.0
-    path = _write(tmp_path / "fast.csv", csv_header("paper", "fast", RATE), t, theta, omega)
+    path = _write(tmp_path / "fast.csv", t, theta, omega, rate=RATE)
     with pytest.raises(TrajectoryError, match=r"^trajectory file '.*fast\.csv': sample 42: speed 45 rad/s exceeds "
                                               r"max_speed 30 rad/s$"):
         validate_file(path)

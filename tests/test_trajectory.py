@@ -154,9 +154,11 @@ def test_samples_off_the_grid_or_not_finite_are_named():
 
 def test_csv_round_trip_one_stick(bounce, tmp_path):
     path = tmp_path / "pulses.csv"
-    bounce.write_csv(path)
-    data = np.loadtxt(path, delimiter=",", skiprows=2)  # numpy's own reader
+    meta = bounce.write_csv(path)
+    data = np.loadtxt(path, delimiter=",", skiprows=1)  # numpy's own reader, past the header
     assert np.array_equal(data[:, 1], bounce.theta) and np.array_equal(data[:, 2], bounce.omega)
+    assert json.loads((tmp_path / "pulses.json").read_text()) == {"csv": meta}  # the JSON beside it
+    assert (meta["model"], meta["name"], meta["rate"]) == ("paper", "finger-pulses", RATE)
     back = Trajectory.read_csv(path)
     assert back.model == "paper" and back.rate == RATE and back.sticks == ("stick",)
     assert np.array_equal(back.t, bounce.t) and np.array_equal(back.theta, bounce.theta)
@@ -167,15 +169,18 @@ def test_csv_round_trip_one_stick(bounce, tmp_path):
 def test_csv_round_trip_several_sticks_and_alpha(pair, tmp_path):
     path = tmp_path / "pair.csv"
     pair.write_csv(path)
-    header = path.read_text().splitlines()[1]
+    header = path.read_text().splitlines()[0]
     assert header == "t,theta_right,omega_right,theta_left,omega_left"
+    meta = json.loads((tmp_path / "pair.json").read_text())["csv"]
+    assert meta["sticks"] == ["right", "left"] and meta["columns"] == header.split(",")
+    assert meta["units"]["theta_left"] == "rad" and meta["units"]["omega_right"] == "rad/s"
     back = Trajectory.read_csv(path)
     assert back.sticks == ("right", "left") and np.array_equal(back.theta, pair.theta)
     left = Trajectory.read_csv(path, stick="left")
     assert np.array_equal(left.omega, pair.stick("left").omega)
     one = pair.stick("right")
     one.write_csv(tmp_path / "alpha.csv", alpha=True)
-    names = (tmp_path / "alpha.csv").read_text().splitlines()[1]
+    names = (tmp_path / "alpha.csv").read_text().splitlines()[0]
     assert names == "t,theta,omega,alpha"
     assert np.array_equal(Trajectory.read_csv(tmp_path / "alpha.csv").alpha, one.alpha)
 

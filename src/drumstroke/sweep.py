@@ -61,6 +61,11 @@ FEATURES = (
 )
 """The features of each stroke, in the table's order (see :func:`stroke_features`)."""
 
+UNITS = {"first_impact_time_s": "s", "first_impact_speed_m_s": "m/s", "duration_s": "s", "mean_bounce_rate_hz": "Hz",
+         "final_bounce_rate_hz": "Hz", "decay_db_per_bounce": "dB", "rest_time_s": "s"}
+"""The units of the features that have one (counts, the model and the error have none)."""
+_RECIPE_UNITS = {"t_end": "s", "theta0": "rad", "omega0": "rad/s"}
+
 _RECIPE_KEYS = ("model", "t_end", "theta0", "omega0", "cor")
 _TABLES = ("force", "gravity", "stick")
 _TOP_KEYS = ("base", "mode", "samples", "seed", "audible_db", "parameters")
@@ -244,6 +249,34 @@ def run_sweep(grid, *, scheduler=None, progress=None):
     else:
         rows = _on_dask(scheduler, chunks, grid.audible_db, progress)
     return _columns(grid, points, recipes, rows)
+
+
+def table_metadata(grid, table):
+    """What the JSON beside a sweep's CSV table says of it: its columns' units, and its models and grid.
+
+    Returns
+    -------
+    units : dict of str to str
+        Each column's unit ("" for none: counts, text, a whole profile's table).
+    fields : dict
+        ``model`` ("paper", "geometry", or "mixed" when the rows have both), ``rows``, and
+        ``sweep``: the base recipe's name, the mode, samples, seed, audible_db and parameters.
+    """
+    units = {name: _unit(name, grid.base) for name in grid.parameters} | UNITS
+    models = sorted(set(table["model"]))
+    sweep = {"base": grid.base.name, "mode": grid.mode, "samples": grid.samples, "seed": grid.seed,
+             "audible_db": grid.audible_db, "parameters": grid.parameters}
+    return units, {"model": models[0] if len(models) == 1 else "mixed", "rows": len(table["point"]), "sweep": sweep}
+
+
+def _unit(name, base):
+    """The unit of a parameter's values: a recipe key's, a stick's field's, or the base profile's field's."""
+    table, _, field = name.partition(".")
+    if not field:
+        return _RECIPE_UNITS.get(name, "")
+    if table == "stick":
+        return "kg" if field == "mass" else "m"
+    return next((p.unit for p in type(getattr(base, table)).parameters if p.name == field), "")
 
 
 def _rows(recipes, audible_db):

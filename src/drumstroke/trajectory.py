@@ -48,6 +48,7 @@ from ._checks import as_vector, check_real
 from ._version import __version__
 from .errors import ParameterError, TrajectoryError
 from .formats import trajectory_csv
+from .formats.sidecar import sidecar_for, write_sidecar
 from .model import Stick
 from .solver.arcs import Arcs
 
@@ -315,20 +316,22 @@ class Trajectory:
     def read_csv(cls, path, *, stick=None, rate=None, theta_max=None, tip_distance=None):
         """A trajectory CSV (:mod:`drumstroke.formats.trajectory_csv`): one stick, or every stick of the file.
 
+        Its model and rate come from the JSON beside it (``X.json`` for ``X.csv``), or from the
+        comment line an older drumstroke wrote first, or (the rate) from the ``t`` column.
+
         Parameters
         ----------
         path : str or Path
         stick : str or None
             The stick to read of a file with several; None reads them all.
         rate : float or None
-            Hz; default the comment's ``rate=``, else 1 / the first time step.
+            Hz; default the file's (see above).
         theta_max, tip_distance : float or None
             The head (rad) and x (m) for the impacts found in the samples; default the paper's stick's.
         """
         comment, columns = trajectory_csv.read_columns(path)
+        stated = trajectory_csv.file_metadata(path, comment, columns)
         sticks = trajectory_csv.sticks_in(columns)
-        stated = trajectory_csv.stated_rate(comment)
-        rate = rate if rate is not None else stated
         if stick is not None or not sticks:
             t, theta, omega, alpha = trajectory_csv.stick_of(columns, stick, path)
             names = (stick or DEFAULT_STICK,)
@@ -337,21 +340,49 @@ class Trajectory:
             theta = np.column_stack([columns[f"theta_{s}"] for s in sticks])
             omega = np.column_stack([columns[f"omega_{s}"] for s in sticks])
             alpha, names = None, sticks
-        return cls.from_samples(t, theta, omega, theta_max=theta_max, tip_distance=tip_distance, rate=rate,
-                                alpha=alpha, sticks=names, name=Path(path).stem,
-                                model=trajectory_csv.stated_model(comment))
+        return cls.from_samples(t, theta, omega, theta_max=theta_max, tip_distance=tip_distance,
+                                rate=rate if rate is not None else stated["rate"], alpha=alpha, sticks=names,
+                                name=Path(path).stem, model=stated["model"])
 
-    def write_csv(self, path, *, alpha=False, note=""):
-        """Write the samples as a trajectory CSV, atomically: ``t,theta,omega`` or per stick (and α if asked).
+    def write_csv(self, path, *, alpha=False, metadata=None, sidecar=True):
+        """Write the samples as a trajectory CSV, header first, atomically; its metadata in the JSON beside it.
 
-        ``note`` is added to the comment line (e.g. where a score's time 0 falls).
+        Parameters
+        ----------
+        path : str or Path
+            The CSV: ``t,theta,omega`` or per stick ``theta_<stick>,omega_<stick>`` (and α if asked).
+        alpha : bool
+            Add the acceleration (rad/s²).
+        metadata : dict or None
+            More fields for the metadata (e.g. a composition's ``offset``).
+        sidecar : bool
+            Write the metadata to the JSON beside the CSV (``X.json`` for ``X.csv``). False leaves
+            it to the caller, who puts the returned metadata in a JSON of its own at that path.
+
+        Returns
+        -------
+        dict
+            The metadata (:func:`drumstroke.formats.trajectory_csv.metadata`).
+
+        Raises
+        ------
+        ParameterError
+            Before writing anything, when the JSON beside the CSV is a file already there that
+            is not this CSV's metadata (:func:`drumstroke.formats.sidecar.sidecar_for`).
         """
+        side = sidecar_for(path) if sidecar else None
         t, theta, omega, acceleration = self.samples() if alpha else (*self._all, None)
         names, columns = trajectory_csv.stick_columns(self.sticks, theta, omega, acceleration)
-        comment = trajectory_csv.comment_line(self.model, self.name, self.rate)
-        if alpha:
-            comment += ", rad/s^2"
-        trajectory_csv.write_columns(path, ("t", *names), (t, *columns), comment=comment + (f"; {note}" if note else ""))
+        trajectory_csv.write_columns(path, ("t", *names), (t, *columns))
+        block = self.csv_metadata(path, alpha=alpha, metadata=metadata)
+        if side is not None:
+            write_sidecar(side, block)
+        return block
+
+    def csv_metadata(self, path, *, alpha=False, metadata=None):
+        """The metadata of this trajectory written as the CSV ``path`` (see :meth:`write_csv`), as a dict."""
+        return trajectory_csv.metadata(path, trajectory_csv.column_names(self.sticks, alpha=alpha), model=self.model,
+                                       name=self.name, rate=self.rate, sticks=self.sticks, extra=metadata)
 
     # --- the samples -------------------------------------------------------------------------------------------------
 

@@ -49,8 +49,11 @@ def add_sound_options(parser):
 
 
 def print_written(paths):
+    """``wrote PATH`` for each file; the JSON beside a CSV of the same run says it holds that CSV's metadata."""
+    described = {Path(p).with_suffix(".json"): Path(p) for p in paths if Path(p).suffix == ".csv"}
     for path in paths:
-        print(f"wrote {path}")
+        csv = described.get(Path(path))
+        print(f"wrote {path}" + (f" (with the metadata of {csv.name})" if csv else ""))
 
 
 def print_summary(stroke, *, rows=10):

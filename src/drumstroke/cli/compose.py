@@ -14,7 +14,7 @@ def add_compose(commands):
     comp.add_argument("--library", type=Path, required=True, metavar="DIR", help="a library folder ('library build')")
     comp.add_argument("--rate", type=float, metavar="HZ", help="control rate of the result (default: the library's)")
     comp.add_argument("--mapping", type=Path, metavar="FILE", help="MIDI note -> stroke mapping .toml (default: see README)")
-    comp.add_argument("--csv", type=Path, metavar="PATH", help="write t and theta, omega per stick as CSV")
+    comp.add_argument("--csv", type=Path, metavar="PATH", help="write t and theta, omega per stick as CSV; its metadata goes in the JSON beside it")
     comp.add_argument("--json", type=Path, metavar="PATH", help="write the notes, placements and impacts as JSON")
     comp.add_argument("--plot", type=Path, metavar="PATH", help="write a PNG of theta(t) per stick with the notes")
     add_sound_options(comp)

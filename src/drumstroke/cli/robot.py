@@ -143,19 +143,22 @@ def _validate(args):
 
 
 def _export(args):
-    from ..formats.trajectory_csv import read_stick, stated_model
+    from ..formats.sidecar import sidecar_path
+    from ..formats.trajectory_csv import read_stick
     from ..robot.export import export_csv, export_ros_json
     from ..robot.validate import validate_file
 
     config = _config(args.config)
     head, limits = config.plant.head, config.limits
     checked = validate_file(args.trajectory, stick=args.stick, head=head, limits=limits)  # the file's rate too
-    model = stated_model(read_stick(args.trajectory, stick=args.stick)[4])
+    model = read_stick(args.trajectory, stick=args.stick)[4]["model"]
     name = args.trajectory.stem + (f"-{args.stick}" if args.stick else "")
     write = export_csv if args.format == "csv" else export_ros_json
     write(args.out, checked.t, checked.theta, checked.omega, rate=checked.rate, model=model, name=name, head=head,
           limits=limits)
     print(f"wrote {args.out} ({args.format}): {_peaks(checked)}")
+    if args.format == "csv":
+        print(f"wrote {sidecar_path(args.out)} (with the metadata of {args.out.name})")
 
 
 def _peaks(checked):

@@ -21,7 +21,7 @@ def add_simulate(commands):
                      help=f"sampling rate of --csv in Hz (default {DEFAULT_RATE:g})")
     sim.add_argument("--model", choices=MODELS, help="override the recipe's model")
     sim.add_argument("--json", type=Path, metavar="PATH", help="write recipe, impacts and rests as JSON")
-    sim.add_argument("--csv", type=Path, metavar="PATH", help="write t,theta,omega at --rate as CSV")
+    sim.add_argument("--csv", type=Path, metavar="PATH", help="write t,theta,omega at --rate as CSV; its model, rate and units go in the JSON beside it")
     sim.add_argument("--plot", type=Path, metavar="PATH", help="write a PNG of theta(t), impacts and a(t)")
     add_sound_options(sim)
     steps = sim.add_argument_group("post-processing, applied in the order given")
@@ -98,23 +98,28 @@ def _figures(args):
 
 
 def _sweep(args):
+    from ..formats.sidecar import sidecar_for
     from ..formats.table import check_table_path, write_table
-    from ..sweep import Grid, run_sweep
+    from ..sweep import Grid, run_sweep, table_metadata
 
     grid = Grid.from_toml(args.grid)
     if args.audible_db is not None:
         grid = dataclasses.replace(grid, audible_db=args.audible_db)
     check_table_path(args.out, name="--out")  # before the work, not after it
+    side = sidecar_for(args.out, name="--out") if args.out.suffix == ".csv" else None
     where = f"on {args.scheduler}" if args.scheduler else "here"
     print(f"sweep {args.grid}: {len(grid)} points ({grid.mode}), {where}")
     started = time.monotonic()
     bar = Bar("sweeping")
     table = run_sweep(grid, scheduler=args.scheduler, progress=bar.update)
     bar.close()
-    write_table(table, args.out)
+    units, fields = table_metadata(grid, table)
+    write_table(table, args.out, units=units, fields=fields)
     failed = int(sum(1 for error in table["error"] if error))
     note = f"; {failed} could not be simulated (see the error column)" if failed else ""
     print(f"wrote {args.out}: {len(table['point'])} rows in {time.monotonic() - started:.1f} s{note}")
+    if side:
+        print(f"wrote {side} (with the metadata of {args.out.name})")
 
 
 class _Step(argparse.Action):

@@ -71,7 +71,7 @@ def make_stimuli(library, out, *, strokes=None, progress=None):
     Stimuli
         The WAV files with their onset counts, and the config, written atomically last.
     """
-    from .._atomic import write_atomic
+    from ..formats.toml import write_toml
     from ..palette.library import Library, load_library
     from ..render.audio import render_wav
     from ..robot.controllers import controller
@@ -81,16 +81,15 @@ def make_stimuli(library, out, *, strokes=None, progress=None):
     out = Path(out)
     names = list(library) if strokes is None else list(strokes)
     entries = [library[name] for name in names]
-    lines = ['title = "Robot or human?"', 'admin_token = "change-this-token"', "seed = 1", ""]
-    made = []
+    pairs, made = [], []
     for i, (name, entry) in enumerate(zip(names, entries)):
         played = track(reference(entry.trajectory, library.rate), controller(CONTROLLER))
         wav = out / f"robot-{name}.wav"
         render_wav(wav, played.onsets, played.onset_speed)
         made.append(Stimulus(name, wav, len(played.onsets)))
-        lines += ["[[pair]]", f'id = "{name}"', f'human = "human-{name}.wav"   # record this', f'robot = "robot-{name}.wav"', ""]
+        pairs.append({"id": name, "human": f"human-{name}.wav", "robot": wav.name})
         if progress:
             progress((i + 1) / len(names))
     config = out / CONFIG_NAME
-    write_atomic(config, "\n".join(lines))
+    write_toml(config, {"title": "Robot or human?", "admin_token": "change-this-token", "seed": 1, "pair": pairs})
     return Stimuli(tuple(made), config)

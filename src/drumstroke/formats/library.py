@@ -4,10 +4,14 @@ A library folder holds ``manifest.json`` and one folder of stroke files. Per str
 three files:
 
 - ``NAME.toml``: the recipe it was simulated from (a recipe file);
-- ``NAME.csv``: the trajectory ``t,theta,omega`` (s, rad, rad/s) at the library's rate, after
-  one ``#`` comment line naming the model (:mod:`.trajectory_csv`);
-- ``NAME.json``: its impacts (time s, ω before and after rad/s, tip speed m/s, level dB) and
-  how it was made (the transforms, in order).
+- ``NAME.csv``: the trajectory ``t,theta,omega`` (s, rad, rad/s) at the library's rate, header
+  first (:mod:`.trajectory_csv`);
+- ``NAME.json``: its impacts (time s, ω before and after rad/s, tip speed m/s, level dB), how
+  it was made (the transforms, in order) and, as the JSON beside ``NAME.csv``, that CSV's
+  metadata under ``"csv"`` (:mod:`.sidecar`).
+
+Libraries of format version 1 (older drumstroke) are read too: their ``NAME.csv`` has a ``#``
+comment line before the header and their ``NAME.json`` no ``"csv"`` block.
 
 The manifest lists the strokes with their category, description, sizes and each file's
 SHA-256. Writing stages a new stroke folder beside the old one (:class:`Staging`), then
@@ -36,7 +40,10 @@ from .json import json_text, read_json
 from .trajectory_csv import read_columns
 
 FORMAT = "drumstroke-library"
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2
+"""The version written: 2 since the CSV files start with their header (1 had a ``#`` comment line first)."""
+READ_VERSIONS = (1, 2)
+"""The versions read."""
 MANIFEST = "manifest.json"
 KINDS = ("recipe", "trajectory", "impacts")
 """The files of a stroke, by kind: NAME.toml, NAME.csv, NAME.json."""
@@ -138,9 +145,9 @@ def read_library(directory):
     manifest = read_json(manifest_path, "library manifest")
     if not isinstance(manifest, dict) or manifest.get("format") != FORMAT:
         raise ParameterError(f"library manifest {str(manifest_path)!r} is not a drumstroke library manifest")
-    if manifest.get("version") != FORMAT_VERSION:
+    if manifest.get("version") not in READ_VERSIONS or isinstance(manifest.get("version"), bool):
         raise ParameterError(f"library manifest {str(manifest_path)!r} has version {manifest.get('version')!r}; "
-                             f"this drumstroke reads version {FORMAT_VERSION}")
+                             f"this drumstroke reads the versions {', '.join(map(str, READ_VERSIONS))}")
     try:
         rate = check_real("rate", manifest.get("rate"), low=1.0, high=1e5, unit="Hz")
         folder = directory / _safe_name(manifest.get("folder"), "folder")

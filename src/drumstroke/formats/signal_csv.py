@@ -50,11 +50,11 @@ def read_signal(path, what):
 
 
 def write_signal(path, t, values, *, header="t,value"):
-    """Write a signal as CSV: the ``header`` line, then one ``t,value`` row per sample, at full precision."""
+    """Write a signal as CSV: the ``header`` line, then one ``t,value`` row per sample, at full precision (no -0.0)."""
     buffer = io.StringIO()
     buffer.write(header + "\n")
     for ti, vi in zip(t, values):
-        buffer.write(f"{float(ti)!r},{float(vi)!r}\n")
+        buffer.write(f"{float(ti) + 0.0!r},{float(vi) + 0.0!r}\n")
     write_atomic(path, buffer.getvalue())
 
 

@@ -1,17 +1,21 @@
 """Tables of results, both ways where it makes sense: a sweep's columns as CSV (a header line, then rows) or parquet.
 
-CSV cells are numbers at full precision (``repr``), text as is, and NaN as an empty cell;
-parquet keeps the columns' types (needs pyarrow, the ``sweep`` extra) and records the
-drumstroke version in its metadata. Writes are atomic.
+CSV cells are numbers at full precision (``repr``, never ``-0.0``), text as is, and NaN as an
+empty cell; the JSON beside a CSV (:mod:`.sidecar`) holds the drumstroke version, the columns'
+units and what else the writer says of the table. Parquet keeps the columns' types (needs
+pyarrow, the ``sweep`` extra) and records the drumstroke version in its metadata. Writes are
+atomic.
 
 Examples
 --------
->>> import pathlib, tempfile
+>>> import json, pathlib, tempfile
 >>> import numpy as np
 >>> path = pathlib.Path(tempfile.mkdtemp()) / "sweep.csv"
->>> write_table({"point": np.arange(2), "rate_hz": np.array([1.5, np.nan])}, path)
+>>> write_table({"point": np.arange(2), "rate_hz": np.array([1.5, np.nan])}, path, units={"rate_hz": "Hz"})
 >>> read_table(path)
 {'point': ['0', '1'], 'rate_hz': ['1.5', '']}
+>>> json.loads(path.with_suffix(".json").read_text())["csv"]["units"]
+{'point': '', 'rate_hz': 'Hz'}
 """
 
 import csv
@@ -24,6 +28,7 @@ import numpy as np
 from .._atomic import write_atomic
 from .._version import __version__
 from ..errors import ParameterError
+from .sidecar import describe, sidecar_for, write_sidecar
 
 
 def check_table_path(path, *, name="out"):
@@ -34,16 +39,35 @@ def check_table_path(path, *, name="out"):
     return path
 
 
-def write_table(table, path):
-    """Write a sweep's columns to ``path``: ``.csv`` or ``.parquet`` (needs pyarrow), atomically."""
+def write_table(table, path, *, units=None, fields=None):
+    """Write a sweep's columns to ``path``: ``.csv`` or ``.parquet`` (needs pyarrow), atomically.
+
+    Parameters
+    ----------
+    table : dict of str to ndarray
+        The columns by name, in order, of one length.
+    path : str or Path
+    units : dict of str to str, or None
+        A CSV's columns' units, for the JSON beside it ("" for those not named).
+    fields : dict or None
+        What else that JSON says of the table.
+
+    Raises
+    ------
+    ParameterError
+        Before writing anything, when the JSON beside a CSV is a file already there that is not
+        its metadata (:func:`.sidecar.sidecar_for`).
+    """
     path = check_table_path(path)
     if path.suffix == ".csv":
+        side = sidecar_for(path, name="path")
         buffer = io.StringIO()
         writer = csv.writer(buffer, lineterminator="\n")
         writer.writerow(table)
         for row in zip(*table.values()):
             writer.writerow(_cell(value) for value in row)
         write_atomic(path, buffer.getvalue())
+        write_sidecar(side, describe(path, list(table), units or {}, fields or {}))
     else:
         try:
             import pyarrow as pa
@@ -72,5 +96,5 @@ def read_table(path):
 
 def _cell(value):
     if isinstance(value, (float, np.floating)):
-        return "" if math.isnan(value) else repr(float(value))
+        return "" if math.isnan(value) else repr(float(value) + 0.0)  # + 0.0: never "-0.0"
     return value

@@ -1,14 +1,21 @@
 """TOML files, both ways: recipes, palettes, sweeps, note mappings, robot and listening-test configs.
 
-Reading is the standard library's ``tomllib``; writing covers what drumstroke writes — top-level
-scalars, then one table per mapping, with arrays and inline tables inside — so a written file reads
-back to the same data.
+Reading is the standard library's ``tomllib``; writing is ``tomli-w``'s, so any TOML reader
+reads a written file back to the same data: floats at full precision, nested tables, arrays
+of arrays or of tables, strings with any character. Numpy numbers and arrays are written as
+the numbers and lists they hold.
 
 Examples
 --------
 >>> import pathlib, tempfile
 >>> path = pathlib.Path(tempfile.mkdtemp()) / "r.toml"
 >>> write_toml(path, {"cor": 0.86, "force": {"kind": "constant", "value": 100.0}})
+>>> print(path.read_text(), end="")
+cor = 0.86
+<BLANKLINE>
+[force]
+kind = "constant"
+value = 100.0
 >>> read_toml(path, "recipe")
 {'cor': 0.86, 'force': {'kind': 'constant', 'value': 100.0}}
 """
@@ -32,29 +39,23 @@ def read_toml(path, what):
 
 
 def write_toml(path, data):
-    """Write ``data`` (a dict of scalars, lists and one level of tables) as TOML to ``path``, atomically."""
+    """Write ``data`` (a dict of scalars, lists and tables) as TOML to ``path``, atomically."""
     write_atomic(path, toml_text(data))
 
 
 def toml_text(data):
-    """TOML text for ``data``: top-level scalars, then one table per mapping."""
-    lines = [f"{key} = {_value(value)}" for key, value in data.items() if not isinstance(value, dict)]
-    for key, value in data.items():
-        if isinstance(value, dict):
-            lines.append(f"\n[{key}]")
-            lines.extend(f"{k} = {_value(v)}" for k, v in value.items())
-    return "\n".join(lines) + "\n"
+    """TOML text for ``data`` (a dict): its scalars first, then a table per mapping, nested as deep as it goes."""
+    import tomli_w  # only writers need it
+
+    return tomli_w.dumps(_plain(data))
 
 
-def _value(value):
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, (int, float)):
-        return repr(float(value))
-    if isinstance(value, str):
-        return '"' + value.replace("\\", "\\\\").replace('"', '\\"') + '"'
-    if isinstance(value, (list, tuple)):
-        return "[" + ", ".join(_value(v) for v in value) + "]"
+def _plain(value):
+    """``value`` with numpy numbers and arrays as Python numbers and lists, and tuples as lists (tomli-w's types)."""
     if isinstance(value, dict):
-        return "{" + ", ".join(f"{k} = {_value(v)}" for k, v in value.items()) + "}"
-    raise TypeError(f"cannot write {value!r} as TOML")
+        return {key: _plain(item) for key, item in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(item) for item in value]
+    if hasattr(value, "tolist"):  # numpy arrays and scalars
+        return _plain(value.tolist())
+    return value

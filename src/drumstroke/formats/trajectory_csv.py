@@ -1,16 +1,22 @@
 """Trajectory CSV, both ways: the samples of one stick or several at a control rate.
 
-A file is one ``#`` comment line (the drumstroke version, the model, the name, the rate and
-the units), the header, then one row per sample at full precision (17 significant digits)::
+A file starts with its header, then one row per sample at full precision (17 significant
+digits, never ``-0``), so any CSV reader reads it as it is (``pandas.read_csv(path)``)::
 
-    # drumstroke 0.1.0; model=paper; stroke=free-bounce; rate=1000 Hz; units s, rad, rad/s
     t,theta,omega
-    0,2.2204460492503131e-16,0
+    0,0,0
+    0.001,-5.1470588231516956e-06,-0.010294117647031554
     ...
 
 One stick has the columns ``t,theta,omega`` (an export adds ``alpha``, rad/s²); several have
-``t`` then ``theta_<stick>,omega_<stick>`` for each stick in turn. numpy's ``loadtxt`` and
-``genfromtxt`` skip the comment line by default; pandas needs ``comment="#"``.
+``t`` then ``theta_<stick>,omega_<stick>`` for each stick in turn. What the header cannot say
+— the drumstroke version, the model, the name, the rate, the units, the sticks — is in the
+JSON beside the file (:mod:`.sidecar`; :func:`metadata` makes it).
+
+Reading accepts files of older drumstroke versions too, whose first line was a ``#`` comment
+(``# drumstroke 0.1.0; model=paper; stroke=free-bounce; rate=1000 Hz; units s, rad, rad/s``).
+:func:`file_metadata` takes the model and the rate from the JSON beside the file, else from
+such a comment, else the rate from the ``t`` column.
 
 Examples
 --------
@@ -18,11 +24,15 @@ Examples
 >>> import numpy as np
 >>> path = pathlib.Path(tempfile.mkdtemp()) / "move.csv"
 >>> t = np.arange(3) / 1000.0
->>> write_columns(path, ("t", "theta", "omega"), (t, 0.1 * t, np.full(3, 0.1)),
-...               comment=comment_line("paper", "move", 1000.0))
+>>> write_columns(path, ("t", "theta", "omega"), (t, -0.1 * t, np.full(3, -0.1)))
+>>> print(path.read_text(), end="")
+t,theta,omega
+0,0,-0.10000000000000001
+0.001,-0.0001,-0.10000000000000001
+0.002,-0.00020000000000000001,-0.10000000000000001
 >>> comment, columns = read_columns(path)
->>> stated_rate(comment), list(columns), bool(np.array_equal(columns["t"], t))
-(1000.0, ['t', 'theta', 'omega'], True)
+>>> file_metadata(path, comment, columns)
+{'model': 'unknown', 'rate': 1000.0, 'rate_from': 'its t column'}
 """
 
 import io
@@ -32,30 +42,56 @@ from pathlib import Path
 import numpy as np
 
 from .._atomic import write_atomic
-from .._version import __version__
 from ..errors import ParameterError
+from .sidecar import describe, read_sidecar, sidecar_path
 
-UNITS = "units s, rad, rad/s"
+UNITS = {"t": "s", "theta": "rad", "omega": "rad/s", "alpha": "rad/s^2"}
+"""The unit of each kind of column (a several-stick file's ``theta_<stick>`` is a ``theta``)."""
 
 _RATE = re.compile(r"(?:^|; )rate=([^ ;]+) Hz(?:;|$)")
 
 
-def comment_line(model, name, rate):
-    """The comment line of a trajectory CSV: the version, the model, the name and the rate (Hz)."""
-    return f"drumstroke {__version__}; model={model}; stroke={name or 'custom'}; rate={rate:g} Hz; {UNITS}"
+def column_names(sticks, *, alpha=False):
+    """The header of a trajectory of ``sticks``: ``t,theta,omega[,alpha]``, or per stick ``theta_<stick>``, …"""
+    kinds = ("theta", "omega", "alpha") if alpha else ("theta", "omega")
+    if len(sticks) == 1:
+        return ["t", *kinds]
+    return ["t", *(f"{kind}_{stick}" for stick in sticks for kind in kinds)]
 
 
-def columns_text(comment, names, columns):
-    """CSV text: one ``#`` comment line, a header of ``names``, then the columns at full precision."""
+def metadata(path, names, *, model, name, rate, sticks, extra=None):
+    """The metadata of the trajectory CSV at ``path`` with the header ``names``, for the JSON beside it.
+
+    Parameters
+    ----------
+    path : str or Path
+    names : sequence of str
+        The header (:func:`column_names`).
+    model, name : str
+        What made it and what it is called.
+    rate : float
+        Samples per second (Hz).
+    sticks : sequence of str
+    extra : dict or None
+        More fields, written after these (a composition's ``offset``, an export's ``note``).
+    """
+    units = {column: UNITS[column.split("_", 1)[0]] for column in names}
+    fields = {"model": model, "name": name or "custom", "rate": float(rate), "sticks": list(sticks), **(extra or {})}
+    return describe(path, names, units, fields)
+
+
+def columns_text(names, columns):
+    """CSV text: the header of ``names``, then the columns (1-D arrays of one length) at full precision."""
     buffer = io.StringIO()
-    buffer.write(f"# {comment}\n")
-    np.savetxt(buffer, np.column_stack(columns), delimiter=",", header=",".join(names), comments="", fmt="%.17g")
+    # Adding 0 turns -0.0 into 0.0, which other tools would otherwise read as a distinct "-0".
+    np.savetxt(buffer, np.column_stack(columns) + 0.0, delimiter=",", header=",".join(names), comments="",
+               fmt="%.17g")
     return buffer.getvalue()
 
 
-def write_columns(path, names, columns, *, comment):
-    """Write columns (1-D arrays of one length) under ``names`` with the ``comment`` line, atomically."""
-    write_atomic(path, columns_text(comment, names, columns))
+def write_columns(path, names, columns):
+    """Write columns (1-D arrays of one length) under the header ``names``, atomically."""
+    write_atomic(path, columns_text(names, columns))
 
 
 def stick_columns(sticks, theta, omega, alpha=None):
@@ -63,21 +99,17 @@ def stick_columns(sticks, theta, omega, alpha=None):
 
     ``theta``, ``omega``, ``alpha`` are [shape=(n,)] for one stick, (n, sticks) for several.
     """
+    names = column_names(sticks, alpha=alpha is not None)[1:]
+    arrays = [a for a in (theta, omega, alpha) if a is not None]
     if len(sticks) == 1:
-        names, columns = ["theta", "omega"], [np.reshape(theta, -1), np.reshape(omega, -1)]
-        if alpha is not None:
-            names.append("alpha")
-            columns.append(np.reshape(alpha, -1))
-        return names, columns
-    names, columns = [], []
-    for j, stick in enumerate(sticks):
-        names += [f"theta_{stick}", f"omega_{stick}"] + ([f"alpha_{stick}"] if alpha is not None else [])
-        columns += [theta[:, j], omega[:, j]] + ([alpha[:, j]] if alpha is not None else [])
-    return names, columns
+        return names, [np.reshape(a, -1) for a in arrays]
+    return names, [a[:, j] for j in range(len(sticks)) for a in arrays]
 
 
 def read_columns(path, *, what="trajectory file"):
-    """Read a CSV as drumstroke writes them: its ``#`` comment, column names and columns (all finite numbers).
+    """Read a trajectory CSV: its old ``#`` comment ("" if it has none), column names and columns (finite numbers).
+
+    The header comes first; a file of an older drumstroke has one ``#`` comment line before it.
 
     Returns
     -------
@@ -91,12 +123,16 @@ def read_columns(path, *, what="trajectory file"):
     except (OSError, UnicodeDecodeError) as error:
         reason = error.strerror if isinstance(error, OSError) else "not a UTF-8 text file"
         raise ParameterError(f"{where} cannot be read: {reason}") from None
-    lines = text.split("\n", 2)
-    if len(lines) < 3 or not lines[0].startswith("#") or not lines[1].startswith("t,"):
-        raise ParameterError(f"{where} is corrupt: it must start with a # line and a header such as t,theta,omega")
-    names = lines[1].strip().split(",")
+    comment = ""
+    if text.startswith("#"):
+        first, _, text = text.partition("\n")
+        comment = first[1:].strip()
+    header, _, rows = text.partition("\n")
+    if not header.startswith("t,") or not rows:
+        raise ParameterError(f"{where} is corrupt: it must start with a header such as t,theta,omega, then rows")
+    names = header.strip().split(",")
     try:
-        data = np.loadtxt(io.StringIO(lines[2]), delimiter=",", ndmin=2)
+        data = np.loadtxt(io.StringIO(rows), delimiter=",", ndmin=2)
     except ValueError as error:
         raise ParameterError(f"{where} is corrupt: {error}") from None
     if data.shape[1] != len(names) or len(data) < 2:
@@ -105,7 +141,49 @@ def read_columns(path, *, what="trajectory file"):
     finite = np.isfinite(data).all(axis=1)
     if not finite.all():
         raise ParameterError(f"{where} is corrupt: row {int(np.flatnonzero(~finite)[0])} is not finite")
-    return lines[0][1:].strip(), dict(zip(names, data.T))
+    return comment, dict(zip(names, data.T))
+
+
+def file_metadata(path, comment, columns):
+    """The model and rate of a trajectory CSV read by :func:`read_columns`, and where the rate came from.
+
+    From the JSON beside the file when it has the file's metadata; else from an old ``#``
+    comment line; else the model is "unknown" and the rate (Hz) is the one of the ``t``
+    column's mean step, (n − 1)/(t[-1] − t[0]) (None when that is not positive).
+
+    Returns
+    -------
+    dict
+        ``model`` (str), ``rate`` (float or None), ``rate_from`` (words: which of the three).
+
+    Raises
+    ------
+    ParameterError
+        When the JSON beside the file describes other columns, or a rate or model that is not one.
+    """
+    block = read_sidecar(path)
+    if block is not None:
+        return _from_sidecar(block, sidecar_path(path), columns)
+    rate = _stated_rate(comment)
+    if rate is not None:
+        return {"model": _stated_model(comment), "rate": rate, "rate_from": "comment line"}
+    t = columns["t"]
+    span = float(t[-1] - t[0])
+    return {"model": _stated_model(comment), "rate": (len(t) - 1) / span if span > 0.0 else None,
+            "rate_from": "its t column"}
+
+
+def _from_sidecar(block, side, columns):
+    where = f"metadata {str(side)!r}"
+    if block.get("columns") != list(columns):
+        raise ParameterError(f"{where} describes the columns {block.get('columns')!r}, but the CSV beside it has "
+                             f"{list(columns)!r}; remove or rewrite the JSON")
+    rate, model = block.get("rate"), block.get("model")
+    if isinstance(rate, bool) or not isinstance(rate, (int, float)) or not 0.0 < rate <= 1e6:
+        raise ParameterError(f"{where}: csv.rate must be a number in (0, 1e6] Hz, got {rate!r}")
+    if not isinstance(model, str):
+        raise ParameterError(f"{where}: csv.model must be text, got {model!r}")
+    return {"model": model, "rate": float(rate), "rate_from": where}
 
 
 def sticks_in(columns):
@@ -114,12 +192,12 @@ def sticks_in(columns):
 
 
 def read_stick(path, *, stick=None):
-    """t (s), θ (rad), ω (rad/s), α (rad/s², or None) and the comment of one stick of a trajectory CSV.
+    """t (s), θ (rad), ω (rad/s), α (rad/s², or None) and the :func:`file_metadata` of one stick of a trajectory CSV.
 
     A file with several sticks has ``theta_<stick>`` columns: name the ``stick`` to read.
     """
     comment, columns = read_columns(path)
-    return (*stick_of(columns, stick, path), comment)
+    return (*stick_of(columns, stick, path), file_metadata(path, comment, columns))
 
 
 def stick_of(columns, stick, path):
@@ -138,14 +216,14 @@ def stick_of(columns, stick, path):
     return columns["t"], columns[keys[0]], columns[keys[1]], columns.get(keys[2])
 
 
-def stated_model(comment):
-    """The ``model=`` of a comment line, or "unknown"."""
+def _stated_model(comment):
+    """The ``model=`` of an old comment line, or "unknown"."""
     return next((part.split("=", 1)[1] for part in comment.split("; ") if part.startswith("model=")), "unknown")
 
 
-def stated_rate(comment):
-    """The ``rate=… Hz`` of a comment line (Hz), or None when it states none."""
-    match = _RATE.search(comment.lstrip("#").strip())
+def _stated_rate(comment):
+    """The ``rate=… Hz`` of an old comment line (Hz), or None when it states none."""
+    match = _RATE.search(comment)
     if match is None:
         return None
     try:

@@ -29,6 +29,7 @@ from ..errors import ParameterError
 from ..formats import trajectory_csv
 from ..formats.json import json_text
 from ..formats.library import Staging, read_library
+from ..formats.sidecar import KEY
 from ..formats.toml import read_toml, toml_text
 from ..presets import PRESETS
 from ..recipe import Recipe
@@ -216,10 +217,10 @@ def _write_stroke(staging, entry, trajectory, rate):
     """Stage one stroke's files (recipe TOML, trajectory CSV at ``rate``, impacts JSON) and its manifest record."""
     trajectory = trajectory.sample(rate)
     impacts = trajectory.impacts
+    csv = staging.folder / f"{entry.name}.csv"  # its metadata goes in NAME.json, the impacts file beside it
     texts = {"recipe": toml_text(entry.recipe.toml_data(staging.folder)),
-             "trajectory": trajectory_csv.columns_text(trajectory_csv.comment_line(trajectory.model, entry.name, rate),
-                                                       ("t", "theta", "omega"), trajectory.columns()),
-             "impacts": json_text(trajectory.to_dict() | {"rate": rate})}
+             "trajectory": trajectory_csv.columns_text(("t", "theta", "omega"), trajectory.columns()),
+             "impacts": json_text(trajectory.to_dict() | {"rate": rate, KEY: trajectory.csv_metadata(csv)})}
     record = {
         "name": entry.name,
         "category": entry.category,

@@ -7,6 +7,7 @@ it prints nothing. Plots need matplotlib, WAV files soundfile and MIDI files mid
 
 from pathlib import Path
 
+from ..formats.sidecar import sidecar_for
 from ..trajectory import DEFAULT_RATE
 from . import data
 
@@ -21,7 +22,8 @@ def write_stroke_outputs(stroke, *, json=None, csv=None, plot=None, wav=None, mi
     json : str, Path or None
         The recipe (if any), impacts and rests as JSON.
     csv : str, Path or None
-        t (s), θ (rad), ω (rad/s) sampled at ``rate``.
+        t (s), θ (rad), ω (rad/s) sampled at ``rate``, header first; its metadata goes into ``json``
+        when that is the JSON beside it (``X.json`` for ``X.csv``), else into a JSON of its own there.
     plot : str, Path or None
         A PNG of θ(t) with the impacts (and a(t) for a Stroke).
     wav : str, Path or None
@@ -38,15 +40,22 @@ def write_stroke_outputs(stroke, *, json=None, csv=None, plot=None, wav=None, mi
     Returns
     -------
     list of Path
-        The files written: json, csv, plot, wav, midi, those given.
+        The files written: json, csv, the JSON beside csv if it is not json, plot, wav, midi, those given.
+
+    Raises
+    ------
+    ParameterError
+        Before writing anything, when the JSON beside ``csv`` is another of the files or a file
+        already there that is not the CSV's metadata.
     """
+    side = sidecar_for(csv, json=json, others={"plot": plot, "wav": wav, "midi": midi}) if csv else None
+    block = data.write_csv(stroke, csv, rate=rate, sidecar=side is not None) if csv else None
     written = []
     if json:
-        data.write_json(stroke, json)
+        data.write_json(stroke, json, csv=block if side is None else None)
         written.append(Path(json))
     if csv:
-        data.write_csv(stroke, csv, rate=rate)
-        written.append(Path(csv))
+        written += [Path(csv), *([side] if side else [])]
     if plot:
         from .plot import save_stroke_plot
 
@@ -67,7 +76,8 @@ def write_composition_outputs(piece, *, title, csv=None, json=None, plot=None, w
     title : str
         Names the plot and the MIDI track (e.g. the score file's stem).
     csv : str, Path or None
-        t (s) and θ (rad), ω (rad/s) per stick at the composition's rate.
+        t (s) and θ (rad), ω (rad/s) per stick at the composition's rate, header first; its metadata
+        goes into ``json`` when that is the JSON beside it, else into a JSON of its own there.
     json : str, Path or None
         The notes, their placements and the impacts.
     plot : str, Path or None
@@ -80,14 +90,22 @@ def write_composition_outputs(piece, *, title, csv=None, json=None, plot=None, w
     Returns
     -------
     list of Path
-        The files written: csv, json, plot, wav, midi, those given.
+        The files written: csv, the JSON beside it if it is not json, json, plot, wav, midi, those given.
+
+    Raises
+    ------
+    ParameterError
+        Before writing anything, when the JSON beside ``csv`` is another of the files or a file
+        already there that is not the CSV's metadata.
     """
+    side = sidecar_for(csv, json=json, others={"plot": plot, "wav": wav, "midi": midi}) if csv else None
     written = []
+    block = None
     if csv:
-        data.write_composition_csv(piece, csv)
-        written.append(Path(csv))
+        block = data.write_composition_csv(piece, csv, sidecar=side is not None)
+        written += [Path(csv), *([side] if side else [])]
     if json:
-        data.write_composition_json(piece, json)
+        data.write_composition_json(piece, json, csv=block if side is None else None)
         written.append(Path(json))
     if plot:
         from .plot import composition_figure, save_figure

@@ -37,8 +37,9 @@ from .._atomic import write_atomic
 from .._version import __version__
 from ..errors import ParameterError, TrajectoryError
 from ..formats.ros_json import read_ros_json, seconds_to_duration, write_joint_trajectory
+from ..formats.sidecar import sidecar_for, write_sidecar
 from ..formats.trajectory_csv import columns_text as csv_text
-from ..formats.trajectory_csv import comment_line as csv_header
+from ..formats.trajectory_csv import metadata as csv_metadata
 from ..trajectory import Trajectory
 from .validate import validate
 
@@ -49,9 +50,10 @@ def export_csv(path, trajectory, theta=None, omega=None, *, rate=None, model=Non
                start=None, stick=None):
     """Validate a trajectory and write it as CSV ``t,theta,omega,alpha`` (s, rad, rad/s, rad/s²).
 
-    One ``#`` comment line comes first: the drumstroke version, the model, the
-    name, the rate and the units. :func:`~drumstroke.robot.validate.validate_file`
-    and :meth:`drumstroke.trajectory.Trajectory.read_csv` read it back.
+    The header comes first; the drumstroke version, the model, the name, the rate and the
+    units are in the JSON beside it (``X.json`` for ``X.csv``, see :mod:`drumstroke.formats.sidecar`).
+    :func:`~drumstroke.robot.validate.validate_file` and
+    :meth:`drumstroke.trajectory.Trajectory.read_csv` read it back.
 
     Parameters
     ----------
@@ -74,11 +76,12 @@ def export_csv(path, trajectory, theta=None, omega=None, *, rate=None, model=Non
     """
     model, name = _labels(trajectory, model, name, stick)
     checked = validate(trajectory, theta, omega, rate=rate, head=head, limits=limits, start=start, stick=stick)
-    alpha = np.append(checked.alpha, 0.0)
-    comment = (f"{csv_header(model, name, checked.rate)}, rad/s^2; alpha is the forward difference "
-               "(omega[k+1] - omega[k])*rate, 0 at the last sample")
-    write_atomic(path, csv_text(comment, ("t", "theta", "omega", "alpha"),
-                                (checked.t, checked.theta, checked.omega, alpha)))
+    side = sidecar_for(path, name="path")
+    names = ("t", "theta", "omega", "alpha")
+    write_atomic(path, csv_text(names, (checked.t, checked.theta, checked.omega, np.append(checked.alpha, 0.0))))
+    write_sidecar(side, csv_metadata(path, names, model=model, name=name, rate=checked.rate, sticks=(stick or "stick",),
+                                     extra={"note": "alpha is the forward difference (omega[k+1] - omega[k])*rate, "
+                                                    "0 at the last sample"}))
     return checked
 
 

@@ -40,7 +40,7 @@ import numpy as np
 from .._checks import as_vector, check_keys, check_real
 from ..errors import ParameterError, TrajectoryError
 from ..formats.toml import read_toml
-from ..formats.trajectory_csv import read_stick, stated_rate
+from ..formats.trajectory_csv import read_stick
 from ..palette.motion import Limits
 from ..trajectory import DEFAULT_RATE, THETA_TOP, Trajectory, check_grid
 
@@ -197,7 +197,8 @@ def validate_file(path, *, stick=None, rate=None, head=None, limits=None, start=
         Which stick of a composition with several (its column suffix).
     rate : float or None
         The control rate (Hz); default the rate of the first time step. Either
-        way it must agree with the file's ``rate=… Hz`` comment, when it has one.
+        way it must agree with the rate the file states, when it states one (in
+        the JSON beside it, or in the comment line of an older drumstroke's file).
     head, limits, start
         As for :func:`validate`.
 
@@ -205,9 +206,9 @@ def validate_file(path, *, stick=None, rate=None, head=None, limits=None, start=
     -------
     Checked
     """
-    t, theta, omega, _, comment = read_stick(path, stick=stick)
+    t, theta, omega, _, info = read_stick(path, stick=stick)
     where = f"trajectory file {str(path)!r}"
-    stated = stated_rate(comment)
+    stated = info["rate"] if info["rate_from"] != "its t column" else None
     if rate is not None:
         rate = check_real("rate", rate, low=0.0, high=1e6, low_open=True, unit="Hz")
     elif t[1] > t[0]:
@@ -217,7 +218,7 @@ def validate_file(path, *, stick=None, rate=None, head=None, limits=None, start=
                               f"({float(t[0])!r} s); times must increase strictly")
     if stated is not None and abs(rate - stated) > 1e-6 * stated:
         raise TrajectoryError(f"{where}: rate {rate:.9g} Hz (its time step is {t[1] - t[0]:.9g} s) disagrees with "
-                              f"its comment's rate={stated:g} Hz")
+                              f"the rate {stated:g} Hz of its {info['rate_from']}")
     try:
         return validate(t, theta, omega, rate=stated if stated is not None else rate, head=head, limits=limits,
                         start=start)

@@ -8,15 +8,17 @@ TAYLOR    a step of the Taylor integrator: its start time and polynomial.
 
 Evaluating an arc at any time is exact to round-off, so a trajectory sampled at
 any rate is exact at its sample times, never interpolated between solver steps.
+At its start time an arc gives the state it was started from, exactly: the
+recipe's θ₀ and ω₀ at t = 0, θ_max and the launch speed after an impact.
 """
 
 from dataclasses import dataclass
 
 import numpy as np
 
-from .constants import ELLIPTIC, REST, TAYLOR, TAYLOR_ORDER
+from .constants import ARC_COLUMNS, ELLIPTIC, REST, TAYLOR, TAYLOR_ORDER
 
-__all__ = ["ELLIPTIC", "REST", "TAYLOR", "TAYLOR_ORDER", "Arcs"]
+__all__ = ["ARC_COLUMNS", "ELLIPTIC", "REST", "TAYLOR", "TAYLOR_ORDER", "Arcs"]
 
 
 @dataclass(frozen=True)
@@ -25,10 +27,11 @@ class Arcs:
 
     Attributes
     ----------
-    table : ndarray [shape=(n, 5)]
+    table : ndarray [shape=(n, ARC_COLUMNS)]
         One row per arc: its start time (s), non-decreasing from 0; its kind;
         then for ELLIPTIC the apex time (s), C (s⁻²) and m; for TAYLOR the row
-        of its polynomial in ``taylor``.
+        of its polynomial in ``taylor``; last the state it starts from, θ (rad)
+        and ω (rad/s).
     taylor : ndarray [shape=(n_taylor, TAYLOR_ORDER + 2)]
         Step start time (s), then the coefficients of θ.
     theta_max : float

@@ -10,6 +10,9 @@ import math
 REST, ELLIPTIC, TAYLOR = 0, 1, 2
 """Kinds of arc: the stick at rest on the head; a closed-form flight; a Taylor step (see :mod:`.arcs`)."""
 
+ARC_COLUMNS = 7
+"""Columns of an arc's row: start, kind, three of the kind's numbers, and the state it starts from (see :mod:`.arcs`)."""
+
 TAYLOR_ORDER = 24
 """Degree of the Taylor arcs' polynomials (the integrator's order)."""
 

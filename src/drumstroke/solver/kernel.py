@@ -18,7 +18,7 @@ import numpy as np
 from numba import njit
 
 from . import elliptic
-from .constants import ELLIPTIC, NEARLY_VERTICAL, REST, TAYLOR, TAYLOR_ORDER
+from .constants import ARC_COLUMNS, ELLIPTIC, NEARLY_VERTICAL, REST, TAYLOR, TAYLOR_ORDER
 from .taylor import DONE as _TAYLOR_DONE
 from .taylor import SETTLE as _TAYLOR_SETTLE
 from .taylor import TOO_MANY as _TAYLOR_TOO_MANY
@@ -67,9 +67,11 @@ def _lift_off(ts, te, c0, c1, t):
 
 
 @njit(cache=True, inline="always")
-def _arc(arcs, n, start, kind, apex, c, m):
+def _arc(arcs, n, start, kind, apex, c, m, theta, omega):
+    """Row ``n`` of the arcs: one starting at ``start`` (s) from the state ``theta``, ``omega`` (rad, rad/s)."""
     arcs = grow(arcs, n)
     arcs[n, 0], arcs[n, 1], arcs[n, 2], arcs[n, 3], arcs[n, 4] = start, kind, apex, c, m
+    arcs[n, 5], arcs[n, 6] = theta, omega
     return arcs, n + 1
 
 
@@ -109,7 +111,7 @@ def run(edges, c0, c1, theta_max, cor, closed_forms, max_step, max_impacts, fini
     outcome : int
         DONE, VERTICAL or TOO_MANY (``extra`` is then the time it happened).
     extra : float
-    arcs : ndarray [shape=(n_arcs, 5)]
+    arcs : ndarray [shape=(n_arcs, ARC_COLUMNS)]
         Rows of :attr:`.arcs.Arcs.table`.
     steps : ndarray [shape=(n_steps, TAYLOR_ORDER + 2)]
         The Taylor arcs' start times and polynomials, in order.
@@ -124,7 +126,7 @@ def run(edges, c0, c1, theta_max, cor, closed_forms, max_step, max_impacts, fini
     resting, lifting = state[RESTING] != 0.0, state[LIFTING] != 0.0
     tail_c, rest_start = state[TAIL_C], state[REST_START]
     n_before, steps_before = int(state[IMPACTS]), int(state[STEPS])
-    arcs, n_arcs = np.empty((256, 5)), 0
+    arcs, n_arcs = np.empty((256, ARC_COLUMNS)), 0
     steps, n_steps = np.empty((4, TAYLOR_ORDER + 2)), 0
     impacts, n_impacts = np.empty((256, 2)), 0
     rests, n_rests = np.empty((4, 2)), 0
@@ -174,7 +176,7 @@ def run(edges, c0, c1, theta_max, cor, closed_forms, max_step, max_impacts, fini
                         to_apex, apex_to_head, speed = elliptic.to_head(sin_theta, omega, a, m, sin_head)
                         apex = t + to_apex
                         hit = apex + apex_to_head
-                        arcs, n_arcs = _arc(arcs, n_arcs, t, ELLIPTIC, apex, a, m)
+                        arcs, n_arcs = _arc(arcs, n_arcs, t, ELLIPTIC, apex, a, m, theta, omega)
                         if hit > te:
                             theta, omega = elliptic.state(te - apex, a, m)
                             t, theta = te, max(theta, theta_max)
@@ -191,7 +193,7 @@ def run(edges, c0, c1, theta_max, cor, closed_forms, max_step, max_impacts, fini
                     if m >= 1.0 - NEARLY_VERTICAL:  # toward the vertical: the Taylor steps take it
                         theta, omega = theta_max, launch
                         break
-                    arcs, n_arcs = _arc(arcs, n_arcs, t, ELLIPTIC, t + 0.5 * flight, a, m)
+                    arcs, n_arcs = _arc(arcs, n_arcs, t, ELLIPTIC, t + 0.5 * flight, a, m, theta_max, launch)
                     if t + flight > te:
                         if t == te:
                             theta, omega = theta_max, launch
@@ -212,7 +214,8 @@ def run(edges, c0, c1, theta_max, cor, closed_forms, max_step, max_impacts, fini
                  piece_omega) = run_piece(t, theta, omega, lifting, ts, te, a, b, theta_max, cor, max_step,
                                           max_impacts - n_before - n_impacts)
                 for k in range(len(piece_steps)):
-                    arcs, n_arcs = _arc(arcs, n_arcs, piece_steps[k, 0], TAYLOR, steps_before + n_steps, 0.0, 0.0)
+                    arcs, n_arcs = _arc(arcs, n_arcs, piece_steps[k, 0], TAYLOR, steps_before + n_steps, 0.0, 0.0,
+                                        piece_steps[k, 1], piece_steps[k, 2])
                     steps = grow(steps, n_steps)
                     steps[n_steps] = piece_steps[k]
                     n_steps += 1
@@ -234,7 +237,7 @@ def run(edges, c0, c1, theta_max, cor, closed_forms, max_step, max_impacts, fini
             # Zeno tail, 2L/(A·(1 − c)) after a launch L, with A = C·cos θ_max. With c = 1
             # such a micro-bounce never ends but never rises above ZENO_HEIGHT: rest from now.
             tail = 2.0 * settle / (settle_c * cos_head * (1.0 - cor)) if settle > 0.0 and cor < 1.0 else 0.0
-            arcs, n_arcs = _arc(arcs, n_arcs, t, REST, 0.0, 0.0, 0.0)
+            arcs, n_arcs = _arc(arcs, n_arcs, t, REST, 0.0, 0.0, 0.0, theta_max, 0.0)
             tail_c, rest_start = settle_c, t + tail
             theta, omega, resting = theta_max, 0.0, True
         if outcome != DONE:
@@ -258,7 +261,8 @@ def evaluate(table, steps, theta_max, t, spacing):
 
     With ``spacing`` > 0 the times are increasing and ``t[k + 1] − t[k] = spacing``
     (s) up to round-off, except perhaps for the last; with 0 they may be anything.
-    At an arc's start time the new arc holds (the state just after an impact).
+    At an arc's start time the new arc holds, and its stored start state is returned exactly
+    (the recipe's θ₀, ω₀ at t = 0; the state just after an impact).
 
     Returns
     -------
@@ -286,7 +290,11 @@ def evaluate(table, steps, theta_max, t, spacing):
         else:
             j = max(np.searchsorted(start, t[k], side="right") - 1, 0)
         kind = table[j, 1]
-        if kind == ELLIPTIC:
+        if t[k] == start[j]:
+            # The state the arc starts from, as given (the recipe's θ₀, ω₀) or as the solver made it (the
+            # launch after an impact): a flight's closed form would return it to round-off only.
+            value[k], omega[k] = table[j, 5], table[j, 6]
+        elif kind == ELLIPTIC:
             apex, c, m = table[j, 2], table[j, 3], table[j, 4]
             if j == current and age < carry and k < n - 1:
                 sn, cn, dn = elliptic.shift(sn, cn, dn, sn_h, cn_h, dn_h, m)
