@@ -12,6 +12,7 @@ the old file whole. Every reader names the file, and the line or key, of what it
 :mod:`.trajectory_csv`    trajectories: ``t,theta,omega[,alpha]``, or per stick ``theta_<stick>``…
 :mod:`.midi`              Standard MIDI Files: notes read from scores, impacts written as notes
 :mod:`.wav`               WAV audio
-:mod:`.ros_json`          ROS 2 ``trajectory_msgs/JointTrajectory`` as JSON
+:mod:`.ros_json`          ROS 2 ``trajectory_msgs/JointTrajectory`` as JSON, and its metadata sidecar
+:mod:`.rosbag`            a ROS 2 bag (rosbag2, MCAP or SQLite 3) of one ``JointTrajectory``
 ========================  ==========================================================================
 """
