@@ -2,7 +2,9 @@
 
 import dataclasses
 import json
+import os
 from fractions import Fraction
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -279,7 +281,7 @@ def test_both_sticks_of_a_trajectory_in_one_message(stroke, tmp_path):
     assert sidecar["model"] == "paper" and sidecar["rate"] == piece.rate
     export_ros_json(tmp_path / "default.json", piece)
     assert json.loads((tmp_path / "default.json").read_text())["joint_names"] == ["right_joint", "left_joint"]
-    for names, message in [(("a",), r"joint_names must name each of the 2 sticks, got 1: \('a',\)"),
+    for names, message in [(("a",), r"joint_names must be one name per stick \(right, left\), got 1: \('a',\)"),
                            (("a", "a"), r"joint_names must be distinct non-empty names"),
                            (("a", " "), r"joint_names must be distinct non-empty names")]:
         with pytest.raises(ParameterError, match=message):
@@ -355,6 +357,23 @@ def test_a_failed_bag_leaves_nothing_or_the_old_bag(stroke, tmp_path, monkeypatc
 
     monkeypatch.setattr("rosbags.rosbag2.Writer.write", fail)
     with pytest.raises(OSError, match="disk full"):
+        export_rosbag(bag, *stroke, rate=RATE, model="paper", name="new", overwrite=True)
+    assert [p.name for p in tmp_path.iterdir()] == ["bag"]
+    assert json.loads(read_bag(bag)[1]["drumstroke"])["name"] == "old"
+
+
+def test_a_bag_that_cannot_be_renamed_into_place_leaves_the_old_one(stroke, tmp_path, monkeypatch):
+    bag = tmp_path / "bag"
+    export_rosbag(bag, *stroke, rate=RATE, model="paper", name="old")
+    replace = os.replace
+
+    def fail_the_new_one(source, target):
+        if Path(source).name == "bag":  # the new bag, from its temporary folder; the old one moves as bag.old
+            raise OSError("rename failed")
+        replace(source, target)
+
+    monkeypatch.setattr("drumstroke._atomic.os.replace", fail_the_new_one)
+    with pytest.raises(OSError, match="rename failed"):
         export_rosbag(bag, *stroke, rate=RATE, model="paper", name="new", overwrite=True)
     assert [p.name for p in tmp_path.iterdir()] == ["bag"]
     assert json.loads(read_bag(bag)[1]["drumstroke"])["name"] == "old"

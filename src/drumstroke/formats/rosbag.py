@@ -35,10 +35,13 @@ BAG_VERSION = 9
 _TOPIC = re.compile(r"(/[A-Za-z_][A-Za-z0-9_]*)+")
 
 
-def check_topic(topic):
-    """Return ``topic`` if it is a fully qualified ROS 2 topic name (``/name/space``: letters, digits, '_')."""
+def check_topic(topic, *, name="topic"):
+    """Return ``topic`` if it is a fully qualified ROS 2 topic name (``/name/space``: letters, digits, '_').
+
+    ``name`` is the parameter named in the error.
+    """
     if not isinstance(topic, str) or not _TOPIC.fullmatch(topic):
-        raise ParameterError(f"topic must be a ROS 2 topic name: '/' then names of letters, digits and '_' "
+        raise ParameterError(f"{name} must be a ROS 2 topic name: '/' then names of letters, digits and '_' "
                              f"(not starting with a digit) separated by '/', got {topic!r}")
     return topic
 

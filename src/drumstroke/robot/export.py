@@ -180,8 +180,7 @@ def _joints(trajectory, theta, omega, rate, model, name, joint_names, head, limi
     model, name = _labels(trajectory, model, name, None)
     if isinstance(trajectory, Trajectory):
         sticks = trajectory.sticks
-        names = check_joint_names(joint_names if joint_names is not None else [f"{s}_joint" for s in sticks],
-                                  len(sticks))
+        names = check_joint_names(joint_names, sticks=sticks)
         t, thetas, omegas = trajectory.t, [], []
         for stick in sticks:
             part = trajectory.stick(stick)
@@ -191,7 +190,7 @@ def _joints(trajectory, theta, omega, rate, model, name, joint_names, head, limi
         rate = trajectory.rate if rate is None else rate
     else:
         t = trajectory
-        names = check_joint_names(joint_names if joint_names is not None else ("stick_joint",))
+        names = check_joint_names(joint_names)
         sticks = (None,) * len(names)
         thetas, omegas, starts = _joint_columns(theta, omega, start, len(names))
     checked = []
@@ -223,18 +222,25 @@ def _check_text(name, value):
     return value
 
 
-def check_joint_names(joint_names, count=None):
-    """``joint_names`` as a tuple of distinct non-empty names (``count`` of them, when given)."""
+def check_joint_names(joint_names, *, sticks=None, name="joint_names"):
+    """The ROS joint names: ``joint_names`` as distinct non-empty names, one per stick of ``sticks`` when given.
+
+    Default ``<stick>_joint`` for each of ``sticks`` ("stick_joint" without them). ``name`` is
+    the parameter named in the error.
+    """
+    if joint_names is None:
+        return tuple(f"{s}_joint" for s in (sticks or ("stick",)))
     if isinstance(joint_names, str):
-        raise ParameterError(f"joint_names must be a sequence of names, got the string {joint_names!r}")
+        raise ParameterError(f"{name} must be a sequence of names, got the string {joint_names!r}")
     try:
         names = tuple(joint_names)
     except TypeError:
-        raise ParameterError(f"joint_names must be a sequence of names, got {joint_names!r}") from None
+        raise ParameterError(f"{name} must be a sequence of names, got {joint_names!r}") from None
     if not names or not all(isinstance(n, str) and n.strip() for n in names) or len(set(names)) != len(names):
-        raise ParameterError(f"joint_names must be distinct non-empty names, at least one, got {joint_names!r}")
-    if count is not None and len(names) != count:
-        raise ParameterError(f"joint_names must name each of the {count} sticks, got {len(names)}: {joint_names!r}")
+        raise ParameterError(f"{name} must be distinct non-empty names, at least one, got {joint_names!r}")
+    if sticks is not None and len(names) != len(sticks):
+        raise ParameterError(f"{name} must be one name per stick ({', '.join(sticks)}), got {len(names)}: "
+                             f"{joint_names!r}")
     return names
 
 
