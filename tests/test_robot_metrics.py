@@ -14,7 +14,7 @@ import pytest
 import drumstroke
 from drumstroke.errors import ParameterError
 from drumstroke.robot.controllers import controller
-from drumstroke.robot.metrics import AUDIBLE_SPEED, WIDE_WINDOW, WINDOW, WINDOWS, match_onsets, metrics
+from drumstroke.robot.metrics import AUDIBLE_SPEED, WIDE_WINDOW, WINDOW, WINDOWS, match_onsets, metrics, pool
 from drumstroke.robot.plant import Plant
 from drumstroke.robot.track import Played, reference, track
 from drumstroke.trajectory import Impacts, Trajectory
@@ -250,3 +250,21 @@ def test_played_strokes_are_scored_as_mir_eval_scores_them(stroke, name):
         assert tight.recall >= 0.95 and tight.f_measure >= 0.9
     else:
         assert tight.f_measure < wide.f_measure  # the PI's onsets are more than 2 ms off but many within 10 ms
+
+
+def test_pooled_scores_are_those_of_all_the_onsets_together():
+    """Two strokes played by the PI, pooled, against mir_eval on both strokes' onsets on one timeline (100 s apart)."""
+    runs = [track(reference(drumstroke.simulate(name)), controller("pi")) for name in ("free-bounce", "high-low")]
+    scores = [metrics(p) for p in runs]
+    ref_t = np.concatenate([p.reference.impacts.t[p.reference.impacts.tip_speed >= AUDIBLE_SPEED] + 100.0 * k
+                            for k, p in enumerate(runs)])
+    got_t = np.concatenate([p.onsets[p.onset_speed >= AUDIBLE_SPEED] + 100.0 * k for k, p in enumerate(runs)])
+    for w, window in enumerate(WINDOWS):
+        pooled = pool(m.windows[w] for m in scores)
+        assert_scored_as_mir_eval(pooled, ref_t, got_t)
+        assert pooled.matched == sum(m.windows[w].matched for m in scores)
+        errors = np.concatenate([m.windows[w].timing_errors for m in scores])
+        assert len(errors) == pooled.matched and pooled.timing_p95 == np.percentile(np.abs(errors), 95)
+        assert pooled.timing_mean_signed == np.mean(errors)
+    with pytest.raises(ParameterError, match=r"^scores must be of one window, got windows \[0.002, 0.01\] s"):
+        pool(scores[0].windows)

@@ -41,7 +41,7 @@ array([0, 1])
 """
 
 import math
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass, field, fields
 
 import numpy as np
 
@@ -137,7 +137,11 @@ def _match_cluster(reference, played, low, high, first, last, window, match):
 
 @dataclass(frozen=True)
 class OnsetScores:
-    """Onsets scored within one window (see the module docstring). Times in s, levels in dB; NaN when no pair."""
+    """Onsets scored within one window (see the module docstring). Times in s, levels in dB; NaN when no pair.
+
+    ``timing_errors`` and ``level_errors`` are the pairs' own errors (played − reference, s and
+    dB, in reference order), for pooling (:func:`pool`); they are not part of the report.
+    """
 
     window: float
     matched: int
@@ -152,6 +156,52 @@ class OnsetScores:
     level_median: float
     level_p95: float
     level_mean_signed: float
+    timing_errors: np.ndarray = field(default_factory=lambda: np.empty(0), repr=False, compare=False)
+    level_errors: np.ndarray = field(default_factory=lambda: np.empty(0), repr=False, compare=False)
+
+    @classmethod
+    def from_pairs(cls, window, timing, level, *, played, reference):
+        """The scores of ``played`` onsets against ``reference`` ones (counts) with these pairs' errors (s, dB)."""
+        matched = len(timing)
+        precision = matched / played if played else 1.0
+        recall = matched / reference if reference else 1.0
+        return cls(
+            window=window,
+            matched=matched,
+            precision=precision,
+            recall=recall,
+            f_measure=2.0 * precision * recall / (precision + recall) if precision + recall else 0.0,
+            extra=played - matched,
+            missed=reference - matched,
+            timing_median=_percentile(np.abs(timing), 50),
+            timing_p95=_percentile(np.abs(timing), 95),
+            timing_mean_signed=float(np.mean(timing)) if matched else math.nan,
+            level_median=_percentile(np.abs(level), 50),
+            level_p95=_percentile(np.abs(level), 95),
+            level_mean_signed=float(np.mean(level)) if matched else math.nan,
+            timing_errors=timing,
+            level_errors=level,
+        )
+
+    def to_dict(self):
+        """Plain data for JSON (NaN as None), without the pairs' errors."""
+        return {f.name: _plain(getattr(self, f.name)) for f in fields(self) if f.compare}
+
+
+def pool(scores):
+    """One :class:`OnsetScores` of many strokes scored within one window: counts summed, pairs pooled.
+
+    Precision, recall and F are those of the summed counts (each onset weighs the same,
+    whichever stroke it is in); the timing and level statistics are over every pair.
+    """
+    scores = list(scores)
+    windows = {s.window for s in scores}
+    if len(windows) != 1:
+        raise ParameterError(f"scores must be of one window, got windows {sorted(windows)} s")
+    return OnsetScores.from_pairs(scores[0].window, np.concatenate([s.timing_errors for s in scores]),
+                                  np.concatenate([s.level_errors for s in scores]),
+                                  played=sum(s.matched + s.extra for s in scores),
+                                  reference=sum(s.matched + s.missed for s in scores))
 
 
 @dataclass(frozen=True)
@@ -184,8 +234,9 @@ class Metrics:
                              f"(those scored), got {window!r}")
 
     def to_dict(self):
-        """Plain data for JSON (NaN as None)."""
-        return _plain(asdict(self))
+        """Plain data for JSON (NaN as None); ``windows`` as a list of :meth:`OnsetScores.to_dict`."""
+        data = {f.name: _plain(getattr(self, f.name)) for f in fields(self) if f.name != "windows"}
+        return data | {"windows": [s.to_dict() for s in self.windows]}
 
 
 def metrics(played, *, windows=WINDOWS):
@@ -243,26 +294,9 @@ def _windows(windows):
 
 def _scores(window, match, ref_t, ref_speed, got_t, got_speed):
     kept = match >= 0
-    matched = int(kept.sum())
-    precision = matched / len(got_t) if len(got_t) else 1.0
-    recall = matched / len(ref_t) if len(ref_t) else 1.0
     timing = got_t[match[kept]] - ref_t[kept]
     level = 20.0 * np.log10(got_speed[match[kept]] / ref_speed[kept])
-    return OnsetScores(
-        window=window,
-        matched=matched,
-        precision=precision,
-        recall=recall,
-        f_measure=2.0 * precision * recall / (precision + recall) if precision + recall else 0.0,
-        extra=len(got_t) - matched,
-        missed=len(ref_t) - matched,
-        timing_median=_percentile(np.abs(timing), 50),
-        timing_p95=_percentile(np.abs(timing), 95),
-        timing_mean_signed=float(timing.mean()) if matched else math.nan,
-        level_median=_percentile(np.abs(level), 50),
-        level_p95=_percentile(np.abs(level), 95),
-        level_mean_signed=float(level.mean()) if matched else math.nan,
-    )
+    return OnsetScores.from_pairs(window, timing, level, played=len(got_t), reference=len(ref_t))
 
 
 def _percentile(values, q):
@@ -271,8 +305,4 @@ def _percentile(values, q):
 
 
 def _plain(value):
-    if isinstance(value, dict):
-        return {k: _plain(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_plain(v) for v in value]
     return None if isinstance(value, float) and math.isnan(value) else value
