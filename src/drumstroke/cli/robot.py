@@ -4,8 +4,9 @@ from pathlib import Path
 
 from .._checks import check_real
 from ..errors import ParameterError
-from ..formats.rosbag import DEFAULT_TOPIC, STORAGES
-from ..trajectory import DEFAULT_RATE
+from ..formats.ros_json import metadata_path
+from ..formats.rosbag import DEFAULT_TOPIC, STORAGES, check_topic
+from ..trajectory import DEFAULT_RATE, Trajectory
 from ._common import Bar, Parser, print_written
 
 
@@ -157,10 +158,7 @@ def _validate(args):
 
 
 def _export(args):
-    from ..formats.ros_json import metadata_path
-    from ..formats.rosbag import check_topic
     from ..robot.export import check_joint_names, export_csv, export_ros_json, export_rosbag
-    from ..trajectory import Trajectory
 
     if (args.out is None) != (args.format is None) or not (args.out or args.rosbag):
         raise ParameterError("give --out with its --format, or --rosbag DIR, or both")
@@ -170,11 +168,12 @@ def _export(args):
     config = _config(args.config)
     options = {"head": config.plant.head, "limits": config.limits}
     trajectory = Trajectory.read_csv(args.trajectory, theta_max=config.plant.head)
-    sticks = trajectory.sticks
-    if (args.stick not in (None, *sticks)) or len(sticks) > 1 and args.stick is None and args.format == "csv":
-        raise ParameterError(f"--stick must name one of the sticks of {args.trajectory} ({', '.join(sticks)})"
-                             f"{' for CSV' if args.stick is None else f', got {args.stick!r}'}" if len(sticks) > 1
-                             else f"--stick names a composition's stick; {args.trajectory} has one: leave it out")
+    sticks = trajectory.sticks  # in the file's order, as --joint-names names them
+    if len(sticks) == 1 and args.stick not in (None, *sticks):
+        raise ParameterError(f"--stick names a composition's stick; {args.trajectory} has one: leave it out")
+    if len(sticks) > 1 and (args.stick not in (None, *sticks) or args.stick is None and args.format == "csv"):
+        got = " for CSV" if args.stick is None else f", got {args.stick!r}"
+        raise ParameterError(f"--stick must name one of the sticks of {args.trajectory} ({', '.join(sticks)}){got}")
     ros = trajectory.stick(args.stick) if args.stick else trajectory
     names = check_joint_names(None if args.joint_names is None else args.joint_names.split(","), sticks=ros.sticks,
                               name="--joint-names")

@@ -38,7 +38,7 @@ from ..errors import ParameterError, TrajectoryError
 from ..formats.ros_json import MESSAGE_TYPE, read_ros_json, seconds_to_duration, write_joint_trajectory
 from ..formats.trajectory_csv import columns_text as csv_text
 from ..formats.trajectory_csv import comment_line as csv_header
-from ..trajectory import Trajectory
+from ..trajectory import DEFAULT_STICK, Trajectory
 from .validate import validate
 
 __all__ = ["export_csv", "export_ros_json", "export_rosbag", "read_ros_json", "seconds_to_duration"]
@@ -229,7 +229,7 @@ def check_joint_names(joint_names, *, sticks=None, name="joint_names"):
     the parameter named in the error.
     """
     if joint_names is None:
-        return tuple(f"{s}_joint" for s in (sticks or ("stick",)))
+        return tuple(f"{s}_joint" for s in (sticks or (DEFAULT_STICK,)))
     if isinstance(joint_names, str):
         raise ParameterError(f"{name} must be a sequence of names, got the string {joint_names!r}")
     try:
