@@ -172,3 +172,14 @@ def test_the_heads_restitution_defaults_to_the_recipes_and_can_be_set(short):
     c = controller("pid-ff")
     assert np.array_equal(track(short, c).theta, track(short, c, cor=short.recipe.cor).theta)
     assert not np.array_equal(track(short, c).theta, track(short, c, cor=0.5).theta)
+
+
+def test_track_reports_its_progress_without_changing_the_run():
+    """Every 1000 periods and at the end; the run is the same whether anyone watches."""
+    ref = reference(drumstroke.simulate("free-bounce", t_end=2.5))  # 2501 periods
+    fractions = []
+    watched = track(ref, controller("impedance"), progress=fractions.append)
+    assert fractions == [1000 / 2501, 2000 / 2501, 1.0]
+    alone = track(ref, controller("impedance"))
+    assert np.array_equal(watched.theta, alone.theta) and np.array_equal(watched.torque, alone.torque)
+    assert np.array_equal(watched.onsets, alone.onsets)

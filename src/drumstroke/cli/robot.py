@@ -4,7 +4,9 @@ from pathlib import Path
 
 from .._checks import check_real
 from ..errors import ParameterError
-from ..trajectory import DEFAULT_RATE
+from ..formats.ros_json import metadata_path
+from ..formats.rosbag import DEFAULT_TOPIC, STORAGES, check_topic
+from ..trajectory import DEFAULT_RATE, Trajectory
 from ._common import Bar, Parser, print_written
 
 
@@ -39,9 +41,14 @@ def add_robot(commands):
     val.set_defaults(run=_validate)
     exp = actions.add_parser("export", help="validate and export a trajectory CSV for a robot stack")
     exp.add_argument("trajectory", type=Path, metavar="TRAJECTORY")
-    exp.add_argument("--format", choices=("csv", "ros-json"), required=True)
-    exp.add_argument("--out", type=Path, required=True, metavar="PATH")
-    exp.add_argument("--stick", help="the stick of a composition CSV")
+    exp.add_argument("--format", choices=("csv", "ros-json"), help="--out's format (ros-json: metadata in X.meta.json)")
+    exp.add_argument("--out", type=Path, metavar="PATH", help="the file to write (with --format)")
+    exp.add_argument("--rosbag", type=Path, metavar="DIR", help="write a rosbag2 folder of one JointTrajectory")
+    exp.add_argument("--storage", choices=STORAGES, default="mcap", help="the rosbag2 storage (default mcap)")
+    exp.add_argument("--topic", default=DEFAULT_TOPIC, help=f"the rosbag2 topic (default {DEFAULT_TOPIC})")
+    exp.add_argument("--overwrite", action="store_true", help="replace an existing --rosbag folder")
+    exp.add_argument("--stick", help="the stick of a composition CSV to export (csv: needed; ROS: default every stick)")
+    exp.add_argument("--joint-names", metavar="A,B", help="ROS joint names, one per stick in the file's order")
     exp.add_argument("--config", type=Path, metavar="TOML", help="robot config with a [limits] table")
     exp.set_defaults(run=_export)
 
@@ -66,17 +73,25 @@ def _track(args):
     rate = check_real("--rate", args.rate, low=10.0, high=1e5, unit="Hz")
     source = load_source(args.source, library=args.library, stick=args.stick, plant=config.plant)
     ref = reference(source, rate)
-    played = [track(ref, controllers[name], config.plant, engine=args.plant) for name in names]
+    bar = Bar(f"playing {ref.name}", delay=1.0)
+    played = [track(ref, controllers[name], config.plant, engine=args.plant,
+                    progress=lambda done, i=i: bar.update((i + done) / len(names))) for i, name in enumerate(names)]
+    bar.close()
     scores = [metrics(p) for p in played]
     print(f"{ref.name} (model {ref.model}) on the {args.plant} plant at {rate:g} Hz: "
           f"{scores[0].reference_onsets} reference onsets (audible impacts)")
-    print(f"{'controller':<10} {'kept':>9} {'tail':>6} {'timing mean/p95 (ms)':>21} {'rms (rad)':>10} "
-          f"{'shortfall (s)':>13} {'peak torque':>14}")
+    print(f"{'controller':<10} {'window':>7} {'matched':>9} {'extra':>5} {'P':>5} {'R':>5} {'F':>5}  timing |error| "
+          f"median/p95, mean (ms)  level |error| median/p95 (dB)")
     for p, m in zip(played, scores):
-        timing = f"{1e3 * m.timing_mean:>10.2f} /{1e3 * m.timing_p95:>5.2f}" if m.kept else f"{'- /  -':>17}"
-        print(f"{p.controller:<10} {m.kept:>4}/{m.reference_onsets:<4} {100 * m.tail_kept_fraction:>5.0f}% "
-              f"{timing}    {m.rms_error:>10.4f} "
-              f"{m.tail_shortfall:>13.3f} {m.peak_torque:>6.2f}/{m.torque_limit:g} N m")
+        for k, w in enumerate(m.windows):
+            timing, level = (f"{w.timing_median * 1e3:>6.2f} /{w.timing_p95 * 1e3:>6.2f}, {w.timing_mean_signed * 1e3:+.2f}",
+                             f"{w.level_median:.2f} / {w.level_p95:.2f}") if w.matched else ("-", "-")
+            print(f"{p.controller if not k else '':<10} {f'±{w.window * 1e3:g} ms':>7} {w.matched:>4}/{m.reference_onsets:<4} "
+                  f"{w.extra:>5} {w.precision:>5.2f} {w.recall:>5.2f} {w.f_measure:>5.2f}  {timing:<34} {level}")
+    print(f"{'controller':<10} {'tail kept (±2 ms)':>17} {'shortfall (s)':>13} {'rms (rad)':>10} {'peak torque':>14}")
+    for p, m in zip(played, scores):
+        print(f"{p.controller:<10} {100 * m.tail_kept_fraction:>16.0f}% {m.tail_shortfall:>13.3f} {m.rms_error:>10.4f} "
+              f"{m.peak_torque:>6.2f}/{m.torque_limit:g} N m")
     written = []
     if args.report:
         from ..formats.json import write_json
@@ -144,21 +159,39 @@ def _validate(args):
 
 def _export(args):
     from ..formats.sidecar import sidecar_path
-    from ..formats.trajectory_csv import read_stick
-    from ..robot.export import export_csv, export_ros_json
-    from ..robot.validate import validate_file
+    from ..robot.export import check_joint_names, export_csv, export_ros_json, export_rosbag
 
+    if (args.out is None) != (args.format is None) or not (args.out or args.rosbag):
+        raise ParameterError("give --out with its --format, or --rosbag DIR, or both")
+    if args.rosbag and args.rosbag.exists() and not args.overwrite:
+        raise ParameterError(f"--rosbag {str(args.rosbag)!r} exists: choose a new folder, or replace it with --overwrite")
+    topic = check_topic(args.topic, name="--topic")
     config = _config(args.config)
-    head, limits = config.plant.head, config.limits
-    checked = validate_file(args.trajectory, stick=args.stick, head=head, limits=limits)  # the file's rate too
-    model = read_stick(args.trajectory, stick=args.stick)[4]["model"]
-    name = args.trajectory.stem + (f"-{args.stick}" if args.stick else "")
-    write = export_csv if args.format == "csv" else export_ros_json
-    write(args.out, checked.t, checked.theta, checked.omega, rate=checked.rate, model=model, name=name, head=head,
-          limits=limits)
-    print(f"wrote {args.out} ({args.format}): {_peaks(checked)}")
+    options = {"head": config.plant.head, "limits": config.limits}
+    trajectory = Trajectory.read_csv(args.trajectory, theta_max=config.plant.head)
+    sticks = trajectory.sticks  # in the file's order, as --joint-names names them
+    if len(sticks) == 1 and args.stick not in (None, *sticks):
+        raise ParameterError(f"--stick names a composition's stick; {args.trajectory} has one: leave it out")
+    if len(sticks) > 1 and (args.stick not in (None, *sticks) or args.stick is None and args.format == "csv"):
+        got = " for CSV" if args.stick is None else f", got {args.stick!r}"
+        raise ParameterError(f"--stick must name one of the sticks of {args.trajectory} ({', '.join(sticks)}){got}")
+    ros = trajectory.stick(args.stick) if args.stick else trajectory
+    names = check_joint_names(None if args.joint_names is None else args.joint_names.split(","), sticks=ros.sticks,
+                              name="--joint-names")
     if args.format == "csv":
+        checked = export_csv(args.out, trajectory, stick=args.stick, **options)
+        print(f"wrote {args.out} (CSV{f' of stick {args.stick}' if args.stick else ''}): {_peaks(checked)}")
         print(f"wrote {sidecar_path(args.out)} (with the metadata of {args.out.name})")
+    elif args.format == "ros-json":
+        checked = export_ros_json(args.out, ros, joint_names=names, **options)
+        print(f"wrote {args.out} (a ROS 2 JointTrajectory) and its metadata {metadata_path(args.out)}")
+    if args.rosbag:
+        checked = export_rosbag(args.rosbag, ros, joint_names=names, topic=topic, storage=args.storage,
+                                overwrite=args.overwrite, **options)
+        print(f"wrote {args.rosbag} (a rosbag2, {args.storage}: one ROS 2 JointTrajectory on {topic})")
+    if args.format != "csv" or args.rosbag:
+        for joint, stick, c in zip(names, ros.sticks, checked):
+            print(f"  joint {joint}{f' (stick {stick})' if len(sticks) > 1 else ''}: {_peaks(c)}")
 
 
 def _peaks(checked):

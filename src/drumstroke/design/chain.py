@@ -454,6 +454,7 @@ class _Plan:
         if n < 2:
             return []
         plain = [self.bounce(i) for i in range(n - 1)]
+        # each change happens in the flight it is part of, near its end or its start
         heights = [self.head + _SWITCH * (flight.apex - self.head) for flight in plain]
         # at impact i (between flight i − 1 and flight i): the weaker force takes over before it, a stronger after
         before = [False] + [plain[i].rise < plain[i - 1].fall for i in range(1, n - 1)]

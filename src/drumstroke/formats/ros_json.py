@@ -1,22 +1,25 @@
-"""ROS 2 ``trajectory_msgs/msg/JointTrajectory`` as JSON, both ways.
+"""ROS 2 ``trajectory_msgs/msg/JointTrajectory`` as JSON, both ways, and its metadata sidecar.
 
-The document has the message's fields — ``header`` {stamp, frame_id}, ``joint_names``,
-``points`` with ``positions``, ``velocities``, ``accelerations``, ``effort`` and
-``time_from_start`` {sec, nanosec} — and, unless left out, a top-level ``drumstroke`` key
-(version, model, name, rate). ROS's own ``rosidl_runtime_py.set_message_fields`` refuses keys
-the message does not have: drop that key, or write with ``metadata=None``, for a file that is
-exactly the message.
+The document is exactly the message — ``header`` {stamp {sec, nanosec}, frame_id},
+``joint_names``, ``points`` with ``positions``, ``velocities``, ``accelerations``, ``effort`` and
+``time_from_start`` {sec, nanosec} — and nothing else, so ROS's own
+``rosidl_runtime_py.set_message_fields`` fills a message from it. drumstroke's own metadata
+goes beside it, into ``X.meta.json`` for ``X.json`` (:func:`metadata_path`). Files written before
+the sidecar, with the metadata under a top-level ``drumstroke`` key, still read.
 
 Examples
 --------
->>> import pathlib, tempfile
+>>> import json, pathlib, tempfile
 >>> import numpy as np
 >>> path = pathlib.Path(tempfile.mkdtemp()) / "move.json"
 >>> t = np.arange(3) / 1000.0
->>> write_joint_trajectory(path, t, 0.1 * t[:, None], np.full((3, 1), 0.1), np.zeros((3, 1)), ("stick_joint",))
+>>> write_joint_trajectory(path, t, 0.1 * t[:, None], np.full((3, 1), 0.1), np.zeros((3, 1)), ("stick_joint",),
+...                        metadata={"rate": 1000.0})
 >>> back = read_ros_json(path)
 >>> back.joint_names, back.positions.shape, back.t.tolist()
 (('stick_joint',), (3, 1), [0.0, 0.001, 0.002])
+>>> sorted(json.loads(path.read_text())), metadata_path(path).name
+(['header', 'joint_names', 'points'], 'move.meta.json')
 """
 
 import json
@@ -29,25 +32,28 @@ import numpy as np
 from .._atomic import write_atomic
 from .._checks import check_real
 from ..errors import ParameterError
+from .json import write_json
 
 NANOSECONDS = 1_000_000_000
 _MAX_SECONDS = 2**31 - 1
 """builtin_interfaces/Duration.sec is an int32."""
 
 
-def write_joint_trajectory(path, t, positions, velocities, accelerations, joint_names, *, metadata=None):
-    """Write a JointTrajectory document to ``path``, atomically.
+MESSAGE_TYPE = "trajectory_msgs/msg/JointTrajectory"
+"""The ROS 2 message type the document is."""
+
+
+def joint_trajectory(t, positions, velocities, accelerations, joint_names):
+    """A ``JointTrajectory`` message as plain data (dicts, lists, ints and floats), header stamp 0.
 
     Parameters
     ----------
     t : ndarray [shape=(n,)]
-        Times from the header stamp (s), in [0, 2**31 − 1): written exactly split as
+        Times from the header stamp (s), in [0, 2**31 − 1): split exactly as
         ``time_from_start`` {sec, nanosec}, rounded to the nearest nanosecond.
     positions, velocities, accelerations : ndarray [shape=(n, joints)]
         rad, rad/s, rad/s².
     joint_names : sequence of str
-    metadata : dict or None
-        Written under the top-level ``drumstroke`` key.
     """
     t = np.asarray(t, dtype=float)
     if t[0] < 0.0 or t[-1] >= _MAX_SECONDS:
@@ -59,11 +65,36 @@ def write_joint_trajectory(path, t, positions, velocities, accelerations, joint_
         for p, v, a, (sec, nanosec) in zip(np.asarray(positions, float).tolist(), np.asarray(velocities, float).tolist(),
                                            np.asarray(accelerations, float).tolist(), map(seconds_to_duration, t))
     ]
-    document = {"header": {"stamp": {"sec": 0, "nanosec": 0}, "frame_id": ""}, "joint_names": list(joint_names),
-                "points": points}
+    return {"header": {"stamp": {"sec": 0, "nanosec": 0}, "frame_id": ""}, "joint_names": list(joint_names),
+            "points": points}
+
+
+def write_joint_trajectory(path, t, positions, velocities, accelerations, joint_names, *, metadata=None):
+    """Write a JointTrajectory document to ``path``, and its metadata to :func:`metadata_path`, atomically.
+
+    Parameters
+    ----------
+    path : str or Path
+    t, positions, velocities, accelerations, joint_names
+        As for :func:`joint_trajectory`.
+    metadata : dict or None
+        drumstroke's own data about the message (plain data), written to the sidecar; None writes none.
+    """
+    message = joint_trajectory(t, positions, velocities, accelerations, joint_names)
+    write_atomic(path, json.dumps(message, allow_nan=False) + "\n")
     if metadata is not None:
-        document["drumstroke"] = metadata
-    write_atomic(path, json.dumps(document, allow_nan=False) + "\n")
+        write_json(metadata_path(path), metadata)
+
+
+def metadata_path(path):
+    """Where the metadata of the message at ``path`` goes: ``X.meta.json`` for ``X.json`` (any other suffix too).
+
+    Examples
+    --------
+    >>> metadata_path("out/single.json").as_posix(), metadata_path("piece").as_posix()
+    ('out/single.meta.json', 'piece.meta.json')
+    """
+    return Path(path).with_suffix(".meta.json")
 
 
 def seconds_to_duration(seconds):
@@ -133,9 +164,9 @@ def _parse_trajectory(document):
     for key in ("joint_names", "points"):
         if key not in document:
             raise ParameterError(f"key {key!r} is missing")
-    unknown = sorted(set(document) - {"header", "joint_names", "points", "drumstroke"})
+    unknown = sorted(set(document) - {"header", "joint_names", "points", "drumstroke"})  # 'drumstroke': older files
     if unknown:
-        raise ParameterError(f"key {unknown[0]!r} is not a JointTrajectory field (nor 'drumstroke')")
+        raise ParameterError(f"key {unknown[0]!r} is not a JointTrajectory field")
     names = document["joint_names"]
     if not isinstance(names, list) or not names or not all(isinstance(n, str) and n for n in names):
         raise ParameterError(f"joint_names must be a non-empty list of names, got {names!r}")

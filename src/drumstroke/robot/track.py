@@ -99,7 +99,11 @@ class Played:
                                        np.nan_to_num(c.omega_after, nan=0.0), **info)
 
 
-def track(reference, controller, plant=None, *, engine="simple", cor=None):
+PROGRESS_PERIODS = 1000
+"""Control periods between two calls of :func:`track`'s ``progress``."""
+
+
+def track(reference, controller, plant=None, *, engine="simple", cor=None, progress=None):
     """Play ``reference`` with ``controller`` on ``plant``: many steps of the one control loop.
 
     The controller steers by the reference (:meth:`~drumstroke.robot.controllers.Controller.steer`);
@@ -118,6 +122,8 @@ def track(reference, controller, plant=None, *, engine="simple", cor=None):
     cor : float in [0, 1] or None
         The head's coefficient of restitution; default the reference's recipe's, else
         :data:`drumstroke.recipe.DEFAULT_COR`.
+    progress : callable or None
+        Called with the fraction of the reference played, every :data:`PROGRESS_PERIODS` periods and at the end.
 
     Returns
     -------
@@ -148,7 +154,12 @@ def track(reference, controller, plant=None, *, engine="simple", cor=None):
     else:
         joint = SimpleJoint(plant, cor, **start)
     loop = ControlLoop(joint, controller, rate)
-    loop.run(*controller.steer(reference))
+    steered = controller.steer(reference)
+    n = len(steered[0])
+    for first in range(0, n, PROGRESS_PERIODS):
+        loop.run(*(a[first:first + PROGRESS_PERIODS] for a in steered))
+        if progress:
+            progress(min(first + PROGRESS_PERIODS, n) / n)
     log = loop.log()
     return Played(reference, controller.name, log.theta, log.omega, log.torque, log.onsets,
                   log.contacts.tip_speed, plant.max_torque, engine, log.contacts)
