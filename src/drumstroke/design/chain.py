@@ -72,6 +72,13 @@ TIME_TOLERANCE = 1e-4
 LEVEL_TOLERANCE = 0.5
 """Largest |impact level − note level| (dB) a design is allowed; designs reach about 1e-6."""
 
+DRIFT = (1e-6, 1e-3)
+"""s and dB: a design whose simulated impacts drift this far from its notes is refused at the note where they do.
+
+A chain of bounces is open-loop: its forces are fixed in time, so an error of one impact changes
+the next flight. Most chains shrink such errors; some (long and short flights in turns) enlarge
+them from round-off. The planner then starts a new stroke at the chain's longest flight."""
+
 _RAMP = 1e-9
 """Half the time (s) a force step takes in the written profile."""
 
@@ -147,11 +154,14 @@ class Unreachable(ParameterError):
         The nearest time (s) it can be played at, at its level (None if none).
     nearest_level : float or None
         The nearest level (dB) it can be played at, at its time (None if none).
+    drift : bool
+        The note is reachable, but not in the same open-loop chain as the notes before it (see :data:`DRIFT`).
     """
 
-    def __init__(self, message, *, note, nearest_time=None, nearest_level=None, nearest=None):
+    def __init__(self, message, *, note, nearest_time=None, nearest_level=None, nearest=None, drift=False):
         super().__init__(message)
         self.note = note
+        self.drift = drift
         self._nearest = (nearest_time, nearest_level) if nearest is None else None
         self._find = nearest  # worked out when asked for: a planner catches most of these and needs none
 
@@ -655,12 +665,15 @@ class _Plan:
         if len(impacts) < n:
             raise SimulationError(f"the designed stroke made {len(impacts)} impacts for {n} notes (a bug: please "
                                   "report it with the notes)")
-        time_error = float(np.max(np.abs(impacts.t[:n] + release - self.times)))
-        level_error = float(np.max(np.abs(impacts.level_db[:n] - self.levels)))
-        if time_error > TIME_TOLERANCE or level_error > LEVEL_TOLERANCE:
-            raise SimulationError(f"the designed stroke misses its notes by {time_error:.3g} s and {level_error:.3g} "
-                                  "dB (a bug: please report it with the notes)")
-        return time_error, level_error
+        time_errors = np.abs(impacts.t[:n] + release - self.times)
+        level_errors = np.abs(impacts.level_db[:n] - self.levels)
+        off = np.flatnonzero((time_errors > DRIFT[0]) | (level_errors > DRIFT[1]))
+        if len(off):
+            k = int(off[0])
+            raise Unreachable(f"note {k} (t = {self.times[k]:.6g} s): the bounces before it drift, {time_errors[k]:.3g} s "
+                              f"and {level_errors[k]:.3g} dB off by the solver (a long chain of flights that enlarges "
+                              "small errors); play it as a new stroke", note=k, drift=True)
+        return float(time_errors.max()), float(level_errors.max())
 
 
 def flights_within(times, levels, *, model="paper", cor=DEFAULT_COR, stick=None, forces=None, limits=None):

@@ -43,6 +43,12 @@ KINDS = ("auto", "buzz")
 LEADS = (LEAD, LEAD / 2, LEAD / 4, LEAD / 8)
 """The throws (s) tried, longest first, when a stroke starts from a standard height."""
 
+LONGEST_BOUNCE = 0.2
+"""s: notes further apart are played as a caught stroke and a new throw where one fits, not as one bounce.
+
+A drummer lets the stick bounce through diddles, buzzes and fast singles, and stops and throws it
+again for slower notes; long bounces in a chain also enlarge its errors (see :data:`~drumstroke.design.chain.DRIFT`)."""
+
 _PRESS_GAP = 1.0
 """s: a buzz followed by its stick's next note sooner than this is caught for it, not pressed to rest."""
 
@@ -146,7 +152,7 @@ class StickPlan:
 
         pieces = [Trajectory.from_stroke(d.stroke, rate=rate, name=f"designed {len(d.times)}") for d in self.designs]
         return assemble(pieces, np.array([d.release for d in self.designs]), limits=self.limits, name=name,
-                        end=max(t_end, self.designs[-1].t_end))
+                        end=max(t_end, self.designs[-1].t_end), home=False)
 
 
 def plan_stick(targets, *, model="paper", cor=None, stick=None, forces=None, limits=None, moves=None,
@@ -204,6 +210,9 @@ class _Planner:
     def run(self):
         atoms = self.atoms()
         joins = flights_within([a.t for a in atoms], [a.level for a in atoms], **self.options) if len(atoms) > 1 else []
+        for k, join in enumerate(joins):  # a long gap is a caught stroke and a new throw, when one fits
+            if join and atoms[k + 1].t - atoms[k].t > LONGEST_BOUNCE and self.catchable(atoms[k], atoms[k + 1]):
+                joins[k] = False
         i = 0
         while i < len(atoms):
             j = i
@@ -236,6 +245,10 @@ class _Planner:
             try:
                 made = self.stroke([a.t for a in chain], [a.level for a in chain], end=end, catch_at=catch_at)
             except Unreachable as error:
+                if error.drift:  # a new stroke at the chain's longest flight before the note
+                    gaps = np.diff([a.t for a in chain[:error.note + 1]])
+                    j = i + int(np.argmax(gaps))
+                    continue
                 if error.note > 0:  # the chain breaks before that note; it starts the next one
                     j = i + error.note - 1
                     continue
@@ -243,6 +256,17 @@ class _Planner:
                 return self.skip(atoms, i)
             self.keep(made, [a.target.key for a in chain if a.bounce == 0])
             return j + 1
+
+    def catchable(self, last, following):
+        """Whether the stick can be caught after ``last`` where the throw onto ``following`` starts (no move)."""
+        height = self.ending(last, following)[1]
+        if height is None:
+            return False
+        try:
+            design([following.t], [following.level], start=Start(last.t + 1e-9, height), **self.options)
+        except Unreachable:
+            return False
+        return True
 
     def ending(self, last, following):
         """How a stroke ending on atom ``last`` ends: pressed (a buzz's end), or caught where the next throw starts."""
