@@ -41,7 +41,7 @@ def test_simulate_writes_json_csv_and_plot(tmp_path):
     table = np.array(rows[1:], dtype=float)
     assert len(table) == 5 * 500 + 1
     assert np.allclose(np.diff(table[:, 0]), 1 / 500, atol=1e-12, rtol=0)
-    t, theta, omega = stroke.sample(500)
+    _, theta, omega = stroke.sample(500)
     assert np.array_equal(table[:, 1], theta) and np.array_equal(table[:, 2], omega)
 
     image = matplotlib.image.imread(tmp_path / "s.png")
@@ -96,7 +96,7 @@ def test_demo_writes_plots_and_json_for_the_four_figures(tmp_path):
         (["simulate", "free-bounce", "--rate", "fast"], ["--rate", "'fast'"]),
         (["simulate", "free-bounce", "--model", "newton"], ["--model", "'newton'", "paper"]),
         (["simulate", "missing.toml"], ["missing.toml", "cannot be read"]),
-        (["simulate"], ["RECIPE"]),
+        (["simulate"], ["STROKE"]),
         (["figures"], ["OUTDIR"]),
         (["transmogrify"], ["transmogrify"]),
     ],

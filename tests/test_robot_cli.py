@@ -93,8 +93,8 @@ def test_a_trajectory_below_the_head_is_refused_naming_the_sample(library, tmp_p
 @pytest.mark.parametrize("args, needles", [
     (["robot", "track", "free-bounce", "--controller", "lqr"], ["--controller", "'lqr'"]),
     (["robot", "track", "free-bounce", "--rate", "nan"], ["--rate"]),
-    (["robot", "track", "nope", "--library", "/nonexistent"], ["manifest"]),
-    (["robot", "tune", "--library", "/nonexistent"], ["manifest"]),
+    (["robot", "track", "nope", "--library", "/nonexistent"], ["--library", "'/nonexistent' does not exist"]),
+    (["robot", "tune", "--library", "/nonexistent"], ["--library", "'/nonexistent' does not exist"]),
 ])
 def test_bad_robot_arguments_give_one_line(args, needles):
     assert_one_line_error(run(*args), *needles)

@@ -12,6 +12,7 @@ the thumb, makes single, double, triple and buzz strokes.
 from ._version import __version__
 from .errors import DrumstrokeError, ParameterError, SimulationError
 from .model import MODELS, Stick
+from .palette.library import make_stroke
 from .presets import PRESETS, preset
 from .profiles import Constant, PiecewiseLinear, Profile, Pulses, Samples, Sum
 from .recipe import Recipe
@@ -37,6 +38,7 @@ __all__ = [
     "Stroke",
     "Sum",
     "Trajectory",
+    "make_stroke",
     "preset",
     "simulate",
     "simulate_many",

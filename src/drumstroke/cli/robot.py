@@ -1,48 +1,68 @@
 """``drumstroke robot track``, ``tune``, ``validate`` and ``export``: strokes on a simulated robot joint."""
 
-from pathlib import Path
-
-from .._checks import check_real
 from ..errors import ParameterError
+from ..formats import json
+from ..render import plot
 from ..trajectory import DEFAULT_RATE
 from ._common import Bar, Parser, print_written
+from ._options import Output, add_mkdir, existing_file, existing_folder, number, whole
 
 
 def add_robot(commands):
     """Register ``robot`` and its actions."""
-    robot = commands.add_parser("robot", help="play strokes on a simulated robot joint; validate and export trajectories")
+    robot = commands.add_parser("robot", help="play strokes on a simulated robot joint; validate and export trajectories",
+                                description="Strokes on a simulated motor-driven joint: play and score them, tune "
+                                            "controllers, validate trajectories and export them for a robot stack.")
     actions = robot.add_subparsers(dest="robot_command", parser_class=Parser, metavar="ACTION", required=True)
-    trk = actions.add_parser("track", help="play a stroke with one controller or all, and score it")
+    trk = actions.add_parser("track", help="play a stroke with one controller or all, and score it",
+                             description="Play a stroke on the simulated joint with one controller or all, print "
+                                         "what each kept of it; write the metrics and a plot if asked.")
     trk.add_argument("source", metavar="SOURCE",
                      help="a recipe .toml, a preset, a library stroke (with --library) or a trajectory .csv")
-    trk.add_argument("--library", type=Path, metavar="DIR", help="the library SOURCE names a stroke of")
+    trk.add_argument("--library", type=existing_folder, metavar="DIR", help="the library SOURCE names a stroke of")
     trk.add_argument("--stick", help="the stick to play from a composition CSV")
     trk.add_argument("--controller", default="all", metavar="NAME", help="pi, pid-ff, impedance or all (default)")
     trk.add_argument("--plant", choices=("simple", "mujoco"), default="simple", help="the joint model (default simple)")
-    trk.add_argument("--config", type=Path, metavar="TOML", help="robot config: [plant], [controller.NAME] gains")
-    trk.add_argument("--rate", type=float, default=DEFAULT_RATE, metavar="HZ", help="control rate (default 1000)")
-    trk.add_argument("--report", type=Path, metavar="JSON", help="write the metrics as JSON")
-    trk.add_argument("--plot", type=Path, metavar="PNG", help="draw reference and played theta(t) with their onsets")
+    trk.add_argument("--config", type=existing_file, metavar="TOML", help="robot config: [plant], [controller.NAME] gains")
+    trk.add_argument("--rate", type=number(low=10.0, high=1e5, unit="Hz"), default=DEFAULT_RATE, metavar="HZ",
+                     help=f"control rate, in [10, 1e5] Hz (default {DEFAULT_RATE:g})")
+    trk.add_argument("--report", action=Output, suffixes=json.SUFFIXES, metavar="JSON", help="write the metrics as .json")
+    trk.add_argument("--plot", action=Output, suffixes=plot.SUFFIXES, metavar="PNG",
+                     help=f"draw reference and played theta(t) with their onsets: {', '.join(plot.SUFFIXES)}")
+    add_mkdir(trk)
     trk.set_defaults(run=_track)
-    tun = actions.add_parser("tune", help="tune a controller's gains over a library, before/after table")
-    tun.add_argument("--library", type=Path, required=True, metavar="DIR")
+    tun = actions.add_parser("tune", help="tune a controller's gains over a library, before/after table",
+                             description="Tune a controller's gains to keep a library's onsets; print the strokes "
+                                         "before and after, write gains and metrics as JSON if asked.")
+    tun.add_argument("--library", type=existing_folder, required=True, metavar="DIR",
+                     help="the library folder ('library build') to tune on")
     tun.add_argument("--controller", default="pi", metavar="NAME", help="pi (default), pid-ff or impedance")
     tun.add_argument("--per-stroke", action="store_true", help="one gain set per stroke (gain scheduling)")
-    tun.add_argument("--evaluations", type=int, default=100, metavar="N", help="objective evaluations (default 100)")
-    tun.add_argument("--config", type=Path, metavar="TOML", help="robot config: [plant], starting gains")
-    tun.add_argument("--report", type=Path, metavar="JSON", help="write gains and metrics as JSON")
+    tun.add_argument("--evaluations", type=whole(low=1), default=100, metavar="N",
+                     help="objective evaluations, >= 1 (default 100)")
+    tun.add_argument("--config", type=existing_file, metavar="TOML", help="robot config: [plant], starting gains")
+    tun.add_argument("--report", action=Output, suffixes=json.SUFFIXES, metavar="JSON",
+                     help="write gains and metrics as .json")
+    add_mkdir(tun)
     tun.set_defaults(run=_tune)
-    val = actions.add_parser("validate", help="check a trajectory CSV before it goes to hardware")
-    val.add_argument("trajectory", type=Path, metavar="TRAJECTORY")
+    val = actions.add_parser("validate", help="check a trajectory CSV before it goes to hardware",
+                             description="Check a trajectory CSV against the robot's limits (finite, on the control "
+                                         "period, above the head, speed, acceleration, jerk) and print its peaks. "
+                                         "Writes nothing.")
+    val.add_argument("trajectory", type=existing_file, metavar="TRAJECTORY", help="a trajectory .csv to check")
     val.add_argument("--stick", help="the stick of a composition CSV")
-    val.add_argument("--config", type=Path, metavar="TOML", help="robot config with a [limits] table")
+    val.add_argument("--config", type=existing_file, metavar="TOML", help="robot config with a [limits] table")
     val.set_defaults(run=_validate)
-    exp = actions.add_parser("export", help="validate and export a trajectory CSV for a robot stack")
-    exp.add_argument("trajectory", type=Path, metavar="TRAJECTORY")
-    exp.add_argument("--format", choices=("csv", "ros-json"), required=True)
-    exp.add_argument("--out", type=Path, required=True, metavar="PATH")
+    exp = actions.add_parser("export", help="validate and export a trajectory CSV for a robot stack",
+                             description="Validate a trajectory CSV as 'robot validate' does, then write it in a form "
+                                         "a robot stack takes.")
+    exp.add_argument("trajectory", type=existing_file, metavar="TRAJECTORY", help="a trajectory .csv to export")
+    exp.add_argument("--format", choices=("csv", "ros-json"), required=True,
+                     help="csv: t, theta, omega, alpha at the control rate; ros-json: a ROS 2 JointTrajectory as JSON")
+    exp.add_argument("--out", action=Output, required=True, metavar="PATH", help="the file to write")
     exp.add_argument("--stick", help="the stick of a composition CSV")
-    exp.add_argument("--config", type=Path, metavar="TOML", help="robot config with a [limits] table")
+    exp.add_argument("--config", type=existing_file, metavar="TOML", help="robot config with a [limits] table")
+    add_mkdir(exp)
     exp.set_defaults(run=_export)
 
 
@@ -63,7 +83,7 @@ def _track(args):
     for name in names:
         if name not in controllers:
             raise ParameterError(f"--controller must be one of {', '.join(controllers)} or all, got {name!r}")
-    rate = check_real("--rate", args.rate, low=10.0, high=1e5, unit="Hz")
+    rate = args.rate
     source = load_source(args.source, library=args.library, stick=args.stick, plant=config.plant)
     ref = reference(source, rate)
     played = [track(ref, controllers[name], config.plant, engine=args.plant) for name in names]

@@ -35,6 +35,9 @@ from .._atomic import write_atomic
 from .._version import __version__
 from ..errors import ParameterError
 
+SUFFIXES = (".csv",)
+"""The extension of the trajectory files written."""
+
 UNITS = "units s, rad, rad/s"
 
 _RATE = re.compile(r"(?:^|; )rate=([^ ;]+) Hz(?:;|$)")
