@@ -4,6 +4,7 @@ readers (csv, json, tomllib, soundfile, mido, PNG magic bytes), not with the wri
 
 import csv
 import json
+import re
 import shutil
 import tomllib
 from html.parser import HTMLParser
@@ -256,14 +257,46 @@ class Links(HTMLParser):
         self.links += [attrs[key] for key in ("src", "href") if key in attrs and tag in ("img", "audio", "a")]
 
 
+class Structure(HTMLParser):
+    """What a valid HTML5 page needs of its structure: a doctype, every element closed in order, ids unique."""
+
+    VOID = {"meta", "img", "br", "hr", "link", "input", "source"}
+
+    def __init__(self):
+        super().__init__()
+        self.open, self.ids, self.errors, self.doctype, self.seen = [], [], [], None, []
+
+    def handle_decl(self, decl):
+        self.doctype = decl
+
+    def handle_starttag(self, tag, attrs):
+        self.seen.append((tag, dict(attrs)))
+        self.ids += [value for key, value in attrs if key == "id"]
+        if tag not in self.VOID:
+            self.open.append(tag)
+
+    def handle_endtag(self, tag):
+        if not self.open or self.open.pop() != tag:
+            self.errors.append(f"</{tag}> closes nothing open")
+
+
 def test_the_demo_writes_a_page_whose_links_are_files_and_returns_what_it_made(tmp_path):
     from drumstroke.demo import run_demo
 
     done = []
     demo = run_demo(tmp_path / "demo", progress=done.append)
     assert done == sorted(done) and done[-1] == 1.0
+    text = demo.index.read_text(encoding="utf-8")
+    structure = Structure()
+    structure.feed(text)
+    structure.close()
+    assert structure.doctype == "DOCTYPE html" and structure.errors == [] and structure.open == []
+    assert len(structure.ids) == len(set(structure.ids)) and all(" " not in i for i in structure.ids)
+    assert ("html", {"lang": "en"}) in structure.seen and ("meta", {"charset": "utf-8"}) in structure.seen
+    assert all(attrs.get("alt") for tag, attrs in structure.seen if tag == "img")
+    assert re.search(r"\b1 impact in", text) and not re.search(r"\b1 impacts", text)  # 'single' has one impact
     page = Links()
-    page.feed(demo.index.read_text(encoding="utf-8"))
+    page.feed(text)
     assert sorted(page.links) == sorted(p.relative_to(demo.outdir).as_posix() for p in (
         *demo.groove, *demo.strokes, *(path for f in demo.figures for path in f.paths)))
     for link in page.links:

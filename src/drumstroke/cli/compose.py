@@ -11,7 +11,9 @@ from ._options import Output, add_mkdir, existing_folder, number
 
 def add_compose(commands):
     """Register ``compose``."""
-    comp = commands.add_parser("compose", help="turn a score (MIDI file or text pattern) into one trajectory per stick")
+    comp = commands.add_parser("compose", help="turn a score (MIDI file or text pattern) into one trajectory per stick",
+                               description="Compose a score from a library's strokes into one continuous trajectory "
+                                           "per stick; write it as data, a picture, audio and MIDI if asked.")
     comp.add_argument("score", type=Path, metavar="SCORE", help="a .mid/.midi file or a text pattern (see the README)")
     comp.add_argument("--library", type=existing_folder, required=True, metavar="DIR",
                       help="a library folder ('library build')")

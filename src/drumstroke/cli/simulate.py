@@ -27,8 +27,9 @@ def add_simulate(commands):
                           "simulated, then its transforms), or a recipe .toml file; with --library, one of its strokes")
     sim.add_argument("--library", type=existing_folder, metavar="DIR",
                      help="take STROKE from this library folder ('library build'), as stored: no simulation")
-    sim.add_argument("--rate", type=number(low=0.0, high=1e6, low_open=True, unit="Hz"), default=DEFAULT_RATE,
-                     metavar="HZ", help=f"samples per second of --csv, in (0, 1e6] Hz (default {DEFAULT_RATE:g})")
+    sim.add_argument("--rate", type=number(low=0.0, high=1e6, low_open=True, unit="Hz"), metavar="HZ",
+                     help=f"samples per second of --csv, in (0, 1e6] Hz (default {DEFAULT_RATE:g}; with --library, "
+                          "the library's)")
     sim.add_argument("--model", choices=MODELS, help="simulate with this model instead of the recipe's "
                                                      "(default: the recipe's, paper unless it says geometry)")
     sim.add_argument("--json", action=Output, suffixes=json.SUFFIXES, metavar="PATH",

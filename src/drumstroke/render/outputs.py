@@ -30,8 +30,8 @@ def write_stroke_outputs(stroke, *, json=None, csv=None, plot=None, audio=None, 
         48 kHz mono audio of the impacts on a synthesized snare drum: .wav, .flac or .ogg.
     midi : str, Path or None
         The impacts as General MIDI percussion (channel 10, note 38).
-    rate : float > 0
-        Samples per second of ``csv`` (Hz).
+    rate : float > 0 or None
+        Samples per second of ``csv`` (Hz); None: a Trajectory's own rate (a Stroke's 1 kHz).
     title : str or None
         The plot's title (default: the stroke's name).
     snares : bool
