@@ -260,7 +260,7 @@ class Links(HTMLParser):
 class Structure(HTMLParser):
     """What a valid HTML5 page needs of its structure: a doctype, every element closed in order, ids unique."""
 
-    VOID = {"meta", "img", "br", "hr", "link", "input", "source"}
+    VOID = frozenset({"meta", "img", "br", "hr", "link", "input", "source"})
 
     def __init__(self):
         super().__init__()
