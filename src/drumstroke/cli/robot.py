@@ -11,14 +11,12 @@ from ._options import Output, add_mkdir, existing_file, existing_folder, number,
 def add_robot(commands):
     """Register ``robot`` and its actions."""
     robot = commands.add_parser("robot", help="play strokes on a simulated robot joint; validate and export trajectories",
-                                description="Strokes on a simulated motor-driven joint: play and score them, tune "
-                                            "controllers, validate trajectories and export them for a robot stack.")
+                                description="Play, score, tune, validate and export strokes for a robot joint.")
     actions = robot.add_subparsers(dest="robot_command", parser_class=Parser, metavar="ACTION", required=True)
     trk = actions.add_parser("track", help="play a stroke with one controller or all, and score it",
-                             description="Play a stroke on the simulated joint with one controller or all, print "
-                                         "what each kept of it; write the metrics and a plot if asked.")
+                             description="Play a stroke with each controller asked for; print what each kept.")
     trk.add_argument("source", metavar="SOURCE",
-                     help="a recipe .toml, a preset, a library stroke (with --library) or a trajectory .csv")
+                     help="a recipe .toml, a preset, a palette or library (--library) stroke, or a trajectory .csv")
     trk.add_argument("--library", type=existing_folder, metavar="DIR", help="the library SOURCE names a stroke of")
     trk.add_argument("--stick", help="the stick to play from a composition CSV")
     trk.add_argument("--controller", default="all", metavar="NAME", help="pi, pid-ff, impedance or all (default)")
@@ -27,13 +25,11 @@ def add_robot(commands):
     trk.add_argument("--rate", type=number(low=10.0, high=1e5, unit="Hz"), default=DEFAULT_RATE, metavar="HZ",
                      help=f"control rate, in [10, 1e5] Hz (default {DEFAULT_RATE:g})")
     trk.add_argument("--report", action=Output, suffixes=json.SUFFIXES, metavar="JSON", help="write the metrics as .json")
-    trk.add_argument("--plot", action=Output, suffixes=plot.SUFFIXES, metavar="PNG",
-                     help=f"draw reference and played theta(t) with their onsets: {', '.join(plot.SUFFIXES)}")
+    trk.add_argument("--plot", action=Output, suffixes=plot.SUFFIXES, metavar="PNG", help="draw theta(t) and onsets")
     add_mkdir(trk)
     trk.set_defaults(run=_track)
     tun = actions.add_parser("tune", help="tune a controller's gains over a library, before/after table",
-                             description="Tune a controller's gains to keep a library's onsets; print the strokes "
-                                         "before and after, write gains and metrics as JSON if asked.")
+                             description="Tune a controller's gains to keep a library's onsets; print before/after.")
     tun.add_argument("--library", type=existing_folder, required=True, metavar="DIR",
                      help="the library folder ('library build') to tune on")
     tun.add_argument("--controller", default="pi", metavar="NAME", help="pi (default), pid-ff or impedance")
@@ -46,16 +42,13 @@ def add_robot(commands):
     add_mkdir(tun)
     tun.set_defaults(run=_tune)
     val = actions.add_parser("validate", help="check a trajectory CSV before it goes to hardware",
-                             description="Check a trajectory CSV against the robot's limits (finite, on the control "
-                                         "period, above the head, speed, acceleration, jerk) and print its peaks. "
-                                         "Writes nothing.")
+                             description="Check a trajectory CSV against the robot's limits; print its peaks.")
     val.add_argument("trajectory", type=existing_file, metavar="TRAJECTORY", help="a trajectory .csv to check")
     val.add_argument("--stick", help="the stick of a composition CSV")
     val.add_argument("--config", type=existing_file, metavar="TOML", help="robot config with a [limits] table")
     val.set_defaults(run=_validate)
     exp = actions.add_parser("export", help="validate and export a trajectory CSV for a robot stack",
-                             description="Validate a trajectory CSV as 'robot validate' does, then write it in a form "
-                                         "a robot stack takes.")
+                             description="Validate a trajectory CSV, then write it for a robot stack.")
     exp.add_argument("trajectory", type=existing_file, metavar="TRAJECTORY", help="a trajectory .csv to export")
     exp.add_argument("--format", choices=("csv", "ros-json"), required=True,
                      help="csv: t, theta, omega, alpha at the control rate; ros-json: a ROS 2 JointTrajectory as JSON")
