@@ -277,6 +277,11 @@ def test_an_output_that_is_a_directory_is_refused_before_any_work(tmp_path, caps
 
 
 def test_mkdir_creates_the_missing_folders_and_nothing_else(tmp_path, capsys):
+    (tmp_path / "d.csv").mkdir()
+    assert main(["simulate", "constant", "--json", str(tmp_path / "a" / "s.json"), "--csv", str(tmp_path / "d.csv"),
+                 "--mkdir"]) == 2
+    assert "--csv:" in capsys.readouterr().err and not (tmp_path / "a").exists()  # every check before any folder
+    (tmp_path / "d.csv").rmdir()
     out = tmp_path / "a" / "b" / "s.json"
     assert main(["simulate", "constant", "--json", str(out), "--mkdir"]) == 0
     assert json.loads(out.read_text())["recipe_name"] == "constant"

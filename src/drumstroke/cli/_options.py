@@ -85,12 +85,13 @@ def add_mkdir(parser):
 
 
 def check_outputs(args):
-    """Check every output's folder before the work; create missing ones if ``args.mkdir``.
+    """Check every output's folder before the work; then, if ``args.mkdir``, create the missing ones.
 
     A file's folder must exist (or is created with ``--mkdir``) and be writable, and the file must
     not be a directory; a folder output must be a directory or not exist yet (the command creates
     it, in a folder that must exist or is created with ``--mkdir``).
     """
+    missing = []
     for option, path, is_folder in getattr(args, "outputs", {}).values():
         if is_folder and path.exists() and not path.is_dir():
             raise ParameterError(f"{option}: {str(path)!r} is a file, not a directory")
@@ -102,9 +103,11 @@ def check_outputs(args):
                 raise ParameterError(f"{option}: {str(folder)!r} is not a directory")
             if not getattr(args, "mkdir", False):
                 raise ParameterError(f"{option}: directory {str(folder)!r} does not exist (use --mkdir to create it)")
-            folder.mkdir(parents=True)
-        if not os.access(folder, os.W_OK | os.X_OK):
+            missing.append(folder)
+        elif not os.access(folder, os.W_OK | os.X_OK):
             raise ParameterError(f"{option}: directory {str(folder)!r} is not writable")
+    for folder in missing:
+        folder.mkdir(parents=True, exist_ok=True)
 
 
 def output_option(args, filename):
