@@ -56,7 +56,8 @@ def test_simulate_catch_stretch_reverse_writes_every_file(tmp_path):
     result = run("simulate", "free-bounce", "--catch", 3, "--stretch", 2, "--reverse", "--csv", paths["csv"],
                  "--json", paths["json"], "--wav", paths["wav"], "--midi", paths["mid"], "--plot", paths["png"])
     assert result.returncode == 0, result.stderr
-    assert "after catch 3, stretch 2, reverse: 3 impacts" in result.stdout
+    # the summary is of the stroke written, after the transforms: its first impact is the written one
+    assert "; after catch 3, stretch 2, reverse\n3 impacts;" in result.stdout
 
     bounce = drumstroke.simulate("free-bounce")
     t, omega = bounce.impacts.t, bounce.impacts.omega
@@ -66,6 +67,8 @@ def test_simulate_catch_stretch_reverse_writes_every_file(tmp_path):
 
     data = json.loads(paths["json"].read_text())
     impacts = data["impacts"]
+    first = result.stdout.split("level (dB)\n", 1)[1].split()
+    assert first[:2] == ["1", f"{impacts[0]['t']:.6f}"] and first[3] == f"{impacts[0]['tip_speed']:.6f}"
     assert data["t_end"] == pytest.approx(2 * caught, abs=1e-9)
     assert [i["t"] for i in impacts] == pytest.approx(expected, abs=1e-9)
     # backwards, each impact's speeds before and after swap; twice as slow halves them
@@ -121,8 +124,8 @@ def test_post_processing_applies_in_the_order_given(tmp_path, steps, duration, s
         (["--stretch", "0"], ["--stretch", "0.0", "[0.01, 100]"]),
         (["--compress", "1000"], ["--compress", "1000.0", "upright"]),
         (["--trim", "1:x"], ["--trim", "'1:x'"]),
-        (["--trim", "2:1"], ["--trim", "t1", "1.0"]),
-        (["--catch", "0"], ["--catch", "0", "[1, 98]"]),
+        (["--trim", "2:1"], ["--trim", "'2:1'", "0 <= T0 < T1"]),
+        (["--catch", "0"], ["--catch", "0", "[1, inf)"]),
         (["--catch", "500"], ["--catch", "500", "[1, 98]"]),
     ],
 )
@@ -380,8 +383,10 @@ def test_demo_writes_a_page_whose_every_link_is_a_real_file(tmp_path):
     page.feed((out / "index.html").read_text(encoding="utf-8"))
     library = load_library(out / "library")
     assert len(library) >= 17
-    assert page.sections == ["groove", *library]
-    assert len(page.links) == 3 * len(page.sections)
+    assert page.sections == ["groove", *library, "fig-4", "fig-5", "fig-6", "fig-7"]
+    # the groove: its sound, MIDI, CSV, JSON, pattern and picture; a stroke: sound, MIDI, picture; a figure:
+    # JSON, CSV, picture
+    assert len(page.links) == 6 + 3 * len(library) + 3 * 4
     for link in page.links:
         path = out / link
         assert path.is_file() and path.stat().st_size > 0, link
@@ -391,6 +396,10 @@ def test_demo_writes_a_page_whose_every_link_is_a_real_file(tmp_path):
             assert path.read_bytes()[:8] == PNG, link
         elif link.endswith(".mid"):
             assert len(mido.MidiFile(path).tracks) >= 1, link
+        elif link.endswith(".json"):
+            assert json.loads(path.read_text())["model"] == "paper", link
+        elif link.endswith((".csv", ".pattern")):
+            assert path.read_text().count("\n") > 2, link
         else:
             pytest.fail(f"unexpected link {link}")
     groove = json.loads((out / "groove.json").read_text())

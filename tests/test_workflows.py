@@ -4,6 +4,7 @@ readers (csv, json, tomllib, soundfile, mido, PNG magic bytes), not with the wri
 
 import csv
 import json
+import re
 import shutil
 import tomllib
 from html.parser import HTMLParser
@@ -172,9 +173,9 @@ def test_the_command_names_the_mapping_option_it_refuses(library, tmp_path, caps
 def test_a_stroke_bundle_is_five_files_that_other_readers_open(tmp_path, capsys):
     stroke = drumstroke.simulate("free-bounce")
     names = {key: tmp_path / f"bounce.{suffix}" for key, suffix in
-             (("json", "json"), ("csv", "csv"), ("plot", "png"), ("wav", "wav"), ("midi", "mid"))}
+             (("json", "json"), ("csv", "csv"), ("plot", "png"), ("audio", "wav"), ("midi", "mid"))}
     written = write_stroke_outputs(stroke, **names, rate=500.0, title="a bounce")
-    assert written == [names[key] for key in ("json", "csv", "plot", "wav", "midi")]
+    assert written == [names[key] for key in ("json", "csv", "plot", "audio", "midi")]
     assert capsys.readouterr() == ("", "")
 
     data = json.loads(names["json"].read_text())
@@ -184,7 +185,7 @@ def test_a_stroke_bundle_is_five_files_that_other_readers_open(tmp_path, capsys)
     assert np.allclose(np.diff(columns["t"]), 1 / 500.0) and columns["t"][-1] == pytest.approx(stroke.t_end)
     assert columns["theta"].min() >= stroke.recipe.theta_max - 1e-9
     assert names["plot"].read_bytes()[:8] == PNG
-    audio, rate = soundfile.read(names["wav"])
+    audio, rate = soundfile.read(names["audio"])
     assert rate == 48000 and audio.ndim == 1 and len(audio) / rate > stroke.impacts.t[-1]
     first = int(stroke.impacts.t[0] * rate)
     assert np.max(np.abs(audio[:first - 48])) < 1e-6 < np.max(np.abs(audio[first:first + 480]))
@@ -203,9 +204,9 @@ def test_a_bundle_writes_only_what_it_is_given(tmp_path):
 def test_a_composition_bundle_has_a_column_pair_per_stick_and_its_notes_on_time(library, tmp_path):
     piece = compose(parse_pattern("tempo 120\n0 single 100\n1 double 80 left\n2 single 60\n"), load_library(library))
     names = {key: tmp_path / f"piece.{suffix}" for key, suffix in
-             (("csv", "csv"), ("json", "json"), ("plot", "png"), ("wav", "wav"), ("midi", "mid"))}
+             (("csv", "csv"), ("json", "json"), ("plot", "png"), ("audio", "wav"), ("midi", "mid"))}
     written = write_composition_outputs(piece, title="piece", **names, snares=False)
-    assert written == [names[key] for key in ("csv", "json", "plot", "wav", "midi")]
+    assert written == [names[key] for key in ("csv", "json", "plot", "audio", "midi")]
 
     columns = read_csv_columns(names["csv"])
     assert list(columns) == ["t", "theta_right", "omega_right", "theta_left", "omega_left"]
@@ -213,7 +214,7 @@ def test_a_composition_bundle_has_a_column_pair_per_stick_and_its_notes_on_time(
     data = json.loads(names["json"].read_text())
     assert len(data["notes"]) == 3 and all(note["played"] for note in data["notes"])
     assert names["plot"].read_bytes()[:8] == PNG
-    info = soundfile.info(names["wav"])
+    info = soundfile.info(names["audio"])
     assert info.samplerate == 48000 and info.channels == 1 and info.duration > piece.offset + 1.0
     onsets = [t for t, *_ in midi_note_ons(names["midi"])]
     for beat in (0.0, 0.5, 1.0):  # score seconds at 120 bpm, after the lead-in
@@ -256,23 +257,58 @@ class Links(HTMLParser):
         self.links += [attrs[key] for key in ("src", "href") if key in attrs and tag in ("img", "audio", "a")]
 
 
+class Structure(HTMLParser):
+    """What a valid HTML5 page needs of its structure: a doctype, every element closed in order, ids unique."""
+
+    VOID = frozenset({"meta", "img", "br", "hr", "link", "input", "source"})
+
+    def __init__(self):
+        super().__init__()
+        self.open, self.ids, self.errors, self.doctype, self.seen = [], [], [], None, []
+
+    def handle_decl(self, decl):
+        self.doctype = decl
+
+    def handle_starttag(self, tag, attrs):
+        self.seen.append((tag, dict(attrs)))
+        self.ids += [value for key, value in attrs if key == "id"]
+        if tag not in self.VOID:
+            self.open.append(tag)
+
+    def handle_endtag(self, tag):
+        if not self.open or self.open.pop() != tag:
+            self.errors.append(f"</{tag}> closes nothing open")
+
+
 def test_the_demo_writes_a_page_whose_links_are_files_and_returns_what_it_made(tmp_path):
     from drumstroke.demo import run_demo
 
     done = []
     demo = run_demo(tmp_path / "demo", progress=done.append)
     assert done == sorted(done) and done[-1] == 1.0
+    text = demo.index.read_text(encoding="utf-8")
+    structure = Structure()
+    structure.feed(text)
+    structure.close()
+    assert structure.doctype == "DOCTYPE html" and structure.errors == [] and structure.open == []
+    assert len(structure.ids) == len(set(structure.ids)) and all(" " not in i for i in structure.ids)
+    assert ("html", {"lang": "en"}) in structure.seen and ("meta", {"charset": "utf-8"}) in structure.seen
+    assert all(attrs.get("alt") for tag, attrs in structure.seen if tag == "img")
+    assert re.search(r"\b1 impact in", text) and not re.search(r"\b1 impacts", text)  # 'single' has one impact
     page = Links()
-    page.feed(demo.index.read_text(encoding="utf-8"))
-    assert len(page.links) == 3 * (1 + len(demo.library))
+    page.feed(text)
+    assert sorted(page.links) == sorted(p.relative_to(demo.outdir).as_posix() for p in (
+        *demo.groove, *demo.strokes, *(path for f in demo.figures for path in f.paths)))
     for link in page.links:
         path = demo.outdir / link
         if link.endswith(".png"):
             assert path.read_bytes()[:8] == PNG, link
         elif link.endswith(".wav"):
             assert soundfile.info(path).samplerate == 48000, link
+        elif link.endswith(".mid"):
+            assert mido.MidiFile(path).tracks, link
         else:
-            assert link.endswith(".mid") and mido.MidiFile(path).tracks, link
+            assert link.endswith((".json", ".csv", ".pattern")) and path.stat().st_size > 0, link
     assert [f.preset for f in demo.figures] == ["free-bounce", "low-high", "high-low", "finger-pulses"]
     for figure in demo.figures:
         assert [p.suffix for p in figure.paths] == [".json", ".csv", ".png"]

@@ -75,7 +75,7 @@ class Placement:
     cut: float | None = None
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class Composition:
     """A composed piece: one trajectory of all its sticks, and what became of each note.
 
@@ -97,6 +97,12 @@ class Composition:
     offset: float
     placements: tuple
     problems: tuple
+
+    def __repr__(self):
+        sticks = ", ".join(f"{name} {len(s.impacts)}" for name, s in self.sticks.items())
+        played = sum(p.played for p in self.placements)
+        return (f"Composition(model={self.model!r}, {played} of {len(self.placements)} notes played, "
+                f"{self.t_end:g} s at {self.rate:g} Hz, score time 0 at {self.offset:g} s; impacts: {sticks})")
 
     @property
     def sticks(self):

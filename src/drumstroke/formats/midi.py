@@ -32,6 +32,9 @@ from .._checks import as_vector, check_real, check_vector
 from ..dynamics import FLOOR_DB, level_to_velocity
 from ..errors import ParameterError
 
+SUFFIXES = (".mid", ".midi")
+"""The extensions of the MIDI files written."""
+
 TICKS_PER_BEAT = 1920
 """Resolution of written files (ticks per quarter note): at 120 bpm a tick is 0.26 ms, so a note is
 within 0.13 ms of its impact (half a tick, 15.625/tempo ms in general)."""

@@ -1,8 +1,10 @@
 """Output bundles: every file a stroke or a composition can be written as, in one call.
 
 Each function writes the files it is given paths for and returns those paths in the order written;
-it prints nothing. Plots need matplotlib, WAV files soundfile and MIDI files mido (the extras
-``plot``, ``audio`` and ``midi``); they are imported only when such a file is asked for.
+it prints nothing; the folders must exist. Plots need matplotlib, audio files soundfile and MIDI
+files mido (the extras ``plot``, ``audio`` and ``midi``); they are imported only when such a file
+is asked for. A plot's format follows its extension (PNG, PDF or SVG), and so does an audio
+file's (WAV, FLAC or OGG/Vorbis).
 """
 
 from pathlib import Path
@@ -12,7 +14,7 @@ from ..trajectory import DEFAULT_RATE
 from . import data
 
 
-def write_stroke_outputs(stroke, *, json=None, csv=None, plot=None, wav=None, midi=None, rate=DEFAULT_RATE,
+def write_stroke_outputs(stroke, *, json=None, csv=None, plot=None, audio=None, midi=None, rate=DEFAULT_RATE,
                          title=None, snares=True):
     """Write a stroke's files: its data, its plot, its sound.
 
@@ -25,22 +27,22 @@ def write_stroke_outputs(stroke, *, json=None, csv=None, plot=None, wav=None, mi
         t (s), θ (rad), ω (rad/s) sampled at ``rate``, header first; its metadata goes into ``json``
         when that is the JSON beside it (``X.json`` for ``X.csv``), else into a JSON of its own there.
     plot : str, Path or None
-        A PNG of θ(t) with the impacts (and a(t) for a Stroke).
-    wav : str, Path or None
-        48 kHz mono audio of the impacts on a synthesized snare drum.
+        A picture of θ(t) with the impacts (and a(t) for a Stroke): .png, .pdf or .svg.
+    audio : str, Path or None
+        48 kHz mono audio of the impacts on a synthesized snare drum: .wav, .flac or .ogg.
     midi : str, Path or None
         The impacts as General MIDI percussion (channel 10, note 38).
-    rate : float > 0
-        Samples per second of ``csv`` (Hz).
+    rate : float > 0 or None
+        Samples per second of ``csv`` (Hz); None: a Trajectory's own rate (a Stroke's 1 kHz).
     title : str or None
         The plot's title (default: the stroke's name).
     snares : bool
-        Whether the drum of ``wav`` has its snare wires on.
+        Whether the drum of ``audio`` has its snare wires on.
 
     Returns
     -------
     list of Path
-        The files written: json, csv, the JSON beside csv if it is not json, plot, wav, midi, those given.
+        The files written: json, csv, the JSON beside csv if it is not json, plot, audio, midi, those given.
 
     Raises
     ------
@@ -48,7 +50,7 @@ def write_stroke_outputs(stroke, *, json=None, csv=None, plot=None, wav=None, mi
         Before writing anything, when the JSON beside ``csv`` is another of the files or a file
         already there that is not the CSV's metadata.
     """
-    side = sidecar_for(csv, json=json, others={"plot": plot, "wav": wav, "midi": midi}) if csv else None
+    side = sidecar_for(csv, json=json, others={"plot": plot, "audio": audio, "midi": midi}) if csv else None
     block = data.write_csv(stroke, csv, rate=rate, sidecar=side is not None) if csv else None
     written = []
     if json:
@@ -62,11 +64,11 @@ def write_stroke_outputs(stroke, *, json=None, csv=None, plot=None, wav=None, mi
         save_stroke_plot(stroke, plot, title=title)
         written.append(Path(plot))
     impacts = stroke.impacts
-    return written + write_sound(impacts.t, impacts.tip_speed, impacts.level_db, wav=wav, midi=midi,
+    return written + write_sound(impacts.t, impacts.tip_speed, impacts.level_db, audio=audio, midi=midi,
                                  title=f"{stroke.name} (model {stroke.model})", snares=snares)
 
 
-def write_composition_outputs(piece, *, title, csv=None, json=None, plot=None, wav=None, midi=None, snares=True):
+def write_composition_outputs(piece, *, title, csv=None, json=None, plot=None, audio=None, midi=None, snares=True):
     """Write a composition's files: its trajectories, notes and placements, its plot, its sound.
 
     Parameters
@@ -81,16 +83,16 @@ def write_composition_outputs(piece, *, title, csv=None, json=None, plot=None, w
     json : str, Path or None
         The notes, their placements and the impacts.
     plot : str, Path or None
-        A PNG of θ(t) per stick with the notes.
-    wav, midi : str, Path or None
-        Every stick's impacts as 48 kHz mono audio; as General MIDI percussion.
+        A picture of θ(t) per stick with the notes: .png, .pdf or .svg.
+    audio, midi : str, Path or None
+        Every stick's impacts as 48 kHz mono audio (.wav, .flac or .ogg); as General MIDI percussion.
     snares : bool
-        Whether the drum of ``wav`` has its snare wires on.
+        Whether the drum of ``audio`` has its snare wires on.
 
     Returns
     -------
     list of Path
-        The files written: csv, the JSON beside it if it is not json, json, plot, wav, midi, those given.
+        The files written: csv, the JSON beside it if it is not json, json, plot, audio, midi, those given.
 
     Raises
     ------
@@ -98,7 +100,7 @@ def write_composition_outputs(piece, *, title, csv=None, json=None, plot=None, w
         Before writing anything, when the JSON beside ``csv`` is another of the files or a file
         already there that is not the CSV's metadata.
     """
-    side = sidecar_for(csv, json=json, others={"plot": plot, "wav": wav, "midi": midi}) if csv else None
+    side = sidecar_for(csv, json=json, others={"plot": plot, "audio": audio, "midi": midi}) if csv else None
     written = []
     block = None
     if csv:
@@ -113,11 +115,11 @@ def write_composition_outputs(piece, *, title, csv=None, json=None, plot=None, w
         save_figure(composition_figure(piece, title=title), plot)
         written.append(Path(plot))
     times, speeds, levels = piece.impacts()
-    return written + write_sound(times, speeds, levels, wav=wav, midi=midi, title=f"{title} (model {piece.model})",
+    return written + write_sound(times, speeds, levels, audio=audio, midi=midi, title=f"{title} (model {piece.model})",
                                  snares=snares)
 
 
-def write_sound(times, tip_speeds, levels_db, *, wav=None, midi=None, title="", snares=True, duration=None):
+def write_sound(times, tip_speeds, levels_db, *, audio=None, midi=None, title="", snares=True, duration=None):
     """Write impacts as audio and as MIDI.
 
     Parameters
@@ -128,8 +130,8 @@ def write_sound(times, tip_speeds, levels_db, *, wav=None, midi=None, title="", 
         Tip speeds at impact (m/s).
     levels_db : array_like [shape=(n,)]
         Impact levels (dB re 1 m/s tip speed), for the MIDI velocities.
-    wav, midi : str, Path or None
-        Where to write 48 kHz mono audio; General MIDI percussion (channel 10, note 38).
+    audio, midi : str, Path or None
+        Where to write 48 kHz mono audio (.wav, .flac or .ogg); General MIDI percussion (channel 10, note 38).
     title : str
         The MIDI track's name.
     snares : bool
@@ -140,14 +142,14 @@ def write_sound(times, tip_speeds, levels_db, *, wav=None, midi=None, title="", 
     Returns
     -------
     list of Path
-        The files written: wav, midi, those given.
+        The files written: audio, midi, those given.
     """
     written = []
-    if wav:
+    if audio:
         from .audio import Drum, render_wav
 
-        render_wav(wav, times, tip_speeds, duration=duration, drum=Drum(snares=snares))
-        written.append(Path(wav))
+        render_wav(audio, times, tip_speeds, duration=duration, drum=Drum(snares=snares))
+        written.append(Path(audio))
     if midi:
         from ..formats.midi import write_midi
 
