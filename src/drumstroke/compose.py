@@ -39,9 +39,10 @@ import numpy as np
 from ._checks import check_real
 from .dynamics import level_to_velocity, velocity_to_level
 from .errors import ParameterError
+from .formats.midi import TempoMap
 from .palette.motion import RETURN_LIMITS, assemble, plan_return, return_time
 from .palette.transforms import compress, compress_limit, trim
-from .score import ScoreNote
+from .score import Score, ScoreNote
 from .trajectory import Trajectory
 
 HOLD_AFTER = 0.25
@@ -90,13 +91,17 @@ class Composition:
     placements : tuple of Placement
         One per note, in time order.
     problems : tuple of str
-        Notes left out, velocities out of reach, notes with no mapping.
+        Notes left out, velocities out of reach.
+    tempo_map : TempoMap
+        The score's tempo changes and time signatures (its MIDI file's, or its pattern's tempo and
+        meter; 120 bpm in 4/4 for notes given without one), on the score's time.
     """
 
     trajectory: Trajectory
     offset: float
     placements: tuple
     problems: tuple
+    tempo_map: TempoMap = TempoMap()
 
     @property
     def sticks(self):
@@ -132,19 +137,43 @@ class Composition:
         order = np.argsort(t, kind="stable")
         return t[order], speed[order], level[order]
 
+    def stick_impacts(self):
+        """Each stick's impacts on the score's time, and which of them are a stroke's first impact.
 
-def compose(notes, library, *, rate=None, limits=None):
+        Returns
+        -------
+        dict
+            ``{stick: (t, level_db, first)}``: times (s from the score's time 0, so a note's first
+            impact is at its time), levels (dB re 1 m/s) and booleans [each shape=(n,)].
+        """
+        result = {}
+        for name, stick in self.sticks.items():
+            t = np.maximum(stick.impacts.t - self.offset, 0.0)  # round-off below the score's time 0
+            first = np.zeros(t.size, dtype=bool)
+            landed = np.array([p.impact - self.offset for p in self.placements if p.played and p.note.stick == name])
+            if landed.size:  # each played note's first impact is the impact nearest its time
+                after = np.minimum(np.searchsorted(t, landed), t.size - 1)
+                before = np.maximum(after - 1, 0)
+                first[np.where(np.abs(t[before] - landed) <= np.abs(t[after] - landed), before, after)] = True
+            result[name] = (t, stick.impacts.level_db, first)
+        return result
+
+
+def compose(notes, library, *, rate=None, limits=None, progress=None):
     """Compose ``notes`` from ``library`` strokes into one trajectory per stick.
 
     Parameters
     ----------
-    notes : sequence of ScoreNote
-        At least one; their strokes must be in the library.
+    notes : Score or sequence of ScoreNote
+        At least one note; their strokes must be in the library. A :class:`~drumstroke.score.Score`
+        (what :func:`~drumstroke.score.read_score` returns) brings its tempo map along.
     library : drumstroke.palette.library.Library
     rate : float in [1, 100000] or None
         Control rate (Hz) of the result; default the library's.
     limits : Limits or None
         Bounds on the returns between strokes (default :data:`~drumstroke.palette.motion.RETURN_LIMITS`).
+    progress : callable or None
+        Called with the fraction done (0 to 1) as the notes are placed and the sticks assembled.
 
     Returns
     -------
@@ -152,7 +181,8 @@ def compose(notes, library, *, rate=None, limits=None):
     """
     limits = limits or RETURN_LIMITS
     rate = library.rate if rate is None else check_real("rate", rate, low=1.0, high=1e5, unit="Hz")
-    notes = list(notes)
+    tempo_map = notes.tempo_map if isinstance(notes, Score) else TempoMap()
+    notes = list(notes.notes if isinstance(notes, Score) else notes)
     if not notes:
         raise ParameterError("notes must hold at least one note")
     for note in notes:
@@ -173,7 +203,15 @@ def compose(notes, library, *, rate=None, limits=None):
     by_stick = {}
     for note in notes:
         by_stick.setdefault(note.stick, []).append(note)
-    plans = {stick: _place(stick_notes, variants, offset, head, limits, problems)
+    done = 0
+
+    def advance(count):  # placing a note is one step, assembling it into its stick another
+        nonlocal done
+        done += count
+        if progress is not None:
+            progress(done / (2 * len(notes)))
+
+    plans = {stick: _place(stick_notes, variants, offset, head, limits, problems, advance)
              for stick, stick_notes in by_stick.items()}
     end = max(_finish(plan, head, limits) for plan in plans.values()) + HOLD_AFTER
     if not math.isfinite(end):
@@ -184,10 +222,11 @@ def compose(notes, library, *, rate=None, limits=None):
         pieces = [trim(s, 0.0, p.cut) if p.cut is not None else s for p, s in plan if p.played]
         sticks[stick] = assemble(pieces, [p.start for p in played], limits=limits, end=end,
                                  name=f"composition ({stick} stick)").sample(rate)
+        advance(len(plan))
     placements = sorted((p for plan in plans.values() for p, _ in plan), key=lambda p: p.note.time)
     trajectory = Trajectory.from_sticks(sticks, name=f"composition of {len(placements)} notes",
                                         history=(f"compose {len(placements)} notes",))
-    return Composition(trajectory, offset, tuple(placements), tuple(problems))
+    return Composition(trajectory, offset, tuple(placements), tuple(problems), tempo_map)
 
 
 def _at_velocity(stroke, note, problems, limits):
@@ -229,10 +268,11 @@ def _offset(notes, variants, head, limits, rate):
     return math.ceil(need * rate - 1e-9) / rate if need > 0 else 0.0
 
 
-def _place(notes, variants, offset, head, limits, problems):
-    """Placements on one stick: (Placement, stroke) in time order, cuts chosen."""
+def _place(notes, variants, offset, head, limits, problems, advance):
+    """Placements on one stick: (Placement, stroke) in time order, cuts chosen; ``advance(1)`` for each note."""
     plan = []
     for note in notes:
+        advance(1)
         stroke, factor = variants[(note.stroke, note.velocity)]
         start = offset + note.time - stroke.impacts.t[0]
         placed = Placement(note, True, start, offset + note.time, factor)

@@ -7,6 +7,7 @@ import time
 from pathlib import Path
 
 from ..model import inertia_ratio
+from ..score import BOUNCE_NOTE, FIRST_IMPACT_NOTE
 
 
 class Parser(argparse.ArgumentParser):
@@ -45,7 +46,8 @@ def add_sound_options(parser):
     parser.add_argument("--wav", type=Path, metavar="PATH", help="write 48 kHz mono audio of the impacts")
     parser.add_argument("--no-snares", action="store_true", help="render --wav with the snare wires off")
     parser.add_argument("--midi", type=Path, metavar="PATH",
-                        help="write the impacts as General MIDI percussion (channel 10, note 38)")
+                        help=f"write the impacts as General MIDI percussion (channel 10: a stroke's first impact on "
+                             f"key {FIRST_IMPACT_NOTE}, its bounces on {BOUNCE_NOTE})")
 
 
 def print_written(paths):
