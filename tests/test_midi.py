@@ -606,8 +606,8 @@ def test_smpte_time_division_and_zero_ticks_per_beat_are_refused(tmp_path, divis
 
 
 @pytest.mark.parametrize(("meta", "message"), [
-    (tempo(0, 960), r"track 1 at tick 960: tempo must be in \[60000, 16777215\] µs per beat \(3.58-1000 bpm\), "
-                    r"got 0 \(an infinite tempo\)"),
+    (tempo(0, 960), (r"track 1 at tick 960: tempo must be in \[60000, 16777215\] µs per beat \(3.58-1000 bpm\), "
+                     r"got 0 \(an infinite tempo\)")),
     (tempo(1, 0), r"track 1 at tick 0: tempo must be .* got 1 \(6e\+07 bpm\)"),
     (tempo(59_999, 5), r"track 1 at tick 5: .* got 59999 \(1000.02 bpm\)"),
     (mido.MetaMessage("time_signature", numerator=0, denominator=4, time=10),

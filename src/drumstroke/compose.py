@@ -32,7 +32,7 @@ Examples
 """
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -101,7 +101,7 @@ class Composition:
     offset: float
     placements: tuple
     problems: tuple
-    tempo_map: TempoMap = TempoMap()
+    tempo_map: TempoMap = field(default_factory=TempoMap)
 
     @property
     def sticks(self):

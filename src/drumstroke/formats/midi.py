@@ -31,6 +31,7 @@ import math
 from bisect import bisect_right
 from dataclasses import dataclass, field
 from functools import cached_property
+from itertools import pairwise
 from pathlib import Path
 from typing import NamedTuple
 
@@ -297,7 +298,7 @@ class MidiScore:
         changes = [(round(beat * resolution), tempo) for beat, tempo in self.tempo_map.tempi]
         ticks = [tick for tick, _ in changes]
         seconds = [0.0]
-        for (tick, tempo), (following, _) in zip(changes, changes[1:]):
+        for (tick, tempo), (following, _) in pairwise(changes):
             seconds.append(seconds[-1] + (following - tick) * tempo * 1e-6 / resolution)
         streams = [_note_ons(track, number) for number, track in enumerate(self._file.tracks)]
         for tick, number, key, velocity, channel in heapq.merge(*streams):
