@@ -91,8 +91,8 @@ def test_notes_at_the_same_time_keep_the_file_order():
         ("tempo 120\n0 single 100\n1 single 100 Left\n", r"pattern line 3: stick must be 1-32 of a-z.*got 'Left'"),
         ("tempo 120\n0 single 100 l.h\n", r"pattern line 2: stick must be .*got 'l.h'"),
         ("tempo 120\n# no notes\n", r"pattern has a tempo but no notes"),
-        ("tempo 120\nmeter 3/5\n0 single 100\n", r"pattern line 2: meter must be N/D with N in \[1, 255\] and D a "
-                                                  r"power of two in \[1, 128\], got '3/5'"),
+        ("tempo 120\nmeter 3/5\n0 single 100\n", (r"pattern line 2: meter must be N/D with N in \[1, 255\] and D a "
+                                                   r"power of two in \[1, 128\], got '3/5'")),
         ("tempo 120\nmeter 0/4\n0 single 100\n", r"pattern line 2: meter must be N/D .* got '0/4'"),
         ("tempo 120\nmeter 3:4\n0 single 100\n", r"pattern line 2: meter must be N/D .* got '3:4'"),
         ("tempo 120\n0 single 100\nmeter 3/4\n", r"pattern line 3: a meter is one 'meter N/D' line before the notes"),
@@ -261,12 +261,12 @@ def test_channels_and_tracks_choose_what_is_played_and_the_report_says_why_the_r
 
 
 @pytest.mark.parametrize(("choice", "match"), [
-    ({"channels": [0]}, r"^--channel \(a MIDI channel, counted from 1; 10 is General MIDI percussion\) must be an "
-                        r"integer in \[1, 16\], got 0"),
+    ({"channels": [0]}, (r"^--channel \(a MIDI channel, counted from 1; 10 is General MIDI percussion\) must be an "
+                         r"integer in \[1, 16\], got 0")),
     ({"channels": [17]}, r"got 17"),
     ({"channels": 10}, r"--channel must be a non-empty list of MIDI channels, got 10"),
-    ({"tracks": ["drum"]}, r"^--track 'drum' is not a track of MIDI file '.*song.mid'; its tracks are 0 'drums', "
-                           r"1 'bass', 2 'melody'"),
+    ({"tracks": ["drum"]}, (r"^--track 'drum' is not a track of MIDI file '.*song.mid'; its tracks are 0 'drums', "
+                            r"1 'bass', 2 'melody'")),
     ({"tracks": [3]}, r"^--track 3 is not a track"),
     ({"tracks": ["-1"]}, r"^--track '-1' is not a track"),
 ])
