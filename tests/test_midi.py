@@ -253,6 +253,17 @@ def test_a_file_is_written_at_a_multiple_of_the_resolution_its_tempo_map_was_rea
         assert file.ticks_per_beat == written and tempi[1] == (7 * written // resolution, 400_000)
 
 
+def test_an_hour_long_file_stays_within_the_ticks_pretty_midi_reads_and_within_half_a_millisecond(tmp_path, rng):
+    times = np.sort(np.concatenate(([0.0, 3600.0], rng.uniform(0.0, 3600.0, 200))))
+    midi.write_midi(tmp_path / "hour.mid", [Track("s", times, np.zeros(times.size), 38)])
+    file, _, _, _, notes = read_with_mido(tmp_path / "hour.mid")
+    assert 500 <= file.ticks_per_beat < midi.TICKS_PER_BEAT  # coarser, but half a tick is still under 0.5 ms
+    assert max(n["end_tick"] for n in notes) <= midi.MAX_TICKS
+    for starts in ([n["time"] for n in notes], [n.start for n in pretty_midi.PrettyMIDI(str(tmp_path / "hour.mid"))
+                                                .instruments[0].notes]):
+        assert np.max(np.abs(np.array(starts) - times)) <= HALF_MS
+
+
 def test_the_slowest_midi_tempo_is_written_finely_enough_and_a_slower_one_is_refused(tmp_path):
     midi.write_midi(tmp_path / "slow.mid", [Track("s", [0.0, 20.0, 33.3], [0.0] * 3, 38)],
                     tempo_map=TempoMap(tempi=((0.0, midi.SLOWEST_MIDI_TEMPO),)))

@@ -43,10 +43,14 @@ from ..dynamics import FLOOR_DB, level_to_velocity
 from ..errors import ParameterError
 
 TICKS_PER_BEAT = 1920
-"""The least resolution of written files (ticks per quarter note): at 120 bpm a tick is 0.26 ms, so a
-note is within 0.13 ms of its impact (half a tick). A file is written finer where its tempo map needs
-it: at a multiple of the resolution its beats were read at, and fine enough that half a tick is at
-most 0.5 ms at its slowest tempo."""
+"""The resolution of written files (ticks per quarter note): at 120 bpm a tick is 0.26 ms, so a note is
+within 0.13 ms of its impact (half a tick). It is rounded up to a multiple of the resolution the tempo
+map was read at (so every tempo change stays on a tick), coarser for a file that would otherwise pass
+:data:`MAX_TICKS`, and never so coarse that half a tick passes 0.5 ms at the slowest tempo."""
+
+MAX_TICKS = 10_000_000
+"""The most ticks a written file lasts when it can (pretty_midi refuses longer files as "likely corrupt"):
+at 1920 ticks a beat, 43 minutes at 120 bpm."""
 
 NOTE_LENGTH = 0.020
 """How long a written note sounds (s), unless the next note of the same key starts sooner."""
@@ -236,7 +240,8 @@ def write_midi(path, tracks, *, tempo_map=None, channel=PERCUSSION_CHANNEL, titl
     channel = check_int("channel", channel, low=1, high=16)
     if not isinstance(title, str):
         raise ParameterError(f"title must be a str, got {title!r}")
-    clock = _Clock(tempo_map)
+    clock = _Clock(tempo_map, max((float(track.times.max()) for track in tracks if track.times.size), default=0.0)
+                   + NOTE_LENGTH)
 
     parts = [_notes_of(track, i, clock) for i, track in enumerate(tracks)]
     ends = _ends(parts, clock)
@@ -399,16 +404,21 @@ def _load(path):
 
 
 class _Clock:
-    """Seconds <-> ticks of a written file: its resolution and its tempo map in whole ticks and µs."""
+    """Seconds <-> ticks of a written file that ends at ``end`` (s): its resolution and its tempo map in whole
+    ticks and µs."""
 
-    def __init__(self, tempo_map):
+    def __init__(self, tempo_map, end):
         slowest = max(tempo for _, tempo in tempo_map.tempi)
         if slowest > SLOWEST_MIDI_TEMPO:
             raise ParameterError(f"tempo_map: a MIDI file holds tempi of 3.58 bpm and faster, got {60e6 / slowest:.6g} "
                                  f"bpm ({slowest:.0f} µs per beat)")
-        base = tempo_map.resolution or 1
-        wanted = max(TICKS_PER_BEAT, math.ceil(slowest / 1000.0))  # half a tick <= 0.5 ms at the slowest tempo
-        resolution = base * math.ceil(wanted / base)
+        base = tempo_map.resolution or 1  # a multiple of it puts every change read from a file on a tick
+        finest = base * math.ceil(slowest / 1000.0 / base)  # half a tick <= 0.5 ms at the slowest tempo
+        resolution = base * math.ceil(TICKS_PER_BEAT / base)
+        beats = 1.01 * float(tempo_map.beats(end)) + 1.0  # the last tick's beat, with room for rounding
+        if beats * resolution > MAX_TICKS:
+            resolution = base * math.floor(MAX_TICKS / beats / base)
+        resolution = max(resolution, finest)
         self.resolution = resolution if resolution <= _MAX_RESOLUTION else base
         self.tempi = []
         for beat, tempo in tempo_map.tempi:
