@@ -214,8 +214,12 @@ class ScoreReport:
 
     def _reason_text(self, reason):
         option = self.options.get({"track": "tracks", "channel": "channels", "unmapped": "mapping"}[reason])
-        return {"track": f"in tracks not chosen ({option})", "channel": f"on channels not chosen ({option})",
-                "unmapped": f"not in the mapping ({option})" if option else "not in the drum map"}[reason]
+        if reason != "unmapped":
+            return f"in tracks not chosen ({option})" if reason == "track" else f"on channels not chosen ({option})"
+        if option:
+            return f"not in the mapping ({option})"
+        percussion = all(c == PERCUSSION_CHANNEL for (r, c), n in self.counts.items() if r == reason and n)
+        return "not in the drum map" if percussion else "not in the default mapping"
 
 
 @dataclass(frozen=True)
