@@ -302,6 +302,8 @@ def test_a_tempo_map_turns_beats_into_seconds_and_back():
     ({"meters": ((0.0, 3, 256),)}, r"meters\[0\] denominator must be an integer in \[1, 128\], got 256"),
     ({"meters": ((0.0, 4, 4), (0.0, 3, 4))}, r"meters beats must increase"),
     ({"resolution": 0}, r"resolution must be an integer in \[1, 32767\] ticks per beat, got 0"),
+    ({"tempi": (("0", 500_000),)}, r"tempi\[0\] beat must be a number in \[0, inf\), got '0'"),
+    ({"meters": ((0.0, 4.0, 4),)}, r"meters\[0\] numerator must be an integer in \[1, 255\], got 4.0"),
 ])
 def test_a_tempo_map_checks_its_fields(fields, message):
     with pytest.raises(ParameterError, match=message):

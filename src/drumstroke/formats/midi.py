@@ -128,15 +128,15 @@ class TempoMap:
     resolution: int | None = None
 
     def __post_init__(self):
-        tempi = tuple((float(beat), float(tempo)) for beat, tempo in _pairs("tempi", self.tempi, 2))
-        for i, (beat, tempo) in enumerate(tempi):
-            check_real(f"tempi[{i}] beat", beat, low=0.0)
-            check_real(f"tempi[{i}] tempo", tempo, low=FASTEST_TEMPO, unit="µs per beat")
-        meters = tuple((float(beat), num, den) for beat, num, den in _pairs("meters", self.meters, 3))
-        for i, (beat, numerator, denominator) in enumerate(meters):
-            check_real(f"meters[{i}] beat", beat, low=0.0)
-            check_int(f"meters[{i}] numerator", numerator, low=1, high=255)
-            if check_int(f"meters[{i}] denominator", denominator, low=1, high=128) & (denominator - 1):
+        tempi = tuple((check_real(f"tempi[{i}] beat", beat, low=0.0),
+                       check_real(f"tempi[{i}] tempo", tempo, low=FASTEST_TEMPO, unit="µs per beat"))
+                      for i, (beat, tempo) in enumerate(_pairs("tempi", self.tempi, 2)))
+        meters = tuple((check_real(f"meters[{i}] beat", beat, low=0.0),
+                        check_int(f"meters[{i}] numerator", numerator, low=1, high=255),
+                        check_int(f"meters[{i}] denominator", denominator, low=1, high=128))
+                       for i, (beat, numerator, denominator) in enumerate(_pairs("meters", self.meters, 3)))
+        for i, (_, _, denominator) in enumerate(meters):
+            if denominator & (denominator - 1):
                 raise ParameterError(f"meters[{i}] denominator must be a power of two in [1, 128], got {denominator}")
         for name, changes in (("tempi", tempi), ("meters", meters)):
             if changes[0][0] != 0.0:
@@ -148,7 +148,7 @@ class TempoMap:
         if self.resolution is not None:
             check_int("resolution", self.resolution, low=1, high=_MAX_RESOLUTION, unit="ticks per beat")
         object.__setattr__(self, "tempi", tempi)
-        object.__setattr__(self, "meters", tuple((b, int(n), int(d)) for b, n, d in meters))
+        object.__setattr__(self, "meters", meters)
 
     @classmethod
     def constant(cls, bpm, *, meter=(4, 4)):
