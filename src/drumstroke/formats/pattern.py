@@ -27,16 +27,16 @@ FORMAT = """\
 A text pattern is UTF-8 text, one item a line; '#' starts a comment, and blank
 lines are skipped:
 
-  tempo BPM        the first line: quarter notes a minute, in (0, 1000]
-  meter N/D        optional, before the first note: the time signature (N in [1, 255],
-                   D a power of two up to 128; default 4/4); it changes no time, and is
-                   written into MIDI files
+  tempo BPM      the first line: quarter notes a minute, in (0, 1000]
+  meter N/D      optional, before the first note: the time signature (N in
+                 [1, 255], D a power of two up to 128; default 4/4); it changes
+                 no time, and is written into MIDI files
   BEAT STROKE VELOCITY [STICK]
-                   a note: its time in quarter notes from 0 (a number in [0, 1e6];
-                   0.5 is the second eighth note); a library stroke's name; a MIDI
-                   velocity 1-127 (the level of its first impact); the stick that plays
-                   it (1-32 of a-z, 0-9, '_', '-'; default right), one trajectory per
-                   stick. Notes may come in any order.
+                 a note: its time in quarter notes from 0 (a number in [0, 1e6];
+                 0.5 is the second eighth note); a library stroke's name; a
+                 MIDI velocity 1-127 (the level of its first impact); the stick
+                 that plays it (1-32 of a-z, 0-9, '_', '-'; default right), one
+                 trajectory per stick. Notes may come in any order.
 
 For example:
 
