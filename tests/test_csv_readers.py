@@ -111,7 +111,7 @@ def written(tmp_path_factory):
 
     cli("compose", folder / "groove.pattern", "--library", folder / "lib", "--csv", folder / "groove.csv")
     loaded = load_library(folder / "lib")  # what the command composes from: the library as a robot host loads it
-    notes, _ = read_score(folder / "groove.pattern", stroke_names=list(loaded))
+    notes = read_score(folder / "groove.pattern", stroke_names=list(loaded))
     piece = compose(notes, loaded)
     cases["compose --csv"] = (folder / "groove.csv", columns_of(piece.trajectory.sample(None)), "paper")
 

@@ -98,7 +98,7 @@ def test_simulate_catch_stretch_reverse_writes_every_file(tmp_path):
     assert drum.is_drum
     audible = [(row["t"], row["level_db"]) for row in impacts if row["level_db"] >= FLOOR_DB]
     assert len(audible) == 3
-    assert [n.pitch for n in drum.notes] == [38] * len(audible)
+    assert [n.pitch for n in drum.notes] == [38, 40, 40]  # the stroke's first impact, then its bounces
     assert [n.start for n in drum.notes] == pytest.approx([time for time, _ in audible], abs=0.5e-3)
     assert [n.velocity for n in drum.notes] == [hand_velocity(level) for _, level in audible]
 
@@ -307,25 +307,29 @@ def test_compose_csv_of_one_stick_is_t_theta_omega(built, tmp_path):
 
 
 def test_compose_midi_round_trips_time_and_velocity(composed):
-    """One note per audible impact; the notes' first impacts at offset + time within 0.5 ms, at their velocity ±1."""
+    """One note per audible impact, on the score's time (the JSON's impact times less the offset); the notes'
+    first impacts at their time within 0.5 ms, on key 38 (singles only: no bounce), at their velocity ±1."""
     paths, data = composed
-    impacts = sorted((row["t"], row["level_db"]) for rows in data["impacts"].values() for row in rows)
+    impacts = sorted((row["t"] - data["offset"], row["level_db"]) for rows in data["impacts"].values() for row in rows)
     audible = [(t, level) for t, level in impacts if level >= FLOOR_DB]
-    expected = [(data["offset"] + time, velocity) for time, _, velocity in GROOVE_NOTES]
+    expected = [(time, velocity) for time, _, velocity in GROOVE_NOTES]
 
     ons = midi_note_ons(paths["mid"])
     assert len(ons) == len(audible)
     assert {(channel, note) for _, channel, note, _ in ons} == {(9, 38)}
     assert [t for t, _, _, _ in ons] == pytest.approx([t for t, _ in audible], abs=0.5e-3)
+    assert ons[0][0] == 0.0  # the first note on the downbeat
 
-    (drum,) = pretty_midi.PrettyMIDI(str(paths["mid"])).instruments
-    assert drum.is_drum and {n.pitch for n in drum.notes} == {38}
-    starts = np.array([n.start for n in drum.notes])
+    sticks = pretty_midi.PrettyMIDI(str(paths["mid"])).instruments
+    assert [i.name for i in sticks] == ["right", "left"] and all(i.is_drum for i in sticks)
+    notes = sorted((n for i in sticks for n in i.notes), key=lambda n: n.start)
+    assert {n.pitch for n in notes} == {38}
+    starts = np.array([n.start for n in notes])
     errors = []
     for time, velocity in expected:
         i = int(np.argmin(np.abs(starts - time)))
         errors.append(abs(starts[i] - time))
-        assert abs(drum.notes[i].velocity - velocity) <= 1, (time, drum.notes[i].velocity, velocity)
+        assert abs(notes[i].velocity - velocity) <= 1, (time, notes[i].velocity, velocity)
         assert abs(ons[i][3] - velocity) <= 1
     assert max(errors) <= 0.5e-3, max(errors)
 

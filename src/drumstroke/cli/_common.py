@@ -7,6 +7,7 @@ from pathlib import Path
 from ..formats import midi, wav
 from ..model import inertia_ratio
 from ..render.page import plural
+from ..score import BOUNCE_NOTE, FIRST_IMPACT_NOTE
 from ._options import Output
 
 
@@ -57,7 +58,8 @@ def add_sound_options(parser):
                              f"the extension: {', '.join(wav.FORMATS)}")
     parser.add_argument("--no-snares", action="store_true", help="render --audio with the snare wires off")
     parser.add_argument("--midi", action=Output, suffixes=midi.SUFFIXES, metavar="PATH",
-                        help="write the impacts as General MIDI percussion (channel 10, note 38), .mid or .midi")
+                        help=f"write the impacts as General MIDI percussion (channel 10: a stroke's first impact on "
+                             f"key {FIRST_IMPACT_NOTE}, its bounces on {BOUNCE_NOTE}), .mid or .midi")
 
 
 def print_written(paths):

@@ -23,6 +23,7 @@ Examples
 (30.0, 20.0)
 """
 
+import functools
 import math
 from dataclasses import dataclass, fields
 
@@ -251,25 +252,41 @@ _S = np.linspace(0.0, 1.0, 129)
 
 
 def _shortest(start, target, theta_max, limits, longest):
-    """The shortest duration (s) of a quintic move within the limits (to 1 %), 0 for none needed, or inf."""
+    """The shortest duration (s) of a quintic move within the limits (to 1 %), 0 for none needed, or inf.
+
+    Found on the coarse grid up to ``longest`` (s), then refined below the first coarse duration that fits.
+    """
+    coarse, refined = _shortest_on_grid(tuple(start), tuple(target), theta_max, limits)
+    return refined if coarse <= longest * 1.0000001 else math.inf
+
+
+@functools.lru_cache(maxsize=4096)
+def _shortest_on_grid(start, target, theta_max, limits):
+    """The first coarse duration (s) that fits, and the shortest refined one; (inf, inf) if none fits.
+
+    Cached: a composition asks for the same moves between the same stroke ends and starts again and again."""
     if abs(start[0] - target[0]) < 1e-15 and abs(start[1]) < 1e-15 and abs(target[1]) < 1e-15:
-        return 0.0
-    coarse = _COARSE[_COARSE <= longest * 1.0000001] if math.isfinite(longest) else _COARSE
-    ok = _fits_many(start, target, coarse, theta_max, limits) if len(coarse) else np.zeros(0, bool)
+        return 0.0, 0.0
+    ok = _fits_many(start, target, _COARSE, theta_max, limits)
     if not ok.any():
-        return math.inf
+        return math.inf, math.inf
     k = int(np.argmax(ok))
     if k == 0:
-        return float(coarse[0])
-    fine = coarse[k - 1] * 1.01 ** np.arange(1, 24)  # 1.01**23 > 1.25
-    fine = fine[fine < coarse[k]]
+        return float(_COARSE[0]), float(_COARSE[0])
+    fine = _COARSE[k - 1] * 1.01 ** np.arange(1, 24)  # 1.01**23 > 1.25
+    fine = fine[fine < _COARSE[k]]
     ok_fine = _fits_many(start, target, fine, theta_max, limits)
-    return float(fine[np.argmax(ok_fine)]) if ok_fine.any() else float(coarse[k])
+    return float(_COARSE[k]), float(fine[np.argmax(ok_fine)]) if ok_fine.any() else float(_COARSE[k])
 
 
 def _fits(start, target, duration, theta_max, limits):
     if duration <= 0.0:
         return abs(start[0] - target[0]) < 1e-12 and abs(start[1] - target[1]) < 1e-9
+    return _fits_once(tuple(start), tuple(target), duration, theta_max, limits)
+
+
+@functools.lru_cache(maxsize=4096)
+def _fits_once(start, target, duration, theta_max, limits):
     return bool(_fits_many(start, target, np.array([duration]), theta_max, limits)[0])
 
 

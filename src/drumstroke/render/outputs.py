@@ -9,7 +9,10 @@ file's (WAV, FLAC or OGG/Vorbis).
 
 from pathlib import Path
 
+import numpy as np
+
 from ..formats.sidecar import sidecar_for
+from ..score import BOUNCE_NOTE, FIRST_IMPACT_NOTE
 from ..trajectory import DEFAULT_RATE
 from . import data
 
@@ -31,7 +34,9 @@ def write_stroke_outputs(stroke, *, json=None, csv=None, plot=None, audio=None, 
     audio : str, Path or None
         48 kHz mono audio of the impacts on a synthesized snare drum: .wav, .flac or .ogg.
     midi : str, Path or None
-        The impacts as General MIDI percussion (channel 10, note 38).
+        The impacts as General MIDI percussion on channel 10, at their own times (the stroke's start
+        is time 0) on one track: the first on key 38, the later ones (bounces) on 40
+        (:data:`drumstroke.score.DRUM_MAP`).
     rate : float > 0 or None
         Samples per second of ``csv`` (Hz); None: a Trajectory's own rate (a Stroke's 1 kHz).
     title : str or None
@@ -64,8 +69,15 @@ def write_stroke_outputs(stroke, *, json=None, csv=None, plot=None, audio=None, 
         save_stroke_plot(stroke, plot, title=title)
         written.append(Path(plot))
     impacts = stroke.impacts
-    return written + write_sound(impacts.t, impacts.tip_speed, impacts.level_db, audio=audio, midi=midi,
-                                 title=f"{stroke.name} (model {stroke.model})", snares=snares)
+    if audio:
+        written.append(_write_audio(audio, impacts.t, impacts.tip_speed, snares))
+    if midi:
+        from ..formats.midi import Track, write_midi
+
+        name = f"{stroke.name} (model {stroke.model})"
+        write_midi(midi, [Track(name, impacts.t, impacts.level_db, _keys(np.arange(len(impacts)) == 0))], title=name)
+        written.append(Path(midi))
+    return written
 
 
 def write_composition_outputs(piece, *, title, csv=None, json=None, plot=None, audio=None, midi=None, snares=True):
@@ -84,8 +96,12 @@ def write_composition_outputs(piece, *, title, csv=None, json=None, plot=None, a
         The notes, their placements and the impacts.
     plot : str, Path or None
         A picture of θ(t) per stick with the notes: .png, .pdf or .svg.
-    audio, midi : str, Path or None
-        Every stick's impacts as 48 kHz mono audio (.wav, .flac or .ogg); as General MIDI percussion.
+    audio : str, Path or None
+        Every stick's impacts as 48 kHz mono audio (.wav, .flac or .ogg), on the composition's timeline.
+    midi : str, Path or None
+        The impacts as General MIDI percussion on channel 10, on the score's time and its tempo map
+        and time signatures, one track per stick (named after it): each stroke's first impact on
+        key 38, its bounces on 40 (:data:`drumstroke.score.DRUM_MAP`).
     snares : bool
         Whether the drum of ``audio`` has its snare wires on.
 
@@ -114,45 +130,25 @@ def write_composition_outputs(piece, *, title, csv=None, json=None, plot=None, a
 
         save_figure(composition_figure(piece, title=title), plot)
         written.append(Path(plot))
-    times, speeds, levels = piece.impacts()
-    return written + write_sound(times, speeds, levels, audio=audio, midi=midi, title=f"{title} (model {piece.model})",
-                                 snares=snares)
-
-
-def write_sound(times, tip_speeds, levels_db, *, audio=None, midi=None, title="", snares=True, duration=None):
-    """Write impacts as audio and as MIDI.
-
-    Parameters
-    ----------
-    times : array_like [shape=(n,)]
-        Impact times (s).
-    tip_speeds : array_like [shape=(n,)]
-        Tip speeds at impact (m/s).
-    levels_db : array_like [shape=(n,)]
-        Impact levels (dB re 1 m/s tip speed), for the MIDI velocities.
-    audio, midi : str, Path or None
-        Where to write 48 kHz mono audio (.wav, .flac or .ogg); General MIDI percussion (channel 10, note 38).
-    title : str
-        The MIDI track's name.
-    snares : bool
-        Whether the drum has its snare wires on.
-    duration : float or None
-        Length of the audio (s); default: until the last impact has rung out.
-
-    Returns
-    -------
-    list of Path
-        The files written: audio, midi, those given.
-    """
-    written = []
     if audio:
-        from .audio import Drum, render_wav
-
-        render_wav(audio, times, tip_speeds, duration=duration, drum=Drum(snares=snares))
-        written.append(Path(audio))
+        times, speeds, _ = piece.impacts()
+        written.append(_write_audio(audio, times, speeds, snares))
     if midi:
-        from ..formats.midi import write_midi
+        from ..formats.midi import Track, write_midi
 
-        write_midi(midi, times, levels_db, title=title)
+        tracks = [Track(stick, t, level, _keys(first)) for stick, (t, level, first) in piece.stick_impacts().items()]
+        write_midi(midi, tracks, tempo_map=piece.tempo_map, title=f"{title} (model {piece.model})")
         written.append(Path(midi))
     return written
+
+
+def _write_audio(path, times, tip_speeds, snares):
+    from .audio import Drum, render_wav
+
+    render_wav(path, times, tip_speeds, drum=Drum(snares=snares))
+    return Path(path)
+
+
+def _keys(first):
+    """The MIDI key of each impact: a stroke's first impact on one, its bounces on another (the drum map's)."""
+    return np.where(first, FIRST_IMPACT_NOTE, BOUNCE_NOTE)
