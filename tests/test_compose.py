@@ -6,24 +6,30 @@ written out by hand (127 is 4 m/s, 48 dB down to velocity 1, linear in dB), and 
 head and upright, returns within the speed and acceleration limits, one time grid for every stick.
 """
 
+import json
 import math
 import shutil
 import subprocess
 import sys
+from pathlib import Path
 
 import mido
 import numpy as np
+import pretty_midi
 import pytest
 from scipy.optimize import brentq
 
+from _cli import assert_one_line_error
+from _midi import read_with_mido
 from drumstroke.compose import compose
-from drumstroke.dynamics import level_to_velocity
+from drumstroke.dynamics import FLOOR_DB, level_to_velocity
 from drumstroke.errors import ParameterError
-from drumstroke.formats.midi import read_midi_notes
+from drumstroke.formats.midi import TempoMap
 from drumstroke.palette.library import Entry, build_library, load_library, read_palette
 from drumstroke.palette.motion import RETURN_LIMITS, Limits
 from drumstroke.recipe import Recipe
-from drumstroke.score import ScoreNote, default_mapping, from_midi_notes, parse_pattern
+from drumstroke.render.outputs import write_composition_outputs
+from drumstroke.score import Score, ScoreNote, parse_pattern, read_score
 
 STROKES = ("single", "tap", "double", "triple", "press-roll")  # in the shipped palette's order
 TIP = 0.27  # pivot to tip (m) of the paper's stick, which every shipped stroke uses
@@ -47,7 +53,7 @@ PATTERN_NOTES = [(0.0, "right"), (0.25, "left"), (0.5, "right"), (1.0, "left"), 
                  (2.25, "right"), (3.0, "right")]
 
 # A type 1 MIDI score: 480 ticks a beat, 120 bpm (0.5 s a beat) until tick 960, then 60 bpm (1 s a beat).
-# (tick, note, velocity): 38 → single, 37 → tap, 40 → press-roll; 42 has no mapping.
+# (tick, note, velocity) on channel 10: 38 and 40 → single, 37 → tap (the drum map); 42 (a hi-hat) is not in it.
 MIDI_EVENTS = [(0, 38, 100), (240, 42, 70), (480, 37, 40), (960, 40, 90), (1920, 38, 120), (2400, 37, 64)]
 # seconds by hand: tick·0.5/480 up to tick 960 (1.0 s), then 1.0 + (tick − 960)·1.0/480
 MIDI_NOTES = [(0.0, "right"), (0.5, "right"), (1.0, "right"), (3.0, "right"), (4.0, "right")]
@@ -95,12 +101,11 @@ def score(kind, library, tmp_path):
         return parse_pattern(PATTERN), PATTERN_NOTES
     path = tmp_path / "score.mid"
     write_score_midi(path)
-    midi_notes = read_midi_notes(path)
-    assert [n.time for n in midi_notes] == pytest.approx([0.0, 0.25, 0.5, 1.0, 3.0, 4.0], abs=1e-12)
-    notes, unmapped = from_midi_notes(midi_notes, default_mapping(list(library)))
-    assert unmapped == {42: 1}
-    assert [n.stroke for n in notes] == ["single", "tap", "press-roll", "single", "tap"]
-    return notes, MIDI_NOTES
+    score = read_score(path, stroke_names=list(library))
+    assert score.report.counts == {("played", 10): 5, ("unmapped", 10): 1}
+    assert [n.stroke for n in score.notes] == ["single", "tap", "single", "single", "tap"]
+    assert score.tempo_map.tempi == ((0.0, 500_000), (2.0, 1_000_000))
+    return score, MIDI_NOTES
 
 
 def head_of(library):
@@ -395,3 +400,194 @@ def test_something_else_than_score_notes_is_a_parameter_error(library):
     """Exposes a bug: compose sorts by ``n.time`` before its ScoreNote check, so a tuple is an AttributeError."""
     with pytest.raises(ParameterError, match=r"notes must be ScoreNote objects, got \(0.0, 'single', 100\)"):
         compose([(0.0, "single", 100)], library)
+
+
+# --- the score's time: tempo map, progress, MIDI out ----------------------------------------------------------------
+
+DATA = Path(__file__).resolve().parent / "data" / "midi"
+SONG = DATA / "d6caebd1964d9e4a3c5ea59525230e2a.mid"  # type 0: drums on channel 10 among 8 channels, 65 tempi
+
+
+def test_a_score_brings_its_tempo_map_and_bare_notes_get_midis_default(library, tmp_path):
+    pattern = tmp_path / "waltz.pattern"
+    pattern.write_text("tempo 90\nmeter 3/4\n0 single 100\n1 double 80\n")
+    score = read_score(pattern)
+    assert isinstance(score, Score)
+    assert compose(score, library).tempo_map == TempoMap.constant(90, meter=(3, 4))
+    assert compose(list(score.notes), library).tempo_map == TempoMap() == TempoMap.constant(120)
+
+
+def test_progress_rises_to_one_as_notes_are_placed_and_sticks_assembled(library):
+    seen = []
+    compose(parse_pattern(PATTERN), library, progress=seen.append)
+    assert len(seen) == 8 + 2 and seen == sorted(seen) and seen[-1] == 1.0 and seen[0] > 0.0  # notes, then sticks
+
+
+def test_stick_impacts_are_on_the_score_time_and_mark_each_strokes_first_impact(library):
+    piece = compose(parse_pattern(PATTERN), library)
+    by_stick = piece.stick_impacts()
+    assert sorted(by_stick) == ["left", "right"]
+    for stick, (t, level, first) in by_stick.items():
+        trajectory = piece.sticks[stick]
+        assert t == pytest.approx(trajectory.impacts.t - piece.offset, abs=1e-12)
+        assert np.array_equal(level, trajectory.impacts.level_db)
+        notes = [time for time, note_stick in PATTERN_NOTES if note_stick == stick]
+        assert t[first] == pytest.approx(notes, abs=1e-9)
+        strokes = [p.note.stroke for p in piece.placements if p.note.stick == stick]
+        bounces = sum(len(library[s].trajectory.impacts) - 1 for s in strokes)
+        assert (~first).sum() <= bounces and first.sum() == len(notes)  # cut strokes lose bounces, never notes
+
+
+def composed_midi(piece, path):
+    """Write the composition's --midi and read it with mido: (file, track names, tempo map, meters, notes)."""
+    assert write_composition_outputs(piece, title="piece", midi=path) == [path]
+    return read_with_mido(path)
+
+
+def assert_every_impact_reads_back(piece, path, notes, names):
+    """Every audible impact of every stick is a note of its stick's track within 1 ms (mido, walked by hand, and
+    pretty_midi), at its level's velocity, on 38 when it is a stroke's first impact and 40 otherwise."""
+    theirs = {i.name: i for i in pretty_midi.PrettyMIDI(str(path)).instruments}
+    assert names == ["piece (model paper)", *piece.sticks] and sorted(theirs) == sorted(piece.sticks)
+    worst = 0.0
+    for number, (stick, (t, level, first)) in enumerate(piece.stick_impacts().items(), start=1):
+        keep = level >= FLOOR_DB
+        ours = [n for n in notes if n["track"] == number]
+        assert len(ours) == keep.sum() == len(theirs[stick].notes) > 0
+        assert [n["note"] for n in ours] == np.where(first[keep], 38, 40).tolist()
+        assert [n["velocity"] for n in ours] == level_to_velocity(level[keep]).tolist()
+        assert {n["channel"] for n in ours} == {9} and theirs[stick].is_drum
+        assert [n.pitch for n in theirs[stick].notes] == [n["note"] for n in ours]
+        for starts in ([n["time"] for n in ours], [n.start for n in theirs[stick].notes]):
+            worst = max(worst, float(np.max(np.abs(np.array(starts) - t[keep]))))
+    assert worst <= 1e-3
+    return worst
+
+
+def test_compose_midi_is_on_the_patterns_time_its_first_note_on_the_downbeat(library, tmp_path):
+    piece = compose(read_score(write(tmp_path / "groove.pattern", "tempo 96\nmeter 3/4\n" + PATTERN.split("tempo 120\n")[1])),
+                    library)
+    assert piece.offset > 0  # the trajectory starts before the score's time 0; the MIDI file does not
+    file, names, tempi, meters, notes = composed_midi(piece, tmp_path / "groove.mid")
+    assert file.type == 1 and tempi == [(0, 625_000)] and meters == [(0, 3, 4)]
+    assert notes[0]["tick"] == 0 and notes[0]["note"] == 38 and notes[0]["track"] == 1  # beat 0, the right stick
+    beats = {n["tick"] / file.ticks_per_beat for n in notes if n["note"] == 38}
+    assert beats == {0.0, 0.5, 1.0, 2.0, 3.0, 4.0, 4.5, 6.0}  # every note of the pattern on its beat, exactly
+    assert_every_impact_reads_back(piece, tmp_path / "groove.mid", notes, names)
+
+
+def test_compose_midi_keeps_a_midi_scores_tempo_change(library, tmp_path):
+    write_score_midi(tmp_path / "score.mid")
+    piece = compose(read_score(tmp_path / "score.mid", stroke_names=list(library)), library)
+    file, names, tempi, _, notes = composed_midi(piece, tmp_path / "out.mid")
+    assert file.ticks_per_beat % 480 == 0 and tempi == [(0, 500_000), (2 * file.ticks_per_beat, 1_000_000)]
+    first = [n["tick"] * 480 // file.ticks_per_beat for n in notes if n["note"] == 38]
+    assert first == [tick for tick, key, _ in MIDI_EVENTS if key != 42]  # the score's own ticks
+    assert_every_impact_reads_back(piece, tmp_path / "out.mid", notes, names)
+
+
+def write(path, text):
+    path.write_text(text)
+    return path
+
+
+@pytest.fixture(scope="module")
+def song(library):
+    return compose(read_score(SONG, stroke_names=list(library)), library)
+
+
+def test_a_real_songs_drum_part_is_composed_and_nothing_else(song):
+    """Counted here with mido: the channel-10 note_ons of velocity >= 1 whose key is in the drum map."""
+    piece = song
+    now, expected = 0.0, []
+    for message in mido.MidiFile(SONG):  # mido's own clock: seconds per message
+        now += message.time
+        if message.type == "note_on" and message.velocity and message.channel == 9 and message.note in (37, 38, 40):
+            expected.append((now, {37: "tap"}.get(message.note, "single"), message.velocity))
+    assert len(expected) == 137
+    assert [(p.note.stroke, p.note.velocity) for p in piece.placements] == [(s, v) for _, s, v in expected]
+    assert [p.note.time for p in piece.placements] == pytest.approx([t for t, _, _ in expected], abs=1e-9)
+    played = [p for p in piece.placements if p.played]
+    left_out = len(piece.placements) - len(played)
+    assert 0 < left_out == len(piece.problems) < 40  # fills too fast for one stick: left out and each reported
+    impacts = piece.sticks["right"].impacts.t
+    for p in played:
+        assert np.min(np.abs(impacts - (piece.offset + p.note.time))) < 1e-9
+
+
+def test_a_real_songs_composition_writes_its_65_tempo_changes_and_every_impact_within_a_millisecond(song, tmp_path):
+    piece = song
+    file, names, tempi, _, notes = composed_midi(piece, tmp_path / "song.mid")
+    source = mido.MidiFile(SONG)
+    factor = file.ticks_per_beat // source.ticks_per_beat
+    assert file.ticks_per_beat == factor * source.ticks_per_beat
+    source_tempi, tick = {0: 500_000}, 0
+    for message in source.tracks[0]:
+        tick += message.time
+        if message.type == "set_tempo":
+            source_tempi[tick] = message.tempo
+    assert tempi == [(tick * factor, tempo) for tick, tempo in sorted(source_tempi.items())] and len(tempi) == 65
+    worst = assert_every_impact_reads_back(piece, tmp_path / "song.mid", notes, names)
+    print(f"round trip of {len(notes)} impacts over 65 tempo changes: worst {worst * 1e3:.2e} ms")
+    changes, _ = pretty_midi.PrettyMIDI(str(tmp_path / "song.mid")).get_tempo_changes()
+    assert changes == pytest.approx(pretty_midi.PrettyMIDI(str(SONG)).get_tempo_changes()[0], abs=1e-9)
+
+
+# --- the command on real files -------------------------------------------------------------------------------------
+
+def test_compose_command_prints_one_summary_line_with_the_counts(library, tmp_path):
+    result = run("compose", SONG, "--library", library.path, "--midi", tmp_path / "song.mid")
+    assert result.returncode == 0, result.stderr
+    lines = result.stdout.splitlines()
+    counts = {}
+    for message in mido.MidiFile(SONG).tracks[0]:
+        if message.type == "note_on" and message.velocity:
+            kind = (10, message.note in (37, 38, 40)) if message.channel == 9 else (message.channel + 1, None)
+            counts[kind] = counts.get(kind, 0) + 1
+    played, unmapped = counts[10, True], counts[10, False]
+    others = sorted((c, n) for (c, _), n in counts.items() if c != 10)
+    assert lines[0] == (f"{SONG}: {sum(counts.values())} notes on 9 channels, 1 track; {played} to play (channel 10: "
+                        f"{played}); skipped {sum(counts.values()) - played}: {sum(n for _, n in others)} on channels "
+                        f"not chosen (--channel) (" + ", ".join(f"channel {c}: {n}" for c, n in others) +
+                        f"), {unmapped} not in the drum map (channel 10: {unmapped})")
+    assert lines[1].startswith(f"composed {played - 33} of {played} notes")
+    assert lines[2:] == [f"wrote {tmp_path / 'song.mid'}"]
+    (warning,) = result.stderr.splitlines()
+    assert warning.startswith("warning: 33 notes left out; the first: ") and warning.endswith("--verbose lists them all")
+
+
+def test_compose_command_quiet_prints_nothing_and_verbose_lists_every_note(library, tmp_path):
+    quiet = run("compose", SONG, "--library", library.path, "--quiet", "--json", tmp_path / "q.json")
+    assert quiet.returncode == 0 and quiet.stdout == "" and quiet.stderr == ""
+    assert (tmp_path / "q.json").is_file()
+    verbose = run("compose", SONG, "--library", library.path, "--verbose")
+    assert verbose.returncode == 0
+    skipped = [line for line in verbose.stdout.splitlines() if " skipped: " in line]
+    assert len(skipped) == 2852 - 137
+    assert len([line for line in verbose.stderr.splitlines() if line.startswith("warning:")]) == 33
+
+
+def test_compose_command_plays_a_chosen_track_and_channel(library, tmp_path):
+    melody = DATA / "1390.mid"
+    none = run("compose", melody, "--library", library.path)
+    assert_one_line_error(none, f"{melody} has no notes to play", "--channel, --track or --mapping")
+    mapping = write(tmp_path / "m.toml", "[notes]\n" + "\n".join(f'{k} = "tap"' for k in range(128)))
+    result = run("compose", melody, "--library", library.path, "--channel", 2, "--track", "melody", "--mapping", mapping,
+                 "--json", tmp_path / "m.json")
+    assert result.returncode == 0, result.stderr
+    assert "242 to play (channel 2: 242); skipped 705: 705 in tracks not chosen (--track) (channel 1: 705)" in \
+           result.stdout.splitlines()[0]
+    data = json.loads((tmp_path / "m.json").read_text())
+    assert len(data["notes"]) == 242 and {n["stroke"] for n in data["notes"]} == {"tap"}
+    bad = run("compose", melody, "--library", library.path, "--track", "drums")
+    assert_one_line_error(bad, "--track 'drums' is not a track of MIDI file", "0 '', 1 'piano', 2 'melody'")
+    bad = run("compose", melody, "--library", library.path, "--channel", 0)
+    assert_one_line_error(bad, "--channel (a MIDI channel, counted from 1", "got 0")
+
+
+def test_compose_help_describes_the_pattern_format_and_the_drum_map():
+    result = run("compose", "--help")
+    assert result.returncode == 0 and "README" not in result.stdout
+    for needle in ("tempo BPM", "meter N/D", "BEAT STROKE VELOCITY [STICK]", "38  Acoustic Snare", "40  Electric Snare",
+                   "37  Side Stick", "--channel N", "--track TRACK", "--quiet", "--verbose"):
+        assert needle in result.stdout, needle

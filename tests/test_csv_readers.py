@@ -111,7 +111,7 @@ def written(tmp_path_factory):
 
     cli("compose", folder / "groove.pattern", "--library", folder / "lib", "--csv", folder / "groove.csv")
     loaded = load_library(folder / "lib")  # what the command composes from: the library as a robot host loads it
-    notes, _ = read_score(folder / "groove.pattern", stroke_names=list(loaded))
+    notes = read_score(folder / "groove.pattern", stroke_names=list(loaded))
     piece = compose(notes, loaded)
     cases["compose --csv"] = (folder / "groove.csv", columns_of(piece.trajectory.sample(None)), "paper")
 
@@ -330,8 +330,8 @@ def test_another_json_leaves_the_metadata_to_a_sidecar_and_says_so(tmp_path):
 @pytest.mark.parametrize("setup, args, needles", [
     (lambda d: (d / "s.json").write_text('{"mine": 1}\n'), ["--csv", "s.csv"],
      ["s.json', a file that is already there and is not drumstroke's metadata of 's.csv'"]),
-    (lambda d: None, ["--csv", "s.csv", "--plot", "s.json"], ["s.json', which is also the plot file"]),
-    (lambda d: None, ["--csv", "s.json"], ["must not end in .json"]),
+    (lambda d: None, ["--csv", "s.csv", "--plot", "s.json"], ["--plot", "must end in one of .png"]),
+    (lambda d: None, ["--csv", "s.json"], ["--csv", "must end in one of .csv"]),
 ], ids=["a file of yours", "another output", "the CSV itself"])
 def test_the_sidecar_never_overwrites_another_file(tmp_path, capsys, setup, args, needles):
     setup(tmp_path)

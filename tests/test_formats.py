@@ -35,9 +35,9 @@ def test_a_recorded_signal_round_trips_at_full_precision(tmp_path):
 
 
 def test_the_demo_pattern_round_trips_to_the_same_notes(tmp_path):
-    tempo, rows = read_pattern_file(DEMO_PATTERN)
+    pattern = read_pattern_file(DEMO_PATTERN)
     path = tmp_path / "groove.pattern"
-    write_pattern(path, tempo, rows)
+    write_pattern(path, *pattern)
     again = read_pattern(path)
     original = read_pattern(DEMO_PATTERN)
     assert len(again) == len(original) == 26

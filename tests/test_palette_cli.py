@@ -56,7 +56,8 @@ def test_simulate_catch_stretch_reverse_writes_every_file(tmp_path):
     result = run("simulate", "free-bounce", "--catch", 3, "--stretch", 2, "--reverse", "--csv", paths["csv"],
                  "--json", paths["json"], "--wav", paths["wav"], "--midi", paths["mid"], "--plot", paths["png"])
     assert result.returncode == 0, result.stderr
-    assert "after catch 3, stretch 2, reverse: 3 impacts" in result.stdout
+    # the summary is of the stroke written, after the transforms: its first impact is the written one
+    assert "; after catch 3, stretch 2, reverse\n3 impacts;" in result.stdout
 
     bounce = drumstroke.simulate("free-bounce")
     t, omega = bounce.impacts.t, bounce.impacts.omega
@@ -66,6 +67,8 @@ def test_simulate_catch_stretch_reverse_writes_every_file(tmp_path):
 
     data = json.loads(paths["json"].read_text())
     impacts = data["impacts"]
+    first = result.stdout.split("level (dB)\n", 1)[1].split()
+    assert first[:2] == ["1", f"{impacts[0]['t']:.6f}"] and first[3] == f"{impacts[0]['tip_speed']:.6f}"
     assert data["t_end"] == pytest.approx(2 * caught, abs=1e-9)
     assert [i["t"] for i in impacts] == pytest.approx(expected, abs=1e-9)
     # backwards, each impact's speeds before and after swap; twice as slow halves them
@@ -95,7 +98,7 @@ def test_simulate_catch_stretch_reverse_writes_every_file(tmp_path):
     assert drum.is_drum
     audible = [(row["t"], row["level_db"]) for row in impacts if row["level_db"] >= FLOOR_DB]
     assert len(audible) == 3
-    assert [n.pitch for n in drum.notes] == [38] * len(audible)
+    assert [n.pitch for n in drum.notes] == [38, 40, 40]  # the stroke's first impact, then its bounces
     assert [n.start for n in drum.notes] == pytest.approx([time for time, _ in audible], abs=0.5e-3)
     assert [n.velocity for n in drum.notes] == [hand_velocity(level) for _, level in audible]
 
@@ -121,8 +124,8 @@ def test_post_processing_applies_in_the_order_given(tmp_path, steps, duration, s
         (["--stretch", "0"], ["--stretch", "0.0", "[0.01, 100]"]),
         (["--compress", "1000"], ["--compress", "1000.0", "upright"]),
         (["--trim", "1:x"], ["--trim", "'1:x'"]),
-        (["--trim", "2:1"], ["--trim", "t1", "1.0"]),
-        (["--catch", "0"], ["--catch", "0", "[1, 98]"]),
+        (["--trim", "2:1"], ["--trim", "'2:1'", "0 <= T0 < T1"]),
+        (["--catch", "0"], ["--catch", "0", "[1, inf)"]),
         (["--catch", "500"], ["--catch", "500", "[1, 98]"]),
     ],
 )
@@ -304,25 +307,29 @@ def test_compose_csv_of_one_stick_is_t_theta_omega(built, tmp_path):
 
 
 def test_compose_midi_round_trips_time_and_velocity(composed):
-    """One note per audible impact; the notes' first impacts at offset + time within 0.5 ms, at their velocity ±1."""
+    """One note per audible impact, on the score's time (the JSON's impact times less the offset); the notes'
+    first impacts at their time within 0.5 ms, on key 38 (singles only: no bounce), at their velocity ±1."""
     paths, data = composed
-    impacts = sorted((row["t"], row["level_db"]) for rows in data["impacts"].values() for row in rows)
+    impacts = sorted((row["t"] - data["offset"], row["level_db"]) for rows in data["impacts"].values() for row in rows)
     audible = [(t, level) for t, level in impacts if level >= FLOOR_DB]
-    expected = [(data["offset"] + time, velocity) for time, _, velocity in GROOVE_NOTES]
+    expected = [(time, velocity) for time, _, velocity in GROOVE_NOTES]
 
     ons = midi_note_ons(paths["mid"])
     assert len(ons) == len(audible)
     assert {(channel, note) for _, channel, note, _ in ons} == {(9, 38)}
     assert [t for t, _, _, _ in ons] == pytest.approx([t for t, _ in audible], abs=0.5e-3)
+    assert ons[0][0] == 0.0  # the first note on the downbeat
 
-    (drum,) = pretty_midi.PrettyMIDI(str(paths["mid"])).instruments
-    assert drum.is_drum and {n.pitch for n in drum.notes} == {38}
-    starts = np.array([n.start for n in drum.notes])
+    sticks = pretty_midi.PrettyMIDI(str(paths["mid"])).instruments
+    assert [i.name for i in sticks] == ["right", "left"] and all(i.is_drum for i in sticks)
+    notes = sorted((n for i in sticks for n in i.notes), key=lambda n: n.start)
+    assert {n.pitch for n in notes} == {38}
+    starts = np.array([n.start for n in notes])
     errors = []
     for time, velocity in expected:
         i = int(np.argmin(np.abs(starts - time)))
         errors.append(abs(starts[i] - time))
-        assert abs(drum.notes[i].velocity - velocity) <= 1, (time, drum.notes[i].velocity, velocity)
+        assert abs(notes[i].velocity - velocity) <= 1, (time, notes[i].velocity, velocity)
         assert abs(ons[i][3] - velocity) <= 1
     assert max(errors) <= 0.5e-3, max(errors)
 
@@ -380,8 +387,10 @@ def test_demo_writes_a_page_whose_every_link_is_a_real_file(tmp_path):
     page.feed((out / "index.html").read_text(encoding="utf-8"))
     library = load_library(out / "library")
     assert len(library) >= 17
-    assert page.sections == ["groove", *library]
-    assert len(page.links) == 3 * len(page.sections)
+    assert page.sections == ["groove", *library, "fig-4", "fig-5", "fig-6", "fig-7"]
+    # the groove: its sound, MIDI, CSV, JSON, pattern and picture; a stroke: sound, MIDI, picture; a figure:
+    # JSON, CSV, picture
+    assert len(page.links) == 6 + 3 * len(library) + 3 * 4
     for link in page.links:
         path = out / link
         assert path.is_file() and path.stat().st_size > 0, link
@@ -391,6 +400,10 @@ def test_demo_writes_a_page_whose_every_link_is_a_real_file(tmp_path):
             assert path.read_bytes()[:8] == PNG, link
         elif link.endswith(".mid"):
             assert len(mido.MidiFile(path).tracks) >= 1, link
+        elif link.endswith(".json"):
+            assert json.loads(path.read_text())["model"] == "paper", link
+        elif link.endswith((".csv", ".pattern")):
+            assert path.read_text().count("\n") > 2, link
         else:
             pytest.fail(f"unexpected link {link}")
     groove = json.loads((out / "groove.json").read_text())

@@ -322,6 +322,7 @@ def test_toml_round_trip_with_a_samples_file(tmp_path):
     force = drumstroke.Sum([drumstroke.Samples(csv), drumstroke.Pulses(amplitude=50.0, period=0.4, duty=0.1)])
     recipe = drumstroke.Recipe(force=force, gravity=drumstroke.Samples(csv), t_end=2.0, name="stroke")
     path = tmp_path / "recipes" / "stroke.toml"
+    path.parent.mkdir()  # writers create no folder
     recipe.to_toml(path)
     data = tomllib.loads(path.read_text())
     assert data["gravity"] == {"kind": "samples", "file": "../data/thumb.csv"}

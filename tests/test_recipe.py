@@ -44,6 +44,7 @@ def test_samples_file_is_found_relative_to_the_recipe_and_rewritten_relative(tmp
     (tmp_path / "data" / "r.toml").write_text('[force]\nkind = "samples"\nfile = "thumb.csv"\n')
     recipe = Recipe.from_toml(tmp_path / "data" / "r.toml")
     assert isinstance(recipe.force, Samples) and recipe.force(0.1) == 75.0
+    (tmp_path / "elsewhere").mkdir()  # writers create no folder
     recipe.to_toml(tmp_path / "elsewhere" / "copy.toml")
     text = (tmp_path / "elsewhere" / "copy.toml").read_text()
     assert f'file = "{os.path.join("..", "data", "thumb.csv")}"' in text

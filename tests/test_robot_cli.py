@@ -113,7 +113,7 @@ def test_validate_and_export_a_library_stroke(library, tmp_path):
     result = run("robot", "export", csv, "--format", "csv", "--out", tmp_path / "single.csv")
     assert_one_line_error(result, "single.json", "is not drumstroke's metadata of 'single.csv'")
     assert out.read_bytes() == ros and not (tmp_path / "single.csv").exists()
-    result = run("robot", "export", csv, "--format", "csv", "--out", tmp_path / "csv" / "single.csv")
+    result = run("robot", "export", csv, "--format", "csv", "--out", tmp_path / "csv" / "single.csv", "--mkdir")
     assert result.returncode == 0, result.stderr
     assert (tmp_path / "csv" / "single.csv").read_text().splitlines()[0] == "t,theta,omega,alpha"
     assert f"wrote {tmp_path / 'csv' / 'single.json'} (with the metadata of single.csv)" in result.stdout
@@ -197,8 +197,8 @@ def test_a_trajectory_below_the_head_is_refused_naming_the_sample(library, tmp_p
 @pytest.mark.parametrize("args, needles", [
     (["robot", "track", "free-bounce", "--controller", "lqr"], ["--controller", "'lqr'"]),
     (["robot", "track", "free-bounce", "--rate", "nan"], ["--rate"]),
-    (["robot", "track", "nope", "--library", "/nonexistent"], ["manifest"]),
-    (["robot", "tune", "--library", "/nonexistent"], ["manifest"]),
+    (["robot", "track", "nope", "--library", "/nonexistent"], ["--library", "'/nonexistent' does not exist"]),
+    (["robot", "tune", "--library", "/nonexistent"], ["--library", "'/nonexistent' does not exist"]),
 ])
 def test_bad_robot_arguments_give_one_line(args, needles):
     assert_one_line_error(run(*args), *needles)

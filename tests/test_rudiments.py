@@ -366,7 +366,8 @@ def test_the_pattern_gives_the_same_notes_and_reads_with_the_pattern_parser(name
     r = rudiment(name)
     tempo = r.tempo[1]
     text = r.pattern_text(tempo)
-    parsed_tempo, rows = parse_pattern(text)
+    pattern = parse_pattern(text)
+    parsed_tempo, rows = pattern.tempo, pattern.rows
     played = r.notes_at(tempo).notes
     assert parsed_tempo == tempo and len(rows) == len(played)
     for row, note in zip(rows, played):

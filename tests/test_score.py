@@ -1,22 +1,30 @@
-"""Scores: text patterns, MIDI note mappings and MIDI notes become ScoreNotes; bad input is named by line.
+"""Scores: text patterns, MIDI note mappings and MIDI files become ScoreNotes; bad input is named by line.
 
 Oracles: note times worked out by hand (beat · 60 / tempo with values chosen to be exact in binary),
-and the documented default mapping written out.
+the documented default mapping written out, and the notes of real MIDI files counted here with mido.
 """
 
+from pathlib import Path
+
+import mido
 import pytest
 
 from drumstroke.errors import ParameterError
-from drumstroke.formats.midi import Note
+from drumstroke.formats.midi import TempoMap
 from drumstroke.score import (
+    BOUNCE_NOTE,
     DEFAULT_STICK,
+    DRUM_MAP,
+    FIRST_IMPACT_NOTE,
     ScoreNote,
     default_mapping,
-    from_midi_notes,
     parse_pattern,
     read_mapping,
     read_pattern,
+    read_score,
 )
+
+DATA = Path(__file__).resolve().parent / "data" / "midi"
 
 
 def summary(notes):
@@ -83,6 +91,12 @@ def test_notes_at_the_same_time_keep_the_file_order():
         ("tempo 120\n0 single 100\n1 single 100 Left\n", r"pattern line 3: stick must be 1-32 of a-z.*got 'Left'"),
         ("tempo 120\n0 single 100 l.h\n", r"pattern line 2: stick must be .*got 'l.h'"),
         ("tempo 120\n# no notes\n", r"pattern has a tempo but no notes"),
+        ("tempo 120\nmeter 3/5\n0 single 100\n", (r"pattern line 2: meter must be N/D with N in \[1, 255\] and D a "
+                                                   r"power of two in \[1, 128\], got '3/5'")),
+        ("tempo 120\nmeter 0/4\n0 single 100\n", r"pattern line 2: meter must be N/D .* got '0/4'"),
+        ("tempo 120\nmeter 3:4\n0 single 100\n", r"pattern line 2: meter must be N/D .* got '3:4'"),
+        ("tempo 120\n0 single 100\nmeter 3/4\n", r"pattern line 3: a meter is one 'meter N/D' line before the notes"),
+        ("tempo 120\nmeter 3 4\n0 single 100\n", r"pattern line 2: a meter is one 'meter N/D' line before the notes"),
     ],
 )
 def test_bad_patterns_are_named_by_line(text, match):
@@ -155,14 +169,15 @@ def test_bad_mappings_are_named(tmp_path, text, match):
         read_mapping(path)
 
 
-def test_default_mapping_names_the_general_midi_snares_and_numbers_the_library_from_60():
+def test_default_mapping_on_channel_10_is_the_drum_map_and_elsewhere_also_numbers_the_library_from_60():
     names = ["single", "tap", "double", "triple", "press-roll"]
-    assert default_mapping(names) == {38: ("single", "right"), 37: ("tap", "right"), 40: ("press-roll", "right"),
-                                      60: ("single", "right"), 61: ("tap", "right"), 62: ("double", "right"),
-                                      63: ("triple", "right"), 64: ("press-roll", "right")}
-    # a General MIDI note only when the library has its stroke
-    assert default_mapping(["double", "tap"]) == {37: ("tap", "right"), 60: ("double", "right"),
-                                                  61: ("tap", "right")}
+    drums = {38: ("single", "right"), 40: ("single", "right"), 37: ("tap", "right")}
+    assert default_mapping(names, percussion=True) == drums
+    assert default_mapping(names) == drums | {60: ("single", "right"), 61: ("tap", "right"), 62: ("double", "right"),
+                                              63: ("triple", "right"), 64: ("press-roll", "right")}
+    # a drum-map key only when the library has its stroke
+    assert default_mapping(["double", "tap"]) == {37: ("tap", "right"), 60: ("double", "right"), 61: ("tap", "right")}
+    assert default_mapping(["double"], percussion=True) == {}
 
 
 def test_default_mapping_stops_at_note_127():
@@ -172,25 +187,139 @@ def test_default_mapping_stops_at_note_127():
     assert mapping[127] == ("s67", "right")
 
 
-# --- MIDI notes ----------------------------------------------------------------------------------------------------
-
-def test_from_midi_notes_maps_and_counts_the_unmapped_per_note_number():
-    midi_notes = [Note(1.5, 38, 100, 10), Note(0.25, 42, 60, 10), Note(0.5, 40, 90, 10), Note(0.75, 42, 61, 10),
-                  Note(0.0, 37, 30, 10), Note(2.0, 49, 127, 10), Note(1.0, 42, 62, 10)]
-    mapping = {38: ("single", "right"), 37: ("tap", "left"), 40: ("press-roll", "left")}
-    notes, unmapped = from_midi_notes(midi_notes, mapping)
-    assert unmapped == {42: 3, 49: 1}
-    assert summary(notes) == [
-        (0.0, "tap", 30, "left", "MIDI note 37 at 0 s"),
-        (0.5, "press-roll", 90, "left", "MIDI note 40 at 0.5 s"),
-        (1.5, "single", 100, "right", "MIDI note 38 at 1.5 s"),
-    ]
-    assert all(type(n.time) is float and type(n.velocity) is int for n in notes)
+def test_the_drum_map_is_one_table_read_and_written():
+    """Both General MIDI snares read as a full stroke, the side stick as a tap; written files put each stroke's
+    first impact on the acoustic snare and its bounces on the electric snare; nothing else of channel 10."""
+    assert {key: (row.name, row.stroke) for key, row in DRUM_MAP.items()} == {
+        37: ("Side Stick", "tap"), 38: ("Acoustic Snare", "single"), 40: ("Electric Snare", "single")}
+    assert (FIRST_IMPACT_NOTE, BOUNCE_NOTE) == (38, 40)
+    assert [row.written for row in DRUM_MAP.values()] == [None, "first", "bounce"]
 
 
-def test_from_midi_notes_with_nothing_mapped_gives_no_notes():
-    notes, unmapped = from_midi_notes([Note(0.0, 42, 60, 10)], {38: ("single", "right")})
-    assert notes == [] and unmapped == {42: 1}
+# --- MIDI scores ---------------------------------------------------------------------------------------------------
+
+def midi_file(path, tracks, *, type=1):
+    """A MIDI file of ``tracks``: lists of (absolute tick, channel from 1, key, velocity) notes, 480 ticks a beat
+    at 120 bpm (a tick is 1/960 s), each note held 10 ticks; a track may start with its name."""
+    file = mido.MidiFile(type=type, ticks_per_beat=480)
+    for notes in tracks:
+        events = [(0, mido.MetaMessage("track_name", name=notes.pop(0)))] if notes and isinstance(notes[0], str) else []
+        for tick, channel, key, velocity in notes:
+            events += [(tick, mido.Message("note_on", channel=channel - 1, note=key, velocity=velocity)),
+                       (tick + 10, mido.Message("note_off", channel=channel - 1, note=key))]
+        events.sort(key=lambda event: event[0])
+        track, now = mido.MidiTrack(), 0
+        for tick, message in events:
+            track.append(message.copy(time=tick - now))
+            now = tick
+        file.tracks.append(track)
+    file.save(path)
+    return path
+
+
+SONG = [["drums", (0, 10, 38, 100), (480, 10, 42, 60), (960, 10, 40, 90), (1440, 10, 37, 30), (1920, 10, 61, 70)],
+        ["bass", (0, 2, 40, 80), (960, 2, 38, 80)],
+        ["melody", (240, 1, 60, 64), (720, 1, 61, 64), (1200, 1, 38, 50)]]
+NAMES = ["single", "tap", "double"]
+
+
+def test_by_default_only_channel_10_is_played_through_the_drum_map(tmp_path):
+    path = midi_file(tmp_path / "song.mid", [list(t) for t in SONG])
+    score = read_score(path, stroke_names=NAMES)
+    assert [(n.time, n.stroke, n.velocity, n.stick) for n in score.notes] == [
+        (0.0, "single", 100, "right"), (1.0, "single", 90, "right"), (1.5, "tap", 30, "right")]
+    assert score.notes[1].source == f"{path} note 40 at 1 s (channel 10, track 0)"
+    report = score.report
+    assert report.counts == {("played", 10): 3, ("unmapped", 10): 2, ("channel", 2): 2, ("channel", 1): 3}
+    assert (report.played, report.skipped, report.count("channel"), report.count(channel=10)) == (3, 7, 5, 5)
+    assert report.summary() == (f"{path}: 10 notes on 3 channels, 3 tracks; 3 to play (channel 10: 3); skipped 7: "
+                                "5 on channels not chosen (channels) (channel 1: 3, channel 2: 2), "
+                                "2 not in the drum map (channel 10: 2)")
+    details = list(report.details())
+    assert details[0] == (f"{path}: note 40 at 0 s (channel 2, track 1 'bass', velocity 80) skipped: on channels not "
+                          "chosen (channels)")
+    assert len(details) == 7 and [d.split(" at ")[1].split(" s ")[0] for d in details] == \
+           ["0", "0.25", "0.5", "0.75", "1", "1.25", "2"]
+    assert score.tempo_map == TempoMap(resolution=480)
+
+
+def test_channels_and_tracks_choose_what_is_played_and_the_report_says_why_the_rest_is_not(tmp_path):
+    path = midi_file(tmp_path / "song.mid", [list(t) for t in SONG])
+    options = {"channels": "--channel", "tracks": "--track", "mapping": "--mapping"}
+    score = read_score(path, stroke_names=NAMES, channels=[1, 10], tracks=["melody", 0], options=options)
+    # channel 1 is not percussion: key 60 + i is the library's i-th stroke, 38 still a single
+    assert [(n.time, n.stroke) for n in score.notes] == [
+        (0.0, "single"), (0.25, "single"), (0.75, "tap"), (1.0, "single"), (1.25, "single"), (1.5, "tap")]
+    assert score.report.counts == {("played", 10): 3, ("played", 1): 3, ("unmapped", 10): 2, ("track", 2): 2}
+    assert "2 in tracks not chosen (--track) (channel 2: 2)" in score.report.summary()
+    assert read_score(path, stroke_names=NAMES, tracks=["1"], channels=[2]).report.counts == {
+        ("played", 2): 2, ("track", 10): 5, ("track", 1): 3}
+    mapping = {42: ("double", "left")}
+    score = read_score(path, mapping=mapping, channels=(10,), options=options)
+    assert [(n.time, n.stroke, n.stick) for n in score.notes] == [(0.5, "double", "left")]
+    assert "4 not in the mapping (--mapping) (channel 10: 4)" in score.report.summary()
+
+
+@pytest.mark.parametrize(("choice", "match"), [
+    ({"channels": [0]}, (r"^--channel \(a MIDI channel, counted from 1; 10 is General MIDI percussion\) must be an "
+                         r"integer in \[1, 16\], got 0")),
+    ({"channels": [17]}, r"got 17"),
+    ({"channels": 10}, r"--channel must be a non-empty list of MIDI channels, got 10"),
+    ({"tracks": ["drum"]}, (r"^--track 'drum' is not a track of MIDI file '.*song.mid'; its tracks are 0 'drums', "
+                            r"1 'bass', 2 'melody'")),
+    ({"tracks": [3]}, r"^--track 3 is not a track"),
+    ({"tracks": ["-1"]}, r"^--track '-1' is not a track"),
+])
+def test_a_channel_or_track_that_is_not_there_is_refused_naming_the_option(tmp_path, choice, match):
+    path = midi_file(tmp_path / "song.mid", [list(t) for t in SONG])
+    with pytest.raises(ParameterError, match=match):
+        read_score(path, stroke_names=NAMES, options={"channels": "--channel", "tracks": "--track"}, **choice)
+
+
+def test_a_pattern_refuses_channels_and_tracks_and_gives_its_tempo_and_meter(tmp_path):
+    pattern = tmp_path / "waltz.pattern"
+    pattern.write_text("tempo 90\nmeter 3/4\n0 single 100\n1 tap 50 left\n")
+    score = read_score(pattern)
+    assert score.tempo_map == TempoMap.constant(90.0, meter=(3, 4))
+    assert [(n.time, n.stroke) for n in score.notes] == [(0.0, "single"), (60 / 90, "tap")]
+    assert score.report.summary() == f"{pattern}: 2 notes" and list(score.report.details()) == []
+    for choice in ({"channels": [10]}, {"tracks": [0]}):
+        with pytest.raises(ParameterError, match=r"^(channels|tracks) applies to MIDI scores"):
+            read_score(pattern, **choice)
+
+
+def mido_counts(path):
+    """Independently, with mido: (on channel 10 in the drum map, on channel 10 not in it, per other channel)."""
+    played = unmapped = 0
+    others = {}
+    for track in mido.MidiFile(path).tracks:
+        for message in track:
+            if message.type != "note_on" or message.velocity == 0:
+                continue
+            if message.channel == 9:
+                played, unmapped = (played + 1, unmapped) if message.note in (37, 38, 40) else (played, unmapped + 1)
+            else:
+                others[message.channel + 1] = others.get(message.channel + 1, 0) + 1
+    return played, unmapped, others
+
+
+@pytest.mark.parametrize("name", ["d6caebd1964d9e4a3c5ea59525230e2a.mid", "d8faddb8596fff7abb24d78666f73e4e.mid",
+                                  "1390.mid"])
+def test_a_real_song_plays_its_drum_map_notes_on_channel_10_and_counts_the_rest(name):
+    path = DATA / name
+    played, unmapped, others = mido_counts(path)
+    score = read_score(path, stroke_names=["single", "tap", "double"])
+    report = score.report
+    expected = {("played", 10): played, ("unmapped", 10): unmapped} | {("channel", c): n for c, n in others.items()}
+    assert report.counts == {key: n for key, n in expected.items() if n}
+    assert len(score.notes) == played and {n.stroke for n in score.notes} <= {"single", "tap"}
+    assert len(list(report.details())) == report.skipped == unmapped + sum(others.values())
+    summary = report.summary()
+    assert f"; {played} to play" in summary and "\n" not in summary
+    if unmapped:
+        assert f"{unmapped} not in the drum map (channel 10: {unmapped})" in summary
+    if others:
+        assert f"{sum(others.values())} on channels not chosen" in summary
 
 
 # --- the note itself -----------------------------------------------------------------------------------------------

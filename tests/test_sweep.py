@@ -246,8 +246,8 @@ def test_the_command_writes_the_table_and_refuses_bad_input(grid_file, tmp_path)
     with open(out, newline="") as handle:
         assert len(list(csv.DictReader(handle))) == 24
     for args, message in [
-        (["--out", str(tmp_path / "t.txt")], "--out must end in .csv or .parquet"),
-        (["--out", str(out), "--audible-db", "nan"], "audible_db must be a finite number"),
+        (["--out", str(tmp_path / "t.txt")], "--out: '" + str(tmp_path / "t.txt") + "' must end in one of .csv, .parquet"),
+        (["--out", str(out), "--audible-db", "nan"], "--audible-db: must be a finite number"),
     ]:
         bad = subprocess.run([sys.executable, "-m", "drumstroke.cli", "sweep", str(grid_file), *args],
                              capture_output=True, text=True, timeout=120)
@@ -255,7 +255,7 @@ def test_the_command_writes_the_table_and_refuses_bad_input(grid_file, tmp_path)
         assert len(bad.stderr.strip().splitlines()) == 1
     missing = subprocess.run([sys.executable, "-m", "drumstroke.cli", "sweep", str(tmp_path / "none.toml"),
                               "--out", str(out)], capture_output=True, text=True, timeout=120)
-    assert missing.returncode == 2 and "cannot be read" in missing.stderr
+    assert missing.returncode == 2 and f"file '{tmp_path / 'none.toml'}' does not exist" in missing.stderr
 
 
 @pytest.mark.parametrize("name", ["press-and-bounce", "random-finger-pulses"])

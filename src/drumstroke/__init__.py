@@ -12,6 +12,7 @@ the thumb, makes single, double, triple and buzz strokes.
 from ._version import __version__
 from .errors import DrumstrokeError, ParameterError, SimulationError
 from .model import MODELS, Stick
+from .palette.library import make_stroke
 from .presets import PRESETS, preset
 from .profiles import Constant, PiecewiseLinear, Profile, Pulses, Samples, Sum
 from .recipe import Recipe
@@ -19,7 +20,6 @@ from .stroke import Batch, Stroke, simulate, simulate_many
 from .trajectory import Impacts, Trajectory
 
 __all__ = [
-    "__version__",
     "MODELS",
     "PRESETS",
     "Batch",
@@ -37,6 +37,8 @@ __all__ = [
     "Stroke",
     "Sum",
     "Trajectory",
+    "__version__",
+    "make_stroke",
     "preset",
     "simulate",
     "simulate_many",

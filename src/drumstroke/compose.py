@@ -32,16 +32,17 @@ Examples
 """
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from ._checks import check_real
 from .dynamics import level_to_velocity, velocity_to_level
 from .errors import ParameterError
+from .formats.midi import TempoMap
 from .palette.motion import RETURN_LIMITS, assemble, plan_return, return_time
 from .palette.transforms import compress, compress_limit, trim
-from .score import ScoreNote
+from .score import Score, ScoreNote
 from .trajectory import Trajectory
 
 HOLD_AFTER = 0.25
@@ -75,7 +76,7 @@ class Placement:
     cut: float | None = None
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class Composition:
     """A composed piece: one trajectory of all its sticks, and what became of each note.
 
@@ -90,13 +91,23 @@ class Composition:
     placements : tuple of Placement
         One per note, in time order.
     problems : tuple of str
-        Notes left out, velocities out of reach, notes with no mapping.
+        Notes left out, velocities out of reach.
+    tempo_map : TempoMap
+        The score's tempo changes and time signatures (its MIDI file's, or its pattern's tempo and
+        meter; 120 bpm in 4/4 for notes given without one), on the score's time.
     """
 
     trajectory: Trajectory
     offset: float
     placements: tuple
     problems: tuple
+    tempo_map: TempoMap = field(default_factory=TempoMap)
+
+    def __repr__(self):
+        sticks = ", ".join(f"{name} {len(s.impacts)}" for name, s in self.sticks.items())
+        played = sum(p.played for p in self.placements)
+        return (f"Composition(model={self.model!r}, {played} of {len(self.placements)} notes played, "
+                f"{self.t_end:g} s at {self.rate:g} Hz, score time 0 at {self.offset:g} s; impacts: {sticks})")
 
     @property
     def sticks(self):
@@ -132,19 +143,43 @@ class Composition:
         order = np.argsort(t, kind="stable")
         return t[order], speed[order], level[order]
 
+    def stick_impacts(self):
+        """Each stick's impacts on the score's time, and which of them are a stroke's first impact.
 
-def compose(notes, library, *, rate=None, limits=None):
+        Returns
+        -------
+        dict
+            ``{stick: (t, level_db, first)}``: times (s from the score's time 0, so a note's first
+            impact is at its time), levels (dB re 1 m/s) and booleans [each shape=(n,)].
+        """
+        result = {}
+        for name, stick in self.sticks.items():
+            t = np.maximum(stick.impacts.t - self.offset, 0.0)  # round-off below the score's time 0
+            first = np.zeros(t.size, dtype=bool)
+            landed = np.array([p.impact - self.offset for p in self.placements if p.played and p.note.stick == name])
+            if landed.size:  # each played note's first impact is the impact nearest its time
+                after = np.minimum(np.searchsorted(t, landed), t.size - 1)
+                before = np.maximum(after - 1, 0)
+                first[np.where(np.abs(t[before] - landed) <= np.abs(t[after] - landed), before, after)] = True
+            result[name] = (t, stick.impacts.level_db, first)
+        return result
+
+
+def compose(notes, library, *, rate=None, limits=None, progress=None):
     """Compose ``notes`` from ``library`` strokes into one trajectory per stick.
 
     Parameters
     ----------
-    notes : sequence of ScoreNote
-        At least one; their strokes must be in the library.
+    notes : Score or sequence of ScoreNote
+        At least one note; their strokes must be in the library. A :class:`~drumstroke.score.Score`
+        (what :func:`~drumstroke.score.read_score` returns) brings its tempo map along.
     library : drumstroke.palette.library.Library
     rate : float in [1, 100000] or None
         Control rate (Hz) of the result; default the library's.
     limits : Limits or None
         Bounds on the returns between strokes (default :data:`~drumstroke.palette.motion.RETURN_LIMITS`).
+    progress : callable or None
+        Called with the fraction done (0 to 1) as the notes are placed and the sticks assembled.
 
     Returns
     -------
@@ -152,7 +187,8 @@ def compose(notes, library, *, rate=None, limits=None):
     """
     limits = limits or RETURN_LIMITS
     rate = library.rate if rate is None else check_real("rate", rate, low=1.0, high=1e5, unit="Hz")
-    notes = list(notes)
+    tempo_map = notes.tempo_map if isinstance(notes, Score) else TempoMap()
+    notes = list(notes.notes if isinstance(notes, Score) else notes)
     if not notes:
         raise ParameterError("notes must hold at least one note")
     for note in notes:
@@ -167,13 +203,21 @@ def compose(notes, library, *, rate=None, limits=None):
                                  f"{', '.join(library)}")
         key = (note.stroke, note.velocity)
         if key not in variants:
-            variants[key] = _at_velocity(library[note.stroke].trajectory, note, problems, limits)
+            variants[key] = _Variant(*_at_velocity(library[note.stroke].trajectory, note, problems, limits))
     head = library[notes[0].stroke].trajectory.theta_max
     offset = _offset(notes, variants, head, limits, rate)
     by_stick = {}
     for note in notes:
         by_stick.setdefault(note.stick, []).append(note)
-    plans = {stick: _place(stick_notes, variants, offset, head, limits, problems)
+    done = 0
+
+    def advance(count):  # placing a note is one step, assembling it into its stick another
+        nonlocal done
+        done += count
+        if progress is not None:
+            progress(done / (2 * len(notes)))
+
+    plans = {stick: _place(stick_notes, variants, offset, head, limits, problems, advance)
              for stick, stick_notes in by_stick.items()}
     end = max(_finish(plan, head, limits) for plan in plans.values()) + HOLD_AFTER
     if not math.isfinite(end):
@@ -181,13 +225,14 @@ def compose(notes, library, *, rate=None, limits=None):
     sticks = {}
     for stick, plan in plans.items():
         played = [p for p, _ in plan if p.played]
-        pieces = [trim(s, 0.0, p.cut) if p.cut is not None else s for p, s in plan if p.played]
+        pieces = [trim(v.stroke, 0.0, p.cut) if p.cut is not None else v.stroke for p, v in plan if p.played]
         sticks[stick] = assemble(pieces, [p.start for p in played], limits=limits, end=end,
                                  name=f"composition ({stick} stick)").sample(rate)
+        advance(len(plan))
     placements = sorted((p for plan in plans.values() for p, _ in plan), key=lambda p: p.note.time)
     trajectory = Trajectory.from_sticks(sticks, name=f"composition of {len(placements)} notes",
                                         history=(f"compose {len(placements)} notes",))
-    return Composition(trajectory, offset, tuple(placements), tuple(problems))
+    return Composition(trajectory, offset, tuple(placements), tuple(problems), tempo_map)
 
 
 def _at_velocity(stroke, note, problems, limits):
@@ -210,6 +255,25 @@ def _at_velocity(stroke, note, problems, limits):
     return scaled, factor
 
 
+class _Variant:
+    """A library stroke at one velocity, with where it may be cut and its state at those times, each found once:
+    a composition asks for them again at every note that plays it."""
+
+    def __init__(self, stroke, factor):
+        self.stroke, self.factor = stroke, factor
+        settle = stroke.t_end if stroke.rest_time is None else stroke.rest_time  # at rest for good, or its end
+        apexes = stroke.apexes[np.isfinite(stroke.apexes)]
+        apexes = apexes[(apexes > stroke.impacts.t[0]) & (apexes < settle)]
+        self.cuts = [settle, *apexes[::-1].tolist()]  # where it may be cut (its own time, s), latest first
+        self._states = {}
+
+    def state(self, t):
+        """(θ rad, ω rad/s) at ``t`` (s, its own time)."""
+        if t not in self._states:
+            self._states[t] = _state(self.stroke, t)
+        return self._states[t]
+
+
 def _can_wind_up(stroke, limits):
     theta, omega = _state(stroke, 0.0)
     return math.isfinite(return_time((theta, 0.0), (theta, omega), stroke.theta_max, limits))
@@ -222,78 +286,64 @@ def _offset(notes, variants, head, limits, rate):
     for note in notes:
         firsts.setdefault(note.stick, note)
     for note in firsts.values():
-        stroke, _ = variants[(note.stroke, note.velocity)]
-        theta, omega = _state(stroke, 0.0)
+        variant = variants[(note.stroke, note.velocity)]
+        theta, omega = variant.state(0.0)
         wind = return_time((theta, 0.0), (theta, omega), head, limits)
-        need = max(need, stroke.impacts.t[0] + wind - note.time)
+        need = max(need, variant.stroke.impacts.t[0] + wind - note.time)
     return math.ceil(need * rate - 1e-9) / rate if need > 0 else 0.0
 
 
-def _place(notes, variants, offset, head, limits, problems):
-    """Placements on one stick: (Placement, stroke) in time order, cuts chosen."""
+def _place(notes, variants, offset, head, limits, problems, advance):
+    """Placements on one stick: (Placement, _Variant) in time order, cuts chosen; ``advance(1)`` for each note."""
     plan = []
     for note in notes:
-        stroke, factor = variants[(note.stroke, note.velocity)]
-        start = offset + note.time - stroke.impacts.t[0]
-        placed = Placement(note, True, start, offset + note.time, factor)
+        advance(1)
+        variant = variants[(note.stroke, note.velocity)]
+        start = offset + note.time - variant.stroke.impacts.t[0]
+        placed = Placement(note, True, start, offset + note.time, variant.factor)
         previous = next((i for i in range(len(plan) - 1, -1, -1) if plan[i][0].played), None)
         if previous is not None:
-            before, before_stroke = plan[previous]
-            cut = _latest_cut(before_stroke, before.start, stroke, start, head, limits)
+            before, before_variant = plan[previous]
+            cut = _latest_cut(before_variant, before.start, variant, start, head, limits)
             if cut is None:
-                need = _earliest_start(before_stroke, before.start, stroke, head, limits) - start
+                need = _earliest_start(before_variant, before.start, variant, head, limits) - start
                 problems.append(
                     f"{note.source}: {note.stroke!r} on the {note.stick} stick comes {need * 1e3:.0f} ms too soon "
                     f"after {before.note.stroke!r} at {before.note.time:.6g} s; left out")
-                plan.append((Placement(note, False, factor=factor), stroke))
+                plan.append((Placement(note, False, factor=variant.factor), variant))
                 continue
-            plan[previous] = (replace(before, cut=cut if cut < before_stroke.t_end else None), before_stroke)
-        plan.append((placed, stroke))
+            cut = cut if cut < before_variant.stroke.t_end else None
+            plan[previous] = (replace(before, cut=cut), before_variant)
+        plan.append((placed, variant))
     last = next((i for i in range(len(plan) - 1, -1, -1) if plan[i][0].played), None)
     if last is not None:  # the last stroke plays on until it settles, or until its latest apex the stick can leave
-        p, s = plan[last]
-        home = (_state(s, 0.0)[0], 0.0)
-        candidates = _candidates(s)
-        cut = next((c for c in candidates if math.isfinite(return_time(_state(s, c), home, head, limits))),
-                   candidates[-1])
-        plan[last] = (replace(p, cut=cut if cut < s.t_end else None), s)
+        p, v = plan[last]
+        home = (v.state(0.0)[0], 0.0)
+        cut = next((c for c in v.cuts if math.isfinite(return_time(v.state(c), home, head, limits))), v.cuts[-1])
+        plan[last] = (replace(p, cut=cut if cut < v.stroke.t_end else None), v)
     return plan
 
 
-def _candidates(stroke):
-    """Where a stroke may be cut (its own time, s), latest first: where it settles, then its apexes."""
-    settle = _settle(stroke)
-    apexes = stroke.apexes[np.isfinite(stroke.apexes)]
-    apexes = apexes[(apexes > stroke.impacts.t[0]) & (apexes < settle)]
-    return [settle, *apexes[::-1].tolist()]
-
-
-def _latest_cut(stroke, start, following, following_start, head, limits):
-    target = _state(following, 0.0)
-    for cut in _candidates(stroke):
+def _latest_cut(variant, start, following, following_start, head, limits):
+    target = following.state(0.0)
+    for cut in variant.cuts:
         window = following_start - (start + cut)
-        if window >= 0.0 and plan_return(_state(stroke, cut), target, window, head, limits) is not None:
+        if window >= 0.0 and plan_return(variant.state(cut), target, window, head, limits) is not None:
             return cut
     return None
 
 
-def _earliest_start(stroke, start, following, head, limits):
-    cut = _candidates(stroke)[-1]
-    return start + cut + return_time(_state(stroke, cut), _state(following, 0.0), head, limits)
+def _earliest_start(variant, start, following, head, limits):
+    cut = variant.cuts[-1]
+    return start + cut + return_time(variant.state(cut), following.state(0.0), head, limits)
 
 
 def _finish(plan, head, limits):
     """When the stick is home after its last stroke (s)."""
-    played = [(p, s) for p, s in plan if p.played]
-    p, s = played[-1]
-    end = p.cut if p.cut is not None else s.t_end
-    theta0 = _state(s, 0.0)[0]
-    return p.start + end + return_time(_state(s, end), (theta0, 0.0), head, limits)
-
-
-def _settle(stroke):
-    """When the stroke comes to rest for good, or its end (s, its own time)."""
-    return stroke.t_end if stroke.rest_time is None else stroke.rest_time
+    played = [(p, v) for p, v in plan if p.played]
+    p, v = played[-1]
+    end = p.cut if p.cut is not None else v.stroke.t_end
+    return p.start + end + return_time(v.state(end), (v.state(0.0)[0], 0.0), head, limits)
 
 
 def _state(stroke, t):

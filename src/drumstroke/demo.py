@@ -10,11 +10,13 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from .presets import PRESETS
+from .render.page import Card, plural
 
 FIGURES = {p.figure: name for name, p in PRESETS.items() if p.figure}
 """The paper's figures and the presets that reproduce them: {"Fig. 4": "free-bounce", ...}."""
 
 _SUFFIXES = {"json": ".json", "csv": ".csv", "plot": ".png"}
+_LABELS = {".mid": "MIDI", ".json": "JSON", ".csv": "CSV"}  # the page's links to a card's other files
 
 
 @dataclass(frozen=True)
@@ -49,10 +51,14 @@ class Demo:
         The paper's figures, with their strokes.
     library : Library
         The shipped library, built in ``outdir / "library"``.
+    strokes : tuple of Path
+        Every library stroke's picture, sound and MIDI file, in ``outdir / "strokes"``.
     piece : Composition
         The demo groove composed from it.
     played : int
         How many of the groove's notes were played (of ``len(piece.placements)``).
+    groove : tuple of Path
+        The groove's pattern and the files it composed to.
     index : Path
         The page linking every picture, sound and MIDI file.
     """
@@ -60,8 +66,10 @@ class Demo:
     outdir: Path
     figures: tuple
     library: object
+    strokes: tuple
     piece: object
     played: int
+    groove: tuple
     index: Path
 
 
@@ -97,6 +105,7 @@ def write_figures(outdir, *, model=None, outputs=("plot",), progress=None):
     if unknown:
         raise ParameterError(f"outputs must be among {', '.join(_SUFFIXES)}, got {unknown[0]!r}")
     outdir = Path(outdir)
+    outdir.mkdir(parents=True, exist_ok=True)
     figures = []
     for i, (figure, preset) in enumerate(FIGURES.items()):
         stroke = simulate(preset, model=model)
@@ -130,38 +139,50 @@ def run_demo(outdir, *, progress=None):
     from .compose import compose
     from .palette.library import DEMO_PATTERN, build_library
     from .render.outputs import write_composition_outputs, write_stroke_outputs
-    from .render.page import Card, write_index
+    from .render.page import write_index
     from .score import read_pattern
 
     out = Path(outdir)
     report = progress or (lambda fraction: None)
     figures = write_figures(out, outputs=("json", "csv", "plot"), progress=lambda f: report(0.2 * f))
     library = build_library(out / "library", progress=lambda f: report(0.2 + 0.2 * f))
-    cards = []
+    (out / "strokes").mkdir(exist_ok=True)
+    cards, strokes = [], []
     for i, (name, entry) in enumerate(library.items()):
-        stem = out / "strokes" / name
-        trajectory = entry.trajectory
-        write_stroke_outputs(trajectory, plot=stem.with_suffix(".png"), wav=stem.with_suffix(".wav"),
-                             midi=stem.with_suffix(".mid"))
-        impacts = trajectory.impacts
-        facts = (f"{len(impacts)} impacts in {trajectory.t_end:.2f} s; first at {impacts.t[0]:.3f} s, "
-                 f"{impacts.tip_speed[0]:.2f} m/s tip speed; model {trajectory.model}.")
-        cards.append(Card(name, entry.category, entry.description, f"strokes/{name}.png", f"strokes/{name}.wav",
-                          f"strokes/{name}.mid", facts))
+        files = write_stroke_outputs(entry.trajectory, plot=out / "strokes" / f"{name}.png",
+                                     audio=out / "strokes" / f"{name}.wav", midi=out / "strokes" / f"{name}.mid")
+        cards.append(_card(name, entry.category, entry.description, entry.trajectory, files, out))
+        strokes += files
         report(0.4 + 0.5 * (i + 1) / len(library))
     piece = compose(read_pattern(DEMO_PATTERN), library)
     write_atomic(out / "groove.pattern", DEMO_PATTERN.read_text())
-    write_composition_outputs(piece, title="groove", csv=out / "groove.csv", json=out / "groove.json",
-                              plot=out / "groove.png", wav=out / "groove.wav", midi=out / "groove.mid")
+    groove = [out / "groove.pattern", *write_composition_outputs(
+        piece, title="groove", csv=out / "groove.csv", json=out / "groove.json", plot=out / "groove.png",
+        audio=out / "groove.wav", midi=out / "groove.mid")]
     played = sum(p.played for p in piece.placements)
-    facts = f"{played} notes on the sticks {', '.join(piece.sticks)}; {piece.t_end:.2f} s at {piece.rate:g} Hz."
+    facts = (f"{plural(played, 'note')} on the sticks {', '.join(piece.sticks)}; {piece.t_end:.2f} s at "
+             f"{piece.rate:g} Hz.")
     groove_card = Card("groove", "composition", "Four bars at 96 bpm composed from the library (groove.pattern): "
                        "backbeat singles, ghost taps, a double, a triplet ruff, rolls and a free bounce.",
-                       "groove.png", "groove.wav", "groove.mid", facts)
+                       "groove.png", "groove.wav", (("MIDI", "groove.mid"), ("CSV", "groove.csv"),
+                                                    ("JSON", "groove.json"), ("pattern", "groove.pattern")), facts)
+    figure_cards = [_card(f.figure, f"preset {f.preset}", PRESETS[f.preset].description, f.stroke, f.paths, out)
+                    for f in figures]
     index = out / "index.html"
     write_index(index, title="drumstroke: the stroke palette",
                 intro="Each stroke of the shipped library as the robot's motor angle θ(t) with its impacts, "
-                      "and as it sounds on a synthesized snare drum; first a groove composed from them.",
-                cards=[groove_card, *cards])
+                      "and as it sounds on a synthesized snare drum; first a groove composed from them, last the "
+                      "paper's Figs. 4–7 as drumstroke draws them.",
+                cards=[groove_card, *cards, *figure_cards])
     report(1.0)
-    return Demo(out, tuple(figures), library, piece, played, index)
+    return Demo(out, tuple(figures), library, tuple(strokes), piece, played, tuple(groove), index)
+
+
+def _card(title, subtitle, description, stroke, files, out):
+    """The page's card of a stroke whose ``files`` were written: its picture, its sound, links to the rest."""
+    impacts = stroke.impacts
+    facts = (f"{plural(len(impacts), 'impact')} in {stroke.t_end:.2f} s; first at {impacts.t[0]:.3f} s, "
+             f"{impacts.tip_speed[0]:.2f} m/s tip speed; model {stroke.model}.")
+    links = {path.suffix: path.relative_to(out).as_posix() for path in files}
+    return Card(title, subtitle, description, links.pop(".png"), links.pop(".wav", None),
+                tuple((_LABELS[suffix], link) for suffix, link in links.items()), facts)

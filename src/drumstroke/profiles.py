@@ -459,7 +459,7 @@ class Samples(PiecewiseLinear):
         The CSV file. Read once, when the profile is made; recorded by its absolute path.
     """
 
-    points: tuple = field(init=False)
+    points: tuple = field(init=False, repr=False)  # the file names them
     file: str = ""
     kind = "samples"
     parameters = (

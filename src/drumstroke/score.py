@@ -1,9 +1,10 @@
-"""Scores: what to play, when, how loud and with which stick — from a text pattern or MIDI notes.
+"""Scores: what to play, when, how loud and with which stick — from a text pattern or a MIDI file.
 
-A text pattern is the tempo, then one note per line::
+A text pattern is the tempo, optionally a meter, then one note per line::
 
     # a backbeat: comments start with '#'
     tempo 96
+    meter 4/4
     # beat   stroke        velocity   stick (optional, default right)
     0        single        100
     1        tap           40         left
@@ -12,19 +13,25 @@ A text pattern is the tempo, then one note per line::
 
 Beats count from 0 in quarter notes at the tempo (beats per minute); stroke
 names are the library's; velocity is MIDI's 1–127; the stick is any name
-(a-z, 0-9, ``_``, ``-``), one trajectory per stick. A MIDI score's notes
-(read with :func:`drumstroke.formats.midi.read_midi_notes`) become score notes
-through a note mapping (:func:`read_mapping`): a TOML file ::
+(a-z, 0-9, ``_``, ``-``), one trajectory per stick.
+
+A MIDI file's notes become score notes through a note mapping: only the
+channels chosen (by default 10, General MIDI percussion) and the tracks chosen
+(by default all) are read, and on them only the keys the mapping names are
+played; every other note is skipped and counted in the :class:`ScoreReport`.
+A mapping is a TOML file (:func:`read_mapping`) ::
 
     [notes]
     38 = "single"                                # acoustic snare
     40 = { stroke = "press-roll", stick = "left" }
 
-Without one, :func:`default_mapping` maps 38 (acoustic snare) to ``single``,
-37 (side stick) to ``tap``, 40 (electric snare) to ``press-roll``, and note
-60 + i to the library's i-th stroke (the order of ``drumstroke library list``).
+Without one, :func:`default_mapping` applies: on channel 10 the drum map
+(:data:`DRUM_MAP`: the General MIDI snares, 38 and 40 as ``single`` and 37, side
+stick, as ``tap``); on any other channel, where a key is a pitch, also key
+60 + i (C4 and up) as the library's i-th stroke (the order of
+``drumstroke library list``).
 
-:func:`read_score` reads either kind of file, by its name's ending.
+:func:`read_score` reads either kind of file, by its name's ending, into a :class:`Score`.
 
 Examples
 --------
@@ -34,20 +41,74 @@ Examples
 """
 
 import re
-from dataclasses import dataclass
+from array import array
+from collections import Counter
+from dataclasses import dataclass, field
 from pathlib import Path
+from typing import NamedTuple
 
-from ._checks import check_keys, check_real
+from ._checks import check_int, check_keys, check_real
 from .errors import ParameterError
+from .formats.midi import PERCUSSION_CHANNEL, TempoMap
 from .formats.pattern import parse_pattern as pattern_rows
 from .formats.pattern import read_pattern_file
 from .formats.toml import read_toml
 
 DEFAULT_STICK = "right"
 _STICK = re.compile(r"^[a-z0-9_-]{1,32}$")
-_GM_NAMES = {38: "single", 37: "tap", 40: "press-roll"}
+
+
+class DrumKey(NamedTuple):
+    """A row of the drum map: a General MIDI percussion key, read and written.
+
+    Attributes
+    ----------
+    name : str
+        Its General MIDI percussion name.
+    stroke : str
+        The library stroke the key is read as, by default, on channel 10.
+    written : str or None
+        The impacts a written MIDI file puts on the key: "first" (each stroke's first
+        impact: the note the score asked for) or "bounce" (its later impacts); None for none.
+    """
+
+    name: str
+    stroke: str
+    written: str | None
+
+
+DRUM_MAP = {
+    37: DrumKey("Side Stick", "tap", None),
+    38: DrumKey("Acoustic Snare", "single", "first"),
+    40: DrumKey("Electric Snare", "single", "bounce"),
+}
+"""The drum map, both ways, in one table: MIDI key on channel 10 → what it is read as and written for.
+
+Read: songs put their snare on either of General MIDI's two snares, 38 and 40, so both
+are a full stroke (``single``); the side stick (37), a light click on the rim, is a
+``tap``. Every other key of the percussion channel (kick, hi-hats, toms, cymbals, and
+60–81, the Latin percussion) is not the snare drum, and is skipped.
+
+Written: every impact is a snare note, so a General MIDI player sounds all of them
+on a snare; a stroke's first impact (the note the score asked for) is on 38 and its
+bounces on 40, so in a DAW the notes and the bounces sit on two rows of the piano
+roll, to select, mute or re-voice apart."""
+
+FIRST_IMPACT_NOTE = next(key for key, row in DRUM_MAP.items() if row.written == "first")
+"""The key of each written stroke's first impact (38, acoustic snare): see :data:`DRUM_MAP`."""
+
+BOUNCE_NOTE = next(key for key, row in DRUM_MAP.items() if row.written == "bounce")
+"""The key of each written stroke's later impacts, its bounces (40, electric snare): see :data:`DRUM_MAP`."""
+
 FIRST_LIBRARY_NOTE = 60
-"""MIDI note of the library's first stroke in the default mapping (C4); the i-th stroke is 60 + i."""
+"""MIDI key of the library's first stroke in the default mapping off channel 10 (C4); the i-th stroke is 60 + i."""
+
+MIDI_SUFFIXES = (".mid", ".midi")
+"""File name endings :func:`read_score` reads as MIDI files; any other file is a text pattern."""
+
+SKIP_REASONS = ("track", "channel", "unmapped")
+"""Why a MIDI note is skipped, in the order they are tested: its track or its channel was not chosen, or
+the mapping has no stroke for its key."""
 
 
 @dataclass(frozen=True)
@@ -64,7 +125,8 @@ class ScoreNote:
         Sets the first impact's level (see :mod:`drumstroke.dynamics`).
     stick : str
     source : str
-        Where it came from ("line 4", "MIDI note 38 at 1.5 s"), for messages.
+        Where it came from ("song.pattern line 4", "song.mid note 38 at 1.5 s (channel 10, track 2)"),
+        for messages.
     """
 
     time: float
@@ -84,27 +146,130 @@ class ScoreNote:
             raise ParameterError(f"{where}: stick must be 1-32 of a-z, 0-9, '_', '-', got {self.stick!r}")
 
 
+@dataclass(frozen=True, eq=False)
+class ScoreReport:
+    """What reading a score played and skipped: counts per reason and channel, and each skipped note.
+
+    Attributes
+    ----------
+    source : str
+        The score file.
+    counts : dict
+        ``{(reason, channel): notes}``: reason "played" or one of :data:`SKIP_REASONS`; channel
+        1–16 (None for a text pattern, whose notes are all played).
+    track_names : tuple of str
+        The MIDI file's track names, by track number (empty for a text pattern).
+    options : dict
+        What the caller calls the choices, for messages: ``{"tracks": ..., "channels": ..., "mapping": ...}``.
+    """
+
+    source: str
+    counts: dict
+    track_names: tuple = ()
+    options: dict = field(default_factory=dict)
+    _skipped: tuple = field(default=(), repr=False)  # compact columns: time, key, velocity, channel, track, reason
+
+    def count(self, reason=None, channel=None):
+        """How many notes were skipped for ``reason`` ("played" for the others; None: every note), on ``channel``
+        (None: every channel)."""
+        return sum(n for (r, c), n in self.counts.items()
+                   if (reason is None or r == reason) and (channel is None or c == channel))
+
+    @property
+    def played(self):
+        """How many notes the score gives to play."""
+        return self.count("played")
+
+    @property
+    def skipped(self):
+        """How many notes were skipped, for any reason."""
+        return self.count() - self.played
+
+    def summary(self):
+        """One line: the notes read, the notes to play and the skipped ones per reason, with their channels."""
+        if all(channel is None for _, channel in self.counts):  # a text pattern: every note is played
+            return f"{self.source}: {self.played} notes"
+        channels = sorted({c for _, c in self.counts})
+        played = self._by_channel("played")
+        line = (f"{self.source}: {self.count()} notes on {len(channels)} channel{'s' * (len(channels) != 1)}, "
+                f"{len(self.track_names)} track{'s' * (len(self.track_names) != 1)}; {self.played} to play"
+                + (f" ({played})" if played else ""))
+        if self.skipped:
+            parts = [f"{self.count(reason)} {self._reason_text(reason)} ({self._by_channel(reason)})"
+                     for reason in SKIP_REASONS if self.count(reason)]
+            line += f"; skipped {self.skipped}: " + ", ".join(parts)
+        return line
+
+    def details(self):
+        """Each skipped note on a line of its own, in time order: where it is and why it was skipped."""
+        times, keys, velocities, channels, tracks, reasons = self._skipped or ((),) * 6
+        for time, key, velocity, channel, track, reason in zip(times, keys, velocities, channels, tracks, reasons):
+            reason = SKIP_REASONS[reason]
+            yield (f"{self.source}: note {key} at {time:.6g} s (channel {channel}, track {track} "
+                   f"{self.track_names[track]!r}, velocity {velocity}) skipped: {self._reason_text(reason)}")
+
+    def _by_channel(self, reason):
+        counts = sorted((c, n) for (r, c), n in self.counts.items() if r == reason and n)
+        return ", ".join(f"channel {c}: {n}" for c, n in counts)
+
+    def _reason_text(self, reason):
+        option = self.options.get({"track": "tracks", "channel": "channels", "unmapped": "mapping"}[reason])
+        if reason != "unmapped":
+            return f"in tracks not chosen ({option})" if reason == "track" else f"on channels not chosen ({option})"
+        if option:
+            return f"not in the mapping ({option})"
+        percussion = all(c == PERCUSSION_CHANNEL for (r, c), n in self.counts.items() if r == reason and n)
+        return "not in the drum map" if percussion else "not in the default mapping"
+
+
+@dataclass(frozen=True)
+class Score:
+    """A score read: its notes, its musical time, and what reading it played and skipped.
+
+    Attributes
+    ----------
+    notes : tuple of ScoreNote
+        In time order.
+    tempo_map : TempoMap
+        The MIDI file's tempo changes and time signatures, or the pattern's tempo and meter.
+    report : ScoreReport
+    """
+
+    notes: tuple
+    tempo_map: TempoMap
+    report: ScoreReport
+
+
 def read_pattern(path):
     """The notes of a text pattern file (see the module docstring), in time order."""
-    return _notes(*read_pattern_file(path))
+    return _notes(read_pattern_file(path))
 
 
 def parse_pattern(text, *, name="pattern"):
     """The notes of a text pattern given as a string, in time order."""
-    return _notes(*pattern_rows(text, name=name))
+    return _notes(pattern_rows(text, name=name))
 
 
-def _notes(tempo, rows):
-    notes = [ScoreNote(row.beat * 60.0 / tempo, row.stroke, row.velocity, row.stick or DEFAULT_STICK,
-                       source=row.source) for row in rows]
+def _notes(pattern):
+    notes = [ScoreNote(row.beat * 60.0 / pattern.tempo, row.stroke, row.velocity, row.stick or DEFAULT_STICK,
+                       source=row.source) for row in pattern.rows]
     return sorted(notes, key=lambda n: n.time)
 
 
-def default_mapping(stroke_names):
-    """The default MIDI note → (stroke, stick) mapping for a library with ``stroke_names`` (in order)."""
-    mapping = {FIRST_LIBRARY_NOTE + i: (name, DEFAULT_STICK) for i, name in enumerate(stroke_names)
-               if FIRST_LIBRARY_NOTE + i <= 127}
-    mapping.update({note: (name, DEFAULT_STICK) for note, name in _GM_NAMES.items() if name in stroke_names})
+def default_mapping(stroke_names, *, percussion=False):
+    """The default MIDI key → (stroke, stick) mapping for a library with ``stroke_names`` (in order).
+
+    Parameters
+    ----------
+    stroke_names : sequence of str
+        The library's strokes, in its order.
+    percussion : bool
+        For the General MIDI percussion channel (10): the drum map's keys only
+        (:data:`DRUM_MAP`). Otherwise, where keys are pitches, also 60 + i for the i-th stroke.
+    """
+    mapping = {} if percussion else {FIRST_LIBRARY_NOTE + i: (name, DEFAULT_STICK) for i, name in
+                                     enumerate(stroke_names) if FIRST_LIBRARY_NOTE + i <= 127}
+    mapping.update({key: (row.stroke, DEFAULT_STICK) for key, row in DRUM_MAP.items() if row.stroke in stroke_names})
     return mapping
 
 
@@ -133,73 +298,111 @@ def read_mapping(path):
     return mapping
 
 
-def from_midi_notes(midi_notes, mapping):
-    """Score notes from MIDI notes (objects with time s, note, velocity) through ``mapping``.
-
-    Returns
-    -------
-    notes : list of ScoreNote
-        In time order.
-    unmapped : dict
-        {MIDI note number: how many notes had no mapping}; they are left out.
-    """
-    notes, unmapped = [], {}
-    for note in midi_notes:
-        if note.note not in mapping:
-            unmapped[note.note] = unmapped.get(note.note, 0) + 1
-            continue
-        stroke, stick = mapping[note.note]
-        source = f"MIDI note {note.note} at {note.time:.6g} s"
-        notes.append(ScoreNote(float(note.time), stroke, int(note.velocity), stick, source=source))
-    return sorted(notes, key=lambda n: n.time), unmapped
-
-
-
-MIDI_SUFFIXES = (".mid", ".midi")
-"""File name endings :func:`read_score` reads as MIDI files; any other file is a text pattern."""
-
-
-def read_score(path, *, mapping=None, stroke_names=None, mapping_name="mapping"):
+def read_score(path, *, mapping=None, stroke_names=None, channels=None, tracks=None, options=None):
     """The notes of a score file: a MIDI file through a note mapping, or a text pattern.
 
     Parameters
     ----------
     path : str or Path
-        A ``.mid``/``.midi`` file (times in s from its ticks and tempo changes) or a text pattern
-        (see the module docstring), which names its strokes itself.
+        A ``.mid``/``.midi`` file (type 0 or 1; times in s from its ticks and tempo changes) or a text
+        pattern (see the module docstring), which names its strokes itself.
     mapping : str, Path, dict or None
-        For a MIDI file only: a mapping file (:func:`read_mapping`) or ``{MIDI note: (stroke, stick)}``.
-        Default: :func:`default_mapping` of ``stroke_names``.
+        For a MIDI file only: a mapping file (:func:`read_mapping`) or ``{MIDI key: (stroke, stick)}``,
+        for every channel chosen. Default: :func:`default_mapping` of ``stroke_names``, per channel.
     stroke_names : sequence of str or None
         The library's stroke names in its order, for the default mapping.
-    mapping_name : str
-        What the caller calls ``mapping``, for messages (the command line: ``--mapping``).
+    channels : sequence of int in [1, 16] or None
+        For a MIDI file only: the channels to play, counted from 1 as musicians do.
+        Default: 10, General MIDI percussion.
+    tracks : sequence of int or str, or None
+        For a MIDI file only: the tracks to play, by number (from 0, in the file's order)
+        or by name. Default: every track.
+    options : dict or None
+        What the caller calls ``mapping``, ``channels`` and ``tracks``, for messages (the command
+        line: ``{"mapping": "--mapping", "channels": "--channel", "tracks": "--track"}``).
 
     Returns
     -------
-    notes : list of ScoreNote
-        In time order.
-    unmapped : dict
-        {MIDI note number: how many notes had no mapping}; they are left out. Empty for a pattern.
+    Score
+        The notes to play, the tempo map, and a report of every note played or skipped and why.
 
     Raises
     ------
     ParameterError
-        If the file cannot be read, a mapping is given for a text pattern, or a MIDI file comes with
-        neither a mapping nor stroke names.
+        If the file cannot be read, a mapping, channel or track is given for a text pattern or does
+        not exist, or a MIDI file comes with neither a mapping nor stroke names.
     """
     path = Path(path)
+    names = {"mapping": "mapping", "channels": "channels", "tracks": "tracks"} | (options or {})
     if path.suffix.lower() not in MIDI_SUFFIXES:
-        if mapping is not None:
-            raise ParameterError(f"{mapping_name} applies to MIDI scores (.mid, .midi); {str(path)!r} is a text pattern, "
-                                 "which names its strokes")
-        return read_pattern(path), {}
-    from .formats.midi import read_midi_notes
-
-    if mapping is None:
-        if stroke_names is None:
-            raise ParameterError(f"MIDI score {str(path)!r} needs a mapping or the library's stroke_names")
-        mapping = default_mapping(list(stroke_names))
-    elif not isinstance(mapping, dict):
+        for key, given in (("mapping", mapping), ("channels", channels), ("tracks", tracks)):
+            if given is not None:
+                raise ParameterError(f"{names[key]} applies to MIDI scores (.mid, .midi); {str(path)!r} is a text "
+                                     "pattern, which names its strokes")
+        pattern = read_pattern_file(path)
+        notes = _notes(pattern)
+        return Score(tuple(notes), TempoMap.constant(pattern.tempo, meter=pattern.meter),
+                     ScoreReport(str(path), {("played", None): len(notes)}))
+    channels = _check_channels(channels, names["channels"])
+    if mapping is None and stroke_names is None:
+        raise ParameterError(f"MIDI score {str(path)!r} needs a {names['mapping']} or the library's stroke_names")
+    if mapping is not None and not isinstance(mapping, dict):
         mapping = read_mapping(mapping)
-    return from_midi_notes(read_midi_notes(path), mapping)
+    from .formats.midi import read_midi
+
+    midi = read_midi(path)
+    chosen = _chosen_tracks(tracks, midi, names["tracks"])
+    mappings = {channel: mapping if mapping is not None else
+                default_mapping(list(stroke_names), percussion=channel == PERCUSSION_CHANNEL) for channel in channels}
+    notes, counts, skipped = [], Counter(), tuple(array(code) for code in "dBBBHB")
+    for note in midi.notes():
+        if chosen is not None and note.track not in chosen:
+            reason = 0
+        elif note.channel not in mappings:
+            reason = 1
+        elif note.note not in mappings[note.channel]:
+            reason = 2
+        else:
+            stroke, stick = mappings[note.channel][note.note]
+            source = f"{path} note {note.note} at {note.time:.6g} s (channel {note.channel}, track {note.track})"
+            notes.append(ScoreNote(note.time, stroke, note.velocity, stick, source=source))
+            counts["played", note.channel] += 1
+            continue
+        counts[SKIP_REASONS[reason], note.channel] += 1
+        for column, value in zip(skipped, (note.time, note.note, note.velocity, note.channel, note.track, reason)):
+            column.append(value)
+    report_names = {key: value for key, value in names.items() if key in ("channels", "tracks")}
+    if mapping is not None:
+        report_names["mapping"] = names["mapping"]
+    report = ScoreReport(str(path), dict(counts), midi.track_names, report_names, skipped)
+    return Score(tuple(notes), midi.tempo_map, report)
+
+
+def _check_channels(channels, name):
+    if channels is None:
+        return (PERCUSSION_CHANNEL,)
+    if isinstance(channels, (int, str)) or not channels:
+        raise ParameterError(f"{name} must be a non-empty list of MIDI channels, got {channels!r}")
+    return tuple(check_int(f"{name} (a MIDI channel, counted from 1; 10 is General MIDI percussion)", channel,
+                           low=1, high=16) for channel in channels)
+
+
+def _chosen_tracks(tracks, midi, name):
+    """The track numbers ``tracks`` (numbers from 0 or names) stand for in ``midi``, or None for all."""
+    if tracks is None:
+        return None
+    if isinstance(tracks, (int, str)) or not tracks:
+        raise ParameterError(f"{name} must be a non-empty list of track numbers or names, got {tracks!r}")
+    listed = ", ".join(f"{i} {track!r}" for i, track in enumerate(midi.track_names))
+    chosen = set()
+    for track in tracks:
+        if isinstance(track, str) and track in midi.track_names:
+            chosen.update(i for i, known in enumerate(midi.track_names) if known == track)
+        elif isinstance(track, str) and re.fullmatch(r"\d+", track) and int(track) < len(midi.track_names):
+            chosen.add(int(track))
+        elif not isinstance(track, (bool, str)) and isinstance(track, int) and 0 <= track < len(midi.track_names):
+            chosen.add(track)
+        else:
+            raise ParameterError(f"{name} {track!r} is not a track of MIDI file {midi.path!r}; its tracks are "
+                                 f"{listed}")
+    return chosen

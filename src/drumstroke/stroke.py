@@ -12,6 +12,7 @@ Examples
 (5001, True)
 """
 
+import difflib
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -31,7 +32,7 @@ from .solver import MAX_IMPACTS, Arcs, solve
 from .trajectory import DEFAULT_RATE, LEVEL_REFERENCE, Impacts, Trajectory
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class Stroke:
     """The result of one simulation.
 
@@ -78,6 +79,11 @@ class Stroke:
         if len(self.rests) and self.rests[-1, 1] >= self.t_end:
             return float(self.rests[-1, 0])
         return None
+
+    def __repr__(self):
+        rest = "still moving at t_end" if self.rest_time is None else f"at rest from {self.rest_time:.6g} s"
+        return (f"Stroke({self.name!r}, model={self.model!r}, {len(self.impacts)} impacts over [0, {self.t_end:g}] s, "
+                f"{rest})")
 
     def state(self, t):
         """θ (rad) and ω (rad/s) at times ``t`` (s) in [0, t_end], exact.
@@ -235,8 +241,11 @@ def resolve(recipe):
         path = Path(recipe)
         if path.suffix == ".toml" or path.exists():
             return Recipe.from_toml(path)
+        close = difflib.get_close_matches(str(recipe), list(PRESETS), n=1)
         raise ParameterError(
             f"recipe must be a preset name ({', '.join(PRESETS)}) or a .toml file, got {str(recipe)!r}"
+            + (f" (did you mean {close[0]!r}?)" if close else "")
+            + "; a stroke of the shipped palette (e.g. 'double') is made by drumstroke.make_stroke"
         )
     raise ParameterError(f"recipe must be a Recipe, a preset name or a path, got {recipe!r}")
 
@@ -250,7 +259,7 @@ def _as_profile(name, value):
     raise ParameterError(f"{name} must be a profile or a number (m/s^2), got {value!r}")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class Batch:
     """The results of :func:`simulate_many`, stroke by stroke.
 
@@ -272,6 +281,11 @@ class Batch:
 
     def __len__(self):
         return len(self.impacts)
+
+    def __repr__(self):
+        sampled = f"sampled at {self.trajectories[0].rate:g} Hz" if self.trajectories else "not sampled"
+        return (f"Batch({len(self)} strokes, {sum(len(i) for i in self.impacts)} impacts, "
+                f"{int(np.sum(~np.isnan(self.rest_time)))} at rest by t_end; {sampled})")
 
 
 class _Recipes(Sequence):

@@ -73,7 +73,7 @@ TIME_TOLERANCE = 1e-9
 _DIFF = 1e-6  # s, the step of the acceleration's central difference on a curve
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class Impacts:
     """The impacts of a stick on the head.
 
@@ -93,6 +93,13 @@ class Impacts:
 
     def __len__(self):
         return len(self.t)
+
+    def __repr__(self):
+        if not len(self):
+            return f"Impacts(none; tip distance {self.tip_distance:g} m)"
+        speed = self.tip_speed
+        return (f"Impacts({len(self)} over [{self.t[0]:.6g}, {self.t[-1]:.6g}] s, tip speed {speed.min():.3g} to "
+                f"{speed.max():.3g} m/s)")
 
     @property
     def tip_speed(self):

@@ -2,8 +2,9 @@
 
 One module per command group registers its sub-commands and runs them: :mod:`.simulate`
 (``simulate``, ``presets``, ``figures``, ``sweep``), :mod:`.library`, :mod:`.compose`, :mod:`.stats`,
-:mod:`.listen`, :mod:`.robot` and :mod:`.demo`. Bad input ends with exit status 2 and one line
-naming the parameter, the value and the allowed range.
+:mod:`.listen`, :mod:`.robot` and :mod:`.demo`. Every option is checked before any work
+(:mod:`._options`): bad input ends with exit status 2 and one line naming the option, the value
+and what is allowed, and nothing written.
 """
 
 import os
@@ -13,6 +14,7 @@ from .. import __version__
 from ..errors import DrumstrokeError
 from . import compose, demo, library, listen, robot, simulate, stats
 from ._common import Parser
+from ._options import check_outputs, output_option
 
 _COMMANDS = (simulate.add_simulate, library.add_library, compose.add_compose, simulate.add_presets,
              simulate.add_figures, simulate.add_sweep, stats.add_stats, listen.add_listen, robot.add_robot,
@@ -23,11 +25,15 @@ _COMMANDS = (simulate.add_simulate, library.add_library, compose.add_compose, si
 def main(argv=None):
     """Run the command line with ``argv`` (default: ``sys.argv[1:]``); return the exit status."""
     parser = build_parser()
-    args = parser.parse_args(argv)
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as stop:  # --help, --version, or a bad option: argparse has said so
+        return stop.code
     if not hasattr(args, "run"):
         parser.print_help()
         return 2
     try:
+        check_outputs(args)
         return args.run(args) or 0
     except DrumstrokeError as error:
         print(f"drumstroke {args.command}: error: {error}", file=sys.stderr)
@@ -36,7 +42,9 @@ def main(argv=None):
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 141
     except OSError as error:
-        where = f" {error.filename!r}" if error.filename else ""
+        option = output_option(args, error.filename) if error.filename else None
+        where = f" {option}: cannot write {error.filename!r}:" if option else (
+            f" {error.filename!r}:" if error.filename else "")
         print(f"drumstroke {args.command}: error:{where} {error.strerror or error}", file=sys.stderr)
         return 2
     except ImportError as error:

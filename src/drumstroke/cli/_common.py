@@ -1,51 +1,65 @@
 """What the command modules share: the parser class, the progress bar, sound options and printers."""
 
 import argparse
-import math
 import sys
-import time
 from pathlib import Path
 
+from ..formats import midi, wav
 from ..model import inertia_ratio
+from ..render.page import plural
+from ..score import BOUNCE_NOTE, FIRST_IMPACT_NOTE
+from ._options import Output
 
 
 class Parser(argparse.ArgumentParser):
-    """An argument parser whose errors are one line and exit status 2, without the usage text."""
+    """An argument parser whose errors are one line and exit status 2, without the usage text.
+
+    Abbreviated options are refused (``--rat`` is not ``--rate``): a later option must not change
+    what an old command line means.
+    """
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **{"allow_abbrev": False, **kwargs})
 
     def error(self, message):
         self.exit(2, f"{self.prog}: error: {message}\n")
 
 
 class Bar:
-    """A progress bar on stderr, drawn only on a terminal and only after ``delay`` seconds."""
+    """A progress bar (tqdm) on stderr, drawn only on a terminal and only after ``delay`` seconds.
+
+    ``update(fraction)`` moves it to ``fraction`` done, in [0, 1]; ``close()`` clears it, so what
+    the command prints next starts on a clean line. Also a context manager that closes it.
+    """
 
     def __init__(self, label, *, delay=0.0):
-        self.label = label
-        self.start = time.monotonic()
-        self.delay = delay
-        self.drawn = False
-        self.enabled = sys.stderr.isatty()
+        from tqdm import tqdm
+
+        self._bar = tqdm(total=1.0, desc=label, delay=delay, disable=not sys.stderr.isatty(), file=sys.stderr,
+                         leave=False, bar_format="{desc}: {percentage:3.0f}%|{bar}| {elapsed}<{remaining}")
 
     def update(self, fraction):
-        if not self.enabled or time.monotonic() - self.start < self.delay:
-            return
-        filled = math.floor(30 * min(max(fraction, 0.0), 1.0))
-        sys.stderr.write(f"\r{self.label} [{'#' * filled}{'.' * (30 - filled)}] {100 * fraction:5.1f}%")
-        sys.stderr.flush()
-        self.drawn = True
+        self._bar.update(min(max(fraction, 0.0), 1.0) - self._bar.n)
 
     def close(self):
-        if self.drawn:
-            sys.stderr.write("\n")
-            sys.stderr.flush()
+        self._bar.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
 
 
 def add_sound_options(parser):
-    """--wav, --no-snares and --midi, for the commands that write a stroke's or a composition's sound."""
-    parser.add_argument("--wav", type=Path, metavar="PATH", help="write 48 kHz mono audio of the impacts")
-    parser.add_argument("--no-snares", action="store_true", help="render --wav with the snare wires off")
-    parser.add_argument("--midi", type=Path, metavar="PATH",
-                        help="write the impacts as General MIDI percussion (channel 10, note 38)")
+    """--audio (alias --wav), --no-snares and --midi, for the commands that write a stroke's or a composition's sound."""
+    parser.add_argument("--audio", "--wav", action=Output, suffixes=tuple(wav.FORMATS), metavar="PATH",
+                        help="write 48 kHz mono audio of the impacts on a synthesized snare drum; the format follows "
+                             f"the extension: {', '.join(wav.FORMATS)}")
+    parser.add_argument("--no-snares", action="store_true", help="render --audio with the snare wires off")
+    parser.add_argument("--midi", action=Output, suffixes=midi.SUFFIXES, metavar="PATH",
+                        help=f"write the impacts as General MIDI percussion (channel 10: a stroke's first impact on "
+                             f"key {FIRST_IMPACT_NOTE}, its bounces on {BOUNCE_NOTE}), .mid or .midi")
 
 
 def print_written(paths):
@@ -57,16 +71,20 @@ def print_written(paths):
 
 
 def print_summary(stroke, *, rows=10):
-    """The stroke's recipe on one line, then its impacts: the first ``rows`` as a table."""
+    """What a stroke is on one line (its recipe, the transforms after it), then its impacts: the first ``rows``.
+
+    ``stroke`` is a Stroke or a one-stick Trajectory: the table is of the stroke given, transformed or not.
+    """
     recipe = stroke.recipe
-    d = inertia_ratio(recipe.model, recipe.stick)
-    print(
-        f"stroke {recipe.name or 'custom'}: model {recipe.model} (D = {d:.4f} m^2), "
-        f"theta_max = {recipe.theta_max:.4f} rad, c = {recipe.cor:g}, {recipe.t_end:g} s"
-    )
+    line = f"stroke {stroke.name or 'custom'}: model {stroke.model}"
+    if recipe is not None:
+        d = inertia_ratio(recipe.model, recipe.stick)
+        line += f" (D = {d:.4f} m^2), theta_max = {recipe.theta_max:.4f} rad, c = {recipe.cor:g}"
+    history = getattr(stroke, "history", ())[1:]
+    print(f"{line}, {stroke.t_end:g} s" + (f"; after {', '.join(history)}" if history else ""))
     impacts = stroke.impacts
     rest = f"at rest from {stroke.rest_time:.6f} s" if stroke.rest_time is not None else "still moving at the end"
-    print(f"{len(impacts)} impacts; {rest}")
+    print(f"{plural(len(impacts), 'impact')}; {rest}")
     if len(impacts):
         print(f"{'#':>5} {'t (s)':>11} {'omega (rad/s)':>14} {'tip (m/s)':>10} {'level (dB)':>10}")
         for i in range(min(rows, len(impacts))):
@@ -76,3 +94,10 @@ def print_summary(stroke, *, rows=10):
             )
         if len(impacts) > rows:
             print(f"{'...':>5} ({len(impacts) - rows} more; level re 1 m/s tip speed)")
+
+
+def robot_config(path):
+    """The robot config of ``--config`` (a TOML file), or the default one."""
+    from ..robot.config import RobotConfig
+
+    return RobotConfig.from_toml(path) if path else RobotConfig()

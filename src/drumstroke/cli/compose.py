@@ -1,24 +1,82 @@
 """``drumstroke compose``: a score (MIDI file or text pattern) into one trajectory per stick."""
 
+import argparse
 import sys
 from pathlib import Path
 
-from .._checks import check_real
-from ._common import add_sound_options, print_written
+from ..errors import ParameterError
+from ..formats import json, trajectory_csv
+from ..formats.midi import PERCUSSION_CHANNEL
+from ..formats.pattern import FORMAT
+from ..render import plot
+from ..score import BOUNCE_NOTE, DRUM_MAP, FIRST_IMPACT_NOTE, FIRST_LIBRARY_NOTE
+from ._common import Bar, add_sound_options, print_written
+from ._options import Output, add_mkdir, existing_file, existing_folder, number
+
+OPTIONS = {"mapping": "--mapping", "channels": "--channel", "tracks": "--track"}
+"""What the command calls read_score's choices, for its messages."""
+
+_WRITTEN = {"first": "; written for each stroke's first impact", "bounce": "; written for bounces", None: ""}
+_DRUM_MAP = "\n".join(f"  {key}  {row.name:<15} read as {row.stroke!r}{_WRITTEN[row.written]}"
+                      for key, row in DRUM_MAP.items())
+
+EPILOG = f"""\
+SCORE as a MIDI file (.mid, .midi; type 0 or 1, every tempo change honoured):
+only the notes on the channels chosen (--channel, default {PERCUSSION_CHANNEL}: General MIDI
+percussion) and in the tracks chosen (--track, default all) are read, and of
+those only the keys the mapping names are played. Without --mapping, channel
+{PERCUSSION_CHANNEL} is read through the drum map:
+
+{_DRUM_MAP}
+
+and any other channel also plays key {FIRST_LIBRARY_NOTE} + i (C4 and up) as the library's
+i-th stroke, in the order of 'drumstroke library list'. Every note not played
+is counted in one summary line (--verbose lists each, --quiet nothing).
+
+--midi writes the impacts on the score's time, tempo map and time signature:
+one track per stick, channel {PERCUSSION_CHANNEL}, velocity from each impact's level, each
+stroke's first impact on key {FIRST_IMPACT_NOTE} and its bounces on key {BOUNCE_NOTE}.
+
+SCORE as a text pattern (any other file name):
+
+{FORMAT}"""
 
 
 def add_compose(commands):
     """Register ``compose``."""
-    comp = commands.add_parser("compose", help="turn a score (MIDI file or text pattern) into one trajectory per stick")
-    comp.add_argument("score", type=Path, metavar="SCORE", help="a .mid/.midi file or a text pattern (see the README)")
-    comp.add_argument("--library", type=Path, required=True, metavar="DIR", help="a library folder ('library build')")
-    comp.add_argument("--rate", type=float, metavar="HZ", help="control rate of the result (default: the library's)")
-    comp.add_argument("--mapping", type=Path, metavar="FILE", help="MIDI note -> stroke mapping .toml (default: see README)")
-    comp.add_argument("--csv", type=Path, metavar="PATH", help="write t and theta, omega per stick as CSV; its metadata goes in the JSON beside it")
-    comp.add_argument("--json", type=Path, metavar="PATH", help="write the notes, placements and impacts as JSON")
-    comp.add_argument("--plot", type=Path, metavar="PATH", help="write a PNG of theta(t) per stick with the notes")
+    comp = commands.add_parser("compose", help="turn a score (MIDI file or text pattern) into one trajectory per stick",
+                               description="Turn a score into one motor-angle trajectory per stick, built\n"
+                                           "from library strokes, and write it.",
+                               epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    comp.add_argument("score", type=Path, metavar="SCORE", help="a .mid/.midi file or a text pattern (formats below)")
+    comp.add_argument("--library", type=existing_folder, required=True, metavar="DIR",
+                      help="a library folder ('library build')")
+    comp.add_argument("--rate", type=number(low=1.0, high=1e5, unit="Hz"), metavar="HZ",
+                      help="control rate of the result, in [1, 1e5] Hz (default: the library's)")
+    midi = comp.add_argument_group("MIDI scores")
+    midi.add_argument("--channel", type=int, action="append", metavar="N",
+                      help=f"play MIDI channel N, 1-16 as musicians count (repeat for more; default "
+                           f"{PERCUSSION_CHANNEL}, General MIDI percussion)")
+    midi.add_argument("--track", action="append", metavar="TRACK",
+                      help="play only this track, by number (from 0, in the file's order) or name (repeat for more; "
+                           "default every track)")
+    midi.add_argument("--mapping", type=existing_file, metavar="FILE",
+                      help="MIDI key -> stroke mapping .toml for every channel played (default: the drum map below)")
+    comp.add_argument("--csv", action=Output, suffixes=trajectory_csv.SUFFIXES, metavar="PATH",
+                      help="write t (s) and theta (rad), omega (rad/s) per stick as .csv; its metadata goes in the "
+                           "JSON beside it")
+    comp.add_argument("--json", action=Output, suffixes=json.SUFFIXES, metavar="PATH",
+                      help="write the notes, placements and impacts as .json")
+    comp.add_argument("--plot", action=Output, suffixes=plot.SUFFIXES, metavar="PATH",
+                      help=f"draw theta(t) per stick with the notes: {', '.join(plot.SUFFIXES)}")
     add_sound_options(comp)
-    comp.add_argument("--strict", action="store_true", help="exit with status 3 if any note was left out")
+    add_mkdir(comp)
+    comp.add_argument("--strict", action="store_true",
+                      help="exit with status 3 if a note of the channels and tracks played was left out")
+    talk = comp.add_mutually_exclusive_group()
+    talk.add_argument("--quiet", "-q", action="store_true", help="print nothing but errors")
+    talk.add_argument("--verbose", "-v", action="store_true",
+                      help="also list every note skipped or left out, one a line")
     comp.set_defaults(run=_compose)
 
 
@@ -28,22 +86,48 @@ def _compose(args):
     from ..render.outputs import write_composition_outputs
     from ..score import read_score
 
+    say = (lambda *a, **k: None) if args.quiet else print
+    rate = args.rate
     library = load_library(args.library)
-    notes, unmapped = read_score(args.score, mapping=args.mapping, stroke_names=list(library), mapping_name="--mapping")
-    rate = None if args.rate is None else check_real("--rate", args.rate, low=1.0, high=1e5, unit="Hz")
-    piece = compose(notes, library, rate=rate)
+    score = read_score(args.score, mapping=args.mapping, stroke_names=list(library), channels=args.channel,
+                       tracks=args.track, options=OPTIONS)
+    report = score.report
+    say(report.summary())
+    if args.verbose:
+        for line in report.details():
+            print(line)
+    if not score.notes:
+        raise ParameterError(f"{args.score} has no notes to play on the channels and tracks chosen; choose others "
+                             "with --channel, --track or --mapping (--verbose lists every note skipped)")
+    bar = None if args.quiet else Bar("composing", delay=1.0)
+    piece = compose(score, library, rate=rate, progress=bar.update if bar else None)
+    if bar:
+        bar.close()
     played = sum(p.played for p in piece.placements)
     sticks = ", ".join(f"{name} ({len(s.impacts)} impacts)" for name, s in piece.sticks.items())
-    print(f"composed {played} of {len(notes)} notes from {args.score} (model {piece.model}): {piece.t_end:.3f} s at "
-          f"{piece.rate:g} Hz, score time 0 at {piece.offset:g} s; sticks: {sticks}")
-    for note, count in sorted(unmapped.items()):
-        print(f"warning: {count} MIDI notes with number {note} have no mapping; left out", file=sys.stderr)
-    for problem in piece.problems:
-        print(f"warning: {problem}", file=sys.stderr)
-    print_written(write_composition_outputs(piece, title=args.score.stem, csv=args.csv, json=args.json,
-                                            plot=args.plot, wav=args.wav, midi=args.midi,
-                                            snares=not args.no_snares))
-    if args.strict and (unmapped or played < len(notes)):
+    say(f"composed {played} of {len(score.notes)} notes from {args.score} (model {piece.model}): {piece.t_end:.3f} s "
+        f"at {piece.rate:g} Hz, score time 0 at {piece.offset:g} s; sticks: {sticks}")
+    _warn(piece, played, args, say)
+    written = write_composition_outputs(piece, title=args.score.stem, csv=args.csv, json=args.json, plot=args.plot,
+                                        audio=args.audio, midi=args.midi, snares=not args.no_snares)
+    if not args.quiet:
+        print_written(written)
+    if args.strict and (report.count("unmapped") or played < len(score.notes)):
         print("drumstroke compose: error: notes were left out (--strict)", file=sys.stderr)
         return 3
     return 0
+
+
+def _warn(piece, played, args, say):
+    """Compose's problems: each with --verbose, else one line with the first and the count."""
+    problems = piece.problems
+    if args.verbose:
+        for problem in problems:
+            print(f"warning: {problem}", file=sys.stderr)
+    elif problems:
+        left_out = len(piece.placements) - played
+        kinds = [f"{left_out} note{'s' * (left_out != 1)} left out" if left_out else "",
+                 f"{len(problems) - left_out} velocit{'ies' if len(problems) - left_out != 1 else 'y'} out of reach"
+                 if len(problems) > left_out else ""]
+        more = f"; the first: {problems[0]}" + ("; --verbose lists them all" if len(problems) > 1 else "")
+        say(f"warning: {', '.join(kind for kind in kinds if kind)}{more}", file=sys.stderr)

@@ -1,37 +1,43 @@
 """``drumstroke library build`` and ``library list``: stroke libraries, the text files a robot host loads."""
 
 import time
-from pathlib import Path
 
-from .._checks import check_real
 from ..trajectory import DEFAULT_RATE
 from ._common import Bar, Parser
+from ._options import Output, add_mkdir, existing_file, existing_folder, number
 
 
 def add_library(commands):
     """Register ``library`` and its actions."""
-    lib = commands.add_parser("library", help="build or list a stroke library (text files a robot host loads)")
+    lib = commands.add_parser("library", help="build or list a stroke library (text files a robot host loads)",
+                              description="Stroke libraries: folders of text files (per stroke a recipe .toml, "
+                                          "its samples .csv and impacts .json, and a manifest) a robot host loads.")
     actions = lib.add_subparsers(dest="library_command", parser_class=Parser, metavar="ACTION", required=True)
-    build = actions.add_parser("build", help="simulate a palette and write it as a library folder")
-    build.add_argument("directory", type=Path, metavar="DIR")
-    build.add_argument("--rate", type=float, default=DEFAULT_RATE, metavar="HZ",
-                       help=f"samples per second of the trajectories (default {DEFAULT_RATE:g})")
-    build.add_argument("--palette", type=Path, metavar="FILE", help="a palette .toml file (default: the shipped 20 strokes)")
+    build = actions.add_parser("build", help="simulate a palette and write it as a library folder",
+                               description="Simulate every stroke of a palette and write them to DIR as a library; "
+                                           "a library already there is replaced atomically.")
+    build.add_argument("directory", action=Output, folder=True, metavar="DIR",
+                       help="the library folder to write (created if missing)")
+    build.add_argument("--rate", type=number(low=1.0, high=1e5, unit="Hz"), default=DEFAULT_RATE, metavar="HZ",
+                       help=f"samples per second of the trajectories, in [1, 1e5] Hz (default {DEFAULT_RATE:g})")
+    build.add_argument("--palette", type=existing_file, metavar="FILE",
+                       help="a palette .toml file (default: the shipped palette of 20 strokes)")
+    add_mkdir(build)
     build.set_defaults(run=_build)
-    listing = actions.add_parser("list", help="list a library's strokes")
-    listing.add_argument("directory", type=Path, metavar="DIR")
+    listing = actions.add_parser("list", help="list a library's strokes",
+                                 description="List a library's strokes: MIDI note, impacts, length, first velocity, "
+                                             "category and description. Writes nothing.")
+    listing.add_argument("directory", type=existing_folder, metavar="DIR", help="a library folder ('library build')")
     listing.set_defaults(run=_list)
 
 
 def _build(args):
     from ..palette.library import build_library
 
-    rate = check_real("--rate", args.rate, low=1.0, high=1e5, unit="Hz")
     started = time.monotonic()
-    bar = Bar("building")
-    library = build_library(args.directory, rate=rate, palette=args.palette, progress=bar.update)
-    bar.close()
-    print(f"wrote {args.directory}/: {len(library)} strokes at {rate:g} Hz in {time.monotonic() - started:.1f} s")
+    with Bar("building") as bar:
+        library = build_library(args.directory, rate=args.rate, palette=args.palette, progress=bar.update)
+    print(f"wrote {args.directory}/: {len(library)} strokes at {args.rate:g} Hz in {time.monotonic() - started:.1f} s")
 
 
 def _list(args):

@@ -1,31 +1,49 @@
 """``drumstroke listen serve``, ``analyze`` and ``make-stimuli``: the listening-test web app."""
 
-from pathlib import Path
-
 from ..errors import ParameterError
+from ..formats import json
 from ._common import Bar, Parser
+from ._options import Output, add_mkdir, existing_file, existing_folder, number, whole
 from .stats import print_analysis
 
 
 def add_listen(commands):
     """Register ``listen`` and its actions."""
-    lis = commands.add_parser("listen", help="the listening-test web app: serve it, analyse it, make its stimuli")
+    lis = commands.add_parser("listen", help="the listening-test web app: serve it, analyse it, make its stimuli",
+                              description="The listening test of the paper as a web app: make the robot's "
+                                          "recordings, serve the test, analyse the answers.")
     actions = lis.add_subparsers(dest="listen_command", parser_class=Parser, metavar="ACTION", required=True)
-    srv = actions.add_parser("serve", help="serve the listening test in a browser")
-    srv.add_argument("config", type=Path, metavar="CONFIG", help="the test's .toml (title, admin_token, seed, pairs)")
-    srv.add_argument("--db", type=Path, required=True, metavar="SQLITE", help="where answers are stored")
-    srv.add_argument("--host", default="127.0.0.1")
-    srv.add_argument("--port", type=int, default=8000)
+    srv = actions.add_parser("serve", help="serve the listening test in a browser",
+                             description="Serve the listening test over HTTP until Ctrl-C; each answer is stored in "
+                                         "the SQLite file --db as it is given.")
+    srv.add_argument("config", type=existing_file, metavar="CONFIG",
+                     help="the test's .toml (title, admin_token, seed, pairs)")
+    srv.add_argument("--db", action=Output, required=True, metavar="SQLITE",
+                     help="the SQLite file the answers are stored in (created if missing)")
+    srv.add_argument("--host", default="127.0.0.1", help="the address to listen on (default 127.0.0.1: this machine)")
+    srv.add_argument("--port", type=whole(low=0, high=65535), default=8000,
+                     help="the TCP port, in [0, 65535]; 0 picks a free one (default 8000)")
+    add_mkdir(srv)
     srv.set_defaults(run=_serve)
-    ana = actions.add_parser("analyze", help="run the statistics on the answers collected")
-    ana.add_argument("--db", type=Path, required=True, metavar="SQLITE")
-    ana.add_argument("--delta", type=float, metavar="D", help="equivalence margin in answers")
-    ana.add_argument("--json", type=Path, metavar="OUT", help="write the statistics as JSON")
+    ana = actions.add_parser("analyze", help="run the statistics on the answers collected",
+                             description="Tryon's inferential confidence intervals, Rg, TOST and correlations on the "
+                                         "answers stored in --db; writes them as JSON if asked.")
+    ana.add_argument("--db", type=existing_file, required=True, metavar="SQLITE",
+                     help="the SQLite file 'listen serve' stored the answers in")
+    ana.add_argument("--delta", type=number(low=0.0, low_open=True, unit="answers"), metavar="D",
+                     help="equivalence margin in answers, > 0 (default: no equivalence test)")
+    ana.add_argument("--json", action=Output, suffixes=json.SUFFIXES, metavar="OUT", help="write the statistics as .json")
+    add_mkdir(ana)
     ana.set_defaults(run=_analyze)
-    mks = actions.add_parser("make-stimuli", help="render the robot's side of each pair from library strokes")
-    mks.add_argument("--library", type=Path, required=True, metavar="DIR")
-    mks.add_argument("--out", type=Path, required=True, metavar="DIR")
-    mks.add_argument("--strokes", metavar="A,B,...", help="which strokes (default: all)")
+    mks = actions.add_parser("make-stimuli", help="render the robot's side of each pair from library strokes",
+                             description="Play library strokes on the simulated robot and write each as "
+                                         "OUT/robot-NAME.wav, with OUT/listening-test.toml naming the pairs.")
+    mks.add_argument("--library", type=existing_folder, required=True, metavar="DIR",
+                     help="a library folder ('library build')")
+    mks.add_argument("--out", action=Output, folder=True, required=True, metavar="DIR",
+                     help="the folder to write the recordings and the config to (created if missing)")
+    mks.add_argument("--strokes", metavar="A,B,...", help="which strokes, comma-separated (default: all)")
+    add_mkdir(mks)
     mks.set_defaults(run=_make_stimuli)
 
 
@@ -48,8 +66,6 @@ def _analyze(args):
     from ..evaluation.app import Store
     from ..evaluation.stats import parse_responses
 
-    if not args.db.is_file():
-        raise ParameterError(f"--db {str(args.db)!r} does not exist")
     rows = [[str(v) for v in row] for row in Store(args.db).rows()]
     if not rows:
         raise ParameterError(f"--db {str(args.db)!r} holds no answers yet")
@@ -59,10 +75,9 @@ def _analyze(args):
 def _make_stimuli(args):
     from ..evaluation.stimuli import make_stimuli
 
-    bar = Bar("making stimuli", delay=1.0)
-    made = make_stimuli(args.library, args.out, strokes=args.strokes.split(",") if args.strokes else None,
-                        progress=bar.update)
-    bar.close()
+    with Bar("making stimuli", delay=1.0) as bar:
+        made = make_stimuli(args.library, args.out, strokes=args.strokes.split(",") if args.strokes else None,
+                            progress=bar.update)
     for stimulus in made.stimuli:
         print(f"wrote {stimulus.path} ({stimulus.onsets} onsets played by the simulated robot)")
     print(f"wrote {made.config}: add the human recordings it names, set admin_token and seed")

@@ -1,62 +1,48 @@
-"""``drumstroke robot track``, ``tune``, ``validate`` and ``export``: strokes on a simulated robot joint."""
+"""``drumstroke robot track`` and ``tune``: strokes on a simulated robot joint (``validate`` and ``export``: :mod:`.hardware`)."""
 
-from pathlib import Path
-
-from .._checks import check_real
 from ..errors import ParameterError
-from ..formats.ros_json import metadata_path
-from ..formats.rosbag import DEFAULT_TOPIC, STORAGES, check_topic
-from ..trajectory import DEFAULT_RATE, Trajectory
-from ._common import Bar, Parser, print_written
+from ..formats import json
+from ..render import plot
+from ..trajectory import DEFAULT_RATE
+from ._common import Bar, Parser, print_written, robot_config
+from ._options import Output, add_mkdir, existing_file, existing_folder, number, whole
+from .hardware import add_hardware_actions
 
 
 def add_robot(commands):
     """Register ``robot`` and its actions."""
-    robot = commands.add_parser("robot", help="play strokes on a simulated robot joint; validate and export trajectories")
+    robot = commands.add_parser("robot", help="play strokes on a simulated robot joint; validate and export trajectories",
+                                description="Play, score, tune, validate and export strokes for a robot joint.")
     actions = robot.add_subparsers(dest="robot_command", parser_class=Parser, metavar="ACTION", required=True)
-    trk = actions.add_parser("track", help="play a stroke with one controller or all, and score it")
+    trk = actions.add_parser("track", help="play a stroke with one controller or all, and score it",
+                             description="Play a stroke with each controller asked for; print what each kept.")
     trk.add_argument("source", metavar="SOURCE",
-                     help="a recipe .toml, a preset, a library stroke (with --library) or a trajectory .csv")
-    trk.add_argument("--library", type=Path, metavar="DIR", help="the library SOURCE names a stroke of")
+                     help="a recipe .toml, a preset, a palette or library (--library) stroke, or a trajectory .csv")
+    trk.add_argument("--library", type=existing_folder, metavar="DIR", help="the library SOURCE names a stroke of")
     trk.add_argument("--stick", help="the stick to play from a composition CSV")
     trk.add_argument("--controller", default="all", metavar="NAME", help="pi, pid-ff, impedance or all (default)")
     trk.add_argument("--plant", choices=("simple", "mujoco"), default="simple", help="the joint model (default simple)")
-    trk.add_argument("--config", type=Path, metavar="TOML", help="robot config: [plant], [controller.NAME] gains")
-    trk.add_argument("--rate", type=float, default=DEFAULT_RATE, metavar="HZ", help="control rate (default 1000)")
-    trk.add_argument("--report", type=Path, metavar="JSON", help="write the metrics as JSON")
-    trk.add_argument("--plot", type=Path, metavar="PNG", help="draw reference and played theta(t) with their onsets")
+    trk.add_argument("--config", type=existing_file, metavar="TOML", help="robot config: [plant], [controller.NAME] gains")
+    trk.add_argument("--rate", type=number(low=10.0, high=1e5, unit="Hz"), default=DEFAULT_RATE, metavar="HZ",
+                     help=f"control rate, in [10, 1e5] Hz (default {DEFAULT_RATE:g})")
+    trk.add_argument("--report", action=Output, suffixes=json.SUFFIXES, metavar="JSON", help="write the metrics as .json")
+    trk.add_argument("--plot", action=Output, suffixes=plot.SUFFIXES, metavar="PNG", help="draw theta(t) and onsets")
+    add_mkdir(trk)
     trk.set_defaults(run=_track)
-    tun = actions.add_parser("tune", help="tune a controller's gains over a library, before/after table")
-    tun.add_argument("--library", type=Path, required=True, metavar="DIR")
+    tun = actions.add_parser("tune", help="tune a controller's gains over a library, before/after table",
+                             description="Tune a controller's gains to keep a library's onsets; print before/after.")
+    tun.add_argument("--library", type=existing_folder, required=True, metavar="DIR",
+                     help="the library folder ('library build') to tune on")
     tun.add_argument("--controller", default="pi", metavar="NAME", help="pi (default), pid-ff or impedance")
     tun.add_argument("--per-stroke", action="store_true", help="one gain set per stroke (gain scheduling)")
-    tun.add_argument("--evaluations", type=int, default=100, metavar="N", help="objective evaluations (default 100)")
-    tun.add_argument("--config", type=Path, metavar="TOML", help="robot config: [plant], starting gains")
-    tun.add_argument("--report", type=Path, metavar="JSON", help="write gains and metrics as JSON")
+    tun.add_argument("--evaluations", type=whole(low=1), default=100, metavar="N",
+                     help="objective evaluations, >= 1 (default 100)")
+    tun.add_argument("--config", type=existing_file, metavar="TOML", help="robot config: [plant], starting gains")
+    tun.add_argument("--report", action=Output, suffixes=json.SUFFIXES, metavar="JSON",
+                     help="write gains and metrics as .json")
+    add_mkdir(tun)
     tun.set_defaults(run=_tune)
-    val = actions.add_parser("validate", help="check a trajectory CSV before it goes to hardware")
-    val.add_argument("trajectory", type=Path, metavar="TRAJECTORY")
-    val.add_argument("--stick", help="the stick of a composition CSV")
-    val.add_argument("--config", type=Path, metavar="TOML", help="robot config with a [limits] table")
-    val.set_defaults(run=_validate)
-    exp = actions.add_parser("export", help="validate and export a trajectory CSV for a robot stack")
-    exp.add_argument("trajectory", type=Path, metavar="TRAJECTORY")
-    exp.add_argument("--format", choices=("csv", "ros-json"), help="--out's format (ros-json: metadata in X.meta.json)")
-    exp.add_argument("--out", type=Path, metavar="PATH", help="the file to write (with --format)")
-    exp.add_argument("--rosbag", type=Path, metavar="DIR", help="write a rosbag2 folder of one JointTrajectory")
-    exp.add_argument("--storage", choices=STORAGES, default="mcap", help="the rosbag2 storage (default mcap)")
-    exp.add_argument("--topic", default=DEFAULT_TOPIC, help=f"the rosbag2 topic (default {DEFAULT_TOPIC})")
-    exp.add_argument("--overwrite", action="store_true", help="replace an existing --rosbag folder")
-    exp.add_argument("--stick", help="the stick of a composition CSV to export (csv: needed; ROS: default every stick)")
-    exp.add_argument("--joint-names", metavar="A,B", help="ROS joint names, one per stick in the file's order")
-    exp.add_argument("--config", type=Path, metavar="TOML", help="robot config with a [limits] table")
-    exp.set_defaults(run=_export)
-
-
-def _config(path):
-    from ..robot.config import RobotConfig
-
-    return RobotConfig.from_toml(path) if path else RobotConfig()
+    add_hardware_actions(actions)
 
 
 def _track(args):
@@ -64,13 +50,13 @@ def _track(args):
     from ..robot.metrics import metrics
     from ..robot.track import reference, track
 
-    config = _config(args.config)
+    config = robot_config(args.config)
     controllers = config.controllers
     names = list(controllers) if args.controller == "all" else [args.controller]
     for name in names:
         if name not in controllers:
             raise ParameterError(f"--controller must be one of {', '.join(controllers)} or all, got {name!r}")
-    rate = check_real("--rate", args.rate, low=10.0, high=1e5, unit="Hz")
+    rate = args.rate
     source = load_source(args.source, library=args.library, stick=args.stick, plant=config.plant)
     ref = reference(source, rate)
     bar = Bar(f"playing {ref.name}", delay=1.0)
@@ -116,7 +102,7 @@ def _tune(args):
     from ..robot.track import reference
     from ..robot.tune import tune
 
-    config = _config(args.config)
+    config = robot_config(args.config)
     if args.controller not in config.controllers:
         raise ParameterError(f"--controller must be one of {', '.join(config.controllers)}, got {args.controller!r}")
     library = load_library(args.library)
@@ -147,54 +133,3 @@ def _tune(args):
                               for r, c, b, a in zip(refs, result.controllers, result.before, result.after)]}
         write_json(args.report, report)
         print(f"wrote {args.report}")
-
-
-def _validate(args):
-    from ..robot.validate import validate_file
-
-    config = _config(args.config)
-    checked = validate_file(args.trajectory, stick=args.stick, head=config.plant.head, limits=config.limits)
-    print(f"{args.trajectory}: valid: {_peaks(checked)}")
-
-
-def _export(args):
-    from ..formats.sidecar import sidecar_path
-    from ..robot.export import check_joint_names, export_csv, export_ros_json, export_rosbag
-
-    if (args.out is None) != (args.format is None) or not (args.out or args.rosbag):
-        raise ParameterError("give --out with its --format, or --rosbag DIR, or both")
-    if args.rosbag and args.rosbag.exists() and not args.overwrite:
-        raise ParameterError(f"--rosbag {str(args.rosbag)!r} exists: choose a new folder, or replace it with --overwrite")
-    topic = check_topic(args.topic, name="--topic")
-    config = _config(args.config)
-    options = {"head": config.plant.head, "limits": config.limits}
-    trajectory = Trajectory.read_csv(args.trajectory, theta_max=config.plant.head)
-    sticks = trajectory.sticks  # in the file's order, as --joint-names names them
-    if len(sticks) == 1 and args.stick not in (None, *sticks):
-        raise ParameterError(f"--stick names a composition's stick; {args.trajectory} has one: leave it out")
-    if len(sticks) > 1 and (args.stick not in (None, *sticks) or args.stick is None and args.format == "csv"):
-        got = " for CSV" if args.stick is None else f", got {args.stick!r}"
-        raise ParameterError(f"--stick must name one of the sticks of {args.trajectory} ({', '.join(sticks)}){got}")
-    ros = trajectory.stick(args.stick) if args.stick else trajectory
-    names = check_joint_names(None if args.joint_names is None else args.joint_names.split(","), sticks=ros.sticks,
-                              name="--joint-names")
-    if args.format == "csv":
-        checked = export_csv(args.out, trajectory, stick=args.stick, **options)
-        print(f"wrote {args.out} (CSV{f' of stick {args.stick}' if args.stick else ''}): {_peaks(checked)}")
-        print(f"wrote {sidecar_path(args.out)} (with the metadata of {args.out.name})")
-    elif args.format == "ros-json":
-        checked = export_ros_json(args.out, ros, joint_names=names, **options)
-        print(f"wrote {args.out} (a ROS 2 JointTrajectory) and its metadata {metadata_path(args.out)}")
-    if args.rosbag:
-        checked = export_rosbag(args.rosbag, ros, joint_names=names, topic=topic, storage=args.storage,
-                                overwrite=args.overwrite, **options)
-        print(f"wrote {args.rosbag} (a rosbag2, {args.storage}: one ROS 2 JointTrajectory on {topic})")
-    if args.format != "csv" or args.rosbag:
-        for joint, stick, c in zip(names, ros.sticks, checked):
-            print(f"  joint {joint}{f' (stick {stick})' if len(sticks) > 1 else ''}: {_peaks(c)}")
-
-
-def _peaks(checked):
-    return (f"{len(checked.t)} samples at {checked.rate:g} Hz, theta {checked.lowest_angle:.4f} to "
-            f"{checked.highest_angle:.4f} rad, peak speed {checked.peak_speed:.3g} rad/s, acceleration "
-            f"{checked.peak_acceleration:.3g} rad/s^2, jerk {checked.peak_jerk:.3g} rad/s^3 (head {checked.head:.4f} rad)")

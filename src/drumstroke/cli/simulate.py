@@ -3,121 +3,157 @@
 import argparse
 import dataclasses
 import time
-from pathlib import Path
 
-from .._checks import check_real
-from ..errors import DrumstrokeError
+from ..errors import DrumstrokeError, ParameterError
+from ..formats import json, table, trajectory_csv
 from ..model import MODELS
+from ..palette.transforms import STRETCH_LIMIT
 from ..presets import PRESETS
+from ..render import plot
 from ..trajectory import DEFAULT_RATE
 from ._common import Bar, add_sound_options, print_summary, print_written
+from ._options import Output, add_mkdir, existing_file, existing_folder, number, whole
 
 
 def add_simulate(commands):
     """Register ``simulate``."""
-    sim = commands.add_parser("simulate", help="simulate one stroke from a recipe file or a preset")
-    sim.add_argument("recipe", metavar="RECIPE", help="a recipe .toml file or a preset name (see 'drumstroke presets')")
-    sim.add_argument("--rate", type=float, default=DEFAULT_RATE, metavar="HZ",
-                     help=f"sampling rate of --csv in Hz (default {DEFAULT_RATE:g})")
-    sim.add_argument("--model", choices=MODELS, help="override the recipe's model")
-    sim.add_argument("--json", type=Path, metavar="PATH", help="write recipe, impacts and rests as JSON")
-    sim.add_argument("--csv", type=Path, metavar="PATH", help="write t,theta,omega at --rate as CSV; its model, rate and units go in the JSON beside it")
-    sim.add_argument("--plot", type=Path, metavar="PATH", help="write a PNG of theta(t), impacts and a(t)")
+    sim = commands.add_parser(
+        "simulate", help="simulate one stroke: a preset, a palette stroke or a recipe file",
+        description="Simulate one stroke and print its impacts; write its data, picture and sound if asked. The "
+                    "post-processing options apply in the order given, and what is printed and written is the "
+                    "stroke after them.")
+    sim.add_argument("stroke", metavar="STROKE",
+                     help="a preset ('drumstroke presets'), a stroke of the shipped palette (e.g. double: its recipe "
+                          "simulated, then its transforms), or a recipe .toml file; with --library, one of its strokes")
+    sim.add_argument("--library", type=existing_folder, metavar="DIR",
+                     help="take STROKE from this library folder ('library build'), as stored: no simulation")
+    sim.add_argument("--rate", type=number(low=0.0, high=1e6, low_open=True, unit="Hz"), metavar="HZ",
+                     help=f"samples per second of --csv, in (0, 1e6] Hz (default {DEFAULT_RATE:g}; with --library, "
+                          "the library's)")
+    sim.add_argument("--model", choices=MODELS, help="simulate with this model instead of the recipe's "
+                                                     "(default: the recipe's, paper unless it says geometry)")
+    sim.add_argument("--json", action=Output, suffixes=json.SUFFIXES, metavar="PATH",
+                     help="write the recipe, impacts and rests as .json")
+    sim.add_argument("--csv", action=Output, suffixes=trajectory_csv.SUFFIXES, metavar="PATH",
+                     help="write t (s), theta (rad), omega (rad/s) at --rate as .csv; its model, rate and units go "
+                          "in the JSON beside it")
+    sim.add_argument("--plot", action=Output, suffixes=plot.SUFFIXES, metavar="PATH",
+                     help=f"draw theta(t) with the impacts over a(t): {', '.join(plot.SUFFIXES)}")
     add_sound_options(sim)
+    add_mkdir(sim)
     steps = sim.add_argument_group("post-processing, applied in the order given")
-    steps.add_argument("--stretch", action=_Step, type=float, metavar="F", help="play F times slower (F < 1: faster)")
-    steps.add_argument("--compress", action=_Step, type=float, metavar="F",
-                       help="scale the height above the head by F (louder or softer)")
+    steps.add_argument("--stretch", action=_Step, type=number(low=1 / STRETCH_LIMIT, high=STRETCH_LIMIT), metavar="F",
+                       help=f"play F times slower (F < 1: faster), F in [{1 / STRETCH_LIMIT:g}, {STRETCH_LIMIT:g}]")
+    steps.add_argument("--compress", action=_Step, type=number(low=0.0, low_open=True), metavar="F",
+                       help="scale the height above the head by F > 0 (louder or softer), up to the stick upright")
     steps.add_argument("--reverse", action=_Step, nargs=0, help="play backwards")
-    steps.add_argument("--trim", action=_Step, metavar="T0:T1", help="keep the part from T0 to T1 s (either may be empty)")
-    steps.add_argument("--catch", action=_Step, type=int, metavar="N", help="end at the top of the rebound after impact N")
+    steps.add_argument("--trim", action=_Step, type=_trim, metavar="T0:T1",
+                       help="keep the part from T0 to T1 (s; either may be empty: the start, the end)")
+    steps.add_argument("--catch", action=_Step, type=whole(low=1), metavar="N",
+                       help="end at the top of the rebound after impact N (1, 2, ...)")
     sim.set_defaults(run=_simulate, steps=[])
 
 
 def add_presets(commands):
     """Register ``presets``."""
-    commands.add_parser("presets", help="list the named recipes").set_defaults(run=_presets)
+    commands.add_parser("presets", help="list the named recipes and the strokes of the shipped palette",
+                        description="List the presets (the paper's stroke categories) and the strokes of the shipped "
+                                    "palette: the names 'drumstroke simulate' takes. Writes nothing."
+                        ).set_defaults(run=_presets)
 
 
 def add_figures(commands):
     """Register ``figures``."""
-    fig = commands.add_parser("figures", help="draw the paper's Figs. 4-7 as PNG files")
-    fig.add_argument("outdir", type=Path, metavar="OUTDIR")
+    fig = commands.add_parser("figures", help="draw the paper's Figs. 4-7 as PNG files",
+                              description="Simulate the presets of the paper's Figs. 4-7 and draw each as "
+                                          "OUTDIR/figN-PRESET.png.")
+    fig.add_argument("outdir", action=Output, folder=True, metavar="OUTDIR",
+                     help="the folder to write the four PNG files to (created if missing)")
     fig.add_argument("--model", choices=MODELS, default="paper", help="model to draw them with (default paper)")
+    add_mkdir(fig)
     fig.set_defaults(run=_figures)
 
 
 def add_sweep(commands):
     """Register ``sweep``."""
-    swp = commands.add_parser("sweep", help="simulate a grid or random sample of recipes; one row of features each")
-    swp.add_argument("grid", type=Path, metavar="GRID", help="a sweep .toml file (see the README)")
-    swp.add_argument("--out", type=Path, required=True, metavar="TABLE", help="the table to write: .csv or .parquet")
-    swp.add_argument("--scheduler", metavar="ADDRESS", help="a Dask scheduler (tcp://host:8786) to run on")
-    swp.add_argument("--audible-db", type=float, metavar="DB",
-                     help="override the file's audibility threshold (dB below the loudest impact)")
+    swp = commands.add_parser("sweep", help="simulate a grid or random sample of recipes; one row of features each",
+                              description="Simulate every point of a sweep file (a grid or a random sample of "
+                                          "recipe parameters) and write one row of stroke features per point.")
+    swp.add_argument("grid", type=existing_file, metavar="GRID",
+                     help="a sweep .toml file (docs/profiles.md: sweeps; examples/sweeps/)")
+    swp.add_argument("--out", action=Output, suffixes=table.SUFFIXES, required=True, metavar="TABLE",
+                     help="the table to write: .csv or .parquet (parquet needs pyarrow)")
+    swp.add_argument("--scheduler", metavar="ADDRESS",
+                     help="a Dask scheduler (tcp://host:8786) to run on (default: here, on every core)")
+    swp.add_argument("--audible-db", type=number(low=0.0, high=200.0, low_open=True, unit="dB"), metavar="DB",
+                     help="impacts within DB of the loudest count as audible, in (0, 200] (default: the file's, or 40)")
+    add_mkdir(swp)
     swp.set_defaults(run=_sweep)
 
 
 def _simulate(args):
+    from ..palette.library import make_stroke
+    from ..palette.transforms import apply_step
     from ..render.outputs import write_stroke_outputs
-    from ..stroke import simulate
 
-    rate = check_real("--rate", args.rate, low=0.0, high=1e6, low_open=True, unit="Hz")
-    bar = Bar("simulating", delay=1.0)
-    stroke = simulate(args.recipe, model=args.model, progress=bar.update)
-    bar.close()
+    if args.library and args.model:
+        raise ParameterError("--model cannot be used with --library: a library's strokes are stored as built")
+    with Bar("simulating", delay=1.0) as bar:
+        stroke = make_stroke(args.stroke, library=args.library, model=args.model, progress=bar.update)
+    for op, value in args.steps:
+        try:
+            stroke = apply_step(stroke, op, value)
+        except DrumstrokeError as error:
+            raise type(error)(f"--{op}: {error}") from None
     print_summary(stroke)
-    if args.steps:
-        from ..palette.transforms import apply_step
-
-        for op, value in args.steps:
-            try:
-                stroke = apply_step(stroke, op, value)
-            except DrumstrokeError as error:
-                raise type(error)(f"--{op}: {error}") from None
-        print(f"after {', '.join(stroke.history[1:])}: {len(stroke.impacts)} impacts over {stroke.t_end:.6g} s")
-    print_written(write_stroke_outputs(stroke, json=args.json, csv=args.csv, plot=args.plot, wav=args.wav,
-                                       midi=args.midi, rate=rate, snares=not args.no_snares))
+    print_written(write_stroke_outputs(stroke, json=args.json, csv=args.csv, plot=args.plot, audio=args.audio,
+                                       midi=args.midi, rate=args.rate, snares=not args.no_snares))
 
 
 def _presets(args):
+    from ..palette.library import read_palette
+
     width = max(len(name) for name in PRESETS)
+    print("presets (recipes):")
     for name, p in PRESETS.items():
         figure = f" [{p.figure}]" if p.figure else ""
-        print(f"{name:<{width}}  {p.category}{figure}: {p.description}")
+        print(f"  {name:<{width}}  {p.category}{figure}: {p.description}")
+    entries = [entry for entry in read_palette() if entry.name not in PRESETS]
+    print("strokes of the shipped palette (a recipe, then transforms):")
+    width = max(len(entry.name) for entry in entries)
+    for entry in entries:
+        steps = ", ".join(f"{op} {value}" for step in entry.transforms for op, value in step.items())
+        print(f"  {entry.name:<{width}}  {entry.category}: {entry.description}" + (f" [{steps}]" if steps else ""))
 
 
 def _figures(args):
     from ..demo import write_figures
 
-    bar = Bar("drawing figures")
-    figures = write_figures(args.outdir, model=args.model, progress=bar.update)
-    bar.close()
+    with Bar("drawing figures") as bar:
+        figures = write_figures(args.outdir, model=args.model, progress=bar.update)
     for figure in figures:
         print_written(figure.paths)
 
 
 def _sweep(args):
     from ..formats.sidecar import sidecar_for
-    from ..formats.table import check_table_path, write_table
+    from ..formats.table import write_table
     from ..sweep import Grid, run_sweep, table_metadata
 
     grid = Grid.from_toml(args.grid)
     if args.audible_db is not None:
         grid = dataclasses.replace(grid, audible_db=args.audible_db)
-    check_table_path(args.out, name="--out")  # before the work, not after it
-    side = sidecar_for(args.out, name="--out") if args.out.suffix == ".csv" else None
+    side = sidecar_for(args.out, name="--out") if args.out.suffix == ".csv" else None  # before the work
     where = f"on {args.scheduler}" if args.scheduler else "here"
     print(f"sweep {args.grid}: {len(grid)} points ({grid.mode}), {where}")
     started = time.monotonic()
-    bar = Bar("sweeping")
-    table = run_sweep(grid, scheduler=args.scheduler, progress=bar.update)
-    bar.close()
-    units, fields = table_metadata(grid, table)
-    write_table(table, args.out, units=units, fields=fields)
-    failed = int(sum(1 for error in table["error"] if error))
+    with Bar("sweeping") as bar:
+        rows = run_sweep(grid, scheduler=args.scheduler, progress=bar.update)
+    units, fields = table_metadata(grid, rows)
+    write_table(rows, args.out, units=units, fields=fields)
+    failed = int(sum(1 for error in rows["error"] if error))
     note = f"; {failed} could not be simulated (see the error column)" if failed else ""
-    print(f"wrote {args.out}: {len(table['point'])} rows in {time.monotonic() - started:.1f} s{note}")
+    print(f"wrote {args.out}: {len(rows['point'])} rows in {time.monotonic() - started:.1f} s{note}")
     if side:
         print(f"wrote {side} (with the metadata of {args.out.name})")
 
@@ -126,18 +162,16 @@ class _Step(argparse.Action):
     """Record a post-processing option and its value in ``steps``, in command-line order."""
 
     def __call__(self, parser, namespace, values, option_string=None):
-        if self.dest == "reverse":
-            values = True
-        elif self.dest == "trim":
-            values = _trim_value(parser, values)
-        namespace.steps = [*namespace.steps, (self.dest, values)]
+        namespace.steps = [*namespace.steps, (self.dest, True if self.dest == "reverse" else values)]
 
 
-def _trim_value(parser, text):
+def _trim(text):
+    """An argparse type: ``T0:T1`` in seconds, T0 >= 0 (default 0), T1 > T0 (default the end, None)."""
     start, sep, end = text.partition(":")
     try:
-        if sep:
-            return [float(start) if start else 0.0, float(end) if end else None]
+        t0, t1 = float(start) if start else 0.0, float(end) if end else None
     except ValueError:
-        pass
-    parser.error(f"argument --trim: must be START:END in seconds (either may be empty), got {text!r}")
+        sep = ""
+    if not sep or not (0.0 <= t0 and (t1 is None or t1 > t0)):  # NaN fails the comparisons too
+        raise argparse.ArgumentTypeError(f"must be T0:T1 in s with 0 <= T0 < T1 (either may be empty), got {text!r}")
+    return [t0, t1]

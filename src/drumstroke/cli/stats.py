@@ -1,29 +1,32 @@
 """``drumstroke stats``: the listening test's statistics — Tryon's inferential CIs, Rg, two equivalence tests."""
 
-from pathlib import Path
-
 from ..errors import ParameterError
+from ..formats import json
+from ._options import Output, add_mkdir, existing_file, number, whole
 
 
 def add_stats(commands):
     """Register ``stats``."""
     sts = commands.add_parser(
         "stats", help="listening-test statistics: Tryon's ICIs, Rg, equivalence tests, correlations",
-        description="Group A (incorrect answers per subject) against Group B (subjects guessing 50-50): Tryon's "
+        description="The listening test's statistics from its answers (a CSV) or from two groups' summary numbers: "
+                    "Group A (incorrect answers per subject) against Group B (subjects guessing 50-50), Tryon's "
                     "inferential confidence intervals and the maximum probable difference Rg (the paper's Table 2); "
                     "with --delta, Tryon's ICI test (each side at alpha/2, the paper's Rg < delta) and Schuirmann's "
                     "standard TOST (each side at alpha), each with its p-value; correlations of the answers with "
                     "confidence and similarity.")
-    sts.add_argument("responses", type=Path, nargs="?", metavar="RESPONSES",
+    sts.add_argument("responses", type=existing_file, nargs="?", metavar="RESPONSES",
                      help="a CSV with subject,pair,robot,answer,confidence,similarity")
     sts.add_argument("--summary", metavar="MEAN_A,SD_A,MEAN_B,SD_B,N",
                      help="use two groups' summary numbers instead (e.g. the paper's 4.227,2.654,4.999,1.564,22)")
-    sts.add_argument("--pairs", type=int, default=10, help="pairs per subject for --summary (default 10)")
-    sts.add_argument("--delta", type=float, metavar="D",
-                     help="equivalence margin in answers (> 0): run both equivalence tests")
-    sts.add_argument("--alpha", type=float, default=0.05, help="significance level (default 0.05)")
-    sts.add_argument("--seed", type=int, default=0, help="seed of the simulated Group B (default 0)")
-    sts.add_argument("--json", type=Path, metavar="OUT", help="write the statistics as JSON")
+    sts.add_argument("--pairs", type=whole(low=1), default=10, help="pairs per subject for --summary (default 10)")
+    sts.add_argument("--delta", type=number(low=0.0, low_open=True, unit="answers"), metavar="D",
+                     help="equivalence margin in answers, > 0: run both equivalence tests (default: none)")
+    sts.add_argument("--alpha", type=number(low=0.0, high=0.5, low_open=True, high_open=True), default=0.05,
+                     help="significance level, in (0, 0.5) (default 0.05)")
+    sts.add_argument("--seed", type=whole(low=0), default=0, help="seed of the simulated Group B, >= 0 (default 0)")
+    sts.add_argument("--json", action=Output, suffixes=json.SUFFIXES, metavar="OUT", help="write the statistics as .json")
+    add_mkdir(sts)
     sts.set_defaults(run=_stats)
 
 

@@ -81,6 +81,7 @@ def make_stimuli(library, out, *, strokes=None, progress=None):
     out = Path(out)
     names = list(library) if strokes is None else list(strokes)
     entries = [library[name] for name in names]
+    out.mkdir(parents=True, exist_ok=True)  # the folder the stimuli go in, as asked
     pairs, made = [], []
     for i, (name, entry) in enumerate(zip(names, entries)):
         played = track(reference(entry.trajectory, library.rate), controller(CONTROLLER))

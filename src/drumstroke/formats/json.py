@@ -19,6 +19,9 @@ from pathlib import Path
 from .._atomic import write_atomic
 from ..errors import ParameterError
 
+SUFFIXES = (".json",)
+"""The extension of the JSON files written."""
+
 
 def write_json(path, data, *, indent=1):
     """Write ``data`` as JSON to ``path`` atomically; numpy arrays and numbers become lists and numbers."""

@@ -1,24 +1,16 @@
-"""Text patterns, both ways: a tempo, then one note per line.
+"""Text patterns, both ways: a tempo, optionally a meter, then one note per line (:data:`FORMAT`).
 
-::
-
-    # a backbeat: comments start with '#'
-    tempo 96
-    # beat   stroke        velocity   stick (optional)
-    0        single        100
-    1        tap           40         left
-
-Beats count from 0 in quarter notes at the tempo (beats per minute); the stroke is a name;
-the velocity MIDI's 1–127; the stick optional. Reading gives plain rows, each with where it
-came from (``NAME line N``) for messages; :mod:`drumstroke.score` makes notes of them.
+Reading gives plain rows, each with where it came from (``NAME line N``) for messages;
+:mod:`drumstroke.score` makes notes of them.
 
 Examples
 --------
->>> tempo, rows = parse_pattern("tempo 120\\n0 single 100\\n0.5 tap 40 left\\n")
->>> tempo, rows[1]
-(120.0, PatternRow(beat=0.5, stroke='tap', velocity=40, stick='left', source='pattern line 3'))
->>> print(pattern_text(tempo, rows), end="")
+>>> pattern = parse_pattern("tempo 120\\nmeter 3/4\\n0 single 100\\n0.5 tap 40 left\\n")
+>>> pattern.tempo, pattern.meter, pattern.rows[1]
+(120.0, (3, 4), PatternRow(beat=0.5, stroke='tap', velocity=40, stick='left', source='pattern line 4'))
+>>> print(pattern_text(*pattern), end="")
 tempo 120
+meter 3/4
 0 single 100
 0.5 tap 40 left
 """
@@ -30,6 +22,39 @@ from typing import NamedTuple
 from .._atomic import write_atomic
 from .._checks import check_real
 from ..errors import ParameterError
+
+FORMAT = """\
+A text pattern is UTF-8 text, one item a line; '#' starts a comment, and blank
+lines are skipped:
+
+  tempo BPM      the first line: quarter notes a minute, in (0, 1000]
+  meter N/D      optional, before the first note: the time signature (N in
+                 [1, 255], D a power of two up to 128; default 4/4); it changes
+                 no time, and is written into MIDI files
+  BEAT STROKE VELOCITY [STICK]
+                 a note: its time in quarter notes from 0 (a number in [0, 1e6];
+                 0.5 is the second eighth note); a library stroke's name; a
+                 MIDI velocity 1-127 (the level of its first impact); the stick
+                 that plays it (1-32 of a-z, 0-9, '_', '-'; default right), one
+                 trajectory per stick. Notes may come in any order.
+
+For example:
+
+  # a backbeat
+  tempo 96
+  0      single   100
+  0.5    tap      40     left
+  1      double   90
+"""
+"""The text pattern format, complete: what ``drumstroke compose --help`` prints."""
+
+
+class Pattern(NamedTuple):
+    """A pattern read: its tempo (bpm), its rows in file order and its meter (numerator, denominator)."""
+
+    tempo: float
+    rows: list
+    meter: tuple = (4, 4)
 
 
 class PatternRow(NamedTuple):
@@ -43,7 +68,7 @@ class PatternRow(NamedTuple):
 
 
 def read_pattern_file(path):
-    """The tempo (bpm) and rows of the pattern file at ``path``; errors name the file and the line."""
+    """The :class:`Pattern` in the file at ``path``; errors name the file and the line."""
     path = Path(path)
     try:
         text = path.read_text()
@@ -54,8 +79,8 @@ def read_pattern_file(path):
 
 
 def parse_pattern(text, *, name="pattern"):
-    """The tempo (bpm) and rows of a pattern given as text, in file order."""
-    tempo, rows = None, []
+    """The :class:`Pattern` given as text: its tempo (bpm), its rows in file order and its meter."""
+    tempo, rows, meter = None, [], (4, 4)
     for number, line in enumerate(text.splitlines(), start=1):
         fields = line.split("#", 1)[0].split()
         if not fields:
@@ -67,6 +92,11 @@ def parse_pattern(text, *, name="pattern"):
             tempo = check_real(f"{where}: tempo", _number(fields[1], where, "tempo"), low=0.0, high=1000.0,
                                low_open=True, unit="beats per minute")
             continue
+        if fields[0] == "meter":
+            if rows or len(fields) != 2:
+                raise ParameterError(f"{where}: a meter is one 'meter N/D' line before the notes, got {line.strip()!r}")
+            meter = _meter(fields[1], where)
+            continue
         if len(fields) not in (3, 4):
             raise ParameterError(f"{where}: a note is 'beat stroke velocity [stick]', got {line.strip()!r}")
         beat = check_real(f"{where}: beat", _number(fields[0], where, "beat"), low=0.0, high=1e6)
@@ -76,21 +106,21 @@ def parse_pattern(text, *, name="pattern"):
         raise ParameterError(f"{name} is empty: it needs a 'tempo BPM' line and notes")
     if not rows:
         raise ParameterError(f"{name} has a tempo but no notes")
-    return tempo, rows
+    return Pattern(tempo, rows, meter)
 
 
-def pattern_text(tempo, rows):
-    """The text of a pattern: the tempo line, then one line per row (beat, stroke, velocity[, stick])."""
-    lines = [f"tempo {tempo:g}"]
+def pattern_text(tempo, rows, meter=(4, 4)):
+    """The text of a pattern: the tempo line, the meter if not 4/4, then one line per row (beat, stroke, velocity[, stick])."""
+    lines = [f"tempo {tempo:g}"] + ([f"meter {meter[0]}/{meter[1]}"] if tuple(meter) != (4, 4) else [])
     for row in rows:
         beat, stroke, velocity, stick = row[:4]
         lines.append(f"{beat:.17g} {stroke} {int(velocity)}" + (f" {stick}" if stick else ""))
     return "\n".join(lines) + "\n"
 
 
-def write_pattern(path, tempo, rows):
+def write_pattern(path, tempo, rows, meter=(4, 4)):
     """Write a pattern file, atomically."""
-    write_atomic(path, pattern_text(tempo, rows))
+    write_atomic(path, pattern_text(tempo, rows, meter))
 
 
 def _number(text, where, what):
@@ -98,6 +128,16 @@ def _number(text, where, what):
         return float(text)
     except ValueError:
         raise ParameterError(f"{where}: {what} must be a number, got {text!r}") from None
+
+
+def _meter(text, where):
+    numerator, _, denominator = text.partition("/")
+    if re.fullmatch(r"\d{1,3}", numerator) and re.fullmatch(r"\d{1,3}", denominator):
+        numerator, denominator = int(numerator), int(denominator)
+        if 1 <= numerator <= 255 and denominator in (1, 2, 4, 8, 16, 32, 64, 128):
+            return numerator, denominator
+    raise ParameterError(f"{where}: meter must be N/D with N in [1, 255] and D a power of two in [1, 128], "
+                         f"got {text!r}")
 
 
 def _integer(text, where):

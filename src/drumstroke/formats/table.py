@@ -30,11 +30,14 @@ from .._version import __version__
 from ..errors import ParameterError
 from .sidecar import describe, sidecar_for, write_sidecar
 
+SUFFIXES = (".csv", ".parquet")
+"""The extensions of the tables written."""
+
 
 def check_table_path(path, *, name="out"):
     """``path`` as a Path if it names a table this module writes (.csv or .parquet); ``name`` is its parameter."""
     path = Path(path)
-    if path.suffix not in (".csv", ".parquet"):
+    if path.suffix not in SUFFIXES:
         raise ParameterError(f"{name} must end in .csv or .parquet, got {str(path)!r}")
     return path
 

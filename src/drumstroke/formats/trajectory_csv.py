@@ -45,6 +45,9 @@ from .._atomic import write_atomic
 from ..errors import ParameterError
 from .sidecar import describe, read_sidecar, sidecar_path
 
+SUFFIXES = (".csv",)
+"""The extension of the trajectory files written."""
+
 UNITS = {"t": "s", "theta": "rad", "omega": "rad/s", "alpha": "rad/s^2"}
 """The unit of each kind of column (a several-stick file's ``theta_<stick>`` is a ``theta``)."""
 

@@ -1,4 +1,7 @@
-"""WAV audio, both ways: mono 24-bit PCM (needs the ``audio`` extra: soundfile, imported when called).
+"""Audio files, both ways, mono (needs the ``audio`` extra: soundfile, imported when called).
+
+The format follows the file's extension (:data:`FORMATS`): WAV and FLAC as 24-bit PCM, OGG as
+Vorbis (lossy).
 
 Examples
 --------
@@ -12,30 +15,44 @@ Examples
 """
 
 import io
+from pathlib import Path
 
 from .._atomic import write_atomic
 from .._checks import check_int, check_vector
 from ..errors import ParameterError
 
+FORMATS = {".wav": ("WAV", "PCM_24"), ".flac": ("FLAC", "PCM_24"), ".ogg": ("OGG", "VORBIS")}
+"""The audio files written, by extension: soundfile's format and subtype."""
+
 
 def write_wav(path, signal, *, rate):
-    """Write ``signal`` as a mono 24-bit PCM WAV file, atomically.
+    """Write ``signal`` as a mono audio file in the format of ``path``'s extension, atomically.
 
     Parameters
     ----------
     path : str or os.PathLike
-        Where to write; the parent directory is created if needed.
+        Where to write, in an existing folder: ``.wav``, ``.flac`` or ``.ogg`` (see :data:`FORMATS`).
     signal : array_like [shape=(n,)]
         Samples, finite and in [-1, 1] (full scale).
     rate : int > 0
         Samples per second (Hz).
     """
+    file_format, subtype = audio_format(path)
     soundfile = _soundfile()
     signal = check_vector("signal", signal, low=-1.0, high=1.0)
     check_int("rate", rate, low=1, unit="Hz")
     buffer = io.BytesIO()
-    soundfile.write(buffer, signal, rate, subtype="PCM_24", format="WAV")
+    soundfile.write(buffer, signal, rate, subtype=subtype, format=file_format)
     write_atomic(path, buffer.getvalue())
+
+
+def audio_format(path):
+    """soundfile's format and subtype for ``path``, from its extension (see :data:`FORMATS`)."""
+    kind = Path(path).suffix.lower()
+    if kind not in FORMATS:
+        raise ParameterError(f"path must end in one of {', '.join(FORMATS)} (the audio formats written), "
+                             f"got {str(path)!r}")
+    return FORMATS[kind]
 
 
 def read_wav(path):

@@ -17,6 +17,7 @@ Examples
 (['double', 'single'], 2)
 """
 
+import difflib
 import math
 import os
 import re
@@ -68,10 +69,13 @@ class Entry:
     recipe: Recipe
     transforms: tuple = ()
 
-    def make(self):
-        """Simulate the recipe and apply the transforms: the stroke's :class:`Trajectory`."""
-        stroke = apply_steps(simulate(self.recipe), list(self.transforms), where=f"{self.name}.transforms")
-        return replace(stroke, name=self.name)
+    def make(self, *, model=None, progress=None):
+        """Simulate the recipe (with ``model`` instead of its own, if given) and apply the transforms.
+
+        Returns the stroke's :class:`Trajectory`; ``progress`` is :func:`~drumstroke.simulate`'s.
+        """
+        stroke = simulate(self.recipe, model=model, progress=progress)
+        return replace(apply_steps(stroke, list(self.transforms), where=f"{self.name}.transforms"), name=self.name)
 
 
 @dataclass(frozen=True)
@@ -153,8 +157,8 @@ class Library(Mapping):
         try:
             return self._strokes[name]
         except KeyError:
-            raise ParameterError(f"stroke {name!r} is not in the library {str(self.path)!r}; it has "
-                                 f"{', '.join(self._strokes)}") from None
+            raise ParameterError(f"stroke {name!r} is not in the library {str(self.path)!r}{_did_you_mean(name, self)}; "
+                                 f"it has {', '.join(self._strokes)}") from None
 
     def __contains__(self, name):
         return name in self._strokes
@@ -170,6 +174,56 @@ class Library(Mapping):
 
     def __repr__(self):
         return f"Library({str(self.path)!r}, rate={self.rate:g}, {len(self)} strokes)"
+
+
+def make_stroke(source, *, library=None, model=None, progress=None):
+    """The stroke ``source`` names: a recipe simulated, or a palette's or a library's stroke.
+
+    What ``drumstroke simulate SOURCE`` and ``drumstroke robot track SOURCE`` play.
+
+    Parameters
+    ----------
+    source : Recipe, str or Path
+        A recipe, a preset name (:data:`drumstroke.PRESETS`), a recipe ``.toml`` file, or the name
+        of a stroke of the shipped palette (``"double"``: its recipe simulated, then its
+        transforms applied); with ``library``, the name of one of that library's strokes.
+    library : str, Path, Library or None
+        A library folder (``build_library``) or a loaded :class:`Library`.
+    model : {"paper", "geometry"} or None
+        Simulate with this model instead of the recipe's; not for a library's stroke (stored).
+    progress : callable or None
+        Called now and then with the fraction of the simulation done, in [0, 1].
+
+    Returns
+    -------
+    Stroke or Trajectory
+        A :class:`~drumstroke.Stroke` for a recipe; the :class:`Trajectory` of a palette's or a
+        library's stroke (post-processed as the palette says).
+
+    Examples
+    --------
+    >>> stroke = make_stroke("double")
+    >>> stroke.history[1:], len(stroke.impacts)
+    (('catch 2',), 2)
+    """
+    if library is not None:
+        if model is not None:
+            raise ParameterError(f"model cannot be changed for a library's stroke (stored as built), got {model!r}")
+        strokes = library if isinstance(library, Library) else load_library(library)
+        return strokes[str(source)].trajectory
+    if isinstance(source, str) and source not in PRESETS and not source.endswith(".toml") and not Path(source).exists():
+        entries = {entry.name: entry for entry in read_palette()}
+        if source not in entries:
+            raise ParameterError(f"stroke must be a preset, a stroke of the shipped palette or a recipe .toml file, "
+                                 f"got {source!r}{_did_you_mean(source, [*PRESETS, *entries])}; presets: "
+                                 f"{', '.join(PRESETS)}; palette strokes: {', '.join(n for n in entries if n not in PRESETS)}")
+        return entries[source].make(model=model, progress=progress)
+    return simulate(source, model=model, progress=progress)
+
+
+def _did_you_mean(name, names):
+    close = difflib.get_close_matches(name, list(names), n=1)
+    return f" (did you mean {close[0]!r}?)" if close else ""
 
 
 def build_library(directory, *, rate=DEFAULT_RATE, palette=None, progress=None):

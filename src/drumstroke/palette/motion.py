@@ -25,6 +25,7 @@ Examples
 (30.0, 20.0)
 """
 
+import functools
 import math
 from dataclasses import dataclass, fields
 
@@ -268,6 +269,13 @@ def plan_move(start, target, duration, *, theta_max, limits):
 
 def _shortest(start, target, theta_max, limits):
     """The duration (s) of the time-optimal move within the limits, 0 for none needed, inf if none stays above the head."""
+    return _shortest_move(tuple(map(float, start)), tuple(map(float, target)), float(theta_max), limits)
+
+
+@functools.lru_cache(maxsize=4096)
+def _shortest_move(start, target, theta_max, limits):
+    """:func:`_shortest`, cached: a composition asks for the same moves between the same stroke ends and starts
+    again and again."""
     if _meet(start, target):
         return 0.0
     solved = _ruckig(start, target, 0.0, limits)

@@ -64,7 +64,7 @@ from scipy.special import jn_zeros, jv
 
 from .._checks import check_int, check_real, check_vector
 from ..errors import ParameterError
-from ..formats.wav import write_wav
+from ..formats.wav import audio_format, write_wav
 from ..trajectory import LEVEL_REFERENCE
 
 SAMPLE_RATE = 48000
@@ -253,12 +253,12 @@ def synthesize(times, tip_speeds, *, duration=None, drum=Drum(), rate=SAMPLE_RAT
 
 
 def render_wav(path, times, tip_speeds, *, duration=None, drum=Drum(), rate=SAMPLE_RATE):
-    """Synthesize impacts (see :func:`synthesize`) and write them as a WAV file (see :func:`write_wav`).
+    """Synthesize impacts (see :func:`synthesize`) and write them as an audio file (see :func:`write_wav`).
 
     Parameters
     ----------
     path : str or os.PathLike
-        Where to write.
+        Where to write: ``.wav``, ``.flac`` or ``.ogg`` (the format follows the extension).
     times : array_like [shape=(n,)]
         Impact times (s).
     tip_speeds : array_like [shape=(n,)]
@@ -282,6 +282,7 @@ def render_wav(path, times, tip_speeds, *, duration=None, drum=Drum(), rate=SAMP
     ...     len(signal), path.stat().st_size  # a 44-byte header, then 3 bytes a sample
     (9600, 28844)
     """
+    audio_format(path)  # before the work, not after it
     signal = synthesize(times, tip_speeds, duration=duration, drum=drum, rate=rate)
     write_wav(path, signal, rate=rate)
     return signal

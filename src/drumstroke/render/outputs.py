@@ -1,18 +1,23 @@
 """Output bundles: every file a stroke or a composition can be written as, in one call.
 
 Each function writes the files it is given paths for and returns those paths in the order written;
-it prints nothing. Plots need matplotlib, WAV files soundfile and MIDI files mido (the extras
-``plot``, ``audio`` and ``midi``); they are imported only when such a file is asked for.
+it prints nothing; the folders must exist. Plots need matplotlib, audio files soundfile and MIDI
+files mido (the extras ``plot``, ``audio`` and ``midi``); they are imported only when such a file
+is asked for. A plot's format follows its extension (PNG, PDF or SVG), and so does an audio
+file's (WAV, FLAC or OGG/Vorbis).
 """
 
 from pathlib import Path
 
+import numpy as np
+
 from ..formats.sidecar import sidecar_for
+from ..score import BOUNCE_NOTE, FIRST_IMPACT_NOTE
 from ..trajectory import DEFAULT_RATE
 from . import data
 
 
-def write_stroke_outputs(stroke, *, json=None, csv=None, plot=None, wav=None, midi=None, rate=DEFAULT_RATE,
+def write_stroke_outputs(stroke, *, json=None, csv=None, plot=None, audio=None, midi=None, rate=DEFAULT_RATE,
                          title=None, snares=True):
     """Write a stroke's files: its data, its plot, its sound.
 
@@ -25,22 +30,24 @@ def write_stroke_outputs(stroke, *, json=None, csv=None, plot=None, wav=None, mi
         t (s), θ (rad), ω (rad/s) sampled at ``rate``, header first; its metadata goes into ``json``
         when that is the JSON beside it (``X.json`` for ``X.csv``), else into a JSON of its own there.
     plot : str, Path or None
-        A PNG of θ(t) with the impacts (and a(t) for a Stroke).
-    wav : str, Path or None
-        48 kHz mono audio of the impacts on a synthesized snare drum.
+        A picture of θ(t) with the impacts (and a(t) for a Stroke): .png, .pdf or .svg.
+    audio : str, Path or None
+        48 kHz mono audio of the impacts on a synthesized snare drum: .wav, .flac or .ogg.
     midi : str, Path or None
-        The impacts as General MIDI percussion (channel 10, note 38).
-    rate : float > 0
-        Samples per second of ``csv`` (Hz).
+        The impacts as General MIDI percussion on channel 10, at their own times (the stroke's start
+        is time 0) on one track: the first on key 38, the later ones (bounces) on 40
+        (:data:`drumstroke.score.DRUM_MAP`).
+    rate : float > 0 or None
+        Samples per second of ``csv`` (Hz); None: a Trajectory's own rate (a Stroke's 1 kHz).
     title : str or None
         The plot's title (default: the stroke's name).
     snares : bool
-        Whether the drum of ``wav`` has its snare wires on.
+        Whether the drum of ``audio`` has its snare wires on.
 
     Returns
     -------
     list of Path
-        The files written: json, csv, the JSON beside csv if it is not json, plot, wav, midi, those given.
+        The files written: json, csv, the JSON beside csv if it is not json, plot, audio, midi, those given.
 
     Raises
     ------
@@ -48,7 +55,7 @@ def write_stroke_outputs(stroke, *, json=None, csv=None, plot=None, wav=None, mi
         Before writing anything, when the JSON beside ``csv`` is another of the files or a file
         already there that is not the CSV's metadata.
     """
-    side = sidecar_for(csv, json=json, others={"plot": plot, "wav": wav, "midi": midi}) if csv else None
+    side = sidecar_for(csv, json=json, others={"plot": plot, "audio": audio, "midi": midi}) if csv else None
     block = data.write_csv(stroke, csv, rate=rate, sidecar=side is not None) if csv else None
     written = []
     if json:
@@ -62,11 +69,18 @@ def write_stroke_outputs(stroke, *, json=None, csv=None, plot=None, wav=None, mi
         save_stroke_plot(stroke, plot, title=title)
         written.append(Path(plot))
     impacts = stroke.impacts
-    return written + write_sound(impacts.t, impacts.tip_speed, impacts.level_db, wav=wav, midi=midi,
-                                 title=f"{stroke.name} (model {stroke.model})", snares=snares)
+    if audio:
+        written.append(_write_audio(audio, impacts.t, impacts.tip_speed, snares))
+    if midi:
+        from ..formats.midi import Track, write_midi
+
+        name = f"{stroke.name} (model {stroke.model})"
+        write_midi(midi, [Track(name, impacts.t, impacts.level_db, _keys(np.arange(len(impacts)) == 0))], title=name)
+        written.append(Path(midi))
+    return written
 
 
-def write_composition_outputs(piece, *, title, csv=None, json=None, plot=None, wav=None, midi=None, snares=True):
+def write_composition_outputs(piece, *, title, csv=None, json=None, plot=None, audio=None, midi=None, snares=True):
     """Write a composition's files: its trajectories, notes and placements, its plot, its sound.
 
     Parameters
@@ -81,16 +95,20 @@ def write_composition_outputs(piece, *, title, csv=None, json=None, plot=None, w
     json : str, Path or None
         The notes, their placements and the impacts.
     plot : str, Path or None
-        A PNG of θ(t) per stick with the notes.
-    wav, midi : str, Path or None
-        Every stick's impacts as 48 kHz mono audio; as General MIDI percussion.
+        A picture of θ(t) per stick with the notes: .png, .pdf or .svg.
+    audio : str, Path or None
+        Every stick's impacts as 48 kHz mono audio (.wav, .flac or .ogg), on the composition's timeline.
+    midi : str, Path or None
+        The impacts as General MIDI percussion on channel 10, on the score's time and its tempo map
+        and time signatures, one track per stick (named after it): each stroke's first impact on
+        key 38, its bounces on 40 (:data:`drumstroke.score.DRUM_MAP`).
     snares : bool
-        Whether the drum of ``wav`` has its snare wires on.
+        Whether the drum of ``audio`` has its snare wires on.
 
     Returns
     -------
     list of Path
-        The files written: csv, the JSON beside it if it is not json, json, plot, wav, midi, those given.
+        The files written: csv, the JSON beside it if it is not json, json, plot, audio, midi, those given.
 
     Raises
     ------
@@ -98,7 +116,7 @@ def write_composition_outputs(piece, *, title, csv=None, json=None, plot=None, w
         Before writing anything, when the JSON beside ``csv`` is another of the files or a file
         already there that is not the CSV's metadata.
     """
-    side = sidecar_for(csv, json=json, others={"plot": plot, "wav": wav, "midi": midi}) if csv else None
+    side = sidecar_for(csv, json=json, others={"plot": plot, "audio": audio, "midi": midi}) if csv else None
     written = []
     block = None
     if csv:
@@ -112,45 +130,25 @@ def write_composition_outputs(piece, *, title, csv=None, json=None, plot=None, w
 
         save_figure(composition_figure(piece, title=title), plot)
         written.append(Path(plot))
-    times, speeds, levels = piece.impacts()
-    return written + write_sound(times, speeds, levels, wav=wav, midi=midi, title=f"{title} (model {piece.model})",
-                                 snares=snares)
-
-
-def write_sound(times, tip_speeds, levels_db, *, wav=None, midi=None, title="", snares=True, duration=None):
-    """Write impacts as audio and as MIDI.
-
-    Parameters
-    ----------
-    times : array_like [shape=(n,)]
-        Impact times (s).
-    tip_speeds : array_like [shape=(n,)]
-        Tip speeds at impact (m/s).
-    levels_db : array_like [shape=(n,)]
-        Impact levels (dB re 1 m/s tip speed), for the MIDI velocities.
-    wav, midi : str, Path or None
-        Where to write 48 kHz mono audio; General MIDI percussion (channel 10, note 38).
-    title : str
-        The MIDI track's name.
-    snares : bool
-        Whether the drum has its snare wires on.
-    duration : float or None
-        Length of the audio (s); default: until the last impact has rung out.
-
-    Returns
-    -------
-    list of Path
-        The files written: wav, midi, those given.
-    """
-    written = []
-    if wav:
-        from .audio import Drum, render_wav
-
-        render_wav(wav, times, tip_speeds, duration=duration, drum=Drum(snares=snares))
-        written.append(Path(wav))
+    if audio:
+        times, speeds, _ = piece.impacts()
+        written.append(_write_audio(audio, times, speeds, snares))
     if midi:
-        from ..formats.midi import write_midi
+        from ..formats.midi import Track, write_midi
 
-        write_midi(midi, times, levels_db, title=title)
+        tracks = [Track(stick, t, level, _keys(first)) for stick, (t, level, first) in piece.stick_impacts().items()]
+        write_midi(midi, tracks, tempo_map=piece.tempo_map, title=f"{title} (model {piece.model})")
         written.append(Path(midi))
     return written
+
+
+def _write_audio(path, times, tip_speeds, snares):
+    from .audio import Drum, render_wav
+
+    render_wav(path, times, tip_speeds, drum=Drum(snares=snares))
+    return Path(path)
+
+
+def _keys(first):
+    """The MIDI key of each impact: a stroke's first impact on one, its bounces on another (the drum map's)."""
+    return np.where(first, FIRST_IMPACT_NOTE, BOUNCE_NOTE)

@@ -5,6 +5,7 @@ served as it is (``python -m http.server``). Written atomically.
 """
 
 import html
+import re
 from dataclasses import dataclass
 
 from .._atomic import write_atomic
@@ -13,15 +14,32 @@ from .._version import __version__
 
 @dataclass(frozen=True)
 class Card:
-    """One stroke (or the groove) on the page; paths relative to the page."""
+    """One stroke (or the groove, or a figure) on the page; paths relative to the page.
+
+    Attributes
+    ----------
+    title, subtitle, description : str
+    image : str
+        The picture.
+    audio : str or None
+        The sound, if any.
+    links : tuple of (str, str)
+        Other files, as (label, path): ``(("MIDI", "strokes/single.mid"),)``.
+    facts : str
+    """
 
     title: str
     subtitle: str
     description: str
     image: str
-    audio: str
-    midi: str
+    audio: str | None = None
+    links: tuple = ()
     facts: str = ""
+
+
+def plural(count, noun):
+    """``count`` and ``noun``, plural unless the count is one: ``"1 impact"``, ``"2 impacts"``."""
+    return f"{count} {noun}{'' if count == 1 else 's'}"
 
 
 _STYLE = """
@@ -41,6 +59,7 @@ def write_index(path, *, title, intro, cards):
 <html lang="en">
 <head>
 <meta charset="utf-8">
+<meta name="viewport" content="width=device-width, initial-scale=1">
 <title>{html.escape(title)}</title>
 <style>{_STYLE}</style>
 </head>
@@ -56,10 +75,12 @@ def write_index(path, *, title, intro, cards):
 
 def _section(card):
     e = html.escape
-    return f"""<section id="{e(card.title)}">
+    anchor = re.sub(r"[^a-z0-9]+", "-", card.title.lower()).strip("-")
+    audio = f'\n<audio controls preload="none" src="{e(card.audio)}"></audio>' if card.audio else ""
+    links = " ".join(f'<a href="{e(href)}">{e(label)}</a>' for label, href in card.links)
+    return f"""<section id="{anchor}">
 <h2>{e(card.title)} <span class="category">— {e(card.subtitle)}</span></h2>
-<p>{e(card.description)}</p>
-<audio controls preload="none" src="{e(card.audio)}"></audio>
-<p class="facts">{e(card.facts)} <a href="{e(card.midi)}">MIDI</a></p>
+<p>{e(card.description)}</p>{audio}
+<p class="facts">{e(card.facts)} {links}</p>
 <img src="{e(card.image)}" alt="θ(t) of {e(card.title)}" loading="lazy">
 </section>"""

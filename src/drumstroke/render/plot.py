@@ -2,21 +2,22 @@
 
 θ(t) on top with the drumhead and the impacts marked (marker size grows with
 the impact's level), the thumb's acceleration a(t) underneath, and g(t) beside
-it when it varies. The title names the stroke and the model that made it.
+it when it varies. The title names the stroke and the model that made it. The file's format
+follows its extension (:data:`SUFFIXES`); matplotlib is imported when a figure is drawn.
 """
 
 import io
+from pathlib import Path
 
 import numpy as np
 
 from .._atomic import write_atomic
+from ..errors import ParameterError
 from ..model import inertia_ratio
 from ..stroke import Stroke, as_trajectory
 
-try:
-    from matplotlib.figure import Figure
-except ImportError as error:  # pragma: no cover - exercised only without the extra
-    raise ImportError("drumstroke plots need matplotlib: pip install 'drumstroke[plot]'") from error
+SUFFIXES = (".png", ".pdf", ".svg")
+"""The extensions of the pictures written: PNG (110 dpi), PDF and SVG (vector)."""
 
 
 def stroke_figure(stroke, *, title=None, rate=2000.0):
@@ -39,7 +40,7 @@ def stroke_figure(stroke, *, title=None, rate=2000.0):
     recipe = trajectory.recipe
     forced = recipe is not None and trajectory.recipe_time is not None
     t, theta, _ = trajectory.sample(rate)
-    figure = Figure(figsize=(9.0, 5.6 if forced else 4.0), layout="constrained")
+    figure = _figure(figsize=(9.0, 5.6 if forced else 4.0), layout="constrained")
     if forced:
         top, bottom = figure.subplots(2, 1, sharex=True, height_ratios=(2.2, 1.0))
     else:
@@ -79,7 +80,7 @@ def stroke_figure(stroke, *, title=None, rate=2000.0):
 def composition_figure(composition, *, title="composition", rate=1000.0):
     """A matplotlib Figure of a composition: θ(t) per stick with impacts, notes and left-out notes marked."""
     sticks = composition.sticks
-    figure = Figure(figsize=(11.0, 1.0 + 2.4 * len(sticks)), layout="constrained")
+    figure = _figure(figsize=(11.0, 1.0 + 3.1 * len(sticks)), layout="constrained")
     axes = np.atleast_1d(figure.subplots(len(sticks), 1, sharex=True, squeeze=False)[:, 0])
     for ax, (name, trajectory) in zip(axes, sticks.items()):
         t, theta, _ = trajectory.sample(rate)
@@ -89,9 +90,10 @@ def composition_figure(composition, *, title="composition", rate=1000.0):
                 continue
             time = composition.offset + p.note.time
             ax.axvline(time, color="0.3" if p.played else "C3", lw=0.6, ls=":" if p.played else "--", zorder=0)
+            # Above the axes, where no curve runs; the constrained layout makes room for the labels.
             ax.annotate(p.note.stroke if p.played else f"{p.note.stroke} (left out)", (time, 1.0),
-                        xycoords=("data", "axes fraction"), rotation=90, fontsize=7, va="top", ha="right",
-                        color="0.25" if p.played else "C3")
+                        xycoords=("data", "axes fraction"), xytext=(0, 2), textcoords="offset points",
+                        rotation=90, fontsize=7, va="bottom", ha="center", color="0.25" if p.played else "C3")
         ax.set_ylabel(f"θ {name} (rad)")
         ax.legend(loc="upper left", bbox_to_anchor=(1.005, 1.0), fontsize=8)
     axes[-1].set_xlabel("t (s)")
@@ -106,7 +108,7 @@ def tracking_figure(played):
     """A matplotlib Figure of a reference and what each controller played: θ(t) and the onsets of each."""
     ref = played[0].reference
     head = ref.theta_max
-    figure = Figure(figsize=(11.0, 1.6 + 2.4 * len(played)), layout="constrained")
+    figure = _figure(figsize=(11.0, 1.6 + 2.4 * len(played)), layout="constrained")
     axes = np.atleast_1d(figure.subplots(len(played), 1, sharex=True, squeeze=False)[:, 0])
     for ax, p in zip(axes, played):
         ax.axhline(head, color="0.55", lw=1.0, ls="--", label="drumhead")
@@ -140,12 +142,28 @@ def _draw_theta(ax, t, theta, trajectory):
 
 
 def save_stroke_plot(stroke, path, *, title=None):
-    """Draw ``stroke`` (see :func:`stroke_figure`) to a PNG file, written atomically."""
+    """Draw ``stroke`` (see :func:`stroke_figure`) to a picture file, written atomically."""
     save_figure(stroke_figure(stroke, title=title), path)
 
 
 def save_figure(figure, path):
-    """Write a Figure to a PNG file, atomically."""
+    """Write a Figure to a picture file, atomically: PNG, PDF or SVG by ``path``'s extension (:data:`SUFFIXES`)."""
     buffer = io.BytesIO()
-    figure.savefig(buffer, format="png", dpi=110)
+    figure.savefig(buffer, format=picture_format(path), dpi=110)
     write_atomic(path, buffer.getvalue())
+
+
+def picture_format(path):
+    """matplotlib's name of the format of ``path``, from its extension (see :data:`SUFFIXES`)."""
+    suffix = Path(path).suffix.lower()
+    if suffix not in SUFFIXES:
+        raise ParameterError(f"path must end in one of {', '.join(SUFFIXES)} (the pictures written), got {str(path)!r}")
+    return suffix[1:]
+
+
+def _figure(**options):
+    try:
+        from matplotlib.figure import Figure
+    except ImportError as error:  # pragma: no cover - exercised only without the extra
+        raise ImportError("drumstroke plots need matplotlib: pip install 'drumstroke[plot]'") from error
+    return Figure(**options)

@@ -114,8 +114,9 @@ def load_source(source, *, library=None, stick=None, plant=None):
     ----------
     source : str or Path
         With ``library``, the name of one of its strokes; otherwise a trajectory ``.csv`` file (one
-        stick's t (s), θ (rad), ω (rad/s); its impacts are found in the samples), a recipe ``.toml``
-        file or a preset name (simulated).
+        stick's t (s), θ (rad), ω (rad/s); its impacts are found in the samples), or what
+        :func:`~drumstroke.palette.library.make_stroke` takes: a recipe ``.toml`` file, a preset
+        name or the name of a stroke of the shipped palette.
     library : str, Path, Library or None
         A stroke library (a folder written by ``build_library`` or a loaded
         :class:`~drumstroke.palette.library.Library`).
@@ -129,16 +130,12 @@ def load_source(source, *, library=None, stick=None, plant=None):
     -------
     Trajectory
     """
-    from ..stroke import as_trajectory, simulate
+    from ..palette.library import make_stroke
+    from ..stroke import as_trajectory
 
-    if library is not None:
-        from ..palette.library import Library, load_library
-
-        strokes = library if isinstance(library, Library) else load_library(library)
-        return strokes[str(source)].trajectory
-    if str(source).lower().endswith(".csv"):
+    if library is None and str(source).lower().endswith(".csv"):
         from ..trajectory import Trajectory
 
         plant = Plant() if plant is None else plant
         return Trajectory.read_csv(source, stick=stick, theta_max=plant.head, tip_distance=plant.stick.pivot_to_tip)
-    return as_trajectory(simulate(source))
+    return as_trajectory(make_stroke(source, library=library))

@@ -35,7 +35,7 @@ from ..errors import ParameterError
 from .kernel import estimate_speed, quantize
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class Contacts:
     """A joint's contacts with the head, in time order.
 
@@ -67,6 +67,10 @@ class Contacts:
 
     def __len__(self):
         return len(self.t)
+
+    def __repr__(self):
+        span = f" over [{self.t[0]:.6g}, {self.t[-1]:.6g}] s" if len(self) else ""
+        return f"Contacts({len(self)}{span})"
 
     @property
     def tip_speed(self):
@@ -108,7 +112,7 @@ class Joint(Protocol):
         """The :class:`Contacts` so far."""
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class Log:
     """What the joint did: per control period θ (rad), ω (rad/s), torque (N·m); its contacts with the head.
 
@@ -123,6 +127,9 @@ class Log:
     omega: np.ndarray
     torque: np.ndarray
     contacts: Contacts
+
+    def __repr__(self):
+        return f"Log({len(self.theta)} control periods, {self.contacts!r})"
 
     @property
     def onsets(self):

@@ -50,7 +50,7 @@ def reference(source, rate=DEFAULT_RATE):
     return trajectory if not trajectory.carry else replace(trajectory, carry=False)  # each sample afresh
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class Played:
     """A reference played by a controller on a plant.
 
@@ -80,6 +80,12 @@ class Played:
     max_torque: float
     plant: str = "simple"
     contacts: object = None
+
+    def __repr__(self):
+        ref = self.reference
+        return (f"Played({ref.name!r} by {self.controller!r} on the {self.plant} plant, model={ref.model!r}: "
+                f"{len(self.theta)} periods at {ref.rate:g} Hz, {len(self.onsets)} onsets for "
+                f"{len(ref.impacts)} reference impacts)")
 
     @property
     def trajectory(self):

@@ -59,7 +59,7 @@ def read_limits(path):
         raise ParameterError(text if where in text else f"{where}: {text}") from None
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, repr=False)
 class Checked:
     """A trajectory that passed :func:`validate`, its finite differences and its peaks.
 
@@ -101,6 +101,10 @@ class Checked:
     peak_speed: float
     peak_acceleration: float
     peak_jerk: float
+
+    def __repr__(self):
+        return (f"Checked({len(self.t)} samples at {self.rate:g} Hz over [{self.t[0]:g}, {self.t[-1]:g}] s, theta "
+                f"{self.lowest_angle:.4g} to {self.highest_angle:.4g} rad, peak speed {self.peak_speed:.3g} rad/s)")
 
     def peaks(self):
         """The peak values as a dict (for reports)."""

@@ -1,0 +1,119 @@
+"""Options checked before any work: numbers in range, inputs that exist, outputs that can be written.
+
+A number or an input is checked as it is parsed (an argparse ``type``), an output's extension too
+(the :class:`Output` action); an output's folder is checked after parsing and before the command
+runs (:func:`check_outputs`): it must exist unless ``--mkdir`` asks for it to be created. Errors
+name the option, the value and what is allowed, on one line.
+"""
+
+import argparse
+import math
+import os
+from pathlib import Path
+
+from .._checks import check_int, check_real
+from ..errors import ParameterError
+
+
+def number(*, low=-math.inf, high=math.inf, low_open=False, high_open=False, unit=""):
+    """An argparse type: a finite number in [low, high] (ends open on request), as a float."""
+    limits = {"low": low, "high": high, "low_open": low_open, "high_open": high_open, "unit": unit}
+    return lambda text: _checked(check_real, _parsed(text, float), **limits)
+
+
+def whole(*, low, high=None, unit=""):
+    """An argparse type: an integer in [low, high] ([low, inf) without high)."""
+    return lambda text: _checked(check_int, _parsed(text, int), low=low, high=high, unit=unit)
+
+
+def existing_file(text):
+    """An argparse type: the path of a file that exists."""
+    path = Path(text)
+    if path.is_dir():
+        raise argparse.ArgumentTypeError(f"{text!r} is a directory, not a file")
+    if not path.is_file():
+        raise argparse.ArgumentTypeError(f"file {text!r} does not exist")
+    return path
+
+
+def existing_folder(text):
+    """An argparse type: the path of a directory that exists."""
+    path = Path(text)
+    if not path.is_dir():
+        raise argparse.ArgumentTypeError(f"directory {text!r} does not exist")
+    return path
+
+
+def _parsed(text, kind):
+    try:
+        return kind(text)
+    except ValueError:
+        return text  # the check names it as not a number
+
+
+def _checked(check, value, **limits):
+    try:
+        return check("it", value, **limits)
+    except ParameterError as error:
+        raise argparse.ArgumentTypeError(str(error).removeprefix("it ")) from None
+
+
+class Output(argparse.Action):
+    """An output path: a file whose extension is among ``suffixes`` (any if None), or a ``folder``.
+
+    The extension is checked when the option is parsed; every output is recorded in the
+    namespace's ``outputs`` ({dest: (option, path, folder)}) for :func:`check_outputs`.
+    """
+
+    def __init__(self, option_strings, dest, *, suffixes=None, folder=False, **kwargs):
+        super().__init__(option_strings, dest, **kwargs)
+        self.suffixes, self.folder = suffixes, folder
+
+    def __call__(self, parser, namespace, value, option_string=None):
+        path = Path(value)
+        if self.suffixes is not None and path.suffix.lower() not in self.suffixes:
+            raise argparse.ArgumentError(self, f"{value!r} must end in one of {', '.join(self.suffixes)}")
+        setattr(namespace, self.dest, path)
+        option = option_string or self.metavar
+        namespace.outputs = {**getattr(namespace, "outputs", {}), self.dest: (option, path, self.folder)}
+
+
+def add_mkdir(parser):
+    """``--mkdir``, for a command that writes files: create their missing folders."""
+    parser.add_argument("--mkdir", action="store_true",
+                        help="create the missing folders of the output paths (default: a missing folder is an error)")
+
+
+def check_outputs(args):
+    """Check every output's folder before the work; then, if ``args.mkdir``, create the missing ones.
+
+    A file's folder must exist (or is created with ``--mkdir``) and be writable, and the file must
+    not be a directory; a folder output must be a directory or not exist yet (the command creates
+    it, in a folder that must exist or is created with ``--mkdir``).
+    """
+    missing = []
+    for option, path, is_folder in getattr(args, "outputs", {}).values():
+        if is_folder and path.exists() and not path.is_dir():
+            raise ParameterError(f"{option}: {str(path)!r} is a file, not a directory")
+        if not is_folder and path.is_dir():
+            raise ParameterError(f"{option}: {str(path)!r} is a directory, not a file")
+        folder = path if is_folder and path.is_dir() else path.parent
+        if not folder.is_dir():
+            if folder.exists():
+                raise ParameterError(f"{option}: {str(folder)!r} is not a directory")
+            if not getattr(args, "mkdir", False):
+                raise ParameterError(f"{option}: directory {str(folder)!r} does not exist (use --mkdir to create it)")
+            missing.append(folder)
+        elif not os.access(folder, os.W_OK | os.X_OK):
+            raise ParameterError(f"{option}: directory {str(folder)!r} is not writable")
+    for folder in missing:
+        folder.mkdir(parents=True, exist_ok=True)
+
+
+def output_option(args, filename):
+    """The option whose output ``filename`` (a file written, or one inside a folder output) is, or None."""
+    written = Path(filename)
+    for option, path, folder in getattr(args, "outputs", {}).values():
+        if written == path or (folder and path in written.parents):
+            return option
+    return None
