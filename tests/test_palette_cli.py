@@ -198,8 +198,8 @@ def test_library_list_prints_every_stroke(built):
     assert lines[0] == f"{folder}: 3 strokes at 500 Hz"
     assert len(lines) == 2 + len(NAMES)
     manifest = json.loads((folder / "manifest.json").read_text())
-    # default mapping: 38 single, 37 tap, the i-th stroke 60 + i
-    for line, record, note in zip(lines[2:], manifest["strokes"], (38, 37, 62)):
+    # default mapping off channel 10 (on it the drum map's notes are the planner's): the i-th stroke is 60 + i
+    for line, record, note in zip(lines[2:], manifest["strokes"], (60, 61, 62)):
         fields = line.split()
         assert fields[0] == record["name"] and int(fields[1]) == note and int(fields[2]) == record["impacts"]
         assert int(fields[4]) == hand_velocity(record["first_level_db"])

@@ -83,8 +83,10 @@ def test_notes_at_the_same_time_keep_the_file_order():
         ("tempo 120\n0 single loud\n", r"pattern line 2: velocity must be an integer in \[1, 127\], got 'loud'"),
         ("tempo 120\n0 single 1.5\n", r"pattern line 2: velocity must be an integer in \[1, 127\], got '1.5'"),
         ("tempo 120\n0 single -5\n", r"pattern line 2: velocity .* got '-5'"),
-        ("tempo 120\n\n0 single\n", r"pattern line 3: a note is 'beat stroke velocity \[stick\]', got '0 single'"),
-        ("tempo 120\n0 single 100 left extra\n", r"pattern line 2: a note is 'beat stroke velocity \[stick\]'"),
+        ("tempo 120\n\n0 single\n", r"pattern line 3: a note is 'beat stroke velocity \[stick \[beats\]\]', got '0 single'"),
+        ("tempo 120\n0 single 100 left 2\n", r"pattern line 2: only a buzz takes a length \(the fifth field\)"),
+        ("tempo 120\n0 buzz 100 left 2 more\n", r"pattern line 2: a note is 'beat stroke velocity \[stick \[beats\]\]'"),
+        ("tempo 120\n0 buzz 100 left 0\n", r"pattern line 2: buzz length must be in \(0, 1e\+06\] beats, got 0.0"),
         ("tempo 120\n-1 single 100\n", r"pattern line 2: beat must be in \[0, 1e\+06\], got -1.0"),
         ("tempo 120\nsoon single 100\n", r"pattern line 2: beat must be a number, got 'soon'"),
         ("tempo 120\ninf single 100\n", r"pattern line 2: beat must be a finite number"),
@@ -153,8 +155,8 @@ def test_read_mapping_takes_strings_and_tables_with_a_default_stick(tmp_path):
         ('[notes]\n38 = { stroke = "single", hand = "left" }\n', r"mapping notes.38 has unknown key 'hand'"),
         ('[notes]\n38 = 5\n', r"mapping notes.38 must be a stroke name or a table, got 5"),
         ('[notes]\n38 = ["single"]\n', r"mapping notes.38 must be a stroke name or a table"),
-        ('[notes]\n38 = ""\n', r"mapping notes.38.stroke must be a stroke name, got ''"),
-        ('[notes]\n38 = { stick = "left" }\n', r"mapping notes.38.stroke must be a stroke name, got None"),
+        ('[notes]\n38 = ""\n', r"mapping notes.38.stroke must be a stroke name, auto or buzz, got ''"),
+        ('[notes]\n38 = { stick = "left" }\n', r"mapping notes.38.stroke must be a stroke name, auto or buzz, got None"),
         ('[notes]\n38 = { stroke = "single", stick = "Left Hand" }\n', r"notes.38.stick must be 1-32 of a-z"),
         ('notes = 5\n', r"needs a \[notes\] table"),
         ('[notes]\n', r"needs a \[notes\] table"),
@@ -170,30 +172,42 @@ def test_bad_mappings_are_named(tmp_path, text, match):
 
 
 def test_default_mapping_on_channel_10_is_the_drum_map_and_elsewhere_also_numbers_the_library_from_60():
+    """On channel 10 the snares and the side stick are notes the planner designs, on sticks it chooses (None)."""
     names = ["single", "tap", "double", "triple", "press-roll"]
-    drums = {38: ("single", "right"), 40: ("single", "right"), 37: ("tap", "right")}
+    drums = {38: ("auto", None), 40: ("auto", None), 37: ("auto", None)}
     assert default_mapping(names, percussion=True) == drums
     assert default_mapping(names) == drums | {60: ("single", "right"), 61: ("tap", "right"), 62: ("double", "right"),
                                               63: ("triple", "right"), 64: ("press-roll", "right")}
-    # a drum-map key only when the library has its stroke
-    assert default_mapping(["double", "tap"]) == {37: ("tap", "right"), 60: ("double", "right"), 61: ("tap", "right")}
-    assert default_mapping(["double"], percussion=True) == {}
+    assert default_mapping([], percussion=True) == drums  # no library needed for the drum map
 
 
 def test_default_mapping_stops_at_note_127():
     names = [f"s{i}" for i in range(80)]
     mapping = default_mapping(names)
-    assert sorted(mapping) == list(range(60, 128))
+    assert sorted(mapping) == sorted(set(range(60, 128)) | {37, 38, 40})
     assert mapping[127] == ("s67", "right")
 
 
 def test_the_drum_map_is_one_table_read_and_written():
-    """Both General MIDI snares read as a full stroke, the side stick as a tap; written files put each stroke's
-    first impact on the acoustic snare and its bounces on the electric snare; nothing else of channel 10."""
+    """Both General MIDI snares and the side stick read as notes the planner designs; written files put each
+    stroke's first impact on the acoustic snare and its bounces on the electric snare; nothing else of channel 10."""
     assert {key: (row.name, row.stroke) for key, row in DRUM_MAP.items()} == {
-        37: ("Side Stick", "tap"), 38: ("Acoustic Snare", "single"), 40: ("Electric Snare", "single")}
+        37: ("Side Stick", "auto"), 38: ("Acoustic Snare", "auto"), 40: ("Electric Snare", "auto")}
     assert (FIRST_IMPACT_NOTE, BOUNCE_NOTE) == (38, 40)
     assert [row.written for row in DRUM_MAP.values()] == [None, "first", "bounce"]
+
+
+def test_a_mapping_may_ask_for_the_planner(tmp_path):
+    path = tmp_path / "planned.toml"
+    path.write_text('[notes]\n38 = "auto"\n40 = { stroke = "buzz", stick = "left" }\n'
+                    '37 = { stroke = "single", stick = "auto" }\n')
+    assert read_mapping(path) == {38: ("auto", None), 40: ("buzz", "left"), 37: ("single", None)}
+
+
+def test_a_pattern_asks_for_the_planner_and_buzzes_with_their_length():
+    notes = parse_pattern("tempo 120\n0 auto 100 auto\n0.5 buzz 90 left 0.25\n1 buzz 80\n")
+    assert [(n.time, n.stroke, n.stick, n.duration, n.beat) for n in notes] == [
+        (0.0, "auto", None, None, 0.0), (0.25, "buzz", "left", 0.125, 0.5), (0.5, "buzz", "right", None, 1.0)]
 
 
 # --- MIDI scores ---------------------------------------------------------------------------------------------------
@@ -226,8 +240,8 @@ NAMES = ["single", "tap", "double"]
 def test_by_default_only_channel_10_is_played_through_the_drum_map(tmp_path):
     path = midi_file(tmp_path / "song.mid", [list(t) for t in SONG])
     score = read_score(path, stroke_names=NAMES)
-    assert [(n.time, n.stroke, n.velocity, n.stick) for n in score.notes] == [
-        (0.0, "single", 100, "right"), (1.0, "single", 90, "right"), (1.5, "tap", 30, "right")]
+    assert [(n.time, n.stroke, n.velocity, n.stick, n.beat) for n in score.notes] == [
+        (0.0, "auto", 100, None, 0.0), (1.0, "auto", 90, None, 2.0), (1.5, "auto", 30, None, 3.0)]
     assert score.notes[1].source == f"{path} note 40 at 1 s (channel 10, track 0)"
     report = score.report
     assert report.counts == {("played", 10): 3, ("unmapped", 10): 2, ("channel", 2): 2, ("channel", 1): 3}
@@ -247,9 +261,9 @@ def test_channels_and_tracks_choose_what_is_played_and_the_report_says_why_the_r
     path = midi_file(tmp_path / "song.mid", [list(t) for t in SONG])
     options = {"channels": "--channel", "tracks": "--track", "mapping": "--mapping"}
     score = read_score(path, stroke_names=NAMES, channels=[1, 10], tracks=["melody", 0], options=options)
-    # channel 1 is not percussion: key 60 + i is the library's i-th stroke, 38 still a single
+    # channel 1 is not percussion: key 60 + i is the library's i-th stroke, 38 still the planner's
     assert [(n.time, n.stroke) for n in score.notes] == [
-        (0.0, "single"), (0.25, "single"), (0.75, "tap"), (1.0, "single"), (1.25, "single"), (1.5, "tap")]
+        (0.0, "auto"), (0.25, "single"), (0.75, "tap"), (1.0, "auto"), (1.25, "auto"), (1.5, "auto")]
     assert score.report.counts == {("played", 10): 3, ("played", 1): 3, ("unmapped", 10): 2, ("track", 2): 2}
     assert "2 in tracks not chosen (--track) (channel 2: 2)" in score.report.summary()
     assert read_score(path, stroke_names=NAMES, tracks=["1"], channels=[2]).report.counts == {
@@ -312,7 +326,7 @@ def test_a_real_song_plays_its_drum_map_notes_on_channel_10_and_counts_the_rest(
     report = score.report
     expected = {("played", 10): played, ("unmapped", 10): unmapped} | {("channel", c): n for c, n in others.items()}
     assert report.counts == {key: n for key, n in expected.items() if n}
-    assert len(score.notes) == played and {n.stroke for n in score.notes} <= {"single", "tap"}
+    assert len(score.notes) == played and {n.stroke for n in score.notes} <= {"auto"}
     assert len(list(report.details())) == report.skipped == unmapped + sum(others.values())
     summary = report.summary()
     assert f"; {played} to play" in summary and "\n" not in summary

@@ -37,13 +37,15 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ._checks import check_real
+from .design import Target, assign_sticks, plan_stick
 from .dynamics import level_to_velocity, velocity_to_level
 from .errors import ParameterError
 from .formats.midi import TempoMap
+from .model import Stick
 from .palette.motion import RETURN_LIMITS, assemble, plan_return, return_time
 from .palette.transforms import compress, compress_limit, trim
-from .score import Score, ScoreNote
-from .trajectory import Trajectory
+from .score import PLANNED, Score, ScoreNote
+from .trajectory import DEFAULT_RATE, Trajectory
 
 HOLD_AFTER = 0.25
 """Time (s) the stick holds still at the end of a composition, after its last return."""
@@ -165,28 +167,39 @@ class Composition:
         return result
 
 
-def compose(notes, library, *, rate=None, limits=None, progress=None):
-    """Compose ``notes`` from ``library`` strokes into one trajectory per stick.
+def compose(notes, library=None, *, rate=None, limits=None, progress=None, model="paper", sticks=2, forces=None,
+            joint=None):
+    """Compose ``notes`` into one trajectory per stick: library strokes placed, ``auto`` and ``buzz`` notes designed.
 
     Parameters
     ----------
     notes : Score or sequence of ScoreNote
-        At least one note; their strokes must be in the library. A :class:`~drumstroke.score.Score`
+        At least one note. A note's stroke is a library stroke's name, or ``"auto"``/``"buzz"``
+        for the planner (:mod:`drumstroke.design`); a note whose stick is None gets one from the
+        planner (:func:`~drumstroke.design.assign_sticks`). A :class:`~drumstroke.score.Score`
         (what :func:`~drumstroke.score.read_score` returns) brings its tempo map along.
-    library : drumstroke.palette.library.Library
+    library : drumstroke.palette.library.Library or None
+        Needed for notes that name library strokes.
     rate : float in [1, 100000] or None
-        Control rate (Hz) of the result; default the library's.
+        Control rate (Hz) of the result; default the library's (without one, 1000).
     limits : Limits or None
-        Bounds on the returns between strokes (default :data:`~drumstroke.palette.motion.RETURN_LIMITS`).
+        Bounds on the moves between strokes (default :data:`~drumstroke.palette.motion.RETURN_LIMITS`).
     progress : callable or None
         Called with the fraction done (0 to 1) as the notes are placed and the sticks assembled.
+    model : {"paper", "geometry"}
+        The model the planner designs with.
+    sticks : {1, 2}
+        How many sticks the planner may give the notes without one.
+    forces : drumstroke.design.ForceRange or None
+        The thumb accelerations the planner may use (default 0 to 3000 m/s²).
+    joint : Limits or None
+        The joint's limits the designed strokes keep (default ``Limits()``).
 
     Returns
     -------
     Composition
     """
     limits = limits or RETURN_LIMITS
-    rate = library.rate if rate is None else check_real("rate", rate, low=1.0, high=1e5, unit="Hz")
     tempo_map = notes.tempo_map if isinstance(notes, Score) else TempoMap()
     notes = list(notes.notes if isinstance(notes, Score) else notes)
     if not notes:
@@ -194,18 +207,22 @@ def compose(notes, library, *, rate=None, limits=None, progress=None):
     for note in notes:
         if not isinstance(note, ScoreNote):
             raise ParameterError(f"notes must be ScoreNote objects, got {note!r}")
+        if note.stroke not in PLANNED and (library is None or note.stroke not in library):
+            strokes = f"the library has {', '.join(library)}" if library is not None else "no library was given"
+            raise ParameterError(f"{note.source or 'note'}: stroke {note.stroke!r} is not auto, buzz or a library "
+                                 f"stroke; {strokes}")
+    default_rate = library.rate if library is not None else DEFAULT_RATE
+    rate = default_rate if rate is None else check_real("rate", rate, low=1.0, high=1e5, unit="Hz")
     notes.sort(key=lambda n: n.time)
+    notes = _with_sticks(notes, sticks)
     problems = []
     variants = {}
     for note in notes:
-        if note.stroke not in library:
-            raise ParameterError(f"{note.source or 'note'}: stroke {note.stroke!r} is not in the library; it has "
-                                 f"{', '.join(library)}")
         key = (note.stroke, note.velocity)
-        if key not in variants:
+        if note.stroke not in PLANNED and key not in variants:
             variants[key] = _Variant(*_at_velocity(library[note.stroke].trajectory, note, problems, limits))
-    head = library[notes[0].stroke].trajectory.theta_max
-    offset = _offset(notes, variants, head, limits, rate)
+    placed = [n for n in notes if n.stroke not in PLANNED]
+    head = library[placed[0].stroke].trajectory.theta_max if placed else Stick().theta_max
     by_stick = {}
     for note in notes:
         by_stick.setdefault(note.stick, []).append(note)
@@ -217,22 +234,102 @@ def compose(notes, library, *, rate=None, limits=None, progress=None):
         if progress is not None:
             progress(done / (2 * len(notes)))
 
-    plans = {stick: _place(stick_notes, variants, offset, head, limits, problems, advance)
-             for stick, stick_notes in by_stick.items()}
-    end = max(_finish(plan, head, limits) for plan in plans.values()) + HOLD_AFTER
+    designed = {}
+    for stick, stick_notes in by_stick.items():
+        wanted = [n for n in stick_notes if n.stroke in PLANNED]
+        if wanted:
+            targets = [Target.from_velocity(n.time, n.velocity, kind=n.stroke, duration=n.duration, key=k)
+                       for k, n in enumerate(wanted)]
+            designed[stick] = (wanted, plan_stick(targets, model=model, forces=forces, limits=joint, moves=limits))
+            advance(len(wanted))
+    offset = _offset(placed, variants, head, limits, rate, designed)
+    plans = {stick: _place([n for n in stick_notes if n.stroke not in PLANNED], variants, offset, head, limits,
+                           problems, advance) for stick, stick_notes in by_stick.items()}
+    placements = []
+    for stick, (wanted, plan) in designed.items():
+        placements += _designed_placements(wanted, plan, offset, problems)
+        plans[stick] = _clear_of(plans[stick], plan, offset, head, limits, problems)
+    ends = [_finish(plan, head, limits) for plan in plans.values() if any(p.played for p, _ in plan)]
+    ends += [offset + plan.designs[-1].t_end for _, plan in designed.values() if plan.designs]
+    if not ends:
+        raise ParameterError("no note could be played: " + "; ".join(problems[:3]))
+    end = max(ends) + HOLD_AFTER
     if not math.isfinite(end):
         raise ParameterError(f"the last stroke cannot return to its start angle within {limits}")
-    sticks = {}
-    for stick, plan in plans.items():
-        played = [p for p, _ in plan if p.played]
-        pieces = [trim(v.stroke, 0.0, p.cut) if p.cut is not None else v.stroke for p, v in plan if p.played]
-        sticks[stick] = assemble(pieces, [p.start for p in played], limits=limits, end=end,
-                                 name=f"composition ({stick} stick)").sample(rate)
-        advance(len(plan))
-    placements = sorted((p for plan in plans.values() for p, _ in plan), key=lambda p: p.note.time)
-    trajectory = Trajectory.from_sticks(sticks, name=f"composition of {len(placements)} notes",
+    assembled = {}
+    for stick in by_stick:
+        played = [(p.start, trim(v.stroke, 0.0, p.cut) if p.cut is not None else v.stroke)
+                  for p, v in plans[stick] if p.played]
+        plan = designed[stick][1] if stick in designed else None
+        if plan is not None:
+            played += [(offset + d.release, Trajectory.from_stroke(d.stroke, rate=rate, name="designed"))
+                       for d in plan.designs]
+        if not played:
+            continue
+        played.sort(key=lambda item: item[0])
+        assembled[stick] = assemble([piece for _, piece in played], [start for start, _ in played], limits=limits,
+                                    end=end, name=f"composition ({stick} stick)", home=plan is None).sample(rate)
+        advance(len(plans[stick]))
+    placements = sorted(placements + [p for plan in plans.values() for p, _ in plan], key=lambda p: p.note.time)
+    trajectory = Trajectory.from_sticks(assembled, name=f"composition of {len(placements)} notes",
                                         history=(f"compose {len(placements)} notes",))
     return Composition(trajectory, offset, tuple(placements), tuple(problems), tempo_map)
+
+
+def _with_sticks(notes, sticks):
+    """The notes with a stick each: those without one get the planner's (the others keep theirs)."""
+    if all(note.stick is not None for note in notes):
+        return notes
+    chosen = assign_sticks([n.time for n in notes], beats=[n.beat if n.beat is not None else 0.5 for n in notes],
+                           given=[n.stick for n in notes], sticks=sticks)
+    return [note if note.stick is not None else replace(note, stick=stick) for note, stick in zip(notes, chosen)]
+
+
+def _designed_placements(notes, plan, offset, problems):
+    """The placements of a stick's planned notes: each played note on its design, the others left out."""
+    played = {}
+    for design, keys in zip(plan.designs, plan.keys):
+        for key in keys:
+            played[key] = design
+    for problem in plan.problems:
+        problems.append(f"{notes[problem.key].source or 'note'}: {problem.reason}; left out")
+    return [Placement(note, True, offset + played[k].release, offset + note.time, 1.0) if k in played
+            else Placement(note, False, factor=1.0) for k, note in enumerate(notes)]
+
+
+def _clear_of(plan, designed, offset, head, limits, problems):
+    """A stick's library strokes that fit between its designed strokes (moves included); the others left out."""
+    spans = [(offset + d.release, offset + d.t_end, d) for d in designed.designs]
+    kept = []
+    for placement, variant in plan:
+        if not placement.played:
+            kept.append((placement, variant))
+            continue
+        end = placement.start + (placement.cut if placement.cut is not None else variant.stroke.t_end)
+        start_state = variant.state(0.0)
+        clash = next((d for s, e, d in spans if not (end + _gap(variant, placement, d, head, limits) <= s
+                                                     or placement.start >= e + _gap_after(d, start_state, head,
+                                                                                            limits))), None)
+        if clash is None:
+            kept.append((placement, variant))
+            continue
+        note = placement.note
+        problems.append(f"{note.source or 'note'}: {note.stroke!r} on the {note.stick} stick meets the stroke "
+                        f"designed for the notes at {clash.times[0]:.6g}-{clash.times[-1]:.6g} s; left out")
+        kept.append((Placement(note, False, factor=variant.factor), variant))
+    return kept
+
+
+def _gap(variant, placement, design, head, limits):
+    """The time (s) a library stroke needs after its end to reach a designed stroke's start."""
+    end = placement.cut if placement.cut is not None else variant.stroke.t_end
+    return return_time(variant.state(end), (float(design.recipe.theta0), 0.0), head, limits)
+
+
+def _gap_after(design, start_state, head, limits):
+    """The time (s) a designed stroke needs after its end to reach a library stroke's start."""
+    theta = float(design.state(design.t_end)[0])
+    return return_time((theta, 0.0), start_state, head, limits)
 
 
 def _at_velocity(stroke, note, problems, limits):
@@ -279,9 +376,11 @@ def _can_wind_up(stroke, limits):
     return math.isfinite(return_time((theta, 0.0), (theta, omega), stroke.theta_max, limits))
 
 
-def _offset(notes, variants, head, limits, rate):
-    """The lead (s) before the score's time 0 so every stick's first downstroke fits, on the control grid."""
-    need = 0.0
+def _offset(notes, variants, head, limits, rate, designed=None):
+    """The lead (s) before the score's time 0 so every stick's first downstroke fits, on the control grid.
+
+    ``designed``: {stick: (notes, StickPlan)}, whose first strokes start (are released) before time 0."""
+    need = max([0.0] + [-plan.designs[0].release for _, plan in (designed or {}).values() if plan.designs])
     firsts = {}
     for note in notes:
         firsts.setdefault(note.stick, note)

@@ -11,9 +11,11 @@ A text pattern is the tempo, optionally a meter, then one note per line::
     1.5      double        80         left
     2        single        110
 
-Beats count from 0 in quarter notes at the tempo (beats per minute); stroke
-names are the library's; velocity is MIDI's 1–127; the stick is any name
-(a-z, 0-9, ``_``, ``-``), one trajectory per stick.
+Beats count from 0 in quarter notes at the tempo (beats per minute); a stroke
+is ``auto`` (the planner designs it, :mod:`drumstroke.design`), ``buzz`` (a
+multiple-bounce stroke, its length in beats as a fifth field) or a library
+stroke's name; velocity is MIDI's 1–127; the stick is any name (a-z, 0-9, ``_``,
+``-``), one trajectory per stick, or ``auto`` for the planner to choose.
 
 A MIDI file's notes become score notes through a note mapping: only the
 channels chosen (by default 10, General MIDI percussion) and the tracks chosen
@@ -26,10 +28,10 @@ A mapping is a TOML file (:func:`read_mapping`) ::
     40 = { stroke = "press-roll", stick = "left" }
 
 Without one, :func:`default_mapping` applies: on channel 10 the drum map
-(:data:`DRUM_MAP`: the General MIDI snares, 38 and 40 as ``single`` and 37, side
-stick, as ``tap``); on any other channel, where a key is a pitch, also key
-60 + i (C4 and up) as the library's i-th stroke (the order of
-``drumstroke library list``).
+(:data:`DRUM_MAP`: the General MIDI snares, 38 and 40, and 37, side stick, each
+a note the planner designs, ``auto``, on a stick it chooses); on any other
+channel, where a key is a pitch, also key 60 + i (C4 and up) as the library's
+i-th stroke (the order of ``drumstroke library list``).
 
 :func:`read_score` reads either kind of file, by its name's ending, into a :class:`Score`.
 
@@ -78,16 +80,18 @@ class DrumKey(NamedTuple):
 
 
 DRUM_MAP = {
-    37: DrumKey("Side Stick", "tap", None),
-    38: DrumKey("Acoustic Snare", "single", "first"),
-    40: DrumKey("Electric Snare", "single", "bounce"),
+    37: DrumKey("Side Stick", "auto", None),
+    38: DrumKey("Acoustic Snare", "auto", "first"),
+    40: DrumKey("Electric Snare", "auto", "bounce"),
 }
 """The drum map, both ways, in one table: MIDI key on channel 10 → what it is read as and written for.
 
 Read: songs put their snare on either of General MIDI's two snares, 38 and 40, so both
-are a full stroke (``single``); the side stick (37), a light click on the rim, is a
-``tap``. Every other key of the percussion channel (kick, hi-hats, toms, cymbals, and
-60–81, the Latin percussion) is not the snare drum, and is skipped.
+are notes the planner designs (``auto``) at their velocity; so is the side stick (37),
+a click on the rim, played on the head at its velocity by a robot without a rim stroke.
+The planner chooses each note's stick. Every other key of the percussion channel (kick,
+hi-hats, toms, cymbals, and 60–81, the Latin percussion) is not the snare drum, and is
+skipped.
 
 Written: every impact is a snare note, so a General MIDI player sounds all of them
 on a snare; a stroke's first impact (the note the score asked for) is on 38 and its
@@ -106,6 +110,12 @@ FIRST_LIBRARY_NOTE = 60
 MIDI_SUFFIXES = (".mid", ".midi")
 """File name endings :func:`read_score` reads as MIDI files; any other file is a text pattern."""
 
+PLANNED = ("auto", "buzz")
+"""The strokes the planner designs (:mod:`drumstroke.design`), not a library's: a note, and a buzz over a span."""
+
+AUTO_STICK = "auto"
+"""What a pattern or a mapping says for a stick the planner chooses (a note's ``stick`` is then None)."""
+
 SKIP_REASONS = ("track", "channel", "unmapped")
 """Why a MIDI note is skipped, in the order they are tested: its track or its channel was not chosen, or
 the mapping has no stroke for its key."""
@@ -120,20 +130,27 @@ class ScoreNote:
     time : float
         When its first impact should land (s from the score's start).
     stroke : str
-        A library stroke's name.
+        ``"auto"`` (the planner designs it), ``"buzz"`` (a multiple-bounce stroke) or a library stroke's name.
     velocity : int in [1, 127]
         Sets the first impact's level (see :mod:`drumstroke.dynamics`).
-    stick : str
+    stick : str or None
+        None: the planner chooses it.
     source : str
         Where it came from ("song.pattern line 4", "song.mid note 38 at 1.5 s (channel 10, track 2)"),
         for messages.
+    duration : float or None
+        s, a buzz's span; None: until its stick's next note.
+    beat : float or None
+        Where it falls in quarter notes from the score's start (for choosing sticks: the lead hand on the beat).
     """
 
     time: float
     stroke: str
     velocity: int
-    stick: str = DEFAULT_STICK
+    stick: str | None = DEFAULT_STICK
     source: str = ""
+    duration: float | None = None
+    beat: float | None = None
 
     def __post_init__(self):
         where = self.source or "note"
@@ -142,8 +159,16 @@ class ScoreNote:
             raise ParameterError(f"{where}: velocity must be an integer in [1, 127], got {self.velocity!r}")
         if not isinstance(self.stroke, str) or not self.stroke:
             raise ParameterError(f"{where}: stroke must be a stroke name, got {self.stroke!r}")
-        if not isinstance(self.stick, str) or not _STICK.match(self.stick):
-            raise ParameterError(f"{where}: stick must be 1-32 of a-z, 0-9, '_', '-', got {self.stick!r}")
+        if self.stick is not None and (not isinstance(self.stick, str) or not _STICK.match(self.stick)
+                                       or self.stick == AUTO_STICK):
+            raise ParameterError(f"{where}: stick must be 1-32 of a-z, 0-9, '_', '-' (not 'auto'), or None for the "
+                                 f"planner to choose, got {self.stick!r}")
+        if self.duration is not None:
+            if self.stroke != "buzz":
+                raise ParameterError(f"{where}: only a buzz has a duration, got {self.duration!r} for {self.stroke!r}")
+            check_real(f"{where}: duration", self.duration, low=0.0, high=3600.0, low_open=True, unit="s")
+        if self.beat is not None:
+            check_real(f"{where}: beat", self.beat, low=0.0, high=1e7, unit="quarter notes")
 
 
 @dataclass(frozen=True, eq=False)
@@ -251,9 +276,15 @@ def parse_pattern(text, *, name="pattern"):
 
 
 def _notes(pattern):
-    notes = [ScoreNote(row.beat * 60.0 / pattern.tempo, row.stroke, row.velocity, row.stick or DEFAULT_STICK,
-                       source=row.source) for row in pattern.rows]
+    notes = [ScoreNote(row.beat * 60.0 / pattern.tempo, row.stroke, row.velocity, _stick(row.stick or DEFAULT_STICK),
+                       source=row.source, duration=None if row.beats is None else row.beats * 60.0 / pattern.tempo,
+                       beat=row.beat) for row in pattern.rows]
     return sorted(notes, key=lambda n: n.time)
+
+
+def _stick(name):
+    """A stick as a note holds it: None for ``auto`` (the planner chooses)."""
+    return None if name == AUTO_STICK else name
 
 
 def default_mapping(stroke_names, *, percussion=False):
@@ -269,7 +300,7 @@ def default_mapping(stroke_names, *, percussion=False):
     """
     mapping = {} if percussion else {FIRST_LIBRARY_NOTE + i: (name, DEFAULT_STICK) for i, name in
                                      enumerate(stroke_names) if FIRST_LIBRARY_NOTE + i <= 127}
-    mapping.update({key: (row.stroke, DEFAULT_STICK) for key, row in DRUM_MAP.items() if row.stroke in stroke_names})
+    mapping.update({key: (row.stroke, None) for key, row in DRUM_MAP.items()})
     return mapping
 
 
@@ -289,12 +320,14 @@ def read_mapping(path):
         if not isinstance(value, dict):
             raise ParameterError(f"mapping notes.{key} must be a stroke name or a table, got {value!r}")
         check_keys(f"mapping notes.{key}", value, ("stroke", "stick"))
-        stroke, stick = value.get("stroke"), value.get("stick", DEFAULT_STICK)
+        stroke = value.get("stroke")
+        stick = value.get("stick", AUTO_STICK if stroke in PLANNED else DEFAULT_STICK)
         if not isinstance(stroke, str) or not stroke:
-            raise ParameterError(f"mapping notes.{key}.stroke must be a stroke name, got {stroke!r}")
+            raise ParameterError(f"mapping notes.{key}.stroke must be a stroke name, auto or buzz, got {stroke!r}")
         if not isinstance(stick, str) or not _STICK.match(stick):
-            raise ParameterError(f"mapping notes.{key}.stick must be 1-32 of a-z, 0-9, '_', '-', got {stick!r}")
-        mapping[int(key)] = (stroke, stick)
+            raise ParameterError(f"mapping notes.{key}.stick must be 1-32 of a-z, 0-9, '_', '-', or auto, got "
+                                 f"{stick!r}")
+        mapping[int(key)] = (stroke, _stick(stick))
     return mapping
 
 
@@ -310,7 +343,8 @@ def read_score(path, *, mapping=None, stroke_names=None, channels=None, tracks=N
         For a MIDI file only: a mapping file (:func:`read_mapping`) or ``{MIDI key: (stroke, stick)}``,
         for every channel chosen. Default: :func:`default_mapping` of ``stroke_names``, per channel.
     stroke_names : sequence of str or None
-        The library's stroke names in its order, for the default mapping.
+        The library's stroke names in its order, for the default mapping off channel 10 (none: the
+        drum map only).
     channels : sequence of int in [1, 16] or None
         For a MIDI file only: the channels to play, counted from 1 as musicians do.
         Default: 10, General MIDI percussion.
@@ -329,8 +363,8 @@ def read_score(path, *, mapping=None, stroke_names=None, channels=None, tracks=N
     Raises
     ------
     ParameterError
-        If the file cannot be read, a mapping, channel or track is given for a text pattern or does
-        not exist, or a MIDI file comes with neither a mapping nor stroke names.
+        If the file cannot be read, or a mapping, channel or track is given for a text pattern or does
+        not exist.
     """
     path = Path(path)
     names = {"mapping": "mapping", "channels": "channels", "tracks": "tracks"} | (options or {})
@@ -344,8 +378,7 @@ def read_score(path, *, mapping=None, stroke_names=None, channels=None, tracks=N
         return Score(tuple(notes), TempoMap.constant(pattern.tempo, meter=pattern.meter),
                      ScoreReport(str(path), {("played", None): len(notes)}))
     channels = _check_channels(channels, names["channels"])
-    if mapping is None and stroke_names is None:
-        raise ParameterError(f"MIDI score {str(path)!r} needs a {names['mapping']} or the library's stroke_names")
+    stroke_names = () if stroke_names is None else stroke_names
     if mapping is not None and not isinstance(mapping, dict):
         mapping = read_mapping(mapping)
     from .formats.midi import read_midi
@@ -365,7 +398,8 @@ def read_score(path, *, mapping=None, stroke_names=None, channels=None, tracks=N
         else:
             stroke, stick = mappings[note.channel][note.note]
             source = f"{path} note {note.note} at {note.time:.6g} s (channel {note.channel}, track {note.track})"
-            notes.append(ScoreNote(note.time, stroke, note.velocity, stick, source=source))
+            notes.append(ScoreNote(note.time, stroke, note.velocity, stick, source=source,
+                                   beat=float(midi.tempo_map.beats(note.time))))
             counts["played", note.channel] += 1
             continue
         counts[SKIP_REASONS[reason], note.channel] += 1

@@ -10,7 +10,7 @@
 """
 
 from .buzz import DENSITY, buzz
-from .planner import Problem, StickPlan, Target, assign_sticks, plan_stick
 from .chain import ENDS, FORCE_LIMIT, HUMAN_FORCE, Design, ForceRange, Piece, Start, Unreachable, design
+from .planner import Problem, StickPlan, Target, assign_sticks, plan_stick
 
-__all__ = ["DENSITY", "buzz", "Problem", "StickPlan", "Target", "assign_sticks", "plan_stick", "ENDS", "FORCE_LIMIT", "HUMAN_FORCE", "Design", "ForceRange", "Piece", "Start", "Unreachable", "design"]
+__all__ = ["DENSITY", "ENDS", "FORCE_LIMIT", "HUMAN_FORCE", "Design", "ForceRange", "Piece", "Problem", "Start", "StickPlan", "Target", "Unreachable", "assign_sticks", "buzz", "design", "plan_stick"]

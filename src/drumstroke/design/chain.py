@@ -43,7 +43,7 @@ import numpy as np
 from .._checks import check_choice, check_real
 from ..dynamics import CEILING_DB, FLOOR_DB, velocity_to_level
 from ..errors import ParameterError, SimulationError
-from ..model import MODELS, Stick, coefficients
+from ..model import MODELS, Stick
 from ..palette.motion import Limits
 from ..profiles import ACCELERATION_LIMIT, Constant, PiecewiseLinear
 from ..recipe import DEFAULT_COR, STANDARD_GRAVITY, Recipe

@@ -324,12 +324,13 @@ class _Planner:
                                      getattr(error, "nearest_level", None)))
 
 
-def assign_sticks(times, *, beats=None, sticks=2, lead="right", other="left", fastest=0.25):
+def assign_sticks(times, *, beats=None, given=None, sticks=2, lead="right", other="left", fastest=0.25):
     """The stick for each note of a part that does not name them, as a drummer sticks it.
 
     The lead hand plays the notes on the beat; off the beat the hands alternate; a note that comes
     sooner than ``fastest`` s after its hand's last note goes to the other hand if that one has been
-    free for longer. With one stick, every note is the lead's.
+    free for longer. A stick ``given`` for a note is kept (and keeps its hand busy). With one stick,
+    every note without one is the lead's.
 
     Parameters
     ----------
@@ -337,6 +338,8 @@ def assign_sticks(times, *, beats=None, sticks=2, lead="right", other="left", fa
         s, in time order.
     beats : array_like [shape=(n,)], optional
         Each note's position in beats; a whole number is on the beat. Default: every note off it.
+    given : sequence of str or None [n], optional
+        The notes' sticks where the part names them (None where it does not).
     sticks : {1, 2}
     lead, other : str
         The sticks' names.
@@ -348,23 +351,24 @@ def assign_sticks(times, *, beats=None, sticks=2, lead="right", other="left", fa
     list of str
     """
     times = np.asarray(times, dtype=float)
+    given = [None] * len(times) if given is None else list(given)
     if sticks not in (1, 2):
         raise ParameterError(f"sticks must be 1 or 2, got {sticks!r}")
+    if len(given) != len(times):
+        raise ParameterError(f"given must name a stick (or None) for each of the {len(times)} notes, got {len(given)}")
     if sticks == 1:
-        return [lead] * len(times)
+        return [stick if stick is not None else lead for stick in given]
     on_beat = (np.zeros(len(times), bool) if beats is None
                else np.abs(np.asarray(beats, dtype=float) - np.round(beats)) < 1e-6)
     chosen, last = [], {lead: -math.inf, other: -math.inf}
     for k, t in enumerate(times):
-        if on_beat[k]:
-            hand = lead
-        elif chosen:
-            hand = other if chosen[-1] == lead else lead
+        if given[k] is not None:
+            hand = given[k]
         else:
-            hand = lead
-        spare = other if hand == lead else lead
-        if t - last[hand] < fastest and last[spare] < last[hand]:  # the hand free for longer takes it
-            hand = spare
+            hand = lead if on_beat[k] or not chosen else (other if chosen[-1] == lead else lead)
+            spare = other if hand == lead else lead
+            if t - last[hand] < fastest and last[spare] < last[hand]:  # the hand free for longer takes it
+                hand = spare
         chosen.append(hand)
         last[hand] = t
     return chosen

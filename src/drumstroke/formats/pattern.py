@@ -7,7 +7,7 @@ Examples
 --------
 >>> pattern = parse_pattern("tempo 120\\nmeter 3/4\\n0 single 100\\n0.5 tap 40 left\\n")
 >>> pattern.tempo, pattern.meter, pattern.rows[1]
-(120.0, (3, 4), PatternRow(beat=0.5, stroke='tap', velocity=40, stick='left', source='pattern line 4'))
+(120.0, (3, 4), PatternRow(beat=0.5, stroke='tap', velocity=40, stick='left', source='pattern line 4', beats=None))
 >>> print(pattern_text(*pattern), end="")
 tempo 120
 meter 3/4
@@ -31,20 +31,31 @@ lines are skipped:
   meter N/D      optional, before the first note: the time signature (N in
                  [1, 255], D a power of two up to 128; default 4/4); it changes
                  no time, and is written into MIDI files
-  BEAT STROKE VELOCITY [STICK]
+  BEAT STROKE VELOCITY [STICK [BEATS]]
                  a note: its time in quarter notes from 0 (a number in [0, 1e6];
-                 0.5 is the second eighth note); a library stroke's name; a
-                 MIDI velocity 1-127 (the level of its first impact); the stick
-                 that plays it (1-32 of a-z, 0-9, '_', '-'; default right), one
-                 trajectory per stick. Notes may come in any order.
+                 0.5 is the second eighth note); its stroke; a MIDI velocity
+                 1-127 (the level of its impact); the stick that plays it (1-32
+                 of a-z, 0-9, '_', '-'; default right; auto: the planner picks
+                 one), one trajectory per stick. Notes may come in any order.
+                 The stroke is one of:
+                   auto    the planner designs the stroke that plays the note
+                           (a diddle, a flam, a drag, an accent or a tap is just
+                           notes and velocities on sticks)
+                   buzz    a multiple-bounce stroke from the note's time for
+                           BEATS quarter notes (the fifth field; default: until
+                           the stick's next note)
+                   NAME    a stroke of the library, played as it is stored
 
 For example:
 
-  # a backbeat
+  # a backbeat, and a flam and a buzz the planner designs
   tempo 96
   0      single   100
   0.5    tap      40     left
   1      double   90
+  1.95   auto     50     left      # the flam's grace note, 31 ms early
+  2      auto     110    right
+  3      buzz     80     auto  0.5
 """
 """The text pattern format, complete: what ``drumstroke compose --help`` prints."""
 
@@ -58,13 +69,15 @@ class Pattern(NamedTuple):
 
 
 class PatternRow(NamedTuple):
-    """One note line: its beat (quarter notes from 0), stroke name, velocity (1–127), stick (or None) and source."""
+    """One note line: its beat (quarter notes from 0), stroke name, velocity (1–127), stick (or None), source,
+    and a buzz's length in beats (or None)."""
 
     beat: float
     stroke: str
     velocity: int
     stick: str | None
     source: str
+    beats: float | None = None
 
 
 def read_pattern_file(path):
@@ -97,11 +110,15 @@ def parse_pattern(text, *, name="pattern"):
                 raise ParameterError(f"{where}: a meter is one 'meter N/D' line before the notes, got {line.strip()!r}")
             meter = _meter(fields[1], where)
             continue
-        if len(fields) not in (3, 4):
-            raise ParameterError(f"{where}: a note is 'beat stroke velocity [stick]', got {line.strip()!r}")
+        if len(fields) not in (3, 4, 5):
+            raise ParameterError(f"{where}: a note is 'beat stroke velocity [stick [beats]]', got {line.strip()!r}")
+        if len(fields) == 5 and fields[1] != "buzz":
+            raise ParameterError(f"{where}: only a buzz takes a length (the fifth field), got {line.strip()!r}")
         beat = check_real(f"{where}: beat", _number(fields[0], where, "beat"), low=0.0, high=1e6)
         velocity = _integer(fields[2], where)
-        rows.append(PatternRow(beat, fields[1], velocity, fields[3] if len(fields) == 4 else None, where))
+        beats = (check_real(f"{where}: buzz length", _number(fields[4], where, "buzz length"), low=0.0, high=1e6,
+                            low_open=True, unit="beats") if len(fields) == 5 else None)
+        rows.append(PatternRow(beat, fields[1], velocity, fields[3] if len(fields) >= 4 else None, where, beats))
     if tempo is None:
         raise ParameterError(f"{name} is empty: it needs a 'tempo BPM' line and notes")
     if not rows:
@@ -110,11 +127,14 @@ def parse_pattern(text, *, name="pattern"):
 
 
 def pattern_text(tempo, rows, meter=(4, 4)):
-    """The text of a pattern: the tempo line, the meter if not 4/4, then one line per row (beat, stroke, velocity[, stick])."""
+    """The text of a pattern: the tempo line, the meter if not 4/4, then one line per row (beat, stroke, velocity[,
+    stick[, a buzz's beats]])."""
     lines = [f"tempo {tempo:g}"] + ([f"meter {meter[0]}/{meter[1]}"] if tuple(meter) != (4, 4) else [])
     for row in rows:
         beat, stroke, velocity, stick = row[:4]
-        lines.append(f"{beat:.17g} {stroke} {int(velocity)}" + (f" {stick}" if stick else ""))
+        beats = row[5] if len(row) > 5 else None
+        line = f"{beat:.17g} {stroke} {int(velocity)}" + (f" {stick or 'right'}" if stick or beats is not None else "")
+        lines.append(line + (f" {beats:.17g}" if beats is not None else ""))
     return "\n".join(lines) + "\n"
 
 
