@@ -319,10 +319,14 @@ def apex_between(trajectory, k):
 @pytest.mark.parametrize("stroke, gap, kept", [("double", 0.45, 1), ("triple", 0.75, 2)])
 def test_a_stroke_too_long_for_the_next_note_is_cut_at_its_latest_possible_apex(library, stroke, gap, kept):
     """double: impacts at +0 and +0.309 s, 0.442 s long after its note; a single starts 0.095 s before its own.
-    triple: impacts at +0, +0.309, +0.576 s, 0.690 s long. Cut after ``kept`` impacts at the apex there."""
+    triple: impacts at +0, +0.309, +0.576 s, 0.690 s long. Cut after ``kept`` impacts at the apex there, and the
+    hits lost with the cut are a problem."""
     source = library[stroke].trajectory
     piece = compose([ScoreNote(0.0, stroke, 100), ScoreNote(gap, "single", 100)], library)
-    assert piece.problems == () and all(p.played for p in piece.placements)
+    assert all(p.played for p in piece.placements)
+    (problem,) = piece.problems
+    hits = {"double": 2, "triple": 3}[stroke]
+    assert f"{stroke!r} on the right stick is cut" in problem and f"{hits - kept} of its {hits} hits not played" in problem
     first = piece.placements[0]
     apex = apex_between(source, kept - 1)
     assert first.cut is not None

@@ -50,6 +50,10 @@ from .trajectory import DEFAULT_RATE, Trajectory
 HOLD_AFTER = 0.25
 """Time (s) the stick holds still at the end of a composition, after its last return."""
 
+HITS = {"single stroke": 1, "double stroke": 2, "triple stroke": 3}
+"""How many of a library stroke's first impacts are its notes, by its category: a double's two, a triple's
+three (a buzz's bounces are not notes). A stroke cut before one of them is a problem."""
+
 
 @dataclass(frozen=True)
 class Placement:
@@ -93,10 +97,13 @@ class Composition:
     placements : tuple of Placement
         One per note, in time order.
     problems : tuple of str
-        Notes left out, velocities out of reach.
+        Notes left out (with why, and the nearest time and level that can be played), velocities out of
+        reach, library strokes cut before their hits.
     tempo_map : TempoMap
         The score's tempo changes and time signatures (its MIDI file's, or its pattern's tempo and
         meter; 120 bpm in 4/4 for notes given without one), on the score's time.
+    designs : tuple of (str, Design)
+        The strokes the planner designed, with their sticks, on the score's time (:mod:`drumstroke.design`).
     """
 
     trajectory: Trajectory
@@ -104,6 +111,7 @@ class Composition:
     placements: tuple
     problems: tuple
     tempo_map: TempoMap = field(default_factory=TempoMap)
+    designs: tuple = ()
 
     def __repr__(self):
         sticks = ", ".join(f"{name} {len(s.impacts)}" for name, s in self.sticks.items())
@@ -249,6 +257,8 @@ def compose(notes, library=None, *, rate=None, limits=None, progress=None, model
     for stick, (wanted, plan) in designed.items():
         placements += _designed_placements(wanted, plan, offset, problems)
         plans[stick] = _clear_of(plans[stick], plan, offset, head, limits, problems)
+    for plan in plans.values():
+        _report_cuts(plan, library, problems)
     ends = [_finish(plan, head, limits) for plan in plans.values() if any(p.played for p, _ in plan)]
     ends += [offset + plan.designs[-1].t_end for _, plan in designed.values() if plan.designs]
     if not ends:
@@ -273,7 +283,22 @@ def compose(notes, library=None, *, rate=None, limits=None, progress=None, model
     placements = sorted(placements + [p for plan in plans.values() for p, _ in plan], key=lambda p: p.note.time)
     trajectory = Trajectory.from_sticks(assembled, name=f"composition of {len(placements)} notes",
                                         history=(f"compose {len(placements)} notes",))
-    return Composition(trajectory, offset, tuple(placements), tuple(problems), tempo_map)
+    designs = tuple((stick, d) for stick, (_, plan) in designed.items() for d in plan.designs)
+    return Composition(trajectory, offset, tuple(placements), tuple(problems), tempo_map, designs)
+
+
+def _report_cuts(plan, library, problems):
+    """A problem for each played library stroke cut before one of its hits (see :data:`HITS`)."""
+    for placement, variant in plan:
+        if not placement.played or placement.cut is None:
+            continue
+        note = placement.note
+        hits = variant.stroke.impacts.t[:HITS.get(library[note.stroke].category, 0)]
+        lost = int(np.sum(hits > placement.cut))
+        if lost:
+            problems.append(f"{note.source or 'note'}: {note.stroke!r} on the {note.stick} stick is cut "
+                            f"{placement.cut:.3f} s into it for the next note: {lost} of its {len(hits)} hits not "
+                            "played")
 
 
 def _with_sticks(notes, sticks):

@@ -60,6 +60,13 @@ def composition_to_dict(composition):
         ],
         "impacts": {stick: s.to_dict()["impacts"] for stick, s in composition.sticks.items()},
         "problems": list(composition.problems),
+        "designs": [
+            {"stick": stick, "model": d.model, "notes": d.times.tolist(), "levels_db": d.levels.tolist(),
+             "release": d.release, "t_end": d.t_end, "end": d.end, "force_min": d.min_force,
+             "force_max": d.max_force, "beyond_human": d.beyond_human, "time_error": d.time_error,
+             "level_error": d.level_error, "recipe": d.recipe.to_dict()}
+            for stick, d in composition.designs
+        ],
     }
 
 
