@@ -8,6 +8,7 @@ from ..errors import ParameterError
 from ..formats import json, trajectory_csv
 from ..formats.midi import PERCUSSION_CHANNEL
 from ..formats.pattern import FORMAT
+from ..model import MODELS
 from ..render import plot
 from ..score import BOUNCE_NOTE, DRUM_MAP, FIRST_IMPACT_NOTE, FIRST_LIBRARY_NOTE
 from ._common import Bar, add_sound_options, print_written
@@ -29,9 +30,16 @@ those only the keys the mapping names are played. Without --mapping, channel
 
 {_DRUM_MAP}
 
+('auto': a note the planner designs, on a stick it chooses; no library needed),
 and any other channel also plays key {FIRST_LIBRARY_NOTE} + i (C4 and up) as the library's
 i-th stroke, in the order of 'drumstroke library list'. Every note not played
 is counted in one summary line (--verbose lists each, --quiet nothing).
+
+The planner (auto and buzz notes) designs, per stick, the thumb force that plays
+the notes as bounces of the model (--model), chooses the sticks of notes that
+name none (--sticks: the lead hand on the beat, the hands alternating), and
+joins its strokes with jerk-limited moves; a note it cannot play is left out
+and reported with the nearest time and level it could play.
 
 --midi writes the impacts on the score's time, tempo map and time signature:
 one track per stick, channel {PERCUSSION_CHANNEL}, velocity from each impact's level, each
@@ -45,14 +53,19 @@ SCORE as a text pattern (any other file name):
 def add_compose(commands):
     """Register ``compose``."""
     comp = commands.add_parser("compose", help="turn a score (MIDI file or text pattern) into one trajectory per stick",
-                               description="Turn a score into one motor-angle trajectory per stick, built\n"
-                                           "from library strokes, and write it.",
+                               description="Turn a score into one motor-angle trajectory per stick, its\n"
+                                           "strokes designed by the planner or taken from a library, and\n"
+                                           "write it.",
                                epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
     comp.add_argument("score", type=Path, metavar="SCORE", help="a .mid/.midi file or a text pattern (formats below)")
-    comp.add_argument("--library", type=existing_folder, required=True, metavar="DIR",
-                      help="a library folder ('library build')")
+    comp.add_argument("--library", type=existing_folder, metavar="DIR",
+                      help="a library folder ('library build'), for scores that name its strokes")
     comp.add_argument("--rate", type=number(low=1.0, high=1e5, unit="Hz"), metavar="HZ",
-                      help="control rate of the result, in [1, 1e5] Hz (default: the library's)")
+                      help="control rate of the result, in [1, 1e5] Hz (default: the library's, else 1000)")
+    comp.add_argument("--model", choices=MODELS, default="paper",
+                      help="the model the planner designs auto and buzz notes with (default paper)")
+    comp.add_argument("--sticks", type=int, choices=(1, 2), default=2,
+                      help="sticks the planner may give notes that name none (default 2)")
     midi = comp.add_argument_group("MIDI scores")
     midi.add_argument("--channel", type=int, action="append", metavar="N",
                       help=f"play MIDI channel N, 1-16 as musicians count (repeat for more; default "
@@ -72,7 +85,7 @@ def add_compose(commands):
     add_sound_options(comp)
     add_mkdir(comp)
     comp.add_argument("--strict", action="store_true",
-                      help="exit with status 3 if a note of the channels and tracks played was left out")
+                      help="exit with status 3 if a note of the channels and tracks played was left out or cut short")
     talk = comp.add_mutually_exclusive_group()
     talk.add_argument("--quiet", "-q", action="store_true", help="print nothing but errors")
     talk.add_argument("--verbose", "-v", action="store_true",
@@ -88,8 +101,8 @@ def _compose(args):
 
     say = (lambda *a, **k: None) if args.quiet else print
     rate = args.rate
-    library = load_library(args.library)
-    score = read_score(args.score, mapping=args.mapping, stroke_names=list(library), channels=args.channel,
+    library = load_library(args.library) if args.library else None
+    score = read_score(args.score, mapping=args.mapping, stroke_names=list(library or ()), channels=args.channel,
                        tracks=args.track, options=OPTIONS)
     report = score.report
     say(report.summary())
@@ -100,7 +113,8 @@ def _compose(args):
         raise ParameterError(f"{args.score} has no notes to play on the channels and tracks chosen; choose others "
                              "with --channel, --track or --mapping (--verbose lists every note skipped)")
     bar = None if args.quiet else Bar("composing", delay=1.0)
-    piece = compose(score, library, rate=rate, progress=bar.update if bar else None)
+    piece = compose(score, library, rate=rate, progress=bar.update if bar else None, model=args.model,
+                    sticks=args.sticks)
     if bar:
         bar.close()
     played = sum(p.played for p in piece.placements)
@@ -112,7 +126,7 @@ def _compose(args):
                                         audio=args.audio, midi=args.midi, snares=not args.no_snares)
     if not args.quiet:
         print_written(written)
-    if args.strict and (report.count("unmapped") or played < len(score.notes)):
+    if args.strict and (report.count("unmapped") or piece.problems):
         print("drumstroke compose: error: notes were left out (--strict)", file=sys.stderr)
         return 3
     return 0
@@ -126,8 +140,9 @@ def _warn(piece, played, args, say):
             print(f"warning: {problem}", file=sys.stderr)
     elif problems:
         left_out = len(piece.placements) - played
+        others = len(problems) - left_out
         kinds = [f"{left_out} note{'s' * (left_out != 1)} left out" if left_out else "",
-                 f"{len(problems) - left_out} velocit{'ies' if len(problems) - left_out != 1 else 'y'} out of reach"
-                 if len(problems) > left_out else ""]
+                 f"{others} other problem{'s' * (others != 1)} (velocities out of reach, strokes cut short)"
+                 if others > 0 else ""]
         more = f"; the first: {problems[0]}" + ("; --verbose lists them all" if len(problems) > 1 else "")
         say(f"warning: {', '.join(kind for kind in kinds if kind)}{more}", file=sys.stderr)
