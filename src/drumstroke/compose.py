@@ -301,6 +301,30 @@ def _report_cuts(plan, library, problems):
                             "played")
 
 
+def rudiment_score(name, tempo, *, bars=2):
+    """A PAS rudiment (:mod:`drumstroke.palette.rudiments`) at ``tempo`` bpm for ``bars`` bars, as a Score to compose.
+
+    Its notes are ``auto`` and ``buzz`` notes on the sticks the rudiment names, its tempo map the tempo
+    in 4/4; a note's source names the rudiment, the note and its stick.
+
+    Returns
+    -------
+    Score, RudimentNotes
+        The score, and the rudiment's notes at the tempo (with ``in_range`` and ``warning`` for a tempo
+        outside the rudiment's range).
+    """
+    from .palette.rudiments import rudiment
+    from .score import ScoreReport
+
+    played = rudiment(name).notes_at(tempo, bars=bars)
+    notes = tuple(ScoreNote(n.time, n.kind, n.velocity, n.stick, source=f"{played.rudiment} note {k} ({n.stick})",
+                            duration=n.duration if n.kind == "buzz" else None,
+                            beat=(n.time - played.downbeat) * tempo / 60.0 if n.time >= played.downbeat else None)
+                  for k, n in enumerate(played.notes))
+    report = ScoreReport(f"{played.rudiment} at {tempo:g} bpm", {("played", None): len(notes)})
+    return Score(notes, TempoMap.constant(tempo), report), played
+
+
 def _with_sticks(notes, sticks):
     """The notes with a stick each: those without one get the planner's (the others keep theirs)."""
     if all(note.stick is not None for note in notes):

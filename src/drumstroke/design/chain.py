@@ -767,7 +767,7 @@ def check_notes(times, levels, velocities):
     if len(close):
         i = int(close[0]) + 1
         raise ParameterError(f"times must increase by at least {MIN_GAP:g} s from note to note; note {i} at "
-                             f"{times[i]!r} s follows {times[i - 1]!r} s")
+                             f"{float(times[i])!r} s follows {float(times[i - 1])!r} s")
     return times, levels
 
 
