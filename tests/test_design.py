@@ -205,7 +205,7 @@ def test_the_audible_impacts_of_any_stroke_are_designed_back(force, model, theta
     assume(len(keep) >= 1)
     event(f"{min(len(keep), 10) // 3 * 3}+ notes")
     times, targets = stroke.impacts.t[keep], levels[keep]
-    assume(stroke.sample(1000.0).theta.max() < HIGHEST - 0.05)  # the stroke stays below the highest a design goes
+    assume(stroke.sample(1000.0).theta.max() < HIGHEST - 0.25)  # well below the highest a design goes
     designed = design(times, targets, model=model, cor=cor, forces=WIDE)
     n = len(keep)
     assert designed.impacts.t[:n] == pytest.approx(times, abs=1e-4)  # the tolerance

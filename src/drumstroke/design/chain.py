@@ -498,11 +498,11 @@ class _Plan:
             self.check_rate(0, rate, "the throw from the start")
             duration = height_time(s0, head) / v
             release = t1 - duration
-            if release < start.t:
+            if release < start.t - 1e-9:  # a throw planned to fit exactly may land a rounding early
                 raise Unreachable(f"note 0 (t = {t1:.6g} s) needs a throw of {duration:.6g} s from the start at "
                                   f"{start.theta:.4g} rad, but only {t1 - start.t:.6g} s are left; nearest reachable "
                                   f"time {start.t + duration:.6g} s", note=0, nearest_time=start.t + duration)
-            return ([Piece(0.0, duration, self.force_of(rate), "approach", -1)], release, release - start.t,
+            return ([Piece(0.0, duration, self.force_of(rate), "approach", -1)], release, max(release - start.t, 0.0),
                     start.theta)
         duration = t1 - start.t
         if start.omega < 0.0:
@@ -738,7 +738,7 @@ def catch_height(last, following, gap, *, model="paper", cor=DEFAULT_COR, stick=
     highest = min(top, head + min(u, v) ** 2 / (2.0 * low) / slack) if low > 0.0 else top
     if lowest > highest or flight_time(lowest, u=u, v=v, s0=head, sh=head) > gap:
         return math.asin(quickest)
-    in_time = solve_apex(gap, u=u, v=v, s0=head, sh=head, top=highest)
+    in_time = solve_apex(gap - 1e-9, u=u, v=v, s0=head, sh=head, top=highest)  # a nanosecond to spare
     ceiling = highest if in_time is None else in_time
     preferred = apex_for_fall(lead, v=v, sh=head, top=top)
     height = min(max(preferred if preferred is not None else top, lowest), ceiling)

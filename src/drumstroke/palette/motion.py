@@ -225,7 +225,7 @@ def plan_return(start, target, window, theta_max, limits):
     -------
     list of (duration s, path) or None
     """
-    if window < -1e-12:
+    if window < -1e-9:  # a stroke thrown from where the last was caught may start a rounding early
         return None
     window = max(window, 0.0)
     if _meet(start, target):  # the stick is where the next piece starts: it holds
