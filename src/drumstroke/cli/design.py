@@ -40,7 +40,7 @@ def add_design(commands):
     des.add_argument("--out", action=Output, suffixes=toml.SUFFIXES, metavar="RECIPE",
                      help="write the designed recipe as .toml (its t = 0 is the release: see --json)")
     des.add_argument("--json", action=Output, suffixes=json.SUFFIXES, metavar="PATH",
-                     help="write the design: notes, release, forces, errors, recipe, impacts")
+                     help="write the stroke (recipe, impacts, rests) and its design (notes, release, forces, errors)")
     des.add_argument("--csv", action=Output, suffixes=trajectory_csv.SUFFIXES, metavar="PATH",
                      help="write t (s, the recipe's clock), theta (rad), omega (rad/s) at 1 kHz")
     des.add_argument("--plot", action=Output, suffixes=plot.SUFFIXES, metavar="PATH",
@@ -76,7 +76,7 @@ def add_rudiment(commands):
 
 def _design(args):
     from ..design import ForceRange, buzz, design
-    from ..formats.json import write_json
+    from ..render.data import design_to_dict
     from ..render.outputs import write_stroke_outputs
 
     forces = ForceRange(high=args.force_max)
@@ -101,15 +101,8 @@ def _design(args):
     if args.out:
         made.recipe.to_toml(args.out)
         written.append(args.out)
-    if args.json:
-        write_json(args.json, {"model": made.model, "release": made.release, "times": made.times.tolist(),
-                               "levels_db": made.levels.tolist(), "end": made.end, "t_end": made.t_end,
-                               "force_min": made.min_force, "force_max": made.max_force,
-                               "beyond_human": made.beyond_human, "time_error": made.time_error,
-                               "level_error": made.level_error, "stroke": made.stroke.to_dict()})
-        written.append(args.json)
-    written += write_stroke_outputs(made.stroke, csv=args.csv, plot=args.plot, audio=args.audio, midi=args.midi,
-                                    snares=not args.no_snares)
+    written += write_stroke_outputs(made.stroke, json=args.json, csv=args.csv, plot=args.plot, audio=args.audio,
+                                    midi=args.midi, snares=not args.no_snares, extra={"design": design_to_dict(made)})
     print_written(written)
 
 

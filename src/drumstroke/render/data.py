@@ -12,9 +12,10 @@ from ..stroke import as_trajectory
 from ..trajectory import DEFAULT_RATE
 
 
-def write_json(stroke, path, *, csv=None):
-    """Write a Stroke's or a Trajectory's ``to_dict()`` as JSON to ``path``, with a CSV's metadata ``csv`` if given."""
-    write_json_data(path, _with_csv(stroke.to_dict(), csv))
+def write_json(stroke, path, *, csv=None, extra=None):
+    """Write a Stroke's or a Trajectory's ``to_dict()`` as JSON to ``path``, with a CSV's metadata ``csv`` if given
+    and the fields of ``extra`` (a dict) beside its own."""
+    write_json_data(path, _with_csv(stroke.to_dict() | (extra or {}), csv))
 
 
 def write_composition_json(composition, path, *, csv=None):
@@ -60,14 +61,20 @@ def composition_to_dict(composition):
         ],
         "impacts": {stick: s.to_dict()["impacts"] for stick, s in composition.sticks.items()},
         "problems": list(composition.problems),
-        "designs": [
-            {"stick": stick, "model": d.model, "notes": d.times.tolist(), "levels_db": d.levels.tolist(),
-             "release": d.release, "t_end": d.t_end, "end": d.end, "force_min": d.min_force,
-             "force_max": d.max_force, "beyond_human": d.beyond_human, "time_error": d.time_error,
-             "level_error": d.level_error, "recipe": d.recipe.to_dict()}
-            for stick, d in composition.designs
-        ],
+        "designs": [{"stick": stick} | design_to_dict(d) for stick, d in composition.designs],
     }
+
+
+def design_to_dict(design):
+    """A designed stroke as plain data: its notes, when it starts and ends, its forces and its check by the solver.
+
+    ``release`` is when the recipe's t = 0 falls on the notes' timeline (s); forces are the thumb's
+    acceleration a(t) (m/s²); ``beyond_human`` says whether they leave the human range, 0–250 m/s².
+    """
+    return {"model": design.model, "notes": design.times.tolist(), "levels_db": design.levels.tolist(),
+            "release": design.release, "t_end": design.t_end, "end": design.end, "force_min": design.min_force,
+            "force_max": design.max_force, "beyond_human": design.beyond_human, "time_error": design.time_error,
+            "level_error": design.level_error, "recipe": design.recipe.to_dict()}
 
 
 def _with_csv(data, csv):

@@ -18,7 +18,7 @@ from . import data
 
 
 def write_stroke_outputs(stroke, *, json=None, csv=None, plot=None, audio=None, midi=None, rate=DEFAULT_RATE,
-                         title=None, snares=True):
+                         title=None, snares=True, extra=None):
     """Write a stroke's files: its data, its plot, its sound.
 
     Parameters
@@ -43,6 +43,8 @@ def write_stroke_outputs(stroke, *, json=None, csv=None, plot=None, audio=None, 
         The plot's title (default: the stroke's name).
     snares : bool
         Whether the drum of ``audio`` has its snare wires on.
+    extra : dict or None
+        More fields for ``json``, beside the stroke's own (a design's, say).
 
     Returns
     -------
@@ -59,7 +61,7 @@ def write_stroke_outputs(stroke, *, json=None, csv=None, plot=None, audio=None, 
     block = data.write_csv(stroke, csv, rate=rate, sidecar=side is not None) if csv else None
     written = []
     if json:
-        data.write_json(stroke, json, csv=block if side is None else None)
+        data.write_json(stroke, json, csv=block if side is None else None, extra=extra)
         written.append(Path(json))
     if csv:
         written += [Path(csv), *([side] if side else [])]
