@@ -20,7 +20,9 @@ import soundfile
 
 import drumstroke
 from _cli import assert_one_line_error, run
+from drumstroke.demo import RUDIMENTS
 from drumstroke.palette.library import load_library
+from drumstroke.palette.rudiments import rudiment
 
 PNG = b"\x89PNG\r\n\x1a\n"
 TIP = 0.27  # pivot to tip (m) of the paper's stick
@@ -387,10 +389,11 @@ def test_demo_writes_a_page_whose_every_link_is_a_real_file(tmp_path):
     page.feed((out / "index.html").read_text(encoding="utf-8"))
     library = load_library(out / "library")
     assert len(library) >= 17
-    assert page.sections == ["groove", *library, "fig-4", "fig-5", "fig-6", "fig-7"]
-    # the groove: its sound, MIDI, CSV, JSON, pattern and picture; a stroke: sound, MIDI, picture; a figure:
-    # JSON, CSV, picture
-    assert len(page.links) == 6 + 3 * len(library) + 3 * 4
+    rudiments = [f"{rudiment(name).number}-{name}" for name, _ in RUDIMENTS]
+    assert page.sections == ["groove", *library, *rudiments, "fig-4", "fig-5", "fig-6", "fig-7"]
+    # the groove: its sound, MIDI, CSV, JSON, pattern and picture; a stroke: sound, MIDI, picture; a rudiment:
+    # sound, MIDI, JSON, picture; a figure: JSON, CSV, picture
+    assert len(page.links) == 6 + 3 * len(library) + 4 * len(RUDIMENTS) + 3 * 4
     for link in page.links:
         path = out / link
         assert path.is_file() and path.stat().st_size > 0, link

@@ -301,7 +301,7 @@ def test_the_demo_writes_a_page_whose_links_are_files_and_returns_what_it_made(t
     page = Links()
     page.feed(text)
     assert sorted(page.links) == sorted(p.relative_to(demo.outdir).as_posix() for p in (
-        *demo.groove, *demo.strokes, *(path for f in demo.figures for path in f.paths)))
+        *demo.groove, *demo.strokes, *demo.rudiments, *(path for f in demo.figures for path in f.paths)))
     for link in page.links:
         path = demo.outdir / link
         if link.endswith(".png"):

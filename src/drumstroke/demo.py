@@ -15,6 +15,11 @@ from .render.page import Card, plural
 FIGURES = {p.figure: name for name, p in PRESETS.items() if p.figure}
 """The paper's figures and the presets that reproduce them: {"Fig. 4": "free-bounce", ...}."""
 
+RUDIMENTS = (("single-paradiddle", 120.0), ("double-stroke-open-roll", 100.0), ("flam-accent", 140.0),
+             ("multiple-bounce-roll", 100.0), ("single-ratamacue", 100.0), ("triple-stroke-roll", 100.0))
+"""The rudiments the demo plays, at these tempi (bpm): a diddle, a double-stroke roll, flams, buzzes, a drag,
+an n-stroke roll, each designed note by note by the planner."""
+
 _SUFFIXES = {"json": ".json", "csv": ".csv", "plot": ".png"}
 _LABELS = {".mid": "MIDI", ".json": "JSON", ".csv": "CSV"}  # the page's links to a card's other files
 
@@ -53,6 +58,8 @@ class Demo:
         The shipped library, built in ``outdir / "library"``.
     strokes : tuple of Path
         Every library stroke's picture, sound and MIDI file, in ``outdir / "strokes"``.
+    rudiments : tuple of Path
+        The picture, sound, MIDI and JSON file of each of :data:`RUDIMENTS`, in ``outdir / "rudiments"``.
     piece : Composition
         The demo groove composed from it.
     played : int
@@ -67,6 +74,7 @@ class Demo:
     figures: tuple
     library: object
     strokes: tuple
+    rudiments: tuple
     piece: object
     played: int
     groove: tuple
@@ -125,7 +133,8 @@ def run_demo(outdir, *, progress=None):
     ----------
     outdir : str or Path
         Created if missing. It receives the figures' JSON, CSV and PNG files, ``library/``,
-        ``strokes/NAME.png|wav|mid`` for every library stroke, ``groove.pattern`` and the groove's
+        ``strokes/NAME.png|wav|mid`` for every library stroke, ``rudiments/NAME.png|wav|mid|json``
+        for the rudiments the planner plays (:data:`RUDIMENTS`), ``groove.pattern`` and the groove's
         CSV, JSON, PNG, WAV and MIDI files, and ``index.html``, which links the pictures, sounds and
         MIDI files by relative paths.
     progress : callable or None
@@ -136,8 +145,9 @@ def run_demo(outdir, *, progress=None):
     Demo
     """
     from ._atomic import write_atomic
-    from .compose import compose
+    from .compose import compose, rudiment_score
     from .palette.library import DEMO_PATTERN, build_library
+    from .palette.rudiments import rudiment
     from .render.outputs import write_composition_outputs, write_stroke_outputs
     from .render.page import write_index
     from .score import read_pattern
@@ -153,7 +163,27 @@ def run_demo(outdir, *, progress=None):
                                      audio=out / "strokes" / f"{name}.wav", midi=out / "strokes" / f"{name}.mid")
         cards.append(_card(name, entry.category, entry.description, entry.trajectory, files, out))
         strokes += files
-        report(0.4 + 0.5 * (i + 1) / len(library))
+        report(0.4 + 0.4 * (i + 1) / len(library))
+    (out / "rudiments").mkdir(exist_ok=True)
+    rudiment_cards, rudiment_files = [], []
+    for i, (name, tempo) in enumerate(RUDIMENTS):
+        chosen = rudiment(name)
+        played_rudiment = compose(rudiment_score(name, tempo, bars=2)[0])
+        stem = out / "rudiments" / name
+        files = write_composition_outputs(played_rudiment, title=f"{chosen.title} at {tempo:g} bpm",
+                                          plot=stem.with_suffix(".png"), audio=stem.with_suffix(".wav"),
+                                          midi=stem.with_suffix(".mid"), json=stem.with_suffix(".json"))
+        rudiment_files += files
+        links = {path.suffix: path.relative_to(out).as_posix() for path in files}
+        impacts = sum(len(s.impacts) for s in played_rudiment.sticks.values())
+        done = sum(p.played for p in played_rudiment.placements)
+        rudiment_cards.append(Card(
+            f"{chosen.number}. {chosen.title}", f"PAS rudiment at {tempo:g} bpm", f"Sticking {chosen.sticking}; "
+            f"two bars, every note designed by the planner ({len(played_rudiment.designs)} strokes).",
+            links.pop(".png"), links.pop(".wav"), tuple((_LABELS[suffix], link) for suffix, link in links.items()),
+            f"{done} of {plural(len(played_rudiment.placements), 'note')} played, {plural(impacts, 'impact')}; "
+            f"model {played_rudiment.model}."))
+        report(0.8 + 0.1 * (i + 1) / len(RUDIMENTS))
     piece = compose(read_pattern(DEMO_PATTERN), library)
     write_atomic(out / "groove.pattern", DEMO_PATTERN.read_text())
     groove = [out / "groove.pattern", *write_composition_outputs(
@@ -171,11 +201,13 @@ def run_demo(outdir, *, progress=None):
     index = out / "index.html"
     write_index(index, title="drumstroke: the stroke palette",
                 intro="Each stroke of the shipped library as the robot's motor angle θ(t) with its impacts, "
-                      "and as it sounds on a synthesized snare drum; first a groove composed from them, last the "
-                      "paper's Figs. 4–7 as drumstroke draws them.",
-                cards=[groove_card, *cards, *figure_cards])
+                      "and as it sounds on a synthesized snare drum; first a groove composed from them, then PAS "
+                      "rudiments whose every note the planner designed, last the paper's Figs. 4–7 as drumstroke "
+                      "draws them.",
+                cards=[groove_card, *cards, *rudiment_cards, *figure_cards])
     report(1.0)
-    return Demo(out, tuple(figures), library, tuple(strokes), piece, played, tuple(groove), index)
+    return Demo(out, tuple(figures), library, tuple(strokes), tuple(rudiment_files), piece, played, tuple(groove),
+                index)
 
 
 def _card(title, subtitle, description, stroke, files, out):
