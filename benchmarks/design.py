@@ -17,7 +17,6 @@ Prints a table and writes it with the machine and date to benchmarks/design_resu
 
 import datetime
 import json
-import math
 import platform
 import statistics
 import sys
@@ -26,15 +25,15 @@ from pathlib import Path
 
 import numpy as np
 import scipy
-from scipy.integrate import solve_ivp
-from scipy.optimize import fsolve
 
 import drumstroke
 from drumstroke.design import Target, assign_sticks, buzz, design, plan_stick
 from drumstroke.dynamics import velocity_to_level
-from drumstroke.model import coefficients
 
 HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+from reference import reference_flight
+
 REPEATS = 7
 STICK = drumstroke.Stick()
 
@@ -51,45 +50,6 @@ def median_time(fn, repeats=REPEATS):
         fn()
         times.append(time.perf_counter() - start)
     return statistics.median(times)
-
-
-def reference_flight(duration, u, v, model):
-    """The forces (m/s²) of a flight of ``duration`` from the head at ``u`` to the head at ``v`` (rad/s), by shooting.
-
-    Unknowns: the thumb's acceleration up to the apex and after it. Each guess is simulated with
-    solve_ivp (DOP853, rtol 1e-12) from the head to the apex (event ω = 0) and on to the head (event
-    θ = θ_max); fsolve drives the arrival time and speed to the targets.
-    """
-    co = coefficients(model, STICK)
-
-    def rate(a):
-        return (co.k * 9.8 + co.k_thumb * a) / co.inertia_ratio
-
-    def fly(forces):
-        up, down = rate(forces[0]), rate(forces[1])
-
-        def apex(t, y):
-            return y[1]
-
-        def head(t, y):
-            return y[0] - co.theta_max
-
-        apex.terminal, apex.direction = True, -1
-        head.terminal, head.direction = True, -1
-        rise = solve_ivp(lambda t, y: [y[1], -up * math.cos(y[0])], (0.0, 10.0), [co.theta_max, u], method="DOP853",
-                         events=apex, rtol=1e-12, atol=1e-14)
-        if not rise.t_events[0].size:
-            return 10.0, 0.0
-        t_apex, state = rise.t_events[0][0], rise.y_events[0][0]
-        fall = solve_ivp(lambda t, y: [y[1], -down * math.cos(y[0])], (t_apex, t_apex + 10.0), state,
-                         method="DOP853", events=head, first_step=1e-6, rtol=1e-12, atol=1e-14)
-        if not fall.t_events[0].size:
-            return 10.0, 0.0
-        return fall.t_events[0][0], -fall.y_events[0][0][1]
-
-    guess = (2.0 * u / duration * co.inertia_ratio - co.k * 9.8) / co.k_thumb  # constant deceleration
-    forces = fsolve(lambda f: [fly(f)[0] - duration, fly(f)[1] - v], [guess, guess * (v / u) ** 2], xtol=1e-12)
-    return forces
 
 
 def diddle_case(model):
@@ -188,7 +148,7 @@ def main():
                  else f"time error {row['time_error']:.1e} s, level error {row['level_error']:.1e} dB")
         lines.append(f"{row['case']:<48} {row['ours'] * 1e3:>7.4g} ms {ref:>10} {ratio:>8}  {extra}")
     print("\n".join(lines))
-    machine = {"date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
+    machine = {"date": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
                "platform": platform.platform(), "processor": platform.processor(), "python": platform.python_version(),
                "numpy": np.__version__, "scipy": scipy.__version__, "drumstroke": drumstroke.__version__}
     (HERE / "design_results.json").write_text(json.dumps({"machine": machine, "rows": rows}, indent=2) + "\n")

@@ -27,6 +27,10 @@ bounce launched at 1e-6 rad/s rises only ~5e-14 rad, so an absolute error of 1e-
 the free-bounce at rtol/atol = 1e-13/1e-15: integrating θ, impact times off by up to
 3.8e-10 s and the rest time 1.7e-9 s late; integrating u, 4.8e-13 s.
 
+:func:`reference_flight` is the inverse the same way: the two forces of one flight (one to the apex,
+one after it) found by shooting with ``solve_ivp`` and ``fsolve``, the reference for
+``drumstroke.design`` (benchmarks/design.py, tests/test_design.py).
+
 Tolerances, measured with ``python benchmarks/reference.py`` against
 :func:`oracle_impacts` (the exact elliptic solution):
 
@@ -44,8 +48,10 @@ import math
 
 import numpy as np
 from scipy.integrate import solve_ivp
+from scipy.optimize import fsolve
 from scipy.special import ellipk, ellipkinc
 
+import drumstroke
 from drumstroke.model import coefficients
 
 RTOL = 1e-13
@@ -356,6 +362,45 @@ def _self_check():  # python benchmarks/reference.py: the numbers quoted in the 
         worst = max(worst, float(np.max(np.abs(t - ot))))
         count += len(t)
     print(f"40 random constant-force strokes, {count} impacts: max |dt| = {worst:.2g} s")
+
+
+def reference_flight(duration, u, v, model):
+    """The forces (m/s²) of a flight of ``duration`` from the head at ``u`` to the head at ``v`` (rad/s), by shooting.
+
+    Unknowns: the thumb's acceleration up to the apex and after it. Each guess is simulated with
+    solve_ivp (DOP853, rtol 1e-12) from the head to the apex (event ω = 0) and on to the head (event
+    θ = θ_max); fsolve drives the arrival time and speed to the targets.
+    """
+    co = coefficients(model, drumstroke.Stick())
+
+    def rate(a):
+        return (co.k * 9.8 + co.k_thumb * a) / co.inertia_ratio
+
+    def fly(forces):
+        up, down = rate(forces[0]), rate(forces[1])
+
+        def apex(t, y):
+            return y[1]
+
+        def head(t, y):
+            return y[0] - co.theta_max
+
+        apex.terminal, apex.direction = True, -1
+        head.terminal, head.direction = True, -1
+        rise = solve_ivp(lambda t, y: [y[1], -up * math.cos(y[0])], (0.0, 10.0), [co.theta_max, u], method="DOP853",
+                         events=apex, rtol=1e-12, atol=1e-14)
+        if not rise.t_events[0].size:
+            return 10.0, 0.0
+        t_apex, state = rise.t_events[0][0], rise.y_events[0][0]
+        fall = solve_ivp(lambda t, y: [y[1], -down * math.cos(y[0])], (t_apex, t_apex + 10.0), state,
+                         method="DOP853", events=head, first_step=1e-6, rtol=1e-12, atol=1e-14)
+        if not fall.t_events[0].size:
+            return 10.0, 0.0
+        return fall.t_events[0][0], -fall.y_events[0][0][1]
+
+    guess = (2.0 * u / duration * co.inertia_ratio - co.k * 9.8) / co.k_thumb  # constant deceleration
+    forces = fsolve(lambda f: [fly(f)[0] - duration, fly(f)[1] - v], [guess, guess * (v / u) ** 2], xtol=1e-12)
+    return forces
 
 
 if __name__ == "__main__":

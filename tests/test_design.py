@@ -6,6 +6,8 @@ its impacts compared); strokes simulated from random recipes, whose audible impa
 """
 
 import math
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -16,6 +18,10 @@ from scipy.special import ellipk, ellipkinc
 import drumstroke
 from drumstroke.design import ForceRange, Start, Unreachable, buzz, design
 from drumstroke.design.chain import HIGHEST
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+from reference import reference_flight
+
 from drumstroke.dynamics import velocity_to_level
 from drumstroke.model import coefficients
 
@@ -73,6 +79,18 @@ def test_diddles_are_two_notes_as_a_drummer_plays_them(model, gap, second):
     assert theta > HEAD and omega == pytest.approx(0.0, abs=1e-6)  # caught at the apex
 
 
+@pytest.mark.parametrize("model", drumstroke.MODELS)
+@pytest.mark.parametrize("gap, ratio", [(0.08, 1.0 / 0.86), (0.12, 1.6), (0.3, 0.9)])
+def test_a_flights_forces_equal_an_independent_shooting_with_solve_ivp(model, gap, ratio):
+    """benchmarks/reference.py's reference_flight: the same two forces found by scipy's DOP853 and fsolve."""
+    u = 3.0
+    v = ratio * u
+    designed = design([0.3, 0.3 + gap], [level(u / 0.86), level(v)], model=model, forces=WIDE)
+    rise, fall = [p.force for p in designed.pieces if p.phase in ("rise", "fall")]
+    up, down = reference_flight(gap, u, v, model)
+    assert (rise, fall) == pytest.approx((up, down), rel=1e-6, abs=1e-6)
+
+
 def test_the_design_is_the_recipe_the_solver_plays():
     """The recipe on its own (written and read back as TOML) makes the notes: the design is no private model."""
     designed = design([0.3, 0.38, 0.46, 0.53], velocities=[110, 90, 90, 120], model="geometry")
@@ -104,7 +122,7 @@ def test_a_buzz_decays_as_asked():
 
 
 def test_the_ends():
-    notes = dict(times=[0.2, 0.3], velocities=[90, 90])
+    notes = {"times": [0.2, 0.3], "velocities": [90, 90]}
     caught = design(**notes, end="catch")
     pressed = design(**notes, end="press")
     free = design(**notes, end="bounce")
@@ -179,7 +197,7 @@ def forcings(draw):
     if kind == "constant":
         return drumstroke.Constant(draw(reals(0.0, 600.0)))
     if kind == "piecewise":
-        times = sorted(set(round(t, 4) for t in draw(st.lists(reals(0.0, 3.0), min_size=2, max_size=5))))
+        times = sorted({round(t, 4) for t in draw(st.lists(reals(0.0, 3.0), min_size=2, max_size=5))})
         values = draw(st.lists(reals(0.0, 600.0), min_size=len(times), max_size=len(times)))
         return drumstroke.PiecewiseLinear(list(zip(times, values)))
     return drumstroke.Pulses(amplitude=draw(reals(20.0, 300.0)), period=draw(reals(0.1, 0.6)),
