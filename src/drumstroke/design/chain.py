@@ -35,6 +35,7 @@ True
 ('catch', 'paper', 'piecewise-linear')
 """
 
+import itertools
 import math
 from dataclasses import dataclass, field
 
@@ -604,9 +605,8 @@ class _Plan:
         return low - slack <= rate <= high + slack
 
     def check_rate(self, note, rate, what):
-        low, high = self.rate_of(self.forces.low), self.rate_of(self.forces.high)
         if not self.within(rate):
-            limit = self.forces.high if rate > high else self.forces.low
+            limit = self.forces.high if rate > self.rate_of(self.forces.high) else self.forces.low
             raise Unreachable(f"note {note} ({self.times[note]:.6g} s, {self.levels[note]:.2f} dB): {what} needs "
                               f"a = {self.force_of(rate):.5g} m/s^2, beyond the force limit {limit:g} m/s^2",
                               note=note)
@@ -792,7 +792,7 @@ def _profile(pieces):
     if all(force == forces[0] for force in forces):
         return Constant(forces[0])
     points = [(0.0, forces[0])]
-    for before, after in zip(pieces, pieces[1:]):
+    for before, after in itertools.pairwise(pieces):
         if after.force != before.force:
             points += [(after.start - _RAMP, before.force), (after.start + _RAMP, after.force)]
     return PiecewiseLinear(points)

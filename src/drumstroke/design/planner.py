@@ -183,8 +183,8 @@ def plan_stick(targets, *, model="paper", cor=None, stick=None, forces=None, lim
         if not isinstance(target, Target):
             raise ParameterError(f"targets must be drumstroke.design.Target, got {target!r}")
     targets = sorted(targets, key=lambda target: target.t)
-    options = dict(model=model, cor=DEFAULT_COR if cor is None else cor, stick=stick,
-                   forces=forces or ForceRange(), limits=limits or Limits())
+    options = {"model": model, "cor": DEFAULT_COR if cor is None else cor, "stick": stick,
+               "forces": forces or ForceRange(), "limits": limits or Limits()}
     moves = moves or RETURN_LIMITS
     return _Planner(targets, options, moves, gap).run()
 
