@@ -26,7 +26,6 @@ from pathlib import Path
 from .._atomic import write_atomic
 from ..errors import ParameterError
 
-
 SUFFIXES = (".toml",)
 """The extension of the TOML files written."""
 
