@@ -29,6 +29,7 @@ from ..errors import ParameterError
 SUFFIXES = (".toml",)
 """The extension of the TOML files written."""
 
+
 def read_toml(path, what):
     """The TOML file at ``path`` as a dict; an unreadable or invalid file is a ParameterError naming the ``what``."""
     try:
