@@ -1,7 +1,7 @@
 """The documentation site builds with --strict, and every example in the README and docs/ runs.
 
-Examples run page by page in a fresh folder holding a copy of examples/: a page's ```python blocks
-in order in one namespace, and each `drumstroke ...` line of its ```sh blocks with exit status 0,
+Examples run page by page in a fresh folder holding a copy of examples/ (and of tests/data/, real MIDI
+files): a page's ```python blocks in order in one namespace, and each `drumstroke ...` line of its ```sh blocks with exit status 0,
 interleaved in page order (a command may use a file an earlier block wrote). The README's set-up
 section is left out: CI runs those two commands itself. `drumstroke listen serve` serves forever, so
 it is started in the background, checked to answer HTTP on its port, and stopped.
@@ -88,6 +88,7 @@ def _serve(command, folder, env):
 @pytest.mark.parametrize("page", PAGES, ids=[p.relative_to(ROOT).as_posix() for p in PAGES])
 def test_every_example_on_the_page_runs(page, tmp_path, monkeypatch):
     shutil.copytree(ROOT / "examples", tmp_path / "examples")
+    shutil.copytree(ROOT / "tests" / "data", tmp_path / "tests" / "data")  # the real songs the docs play
     monkeypatch.chdir(tmp_path)
     for name, value in QUIET.items():
         monkeypatch.setenv(name, value)
