@@ -17,7 +17,6 @@ from scipy.special import ellipk, ellipkinc
 
 import drumstroke
 from drumstroke.design import ForceRange, Start, Unreachable, buzz, design
-from drumstroke.design.chain import HIGHEST
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 from reference import reference_flight
@@ -223,10 +222,11 @@ def test_the_audible_impacts_of_any_stroke_are_designed_back(force, model, theta
     assume(len(keep) >= 1)
     event(f"{min(len(keep), 10) // 3 * 3}+ notes")
     times, targets = stroke.impacts.t[keep], levels[keep]
-    assume(stroke.sample(1000.0).theta.max() < HIGHEST - 0.25)  # well below the highest a design goes
-    designed = design(times, targets, model=model, cor=cor, forces=WIDE)
+    assume(stroke.sample(1000.0).theta.max() < 1.2)  # clear of the vertical, where the stick balances
+    # the design's two forces a flight may need a higher apex than the recipe's own forcing reached
+    designed = design(times, targets, model=model, cor=cor, forces=WIDE, highest=1.5)
     n = len(keep)
     assert designed.impacts.t[:n] == pytest.approx(times, abs=1e-4)  # the tolerance
     assert designed.impacts.level_db[:n] == pytest.approx(targets, abs=0.5)
-    assert designed.time_error < 1e-7 and designed.level_error < 1e-4  # what the design reaches
+    assert designed.time_error < 1e-6 and designed.level_error < 1e-3  # what a design guarantees (chain.DRIFT)
     assert len(designed.impacts) == n  # caught: no other impact, before or after

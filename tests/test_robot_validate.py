@@ -364,7 +364,8 @@ def test_a_composition_validates_per_stick(library, tmp_path):
     for stick, trajectory in piece.sticks.items():
         checked = validate_file(path, stick=stick)
         assert np.array_equal(checked.theta, trajectory.sample(RATE).theta)
-        assert checked.peak_speed > 10.0  # a loud note is in it: the validator saw the fast part
+        # the validator saw the fast part: at least the speed of the stick's loudest impact (within a sample)
+        assert checked.peak_speed >= 0.95 * np.abs(trajectory.impacts.omega).max() > 5.0
     with pytest.raises(ParameterError, match="has the sticks right, left; name one"):
         validate_file(path)
 

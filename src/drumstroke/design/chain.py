@@ -302,7 +302,7 @@ class Design:
 
 
 def design(times, levels=None, *, velocities=None, start=None, end="catch", model="paper", cor=DEFAULT_COR,
-           stick=None, forces=None, limits=None, lead=LEAD, tail=None, catch_at=None):
+           stick=None, forces=None, limits=None, lead=LEAD, tail=None, catch_at=None, highest=HIGHEST):
     """Design the stroke that plays ``times`` at ``levels`` on one stick, and check it by simulating it.
 
     Parameters
@@ -336,6 +336,9 @@ def design(times, levels=None, *, velocities=None, start=None, end="catch", mode
     catch_at : float, optional
         rad: for ``end="catch"``, the height to catch the last rebound at (the force after the
         last note follows from it). Default: the grip of the stroke's last rise.
+    highest : float in (theta_max, pi/2)
+        rad, the highest the design may take the stick (default :data:`HIGHEST`; lower if the
+        joint's ``limits.theta_high`` is).
 
     Returns
     -------
@@ -348,7 +351,7 @@ def design(times, levels=None, *, velocities=None, start=None, end="catch", mode
         the nearest reachable time and level.
     """
     plan = _Plan.of(times, levels, velocities, start=start, end=end, model=model, cor=cor, stick=stick,
-                    forces=forces, limits=limits, lead=lead, tail=tail, catch_at=catch_at)
+                    forces=forces, limits=limits, lead=lead, tail=tail, catch_at=catch_at, highest=highest)
     return plan.build()
 
 
@@ -367,10 +370,11 @@ class _Plan:
     lead: float
     tail: float | None
     catch_at: float | None = None
+    highest: float = HIGHEST
 
     @classmethod
     def of(cls, times, levels, velocities, *, start, end, model, cor, stick, forces, limits, lead, tail,
-           catch_at=None):
+           catch_at=None, highest=HIGHEST):
         check_choice("model", model, MODELS)
         check_choice("end", end, ENDS)
         cor = check_real("cor", cor, low=0.0, high=1.0, high_open=True)
@@ -403,12 +407,14 @@ class _Plan:
                               f"joint's max_speed {limits.max_speed:g} rad/s; the loudest reachable is {loudest:.2f} dB",
                               note=i, nearest_level=loudest)
         recipe = Recipe(force=Constant(0.0), model=model, cor=cor, stick=stick)
+        highest = check_real("highest", highest, low=stick.theta_max, high=math.pi / 2, low_open=True,
+                             high_open=True, unit="rad")
         if catch_at is not None:
             if end != "catch":
                 raise ParameterError(f"catch_at is for end='catch', got end={end!r}")
-            catch_at = check_real("catch_at", catch_at, low=stick.theta_max, high=min(limits.theta_high, HIGHEST),
+            catch_at = check_real("catch_at", catch_at, low=stick.theta_max, high=min(limits.theta_high, highest),
                                   low_open=True, unit="rad")
-        return cls(times, levels, speeds, start, end, recipe, forces, limits, lead, tail, catch_at)
+        return cls(times, levels, speeds, start, end, recipe, forces, limits, lead, tail, catch_at, highest)
 
     # The model in torque rates: C = (k·g + k′·a)/D presses the stick toward the head.
     def rate_of(self, force):
@@ -424,7 +430,7 @@ class _Plan:
 
     @property
     def top(self):
-        return math.sin(min(self.limits.theta_high, HIGHEST))
+        return math.sin(min(self.limits.theta_high, self.highest))
 
     def build(self):
         pieces, release, hold, theta0 = self.pieces()

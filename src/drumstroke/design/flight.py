@@ -183,20 +183,10 @@ def solve_flight(duration, *, u, v, sh, top, first=None, last=None):
     neighbouring flights' forces, so that no force changes at an impact (see :mod:`drumstroke.design.chain`).
     None when no apex below ``top`` gives the duration, or a part is impossible.
     """
-    s0, w0, t0 = sh, u, 0.0
-    if first is not None:
-        rate, s0 = first
-        w0 = math.sqrt(max(u * u - 2.0 * rate * (s0 - sh), 0.0))
-        if w0 == 0.0:
-            return None
-        t0 = orbit_time(sh, u, rate) - orbit_time(s0, w0, rate)
-    s1, w1, t1 = sh, v, 0.0
-    if last is not None:
-        rate, s1 = last
-        w1 = math.sqrt(max(v * v - 2.0 * rate * (s1 - sh), 0.0))
-        if w1 == 0.0:
-            return None
-        t1 = orbit_time(sh, v, rate) - orbit_time(s1, w1, rate)
+    s0, w0, t0 = _near_head(first, u, sh)
+    s1, w1, t1 = _near_head(last, v, sh)
+    if w0 == 0.0 or w1 == 0.0:
+        return None
     span = duration - t0 - t1
     if span <= 0.0:
         return None
@@ -206,3 +196,17 @@ def solve_flight(duration, *, u, v, sh, top, first=None, last=None):
     t_apex = t0 + height_time(apex, s0) / w0
     return Flight(apex, force_to_reach(w0, apex - s0), force_to_reach(w1, apex - s1), t0, t_apex, duration - t1,
                   duration, None if first is None else first[0], None if last is None else last[0])
+
+
+def _near_head(part, speed, sh):
+    """Where a short part of a flight next to the head ends: (sin θ, |ω| rad/s, its duration s).
+
+    ``part`` is (rate, height) or None (no part: the head itself, at ``speed``); the stick crosses the part
+    at ``speed`` on the head, rising or falling alike (a flight is time-reversible). |ω| is 0 when the
+    part would not reach its height.
+    """
+    if part is None:
+        return sh, speed, 0.0
+    rate, height = part
+    w = math.sqrt(max(speed * speed - 2.0 * rate * (height - sh), 0.0))
+    return height, w, (orbit_time(sh, speed, rate) - orbit_time(height, w, rate) if w > 0.0 else 0.0)
