@@ -1,0 +1,442 @@
+"""The live performer: notes in as they come, setpoints out at the control rate (SPEC §9).
+
+A :class:`Performer` keeps, for each stick, the motion planned so far as a chain of pieces on one
+clock (s): designed strokes (:mod:`drumstroke.design`), jerk-limited moves and holds. A note that
+arrives now is heard ``latency`` s later (or at the time it names); the planner designs its stroke
+from where the stick will be a little after now (``guard`` s: nothing already sent, or about to be,
+changes), in this order of preference:
+
+1. **a bounce** from the stick's last planned impact, when that impact is still to come: the stroke
+   goes on through the new note, as a drummer's hand lets a stick bounce into the next note;
+2. **from the rebound in flight**, when the last impact is past but the stick still rises from it;
+3. **a throw** from where the stick rests (caught at the apex of its last rebound, or held);
+4. **a move and a throw**: a time-optimal jerk-limited move to the height of a quick throw, then the
+   throw.
+
+The piece the new stroke replaces is cut where it starts; what came before is kept sample for sample.
+A note that cannot be played in time (too soon, too loud for the time left, before a note already
+planned on its stick) is dropped and logged with its reason; the motion never jumps.
+
+Samples are evaluated when asked for (:meth:`Performer.setpoints`), exactly as an offline run of the
+same notes at the same arrival times gives them: the planner's decisions depend on the notes and the
+times they arrived only, so :meth:`Performer.replay` reproduces a session from its log.
+
+Examples
+--------
+>>> clock = ManualClock()
+>>> performer = Performer(clock=clock)
+>>> performer.note("right", 100).planned                   # heard 50 ms from now
+True
+>>> clock.set(0.2)
+>>> chunk = performer.setpoints(0.2)
+>>> chunk.t.shape, chunk.theta.shape
+((201,), (201, 2))
+"""
+
+import math
+import threading
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .._checks import check_real
+from ..design import ForceRange, Start, Unreachable, design
+from ..design.buzz import DENSITY, buzz_times
+from ..design.planner import LEADS
+from ..dynamics import velocity_to_level
+from ..errors import ParameterError
+from ..model import MODELS, Stick
+from ..palette.motion import Limits, plan_return, return_time
+from ..recipe import DEFAULT_COR
+from ..trajectory import DEFAULT_RATE
+
+LATENCY = 0.05
+"""Default lookahead (s): a note arriving now is heard this much later."""
+
+GUARD = 0.002
+"""Default time (s) after now from which a new note may change the motion: what is sent by then stays."""
+
+BUZZ = 0.25
+"""Default length (s) of a live buzz note (it cannot know the stick's next note)."""
+
+STROKES = ("auto", "buzz")
+"""The strokes a live note may ask for."""
+
+
+class SystemClock:
+    """Seconds since the clock was made, from the monotonic clock."""
+
+    def __init__(self):
+        self._zero = time.monotonic()
+
+    def now(self):
+        return time.monotonic() - self._zero
+
+
+class ManualClock:
+    """A clock that stands still until told: for tests and for replaying a session faster than real time."""
+
+    def __init__(self, t=0.0):
+        self._t = float(t)
+
+    def now(self):
+        return self._t
+
+    def set(self, t):
+        """Move the clock to ``t`` (s), never back."""
+        t = check_real("t", t, low=self._t, unit="s (not before the clock's time)")
+        self._t = t
+
+
+@dataclass(frozen=True)
+class LiveNote:
+    """A note as it arrived: when (s, the performer's clock), on which stick, how loud, when it is heard.
+
+    ``cut`` is the time from which the planner changed the motion for it (s).
+    """
+
+    arrived: float
+    stick: str
+    velocity: float
+    at: float
+    stroke: str = "auto"
+    duration: float | None = None
+    cut: float = math.nan
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """What became of a live note: planned or dropped (with the reason), and the stroke designed for it."""
+
+    note: LiveNote
+    planned: bool
+    reason: str = ""
+    design: object = None
+
+
+@dataclass(frozen=True, repr=False)
+class Chunk:
+    """Setpoints of every stick at consecutive control periods.
+
+    Attributes
+    ----------
+    t : ndarray [shape=(n,)]
+        s, on the performer's clock, k/rate.
+    theta, omega, alpha : ndarray [shape=(n, sticks)]
+        rad, rad/s, rad/s² (α is the flight acceleration dω/dt, impacts excluded).
+    sticks : tuple of str
+    """
+
+    t: np.ndarray
+    theta: np.ndarray
+    omega: np.ndarray
+    alpha: np.ndarray
+    sticks: tuple
+
+    def __len__(self):
+        return len(self.t)
+
+    def __repr__(self):
+        span = f"{self.t[0]:.6g}-{self.t[-1]:.6g} s" if len(self.t) else "empty"
+        return f"Chunk({len(self.t)} setpoints of {', '.join(self.sticks)}, {span})"
+
+
+@dataclass
+class _Piece:
+    """One piece of a stick's motion from ``start`` (s, the clock) to ``end``: a curve on its own clock."""
+
+    start: float
+    end: float
+    path: object  # path(local t) -> (theta, omega)
+    impacts: np.ndarray = field(default_factory=lambda: np.empty(0))  # local times of its impacts
+    design: object = None
+    offset: float = 0.0  # local time = t - offset
+
+
+class _Stick:
+    """One stick's planned motion: pieces end to end from time 0, the last one holding on forever."""
+
+    def __init__(self, name, theta):
+        self.name = name
+        self.pieces = [_Piece(0.0, math.inf, _hold(theta))]
+        self.last_note = -math.inf
+
+    def piece_at(self, t):
+        for piece in reversed(self.pieces):
+            if piece.start <= t:
+                return piece
+        return self.pieces[0]
+
+    def state(self, t):
+        piece = self.piece_at(t)
+        theta, omega = piece.path(np.array([t - piece.offset]))
+        return float(theta[0]), float(omega[0])
+
+    def evaluate(self, t):
+        """θ, ω and α at times ``t`` (s) [shape=(n,)], each from the piece that holds it."""
+        theta, omega, alpha = (np.empty(len(t)) for _ in range(3))
+        starts = np.array([piece.start for piece in self.pieces])
+        which = np.searchsorted(starts, t, side="right") - 1
+        for k in np.unique(which):
+            piece = self.pieces[k]
+            mask = which == k
+            local = t[mask] - piece.offset
+            theta[mask], omega[mask] = piece.path(local)
+            alpha[mask] = _flight_acceleration(piece, local)
+        return theta, omega, alpha
+
+    def replace_from(self, cut, pieces):
+        """Keep the motion before ``cut`` (s) and follow it with ``pieces``."""
+        kept = [piece for piece in self.pieces if piece.start < cut]
+        kept[-1].end = cut
+        self.pieces = kept + pieces
+
+    def last_design(self):
+        return next((piece for piece in reversed(self.pieces) if piece.design is not None), None)
+
+
+class Performer:
+    """Notes in, setpoints out: the live runtime on one clock (see the module's description).
+
+    Parameters
+    ----------
+    sticks : sequence of str
+        The sticks' names (default right and left).
+    model : {"paper", "geometry"}
+    rate : float in [10, 1e5]
+        The control rate (Hz).
+    latency : float in (0, 10]
+        s between a note's arrival and when it is heard, unless it names its time.
+    guard : float in (0, latency)
+        s after now from which a new note may change the motion.
+    cor : float in [0, 1), optional
+    forces : ForceRange, optional
+        The thumb accelerations the planner may use (default 0 to 3000 m/s²).
+    limits : Limits, optional
+        The joint's limits: the strokes and the moves keep them (default ``Limits()``, a strong drumming
+        joint: live moves must be quick).
+    rest : float
+        rad, where the sticks wait before the first note (default 0: level, ready to throw).
+    clock : object with ``now()``, optional
+        Default a :class:`SystemClock`; a :class:`ManualClock` runs faster than real time.
+    """
+
+    def __init__(self, *, sticks=("right", "left"), model="paper", rate=DEFAULT_RATE, latency=LATENCY, guard=GUARD,
+                 cor=None, forces=None, limits=None, rest=0.0, clock=None):
+        if model not in MODELS:
+            raise ParameterError(f"model must be one of {', '.join(MODELS)}, got {model!r}")
+        sticks = tuple(sticks)
+        if not sticks or len(set(sticks)) != len(sticks) or not all(isinstance(s, str) and s for s in sticks):
+            raise ParameterError(f"sticks must be distinct non-empty names, got {sticks!r}")
+        self.sticks = sticks
+        self.model = model
+        self.rate = check_real("rate", rate, low=10.0, high=1e5, unit="Hz")
+        self.latency = check_real("latency", latency, low=0.0, high=10.0, low_open=True, unit="s")
+        self.guard = check_real("guard", guard, low=0.0, high=self.latency, low_open=True, high_open=True, unit="s")
+        self.limits = limits or Limits()
+        self.head = Stick().theta_max
+        rest = check_real("rest", rest, low=self.head, high=self.limits.theta_high, low_open=True, unit="rad")
+        self.options = {"model": model, "cor": DEFAULT_COR if cor is None else cor, "forces": forces or ForceRange(),
+                        "limits": self.limits}
+        self.clock = clock or SystemClock()
+        self.log = []
+        self._sticks = {name: _Stick(name, rest) for name in sticks}
+        self._next = 0  # the index k of the next sample to give, at k/rate
+        self._lock = threading.Lock()
+
+    # --- notes in --------------------------------------------------------------------------------------------------
+
+    def note(self, stick, velocity, *, at=None, stroke="auto", duration=None, cut=None):
+        """Plan a note heard at ``at`` (s, the clock; default now + latency) on ``stick``; return its :class:`Outcome`.
+
+        Parameters
+        ----------
+        stick : str
+            One of the performer's sticks.
+        velocity : float in [1, 127]
+        at : float, optional
+            s on the performer's clock.
+        stroke : {"auto", "buzz"}
+        duration : float in (0, 10], optional
+            s, a buzz's length (default :data:`BUZZ`).
+        cut : float, optional
+            s: change the motion from this time (a replay gives the logged one); default now + guard.
+        """
+        with self._lock:
+            arrived = self.clock.now()
+            outcome = self._note(arrived, stick, velocity, at, stroke, duration, cut)
+            self.log.append(outcome)
+            return outcome
+
+    def _note(self, arrived, stick, velocity, at, stroke, duration, cut):
+        cut = max(arrived + self.guard, self._next / self.rate) if cut is None else cut
+        note = LiveNote(arrived, stick, velocity, arrived + self.latency if at is None else at, stroke, duration, cut)
+        reason = self._refusal(note)
+        if reason:
+            return Outcome(note, False, reason)
+        note = LiveNote(arrived, stick, float(velocity), float(note.at), stroke, duration, cut)
+        target = self._sticks[stick]
+        if note.at <= target.last_note + 1e-3:
+            return Outcome(note, False, f"heard at {note.at:.6g} s, not after the {stick} stick's last note at "
+                                        f"{target.last_note:.6g} s")
+        try:
+            pieces, made = self._plan(target, note)
+        except (Unreachable, ParameterError) as error:
+            return Outcome(note, False, str(error))
+        target.replace_from(pieces[0].start, pieces)
+        target.last_note = made.times[-1]
+        return Outcome(note, True, design=made)
+
+    def _refusal(self, note):
+        """Why a note cannot be taken as given (its values), or ''."""
+        if note.stick not in self._sticks:
+            return f"stick must be one of {', '.join(self.sticks)}, got {note.stick!r}"
+        if note.stroke not in STROKES:
+            return f"stroke must be one of {', '.join(STROKES)}, got {note.stroke!r}"
+        for name, value, low, high in (("velocity", note.velocity, 1.0, 127.0), ("at", note.at, -1e9, 1e9),
+                                       ("duration", note.duration, 0.0, 10.0)):
+            if value is None and name == "duration":
+                continue
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) \
+                    or not low <= value <= high or (name == "duration" and value == 0.0):
+                return f"{name} must be a finite number in [{low:g}, {high:g}], got {value!r}"
+        if note.duration is not None and note.stroke != "buzz":
+            return "only a buzz has a duration"
+        if note.at < note.cut + 1e-3:
+            return f"heard at {note.at:.6g} s, too soon: the motion may change from {note.cut:.6g} s"
+        return ""
+
+    def _plan(self, stick, note):
+        """The pieces that play ``note`` from its cut on, and the design; raises Unreachable when none can."""
+        level = velocity_to_level(note.velocity)
+        if note.stroke == "buzz":
+            times = buzz_times(note.at, note.at + (note.duration or BUZZ), DENSITY)
+        else:
+            times = np.array([note.at])
+        levels = np.full(len(times), level)
+        cut = note.cut
+        last = stick.last_design()
+        failure = None
+        if last is not None:
+            made = last.design
+            future = made.impacts.t[: len(made.times)]
+            if future[-1] >= cut:  # 1. a bounce from the last planned impact
+                start = Start(float(future[-1]), self.head, self.options["cor"] * float(-made.impacts.omega[
+                    len(made.times) - 1]))
+                try:
+                    return self._stroke(times, levels, start, cut=start.t)
+                except Unreachable as error:
+                    failure = error
+            else:
+                theta, omega = stick.state(cut)
+                if omega > 1e-9:  # 2. from the rebound, rising
+                    try:
+                        return self._stroke(times, levels, Start(cut, theta, omega), cut=cut)
+                    except Unreachable as error:
+                        failure = failure or error
+        rest_from = max(cut, last.end if last is not None and math.isfinite(last.end) else cut)
+        theta, omega = stick.state(rest_from)
+        if abs(omega) < 1e-6 and theta > self.head + 1e-9:  # 3. a throw from where the stick rests
+            try:
+                return self._stroke(times, levels, Start(rest_from, theta), cut=rest_from)
+            except Unreachable as error:
+                failure = failure or error
+        for lead in LEADS:  # 4. a move to a quick throw's height, then the throw
+            try:
+                made = design(times, levels, lead=lead, **self.options)
+            except Unreachable as error:
+                failure = failure or error
+                continue
+            window = made.release - rest_from
+            target = (float(made.recipe.theta0), 0.0)
+            if window < 0.0 or return_time((theta, omega), target, self.head, self.limits) > window:
+                continue
+            moves = plan_return((theta, omega), target, window, self.head, self.limits)
+            if moves is None:
+                continue
+            pieces, t = [], rest_from
+            for duration, path in moves:
+                pieces.append(_Piece(t, t + duration, path, offset=t))
+                t += duration
+            return pieces + self._design_pieces(made), made
+        raise failure or Unreachable(f"heard at {note.at:.6g} s: no stroke reaches it from the {stick.name} stick's "
+                                     "motion in time", note=0)
+
+    def _stroke(self, times, levels, start, *, cut):
+        made = design(times, levels, start=start, **self.options)
+        if made.release < cut - 1e-9:
+            raise Unreachable("the stroke would start before the motion may change", note=0)
+        hold = [_Piece(cut, made.release, _hold(start.theta), offset=cut)] if made.release > cut else []
+        return hold + self._design_pieces(made), made
+
+    def _design_pieces(self, made):
+        """The designed stroke from its release, then holding where it was caught."""
+        stroke = made.stroke
+        theta_end = float(made.state(made.t_end)[0])
+        return [_Piece(made.release, made.t_end, stroke.arcs.evaluate, stroke.impacts.t, made, offset=made.release),
+                _Piece(made.t_end, math.inf, _hold(theta_end), offset=made.t_end)]
+
+    # --- setpoints out ---------------------------------------------------------------------------------------------
+
+    def setpoints(self, until):
+        """Every setpoint from the last one given up to ``until`` (s, the clock), as a :class:`Chunk`."""
+        with self._lock:
+            stop = int(math.floor(float(until) * self.rate + 1e-9)) + 1
+            k = np.arange(self._next, max(stop, self._next))
+            self._next = max(stop, self._next)
+            t = k / self.rate
+            columns = [self._sticks[name].evaluate(t) for name in self.sticks]
+        return Chunk(t, *(np.column_stack([c[i] for c in columns]) if len(t) else np.empty((0, len(self.sticks)))
+                          for i in range(3)), self.sticks)
+
+    @property
+    def sent(self):
+        """s: the time of the last setpoint given (−1/rate before the first)."""
+        return (self._next - 1) / self.rate
+
+    # --- replay ----------------------------------------------------------------------------------------------------
+
+    @classmethod
+    def replay(cls, log, *, until, **options):
+        """The setpoints an offline performer gives for the notes of ``log`` (a session's), up to ``until`` (s).
+
+        Every note is given at the time it arrived and with the cut it was planned from, so the setpoints
+        equal those of the session, sample for sample.
+        """
+        clock = ManualClock()
+        performer = cls(clock=clock, **options)
+        for outcome in sorted(log, key=lambda o: o.note.arrived):
+            note = outcome.note
+            clock.set(max(note.arrived, clock.now()))
+            performer.note(note.stick, note.velocity, at=note.at, stroke=note.stroke, duration=note.duration,
+                           cut=note.cut)
+        return performer.setpoints(until)
+
+
+def _hold(theta):
+    def hold(t):
+        t = np.asarray(t, dtype=float)
+        return np.full(t.shape, theta), np.zeros(t.shape)
+
+    return hold
+
+
+_STEP = 1e-6  # s: the half-step of the central difference of ω that gives α
+
+
+def _flight_acceleration(piece, local):
+    """dω/dt (rad/s²) of a piece at its local times: a central difference of its ω over 2 µs, one-sided where an
+    impact lies within the step (after an impact forwards, before one backwards), as Trajectory's alpha is."""
+    before, after = local - _STEP, local + _STEP
+    if len(piece.impacts):
+        i = np.searchsorted(piece.impacts, local, side="right")
+        previous = piece.impacts[np.maximum(i - 1, 0)]
+        following = piece.impacts[np.minimum(i, len(piece.impacts) - 1)]
+        just_after = (i > 0) & (local - previous < _STEP)
+        just_before = (i < len(piece.impacts)) & (following - local <= _STEP)
+        before = np.where(just_after, local, np.where(just_before, local - 2 * _STEP, before))
+        after = np.where(just_after, local + 2 * _STEP, np.where(just_before, local, after))
+    _, omega_before = piece.path(np.maximum(before, piece.start - piece.offset))
+    _, omega_after = piece.path(after)
+    return (omega_after - omega_before) / (after - np.maximum(before, piece.start - piece.offset))
