@@ -36,7 +36,7 @@ True
 import math
 import threading
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -54,8 +54,14 @@ from ..trajectory import DEFAULT_RATE
 LATENCY = 0.05
 """Default lookahead (s): a note arriving now is heard this much later."""
 
-GUARD = 0.002
-"""Default time (s) after now from which a new note may change the motion: what is sent by then stays."""
+GUARD = 0.005
+"""Default time (s) after now from which a new note may change the motion: setpoints up to then may be given early."""
+
+CLOSEST = 0.03
+"""Default shortest time (s) between two notes of one stick: closer ones are dropped before any planning."""
+
+AUTO = "auto"
+"""The stick a note names when the performer chooses it."""
 
 BUZZ = 0.25
 """Default length (s) of a live buzz note (it cannot know the stick's next note)."""
@@ -93,7 +99,8 @@ class ManualClock:
 class LiveNote:
     """A note as it arrived: when (s, the performer's clock), on which stick, how loud, when it is heard.
 
-    ``cut`` is the time from which the planner changed the motion for it (s).
+    ``stick`` is the stick that plays it (the one chosen, for a note that named none); ``cut`` the
+    time from which the planner changed the motion for it (s).
     """
 
     arrived: float
@@ -107,12 +114,25 @@ class LiveNote:
 
 @dataclass(frozen=True)
 class Outcome:
-    """What became of a live note: planned or dropped (with the reason), and the stroke designed for it."""
+    """What became of a live note: planned or dropped (with the reason), its stroke, how long planning took (s)."""
 
     note: LiveNote
     planned: bool
     reason: str = ""
     design: object = None
+    compute: float = 0.0
+
+    def to_dict(self):
+        """The outcome as plain values (a session log's row)."""
+        note = self.note
+        row = {"arrived": note.arrived, "stick": note.stick, "velocity": note.velocity, "at": note.at,
+               "stroke": note.stroke, "duration": note.duration, "cut": note.cut, "planned": self.planned,
+               "reason": self.reason, "compute": self.compute}
+        if self.design is not None:
+            made = self.design
+            row["impacts"] = [[float(t), float(db)] for t, db in zip(made.impacts.t, made.impacts.level_db)]
+        return {key: (None if isinstance(value, float) and not math.isfinite(value) else value)
+                for key, value in row.items()}
 
 
 @dataclass(frozen=True, repr=False)
@@ -142,7 +162,7 @@ class Chunk:
         return f"Chunk({len(self.t)} setpoints of {', '.join(self.sticks)}, {span})"
 
 
-@dataclass
+@dataclass(frozen=True)
 class _Piece:
     """One piece of a stick's motion from ``start`` (s, the clock) to ``end``: a curve on its own clock."""
 
@@ -154,50 +174,60 @@ class _Piece:
     offset: float = 0.0  # local time = t - offset
 
 
+def _piece_at(pieces, t):
+    for piece in reversed(pieces):
+        if piece.start <= t:
+            return piece
+    return pieces[0]
+
+
+def _state(pieces, t):
+    """θ (rad) and ω (rad/s) of a stick's motion at ``t`` (s)."""
+    piece = _piece_at(pieces, t)
+    theta, omega = piece.path(np.array([t - piece.offset]))
+    return float(theta[0]), float(omega[0])
+
+
+def _last_design(pieces):
+    return next((piece for piece in reversed(pieces) if piece.design is not None), None)
+
+
+def _evaluate(pieces, t):
+    """θ, ω and α at times ``t`` (s) [shape=(n,)], each from the piece that holds it."""
+    theta, omega, alpha = (np.empty(len(t)) for _ in range(3))
+    starts = np.array([piece.start for piece in pieces])
+    which = np.maximum(np.searchsorted(starts, t, side="right") - 1, 0)
+    for k in np.unique(which):
+        piece = pieces[k]
+        mask = which == k
+        local = t[mask] - piece.offset
+        theta[mask], omega[mask] = piece.path(local)
+        alpha[mask] = _flight_acceleration(piece, local)
+    return theta, omega, alpha
+
+
+def _replace_from(pieces, cut, new):
+    """The motion ``pieces`` kept before ``cut`` (s) and followed by ``new``."""
+    kept = [piece for piece in pieces if piece.start < cut]
+    kept[-1] = replace(kept[-1], end=cut)
+    return tuple(kept + list(new))
+
+
+@dataclass
 class _Stick:
-    """One stick's planned motion: pieces end to end from time 0, the last one holding on forever."""
+    """One stick's planned motion: pieces end to end, the last holding on forever; how many notes changed it."""
 
-    def __init__(self, name, theta):
-        self.name = name
-        self.pieces = [_Piece(0.0, math.inf, _hold(theta))]
-        self.last_note = -math.inf
-
-    def piece_at(self, t):
-        for piece in reversed(self.pieces):
-            if piece.start <= t:
-                return piece
-        return self.pieces[0]
-
-    def state(self, t):
-        piece = self.piece_at(t)
-        theta, omega = piece.path(np.array([t - piece.offset]))
-        return float(theta[0]), float(omega[0])
-
-    def evaluate(self, t):
-        """θ, ω and α at times ``t`` (s) [shape=(n,)], each from the piece that holds it."""
-        theta, omega, alpha = (np.empty(len(t)) for _ in range(3))
-        starts = np.array([piece.start for piece in self.pieces])
-        which = np.searchsorted(starts, t, side="right") - 1
-        for k in np.unique(which):
-            piece = self.pieces[k]
-            mask = which == k
-            local = t[mask] - piece.offset
-            theta[mask], omega[mask] = piece.path(local)
-            alpha[mask] = _flight_acceleration(piece, local)
-        return theta, omega, alpha
-
-    def replace_from(self, cut, pieces):
-        """Keep the motion before ``cut`` (s) and follow it with ``pieces``."""
-        kept = [piece for piece in self.pieces if piece.start < cut]
-        kept[-1].end = cut
-        self.pieces = kept + pieces
-
-    def last_design(self):
-        return next((piece for piece in reversed(self.pieces) if piece.design is not None), None)
+    pieces: tuple
+    last_note: float = -math.inf
+    version: int = 0
 
 
 class Performer:
     """Notes in, setpoints out: the live runtime on one clock (see the module's description).
+
+    ``note`` and ``setpoints`` may be called from different threads: a note is planned on a copy of
+    its stick's motion, outside the lock the setpoints are given under, and committed only if
+    nothing it changes has been given meanwhile (else it is dropped, "planned too late").
 
     Parameters
     ----------
@@ -209,7 +239,8 @@ class Performer:
     latency : float in (0, 10]
         s between a note's arrival and when it is heard, unless it names its time.
     guard : float in (0, latency)
-        s after now from which a new note may change the motion.
+        s after now from which a new note may change the motion: setpoints up to then may be given
+        ahead of their time.
     cor : float in [0, 1), optional
     forces : ForceRange, optional
         The thumb accelerations the planner may use (default 0 to 3000 m/s²).
@@ -217,81 +248,131 @@ class Performer:
         The joint's limits: the strokes and the moves keep them (default ``Limits()``, a strong drumming
         joint: live moves must be quick).
     rest : float
-        rad, where the sticks wait before the first note (default 0: level, ready to throw).
+        rad, where the sticks wait before the first note and after :meth:`close` (default 0: level).
+    closest : float in [0, 1]
+        s, the shortest time between two notes of one stick (default 0.03; closer notes are dropped
+        unplanned: a flood costs nothing).
     clock : object with ``now()``, optional
         Default a :class:`SystemClock`; a :class:`ManualClock` runs faster than real time.
     """
 
     def __init__(self, *, sticks=("right", "left"), model="paper", rate=DEFAULT_RATE, latency=LATENCY, guard=GUARD,
-                 cor=None, forces=None, limits=None, rest=0.0, clock=None):
+                 cor=None, forces=None, limits=None, rest=0.0, closest=CLOSEST, clock=None):
         if model not in MODELS:
             raise ParameterError(f"model must be one of {', '.join(MODELS)}, got {model!r}")
         sticks = tuple(sticks)
-        if not sticks or len(set(sticks)) != len(sticks) or not all(isinstance(s, str) and s for s in sticks):
-            raise ParameterError(f"sticks must be distinct non-empty names, got {sticks!r}")
+        if not sticks or len(set(sticks)) != len(sticks) or not all(isinstance(s, str) and s for s in sticks) \
+                or "auto" in sticks:
+            raise ParameterError(f"sticks must be distinct non-empty names other than 'auto', got {sticks!r}")
+        if limits is not None and not isinstance(limits, Limits):
+            raise ParameterError(f"limits must be a drumstroke.palette.motion.Limits, got {limits!r}")
+        if forces is not None and not isinstance(forces, ForceRange):
+            raise ParameterError(f"forces must be a drumstroke.design.ForceRange, got {forces!r}")
         self.sticks = sticks
         self.model = model
         self.rate = check_real("rate", rate, low=10.0, high=1e5, unit="Hz")
         self.latency = check_real("latency", latency, low=0.0, high=10.0, low_open=True, unit="s")
         self.guard = check_real("guard", guard, low=0.0, high=self.latency, low_open=True, high_open=True, unit="s")
+        self.closest = check_real("closest", closest, low=0.0, high=1.0, unit="s")
         self.limits = limits or Limits()
-        self.head = Stick().theta_max
-        rest = check_real("rest", rest, low=self.head, high=self.limits.theta_high, low_open=True, unit="rad")
-        self.options = {"model": model, "cor": DEFAULT_COR if cor is None else cor, "forces": forces or ForceRange(),
-                        "limits": self.limits}
+        stick = Stick()
+        self.head = stick.theta_max
+        self.rest = check_real("rest", rest, low=self.head, high=self.limits.theta_high, low_open=True, unit="rad")
+        cor = DEFAULT_COR if cor is None else check_real("cor", cor, low=0.0, high=1.0, high_open=True)
+        self.options = {"model": model, "cor": cor, "forces": forces or ForceRange(), "limits": self.limits,
+                        "stick": stick}
         self.clock = clock or SystemClock()
         self.log = []
-        self._sticks = {name: _Stick(name, rest) for name in sticks}
-        self._next = 0  # the index k of the next sample to give, at k/rate
+        self.closed = None
+        self._sticks = {name: _Stick((_Piece(0.0, math.inf, _hold(self.rest)),)) for name in sticks}
+        self._next = 0  # the index k of the next setpoint to give, at k/rate
         self._lock = threading.Lock()
 
     # --- notes in --------------------------------------------------------------------------------------------------
 
-    def note(self, stick, velocity, *, at=None, stroke="auto", duration=None, cut=None):
-        """Plan a note heard at ``at`` (s, the clock; default now + latency) on ``stick``; return its :class:`Outcome`.
+    def note(self, stick, velocity, *, at=None, stroke="auto", duration=None, arrived=None, cut=None):
+        """Plan a note heard at ``at`` (s, the clock; default arrival + latency) on ``stick``; return its :class:`Outcome`.
 
         Parameters
         ----------
-        stick : str
-            One of the performer's sticks.
+        stick : str or None
+            One of the performer's sticks, or "auto" (or None): the stick that has waited longest and
+            can play it.
         velocity : float in [1, 127]
         at : float, optional
             s on the performer's clock.
         stroke : {"auto", "buzz"}
         duration : float in (0, 10], optional
             s, a buzz's length (default :data:`BUZZ`).
+        arrived : float, optional
+            s, when the note arrived (default now): a host that queues notes stamps them as they come.
         cut : float, optional
-            s: change the motion from this time (a replay gives the logged one); default now + guard.
+            s: change the motion from this time (a replay gives the logged one); default arrival + guard,
+            or the first setpoint not yet given if that is later.
         """
+        started = time.perf_counter()
+        arrived = self.clock.now() if arrived is None else arrived
+        outcome = self._note(arrived, stick, velocity, at, stroke, duration, cut)
+        outcome = replace(outcome, compute=time.perf_counter() - started)
         with self._lock:
-            arrived = self.clock.now()
-            outcome = self._note(arrived, stick, velocity, at, stroke, duration, cut)
             self.log.append(outcome)
-            return outcome
+        return outcome
 
     def _note(self, arrived, stick, velocity, at, stroke, duration, cut):
-        cut = max(arrived + self.guard, self._next / self.rate) if cut is None else cut
-        note = LiveNote(arrived, stick, velocity, arrived + self.latency if at is None else at, stroke, duration, cut)
+        with self._lock:
+            given = self._next / self.rate
+        cut = max(arrived + self.guard, given) if cut is None else cut
+        named = AUTO if stick is None else stick
+        note = LiveNote(arrived, named, velocity, arrived + self.latency if at is None else at, stroke, duration, cut)
         reason = self._refusal(note)
         if reason:
             return Outcome(note, False, reason)
-        note = LiveNote(arrived, stick, float(velocity), float(note.at), stroke, duration, cut)
-        target = self._sticks[stick]
-        if note.at <= target.last_note + 1e-3:
-            return Outcome(note, False, f"heard at {note.at:.6g} s, not after the {stick} stick's last note at "
-                                        f"{target.last_note:.6g} s")
-        try:
-            pieces, made = self._plan(target, note)
-        except (Unreachable, ParameterError) as error:
-            return Outcome(note, False, str(error))
-        target.replace_from(pieces[0].start, pieces)
-        target.last_note = made.times[-1]
-        return Outcome(note, True, design=made)
+        note = replace(note, velocity=float(velocity), at=float(note.at))
+        if self.closed is not None:
+            return Outcome(note, False, f"the performer closed at {self.closed:.6g} s")
+        failure = None
+        for name in self._choices(named, note.at):
+            outcome = self._note_on(replace(note, stick=name))
+            if outcome.planned:
+                return outcome
+            failure = failure or outcome
+        return failure
+
+    def _choices(self, named, at):
+        """The sticks to try for a note: the one named, or every stick, the one free longest first."""
+        if named != AUTO:
+            return [named]
+        return sorted(self.sticks, key=lambda name: (self._sticks[name].last_note, self.sticks.index(name)))
+
+    def _note_on(self, note):
+        """Plan ``note`` on its stick and commit it, or say why not."""
+        stick = self._sticks[note.stick]
+        for _ in range(3):  # another note committed on the stick while this was planned: plan again
+            pieces, version, last_note = stick.pieces, stick.version, stick.last_note
+            if note.at < last_note + max(self.closest, 1e-3):
+                when = "not after" if note.at <= last_note else f"less than {self.closest:g} s after"
+                return Outcome(note, False, f"heard at {note.at:.6g} s, {when} the {note.stick} stick's last note "
+                                            f"at {last_note:.6g} s")
+            try:
+                new, made = self._plan(pieces, note)
+            except (Unreachable, ParameterError) as error:
+                return Outcome(note, False, str(error))
+            with self._lock:
+                if stick.version != version:
+                    continue
+                if self._next / self.rate > new[0].start:
+                    return Outcome(note, False, f"planned too late: the setpoints from {new[0].start:.6g} s "
+                                                f"had been given")
+                stick.pieces = _replace_from(stick.pieces, new[0].start, new)
+                stick.last_note = float(made.times[-1])
+                stick.version += 1
+            return Outcome(note, True, design=made)
+        return Outcome(note, False, "the stick's motion kept changing while this note was planned")
 
     def _refusal(self, note):
         """Why a note cannot be taken as given (its values), or ''."""
-        if note.stick not in self._sticks:
-            return f"stick must be one of {', '.join(self.sticks)}, got {note.stick!r}"
+        if not isinstance(note.stick, str) or (note.stick not in self._sticks and note.stick != AUTO):
+            return f"stick must be one of {', '.join(self.sticks + (AUTO,))}, got {note.stick!r}"
         if note.stroke not in STROKES:
             return f"stroke must be one of {', '.join(STROKES)}, got {note.stroke!r}"
         for name, value, low, high in (("velocity", note.velocity, 1.0, 127.0), ("at", note.at, -1e9, 1e9),
@@ -307,7 +388,7 @@ class Performer:
             return f"heard at {note.at:.6g} s, too soon: the motion may change from {note.cut:.6g} s"
         return ""
 
-    def _plan(self, stick, note):
+    def _plan(self, pieces, note):
         """The pieces that play ``note`` from its cut on, and the design; raises Unreachable when none can."""
         level = velocity_to_level(note.velocity)
         if note.stroke == "buzz":
@@ -316,7 +397,7 @@ class Performer:
             times = np.array([note.at])
         levels = np.full(len(times), level)
         cut = note.cut
-        last = stick.last_design()
+        last = _last_design(pieces)
         failure = None
         if last is not None:
             made = last.design
@@ -329,20 +410,22 @@ class Performer:
                 except Unreachable as error:
                     failure = error
             else:
-                theta, omega = stick.state(cut)
+                theta, omega = _state(pieces, cut)
                 if omega > 1e-9:  # 2. from the rebound, rising
                     try:
                         return self._stroke(times, levels, Start(cut, theta, omega), cut=cut)
                     except Unreachable as error:
                         failure = failure or error
         rest_from = max(cut, last.end if last is not None and math.isfinite(last.end) else cut)
-        theta, omega = stick.state(rest_from)
+        theta, omega = _state(pieces, rest_from)
         if abs(omega) < 1e-6 and theta > self.head + 1e-9:  # 3. a throw from where the stick rests
             try:
                 return self._stroke(times, levels, Start(rest_from, theta), cut=rest_from)
             except Unreachable as error:
                 failure = failure or error
         for lead in LEADS:  # 4. a move to a quick throw's height, then the throw
+            if times[0] - lead <= rest_from:
+                continue
             try:
                 made = design(times, levels, lead=lead, **self.options)
             except Unreachable as error:
@@ -355,12 +438,8 @@ class Performer:
             moves = plan_return((theta, omega), target, window, self.head, self.limits)
             if moves is None:
                 continue
-            pieces, t = [], rest_from
-            for duration, path in moves:
-                pieces.append(_Piece(t, t + duration, path, offset=t))
-                t += duration
-            return pieces + self._design_pieces(made), made
-        raise failure or Unreachable(f"heard at {note.at:.6g} s: no stroke reaches it from the {stick.name} stick's "
+            return _moves(moves, rest_from) + self._design_pieces(made), made
+        raise failure or Unreachable(f"heard at {note.at:.6g} s: no stroke reaches it from the {note.stick} stick's "
                                      "motion in time", note=0)
 
     def _stroke(self, times, levels, start, *, cut):
@@ -377,16 +456,56 @@ class Performer:
         return [_Piece(made.release, made.t_end, stroke.arcs.evaluate, stroke.impacts.t, made, offset=made.release),
                 _Piece(made.t_end, math.inf, _hold(theta_end), offset=made.t_end)]
 
+    # --- the end ---------------------------------------------------------------------------------------------------
+
+    def close(self, cut=None):
+        """Take no more notes; each stick finishes what it plays, then moves to ``rest``. Returns when all rest (s).
+
+        ``cut`` (s) is when the performer closed (default now + guard, or the first setpoint not yet
+        given if later; a replay gives the logged one).
+        """
+        with self._lock:
+            given = self._next / self.rate
+            cut = max(self.clock.now() + self.guard, given) if cut is None else cut
+            if self.closed is not None:
+                return self.done
+            self.closed = cut
+            for stick in self._sticks.values():
+                last = stick.pieces[-1]
+                start = max(cut, last.start)
+                theta, omega = _state(stick.pieces, start)
+                target = (self.rest, 0.0)
+                window = return_time((theta, omega), target, self.head, self.limits)
+                moves = plan_return((theta, omega), target, window, self.head, self.limits) if window > 0 else []
+                if moves:
+                    stick.pieces = _replace_from(stick.pieces, start, _moves(moves, start) + [
+                        _Piece(start + window, math.inf, _hold(self.rest), offset=start + window)])
+            return self.done
+
+    @property
+    def done(self):
+        """s: from when every stick holds still (its last piece's start)."""
+        return max(stick.pieces[-1].start for stick in self._sticks.values())
+
     # --- setpoints out ---------------------------------------------------------------------------------------------
 
     def setpoints(self, until):
-        """Every setpoint from the last one given up to ``until`` (s, the clock), as a :class:`Chunk`."""
+        """Every setpoint from the last one given up to ``until`` (s, the clock), as a :class:`Chunk`.
+
+        ``until`` may be up to ``guard`` ahead of now: no note changes those any more.
+        """
         with self._lock:
             stop = int(math.floor(float(until) * self.rate + 1e-9)) + 1
             k = np.arange(self._next, max(stop, self._next))
             self._next = max(stop, self._next)
-            t = k / self.rate
-            columns = [self._sticks[name].evaluate(t) for name in self.sticks]
+            snapshot = [self._sticks[name].pieces for name in self.sticks]
+            sent = self.sent
+            for stick in self._sticks.values():  # what is given no longer changes: forget it
+                keep = next((i for i, piece in enumerate(stick.pieces) if piece.end > sent), len(stick.pieces) - 1)
+                if keep:
+                    stick.pieces = stick.pieces[keep:]
+        t = k / self.rate
+        columns = [_evaluate(pieces, t) for pieces in snapshot]
         return Chunk(t, *(np.column_stack([c[i] for c in columns]) if len(t) else np.empty((0, len(self.sticks)))
                           for i in range(3)), self.sticks)
 
@@ -398,20 +517,35 @@ class Performer:
     # --- replay ----------------------------------------------------------------------------------------------------
 
     @classmethod
-    def replay(cls, log, *, until, **options):
+    def replay(cls, log, *, until, closed=None, **options):
         """The setpoints an offline performer gives for the notes of ``log`` (a session's), up to ``until`` (s).
 
-        Every note is given at the time it arrived and with the cut it was planned from, so the setpoints
-        equal those of the session, sample for sample.
+        Every note planned in the session is given again at the time it arrived, on the stick that
+        played it and with the cut it was planned from (the notes dropped changed nothing); ``closed``
+        is when the session closed, if it did. The setpoints equal those of the session, sample for sample.
         """
         clock = ManualClock()
         performer = cls(clock=clock, **options)
-        for outcome in sorted(log, key=lambda o: o.note.arrived):
+        for outcome in sorted((o for o in log if o.planned), key=lambda o: o.note.arrived):
             note = outcome.note
             clock.set(max(note.arrived, clock.now()))
-            performer.note(note.stick, note.velocity, at=note.at, stroke=note.stroke, duration=note.duration,
-                           cut=note.cut)
+            again = performer.note(note.stick, note.velocity, at=note.at, stroke=note.stroke, duration=note.duration,
+                                   cut=note.cut)
+            if not again.planned:
+                raise ParameterError(f"the log's note at {note.at:.6g} s on {note.stick} was planned in the session "
+                                     f"but not in its replay: {again.reason} (a log of other options?)")
+        if closed is not None:
+            performer.close(closed)
         return performer.setpoints(until)
+
+
+def _moves(moves, start):
+    """Pieces of the moves (duration, path) one after the other from ``start`` (s)."""
+    pieces, t = [], start
+    for duration, path in moves:
+        pieces.append(_Piece(t, t + duration, path, offset=t))
+        t += duration
+    return pieces
 
 
 def _hold(theta):
