@@ -12,7 +12,7 @@ from drumstroke.robot.validate import validate
 
 HEAD = drumstroke.Stick().theta_max
 GROOVE = [(0.0, "right", 100), (0.125, "left", 90), (0.25, "right", 110), (0.3, "right", 60), (0.375, "left", 90),
-          (0.5, "right", 127), (0.55, "left", 40), (0.6, "right", 100), (1.0, "right", 30), (1.1, "right", 127),
+          (0.5, "right", 110), (0.55, "left", 40), (0.6, "right", 100), (1.0, "right", 30), (1.1, "right", 110),
           (1.15, "left", 80), (1.2, "left", 80), (1.3, "right", 20)]
 
 
@@ -76,13 +76,13 @@ def test_what_was_sent_stays():
     performer.note("right", 100)  # heard at 0.05 s
     clock.set(0.3)
     before = performer.setpoints(0.3)
-    outcome = performer.note("right", 120)  # heard at 0.35 s: the motion from 0.305 s may change, not before
-    assert outcome.planned and outcome.note.cut == pytest.approx(0.305)
+    outcome = performer.note("right", 120)  # heard at 0.35 s: the motion from 0.306 s may change, not before
+    assert outcome.planned and outcome.note.cut == pytest.approx(0.306)
     after = performer.setpoints(0.4)
     assert after.t[0] == pytest.approx(0.301)
     alone = Performer.replay(performer.log[:1], until=0.4)  # the first note only
     both = np.concatenate([before.theta, after.theta])
-    assert np.array_equal(both[: 305], alone.theta[: 305])  # up to and including the sample at 0.304 s
+    assert np.array_equal(both[: 306], alone.theta[: 306])  # up to and including the sample at 0.305 s
     assert np.abs(both[350:] - alone.theta[350:]).max() > 1e-3  # and the new note did change what came after
 
 

@@ -54,11 +54,14 @@ from ..trajectory import DEFAULT_RATE
 LATENCY = 0.05
 """Default lookahead (s): a note arriving now is heard this much later."""
 
-GUARD = 0.005
-"""Default time (s) after now from which a new note may change the motion: setpoints up to then may be given early."""
+GUARD = 0.006
+"""Default time (s) after a note arrives from which it may change the motion: its planning's budget (setpoints
+may be given up to a little before that ahead of their time)."""
 
 CLOSEST = 0.03
 """Default shortest time (s) between two notes of one stick: closer ones are dropped before any planning."""
+
+_WARM = set()  # the models a performer of this process has warmed up
 
 AUTO = "auto"
 """The stick a note names when the performer chooses it."""
@@ -71,13 +74,17 @@ STROKES = ("auto", "buzz")
 
 
 class SystemClock:
-    """Seconds since the clock was made, from the monotonic clock."""
+    """Seconds since the clock was made (or restarted), from the monotonic clock."""
 
     def __init__(self):
         self._zero = time.monotonic()
 
     def now(self):
         return time.monotonic() - self._zero
+
+    def restart(self):
+        """Start again from 0 (before anything was stamped with it)."""
+        self._zero = time.monotonic()
 
 
 class ManualClock:
@@ -288,6 +295,27 @@ class Performer:
         self._next = 0  # the index k of the next setpoint to give, at k/rate
         self._lock = threading.Lock()
 
+    def warm_up(self):
+        """Plan a short phrase on a scratch performer with these options: compiled code loaded, caches filled.
+
+        The first stroke a process designs loads the compiled solver (most of a second); a live host
+        does this before its clock starts. Done once per process and model.
+        """
+        if self.model in _WARM:
+            return
+        scratch = Performer(sticks=self.sticks[:1], model=self.model, rate=self.rate, latency=self.latency,
+                            guard=self.guard, cor=self.options["cor"], forces=self.options["forces"],
+                            limits=self.limits, rest=self.rest, closest=self.closest, clock=ManualClock())
+        stick = self.sticks[0]
+        for arrived, velocity, stroke in ((0.0, 100, "auto"), (0.02, 60, "auto"), (0.3, 127, "auto"),
+                                          (0.6, 30, "auto"), (1.0, 90, "buzz")):
+            scratch.clock.set(arrived)
+            scratch.setpoints(arrived)
+            scratch.note(stick, velocity, stroke=stroke)
+        scratch.close()
+        scratch.setpoints(scratch.done)
+        _WARM.add(self.model)
+
     # --- notes in --------------------------------------------------------------------------------------------------
 
     def note(self, stick, velocity, *, at=None, stroke="auto", duration=None, arrived=None, cut=None):
@@ -345,9 +373,13 @@ class Performer:
         return sorted(self.sticks, key=lambda name: (self._sticks[name].last_note, self.sticks.index(name)))
 
     def _note_on(self, note):
-        """Plan ``note`` on its stick and commit it, or say why not."""
+        """Plan ``note`` on its stick and commit it, or say why not.
+
+        If the stick's motion changed while it was planned (another note), or the setpoints from its cut
+        were given meanwhile (a busy host), it is planned again, from the first setpoint not given.
+        """
         stick = self._sticks[note.stick]
-        for _ in range(3):  # another note committed on the stick while this was planned: plan again
+        for _ in range(4):
             pieces, version, last_note = stick.pieces, stick.version, stick.last_note
             if note.at < last_note + max(self.closest, 1e-3):
                 when = "not after" if note.at <= last_note else f"less than {self.closest:g} s after"
@@ -360,14 +392,20 @@ class Performer:
             with self._lock:
                 if stick.version != version:
                     continue
-                if self._next / self.rate > new[0].start:
-                    return Outcome(note, False, f"planned too late: the setpoints from {new[0].start:.6g} s "
-                                                f"had been given")
+                given = self._next / self.rate
+                if given > new[0].start:
+                    late = replace(note, cut=given + self.guard)
+                    if late.at < late.cut + 1e-3:
+                        return Outcome(note, False, f"planned too late: the setpoints up to {given:.6g} s had been "
+                                                    "given")
+                    note = late
+                    continue
                 stick.pieces = _replace_from(stick.pieces, new[0].start, new)
                 stick.last_note = float(made.times[-1])
                 stick.version += 1
             return Outcome(note, True, design=made)
-        return Outcome(note, False, "the stick's motion kept changing while this note was planned")
+        return Outcome(note, False, "the stick's motion or the setpoints given kept changing while this note was "
+                                    "planned")
 
     def _refusal(self, note):
         """Why a note cannot be taken as given (its values), or ''."""
@@ -495,7 +533,7 @@ class Performer:
         ``until`` may be up to ``guard`` ahead of now: no note changes those any more.
         """
         with self._lock:
-            stop = int(math.floor(float(until) * self.rate + 1e-9)) + 1
+            stop = math.floor(float(until) * self.rate + 1e-9) + 1
             k = np.arange(self._next, max(stop, self._next))
             self._next = max(stop, self._next)
             snapshot = [self._sticks[name].pieces for name in self.sticks]
