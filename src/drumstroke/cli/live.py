@@ -29,7 +29,10 @@ def add_live(commands):
     ins.add_argument("--midi-virtual", metavar="NAME", help="open a virtual MIDI input port NAME for other programs "
                                                              "(where the platform allows)")
     ins.add_argument("--score", type=existing_file, metavar="FILE",
-                     help="play a score (.mid or a pattern) against the clock: each note arrives at its time")
+                     help="play a score (.mid or a pattern) against the clock: each note arrives at its time, after "
+                          "the count-in")
+    ins.add_argument("--count-in", type=number(low=0.0, high=60.0, unit="s"), default=1.0, metavar="S",
+                     help="s into the session the score starts, in [0, 60] (default 1)")
     outs = live.add_argument_group("setpoints out (at least one)")
     outs.add_argument("--osc-out", type=_address(default_host=None, port_low=1), metavar="HOST:PORT",
                       help="send /drum/setpoint stick t theta omega alpha (64-bit floats) over UDP")
@@ -112,7 +115,8 @@ def _live(args):
         if args.csv:
             runtime.outputs.append(CsvOutput(sys.stdout, performer.sticks))
         if args.score:
-            requests, dropped = score_requests(read_score(args.score), source=str(args.score))
+            requests, dropped = score_requests(read_score(args.score), source=str(args.score),
+                                               count_in=args.count_in)
             for line in dropped:
                 runtime.problem(line)
             runtime.schedule(requests)
@@ -142,6 +146,8 @@ def _live(args):
         for sink in closers:
             sink.close()
     monitor = next((o for o in runtime.outputs if isinstance(o, RobotMonitor)), None)
+    if monitor:
+        monitor.close()
     record = runtime.session(robot=monitor.summary() if monitor else None,
                              inputs={"osc": list(args.osc_in) if args.osc_in else None, "midi": args.midi_in,
                                      "midi_virtual": args.midi_virtual,

@@ -16,8 +16,9 @@ stick the performer chooses, heard ``latency`` s later; note-offs, clocks and co
 notes and pass silently; other keys and channels are dropped with a line.
 
 A score (:func:`score_requests`, a MIDI file or a text pattern): each planned note (``auto``,
-``buzz``) arrives at its time in the score (s on the session's clock) and is heard ``latency`` s
-later: a rehearsal, played against the clock as a drummer would be sent it.
+``buzz``) arrives at its time in the score after a count-in (:data:`COUNT_IN`, 1 s on the session's
+clock) and is heard ``latency`` s later: a rehearsal, played against the clock as a drummer would be
+sent it.
 """
 
 import math
@@ -99,11 +100,16 @@ def midi_request(message, arrived, source="midi"):
     return Request(arrived, AUTO_STICK, float(message.velocity), None, "auto", None, source)
 
 
-def score_requests(score, source="score"):
+COUNT_IN = 1.0
+"""s into the session a score starts (its time 0 arrives then): the runtime is running steadily by then."""
+
+
+def score_requests(score, source="score", *, count_in=COUNT_IN):
     """The :class:`Request` of each note of a :class:`~drumstroke.score.Score`, and a line for each one dropped.
 
-    A note arrives at its time in the score; the planner's strokes (``auto``, ``buzz``) are played, a
-    library's are not (live has no library: each note is designed as it comes).
+    A note arrives at ``count_in`` s (on the session's clock) plus its time in the score; the planner's
+    strokes (``auto``, ``buzz``) are played, a library's are not (live has no library: each note is
+    designed as it comes).
 
     Returns
     -------
@@ -115,7 +121,7 @@ def score_requests(score, source="score"):
             dropped.append(f"{source}: note {i} at {note.time:.6g} s: live plays the planner's strokes "
                            f"({', '.join(PLANNED)}), not the library's {note.stroke!r}")
             continue
-        requests.append(Request(float(note.time), note.stick or AUTO_STICK, float(note.velocity), None, note.stroke,
+        requests.append(Request(count_in + float(note.time), note.stick or AUTO_STICK, float(note.velocity), None, note.stroke,
                                 note.duration if note.stroke == "buzz" else None, source))
     return requests, dropped
 

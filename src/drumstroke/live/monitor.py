@@ -1,12 +1,14 @@
 """The stream played on a simulated robot as it is sent: each stick a control loop on a joint, each note's onset told.
 
-:class:`RobotMonitor` is an output (a callable taking a :class:`~drumstroke.live.performer.Chunk`): every
-setpoint steps each stick's :class:`~drumstroke.robot.loop.ControlLoop` one control period on the
+:class:`RobotMonitor` is an output (a callable taking a :class:`~drumstroke.live.performer.Chunk`), played in
+a thread of its own so that the stream is not held up: every setpoint steps each stick's :class:`~drumstroke.robot.loop.ControlLoop` one control period on the
 simple joint or MuJoCo's; once a note's time is past by :data:`SETTLE`, the joint's contact nearest it
 (within :data:`WINDOW`) is its onset, told by one line: when, and how far from the note.
 """
 
 import math
+import queue
+import threading
 
 import numpy as np
 
@@ -74,13 +76,35 @@ class RobotMonitor:
         self._waiting = []  # (time, stick) of planned notes not yet told
         self.onsets = []  # (note time, stick, onset or nan)
         self._now = -math.inf
+        for loop in self._loops.values():  # compiled code loaded before the stream starts
+            scratch = ControlLoop(SimpleJoint(plant, cor, theta0=performer.rest), control, performer.rate)
+            scratch.run(np.full(2, performer.rest), np.zeros(2), np.zeros(2))
+            scratch.joint.contacts()
+            break
+        self._chunks = queue.SimpleQueue()
+        self._thread = threading.Thread(target=self._play, name="drumstroke-robot", daemon=True)
+        self._thread.start()
 
     def __call__(self, chunk):
-        for j, stick in enumerate(chunk.sticks):
-            self._loops[stick].run(chunk.theta[:, j], chunk.omega[:, j], chunk.alpha[:, j])
-        if len(chunk):
-            self._now = float(chunk.t[-1])
-            self._tell()
+        """Hand a chunk to the robot's thread (the loop that sends the stream does not wait for it)."""
+        self._chunks.put(chunk)
+
+    def _play(self):
+        while True:
+            chunk = self._chunks.get()
+            if chunk is None:
+                return
+            for j, stick in enumerate(chunk.sticks):
+                self._loops[stick].run(chunk.theta[:, j], chunk.omega[:, j], chunk.alpha[:, j])
+            if len(chunk):
+                self._now = float(chunk.t[-1])
+                self._tell()
+
+    def close(self):
+        """Play what was handed over, tell the notes it reached; then :meth:`summary` is final."""
+        if self._thread.is_alive():
+            self._chunks.put(None)
+            self._thread.join()
 
     def _tell(self):
         log = self.performer.log
