@@ -21,8 +21,11 @@ clock) and is heard ``latency`` s later: a rehearsal, played against the clock a
 sent it.
 """
 
+import contextlib
 import math
+import os
 import socket
+import sys
 import threading
 from dataclasses import dataclass
 
@@ -217,12 +220,13 @@ class MidiInput:
             raise ImportError("MIDI input needs mido and python-rtmidi: pip install 'drumstroke[live]'") from None
         self._submit, self._report, self._clock = submit, report, clock
         try:
-            if not virtual:
-                names = mido.get_input_names()
-                if name not in names:
-                    raise ParameterError(f"no MIDI input named {name!r}; the inputs are: "
-                                         f"{', '.join(map(repr, names)) or 'none'}")
-            self._port = mido.open_input(name, virtual=virtual, callback=self._receive)
+            with _c_stderr_silenced():  # ALSA's library prints its own lines when there is no MIDI system
+                if not virtual:
+                    names = mido.get_input_names()
+                    if name not in names:
+                        raise ParameterError(f"no MIDI input named {name!r}; the inputs are: "
+                                             f"{', '.join(map(repr, names)) or 'none'}")
+                self._port = mido.open_input(name, virtual=virtual, callback=self._receive)
         except ParameterError:
             raise
         except (OSError, ValueError, RuntimeError) as error:  # rtmidi's: no MIDI system, no such port, …
@@ -241,3 +245,17 @@ class MidiInput:
 
     def close(self):
         self._port.close()
+
+
+@contextlib.contextmanager
+def _c_stderr_silenced():
+    """File descriptor 2 to /dev/null for a moment (a C library's own messages; Python's error says it all)."""
+    sys.stderr.flush()
+    saved = os.dup(2)
+    try:
+        with open(os.devnull, "w") as null:
+            os.dup2(null.fileno(), 2)
+        yield
+    finally:
+        os.dup2(saved, 2)
+        os.close(saved)

@@ -213,12 +213,7 @@ class Runtime:
                 if self._closing.is_set():
                     self._close()
                 self._due(now)
-                if pending is None or not len(pending) or pending.t[-1] < now + ahead - 0.5 * period:
-                    fresh = performer.setpoints(now + ahead)
-                    if len(fresh):
-                        self._validate(fresh)
-                        pending = fresh if pending is None else _join(pending, fresh)
-                if pending is not None and len(pending):
+                if pending is not None and len(pending):  # first what is due: sent on time
                     due = int(np.searchsorted(pending.t, clock.now() + 1e-9, side="right"))
                     if due:
                         chunk = _part(pending, 0, due)
@@ -227,6 +222,12 @@ class Runtime:
                         yield chunk
                         if self._closing.is_set() and performer.closed is not None and performer.done <= chunk.t[-1]:
                             return
+                now = clock.now()
+                if pending is None or not len(pending) or pending.t[-1] < now + ahead - 0.5 * period:  # then ahead
+                    fresh = performer.setpoints(now + ahead)
+                    if len(fresh):
+                        self._validate(fresh)
+                        pending = fresh if pending is None else _join(pending, fresh)
                 wake = float(pending.t[0]) if pending is not None and len(pending) else clock.now() + period
                 if self._scheduled and not self._closing.is_set():
                     wake = min(wake, self._scheduled[0][0])
@@ -326,7 +327,10 @@ def _sleep_until(clock, t, spin):
         left = t - clock.now()
         if left <= 0.0:
             return
-        time.sleep(left - spin if left > spin else 0.0)  # sleep(0) lets other threads run while spinning
+        if left > spin:
+            time.sleep(left - spin)
+        # else spin: the interpreter still hands a waiting thread the GIL every switch interval, while a sleep,
+        # even of 0 s, may give the core to another process for a whole time slice
 
 
 
