@@ -106,11 +106,14 @@ def test_bad_notes_are_dropped_with_their_reason(args, reason):
 def test_a_note_before_the_sticks_last_is_dropped_and_a_buzz_makes_its_bounces():
     clock = ManualClock()
     performer = Performer(clock=clock)
-    assert performer.note("right", 90, stroke="buzz", duration=0.2).planned
+    buzzed = performer.note("right", 90, stroke="buzz", duration=0.2)
+    assert buzzed.planned
     outcome = performer.note("right", 90, at=0.1)
     assert not outcome.planned and "not after the right stick's last note" in outcome.reason
-    made = performer.log[0].design
+    made = buzzed.design
     assert len(made.times) == 6 and np.diff(made.times) == pytest.approx(1 / 30)
+    logged = performer.log[0]  # the log keeps the impacts, not the stroke
+    assert logged.design is None and [t for t, _ in logged.impacts] == pytest.approx(made.times, abs=1e-8)
 
 
 def test_an_unreachable_note_is_dropped_and_the_motion_goes_on():

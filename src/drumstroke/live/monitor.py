@@ -110,8 +110,7 @@ class RobotMonitor:
         log = self.performer.log
         for outcome in log[self._told:len(log)]:
             if outcome.planned:
-                times = outcome.design.times if outcome.note.stroke == "buzz" else [outcome.note.at]
-                self._waiting.extend((float(t), outcome.note.stick) for t in times)
+                self._waiting.extend((float(t), outcome.note.stick) for t, _ in outcome.impacts)
         self._told = len(log)
         due = [w for w in self._waiting if w[0] + SETTLE <= self._now]
         if not due:

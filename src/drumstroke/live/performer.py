@@ -121,13 +121,19 @@ class LiveNote:
 
 @dataclass(frozen=True)
 class Outcome:
-    """What became of a live note: planned or dropped (with the reason), its stroke, how long planning took (s)."""
+    """What became of a live note: planned or dropped (with the reason), its stroke, how long planning took (s).
+
+    ``impacts`` are the designed stroke's impacts on its notes, (t s, level dB) each; ``design`` is the
+    :class:`~drumstroke.design.Design` itself in the outcome :meth:`Performer.note` returns, and None in
+    the performer's log (which a long session would otherwise fill with strokes).
+    """
 
     note: LiveNote
     planned: bool
     reason: str = ""
     design: object = None
     compute: float = 0.0
+    impacts: tuple = ()
 
     def to_dict(self):
         """The outcome as plain values (a session log's row)."""
@@ -135,9 +141,8 @@ class Outcome:
         row = {"arrived": note.arrived, "stick": note.stick, "velocity": note.velocity, "at": note.at,
                "stroke": note.stroke, "duration": note.duration, "cut": note.cut, "planned": self.planned,
                "reason": self.reason, "compute": self.compute}
-        if self.design is not None:
-            made = self.design
-            row["impacts"] = [[float(t), float(db)] for t, db in zip(made.impacts.t, made.impacts.level_db)]
+        if self.planned:
+            row["impacts"] = [list(impact) for impact in self.impacts]
         return {key: (None if isinstance(value, float) and not math.isfinite(value) else value)
                 for key, value in row.items()}
 
@@ -341,9 +346,13 @@ class Performer:
         started = time.perf_counter()
         arrived = self.clock.now() if arrived is None else arrived
         outcome = self._note(arrived, stick, velocity, at, stroke, duration, cut)
-        outcome = replace(outcome, compute=time.perf_counter() - started)
+        impacts = ()
+        if outcome.design is not None:
+            made, n = outcome.design, len(outcome.design.times)
+            impacts = tuple(zip(made.impacts.t[:n].tolist(), made.impacts.level_db[:n].tolist()))
+        outcome = replace(outcome, compute=time.perf_counter() - started, impacts=impacts)
         with self._lock:
-            self.log.append(outcome)
+            self.log.append(replace(outcome, design=None))
         return outcome
 
     def _note(self, arrived, stick, velocity, at, stroke, duration, cut):
