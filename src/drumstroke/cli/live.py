@@ -1,6 +1,5 @@
 """``drumstroke live``: notes in over OSC, MIDI or a score; a validated setpoint stream out, until interrupted."""
 
-import signal
 import sys
 from datetime import datetime
 
@@ -83,108 +82,41 @@ def _address(*, default_host, port_low):
 
 def _live(args):
     from ..design import ForceRange
-    from ..live import Performer, Runtime
-    from ..live.inputs import MidiInput, OscInput, score_requests
-    from ..live.monitor import RobotMonitor
-    from ..live.outputs import CsvOutput, OscOutput
-    from ..live.runtime import LiveError
+    from ..live import Performer
+    from ..live.stage import perform
     from ..score import read_score
 
     if not (args.osc_in or args.midi_in or args.midi_virtual or args.score):
         raise ParameterError("give the notes in: --osc-in, --midi-in, --midi-virtual or --score")
     if not (args.osc_out or args.csv or args.simulate_robot):
         raise ParameterError("give where the setpoints go: --osc-out, --csv or --simulate-robot")
-    sticks = tuple(name.strip() for name in args.sticks.split(","))
     config = robot_config(args.config)
-    performer = Performer(sticks=sticks, model=args.model, rate=args.rate, latency=args.latency / 1e3,
-                          cor=args.cor, forces=ForceRange(high=args.force_max), limits=config.limits)
-
-    def say(line):
-        print(line, file=sys.stderr, flush=True)
-
-    runtime = Runtime(performer, report=None if args.quiet else say)
+    performer = Performer(sticks=tuple(name.strip() for name in args.sticks.split(",")), model=args.model,
+                          rate=args.rate, latency=args.latency / 1e3, cor=args.cor,
+                          forces=ForceRange(high=args.force_max), limits=config.limits)
     log = args.log or f"session-{datetime.now().strftime('%Y%m%d-%H%M%S')}.json"
-    inputs, closers = [], []
-    try:
-        if args.simulate_robot:
-            runtime.outputs.append(RobotMonitor(performer, engine=args.simulate_robot, control=args.controller,
-                                                plant=config.plant, report=None if args.quiet else say))
-        if args.osc_out:
-            closers.append(OscOutput(*args.osc_out))
-            runtime.outputs.append(closers[-1])
-        if args.csv:
-            runtime.outputs.append(CsvOutput(sys.stdout, performer.sticks))
-        if args.score:
-            requests, dropped = score_requests(read_score(args.score), source=str(args.score),
-                                               count_in=args.count_in)
-            for line in dropped:
-                runtime.problem(line)
-            runtime.schedule(requests)
-        options = {"submit": runtime.submit, "report": runtime.problem, "clock": performer.clock}
-        if args.osc_in:
-            inputs.append(OscInput(*args.osc_in, **options).start())
-            say(f"listening for OSC notes on {inputs[-1].host}:{inputs[-1].port}")
-        if args.midi_in:
-            inputs.append(MidiInput(args.midi_in, **options).start())
-        if args.midi_virtual:
-            inputs.append(MidiInput(args.midi_virtual, virtual=True, **options).start())
-        duration = args.duration
-        if duration is None and args.score and not (args.osc_in or args.midi_in or args.midi_virtual):
-            last = max((r.arrived for r in requests), default=0.0)
-            duration = last + performer.latency + 0.5  # the last note heard, its rebound caught
-        status = 0
-        interrupts = _Interrupts(runtime)
-        with interrupts:
-            try:
-                runtime.run(duration=duration)
-            except LiveError as error:
-                say(f"drumstroke live: error: {error}")
-                status = 3
-    finally:
-        for source in inputs:
-            source.close()
-        for sink in closers:
-            sink.close()
-    monitor = next((o for o in runtime.outputs if isinstance(o, RobotMonitor)), None)
-    if monitor:
-        monitor.close()
-    record = runtime.session(robot=monitor.summary() if monitor else None,
-                             inputs={"osc": list(args.osc_in) if args.osc_in else None, "midi": args.midi_in,
-                                     "midi_virtual": args.midi_virtual,
-                                     "score": str(args.score) if args.score else None})
+    robot = {"engine": args.simulate_robot, "control": args.controller, "plant": config.plant} \
+        if args.simulate_robot else None
+    record, status = perform(performer, osc_in=args.osc_in, midi_in=args.midi_in, midi_virtual=args.midi_virtual,
+                             score=read_score(args.score) if args.score else None, count_in=args.count_in,
+                             osc_out=args.osc_out, csv=sys.stdout if args.csv else None, robot=robot,
+                             duration=args.duration, report=None if args.quiet else _say,
+                             listening=lambda host, port: _say(f"listening for OSC notes on {host}:{port}"))
     json.write_json(log, record)
-    notes = record["notes"]
-    planned = sum(1 for note in notes if note["planned"])
-    timing = record["timing"]
-    lateness = timing["lateness_ms"]
-    say(f"played {planned} of {len(notes)} notes on the {performer.model} model; {timing['setpoints']} setpoints at "
-        f"{performer.rate:g} Hz, sent late by {lateness['median'] or 0:.3f} ms (median), {lateness['p99'] or 0:.3f} ms "
-        f"(p99); {record['problem_count']} problems")
-    if monitor:
+    if record["failure"]:
+        _say(f"drumstroke live: error: {record['failure']}")
+    notes, timing = record["notes"], record["timing"]
+    late = timing["lateness_ms"]
+    _say(f"played {sum(note['planned'] for note in notes)} of {len(notes)} notes on the {performer.model} model; "
+         f"{timing['setpoints']} setpoints at {performer.rate:g} Hz, sent late by {late['median'] or 0:.3f} ms "
+         f"(median), {late['p99'] or 0:.3f} ms (p99); {record['problem_count']} problems")
+    if record["robot"]:
         robot = record["robot"]
-        say(f"robot ({robot['engine']}, {robot['controller']}): {robot['onsets']} onsets for {robot['notes']} notes, "
-            f"{robot['within_2ms']} within 2 ms")
-    say(f"wrote {log}")
-    return status or (130 if interrupts.count > 1 else 0)
+        _say(f"robot ({robot['engine']}, {robot['controller']}): {robot['onsets']} onsets for {robot['notes']} "
+             f"notes, {robot['within_2ms']} within 2 ms")
+    _say(f"wrote {log}")
+    return status
 
 
-class _Interrupts:
-    """SIGINT and SIGTERM while the loop runs: the first stops it gently, a second at once (flags only: a
-    handler that printed or queued could meet the main thread inside the same lock)."""
-
-    def __init__(self, runtime):
-        self.runtime, self.count = runtime, 0
-
-    def __enter__(self):
-        self.previous = {sig: signal.signal(sig, self._handle) for sig in (signal.SIGINT, signal.SIGTERM)}
-
-    def _handle(self, number, frame):
-        self.count += 1
-        if self.count == 1:
-            self.runtime.stop()
-        else:
-            self.runtime.abort()
-
-    def __exit__(self, *exc):
-        for sig, handler in self.previous.items():
-            signal.signal(sig, handler)
+def _say(line):
+    print(line, file=sys.stderr, flush=True)

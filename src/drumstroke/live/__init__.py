@@ -7,11 +7,13 @@ The data flows through it in this order:
   setpoints evaluated as time passes, a session replayed offline;
 - :mod:`.runtime`: :class:`Runtime`, the loop on the clock: requests planned, chunks validated and sent on
   time, the session's record;
-- :mod:`.outputs` and :mod:`.monitor`: setpoints to OSC, to CSV, to a simulated robot.
+- :mod:`.outputs` and :mod:`.monitor`: setpoints to OSC, to CSV, to a simulated robot;
+- :mod:`.stage`: :func:`perform`, a whole session from its inputs to its outputs (``drumstroke live``).
 """
 
 from .performer import Chunk, LiveNote, ManualClock, Outcome, Performer, SystemClock
 from .runtime import LiveError, Runtime, replay_session
+from .stage import perform
 
 __all__ = ["Chunk", "LiveError", "LiveNote", "ManualClock", "Outcome", "Performer", "Runtime", "SystemClock",
-           "replay_session"]
+           "perform", "replay_session"]

@@ -135,10 +135,13 @@ class Runtime:
                 request = self._requests.get(timeout=0.05)
             except queue.Empty:
                 continue
-            if request is _CLOSE:
-                self.performer.close()
-            else:
-                self._plan(request)
+            self._handle(request)
+
+    def _handle(self, request):
+        if request is _CLOSE:
+            self.performer.close()
+        else:
+            self._plan(request)
 
     def _due(self, now):
         """Hand on the scheduled requests that have arrived by ``now`` (s)."""
@@ -154,10 +157,7 @@ class Runtime:
                     request = self._requests.get_nowait()
                 except queue.Empty:
                     break
-                if request is _CLOSE:
-                    self.performer.close()
-                else:
-                    self._plan(request)
+                self._handle(request)
 
     # --- the end ---------------------------------------------------------------------------------------------------
 
