@@ -536,11 +536,12 @@ class Performer:
 
     # --- setpoints out ---------------------------------------------------------------------------------------------
 
-    def setpoints(self, until):
-        """Every setpoint from the last one given up to ``until`` (s, the clock), as a :class:`Chunk`.
+    def setpoints(self, until=None):
+        """Every setpoint from the last one given up to ``until`` (s, the clock; default now), as a :class:`Chunk`.
 
         ``until`` may be up to ``guard`` ahead of now: no note changes those any more.
         """
+        until = self.clock.now() if until is None else until
         with self._lock:
             stop = math.floor(float(until) * self.rate + 1e-9) + 1
             k = np.arange(self._next, max(stop, self._next))
