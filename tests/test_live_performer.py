@@ -125,3 +125,21 @@ def test_an_unreachable_note_is_dropped_and_the_motion_goes_on():
     assert not outcome.planned and outcome.reason
     chunk = performer.setpoints(1.0)
     validate(chunk.t, chunk.theta[:, 0], chunk.omega[:, 0], rate=performer.rate, limits=Limits())
+
+
+def test_bad_times_are_refused_with_their_name():
+    performer = Performer(clock=ManualClock())
+    for call, name in ((lambda: performer.setpoints(float("nan")), "until"),
+                       (lambda: performer.note("right", 100, arrived=float("inf")), "arrived"),
+                       (lambda: performer.note("right", 100, cut=float("nan")), "cut"),
+                       (lambda: performer.close(float("nan")), "cut")):
+        with pytest.raises(drumstroke.ParameterError, match=name):
+            call()
+    with pytest.raises(drumstroke.ParameterError, match="latency must be"):
+        Performer(latency=0.0)
+    with pytest.raises(drumstroke.ParameterError, match="guard must be"):
+        Performer(latency=0.05, guard=0.06)
+    with pytest.raises(drumstroke.ParameterError, match="sticks must be distinct"):
+        Performer(sticks=("right", "right"))
+    with pytest.raises(drumstroke.ParameterError, match="rest must be"):
+        Performer(rest=-1.0)

@@ -344,7 +344,9 @@ class Performer:
             or the first setpoint not yet given if that is later.
         """
         started = time.perf_counter()
-        arrived = self.clock.now() if arrived is None else arrived
+        arrived = self.clock.now() if arrived is None else check_real("arrived", arrived, low=-1e9, high=1e9, unit="s")
+        if cut is not None:
+            cut = check_real("cut", cut, low=-1e9, high=1e9, unit="s")
         outcome = self._note(arrived, stick, velocity, at, stroke, duration, cut)
         impacts = ()
         if outcome.design is not None:
@@ -511,6 +513,8 @@ class Performer:
         ``cut`` (s) is when the performer closed (default now + guard, or the first setpoint not yet
         given if later; a replay gives the logged one).
         """
+        if cut is not None:
+            cut = check_real("cut", cut, low=-1e9, high=1e9, unit="s")
         with self._lock:
             given = self._next / self.rate
             cut = max(self.clock.now() + self.guard, given) if cut is None else cut
@@ -541,7 +545,7 @@ class Performer:
 
         ``until`` may be up to ``guard`` ahead of now: no note changes those any more.
         """
-        until = self.clock.now() if until is None else until
+        until = self.clock.now() if until is None else check_real("until", until, low=-1e9, high=1e9, unit="s")
         with self._lock:
             stop = math.floor(float(until) * self.rate + 1e-9) + 1
             k = np.arange(self._next, max(stop, self._next))
