@@ -104,6 +104,15 @@ def assert_notes_are_heard(t, theta, record):
                 assert theta[k, sticks.index(note["stick"])] - HEAD < 0.02, note
 
 
+def assert_notes_planned_on_time_are_played(record):
+    """Every note planned as soon as it arrived (its cut the guard after its arrival) was played: a note is
+    dropped for want of time only when a starved host planned it late (each such drop has its line)."""
+    for note in record["notes"]:
+        on_time = note["cut"] is not None and note["cut"] <= note["arrived"] + record["guard"] + 1e-9
+        assert note["planned"] or not on_time, note
+    assert sum(note["planned"] for note in record["notes"]) >= len(record["notes"]) / 2, record["problems"]
+
+
 def live_command(*args):
     return [sys.executable, "-m", "drumstroke", "live", *map(str, args)]
 
@@ -140,8 +149,8 @@ def test_osc_notes_in_give_the_offline_performers_setpoints_out():
     t, theta, omega, alpha = receiver.stream(performer.sticks)
     assert len(t) == record["sent"]["count"] and t[-1] == record["sent"]["last"]
     assert_same_as_offline(t, theta, omega, alpha, record)
-    planned = [note for note in record["notes"] if note["planned"]]
-    assert len(planned) >= len(groove), lines
+    assert len(record["notes"]) == len(groove) + 2, lines
+    assert_notes_planned_on_time_are_played(record)
     assert_notes_are_heard(t, theta, record)
     assert np.allclose(theta[-1], performer.rest) and np.all(omega[-1] == 0.0)  # at rest at the end
 
@@ -253,9 +262,10 @@ def test_a_score_played_live_to_csv_is_the_offline_performers_stream(tmp_path):
     assert_same_as_offline(t, theta, omega, alpha, record)
     score = read_score(RUDIMENTS)
     assert [note["at"] for note in record["notes"]] == pytest.approx([1.0 + n.time + 0.05 for n in score.notes])
-    assert all(note["planned"] for note in record["notes"]), record["problems"]
+    assert_notes_planned_on_time_are_played(record)
     assert_notes_are_heard(t, theta, record)
-    assert f"played {len(score.notes)} of {len(score.notes)} notes" in done.stderr
+    played = sum(note["planned"] for note in record["notes"])
+    assert f"played {played} of {len(score.notes)} notes" in done.stderr
 
 
 @pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM])
@@ -279,7 +289,8 @@ def test_a_signal_brings_the_sticks_to_rest_and_writes_the_record(tmp_path, sig)
     last = frame.iloc[-1]
     assert last["theta_right"] == record["rest"] == last["theta_left"] and last["omega_right"] == 0.0
     assert record["closed"] is not None and record["sent"]["last"] >= record["done"]
-    assert sum(note["planned"] for note in record["notes"]) == 3
+    assert len(record["notes"]) == 3
+    assert_notes_planned_on_time_are_played(record)
     t = frame["t"].to_numpy()
     theta, omega, alpha = (frame[[f"{k}_right", f"{k}_left"]].to_numpy() for k in ("theta", "omega", "alpha"))
     assert_same_as_offline(t, theta, omega, alpha, record)

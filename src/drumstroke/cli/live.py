@@ -8,7 +8,7 @@ from ..formats import json
 from ..model import MODELS
 from ..robot.track import ENGINES
 from ._common import robot_config
-from ._options import Output, existing_file, number
+from ._options import Output, add_mkdir, existing_file, number
 
 
 def add_live(commands):
@@ -57,6 +57,7 @@ def add_live(commands):
     live.add_argument("--log", action=Output, suffixes=json.SUFFIXES, metavar="PATH",
                       help="the session's record (default session-DATE-TIME.json here), written when it ends")
     live.add_argument("--quiet", action="store_true", help="do not print each dropped note and robot onset")
+    add_mkdir(live)
     live.set_defaults(run=_live)
 
 

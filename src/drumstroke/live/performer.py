@@ -401,6 +401,8 @@ class Performer:
             except (Unreachable, ParameterError) as error:
                 return Outcome(note, False, str(error))
             with self._lock:
+                if self.closed is not None:
+                    return Outcome(note, False, f"the performer closed at {self.closed:.6g} s")
                 if stick.version != version:
                     continue
                 given = self._next / self.rate
@@ -520,7 +522,6 @@ class Performer:
             cut = max(self.clock.now() + self.guard, given) if cut is None else cut
             if self.closed is not None:
                 return self.done
-            self.closed = cut
             for stick in self._sticks.values():
                 last = stick.pieces[-1]
                 start = max(cut, last.start)
@@ -531,12 +532,13 @@ class Performer:
                 if moves:
                     stick.pieces = _replace_from(stick.pieces, start, _moves(moves, start) + [
                         _Piece(start + window, math.inf, _hold(self.rest), offset=start + window)])
+            self.closed = cut  # last: a thread that sees it closed sees the moves to rest
             return self.done
 
     @property
     def done(self):
         """s: from when every stick holds still (its last piece's start)."""
-        return max(stick.pieces[-1].start for stick in self._sticks.values())
+        return max(stick.pieces[-1].start for stick in list(self._sticks.values()))
 
     # --- setpoints out ---------------------------------------------------------------------------------------------
 
