@@ -296,6 +296,26 @@ def test_a_signal_brings_the_sticks_to_rest_and_writes_the_record(tmp_path, sig)
     assert_same_as_offline(t, theta, omega, alpha, record)
 
 
+def test_a_second_interrupt_stops_at_once_and_still_writes_the_record(tmp_path):
+    log = tmp_path / "session.json"
+    process = subprocess.Popen(live_command("--osc-in", "127.0.0.1:0", "--csv", "--log", log, "--latency", 5000),
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=tmp_path)
+    port = int(process.stderr.readline().rsplit(":", 1)[1])
+    client = SimpleUDPClient("127.0.0.1", port)
+    time.sleep(0.3)
+    client.send_message("/drum/note", ["right", 90])  # heard 5 s later: the first interrupt waits for it
+    time.sleep(0.3)
+    process.send_signal(signal.SIGINT)
+    time.sleep(0.2)
+    process.send_signal(signal.SIGINT)
+    out, err = process.communicate(timeout=60)
+    assert process.returncode == 130, err
+    record = json.loads(log.read_text())
+    assert record["notes"][0]["planned"] and record["sent"]["last"] < 2.0  # it did not wait for the buzz
+    frame = pd.read_csv(pd.io.common.StringIO(out))
+    assert len(frame) == record["sent"]["count"] and "Traceback" not in err
+
+
 @pytest.mark.parametrize("args, message", [
     ([], "give the notes in"),
     (["--score", RUDIMENTS], "give where the setpoints go"),

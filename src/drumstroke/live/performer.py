@@ -387,7 +387,8 @@ class Performer:
         """Plan ``note`` on its stick and commit it, or say why not.
 
         If the stick's motion changed while it was planned (another note), or the setpoints from its cut
-        were given meanwhile (a busy host), it is planned again, from the first setpoint not given.
+        were given meanwhile (a busy host, a long buzz), it is planned again, from the first setpoint not
+        given plus the guard and twice the time planning took.
         """
         stick = self._sticks[note.stick]
         for _ in range(4):
@@ -396,10 +397,12 @@ class Performer:
                 when = "not after" if note.at <= last_note else f"less than {self.closest:g} s after"
                 return Outcome(note, False, f"heard at {note.at:.6g} s, {when} the {note.stick} stick's last note "
                                             f"at {last_note:.6g} s")
+            began = time.perf_counter()
             try:
                 new, made = self._plan(pieces, note)
             except (Unreachable, ParameterError) as error:
                 return Outcome(note, False, str(error))
+            took = time.perf_counter() - began
             with self._lock:
                 if self.closed is not None:
                     return Outcome(note, False, f"the performer closed at {self.closed:.6g} s")
@@ -407,7 +410,7 @@ class Performer:
                     continue
                 given = self._next / self.rate
                 if given > new[0].start:
-                    late = replace(note, cut=given + self.guard)
+                    late = replace(note, cut=given + self.guard + 2.0 * took)  # room to plan it again
                     if late.at < late.cut + 1e-3:
                         return Outcome(note, False, f"planned too late: the setpoints up to {given:.6g} s had been "
                                                     "given")
