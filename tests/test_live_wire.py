@@ -417,6 +417,11 @@ def test_the_session_record_is_json_with_every_note_and_replays_from_its_file(tm
     assert len(record["problems"]) == 2 and "999" in record["problems"][1]
     again = replay_session(path)
     assert np.array_equal(again.theta, np.concatenate([c.theta for c in chunks]))
+    with pytest.raises(drumstroke.errors.ParameterError, match="request.arrived"):
+        runtime.schedule([Request(float("nan"), "right", 100)])
+    runtime.submit(Request(float("inf"), "right", 100, source="host"))  # straight to the planner: a line, no crash
+    runtime._due(1.0)
+    assert "host: dropped a note: arrived must be" in runtime.problems[-1]
     path.write_text("{not json")
     with pytest.raises(drumstroke.errors.DrumstrokeError, match="corrupt"):
         replay_session(path)

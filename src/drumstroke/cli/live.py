@@ -120,4 +120,5 @@ def _live(args):
 
 
 def _say(line):
-    print(line, file=sys.stderr, flush=True)
+    sys.stderr.write(line + "\n")  # one write: lines from several threads never interleave
+    sys.stderr.flush()

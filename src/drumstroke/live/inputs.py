@@ -196,7 +196,10 @@ class OscInput:
                 self._report(f"{source}: not an OSC packet ({len(data)} bytes): {error}")
                 continue
             for timed in messages:
-                request = osc_request(timed.message.address, timed.message.params, arrived, source)
+                try:
+                    request = osc_request(timed.message.address, timed.message.params, arrived, source)
+                except Exception as error:  # noqa: BLE001 - a message python-osc parsed oddly must not end the input
+                    request = f"{source}: a message that is not a note ({type(error).__name__}: {error})"
                 if isinstance(request, str):
                     self._report(request)
                 else:

@@ -26,6 +26,7 @@ from datetime import UTC, datetime
 
 import numpy as np
 
+from .._checks import check_real
 from .._version import __version__
 from ..errors import DrumstrokeError, TrajectoryError
 from ..robot.validate import validate
@@ -77,11 +78,10 @@ class Runtime:
         self.outputs = list(outputs)
         self._report = report
         self.threaded = not isinstance(performer.clock, ManualClock) if threaded is None else bool(threaded)
-        if not 0.0 <= spin <= 0.01:
-            raise DrumstrokeError(f"spin must be in [0, 0.01] s, got {spin!r}")
-        self.spin = spin
+        self.spin = check_real("spin", spin, low=0.0, high=0.01, unit="s")
         self.problems = []
         self.problem_count = 0
+        self._told = threading.Lock()  # problems come from the input, planner and loop threads
         self.failure = None
         self._requests = queue.Queue(QUEUE)
         self._scheduled = []
@@ -111,20 +111,30 @@ class Runtime:
     def schedule(self, requests):
         """Hold requests until their arrival time comes on the clock (a score's notes)."""
         for request in requests:
+            check_real("request.arrived", request.arrived, low=-1e9, high=1e9, unit="s")
             heapq.heappush(self._scheduled, (request.arrived, self._sequence, request))
             self._sequence += 1
 
     def problem(self, line):
-        """Record a problem and tell ``report``."""
-        self.problem_count += 1
-        if len(self.problems) < PROBLEMS:
-            self.problems.append(line)
-        if self._report is not None:
-            self._report(line)
+        """Record a problem and tell ``report`` (any thread; one line at a time)."""
+        with self._told:
+            self.problem_count += 1
+            if len(self.problems) < PROBLEMS:
+                self.problems.append(line)
+            if self._report is not None:
+                self._report(line)
 
     def _plan(self, request):
-        outcome = self.performer.note(request.stick, request.velocity, at=request.at, stroke=request.stroke,
-                                      duration=request.duration, arrived=request.arrived)
+        try:
+            outcome = self.performer.note(request.stick, request.velocity, at=request.at, stroke=request.stroke,
+                                          duration=request.duration, arrived=request.arrived)
+        except DrumstrokeError as error:  # e.g. a host's request that arrived at no time
+            self.problem(f"{request.source}: dropped a note: {error}")
+            return
+        except Exception as error:  # noqa: BLE001 - the planning thread must outlive a bug: it is on the record
+            self.problem(f"{request.source}: dropped a note: internal error {type(error).__name__}: {error} (a bug: "
+                         "please report it with the session's record)")
+            return
         if not outcome.planned:
             self.problem(f"{request.source}: dropped the note at {outcome.note.at:.6g} s on {request.stick}: "
                          f"{outcome.reason}")
