@@ -268,7 +268,7 @@ class Trajectory:
         TrajectoryError
             A sample that is not finite or off the time grid, named by its index.
         """
-        t, theta, omega, alpha, rate = _checked_samples(t, theta, omega, alpha, rate)
+        t, theta, omega, alpha, rate = check_samples(t, theta, omega, alpha, rate)
         sticks = _stick_names(sticks, theta.shape[1])
         head = Stick().theta_max if theta_max is None else check_real("theta_max", theta_max, low=-THETA_TOP,
                                                                        high=0.0, unit="rad")
@@ -829,8 +829,11 @@ def _columns(name, values, n):
     return array
 
 
-def _checked_samples(t, theta, omega, alpha, rate):
-    """Samples as float arrays (t 1-D; the others 2-D) on one time grid, checked in the validator's words."""
+def check_samples(t, theta, omega, alpha=None, rate=None):
+    """Samples as float arrays (t 1-D; the others 2-D) on one time grid, checked in the validator's words.
+
+    Returns ``(t, theta, omega, alpha, rate)``; ``rate`` (Hz) is the first step's if not given.
+    """
     t = np.array(as_vector("t", t), dtype=float)
     for name, values in (("theta", theta), ("omega", omega)):
         try:

@@ -233,7 +233,7 @@ class Runtime:
                         if self._closing.is_set() and performer.closed is not None and performer.done <= chunk.t[-1]:
                             return
                 now = clock.now()
-                if pending is None or not len(pending) or pending.t[-1] < now + ahead - 0.5 * period:  # then ahead
+                if pending is None or not len(pending) or pending.t[-1] < now + period:  # then the next ones
                     fresh = performer.setpoints(now + ahead)
                     if len(fresh):
                         self._validate(fresh)
