@@ -127,7 +127,7 @@ def test_osc_notes_in_give_the_offline_performers_setpoints_out():
     runtime.outputs.append(OscOutput("127.0.0.1", receiver.port))
     osc_in = OscInput("127.0.0.1", 0, submit=runtime.submit, report=runtime.problem, clock=performer.clock).start()
     groove = [("right", 100), ("left", 60), ("right", 120), ("left", 80), ("auto", 90), ("right", 40),
-              ("left", 127), ("auto", 70)]
+              ("left", 100), ("auto", 70)]
 
     def play():
         client = SimpleUDPClient("127.0.0.1", osc_in.port)
