@@ -1,4 +1,4 @@
-"""A small listening test for the app's tests: stimuli, a config, a store, the real server, and a browser-like client."""
+"""A small listening test for the app's tests: stimuli, a config, a store, the real server, a browser-like client."""
 
 import http.client
 import re

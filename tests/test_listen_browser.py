@@ -1,4 +1,4 @@
-"""A real browser — Debian's Chromium driven by Playwright — through a whole listening-test session on the real server."""
+"""A real browser — Debian's Chromium driven by Playwright — through a whole listening-test session, real server."""
 
 import pytest
 from playwright.sync_api import sync_playwright

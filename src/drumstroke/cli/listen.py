@@ -22,7 +22,8 @@ def add_listen(commands):
     srv.add_argument("--db", action=Output, required=True, metavar="SQLITE",
                      help="the SQLite file the answers are stored in (created if missing)")
     srv.add_argument("--host", default="127.0.0.1", help="the address to listen on (default 127.0.0.1: this machine)")
-    srv.add_argument("--port", type=whole(low=1, high=65535), default=8000, help="the TCP port, in [1, 65535] (default 8000)")
+    srv.add_argument("--port", type=whole(low=1, high=65535), default=8000,
+                     help="the TCP port, in [1, 65535] (default 8000)")
     srv.add_argument("--forwarded-allow-ips", metavar="IPS",
                      help="comma-separated addresses or networks of trusted reverse proxies, whose X-Forwarded-For and "
                           "X-Forwarded-Proto are believed (default: none)")

@@ -110,7 +110,8 @@ class Config:
                                  f"(as 'listen make-stimuli' writes), got {got}")
         if token in EXAMPLE_TOKENS:
             raise ParameterError("config admin_token is an example printed in the documentation, so anyone may know "
-                                 "it: use a random one, e.g. python -c 'import secrets; print(secrets.token_urlsafe(32))'")
+                                 "it: use a random one, e.g. python -c 'import secrets; "
+                                 "print(secrets.token_urlsafe(32))'")
         check_int("config seed", self.seed, low=-(1 << 63), high=(1 << 63) - 1)
         if not isinstance(self.limits, Limits):
             raise ParameterError(f"config limits must be a Limits, got {type(self.limits).__name__}")

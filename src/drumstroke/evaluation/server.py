@@ -1,8 +1,9 @@
 """The listening test's HTTP server: uvicorn, with the limits a server on the open internet needs and uvicorn lacks.
 
 uvicorn (h11) answers a malformed request with 400 (a negative, non-numeric or 5,000-digit
-``Content-Length``, a raw byte 0xB2 in the path) and refuses a request head over 16 KiB. But, as a
-socket client shows (uvicorn 0.54, h11 0.16):
+``Content-Length``, a raw byte 0xB2 in the path) and a request head still incomplete after 16 KiB (one
+that comes whole at once may be larger: the app answers it 431). But, as a socket client shows
+(uvicorn 0.54, h11 0.16):
 
 - a connection whose request head trickles in is never timed out: ``timeout_keep_alive`` runs only
   between requests, and any byte received stops it;
@@ -30,13 +31,10 @@ import uvicorn
 from uvicorn.protocols.http.h11_impl import H11Protocol
 
 from ..errors import ParameterError
-from .limits import client_key, trusted_networks
+from .limits import MAX_HEAD, client_key, trusted_networks
 from .pages import SECURITY_HEADERS
 
 log = logging.getLogger(__name__)
-
-MAX_HEAD = 16 * 1024
-"""The largest request line and headers accepted, in bytes (h11's default): a larger one is answered 400."""
 
 KEEP_ALIVE = 5
 """Seconds an idle connection is kept open between requests (uvicorn's default)."""
@@ -184,7 +182,7 @@ class _Guarded(H11Protocol):
     def _arm_head_deadline(self):
         if self._head_deadline is not None:
             self._head_deadline.cancel()
-        self._partial = False
+        self._partial = bool(self.conn.trailing_data[0])  # bytes of the next request may have come already
         self._head_deadline = self.loop.call_later(self.limits.head_timeout, self._head_timed_out)
 
     def _head_timed_out(self):

@@ -4,7 +4,8 @@ Imported when serving (:func:`drumstroke.evaluation.app.make_server`; Starlette 
 ``listen`` extra). What a request meets:
 
 - **Headers**: every response carries :data:`~drumstroke.evaluation.pages.SECURITY_HEADERS` and, but for
-  the static files, ``Cache-Control: no-store``; over TLS also ``Strict-Transport-Security``.
+  the static files, ``Cache-Control: no-store``; over TLS also ``Strict-Transport-Security``. A request
+  whose line and headers exceed :data:`~drumstroke.evaluation.limits.MAX_HEAD` is answered 431.
 - **Paths**: a participant is 32 hexadecimal digits, a pair's position 1-6 digits 0-9, a side A or B;
   anything else is answered 400 with a message (404 for a well-formed participant or pair that does not
   exist).
@@ -47,7 +48,7 @@ from starlette.responses import HTMLResponse, PlainTextResponse, RedirectRespons
 from starlette.routing import Route
 
 from . import pages
-from .limits import Window, client_key
+from .limits import MAX_HEAD, Window, client_key
 
 log = logging.getLogger(__name__)
 
@@ -112,7 +113,8 @@ class _Site:
             raise HTTPException(400, "consent is needed to take part")
         wait = self.sessions.admit(client_key(request.client.host if request.client else None))
         if wait:
-            raise HTTPException(429, f"too many new sessions: try again in {wait} s", headers={"Retry-After": str(wait)})
+            raise HTTPException(429, f"too many new sessions: try again in {wait} s",
+                                headers={"Retry-After": str(wait)})
         participant = await run_in_threadpool(self.store.new_participant, self.config)
         return RedirectResponse(f"/p/{participant}/pair/0", status_code=303)
 
@@ -287,7 +289,10 @@ class _Tokens:
 
 
 class _Guard:
-    """The application with the security headers on every response (and ``no-store`` unless it says otherwise)."""
+    """The application behind a check of the head's size, with the security headers on every response.
+
+    ``Cache-Control: no-store`` is added to a response that does not set its own (the static files do).
+    """
 
     def __init__(self, app):
         self.app = app
@@ -296,6 +301,11 @@ class _Guard:
         if scope["type"] != "http":
             return await self.app(scope, receive, send)
         tls = scope.get("scheme") == "https"
+        size = len(scope.get("raw_path", b"")) + len(scope["query_string"]) + sum(len(k) + len(v) + 4
+                                                                                  for k, v in scope["headers"])
+        app = self.app if size <= MAX_HEAD else PlainTextResponse(
+            f"431 Request Header Fields Too Large: a request's line and headers may hold at most {MAX_HEAD} bytes\n",
+            status_code=431, headers=_CLOSE)
 
         async def guarded(message):
             if message["type"] == "http.response.start":
@@ -308,7 +318,7 @@ class _Guard:
                     headers["Strict-Transport-Security"] = "max-age=31536000"
             await send(message)
 
-        return await self.app(scope, receive, guarded)
+        return await app(scope, receive, guarded)
 
 
 class _Stimulus(Response):
