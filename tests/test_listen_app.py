@@ -251,9 +251,10 @@ def test_a_cross_site_request_is_refused_and_stores_nothing(app):
     assert store.sides_played(participant, 0) == {"A", "B"}
 
 
-def test_the_consent_cookie_is_strict_and_secure_only_over_tls(tmp_path):
-    """Behind a trusted proxy (here, loopback), X-Forwarded-Proto: https makes the cookie Secure and adds HSTS."""
-    server, _, store = start_test(tmp_path, pairs=1, token=TOKEN, seed=1, proxies=["127.0.0.1"])
+def test_behind_a_trusted_proxy_the_cookie_is_secure_and_clients_are_counted_by_x_forwarded_for(tmp_path):
+    """A trusted proxy (here, loopback) says https (Secure cookie, HSTS, the Origin's scheme) and who the client is."""
+    server, _, store = start_test(tmp_path, pairs=1, token=TOKEN, seed=1, proxies=["127.0.0.1"],
+                                  limits="sessions_per_minute_per_client = 1")
     try:
         client = Client(server.url)
         plain = client.get("/").headers["Set-Cookie"]
@@ -262,10 +263,13 @@ def test_the_consent_cookie_is_strict_and_secure_only_over_tls(tmp_path):
         assert "Secure" in https.headers["Set-Cookie"].split("; ")
         assert https.headers["Strict-Transport-Security"] == "max-age=31536000"
         # the Origin check follows the proxy's scheme: https://host is this server's own origin then
-        token = token_of(https.body)
-        reply = client.post("/start", {"consent": "yes", "csrf": token},
-                            headers={"X-Forwarded-Proto": "https", "Origin": "https" + client.origin[4:]})
+        form = {"consent": "yes", "csrf": token_of(https.body)}
+        proxied = {"X-Forwarded-Proto": "https", "Origin": "https" + client.origin[4:]}
+        reply = client.post("/start", form, headers={**proxied, "X-Forwarded-For": "203.0.113.1"})
         assert reply.status == 303 and store.plan_of(reply.headers["Location"].split("/")[2]) is not None
+        # one session a minute per client: the proxy's own address is not the client
+        assert client.post("/start", form, headers={**proxied, "X-Forwarded-For": "203.0.113.1"}).status == 429
+        assert client.post("/start", form, headers={**proxied, "X-Forwarded-For": "203.0.113.2"}).status == 303
     finally:
         server.stop()
 
@@ -296,8 +300,8 @@ def test_new_sessions_are_rate_limited_per_client_and_in_all(tmp_path):
         for _ in range(3):
             first.start()
         token = token_of(first.get("/").body)
-        reply = first.post("/start", {"consent": "yes", "csrf": token})
-        assert reply.status == 429 and b"too many new sessions" in reply.body
+        reply = first.post("/start", {"consent": "yes", "csrf": token}, headers={"X-Forwarded-For": "198.51.100.7"})
+        assert reply.status == 429 and b"too many new sessions" in reply.body  # no proxy is trusted: not believed
         assert 55 <= int(reply.headers["Retry-After"]) <= 60
         second = Client(server.url, source="127.0.0.3")
         second.start()
