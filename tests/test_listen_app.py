@@ -469,10 +469,16 @@ def test_serve_and_analyze_check_their_options_before_starting(tmp_path, capsys)
         (["listen", "analyze", "--db", tmp_path / "notes.sqlite"], "notes.sqlite' cannot be used as SQLite"),
         (["listen", "analyze", "--db", other], "is not a listening-test database"),
     ]
-    for args, needle in cases:
-        assert main([str(a) for a in args]) == 2, args
-        err = capsys.readouterr().err
-        assert len(err.splitlines()) == 1 and needle in err and "Traceback" not in err, (args, err)
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        port = taken.getsockname()[1]
+        cases.append((["listen", "serve", config, "--db", tmp_path / "a.sqlite", "--port", port],
+                      f"cannot listen on host '127.0.0.1' port {port}: Address already in use"))
+        for args, needle in cases:
+            assert main([str(a) for a in args]) == 2, args
+            err = capsys.readouterr().err
+            assert len(err.splitlines()) == 1 and needle in err and "Traceback" not in err, (args, err)
     assert not (tmp_path / "a.sqlite").exists()  # nothing written by a refused command
     assert (tmp_path / "notes.sqlite").read_text() == "not a database\n"
     songs = sqlite3.connect(other)

@@ -63,6 +63,8 @@ _PARTICIPANT = re.compile(r"[0-9a-f]{32}")
 _POSITION = re.compile(r"[0-9]{1,6}")
 _SCALE = ("1", "2", "3", "4", "5")
 _CHUNK = 1 << 16
+_UNPLAYABLE = ("this stimulus cannot be played: the server cannot read its file (the reason is logged for the "
+               "experimenter)")
 
 
 def make_app(config, store):
@@ -139,19 +141,18 @@ class _Site:
         side = request.path_params["side"]
         if side not in ("A", "B"):
             raise HTTPException(400, f"a side is A or B, got {_shown(side)}")
-        steps = await self._plan(participant)
-        pair_id, robot = _step(steps, position)
+        pair_id, robot = _step(await self._plan(participant), position)
         pair = self.pairs.get(pair_id)
-        file = None if pair is None else pair.robot if side == robot else pair.human
+        if pair is None:  # the config lost a pair since this participant started
+            log.error("participant %s, pair %r: the pair is not in the config any more", participant, pair_id)
+            raise HTTPException(500, _UNPLAYABLE)
+        file = pair.robot if side == robot else pair.human
         try:
-            if file is None:
-                raise OSError(f"pair {pair_id!r} of the participant's plan is not in the config")
             handle, size = await anyio.to_thread.run_sync(_open_regular, file)
         except OSError as error:
             log.error("participant %s, pair %r, side %s: cannot read the stimulus %s: %s", participant, pair_id, side,
                       file, error.strerror or error)
-            raise HTTPException(500, "this stimulus cannot be played: the server cannot read its file (the reason "
-                                     "is logged for the experimenter)") from None
+            raise HTTPException(500, _UNPLAYABLE) from None
         return _Stimulus(handle, size)
 
     # --- what a participant does -------------------------------------------------------------------------------
