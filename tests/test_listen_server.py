@@ -125,9 +125,9 @@ def test_a_head_that_trickles_in_is_cut_at_the_head_timeout_and_an_idle_connecti
             reply += chunk
         lasted = time.monotonic() - began
     assert statuses(reply) == [408] and b"did not arrive within 1 s" in reply
-    assert 0.9 < lasted < 1.6 and sent >= 4
+    assert 0.9 < lasted < 2.5 and sent >= 4
     reply, lasted, closed = exchange(server, b"")  # nothing sent: closed without a word
-    assert reply == b"" and closed and 0.9 < lasted < 1.6
+    assert reply == b"" and closed and 0.9 < lasted < 2.5
 
 
 def test_malformed_heads_are_answered_400_with_a_message(served):
@@ -172,28 +172,27 @@ def test_connections_over_the_caps_are_answered_503_at_once(tmp_path):
     host_port = address(server)
 
     def connect(source):
-        connection = socket.create_connection(host_port, source_address=(source, 0))
-        connection.setblocking(False)
-        return connection
+        return socket.create_connection(host_port, source_address=(source, 0))
 
     def answered(connection, wait=0.3):
-        time.sleep(wait)
+        """What the server said at once (within ``wait`` s), or None: held open, waiting for a request."""
+        connection.settimeout(wait)
         try:
             return connection.recv(4096)
-        except BlockingIOError:
-            return None  # held open, waiting for a request
+        except TimeoutError:
+            return None
 
     try:
         held = [connect("127.0.0.2") for _ in range(5)]
         sixth = connect("127.0.0.2")
-        reply = answered(sixth)
+        reply = answered(sixth, wait=5.0)
         assert statuses(reply) == [503] and b"from your address" in reply
         assert headers_of(reply)["retry-after"] == "5" and headers_of(reply)["x-frame-options"] == "DENY"
         held += [connect("127.0.0.9") for _ in range(10)]  # a trusted proxy's are not counted per client
         held += [connect("127.0.0.3") for _ in range(5)]  # 20 open in all
-        reply = answered(connect("127.0.0.4"))
+        reply = answered(connect("127.0.0.4"), wait=5.0)
         assert statuses(reply) == [503] and b"too many connections are open: try again" in reply
-        assert all(answered(c, wait=0) is None for c in held)
+        assert all(answered(c, wait=0.01) is None for c in held)
         held[7].setblocking(True)
         held[7].sendall(b"GET / HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n")
         assert statuses(held[7].recv(4096)) == [200]
@@ -215,17 +214,10 @@ def test_a_thousand_trickling_connections_neither_stop_a_participant_nor_stay(tm
             connection = socket.create_connection(address(server), source_address=(f"127.0.0.{2 + i % 5}", 0))
             opened[connection] = time.monotonic()
             trickles.append(connection)
-        time.sleep(0.3)
-        refused, held = [], []
-        for connection in trickles:  # the caps (100 per client by default) answer the others at once
-            connection.setblocking(False)
-            try:
-                reply = connection.recv(4096)
-            except BlockingIOError:
-                held.append(connection)
-                connection.send(b"GET / HTTP/1.1\r\nHost: x\r\nX-Slow: ")
-            else:
-                refused.append(reply)
+        refused = answered_at_once(trickles)  # the caps (100 per client by default) answer the others at once
+        held = [connection for connection in trickles if connection not in refused]
+        for connection in held:
+            connection.send(b"GET / HTTP/1.1\r\nHost: x\r\nX-Slow: ")
         result = {}
         trickler = threading.Thread(target=lambda: result.update(trickle(held, time.monotonic() + 10.0)))
         trickler.start()
@@ -242,18 +234,36 @@ def test_a_thousand_trickling_connections_neither_stop_a_participant_nor_stay(tm
         finished = time.monotonic()
         trickler.join()
 
-        assert len(refused) == 500 and all(statuses(r) == [503] and b"from your address" in r for r in refused)
+        assert len(refused) == 500
+        assert all(statuses(r) == [503] and b"from your address" in r for r in refused.values())
         assert finished - began < 5.0 and len(store.rows()) == PAIRS
         closed, replies, sent = result["closed"], result["replies"], result["sent"]
         assert len(closed) == len(held) == 500 and all(statuses(replies[c]) == [408] for c in held)
         lifetimes = [closed[c] - opened[c] for c in held]
         assert min(closed.values()) > finished  # all 500 were open while the participant took the test
         assert head_timeout - 0.1 < min(lifetimes) and max(lifetimes) < head_timeout + 1.5
-        assert min(sent[c] for c in held) >= 8  # each kept trickling to the end
+        assert min(sent[c] for c in held) >= 5  # each kept trickling, a byte every 0.25 s, to the end
     finally:
         for connection in trickles:
             connection.close()
         server.stop()
+
+
+def answered_at_once(connections, quiet=0.5):
+    """{connection: what the server sent} for those it answered, once none has answered for ``quiet`` s."""
+    for connection in connections:
+        connection.setblocking(False)
+    replies, last = {}, time.monotonic()
+    while time.monotonic() - last < quiet:
+        for connection in connections:
+            if connection not in replies:
+                try:
+                    replies[connection] = connection.recv(4096)
+                    last = time.monotonic()
+                except BlockingIOError:
+                    pass
+        time.sleep(0.05)
+    return replies
 
 
 def trickle(held, deadline, interval=0.25):
