@@ -62,8 +62,8 @@ def _serve(args):
     proxies = args.forwarded_allow_ips.split(",") if args.forwarded_allow_ips else ()
     try:
         server = make_server(config, store, host=args.host, port=args.port, forwarded_allow_ips=proxies)
-    except ParameterError:
-        if new:  # a refused --host, --port or proxy leaves no database behind
+    except (ParameterError, ImportError):
+        if new:  # a refused --host, --port or proxy, or a missing extra, leaves no database behind
             args.db.unlink()
         raise
     logging.basicConfig(level=logging.WARNING, format="%(asctime)s %(levelname)s %(name)s: %(message)s")
