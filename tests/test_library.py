@@ -139,7 +139,7 @@ def test_the_loaded_curve_follows_the_built_one_between_samples(small, rng):
 def test_the_manifest_describes_the_files(small):
     built, folder, entries = small
     manifest = manifest_of(folder)
-    assert manifest["format"] == "drumstroke-library" and manifest["rate"] == 1000.0 and manifest["version"] == 2
+    assert manifest["format"] == "drumstroke-library" and manifest["rate"] == 1000.0 and manifest["version"] == 3
     assert [r["name"] for r in manifest["strokes"]] == [e.name for e in entries]
     for record, entry in zip(manifest["strokes"], entries):
         paths = stroke_files(folder, entry.name)
@@ -150,6 +150,7 @@ def test_the_manifest_describes_the_files(small):
         assert record["t_end"] == t[-1] == built[entry.name].trajectory.t_end
         assert (record["category"], record["description"]) == (entry.category, entry.description)
         assert record["sha256"] == {key: sha256(p) for key, p in zip(("recipe", "trajectory", "impacts"), paths)}
+        assert record["bytes"] == {key: p.stat().st_size for key, p in zip(("recipe", "trajectory", "impacts"), paths)}
         if impacts:
             assert record["first_impact"] == impacts[0]["t"]
 
@@ -167,34 +168,44 @@ def test_another_rate_puts_samples_on_its_grid(palette, tmp_path):
     assert len(read_csv(stroke_files(tmp_path, "free-bounce")[1])[0]) == 2501
 
 
-def test_a_library_of_the_old_format_still_loads(small, tmp_path):
-    """Version 1, as drumstroke 0.1.0 wrote it: a # comment line first in each CSV, no "csv" block in NAME.json."""
+def test_a_library_of_the_old_formats_still_loads(small, tmp_path):
+    """Version 2: no file sizes in the manifest. Version 1, as drumstroke 0.1.0 wrote it: also a # comment line
+    first in each CSV, no "csv" block in NAME.json."""
     built, _, entries = small
-    folder = tmp_path / "old"
-    shutil.copytree(small[1], folder)
-    manifest = manifest_of(folder)
-    for record in manifest["strokes"]:
-        _, csv_path, json_path = (folder / manifest["folder"] / record["files"][key]
-                                  for key in ("recipe", "trajectory", "impacts"))
-        comment = (f"# drumstroke 0.1.0; model={record['model']}; stroke={record['name']}; rate=1000 Hz; "
-                   "units s, rad, rad/s\n")
-        csv_path.write_text(comment + csv_path.read_text())
-        data = json.loads(json_path.read_text())
-        del data["csv"]
-        json_path.write_text(json.dumps(data, indent=1) + "\n")
-        record["sha256"].update(trajectory=sha256(csv_path), impacts=sha256(json_path))
-    manifest["version"] = 1
+    for version in (2, 1):
+        folder = tmp_path / f"v{version}"
+        shutil.copytree(small[1], folder)
+        manifest = manifest_of(folder)
+        for record in manifest["strokes"]:
+            del record["bytes"]
+            if version == 2:
+                continue
+            _, csv_path, json_path = (folder / manifest["folder"] / record["files"][key]
+                                      for key in ("recipe", "trajectory", "impacts"))
+            comment = (f"# drumstroke 0.1.0; model={record['model']}; stroke={record['name']}; rate=1000 Hz; "
+                       "units s, rad, rad/s\n")
+            csv_path.write_text(comment + csv_path.read_text())
+            data = json.loads(json_path.read_text())
+            del data["csv"]
+            json_path.write_text(json.dumps(data, indent=1) + "\n")
+            record["sha256"].update(trajectory=sha256(csv_path), impacts=sha256(json_path))
+        manifest["version"] = version
+        (folder / "manifest.json").write_text(json.dumps(manifest))
+        loaded = load_library(folder)
+        assert loaded.rate == 1000.0 and list(loaded) == [e.name for e in entries]
+        for entry in entries:
+            got, want = loaded[entry.name].trajectory, built[entry.name].trajectory.sample(1000.0)
+            assert np.array_equal(got.t, want.t) and np.array_equal(got.theta, want.theta)
+            assert np.array_equal(got.omega, want.omega) and got.model == want.model
+            assert np.array_equal(got.impacts.t, want.impacts.t)
+        # Without sizes, damage is still found by the checksums.
+        path = stroke_files(folder, "double")[1]
+        path.write_bytes(path.read_bytes()[:-7])
+        with pytest.raises(ParameterError, match=r"double\.csv' is corrupt: its SHA-256 differs"):
+            load_library(folder)
+    manifest["version"] = 4
     (folder / "manifest.json").write_text(json.dumps(manifest))
-    loaded = load_library(folder)
-    assert loaded.rate == 1000.0 and list(loaded) == [e.name for e in entries]
-    for entry in entries:
-        got, want = loaded[entry.name].trajectory, built[entry.name].trajectory.sample(1000.0)
-        assert np.array_equal(got.t, want.t) and np.array_equal(got.theta, want.theta)
-        assert np.array_equal(got.omega, want.omega) and got.model == want.model
-        assert np.array_equal(got.impacts.t, want.impacts.t)
-    manifest["version"] = 3
-    (folder / "manifest.json").write_text(json.dumps(manifest))
-    with pytest.raises(ParameterError, match=r"manifest\.json' has version 3; this drumstroke reads the versions 1, 2"):
+    with pytest.raises(ParameterError, match=r"manifest\.json' has version 4; this drumstroke reads the versions 1, 2, 3"):
         load_library(folder)
 
 
@@ -215,6 +226,7 @@ def reseal(folder, name, key, path):
     manifest = manifest_of(folder)
     record = next(r for r in manifest["strokes"] if r["name"] == name)
     record["sha256"][key] = sha256(path)
+    record["bytes"][key] = path.stat().st_size
     (Path(folder) / "manifest.json").write_text(json.dumps(manifest))
 
 
@@ -227,13 +239,13 @@ def set_manifest(folder, change):
 def change_value(folder):
     path = stroke_files(folder, "double")[1]
     edit_row(path, 10, 1, "0.125")
-    return path, "SHA-256"
+    return path, "is corrupt: .*truncated or altered"
 
 
 def truncate_csv(folder):
     path = stroke_files(folder, "double")[1]
     path.write_text("".join(path.read_text().splitlines(keepends=True)[:40]))
-    return path, "SHA-256"
+    return path, r"is corrupt: \d+ bytes, the manifest says \d+ \(truncated or altered\)"
 
 
 def delete_json(folder):
@@ -261,7 +273,7 @@ def missing_folder(folder):
 def garbage_recipe(folder):
     path = stroke_files(folder, "single")[0]
     path.write_text("this is not = [a recipe\n")
-    return path, "SHA-256"
+    return path, "is corrupt"
 
 
 def garbage_recipe_resealed(folder):
@@ -415,7 +427,7 @@ def test_a_stroke_failing_to_simulate_leaves_the_previous_library(palette, libra
 def test_a_failed_manifest_write_leaves_the_previous_library(palette, library_a, monkeypatch):
     folder, before = library_a
 
-    def failing(path, data):
+    def failing(path, data, **options):
         raise OSError("killed while writing the manifest")
 
     with monkeypatch.context() as patch:
