@@ -59,7 +59,7 @@ COMMANDS = ("library build", "compose", "simulate")
 OUTPUTS = ("out.csv", "out.json", "out.wav", "out.mid", "out.png")
 HOOK = """
 import os, signal, sys
-name, part, at, count_file = sys.argv[1], sys.argv[2], int(sys.argv[3]), sys.argv[4]
+name, part, at, count_file, arguments = sys.argv[1], sys.argv[2], int(sys.argv[3]), sys.argv[4], sys.argv[5:]
 calls = 0
 def hooked(called, real):
     def call(*args, **kwargs):
@@ -72,16 +72,19 @@ def hooked(called, real):
     return call
 for called in ("open", "fsync", "mkdir", "rename", "replace", "unlink", "rmdir"):
     setattr(os, called, hooked(called, getattr(os, called)))
+"""
+"""The start of a program run as ``python -c PROGRAM NAME PART K COUNT_FILE ARGS...``: it sends itself SIGKILL
+just before the K-th call of os.NAME ("any": of every one of those hooked) whose first argument contains PART
+(K = 0: never); the program has ``arguments`` (ARGS), ``calls`` and ``count_file``."""
+CLI = HOOK + """
 from drumstroke.cli import main
-status = main(sys.argv[5:])
+status = main(arguments)
 if count_file:
     with open(count_file, "w") as handle:
         handle.write(str(calls))
 sys.exit(status)
 """
-"""Run as ``python -c HOOK NAME PART K COUNT_FILE ARGS...``: drumstroke's command line with ARGS, killed by
-SIGKILL just before the K-th call of os.NAME ("any": of every hooked call) whose first argument contains
-PART; K = 0 never kills, and COUNT_FILE (if not "") receives the number of such calls of a whole run."""
+"""drumstroke's command line with ARGS, under the hook; COUNT_FILE (if not "") receives the number of calls."""
 
 
 class Campaign:
@@ -253,15 +256,16 @@ WHOLE = ("previous", "new", "completed by the next run")
 files were renamed, completed by the next run writing there, as its record says)."""
 
 
-def run(arguments, *, kill=("any", "", 0), delay=None, count_file=""):
-    """Run drumstroke with ``arguments`` in a subprocess; return (exit status, seconds).
+def run(arguments, *, kill=("any", "", 0), delay=None, count_file="", program=CLI):
+    """Run ``program`` (default: drumstroke's command line) with ``arguments`` in a subprocess; return (exit status,
+    seconds).
 
-    ``kill``: (name, part, k) for the hook; ``delay``: SIGKILL from here after that many seconds.
+    ``kill``: (name, part, k) for the :data:`HOOK`; ``delay``: SIGKILL from here after that many seconds.
     """
     environment = {**os.environ, "PYTHONPATH": str(Path(drumstroke.__file__).resolve().parents[1]),
                    "MPLBACKEND": "Agg"}
     started = time.monotonic()
-    process = subprocess.Popen([sys.executable, "-c", HOOK, kill[0], kill[1], str(kill[2]), count_file, *arguments],
+    process = subprocess.Popen([sys.executable, "-c", program, kill[0], kill[1], str(kill[2]), count_file, *arguments],
                                env=environment, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
     if delay is not None:
         try:
@@ -270,7 +274,7 @@ def run(arguments, *, kill=("any", "", 0), delay=None, count_file=""):
             process.send_signal(signal.SIGKILL)
     _, errors = process.communicate(timeout=300)
     if process.returncode not in (0, -signal.SIGKILL):
-        raise RuntimeError(f"drumstroke {' '.join(arguments)} failed ({process.returncode}): {errors.decode()}")
+        raise RuntimeError(f"{' '.join(arguments)} failed ({process.returncode}): {errors.decode()}")
     return process.returncode, time.monotonic() - started
 
 
