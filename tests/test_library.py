@@ -3,13 +3,20 @@
 The files are read back here independently of the loader (numpy.loadtxt, json, hashlib) and compared
 bit for bit with what the build returned. Every corruption the loader must catch is made on a copy
 of a small library built once per module; each must raise ParameterError naming the file at fault.
+A damaged library is named file by file by check_library and load_library alike, and the next build
+repairs it, trusting no folder it reuses; leftovers of killed builds (real processes) are noted, not
+problems, and swept by the next build — never those of a build still running.
 """
 
 import hashlib
 import json
 import math
+import os
 import re
 import shutil
+import subprocess
+import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -19,9 +26,10 @@ import drumstroke
 from drumstroke import ParameterError
 from drumstroke.formats import library as library_format
 from drumstroke.palette import library as library_module
-from drumstroke.palette.library import Entry, build_library, load_library, read_palette
+from drumstroke.palette.library import Entry, build_library, check_library, load_library, read_palette
 
 SMALL = ("single", "double", "triple", "free-bounce", "backwards-bounce", "whisper-roll")  # palette order
+SOURCE = str(Path(drumstroke.__file__).resolve().parents[1])
 CATEGORIES = ("gravity only", "constant torque", "low to high", "high to low", "sustained finger pulses",
               "un-natural", "single stroke", "double stroke", "triple stroke")
 
@@ -523,3 +531,162 @@ def test_a_library_iterates_in_palette_order(small):
     assert list(built) == list(load_library(folder)) == list(SMALL)
     assert len(built) == len(SMALL)
     assert [s.name for s in load_library(folder).values()] == list(SMALL)
+
+
+# --- a damaged library is named file by file, and a build repairs it -----------------------------------------------
+
+
+def missing_stroke_file(folder):
+    path = stroke_files(folder, "double")[2]
+    path.unlink()
+    return [(path, r"is missing \(stroke 'double'\)")]
+
+
+def truncated_stroke_file(folder):
+    path = stroke_files(folder, "double")[1]
+    path.write_bytes(path.read_bytes()[:1000])
+    return [(path, r"is corrupt: 1000 bytes, the manifest says \d+ \(truncated or altered\)")]
+
+
+def flipped_byte(folder):
+    path = stroke_files(folder, "triple")[1]
+    data = bytearray(path.read_bytes())
+    data[len(data) // 2] ^= 0x01
+    path.write_bytes(bytes(data))
+    return [(path, r"is corrupt: its SHA-256 differs from the manifest's")]
+
+
+def a_folder_for_a_file(folder):
+    path = stroke_files(folder, "single")[0]
+    path.unlink()
+    path.mkdir()
+    return [(path, r"is not a regular file \(stroke 'single'\)")]
+
+
+def extra_file(folder):
+    path = stroke_files(folder, "single")[0].parent / "cymbal.csv"
+    path.write_text("t,theta,omega\n")
+    return [(path, r"is not in the manifest")]
+
+
+def half_deleted(folder):
+    """What a build killed while removing the folder left, and a build that reused it kept (issue 16)."""
+    paths = [stroke_files(folder, "double")[1], stroke_files(folder, "triple")[0], stroke_files(folder, "triple")[2]]
+    for path in paths:
+        path.unlink()
+    return [(path, "is missing") for path in paths]
+
+
+def missing_stroke_folder(folder):
+    path = stroke_files(folder, "single")[0].parent
+    shutil.rmtree(path)
+    return [(path, r"^stroke folder '.*' is missing$")]
+
+
+DAMAGES = [missing_stroke_file, truncated_stroke_file, flipped_byte, a_folder_for_a_file, extra_file, half_deleted,
+           missing_stroke_folder]
+
+
+@pytest.mark.parametrize("damage", DAMAGES, ids=[d.__name__ for d in DAMAGES])
+def test_a_damaged_library_is_named_by_check_and_load_and_repaired_by_a_build(palette, library_a, damage):
+    folder, before = library_a
+    entries = [palette["single"], palette["double"], palette["triple"]]
+    problems = damage(folder)
+    diagnosis = check_library(folder)
+    assert len(diagnosis.problems) == len(problems) and diagnosis.leftovers == ()
+    for (path, pattern), line in zip(problems, diagnosis.problems):
+        assert str(path) in line and re.search(pattern, line), line
+    with pytest.raises(ParameterError) as error:
+        load_library(folder)
+    assert str(error.value) == diagnosis.error()
+    for path, _ in problems:
+        assert str(path) in str(error.value)
+    build_library(folder, palette=entries)  # the same strokes: the folder of that name is checked, not trusted
+    assert check_library(folder).problems == ()
+    assert_same_snapshot(snapshot(folder), before)
+    assert sorted(p.name for p in folder.iterdir()) == ["manifest.json", manifest_of(folder)["folder"]]
+
+
+def test_a_whole_stroke_folder_of_the_same_strokes_is_reused(palette, library_a):
+    folder, before = library_a
+    stroke_folder = folder / manifest_of(folder)["folder"]
+    identity = stroke_folder.stat().st_ino
+    build_library(folder, palette=[palette["single"], palette["double"], palette["triple"]])
+    assert (folder / manifest_of(folder)["folder"]).stat().st_ino == identity
+    assert_same_snapshot(snapshot(folder), before)
+
+
+def test_a_stale_half_deleted_stroke_folder_is_never_reused(palette, library_a, tmp_path):
+    """Issue 16: a build killed while removing an old folder left it half there; a later build of the same strokes
+    kept it, and the library did not load. Now it is a leftover, not the library, and it is not trusted."""
+    folder, before = library_a
+    others = other_entries(palette)
+    elsewhere = tmp_path / "elsewhere"
+    build_library(elsewhere, palette=others)
+    stale = folder / manifest_of(elsewhere)["folder"]
+    shutil.copytree(elsewhere / stale.name, stale)
+    for path in sorted(stale.iterdir())[::2]:
+        path.unlink()
+    diagnosis = check_library(folder)
+    assert diagnosis.problems == ()
+    note = f"{str(stale)!r}: an old stroke folder, not the manifest's; the next build removes it"
+    assert diagnosis.leftovers == (note,)
+    assert_same_snapshot(snapshot(folder), before)  # it is not the library: the library loads
+    build_library(folder, palette=others)
+    assert manifest_of(folder)["folder"] == stale.name and check_library(folder).problems == ()
+    assert_same_snapshot(snapshot(folder), snapshot(elsewhere))
+    assert sorted(p.name for p in folder.iterdir()) == ["manifest.json", stale.name]
+
+
+STAGE = """
+import sys
+from pathlib import Path
+from drumstroke._atomic import temporary_folder, temporary_path, write_new
+library = Path(sys.argv[1])
+staged = temporary_folder(library / "strokes")
+write_new(staged / "single.csv", b"t,theta,omega\\n" * 1000)
+write_new(temporary_path(library / "manifest.json"), b"{")
+print(staged.name, flush=True)
+if sys.argv[2] == "wait":
+    sys.stdin.read()
+"""
+
+
+def stage_in(folder, mode):
+    """A real process leaves a staging folder and a manifest's temporary in the library, and exits or waits."""
+    process = subprocess.Popen([sys.executable, "-c", STAGE, str(folder), mode], stdin=subprocess.PIPE,
+                               stdout=subprocess.PIPE, text=True, env={**os.environ, "PYTHONPATH": SOURCE})
+    name = process.stdout.readline().strip()
+    if mode == "exit":
+        process.wait()
+    return process, name
+
+
+def test_leftovers_of_killed_builds_are_noted_and_swept_and_a_running_builds_are_kept(palette, library_a):
+    folder, before = library_a
+    entries = [palette["single"], palette["double"], palette["triple"]]
+    stage_in(folder, "exit")
+    live, live_name = stage_in(folder, "wait")
+    legacy = [folder / ".strokes-k3x_9q2a", folder / ".manifest.json.zz81mmq0.tmp"]  # drumstroke 0.1's names
+    legacy[0].mkdir()
+    (legacy[0] / "single.csv").write_text("t,theta,omega\n")
+    legacy[1].write_text("{")
+    for path in legacy:
+        os.utime(path, (time.time() - 3600, time.time() - 3600))
+    try:
+        diagnosis = check_library(folder)
+        assert diagnosis.problems == () and len(diagnosis.leftovers) == 6
+        notes = "\n".join(diagnosis.leftovers)
+        assert notes.count("which was stopped before it finished; the next run writing here removes it") == 2
+        assert notes.count(f"drumstroke process {live.pid}, running") == 2
+        assert notes.count("a temporary of a build by an older drumstroke that did not finish") == 2
+        assert f"{str(folder / live_name)!r}: a temporary folder of drumstroke process {live.pid}" in notes
+        assert_same_snapshot(snapshot(folder), before)
+        build_library(folder, palette=entries)
+        left = sorted(p.name for p in folder.iterdir() if p.name.startswith("."))
+        assert len(left) == 2 and live_name in left  # the running build's, and only they
+    finally:
+        live.communicate("")
+    build_library(folder, palette=entries)
+    assert sorted(p.name for p in folder.iterdir()) == ["manifest.json", manifest_of(folder)["folder"]]
+    assert check_library(folder).leftovers == ()

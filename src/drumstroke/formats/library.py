@@ -248,10 +248,13 @@ def diagnose(directory):
             return Diagnosis(directory, rate, (), (problem,), leftovers)
         strokes, problems = [], []
         for record in records:
+            damaged = _folder_problems(folder, [record], version, extra=False)
             try:
-                strokes.append(_read_stroke(folder, record, rate, version))
+                if not damaged:
+                    strokes.append(_read_stroke(folder, record, rate))
             except ParameterError as error:
-                problems.append(str(error))
+                damaged = [str(error)]
+            problems += damaged
         problems += _extra_files(folder, records)
     return Diagnosis(directory, rate, tuple(strokes), tuple(problems), leftovers)
 
@@ -283,11 +286,8 @@ def _read_manifest(directory):
     return rate, folder, records, version
 
 
-def _read_stroke(folder, record, rate, version):
-    """The stroke of ``record``, read and checked; ParameterError naming each of its files at fault."""
-    problems = _folder_problems(folder, [record], version, extra=False)
-    if problems:
-        raise ParameterError("; ".join(problems))
+def _read_stroke(folder, record, rate):
+    """The stroke of ``record`` from its files (whole: sizes and SHA-256 checked), its values checked."""
     paths = {key: folder / record["files"][key] for key in KINDS}
     recipe = read_toml(paths["recipe"], "library file")
     t, theta, omega = _read_trajectory(paths["trajectory"], record, rate)
