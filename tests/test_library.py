@@ -8,6 +8,7 @@ repairs it, trusting no folder it reuses; leftovers of killed builds (real proce
 problems, and swept by the next build — never those of a build still running.
 """
 
+import errno
 import hashlib
 import json
 import math
@@ -448,6 +449,21 @@ def test_a_failed_manifest_write_leaves_the_previous_library(palette, library_a,
     build_library(folder, palette=other_entries(palette))
     assert stroke_folders(folder) == [manifest_of(folder)["folder"]]
     assert list(load_library(folder)) == [e.name for e in other_entries(palette)]
+
+
+def test_a_full_disk_during_a_build_names_the_library_and_leaves_the_previous_one(palette, library_a, monkeypatch):
+    folder, before = library_a
+
+    def full(fd):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    with monkeypatch.context() as patch:
+        patch.setattr(os, "fsync", full)
+        with pytest.raises(OSError, match="No space left on device") as caught:
+            build_library(folder, palette=other_entries(palette))
+    assert caught.value.filename == str(folder) and caught.value.errno == errno.ENOSPC  # not the staging folder
+    assert_same_snapshot(snapshot(folder), before)
+    assert not [p for p in Path(folder).iterdir() if p.name.startswith(".")]
 
 
 def test_a_rebuild_replaces_the_old_library(palette, library_a):

@@ -80,6 +80,17 @@ def write_atomic(path, data, *, now=False):
             remove(temporary)
 
 
+@contextlib.contextmanager
+def naming(path):
+    """Inside, an ``OSError`` that names a temporary (or nothing) names ``path``, the user's file or folder."""
+    try:
+        yield
+    except OSError as error:
+        if error.filename is not None and not any(_TEMPORARY.fullmatch(part) for part in Path(error.filename).parts):
+            raise
+        raise OSError(error.errno, error.strerror or str(error), str(path)) from None
+
+
 def _mode_for(path):
     """The old file's permissions, or those a new file gets under the umask."""
     try:

@@ -44,6 +44,7 @@ from .._atomic import (
     describe_temporary,
     locked,
     move_aside,
+    naming,
     remove,
     sweep,
     sweep_legacy,
@@ -90,7 +91,8 @@ class Staging:
         self.directory = directory
         sweep(directory)
         sweep_legacy(directory, ".strokes-")
-        self.folder = temporary_folder(directory / "strokes")
+        with naming(directory):
+            self.folder = temporary_folder(directory / "strokes")
         self.records = []
 
     def add(self, record, texts):
@@ -98,8 +100,9 @@ class Staging:
         name = record["name"]
         files = {kind: f"{name}{_SUFFIX[kind]}" for kind in KINDS}
         data = {kind: texts[kind].encode() for kind in KINDS}
-        for kind, file in files.items():
-            write_new(self.folder / file, data[kind])
+        with naming(self.directory):
+            for kind, file in files.items():
+                write_new(self.folder / file, data[kind])
         self.records.append(record | {"files": files, "bytes": {kind: len(data[kind]) for kind in KINDS},
                                       "sha256": {kind: hashlib.sha256(data[kind]).hexdigest() for kind in KINDS}})
         return self.records[-1]
@@ -109,7 +112,7 @@ class Staging:
 
         The staged folder is named by its contents; one of that name already there is reused
         only if it holds exactly the staged files. The manifest is replaced atomically, then
-        the other stroke folders are removed.
+        the other stroke folders are removed. An ``OSError`` names the library's folder.
         """
         listing = "".join(f"{r['files'][k]} {r['bytes'][k]} {r['sha256'][k]}\n" for r in self.records for k in KINDS)
         folder = f"strokes-{hashlib.sha256(listing.encode()).hexdigest()[:16]}"
@@ -118,7 +121,7 @@ class Staging:
                     "folder": folder, "strokes": self.records}
         sync_folder(self.folder)
         asides = []
-        with locked(self.directory):
+        with locked(self.directory), naming(self.directory):
             if os.path.lexists(target) and _folder_problems(target, self.records, FORMAT_VERSION):
                 asides.append(move_aside(target))  # a damaged folder of that name is never reused
             placed = not os.path.lexists(target)
