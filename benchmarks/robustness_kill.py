@@ -213,6 +213,8 @@ class Campaign:
                     figures = self.trial(command, self.spaces[number, command], rng)
                     trials.append(figures | {"worker": number})
                     killed = figures["killed"]
+                    progress(f"{sum(t['killed'] for t in trials)} of {len(order)} kills: {command} "
+                             f"{figures['outcome']}, {figures['leftover_files']} leftovers")
 
         with concurrent.futures.ThreadPoolExecutor(self.workers) as pool:
             for future in [pool.submit(worker, w, order[w::self.workers]) for w in range(self.workers)]:
@@ -278,6 +280,10 @@ def run(arguments, *, kill=("any", "", 0), delay=None, count_file="", program=CL
     return process.returncode, time.monotonic() - started
 
 
+def progress(message):
+    print(message, file=sys.stderr, flush=True)
+
+
 def digest(path):
     return hashlib.sha256(Path(path).read_bytes()).hexdigest()
 
@@ -322,7 +328,7 @@ def main():
     result["date"] = datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds")
     print(table(result))
     RESULTS.write_text(json.dumps(result, indent=1) + "\n")
-    print(f"wrote {RESULTS.relative_to(ROOT)}", file=sys.stderr)
+    progress(f"wrote {RESULTS.relative_to(ROOT)}")
     return 1 if result["failures"] else 0
 
 
