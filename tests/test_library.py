@@ -25,6 +25,7 @@ import pytest
 
 import drumstroke
 from drumstroke import ParameterError
+from drumstroke._atomic import locked
 from drumstroke.formats import library as library_format
 from drumstroke.palette import library as library_module
 from drumstroke.palette.library import Entry, build_library, check_library, load_library, read_palette
@@ -706,3 +707,28 @@ def test_leftovers_of_killed_builds_are_noted_and_swept_and_a_running_builds_are
     build_library(folder, palette=entries)
     assert sorted(p.name for p in folder.iterdir()) == ["manifest.json", manifest_of(folder)["folder"]]
     assert check_library(folder).leftovers == ()
+
+
+BUILD = """
+import sys
+from drumstroke.palette.library import build_library, read_palette
+names = sys.argv[2].split(",")
+build_library(sys.argv[1], palette=[e for e in read_palette() if e.name in names])
+"""
+
+
+def test_a_build_switches_the_library_only_when_no_reader_holds_it(palette, library_a):
+    folder, before = library_a
+    with locked(folder, shared=True):  # what load_library holds while it reads
+        build = subprocess.Popen([sys.executable, "-c", BUILD, str(folder), "tap,free-bounce"],
+                                 env={**os.environ, "PYTHONPATH": SOURCE})
+        deadline = time.monotonic() + 60
+        while not [p for p in folder.glob(".strokes.drumstroke-*") if len(list(p.iterdir())) == 6]:
+            assert time.monotonic() < deadline and build.poll() is None
+            time.sleep(0.05)
+        time.sleep(1.0)
+        assert build.poll() is None  # staged, waiting to switch
+        assert_same_snapshot(snapshot(folder), before)
+    assert build.wait(timeout=60) == 0
+    assert list(load_library(folder)) == ["tap", "free-bounce"]
+    assert sorted(p.name for p in folder.iterdir()) == ["manifest.json", manifest_of(folder)["folder"]]
