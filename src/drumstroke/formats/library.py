@@ -203,7 +203,7 @@ class Diagnosis:
     problems : tuple of str
         One line per damaged file (or the manifest, or the stroke folder), naming it: missing,
         not a regular file, unreadable, its size or SHA-256 not the manifest's, its values wrong,
-        or a file the manifest does not list. None for a whole library.
+        or a file the manifest does not list; none for a whole library.
     leftovers : tuple of str
         One line per leftover beside the library, naming it: an old stroke folder, a temporary
         of a killed build (the next build removes them), a build's still running. They do not
