@@ -44,6 +44,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ._atomic import publish
 from ._checks import as_vector, check_real
 from ._version import __version__
 from .errors import ParameterError, TrajectoryError
@@ -351,8 +352,11 @@ class Trajectory:
                                 rate=rate if rate is not None else stated["rate"], alpha=alpha, sticks=names,
                                 name=Path(path).stem, model=stated["model"])
 
+    @publish()
     def write_csv(self, path, *, alpha=False, metadata=None, sidecar=True):
         """Write the samples as a trajectory CSV, header first, atomically; its metadata in the JSON beside it.
+
+        The two files are published together (:func:`drumstroke._atomic.publish`).
 
         Parameters
         ----------
