@@ -17,6 +17,7 @@ A :class:`Runtime` runs a :class:`~drumstroke.live.performer.Performer` against 
   setpoints sent. :meth:`Runtime.session` is the record: notes in, strokes planned, problems, timing.
 """
 
+import gc
 import heapq
 import queue
 import sys
@@ -94,8 +95,7 @@ class Runtime:
         self.sent = 0
         self.first = self.last = None  # s: the first and last setpoints sent
         performer.warm_up()
-        if isinstance(performer.clock, SystemClock) and performer.sent < 0 and not performer.log:
-            performer.clock.restart()  # the session starts now, warmed up
+        self._restart()
         self.started = datetime.now(UTC).isoformat(timespec="seconds")
 
     # --- notes in --------------------------------------------------------------------------------------------------
@@ -208,11 +208,14 @@ class Runtime:
         period = 1.0 / performer.rate
         ahead = max(min(AHEAD, performer.guard - period), 0.0)
         switch = sys.getswitchinterval()
+        gc.collect()
+        gc.freeze()  # what exists now is never scanned again: the collector's pauses stay short while it runs
         planner = None
         if self.threaded:
             sys.setswitchinterval(SWITCH)
             planner = threading.Thread(target=self._planner, name="drumstroke-planner", daemon=True)
             planner.start()
+        self._restart()
         pending = None  # validated, not yet sent
         self._tail = None  # the last two setpoints validated
         try:
@@ -247,6 +250,14 @@ class Runtime:
             if planner is not None:
                 planner.join()
                 sys.setswitchinterval(switch)
+            gc.unfreeze()
+
+    def _restart(self):
+        """Start a system clock from 0 now, if nothing was stamped with it yet (the session starts warmed up)."""
+        performer = self.performer
+        if isinstance(performer.clock, SystemClock) and performer.sent < 0 and not performer.log \
+                and self._requests.empty():
+            performer.clock.restart()
 
     def _validate(self, fresh):
         """Check a chunk for each stick, with the two setpoints before it; raise LiveError if it fails."""
