@@ -59,6 +59,23 @@ class Onsets:
         return (f"Onsets({len(self)} over [{self.t[0]:.6g}, {self.t[-1]:.6g}] s, levels {self.level_db.min():.3g} to "
                 f"0 dB{'; ' + self.source if self.source else ''})")
 
+    @classmethod
+    def from_impacts(cls, impacts, *, source=""):
+        """The onsets of a simulated stroke: its impacts' times and levels re the loudest (exact, no threshold).
+
+        Parameters
+        ----------
+        impacts : drumstroke.trajectory.Impacts
+            E.g. ``stroke.impacts`` of a :class:`drumstroke.Stroke`; impacts at zero speed are left out.
+        source : str
+            What they came from (a recipe's name).
+        """
+        level = impacts.level_db
+        audible = np.isfinite(level)
+        level = level[audible]
+        return cls(impacts.t[audible], level - level.max() if len(level) else level, source=source,
+                   info={"tip_speed_max": float(impacts.tip_speed.max()) if len(level) else 0.0})
+
     @property
     def intervals(self):
         """Times between successive onsets (s) [shape=(n - 1,)]."""

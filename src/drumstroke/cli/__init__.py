@@ -12,13 +12,13 @@ import sys
 
 from .. import __version__
 from ..errors import DrumstrokeError
-from . import compose, demo, design, library, listen, live, robot, simulate, stats
+from . import compare, compose, demo, design, library, listen, live, robot, simulate, stats
 from ._common import Parser
 from ._options import check_outputs, output_option
 
 _COMMANDS = (simulate.add_simulate, library.add_library, compose.add_compose, design.add_design,
              design.add_rudiment, simulate.add_presets, simulate.add_figures, simulate.add_sweep, stats.add_stats,
-             listen.add_listen, live.add_live, robot.add_robot, demo.add_demo)
+             compare.add_compare, listen.add_listen, live.add_live, robot.add_robot, demo.add_demo)
 """Each command's registration, in the order ``drumstroke --help`` lists them."""
 
 

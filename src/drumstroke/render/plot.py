@@ -127,6 +127,44 @@ def tracking_figure(played):
     return figure
 
 
+def comparison_figure(comparison, *, labels=None):
+    """A matplotlib Figure of two strokes compared (a :class:`drumstroke.analysis.compare.Comparison`).
+
+    Top: each stroke's onsets (stems at their levels, dB re its loudest) and level envelope, from its
+    first onset; middle: the bounce rate, 1 / interval at each interval's midpoint (Hz, log scale); bottom: B's interval minus A's, bounce by
+    bounce (ms).
+    """
+    a, b = comparison.a, comparison.b
+    labels = labels or (a.source or "A", b.source or "B")
+    figure = _figure(figsize=(10.0, 7.2), layout="constrained")
+    top, middle, bottom = figure.subplots(3, 1)
+    for onsets, label, color, marker in ((a, labels[0], "C0", "o"), (b, labels[1], "C3", "s")):
+        top.vlines(onsets.t, comparison.threshold_db, onsets.level_db, color=color, lw=0.8, alpha=0.6)
+        top.plot(onsets.t, onsets.level_db, marker=marker, ms=3.5, lw=1.0, color=color,
+                 label=f"{label}: {len(onsets)} onsets")
+    top.set_ylim(comparison.threshold_db - 2.0, 2.0)
+    top.set_ylabel("level (dB re loudest)")
+    top.set_xlabel("t from the first onset (s)")
+    top.legend(loc="upper right", fontsize=8)
+    for onsets, label, color in ((a, labels[0], "C0"), (b, labels[1], "C3")):
+        if len(onsets) >= 2:
+            intervals = np.diff(onsets.t)
+            middle.semilogy(onsets.t[:-1] + intervals / 2.0, 1.0 / intervals, ".-", ms=3.0, color=color, lw=1.0,
+                            label=label)
+    middle.set_ylabel("bounce rate (Hz)")
+    middle.set_xlabel("t from the first onset (s)")
+    difference = comparison.interval_difference * 1e3
+    bottom.axhline(0.0, color="0.55", lw=1.0)
+    bottom.bar(np.arange(1, len(difference) + 1), difference, color="C2", width=0.7)
+    bottom.set_ylabel(f"interval: {labels[1]} − {labels[0]} (ms)")
+    bottom.set_xlabel("bounce")
+    for ax in (top, middle, bottom):
+        ax.grid(alpha=0.25)
+    figure.suptitle(f"{labels[1]} against {labels[0]}: onsets above {comparison.threshold_db:g} dB re each "
+                    f"one's loudest", fontsize=11)
+    return figure
+
+
 def _draw_theta(ax, t, theta, trajectory):
     head = trajectory.theta_max
     ax.axhline(head, color="0.55", lw=1.0, ls="--", label=f"drumhead θ_max = {head:.4f} rad")

@@ -1,0 +1,67 @@
+"""``drumstroke compare``: two strokes side by side (recordings, onsets CSVs or recipes)."""
+
+from .._atomic import publish
+from ..analysis.compare import FLOOR_DB
+from ..formats import json
+from ..render import plot
+from ._common import print_written
+from ._options import Output, add_mkdir, existing_file, number
+
+
+def add_compare(commands):
+    """Register ``compare``."""
+    com = commands.add_parser(
+        "compare", help="compare two strokes: bounces, intervals, how the volume fades, bounce rate",
+        description="Compare stroke B with stroke A, each a recording (.wav, .flac, .ogg: its impacts detected), an "
+                    "onsets CSV or a recipe (.toml: simulated), aligned at their first onsets: how many onsets, "
+                    "the intervals and levels bounce by bounce, the level envelope and the bounce rate over time.")
+    com.add_argument("a", type=existing_file, metavar="A", help="the first stroke (the reference, e.g. a human's)")
+    com.add_argument("b", type=existing_file, metavar="B", help="the second stroke (differences are B - A)")
+    com.add_argument("--threshold", type=number(low=-200.0, high=0.0, unit="dB"), default=FLOOR_DB, metavar="DB",
+                     help=f"count onsets at or above this level, dB re each stroke's loudest, in [-200, 0] (default "
+                          f"{FLOOR_DB:g}; a recording's detection threshold raises it for both)")
+    com.add_argument("--json", action=Output, suffixes=json.SUFFIXES, metavar="PATH",
+                     help="write the figures and both strokes' onsets as .json")
+    com.add_argument("--plot", action=Output, suffixes=plot.SUFFIXES, metavar="PATH",
+                     help=f"draw the onsets, the bounce rate and the interval differences: {', '.join(plot.SUFFIXES)}")
+    add_mkdir(com)
+    com.set_defaults(run=_compare)
+
+
+def _compare(args):
+    from ..analysis.compare import compare, stroke_onsets
+
+    a, b = stroke_onsets(args.a), stroke_onsets(args.b)
+    result = compare(a, b, threshold_db=args.threshold)
+    figures = result.summary()
+    for name, onsets in (("A", a), ("B", b)):
+        made = f", simulated on the {onsets.info['model']} model" if "model" in onsets.info else ""
+        print(f"{name}: {onsets.source}{made}")
+    print(f"onsets above {result.threshold_db:g} dB re each one's loudest: A {figures['count_a']}, B "
+          f"{figures['count_b']} ({figures['count_difference']:+d})")
+    print(f"first to last onset: A {figures['duration_a_s']:.4f} s, B {figures['duration_b_s']:.4f} s "
+          f"({figures['duration_difference_s'] * 1e3:+.1f} ms)")
+    if figures["bounces_compared"] >= 2:
+        print(f"bounce by bounce over {figures['bounces_compared']}: intervals differ by "
+              f"{figures['interval_difference_median_s'] * 1e3:.2f} ms (median), "
+              f"{figures['interval_difference_max_s'] * 1e3:.2f} ms (largest); levels by "
+              f"{figures['level_difference_median_db']:.2f} dB (median), {figures['level_difference_max_db']:.2f} dB "
+              f"(largest)")
+        print(f"over time: level envelopes differ by {figures['envelope_difference_rms_db']:.2f} dB rms, bounce rates "
+              f"by {figures['rate_difference_rms_hz']:.2f} Hz rms")
+    else:
+        print("too few onsets to compare intervals, envelopes and bounce rates (each stroke needs two)")
+    written = []
+    with publish():
+        if args.json:
+            json.write_json(args.json, {"comparison": figures, "a": _onsets_dict(result.a),
+                                        "b": _onsets_dict(result.b)})
+            written.append(args.json)
+        if args.plot:
+            plot.save_figure(plot.comparison_figure(result), args.plot)
+            written.append(args.plot)
+    print_written(written)
+
+
+def _onsets_dict(onsets):
+    return {"source": onsets.source, "t_s": onsets.t.tolist(), "level_db": onsets.level_db.tolist()}
