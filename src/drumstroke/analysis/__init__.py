@@ -8,6 +8,6 @@ The data flows through it in this order:
 - :mod:`.compare`: two strokes side by side (onsets, intervals, level envelopes, bounce rate).
 """
 
-from .onsets import Onsets
+from .onsets import Onsets, read_onsets, write_onsets
 
-__all__ = ["Onsets"]
+__all__ = ["Onsets", "read_onsets", "write_onsets"]
