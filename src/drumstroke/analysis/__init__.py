@@ -8,6 +8,7 @@ The data flows through it in this order:
 - :mod:`.compare`: two strokes side by side (onsets, intervals, level envelopes, bounce rate).
 """
 
-from .onsets import Onsets
+from .fit import Fit, fit_stroke
+from .onsets import Onsets, read_onsets, write_onsets
 
-__all__ = ["Onsets"]
+__all__ = ["Fit", "Onsets", "fit_stroke", "read_onsets", "write_onsets"]

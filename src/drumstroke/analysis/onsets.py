@@ -3,14 +3,29 @@
 Audio tells levels only up to one gain (the microphone's distance, the preamp): levels here are in
 dB re the loudest onset (0 dB is the loudest, the others below). The model's levels are absolute (dB re
 1 m/s tip speed, :mod:`drumstroke.dynamics`); a fit finds the offset (:mod:`.fit`).
+
+Onsets go to and come from an onsets CSV (:mod:`drumstroke.formats.onsets_csv`: ``t,level_db``
+rows, the source and threshold in the JSON beside it): :func:`write_onsets`, :func:`read_onsets`.
+
+Examples
+--------
+>>> import pathlib, tempfile
+>>> path = pathlib.Path(tempfile.mkdtemp()) / "onsets.csv"
+>>> write_onsets(path, Onsets([0.1, 0.35], [0.0, -4.5], threshold_db=-40.0, source="drop.wav"))
+>>> read_onsets(path)
+Onsets(2 over [0.1, 0.35] s, levels -4.5 to 0 dB; drop.wav)
+>>> read_onsets(path).threshold_db
+-40.0
 """
 
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
 from .._checks import check_vector
 from ..errors import ParameterError
+from ..formats.onsets_csv import read_onsets_csv, write_onsets_csv
 
 
 @dataclass(frozen=True, repr=False)
@@ -80,3 +95,51 @@ class Onsets:
     def intervals(self):
         """Times between successive onsets (s) [shape=(n - 1,)]."""
         return np.diff(self.t)
+
+
+def write_onsets(path, onsets):
+    """Write ``onsets`` to the onsets CSV at ``path`` (``t,level_db``) and the JSON beside it, atomically.
+
+    The JSON holds the source, the detection threshold (dB re the loudest; null when the onsets
+    were given) and ``info`` (how they were found).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        Ending in ``.csv``, in an existing folder.
+    onsets : Onsets
+    """
+    if not isinstance(onsets, Onsets):
+        raise ParameterError(f"onsets must be an Onsets, got {type(onsets).__name__}")
+    write_onsets_csv(path, onsets.t, onsets.level_db,
+                     fields={"source": onsets.source, "threshold_db": onsets.threshold_db, "info": onsets.info})
+
+
+def read_onsets(path):
+    """The onsets of the file at ``path``: an onsets CSV (``t,level_db``, :func:`write_onsets`).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        An onsets CSV; its source and threshold come from the JSON beside it when there is one
+        (else the source is the file's name and the threshold -inf).
+
+    Returns
+    -------
+    Onsets
+
+    Raises
+    ------
+    ParameterError
+        Naming the file (and the line) of what it refuses.
+    """
+    path = Path(path)
+    if path.suffix.lower() != ".csv":
+        raise ParameterError(f"path must be an onsets CSV (.csv), got {str(path)!r}")
+    t, level_db, meta = read_onsets_csv(path)
+    info = meta.get("info")
+    try:
+        return Onsets(t, level_db, threshold_db=meta.get("threshold_db", -np.inf),
+                      source=str(meta.get("source") or path.name), info=info if isinstance(info, dict) else {})
+    except ParameterError as error:
+        raise ParameterError(f"onsets file {str(path)!r}: {error}") from None

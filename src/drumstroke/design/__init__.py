@@ -10,7 +10,7 @@
 """
 
 from .buzz import DENSITY, buzz
-from .chain import ENDS, FORCE_LIMIT, HUMAN_FORCE, Design, ForceRange, Piece, Start, Unreachable, design
+from .chain import ENDS, FORCE_LIMIT, HUMAN_FORCE, Design, ForceRange, Piece, Start, Unreachable, design, design_pieces
 from .planner import Problem, StickPlan, Target, assign_sticks, plan_stick
 
-__all__ = ["DENSITY", "ENDS", "FORCE_LIMIT", "HUMAN_FORCE", "Design", "ForceRange", "Piece", "Problem", "Start", "StickPlan", "Target", "Unreachable", "assign_sticks", "buzz", "design", "plan_stick"]
+__all__ = ["DENSITY", "ENDS", "FORCE_LIMIT", "HUMAN_FORCE", "Design", "ForceRange", "Piece", "Problem", "Start", "StickPlan", "Target", "Unreachable", "assign_sticks", "buzz", "design", "design_pieces", "plan_stick"]

@@ -302,7 +302,7 @@ class Design:
 
 
 def design(times, levels=None, *, velocities=None, start=None, end="catch", model="paper", cor=DEFAULT_COR,
-           stick=None, forces=None, limits=None, lead=LEAD, tail=None, catch_at=None, highest=HIGHEST):
+           stick=None, forces=None, limits=None, lead=LEAD, tail=None, catch_at=None, highest=HIGHEST, drift=DRIFT):
     """Design the stroke that plays ``times`` at ``levels`` on one stick, and check it by simulating it.
 
     Parameters
@@ -339,6 +339,9 @@ def design(times, levels=None, *, velocities=None, start=None, end="catch", mode
     highest : float in (theta_max, pi/2)
         rad, the highest the design may take the stick (default :data:`HIGHEST`; lower if the
         joint's ``limits.theta_high`` is).
+    drift : (float, float)
+        s and dB: how far the simulated impacts may drift from the notes before the design is refused
+        (default :data:`DRIFT`; a fit to a recording, which measures its own errors, allows more).
 
     Returns
     -------
@@ -352,7 +355,37 @@ def design(times, levels=None, *, velocities=None, start=None, end="catch", mode
     """
     plan = _Plan.of(times, levels, velocities, start=start, end=end, model=model, cor=cor, stick=stick,
                     forces=forces, limits=limits, lead=lead, tail=tail, catch_at=catch_at, highest=highest)
-    return plan.build()
+    drift = tuple(check_real(f"drift[{i}]", x, low=0.0, low_open=True, unit=unit)
+                  for i, (x, unit) in enumerate(zip(drift, ("s", "dB"))))
+    return plan.build(drift)
+
+
+def design_pieces(times, levels, *, start=None, end="catch", model="paper", cor=DEFAULT_COR, stick=None, forces=None,
+                  limits=None, lead=LEAD, highest=HIGHEST):
+    """The constant forces of :func:`design`'s stroke for these notes, without simulating it.
+
+    What a search over many candidate notes needs (a fit tries levels and c until the forces are the
+    simplest): the same pieces :func:`design` builds, a thousand times cheaper than checking each by
+    the solver. The design finally chosen is then made, and checked, by :func:`design`.
+
+    Parameters are :func:`design`'s (levels in dB re 1 m/s).
+
+    Returns
+    -------
+    pieces : tuple of Piece
+        On the recipe's clock (0 at the release).
+    release : float
+        s, on the notes' timeline.
+
+    Raises
+    ------
+    Unreachable
+        As :func:`design`.
+    """
+    plan = _Plan.of(times, levels, None, start=start, end=end, model=model, cor=cor, stick=stick, forces=forces,
+                    limits=limits, lead=lead, tail=None, highest=highest)
+    pieces, release, _, _ = plan.pieces()
+    return tuple(pieces), release
 
 
 @dataclass
@@ -432,12 +465,12 @@ class _Plan:
     def top(self):
         return math.sin(min(self.limits.theta_high, self.highest))
 
-    def build(self):
+    def build(self, drift=DRIFT):
         pieces, release, hold, theta0 = self.pieces()
         recipe = self.recipe.replace(force=_profile(pieces), t_end=pieces[-1].end, theta0=theta0,
                                      omega0=self.start.omega if self.start is not None else 0.0, name="designed")
         stroke = simulate(recipe)
-        errors = self.check(stroke, release)
+        errors = self.check(stroke, release, drift)
         return Design(recipe, release, self.times, self.levels, self.end, tuple(pieces), stroke, hold, errors)
 
     def pieces(self):
@@ -664,7 +697,7 @@ class _Plan:
     def level_of(self, speed):
         return 20.0 * math.log10(speed * self.recipe.stick.pivot_to_tip / LEVEL_REFERENCE)
 
-    def check(self, stroke, release):
+    def check(self, stroke, release, drift=DRIFT):
         """Hold the simulated stroke to the notes; return its largest time and level errors."""
         n = len(self.times)
         impacts = stroke.impacts
@@ -673,7 +706,7 @@ class _Plan:
                                   "report it with the notes)")
         time_errors = np.abs(impacts.t[:n] + release - self.times)
         level_errors = np.abs(impacts.level_db[:n] - self.levels)
-        off = np.flatnonzero((time_errors > DRIFT[0]) | (level_errors > DRIFT[1]))
+        off = np.flatnonzero((time_errors > drift[0]) | (level_errors > drift[1]))
         if len(off):
             k = int(off[0])
             raise Unreachable(f"note {k} (t = {self.times[k]:.6g} s): the bounces before it drift, {time_errors[k]:.3g} s "

@@ -14,6 +14,7 @@ Every CSV starts with its header line; what a header cannot say is in the JSON b
 :mod:`.sidecar`           the JSON beside a CSV: its version, model, name, rate, units, sticks
 :mod:`.table`             tables of results (a sweep's) as CSV or parquet
 :mod:`.midi`              Standard MIDI Files: notes read from scores, impacts written as notes
+:mod:`.onsets_csv`        a recording's onsets, ``t,level_db`` rows (the impacts found in audio)
 :mod:`.wav`               WAV audio
 :mod:`.ros_json`          ROS 2 ``trajectory_msgs/JointTrajectory`` as JSON, and its metadata sidecar
 :mod:`.rosbag`            a ROS 2 bag (rosbag2, MCAP or SQLite 3) of one ``JointTrajectory``

@@ -162,6 +162,68 @@ def comparison_figure(comparison, *, labels=None):
         ax.grid(alpha=0.25)
     figure.suptitle(f"{labels[1]} against {labels[0]}: onsets above {comparison.threshold_db:g} dB re each "
                     f"one's loudest", fontsize=11)
+def fit_figure(stroke, *, release, onset_t, onset_level, offset, threshold_db=-np.inf, left_out=(), title=None,
+               rate=2000.0):
+    """A matplotlib Figure of a stroke fitted to recorded onsets, on the recording's clock.
+
+    θ(t) with the fitted stroke's impacts and the recorded onsets marked on the drumhead (those left
+    out crossed), the levels (dB re the loudest onset) of both with the detection threshold, and a(t).
+
+    Parameters
+    ----------
+    stroke : drumstroke.Stroke
+        The fitted recipe simulated; its t = 0 is ``release`` on the recording's clock.
+    release : float
+        s on the recording's clock.
+    onset_t, onset_level : ndarray [shape=(n,)]
+        The recorded onsets: s, dB re the loudest.
+    offset : float
+        dB re 1 m/s: the loudest onset's level in the model (the impacts are drawn ``offset`` lower).
+    threshold_db : float
+        dB re the loudest: the onsets' detection threshold (-inf: none).
+    left_out : sequence of int
+        The onsets the fit could not play.
+    """
+    trajectory = as_trajectory(stroke)
+    recipe = trajectory.recipe
+    t, theta, _ = trajectory.sample(rate)
+    clock = t + release
+    figure = _figure(figsize=(10.0, 7.0), layout="constrained")
+    top, middle, bottom = figure.subplots(3, 1, sharex=True, height_ratios=(2.2, 1.2, 1.0))
+    head = trajectory.theta_max
+    top.axhline(head, color="0.55", lw=1.0, ls="--", label=f"drumhead θ_max = {head:.4f} rad")
+    top.plot(clock, theta, color="C0", lw=1.1, label="θ(t), fitted")
+    impacts = stroke.impacts
+    onset_t, onset_level = np.asarray(onset_t, float), np.asarray(onset_level, float)
+    out = np.zeros(len(onset_t), bool)
+    out[list(left_out)] = True
+    top.scatter(impacts.t + release, np.full(len(impacts), head), s=14, color="C3", zorder=3,
+                label=f"{len(impacts)} fitted impacts")
+    top.scatter(onset_t[~out], np.full(int((~out).sum()), head + 0.04), marker="v", s=18, color="0.15", zorder=3,
+                label=f"{int((~out).sum())} recorded onsets")
+    if out.any():
+        top.scatter(onset_t[out], np.full(int(out.sum()), head + 0.04), marker="x", s=30, color="C3", zorder=3,
+                    label=f"{int(out.sum())} left out")
+    top.set_ylabel("θ (rad)")
+    top.grid(alpha=0.25)
+    top.legend(loc="upper right", fontsize=8)
+    middle.plot(onset_t, onset_level, "v", color="0.15", ms=5, label="recorded")
+    middle.plot(impacts.t + release, impacts.level_db - offset, ".", color="C3", ms=6, label="fitted")
+    if np.isfinite(threshold_db):
+        middle.axhline(threshold_db, color="0.55", lw=1.0, ls=":", label=f"detection threshold {threshold_db:g} dB")
+    middle.set_ylim(min(onset_level.min(), threshold_db if np.isfinite(threshold_db) else 0.0) - 6.0, 3.0)
+    middle.set_ylabel("level (dB re loudest)")
+    middle.grid(alpha=0.25)
+    middle.legend(loc="upper right", fontsize=8)
+    bottom.plot(clock, recipe.force(t), color="C1", lw=1.2, label="a(t), thumb (fitted)")
+    bottom.set_ylabel("a (m/s²)")
+    bottom.set_xlabel("t (s, the recording's clock)")
+    bottom.grid(alpha=0.25)
+    bottom.legend(loc="upper right", fontsize=8)
+    top.set_xlim(min(release, onset_t.min()), max(release + trajectory.t_end, onset_t.max()))
+    d = inertia_ratio(recipe.model, recipe.stick)
+    figure.suptitle(f"{title or 'fitted stroke'} — model: {recipe.model} (D = {d:.4f} m², c = {recipe.cor:.4g}), "
+                    f"loudest onset {offset:.2f} dB re 1 m/s", fontsize=11)
     return figure
 
 

@@ -1,0 +1,84 @@
+"""``drumstroke fit``: a recipe fitted to a recorded stroke (its onsets), analysis by synthesis."""
+
+import math
+
+from .._atomic import publish
+from ..formats import json, toml
+from ..model import MODELS
+from ..render import plot
+from ._common import Bar, add_sound_options, print_written
+from ._options import Output, add_mkdir, existing_file, number
+
+
+def add_fit(commands):
+    """Register ``fit``."""
+    fit = commands.add_parser(
+        "fit", help="fit a recipe to a recorded stroke: start, c and force profile whose impacts match it",
+        description="Fit, through the inverse design, the start, c (with --fit-cor) and the force profile whose "
+                    "impacts match a recorded stroke's onsets (times and relative levels); simulate the recipe and "
+                    "print each onset's residuals, the level offset, c and the model. The level offset (and c) are "
+                    "those whose force is closest to constant (see docs/fit.md).")
+    fit.add_argument("recording", type=existing_file, metavar="RECORDING",
+                     help="a recording of one stroke (.wav, .flac) or its onsets (.csv, as `drumstroke onsets` writes)")
+    fit.add_argument("--model", choices=MODELS, default="paper", help="the model (default paper)")
+    cor = fit.add_mutually_exclusive_group()
+    cor.add_argument("--cor", type=number(low=0.0, high=1.0, high_open=True), default=0.86,
+                     help="coefficient of restitution, in [0, 1) (default 0.86; measure it with measure-cor)")
+    cor.add_argument("--fit-cor", action="store_true", help="fit c too, in [0.3, 0.99]")
+    fit.add_argument("--level", type=number(low=-35.96, high=12.04, unit="dB re 1 m/s"), metavar="DB",
+                     help="the loudest onset's level, dB re 1 m/s tip speed, when known (default: fitted)")
+    fit.add_argument("--out", action=Output, suffixes=toml.SUFFIXES, metavar="RECIPE", required=True,
+                     help="write the fitted recipe as .toml (its t = 0 is the release, printed)")
+    fit.add_argument("--json", action=Output, suffixes=json.SUFFIXES, metavar="PATH",
+                     help="write the fit (onsets, residuals, offset, c, left-out onsets, recipe) as .json")
+    fit.add_argument("--plot", action=Output, suffixes=plot.SUFFIXES, metavar="PATH",
+                     help=f"draw theta(t) and a(t) with the onsets and the fitted impacts: {', '.join(plot.SUFFIXES)}")
+    add_sound_options(fit)
+    add_mkdir(fit)
+    fit.set_defaults(run=_fit)
+
+
+def _fit(args):
+    from ..analysis import fit_stroke, read_onsets
+    from ..render.outputs import write_stroke_outputs
+
+    onsets = read_onsets(args.recording)
+    with Bar("fitting", delay=0.5) as bar:
+        fitted = fit_stroke(onsets, model=args.model, cor=args.cor, fit_cor=args.fit_cor, offset=args.level,
+                            progress=bar.update)
+    threshold = "given" if math.isinf(onsets.threshold_db) else f"{onsets.threshold_db:g} dB"
+    print(f"fitted {len(onsets)} onsets of {onsets.source} (threshold {threshold}) on the {fitted.model} model: "
+          f"c = {fitted.cor:.4f}{' (fitted)' if fitted.fitted_cor else ''}, loudest onset at {fitted.offset:.2f} dB "
+          f"re 1 m/s (offset), released at {fitted.release:.6f} s")
+    human = "beyond the human thumb (0-250 m/s^2)" if fitted.beyond_human else "within the human thumb (0-250 m/s^2)"
+    print(f"forces {fitted.design.min_force:.4g} to {fitted.design.max_force:.4g} m/s^2, {human}; relative change "
+          f"{fitted.change:.4g}; ends {fitted.design.end}")
+    print(f"{'#':>4} {'onset (s)':>11} {'onset (dB)':>10} {'dt (ms)':>9} {'dlevel (dB)':>11}")
+    reasons = dict(fitted.unmatched)
+    for i, (t, level) in enumerate(zip(onsets.t, onsets.level_db)):
+        if i in reasons:
+            print(f"{i:>4} {t:>11.6f} {level:>10.2f}  not played: {reasons[i]}")
+        else:
+            print(f"{i:>4} {t:>11.6f} {level:>10.2f} {fitted.time_residual[i] * 1e3:>9.4f} "
+                  f"{fitted.level_residual[i]:>11.4f}")
+    for t, level in zip(fitted.extra_t, fitted.extra_level):
+        print(f"   + {t:>11.6f} {level:>10.2f}  an impact the recording does not have (above its threshold)")
+    verdict = "within" if fitted.within else "NOT within"
+    print(f"largest residuals {fitted.time_error * 1e3:.4g} ms, {fitted.level_error:.4g} dB; {len(fitted.unmatched)} "
+          f"onsets not played, {len(fitted.extra_t)} impacts added: {verdict} 2 ms and 1 dB")
+    written = []
+    with publish():
+        fitted.recipe.to_toml(args.out)
+        written.append(args.out)
+        if args.json:
+            json.write_json(args.json, fitted.to_dict())
+            written.append(args.json)
+        if args.plot:
+            plot.save_figure(plot.fit_figure(fitted.stroke, release=fitted.release, onset_t=onsets.t,
+                                             onset_level=onsets.level_db, offset=fitted.offset,
+                                             threshold_db=onsets.threshold_db,
+                                             left_out=[i for i, _ in fitted.unmatched],
+                                             title=f"{onsets.source} fitted"), args.plot)
+            written.append(args.plot)
+        written += write_stroke_outputs(fitted.stroke, audio=args.audio, midi=args.midi, snares=not args.no_snares)
+    print_written(written)
