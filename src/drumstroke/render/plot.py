@@ -162,6 +162,9 @@ def comparison_figure(comparison, *, labels=None):
         ax.grid(alpha=0.25)
     figure.suptitle(f"{labels[1]} against {labels[0]}: onsets above {comparison.threshold_db:g} dB re each "
                     f"one's loudest", fontsize=11)
+    return figure
+
+
 def fit_figure(stroke, *, release, onset_t, onset_level, offset, threshold_db=-np.inf, left_out=(), title=None,
                rate=2000.0):
     """A matplotlib Figure of a stroke fitted to recorded onsets, on the recording's clock.
