@@ -3,6 +3,7 @@
 from ..errors import ParameterError
 from ..formats import json
 from ._common import Bar, Parser
+from ..model import MODELS
 from ._options import Output, add_mkdir, existing_file, existing_folder, number, whole
 from .stats import print_analysis
 
@@ -39,14 +40,25 @@ def add_listen(commands):
     ana.add_argument("--json", action=Output, suffixes=json.SUFFIXES, metavar="OUT", help="write the statistics as .json")
     add_mkdir(ana)
     ana.set_defaults(run=_analyze)
-    mks = actions.add_parser("make-stimuli", help="render the robot's side of each pair from library strokes",
+    mks = actions.add_parser("make-stimuli", help="render the robot's side of each pair (library strokes or recordings)",
                              description="Play library strokes on the simulated robot and write each as "
-                                         "OUT/robot-NAME.wav, with OUT/listening-test.toml naming the pairs.")
-    mks.add_argument("--library", type=existing_folder, required=True, metavar="DIR",
-                     help="a library folder ('library build')")
+                                         "OUT/robot-NAME.wav, with OUT/listening-test.toml naming the pairs; or, with "
+                                         "--recordings, fit a recipe to each recorded human stroke and write the "
+                                         "robot's version of it beside the recording.")
+    source = mks.add_mutually_exclusive_group(required=True)
+    source.add_argument("--library", type=existing_folder, metavar="DIR", help="a library folder ('library build')")
+    source.add_argument("--recordings", type=existing_file, nargs="+", metavar="FILE",
+                        help="recordings of one human stroke each (.wav, .flac, .ogg); a pair is named by the file's "
+                             "name without a leading 'human-'")
     mks.add_argument("--out", action=Output, folder=True, required=True, metavar="DIR",
                      help="the folder to write the recordings and the config to (created if missing)")
-    mks.add_argument("--strokes", metavar="A,B,...", help="which strokes, comma-separated (default: all)")
+    mks.add_argument("--strokes", metavar="A,B,...", help="with --library: which strokes, comma-separated (default: all)")
+    fitting = mks.add_argument_group("with --recordings: the fit")
+    fitting.add_argument("--model", choices=MODELS, default="paper", help="the model (default paper)")
+    cor = fitting.add_mutually_exclusive_group()
+    cor.add_argument("--cor", type=number(low=0.0, high=1.0, high_open=True), metavar="C",
+                     help="coefficient of restitution, in [0, 1) (default 0.86; measure it: drumstroke measure-cor)")
+    cor.add_argument("--fit-cor", action="store_true", help="fit c to each recording too")
     add_mkdir(mks)
     mks.set_defaults(run=_make_stimuli)
 
@@ -85,12 +97,29 @@ def _analyze(args):
 
 
 def _make_stimuli(args):
-    from ..evaluation.stimuli import make_stimuli
+    from ..evaluation.stimuli import fit_stimuli, make_stimuli
 
+    if args.recordings and args.strokes:
+        raise ParameterError("--strokes picks library strokes: give it with --library, not --recordings")
+    if args.library and (args.cor is not None or args.fit_cor or args.model != "paper"):
+        raise ParameterError("--model, --cor and --fit-cor fit recordings: give them with --recordings, not --library")
     with Bar("making stimuli", delay=1.0) as bar:
-        made = make_stimuli(args.library, args.out, strokes=args.strokes.split(",") if args.strokes else None,
-                            progress=bar.update)
+        if args.recordings:
+            made = fit_stimuli(args.recordings, args.out, model=args.model, cor=args.cor, fit_cor=args.fit_cor,
+                               progress=bar.update)
+        else:
+            made = make_stimuli(args.library, args.out, strokes=args.strokes.split(",") if args.strokes else None,
+                                progress=bar.update)
     for stimulus in made.stimuli:
         print(f"wrote {stimulus.path} ({stimulus.onsets} onsets played by the simulated robot)")
-    print(f"wrote {made.config}: add the human recordings it names and set the seed; its admin_token is new and "
-          "secret (the file is readable by you only)")
+        if stimulus.fit is not None:
+            fit = stimulus.fit
+            print(f"  fitted on the {fit.model} model with c = {fit.cor:.4g}: {int(fit.played.sum())} of "
+                  f"{len(fit.onsets)} onsets played, largest residuals {fit.time_error * 1e3:.3f} ms, "
+                  f"{fit.level_error:.3f} dB; recipe {stimulus.recipe}")
+    if args.recordings:
+        print(f"wrote {made.config}: the pairs are complete (each recording beside its robot's version); set the "
+              "seed; its admin_token is new and secret (the file is readable by you only)")
+    else:
+        print(f"wrote {made.config}: add the human recordings it names and set the seed; its admin_token is new and "
+              "secret (the file is readable by you only)")
