@@ -333,9 +333,11 @@ class _Search:
         onset = self.keep.pop(note)
         self.left_out[onset] = reason
         if len(self.keep) < 2:
-            reasons = "; ".join(f"onset {i}: {why}" for i, why in sorted(self.left_out.items()))
+            reasons = sorted(self.left_out.items())
+            shown = "; ".join(f"onset {i}: {why}" for i, why in reasons[:2])
+            more = f"; and {len(reasons) - 2} more" if len(reasons) > 2 else ""
             raise ParameterError(f"no two of the {len(self.onsets)} onsets can be played as one stroke's impacts: "
-                                 f"{reasons}")
+                                 f"{shown}{more}")
 
     # -- the fit ---------------------------------------------------------------------------------------------
 
