@@ -8,6 +8,7 @@ The data flows through it in this order:
 - :mod:`.compare`: two strokes side by side (onsets, intervals, level envelopes, bounce rate).
 """
 
-from .onsets import Onsets, read_onsets, write_onsets
+from .drop import Drop, measure_cor
+from .onsets import Onsets, find_onsets, read_onsets, read_recording, write_onsets
 
-__all__ = ["Onsets", "read_onsets", "write_onsets"]
+__all__ = ["Drop", "Onsets", "find_onsets", "measure_cor", "read_onsets", "read_recording", "write_onsets"]
