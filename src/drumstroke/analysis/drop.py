@@ -19,7 +19,7 @@ drum's sound grows in proportion to it, so the levels fall by 20·log10(c) dB an
 regression of the levels (dB re the loudest) on n gives c from the levels and its interval.
 It is rougher (a drum's brightness and the mics' placement colour levels, not times).
 
-Which impacts: a drop's first impact is its loudest onset; each next one is the loudest onset
+Which impacts: a drop's first impact is its first onset within :data:`START_DB` of the loudest; each next one is the loudest onset
 between 0.2 and 1.1 times the previous flight after it (a bounce never lasts longer than the
 one before; ringing and rattle detected as onsets are quieter than the impact they follow). The
 sequence ends at the first flight without one, or shorter than :data:`MIN_FLIGHT`.
@@ -48,6 +48,9 @@ from .onsets import Onsets
 
 MIN_FLIGHT = 4e-3
 """The shortest flight used (s): shorter ones are too few milliseconds for their times' errors."""
+
+START_DB = 3.0
+"""A drop starts at its first onset within this of the loudest (dB): the first impact, read a little low or not."""
 
 MIN_FLIGHTS = 3
 """The fewest flights an interval is given from (two parameters are fitted)."""
@@ -123,7 +126,7 @@ def drop_impacts(onsets):
     if len(onsets) == 0:
         return np.empty(0, dtype=np.int64)
     t, level = onsets.t, onsets.level_db
-    chosen = [int(np.argmax(level))]
+    chosen = [int(np.flatnonzero(level >= -START_DB)[0])]
     previous = None
     while True:
         last = t[chosen[-1]]
