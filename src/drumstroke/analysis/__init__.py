@@ -8,7 +8,9 @@ The data flows through it in this order:
 - :mod:`.compare`: two strokes side by side (onsets, intervals, level envelopes, bounce rate).
 """
 
+from .drop import Drop, measure_cor
 from .fit import Fit, fit_stroke
-from .onsets import Onsets, read_onsets, write_onsets
+from .onsets import Onsets, find_onsets, read_onsets, read_recording, write_onsets
 
-__all__ = ["Fit", "Onsets", "fit_stroke", "read_onsets", "write_onsets"]
+__all__ = ["Drop", "Fit", "Onsets", "find_onsets", "fit_stroke", "measure_cor", "read_onsets", "read_recording",
+           "write_onsets"]

@@ -50,7 +50,7 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 
 from .._checks import check_choice, check_real
-from ..design import HUMAN_FORCE, ForceRange, Start, Unreachable, design, design_pieces
+from ..design import FORCE_LIMIT, HUMAN_FORCE, ForceRange, Start, Unreachable, design, design_pieces
 from ..design.chain import HIGHEST, MIN_GAP
 from ..dynamics import CEILING_DB, FLOOR_DB
 from ..errors import ParameterError
@@ -68,6 +68,11 @@ MATCH_WINDOW = WIDE_WINDOW
 
 COR_RANGE = (0.3, 0.99)
 """The coefficients of restitution ``fit_cor`` searches (drumheads and sticks measure 0.5–0.9)."""
+
+FORCES = ForceRange(-HUMAN_FORCE, FORCE_LIMIT)
+"""The thumb accelerations a fit may use by default (m/s²): a pull as strong as the human press, up to the design's
+limit. Measured levels are noisy: where a stroke's force is near 0, a few tenths of a dB can ask a flight for a
+slight pull, which the criterion chooses only when no offset plays the onsets without one."""
 
 MAX_ONSETS = 500
 """Most onsets one fit takes: one stroke (a throw and its bounces; a 5-s buzz at 40 a second is 200)."""
@@ -213,7 +218,8 @@ def fit_stroke(onsets, *, model="paper", cor=DEFAULT_COR, fit_cor=False, offset=
         default: fitted.
     stick : Stick, optional
     forces : ForceRange, optional
-        The thumb accelerations the fitted force may use (m/s²; default 0 to 3000, the design's).
+        The thumb accelerations the fitted force may use (m/s²; default :data:`FORCES`, −250 to 3000: the
+        criterion keeps to the human 0–250 whenever an offset allows it).
     highest : float, optional
         rad, the highest the fitted stroke may take the stick (default the design's, 1.25).
     progress : callable, optional
@@ -241,7 +247,7 @@ def fit_stroke(onsets, *, model="paper", cor=DEFAULT_COR, fit_cor=False, offset=
         raise ParameterError(f"a fit takes one stroke, at most {MAX_ONSETS} onsets, got {len(onsets)}: cut the "
                              "recording to one stroke")
     search = _Search(onsets, model=model, stick=Stick() if stick is None else stick,
-                     forces=ForceRange() if forces is None else forces, highest=highest, progress=progress)
+                     forces=FORCES if forces is None else forces, highest=highest, progress=progress)
     return search.run(cor=cor, fit_cor=fit_cor, offset=offset)
 
 
@@ -332,16 +338,21 @@ class _Search:
     def leave_out(self, note, reason):
         onset = self.keep.pop(note)
         self.left_out[onset] = reason
+        self.check_left()
+
+    def check_left(self):
+        """Raise, with the first reasons, when fewer than two onsets are left to fit."""
         if len(self.keep) < 2:
-            reasons = "; ".join(f"onset {i}: {why}" for i, why in sorted(self.left_out.items()))
+            reasons = sorted(self.left_out.items())
+            shown = "; ".join(f"onset {i}: {why}" for i, why in reasons[:2])
+            more = f"; and {len(reasons) - 2} more" if len(reasons) > 2 else ""
             raise ParameterError(f"no two of the {len(self.onsets)} onsets can be played as one stroke's impacts: "
-                                 f"{reasons}")
+                                 f"{shown}{more}")
 
     # -- the fit ---------------------------------------------------------------------------------------------
 
     def run(self, *, cor, fit_cor, offset):
-        if len(self.keep) < 2:
-            self.leave_out(len(self.keep) - 1, "")  # raises, naming why the others are out
+        self.check_left()
         start_cor = _level_cor(self.onsets.level_db[self.keep]) if fit_cor else cor
         for _ in range(len(self.onsets)):
             if offset is None:

@@ -23,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .._checks import check_vector
+from .._checks import check_int, check_real, check_vector
 from ..errors import ParameterError
 from ..formats.onsets_csv import read_onsets_csv, write_onsets_csv
 
@@ -115,14 +115,20 @@ def write_onsets(path, onsets):
                      fields={"source": onsets.source, "threshold_db": onsets.threshold_db, "info": onsets.info})
 
 
-def read_onsets(path):
-    """The onsets of the file at ``path``: an onsets CSV (``t,level_db``, :func:`write_onsets`).
+def read_onsets(path, *, threshold_db=None, min_interval=None):
+    """The onsets of the file at ``path``: an onsets CSV as written, or found in a recording.
 
     Parameters
     ----------
     path : str or os.PathLike
-        An onsets CSV; its source and threshold come from the JSON beside it when there is one
-        (else the source is the file's name and the threshold -inf).
+        An onsets CSV (``.csv``: ``t,level_db``, :func:`write_onsets`; its source and threshold
+        from the JSON beside it when there is one, else the file's name and -inf), or an audio
+        file soundfile reads (WAV, FLAC, OGG, …), whose impacts are found by :func:`find_onsets`
+        (several channels are mixed down; ``info`` says so, and how many samples are clipped).
+    threshold_db : float in [-120, 0] or None
+        dB re the loudest onset, for a recording (default :data:`DEFAULT_THRESHOLD_DB`).
+    min_interval : float in [0.5e-3, 1] or None
+        s, for a recording (default :data:`MIN_INTERVAL`).
 
     Returns
     -------
@@ -135,7 +141,10 @@ def read_onsets(path):
     """
     path = Path(path)
     if path.suffix.lower() != ".csv":
-        raise ParameterError(f"path must be an onsets CSV (.csv), got {str(path)!r}")
+        signal, rate, notes = read_recording(path)
+        return find_onsets(signal, rate, source=path.name, notes=notes,
+                           threshold_db=DEFAULT_THRESHOLD_DB if threshold_db is None else threshold_db,
+                           min_interval=MIN_INTERVAL if min_interval is None else min_interval)
     t, level_db, meta = read_onsets_csv(path)
     info = meta.get("info")
     try:
@@ -143,3 +152,328 @@ def read_onsets(path):
                       source=str(meta.get("source") or path.name), info=info if isinstance(info, dict) else {})
     except ParameterError as error:
         raise ParameterError(f"onsets file {str(path)!r}: {error}") from None
+
+# ------------------------------------------------------------------------------------------ onsets from audio
+
+MIN_RATE = 8000
+"""The lowest sample rate analysed (Hz)."""
+
+MAX_SECONDS = 600.0
+"""The longest recording analysed (s); a longer file is refused before it is read."""
+
+DEFAULT_THRESHOLD_DB = -40.0
+"""The default detection threshold (dB re the loudest onset)."""
+
+FLOOR_MARGIN_DB = 10.0
+"""How far above the noise floor an onset's level must be (dB): the threshold used is at least floor + this."""
+
+MIN_INTERVAL = 2e-3
+"""The default shortest time between two onsets (s): closer attacks are one."""
+
+MIN_JUMP = 2.0
+"""How much an attack's sound must rise over what the sound before it predicts (RMS ratio, 6 dB)."""
+
+BROADBAND_JUMP = 3.0
+"""How much the first difference's RMS must rise at a broadband attack (over 1 ms, against the 4 ms before)."""
+
+TONAL_SUPPORT = 1.3
+"""How much the innovation must rise too at a broadband attack (beating modes make broadband jumps alone)."""
+
+ORDER = 48
+"""The linear predictor's order: up to 20 ringing modes and the anti-alias filter's 8 poles."""
+
+CLIP_LEVEL = 0.999
+"""Samples at or above this magnitude (full scale) count as clipped."""
+
+HIGH_PASS = 60.0
+"""Corner of the high-pass (Hz) that removes rumble and DC before anything else."""
+
+_FLOOR_QUANTILE = 0.05
+
+
+def read_recording(path, *, max_seconds=MAX_SECONDS):
+    """A recording's mono samples (full scale, float64), rate (Hz) and what was done to read it.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        An audio file soundfile reads (WAV, FLAC, OGG, AIFF, …), any channel count.
+    max_seconds : float
+        The longest file read (s); checked from the file's header before reading.
+
+    Returns
+    -------
+    signal : ndarray [shape=(n,)]
+        The channels' mean when there are several ("mixed down").
+    rate : int
+        Hz.
+    notes : dict
+        ``channels`` (int), ``mixed_down`` (bool), ``clipped`` (how many samples of the file
+        are at or above :data:`CLIP_LEVEL` full scale).
+    """
+    from ..formats.wav import read_audio
+
+    samples, rate = read_audio(path, max_seconds=max_seconds)
+    channels = samples.shape[1]
+    clipped = int(np.count_nonzero(np.abs(samples) >= CLIP_LEVEL))
+    signal = samples[:, 0] if channels == 1 else samples.mean(axis=1)
+    return signal, rate, {"channels": channels, "mixed_down": channels > 1, "clipped": clipped}
+
+
+def find_onsets(signal, rate, *, threshold_db=DEFAULT_THRESHOLD_DB, min_interval=MIN_INTERVAL, source="",
+                notes=None):
+    """The impacts in a recording: their times to a fraction of a millisecond and their relative levels.
+
+    How (docs/analysis.md tells more):
+
+    1. The signal is high-passed (:data:`HIGH_PASS`) and decimated (causal 8th-order Butterworth)
+       to ~6 kHz, or further where its band 20 dB over the noise floor (the quietest tenth of its
+       21-ms frames) ends lower (≥ 2.5 times that band's top, ≥ 2 kHz).
+    2. *Ringing is predicted away.* A linear predictor (Burg's method, order :data:`ORDER`) fitted
+       to the whole decimated signal — the drum's modes, the room — leaves the innovation: what
+       the past does not predict, which is where a stick strikes. Candidates are where its RMS
+       over the next 1 ms rises :data:`MIN_JUMP` times over the 4 ms before (peaks picked by
+       ``librosa.util.peak_pick``); Akaike's information criterion (AIC) places each on the
+       change point; the anti-alias filter's delay is taken off.
+    3. *Broadband attacks* (snare wires, a stick's click) are found the same way at full rate on
+       the first difference (a jump of :data:`BROADBAND_JUMP`, with the innovation rising
+       :data:`TONAL_SUPPORT` times too: beating modes alone make broadband jumps). Their
+       full-rate time replaces a decimated one within ``min_interval``; closer onsets are one.
+    4. An onset's amplitude is the peak of its own sound: the decimated signal over the next
+       5 ms (or up to the next onset) less the earlier sound extrapolated by the predictor; its
+       level is in dB re the loudest onset. The noise floor (the 5th percentile of the decimated
+       signal's peaks over 5-ms frames) plus :data:`FLOOR_MARGIN_DB`, or ``threshold_db`` if
+       higher, is the threshold used.
+
+    Parameters
+    ----------
+    signal : array_like [shape=(n,)]
+        Mono samples (full scale), finite.
+    rate : int in [8000, 768000]
+        Samples per second (Hz).
+    threshold_db : float in [-120, 0]
+        Onsets quieter than this (dB re the loudest onset) are not reported. The threshold used is
+        the higher of this and the noise floor plus :data:`FLOOR_MARGIN_DB` (in :attr:`Onsets.threshold_db`).
+    min_interval : float in [0.5e-3, 1]
+        The shortest time between two onsets (s).
+    source : str
+        What the signal is (a file's name), kept in the result.
+    notes : dict or None
+        What was done to read it (:func:`read_recording`), kept in the result's ``info``.
+
+    Returns
+    -------
+    Onsets
+        Its ``info`` says the rate, the analysis rate, the noise floor (dB re the loudest onset),
+        the threshold asked for, and ``"no impacts found: …"`` when none was.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> rate = 48000
+    >>> t = np.arange(rate) / rate
+    >>> hit = lambda t0, a: a * np.where(t >= t0, np.exp(-(t - t0) / 0.03) * np.sin(2 * np.pi * 400 * (t - t0)), 0.0)
+    >>> onsets = find_onsets(hit(0.2, 0.8) + hit(0.55, 0.4), rate)
+    >>> np.round(onsets.t, 4).tolist(), np.round(onsets.level_db, 1).tolist()
+    ([0.2, 0.55], [0.0, -6.0])
+    """
+    signal = check_vector("signal", signal, unit="full scale")
+    rate = check_int("rate", rate, low=MIN_RATE, high=768000, unit="Hz")
+    threshold_db = check_real("threshold_db", threshold_db, low=-120.0, high=0.0, unit="dB")
+    min_interval = check_real("min_interval", min_interval, low=0.5e-3, high=1.0, unit="s")
+    if len(signal) > MAX_SECONDS * rate:
+        raise ParameterError(f"signal lasts {len(signal) / rate:.6g} s; at most {MAX_SECONDS:g} s are analysed: cut "
+                             "it into parts")
+    info = {**(notes or {}), "rate": rate, "seconds": len(signal) / rate, "requested_threshold_db": threshold_db,
+            "method": "jumps of the linear-prediction innovation (decimated) and of the first difference; AIC change points"}
+
+    def none(reason):
+        return Onsets(np.empty(0), np.empty(0), threshold_db=threshold_db, source=source,
+                      info={**info, "found": f"no impacts found: {reason}", "floor_db": None})
+
+    if len(signal) < round(0.05 * rate):
+        return none("the signal is shorter than 50 ms")
+    band = _high_pass(signal, rate)
+    peak = float(np.abs(band).max())
+    if not peak > 1e-9:  # −180 dB full scale: digital silence
+        return none("the signal is silent")
+    band = band / peak
+    q = max(_decimation(band, rate), rate // 6000)
+    low, low_rate, delay = _decimate(band, rate, q)
+    coefficients, innovation = _innovation(low)
+    tonal = [k * q - delay for k in _jumps(innovation, low_rate, min_interval, MIN_JUMP)]
+    broadband = list(_broadband_onsets(band, rate, min_interval))
+    times = np.asarray(_merge(tonal, broadband, min_interval * rate))
+    amplitude = _attack_amplitudes(low, coefficients, (times + delay) / q, low_rate)
+    tonal_jump = _jump_at(innovation, (times + delay) / q, low_rate)
+    broadband_jump = _jump_at(np.diff(band, prepend=band[0]), times + 0.5, rate)
+    attack = (tonal_jump >= MIN_JUMP) | ((broadband_jump >= BROADBAND_JUMP) & (tonal_jump >= TONAL_SUPPORT))
+    floor = _noise_floor(low, low_rate)
+    info = {**info, "analysis_rate": low_rate}
+    found = (amplitude > floor * 10.0 ** (FLOOR_MARGIN_DB / 20.0)) & attack
+    if not np.any(found):
+        return none("no attack rises above the noise floor")
+    times, amplitude = times[found], amplitude[found]
+    level = 20.0 * np.log10(amplitude / amplitude.max())
+    floor_db = float(20.0 * np.log10(floor / amplitude.max())) if floor > 0.0 else -np.inf
+    used = max(threshold_db, floor_db + FLOOR_MARGIN_DB)
+    keep = level >= used
+    info["floor_db"] = floor_db if np.isfinite(floor_db) else None
+    return Onsets(np.maximum(times[keep] / rate, 0.0), level[keep], threshold_db=float(used), source=source,
+                  info=info)
+
+
+def _high_pass(signal, rate):
+    from scipy.signal import butter, sosfilt
+
+    return sosfilt(butter(2, HIGH_PASS, btype="highpass", fs=rate, output="sos"), signal)
+
+
+def _decimation(band, rate):
+    """How far to decimate: to ≥ 2.5 times the top of the band 20 dB over the noise floor, ≥ 2 kHz."""
+    from scipy.signal import stft
+
+    size = 1 << int(np.ceil(np.log2(rate * 0.02)))
+    if len(band) < 4 * size:
+        return 1
+    frequencies, _, spectra = stft(band, fs=rate, nperseg=size, noverlap=size // 2, boundary=None, padded=False)
+    power = np.abs(spectra) ** 2
+    energy = power.sum(axis=0)
+    noise = power[:, energy <= np.quantile(energy, 0.1)].mean(axis=1)
+    loud = power[:, energy >= np.quantile(energy, 0.9)].mean(axis=1)
+    good = np.flatnonzero(loud > 100.0 * noise)
+    top = frequencies[good[-1]] if len(good) else frequencies[-1]
+    return int(max(1, min(rate // (2.5 * max(top, 1.0)), rate // 2000)))
+
+
+def _decimate(band, rate, q):
+    """``band`` low-passed (causal Butterworth, 8th order, at 0.8 of the new Nyquist) and decimated by ``q``.
+
+    Returns the samples, their rate (Hz) and the filter's delay at low frequencies (full-rate samples).
+    """
+    if q == 1:
+        return band, rate, 0.0
+    from scipy.signal import butter, group_delay, sosfilt
+
+    corner = 0.8 * rate / q / 2.0
+    sos = butter(8, corner, fs=rate, output="sos")
+    _, delay = group_delay(butter(8, corner, fs=rate), w=[corner / 8.0], fs=rate)
+    return sosfilt(sos, band)[::q], rate / q, float(delay[0])
+
+
+def _innovation(x, order=ORDER):
+    """A linear predictor of ``x`` (Burg's method; its error filter's coefficients) and what it does not predict."""
+    import librosa
+    from scipy.signal import lfilter
+
+    order = min(order, max(1, len(x) // 8))
+    a = librosa.lpc(x, order=order)
+    if not np.all(np.isfinite(a)):
+        a = np.array([1.0, -1.0])
+    return a, lfilter(a, [1.0], x)
+
+
+def _windows(x, rate):
+    """The mean square of ``x`` over the 1 ms (≥ 12 samples) from each sample, and over the 4 times that before it."""
+    width = max(12, round(1e-3 * rate))
+    power = np.concatenate(([0.0], np.cumsum(x * x)))
+    n = np.arange(len(x))
+    after = (power[np.minimum(n + width, len(x))] - power[n]) / width
+    before = (power[n] - power[np.maximum(n - 4 * width, 0)]) / (4 * width)
+    return after, before, width
+
+
+def _jumps(x, rate, min_interval, least):
+    """Samples of ``x`` where its RMS over the next 1 ms rises ``least`` times over the 4 ms before: the AIC's change points."""
+    import librosa
+
+    after, before, width = _windows(x, rate)
+    jump = np.sqrt(after / np.maximum(before, 1e-300 + after * 1e-12))
+    jump[: 4 * width] = 0.0
+    gap = max(1, round(min_interval * rate))
+    peaks = librosa.util.peak_pick(jump, pre_max=gap, post_max=gap, pre_avg=1, post_avg=1, delta=0.0, wait=gap)
+    peaks = peaks[jump[peaks] >= least]
+    return [max(0, p - 4 * width) + _aic(x[max(0, p - 4 * width):p + 2 * width]) for p in peaks]
+
+
+def _broadband_onsets(band, rate, min_interval):
+    """Full-rate samples of broadband attacks: where the first difference's RMS jumps, placed by the AIC."""
+    d = np.diff(band, prepend=band[0])
+    return [k - 0.5 for k in _jumps(d, rate, min_interval, BROADBAND_JUMP)]  # the difference is centred ½ sample early
+
+
+def _merge(tonal, broadband, gap):
+    """Both lists of onsets (samples), sorted; onsets closer than ``gap`` are one, at the broadband time if any."""
+    marked = sorted([(s, 1) for s in tonal] + [(s, 0) for s in broadband])
+    groups = []
+    for s, kind in marked:
+        if groups and s - groups[-1][0][0] < gap:
+            groups[-1].append((s, kind))
+        else:
+            groups.append([(s, kind)])
+    return [min(group, key=lambda item: item[1])[0] for group in groups]
+
+
+def _attack_amplitudes(low, coefficients, positions, rate):
+    """Each attack's own peak (full scale): the signal less the earlier sound predicted on past the onset.
+
+    The earlier sound (the drum's and the room's ringing) is extrapolated past the onset from the
+    samples before it by the linear predictor; what remains is the new attack's sound, whose
+    peak over the next 5 ms (or up to the next onset) is its amplitude.
+    """
+    horizon = max(2, round(5e-3 * rate))
+    starts = np.clip(np.round(positions).astype(np.int64), 0, len(low))
+    amplitude = np.zeros(len(starts))
+    for i, k in enumerate(starts):
+        stop = min(len(low), k + horizon, starts[i + 1] if i + 1 < len(starts) else len(low))
+        amplitude[i] = _residual_peak(low, coefficients, k, stop)
+    return amplitude
+
+
+def _jump_at(x, positions, rate):
+    """The largest RMS jump of ``x`` (the next 1 ms over the 4 ms before) within half a window of each position."""
+    after, before, width = _windows(x, rate)
+    jump = np.sqrt(after / np.maximum(before, 1e-300 + after * 1e-12))
+    index = np.round(np.asarray(positions, dtype=float)).astype(np.int64)
+    half = max(1, width // 2)
+    return np.array([jump[max(0, i - half):min(len(x), i + half + 1)].max(initial=0.0) for i in index])
+
+
+def _residual_peak(x, coefficients, start, stop):
+    """The peak of ``x[start:stop]`` less its linear prediction from the samples before ``start``."""
+    from scipy.signal import lfilter, lfiltic
+
+    order = len(coefficients) - 1
+    if stop <= start:
+        return 0.0
+    actual = x[start:stop]
+    if start >= order:
+        state = lfiltic([1.0], coefficients, x[start - order:start][::-1])
+        predicted, _ = lfilter([1.0], coefficients, np.zeros(stop - start), zi=state)
+        actual = actual - predicted
+    return float(np.abs(actual).max())
+
+def _aic(x):
+    """Akaike's change point of ``x``: the first sample of its second, louder-or-quieter segment."""
+    n = len(x)
+    power = np.cumsum(x * x)
+    total = power[-1]
+    k = np.arange(1, n)
+    before = power[:-1] / k
+    after = (total - power[:-1]) / (n - k)
+    tiny = total / n * 1e-12 + 1e-300
+    aic = k * np.log(before + tiny) + (n - k - 1) * np.log(after + tiny)
+    edge = max(2, n // 50)
+    aic[:edge] = np.inf
+    aic[-edge:] = np.inf
+    return int(np.argmin(aic)) + 1
+
+
+def _noise_floor(x, rate):
+    """The 5th percentile of the peaks of ``x`` over 5-ms frames (full scale)."""
+    frame = max(1, round(5e-3 * rate))
+    count = len(x) // frame
+    if count < 1:
+        return 0.0
+    peaks = np.abs(x[:count * frame]).reshape(count, frame).max(axis=1)
+    return float(np.quantile(peaks, _FLOOR_QUANTILE))

@@ -1,8 +1,9 @@
 """The ``drumstroke`` command: a thin layer over the API, and the only place that prints.
 
 One module per command group registers its sub-commands and runs them: :mod:`.simulate`
-(``simulate``, ``presets``, ``figures``, ``sweep``), :mod:`.library`, :mod:`.compose`, :mod:`.design` (``design``, ``rudiment``), :mod:`.fit`, :mod:`.stats`,
-:mod:`.listen`, :mod:`.live`, :mod:`.robot` and :mod:`.demo`. Every option is checked before any work
+(``simulate``, ``presets``, ``figures``, ``sweep``), :mod:`.library`, :mod:`.compose`, :mod:`.design` (``design``, ``rudiment``), :mod:`.stats`,
+:mod:`.listen`, :mod:`.live`, :mod:`.robot`, :mod:`.analysis` (``onsets``, ``measure-cor``), :mod:`.fit`,
+:mod:`.compare` and :mod:`.demo`. Every option is checked before any work
 (:mod:`._options`): bad input ends with exit status 2 and one line naming the option, the value
 and what is allowed, and nothing written.
 """
@@ -12,13 +13,14 @@ import sys
 
 from .. import __version__
 from ..errors import DrumstrokeError
-from . import compare, compose, demo, design, fit, library, listen, live, robot, simulate, stats
+from . import analysis, compare, compose, demo, design, fit, library, listen, live, robot, simulate, stats
 from ._common import Parser
 from ._options import check_outputs, output_option
 
 _COMMANDS = (simulate.add_simulate, library.add_library, compose.add_compose, design.add_design,
-             design.add_rudiment, fit.add_fit, compare.add_compare, simulate.add_presets, simulate.add_figures,
-             simulate.add_sweep, stats.add_stats, listen.add_listen, live.add_live, robot.add_robot, demo.add_demo)
+             design.add_rudiment, simulate.add_presets, simulate.add_figures, simulate.add_sweep, stats.add_stats,
+             listen.add_listen, live.add_live, robot.add_robot, analysis.add_onsets, analysis.add_measure_cor,
+             fit.add_fit, compare.add_compare, demo.add_demo)
 """Each command's registration, in the order ``drumstroke --help`` lists them."""
 
 

@@ -142,8 +142,8 @@ def fit_stimuli(recordings, out, *, model="paper", cor=None, fit_cor=False, prog
         Each with its fit and recipe; the config is written last, atomically, with a new admin token.
     """
     from ..analysis.fit import fit_stroke
-    from ..analysis.onsets import read_onsets
-    from ..formats.wav import read_audio, write_wav
+    from ..analysis.onsets import find_onsets, read_recording
+    from ..formats.wav import write_wav
     from ..recipe import DEFAULT_COR
     from ..render.audio import synthesize
     from ..robot.controllers import controller
@@ -159,9 +159,10 @@ def fit_stimuli(recordings, out, *, model="paper", cor=None, fit_cor=False, prog
                                  f"make the pair {name!r}: give each stroke its own name")
     fits, sounds = [], []
     for i, path in enumerate(recordings):
-        sounds.append(read_audio(path))
+        signal, rate, _ = read_recording(path)
+        sounds.append((signal, rate))
         options = {"fit_cor": True} if fit_cor else {"cor": DEFAULT_COR if cor is None else cor}
-        fits.append(fit_stroke(read_onsets(path), model=model, **options))
+        fits.append(fit_stroke(find_onsets(signal, rate, source=path.name), model=model, **options))
         if progress:
             progress(0.5 * (i + 1) / len(recordings))
     out = Path(out)

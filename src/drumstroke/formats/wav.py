@@ -12,6 +12,8 @@ Examples
 >>> signal, rate = read_wav(path)
 >>> rate, signal.round(6).tolist()
 (48000, [0.0, 0.5, -0.5, 0.0])
+>>> read_audio(path)[0].shape  # any number of channels: (samples, channels)
+(4, 1)
 """
 
 import io
@@ -65,6 +67,40 @@ def read_wav(path):
     if signal.shape[1] != 1:
         raise ParameterError(f"WAV file {str(path)!r} has {signal.shape[1]} channels; drumstroke reads mono")
     return signal[:, 0], int(rate)
+
+
+def read_audio(path, *, max_seconds=None):
+    """The samples (full scale, float64) [shape=(n, channels)] and the rate (Hz) of the audio file at ``path``.
+
+    Any channel count and any format soundfile reads (WAV, FLAC, OGG, AIFF, …). The length is
+    checked from the header before any sample is read, so a file too long is refused at once.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+    max_seconds : float or None
+        The longest file read (s); None reads any.
+
+    Raises
+    ------
+    ParameterError
+        Naming the file: missing, not a regular file, not audio soundfile reads, or longer than
+        ``max_seconds``.
+    """
+    soundfile = _soundfile()
+    where = f"audio file {str(path)!r}"
+    if not Path(path).is_file():
+        reason = "is not a regular file" if Path(path).exists() else "is missing"
+        raise ParameterError(f"{where} {reason}")
+    try:
+        info = soundfile.info(str(path))
+        if max_seconds is not None and info.frames > max_seconds * info.samplerate:
+            raise ParameterError(f"{where} lasts {info.frames / info.samplerate:.6g} s; at most {max_seconds:g} s "
+                                 "are read: cut it into parts")
+        signal, rate = soundfile.read(str(path), dtype="float64", always_2d=True)
+    except (OSError, RuntimeError, soundfile.LibsndfileError) as error:
+        raise ParameterError(f"{where} cannot be read as audio: {error}") from None
+    return signal, int(rate)
 
 
 def _soundfile():

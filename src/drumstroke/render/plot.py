@@ -230,6 +230,44 @@ def fit_figure(stroke, *, release, onset_t, onset_level, offset, threshold_db=-n
     return figure
 
 
+def onsets_figure(signal, rate, times, levels, *, threshold_db, title="recording"):
+    """A matplotlib Figure of a recording and the onsets found in it: the waveform with the onsets over their levels.
+
+    Parameters
+    ----------
+    signal : ndarray [shape=(n,)]
+        Samples (full scale).
+    rate : float
+        Hz.
+    times, levels : ndarray [shape=(m,)]
+        The onsets (s) and their levels (dB re the loudest).
+    threshold_db : float
+        The detection threshold (dB re the loudest), drawn as a line (none if not finite).
+    title : str
+        What the recording is.
+    """
+    figure = _figure(figsize=(11.0, 5.0), layout="constrained")
+    top, bottom = figure.subplots(2, 1, sharex=True, height_ratios=(3, 2))
+    step = max(1, len(signal) // 200_000)  # a long file is drawn from every step-th sample
+    t = np.arange(0, len(signal), step) / rate
+    top.plot(t, signal[::step], color="0.35", lw=0.5)
+    for x in times:
+        top.axvline(x, color="C3", lw=0.6, alpha=0.7)
+    top.set_ylabel("signal (full scale)")
+    top.grid(alpha=0.25)
+    bottom.stem(times, levels, linefmt="C3-", markerfmt="C3o", basefmt=" ", bottom=min(-60.0, float(np.min(levels,
+                initial=0.0)) - 5.0))
+    if np.isfinite(threshold_db):
+        bottom.axhline(threshold_db, color="0.5", ls="--", lw=1.0, label=f"threshold {threshold_db:.1f} dB")
+        bottom.legend(loc="upper right", fontsize=8)
+    bottom.set_ylabel("level (dB re the loudest)")
+    bottom.set_xlabel("t (s)")
+    bottom.grid(alpha=0.25)
+    bottom.set_xlim(0.0, max(len(signal) / rate, 1e-3))
+    figure.suptitle(f"{title}: {len(times)} onsets", fontsize=11)
+    return figure
+
+
 def _draw_theta(ax, t, theta, trajectory):
     head = trajectory.theta_max
     ax.axhline(head, color="0.55", lw=1.0, ls="--", label=f"drumhead θ_max = {head:.4f} rad")

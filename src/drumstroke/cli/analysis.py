@@ -1,0 +1,131 @@
+"""``drumstroke onsets`` and ``measure-cor``: a recording's impacts, and c from a drop (SPEC §10)."""
+
+import sys
+
+from .._atomic import publish
+from ..errors import ParameterError
+from ..formats import json, onsets_csv
+from ..model import MODELS
+from ..render import plot
+from ._common import print_written
+from ._options import Output, add_mkdir, existing_file, number
+
+
+def add_onsets(commands):
+    """Register ``onsets``."""
+    ons = commands.add_parser(
+        "onsets", help="find the stick's impacts in a recording: times (sub-ms) and relative levels",
+        description="Find the impacts in a recording (WAV, FLAC, OGG, ...; several channels are mixed down): their "
+                    "times to a fraction of a millisecond and their levels in dB re the loudest. The ringing of the "
+                    "drum and the room is predicted away (a linear predictor) and each attack placed on its change "
+                    "point. Prints them and the threshold used; writes them as an onsets CSV (t,level_db, its "
+                    "metadata in the JSON beside it).")
+    ons.add_argument("recording", type=existing_file, metavar="RECORDING", help="an audio file")
+    _add_detection(ons)
+    ons.add_argument("--out", action=Output, suffixes=onsets_csv.SUFFIXES, metavar="ONSETS",
+                     help="write the onsets as .csv (t in s, level_db in dB re the loudest), the JSON beside it")
+    ons.add_argument("--plot", action=Output, suffixes=plot.SUFFIXES, metavar="PATH",
+                     help=f"draw the waveform with the onsets over their levels: {', '.join(plot.SUFFIXES)}")
+    add_mkdir(ons)
+    ons.set_defaults(run=_onsets)
+
+
+def add_measure_cor(commands):
+    """Register ``measure-cor``."""
+    cor = commands.add_parser(
+        "measure-cor", help="measure the coefficient of restitution c from a recording of a dropped stick",
+        description="c from a stick dropped on the head (the paper's method): the flights between successive "
+                    "impacts fitted by the model's exact flights under gravity, T_n = F(c^(n-1) w1), with a "
+                    "confidence interval; the impacts' levels (falling 20 log10 c dB an impact) as a cross-check.")
+    cor.add_argument("drop", type=existing_file, metavar="DROP",
+                     help="a recording of the drop (WAV, FLAC, OGG, ...) or its onsets CSV")
+    cor.add_argument("--model", choices=MODELS, default="paper", help="whose exact flights (default paper)")
+    cor.add_argument("--confidence", type=number(low=0.0, high=1.0, low_open=True, high_open=True), default=0.95,
+                     help="of the intervals, in (0, 1) (default 0.95)")
+    _add_detection(cor)
+    cor.add_argument("--json", action=Output, suffixes=json.SUFFIXES, metavar="OUT",
+                     help="write c, its interval, the cross-check, the impacts used and the residuals as .json")
+    add_mkdir(cor)
+    cor.set_defaults(run=_measure_cor)
+
+
+def _add_detection(parser):
+    from ..analysis.onsets import DEFAULT_THRESHOLD_DB, MIN_INTERVAL
+
+    parser.add_argument("--threshold", type=number(low=-120.0, high=0.0, unit="dB"), default=DEFAULT_THRESHOLD_DB,
+                        metavar="DB", help=f"report no onset quieter than this, dB re the loudest, in [-120, 0] "
+                                           f"(default {DEFAULT_THRESHOLD_DB:g}; the noise floor may raise it)")
+    parser.add_argument("--min-interval", type=number(low=0.5e-3, high=1.0, unit="s"), default=MIN_INTERVAL,
+                        metavar="S", help=f"the shortest time between two onsets, s, in [0.0005, 1] "
+                                          f"(default {MIN_INTERVAL:g})")
+
+
+def _read(args, path):
+    from ..analysis.onsets import find_onsets, read_onsets, read_recording
+
+    if path.suffix.lower() == ".csv":
+        return read_onsets(path), None
+    signal, rate, notes = read_recording(path)
+    if notes["mixed_down"]:
+        print(f"note: {path.name} has {notes['channels']} channels, mixed down to one", file=sys.stderr)
+    if notes["clipped"]:
+        print(f"warning: {path.name} has {notes['clipped']} clipped samples (|x| >= 0.999 full scale): the loudest "
+              "levels read low", file=sys.stderr)
+    onsets = find_onsets(signal, rate, threshold_db=args.threshold, min_interval=args.min_interval,
+                         source=path.name, notes=notes)
+    return onsets, (signal, rate)
+
+
+def _onsets(args):
+    from ..analysis.onsets import write_onsets
+
+    if args.recording.suffix.lower() == ".csv":
+        raise ParameterError(f"RECORDING must be an audio file (WAV, FLAC, OGG, ...), got the CSV {str(args.recording)!r}")
+    onsets, (signal, rate) = _read(args, args.recording)
+    floor = onsets.info.get("floor_db")
+    floor_text = "none measured (no noise)" if floor is None else f"{floor:.1f} dB re the loudest"
+    print(f"{args.recording.name}: {len(signal) / rate:.6g} s at {rate} Hz; noise floor {floor_text}; threshold "
+          f"{onsets.threshold_db:.1f} dB re the loudest")
+    if not len(onsets):
+        print(onsets.info.get("found", "no impacts found"))
+    else:
+        print(f"{len(onsets)} onsets:")
+        print(f"{'#':>4} {'t (s)':>11} {'level (dB)':>11}")
+        for i, (t, level) in enumerate(zip(onsets.t, onsets.level_db)):
+            print(f"{i:>4} {t:>11.6f} {level:>11.2f}")
+    written = []
+    with publish():
+        if args.out:
+            write_onsets(args.out, onsets)
+            written += [args.out, args.out.with_suffix(".json")]
+        if args.plot:
+            plot.save_figure(plot.onsets_figure(signal, rate, onsets.t, onsets.level_db,
+                                                threshold_db=onsets.threshold_db, title=args.recording.name),
+                             args.plot)
+            written.append(args.plot)
+    print_written(written)
+
+
+def _measure_cor(args):
+    from ..analysis.drop import measure_cor
+
+    onsets, _ = _read(args, args.drop)
+    if not len(onsets):
+        raise ParameterError(f"no impacts found in {args.drop.name}: {onsets.info.get('found', 'none')}")
+    drop = measure_cor(onsets, model=args.model, confidence=args.confidence)
+    low, high = drop.interval
+    print(f"c = {drop.cor:.4f} ({drop.confidence:.0%} interval {low:.4f} to {high:.4f}) from {drop.flights} flights "
+          f"({drop.flights + 1} impacts, {drop.times[0]:.4f} to {drop.times[-1]:.4f} s) on the {drop.model} model's "
+          "exact flights under gravity")
+    if drop.cor_levels == drop.cor_levels:  # not NaN
+        lo, hi = drop.levels_interval
+        print(f"levels cross-check: c = {drop.cor_levels:.3f} ({lo:.3f} to {hi:.3f}) from the impacts' levels "
+              f"(dB re the loudest; a drum's brightness and the microphone colour them)")
+    else:
+        print("levels cross-check: none (the levels do not fall from impact to impact)")
+    print(f"largest flight residual {abs(drop.residuals).max() * 1e3:.3f} ms; first launch speed "
+          f"{drop.launch_speed:.4g} rad/s")
+    if args.json:
+        with publish():
+            json.write_json(args.json, {**drop.to_dict(), "threshold_db": onsets.threshold_db})
+        print_written([args.json])
