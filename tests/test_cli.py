@@ -224,6 +224,7 @@ def work(monkeypatch):
     for module, name in [(drumstroke.stroke, "solve"), (drumstroke.palette.library, "build_library"),
                          (drumstroke.sweep, "run_sweep"), (drumstroke.compose, "compose"),
                          (drumstroke.robot.track, "track"), (drumstroke.evaluation.stimuli, "make_stimuli"),
+                         (drumstroke.evaluation.stimuli, "fit_stimuli"),
                          (drumstroke.demo, "run_demo"), (drumstroke.demo, "write_figures")]:
         monkeypatch.setattr(module, name, refuse(name))
     return calls
@@ -260,6 +261,9 @@ EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
     (["robot", "track", "free-bounce", "--rate", "5"], ["argument --rate:", "5.0", "[10, 100000] Hz"]),
     (["robot", "track", "free-bounce", "--report", "{tmp}/r.txt"], ["argument --report:", ".json"]),
     (["listen", "make-stimuli", "--library", "{tmp}", "--out", "{tmp}/no/stimuli"], ["--out: directory"]),
+    (["listen", "make-stimuli", "--recordings", "{tmp}/none.wav", "--out", "{tmp}/s"], ["'{tmp}/none.wav' does not"]),
+    (["listen", "make-stimuli", "--recordings", "{examples}/backbeat.pattern", "--out", "{tmp}/s", "--strokes", "a"],
+     ["--strokes picks library strokes"]),
     (["listen", "serve", "{examples}/listening-responses.csv", "--db", "{tmp}/a.db", "--port", "70000"],
      ["argument --port:", "70000", "[1, 65535]"]),
     (["stats", "--summary", "4.227,2.654,4.999,1.564,22", "--alpha", "0.7"], ["argument --alpha:", "(0, 0.5)"]),
