@@ -13,6 +13,7 @@ from pathlib import Path
 
 from .._checks import check_int, check_real
 from ..errors import ParameterError
+from ..formats.reading import check_regular
 
 
 def number(*, low=-math.inf, high=math.inf, low_open=False, high_open=False, unit=""):
@@ -27,13 +28,14 @@ def whole(*, low, high=None, unit=""):
 
 
 def existing_file(text):
-    """An argparse type: the path of a file that exists."""
-    path = Path(text)
-    if path.is_dir():
-        raise argparse.ArgumentTypeError(f"{text!r} is a directory, not a file")
-    if not path.is_file():
+    """An argparse type: the path of a regular file that exists (a directory, a FIFO or a device is refused by name)."""
+    if not os.path.exists(text):
         raise argparse.ArgumentTypeError(f"file {text!r} does not exist")
-    return path
+    try:
+        check_regular(text, "file")
+    except ParameterError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+    return Path(text)
 
 
 def existing_folder(text):
