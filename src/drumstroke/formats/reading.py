@@ -76,11 +76,13 @@ def read_bytes(path, what, *, limit):
         raise ParameterError(f"{where} cannot be read: {_reason(error)}") from None
     with os.fdopen(descriptor, "rb") as handle:
         try:
-            _refuse(os.fstat(descriptor).st_mode, where)  # what was opened: the path may have changed since
-            data = handle.read(limit + 1)  # a regular file whose size the system does not know (/proc) stops here too
+            status = os.fstat(descriptor)
+            _refuse(status.st_mode, where)  # what was opened: the path may have changed since
+            if status.st_size <= limit:
+                data = handle.read(limit + 1)  # a file whose size the system does not know (/proc) stops here too
         except OSError as error:
             raise ParameterError(f"{where} cannot be read: {_reason(error)}") from None
-    if len(data) > limit:
+    if status.st_size > limit or len(data) > limit:
         raise ParameterError(f"{where} cannot be read: it is larger than {_size(limit)}, the most a {what} may be")
     return data
 
