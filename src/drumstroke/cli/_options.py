@@ -9,6 +9,7 @@ name the option, the value and what is allowed, on one line.
 import argparse
 import math
 import os
+import stat
 from pathlib import Path
 
 from .._checks import check_int, check_real
@@ -40,10 +41,15 @@ def existing_file(text):
 
 def existing_folder(text):
     """An argparse type: the path of a directory that exists."""
-    path = Path(text)
-    if not path.is_dir():
-        raise argparse.ArgumentTypeError(f"directory {text!r} does not exist")
-    return path
+    try:
+        mode = os.stat(text).st_mode
+    except (OSError, ValueError) as error:  # ValueError: a NUL in the name
+        missing = isinstance(error, FileNotFoundError | NotADirectoryError | ValueError)
+        reason = "does not exist" if missing else f"cannot be opened: {error.strerror or error}"
+        raise argparse.ArgumentTypeError(f"directory {text!r} {reason}") from None
+    if not stat.S_ISDIR(mode):
+        raise argparse.ArgumentTypeError(f"{text!r} is not a directory")
+    return Path(text)
 
 
 def _parsed(text, kind):
