@@ -1,5 +1,6 @@
 #!/bin/sh
-# The system packages the tests need: Debian's Chromium, which the browser tests drive with Playwright.
+# The system packages the tests need: Debian's Chromium, which the browser tests drive with Playwright
+# (it brings ALSA's libasound too, which python-rtmidi, the live MIDI input, loads).
 set -e
 if command -v chromium >/dev/null 2>&1; then
     exit 0

@@ -8,7 +8,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 HEAVY = ("matplotlib", "mido", "soundfile", "mujoco", "dask", "pyarrow", "librosa", "scipy.signal", "mir_eval",
-         "rosbags")
+         "rosbags", "starlette", "uvicorn")
 
 
 def test_the_import_contracts_hold():
@@ -36,6 +36,7 @@ def test_the_contracts_name_every_module_of_the_package():
     "drumstroke.compose, drumstroke.palette.library, drumstroke.score, drumstroke.sweep",
     "drumstroke.formats.midi, drumstroke.formats.wav, drumstroke.formats.trajectory_csv",
     "drumstroke.formats.rosbag, drumstroke.robot.export, drumstroke.robot.metrics",
+    "drumstroke.evaluation.app, drumstroke.evaluation.limits, drumstroke.evaluation.pages",  # the test, not served
 ])
 def test_importing_the_core_loads_no_heavy_dependency(modules):
     code = (f"import sys, {modules}; "

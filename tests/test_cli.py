@@ -261,7 +261,7 @@ EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
     (["robot", "track", "free-bounce", "--report", "{tmp}/r.txt"], ["argument --report:", ".json"]),
     (["listen", "make-stimuli", "--library", "{tmp}", "--out", "{tmp}/no/stimuli"], ["--out: directory"]),
     (["listen", "serve", "{examples}/listening-responses.csv", "--db", "{tmp}/a.db", "--port", "70000"],
-     ["argument --port:", "70000", "[0, 65535]"]),
+     ["argument --port:", "70000", "[1, 65535]"]),
     (["stats", "--summary", "4.227,2.654,4.999,1.564,22", "--alpha", "0.7"], ["argument --alpha:", "(0, 0.5)"]),
 ])
 def test_every_option_is_checked_before_any_work(tmp_path, capsys, work, args, needles):

@@ -90,6 +90,21 @@ def test_a_flights_forces_equal_an_independent_shooting_with_solve_ivp(model, ga
     assert (rise, fall) == pytest.approx((up, down), rel=1e-6, abs=1e-6)
 
 
+@pytest.mark.parametrize("s0, w0, s1, c", [
+    (-0.2593, 5.0, -0.2, 100.0),     # a libration: the orbit turns back below the vertical
+    (-0.2593, 10.234, -0.2394, 39.4),  # a rotation: a fast stick under a light force by the head
+    (-0.26, 20.0, 0.9, 30.0),         # a rotation over most of the range
+])
+def test_a_part_of_a_flight_takes_the_time_of_its_integral(s0, w0, s1, c):
+    from scipy.integrate import quad
+
+    from drumstroke.design.flight import part_time
+    w1 = math.sqrt(w0 * w0 - 2.0 * c * (s1 - s0))
+    exact, _ = quad(lambda theta: 1.0 / math.sqrt(w0 * w0 - 2.0 * c * (math.sin(theta) - s0)), math.asin(s0),
+                    math.asin(s1), epsabs=0.0, epsrel=1e-13)
+    assert part_time(s0, w0, s1, w1, c) == pytest.approx(exact, rel=1e-12)
+
+
 def test_the_design_is_the_recipe_the_solver_plays():
     """The recipe on its own (written and read back as TOML) makes the notes: the design is no private model."""
     designed = design([0.3, 0.38, 0.46, 0.53], velocities=[110, 90, 90, 120], model="geometry")
@@ -154,6 +169,18 @@ def test_an_accent_20_ms_after_a_note_is_unreachable_with_the_nearest():
     nearest = error.value.nearest_time
     if nearest is not None:  # playing it there works
         assert design([0.2, nearest], [-10.0, 2.0]).impacts.t[1] == pytest.approx(nearest, abs=1e-6)
+
+
+def test_a_loud_throw_beyond_a_weak_thumb_is_unreachable_with_the_loudest():
+    """With at most 50 m/s² the stick must be thrown from above the joint's range: unreachable, and the
+    nearest level a throw from the highest angle gives is heard there."""
+    weak = ForceRange(0.0, 50.0)
+    with pytest.raises(Unreachable, match="needs more than the strongest force 50") as error:
+        design([0.095], velocities=[127], forces=weak)
+    loudest = error.value.nearest_level
+    assert loudest < velocity_to_level(127)
+    made = design([0.5], [loudest - 1e-6], forces=weak)
+    assert made.impacts.level_db[0] == pytest.approx(loudest - 1e-6, abs=1e-6)
 
 
 @pytest.mark.parametrize("times, levels, match", [

@@ -3,13 +3,21 @@
 The files are read back here independently of the loader (numpy.loadtxt, json, hashlib) and compared
 bit for bit with what the build returned. Every corruption the loader must catch is made on a copy
 of a small library built once per module; each must raise ParameterError naming the file at fault.
+A damaged library is named file by file by check_library and load_library alike, and the next build
+repairs it, trusting no folder it reuses; leftovers of killed builds (real processes) are noted, not
+problems, and swept by the next build — never those of a build still running.
 """
 
+import errno
 import hashlib
 import json
 import math
+import os
 import re
 import shutil
+import subprocess
+import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -17,11 +25,13 @@ import pytest
 
 import drumstroke
 from drumstroke import ParameterError
+from drumstroke._atomic import locked
 from drumstroke.formats import library as library_format
 from drumstroke.palette import library as library_module
-from drumstroke.palette.library import Entry, build_library, load_library, read_palette
+from drumstroke.palette.library import Entry, build_library, check_library, load_library, read_palette
 
 SMALL = ("single", "double", "triple", "free-bounce", "backwards-bounce", "whisper-roll")  # palette order
+SOURCE = str(Path(drumstroke.__file__).resolve().parents[1])
 CATEGORIES = ("gravity only", "constant torque", "low to high", "high to low", "sustained finger pulses",
               "un-natural", "single stroke", "double stroke", "triple stroke")
 
@@ -139,7 +149,7 @@ def test_the_loaded_curve_follows_the_built_one_between_samples(small, rng):
 def test_the_manifest_describes_the_files(small):
     built, folder, entries = small
     manifest = manifest_of(folder)
-    assert manifest["format"] == "drumstroke-library" and manifest["rate"] == 1000.0 and manifest["version"] == 2
+    assert manifest["format"] == "drumstroke-library" and manifest["rate"] == 1000.0 and manifest["version"] == 3
     assert [r["name"] for r in manifest["strokes"]] == [e.name for e in entries]
     for record, entry in zip(manifest["strokes"], entries):
         paths = stroke_files(folder, entry.name)
@@ -150,6 +160,7 @@ def test_the_manifest_describes_the_files(small):
         assert record["t_end"] == t[-1] == built[entry.name].trajectory.t_end
         assert (record["category"], record["description"]) == (entry.category, entry.description)
         assert record["sha256"] == {key: sha256(p) for key, p in zip(("recipe", "trajectory", "impacts"), paths)}
+        assert record["bytes"] == {key: p.stat().st_size for key, p in zip(("recipe", "trajectory", "impacts"), paths)}
         if impacts:
             assert record["first_impact"] == impacts[0]["t"]
 
@@ -167,34 +178,44 @@ def test_another_rate_puts_samples_on_its_grid(palette, tmp_path):
     assert len(read_csv(stroke_files(tmp_path, "free-bounce")[1])[0]) == 2501
 
 
-def test_a_library_of_the_old_format_still_loads(small, tmp_path):
-    """Version 1, as drumstroke 0.1.0 wrote it: a # comment line first in each CSV, no "csv" block in NAME.json."""
+def test_a_library_of_the_old_formats_still_loads(small, tmp_path):
+    """Version 2: no file sizes in the manifest. Version 1, as drumstroke 0.1.0 wrote it: also a # comment line
+    first in each CSV, no "csv" block in NAME.json."""
     built, _, entries = small
-    folder = tmp_path / "old"
-    shutil.copytree(small[1], folder)
-    manifest = manifest_of(folder)
-    for record in manifest["strokes"]:
-        _, csv_path, json_path = (folder / manifest["folder"] / record["files"][key]
-                                  for key in ("recipe", "trajectory", "impacts"))
-        comment = (f"# drumstroke 0.1.0; model={record['model']}; stroke={record['name']}; rate=1000 Hz; "
-                   "units s, rad, rad/s\n")
-        csv_path.write_text(comment + csv_path.read_text())
-        data = json.loads(json_path.read_text())
-        del data["csv"]
-        json_path.write_text(json.dumps(data, indent=1) + "\n")
-        record["sha256"].update(trajectory=sha256(csv_path), impacts=sha256(json_path))
-    manifest["version"] = 1
+    for version in (2, 1):
+        folder = tmp_path / f"v{version}"
+        shutil.copytree(small[1], folder)
+        manifest = manifest_of(folder)
+        for record in manifest["strokes"]:
+            del record["bytes"]
+            if version == 2:
+                continue
+            _, csv_path, json_path = (folder / manifest["folder"] / record["files"][key]
+                                      for key in ("recipe", "trajectory", "impacts"))
+            comment = (f"# drumstroke 0.1.0; model={record['model']}; stroke={record['name']}; rate=1000 Hz; "
+                       "units s, rad, rad/s\n")
+            csv_path.write_text(comment + csv_path.read_text())
+            data = json.loads(json_path.read_text())
+            del data["csv"]
+            json_path.write_text(json.dumps(data, indent=1) + "\n")
+            record["sha256"].update(trajectory=sha256(csv_path), impacts=sha256(json_path))
+        manifest["version"] = version
+        (folder / "manifest.json").write_text(json.dumps(manifest))
+        loaded = load_library(folder)
+        assert loaded.rate == 1000.0 and list(loaded) == [e.name for e in entries]
+        for entry in entries:
+            got, want = loaded[entry.name].trajectory, built[entry.name].trajectory.sample(1000.0)
+            assert np.array_equal(got.t, want.t) and np.array_equal(got.theta, want.theta)
+            assert np.array_equal(got.omega, want.omega) and got.model == want.model
+            assert np.array_equal(got.impacts.t, want.impacts.t)
+        # Without sizes, damage is still found by the checksums.
+        path = stroke_files(folder, "double")[1]
+        path.write_bytes(path.read_bytes()[:-7])
+        with pytest.raises(ParameterError, match=r"double\.csv' is corrupt: its SHA-256 differs"):
+            load_library(folder)
+    manifest["version"] = 4
     (folder / "manifest.json").write_text(json.dumps(manifest))
-    loaded = load_library(folder)
-    assert loaded.rate == 1000.0 and list(loaded) == [e.name for e in entries]
-    for entry in entries:
-        got, want = loaded[entry.name].trajectory, built[entry.name].trajectory.sample(1000.0)
-        assert np.array_equal(got.t, want.t) and np.array_equal(got.theta, want.theta)
-        assert np.array_equal(got.omega, want.omega) and got.model == want.model
-        assert np.array_equal(got.impacts.t, want.impacts.t)
-    manifest["version"] = 3
-    (folder / "manifest.json").write_text(json.dumps(manifest))
-    with pytest.raises(ParameterError, match=r"manifest\.json' has version 3; this drumstroke reads the versions 1, 2"):
+    with pytest.raises(ParameterError, match=r"manifest\.json' has version 4; this drumstroke reads the versions 1, 2, 3"):
         load_library(folder)
 
 
@@ -215,6 +236,7 @@ def reseal(folder, name, key, path):
     manifest = manifest_of(folder)
     record = next(r for r in manifest["strokes"] if r["name"] == name)
     record["sha256"][key] = sha256(path)
+    record["bytes"][key] = path.stat().st_size
     (Path(folder) / "manifest.json").write_text(json.dumps(manifest))
 
 
@@ -227,13 +249,13 @@ def set_manifest(folder, change):
 def change_value(folder):
     path = stroke_files(folder, "double")[1]
     edit_row(path, 10, 1, "0.125")
-    return path, "SHA-256"
+    return path, "is corrupt: .*truncated or altered"
 
 
 def truncate_csv(folder):
     path = stroke_files(folder, "double")[1]
     path.write_text("".join(path.read_text().splitlines(keepends=True)[:40]))
-    return path, "SHA-256"
+    return path, r"is corrupt: \d+ bytes, the manifest says \d+ \(truncated or altered\)"
 
 
 def delete_json(folder):
@@ -261,7 +283,7 @@ def missing_folder(folder):
 def garbage_recipe(folder):
     path = stroke_files(folder, "single")[0]
     path.write_text("this is not = [a recipe\n")
-    return path, "SHA-256"
+    return path, "is corrupt"
 
 
 def garbage_recipe_resealed(folder):
@@ -415,7 +437,7 @@ def test_a_stroke_failing_to_simulate_leaves_the_previous_library(palette, libra
 def test_a_failed_manifest_write_leaves_the_previous_library(palette, library_a, monkeypatch):
     folder, before = library_a
 
-    def failing(path, data):
+    def failing(path, data, **options):
         raise OSError("killed while writing the manifest")
 
     with monkeypatch.context() as patch:
@@ -428,6 +450,21 @@ def test_a_failed_manifest_write_leaves_the_previous_library(palette, library_a,
     build_library(folder, palette=other_entries(palette))
     assert stroke_folders(folder) == [manifest_of(folder)["folder"]]
     assert list(load_library(folder)) == [e.name for e in other_entries(palette)]
+
+
+def test_a_full_disk_during_a_build_names_the_library_and_leaves_the_previous_one(palette, library_a, monkeypatch):
+    folder, before = library_a
+
+    def full(fd):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    with monkeypatch.context() as patch:
+        patch.setattr(os, "fsync", full)
+        with pytest.raises(OSError, match="No space left on device") as caught:
+            build_library(folder, palette=other_entries(palette))
+    assert caught.value.filename == str(folder) and caught.value.errno == errno.ENOSPC  # not the staging folder
+    assert_same_snapshot(snapshot(folder), before)
+    assert not [p for p in Path(folder).iterdir() if p.name.startswith(".")]
 
 
 def test_a_rebuild_replaces_the_old_library(palette, library_a):
@@ -511,3 +548,187 @@ def test_a_library_iterates_in_palette_order(small):
     assert list(built) == list(load_library(folder)) == list(SMALL)
     assert len(built) == len(SMALL)
     assert [s.name for s in load_library(folder).values()] == list(SMALL)
+
+
+# --- a damaged library is named file by file, and a build repairs it -----------------------------------------------
+
+
+def missing_stroke_file(folder):
+    path = stroke_files(folder, "double")[2]
+    path.unlink()
+    return [(path, r"is missing \(stroke 'double'\)")]
+
+
+def truncated_stroke_file(folder):
+    path = stroke_files(folder, "double")[1]
+    path.write_bytes(path.read_bytes()[:1000])
+    return [(path, r"is corrupt: 1000 bytes, the manifest says \d+ \(truncated or altered\)")]
+
+
+def flipped_byte(folder):
+    path = stroke_files(folder, "triple")[1]
+    data = bytearray(path.read_bytes())
+    data[len(data) // 2] ^= 0x01
+    path.write_bytes(bytes(data))
+    return [(path, r"is corrupt: its SHA-256 differs from the manifest's")]
+
+
+def a_folder_for_a_file(folder):
+    path = stroke_files(folder, "single")[0]
+    path.unlink()
+    path.mkdir()
+    return [(path, r"is not a regular file \(stroke 'single'\)")]
+
+
+def extra_file(folder):
+    path = stroke_files(folder, "single")[0].parent / "cymbal.csv"
+    path.write_text("t,theta,omega\n")
+    return [(path, r"is not in the manifest")]
+
+
+def half_deleted(folder):
+    """What a build killed while removing the folder left, and a build that reused it kept (issue 16)."""
+    paths = [stroke_files(folder, "double")[1], stroke_files(folder, "triple")[0], stroke_files(folder, "triple")[2]]
+    for path in paths:
+        path.unlink()
+    return [(path, "is missing") for path in paths]
+
+
+def missing_stroke_folder(folder):
+    path = stroke_files(folder, "single")[0].parent
+    shutil.rmtree(path)
+    return [(path, r"^stroke folder '.*' is missing$")]
+
+
+DAMAGES = [missing_stroke_file, truncated_stroke_file, flipped_byte, a_folder_for_a_file, extra_file, half_deleted,
+           missing_stroke_folder]
+
+
+@pytest.mark.parametrize("damage", DAMAGES, ids=[d.__name__ for d in DAMAGES])
+def test_a_damaged_library_is_named_by_check_and_load_and_repaired_by_a_build(palette, library_a, damage):
+    folder, before = library_a
+    entries = [palette["single"], palette["double"], palette["triple"]]
+    problems = damage(folder)
+    diagnosis = check_library(folder)
+    assert len(diagnosis.problems) == len(problems) and diagnosis.leftovers == ()
+    for (path, pattern), line in zip(problems, diagnosis.problems):
+        assert str(path) in line and re.search(pattern, line), line
+    with pytest.raises(ParameterError) as error:
+        load_library(folder)
+    assert str(error.value) == diagnosis.error()
+    for path, _ in problems:
+        assert str(path) in str(error.value)
+    build_library(folder, palette=entries)  # the same strokes: the folder of that name is checked, not trusted
+    assert check_library(folder).problems == ()
+    assert_same_snapshot(snapshot(folder), before)
+    assert sorted(p.name for p in folder.iterdir()) == ["manifest.json", manifest_of(folder)["folder"]]
+
+
+def test_a_whole_stroke_folder_of_the_same_strokes_is_reused(palette, library_a):
+    folder, before = library_a
+    stroke_folder = folder / manifest_of(folder)["folder"]
+    identity = stroke_folder.stat().st_ino
+    build_library(folder, palette=[palette["single"], palette["double"], palette["triple"]])
+    assert (folder / manifest_of(folder)["folder"]).stat().st_ino == identity
+    assert_same_snapshot(snapshot(folder), before)
+
+
+def test_a_stale_half_deleted_stroke_folder_is_never_reused(palette, library_a, tmp_path):
+    """Issue 16: a build killed while removing an old folder left it half there; a later build of the same strokes
+    kept it, and the library did not load. Now it is a leftover, not the library, and it is not trusted."""
+    folder, before = library_a
+    others = other_entries(palette)
+    elsewhere = tmp_path / "elsewhere"
+    build_library(elsewhere, palette=others)
+    stale = folder / manifest_of(elsewhere)["folder"]
+    shutil.copytree(elsewhere / stale.name, stale)
+    for path in sorted(stale.iterdir())[::2]:
+        path.unlink()
+    diagnosis = check_library(folder)
+    assert diagnosis.problems == ()
+    note = f"{str(stale)!r}: an old stroke folder, not the manifest's; the next build removes it"
+    assert diagnosis.leftovers == (note,)
+    assert_same_snapshot(snapshot(folder), before)  # it is not the library: the library loads
+    build_library(folder, palette=others)
+    assert manifest_of(folder)["folder"] == stale.name and check_library(folder).problems == ()
+    assert_same_snapshot(snapshot(folder), snapshot(elsewhere))
+    assert sorted(p.name for p in folder.iterdir()) == ["manifest.json", stale.name]
+
+
+STAGE = """
+import sys
+from pathlib import Path
+from drumstroke._atomic import temporary_folder, temporary_path, write_new
+library = Path(sys.argv[1])
+staged = temporary_folder(library / "strokes")
+write_new(staged / "single.csv", b"t,theta,omega\\n" * 1000)
+write_new(temporary_path(library / "manifest.json"), b"{")
+print(staged.name, flush=True)
+if sys.argv[2] == "wait":
+    sys.stdin.read()
+"""
+
+
+def stage_in(folder, mode):
+    """A real process leaves a staging folder and a manifest's temporary in the library, and exits or waits."""
+    process = subprocess.Popen([sys.executable, "-c", STAGE, str(folder), mode], stdin=subprocess.PIPE,
+                               stdout=subprocess.PIPE, text=True, env={**os.environ, "PYTHONPATH": SOURCE})
+    name = process.stdout.readline().strip()
+    if mode == "exit":
+        process.wait()
+    return process, name
+
+
+def test_leftovers_of_killed_builds_are_noted_and_swept_and_a_running_builds_are_kept(palette, library_a):
+    folder, before = library_a
+    entries = [palette["single"], palette["double"], palette["triple"]]
+    stage_in(folder, "exit")
+    live, live_name = stage_in(folder, "wait")
+    legacy = [folder / ".strokes-k3x_9q2a", folder / ".manifest.json.zz81mmq0.tmp"]  # drumstroke 0.1's names
+    legacy[0].mkdir()
+    (legacy[0] / "single.csv").write_text("t,theta,omega\n")
+    legacy[1].write_text("{")
+    for path in legacy:
+        os.utime(path, (time.time() - 3600, time.time() - 3600))
+    try:
+        diagnosis = check_library(folder)
+        assert diagnosis.problems == () and len(diagnosis.leftovers) == 6
+        notes = "\n".join(diagnosis.leftovers)
+        assert notes.count("which was stopped before it finished; the next run writing here removes it") == 2
+        assert notes.count(f"drumstroke process {live.pid}, running") == 2
+        assert notes.count("a temporary of a build by an older drumstroke that did not finish") == 2
+        assert f"{str(folder / live_name)!r}: a temporary folder of drumstroke process {live.pid}" in notes
+        assert_same_snapshot(snapshot(folder), before)
+        build_library(folder, palette=entries)
+        left = sorted(p.name for p in folder.iterdir() if p.name.startswith("."))
+        assert len(left) == 2 and live_name in left  # the running build's, and only they
+    finally:
+        live.communicate("")
+    build_library(folder, palette=entries)
+    assert sorted(p.name for p in folder.iterdir()) == ["manifest.json", manifest_of(folder)["folder"]]
+    assert check_library(folder).leftovers == ()
+
+
+BUILD = """
+import sys
+from drumstroke.palette.library import build_library, read_palette
+names = sys.argv[2].split(",")
+build_library(sys.argv[1], palette=[e for e in read_palette() if e.name in names])
+"""
+
+
+def test_a_build_switches_the_library_only_when_no_reader_holds_it(palette, library_a):
+    folder, before = library_a
+    with locked(folder, shared=True):  # what load_library holds while it reads
+        build = subprocess.Popen([sys.executable, "-c", BUILD, str(folder), "tap,free-bounce"],
+                                 env={**os.environ, "PYTHONPATH": SOURCE})
+        deadline = time.monotonic() + 60
+        while not [p for p in folder.glob(".strokes.drumstroke-*") if len(list(p.iterdir())) == 6]:
+            assert time.monotonic() < deadline and build.poll() is None
+            time.sleep(0.05)
+        time.sleep(1.0)
+        assert build.poll() is None  # staged, waiting to switch
+        assert_same_snapshot(snapshot(folder), before)
+    assert build.wait(timeout=60) == 0
+    assert list(load_library(folder)) == ["tap", "free-bounce"]
+    assert sorted(p.name for p in folder.iterdir()) == ["manifest.json", manifest_of(folder)["folder"]]

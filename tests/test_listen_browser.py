@@ -1,9 +1,9 @@
-"""A real browser — Debian's Chromium driven by Playwright — through a whole listening-test session."""
+"""A real browser — Debian's Chromium driven by Playwright — through a whole listening-test session, real server."""
 
 import pytest
 from playwright.sync_api import sync_playwright
 
-from _listen import start_test, stop
+from _listen import start_test
 from drumstroke.evaluation.app import plan
 
 CHROMIUM = "/usr/bin/chromium"
@@ -12,9 +12,9 @@ PAIRS = 3
 
 @pytest.fixture()
 def served(tmp_path):
-    base, config, store, server = start_test(tmp_path, pairs=PAIRS, token="browser-token", seed=11)
-    yield base, config, store
-    stop(server)
+    server, config, store = start_test(tmp_path, pairs=PAIRS, token="browser-token-0123456789", seed=11)
+    yield server.url.rstrip("/"), config, store
+    server.stop()
 
 
 def test_a_whole_session_in_chromium_is_stored_as_clicked(served):
@@ -24,6 +24,9 @@ def test_a_whole_session_in_chromium_is_stored_as_clicked(served):
         browser = p.chromium.launch(executable_path=CHROMIUM, headless=True,
                                     args=["--no-sandbox", "--autoplay-policy=no-user-gesture-required"])
         page = browser.new_page()
+        refused = []  # a script or style the Content-Security-Policy blocked, or a script's error
+        page.on("console", lambda message: refused.append(message.text) if "Content Security" in message.text else None)
+        page.on("pageerror", lambda error: refused.append(str(error)))
         page.goto(base + "/")
         page.check("#consent")
         page.click("#start")
@@ -45,7 +48,10 @@ def test_a_whole_session_in_chromium_is_stored_as_clicked(served):
         assert "saved" in page.inner_text("#finished")
         page.go_back()  # back and reload an answered pair: nothing more is stored
         page.reload()
+        (cookie,) = page.context.cookies()
         browser.close()
+    assert refused == []
+    assert cookie["httpOnly"] and cookie["sameSite"] == "Strict" and not cookie["secure"]  # plain HTTP here
     rows = store.rows()
     steps = plan(config, participant)
     assert len(rows) == PAIRS

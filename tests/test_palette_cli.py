@@ -8,6 +8,7 @@ librosa's onset detector for the audio — and compared with values worked out h
 
 import json
 import math
+import os
 import shutil
 from html.parser import HTMLParser
 
@@ -225,6 +226,36 @@ def test_a_corrupted_library_is_named_by_list_and_compose(built, tmp_path):
     pattern = tmp_path / "one.pattern"
     pattern.write_text("tempo 120\n0 single 100\n")
     assert_one_line_error(run("compose", pattern, "--library", folder), "single.csv", "corrupt")
+
+
+def test_library_check_names_each_damaged_file_as_list_does_and_a_build_repairs_it(built, tmp_path):
+    folder = tmp_path / "lib"
+    shutil.copytree(built[0], folder)
+    whole = run("library", "check", folder)
+    assert whole.returncode == 0 and whole.stdout == f"{folder}: whole: 3 strokes at 500 Hz, 9 files as the manifest " \
+                                                     "lists them\n", whole
+    strokes = next(folder.glob("strokes-*"))
+    (strokes / "single.json").unlink()
+    data = bytearray((strokes / "tap.csv").read_bytes())
+    data[-10] ^= 0x02
+    (strokes / "tap.csv").write_bytes(bytes(data))
+    (strokes / "notes.txt").write_text("mine")
+    (folder / ".strokes-k3x_9q2a").mkdir()  # a build of drumstroke 0.1 that did not finish
+    result = run("library", "check", folder)
+    assert result.returncode == 2 and result.stderr == "", result
+    legacy = f"{str(folder / '.strokes-k3x_9q2a')!r}: a temporary of a build by an older drumstroke that did not finish"
+    assert result.stdout.splitlines() == [
+        f"library file {str(strokes / 'single.json')!r} is missing (stroke 'single')",
+        f"library file {str(strokes / 'tap.csv')!r} is corrupt: its SHA-256 differs from the manifest's",
+        f"library file {str(strokes / 'notes.txt')!r} is not in the manifest (an extra file in the stroke folder)",
+        f"note: {legacy}; the next build removes it"]
+    assert_one_line_error(run("library", "list", folder), f"library {str(folder)!r} has 3 problems",
+                          *result.stdout.splitlines()[:3])
+    os.utime(folder / ".strokes-k3x_9q2a", (0, 0))  # older than the build's process
+    rebuilt = run("library", "build", folder, "--rate", 500, "--palette", built[0].parent / "palette.toml")
+    assert rebuilt.returncode == 0, rebuilt.stderr
+    assert run("library", "check", folder).stdout == whole.stdout
+    assert sorted(p.name for p in folder.iterdir()) == ["manifest.json", strokes.name]
 
 
 @pytest.mark.parametrize("args, needles", [(["--rate", "0"], ["--rate", "0.0", "[1, 100000]"]),

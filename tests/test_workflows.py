@@ -236,7 +236,13 @@ def test_stimuli_are_robot_recordings_and_a_config_the_app_reads(library, tmp_pa
         shutil.copy(stimulus.path, made.config.parent / f"human-{stimulus.name}.wav")  # as if recorded
     pairs = tomllib.loads(made.config.read_text())["pair"]
     assert [(p["id"], p["robot"]) for p in pairs] == [("single", "robot-single.wav"), ("double", "robot-double.wav")]
-    assert [p.id for p in Config.from_toml(made.config).pairs] == ["single", "double"]
+    config = Config.from_toml(made.config)
+    assert [p.id for p in config.pairs] == ["single", "double"]
+    # the export's token: new for each config, 43 random URL-safe characters, the file readable by its owner only
+    again = make_stimuli(library, tmp_path / "again", strokes=["single"])
+    assert re.fullmatch(r"[A-Za-z0-9_-]{43}", config.admin_token)
+    assert tomllib.loads(again.config.read_text())["admin_token"] != config.admin_token
+    assert made.config.stat().st_mode & 0o777 == 0o600
 
 
 def test_stimuli_check_every_stroke_name_before_writing(library, tmp_path):

@@ -3,12 +3,15 @@
 :func:`write_figures` simulates the presets that reproduce the paper's Figs. 4–7 and writes their files;
 :func:`run_demo` does that, builds the shipped library, renders each stroke as a picture, a sound and
 MIDI, composes the demo groove from them and writes ``index.html`` linking it all. Both need the
-``plot`` extra; the demo also ``audio`` and ``midi``.
+``plot`` extra; the demo also ``audio`` and ``midi``. Each publishes its files together
+(:func:`drumstroke._atomic.publish`): killed at any point, it leaves the previous files or the new
+ones (the demo's library switches on its own, atomically, when it is built).
 """
 
 from dataclasses import dataclass
 from pathlib import Path
 
+from ._atomic import publish
 from .presets import PRESETS
 from .render.page import Card, plural
 
@@ -87,6 +90,7 @@ def figure_stem(figure, preset):
     return f"{figure.lower().replace('. ', '').replace(' ', '')}-{preset}"
 
 
+@publish()
 def write_figures(outdir, *, model=None, outputs=("plot",), progress=None):
     """Simulate the paper's figures (:data:`FIGURES`) and write each one's files to ``outdir``.
 
@@ -126,6 +130,7 @@ def write_figures(outdir, *, model=None, outputs=("plot",), progress=None):
     return figures
 
 
+@publish()
 def run_demo(outdir, *, progress=None):
     """Write the demo to ``outdir``: the paper's figures, the shipped library, every stroke and a groove, a page.
 

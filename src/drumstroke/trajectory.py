@@ -44,6 +44,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ._atomic import publish
 from ._checks import as_vector, check_real
 from ._version import __version__
 from .errors import ParameterError, TrajectoryError
@@ -268,7 +269,7 @@ class Trajectory:
         TrajectoryError
             A sample that is not finite or off the time grid, named by its index.
         """
-        t, theta, omega, alpha, rate = _checked_samples(t, theta, omega, alpha, rate)
+        t, theta, omega, alpha, rate = check_samples(t, theta, omega, alpha, rate)
         sticks = _stick_names(sticks, theta.shape[1])
         head = Stick().theta_max if theta_max is None else check_real("theta_max", theta_max, low=-THETA_TOP,
                                                                        high=0.0, unit="rad")
@@ -351,8 +352,11 @@ class Trajectory:
                                 rate=rate if rate is not None else stated["rate"], alpha=alpha, sticks=names,
                                 name=Path(path).stem, model=stated["model"])
 
+    @publish()
     def write_csv(self, path, *, alpha=False, metadata=None, sidecar=True):
         """Write the samples as a trajectory CSV, header first, atomically; its metadata in the JSON beside it.
+
+        The two files are published together (:func:`drumstroke._atomic.publish`).
 
         Parameters
         ----------
@@ -829,8 +833,11 @@ def _columns(name, values, n):
     return array
 
 
-def _checked_samples(t, theta, omega, alpha, rate):
-    """Samples as float arrays (t 1-D; the others 2-D) on one time grid, checked in the validator's words."""
+def check_samples(t, theta, omega, alpha=None, rate=None):
+    """Samples as float arrays (t 1-D; the others 2-D) on one time grid, checked in the validator's words.
+
+    Returns ``(t, theta, omega, alpha, rate)``; ``rate`` (Hz) is the first step's if not given.
+    """
     t = np.array(as_vector("t", t), dtype=float)
     for name, values in (("theta", theta), ("omega", omega)):
         try:

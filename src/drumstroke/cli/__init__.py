@@ -2,7 +2,7 @@
 
 One module per command group registers its sub-commands and runs them: :mod:`.simulate`
 (``simulate``, ``presets``, ``figures``, ``sweep``), :mod:`.library`, :mod:`.compose`, :mod:`.design` (``design``, ``rudiment``), :mod:`.stats`,
-:mod:`.listen`, :mod:`.robot` and :mod:`.demo`. Every option is checked before any work
+:mod:`.listen`, :mod:`.live`, :mod:`.robot` and :mod:`.demo`. Every option is checked before any work
 (:mod:`._options`): bad input ends with exit status 2 and one line naming the option, the value
 and what is allowed, and nothing written.
 
@@ -23,13 +23,13 @@ import traceback
 
 from .. import __version__
 from ..errors import DrumstrokeError
-from . import compose, demo, design, library, listen, robot, simulate, stats
+from . import compose, demo, design, library, listen, live, robot, simulate, stats
 from ._common import Parser
 from ._options import check_outputs, output_option
 
 _COMMANDS = (simulate.add_simulate, library.add_library, compose.add_compose, design.add_design,
              design.add_rudiment, simulate.add_presets, simulate.add_figures, simulate.add_sweep, stats.add_stats,
-             listen.add_listen, robot.add_robot, demo.add_demo)
+             listen.add_listen, live.add_live, robot.add_robot, demo.add_demo)
 """Each command's registration, in the order ``drumstroke --help`` lists them."""
 
 REPORT = "drumstroke's issue tracker (the project's issues)"

@@ -4,6 +4,7 @@ import argparse
 import math
 import sys
 
+from .._atomic import publish
 from ..errors import ParameterError
 from ..formats import json, toml, trajectory_csv
 from ..model import MODELS
@@ -99,11 +100,13 @@ def _design(args):
         print(f"{i:>4} {t:>11.6f} {made.impacts.t[i]:>11.6f} {level:>10.3f} {made.impacts.level_db[i]:>11.3f}")
     print(f"largest errors by the solver: {made.time_error:.2e} s, {made.level_error:.2e} dB")
     written = []
-    if args.out:
-        made.recipe.to_toml(args.out)
-        written.append(args.out)
-    written += write_stroke_outputs(made.stroke, json=args.json, csv=args.csv, plot=args.plot, audio=args.audio,
-                                    midi=args.midi, snares=not args.no_snares, extra={"design": design_to_dict(made)})
+    with publish():  # the recipe with the other files
+        if args.out:
+            made.recipe.to_toml(args.out)
+            written.append(args.out)
+        written += write_stroke_outputs(made.stroke, json=args.json, csv=args.csv, plot=args.plot, audio=args.audio,
+                                        midi=args.midi, snares=not args.no_snares,
+                                        extra={"design": design_to_dict(made)})
     print_written(written)
 
 

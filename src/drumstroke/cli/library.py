@@ -1,4 +1,4 @@
-"""``drumstroke library build`` and ``library list``: stroke libraries, the text files a robot host loads."""
+"""``drumstroke library build``, ``list`` and ``check``: stroke libraries, the text files a robot host loads."""
 
 import time
 
@@ -9,7 +9,7 @@ from ._options import Output, add_mkdir, existing_file, existing_folder, number
 
 def add_library(commands):
     """Register ``library`` and its actions."""
-    lib = commands.add_parser("library", help="build or list a stroke library (text files a robot host loads)",
+    lib = commands.add_parser("library", help="build, list or check a stroke library (text files a robot host loads)",
                               description="Stroke libraries: folders of text files (per stroke a recipe .toml, "
                                           "its samples .csv and impacts .json, and a manifest) a robot host loads.")
     actions = lib.add_subparsers(dest="library_command", parser_class=Parser, metavar="ACTION", required=True)
@@ -29,6 +29,15 @@ def add_library(commands):
                                              "category and description. Writes nothing.")
     listing.add_argument("directory", type=existing_folder, metavar="DIR", help="a library folder ('library build')")
     listing.set_defaults(run=_list)
+    check = actions.add_parser("check", help="check a library file by file: exit 0 when whole, 2 when damaged",
+                               description="Check every file of a library against its manifest (there, a regular "
+                                           "file, readable, its size and SHA-256) and its contents as 'library list' "
+                                           "reads them. Prints one line per damaged file and exits 2, or one line "
+                                           "saying it is whole and exits 0; leftovers beside it (old stroke folders, "
+                                           "temporaries of killed builds, which the next build removes) are listed "
+                                           "as notes. Writes nothing; 'library build' repairs a damaged library.")
+    check.add_argument("directory", type=existing_folder, metavar="DIR", help="a library folder ('library build')")
+    check.set_defaults(run=_check)
 
 
 def _build(args):
@@ -55,3 +64,19 @@ def _list(args):
         velocity = level_to_velocity(impacts.level_db[0]) if len(impacts) else "-"
         print(f"{name:<{width}}  {notes.get(name, '-'):>4}  {len(impacts):>7}  {entry.trajectory.t_end:>6.3f}s  "
               f"{velocity:>3}  {entry.category}: {entry.description}")
+
+
+def _check(args):
+    from ..palette.library import check_library
+
+    diagnosis = check_library(args.directory)
+    for problem in diagnosis.problems:
+        print(problem)
+    for leftover in diagnosis.leftovers:
+        print(f"note: {leftover}")
+    if diagnosis.problems:
+        return 2
+    files = sum(len(stored.record["files"]) for stored in diagnosis.strokes)
+    print(f"{args.directory}: whole: {len(diagnosis.strokes)} strokes at {diagnosis.rate:g} Hz, {files} files as "
+          "the manifest lists them")
+    return 0

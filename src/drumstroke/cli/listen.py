@@ -14,15 +14,19 @@ def add_listen(commands):
                                           "recordings, serve the test, analyse the answers.")
     actions = lis.add_subparsers(dest="listen_command", parser_class=Parser, metavar="ACTION", required=True)
     srv = actions.add_parser("serve", help="serve the listening test in a browser",
-                             description="Serve the listening test over HTTP until Ctrl-C; each answer is stored in "
-                                         "the SQLite file --db as it is given.")
+                             description="Serve the listening test over HTTP (uvicorn) until Ctrl-C; each answer is "
+                                         "stored in the SQLite file --db as it is given. On the internet, serve it "
+                                         "behind a reverse proxy with TLS (see the docs).")
     srv.add_argument("config", type=existing_file, metavar="CONFIG",
                      help="the test's .toml (title, admin_token, seed, pairs)")
     srv.add_argument("--db", action=Output, required=True, metavar="SQLITE",
                      help="the SQLite file the answers are stored in (created if missing)")
     srv.add_argument("--host", default="127.0.0.1", help="the address to listen on (default 127.0.0.1: this machine)")
-    srv.add_argument("--port", type=whole(low=0, high=65535), default=8000,
-                     help="the TCP port, in [0, 65535]; 0 picks a free one (default 8000)")
+    srv.add_argument("--port", type=whole(low=1, high=65535), default=8000,
+                     help="the TCP port, in [1, 65535] (default 8000)")
+    srv.add_argument("--forwarded-allow-ips", metavar="IPS",
+                     help="comma-separated addresses or networks of trusted reverse proxies, whose X-Forwarded-For and "
+                          "X-Forwarded-Proto are believed (default: none)")
     add_mkdir(srv)
     srv.set_defaults(run=_serve)
     ana = actions.add_parser("analyze", help="run the statistics on the answers collected",
@@ -48,25 +52,33 @@ def add_listen(commands):
 
 
 def _serve(args):
+    import logging
+
     from ..evaluation.app import Config, Store, make_server
 
     config = Config.from_toml(args.config)
+    new = not args.db.exists()
     store = Store(args.db)
-    server = make_server(config, store, host=args.host, port=args.port)
-    host, port = server.server_address[:2]
-    print(f"serving {config.title!r} ({len(config.pairs)} pairs, seed {config.seed}) on http://{host}:{port}/ ; "
-          f"answers in {args.db}; export: http://{host}:{port}/admin/export.csv?token=...; Ctrl-C stops")
+    proxies = args.forwarded_allow_ips.split(",") if args.forwarded_allow_ips else ()
     try:
-        server.serve_forever()
-    finally:
-        server.server_close()
+        server = make_server(config, store, host=args.host, port=args.port, forwarded_allow_ips=proxies)
+    except (ParameterError, ImportError):
+        if new:  # a refused --host, --port or proxy, or a missing extra, leaves no database behind
+            args.db.unlink()
+        raise
+    logging.basicConfig(level=logging.WARNING, format="%(asctime)s %(levelname)s %(name)s: %(message)s")
+    print(f"serving {config.title!r} ({len(config.pairs)} pairs, seed {config.seed}) on {server.url} ; answers in "
+          f"{args.db}; export: curl -H 'Authorization: Bearer TOKEN' {server.url}admin/export.csv; Ctrl-C stops",
+          flush=True)
+    server.serve()
+    print(f"stopped; the answers are in {args.db}")
 
 
 def _analyze(args):
     from ..evaluation.app import Store
     from ..evaluation.stats import parse_responses
 
-    rows = [[str(v) for v in row] for row in Store(args.db).rows()]
+    rows = [[str(v) for v in row] for row in Store(args.db, create=False).rows()]
     if not rows:
         raise ParameterError(f"--db {str(args.db)!r} holds no answers yet")
     print_analysis(args, parse_responses(rows, name=str(args.db)))
@@ -80,4 +92,5 @@ def _make_stimuli(args):
                             progress=bar.update)
     for stimulus in made.stimuli:
         print(f"wrote {stimulus.path} ({stimulus.onsets} onsets played by the simulated robot)")
-    print(f"wrote {made.config}: add the human recordings it names, set admin_token and seed")
+    print(f"wrote {made.config}: add the human recordings it names and set the seed; its admin_token is new and "
+          "secret (the file is readable by you only)")

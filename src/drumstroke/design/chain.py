@@ -552,7 +552,7 @@ class _Plan:
             rate = high
         elif rate < low:
             rate = low
-        if rate > high or rate <= 0.0:
+        if rate <= 0.0 or head + force_to_reach(v, rate) > top + 1e-12:
             raise Unreachable(f"note 0 ({self.levels[0]:.2f} dB) needs more than the strongest force "
                               f"{self.forces.high:g} m/s^2 from the joint's highest angle", note=0,
                               nearest_level=self.level_of(math.sqrt(2.0 * high * (top - head))) if high > 0 else None)

@@ -33,6 +33,7 @@ Examples
 import math
 from dataclasses import dataclass
 
+import numpy as np
 from numba import njit
 
 from ..solver.elliptic import parameter, time_from_apex
@@ -209,4 +210,24 @@ def _near_head(part, speed, sh):
         return sh, speed, 0.0
     rate, height = part
     w = math.sqrt(max(speed * speed - 2.0 * rate * (height - sh), 0.0))
-    return height, w, (orbit_time(sh, speed, rate) - orbit_time(height, w, rate) if w > 0.0 else 0.0)
+    return height, w, (part_time(sh, speed, height, w, rate) if w > 0.0 else 0.0)
+
+
+_NODES, _WEIGHTS = np.polynomial.legendre.leggauss(24)
+
+
+def part_time(s0, w0, s1, w1, c):
+    """Time (s) for the stick to rise from sin θ = ``s0`` at ``w0`` to ``s1`` at ``w1`` (rad/s, > 0) under ``c`` (s⁻²).
+
+    On a libration orbit (one that turns back below the vertical) the difference of the two times to its
+    apex, exactly; on a rotation orbit (its energy would carry the stick over the vertical: a fast stick
+    under a light force, near the head) ω stays at least ``w1`` > 0 over the part and the time is
+    ∫ dθ/ω, to round-off by 24-point Gauss–Legendre quadrature of the smooth integrand.
+    """
+    if parameter(s0, w0, c) < 1.0:
+        return orbit_time(s0, w0, c) - orbit_time(s1, w1, c)
+    theta0, theta1 = math.asin(s0), math.asin(s1)
+    half = 0.5 * (theta1 - theta0)
+    theta = theta0 + half * (_NODES + 1.0)
+    omega = np.sqrt(np.maximum(w0 * w0 - 2.0 * c * (np.sin(theta) - s0), w1 * w1))
+    return float(half * np.sum(_WEIGHTS / omega))

@@ -1,4 +1,4 @@
-"""The listening-test web app: pairs of stimuli in a browser, answers stored exactly once in SQLite (SPEC §6).
+"""The listening-test app: a study's config, each participant's plan, answers stored exactly once in SQLite (SPEC §6).
 
 A participant gives consent, gets a generated id, and hears the configured
 pairs in an order shuffled for them from the config's recorded seed and their
@@ -13,38 +13,48 @@ CSV — the format ``drumstroke stats`` reads — with the config's admin token.
 Config (TOML)::
 
     title = "Robot or human?"
-    admin_token = "change-me"          # for /admin/export.csv?token=...
+    admin_token = "..."                # 16+ characters; make-stimuli writes a random one
     seed = 20261122                    # recorded; shuffles orders and sides
     [[pair]]
     id = "buzz-1"
     human = "stimuli/human-buzz-1.wav" # paths relative to the config file
     robot = "stimuli/robot-buzz-1.wav"
+    [limits]                           # optional: see limits.Limits
+    sessions_per_minute_per_client = 10
 
-The server is the standard library's threading HTTP server; SQLite is used
-with one connection per request and ``BEGIN IMMEDIATE`` transactions.
+This module holds what needs no web library: :class:`Config` (its limits a
+:class:`~drumstroke.evaluation.limits.Limits`),
+:func:`plan` and :class:`Store` (SQLite, one connection per call, ``BEGIN
+IMMEDIATE`` transactions). :func:`make_server` serves the test on the web
+(:mod:`drumstroke.evaluation.web`, Starlette, under
+:mod:`drumstroke.evaluation.server`, uvicorn: the ``listen`` extra), imported
+when called.
 """
 
 import hashlib
-import html
 import json
 import random
 import re
 import sqlite3
 import time
 import uuid
-from dataclasses import dataclass
-from http import HTTPStatus
-from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
+from dataclasses import dataclass, field
 from pathlib import Path
-from urllib.parse import parse_qs, urlsplit
+from urllib.parse import quote
 
-from .._checks import check_keys
+from .._checks import check_int, check_keys
 from ..errors import ParameterError
 from ..formats.responses_csv import responses_text
 from ..formats.toml import read_toml
+from .limits import Limits
 
 QUESTIONS = ("answer", "confidence", "similarity")
-_ID = re.compile(r"^[A-Za-z0-9._-]{1,64}$")
+EXAMPLE_TOKENS = frozenset({"change-this-token", "change-me", "Xq3v0m8-H2kS1pLrT9yWcE4nB7uJ6dFa_Zo5RiMtGbN"})
+"""Admin tokens printed in drumstroke's documentation (now or before): public, so refused."""
+
+_ID = re.compile(r"[A-Za-z0-9._-]{1,64}")
+_TOKEN = re.compile(r"[\x21-\x7e]{16,512}")  # printable ASCII, no space: it travels in an HTTP header
+_TABLES = {"participants", "plays", "answers"}
 _SCHEMA = """
 CREATE TABLE IF NOT EXISTS participants (
     id TEXT PRIMARY KEY, created REAL NOT NULL, seed INTEGER NOT NULL, plan TEXT NOT NULL, finished REAL);
@@ -69,28 +79,53 @@ class Pair:
 
 @dataclass(frozen=True)
 class Config:
-    """A listening test: its title, admin token, seed and pairs."""
+    """A listening test: its title, admin token, seed, pairs and the server's limits.
+
+    Attributes
+    ----------
+    title : str
+        Shown on every page (1-200 characters).
+    admin_token : str
+        The export's bearer token: 16-512 printable ASCII characters without spaces, not one printed in
+        the documentation (:data:`EXAMPLE_TOKENS`). Left out of the ``repr``.
+    seed : int in [-2**63, 2**63 - 1]
+        Recorded with each participant; with their id it shuffles their order and sides.
+    pairs : tuple of Pair
+    limits : Limits
+    """
 
     title: str
-    admin_token: str
+    admin_token: str = field(repr=False)
     seed: int
     pairs: tuple
+    limits: Limits = field(default_factory=Limits)
+
+    def __post_init__(self):
+        if not isinstance(self.title, str) or not 1 <= len(self.title) <= 200:
+            raise ParameterError(f"config title must be text of 1-200 characters, got {self.title!r}")
+        token = self.admin_token
+        if not isinstance(token, str) or not _TOKEN.fullmatch(token):
+            got = f"{len(token)} characters" if isinstance(token, str) else type(token).__name__
+            raise ParameterError("config admin_token must be 16-512 printable ASCII characters without spaces "
+                                 f"(as 'listen make-stimuli' writes), got {got}")
+        if token in EXAMPLE_TOKENS:
+            raise ParameterError("config admin_token is an example printed in the documentation, so anyone may know "
+                                 "it: use a random one, e.g. python -c 'import secrets; "
+                                 "print(secrets.token_urlsafe(32))'")
+        check_int("config seed", self.seed, low=-(1 << 63), high=(1 << 63) - 1)
+        if not isinstance(self.limits, Limits):
+            raise ParameterError(f"config limits must be a Limits, got {type(self.limits).__name__}")
 
     @classmethod
     def from_toml(cls, path):
         """Read and check a config file; stimulus paths are relative to it and must exist."""
         path = Path(path)
         data = read_toml(path, "listening-test config")
-        check_keys("config", data, ("title", "admin_token", "seed", "pair"))
-        title = data.get("title", "Robot or human?")
-        token = data.get("admin_token")
-        seed = data.get("seed")
-        if not isinstance(title, str):
-            raise ParameterError(f"config title must be text, got {title!r}")
-        if not isinstance(token, str) or len(token) < 8:
-            raise ParameterError("config admin_token must be text of at least 8 characters")
-        if isinstance(seed, bool) or not isinstance(seed, int):
-            raise ParameterError(f"config seed must be an integer, got {seed!r}")
+        check_keys("config", data, ("title", "admin_token", "seed", "pair", "limits"))
+        limits = data.get("limits", {})
+        if not isinstance(limits, dict):
+            raise ParameterError("config limits must be a [limits] table")
+        check_keys("config [limits]", limits, tuple(Limits.__dataclass_fields__))
         tables = data.get("pair")
         if not isinstance(tables, list) or not tables:
             raise ParameterError("config needs at least one [[pair]] table with id, human and robot")
@@ -101,7 +136,7 @@ class Config:
                 raise ParameterError(f"{where} must be a table")
             check_keys(where, table, ("id", "human", "robot"))
             pid = table.get("id")
-            if not isinstance(pid, str) or not _ID.match(pid) or pid in seen:
+            if not isinstance(pid, str) or not _ID.fullmatch(pid) or pid in seen:
                 raise ParameterError(f"{where}.id must be a unique name of 1-64 letters, digits, '.', '_', '-', "
                                      f"got {pid!r}")
             seen.add(pid)
@@ -115,7 +150,8 @@ class Config:
                     raise ParameterError(f"{where}.{side} {str(file)!r} does not exist")
                 files[side] = file
             pairs.append(Pair(pid, files["human"], files["robot"]))
-        return cls(title, token, seed, tuple(pairs))
+        return cls(data.get("title", "Robot or human?"), data.get("admin_token"), data.get("seed"), tuple(pairs),
+                   Limits(**limits))
 
 
 def plan(config, participant):
@@ -128,15 +164,53 @@ def plan(config, participant):
 
 
 class Store:
-    """The SQLite database of participants, plays and answers."""
+    """The SQLite database of participants, plays and answers.
 
-    def __init__(self, path):
+    Parameters
+    ----------
+    path : str or Path
+        The database file: created with its tables if missing (an empty file too); an existing file must
+        be a SQLite database holding no other tables. A FIFO, a device or a directory is refused.
+    create : bool
+        False to read a database ``listen serve`` wrote, opened read-only: it must exist and hold the tables.
+
+    Raises
+    ------
+    ParameterError
+        Naming the path and the reason when it cannot be used.
+    """
+
+    def __init__(self, path, *, create=True):
         self.path = str(path)
-        with self._connect() as db:
-            db.executescript(_SCHEMA)
+        self._uri = None if create else f"file:{quote(str(Path(path).resolve()))}?mode=ro"
+        where = f"database {self.path!r}"
+        if Path(path).exists() and not Path(path).is_file():
+            raise ParameterError(f"{where} is not a regular file")
+        if not create and not Path(path).exists():
+            raise ParameterError(f"{where} does not exist")
+        db = None
+        try:
+            db = self._connect()
+            tables = {row[0] for row in db.execute("SELECT name FROM sqlite_master WHERE type = 'table'")}
+            if create and not tables - _TABLES:
+                db.executescript(_SCHEMA)
+        except sqlite3.Error as error:
+            raise ParameterError(f"{where} cannot be used as SQLite: {error}") from None
+        finally:
+            if db is not None:
+                db.close()
+        if create and tables - _TABLES:
+            raise ParameterError(f"{where} holds other tables ({', '.join(sorted(tables - _TABLES))}): it is not a "
+                                 "listening-test database")
+        if not create and not _TABLES <= tables:
+            raise ParameterError(f"{where} is not a listening-test database (no table "
+                                 f"{min(_TABLES - tables)!r}): give the file 'listen serve' wrote")
 
     def _connect(self):
-        db = sqlite3.connect(self.path, timeout=30.0, isolation_level=None)
+        if self._uri:
+            db = sqlite3.connect(self._uri, uri=True, timeout=30.0, isolation_level=None)
+        else:
+            db = sqlite3.connect(self.path, timeout=30.0, isolation_level=None)
         db.execute("PRAGMA busy_timeout = 30000")
         return db
 
@@ -208,203 +282,39 @@ class Store:
         return responses_text(self.rows())
 
 
-def make_server(config, store, *, host="127.0.0.1", port=8000):
-    """A ThreadingHTTPServer serving the test; call ``serve_forever()`` (port 0 picks a free one)."""
-    handler = type("Handler", (_Handler,), {"config": config, "store": store,
-                                             "pairs": {p.id: p for p in config.pairs}})
-    return _Server((host, port), handler)
+def make_server(config, store, *, host="127.0.0.1", port=8000, forwarded_allow_ips=()):
+    """The test's web server, its socket bound: ``serve()`` it until Ctrl-C, or ``start()``/``stop()`` it in a thread.
 
+    Parameters
+    ----------
+    config : Config
+    store : Store
+    host : str
+        The address or name to listen on (default 127.0.0.1: this machine only).
+    port : int in [0, 65535]
+        The TCP port; 0 picks a free one (the server's ``url`` tells which).
+    forwarded_allow_ips : sequence of str
+        The addresses or networks of trusted reverse proxies (e.g. ``["127.0.0.1"]``), whose
+        ``X-Forwarded-For`` and ``X-Forwarded-Proto`` are believed: the client's address for the limits,
+        https for ``Secure`` cookies. Empty (the default): none is.
 
-class _Server(ThreadingHTTPServer):
-    daemon_threads = True
-    request_queue_size = 256  # many participants may connect at once
+    Returns
+    -------
+    drumstroke.evaluation.server.Server
 
+    Raises
+    ------
+    ParameterError
+        A host that cannot be resolved, a port out of range or taken, a proxy that is not an address.
+    ImportError
+        Without the ``listen`` extra (Starlette and uvicorn).
+    """
+    check_int("port", port, low=0, high=65535)
+    try:
+        from .server import Server
+        from .web import make_app
+    except ImportError as error:
+        raise ImportError(f"serving the listening test needs {error.name}: pip install 'drumstroke[listen]'") from None
 
-class _Handler(BaseHTTPRequestHandler):
-    config = None
-    store = None
-    pairs = None
-    protocol_version = "HTTP/1.1"
-
-    def log_message(self, format, *args):  # quiet: the CLI prints what matters
-        pass
-
-    # --- routing -----------------------------------------------------------------------------------------------
-    def do_GET(self):
-        url = urlsplit(self.path)
-        parts = [p for p in url.path.split("/") if p]
-        if not parts:
-            return self._page(_consent(self.config))
-        if parts == ["admin", "export.csv"]:
-            token = parse_qs(url.query).get("token", [""])[0]
-            if token != self.config.admin_token:
-                return self._error(HTTPStatus.FORBIDDEN, "the export needs the admin token (?token=...)")
-            return self._send(HTTPStatus.OK, self.store.export_csv().encode(), "text/csv; charset=utf-8")
-        if len(parts) >= 2 and parts[0] == "p":
-            participant = parts[1]
-            steps = self.store.plan_of(participant)
-            if steps is None:
-                return self._error(HTTPStatus.NOT_FOUND, "unknown participant")
-            if parts[2:] == ["done"]:
-                return self._page(_finish(self.config, participant))
-            if len(parts) == 4 and parts[2] == "pair" and parts[3].isdigit():
-                position = int(parts[3])
-                if position >= len(steps):
-                    return self._redirect(f"/p/{participant}/done")
-                answered = self.store.answered(participant)
-                if position in answered:
-                    return self._redirect(self._next(participant, steps, answered))
-                return self._page(_pair_page(self.config, participant, position, len(steps)))
-            if len(parts) == 5 and parts[2] == "audio" and parts[3].isdigit() and parts[4] in ("A", "B"):
-                position = int(parts[3])
-                if position >= len(steps):
-                    return self._error(HTTPStatus.NOT_FOUND, "no such pair")
-                pair_id, robot = steps[position]
-                pair = self.pairs[pair_id]
-                file = pair.robot if parts[4] == robot else pair.human
-                return self._send(HTTPStatus.OK, file.read_bytes(), "audio/wav")
-        return self._error(HTTPStatus.NOT_FOUND, "no such page")
-
-    def do_POST(self):
-        url = urlsplit(self.path)
-        parts = [p for p in url.path.split("/") if p]
-        try:
-            form = self._form()
-        except ValueError as error:
-            return self._error(HTTPStatus.BAD_REQUEST, str(error))
-        if parts == ["start"]:
-            if form.get("consent") != "yes":
-                return self._error(HTTPStatus.BAD_REQUEST, "consent is needed to take part")
-            participant = self.store.new_participant(self.config)
-            return self._redirect(f"/p/{participant}/pair/0")
-        if len(parts) == 5 and parts[0] == "p" and parts[2] == "pair" and parts[3].isdigit():
-            participant, position = parts[1], int(parts[3])
-            steps = self.store.plan_of(participant)
-            if steps is None or position >= len(steps):
-                return self._error(HTTPStatus.NOT_FOUND, "unknown participant or pair")
-            if parts[4] == "played":
-                side = form.get("side")
-                if side not in ("A", "B"):
-                    return self._error(HTTPStatus.BAD_REQUEST, f"side must be A or B, got {side!r}")
-                self.store.played(participant, position, side)
-                return self._send(HTTPStatus.NO_CONTENT, b"", "text/plain")
-            if parts[4] == "answer":
-                return self._answer(participant, position, steps, form)
-        return self._error(HTTPStatus.NOT_FOUND, "no such action")
-
-    # --- actions -----------------------------------------------------------------------------------------------
-    def _answer(self, participant, position, steps, form):
-        answer = form.get("answer")
-        if answer not in ("A", "B"):
-            return self._error(HTTPStatus.BAD_REQUEST, f"answer must be A or B, got {answer!r}")
-        values = {}
-        for key in ("confidence", "similarity"):
-            value = form.get(key, "")
-            if value not in ("1", "2", "3", "4", "5"):
-                return self._error(HTTPStatus.BAD_REQUEST, f"{key} must be an integer in [1, 5], got {value!r}")
-            values[key] = int(value)
-        answered = self.store.answered(participant)
-        if position not in answered:
-            if self.store.sides_played(participant, position) != {"A", "B"}:
-                return self._error(HTTPStatus.CONFLICT, "play both stimuli, A and B, before answering")
-            pair_id, robot = steps[position]
-            self.store.answer(participant, position, pair_id, robot, answer, values["confidence"],
-                              values["similarity"])
-            answered = self.store.answered(participant)
-        return self._redirect(self._next(participant, steps, answered))
-
-    def _next(self, participant, steps, answered):
-        todo = [k for k in range(len(steps)) if k not in answered]
-        return f"/p/{participant}/pair/{todo[0]}" if todo else f"/p/{participant}/done"
-
-    # --- plumbing ----------------------------------------------------------------------------------------------
-    def _form(self):
-        length = int(self.headers.get("Content-Length") or 0)
-        if length > 10_000:
-            raise ValueError("the form is too large")
-        body = self.rfile.read(length).decode("utf-8", "replace")
-        fields = parse_qs(body, keep_blank_values=True)
-        if any(len(v) > 1 for v in fields.values()):
-            raise ValueError("a field was given twice")
-        return {k: v[0] for k, v in fields.items()}
-
-    def _send(self, status, body, kind):
-        self.send_response(status)
-        self.send_header("Content-Type", kind)
-        self.send_header("Content-Length", str(len(body)))
-        self.send_header("Cache-Control", "no-store")
-        self.end_headers()
-        if self.command != "HEAD":
-            self.wfile.write(body)
-
-    def _page(self, text):
-        self._send(HTTPStatus.OK, text.encode(), "text/html; charset=utf-8")
-
-    def _redirect(self, location):
-        self.send_response(HTTPStatus.SEE_OTHER)
-        self.send_header("Location", location)
-        self.send_header("Content-Length", "0")
-        self.end_headers()
-
-    def _error(self, status, message):
-        self._send(status, f"{status.value} {status.phrase}: {message}\n".encode(), "text/plain; charset=utf-8")
-
-
-def _shell(title, body):
-    return f"""<!DOCTYPE html>
-<html lang="en"><head><meta charset="utf-8"><title>{html.escape(title)}</title>
-<style>body {{ font-family: system-ui, sans-serif; max-width: 720px; margin: 2rem auto; padding: 0 1rem; }}
-fieldset {{ margin: 1rem 0; }} audio {{ width: 100%; }} button {{ font-size: 1rem; padding: 0.4rem 1rem; }}</style>
-</head><body><h1>{html.escape(title)}</h1>
-{body}
-</body></html>
-"""
-
-
-def _consent(config):
-    return _shell(config.title, f"""<p>You will hear {len(config.pairs)} pairs of drum strokes. In each pair one
-stroke was played by a human and one by a robot. Listen to both, then say which you think is the robot, how
-sure you are, and how similar the two sound. Your answers are stored without your name.</p>
-<form method="post" action="/start">
-<label><input type="checkbox" name="consent" value="yes" id="consent" required> I agree to take part.</label>
-<p><button type="submit" id="start">Start</button></p>
-</form>""")
-
-
-def _pair_page(config, participant, position, total):
-    base = f"/p/{participant}"
-    scale = "".join(f'<label><input type="radio" name="{{name}}" value="{v}" required> {v}</label> '
-                    for v in range(1, 6))
-    return _shell(config.title, f"""<p>Pair {position + 1} of {total} <small>(participant
-<span id="participant">{participant}</span>)</small></p>
-<p>A <audio id="audio-A" controls preload="none" src="{base}/audio/{position}/A"></audio></p>
-<p>B <audio id="audio-B" controls preload="none" src="{base}/audio/{position}/B"></audio></p>
-<form method="post" action="{base}/pair/{position}/answer" id="answer-form">
-<fieldset><legend>Which one is the robot?</legend>
-<label><input type="radio" name="answer" value="A" required> A</label>
-<label><input type="radio" name="answer" value="B" required> B</label></fieldset>
-<fieldset><legend>How sure are you? (1 = guessing, 5 = certain)</legend>{scale.format(name="confidence")}</fieldset>
-<fieldset><legend>How similar do they sound? (1 = very different, 5 = the same)</legend>
-{scale.format(name="similarity")}</fieldset>
-<p><button type="submit" id="submit" disabled>Next</button> <span id="hint">Play both A and B first.</span></p>
-</form>
-<script>
-const played = new Set();
-for (const side of ["A", "B"]) {{
-  document.getElementById("audio-" + side).addEventListener("play", () => {{
-    fetch("{base}/pair/{position}/played", {{method: "POST",
-      headers: {{"Content-Type": "application/x-www-form-urlencoded"}}, body: "side=" + side}})
-      .then(() => {{ played.add(side);
-        if (played.size === 2) {{ document.getElementById("submit").disabled = false;
-          document.getElementById("hint").textContent = ""; }} }});
-  }});
-}}
-document.getElementById("answer-form").addEventListener("submit", () => {{
-  document.getElementById("submit").disabled = true;  // one click, one answer
-}});
-</script>""")
-
-
-def _finish(config, participant):
-    return _shell(config.title, f"""<p id="finished">Thank you: your answers are saved (participant
-{participant}). You can close this page.</p>""")
+    return Server(make_app(config, store), config.limits, host=host, port=port,
+                  forwarded_allow_ips=forwarded_allow_ips)

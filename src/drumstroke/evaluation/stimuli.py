@@ -3,9 +3,11 @@
 :func:`make_stimuli` plays each stroke with the impedance controller on the simulated joint, renders
 the onsets it played as audio and writes a listening-test config
 (:class:`drumstroke.evaluation.app.Config`) naming one pair per stroke: ``robot-NAME.wav``, written,
-and ``human-NAME.wav``, to be recorded.
+and ``human-NAME.wav``, to be recorded. Each config gets a new random admin token and is readable by
+its owner only.
 """
 
+import secrets
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -69,7 +71,8 @@ def make_stimuli(library, out, *, strokes=None, progress=None):
     Returns
     -------
     Stimuli
-        The WAV files with their onset counts, and the config, written atomically last.
+        The WAV files with their onset counts, and the config, written atomically last, with a new admin
+        token (``secrets.token_urlsafe(32)``: 43 characters) and permissions 0600.
     """
     from ..formats.toml import write_toml
     from ..palette.library import Library, load_library
@@ -92,5 +95,7 @@ def make_stimuli(library, out, *, strokes=None, progress=None):
         if progress:
             progress((i + 1) / len(names))
     config = out / CONFIG_NAME
-    write_toml(config, {"title": "Robot or human?", "admin_token": "change-this-token", "seed": 1, "pair": pairs})
+    token = secrets.token_urlsafe(32)  # 256 random bits: each new config its own secret
+    write_toml(config, {"title": "Robot or human?", "admin_token": token, "seed": 1, "pair": pairs})
+    config.chmod(0o600)  # it holds the export's token
     return Stimuli(tuple(made), config)

@@ -1,7 +1,7 @@
 """The stroke library on disk, both ways: a folder of plain text files a robot host loads at run time.
 
-A library folder holds ``manifest.json`` and one folder of stroke files. Per stroke there are
-three files:
+A library folder holds ``manifest.json`` and one folder of stroke files, ``strokes-HASH``. Per
+stroke there are three files:
 
 - ``NAME.toml``: the recipe it was simulated from (a recipe file);
 - ``NAME.csv``: the trajectory ``t,theta,omega`` (s, rad, rad/s) at the library's rate, header
@@ -10,53 +10,77 @@ three files:
   it was made (the transforms, in order) and, as the JSON beside ``NAME.csv``, that CSV's
   metadata under ``"csv"`` (:mod:`.sidecar`).
 
-Libraries of format version 1 (older drumstroke) are read too: their ``NAME.csv`` has a ``#``
-comment line before the header and their ``NAME.json`` no ``"csv"`` block.
+The manifest lists the strokes with their category, description, counts and each file's
+size and SHA-256. Libraries of format versions 1 and 2 (older drumstroke) are read too: 1's
+``NAME.csv`` has a ``#`` comment line before the header and its ``NAME.json`` no ``"csv"``
+block; neither records the files' sizes.
 
-The manifest lists the strokes with their category, description, sizes and each file's
-SHA-256. Writing stages a new stroke folder beside the old one (:class:`Staging`), then
-replaces the manifest in one atomic rename, then removes the old folder: a build interrupted
-at any point leaves the previous library whole and loadable. Reading (:func:`read_library`)
-checks everything — manifest and files agree, values finite, times on the library's rate, the
-stick never below the head — and names the file at fault. Both directions deal in plain data
-(texts, dicts, arrays); :mod:`drumstroke.palette.library` maps it to strokes.
+Writing (:class:`Staging`) stages the stroke files in a temporary folder beside the library's,
+synced, and names it by its contents (``strokes-HASH``): a folder of that name already there is
+reused only if every file matches the manifest to be written, else it is moved aside. Then
+the manifest is replaced in one atomic rename — the switch — and the old stroke folders are
+renamed to temporary names and removed. A build killed at any point leaves the previous library
+or the new one, whole; its leftovers (temporary names naming their writer, see
+:mod:`drumstroke._atomic`) are removed by the next build. Reading (:func:`diagnose`,
+:func:`read_library`) checks everything — each file there, a regular file, readable, of the
+manifest's size and SHA-256, no file the manifest does not list, values finite, times on the
+library's rate, the stick never below the head — and names every file at fault. A build's
+switch and a reading hold a lock on the folder (``flock``, exclusive and shared), so a reader
+never sees a folder disappear under it. Both directions deal in plain data (texts, dicts,
+arrays); :mod:`drumstroke.palette.library` maps it to strokes.
 """
 
 import hashlib
 import math
 import os
-import shutil
-import tempfile
+import re
+import stat
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from .._atomic import write_atomic
+from .._atomic import (
+    describe_temporary,
+    locked,
+    move_aside,
+    naming,
+    remove,
+    sweep,
+    sweep_legacy,
+    sync_folder,
+    temporary_folder,
+    write_atomic,
+    write_new,
+)
 from .._checks import check_int, check_real
 from .._version import __version__
 from ..errors import ParameterError
 from .json import json_text, read_json
+from .toml import read_toml
 from .trajectory_csv import read_columns
 
 FORMAT = "drumstroke-library"
-FORMAT_VERSION = 2
-"""The version written: 2 since the CSV files start with their header (1 had a ``#`` comment line first)."""
-READ_VERSIONS = (1, 2)
+FORMAT_VERSION = 3
+"""The version written: 3 since the manifest records each file's size (2: the CSV files start with their
+header; 1 had a ``#`` comment line first)."""
+READ_VERSIONS = (1, 2, 3)
 """The versions read."""
 MANIFEST = "manifest.json"
 KINDS = ("recipe", "trajectory", "impacts")
 """The files of a stroke, by kind: NAME.toml, NAME.csv, NAME.json."""
 _SUFFIX = {"recipe": ".toml", "trajectory": ".csv", "impacts": ".json"}
+_FOLDER = re.compile(r"strokes-[0-9a-f]{16}")
 
 
 class Staging:
-    """A library being written: stroke files go into a hidden folder until :meth:`commit` swaps it in.
+    """A library being written: stroke files go into a temporary folder until :meth:`commit` switches to it.
 
     Parameters
     ----------
     directory : str or Path
-        The library folder; created if missing.
+        The library folder; created if missing. The leftovers of killed builds in it are removed
+        (never those of a build still running).
     """
 
     def __init__(self, directory):
@@ -65,43 +89,77 @@ class Staging:
             raise ParameterError(f"directory {str(directory)!r} exists and is not a folder")
         directory.mkdir(parents=True, exist_ok=True)
         self.directory = directory
-        self.folder = Path(tempfile.mkdtemp(dir=directory, prefix=".strokes-"))
+        sweep(directory)
+        sweep_legacy(directory, ".strokes-")
+        with naming(directory):
+            self.folder = temporary_folder(directory / "strokes")
         self.records = []
 
     def add(self, record, texts):
         """Write one stroke's files from ``texts`` ({kind: text}) and keep its manifest ``record`` (a dict)."""
         name = record["name"]
         files = {kind: f"{name}{_SUFFIX[kind]}" for kind in KINDS}
-        for kind, file in files.items():
-            (self.folder / file).write_text(texts[kind])
-        self.records.append(record | {"files": files,
-                                      "sha256": {kind: _sha256(self.folder / f) for kind, f in files.items()}})
+        data = {kind: texts[kind].encode() for kind in KINDS}
+        with naming(self.directory):
+            for kind, file in files.items():
+                write_new(self.folder / file, data[kind])
+        self.records.append(record | {"files": files, "bytes": {kind: len(data[kind]) for kind in KINDS},
+                                      "sha256": {kind: hashlib.sha256(data[kind]).hexdigest() for kind in KINDS}})
         return self.records[-1]
 
     def commit(self, rate):
-        """Swap the staged strokes in: their folder named by its contents, the manifest replaced atomically."""
-        digest = hashlib.sha256("".join(f for r in self.records for f in r["sha256"].values()).encode()).hexdigest()
-        folder = f"strokes-{digest[:16]}"
-        if (self.directory / folder).exists():
-            shutil.rmtree(self.folder)
-        else:
-            os.replace(self.folder, self.directory / folder)
+        """Switch the library to the staged strokes; return the stroke folder's name.
+
+        The staged folder is named by its contents; one of that name already there is reused
+        only if it holds exactly the staged files. The manifest is replaced atomically, then
+        the other stroke folders are removed. An ``OSError`` names the library's folder.
+        """
+        listing = "".join(f"{r['files'][k]} {r['bytes'][k]} {r['sha256'][k]}\n" for r in self.records for k in KINDS)
+        folder = f"strokes-{hashlib.sha256(listing.encode()).hexdigest()[:16]}"
+        target = self.directory / folder
         manifest = {"format": FORMAT, "version": FORMAT_VERSION, "drumstroke": __version__, "rate": rate,
                     "folder": folder, "strokes": self.records}
-        write_atomic(self.directory / MANIFEST, json_text(manifest))
-        for old in self.directory.glob("strokes-*"):
-            if old.name != folder and old.is_dir():
-                shutil.rmtree(old, ignore_errors=True)
+        sync_folder(self.folder)
+        asides = []
+        with locked(self.directory), naming(self.directory):
+            if os.path.lexists(target) and _folder_problems(target, self.records, FORMAT_VERSION):
+                asides.append(move_aside(target))  # a damaged folder of that name is never reused
+            placed = not os.path.lexists(target)
+            if placed:
+                os.replace(self.folder, target)
+                sync_folder(self.directory)
+            try:
+                write_atomic(self.directory / MANIFEST, json_text(manifest), now=True)  # the switch
+            except BaseException:
+                if placed:
+                    asides.append(move_aside(target))
+                raise
+            finally:
+                for aside in asides:
+                    remove(aside)
+            asides = [move_aside(old) for old in _stroke_folders(self.directory) if old.name != folder]
+            sync_folder(self.directory)
+        for aside in asides:
+            remove(aside)
+        self.discard()
         return folder
 
     def discard(self):
         """Remove the staged files; the library as it was stays."""
-        shutil.rmtree(self.folder, ignore_errors=True)
+        remove(self.folder)
+
+
+def _stroke_folders(directory):
+    try:
+        entries = list(os.scandir(directory))
+    except OSError:
+        return []
+    return [Path(e.path) for e in entries if _FOLDER.fullmatch(e.name) and e.is_dir(follow_symlinks=False)]
 
 
 @dataclass(frozen=True)
 class StoredStroke:
-    """One stroke as read from a library: its manifest record, its recipe file and its checked arrays.
+    """One stroke as read from a library: its manifest record, its recipe and its checked arrays.
 
     Attributes
     ----------
@@ -109,6 +167,8 @@ class StoredStroke:
         The manifest's entry (name, category, description, model, theta_max, t_end, history, …).
     recipe : Path
         Its recipe file.
+    recipe_data : dict
+        That file's TOML, as read.
     t, theta, omega : ndarray [shape=(n,)]
         s, rad, rad/s at the library's rate.
     impact_t, impact_omega, omega_after : ndarray [shape=(m,)]
@@ -119,6 +179,7 @@ class StoredStroke:
 
     record: dict
     recipe: Path
+    recipe_data: dict
     t: np.ndarray
     theta: np.ndarray
     omega: np.ndarray
@@ -128,26 +189,89 @@ class StoredStroke:
     tip_distance: float
 
 
-def _sha256(path):
-    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+@dataclass(frozen=True)
+class Diagnosis:
+    """What :func:`diagnose` found in a library folder.
+
+    Attributes
+    ----------
+    directory : Path
+    rate : float or None
+        Samples per second (Hz); None when the manifest cannot be read.
+    strokes : tuple of StoredStroke
+        The strokes whose files are whole and hold what the manifest says.
+    problems : tuple of str
+        One line per damaged file (or the manifest, or the stroke folder), naming it: missing,
+        not a regular file, unreadable, its size or SHA-256 not the manifest's, its values wrong,
+        or a file the manifest does not list; none for a whole library.
+    leftovers : tuple of str
+        One line per leftover beside the library, naming it: an old stroke folder, a temporary
+        of a killed build (the next build removes them), a build's still running. They do not
+        make the library damaged: it is read through the manifest only.
+    """
+
+    directory: Path
+    rate: float | None
+    strokes: tuple
+    problems: tuple
+    leftovers: tuple
+
+    def error(self):
+        """The problems as one line, for an error: the only one, or their count and each in turn."""
+        if len(self.problems) == 1:
+            return self.problems[0]
+        return f"library {str(self.directory)!r} has {len(self.problems)} problems: " + "; ".join(self.problems)
 
 
 def read_library(directory):
     """Read and check a library folder: its rate (Hz) and a :class:`StoredStroke` per stroke, in order.
 
-    Raises ParameterError naming the file when the manifest or a stroke file
-    is missing, unreadable, altered (its SHA-256 differs from the manifest's),
-    or holds values that are not finite, off the library's rate, below the head
-    or inconsistent with the manifest.
+    Raises ParameterError naming each file at fault (:func:`diagnose`): the manifest or a stroke
+    file missing, unreadable, altered (its size or SHA-256 differs from the manifest's), holding
+    values that are not finite, off the library's rate, below the head or inconsistent with the
+    manifest, or a file in the stroke folder the manifest does not list.
     """
+    diagnosis = diagnose(directory)
+    if diagnosis.problems:
+        raise ParameterError(diagnosis.error())
+    return diagnosis.rate, list(diagnosis.strokes)
+
+
+def diagnose(directory):
+    """Check a library folder file by file, not stopping at the first problem: a :class:`Diagnosis`."""
     directory = Path(directory)
+    with locked(directory, shared=True):
+        try:
+            rate, folder, records, version = _read_manifest(directory)
+        except ParameterError as error:
+            return Diagnosis(directory, None, (), (str(error),), _leftovers(directory, None))
+        leftovers = _leftovers(directory, folder.name)
+        if not folder.is_dir():
+            problem = f"stroke folder {str(folder)!r} is {'not a folder' if folder.exists() else 'missing'}"
+            return Diagnosis(directory, rate, (), (problem,), leftovers)
+        strokes, problems = [], []
+        for record in records:
+            damaged = _folder_problems(folder, [record], version, extra=False)
+            try:
+                if not damaged:
+                    strokes.append(_read_stroke(folder, record, rate))
+            except ParameterError as error:
+                damaged = [str(error)]
+            problems += damaged
+        problems += _extra_files(folder, records)
+    return Diagnosis(directory, rate, tuple(strokes), tuple(problems), leftovers)
+
+
+def _read_manifest(directory):
     manifest_path = directory / MANIFEST
     manifest = read_json(manifest_path, "library manifest")
     if not isinstance(manifest, dict) or manifest.get("format") != FORMAT:
         raise ParameterError(f"library manifest {str(manifest_path)!r} is not a drumstroke library manifest")
-    if manifest.get("version") not in READ_VERSIONS or isinstance(manifest.get("version"), bool):
-        raise ParameterError(f"library manifest {str(manifest_path)!r} has version {manifest.get('version')!r}; "
+    version = manifest.get("version")
+    if version not in READ_VERSIONS or isinstance(version, bool):
+        raise ParameterError(f"library manifest {str(manifest_path)!r} has version {version!r}; "
                              f"this drumstroke reads the versions {', '.join(map(str, READ_VERSIONS))}")
+    keys = STROKE_KEYS if version >= 3 else tuple(k for k in STROKE_KEYS if k != "bytes")
     try:
         rate = check_real("rate", manifest.get("rate"), low=1.0, high=1e5, unit="Hz")
         folder = directory / _safe_name(manifest.get("folder"), "folder")
@@ -155,31 +279,95 @@ def read_library(directory):
         if not isinstance(records, list) or not records:
             raise ParameterError("strokes must be a non-empty list")
         for i, record in enumerate(records):
-            if not isinstance(record, dict) or set(record) != set(STROKE_KEYS):
-                raise ParameterError(f"strokes[{i}] must have the keys {', '.join(STROKE_KEYS)}")
+            if not isinstance(record, dict) or set(record) != set(keys):
+                raise ParameterError(f"strokes[{i}] must have the keys {', '.join(keys)}")
             _check_record(record, f"strokes[{i}]")
+            for key in KINDS:
+                _safe_name(record["files"].get(key), f"strokes[{i}].files.{key}")
     except ParameterError as error:
         raise ParameterError(f"library manifest {str(manifest_path)!r} is corrupt: {error}") from None
-    return rate, [_read_stroke(folder, record, rate) for record in records]
+    return rate, folder, records, version
 
 
 def _read_stroke(folder, record, rate):
-    name = _safe_name(record["name"], "name")
-    paths = {key: folder / _safe_name(record["files"].get(key), key) for key in KINDS}
-    for key, path in paths.items():
-        if not path.is_file():
-            raise ParameterError(f"library file {str(path)!r} is missing (stroke {name!r})")
-        if _sha256(path) != record["sha256"].get(key):
-            raise ParameterError(f"library file {str(path)!r} is corrupt: its SHA-256 differs from the manifest's")
+    """The stroke of ``record`` from its files (whole: sizes and SHA-256 checked), its values checked."""
+    paths = {key: folder / record["files"][key] for key in KINDS}
+    recipe = read_toml(paths["recipe"], "library file")
     t, theta, omega = _read_trajectory(paths["trajectory"], record, rate)
     data = read_json(paths["impacts"], "library file")
     impact_t, impact_omega, after, tip = _read_impacts(paths["impacts"], data, record, t[-1])
-    return StoredStroke(record, paths["recipe"], t, theta, omega, impact_t, impact_omega, after, tip)
+    return StoredStroke(record, paths["recipe"], recipe, t, theta, omega, impact_t, impact_omega, after, tip)
+
+
+def _folder_problems(folder, records, version, *, extra=True):
+    """What is wrong with the files of ``records`` in ``folder`` (and, if ``extra``, files it has beyond them)."""
+    problems = []
+    for record in records:
+        for key in KINDS:
+            size = record["bytes"][key] if version >= 3 else None
+            problem = _file_problem(folder / record["files"][key], size, record["sha256"].get(key), record["name"])
+            if problem:
+                problems.append(problem)
+    return problems + (_extra_files(folder, records) if extra else [])
+
+
+def _file_problem(path, size, digest, name):
+    """What is wrong with one stroke file — missing, not a regular file, unreadable, size, SHA-256 — or None."""
+    where = f"library file {str(path)!r}"
+    try:
+        info = os.stat(path)
+        if not stat.S_ISREG(info.st_mode):
+            return f"{where} is not a regular file (stroke {name!r})"
+        if size is not None and info.st_size != size:
+            return f"{where} is corrupt: {info.st_size} bytes, the manifest says {size} (truncated or altered)"
+        with open(path, "rb") as handle:
+            data = handle.read()
+    except FileNotFoundError:
+        return f"{where} is missing (stroke {name!r})"
+    except OSError as error:
+        return f"{where} cannot be read: {error.strerror or error}"
+    if hashlib.sha256(data).hexdigest() != digest:
+        return f"{where} is corrupt: its SHA-256 differs from the manifest's"
+    return None
+
+
+def _extra_files(folder, records):
+    listed = {record["files"][key] for record in records for key in KINDS}
+    try:
+        names = sorted(os.listdir(folder))
+    except OSError:
+        return []
+    return [f"library file {str(folder / name)!r} is not in the manifest (an extra file in the stroke folder)"
+            for name in names if name not in listed]
+
+
+def _leftovers(directory, current):
+    """The leftovers beside the library: old stroke folders, temporaries of builds killed or running."""
+    try:
+        names = sorted(os.listdir(directory))
+    except OSError:
+        return ()
+    found = []
+    for name in names:
+        path = directory / name
+        temporary = describe_temporary(path)
+        if temporary:
+            found.append(f"{str(path)!r}: {temporary}")
+        elif _FOLDER.fullmatch(name) and name != current and path.is_dir():
+            found.append(f"{str(path)!r}: an old stroke folder, not the manifest's; the next build removes it")
+        elif _LEGACY.fullmatch(name):
+            found.append(f"{str(path)!r}: a temporary of a build by an older drumstroke that did not finish; the "
+                         "next build removes it")
+    return tuple(found)
+
+
+_LEGACY = re.compile(r"\.strokes-[a-z0-9_]{8}|\.manifest\.json\.[a-z0-9_]{8}\.tmp")
+"""The temporaries of older drumstroke's builds, which did not name their writer."""
 
 
 STROKE_KEYS = ("name", "category", "description", "model", "theta_max", "t_end", "samples", "impacts",
-               "first_impact", "first_level_db", "history", "files", "sha256")
-"""The keys of each stroke's entry in the manifest."""
+               "first_impact", "first_level_db", "history", "files", "bytes", "sha256")
+"""The keys of each stroke's entry in the manifest (version 3; versions 1 and 2 have no ``bytes``)."""
 
 
 def _check_record(record, where):
@@ -198,6 +386,12 @@ def _check_record(record, where):
     for key in ("files", "sha256"):
         if not isinstance(record[key], dict) or not all(isinstance(v, str) for v in record[key].values()):
             raise ParameterError(f"{where}.{key} must be a table of text, got {record[key]!r}")
+    if "bytes" in record:
+        sizes = record["bytes"]
+        if not isinstance(sizes, dict) or set(sizes) != set(KINDS):
+            raise ParameterError(f"{where}.bytes must be a table of {', '.join(KINDS)}, got {sizes!r}")
+        for key in KINDS:
+            check_int(f"{where}.bytes.{key}", sizes[key], low=0, unit="bytes")
 
 
 def _read_trajectory(path, record, rate):

@@ -3,8 +3,8 @@
 A palette file names strokes — a recipe each (a preset, a recipe file or an inline table) and
 the transforms to apply. :func:`build_library` simulates a palette and writes it as a library
 folder, :func:`load_library` reads one back as trajectories; the folder's format (manifest,
-per-stroke TOML/CSV/JSON files, checksums, the atomic swap, the checks on loading) is
-:mod:`drumstroke.formats.library`'s.
+per-stroke TOML/CSV/JSON files, sizes and checksums, the atomic switch, the checks on loading)
+is :mod:`drumstroke.formats.library`'s; :func:`check_library` reports a damaged library file by file.
 
 Examples
 --------
@@ -15,6 +15,8 @@ Examples
 >>> loaded = load_library(folder)
 >>> sorted(loaded), len(loaded["double"].trajectory.impacts)
 (['double', 'single'], 2)
+>>> check_library(folder).problems
+()
 """
 
 import difflib
@@ -29,7 +31,7 @@ from .._checks import check_keys, check_real
 from ..errors import ParameterError
 from ..formats import trajectory_csv
 from ..formats.json import json_text
-from ..formats.library import Staging, read_library
+from ..formats.library import Staging, diagnose
 from ..formats.sidecar import KEY
 from ..formats.toml import read_toml, toml_text
 from ..presets import PRESETS
@@ -292,25 +294,50 @@ def _write_stroke(staging, entry, trajectory, rate):
 
 
 def load_library(directory):
-    """Read and check a library folder (:func:`drumstroke.formats.library.read_library`); return the :class:`Library`.
+    """Read and check a library folder (:func:`check_library`); return the :class:`Library`.
 
-    Raises ParameterError naming the file when the manifest or a stroke file
-    is missing, unreadable, altered (its SHA-256 differs from the manifest's),
-    or holds values that are not finite, off the library's rate, below the head
-    or inconsistent with the manifest.
+    Raises ParameterError naming every file at fault, as :func:`check_library` finds them: the
+    manifest or a stroke file missing, unreadable, altered (its size or SHA-256 differs from
+    the manifest's), holding values that are not finite, off the library's rate, below the head
+    or inconsistent with the manifest, or a file the manifest does not list.
     """
-    rate, stored = read_library(directory)
-    return Library(directory, rate, [_stroke(s, rate) for s in stored])
+    diagnosis, strokes = _diagnose(directory)
+    if diagnosis.problems:
+        raise ParameterError(diagnosis.error())
+    return Library(directory, diagnosis.rate, strokes)
+
+
+def check_library(directory):
+    """Check a library folder file by file, as :func:`load_library` reads it, without stopping at the first problem.
+
+    Returns
+    -------
+    drumstroke.formats.library.Diagnosis
+        Its ``problems`` (one line per file at fault; none when the library is whole), its
+        ``leftovers`` (old stroke folders, temporaries of killed builds: not problems; the next
+        build removes them), its rate and the strokes read.
+    """
+    return _diagnose(directory)[0]
+
+
+def _diagnose(directory):
+    diagnosis = diagnose(directory)
+    strokes, read, problems = [], [], list(diagnosis.problems)
+    for stored in diagnosis.strokes:
+        try:
+            strokes.append(_stroke(stored, diagnosis.rate))
+            read.append(stored)
+        except ParameterError as error:
+            problems.append(str(error))
+    return replace(diagnosis, strokes=tuple(read), problems=tuple(problems)), strokes
 
 
 def _stroke(stored, rate):
     record = stored.record
     try:
-        recipe = Recipe.from_toml(stored.recipe)
+        recipe = Recipe.from_dict(stored.recipe_data, name=stored.recipe.stem, base_dir=stored.recipe.parent)
     except ParameterError as error:
-        text = str(error)
-        raise ParameterError(text if str(stored.recipe) in text else f"library file {str(stored.recipe)!r}: "
-                             f"{text}") from None
+        raise ParameterError(f"library file {str(stored.recipe)!r}: {error}") from None
     impacts = Impacts(stored.impact_t, stored.impact_omega, stored.tip_distance)
     trajectory = Trajectory.from_samples(stored.t, stored.theta, stored.omega, impacts, stored.omega_after,
                                          theta_max=record["theta_max"], rate=rate, name=record["name"],

@@ -301,15 +301,28 @@ def _move(start, target, duration, theta_max, limits):
             return 0.0, lambda t: (np.full(np.shape(t), target[0]), np.full(np.shape(t), target[1]))
         return None
     solved = _ruckig(start, target, duration, limits)
-    if solved is None or abs(solved.duration - duration) > 1e-9 * max(1.0, duration) or not _above(solved, theta_max):
+    if solved is not None and abs(solved.duration - duration) <= 1e-9 * max(1.0, duration) and _above(solved,
+                                                                                                        theta_max):
+        return duration, _path_of(solved)
+    # ruckig cannot always stretch a move to a given duration (its synchronisation step fails for some short
+    # ones): then the time-optimal move, and the target held for the rest, when the target is at rest
+    solved = _ruckig(start, target, 0.0, limits)
+    if solved is None or solved.duration > duration + 1e-12 or target[1] != 0.0 or not _above(solved, theta_max):
         return None
-    return duration, _path_of(solved)
+    moving, rest = _path_of(solved), solved.duration
+
+    def path(t):
+        t = np.asarray(t, dtype=float)
+        theta, omega = moving(np.minimum(t, rest))
+        return np.where(t < rest, theta, target[0]), np.where(t < rest, omega, 0.0)
+
+    return duration, path
 
 
 def _ruckig(start, target, minimum, limits):
     """ruckig's move (a one-joint jerk-limited trajectory) from ``start`` to ``target`` lasting at least ``minimum`` s."""
     try:
-        from ruckig import InputParameter, Result, Ruckig, Trajectory
+        from ruckig import InputParameter, Result, Ruckig, RuckigError, Trajectory
     except ImportError:
         raise ImportError("moving the stick between strokes needs ruckig: pip install ruckig") from None
     parameters = InputParameter(1)
@@ -323,9 +336,11 @@ def _ruckig(start, target, minimum, limits):
     if minimum > 0.0:
         parameters.minimum_duration = minimum
     trajectory = Trajectory(1)
-    if Ruckig(1).calculate(parameters, trajectory) not in (Result.Working, Result.Finished):
+    try:
+        result = Ruckig(1).calculate(parameters, trajectory)
+    except RuckigError:  # no profile found (ruckig says why in its message)
         return None
-    return trajectory
+    return trajectory if result in (Result.Working, Result.Finished) else None
 
 
 _MARGIN = 0.98  # moves plan a little inside the limits, so sampled round-off never crosses them

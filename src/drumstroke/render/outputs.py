@@ -1,7 +1,9 @@
 """Output bundles: every file a stroke or a composition can be written as, in one call.
 
 Each function writes the files it is given paths for and returns those paths in the order written;
-it prints nothing; the folders must exist. Plots need matplotlib, audio files soundfile and MIDI
+it prints nothing; the folders must exist. The files of one call are published together
+(:func:`drumstroke._atomic.publish`): each is staged under a temporary name and all are renamed
+into place at the end, so a call killed at any point leaves the previous set or the new one. Plots need matplotlib, audio files soundfile and MIDI
 files mido (the extras ``plot``, ``audio`` and ``midi``); they are imported only when such a file
 is asked for. A plot's format follows its extension (PNG, PDF or SVG), and so does an audio
 file's (WAV, FLAC or OGG/Vorbis).
@@ -11,12 +13,14 @@ from pathlib import Path
 
 import numpy as np
 
+from .._atomic import publish
 from ..formats.sidecar import sidecar_for
 from ..score import BOUNCE_NOTE, FIRST_IMPACT_NOTE
 from ..trajectory import DEFAULT_RATE
 from . import data
 
 
+@publish()
 def write_stroke_outputs(stroke, *, json=None, csv=None, plot=None, audio=None, midi=None, rate=DEFAULT_RATE,
                          title=None, snares=True, extra=None):
     """Write a stroke's files: its data, its plot, its sound.
@@ -82,6 +86,7 @@ def write_stroke_outputs(stroke, *, json=None, csv=None, plot=None, audio=None, 
     return written
 
 
+@publish()
 def write_composition_outputs(piece, *, title, csv=None, json=None, plot=None, audio=None, midi=None, snares=True):
     """Write a composition's files: its trajectories, notes and placements, its plot, its sound.
 

@@ -32,7 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .._atomic import write_atomic
+from .._atomic import publish, write_atomic
 from .._version import __version__
 from ..errors import ParameterError, TrajectoryError
 from ..formats.ros_json import MESSAGE_TYPE, read_ros_json, seconds_to_duration, write_joint_trajectory
@@ -45,6 +45,7 @@ from .validate import validate
 __all__ = ["export_csv", "export_ros_json", "export_rosbag", "read_ros_json", "seconds_to_duration"]
 
 
+@publish()
 def export_csv(path, trajectory, theta=None, omega=None, *, rate=None, model=None, name=None, head=None, limits=None,
                start=None, stick=None):
     """Validate a trajectory and write it as CSV ``t,theta,omega,alpha`` (s, rad, rad/s, rad/s²).
@@ -84,6 +85,7 @@ def export_csv(path, trajectory, theta=None, omega=None, *, rate=None, model=Non
     return checked
 
 
+@publish()
 def export_ros_json(path, trajectory, theta=None, omega=None, *, rate=None, model=None, name=None, joint_names=None,
                     head=None, limits=None, start=None, metadata=True):
     """Validate a trajectory of one or several joints and write it as a ROS ``JointTrajectory`` in JSON.

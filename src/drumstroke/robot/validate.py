@@ -42,7 +42,7 @@ from ..errors import ParameterError, TrajectoryError
 from ..formats.toml import read_toml
 from ..formats.trajectory_csv import read_stick
 from ..palette.motion import Limits
-from ..trajectory import DEFAULT_RATE, THETA_TOP, Trajectory, check_grid
+from ..trajectory import DEFAULT_RATE, THETA_TOP, Trajectory, check_grid, check_samples
 
 
 def read_limits(path):
@@ -153,10 +153,9 @@ def validate(trajectory, theta=None, omega=None, *, rate=None, head=None, limits
     head = limits.theta_low if head is None else check_real("head", head, low=-THETA_TOP, high=THETA_TOP, unit="rad")
     if start is not None:
         start = _check_start(start)
-    trajectory = _as_trajectory(trajectory, theta, omega, rate, stick)
-    t, theta, omega = (np.array(a) for a in trajectory.columns())
-    rate = trajectory.rate if rate is None else rate
-    if rate != trajectory.rate:
+    t, theta, omega, own_rate = _columns(trajectory, theta, omega, rate, stick)
+    rate = own_rate if rate is None else rate
+    if rate != own_rate:
         check_grid(t, rate)
     _check_angles(theta, head, limits)
     alpha = np.diff(omega) * rate
@@ -174,16 +173,19 @@ def validate(trajectory, theta=None, omega=None, *, rate=None, head=None, limits
                    peak_jerk=float(np.abs(jerk).max()) if len(jerk) else 0.0)
 
 
-def _as_trajectory(trajectory, theta, omega, rate, stick):
-    """One stick's Trajectory from a Trajectory or from arrays (checked: finite, on the time grid)."""
+def _columns(trajectory, theta, omega, rate, stick):
+    """One stick's t, θ, ω (new arrays) and the rate they are sampled at, from a Trajectory or from arrays
+    (checked: finite, on the time grid; no Trajectory is built for arrays: a live stream validates each chunk)."""
     if isinstance(trajectory, Trajectory):
         if theta is not None or omega is not None:
             raise ParameterError("give a Trajectory, or the arrays t, theta and omega, not both")
-        return trajectory if stick is None and len(trajectory.sticks) == 1 else trajectory.stick(
+        one = trajectory if stick is None and len(trajectory.sticks) == 1 else trajectory.stick(
             stick if stick is not None else _one_stick(trajectory))
+        return (*(np.array(a) for a in one.columns()), one.rate)
     t, theta, omega = (as_vector(name, values) for name, values in (("t", trajectory), ("theta", theta),
                                                                    ("omega", omega)))
-    return Trajectory.from_samples(t, theta, omega, rate=DEFAULT_RATE if rate is None else rate)
+    t, theta, omega, _, rate = check_samples(t, theta, omega, None, DEFAULT_RATE if rate is None else rate)
+    return t, theta[:, 0], omega[:, 0], rate
 
 
 def _one_stick(trajectory):

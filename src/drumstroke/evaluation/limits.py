@@ -1,0 +1,165 @@
+"""What the listening-test server allows, and how it counts: clients, trusted proxies, sliding windows.
+
+:class:`Limits` is a config's ``[limits]`` table. A client is counted under :func:`client_key`: its
+IPv4 address, or its IPv6 /64 network (one host is usually given a whole /64, so counting single IPv6
+addresses would let it start sessions without end). :class:`Window` admits events (new sessions, wrong
+admin tokens) per client and in all within a sliding minute, in memory bounded by what it admits.
+"""
+
+import ipaddress
+import math
+import time
+from collections import deque
+from dataclasses import dataclass
+
+from .._checks import check_int, check_real
+from ..errors import ParameterError
+
+MAX_HEAD = 16 * 1024
+"""The largest request line and headers accepted, in bytes: more is answered 400 while it comes, 431 once whole."""
+
+
+@dataclass(frozen=True)
+class Limits:
+    """What the server allows: new sessions, connections, time and size (a config's optional ``[limits]`` table).
+
+    Attributes
+    ----------
+    sessions_per_minute_per_client : int in [1, 100000]
+        New sessions one client may start in any 60 s (default 10); more are answered 429 with ``Retry-After``.
+    sessions_per_minute : int in [1, 100000]
+        New sessions all clients together may start in any 60 s (default 120).
+    connections_per_client : int in [1, 100000]
+        Open connections from one client (default 100; a trusted proxy's are not counted): one more is
+        answered 503 and closed at once.
+    connections : int in [1, 100000]
+        Open connections in all (default 2000).
+    head_timeout : float in [0.1, 600] s
+        A request's line and headers must arrive whole within this of the connection opening or of the
+        previous response (default 10 s): else 408 and the connection is closed.
+    body_timeout : float in [0.1, 600] s
+        A request's body must arrive whole within this of its head (default 10 s; else 408), and a client
+        that reads nothing of a response for this long is dropped.
+    max_body : int in [256, 1048576] bytes
+        The largest form accepted (default 4096 bytes; the app's largest is under 200): a larger one is
+        refused with 413, by its ``Content-Length`` before it is read.
+    """
+
+    sessions_per_minute_per_client: int = 10
+    sessions_per_minute: int = 120
+    connections_per_client: int = 100
+    connections: int = 2000
+    head_timeout: float = 10.0
+    body_timeout: float = 10.0
+    max_body: int = 4096
+
+    def __post_init__(self):
+        for name in ("sessions_per_minute_per_client", "sessions_per_minute", "connections_per_client", "connections"):
+            object.__setattr__(self, name, check_int(f"limits {name}", getattr(self, name), low=1, high=100_000))
+        for name in ("head_timeout", "body_timeout"):
+            object.__setattr__(self, name, check_real(f"limits {name}", getattr(self, name), low=0.1, high=600.0,
+                                                      unit="s"))
+        object.__setattr__(self, "max_body", check_int("limits max_body", self.max_body, low=256, high=1 << 20,
+                                                       unit="bytes"))
+
+
+def client_key(host):
+    """The key a client's address ``host`` (str or None) is counted under: an IPv4 address or an IPv6 /64.
+
+    Examples
+    --------
+    >>> client_key("192.0.2.7"), client_key("::ffff:192.0.2.7")
+    ('192.0.2.7', '192.0.2.7')
+    >>> client_key("2001:db8::1") == client_key("2001:db8::ffff:1") == "2001:db8::/64"
+    True
+    """
+    try:
+        address = ipaddress.ip_address(host)
+    except ValueError:
+        return str(host)  # not an address (a Unix socket): one client
+    if address.version == 6 and address.ipv4_mapped is None:
+        return str(ipaddress.ip_network((address, 64), strict=False))
+    return str(getattr(address, "ipv4_mapped", None) or address)
+
+
+def trusted_networks(entries):
+    """The trusted proxies ``entries`` (addresses or networks, e.g. ``"10.0.0.0/8"``) as a tuple of networks.
+
+    Raises
+    ------
+    ParameterError
+        An entry that is not an address or a network; ``*`` (trusting every client would let any of them
+        choose the address it is counted under).
+    """
+    networks = []
+    for entry in entries:
+        text = str(entry).strip()
+        if text == "*":
+            raise ParameterError("forwarded_allow_ips '*' would trust every client's X-Forwarded-For: name the "
+                                 "proxy's addresses (e.g. 127.0.0.1)")
+        try:
+            networks.append(ipaddress.ip_network(text, strict=False))
+        except ValueError:
+            raise ParameterError(f"forwarded_allow_ips entry {text!r} is not an IP address or network") from None
+    return tuple(networks)
+
+
+class Window:
+    """At most ``per_key`` events of one key, and ``overall`` of all keys, in any ``seconds``.
+
+    Only admitted events are kept (at most ``overall``), so refused ones cost no memory.
+
+    Parameters
+    ----------
+    per_key, overall : int >= 1
+    seconds : float > 0 [s]
+    clock : callable
+        The time in seconds (default :func:`time.monotonic`).
+
+    Examples
+    --------
+    >>> now = [0.0]
+    >>> window = Window(2, 3, seconds=60.0, clock=lambda: now[0])
+    >>> [window.admit("a"), window.admit("a"), window.admit("a"), window.admit("b"), window.admit("c")]
+    [0, 0, 60, 0, 60]
+    >>> now[0] = 59.5
+    >>> window.wait("a"), window.wait("c")
+    (1, 1)
+    >>> now[0] = 60.0
+    >>> window.admit("a")
+    0
+    """
+
+    def __init__(self, per_key, overall, *, seconds=60.0, clock=time.monotonic):
+        self.per_key, self.overall, self.seconds, self.clock = per_key, overall, seconds, clock
+        self._all = deque()  # (time, key) of every admitted event, oldest first
+        self._by_key = {}  # key -> deque of its admitted events' times, oldest first
+
+    def wait(self, key):
+        """Whole seconds until an event of ``key`` would be admitted: 0 if now."""
+        now = self.clock()
+        self._expire(now)
+        oldest = []
+        if len(self._all) >= self.overall:
+            oldest.append(self._all[0][0])
+        mine = self._by_key.get(key)
+        if mine is not None and len(mine) >= self.per_key:
+            oldest.append(mine[0])
+        return max(1, math.ceil(max(oldest) + self.seconds - now)) if oldest else 0
+
+    def admit(self, key):
+        """Admit an event of ``key`` if :meth:`wait` is 0 (it is then counted); return what :meth:`wait` said."""
+        wait = self.wait(key)
+        if not wait:
+            now = self.clock()
+            self._all.append((now, key))
+            self._by_key.setdefault(key, deque()).append(now)
+        return wait
+
+    def _expire(self, now):
+        while self._all and self._all[0][0] <= now - self.seconds:
+            _, key = self._all.popleft()
+            times = self._by_key[key]
+            times.popleft()  # the same event: both queues are in admission order
+            if not times:
+                del self._by_key[key]

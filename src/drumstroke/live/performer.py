@@ -1,0 +1,633 @@
+"""The live performer: notes in as they come, setpoints out at the control rate (SPEC §9).
+
+A :class:`Performer` keeps, for each stick, the motion planned so far as a chain of pieces on one
+clock (s): designed strokes (:mod:`drumstroke.design`), jerk-limited moves and holds. A note that
+arrives now is heard ``latency`` s later (or at the time it names); the planner designs its stroke
+from where the stick will be a little after now (``guard`` s: nothing already sent, or about to be,
+changes), in this order of preference:
+
+1. **a bounce** from the stick's last planned impact, when that impact is still to come: the stroke
+   goes on through the new note, as a drummer's hand lets a stick bounce into the next note;
+2. **from the rebound in flight**, when the last impact is past but the stick still rises from it;
+3. **a throw** from where the stick rests (caught at the apex of its last rebound, or held);
+4. **a move and a throw**: a time-optimal jerk-limited move to the height of a quick throw, then the
+   throw.
+
+The piece the new stroke replaces is cut where it starts; what came before is kept sample for sample.
+A note that cannot be played in time (too soon, too loud for the time left, before a note already
+planned on its stick) is dropped and logged with its reason; the motion never jumps.
+
+Samples are evaluated when asked for (:meth:`Performer.setpoints`), exactly as an offline run of the
+same notes at the same arrival times gives them: the planner's decisions depend on the notes and the
+times they arrived only, so :meth:`Performer.replay` reproduces a session from its log.
+
+Examples
+--------
+>>> clock = ManualClock()
+>>> performer = Performer(clock=clock)
+>>> performer.note("right", 100).planned                   # heard 50 ms from now
+True
+>>> clock.set(0.2)
+>>> chunk = performer.setpoints(0.2)
+>>> chunk.t.shape, chunk.theta.shape
+((201,), (201, 2))
+"""
+
+import math
+import threading
+import time
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from .._checks import check_real
+from ..design import ForceRange, Start, Unreachable, design
+from ..design.buzz import DENSITY, buzz_times
+from ..design.planner import LEADS
+from ..dynamics import velocity_to_level
+from ..errors import ParameterError
+from ..model import MODELS, Stick
+from ..palette.motion import Limits, plan_return, return_time
+from ..recipe import DEFAULT_COR
+from ..trajectory import DEFAULT_RATE
+
+LATENCY = 0.05
+"""Default lookahead (s): a note arriving now is heard this much later."""
+
+GUARD = 0.006
+"""Default time (s) after a note arrives from which it may change the motion: its planning's budget (setpoints
+may be given up to a little before that ahead of their time)."""
+
+CLOSEST = 0.03
+"""Default shortest time (s) between two notes of one stick: closer ones are dropped before any planning."""
+
+_WARM = set()  # the models a performer of this process has warmed up
+
+AUTO = "auto"
+"""The stick a note names when the performer chooses it."""
+
+BUZZ = 0.25
+"""Default length (s) of a live buzz note (it cannot know the stick's next note)."""
+
+STROKES = ("auto", "buzz")
+"""The strokes a live note may ask for."""
+
+
+class SystemClock:
+    """Seconds since the clock was made (or restarted), from the monotonic clock."""
+
+    def __init__(self):
+        self._zero = time.monotonic()
+
+    def now(self):
+        return time.monotonic() - self._zero
+
+    def restart(self):
+        """Start again from 0 (before anything was stamped with it)."""
+        self._zero = time.monotonic()
+
+
+class ManualClock:
+    """A clock that stands still until told: for tests and for replaying a session faster than real time."""
+
+    def __init__(self, t=0.0):
+        self._t = float(t)
+
+    def now(self):
+        return self._t
+
+    def set(self, t):
+        """Move the clock to ``t`` (s), never back."""
+        t = check_real("t", t, low=self._t, unit="s (not before the clock's time)")
+        self._t = t
+
+
+@dataclass(frozen=True)
+class LiveNote:
+    """A note as it arrived: when (s, the performer's clock), on which stick, how loud, when it is heard.
+
+    ``stick`` is the stick that plays it (the one chosen, for a note that named none); ``cut`` the
+    time from which the planner changed the motion for it (s).
+    """
+
+    arrived: float
+    stick: str
+    velocity: float
+    at: float
+    stroke: str = "auto"
+    duration: float | None = None
+    cut: float = math.nan
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """What became of a live note: planned or dropped (with the reason), its stroke, how long planning took (s).
+
+    ``impacts`` are the designed stroke's impacts on its notes, (t s, level dB) each; ``design`` is the
+    :class:`~drumstroke.design.Design` itself in the outcome :meth:`Performer.note` returns, and None in
+    the performer's log (which a long session would otherwise fill with strokes).
+    """
+
+    note: LiveNote
+    planned: bool
+    reason: str = ""
+    design: object = None
+    compute: float = 0.0
+    impacts: tuple = ()
+
+    def to_dict(self):
+        """The outcome as plain values (a session log's row)."""
+        note = self.note
+        row = {"arrived": note.arrived, "stick": note.stick, "velocity": note.velocity, "at": note.at,
+               "stroke": note.stroke, "duration": note.duration, "cut": note.cut, "planned": self.planned,
+               "reason": self.reason, "compute": self.compute}
+        if self.planned:
+            row["impacts"] = [list(impact) for impact in self.impacts]
+        return {key: (None if isinstance(value, float) and not math.isfinite(value) else value)
+                for key, value in row.items()}
+
+
+@dataclass(frozen=True, repr=False)
+class Chunk:
+    """Setpoints of every stick at consecutive control periods.
+
+    Attributes
+    ----------
+    t : ndarray [shape=(n,)]
+        s, on the performer's clock, k/rate.
+    theta, omega, alpha : ndarray [shape=(n, sticks)]
+        rad, rad/s, rad/s² (α is the flight acceleration dω/dt, impacts excluded).
+    sticks : tuple of str
+    """
+
+    t: np.ndarray
+    theta: np.ndarray
+    omega: np.ndarray
+    alpha: np.ndarray
+    sticks: tuple
+
+    def __len__(self):
+        return len(self.t)
+
+    def __repr__(self):
+        span = f"{self.t[0]:.6g}-{self.t[-1]:.6g} s" if len(self.t) else "empty"
+        return f"Chunk({len(self.t)} setpoints of {', '.join(self.sticks)}, {span})"
+
+
+@dataclass(frozen=True)
+class _Piece:
+    """One piece of a stick's motion from ``start`` (s, the clock) to ``end``: a curve on its own clock."""
+
+    start: float
+    end: float
+    path: object  # path(local t) -> (theta, omega)
+    impacts: np.ndarray = field(default_factory=lambda: np.empty(0))  # local times of its impacts
+    design: object = None
+    offset: float = 0.0  # local time = t - offset
+
+
+def _piece_at(pieces, t):
+    for piece in reversed(pieces):
+        if piece.start <= t:
+            return piece
+    return pieces[0]
+
+
+def _state(pieces, t):
+    """θ (rad) and ω (rad/s) of a stick's motion at ``t`` (s)."""
+    piece = _piece_at(pieces, t)
+    theta, omega = piece.path(np.array([t - piece.offset]))
+    return float(theta[0]), float(omega[0])
+
+
+def _last_design(pieces):
+    return next((piece for piece in reversed(pieces) if piece.design is not None), None)
+
+
+def _evaluate(pieces, t):
+    """θ, ω and α at times ``t`` (s) [shape=(n,)], each from the piece that holds it."""
+    theta, omega, alpha = (np.empty(len(t)) for _ in range(3))
+    starts = np.array([piece.start for piece in pieces])
+    which = np.maximum(np.searchsorted(starts, t, side="right") - 1, 0)
+    for k in np.unique(which):
+        piece = pieces[k]
+        mask = which == k
+        local = t[mask] - piece.offset
+        theta[mask], omega[mask] = piece.path(local)
+        alpha[mask] = _flight_acceleration(piece, local)
+    return theta, omega, alpha
+
+
+def _replace_from(pieces, cut, new):
+    """The motion ``pieces`` kept before ``cut`` (s) and followed by ``new``."""
+    kept = [piece for piece in pieces if piece.start < cut]
+    kept[-1] = replace(kept[-1], end=cut)
+    return tuple(kept + list(new))
+
+
+@dataclass
+class _Stick:
+    """One stick's planned motion: pieces end to end, the last holding on forever; how many notes changed it."""
+
+    pieces: tuple
+    last_note: float = -math.inf
+    version: int = 0
+
+
+class Performer:
+    """Notes in, setpoints out: the live runtime on one clock (see the module's description).
+
+    ``note`` and ``setpoints`` may be called from different threads: a note is planned on a copy of
+    its stick's motion, outside the lock the setpoints are given under, and committed only if
+    nothing it changes has been given meanwhile (else it is dropped, "planned too late").
+
+    Parameters
+    ----------
+    sticks : sequence of str
+        The sticks' names (default right and left).
+    model : {"paper", "geometry"}
+    rate : float in [10, 1e5]
+        The control rate (Hz).
+    latency : float in (0, 10]
+        s between a note's arrival and when it is heard, unless it names its time.
+    guard : float in (0, latency)
+        s after now from which a new note may change the motion: setpoints up to then may be given
+        ahead of their time.
+    cor : float in [0, 1), optional
+    forces : ForceRange, optional
+        The thumb accelerations the planner may use (default 0 to 3000 m/s²).
+    limits : Limits, optional
+        The joint's limits: the strokes and the moves keep them (default ``Limits()``, a strong drumming
+        joint: live moves must be quick).
+    rest : float
+        rad, where the sticks wait before the first note and after :meth:`close` (default 0: level).
+    closest : float in [0, 1]
+        s, the shortest time between two notes of one stick (default 0.03; closer notes are dropped
+        unplanned: a flood costs nothing).
+    clock : object with ``now()``, optional
+        Default a :class:`SystemClock`; a :class:`ManualClock` runs faster than real time.
+    """
+
+    def __init__(self, *, sticks=("right", "left"), model="paper", rate=DEFAULT_RATE, latency=LATENCY, guard=GUARD,
+                 cor=None, forces=None, limits=None, rest=0.0, closest=CLOSEST, clock=None):
+        if model not in MODELS:
+            raise ParameterError(f"model must be one of {', '.join(MODELS)}, got {model!r}")
+        sticks = tuple(sticks)
+        if not sticks or len(set(sticks)) != len(sticks) or not all(isinstance(s, str) and s for s in sticks) \
+                or "auto" in sticks:
+            raise ParameterError(f"sticks must be distinct non-empty names other than 'auto', got {sticks!r}")
+        if limits is not None and not isinstance(limits, Limits):
+            raise ParameterError(f"limits must be a drumstroke.palette.motion.Limits, got {limits!r}")
+        if forces is not None and not isinstance(forces, ForceRange):
+            raise ParameterError(f"forces must be a drumstroke.design.ForceRange, got {forces!r}")
+        self.sticks = sticks
+        self.model = model
+        self.rate = check_real("rate", rate, low=10.0, high=1e5, unit="Hz")
+        self.latency = check_real("latency", latency, low=0.0, high=10.0, low_open=True, unit="s")
+        self.guard = check_real("guard", guard, low=0.0, high=self.latency, low_open=True, high_open=True, unit="s")
+        self.closest = check_real("closest", closest, low=0.0, high=1.0, unit="s")
+        self.limits = limits or Limits()
+        stick = Stick()
+        self.head = stick.theta_max
+        self.rest = check_real("rest", rest, low=self.head, high=self.limits.theta_high, low_open=True, unit="rad")
+        cor = DEFAULT_COR if cor is None else check_real("cor", cor, low=0.0, high=1.0, high_open=True)
+        self.options = {"model": model, "cor": cor, "forces": forces or ForceRange(), "limits": self.limits,
+                        "stick": stick}
+        self.clock = clock or SystemClock()
+        self.log = []
+        self.closed = None
+        self._sticks = {name: _Stick((_Piece(0.0, math.inf, _hold(self.rest)),)) for name in sticks}
+        self._next = 0  # the index k of the next setpoint to give, at k/rate
+        self._lock = threading.Lock()
+
+    def warm_up(self):
+        """Plan a short phrase on a scratch performer with these options: compiled code loaded, caches filled.
+
+        The first stroke a process designs loads the compiled solver (most of a second); a live host
+        does this before its clock starts. Done once per process and model.
+        """
+        if self.model in _WARM:
+            return
+        scratch = Performer(sticks=self.sticks[:1], model=self.model, rate=self.rate, latency=self.latency,
+                            guard=self.guard, cor=self.options["cor"], forces=self.options["forces"],
+                            limits=self.limits, rest=self.rest, closest=self.closest, clock=ManualClock())
+        stick = self.sticks[0]
+        for arrived, velocity, stroke in ((0.0, 100, "auto"), (0.02, 60, "auto"), (0.3, 127, "auto"),
+                                          (0.6, 30, "auto"), (1.0, 90, "buzz")):
+            scratch.clock.set(arrived)
+            scratch.setpoints(arrived)
+            scratch.note(stick, velocity, stroke=stroke)
+        scratch.close()
+        scratch.setpoints(scratch.done)
+        _WARM.add(self.model)
+
+    # --- notes in --------------------------------------------------------------------------------------------------
+
+    def note(self, stick, velocity, *, at=None, stroke="auto", duration=None, arrived=None, cut=None):
+        """Plan a note heard at ``at`` (s, the clock; default arrival + latency) on ``stick``; return its :class:`Outcome`.
+
+        Parameters
+        ----------
+        stick : str or None
+            One of the performer's sticks, or "auto" (or None): the stick that has waited longest and
+            can play it.
+        velocity : float in [1, 127]
+        at : float, optional
+            s on the performer's clock.
+        stroke : {"auto", "buzz"}
+        duration : float in (0, 10], optional
+            s, a buzz's length (default :data:`BUZZ`).
+        arrived : float, optional
+            s, when the note arrived (default now): a host that queues notes stamps them as they come.
+        cut : float, optional
+            s: change the motion from this time (a replay gives the logged one); default arrival + guard,
+            or the first setpoint not yet given if that is later.
+        """
+        started = time.perf_counter()
+        arrived = self.clock.now() if arrived is None else check_real("arrived", arrived, low=-1e9, high=1e9, unit="s")
+        if cut is not None:
+            cut = check_real("cut", cut, low=-1e9, high=1e9, unit="s")
+        outcome = self._note(arrived, stick, velocity, at, stroke, duration, cut)
+        impacts = ()
+        if outcome.design is not None:
+            made, n = outcome.design, len(outcome.design.times)
+            impacts = tuple(zip(made.impacts.t[:n].tolist(), made.impacts.level_db[:n].tolist()))
+        outcome = replace(outcome, compute=time.perf_counter() - started, impacts=impacts)
+        with self._lock:
+            self.log.append(replace(outcome, design=None))
+        return outcome
+
+    def _note(self, arrived, stick, velocity, at, stroke, duration, cut):
+        with self._lock:
+            given = self._next / self.rate
+        cut = max(arrived + self.guard, given) if cut is None else cut
+        named = AUTO if stick is None else stick
+        note = LiveNote(arrived, named, velocity, arrived + self.latency if at is None else at, stroke, duration, cut)
+        reason = self._refusal(note)
+        if reason:
+            return Outcome(note, False, reason)
+        note = replace(note, velocity=float(velocity), at=float(note.at))
+        if self.closed is not None:
+            return Outcome(note, False, f"the performer closed at {self.closed:.6g} s")
+        failure = None
+        for name in self._choices(named, note.at):
+            outcome = self._note_on(replace(note, stick=name))
+            if outcome.planned:
+                return outcome
+            failure = failure or outcome
+        return failure
+
+    def _choices(self, named, at):
+        """The sticks to try for a note: the one named, or every stick, the one free longest first."""
+        if named != AUTO:
+            return [named]
+        return sorted(self.sticks, key=lambda name: (self._sticks[name].last_note, self.sticks.index(name)))
+
+    def _note_on(self, note):
+        """Plan ``note`` on its stick and commit it, or say why not.
+
+        If the stick's motion changed while it was planned (another note), or the setpoints from its cut
+        were given meanwhile (a busy host, a long buzz), it is planned again, from the first setpoint not
+        given plus the guard and twice the time planning took.
+        """
+        stick = self._sticks[note.stick]
+        for _ in range(4):
+            pieces, version, last_note = stick.pieces, stick.version, stick.last_note
+            if note.at < last_note + max(self.closest, 1e-3):
+                when = "not after" if note.at <= last_note else f"less than {self.closest:g} s after"
+                return Outcome(note, False, f"heard at {note.at:.6g} s, {when} the {note.stick} stick's last note "
+                                            f"at {last_note:.6g} s")
+            began = time.perf_counter()
+            try:
+                new, made = self._plan(pieces, note)
+            except (Unreachable, ParameterError) as error:
+                return Outcome(note, False, str(error))
+            took = time.perf_counter() - began
+            with self._lock:
+                if self.closed is not None:
+                    return Outcome(note, False, f"the performer closed at {self.closed:.6g} s")
+                if stick.version != version:
+                    continue
+                given = self._next / self.rate
+                if given > new[0].start:
+                    late = replace(note, cut=given + self.guard + 2.0 * took)  # room to plan it again
+                    if late.at < late.cut + 1e-3:
+                        return Outcome(note, False, f"planned too late: the setpoints up to {given:.6g} s had been "
+                                                    "given")
+                    note = late
+                    continue
+                stick.pieces = _replace_from(stick.pieces, new[0].start, new)
+                stick.last_note = float(made.times[-1])
+                stick.version += 1
+            return Outcome(note, True, design=made)
+        return Outcome(note, False, "the stick's motion or the setpoints given kept changing while this note was "
+                                    "planned")
+
+    def _refusal(self, note):
+        """Why a note cannot be taken as given (its values), or ''."""
+        if not isinstance(note.stick, str) or (note.stick not in self._sticks and note.stick != AUTO):
+            return f"stick must be one of {', '.join(self.sticks + (AUTO,))}, got {note.stick!r}"
+        if note.stroke not in STROKES:
+            return f"stroke must be one of {', '.join(STROKES)}, got {note.stroke!r}"
+        for name, value, low, high in (("velocity", note.velocity, 1.0, 127.0), ("at", note.at, -1e9, 1e9),
+                                       ("duration", note.duration, 0.0, 10.0)):
+            if value is None and name == "duration":
+                continue
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) \
+                    or not low <= value <= high or (name == "duration" and value == 0.0):
+                return f"{name} must be a finite number in [{low:g}, {high:g}], got {value!r}"
+        if note.duration is not None and note.stroke != "buzz":
+            return "only a buzz has a duration"
+        if note.at < note.cut + 1e-3:
+            return f"heard at {note.at:.6g} s, too soon: the motion may change from {note.cut:.6g} s"
+        return ""
+
+    def _plan(self, pieces, note):
+        """The pieces that play ``note`` from its cut on, and the design; raises Unreachable when none can."""
+        level = velocity_to_level(note.velocity)
+        if note.stroke == "buzz":
+            times = buzz_times(note.at, note.at + (note.duration or BUZZ), DENSITY)
+        else:
+            times = np.array([note.at])
+        levels = np.full(len(times), level)
+        cut = note.cut
+        last = _last_design(pieces)
+        failure = None
+        if last is not None:
+            made = last.design
+            future = made.impacts.t[: len(made.times)]
+            if future[-1] >= cut:  # 1. a bounce from the last planned impact
+                start = Start(float(future[-1]), self.head, self.options["cor"] * float(-made.impacts.omega[
+                    len(made.times) - 1]))
+                try:
+                    return self._stroke(times, levels, start, cut=start.t)
+                except Unreachable as error:
+                    failure = error
+            else:
+                theta, omega = _state(pieces, cut)
+                if omega > 1e-9:  # 2. from the rebound, rising
+                    try:
+                        return self._stroke(times, levels, Start(cut, theta, omega), cut=cut)
+                    except Unreachable as error:
+                        failure = failure or error
+        rest_from = max(cut, last.end if last is not None and math.isfinite(last.end) else cut)
+        theta, omega = _state(pieces, rest_from)
+        if abs(omega) < 1e-6 and theta > self.head + 1e-9:  # 3. a throw from where the stick rests
+            try:
+                return self._stroke(times, levels, Start(rest_from, theta), cut=rest_from)
+            except Unreachable as error:
+                failure = failure or error
+        for lead in LEADS:  # 4. a move to a quick throw's height, then the throw
+            if times[0] - lead <= rest_from:
+                continue
+            try:
+                made = design(times, levels, lead=lead, **self.options)
+            except Unreachable as error:
+                failure = failure or error
+                continue
+            window = made.release - rest_from
+            target = (float(made.recipe.theta0), 0.0)
+            if window < 0.0 or return_time((theta, omega), target, self.head, self.limits) > window:
+                continue
+            moves = plan_return((theta, omega), target, window, self.head, self.limits)
+            if moves is None:
+                continue
+            return _moves(moves, rest_from) + self._design_pieces(made), made
+        raise failure or Unreachable(f"heard at {note.at:.6g} s: no stroke reaches it from the {note.stick} stick's "
+                                     "motion in time", note=0)
+
+    def _stroke(self, times, levels, start, *, cut):
+        made = design(times, levels, start=start, **self.options)
+        if made.release < cut - 1e-9:
+            raise Unreachable("the stroke would start before the motion may change", note=0)
+        hold = [_Piece(cut, made.release, _hold(start.theta), offset=cut)] if made.release > cut else []
+        return hold + self._design_pieces(made), made
+
+    def _design_pieces(self, made):
+        """The designed stroke from its release, then holding where it was caught."""
+        stroke = made.stroke
+        theta_end = float(made.state(made.t_end)[0])
+        return [_Piece(made.release, made.t_end, stroke.arcs.evaluate, stroke.impacts.t, made, offset=made.release),
+                _Piece(made.t_end, math.inf, _hold(theta_end), offset=made.t_end)]
+
+    # --- the end ---------------------------------------------------------------------------------------------------
+
+    def close(self, cut=None):
+        """Take no more notes; each stick finishes what it plays, then moves to ``rest``. Returns when all rest (s).
+
+        ``cut`` (s) is when the performer closed (default now + guard, or the first setpoint not yet
+        given if later; a replay gives the logged one).
+        """
+        if cut is not None:
+            cut = check_real("cut", cut, low=-1e9, high=1e9, unit="s")
+        with self._lock:
+            given = self._next / self.rate
+            cut = max(self.clock.now() + self.guard, given) if cut is None else cut
+            if self.closed is not None:
+                return self.done
+            for stick in self._sticks.values():
+                last = stick.pieces[-1]
+                start = max(cut, last.start)
+                theta, omega = _state(stick.pieces, start)
+                target = (self.rest, 0.0)
+                window = return_time((theta, omega), target, self.head, self.limits)
+                moves = plan_return((theta, omega), target, window, self.head, self.limits) if window > 0 else []
+                if moves:
+                    stick.pieces = _replace_from(stick.pieces, start, _moves(moves, start) + [
+                        _Piece(start + window, math.inf, _hold(self.rest), offset=start + window)])
+            self.closed = cut  # last: a thread that sees it closed sees the moves to rest
+            return self.done
+
+    @property
+    def done(self):
+        """s: from when every stick holds still (its last piece's start)."""
+        return max(stick.pieces[-1].start for stick in list(self._sticks.values()))
+
+    # --- setpoints out ---------------------------------------------------------------------------------------------
+
+    def setpoints(self, until=None):
+        """Every setpoint from the last one given up to ``until`` (s, the clock; default now), as a :class:`Chunk`.
+
+        ``until`` may be up to ``guard`` ahead of now: no note changes those any more.
+        """
+        until = self.clock.now() if until is None else check_real("until", until, low=-1e9, high=1e9, unit="s")
+        with self._lock:
+            stop = math.floor(float(until) * self.rate + 1e-9) + 1
+            k = np.arange(self._next, max(stop, self._next))
+            self._next = max(stop, self._next)
+            snapshot = [self._sticks[name].pieces for name in self.sticks]
+            sent = self.sent
+            for stick in self._sticks.values():  # what is given no longer changes: forget it
+                keep = next((i for i, piece in enumerate(stick.pieces) if piece.end > sent), len(stick.pieces) - 1)
+                if keep:
+                    stick.pieces = stick.pieces[keep:]
+        t = k / self.rate
+        columns = [_evaluate(pieces, t) for pieces in snapshot]
+        return Chunk(t, *(np.column_stack([c[i] for c in columns]) if len(t) else np.empty((0, len(self.sticks)))
+                          for i in range(3)), self.sticks)
+
+    @property
+    def sent(self):
+        """s: the time of the last setpoint given (−1/rate before the first)."""
+        return (self._next - 1) / self.rate
+
+    # --- replay ----------------------------------------------------------------------------------------------------
+
+    @classmethod
+    def replay(cls, log, *, until, closed=None, **options):
+        """The setpoints an offline performer gives for the notes of ``log`` (a session's), up to ``until`` (s).
+
+        Every note planned in the session is given again at the time it arrived, on the stick that
+        played it and with the cut it was planned from (the notes dropped changed nothing); ``closed``
+        is when the session closed, if it did. The setpoints equal those of the session, sample for sample.
+        """
+        clock = ManualClock()
+        performer = cls(clock=clock, **options)
+        for outcome in sorted((o for o in log if o.planned), key=lambda o: o.note.arrived):
+            note = outcome.note
+            clock.set(max(note.arrived, clock.now()))
+            again = performer.note(note.stick, note.velocity, at=note.at, stroke=note.stroke, duration=note.duration,
+                                   cut=note.cut)
+            if not again.planned:
+                raise ParameterError(f"the log's note at {note.at:.6g} s on {note.stick} was planned in the session "
+                                     f"but not in its replay: {again.reason} (a log of other options?)")
+        if closed is not None:
+            performer.close(closed)
+        return performer.setpoints(until)
+
+
+def _moves(moves, start):
+    """Pieces of the moves (duration, path) one after the other from ``start`` (s)."""
+    pieces, t = [], start
+    for duration, path in moves:
+        pieces.append(_Piece(t, t + duration, path, offset=t))
+        t += duration
+    return pieces
+
+
+def _hold(theta):
+    def hold(t):
+        t = np.asarray(t, dtype=float)
+        return np.full(t.shape, theta), np.zeros(t.shape)
+
+    return hold
+
+
+_STEP = 1e-6  # s: the half-step of the central difference of ω that gives α
+
+
+def _flight_acceleration(piece, local):
+    """dω/dt (rad/s²) of a piece at its local times: a central difference of its ω over 2 µs, one-sided where an
+    impact lies within the step (after an impact forwards, before one backwards), as Trajectory's alpha is."""
+    before, after = local - _STEP, local + _STEP
+    if len(piece.impacts):
+        i = np.searchsorted(piece.impacts, local, side="right")
+        previous = piece.impacts[np.maximum(i - 1, 0)]
+        following = piece.impacts[np.minimum(i, len(piece.impacts) - 1)]
+        just_after = (i > 0) & (local - previous < _STEP)
+        just_before = (i < len(piece.impacts)) & (following - local <= _STEP)
+        before = np.where(just_after, local, np.where(just_before, local - 2 * _STEP, before))
+        after = np.where(just_after, local + 2 * _STEP, np.where(just_before, local, after))
+    _, omega_before = piece.path(np.maximum(before, piece.start - piece.offset))
+    _, omega_after = piece.path(after)
+    return (omega_after - omega_before) / (after - np.maximum(before, piece.start - piece.offset))

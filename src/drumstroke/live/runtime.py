@@ -1,0 +1,408 @@
+"""The live loop: requests in, the performer planning them, setpoints out on time, a session's record.
+
+A :class:`Runtime` runs a :class:`~drumstroke.live.performer.Performer` against its clock:
+
+- **notes in**: :meth:`Runtime.submit` (thread-safe: OSC and MIDI threads call it) queues a
+  :class:`~drumstroke.live.inputs.Request`, stamped with its arrival; :meth:`Runtime.schedule` holds
+  requests (a score's) until their arrival time comes. A planner thread gives each to the performer
+  (with a :class:`~drumstroke.live.performer.ManualClock` the loop plans them itself: a run faster
+  than real time, the same every time). A dropped note is one line for ``report`` and the record.
+- **setpoints out**: the loop computes the setpoints a little ahead (up to the performer's ``guard``:
+  no note changes those), checks every chunk with :func:`drumstroke.robot.validate.validate` against the
+  performer's limits (the last two setpoints sent before it included, so speed, acceleration and jerk
+  are checked across chunks), then sends each at its time: it sleeps until just before and spins
+  the rest (:data:`SPIN`). Late setpoints (a busy host) are sent at once, in order, none skipped.
+- **the end**: :meth:`Runtime.stop` (a signal handler may call it) closes the performer: each stick
+  finishes what it plays and moves to rest above the head; the loop ends once they rest, the last
+  setpoints sent. :meth:`Runtime.session` is the record: notes in, strokes planned, problems, timing.
+"""
+
+import gc
+import heapq
+import queue
+import sys
+import threading
+import time
+from datetime import UTC, datetime
+
+import numpy as np
+
+from .._checks import check_real
+from .._version import __version__
+from ..errors import DrumstrokeError, TrajectoryError
+from ..robot.validate import validate
+from .performer import Chunk, ManualClock, SystemClock
+
+SPIN = 2e-4
+"""s before a setpoint's time when the loop stops sleeping and spins (sleep wakes up to ~0.1 ms late)."""
+
+AHEAD = 0.002
+"""s: how far ahead of the clock setpoints are computed and validated (at most the performer's guard less a
+control period): a note's planning has the rest of the guard."""
+
+SWITCH = 5e-5
+"""s: Python's thread switch interval while the loop runs (default 5 ms): the loop waits this long at most
+for a planning thread to let it run."""
+
+QUEUE = 10_000
+"""Requests waiting to be planned at most; more are dropped, each with its line."""
+
+PROBLEMS = 100_000
+"""Problem lines kept in the record at most (then counted only)."""
+
+_CLOSE = object()
+
+
+class LiveError(DrumstrokeError):
+    """The stream cannot go on: a chunk failed validation (a bug: it is reported with the session's record)."""
+
+
+class Runtime:
+    """Runs a performer on its clock (see the module's description).
+
+    Parameters
+    ----------
+    performer : Performer
+    outputs : sequence of callable(Chunk)
+        Called with each chunk of setpoints as it is sent (:mod:`drumstroke.live.outputs`,
+        :class:`~drumstroke.live.monitor.RobotMonitor`, or a host's own).
+    report : callable(str), optional
+        Told each problem (a dropped note, a malformed message) as one line.
+    threaded : bool, optional
+        Plan in a thread of its own (default: unless the performer's clock is a ManualClock).
+    spin : float in [0, 0.01]
+        s, see :data:`SPIN`.
+    """
+
+    def __init__(self, performer, *, outputs=(), report=None, threaded=None, spin=SPIN):
+        self.performer = performer
+        self.outputs = list(outputs)
+        self._report = report
+        self.threaded = not isinstance(performer.clock, ManualClock) if threaded is None else bool(threaded)
+        self.spin = check_real("spin", spin, low=0.0, high=0.01, unit="s")
+        self.problems = []
+        self.problem_count = 0
+        self._told = threading.Lock()  # problems come from the input, planner and loop threads
+        self.failure = None
+        self._requests = queue.Queue(QUEUE)
+        self._scheduled = []
+        self._sequence = 0
+        self._closing = threading.Event()
+        self._close_sent = False
+        self._aborted = threading.Event()
+        self._lateness = np.zeros(10_001, dtype=np.int64)  # µs bins up to 10 ms, then one for later
+        self._latest = 0.0
+        self.sent = 0
+        self.first = self.last = None  # s: the first and last setpoints sent
+        performer.warm_up()
+        self._restart()
+        self.started = datetime.now(UTC).isoformat(timespec="seconds")
+
+    # --- notes in --------------------------------------------------------------------------------------------------
+
+    def submit(self, request):
+        """Queue a request to be planned (any thread)."""
+        try:
+            self._requests.put_nowait(request)
+        except queue.Full:
+            self.problem(f"{request.source}: dropped the note at {request.arrived:.6g} s: {QUEUE} notes wait to be "
+                         "planned already")
+
+    def schedule(self, requests):
+        """Hold requests until their arrival time comes on the clock (a score's notes)."""
+        for request in requests:
+            check_real("request.arrived", request.arrived, low=-1e9, high=1e9, unit="s")
+            heapq.heappush(self._scheduled, (request.arrived, self._sequence, request))
+            self._sequence += 1
+
+    def problem(self, line):
+        """Record a problem and tell ``report`` (any thread; one line at a time)."""
+        with self._told:
+            self.problem_count += 1
+            if len(self.problems) < PROBLEMS:
+                self.problems.append(line)
+            if self._report is not None:
+                self._report(line)
+
+    def _plan(self, request):
+        try:
+            outcome = self.performer.note(request.stick, request.velocity, at=request.at, stroke=request.stroke,
+                                          duration=request.duration, arrived=request.arrived)
+        except DrumstrokeError as error:  # e.g. a host's request that arrived at no time
+            self.problem(f"{request.source}: dropped a note: {error}")
+            return
+        except Exception as error:  # noqa: BLE001 - the planning thread must outlive a bug: it is on the record
+            self.problem(f"{request.source}: dropped a note: internal error {type(error).__name__}: {error} (a bug: "
+                         "please report it with the session's record)")
+            return
+        if not outcome.planned:
+            self.problem(f"{request.source}: dropped the note at {outcome.note.at:.6g} s on {request.stick}: "
+                         f"{outcome.reason}")
+
+    def _planner(self):
+        while not self._aborted.is_set():
+            try:
+                request = self._requests.get(timeout=0.05)
+            except queue.Empty:
+                continue
+            self._handle(request)
+
+    def _handle(self, request):
+        if request is _CLOSE:
+            self.performer.close()
+        else:
+            self._plan(request)
+
+    def _due(self, now):
+        """Hand on the scheduled requests that have arrived by ``now`` (s)."""
+        while self._scheduled and self._scheduled[0][0] <= now and not self._closing.is_set():
+            request = heapq.heappop(self._scheduled)[2]
+            if self.threaded:
+                self.submit(request)
+            else:
+                self._plan(request)
+        if not self.threaded:
+            while True:
+                try:
+                    request = self._requests.get_nowait()
+                except queue.Empty:
+                    break
+                self._handle(request)
+
+    # --- the end ---------------------------------------------------------------------------------------------------
+
+    def stop(self):
+        """Close the performer once the requests queued before are planned; the loop ends when the sticks rest.
+
+        Safe from a signal handler: it only raises a flag, which the loop acts on.
+        """
+        self._closing.set()
+
+    def abort(self):
+        """End the loop now, whatever the sticks are doing (a second interrupt). Safe from a signal handler."""
+        self._aborted.set()
+
+    def _close(self):
+        """Act on :meth:`stop` (in the loop): the performer closes after the requests queued before."""
+        if not self._close_sent:
+            self._close_sent = True
+            if self._report is not None:
+                self._report("stopping: the sticks finish what they play, then rest")
+            self._requests.put(_CLOSE)
+
+    # --- setpoints out ---------------------------------------------------------------------------------------------
+
+    def run(self, *, duration=None):
+        """Send setpoints to the outputs until the sticks rest after :meth:`stop` (or ``duration`` s on the clock)."""
+        for chunk in self.chunks(duration=duration):
+            for output in self.outputs:
+                output(chunk)
+        return self
+
+    def chunks(self, *, duration=None):
+        """The setpoints, a validated :class:`Chunk` at a time, each given at its time: for a host's own loop.
+
+        Stops (closing the performer) at ``duration`` s on the clock, if given; else after :meth:`stop`.
+        """
+        performer, clock = self.performer, self.performer.clock
+        period = 1.0 / performer.rate
+        ahead = max(min(AHEAD, performer.guard - period), 0.0)
+        switch = sys.getswitchinterval()
+        gc.collect()
+        gc.freeze()  # what exists now is never scanned again: the collector's pauses stay short while it runs
+        planner = None
+        if self.threaded:
+            sys.setswitchinterval(SWITCH)
+            planner = threading.Thread(target=self._planner, name="drumstroke-planner", daemon=True)
+            planner.start()
+        self._restart()
+        pending = None  # validated, not yet sent
+        self._tail = None  # the last two setpoints validated
+        try:
+            while not self._aborted.is_set():
+                now = clock.now()
+                if duration is not None and now >= duration:
+                    self.stop()
+                if self._closing.is_set():
+                    self._close()
+                self._due(now)
+                if pending is not None and len(pending):  # first what is due: sent on time
+                    due = int(np.searchsorted(pending.t, clock.now() + 1e-9, side="right"))
+                    if due:
+                        chunk = _part(pending, 0, due)
+                        pending = _part(pending, due, len(pending))
+                        self._time(chunk.t, clock.now())
+                        yield chunk
+                        if self._closing.is_set() and performer.closed is not None and performer.done <= chunk.t[-1]:
+                            return
+                now = clock.now()
+                if pending is None or not len(pending) or pending.t[-1] < now + period:  # then the next ones
+                    fresh = performer.setpoints(now + ahead)
+                    if len(fresh):
+                        self._validate(fresh)
+                        pending = fresh if pending is None else _join(pending, fresh)
+                wake = float(pending.t[0]) if pending is not None and len(pending) else clock.now() + period
+                if self._scheduled and not self._closing.is_set():
+                    wake = min(wake, self._scheduled[0][0])
+                _sleep_until(clock, wake, self.spin)
+        finally:
+            self._aborted.set()
+            if planner is not None:
+                planner.join()
+                sys.setswitchinterval(switch)
+            gc.unfreeze()
+
+    def _restart(self):
+        """Start a system clock from 0 now, if nothing was stamped with it yet (the session starts warmed up)."""
+        performer = self.performer
+        if isinstance(performer.clock, SystemClock) and performer.sent < 0 and not performer.log \
+                and self._requests.empty():
+            performer.clock.restart()
+
+    def _validate(self, fresh):
+        """Check a chunk for each stick, with the two setpoints before it; raise LiveError if it fails."""
+        performer, before = self.performer, self._tail
+        self._tail = _join(before, fresh, keep=2) if before is not None else _part(fresh, max(len(fresh) - 2, 0),
+                                                                                   len(fresh))
+        for j, stick in enumerate(performer.sticks):
+            t, theta, omega = fresh.t, fresh.theta[:, j], fresh.omega[:, j]
+            if before is not None:
+                t, theta, omega = (np.concatenate((a, b)) for a, b in (
+                    (before.t, t), (before.theta[:, j], theta), (before.omega[:, j], omega)))
+            if len(t) < 2:
+                continue
+            try:
+                validate(t, theta, omega, rate=performer.rate, head=performer.head, limits=performer.limits)
+            except TrajectoryError as error:
+                self.failure = f"the {stick} stick's setpoints from {fresh.t[0]:.6g} s failed validation: {error}"
+                self.problem(self.failure + " (a bug: please report it with the session's record)")
+                raise LiveError(self.failure) from None
+
+    def _time(self, t, now):
+        """Count how late each setpoint was sent (µs bins)."""
+        late = np.clip(np.round((now - t) * 1e6), 0, len(self._lateness) - 1).astype(np.int64)
+        np.add.at(self._lateness, late, 1)
+        self._latest = max(self._latest, float(now - t[0]))
+        self.sent += len(t)
+        self.first = float(t[0]) if self.first is None else self.first
+        self.last = float(t[-1])
+
+    # --- the record ------------------------------------------------------------------------------------------------
+
+    def timing(self):
+        """How late the setpoints were sent (ms: median, p99, largest) and how long notes took to plan (ms)."""
+        counts = self._lateness
+        total = counts.sum()
+
+        def quantile(q):
+            return float(np.searchsorted(np.cumsum(counts), q * total) / 1e3) if total else None
+
+        log = list(self.performer.log)
+        planned = np.array([o.compute for o in log if o.planned]) * 1e3
+        dropped = np.array([o.compute for o in log if not o.planned]) * 1e3
+        return {"setpoints": int(total), "lateness_ms": {"median": quantile(0.5), "p99": quantile(0.99),
+                                                          "max": self._latest * 1e3 if total else None},
+                "late_over_1ms": int(counts[1001:].sum()),
+                "planning_ms": _stats(planned), "dropping_ms": _stats(dropped)}
+
+    def session(self, **extra):
+        """The session's record: the performer's options, every note and what became of it, problems, timing."""
+        p = self.performer
+        forces = p.options["forces"]
+        record = {
+            "drumstroke": __version__, "started": self.started, "clock": "s since the session started (monotonic)",
+            "model": p.model, "rate": p.rate, "latency": p.latency, "guard": p.guard, "closest": p.closest,
+            "sticks": list(p.sticks), "rest": p.rest, "cor": p.options["cor"],
+            "forces": {"low": forces.low, "high": forces.high}, "limits": p.limits.to_dict(),
+            "closed": p.closed, "done": p.done if p.closed is not None else None, "failure": self.failure,
+            "sent": {"count": self.sent, "first": self.first, "last": self.last},
+            "notes": [o.to_dict() for o in list(p.log)],
+            "problems": self.problems, "problem_count": self.problem_count, "timing": self.timing()}
+        record.update(extra)
+        return record
+
+
+def _stats(values):
+    if not len(values):
+        return None
+    return {"median": float(np.median(values)), "p99": float(np.percentile(values, 99)), "max": float(values.max())}
+
+
+def _part(chunk, first, last):
+    return Chunk(chunk.t[first:last], chunk.theta[first:last], chunk.omega[first:last], chunk.alpha[first:last],
+                 chunk.sticks)
+
+
+def _join(a, b, keep=None):
+    joined = Chunk(*(np.concatenate((getattr(a, name), getattr(b, name))) for name in ("t", "theta", "omega", "alpha")),
+                   a.sticks)
+    return joined if keep is None else _part(joined, max(len(joined) - keep, 0), len(joined))
+
+
+def _sleep_until(clock, t, spin):
+    """Wait until ``t`` on the clock: a manual clock is set there; a system clock sleeps, then spins the last ``spin`` s."""
+    if isinstance(clock, ManualClock):
+        clock.set(max(t, clock.now()))
+        return
+    while True:
+        left = t - clock.now()
+        if left <= 0.0:
+            return
+        if left > spin:
+            time.sleep(left - spin)
+        # else spin: the interpreter still hands a waiting thread the GIL every switch interval, while a sleep,
+        # even of 0 s, may give the core to another process for a whole time slice
+
+
+
+def replay_session(session, *, until=None):
+    """The setpoints of a session, computed again offline from its record (a dict, or the path of its JSON).
+
+    Parameters
+    ----------
+    session : dict or str or Path
+        :meth:`Runtime.session`'s record, or the file ``drumstroke live --log`` wrote.
+    until : float, optional
+        s on the session's clock; default the last setpoint it sent.
+
+    Returns
+    -------
+    Chunk
+        From the session's first setpoint (t = 0), exactly as it sent them.
+    """
+    from ..design import ForceRange
+    from ..formats.json import read_json
+    from ..palette.motion import Limits
+    from .performer import LiveNote, Outcome, Performer
+
+    where = "session record"
+    if not isinstance(session, dict):
+        where = f"session record {str(session)!r}"
+        session = read_json(session, "session record")
+    try:
+        check_keys = ("sticks", "model", "rate", "latency", "guard", "closest", "rest", "cor", "forces", "limits",
+                      "notes", "closed", "sent")
+        missing = [key for key in check_keys if key not in session]
+        if missing:
+            raise DrumstrokeError(f"it has no {', '.join(missing)}")
+        forces = session["forces"]
+        options = {"sticks": tuple(session["sticks"]), "model": session["model"], "rate": session["rate"],
+                   "latency": session["latency"], "guard": session["guard"], "closest": session["closest"],
+                   "rest": session["rest"], "cor": session["cor"],
+                   "forces": ForceRange(forces["low"], forces["high"]), "limits": Limits.from_dict(session["limits"])}
+        log = []
+        for i, row in enumerate(session["notes"]):
+            if not isinstance(row, dict) or not isinstance(row.get("planned"), bool):
+                raise DrumstrokeError(f"notes[{i}] must be a note's record, got {row!r}")
+            if row["planned"]:
+                note = LiveNote(float(row["arrived"]), row["stick"], float(row["velocity"]), float(row["at"]),
+                                row["stroke"], None if row["duration"] is None else float(row["duration"]),
+                                float(row["cut"]))
+                log.append(Outcome(note, True))
+        closed = session["closed"]
+        end = session["sent"]["last"] if until is None else until
+        if end is None:
+            raise DrumstrokeError("it sent no setpoint: give until")
+        return Performer.replay(log, until=float(end), closed=None if closed is None else float(closed), **options)
+    except (KeyError, TypeError, ValueError, AttributeError, DrumstrokeError) as error:
+        raise DrumstrokeError(f"{where} is not a drumstroke live session's: {error}") from None

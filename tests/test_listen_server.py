@@ -1,0 +1,297 @@
+"""The listening-test server against hostile connections, over raw sockets: lying lengths, trickles, caps, timeouts.
+
+Each test starts the real server (uvicorn in a thread, as ``listen serve`` runs it) on a free loopback
+port, with short timeouts where a test waits for one. Loopback has many addresses (127.0.0.0/8), so a
+test can be several clients at once. The figures the docs quote are measured here.
+"""
+
+import re
+import selectors
+import socket
+import threading
+import time
+import urllib.parse
+
+import pytest
+
+from _listen import Client, start_test
+from drumstroke.evaluation.app import plan
+from drumstroke.evaluation.pages import SECURITY_HEADERS
+
+TOKEN = "raw-socket-test-token-0123"
+PAIRS = 3
+
+
+@pytest.fixture()
+def served(tmp_path):
+    server, config, store = start_test(tmp_path, pairs=PAIRS, token=TOKEN, seed=3,
+                                       limits="head_timeout = 1.0\nbody_timeout = 1.0")
+    yield server, config, store, tmp_path
+    server.stop()
+
+
+def address(server):
+    parts = urllib.parse.urlsplit(server.url)
+    return parts.hostname, parts.port
+
+
+def exchange(server, data, *, wait=5.0, source="127.0.0.1"):
+    """Send ``data`` on a new connection and read until the server closes it: (what came back, seconds, closed)."""
+    with socket.create_connection(address(server), timeout=wait, source_address=(source, 0)) as connection:
+        began = time.monotonic()
+        connection.sendall(data)
+        chunks, closed = [], True
+        try:
+            while chunk := connection.recv(65536):
+                chunks.append(chunk)
+        except TimeoutError:
+            closed = False
+        except ConnectionResetError:
+            pass
+        return b"".join(chunks), time.monotonic() - began, closed
+
+
+def statuses(reply):
+    return [int(code) for code in re.findall(rb"^HTTP/1\.1 (\d{3}) ", reply, re.MULTILINE)]
+
+
+def headers_of(reply):
+    head = reply.split(b"\r\n\r\n", 1)[0].decode("latin-1").split("\r\n")[1:]
+    return {name.lower(): value for name, _, value in (line.partition(": ") for line in head)}
+
+
+def ready(server):
+    """A participant who has played both stimuli of pair 0: (participant, their form token)."""
+    client = Client(server.url)
+    participant = client.start()
+    for side in ("A", "B"):
+        form = {"side": side, "csrf": client.tokens[participant]}
+        assert client.post(f"/p/{participant}/pair/0/played", form).status == 204
+    return participant, client.tokens[participant]
+
+
+def test_lying_negative_and_oversized_content_lengths_are_answered_and_store_nothing(served):
+    server, _, store, _ = served
+    participant, token = ready(server)
+    form = f"answer=A&confidence=3&similarity=4&csrf={token}".encode()
+    head = (f"POST /p/{participant}/pair/0/answer HTTP/1.1\r\nHost: {server.url[7:-1]}\r\n"
+            "Content-Type: application/x-www-form-urlencoded\r\n").encode()
+    chunk = b"a" * 5000
+    cases = {  # what is sent after the head's first lines: the statuses answered, in order
+        "a negative length": (b"Content-Length: -1\r\n\r\n" + form, [400]),
+        "a length that is not a number": (b"Content-Length: 12abc\r\n\r\n" + form, [400]),
+        "a length of 5,000 digits": (b"Content-Length: " + b"9" * 5000 + b"\r\n\r\n" + form, [400]),
+        "a length over the limit, no body sent": (b"Content-Length: 1000000000\r\n\r\n", [413]),
+        "a length longer than the body": (b"Content-Length: %d\r\n\r\n" % (len(form) + 20) + form, [408]),
+        "a body that never arrives": (b"Content-Length: 100\r\n\r\n", [408]),
+        # the body read is cut inside the token (refused); the rest is the start of a head that never ends
+        "a length shorter than the body": (b"Content-Length: %d\r\n\r\n" % (len(form) - 5) + form, [403, 408]),
+        "chunks over the limit": (b"Transfer-Encoding: chunked\r\n\r\n%x\r\n" % len(chunk) + chunk + b"\r\n0\r\n\r\n",
+                                  [413]),
+        "both Content-Length and Transfer-Encoding": (b"Content-Length: 5\r\nTransfer-Encoding: chunked\r\n\r\n"
+                                                      b"%x\r\n" % len(form) + form + b"\r\n0\r\n\r\n", [400]),
+    }
+    for case, (rest, expected) in cases.items():
+        reply, seconds, closed = exchange(server, head + rest)
+        assert statuses(reply) == expected and closed, (case, reply[:300])
+        assert seconds < 1.0 + 1.0 + 1.0, (case, seconds)  # the body and head timeouts are 1 s each
+        for name, value in SECURITY_HEADERS:
+            assert headers_of(reply)[name.lower()] == value, (case, name)
+    assert store.rows() == []
+    quick = exchange(server, head + b"Content-Length: 1000000000\r\n\r\n")
+    assert b"at most 4096 bytes" in quick[0] and quick[1] < 0.5  # refused by its length, before any body
+    assert b"not valid HTTP/1.1" in exchange(server, head + b"Content-Length: -1\r\n\r\n")[0]
+    assert b"did not arrive whole within 1 s" in exchange(server, head + b"Content-Length: 100\r\n\r\n")[0]
+    reply, _, _ = exchange(server, head + b"Content-Length: %d\r\nConnection: close\r\n\r\n" % len(form) + form)
+    assert statuses(reply) == [303] and len(store.rows()) == 1  # the same form, told truly: stored
+
+
+def test_a_head_that_trickles_in_is_cut_at_the_head_timeout_and_an_idle_connection_closed(served):
+    server, _, _, _ = served
+    with socket.create_connection(address(server)) as connection:
+        began = time.monotonic()
+        connection.sendall(b"GET / HTTP/1.1\r\nHost: x\r\nX-Slow: ")
+        connection.settimeout(0.2)
+        reply, sent = b"", 0
+        while time.monotonic() - began < 5.0:
+            try:
+                chunk = connection.recv(4096)
+            except TimeoutError:
+                connection.send(b"a")  # a byte every 0.2 s: it does not put the deadline off
+                sent += 1
+                continue
+            if not chunk:
+                break
+            reply += chunk
+        lasted = time.monotonic() - began
+    assert statuses(reply) == [408] and b"did not arrive within 1 s" in reply
+    assert 0.9 < lasted < 2.5 and sent >= 4
+    reply, lasted, closed = exchange(server, b"")  # nothing sent: closed without a word
+    assert reply == b"" and closed and 0.9 < lasted < 2.5
+
+
+def test_malformed_heads_are_answered_400_with_a_message(served):
+    server, _, _, _ = served
+    for head in (b"GET /p/\xb2/pair/0 HTTP/1.1\r\nHost: x\r\n\r\n",  # a raw byte in the path
+                 b"GET / HTTP/1.1\r\nHost: x\r\nX-Big: " + b"a" * 17000,  # 16 KiB and the head not over
+                 b"GET / HTTP/1.1\r\nHost: x\r\nBad Header\r\n\r\n",
+                 b"NOT HTTP AT ALL\r\n\r\n"):
+        reply, seconds, closed = exchange(server, head)
+        assert statuses(reply) == [400] and b"not valid HTTP/1.1" in reply and closed and seconds < 0.5, reply
+        assert headers_of(reply)["x-content-type-options"] == "nosniff"
+    # a whole head over 16 KiB, come at once
+    reply, seconds, closed = exchange(server, b"GET / HTTP/1.1\r\nHost: x\r\nX-Big: " + b"a" * 17000 + b"\r\n\r\n")
+    assert statuses(reply) == [431] and b"at most 16384 bytes" in reply and closed and seconds < 0.5, reply
+
+
+def test_a_client_that_stops_reading_a_response_is_dropped(served):
+    server, config, _, folder = served
+    participant, _ = ready(server)
+    size = 32 << 20
+    for side in ("human", "robot"):  # a stimulus far larger than the socket buffers
+        (folder / f"{side}-{config.pairs[0].id[1:]}.wav").write_bytes(bytes(size))
+    position = [pair for pair, _ in plan(config, participant)].index("p0")
+    with socket.socket() as connection:
+        connection.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
+        connection.connect(address(server))
+        connection.sendall(f"GET /p/{participant}/audio/{position}/A HTTP/1.1\r\nHost: x\r\n\r\n".encode())
+        time.sleep(1.0 + 1.5)  # reading nothing for longer than body_timeout
+        connection.settimeout(5.0)
+        received = 0
+        try:  # what the kernels had buffered, then the end: the server has let the rest go
+            while chunk := connection.recv(1 << 20):
+                received += len(chunk)
+        except ConnectionResetError:
+            pass
+    assert 0 < received < size / 2
+
+
+def test_connections_over_the_caps_are_answered_503_at_once(tmp_path):
+    server, _, _ = start_test(tmp_path, pairs=1, token=TOKEN, seed=1, proxies=["127.0.0.9"],
+                              limits="connections_per_client = 5\nconnections = 20\nhead_timeout = 10.0")
+    host_port = address(server)
+
+    def connect(source):
+        return socket.create_connection(host_port, source_address=(source, 0))
+
+    def answered(connection, wait=0.3):
+        """What the server said at once (within ``wait`` s), or None: held open, waiting for a request."""
+        connection.settimeout(wait)
+        try:
+            return connection.recv(4096)
+        except TimeoutError:
+            return None
+
+    try:
+        held = [connect("127.0.0.2") for _ in range(5)]
+        sixth = connect("127.0.0.2")
+        reply = answered(sixth, wait=5.0)
+        assert statuses(reply) == [503] and b"from your address" in reply
+        assert headers_of(reply)["retry-after"] == "5" and headers_of(reply)["x-frame-options"] == "DENY"
+        held += [connect("127.0.0.9") for _ in range(10)]  # a trusted proxy's are not counted per client
+        held += [connect("127.0.0.3") for _ in range(5)]  # 20 open in all
+        reply = answered(connect("127.0.0.4"), wait=5.0)
+        assert statuses(reply) == [503] and b"too many connections are open: try again" in reply
+        assert all(answered(c, wait=0.01) is None for c in held)
+        held[7].setblocking(True)
+        held[7].sendall(b"GET / HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n")
+        assert statuses(held[7].recv(4096)) == [200]
+        for connection in held:
+            connection.close()
+        time.sleep(0.3)
+        assert Client(server.url, source="127.0.0.4").get("/").status == 200  # room again
+    finally:
+        server.stop()
+
+
+def test_a_thousand_trickling_connections_neither_stop_a_participant_nor_stay(tmp_path):
+    """1,000 connections from 5 addresses trickle a request head; a participant from a sixth does the whole test."""
+    head_timeout = 3.0
+    server, _, store = start_test(tmp_path, pairs=PAIRS, token=TOKEN, seed=5, limits=f"head_timeout = {head_timeout}")
+    try:
+        opened, trickles = {}, []
+        for i in range(1000):
+            connection = socket.create_connection(address(server), source_address=(f"127.0.0.{2 + i % 5}", 0))
+            opened[connection] = time.monotonic()
+            trickles.append(connection)
+        refused = answered_at_once(trickles)  # the caps (100 per client by default) answer the others at once
+        held = [connection for connection in trickles if connection not in refused]
+        for connection in held:
+            connection.send(b"GET / HTTP/1.1\r\nHost: x\r\nX-Slow: ")
+        result = {}
+        trickler = threading.Thread(target=lambda: result.update(trickle(held, time.monotonic() + 10.0)))
+        trickler.start()
+
+        began = time.monotonic()
+        client = Client(server.url, source="127.0.0.1")
+        participant = client.start()
+        for k in range(PAIRS):
+            assert client.get(f"/p/{participant}/pair/{k}").status == 200
+            for side in ("A", "B"):
+                assert client.get(f"/p/{participant}/audio/{k}/{side}").status == 200
+            assert client.play_and_answer(participant, k, "A", 3, 3)[0].status == 303
+        assert client.get(f"/p/{participant}/done").status == 200
+        finished = time.monotonic()
+        trickler.join()
+
+        assert len(refused) == 500
+        assert all(statuses(r) == [503] and b"from your address" in r for r in refused.values())
+        assert finished - began < 5.0 and len(store.rows()) == PAIRS
+        closed, replies, sent = result["closed"], result["replies"], result["sent"]
+        assert len(closed) == len(held) == 500 and all(statuses(replies[c]) == [408] for c in held)
+        lifetimes = [closed[c] - opened[c] for c in held]
+        assert min(closed.values()) > finished  # all 500 were open while the participant took the test
+        assert head_timeout - 0.1 < min(lifetimes) and max(lifetimes) < head_timeout + 1.5
+        assert min(sent[c] for c in held) >= 5  # each kept trickling, a byte every 0.25 s, to the end
+    finally:
+        for connection in trickles:
+            connection.close()
+        server.stop()
+
+
+def answered_at_once(connections, quiet=0.5):
+    """{connection: what the server sent} for those it answered, once none has answered for ``quiet`` s."""
+    for connection in connections:
+        connection.setblocking(False)
+    replies, last = {}, time.monotonic()
+    while time.monotonic() - last < quiet:
+        for connection in connections:
+            if connection not in replies:
+                try:
+                    replies[connection] = connection.recv(4096)
+                    last = time.monotonic()
+                except BlockingIOError:
+                    pass
+        time.sleep(0.05)
+    return replies
+
+
+def trickle(held, deadline, interval=0.25):
+    """Send a byte on each socket every ``interval`` s until the server closes it (or ``deadline``).
+
+    Returns {"closed": {socket: when}, "replies": {socket: bytes}, "sent": {socket: bytes sent}}.
+    """
+    selector = selectors.DefaultSelector()
+    for connection in held:
+        selector.register(connection, selectors.EVENT_READ)
+    closed, replies, sent = {}, dict.fromkeys(held, b""), dict.fromkeys(held, 0)
+    next_byte = time.monotonic() + interval
+    while len(closed) < len(held) and time.monotonic() < deadline:
+        for key, _ in selector.select(timeout=0.02):
+            try:
+                data = key.fileobj.recv(4096)
+            except ConnectionResetError:
+                data = b""
+            replies[key.fileobj] += data
+            if not data:
+                closed[key.fileobj] = time.monotonic()
+                selector.unregister(key.fileobj)
+        if time.monotonic() >= next_byte:
+            next_byte += interval
+            for connection in held:
+                if connection not in closed and not replies[connection]:
+                    try:
+                        sent[connection] += connection.send(b"a")
+                    except OSError:
+                        pass
+    return {"closed": closed, "replies": replies, "sent": sent}
