@@ -30,6 +30,7 @@ import json
 import math
 import os
 import platform
+import re
 import shutil
 import socket
 import subprocess
@@ -764,6 +765,12 @@ def run_in_process(argv, *, timeout=TIMEOUT):
     return result.get("status"), err.getvalue(), time.perf_counter() - start
 
 
+def console_script():
+    """The command that runs the ``drumstroke`` console script (``python -m drumstroke`` if it is not installed)."""
+    executable = shutil.which("drumstroke")
+    return [executable] if executable else [sys.executable, "-m", "drumstroke"]
+
+
 def run_command(argv, *, timeout=TIMEOUT, limits=()):
     """The ``drumstroke`` console script (this drumstroke's) running ARGV in a subprocess under ``limits``.
 
@@ -771,8 +778,6 @@ def run_command(argv, *, timeout=TIMEOUT, limits=()):
     """
     import resource
 
-    executable = shutil.which("drumstroke")
-    command = [executable] if executable else [sys.executable, "-m", "drumstroke"]
     source = str(Path(drumstroke.__file__).resolve().parent.parent)  # the code under test, not another install
     env = {**os.environ, "PYTHONPATH": os.pathsep.join(filter(None, (source, os.environ.get("PYTHONPATH"))))}
 
@@ -782,7 +787,7 @@ def run_command(argv, *, timeout=TIMEOUT, limits=()):
 
     start = time.perf_counter()
     try:
-        done = subprocess.run([*command, *argv], capture_output=True, text=True, timeout=timeout, check=False,
+        done = subprocess.run([*console_script(), *argv], capture_output=True, text=True, timeout=timeout, check=False,
                               stdin=subprocess.DEVNULL, env=env, preexec_fn=limited if limits else None)
     except subprocess.TimeoutExpired as expired:
         stderr = expired.stderr or b""
@@ -800,6 +805,8 @@ def verdict(status, stderr, seconds, needles):
         return f"exit status {status}, not 2"
     if "Traceback" in stderr or len(lines) != 1:
         return f"{len(lines)} lines on stderr, not one: {stderr[-500:]!r}"
+    if re.search(r"\.tmp\b", lines[0]):
+        return f"the error names a temporary file: {lines[0][:300]!r}"
     missing = [n for n in needles if n not in lines[0]]
     if missing:
         return f"the error does not name {missing[0][:80]!r}: {lines[0][:300]!r}"
