@@ -32,7 +32,7 @@ _COMMANDS = (simulate.add_simulate, library.add_library, compose.add_compose, de
              listen.add_listen, live.add_live, robot.add_robot, demo.add_demo)
 """Each command's registration, in the order ``drumstroke --help`` lists them."""
 
-REPORT = "drumstroke's issue tracker (the project's issues)"
+REPORT = "the drumstroke project's issue tracker"
 """Where a bug is to be reported, as the message of an unexpected error says."""
 
 
