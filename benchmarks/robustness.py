@@ -714,6 +714,22 @@ def _hostile():
             [*serve[:-1], "--db", "{folder}/a.db"], "{folder}/test.toml", "seed")),
     ]
 
+    def stimulus(make, named="{folder}/robot.wav"):
+        def made(folder):
+            _listening_test(folder / "test.toml")
+            (folder / "robot.wav").unlink()
+            make(folder / "robot.wav")
+            return [a.format(folder=folder) for a in [*serve, "{folder}/a.db"]], ["pair[0].robot", named.format(folder=folder)]
+        return made
+
+    cases += [
+        Hostile("listening-config/stimulus-fifo", stimulus(os.mkfifo), blocking=True),
+        Hostile("listening-config/stimulus-dev-zero", stimulus(lambda p: os.symlink("/dev/zero", p),
+                                                                          named="/dev/zero"), blocking=True),
+        Hostile("listening-config/stimulus-directory", stimulus(os.mkdir)),
+        Hostile("listening-config/stimulus-missing", stimulus(lambda p: None)),
+    ]
+
     # playing live: its score and robot config are read before anything starts
     cases += [
         Hostile("live/--score-midi-tempo-0", lambda f: (["live", "--score", str(_midi(f / "s.mid", tempo=0)), "--csv"],

@@ -31,7 +31,7 @@ from drumstroke.errors import ParameterError
 from drumstroke.solver import taylor
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-import robustness  # noqa: E402 - the campaign, shared with the benchmark
+import robustness  # the campaign, shared with the benchmark
 
 RECIPES = 10_000
 """Random valid recipes from the seeded generator."""

@@ -48,8 +48,9 @@ def main(argv=None):
     name, args = "drumstroke", None
     try:
         args = parser.parse_args(argv)
-        if getattr(args, "command", None):
-            name = f"drumstroke {args.command}"
+        if getattr(args, "command", None):  # named as argparse names it: with the action of a command group
+            action = getattr(args, f"{args.command}_command", None)
+            name = " ".join(filter(None, ("drumstroke", args.command, action)))
         if not hasattr(args, "run"):
             parser.print_help()
             return 2
@@ -57,7 +58,7 @@ def main(argv=None):
         return args.run(args) or 0
     except SystemExit as stop:  # --help, --version, or a bad option: argparse has said so
         return stop.code
-    except BaseException as error:  # the one place every error ends
+    except BaseException as error:  # noqa: BLE001 - the one place every error ends
         if args is not None and args.debug or args is None and "--debug" in argv:
             traceback.print_exc(file=sys.stderr)
         return _failed(error, name, args)
