@@ -226,7 +226,7 @@ def _complete(record):
         data = json.loads(Path(record).read_text())
         records = [Path(r) for r in data["records"]]
         files = [(Path(f["path"]), Path(f["staged"])) for f in data["files"]]
-    except (OSError, UnicodeDecodeError, ValueError, KeyError, TypeError):
+    except (OSError, UnicodeDecodeError, ValueError, KeyError, TypeError, RecursionError):
         remove(record)  # cut short by the kill: its run never committed, and its staged files are debris
         return
     writer = _writer_of(_TEMPORARY.fullmatch(Path(record).name))

@@ -2,7 +2,13 @@
 
 Each check raises :class:`~drumstroke.errors.ParameterError` with a message that
 names the parameter, the value and the allowed range, and returns the value as
-a float so callers can write ``x = check_real("x", x)``.
+a float so callers can write ``x = check_real("x", x)``. A value too long to show
+(an integer of 400 digits, a long text) is shown by its length:
+
+>>> check_real("t_end", 10**400, low=1e-6, high=3600.0, unit="s")
+Traceback (most recent call last):
+...
+drumstroke.errors.ParameterError: t_end must be in [1e-06, 3600] s, got an integer of 401 digits
 """
 
 import math
@@ -17,17 +23,21 @@ def check_real(name, value, *, low=-math.inf, high=math.inf, low_open=False, hig
     """Return ``value`` as a finite float within [low, high] (ends open on request)."""
     if isinstance(value, bool) or not isinstance(value, Real):
         allowed = _range_text(low, high, low_open, high_open, unit)
-        raise ParameterError(f"{name} must be a number in {allowed}, got {value!r}")
-    value = float(value)
-    if not math.isfinite(value):
+        raise ParameterError(f"{name} must be a number in {allowed}, got {shown(value)}")
+    try:
+        number = float(value)
+    except OverflowError:  # an integer beyond any float: out of every range
+        raise ParameterError(f"{name} must be in {_range_text(low, high, low_open, high_open, unit)}, "
+                             f"got {shown(value)}") from None
+    if not math.isfinite(number):
         allowed = _range_text(low, high, low_open, high_open, unit)
-        raise ParameterError(f"{name} must be a finite number in {allowed}, got {value!r}")
-    too_low = value <= low if low_open else value < low
-    too_high = value >= high if high_open else value > high
+        raise ParameterError(f"{name} must be a finite number in {allowed}, got {number!r}")
+    too_low = number <= low if low_open else number < low
+    too_high = number >= high if high_open else number > high
     if too_low or too_high:
         allowed = _range_text(low, high, low_open, high_open, unit)
-        raise ParameterError(f"{name} must be in {allowed}, got {value!r}")
-    return value
+        raise ParameterError(f"{name} must be in {allowed}, got {shown(value) if _is_long(value) else repr(number)}")
+    return number
 
 
 def check_vector(name, values, *, low=-math.inf, high=math.inf, unit=""):
@@ -45,8 +55,8 @@ def as_vector(name, values):
     """Return ``values`` as a 1-D float array (any values), or raise naming ``name``."""
     try:
         vector = np.asarray(values, dtype=float)
-    except (TypeError, ValueError):
-        raise ParameterError(f"{name} must be a 1-D array of numbers, got {values!r}") from None
+    except (TypeError, ValueError, OverflowError):
+        raise ParameterError(f"{name} must be a 1-D array of numbers, got {shown(values)}") from None
     if vector.ndim != 1:
         raise ParameterError(f"{name} must be a 1-D array of numbers, got shape {vector.shape}")
     return vector
@@ -57,7 +67,7 @@ def check_int(name, value, *, low, high=None, unit=""):
     allowed = f"[{low}, {high}]" if high is not None else f"[{low}, inf)"
     allowed = f"{allowed} {unit}" if unit else allowed
     if isinstance(value, bool) or not isinstance(value, Integral) or value < low or (high is not None and value > high):
-        raise ParameterError(f"{name} must be an integer in {allowed}, got {value!r}")
+        raise ParameterError(f"{name} must be an integer in {allowed}, got {shown(value)}")
     return int(value)
 
 
@@ -65,7 +75,7 @@ def check_choice(name, value, choices):
     """Return ``value`` if it is one of ``choices``."""
     if value not in choices:
         listed = ", ".join(repr(c) for c in choices)
-        raise ParameterError(f"{name} must be one of {listed}, got {value!r}")
+        raise ParameterError(f"{name} must be one of {listed}, got {shown(value)}")
     return value
 
 
@@ -74,6 +84,31 @@ def check_keys(name, table, allowed):
     unknown = sorted(set(table) - set(allowed))
     if unknown:
         raise ParameterError(f"{name} has unknown key {unknown[0]!r}; allowed keys: {', '.join(allowed)}")
+
+
+def shown(value, *, most=80):
+    """``repr(value)`` for a message, or its length when that is long: an integer's digits, a text's characters."""
+    if isinstance(value, Integral) and not isinstance(value, bool) and _is_long(value):
+        return f"an integer of {digits(int(value))} digits"
+    if isinstance(value, str) and len(value) > most:
+        return f"{value[:most // 2]!r}... ({len(value)} characters)"
+    try:
+        text = repr(value)
+    except ValueError:  # it holds an integer too long to convert to text
+        return f"a {type(value).__name__} holding an integer of over 4300 digits"
+    return text if len(text) <= most else f"{text[:most]}... ({len(text)} characters)"
+
+
+def digits(integer):
+    """How many decimal digits ``integer`` has (exact up to 4000 digits, which Python converts to text; then estimated)."""
+    if integer.bit_length() <= 13_000:
+        return len(str(abs(integer)))
+    return int(integer.bit_length() * math.log10(2)) + 1
+
+
+def _is_long(value):
+    """Whether ``value`` is an integer of more than 20 digits (shown by its length)."""
+    return isinstance(value, Integral) and not isinstance(value, bool) and abs(int(value)) >= 10**20
 
 
 def _range_text(low, high, low_open, high_open, unit):

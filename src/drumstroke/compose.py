@@ -44,6 +44,7 @@ from .formats.midi import TempoMap
 from .model import Stick
 from .palette.motion import RETURN_LIMITS, assemble, plan_return, return_time
 from .palette.transforms import compress, compress_limit, trim
+from .recipe import T_END_LIMIT
 from .score import PLANNED, Score, ScoreNote
 from .trajectory import DEFAULT_RATE, Trajectory
 
@@ -222,6 +223,9 @@ def compose(notes, library=None, *, rate=None, limits=None, progress=None, model
     default_rate = library.rate if library is not None else DEFAULT_RATE
     rate = default_rate if rate is None else check_real("rate", rate, low=1.0, high=1e5, unit="Hz")
     notes.sort(key=lambda n: n.time)
+    if notes[-1].time > T_END_LIMIT:  # found before any work: a song too long to compose fails at once
+        raise ParameterError(f"{notes[-1].source or 'note'}: time must be at most {T_END_LIMIT:g} s (a composition "
+                             f"lasts at most an hour), got {notes[-1].time:.6g} s")
     notes = _with_sticks(notes, sticks)
     problems = []
     variants = {}

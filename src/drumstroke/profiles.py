@@ -14,7 +14,8 @@ Kinds (values in m/s², times in s):
                       ``phase`` + k·``period``.
 ``samples``           a recorded signal, a CSV file of ``t,value`` rows, linear
                       between samples and constant beyond them.
-``sum``               the sum of other profiles.
+``sum``               the sum of other profiles (sums nest at most :data:`MAX_SUM_DEPTH` deep;
+                      ``a + b + c`` is one sum of three parts).
 
 A recipe's table names its kind (``kind = "pulses"``); :func:`profile_from_dict`
 finds the class registered under that name and builds it with the class's
@@ -97,7 +98,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ._checks import check_keys, check_real
+from ._checks import check_keys, check_real, shown
 from .errors import ParameterError
 from .formats.signal_csv import read_signal
 
@@ -109,6 +110,9 @@ MIN_SPACING = 1e-9
 
 MAX_PIECES = 200_000
 """Most pieces a profile may have before t_end (pulse edges, samples, breakpoints)."""
+
+MAX_SUM_DEPTH = 16
+"""Most sums a sum may hold one inside another (the profile a sum of sums of … of sums)."""
 
 
 @dataclass(frozen=True)
@@ -273,9 +277,14 @@ class Profile:
         raise NotImplementedError
 
     def __add__(self, other):
+        """The sum of two profiles, one :class:`Sum` of the terms of both (a sum's parts are its terms)."""
         if not isinstance(other, Profile):
             return NotImplemented
-        return Sum([self, other])
+        return Sum([*_terms(self), *_terms(other)])
+
+
+def _terms(profile):
+    return profile.parts if isinstance(profile, Sum) else (profile,)
 
 
 def _register(cls):
@@ -494,18 +503,29 @@ class Sum(Profile):
     Parameters
     ----------
     parts : sequence of Profile
-        At least one.
+        At least one; sums among them nest at most :data:`MAX_SUM_DEPTH` deep in all.
+
+    Attributes
+    ----------
+    depth : int
+        How deeply sums nest in this one: 1 when no part is a sum.
     """
 
     parts: tuple
     kind = "sum"
-    parameters = (Parameter("parts", description="the profiles' tables, each with its own kind; at least one"),)
+    parameters = (Parameter("parts", description="the profiles' tables, each with its own kind; at least one; "
+                                                 f"sums nest at most {MAX_SUM_DEPTH} deep"),)
+    depth: int = field(init=False, repr=False, compare=False)
 
     def __post_init__(self):
         parts = tuple(self.parts) if isinstance(self.parts, (list, tuple)) else None
         if not parts or not all(isinstance(p, Profile) for p in parts):
-            raise ParameterError(f"sum.parts must be a non-empty list of profiles, got {self.parts!r}")
+            raise ParameterError(f"sum.parts must be a non-empty list of profiles, got {shown(self.parts)}")
+        depth = 1 + max((part.depth for part in parts if isinstance(part, Sum)), default=0)
+        if depth > MAX_SUM_DEPTH:
+            raise ParameterError(f"sum.parts must nest sums at most {MAX_SUM_DEPTH} deep, got sums {depth} deep")
         object.__setattr__(self, "parts", parts)
+        object.__setattr__(self, "depth", depth)
 
     def __call__(self, t):
         return sum(part(t) for part in self.parts)
@@ -548,13 +568,27 @@ def profile_from_dict(spec, *, name="force", base_dir=None):
         An instance of the class registered under ``kind``.
     """
     if not isinstance(spec, dict):
-        raise ParameterError(f"{name} must be a table with a 'kind' key, got {spec!r}")
+        raise ParameterError(f"{name} must be a table with a 'kind' key, got {shown(spec)}")
+    depth = _sum_depth(spec)
+    if depth > MAX_SUM_DEPTH:
+        raise ParameterError(f"{name} must nest sums at most {MAX_SUM_DEPTH} deep, got sums {depth} deep")
     table = dict(spec)
     kind = table.pop("kind", None)
     if not isinstance(kind, str) or kind not in _REGISTRY:
         raise ParameterError(f"{name}.kind must be one of {', '.join(map(repr, _REGISTRY))}, got {kind!r}")
     with named(name, kind):
         return _REGISTRY[kind].from_table(table, name=name, base_dir=base_dir)
+
+
+def _sum_depth(spec):
+    """How deeply sums nest in a profile table (0: not a sum), counted without recursion."""
+    deepest, tables = 0, [(spec, 1)]
+    while tables:
+        table, depth = tables.pop()
+        if isinstance(table, dict) and table.get("kind") == "sum" and isinstance(table.get("parts"), list):
+            deepest = max(deepest, depth)
+            tables.extend((part, depth + 1) for part in table["parts"])
+    return deepest
 
 
 @contextmanager

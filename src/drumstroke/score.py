@@ -49,7 +49,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import NamedTuple
 
-from ._checks import check_int, check_keys, check_real
+from ._checks import check_int, check_keys, check_real, shown
 from .errors import ParameterError
 from .formats.midi import PERCUSSION_CHANNEL, TempoMap
 from .formats.pattern import parse_pattern as pattern_rows
@@ -314,7 +314,7 @@ def read_mapping(path):
     mapping = {}
     for key, value in table.items():
         if not re.fullmatch(r"\d{1,3}", key) or int(key) > 127:
-            raise ParameterError(f"mapping notes: key must be a MIDI note number 0-127, got {key!r}")
+            raise ParameterError(f"mapping notes: key must be a MIDI note number 0-127, got {shown(key)}")
         if isinstance(value, str):
             value = {"stroke": value}
         if not isinstance(value, dict):

@@ -6,10 +6,21 @@ One module per command group registers its sub-commands and runs them: :mod:`.si
 :mod:`.compare` and :mod:`.demo`. Every option is checked before any work
 (:mod:`._options`): bad input ends with exit status 2 and one line naming the option, the value
 and what is allowed, and nothing written.
+
+:func:`main` is the one error path: whatever a command meets from a user's input (a
+ParameterError, an OSError naming the user's path, text that is not UTF-8, a number, a nesting
+or a file too large, a file that is not a database) ends in one line on stderr and exit status
+2; anything else is a bug, reported in one line that says where to report it and names the
+log file holding its traceback, with exit status 1. ``drumstroke --debug COMMAND ...`` prints
+the traceback of any error as well.
 """
 
 import os
+import re
+import sqlite3
 import sys
+import tempfile
+import traceback
 
 from .. import __version__
 from ..errors import DrumstrokeError
@@ -23,44 +34,103 @@ _COMMANDS = (simulate.add_simulate, library.add_library, compose.add_compose, de
              fit.add_fit, compare.add_compare, demo.add_demo)
 """Each command's registration, in the order ``drumstroke --help`` lists them."""
 
+REPORT = "the drumstroke project's issue tracker"
+"""Where a bug is to be reported, as the message of an unexpected error says."""
+
 
 def main(argv=None):
-    """Run the command line with ``argv`` (default: ``sys.argv[1:]``); return the exit status."""
+    """Run the command line with ``argv`` (default: ``sys.argv[1:]``); return the exit status.
+
+    0 when the command succeeded; 2 for bad input (one line on stderr); 1 for a missing
+    optional dependency or a bug (one line; a bug's traceback in a log file it names); 130
+    when interrupted; 141 when the output pipe closed.
+    """
+    argv = sys.argv[1:] if argv is None else list(argv)
     parser = build_parser()
+    name, args = "drumstroke", None
     try:
         args = parser.parse_args(argv)
-    except SystemExit as stop:  # --help, --version, or a bad option: argparse has said so
-        return stop.code
-    if not hasattr(args, "run"):
-        parser.print_help()
-        return 2
-    try:
+        if getattr(args, "command", None):  # named as argparse names it: with the action of a command group
+            action = getattr(args, f"{args.command}_command", None)
+            name = " ".join(filter(None, ("drumstroke", args.command, action)))
+        if not hasattr(args, "run"):
+            parser.print_help()
+            return 2
         check_outputs(args)
         return args.run(args) or 0
-    except DrumstrokeError as error:
-        print(f"drumstroke {args.command}: error: {error}", file=sys.stderr)
-        return 2
-    except BrokenPipeError:  # e.g. piped into head: stop quietly, as other tools do
+    except SystemExit as stop:  # --help, --version, or a bad option: argparse has said so
+        return stop.code
+    except BaseException as error:  # noqa: BLE001 - the one place every error ends
+        if args is not None and args.debug or args is None and "--debug" in argv:
+            traceback.print_exc(file=sys.stderr)
+        return _failed(error, name, args)
+
+
+def _failed(error, name, args):
+    """Say what went wrong in one line on stderr; return the exit status."""
+    if isinstance(error, KeyboardInterrupt):
+        print(f"{name}: interrupted", file=sys.stderr)
+        return 130
+    if isinstance(error, BrokenPipeError):  # e.g. piped into head: stop quietly, as other tools do
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 141
-    except OSError as error:
-        option = output_option(args, error.filename) if error.filename else None
-        where = f" {option}: cannot write {error.filename!r}:" if option else (
-            f" {error.filename!r}:" if error.filename else "")
-        print(f"drumstroke {args.command}: error:{where} {error.strerror or error}", file=sys.stderr)
-        return 2
-    except ImportError as error:
-        print(f"drumstroke {args.command}: error: {error}", file=sys.stderr)
+    if isinstance(error, ImportError):  # an optional dependency missing: the message names its extra
+        print(f"{name}: error: {error}", file=sys.stderr)
         return 1
-    except KeyboardInterrupt:
-        print(f"drumstroke {args.command}: interrupted", file=sys.stderr)
-        return 130
+    reason = _input_error(error, args)
+    if reason is None:
+        print(f"{name}: internal error: {type(error).__name__}: {_one_line(error)}; this is a bug in drumstroke: "
+              f"please report it to {REPORT}, {_logged(error, name)}", file=sys.stderr)
+        return 1
+    print(f"{name}: error: {reason}", file=sys.stderr)
+    return 2
+
+
+def _input_error(error, args):
+    """The one line to say for an error a user's input can cause, or None for a bug."""
+    if isinstance(error, DrumstrokeError):
+        return _one_line(error)
+    if isinstance(error, OSError):
+        option = output_option(args, error.filename) if error.filename and args is not None else None
+        where = f"{option}: cannot write {error.filename!r}: " if option else (
+            f"{error.filename!r}: " if error.filename else "")
+        return f"{where}{error.strerror or _one_line(error)}"
+    if isinstance(error, UnicodeError):
+        return f"the input is not UTF-8 text ({_one_line(error)})"
+    if isinstance(error, sqlite3.Error):
+        database = getattr(args, "db", None)
+        return f"database {str(database)!r}: {_one_line(error)}" if database else f"database: {_one_line(error)}"
+    if isinstance(error, RecursionError):
+        return "the input nests too deeply to read"
+    if isinstance(error, MemoryError):
+        return "out of memory: the input is too large for this machine"
+    if isinstance(error, ValueError | OverflowError):
+        return f"{type(error).__name__}: {_one_line(error)}"
+    return None
+
+
+def _logged(error, name):
+    """Where the traceback of ``error`` was written (a new log file), or why it could not be."""
+    try:
+        descriptor, path = tempfile.mkstemp(prefix="drumstroke-", suffix=".log")
+        with os.fdopen(descriptor, "w") as log:
+            log.write(f"{name} (drumstroke {__version__}, Python {sys.version.split()[0]}): {sys.argv!r}\n")
+            traceback.print_exception(error, file=log)
+    except OSError as failure:
+        return f"with the traceback `drumstroke --debug ...` prints (no log file: {failure.strerror or failure})"
+    return f"with the traceback in {path}"
+
+
+def _one_line(error):
+    """The message of ``error`` on one line."""
+    return re.sub(r"\s*\n\s*", " ", str(error).strip()) or type(error).__name__
 
 
 def build_parser():
     """The ``drumstroke`` argument parser with every command (the CLI reference is generated from it)."""
     parser = Parser(prog="drumstroke", description="Drum strokes from a physical model of a bouncing stick.")
     parser.add_argument("--version", action="version", version=f"drumstroke {__version__}")
+    parser.add_argument("--debug", action="store_true", help="print the traceback of an error too")
     commands = parser.add_subparsers(dest="command", parser_class=Parser, metavar="COMMAND")
     for add in _COMMANDS:
         add(commands)

@@ -9,10 +9,12 @@ name the option, the value and what is allowed, on one line.
 import argparse
 import math
 import os
+import stat
 from pathlib import Path
 
 from .._checks import check_int, check_real
 from ..errors import ParameterError
+from ..formats.reading import check_regular
 
 
 def number(*, low=-math.inf, high=math.inf, low_open=False, high_open=False, unit=""):
@@ -27,21 +29,27 @@ def whole(*, low, high=None, unit=""):
 
 
 def existing_file(text):
-    """An argparse type: the path of a file that exists."""
-    path = Path(text)
-    if path.is_dir():
-        raise argparse.ArgumentTypeError(f"{text!r} is a directory, not a file")
-    if not path.is_file():
+    """An argparse type: the path of a regular file that exists (a directory, a FIFO or a device is refused by name)."""
+    if not os.path.exists(text):
         raise argparse.ArgumentTypeError(f"file {text!r} does not exist")
-    return path
+    try:
+        check_regular(text, "file")
+    except ParameterError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+    return Path(text)
 
 
 def existing_folder(text):
     """An argparse type: the path of a directory that exists."""
-    path = Path(text)
-    if not path.is_dir():
-        raise argparse.ArgumentTypeError(f"directory {text!r} does not exist")
-    return path
+    try:
+        mode = os.stat(text).st_mode
+    except (OSError, ValueError) as error:  # ValueError: a NUL in the name
+        missing = isinstance(error, FileNotFoundError | NotADirectoryError | ValueError)
+        reason = "does not exist" if missing else f"cannot be opened: {error.strerror or error}"
+        raise argparse.ArgumentTypeError(f"directory {text!r} {reason}") from None
+    if not stat.S_ISDIR(mode):
+        raise argparse.ArgumentTypeError(f"{text!r} is not a directory")
+    return Path(text)
 
 
 def _parsed(text, kind):

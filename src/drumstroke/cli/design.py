@@ -1,6 +1,7 @@
 """``drumstroke design`` and ``rudiment``: the thumb force that plays given notes, and the 40 PAS rudiments played."""
 
 import argparse
+import math
 import sys
 
 from .._atomic import publish
@@ -147,9 +148,13 @@ def _numbers(text):
 
 
 def _span(text):
+    """An argparse type: ``T0:T1`` in seconds, finite, with 0 <= T0 < T1."""
     start, _, end = text.partition(":")
     try:
-        return float(start), float(end)
+        t0, t1 = float(start), float(end)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"must be T0:T1 in seconds, got {text!r}") from None
+        t0 = t1 = math.nan
+    if not (0.0 <= t0 < t1 < math.inf):  # NaN fails the comparisons too
+        raise argparse.ArgumentTypeError(f"must be T0:T1 in seconds with 0 <= T0 < T1, finite, got {text!r}")
+    return t0, t1
 

@@ -43,7 +43,10 @@ def _stats(args):
         raise ParameterError(f"--summary must be MEAN_A,SD_A,MEAN_B,SD_B,N, got {args.summary!r}") from None
     if not n.is_integer():
         raise ParameterError(f"--summary's N must be a whole number of subjects, got {n:g}")
-    result = stats.from_summary(mean_a, sd_a, mean_b, sd_b, int(n), pairs=args.pairs, alpha=args.alpha)
+    try:
+        result = stats.from_summary(mean_a, sd_a, mean_b, sd_b, int(n), pairs=args.pairs, alpha=args.alpha)
+    except ParameterError as error:
+        raise ParameterError(f"--summary: {error}") from None
     data = result.to_dict()
     _print_result(args, result, data)
     _write_json(args, data)

@@ -146,8 +146,9 @@ class Config:
                 if not isinstance(name, str):
                     raise ParameterError(f"{where}.{side} must be a file path, got {name!r}")
                 file = (path.parent / name).resolve()
-                if not file.is_file():
-                    raise ParameterError(f"{where}.{side} {str(file)!r} does not exist")
+                if not file.is_file():  # a FIFO or a device would block or never end when served
+                    problem = "is not a regular file" if file.exists() else "does not exist"
+                    raise ParameterError(f"{where}.{side} {str(file)!r} {problem}")
                 files[side] = file
             pairs.append(Pair(pid, files["human"], files["robot"]))
         return cls(data.get("title", "Robot or human?"), data.get("admin_token"), data.get("seed"), tuple(pairs),

@@ -14,13 +14,17 @@ Examples
 """
 
 import json
-from pathlib import Path
+import os
 
 from .._atomic import write_atomic
 from ..errors import ParameterError
+from .reading import MAX_DEPTH, MIB, check_document, parse_int, read_text
 
 SUFFIXES = (".json",)
 """The extension of the JSON files written."""
+
+MAX_BYTES = 64 * MIB
+"""The largest JSON file read (bytes): a stroke's, a composition's or a library manifest is far smaller."""
 
 
 def write_json(path, data, *, indent=1):
@@ -33,14 +37,44 @@ def json_text(data, *, indent=1):
     return json.dumps(data, indent=indent, default=_plain) + "\n"
 
 
-def read_json(path, what):
-    """The JSON document at ``path``; a missing, unreadable or invalid file is a ParameterError naming the ``what``."""
+def read_json(path, what, *, limit=MAX_BYTES):
+    """The JSON document at ``path``, read within bounds (:mod:`.reading`).
+
+    A missing, unreadable or invalid file, one that nests deeper than
+    :data:`~drumstroke.formats.reading.MAX_DEPTH` or holds an integer beyond a float, is a
+    ParameterError naming the ``what`` and the path. ``limit`` is the most bytes it may hold.
+    """
+    where = f"{what} {str(path)!r}"
     try:
-        return json.loads(Path(path).read_text())
-    except FileNotFoundError:
-        raise ParameterError(f"{what} {str(path)!r} is missing") from None
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as error:
-        raise ParameterError(f"{what} {str(path)!r} is corrupt: {error}") from None
+        text = read_text(path, what, limit=limit)
+    except ParameterError:
+        if not _exists(path):
+            raise ParameterError(f"{where} is missing") from None
+        raise
+    data = loads(text, where)
+    check_document(data, where)
+    return data
+
+
+def loads(text, where):
+    """The JSON document in ``text`` (from ``where``, named in errors), its integers bounded (:mod:`.reading`).
+
+    Too deep a nesting, which would exhaust the stack, and invalid JSON are ParameterErrors.
+    """
+    try:
+        return json.loads(text, parse_int=parse_int)
+    except json.JSONDecodeError as error:
+        raise ParameterError(f"{where} is not readable JSON: {error}") from None
+    except RecursionError:
+        raise ParameterError(f"{where} is not readable JSON: its objects or arrays nest more than {MAX_DEPTH} levels "
+                             "deep, the most a file may") from None
+
+
+def _exists(path):
+    try:
+        return os.path.lexists(path)
+    except ValueError:  # a NUL in the name
+        return False
 
 
 def _plain(value):

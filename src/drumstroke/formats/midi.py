@@ -32,7 +32,6 @@ from bisect import bisect_right
 from dataclasses import dataclass, field
 from functools import cached_property
 from itertools import pairwise
-from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
@@ -41,9 +40,13 @@ from .._atomic import write_atomic
 from .._checks import as_vector, check_int, check_real, check_vector
 from ..dynamics import FLOOR_DB, level_to_velocity
 from ..errors import ParameterError
+from .reading import MIB, read_bytes
 
 SUFFIXES = (".mid", ".midi")
 """The extensions of the MIDI files written."""
+
+MAX_BYTES = 32 * MIB
+"""The largest MIDI file read (bytes): some four million notes."""
 
 TICKS_PER_BEAT = 1920
 """The resolution of written files (ticks per quarter note): at 120 bpm a tick is 0.26 ms, so a note is
@@ -391,12 +394,13 @@ def _meta_events(file):
 
 
 def _load(path):
-    """The mido.MidiFile at ``path``; any failure to read it is a ParameterError naming the file."""
+    """The mido.MidiFile at ``path``, read within bounds; any failure to read it is a ParameterError naming the file."""
     mido = _mido()
     from mido.midifiles.meta import KeySignatureError
 
+    data = read_bytes(path, "MIDI file", limit=MAX_BYTES)
     try:
-        return mido.MidiFile(Path(path))
+        return mido.MidiFile(file=io.BytesIO(data))
     except EOFError:
         reason = "it ends too early (truncated?)"
     except OSError as error:

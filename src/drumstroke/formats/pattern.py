@@ -16,12 +16,15 @@ meter 3/4
 """
 
 import re
-from pathlib import Path
 from typing import NamedTuple
 
 from .._atomic import write_atomic
 from .._checks import check_real
 from ..errors import ParameterError
+from .reading import MIB, read_text
+
+MAX_BYTES = 16 * MIB
+"""The largest pattern file read (bytes): some 800,000 notes."""
 
 FORMAT = """\
 A text pattern is UTF-8 text, one item a line; '#' starts a comment, and blank
@@ -82,13 +85,7 @@ class PatternRow(NamedTuple):
 
 def read_pattern_file(path):
     """The :class:`Pattern` in the file at ``path``; errors name the file and the line."""
-    path = Path(path)
-    try:
-        text = path.read_text()
-    except (OSError, UnicodeDecodeError) as error:
-        reason = error.strerror if isinstance(error, OSError) else "not a UTF-8 text file"
-        raise ParameterError(f"pattern {str(path)!r} cannot be read: {reason}") from None
-    return parse_pattern(text, name=str(path))
+    return parse_pattern(read_text(path, "pattern", limit=MAX_BYTES), name=str(path))
 
 
 def parse_pattern(text, *, name="pattern"):
@@ -145,7 +142,7 @@ def write_pattern(path, tempo, rows, meter=(4, 4)):
 
 def _number(text, where, what):
     try:
-        return float(text)
+        return float(text)  # a number too large is inf, which the range check refuses
     except ValueError:
         raise ParameterError(f"{where}: {what} must be a number, got {text!r}") from None
 

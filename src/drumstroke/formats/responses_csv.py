@@ -15,23 +15,24 @@ Examples
 
 import csv
 import io
-from pathlib import Path
 
 from .._atomic import write_atomic
 from ..errors import ParameterError
+from .reading import MIB, read_text
 
 COLUMNS = ("subject", "pair", "robot", "answer", "confidence", "similarity")
+
+MAX_BYTES = 16 * MIB
+"""The largest responses file read (bytes): some 400,000 answers."""
 
 
 def read_responses_csv(path, columns=COLUMNS):
     """The rows (lists of text) under the header ``columns`` of the CSV at ``path``; errors name the file."""
-    path = Path(path)
+    text = read_text(path, "responses", limit=MAX_BYTES, encoding="utf-8-sig")
     try:
-        with path.open(newline="") as handle:
-            rows = list(csv.reader(handle))
-    except (OSError, UnicodeDecodeError) as error:
-        reason = error.strerror if isinstance(error, OSError) else "not a UTF-8 text file"
-        raise ParameterError(f"responses {str(path)!r} cannot be read: {reason}") from None
+        rows = list(csv.reader(io.StringIO(text, newline="")))
+    except csv.Error as error:
+        raise ParameterError(f"responses {str(path)!r} is not a CSV file: {error}") from None
     if not rows or tuple(c.strip() for c in rows[0]) != tuple(columns):
         raise ParameterError(f"responses {str(path)!r} must start with the header {','.join(columns)}")
     return rows[1:]

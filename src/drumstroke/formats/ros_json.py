@@ -32,7 +32,11 @@ import numpy as np
 from .._atomic import write_atomic
 from .._checks import check_real
 from ..errors import ParameterError
-from .json import write_json
+from .json import read_json, write_json
+from .reading import MIB
+
+MAX_BYTES = 1024 * MIB
+"""The largest ROS trajectory file read (bytes): an hour of four joints at 1 kHz is some 900 MB."""
 
 NANOSECONDS = 1_000_000_000
 _MAX_SECONDS = 2**31 - 1
@@ -146,12 +150,7 @@ def read_ros_json(path):
         or a key is missing, of the wrong type or length, or not finite.
     """
     where = f"ROS trajectory file {str(path)!r}"
-    try:
-        document = json.loads(Path(path).read_text())
-    except FileNotFoundError:
-        raise ParameterError(f"{where} is missing") from None
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as error:
-        raise ParameterError(f"{where} is not readable JSON: {error}") from None
+    document = read_json(path, "ROS trajectory file", limit=MAX_BYTES)
     try:
         return _parse_trajectory(document)
     except ParameterError as error:

@@ -27,12 +27,11 @@ Examples
 'paper'
 """
 
-import json
 from pathlib import Path
 
 from .._version import __version__
 from ..errors import ParameterError
-from .json import write_json
+from .json import read_json, write_json
 
 KEY = "csv"
 """The key of a CSV's metadata in the JSON beside it."""
@@ -109,25 +108,27 @@ def write_sidecar(path, block):
 def read_sidecar(csv):
     """The metadata block of the CSV at ``csv`` from the JSON beside it, or None when there is none.
 
-    A missing JSON, one that is not JSON, and one without a ``"csv"`` table (an older
-    drumstroke's, another program's) all give None: the CSV is then read on its own.
+    A missing JSON, one that cannot be read (:func:`.json.read_json`), and one without a
+    ``"csv"`` table (an older drumstroke's, another program's) all give None: the CSV is then
+    read on its own.
     """
-    try:
-        data = json.loads(sidecar_path(csv).read_text())
-    except (OSError, UnicodeDecodeError, ValueError):
-        return None
-    block = data.get(KEY) if isinstance(data, dict) else None
-    return block if isinstance(block, dict) else None
+    return _block(sidecar_path(csv))
 
 
 def _describes(side, csv):
     """Whether the JSON ``side`` holds the metadata of the CSV ``csv`` (so writing that CSV may rewrite it)."""
+    block = _block(side)
+    return block is not None and block.get("file") == csv.name
+
+
+def _block(side):
+    """The ``"csv"`` table of the JSON at ``side``, or None (no such file, not readable JSON, no such table)."""
     try:
-        data = json.loads(side.read_text())
-    except (OSError, UnicodeDecodeError, ValueError):
-        return False
+        data = read_json(side, "metadata")
+    except ParameterError:
+        return None
     block = data.get(KEY) if isinstance(data, dict) else None
-    return isinstance(block, dict) and block.get("file") == csv.name
+    return block if isinstance(block, dict) else None
 
 
 def _same(a, b):

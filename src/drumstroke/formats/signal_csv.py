@@ -18,17 +18,18 @@ import io
 
 from .._atomic import write_atomic
 from ..errors import ParameterError
+from .reading import MIB, read_text
+
+MAX_BYTES = 64 * MIB
+"""The largest signal file read (bytes): about a million samples."""
 
 
 def read_signal(path, what):
     """The ``(t, value)`` rows of the CSV at ``path``, as floats; errors name ``what``, the file and the line."""
     where = f"{what} {str(path)!r}"
+    text = read_text(path, what, limit=MAX_BYTES, encoding="utf-8-sig")  # a byte-order mark is fine
     try:
-        with open(path, encoding="utf-8-sig", newline="") as handle:  # a byte-order mark is fine
-            lines = list(csv.reader(handle))
-    except (OSError, UnicodeDecodeError) as error:
-        reason = error.strerror if isinstance(error, OSError) else "not a UTF-8 text file"
-        raise ParameterError(f"{where} cannot be read: {reason}") from None
+        lines = list(csv.reader(io.StringIO(text, newline="")))
     except csv.Error as error:
         raise ParameterError(f"{where} is not a CSV file of 't,value' rows: {error}") from None
     rows = []

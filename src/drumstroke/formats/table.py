@@ -28,10 +28,14 @@ import numpy as np
 from .._atomic import write_atomic
 from .._version import __version__
 from ..errors import ParameterError
+from .reading import MIB, read_text
 from .sidecar import describe, sidecar_for, write_sidecar
 
 SUFFIXES = (".csv", ".parquet")
 """The extensions of the tables written."""
+
+MAX_BYTES = 256 * MIB
+"""The largest CSV table read (bytes)."""
 
 
 def check_table_path(path, *, name="out"):
@@ -86,12 +90,11 @@ def write_table(table, path, *, units=None, fields=None):
 
 def read_table(path):
     """A CSV table's columns as text, by header name (``{name: [cell, ...]}``)."""
+    text = read_text(path, "table", limit=MAX_BYTES)
     try:
-        with open(path, newline="") as handle:
-            rows = list(csv.reader(handle))
-    except (OSError, UnicodeDecodeError) as error:
-        reason = error.strerror if isinstance(error, OSError) else "not a UTF-8 text file"
-        raise ParameterError(f"table {str(path)!r} cannot be read: {reason}") from None
+        rows = list(csv.reader(io.StringIO(text, newline="")))
+    except csv.Error as error:
+        raise ParameterError(f"table {str(path)!r} is not a CSV file: {error}") from None
     if not rows:
         raise ParameterError(f"table {str(path)!r} is empty: it needs a header line")
     return {name: [row[i] for row in rows[1:]] for i, name in enumerate(rows[0])}

@@ -20,25 +20,43 @@ value = 100.0
 {'cor': 0.86, 'force': {'kind': 'constant', 'value': 100.0}}
 """
 
+import re
+import sys
 import tomllib
-from pathlib import Path
 
 from .._atomic import write_atomic
 from ..errors import ParameterError
+from .reading import MAX_DEPTH, MIB, check_document, read_text
 
 SUFFIXES = (".toml",)
 """The extension of the TOML files written."""
 
+MAX_BYTES = 8 * MIB
+"""The largest TOML file read (bytes): a recipe, a palette or a config is a few kB."""
+
+_LONG_INTEGER = re.compile(r"[+-]?[0-9][0-9_]{4000,}")
+
 
 def read_toml(path, what):
-    """The TOML file at ``path`` as a dict; an unreadable or invalid file is a ParameterError naming the ``what``."""
+    """The TOML file at ``path`` as a dict, read within bounds (:mod:`.reading`).
+
+    A file that cannot be read, is not valid TOML, nests deeper than
+    :data:`~drumstroke.formats.reading.MAX_DEPTH` or holds an integer beyond a float is a
+    ParameterError naming the ``what`` and the path (and the line or key).
+    """
+    where = f"{what} {str(path)!r}"
+    text = read_text(path, what, limit=MAX_BYTES)
     try:
-        return tomllib.loads(Path(path).read_text())
-    except (OSError, UnicodeDecodeError) as error:
-        reason = error.strerror if isinstance(error, OSError) else "not a UTF-8 text file"
-        raise ParameterError(f"{what} {str(path)!r} cannot be read: {reason}") from None
+        data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as error:
-        raise ParameterError(f"{what} {str(path)!r} is not valid TOML: {error}") from None
+        raise ParameterError(f"{where} is not valid TOML: {error}") from None
+    except RecursionError:
+        raise ParameterError(f"{where} cannot be read: its tables or arrays nest more than {MAX_DEPTH} levels deep, "
+                             "the most a file may") from None
+    except ValueError as error:  # tomllib converts integers with int(), which refuses over 4300 digits
+        raise ParameterError(f"{where} cannot be read: {_long_integer(text) or error}") from None
+    check_document(data, where)
+    return data
 
 
 def write_toml(path, data):
@@ -51,6 +69,19 @@ def toml_text(data):
     import tomli_w  # only writers need it
 
     return tomli_w.dumps(_plain(data))
+
+
+def _long_integer(text):
+    """Where the first integer too long to convert is: ``line N: KEY is an integer of D digits``, or None."""
+    for match in _LONG_INTEGER.finditer(text):
+        digits = sum(c.isdigit() for c in match.group())
+        if digits > sys.get_int_max_str_digits():
+            start = text.rfind("\n", 0, match.start()) + 1
+            before = text[start:match.start()]
+            key = before.split("=", 1)[0].strip() if "=" in before else "a value"
+            return (f"line {text.count(chr(10), 0, start) + 1}: {key} is an integer of {digits} digits, beyond any "
+                    "number drumstroke takes (|x| < 1.8e308)")
+    return None
 
 
 def _plain(value):

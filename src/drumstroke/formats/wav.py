@@ -22,6 +22,10 @@ from pathlib import Path
 from .._atomic import write_atomic
 from .._checks import check_int, check_vector
 from ..errors import ParameterError
+from .reading import MIB, read_bytes
+
+MAX_BYTES = 1024 * MIB
+"""The largest audio file read (bytes): some two hours of 48 kHz 24-bit mono."""
 
 FORMATS = {".wav": ("WAV", "PCM_24"), ".flac": ("FLAC", "PCM_24"), ".ogg": ("OGG", "VORBIS")}
 """The audio files written, by extension: soundfile's format and subtype."""
@@ -60,8 +64,9 @@ def audio_format(path):
 def read_wav(path):
     """The samples (full scale, float64, mono) [shape=(n,)] and the rate (Hz) of the WAV file at ``path``."""
     soundfile = _soundfile()
+    data = read_bytes(path, "WAV file", limit=MAX_BYTES)
     try:
-        signal, rate = soundfile.read(str(path), dtype="float64", always_2d=True)
+        signal, rate = soundfile.read(io.BytesIO(data), dtype="float64", always_2d=True)
     except (OSError, RuntimeError, soundfile.LibsndfileError) as error:
         raise ParameterError(f"WAV file {str(path)!r} cannot be read: {error}") from None
     if signal.shape[1] != 1:

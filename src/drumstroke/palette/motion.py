@@ -401,10 +401,12 @@ def _sequence(segments):
         flat = t.ravel()
         theta, omega = np.empty(flat.shape), np.empty(flat.shape)
         which = np.clip(np.searchsorted(starts, flat, side="right") - 1, 0, len(paths) - 1)
-        for k in np.unique(which):
-            mask = which == k
-            local = np.clip(flat[mask] - starts[k], 0.0, segments[k][1])
-            theta[mask], omega[mask] = paths[k](local)
+        order = np.argsort(which, kind="stable")  # each segment's samples in one run: linear in samples + segments
+        runs = np.flatnonzero(np.diff(which[order])) + 1
+        for chosen in np.split(order, runs) if flat.size else ():
+            k = which[chosen[0]]
+            local = np.clip(flat[chosen] - starts[k], 0.0, segments[k][1])
+            theta[chosen], omega[chosen] = paths[k](local)
         return theta.reshape(t.shape), omega.reshape(t.shape)
 
     return path

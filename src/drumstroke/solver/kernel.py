@@ -24,7 +24,7 @@ from .taylor import SETTLE as _TAYLOR_SETTLE
 from .taylor import TOO_MANY as _TAYLOR_TOO_MANY
 from .taylor import VERTICAL as _TAYLOR_VERTICAL
 from .taylor import evaluate as polynomial
-from .taylor import grow, run_piece, zeno_floor
+from .taylor import grow, holds, run_piece, zeno_floor
 
 # run's outcomes
 DONE, VERTICAL, TOO_MANY = 0, 1, 2
@@ -56,8 +56,7 @@ def initial_state(theta0, omega0):
 @njit(cache=True)
 def _lift_off(ts, te, c0, c1, t):
     """When, in [t, te), a resting stick lifts off under C = c0 + c1·(t − ts); NaN if it stays."""
-    c_now = c0 + c1 * (t - ts)
-    if c_now < 0.0 or (c_now == 0.0 and c1 < 0.0):
+    if not holds(c0 + c1 * (t - ts), c1, te - t):
         return t
     if c1 < 0.0:
         zero = ts - c0 / c1

@@ -172,6 +172,20 @@ def _presses(c_now, slope):
     return c_now > 0.0 or (c_now == 0.0 and slope >= 0.0)
 
 
+@njit(cache=True)
+def holds(c_now, slope, left):
+    """Whether the head holds a stick lying on it at zero speed under C = ``c_now`` rising by ``slope`` (s⁻³).
+
+    It does while C presses the stick down, and also while C pulls it up so briefly, before
+    pressing again or before the ``left`` seconds of the piece are over, that the stick could
+    not reach ZENO_SPEED: such a stick (C = −1e-96 s⁻² for 1e-99 s, say) would otherwise be
+    lifted and land again at the same instant for ever.
+    """
+    if _presses(c_now, slope):
+        return True
+    return slope > 0.0 and -c_now * min(-c_now / slope, left) < constants.ZENO_SPEED
+
+
 @njit(cache=True, inline="always")
 def grow(array, n):
     """``array``, or a copy twice as long, so that row ``n`` exists (a growable buffer)."""
@@ -216,7 +230,7 @@ def run_piece(t, theta, omega, lifting, ts, te, c0, c1, theta_max, cor, max_step
         if theta == theta_max and not lifting:
             if omega < 0.0:
                 hit, w = 0.0, omega
-            elif omega == 0.0 and _presses(c_now, c1):
+            elif omega == 0.0 and holds(c_now, c1, te - t):
                 outcome = REST
                 break
             elif c_now > 0.0 and omega < zeno_floor(c_now * math.cos(theta_max)):
@@ -246,11 +260,17 @@ def run_piece(t, theta, omega, lifting, ts, te, c0, c1, theta_max, cor, max_step
                 t = te if h == te - t else t + h
                 theta = max(theta, theta_max)
                 continue
+            if t + hit == t and holds(c0 + c1 * (t - ts), c1, te - t):
+                # bouncing back sooner than the clock at t can tell: no time would pass between impacts
+                # (a launch of 1e-35 rad/s as C rises from 0), so the stick lies on the head from now
+                theta, omega = theta_max, 0.0
+                outcome = REST
+                break
             w = min(evaluate(x, hit)[1], 0.0)
         t = t + hit
         if w == 0.0:  # touching down at zero speed is no impact
             theta, omega = theta_max, 0.0
-            if _presses(c0 + c1 * (t - ts), c1):
+            if holds(c0 + c1 * (t - ts), c1, te - t):
                 outcome = REST
                 break
             lifting = True
@@ -267,11 +287,11 @@ def run_piece(t, theta, omega, lifting, ts, te, c0, c1, theta_max, cor, max_step
         launch = -cor * w
         theta, omega = theta_max, launch
         c_hit = c0 + c1 * (t - ts)
-        if not _presses(c_hit, c1):
-            lifting = launch == 0.0
-        elif launch == 0.0:
+        if launch == 0.0 and holds(c_hit, c1, te - t):
             outcome = REST
             break
+        if not _presses(c_hit, c1):
+            lifting = launch == 0.0
         elif c_hit > 0.0 and launch < zeno_floor(c_hit * math.cos(theta_max)):
             outcome, extra = SETTLE, c_hit
             break

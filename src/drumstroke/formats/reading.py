@@ -1,0 +1,175 @@
+"""A user's file, read within bounds: every reader of :mod:`drumstroke.formats` opens files through here.
+
+A file is read only if it is a regular file (a FIFO, a device such as ``/dev/zero``, a directory
+or a socket is refused by name, at once: it is opened without blocking and checked before a byte
+is read) and no larger than its format's limit; text must be UTF-8. A document read from TOML or
+JSON is then walked once (:func:`check_document`): tables and arrays nested deeper than
+:data:`MAX_DEPTH`, and integers beyond any float (more than 308 digits), are refused naming the
+key. Every refusal is a :class:`~drumstroke.errors.ParameterError` naming what the file is, its
+path and the reason (the system's, for an ``OSError``); a caller never sees an ``OSError``,
+``UnicodeDecodeError``, ``MemoryError`` or ``RecursionError`` from a user's file.
+
+Examples
+--------
+>>> import os, pathlib, tempfile
+>>> folder = pathlib.Path(tempfile.mkdtemp())
+>>> (folder / "r.toml").write_text("cor = 0.86\\n")
+11
+>>> read_text(folder / "r.toml", "recipe", limit=1000)
+'cor = 0.86\\n'
+>>> os.mkfifo(folder / "pipe.toml")
+>>> read_text(folder / "pipe.toml", "recipe", limit=1000)  # doctest: +ELLIPSIS
+Traceback (most recent call last):
+...
+drumstroke.errors.ParameterError: recipe '.../pipe.toml' cannot be read: it is a FIFO (named pipe), not a regular file
+>>> read_text("/dev/zero", "samples.file", limit=1000)
+Traceback (most recent call last):
+...
+drumstroke.errors.ParameterError: samples.file '/dev/zero' cannot be read: it is a character device, not a regular file
+>>> check_document({"force": {"parts": [{"value": 10**400}]}}, "recipe 'r.toml'")
+Traceback (most recent call last):
+...
+drumstroke.errors.ParameterError: recipe 'r.toml': force.parts[0].value is an integer of 401 digits, beyond any number drumstroke takes (|x| < 1.8e308)
+"""
+
+import os
+import re
+import stat
+import sys
+
+from .._checks import digits
+from ..errors import ParameterError
+
+MIB = 1 << 20
+"""A mebibyte (bytes), the unit the formats' size limits are given in."""
+
+MAX_DEPTH = 64
+"""How deeply tables and arrays of a TOML or JSON document may nest (a recipe needs 5 levels, a sum of sums 7)."""
+
+_KINDS = ((stat.S_ISDIR, "a directory"), (stat.S_ISFIFO, "a FIFO (named pipe)"), (stat.S_ISCHR, "a character device"),
+          (stat.S_ISBLK, "a block device"), (stat.S_ISSOCK, "a socket"))
+
+
+def read_bytes(path, what, *, limit):
+    """The bytes of the regular file at ``path``, at most ``limit`` of them; anything else is refused naming ``what``.
+
+    Parameters
+    ----------
+    path : str or path-like
+    what : str
+        What the file is, for messages (``"recipe"``, ``"samples.file"``).
+    limit : int
+        The most bytes the file may hold.
+
+    Raises
+    ------
+    ParameterError
+        ``WHAT 'PATH' cannot be read: REASON``: the system's reason (no such file, permission
+        denied, …), not a regular file (named: a FIFO, a directory, a device, a socket), or
+        larger than ``limit``.
+    """
+    where = f"{what} {os.fspath(path)!r}"
+    _refuse_special(path, where)
+    try:
+        descriptor = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_NOCTTY", 0))
+    except (OSError, ValueError) as error:  # ValueError: a NUL in the name
+        raise ParameterError(f"{where} cannot be read: {_reason(error)}") from None
+    with os.fdopen(descriptor, "rb") as handle:
+        try:
+            status = os.fstat(descriptor)
+            _refuse(status.st_mode, where)  # what was opened: the path may have changed since
+            if status.st_size <= limit:
+                data = handle.read(limit + 1)  # a file whose size the system does not know (/proc) stops here too
+        except OSError as error:
+            raise ParameterError(f"{where} cannot be read: {_reason(error)}") from None
+    if status.st_size > limit or len(data) > limit:
+        raise ParameterError(f"{where} cannot be read: it is larger than {_size(limit)}, the most a {what} may be")
+    return data
+
+
+def read_text(path, what, *, limit, encoding="utf-8"):
+    """The text of the regular file at ``path`` (UTF-8, at most ``limit`` bytes), as :func:`read_bytes` reads it.
+
+    ``encoding`` may be ``"utf-8-sig"`` to drop a byte-order mark. Text that is not UTF-8 is
+    refused naming the line and column of the first bad byte.
+    """
+    data = read_bytes(path, what, limit=limit)
+    try:
+        return data.decode(encoding)
+    except UnicodeDecodeError as error:
+        line = data.count(b"\n", 0, error.start) + 1
+        column = error.start - (data.rfind(b"\n", 0, error.start) + 1) + 1
+        raise ParameterError(f"{what} {os.fspath(path)!r} cannot be read: not a UTF-8 text file (byte "
+                             f"0x{data[error.start]:02x} at line {line}, column {column})") from None
+
+
+def check_regular(path, what):
+    """Refuse ``path`` (naming ``what``) unless it is a regular file that exists; nothing is opened."""
+    where = f"{what} {os.fspath(path)!r}"
+    try:
+        mode = os.stat(path).st_mode
+    except (OSError, ValueError) as error:
+        raise ParameterError(f"{where} cannot be read: {_reason(error)}") from None
+    _refuse(mode, where)
+
+
+def check_document(data, where, *, depth=MAX_DEPTH):
+    """Refuse a TOML or JSON document (dicts, lists, scalars) that nests too deeply or holds an integer beyond a float.
+
+    The walk is iterative, so it never runs out of stack. ``where`` starts each message
+    (``"recipe 'r.toml'"``), then the key path of the offending value (``force.parts[0].value``).
+    """
+    stack = [(data, "", 0)]
+    while stack:
+        value, key, level = stack.pop()
+        if isinstance(value, dict | list):
+            if level >= depth:
+                top = re.match(r"[^.\[]*", key).group() or "the document"
+                raise ParameterError(f"{where}: {top} nests tables or arrays more than {depth} levels deep, the most "
+                                     "a file may")
+            items = value.items() if isinstance(value, dict) else enumerate(value)
+            for name, item in items:
+                path = f"{key}[{name}]" if isinstance(value, list) else f"{key}.{name}" if key else str(name)
+                stack.append((item, path, level + 1))
+        elif isinstance(value, Huge) or isinstance(value, int) and value.bit_length() > 1024:
+            count = value.digits if isinstance(value, Huge) else digits(value)
+            raise ParameterError(f"{where}: {key} is an integer of {count} digits, beyond any number drumstroke takes "
+                                 "(|x| < 1.8e308)")
+
+
+class Huge:
+    """An integer literal too long to convert (the interpreter's limit is 4300 digits), kept as its digit count."""
+
+    def __init__(self, text):
+        self.digits = len(text.lstrip("+-"))
+
+
+def parse_int(text):
+    """An integer literal as an int, or :class:`Huge` when it is too long to convert (a JSON reader's ``parse_int``)."""
+    most = sys.get_int_max_str_digits()
+    return Huge(text) if most and len(text.lstrip("+-")) > most else int(text)
+
+
+def _refuse_special(path, where):
+    """Refuse a path that exists and is not a regular file, before it is opened (opening a FIFO could block)."""
+    try:
+        mode = os.stat(path).st_mode
+    except (OSError, ValueError):  # missing, unreadable, or a name with a NUL: opening says why
+        return
+    _refuse(mode, where)
+
+
+def _refuse(mode, where):
+    for test, kind in _KINDS:
+        if test(mode):
+            raise ParameterError(f"{where} cannot be read: it is {kind}, not a regular file")
+    if not stat.S_ISREG(mode):
+        raise ParameterError(f"{where} cannot be read: it is not a regular file")
+
+
+def _reason(error):
+    return getattr(error, "strerror", None) or str(error)
+
+
+def _size(limit):
+    return f"{limit / MIB:g} MiB" if limit >= MIB else f"{limit} bytes"
