@@ -169,6 +169,18 @@ def test_onsets_the_design_cannot_chain_are_left_out_with_the_reason(tmp_path):
     assert_plays(*replayed(fit, tmp_path), onsets)  # the real impacts are all played
 
 
+def test_a_false_onset_between_two_impacts_is_left_out_as_such(tmp_path):
+    stroke = drumstroke.simulate(drumstroke.Recipe(force=drumstroke.Constant(100.0), theta0=0.3, cor=0.8, t_end=4.0))
+    onsets = onsets_of(stroke)
+    # a faint onset (noise, a ring of the drum) 7 ms before impact 9: a bounce only if the thumb pulls it down
+    t = np.insert(onsets.t, 9, onsets.t[9] - 7e-3)
+    level = np.insert(onsets.level_db, 9, onsets.level_db[9] - 14.0)
+    fit = fit_stroke(Onsets(t, level, threshold_db=THRESHOLD), cor=0.8)
+    assert [i for i, _ in fit.unmatched] == [9] and "a false detection" in fit.unmatched[0][1]
+    assert not fit.beyond_human and fit.offset == pytest.approx(stroke.impacts.level_db.max(), abs=0.01)
+    assert_plays(*replayed(fit, tmp_path), onsets)
+
+
 def test_hostile_onsets_get_one_clear_error():
     with pytest.raises(drumstroke.ParameterError, match=r"at least 2 onsets .* got 0 \(no impacts found\)"):
         fit_stroke(Onsets(np.array([]), np.array([])))

@@ -74,6 +74,10 @@ FORCES = ForceRange(-HUMAN_FORCE, FORCE_LIMIT)
 limit. Measured levels are noisy: where a stroke's force is near 0, a few tenths of a dB can ask a flight for a
 slight pull, which the criterion chooses only when no offset plays the onsets without one."""
 
+FALSE_ONSET_DB = 10.0
+"""dB: an onset this much quieter than both onsets beside it, which only a force beyond the human thumb plays as a
+bounce (and without which the criterion is less than half), is left out as a false detection."""
+
 MAX_ONSETS = 500
 """Most onsets one fit takes: one stroke (a throw and its bounces; a 5-s buzz at 40 a second is 200)."""
 
@@ -363,6 +367,8 @@ class _Search:
             else:
                 offset_at = offset if offset is not None else self.best_offset(cor)[1]
             self.progress(0.9)
+            if self.false_onset(cor, offset_at, fixed=offset is not None):
+                continue
             try:
                 made = self.design(offset_at, cor)
             except Unreachable as error:
@@ -371,6 +377,35 @@ class _Search:
             self.progress(1.0)
             return self.measure(made, offset_at, cor, fit_cor)
         raise AssertionError("unreachable: every round leaves an onset out")  # pragma: no cover
+
+    def false_onset(self, cor, offset, *, fixed):
+        """Leave out an onset that looks like a false detection; whether one was.
+
+        An onset much quieter than both onsets beside it (:data:`FALSE_ONSET_DB`) is a bounce only if
+        the thumb pulls the stick down onto it and then throws it up again: when playing it needs a force
+        beyond the human thumb and leaving it out halves the criterion, it is taken for what it most
+        likely is — an echo, the snares, noise — and reported as such.
+        """
+        now = self.change(offset, cor)[0]
+        if now < _HUMAN_FIRST:
+            return False
+        levels = self.onsets.level_db[self.keep]
+        best = None
+        for k in range(1, len(self.keep) - 1):
+            below = min(levels[k - 1], levels[k + 1]) - levels[k]
+            if below < FALSE_ONSET_DB:
+                continue
+            kept, self.keep = self.keep, self.keep[:k] + self.keep[k + 1:]
+            value = self.change(offset, cor)[0] if fixed else self.best_offset(cor)[0]
+            self.keep = kept
+            if value < now / 2 and (best is None or value < best[0]):
+                best = (value, k, below)
+        if best is None:
+            return False
+        _, k, below = best
+        self.leave_out(k, f"{below:.1f} dB quieter than both onsets beside it, and played only by a force beyond the "
+                          "human thumb: a false detection (an echo, the snares, noise)?")
+        return True
 
     def best_cor(self, offset):
         """(c, offset) of the least criterion over :data:`COR_RANGE`, the offset given or fitted at each c."""
