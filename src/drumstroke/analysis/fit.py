@@ -311,17 +311,9 @@ class _Search:
         """The offsets (dB) that put every onset kept within the model's levels."""
         return FLOOR_DB - float(self.onsets.level_db[self.keep].min()), CEILING_DB
 
-    def best_offset(self, cor, near=None):
-        """(criterion, offset) minimizing the criterion at ``cor``; (inf, failures) when no offset plays the notes.
-
-        ``near``: an offset (dB) the best is known to be within two grid steps of (c close to one searched).
-        """
+    def best_offset(self, cor):
+        """(criterion, offset) minimizing the criterion at ``cor``; (inf, failures) when no offset plays the notes."""
         low, high = self.bounds()
-        if near is not None:
-            lo, hi = max(low, near - 2 * _GRID), min(high, near + 2 * _GRID)
-            result = minimize_scalar(lambda x: min(self.change(x, cor)[0], 1e9), bounds=(lo, hi), method="bounded",
-                                     options={"xatol": _XTOL})
-            return float(result.fun), float(result.x)
         grid = np.unique(np.append(np.arange(high, low, -_GRID), low))
         tried = [self.change(x, cor) for x in grid]
         values = np.array([value for value, _ in tried])
@@ -417,30 +409,26 @@ class _Search:
 
     def best_cor(self, offset):
         """(c, offset) of the least criterion over :data:`COR_RANGE`, the offset given or fitted at each c."""
-        def criterion(cor, near=None):
+        def criterion(cor):
             if offset is not None:
                 return min(self.change(offset, cor)[0], 1e9), offset
-            value, at = self.best_offset(cor, near)
+            value, at = self.best_offset(cor)
             return min(value, 1e9), at
 
         grid = np.linspace(*COR_RANGE, _COR_GRID)
-        values, offsets = [], []
+        values = []
         for k, c in enumerate(grid):
-            value, at = criterion(c)
-            values.append(value)
-            offsets.append(at)
+            values.append(criterion(c)[0])
             self.progress(0.1 + 0.6 * (k + 1) / len(grid))
         i = int(np.argmin(values))
-        near = offsets[i] if offset is None else None
         if values[i] >= 1e9:
             raise ParameterError(f"no c in [{COR_RANGE[0]:g}, {COR_RANGE[1]:g}] plays the onsets as one stroke within "
                                  "the forces")
         lo, hi = grid[max(i - 1, 0)], grid[min(i + 1, len(grid) - 1)]
-        result = minimize_scalar(lambda c: criterion(c, near)[0], bounds=(lo, hi), method="bounded",
+        result = minimize_scalar(lambda c: criterion(c)[0], bounds=(lo, hi), method="bounded",
                                  options={"xatol": _XTOL * 1e-2})
-        if result.fun <= values[i]:
-            return float(result.x), criterion(float(result.x), near)[1]
-        return float(grid[i]), offsets[i]
+        cor = float(result.x) if result.fun <= values[i] else float(grid[i])
+        return cor, criterion(cor)[1]
 
     def design(self, offset, cor):
         """The design of the kept onsets at ``offset`` and ``cor``: thrown by its first rising force, its tail unheard."""
