@@ -13,7 +13,8 @@ the recording does not say is chosen:
   (time-weighted). A stroke played under one constant force is fitted at its own offset and c with
   a change of 0 (to round-off); a force that steps or ramps is fitted where its steps are least in
   proportion. Offsets whose design stays within the human thumb (0–250 m/s²) come first; among the
-  others, the least beyond it. Without ``fit_cor``, c is given (default 0.86, the paper's).
+  others, the least beyond it (a slight pull, a < 0, only when no offset plays the onsets without
+  one: :data:`FORCES`). Without ``fit_cor``, c is given (default 0.86, the paper's).
 - **the start**: the stick held at rest at the height from which the first flight's rising force
   throws it onto the first onset (a stroke under one force starts where it was let go);
 - **the end**: after the last onset the stick bounces on under gravity alone (a Zeno tail whose
@@ -25,8 +26,9 @@ The recipe chosen is simulated forwards by the solver, and its impacts are match
 one to one (within :data:`MATCH_WINDOW`): per onset, the time (s) and level (dB, after the offset)
 residuals. An onset the design cannot play — closer to the one before than a flight within the
 forces allows, or not reachable in one chain — is left out and reported with the design's reason
-(its :class:`~drumstroke.design.Unreachable` message); the model's impacts that match no onset are
-reported when they are at or above the detection threshold, not when below (the tail).
+(its :class:`~drumstroke.design.Unreachable` message), and so is one that looks like a false
+detection (:data:`FALSE_ONSET_DB`); the model's impacts that match no onset are reported when they
+are at or above the detection threshold, not when below (the tail).
 
 Examples
 --------
