@@ -93,6 +93,8 @@ def test_fit_errors_are_one_line_and_write_nothing(recorded, tmp_path):
     echo = tmp_path / "echo.csv"
     write_onsets(echo, Onsets([0.3, 0.3004, 0.3008], [0.0, -1.0, -2.0]))
     assert_one_line_error(run("fit", echo, "--out", out), "no two of the 3 onsets", "onset 2: 0.8 ms after onset 0")
+    soundfile.write(tmp_path / "silent.wav", np.zeros(48000), 48000)
+    assert_one_line_error(run("fit", tmp_path / "silent.wav", "--out", out), "got 0 (no impacts found)")
     (tmp_path / "notes.txt").write_text("hello")
     assert_one_line_error(run("fit", tmp_path / "notes.txt", "--out", out), "notes.txt")
     assert not out.exists()
