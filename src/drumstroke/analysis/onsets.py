@@ -159,7 +159,7 @@ MIN_JUMP = 2.0
 BROADBAND_JUMP = 3.0
 """How much the first difference's RMS must rise at a broadband attack (over 1 ms, against the 4 ms before)."""
 
-TONAL_SUPPORT = 1.3
+TONAL_SUPPORT = 1.6
 """How much the innovation must rise too at a broadband attack (beating modes make broadband jumps alone)."""
 
 ORDER = 48
