@@ -19,10 +19,11 @@ drum's sound grows in proportion to it, so the levels fall by 20·log10(c) dB an
 regression of the levels (dB re the loudest) on n gives c from the levels and its interval.
 It is rougher (a drum's brightness and the mics' placement colour levels, not times).
 
-Which impacts: a drop's first impact is its first onset within :data:`START_DB` of the loudest; each next one is the loudest onset
-between 0.2 and 1.1 times the previous flight after it (a bounce never lasts longer than the
-one before; ringing and rattle detected as onsets are quieter than the impact they follow). The
-sequence ends at the first flight without one, or shorter than :data:`MIN_FLIGHT`.
+Which impacts: a drop's first impact is its first onset within :data:`START_DB` of the loudest;
+each next one is the loudest onset between 0.2 and 1.1 times the previous flight after it and at
+most :data:`STEP_DB` quieter (a bounce never lasts longer than the one before; ringing and
+rattle detected as onsets are quieter than the impact they follow). The sequence ends at the
+first flight without one, or shorter than :data:`MIN_FLIGHT`.
 
 Examples
 --------
@@ -51,6 +52,9 @@ MIN_FLIGHT = 4e-3
 
 START_DB = 3.0
 """A drop starts at its first onset within this of the loudest (dB): the first impact, read a little low or not."""
+
+STEP_DB = 15.0
+"""The most a drop's impact may be quieter than the one before (dB; c ≥ 0.18): quieter onsets are not its impacts."""
 
 MIN_FLIGHTS = 3
 """The fewest flights an interval is given from (two parameters are fitted)."""
@@ -131,7 +135,8 @@ def drop_impacts(onsets):
     while True:
         last = t[chosen[-1]]
         low, high = (MIN_FLIGHT, np.inf) if previous is None else (0.2 * previous, 1.1 * previous)
-        window = np.flatnonzero((t >= last + max(low, MIN_FLIGHT)) & (t <= last + high))
+        window = np.flatnonzero((t >= last + max(low, MIN_FLIGHT)) & (t <= last + high)
+                                & (level >= level[chosen[-1]] - STEP_DB))
         if not len(window):
             break
         best = int(window[np.argmax(level[window])])
