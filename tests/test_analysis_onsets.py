@@ -107,7 +107,7 @@ STROKES = 6
 
 # condition: (render options, least recall of the impacts above −30 dB, above −20 dB, most extra onsets in all)
 # Measured (docs/analysis.md): recall −30 dB / −20 dB, extras: 0.76/1.00, 16 | 0.99/0.98, 50 | 0.76/1.00, 7 |
-# 0.73/0.96, 4 | 0.64/0.87, 25 | 1.00/1.00, 0 | 0.88/1.00, 2.
+# 0.76/0.96, 4 | 0.64/0.87, 25 | 1.00/1.00, 0 | 0.88/1.00, 2.
 CONDITIONS = {
     "ours, snares": ({"snares": True}, 0.7, 0.95, 25),
     "ours, no snares": ({"snares": False}, 0.95, 0.95, 70),
