@@ -34,7 +34,7 @@ from drumstroke.stroke import simulate
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent / "tests"))
-from _recordings import RATE, render  # noqa: E402
+from _recordings import RATE, render
 
 REPEATS = 7
 

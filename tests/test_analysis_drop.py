@@ -4,9 +4,10 @@ import json
 
 import numpy as np
 import pytest
+import soundfile
+
 from _cli import assert_one_line_error, run
 from _recordings import RATE, render, room_response
-
 from drumstroke.analysis import Onsets, find_onsets, measure_cor, write_onsets
 from drumstroke.analysis.drop import drop_impacts
 from drumstroke.errors import ParameterError
@@ -94,9 +95,6 @@ def test_too_few_impacts_are_refused_by_name():
         measure_cor(_onsets(times, speeds), confidence=1.0)
     with pytest.raises(ParameterError, match="onsets must be an Onsets"):
         measure_cor(times)
-
-
-soundfile = pytest.importorskip("soundfile")
 
 
 def test_the_command_measures_c_from_a_recording_and_from_its_onsets(tmp_path, rendered_drops):

@@ -5,8 +5,11 @@ import math
 
 import numpy as np
 import pytest
+import soundfile
 
-from drumstroke.analysis import Onsets, read_onsets, write_onsets
+from _cli import assert_one_line_error, run
+from _recordings import RATE, random_strokes, render, room_response, score
+from drumstroke.analysis import Onsets, find_onsets, read_onsets, read_recording, write_onsets
 from drumstroke.errors import ParameterError
 from drumstroke.formats import onsets_csv
 
@@ -98,9 +101,6 @@ def test_writing_refuses_another_programs_json_and_other_suffixes(tmp_path):
 
 # ------------------------------------------------------------------------ onsets from audio: known answers
 
-from _recordings import RATE, random_strokes, render, room_response, score  # noqa: E402
-
-from drumstroke.analysis import find_onsets, read_recording  # noqa: E402
 
 STROKES = 6
 """Random strokes per condition (their impacts: 228 in all, 74 louder than −30 dB re each stroke's loudest)."""
@@ -206,9 +206,6 @@ def test_the_threshold_rises_over_the_noise_floor():
 
 # ------------------------------------------------------------------------------------------ hostile files
 
-soundfile = pytest.importorskip("soundfile")
-
-
 def _wav(path, signal, rate=RATE):
     soundfile.write(str(path), signal, rate, subtype="PCM_16")
     return path
@@ -276,7 +273,6 @@ def test_hostile_files_get_one_clear_error(tmp_path, make, message):
 
 # ------------------------------------------------------------------------------------------ the command
 
-from _cli import assert_one_line_error, run  # noqa: E402
 
 
 def test_the_onsets_command_prints_and_writes_them(tmp_path, strokes):

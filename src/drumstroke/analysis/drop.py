@@ -115,7 +115,7 @@ class Drop:
 
     def to_dict(self):
         """Plain data for JSON (NaN as None)."""
-        plain = lambda x: None if isinstance(x, float) and not math.isfinite(x) else x  # noqa: E731
+        plain = lambda x: None if isinstance(x, float) and not math.isfinite(x) else x
         return {"cor": self.cor, "interval": list(self.interval), "confidence": self.confidence,
                 "cor_levels": plain(self.cor_levels), "levels_interval": [plain(x) for x in self.levels_interval],
                 "flights": self.flights, "times": self.times.tolist(), "residuals": self.residuals.tolist(),
@@ -255,6 +255,6 @@ def _from_levels(levels, confidence):
     if not result.slope < 0.0:
         return math.nan, (math.nan, math.nan)
     quantile = float(stats.t.ppf(0.5 + confidence / 2.0, len(levels) - 2))
-    to_cor = lambda slope: float(10.0 ** (slope / 20.0))  # noqa: E731
+    to_cor = lambda slope: float(10.0 ** (slope / 20.0))
     return to_cor(result.slope), (to_cor(result.slope - quantile * result.stderr),
                                   to_cor(result.slope + quantile * result.stderr))
