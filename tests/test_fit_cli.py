@@ -62,7 +62,7 @@ def test_fit_writes_a_recipe_every_command_takes(recorded, tmp_path):
 
 
 def test_fit_with_a_given_level_and_c(recorded, tmp_path):
-    path, onsets, stroke = recorded
+    path = recorded[0]
     result = run("fit", path, "--cor", "0.8", "--level", "0", "--out", tmp_path / "f.toml")
     assert result.returncode == 0, result.stderr
     assert "on the paper model: c = 0.8000, loudest onset at 0.00 dB" in result.stdout
@@ -77,7 +77,7 @@ def test_fit_with_a_given_level_and_c(recorded, tmp_path):
 
 
 def test_fit_errors_are_one_line_and_write_nothing(recorded, tmp_path):
-    path, onsets, _ = recorded
+    path = recorded[0]
     out = tmp_path / "x.toml"
     assert_one_line_error(run("fit", tmp_path / "none.csv", "--out", out), "does not exist")
     assert_one_line_error(run("fit", path, "--cor", "1.5", "--out", out), "--cor", "[0, 1)")
