@@ -95,9 +95,6 @@ _XTOL = 1e-3
 _COR_GRID = 15
 """How many values of c are tried first with ``fit_cor`` (then refined)."""
 
-_TRAILING = 3
-"""The most onsets at the end of a recording :meth:`_Search.false_onset` may take for noise after the stroke."""
-
 _HUMAN_FIRST = 10.0
 """Added to the criterion of an offset whose forces leave the human range (plus the excess / 250 m/s²)."""
 
@@ -384,14 +381,13 @@ class _Search:
         raise AssertionError("unreachable: every round leaves an onset out")  # pragma: no cover
 
     def false_onset(self, cor, offset, *, fixed):
-        """Leave out onsets that look like false detections; whether some were.
+        """Leave out an onset that looks like a false detection; whether one was.
 
         An onset much quieter than both onsets beside it (:data:`FALSE_ONSET_DB`) is a bounce only if
-        the thumb pulls the stick down onto it and then throws it up again; the last few onsets may be
-        noise after the stroke, which only a stick held up plays. When
-        playing them needs a force beyond the human thumb and leaving them out halves the criterion (of
-        such, the fewest), they are taken for what they most likely are — an echo, the snares, noise — and
-        reported as such.
+        the thumb pulls the stick down onto it and then throws it up again: when playing it needs a force
+        beyond the human thumb and leaving it out halves the criterion, it is taken for what it most
+        likely is — an echo, the snares, noise — and reported as such. (The last onsets are not judged
+        so: a stroke's dying bounces and noise after it look alike to the forces.)
         """
         now = self.change(offset, cor)[0]
         if now < _HUMAN_FIRST:
@@ -403,9 +399,6 @@ class _Search:
             below = min(levels[k - 1], levels[k + 1]) - levels[k]
             if below >= FALSE_ONSET_DB:
                 candidates.append(([k], f"{below:.1f} dB quieter than both onsets beside it"))
-        for m in range(1, min(_TRAILING, n - 2) + 1):
-            candidates.append((list(range(n - m, n)), f"one of the last {m} onsets, after the stroke's last bounce"
-                               if m > 1 else "the last onset, after the stroke's last bounce"))
         best = None
         for notes, why in candidates:
             kept, self.keep = self.keep, [x for k, x in enumerate(self.keep) if k not in notes]
