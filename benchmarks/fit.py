@@ -74,10 +74,11 @@ def case(model):
     for k, (recipe, stroke, onsets) in enumerate(strokes(model)):
         progress(f"  {model} stroke {k + 1}/{STROKES} ...")
         levels = stroke.impacts.level_db[:IMPACTS]
-        rows["fit (c given)"].append(median_time(lambda: fit_stroke(onsets, model=model, cor=recipe.cor)))
-        rows["fit (fit_cor)"].append(median_time(lambda: fit_stroke(onsets, model=model, fit_cor=True), repeats=1))
-        rows["design"].append(median_time(lambda: design(onsets.t, levels, model=model, cor=recipe.cor)))
-        rows["simulate"].append(median_time(lambda: drumstroke.simulate(recipe)))
+        cor = recipe.cor
+        rows["fit (c given)"].append(median_time(lambda o=onsets, c=cor: fit_stroke(o, model=model, cor=c)))
+        rows["fit (fit_cor)"].append(median_time(lambda o=onsets: fit_stroke(o, model=model, fit_cor=True), repeats=1))
+        rows["design"].append(median_time(lambda o=onsets, lv=levels, c=cor: design(o.t, lv, model=model, cor=c)))
+        rows["simulate"].append(median_time(lambda r=recipe: drumstroke.simulate(r)))
         given = fit_stroke(onsets, model=model, cor=recipe.cor)
         fitted = fit_stroke(onsets, model=model, fit_cor=True)
         accuracy.append({"force": recipe.force.value, "cor": recipe.cor, "within": given.within and fitted.within,

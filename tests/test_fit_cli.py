@@ -62,7 +62,7 @@ def test_fit_writes_a_recipe_every_command_takes(recorded, tmp_path):
 
 
 def test_fit_with_a_given_level_and_c(recorded, tmp_path):
-    path, onsets, stroke = recorded
+    path = recorded[0]
     result = run("fit", path, "--cor", "0.8", "--level", "0", "--out", tmp_path / "f.toml")
     assert result.returncode == 0, result.stderr
     assert "on the paper model: c = 0.8000, loudest onset at 0.00 dB" in result.stdout
@@ -77,7 +77,7 @@ def test_fit_with_a_given_level_and_c(recorded, tmp_path):
 
 
 def test_fit_errors_are_one_line_and_write_nothing(recorded, tmp_path):
-    path, onsets, _ = recorded
+    path = recorded[0]
     out = tmp_path / "x.toml"
     assert_one_line_error(run("fit", tmp_path / "none.csv", "--out", out), "does not exist")
     assert_one_line_error(run("fit", path, "--cor", "1.5", "--out", out), "--cor", "[0, 1)")
@@ -93,6 +93,38 @@ def test_fit_errors_are_one_line_and_write_nothing(recorded, tmp_path):
     echo = tmp_path / "echo.csv"
     write_onsets(echo, Onsets([0.3, 0.3004, 0.3008], [0.0, -1.0, -2.0]))
     assert_one_line_error(run("fit", echo, "--out", out), "no two of the 3 onsets", "onset 2: 0.8 ms after onset 0")
+    soundfile.write(tmp_path / "silent.wav", np.zeros(48000), 48000)
+    assert_one_line_error(run("fit", tmp_path / "silent.wav", "--out", out), "got 0 (no impacts found)")
     (tmp_path / "notes.txt").write_text("hello")
     assert_one_line_error(run("fit", tmp_path / "notes.txt", "--out", out), "notes.txt")
     assert not out.exists()
+
+
+def test_a_recording_end_to_end(tmp_path):
+    """A simulated stroke, synthesized with noise (30 dB SNR), written as a WAV, fitted by the command."""
+    recipe = drumstroke.Recipe(force=drumstroke.Constant(100.0), theta0=0.3, cor=0.8, t_end=4.0)
+    impacts = drumstroke.simulate(recipe).impacts
+    from drumstroke.render.audio import Drum, synthesize
+
+    signal = synthesize(impacts.t + 0.3, impacts.tip_speed, drum=Drum(snares=False))
+    rng = np.random.default_rng(30)
+    signal = signal + rng.normal(0.0, 1.0, len(signal)) * np.sqrt(np.mean(signal**2)) * 10 ** (-30 / 20)
+    soundfile.write(tmp_path / "stroke.wav", signal, 48000, subtype="FLOAT")
+    result = run("fit", tmp_path / "stroke.wav", "--cor", "0.8", "--out", tmp_path / "fit.toml", "--json",
+                 tmp_path / "fit.json")
+    assert result.returncode == 0, result.stderr
+    data = json.loads((tmp_path / "fit.json").read_text())
+    assert len(data["onsets"]["t"]) >= 10 and not data["extra"]["t"]
+    fitted = drumstroke.simulate(drumstroke.Recipe.from_toml(tmp_path / "fit.toml")).impacts
+    times, levels = fitted.t + data["release"], fitted.level_db - data["offset_db"]
+    original = impacts.t + 0.3
+    left_out = {entry["onset"] for entry in data["unmatched"]}
+    assert len(left_out) <= 2
+    for i, (t, level) in enumerate(zip(data["onsets"]["t"], data["onsets"]["level_db"])):
+        if i in left_out:  # only what the detector found in the noise: no impact of the stroke is there
+            assert np.min(np.abs(original - t)) > 2e-3
+            continue
+        j = int(np.argmin(np.abs(times - t)))
+        assert abs(times[j] - t) < 2e-3 and abs(levels[j] - level) < 1.0  # the fit plays what was detected
+        # and the impact re-simulated is the original's, in time (levels: as well as the detector measured them)
+        assert np.min(np.abs(original - times[j])) < 2e-3

@@ -19,10 +19,11 @@ drum's sound grows in proportion to it, so the levels fall by 20·log10(c) dB an
 regression of the levels (dB re the loudest) on n gives c from the levels and its interval.
 It is rougher (a drum's brightness and the mics' placement colour levels, not times).
 
-Which impacts: a drop's first impact is its first onset within :data:`START_DB` of the loudest; each next one is the loudest onset
-between 0.2 and 1.1 times the previous flight after it (a bounce never lasts longer than the
-one before; ringing and rattle detected as onsets are quieter than the impact they follow). The
-sequence ends at the first flight without one, or shorter than :data:`MIN_FLIGHT`.
+Which impacts: a drop's first impact is its first onset within :data:`START_DB` of the loudest;
+each next one is the loudest onset between 0.2 and 1.1 times the previous flight after it and at
+most :data:`STEP_DB` quieter (a bounce never lasts longer than the one before; ringing and
+rattle detected as onsets are quieter than the impact they follow). The sequence ends at the
+first flight without one, or shorter than :data:`MIN_FLIGHT`.
 
 Examples
 --------
@@ -51,6 +52,9 @@ MIN_FLIGHT = 4e-3
 
 START_DB = 3.0
 """A drop starts at its first onset within this of the loudest (dB): the first impact, read a little low or not."""
+
+STEP_DB = 15.0
+"""The most a drop's impact may be quieter than the one before (dB; c ≥ 0.18): quieter onsets are not its impacts."""
 
 MIN_FLIGHTS = 3
 """The fewest flights an interval is given from (two parameters are fitted)."""
@@ -111,7 +115,7 @@ class Drop:
 
     def to_dict(self):
         """Plain data for JSON (NaN as None)."""
-        plain = lambda x: None if isinstance(x, float) and not math.isfinite(x) else x  # noqa: E731
+        plain = lambda x: None if isinstance(x, float) and not math.isfinite(x) else x
         return {"cor": self.cor, "interval": list(self.interval), "confidence": self.confidence,
                 "cor_levels": plain(self.cor_levels), "levels_interval": [plain(x) for x in self.levels_interval],
                 "flights": self.flights, "times": self.times.tolist(), "residuals": self.residuals.tolist(),
@@ -131,7 +135,8 @@ def drop_impacts(onsets):
     while True:
         last = t[chosen[-1]]
         low, high = (MIN_FLIGHT, np.inf) if previous is None else (0.2 * previous, 1.1 * previous)
-        window = np.flatnonzero((t >= last + max(low, MIN_FLIGHT)) & (t <= last + high))
+        window = np.flatnonzero((t >= last + max(low, MIN_FLIGHT)) & (t <= last + high)
+                                & (level >= level[chosen[-1]] - STEP_DB))
         if not len(window):
             break
         best = int(window[np.argmax(level[window])])
@@ -250,6 +255,6 @@ def _from_levels(levels, confidence):
     if not result.slope < 0.0:
         return math.nan, (math.nan, math.nan)
     quantile = float(stats.t.ppf(0.5 + confidence / 2.0, len(levels) - 2))
-    to_cor = lambda slope: float(10.0 ** (slope / 20.0))  # noqa: E731
+    to_cor = lambda slope: float(10.0 ** (slope / 20.0))
     return to_cor(result.slope), (to_cor(result.slope - quantile * result.stderr),
                                   to_cor(result.slope + quantile * result.stderr))

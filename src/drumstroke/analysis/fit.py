@@ -13,7 +13,8 @@ the recording does not say is chosen:
   (time-weighted). A stroke played under one constant force is fitted at its own offset and c with
   a change of 0 (to round-off); a force that steps or ramps is fitted where its steps are least in
   proportion. Offsets whose design stays within the human thumb (0–250 m/s²) come first; among the
-  others, the least beyond it. Without ``fit_cor``, c is given (default 0.86, the paper's).
+  others, the least beyond it (a slight pull, a < 0, only when no offset plays the onsets without
+  one: :data:`FORCES`). Without ``fit_cor``, c is given (default 0.86, the paper's).
 - **the start**: the stick held at rest at the height from which the first flight's rising force
   throws it onto the first onset (a stroke under one force starts where it was let go);
 - **the end**: after the last onset the stick bounces on under gravity alone (a Zeno tail whose
@@ -25,8 +26,9 @@ The recipe chosen is simulated forwards by the solver, and its impacts are match
 one to one (within :data:`MATCH_WINDOW`): per onset, the time (s) and level (dB, after the offset)
 residuals. An onset the design cannot play — closer to the one before than a flight within the
 forces allows, or not reachable in one chain — is left out and reported with the design's reason
-(its :class:`~drumstroke.design.Unreachable` message); the model's impacts that match no onset are
-reported when they are at or above the detection threshold, not when below (the tail).
+(its :class:`~drumstroke.design.Unreachable` message), and so is one that looks like a false
+detection (:data:`FALSE_ONSET_DB`); the model's impacts that match no onset are reported when they
+are at or above the detection threshold, not when below (the tail).
 
 Examples
 --------
@@ -73,6 +75,10 @@ FORCES = ForceRange(-HUMAN_FORCE, FORCE_LIMIT)
 """The thumb accelerations a fit may use by default (m/s²): a pull as strong as the human press, up to the design's
 limit. Measured levels are noisy: where a stroke's force is near 0, a few tenths of a dB can ask a flight for a
 slight pull, which the criterion chooses only when no offset plays the onsets without one."""
+
+FALSE_ONSET_DB = 10.0
+"""dB: an onset this much quieter than both onsets beside it, which only a force beyond the human thumb plays as a
+bounce (and without which the criterion is less than half), is left out as a false detection."""
 
 MAX_ONSETS = 500
 """Most onsets one fit takes: one stroke (a throw and its bounces; a 5-s buzz at 40 a second is 200)."""
@@ -363,6 +369,8 @@ class _Search:
             else:
                 offset_at = offset if offset is not None else self.best_offset(cor)[1]
             self.progress(0.9)
+            if self.false_onset(cor, offset_at, fixed=offset is not None):
+                continue
             try:
                 made = self.design(offset_at, cor)
             except Unreachable as error:
@@ -371,6 +379,40 @@ class _Search:
             self.progress(1.0)
             return self.measure(made, offset_at, cor, fit_cor)
         raise AssertionError("unreachable: every round leaves an onset out")  # pragma: no cover
+
+    def false_onset(self, cor, offset, *, fixed):
+        """Leave out an onset that looks like a false detection; whether one was.
+
+        An onset much quieter than both onsets beside it (:data:`FALSE_ONSET_DB`) is a bounce only if
+        the thumb pulls the stick down onto it and then throws it up again: when playing it needs a force
+        beyond the human thumb and leaving it out halves the criterion, it is taken for what it most
+        likely is — an echo, the snares, noise — and reported as such. (The last onsets are not judged
+        so: a stroke's dying bounces and noise after it look alike to the forces.)
+        """
+        now = self.change(offset, cor)[0]
+        if now < _HUMAN_FIRST:
+            return False
+        levels = self.onsets.level_db[self.keep]
+        n = len(self.keep)
+        candidates = []
+        for k in range(1, n - 1):
+            below = min(levels[k - 1], levels[k + 1]) - levels[k]
+            if below >= FALSE_ONSET_DB:
+                candidates.append(([k], f"{below:.1f} dB quieter than both onsets beside it"))
+        best = None
+        for notes, why in candidates:
+            kept, self.keep = self.keep, [x for k, x in enumerate(self.keep) if k not in notes]
+            value = self.change(offset, cor)[0] if fixed else self.best_offset(cor)[0]
+            self.keep = kept
+            if value < now / 2 and (best is None or (len(notes), value) < best[0]):
+                best = ((len(notes), value), notes, why)  # the fewest left out, then the simplest force
+        if best is None:
+            return False
+        _, notes, why = best
+        for k in reversed(notes):
+            self.leave_out(k, f"{why}, and played only by a force beyond the human thumb: a false detection (an "
+                              "echo, the snares, noise)?")
+        return True
 
     def best_cor(self, offset):
         """(c, offset) of the least criterion over :data:`COR_RANGE`, the offset given or fitted at each c."""

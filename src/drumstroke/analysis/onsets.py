@@ -176,7 +176,7 @@ MIN_JUMP = 2.0
 BROADBAND_JUMP = 3.0
 """How much the first difference's RMS must rise at a broadband attack (over 1 ms, against the 4 ms before)."""
 
-TONAL_SUPPORT = 1.3
+TONAL_SUPPORT = 1.6
 """How much the innovation must rise too at a broadband attack (beating modes make broadband jumps alone)."""
 
 ORDER = 48
@@ -189,6 +189,8 @@ HIGH_PASS = 60.0
 """Corner of the high-pass (Hz) that removes rumble and DC before anything else."""
 
 _FLOOR_QUANTILE = 0.05
+_BLOCK = 1 << 20  # samples a block when looking for jumps
+_SPECTRA = 4096  # the most frames whose spectra choose the decimation
 
 
 def read_recording(path, *, max_seconds=MAX_SECONDS):
@@ -331,13 +333,14 @@ def _high_pass(signal, rate):
 
 def _decimation(band, rate):
     """How far to decimate: to ≥ 2.5 times the top of the band 20 dB over the noise floor, ≥ 2 kHz."""
-    from scipy.signal import stft
-
     size = 1 << int(np.ceil(np.log2(rate * 0.02)))
     if len(band) < 4 * size:
         return 1
-    frequencies, _, spectra = stft(band, fs=rate, nperseg=size, noverlap=size // 2, boundary=None, padded=False)
-    power = np.abs(spectra) ** 2
+    starts = np.unique(np.linspace(0, len(band) - size, min(_SPECTRA, (len(band) - size) // (size // 2) + 1))
+                       .astype(np.int64))  # half-overlapping frames, or as many spread over a long file
+    frames = band[starts[:, None] + np.arange(size)] * np.hanning(size)
+    power = np.abs(np.fft.rfft(frames, axis=1).T) ** 2
+    frequencies = np.fft.rfftfreq(size, 1.0 / rate)
     energy = power.sum(axis=0)
     noise = power[:, energy <= np.quantile(energy, 0.1)].mean(axis=1)
     loud = power[:, energy >= np.quantile(energy, 0.9)].mean(axis=1)
@@ -358,7 +361,7 @@ def _decimate(band, rate, q):
     corner = 0.8 * rate / q / 2.0
     sos = butter(8, corner, fs=rate, output="sos")
     _, delay = group_delay(butter(8, corner, fs=rate), w=[corner / 8.0], fs=rate)
-    return sosfilt(sos, band)[::q], rate / q, float(delay[0])
+    return sosfilt(sos, band)[::q].copy(), rate / q, float(delay[0])
 
 
 def _innovation(x, order=ORDER):
@@ -384,15 +387,25 @@ def _windows(x, rate):
 
 
 def _jumps(x, rate, min_interval, least):
-    """Samples of ``x`` where its RMS over the next 1 ms rises ``least`` times over the 4 ms before: the AIC's change points."""
+    """Samples of ``x`` where its RMS over the next 1 ms rises ``least`` times over the 4 ms before: the AIC's change points.
+
+    A long signal is taken in blocks of :data:`_BLOCK` samples (overlapping by more than the windows
+    and ``min_interval``), so memory does not grow with its length.
+    """
     import librosa
 
-    after, before, width = _windows(x, rate)
-    jump = np.sqrt(after / np.maximum(before, 1e-300 + after * 1e-12))
-    jump[: 4 * width] = 0.0
+    width = max(12, round(1e-3 * rate))
     gap = max(1, round(min_interval * rate))
-    peaks = librosa.util.peak_pick(jump, pre_max=gap, post_max=gap, pre_avg=1, post_avg=1, delta=0.0, wait=gap)
-    peaks = peaks[jump[peaks] >= least]
+    margin = 6 * width + 2 * gap
+    peaks = []
+    for start in range(0, len(x), _BLOCK):
+        low, high = max(0, start - margin), min(len(x), start + _BLOCK + margin)
+        after, before, _ = _windows(x[low:high], rate)
+        jump = np.sqrt(after / np.maximum(before, 1e-300 + after * 1e-12))
+        jump[: 4 * width] = 0.0
+        found = librosa.util.peak_pick(jump, pre_max=gap, post_max=gap, pre_avg=1, post_avg=1, delta=0.0, wait=gap)
+        found = found[(jump[found] >= least) & (low + found >= start) & (low + found < start + _BLOCK)]
+        peaks += list(low + found)
     return [max(0, p - 4 * width) + _aic(x[max(0, p - 4 * width):p + 2 * width]) for p in peaks]
 
 
@@ -432,11 +445,17 @@ def _attack_amplitudes(low, coefficients, positions, rate):
 
 def _jump_at(x, positions, rate):
     """The largest RMS jump of ``x`` (the next 1 ms over the 4 ms before) within half a window of each position."""
-    after, before, width = _windows(x, rate)
-    jump = np.sqrt(after / np.maximum(before, 1e-300 + after * 1e-12))
-    index = np.round(np.asarray(positions, dtype=float)).astype(np.int64)
+    width = max(12, round(1e-3 * rate))
     half = max(1, width // 2)
-    return np.array([jump[max(0, i - half):min(len(x), i + half + 1)].max(initial=0.0) for i in index])
+    out = np.zeros(len(positions))
+    for n, i in enumerate(np.round(np.asarray(positions, dtype=float)).astype(np.int64)):
+        low, high = max(0, i - half - 4 * width), min(len(x), i + half + width + 1)
+        after, before, _ = _windows(x[low:high], rate)
+        k = np.arange(max(i - half, low), min(i + half + 1, high)) - low
+        valid = k >= min(4 * width, i)  # a full window before, or the signal's start
+        jump = np.sqrt(after[k] / np.maximum(before[k], 1e-300 + after[k] * 1e-12))
+        out[n] = jump[valid].max(initial=0.0)
+    return out
 
 
 def _residual_peak(x, coefficients, start, stop):
