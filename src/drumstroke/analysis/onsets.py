@@ -171,6 +171,9 @@ MODES_WIDTH = 4
 MODES_ORDER = 40
 """The modes' band predictor's order."""
 
+LEVEL_ORDER = 24
+"""The order of the predictor in the band levels are measured in (the lowest modes: up to 2.1 times the lowest strong one)."""
+
 SIGNATURE = 50e-3
 """How long an attack's signature in the modes' band's innovation lasts (s): the spike, the beating, first reflections."""
 
@@ -254,11 +257,14 @@ def find_onsets(signal, rate, *, threshold_db=DEFAULT_THRESHOLD_DB, min_interval
        signature fits (offset by the other onsets' precise times). An onset is an attack when
        the remainder jumps :data:`MIN_JUMP` times at it and either its start looks like the
        signature (correlation ≥ :data:`LIKENESS`) or step 2 or 3 found it rising.
-    5. An onset's amplitude is the peak of its own sound: the decimated signal over the next
-       5 ms (or up to the next onset) less the earlier sound extrapolated by the predictor; its
-       level is in dB re the loudest onset. The noise floor (the 5th percentile of the decimated
-       signal's peaks over 5-ms frames) plus :data:`FLOOR_MARGIN_DB`, or ``threshold_db`` if
-       higher, is the threshold used.
+    5. An onset's amplitude is the peak of its own sound in the drum's lowest modes (the band up
+       to 2.1 times its lowest strong mode, ≥ 400 Hz, decimated to 2.5 times that: a stick's
+       speed sets their amplitude in proportion, while the higher modes grow faster with it,
+       Hertz's contact being shorter): the band over the next 5 ms (or up to the next onset)
+       less the earlier sound extrapolated by a predictor (order :data:`LEVEL_ORDER`, fitted as
+       in step 4), its peak between samples (4 times upsampled). Its level is in dB re the
+       loudest onset. The noise floor (the 5th percentile of that band's peaks over 5-ms frames)
+       plus :data:`FLOOR_MARGIN_DB`, or ``threshold_db`` if higher, is the threshold used.
 
     Parameters
     ----------
@@ -290,7 +296,7 @@ def find_onsets(signal, rate, *, threshold_db=DEFAULT_THRESHOLD_DB, min_interval
     >>> hit = lambda t0, a: a * np.where(t >= t0, np.exp(-(t - t0) / 0.03) * np.sin(2 * np.pi * 400 * (t - t0)), 0.0)
     >>> onsets = find_onsets(hit(0.2, 0.8) + hit(0.55, 0.4), rate)
     >>> np.round(onsets.t, 4).tolist(), np.round(onsets.level_db, 1).tolist()
-    ([0.2, 0.55], [0.0, -6.0])
+    ([0.2, 0.55], [0.0, -6.2])
     """
     signal = check_vector("signal", signal, unit="full scale")
     rate = check_int("rate", rate, low=MIN_RATE, high=768000, unit="Hz")
@@ -316,7 +322,7 @@ def find_onsets(signal, rate, *, threshold_db=DEFAULT_THRESHOLD_DB, min_interval
     band = band / peak
     q = max(_decimation(band, rate), rate // 6000)
     low, low_rate, delay = _decimate(band, rate, q)
-    coefficients, innovation = _innovation(low)
+    _, innovation = _innovation(low)
     tonal = [k * q - delay for k in _jumps(innovation, low_rate, min_interval, MIN_JUMP)]
     broadband = list(_broadband_onsets(band, rate, min_interval))
     first, _ = _merge(tonal, broadband, min_interval * rate)
@@ -328,12 +334,15 @@ def find_onsets(signal, rate, *, threshold_db=DEFAULT_THRESHOLD_DB, min_interval
     times, kinds = _merge(tonal, broadband, min_interval * rate, deep)
     _, modes_jump, likeness, where = _pursue(modes_innovation, (times + modes_delay) / q2, modes_rate)
     times = _retime(times, kinds, where * q2 - modes_delay, likeness)
-    amplitude = _attack_amplitudes(low, coefficients, (times + delay) / q, low_rate)
     tonal_jump = _jump_at(innovation, (times + delay) / q, low_rate)
     broadband_jump = _jump_at(np.diff(band, prepend=band[0]), times + 0.5, rate)
     rises = (tonal_jump >= MIN_JUMP) | ((broadband_jump >= BROADBAND_JUMP) & (tonal_jump >= TONAL_SUPPORT))
     attack = (modes_jump >= MIN_JUMP) & ((likeness >= LIKENESS) | rises)
-    floor = _noise_floor(low, low_rate)
+    q3 = max(q, int(rate // (2.5 * _level_corner(band, rate, first))))
+    lowest, lowest_rate, lowest_delay = _decimate(band, rate, q3)
+    _, level_coefficients = _robust_innovation(lowest, LEVEL_ORDER, coefficients=True)
+    amplitude = _attack_amplitudes(lowest, level_coefficients, (times + lowest_delay) / q3, lowest_rate)
+    floor = _noise_floor(lowest, lowest_rate)
     info = {**info, "analysis_rate": low_rate}
     found = (amplitude > floor * 10.0 ** (FLOOR_MARGIN_DB / 20.0)) & attack
     if not np.any(found):
@@ -372,16 +381,16 @@ def _decimation(band, rate):
     return int(max(1, min(rate // (2.5 * max(top, 1.0)), rate // 2000)))
 
 
-def _decimate(band, rate, q):
-    """``band`` low-passed (causal Butterworth, 8th order, at 0.8 of the new Nyquist) and decimated by ``q``.
+def _decimate(band, rate, q, corner=None):
+    """``band`` low-passed (causal Butterworth, 8th order, at ``corner`` Hz: by default 0.8 of the new Nyquist) and decimated by ``q``.
 
     Returns the samples, their rate (Hz) and the filter's delay at low frequencies (full-rate samples).
     """
-    if q == 1:
+    if q == 1 and corner is None:
         return band, rate, 0.0
     from scipy.signal import butter, sosfilt, sosfreqz
 
-    corner = 0.8 * rate / q / 2.0
+    corner = 0.8 * rate / q / 2.0 if corner is None else min(corner, 0.8 * rate / q / 2.0)
     sos = butter(8, corner, fs=rate, output="sos")
     step = corner / 800.0  # the group delay at corner / 8, from the phase's slope (the sections: well conditioned)
     _, response = sosfreqz(sos, worN=[corner / 8.0 - step, corner / 8.0 + step], fs=rate)
@@ -401,21 +410,29 @@ def _innovation(x, order=ORDER):
     return a, lfilter(a, [1.0], x)
 
 
-def _robust_innovation(x, order=MODES_ORDER):
-    """The innovation of ``x`` by a linear predictor fitted by least squares reweighted by the inverse local power of a first fit's innovation."""
+def _robust_innovation(x, order=MODES_ORDER, *, coefficients=False):
+    """The innovation of ``x`` by a linear predictor fitted by least squares reweighted by the inverse local power of a first fit's innovation.
+
+    With ``coefficients``, also the predictor's error filter (first the innovation, then the filter).
+    """
     from numpy.lib.stride_tricks import sliding_window_view
     from scipy.ndimage import uniform_filter1d
     from scipy.signal import lfilter
 
     order = min(order, max(1, len(x) // 8))
-    _, first = _innovation(x, order)
-    weight = 1.0 / np.sqrt(uniform_filter1d(first * first, 9) + 1e-24)
+    burg, first = _innovation(x, order)
+    power = np.maximum(uniform_filter1d(first * first, 9), 0.0)
+    weight = 1.0 / np.sqrt(power + 1e-12 * power.mean() + 1e-300)
     rows = sliding_window_view(x, order + 1)[:, ::-1] * weight[order:, None]
-    c, *_ = np.linalg.lstsq(rows[:, 1:], -rows[:, 0], rcond=None)
-    a = np.concatenate(([1.0], c))
+    try:
+        c, *_ = np.linalg.lstsq(rows[:, 1:], -rows[:, 0], rcond=None)
+        a = np.concatenate(([1.0], c))
+    except np.linalg.LinAlgError:
+        a = burg
     if not np.all(np.isfinite(a)):
-        return first
-    return lfilter(a, [1.0], x)
+        a = burg
+    e = lfilter(a, [1.0], x)
+    return (e, a) if coefficients else e
 
 
 def _pursue(e, positions, rate, span=SIGNATURE):
@@ -495,6 +512,29 @@ def _retime(times, kinds, fitted, likeness):
     out[kinds == 2] = fitted[kinds == 2] + offset
     order = np.argsort(out, kind="stable")
     return out[order] if np.all(np.diff(out[order]) > 0) else times
+
+
+def _level_corner(band, rate, onsets):
+    """The top (Hz) of the band levels are measured in: 2.1 times its lowest strong mode, ≥ 400 Hz.
+
+    The lowest strong mode is the lowest frequency within 20 dB of the strongest in the 50 ms
+    after the loudest of ``onsets`` (full-rate samples; the signal's largest sample if none).
+    """
+    if len(onsets):
+        starts = np.clip(np.round(onsets).astype(np.int64), 0, len(band) - 1)
+        peaks = [np.abs(band[k:k + max(1, round(5e-3 * rate))]).max() for k in starts]
+        start = int(starts[int(np.argmax(peaks))])
+    else:
+        start = int(np.argmax(np.abs(band)))
+    size = 1 << int(np.ceil(np.log2(rate * 0.05)))
+    segment = band[start:start + size]
+    if len(segment) < size // 4:
+        return 400.0
+    power = np.abs(np.fft.rfft(segment * np.hanning(len(segment)), size)) ** 2
+    frequencies = np.fft.rfftfreq(size, 1.0 / rate)
+    strong = np.flatnonzero((power >= 0.01 * power.max()) & (frequencies >= HIGH_PASS))
+    lowest = frequencies[strong[0]] if len(strong) else 190.0
+    return float(max(400.0, 2.1 * lowest))
 
 
 def _windows(x, rate, least=12):
@@ -595,7 +635,13 @@ def _residual_peak(x, coefficients, start, stop):
         state = lfiltic([1.0], coefficients, x[start - order:start][::-1])
         predicted, _ = lfilter([1.0], coefficients, np.zeros(stop - start), zi=state)
         actual = actual - predicted
-    return float(np.abs(actual).max())
+    if len(actual) < 2:
+        return float(np.abs(actual).max())
+    from scipy.signal import resample_poly
+
+    padded = np.concatenate((np.zeros(4), actual, np.zeros(4)))  # the new sound starts from nothing
+    return float(np.abs(resample_poly(padded, 4, 1)).max())  # between samples
+
 
 def _aic(x):
     """Akaike's change point of ``x``: the first sample of its second, louder-or-quieter segment."""
