@@ -423,9 +423,13 @@ def _robust_innovation(x, order=MODES_ORDER, *, coefficients=False):
     burg, first = _innovation(x, order)
     power = np.maximum(uniform_filter1d(first * first, 9), 0.0)
     weight = 1.0 / np.sqrt(power + 1e-12 * power.mean() + 1e-300)
-    rows = sliding_window_view(x, order + 1)[:, ::-1] * weight[order:, None]
+    gram = np.zeros((order + 1, order + 1))
+    for start in range(order, len(x), _BLOCK // 8):  # the normal equations block by block: memory stays bounded
+        stop = min(len(x), start + _BLOCK // 8)
+        rows = sliding_window_view(x[start - order:stop], order + 1)[:, ::-1] * weight[start:stop, None]
+        gram += rows.T @ rows
     try:
-        c, *_ = np.linalg.lstsq(rows[:, 1:], -rows[:, 0], rcond=None)
+        c, *_ = np.linalg.lstsq(gram[1:, 1:], -gram[1:, 0], rcond=None)
         a = np.concatenate(([1.0], c))
     except np.linalg.LinAlgError:
         a = burg
@@ -597,14 +601,17 @@ def _attack_amplitudes(low, coefficients, positions, rate):
 
     The earlier sound (the drum's and the room's ringing) is extrapolated past the onset from the
     samples before it by the linear predictor; what remains is the new attack's sound, whose
-    peak over the next 5 ms (or up to the next onset) is its amplitude.
+    peak over the next 5 ms (or up to the next onset), between samples, is its amplitude.
     """
+    from scipy.signal import firwin
+
     horizon = max(2, round(5e-3 * rate))
+    interpolator = 4.0 * firwin(81, 0.25, window=("kaiser", 5.0))  # as scipy's resample_poly(x, 4, 1)
     starts = np.clip(np.round(positions).astype(np.int64), 0, len(low))
     amplitude = np.zeros(len(starts))
     for i, k in enumerate(starts):
         stop = min(len(low), k + horizon, starts[i + 1] if i + 1 < len(starts) else len(low))
-        amplitude[i] = _residual_peak(low, coefficients, k, stop)
+        amplitude[i] = _residual_peak(low, coefficients, k, stop, interpolator)
     return amplitude
 
 
@@ -623,24 +630,27 @@ def _jump_at(x, positions, rate, samples=12):
     return out
 
 
-def _residual_peak(x, coefficients, start, stop):
-    """The peak of ``x[start:stop]`` less its linear prediction from the samples before ``start``."""
-    from scipy.signal import lfilter, lfiltic
+def _residual_peak(x, coefficients, start, stop, interpolator=None):
+    """The peak of ``x[start:stop]`` less its linear prediction from the samples before ``start``.
 
+    With ``interpolator`` (a 4-times upsampling low-pass FIR), the peak between samples.
+    """
     order = len(coefficients) - 1
     if stop <= start:
         return 0.0
     actual = x[start:stop]
     if start >= order:
-        state = lfiltic([1.0], coefficients, x[start - order:start][::-1])
-        predicted, _ = lfilter([1.0], coefficients, np.zeros(stop - start), zi=state)
-        actual = actual - predicted
-    if len(actual) < 2:
+        past = np.concatenate((x[start - order:start], np.zeros(stop - start)))
+        taps = -coefficients[:0:-1]  # oldest first
+        for j in range(stop - start):
+            past[order + j] = taps @ past[j:order + j]
+        actual = actual - past[order:]
+    if interpolator is None or len(actual) < 2:
         return float(np.abs(actual).max())
-    from scipy.signal import resample_poly
+    from scipy.signal import upfirdn
 
     padded = np.concatenate((np.zeros(4), actual, np.zeros(4)))  # the new sound starts from nothing
-    return float(np.abs(resample_poly(padded, 4, 1)).max())  # between samples
+    return float(np.abs(upfirdn(interpolator, padded, 4)).max())
 
 
 def _aic(x):
