@@ -105,17 +105,19 @@ def test_writing_refuses_another_programs_json_and_other_suffixes(tmp_path):
 STROKES = 6
 """Random strokes per condition (their impacts: 228 in all, 74 louder than −30 dB re each stroke's loudest)."""
 
-# condition: (render options, least recall of the impacts above −30 dB, above −20 dB, most extra onsets in all)
-# Measured (docs/analysis.md): recall −30 dB / −20 dB, extras: 0.76/1.00, 16 | 0.99/0.98, 50 | 0.76/1.00, 7 |
-# 0.76/0.96, 4 | 0.64/0.87, 25 | 1.00/1.00, 0 | 0.88/1.00, 2.
+# condition: (render options, least recall of the impacts above −30 dB, above −20 dB, most extra onsets in all,
+# largest median level error (dB) of the impacts above −20 dB)
+# Measured (docs/analysis.md): recall −30 dB / −20 dB, extras, level error: 0.95/1.00, 5, 0.47 | 0.99/0.98, 16, 0.78 |
+# 0.97/1.00, 3, 0.42 | 0.97/0.96, 6, 0.34 | 0.91/1.00, 15, 0.40 | 1.00/1.00, 4, 0.80 | 0.88/1.00, 18, 0.99.
+# The issue asks 0.95 at −30 dB: asserted where met.
 CONDITIONS = {
-    "ours, snares": ({"snares": True}, 0.7, 0.95, 25),
-    "ours, no snares": ({"snares": False}, 0.95, 0.95, 70),
-    "ours, snares, SNR 30 dB": ({"snares": True, "snr": 30}, 0.7, 0.95, 15),
-    "ours, no snares, SNR 20 dB": ({"snares": False, "snr": 20}, 0.65, 0.9, 10),
-    "ours, snares, room, SNR 40 dB": ({"snares": True, "snr": 40, "room": "room"}, 0.55, 0.8, 35),
-    "other drum, SNR 30 dB": ({"kind": "other", "snr": 30}, 0.95, 0.95, 5),
-    "other drum, room, SNR 30 dB": ({"kind": "other", "snr": 30, "room": "room"}, 0.8, 0.95, 10),
+    "ours, snares": ({"snares": True}, 0.94, 0.95, 10, 0.7),
+    "ours, no snares": ({"snares": False}, 0.95, 0.95, 25, 1.0),
+    "ours, snares, SNR 30 dB": ({"snares": True, "snr": 30}, 0.95, 0.95, 8, 0.7),
+    "ours, no snares, SNR 20 dB": ({"snares": False, "snr": 20}, 0.95, 0.9, 10, 0.6),
+    "ours, snares, room, SNR 40 dB": ({"snares": True, "snr": 40, "room": "room"}, 0.88, 0.95, 22, 0.6),
+    "other drum, SNR 30 dB": ({"kind": "other", "snr": 30}, 0.95, 0.95, 6, 1.1),
+    "other drum, room, SNR 30 dB": ({"kind": "other", "snr": 30, "room": "room"}, 0.85, 0.95, 25, 1.3),
 }
 
 
@@ -134,13 +136,15 @@ def test_onsets_of_rendered_strokes_are_within_a_millisecond(strokes, room, cond
     """Impacts of random strokes, rendered (our drum or another), noised, in a room: found where they were struck.
 
     Of the onsets matched to impacts louder than −20 dB within 5 ms, 95 % or more are within 1 ms
-    of it and none beyond 2.5 ms (the median well under 0.2 ms); the impacts louder than −30 and −20 dB re each stroke's loudest are found within 1 ms at
-    least as often as measured (less a margin); few extra onsets; levels within a few dB.
+    of it and none beyond 2.5 ms (the median well under 0.2 ms); the impacts louder than −30 and −20 dB re each stroke's
+    loudest are found within 1 ms at least as often as measured (less a margin); few extra onsets; levels (of the
+    impacts above −20 dB) within a median of 0.3-1 dB (levels from the lowest modes, whose amplitude is in proportion to the
+    tip speed).
     mir_eval's onset matching (an independent implementation) counts the same found impacts.
     """
     import mir_eval
 
-    options, least_30, least_20, most_extra = CONDITIONS[condition]
+    options, least_30, least_20, most_extra, most_level = CONDITIONS[condition]
     options = {**options, "room": room if options.get("room") else None}
     loud = found = loud_20 = found_20 = extra = 0
     errors, level_errors = [], []
@@ -164,7 +168,7 @@ def test_onsets_of_rendered_strokes_are_within_a_millisecond(strokes, room, cond
         errors.max(), np.median(errors))
     assert found / loud >= least_30 and found_20 / loud_20 >= least_20, (found, loud, found_20, loud_20)
     assert extra <= most_extra
-    assert np.median(np.abs(level_errors)) < 2.5
+    assert np.median(np.abs(level_errors)) < most_level, np.median(np.abs(level_errors))
 
 
 def test_onsets_at_8_khz_and_other_rates(strokes):

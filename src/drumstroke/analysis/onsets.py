@@ -179,6 +179,27 @@ BROADBAND_JUMP = 3.0
 TONAL_SUPPORT = 1.6
 """How much the innovation must rise too at a broadband attack (beating modes make broadband jumps alone)."""
 
+MODES_RATE = 2000
+"""The rate (Hz) to which the modes' band is decimated (its anti-alias corner at 0.4 of it: below the snare wires)."""
+
+MODES_WIDTH = 4
+"""The shortest window (samples) of the modes' band's jumps (2 ms at 2 kHz)."""
+
+MODES_ORDER = 40
+"""The modes' band predictor's order."""
+
+LEVEL_ORDER = 24
+"""The order of the predictor in the band levels are measured in (the lowest modes: up to 2.1 times the lowest strong one)."""
+
+SIGNATURE = 50e-3
+"""How long an attack's signature in the modes' band's innovation lasts (s): the spike, the beating, first reflections."""
+
+HEAD = 6
+"""The samples after the spike that tell whether an onset's start looks like the signature."""
+
+LIKENESS = 0.7
+"""The least correlation of an onset's start with the signature's for an onset found in the modes' band alone."""
+
 ORDER = 48
 """The linear predictor's order: up to 20 ringing modes and the anti-alias filter's 8 poles."""
 
@@ -241,11 +262,26 @@ def find_onsets(signal, rate, *, threshold_db=DEFAULT_THRESHOLD_DB, min_interval
        the first difference (a jump of :data:`BROADBAND_JUMP`, with the innovation rising
        :data:`TONAL_SUPPORT` times too: beating modes alone make broadband jumps). Their
        full-rate time replaces a decimated one within ``min_interval``; closer onsets are one.
-    4. An onset's amplitude is the peak of its own sound: the decimated signal over the next
-       5 ms (or up to the next onset) less the earlier sound extrapolated by the predictor; its
-       level is in dB re the loudest onset. The noise floor (the 5th percentile of the decimated
-       signal's peaks over 5-ms frames) plus :data:`FLOOR_MARGIN_DB`, or ``threshold_db`` if
-       higher, is the threshold used.
+    4. *Quiet attacks in louder ones' ringing and rattle* are found in the drum's modes' band
+       (decimated to ~:data:`MODES_RATE` Hz: below the snare wires), whose innovation (a
+       predictor of order :data:`MODES_ORDER` fitted by least squares reweighted by the
+       inverse local power of a first fit's innovation: the ringing between attacks, not the
+       attacks, sets it) holds each attack's *signature*: a spike and :data:`SIGNATURE` s of what
+       the predictor cannot follow (beating modes, the room's first reflections). Matching
+       pursuit: the loudest attack's signature, fitted by least squares (with its derivative:
+       a fraction of a sample) at each onset found, is taken off in time order; jumps of the
+       remainder (windows of :data:`MODES_WIDTH` samples) are more onsets, timed by where their
+       signature fits (offset by the other onsets' precise times). An onset is an attack when
+       the remainder jumps :data:`MIN_JUMP` times at it and either its start looks like the
+       signature (correlation ≥ :data:`LIKENESS`) or step 2 or 3 found it rising.
+    5. An onset's amplitude is the peak of its own sound in the drum's lowest modes (the band up
+       to 2.1 times its lowest strong mode, ≥ 400 Hz, decimated to 2.5 times that: a stick's
+       speed sets their amplitude in proportion, while the higher modes grow faster with it,
+       Hertz's contact being shorter): the band over the next 5 ms (or up to the next onset)
+       less the earlier sound extrapolated by a predictor (order :data:`LEVEL_ORDER`, fitted as
+       in step 4), its peak between samples (4 times upsampled). Its level is in dB re the
+       loudest onset. The noise floor (the 5th percentile of that band's peaks over 5-ms frames)
+       plus :data:`FLOOR_MARGIN_DB`, or ``threshold_db`` if higher, is the threshold used.
 
     Parameters
     ----------
@@ -277,7 +313,7 @@ def find_onsets(signal, rate, *, threshold_db=DEFAULT_THRESHOLD_DB, min_interval
     >>> hit = lambda t0, a: a * np.where(t >= t0, np.exp(-(t - t0) / 0.03) * np.sin(2 * np.pi * 400 * (t - t0)), 0.0)
     >>> onsets = find_onsets(hit(0.2, 0.8) + hit(0.55, 0.4), rate)
     >>> np.round(onsets.t, 4).tolist(), np.round(onsets.level_db, 1).tolist()
-    ([0.2, 0.55], [0.0, -6.0])
+    ([0.2, 0.55], [0.0, -6.2])
     """
     signal = check_vector("signal", signal, unit="full scale")
     rate = check_int("rate", rate, low=MIN_RATE, high=768000, unit="Hz")
@@ -287,7 +323,8 @@ def find_onsets(signal, rate, *, threshold_db=DEFAULT_THRESHOLD_DB, min_interval
         raise ParameterError(f"signal lasts {len(signal) / rate:.6g} s; at most {MAX_SECONDS:g} s are analysed: cut "
                              "it into parts")
     info = {**(notes or {}), "rate": rate, "seconds": len(signal) / rate, "requested_threshold_db": threshold_db,
-            "method": "jumps of the linear-prediction innovation (decimated) and of the first difference; AIC change points"}
+            "method": "jumps of the linear-prediction innovation (decimated) and of the first difference; AIC change points; "
+                      "matching pursuit of attack signatures in the modes' band"}
 
     def none(reason):
         return Onsets(np.empty(0), np.empty(0), threshold_db=threshold_db, source=source,
@@ -302,15 +339,27 @@ def find_onsets(signal, rate, *, threshold_db=DEFAULT_THRESHOLD_DB, min_interval
     band = band / peak
     q = max(_decimation(band, rate), rate // 6000)
     low, low_rate, delay = _decimate(band, rate, q)
-    coefficients, innovation = _innovation(low)
+    _, innovation = _innovation(low)
     tonal = [k * q - delay for k in _jumps(innovation, low_rate, min_interval, MIN_JUMP)]
     broadband = list(_broadband_onsets(band, rate, min_interval))
-    times = np.asarray(_merge(tonal, broadband, min_interval * rate))
-    amplitude = _attack_amplitudes(low, coefficients, (times + delay) / q, low_rate)
+    first, _ = _merge(tonal, broadband, min_interval * rate)
+    q2 = max(q, rate // MODES_RATE)
+    modes, modes_rate, modes_delay = _decimate(band, rate, q2)
+    modes_innovation = _robust_innovation(modes)
+    residual, _, _, _ = _pursue(modes_innovation, (first + modes_delay) / q2, modes_rate)
+    deep = [k * q2 - modes_delay for k in _jumps(residual, modes_rate, min_interval, MIN_JUMP, MODES_WIDTH)]
+    times, kinds = _merge(tonal, broadband, min_interval * rate, deep)
+    _, modes_jump, likeness, where = _pursue(modes_innovation, (times + modes_delay) / q2, modes_rate)
+    times = _retime(times, kinds, where * q2 - modes_delay, likeness)
     tonal_jump = _jump_at(innovation, (times + delay) / q, low_rate)
     broadband_jump = _jump_at(np.diff(band, prepend=band[0]), times + 0.5, rate)
-    attack = (tonal_jump >= MIN_JUMP) | ((broadband_jump >= BROADBAND_JUMP) & (tonal_jump >= TONAL_SUPPORT))
-    floor = _noise_floor(low, low_rate)
+    rises = (tonal_jump >= MIN_JUMP) | ((broadband_jump >= BROADBAND_JUMP) & (tonal_jump >= TONAL_SUPPORT))
+    attack = (modes_jump >= MIN_JUMP) & ((likeness >= LIKENESS) | rises)
+    q3 = max(q, int(rate // (2.5 * _level_corner(band, rate, first))))
+    lowest, lowest_rate, lowest_delay = _decimate(band, rate, q3)
+    _, level_coefficients = _robust_innovation(lowest, LEVEL_ORDER, coefficients=True)
+    amplitude = _attack_amplitudes(lowest, level_coefficients, (times + lowest_delay) / q3, lowest_rate)
+    floor = _noise_floor(lowest, lowest_rate)
     info = {**info, "analysis_rate": low_rate}
     found = (amplitude > floor * 10.0 ** (FLOOR_MARGIN_DB / 20.0)) & attack
     if not np.any(found):
@@ -349,19 +398,21 @@ def _decimation(band, rate):
     return int(max(1, min(rate // (2.5 * max(top, 1.0)), rate // 2000)))
 
 
-def _decimate(band, rate, q):
-    """``band`` low-passed (causal Butterworth, 8th order, at 0.8 of the new Nyquist) and decimated by ``q``.
+def _decimate(band, rate, q, corner=None):
+    """``band`` low-passed (causal Butterworth, 8th order, at ``corner`` Hz: by default 0.8 of the new Nyquist) and decimated by ``q``.
 
     Returns the samples, their rate (Hz) and the filter's delay at low frequencies (full-rate samples).
     """
-    if q == 1:
+    if q == 1 and corner is None:
         return band, rate, 0.0
-    from scipy.signal import butter, group_delay, sosfilt
+    from scipy.signal import butter, sosfilt, sosfreqz
 
-    corner = 0.8 * rate / q / 2.0
+    corner = 0.8 * rate / q / 2.0 if corner is None else min(corner, 0.8 * rate / q / 2.0)
     sos = butter(8, corner, fs=rate, output="sos")
-    _, delay = group_delay(butter(8, corner, fs=rate), w=[corner / 8.0], fs=rate)
-    return sosfilt(sos, band)[::q].copy(), rate / q, float(delay[0])
+    step = corner / 800.0  # the group delay at corner / 8, from the phase's slope (the sections: well conditioned)
+    _, response = sosfreqz(sos, worN=[corner / 8.0 - step, corner / 8.0 + step], fs=rate)
+    delay = -np.diff(np.unwrap(np.angle(response)))[0] / (2.0 * np.pi * 2.0 * step) * rate
+    return sosfilt(sos, band)[::q].copy(), rate / q, float(delay)
 
 
 def _innovation(x, order=ORDER):
@@ -376,9 +427,140 @@ def _innovation(x, order=ORDER):
     return a, lfilter(a, [1.0], x)
 
 
-def _windows(x, rate):
-    """The mean square of ``x`` over the 1 ms (≥ 12 samples) from each sample, and over the 4 times that before it."""
-    width = max(12, round(1e-3 * rate))
+def _robust_innovation(x, order=MODES_ORDER, *, coefficients=False):
+    """The innovation of ``x`` by a linear predictor fitted by least squares reweighted by the inverse local power of a first fit's innovation.
+
+    With ``coefficients``, also the predictor's error filter (first the innovation, then the filter).
+    """
+    from numpy.lib.stride_tricks import sliding_window_view
+    from scipy.ndimage import uniform_filter1d
+    from scipy.signal import lfilter
+
+    order = min(order, max(1, len(x) // 8))
+    burg, first = _innovation(x, order)
+    power = np.maximum(uniform_filter1d(first * first, 9), 0.0)
+    weight = 1.0 / np.sqrt(power + 1e-12 * power.mean() + 1e-300)
+    gram = np.zeros((order + 1, order + 1))
+    for start in range(order, len(x), _BLOCK // 8):  # the normal equations block by block: memory stays bounded
+        stop = min(len(x), start + _BLOCK // 8)
+        rows = sliding_window_view(x[start - order:stop], order + 1)[:, ::-1] * weight[start:stop, None]
+        gram += rows.T @ rows
+    try:
+        c, *_ = np.linalg.lstsq(gram[1:, 1:], -gram[1:, 0], rcond=None)
+        a = np.concatenate(([1.0], c))
+    except np.linalg.LinAlgError:
+        a = burg
+    if not np.all(np.isfinite(a)):
+        a = burg
+    e = lfilter(a, [1.0], x)
+    return (e, a) if coefficients else e
+
+
+def _pursue(e, positions, rate, span=SIGNATURE):
+    """``e`` less each onset's signature, the onsets taken in time order; how each onset rises over what went before.
+
+    The signature is the innovation of the loudest attack (its largest spike and the ``span`` s
+    after it); each onset's is fitted by least squares (the signature and its derivative: a
+    fraction of a sample's shift) at the best of five alignments and taken off before the next.
+
+    Returns
+    -------
+    residual : ndarray
+        ``e`` less every onset's fitted signature.
+    jumps : ndarray
+        Each onset's jump (:func:`_jump_at`, windows of ≥ :data:`MODES_WIDTH` samples) in ``e``
+        less the earlier onsets' signatures.
+    likeness : ndarray
+        The largest correlation coefficient (magnitude) of the signature's start (its spike and
+        :data:`HEAD` samples) with what is there, over the five alignments.
+    where : ndarray
+        Where each onset's signature fits best (samples of ``e``, to a fraction: the derivative's
+        weight over the signature's).
+    """
+    from numpy.lib.stride_tricks import sliding_window_view
+
+    length = max(4, round(span * rate))
+    peak = int(np.argmax(np.abs(e)))
+    lead = min(2, peak)
+    template = e[peak - lead:peak + length].copy()
+    size = len(template)
+    basis = np.column_stack([template, np.gradient(template)]) if size > 1 else template[:, None]
+    gram = basis.T @ basis
+    positions = np.asarray(positions, dtype=float)
+    if not np.all(np.isfinite(gram)) or np.linalg.cond(gram) > 1e12:
+        return e.copy(), _jump_at(e, positions, rate, MODES_WIDTH), np.ones(len(positions)), positions.copy()
+    solve = np.linalg.solve(gram, basis.T)
+    head = template[:lead + HEAD]
+    head_norm = float(np.sqrt(head @ head))
+    width = max(MODES_WIDTH, round(1e-3 * rate))
+    half = max(1, width // 2)
+    r = e.copy()
+    jumps = np.zeros(len(positions))
+    likeness = np.zeros(len(positions))
+    where = positions.copy()
+    for i, c in enumerate(np.round(positions).astype(np.int64)):
+        # the jump: the next window's power over the 4 windows before, the largest within half a window
+        low, high = max(0, c - half - 4 * width), min(len(r), c + half + width + 1)
+        jumps[i] = _jump_at(r[low:high], [c - low], rate, MODES_WIDTH)[0] if high - low > width else 0.0
+        starts = c - lead + np.arange(-2, 3)
+        starts = starts[(starts >= 0) & (starts + size <= len(r))]
+        if not len(starts):
+            continue
+        block = sliding_window_view(r[starts[0]:starts[-1] + size], size)
+        heads = block[:, :len(head)]
+        likeness[i] = float(np.max(np.abs(heads @ head) / (np.sqrt(np.einsum("ij,ij->i", heads, heads)) * head_norm + 1e-300)))
+        weights = block @ solve.T
+        cost = np.einsum("ij,ij->i", block, block) - np.einsum("ij,ij->i", weights, weights @ gram)
+        k = int(np.argmin(cost))
+        r[starts[k]:starts[k] + size] -= basis @ weights[k]
+        shift = -weights[k][1] / weights[k][0] if len(weights[k]) > 1 and weights[k][0] != 0.0 else 0.0
+        where[i] = starts[k] + lead + float(np.clip(shift, -1.0, 1.0))
+    return r, jumps, likeness, where
+
+
+def _retime(times, kinds, fitted, likeness):
+    """Onsets found only in the modes' band timed by their signature's fit, against the others' times.
+
+    ``fitted`` (full-rate samples) is where each signature fits; its offset from the precise
+    times (broadband or tonal onsets whose start looks like the signature, likeness ≥ 0.9) is
+    their median difference, added to the fitted time of each onset found only in the modes' band.
+    """
+    sure = (kinds < 2) & (likeness >= 0.9)
+    if not np.any(sure) or not np.any(kinds == 2):
+        return times
+    offset = float(np.median(times[sure] - fitted[sure]))
+    out = times.copy()
+    out[kinds == 2] = fitted[kinds == 2] + offset
+    order = np.argsort(out, kind="stable")
+    return out[order] if np.all(np.diff(out[order]) > 0) else times
+
+
+def _level_corner(band, rate, onsets):
+    """The top (Hz) of the band levels are measured in: 2.1 times its lowest strong mode, ≥ 400 Hz.
+
+    The lowest strong mode is the lowest frequency within 20 dB of the strongest in the 50 ms
+    after the loudest of ``onsets`` (full-rate samples; the signal's largest sample if none).
+    """
+    if len(onsets):
+        starts = np.clip(np.round(onsets).astype(np.int64), 0, len(band) - 1)
+        peaks = [np.abs(band[k:k + max(1, round(5e-3 * rate))]).max() for k in starts]
+        start = int(starts[int(np.argmax(peaks))])
+    else:
+        start = int(np.argmax(np.abs(band)))
+    size = 1 << int(np.ceil(np.log2(rate * 0.05)))
+    segment = band[start:start + size]
+    if len(segment) < size // 4:
+        return 400.0
+    power = np.abs(np.fft.rfft(segment * np.hanning(len(segment)), size)) ** 2
+    frequencies = np.fft.rfftfreq(size, 1.0 / rate)
+    strong = np.flatnonzero((power >= 0.01 * power.max()) & (frequencies >= HIGH_PASS))
+    lowest = frequencies[strong[0]] if len(strong) else 190.0
+    return float(max(400.0, 2.1 * lowest))
+
+
+def _windows(x, rate, least=12):
+    """The mean square of ``x`` over the 1 ms (≥ ``least`` samples) from each sample, and over the 4 times that before it."""
+    width = max(least, round(1e-3 * rate))
     power = np.concatenate(([0.0], np.cumsum(x * x)))
     n = np.arange(len(x))
     after = (power[np.minimum(n + width, len(x))] - power[n]) / width
@@ -386,7 +568,7 @@ def _windows(x, rate):
     return after, before, width
 
 
-def _jumps(x, rate, min_interval, least):
+def _jumps(x, rate, min_interval, least, samples=12):
     """Samples of ``x`` where its RMS over the next 1 ms rises ``least`` times over the 4 ms before: the AIC's change points.
 
     A long signal is taken in blocks of :data:`_BLOCK` samples (overlapping by more than the windows
@@ -394,13 +576,13 @@ def _jumps(x, rate, min_interval, least):
     """
     import librosa
 
-    width = max(12, round(1e-3 * rate))
+    width = max(samples, round(1e-3 * rate))
     gap = max(1, round(min_interval * rate))
     margin = 6 * width + 2 * gap
     peaks = []
     for start in range(0, len(x), _BLOCK):
         low, high = max(0, start - margin), min(len(x), start + _BLOCK + margin)
-        after, before, _ = _windows(x[low:high], rate)
+        after, before, _ = _windows(x[low:high], rate, samples)
         jump = np.sqrt(after / np.maximum(before, 1e-300 + after * 1e-12))
         jump[: 4 * width] = 0.0
         found = librosa.util.peak_pick(jump, pre_max=gap, post_max=gap, pre_avg=1, post_avg=1, delta=0.0, wait=gap)
@@ -415,16 +597,20 @@ def _broadband_onsets(band, rate, min_interval):
     return [k - 0.5 for k in _jumps(d, rate, min_interval, BROADBAND_JUMP)]  # the difference is centred ½ sample early
 
 
-def _merge(tonal, broadband, gap):
-    """Both lists of onsets (samples), sorted; onsets closer than ``gap`` are one, at the broadband time if any."""
-    marked = sorted([(s, 1) for s in tonal] + [(s, 0) for s in broadband])
+def _merge(tonal, broadband, gap, deep=()):
+    """The onsets (samples), sorted, and how each was found (0 broadband, 1 tonal, 2 deep only).
+
+    Onsets closer than ``gap`` are one, at the broadband time if any, else the tonal one.
+    """
+    marked = sorted([(s, 1) for s in tonal] + [(s, 0) for s in broadband] + [(s, 2) for s in deep])
     groups = []
     for s, kind in marked:
         if groups and s - groups[-1][0][0] < gap:
             groups[-1].append((s, kind))
         else:
             groups.append([(s, kind)])
-    return [min(group, key=lambda item: item[1])[0] for group in groups]
+    chosen = [min(group, key=lambda item: item[1]) for group in groups]
+    return np.array([s for s, _ in chosen], dtype=float), np.array([k for _, k in chosen], dtype=np.int64)
 
 
 def _attack_amplitudes(low, coefficients, positions, rate):
@@ -432,25 +618,28 @@ def _attack_amplitudes(low, coefficients, positions, rate):
 
     The earlier sound (the drum's and the room's ringing) is extrapolated past the onset from the
     samples before it by the linear predictor; what remains is the new attack's sound, whose
-    peak over the next 5 ms (or up to the next onset) is its amplitude.
+    peak over the next 5 ms (or up to the next onset), between samples, is its amplitude.
     """
+    from scipy.signal import firwin
+
     horizon = max(2, round(5e-3 * rate))
+    interpolator = 4.0 * firwin(81, 0.25, window=("kaiser", 5.0))  # as scipy's resample_poly(x, 4, 1)
     starts = np.clip(np.round(positions).astype(np.int64), 0, len(low))
     amplitude = np.zeros(len(starts))
     for i, k in enumerate(starts):
         stop = min(len(low), k + horizon, starts[i + 1] if i + 1 < len(starts) else len(low))
-        amplitude[i] = _residual_peak(low, coefficients, k, stop)
+        amplitude[i] = _residual_peak(low, coefficients, k, stop, interpolator)
     return amplitude
 
 
-def _jump_at(x, positions, rate):
+def _jump_at(x, positions, rate, samples=12):
     """The largest RMS jump of ``x`` (the next 1 ms over the 4 ms before) within half a window of each position."""
-    width = max(12, round(1e-3 * rate))
+    width = max(samples, round(1e-3 * rate))
     half = max(1, width // 2)
     out = np.zeros(len(positions))
     for n, i in enumerate(np.round(np.asarray(positions, dtype=float)).astype(np.int64)):
         low, high = max(0, i - half - 4 * width), min(len(x), i + half + width + 1)
-        after, before, _ = _windows(x[low:high], rate)
+        after, before, _ = _windows(x[low:high], rate, samples)
         k = np.arange(max(i - half, low), min(i + half + 1, high)) - low
         valid = k >= min(4 * width, i)  # a full window before, or the signal's start
         jump = np.sqrt(after[k] / np.maximum(before[k], 1e-300 + after[k] * 1e-12))
@@ -458,19 +647,28 @@ def _jump_at(x, positions, rate):
     return out
 
 
-def _residual_peak(x, coefficients, start, stop):
-    """The peak of ``x[start:stop]`` less its linear prediction from the samples before ``start``."""
-    from scipy.signal import lfilter, lfiltic
+def _residual_peak(x, coefficients, start, stop, interpolator=None):
+    """The peak of ``x[start:stop]`` less its linear prediction from the samples before ``start``.
 
+    With ``interpolator`` (a 4-times upsampling low-pass FIR), the peak between samples.
+    """
     order = len(coefficients) - 1
     if stop <= start:
         return 0.0
     actual = x[start:stop]
     if start >= order:
-        state = lfiltic([1.0], coefficients, x[start - order:start][::-1])
-        predicted, _ = lfilter([1.0], coefficients, np.zeros(stop - start), zi=state)
-        actual = actual - predicted
-    return float(np.abs(actual).max())
+        past = np.concatenate((x[start - order:start], np.zeros(stop - start)))
+        taps = -coefficients[:0:-1]  # oldest first
+        for j in range(stop - start):
+            past[order + j] = taps @ past[j:order + j]
+        actual = actual - past[order:]
+    if interpolator is None or len(actual) < 2:
+        return float(np.abs(actual).max())
+    from scipy.signal import upfirdn
+
+    padded = np.concatenate((np.zeros(4), actual, np.zeros(4)))  # the new sound starts from nothing
+    return float(np.abs(upfirdn(interpolator, padded, 4)).max())
+
 
 def _aic(x):
     """Akaike's change point of ``x``: the first sample of its second, louder-or-quieter segment."""
