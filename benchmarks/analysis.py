@@ -16,16 +16,15 @@ Prints a table and writes it with the machine and date to benchmarks/analysis_re
 import datetime
 import json
 import platform
-import statistics
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 import librosa
 import numpy as np
 import scipy
 import soundfile
+from _timing import median_time
 
 import drumstroke
 from drumstroke.analysis import measure_cor, read_onsets
@@ -38,15 +37,6 @@ from _recordings import RATE, render
 
 REPEATS = 7
 
-
-def median_time(fn, repeats=REPEATS):
-    fn()  # warm-up: numba's cache, imports
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - start)
-    return statistics.median(times)
 
 
 def scored(found, truth, level):

@@ -18,13 +18,13 @@ Prints a table and writes it with the machine and date to benchmarks/design_resu
 import datetime
 import json
 import platform
-import statistics
 import sys
 import time
 from pathlib import Path
 
 import numpy as np
 import scipy
+from _timing import median_time, progress
 
 import drumstroke
 from drumstroke.design import Target, assign_sticks, buzz, design, plan_stick
@@ -38,18 +38,6 @@ REPEATS = 7
 STICK = drumstroke.Stick()
 
 
-def progress(message):
-    print(message, file=sys.stderr, flush=True)
-
-
-def median_time(fn, repeats=REPEATS):
-    fn()  # warm-up: numba's cache, imports
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - start)
-    return statistics.median(times)
 
 
 def diddle_case(model):

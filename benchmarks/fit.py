@@ -19,12 +19,11 @@ import datetime
 import json
 import platform
 import statistics
-import sys
-import time
 from pathlib import Path
 
 import numpy as np
 import scipy
+from _timing import median_time, progress
 
 import drumstroke
 from drumstroke.analysis import Onsets, fit_stroke
@@ -36,18 +35,6 @@ STROKES = 5
 REPEATS = 3
 
 
-def progress(message):
-    print(message, file=sys.stderr, flush=True)
-
-
-def median_time(fn, repeats=REPEATS):
-    fn()  # warm-up: numba's cache, imports
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - start)
-    return statistics.median(times)
 
 
 def strokes(model, seed=20261125):
@@ -75,10 +62,10 @@ def case(model):
         progress(f"  {model} stroke {k + 1}/{STROKES} ...")
         levels = stroke.impacts.level_db[:IMPACTS]
         cor = recipe.cor
-        rows["fit (c given)"].append(median_time(lambda o=onsets, c=cor: fit_stroke(o, model=model, cor=c)))
+        rows["fit (c given)"].append(median_time(lambda o=onsets, c=cor: fit_stroke(o, model=model, cor=c), REPEATS))
         rows["fit (fit_cor)"].append(median_time(lambda o=onsets: fit_stroke(o, model=model, fit_cor=True), repeats=1))
-        rows["design"].append(median_time(lambda o=onsets, lv=levels, c=cor: design(o.t, lv, model=model, cor=c)))
-        rows["simulate"].append(median_time(lambda r=recipe: drumstroke.simulate(r)))
+        rows["design"].append(median_time(lambda o=onsets, lv=levels, c=cor: design(o.t, lv, model=model, cor=c), REPEATS))
+        rows["simulate"].append(median_time(lambda r=recipe: drumstroke.simulate(r), REPEATS))
         given = fit_stroke(onsets, model=model, cor=recipe.cor)
         fitted = fit_stroke(onsets, model=model, fit_cor=True)
         accuracy.append({"force": recipe.force.value, "cor": recipe.cor, "within": given.within and fitted.within,
