@@ -8,11 +8,10 @@ import pytest
 from scipy.special import ellipk, ellipkinc
 
 import drumstroke
+from _cli import assert_one_line_error, run
 from drumstroke.analysis import Onsets
 from drumstroke.analysis.compare import FLOOR_DB, GRID_POINTS, compare, stroke_onsets
 from drumstroke.errors import ParameterError
-
-from _cli import assert_one_line_error, run
 
 C_GRAVITY = 0.075 * 9.8 / 0.0714  # paper Eq. 7 with a = 0: C = k·g / D (s⁻²)
 THETA_MAX = -math.asin(0.07 / 0.27)  # paper Eq. 5 with Table 1

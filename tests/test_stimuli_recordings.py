@@ -40,7 +40,7 @@ def made(tmp_path_factory):
 
 
 def test_each_recording_makes_a_pair_the_app_serves(made):
-    stimuli, folder, _ = made
+    stimuli, _, _ = made
     config = Config.from_toml(stimuli.config)
     assert [pair.id for pair in config.pairs] == ["free-bounce", "constant"]
     for pair in config.pairs:
@@ -50,7 +50,7 @@ def test_each_recording_makes_a_pair_the_app_serves(made):
 
 
 def test_the_robots_version_starts_with_the_human_and_is_as_loud(made):
-    stimuli, folder, first = made
+    stimuli, _, first = made
     for stimulus in stimuli.stimuli:
         human, _ = soundfile.read(str(stimuli.config.parent / f"human-{stimulus.name}.wav"))
         robot, _ = soundfile.read(str(stimulus.path))

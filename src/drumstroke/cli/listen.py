@@ -2,8 +2,8 @@
 
 from ..errors import ParameterError
 from ..formats import json
-from ._common import Bar, Parser
 from ..model import MODELS
+from ._common import Bar, Parser
 from ._options import Output, add_mkdir, existing_file, existing_folder, number, whole
 from .stats import print_analysis
 

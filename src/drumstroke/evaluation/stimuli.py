@@ -21,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._atomic import publish
 from ..errors import ParameterError
 
 CONFIG_NAME = "listening-test.toml"
@@ -125,12 +126,12 @@ def fit_stimuli(recordings, out, *, model="paper", cor=None, fit_cor=False, prog
         fitted, before anything is written.
     out : str or Path
         The folder to write ``human-NAME.wav`` (the recording as a mono WAV at its own rate),
-        ``robot-NAME.wav`` (at the same rate), ``NAME.toml`` (the fitted recipe) and ``listening-test.toml`` to (created
-        if missing).
+        ``robot-NAME.wav`` (at the same rate), ``NAME.toml`` (the fitted recipe) and
+        ``listening-test.toml`` to (created if missing).
     model : {"paper", "geometry"}
         The model the strokes are fitted on.
     cor : float in [0, 1) or None
-        c, when it is known (e.g. measured from a drop); default the paper's 0.86, or fitted with ``fit_cor``.
+        c, when it is known (e.g. measured from a drop); default the paper's 0.86; or fitted (``fit_cor``).
     fit_cor : bool
         Fit c to each recording too.
     progress : callable or None
@@ -168,18 +169,20 @@ def fit_stimuli(recordings, out, *, model="paper", cor=None, fit_cor=False, prog
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)  # the folder the stimuli go in, as asked
     pairs, made = [], []
-    for i, (name, fit, (signal, rate)) in enumerate(zip(names, fits, sounds)):
-        human, robot, recipe = out / f"human-{name}.wav", out / f"robot-{name}.wav", out / f"{name}.toml"
-        played = track(reference(fit.stroke), controller(CONTROLLER))
-        sound = synthesize(played.onsets + fit.release, played.onset_speed, duration=len(signal) / rate, rate=rate)
-        peak, robot_peak = float(np.max(np.abs(signal))), float(np.max(np.abs(sound), initial=0.0))
-        write_wav(robot, sound * (peak / robot_peak) if robot_peak > 0.0 else sound, rate=rate)
-        write_wav(human, signal, rate=rate)
-        fit.recipe.to_toml(recipe)
-        made.append(Stimulus(name, robot, len(played.onsets), fit=fit, recipe=recipe))
-        pairs.append({"id": name, "human": human.name, "robot": robot.name})
-        if progress:
-            progress(0.5 + 0.5 * (i + 1) / len(recordings))
+    with publish():  # the recordings, the robot's versions and the recipes appear together
+        for i, (name, fit, (signal, rate)) in enumerate(zip(names, fits, sounds)):
+            human, robot, recipe = out / f"human-{name}.wav", out / f"robot-{name}.wav", out / f"{name}.toml"
+            played = track(reference(fit.stroke), controller(CONTROLLER))
+            sound = synthesize(played.onsets + fit.release, played.onset_speed, duration=len(signal) / rate,
+                               rate=rate)
+            peak, robot_peak = float(np.max(np.abs(signal))), float(np.max(np.abs(sound), initial=0.0))
+            write_wav(robot, sound * (peak / robot_peak) if robot_peak > 0.0 else sound, rate=rate)
+            write_wav(human, signal, rate=rate)
+            fit.recipe.to_toml(recipe)
+            made.append(Stimulus(name, robot, len(played.onsets), fit=fit, recipe=recipe))
+            pairs.append({"id": name, "human": human.name, "robot": robot.name})
+            if progress:
+                progress(0.5 + 0.5 * (i + 1) / len(recordings))
     return Stimuli(tuple(made), _write_config(out, pairs))
 
 
