@@ -192,6 +192,12 @@ SECOND_GAP = 2.0
 LIKENESS = 0.7
 """The least correlation of an onset's start with the signature's for an onset found in the modes' band alone."""
 
+WEAK_LIKENESS = 0.5
+"""A likeness to the signature that makes an onset an attack when step 2's innovation rises :data:`WEAK_RISE` times at it."""
+
+WEAK_RISE = 1.6
+"""The rise of step 2's innovation that, with :data:`WEAK_LIKENESS`, makes an onset an attack (a quiet one in a room's tail)."""
+
 ORDER = 48
 """The linear predictor's order: up to 20 ringing modes and the anti-alias filter's 8 poles."""
 
@@ -269,7 +275,8 @@ def find_onsets(signal, rate, *, threshold_db=DEFAULT_THRESHOLD_DB, min_interval
        the quiet onsets found as well and adds the remainder's new jumps (farther than
        :data:`SECOND_GAP` ``min_interval``\ s from the onsets known). An onset is an attack when
        the remainder jumps :data:`MIN_JUMP` times at it and either its start looks like the
-       signature (correlation ≥ :data:`LIKENESS`) or step 2 or 3 found it rising.
+       signature (correlation ≥ :data:`LIKENESS`) or step 2 or 3 found it rising (or it looks
+       half like it, :data:`WEAK_LIKENESS`, and step 2's innovation rises :data:`WEAK_RISE` times).
     5. An onset's amplitude is the peak of its own sound in the drum's lowest modes (the band up
        to 2.1 times its lowest strong mode, ≥ 400 Hz, decimated to 2.5 times that: a stick's
        speed sets their amplitude in proportion, while the higher modes grow faster with it,
@@ -361,7 +368,8 @@ def find_onsets(signal, rate, *, threshold_db=DEFAULT_THRESHOLD_DB, min_interval
     tonal_jump = _jump_at(innovation, (times + delay) / q, low_rate)
     broadband_jump = _jump_at(np.diff(band, prepend=band[0]), times + 0.5, rate)
     rises = (tonal_jump >= MIN_JUMP) | ((broadband_jump >= BROADBAND_JUMP) & (tonal_jump >= TONAL_SUPPORT))
-    attack = (modes_jump >= MIN_JUMP) & ((likeness >= LIKENESS) | rises)
+    weak = (likeness >= WEAK_LIKENESS) & (tonal_jump >= WEAK_RISE)  # half like it, rising a little
+    attack = (modes_jump >= MIN_JUMP) & ((likeness >= LIKENESS) | rises | weak)
     q3 = max(q, int(rate // (2.5 * _level_corner(band, rate, first))))
     lowest, lowest_rate, lowest_delay = _decimate(band, rate, q3)
     _, level_coefficients = _robust_innovation(lowest, LEVEL_ORDER, coefficients=True)
