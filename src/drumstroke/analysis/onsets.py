@@ -196,6 +196,12 @@ WEAK_LIKENESS = 0.5
 """A likeness to the signature that makes an onset an attack when step 2's innovation rises :data:`WEAK_RISE` times at it."""
 
 WEAK_RISE = 1.6
+
+SURE_LIKENESS = 0.9
+"""A likeness to the signature that makes an onset an attack with a jump of only :data:`SURE_JUMP`."""
+
+SURE_JUMP = 1.5
+"""The least jump of the remainder at an onset whose start is almost the signature (:data:`SURE_LIKENESS`)."""
 """The rise of step 2's innovation that, with :data:`WEAK_LIKENESS`, makes an onset an attack (a quiet one in a room's tail)."""
 
 ORDER = 48
@@ -276,7 +282,8 @@ def find_onsets(signal, rate, *, threshold_db=DEFAULT_THRESHOLD_DB, min_interval
        :data:`SECOND_GAP` ``min_interval``\ s from the onsets known). An onset is an attack when
        the remainder jumps :data:`MIN_JUMP` times at it and either its start looks like the
        signature (correlation ≥ :data:`LIKENESS`) or step 2 or 3 found it rising (or it looks
-       half like it, :data:`WEAK_LIKENESS`, and step 2's innovation rises :data:`WEAK_RISE` times).
+       half like it, :data:`WEAK_LIKENESS`, and step 2's innovation rises :data:`WEAK_RISE` times);
+       a start almost the signature (:data:`SURE_LIKENESS`) needs a jump of :data:`SURE_JUMP` only.
     5. An onset's amplitude is the peak of its own sound in the drum's lowest modes (the band up
        to 2.1 times its lowest strong mode, ≥ 400 Hz, decimated to 2.5 times that: a stick's
        speed sets their amplitude in proportion, while the higher modes grow faster with it,
@@ -370,6 +377,7 @@ def find_onsets(signal, rate, *, threshold_db=DEFAULT_THRESHOLD_DB, min_interval
     rises = (tonal_jump >= MIN_JUMP) | ((broadband_jump >= BROADBAND_JUMP) & (tonal_jump >= TONAL_SUPPORT))
     weak = (likeness >= WEAK_LIKENESS) & (tonal_jump >= WEAK_RISE)  # half like it, rising a little
     attack = (modes_jump >= MIN_JUMP) & ((likeness >= LIKENESS) | rises | weak)
+    attack |= (modes_jump >= SURE_JUMP) & (likeness >= SURE_LIKENESS)
     q3 = max(q, int(rate // (2.5 * _level_corner(band, rate, first))))
     lowest, lowest_rate, lowest_delay = _decimate(band, rate, q3)
     _, level_coefficients = _robust_innovation(lowest, LEVEL_ORDER, coefficients=True)
