@@ -197,8 +197,29 @@ SIGNATURE = 50e-3
 HEAD = 6
 """The samples after the spike that tell whether an onset's start looks like the signature."""
 
+TAIL = 0.15
+"""How long the attacks' common response taken off past the signature lasts (s): the room's tail, fitted by least
+squares over all the first onsets (each scaled by its signature's fit), so overlapping neighbours average out."""
+
+TAIL_RIDGE = 0.01
+SECOND_GAP = 2.0
+"""How far (in ``min_interval``\ s) a second round's onset in the modes' band must be from the onsets known before it."""
+"""The ridge on that least-squares fit (a fraction of its normal equations' diagonal)."""
+
 LIKENESS = 0.7
 """The least correlation of an onset's start with the signature's for an onset found in the modes' band alone."""
+
+WEAK_LIKENESS = 0.5
+"""A likeness to the signature that makes an onset an attack when step 2's innovation rises :data:`WEAK_RISE` times at it."""
+
+WEAK_RISE = 1.6
+
+SURE_LIKENESS = 0.9
+"""A likeness to the signature that makes an onset an attack with a jump of only :data:`SURE_JUMP`."""
+
+SURE_JUMP = 1.5
+"""The least jump of the remainder at an onset whose start is almost the signature (:data:`SURE_LIKENESS`)."""
+"""The rise of step 2's innovation that, with :data:`WEAK_LIKENESS`, makes an onset an attack (a quiet one in a room's tail)."""
 
 ORDER = 48
 """The linear predictor's order: up to 20 ringing modes and the anti-alias filter's 8 poles."""
@@ -271,9 +292,15 @@ def find_onsets(signal, rate, *, threshold_db=DEFAULT_THRESHOLD_DB, min_interval
        pursuit: the loudest attack's signature, fitted by least squares (with its derivative:
        a fraction of a sample) at each onset found, is taken off in time order; jumps of the
        remainder (windows of :data:`MODES_WIDTH` samples) are more onsets, timed by where their
-       signature fits (offset by the other onsets' precise times). An onset is an attack when
+       signature fits (offset by the other onsets' precise times). Past the signature, the
+       attacks' common response over :data:`TAIL` s (the room's tail: least squares over all the
+       onsets found, each scaled by its signature's fit) is taken off too; a second round takes off
+       the quiet onsets found as well and adds the remainder's new jumps (farther than
+       :data:`SECOND_GAP` ``min_interval``\ s from the onsets known). An onset is an attack when
        the remainder jumps :data:`MIN_JUMP` times at it and either its start looks like the
-       signature (correlation ≥ :data:`LIKENESS`) or step 2 or 3 found it rising.
+       signature (correlation ≥ :data:`LIKENESS`) or step 2 or 3 found it rising (or it looks
+       half like it, :data:`WEAK_LIKENESS`, and step 2's innovation rises :data:`WEAK_RISE` times);
+       a start almost the signature (:data:`SURE_LIKENESS`) needs a jump of :data:`SURE_JUMP` only.
     5. An onset's amplitude is the peak of its own sound in the drum's lowest modes (the band up
        to 2.1 times its lowest strong mode, ≥ 400 Hz, decimated to 2.5 times that: a stick's
        speed sets their amplitude in proportion, while the higher modes grow faster with it,
@@ -346,15 +373,28 @@ def find_onsets(signal, rate, *, threshold_db=DEFAULT_THRESHOLD_DB, min_interval
     q2 = max(q, rate // MODES_RATE)
     modes, modes_rate, modes_delay = _decimate(band, rate, q2)
     modes_innovation = _robust_innovation(modes)
-    residual, _, _, _ = _pursue(modes_innovation, (first + modes_delay) / q2, modes_rate)
+    residual, _, _, _, at, amp, template = _pursue(modes_innovation, (first + modes_delay) / q2, modes_rate, spikes=True)
+    tail = _room_tail(modes_innovation, at, amp, template, round(TAIL * modes_rate)) if TAIL else None
+    if tail is not None:
+        residual, _, _, _ = _pursue(modes_innovation, (first + modes_delay) / q2, modes_rate, tail=tail)
     deep = [k * q2 - modes_delay for k in _jumps(residual, modes_rate, min_interval, MIN_JUMP, MODES_WIDTH)]
+    more, _ = _merge(first, deep, min_interval * rate)  # a second round: the quiet ones found taken off too
+    residual, _, _, _ = _pursue(modes_innovation, (more + modes_delay) / q2, modes_rate, tail=tail)
+    known = np.sort(np.concatenate((more, deep)))
+    for k in _jumps(residual, modes_rate, min_interval, MIN_JUMP, MODES_WIDTH):
+        s = k * q2 - modes_delay  # a new one only away from the known ones (not a spike's leftover before one)
+        near = np.searchsorted(known, s)
+        if all(abs(known[j] - s) > SECOND_GAP * min_interval * rate for j in (near - 1, near) if 0 <= j < len(known)):
+            deep.append(s)
     times, kinds = _merge(tonal, broadband, min_interval * rate, deep)
-    _, modes_jump, likeness, where = _pursue(modes_innovation, (times + modes_delay) / q2, modes_rate)
+    _, modes_jump, likeness, where = _pursue(modes_innovation, (times + modes_delay) / q2, modes_rate, tail=tail)
     times = _retime(times, kinds, where * q2 - modes_delay, likeness)
     tonal_jump = _jump_at(innovation, (times + delay) / q, low_rate)
     broadband_jump = _jump_at(np.diff(band, prepend=band[0]), times + 0.5, rate)
     rises = (tonal_jump >= MIN_JUMP) | ((broadband_jump >= BROADBAND_JUMP) & (tonal_jump >= TONAL_SUPPORT))
-    attack = (modes_jump >= MIN_JUMP) & ((likeness >= LIKENESS) | rises)
+    weak = (likeness >= WEAK_LIKENESS) & (tonal_jump >= WEAK_RISE)  # half like it, rising a little
+    attack = (modes_jump >= MIN_JUMP) & ((likeness >= LIKENESS) | rises | weak)
+    attack |= (modes_jump >= SURE_JUMP) & (likeness >= SURE_LIKENESS)
     q3 = max(q, int(rate // (2.5 * _level_corner(band, rate, first))))
     lowest, lowest_rate, lowest_delay = _decimate(band, rate, q3)
     _, level_coefficients = _robust_innovation(lowest, LEVEL_ORDER, coefficients=True)
@@ -456,12 +496,14 @@ def _robust_innovation(x, order=MODES_ORDER, *, coefficients=False):
     return (e, a) if coefficients else e
 
 
-def _pursue(e, positions, rate, span=SIGNATURE):
+def _pursue(e, positions, rate, span=SIGNATURE, tail=None, spikes=False):
     """``e`` less each onset's signature, the onsets taken in time order; how each onset rises over what went before.
 
     The signature is the innovation of the loudest attack (its largest spike and the ``span`` s
     after it); each onset's is fitted by least squares (the signature and its derivative: a
     fraction of a sample's shift) at the best of five alignments and taken off before the next.
+    With ``tail`` (a longer response, from the signature's start: :func:`_room_tail`), its part
+    past the signature is taken off too, scaled by the signature's fit.
 
     Returns
     -------
@@ -476,6 +518,8 @@ def _pursue(e, positions, rate, span=SIGNATURE):
     where : ndarray
         Where each onset's signature fits best (samples of ``e``, to a fraction: the derivative's
         weight over the signature's).
+    at, amplitude, template : ndarray
+        With ``spikes`` only: where each fitted signature starts (samples), its scale, and the signature.
     """
     from numpy.lib.stride_tricks import sliding_window_view
 
@@ -498,6 +542,7 @@ def _pursue(e, positions, rate, span=SIGNATURE):
     jumps = np.zeros(len(positions))
     likeness = np.zeros(len(positions))
     where = positions.copy()
+    at, amp = np.zeros(len(positions), dtype=np.int64), np.zeros(len(positions))
     for i, c in enumerate(np.round(positions).astype(np.int64)):
         # the jump: the next window's power over the 4 windows before, the largest within half a window
         low, high = max(0, c - half - 4 * width), min(len(r), c + half + width + 1)
@@ -513,9 +558,36 @@ def _pursue(e, positions, rate, span=SIGNATURE):
         cost = np.einsum("ij,ij->i", block, block) - np.einsum("ij,ij->i", weights, weights @ gram)
         k = int(np.argmin(cost))
         r[starts[k]:starts[k] + size] -= basis @ weights[k]
+        if tail is not None and len(tail) > size:
+            stop = min(len(r), starts[k] + len(tail))
+            r[starts[k] + size:stop] -= weights[k][0] * tail[size:stop - starts[k]]
+        at[i], amp[i] = starts[k], weights[k][0]
         shift = -weights[k][1] / weights[k][0] if len(weights[k]) > 1 and weights[k][0] != 0.0 else 0.0
         where[i] = starts[k] + lead + float(np.clip(shift, -1.0, 1.0))
+    if spikes:
+        return r, jumps, likeness, where, at, amp, template
     return r, jumps, likeness, where
+
+
+def _room_tail(e, at, amp, template, length):
+    """The attacks' common response (``length`` samples from each start), by least squares over all of them."""
+    from scipy.linalg import solve_toeplitz
+
+    keep = amp != 0.0
+    at, amp = at[keep], amp[keep]
+    if len(at) == 0:
+        return None
+    s = np.zeros(len(e))
+    np.add.at(s, at, amp)
+    n = len(e)
+    size = 1 << int(np.ceil(np.log2(n + length)))
+    S = np.fft.rfft(s, size)
+    r_ss = np.fft.irfft(S * np.conj(S), size)[:length]
+    r_se = np.fft.irfft(np.conj(S) * np.fft.rfft(e, size), size)[:length]
+    r_ss = r_ss.copy()
+    r_ss[0] *= 1.0 + TAIL_RIDGE
+    h = solve_toeplitz(r_ss, r_se)
+    return h if np.all(np.isfinite(h)) else None
 
 
 def _retime(times, kinds, fitted, likeness):
