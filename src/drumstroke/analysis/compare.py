@@ -22,7 +22,7 @@ Examples
 >>> a = Onsets([0.0, 0.1, 0.18, 0.24], [0.0, -1.3, -2.6, -3.9])
 >>> b = Onsets([1.0, 1.11, 1.2, 1.27], [0.0, -1.0, -2.0, -3.0])
 >>> result = compare(a, b)
->>> result.counts, [round(x * 1e3, 3) for x in result.interval_difference]
+>>> result.counts, [round(float(x) * 1e3, 3) for x in result.interval_difference]
 ((4, 4), [10.0, 10.0, 10.0])
 """
 

@@ -207,24 +207,28 @@ reverberant: its levels are then measured with the earlier onsets' tails taken o
 tests' room, under 0.01 without it."""
 
 TAIL_RIDGE = 0.01
-SECOND_GAP = 2.0
-"""How far (in ``min_interval``\ s) a second round's onset in the modes' band must be from the onsets known before it."""
 """The ridge on that least-squares fit (a fraction of its normal equations' diagonal)."""
+
+SECOND_GAP = 2.0
+"""How far (in multiples of ``min_interval``) a second round's onset in the modes' band must be from the onsets
+known before it."""
 
 LIKENESS = 0.7
 """The least correlation of an onset's start with the signature's for an onset found in the modes' band alone."""
 
 WEAK_LIKENESS = 0.5
-"""A likeness to the signature that makes an onset an attack when step 2's innovation rises :data:`WEAK_RISE` times at it."""
+"""A likeness to the signature that makes an onset an attack when step 2's innovation rises :data:`WEAK_RISE` times
+at it."""
 
 WEAK_RISE = 1.6
+"""The rise of step 2's innovation that, with :data:`WEAK_LIKENESS`, makes an onset an attack (a quiet one in a
+room's tail)."""
 
 SURE_LIKENESS = 0.9
 """A likeness to the signature that makes an onset an attack with a jump of only :data:`SURE_JUMP`."""
 
 SURE_JUMP = 1.5
 """The least jump of the remainder at an onset whose start is almost the signature (:data:`SURE_LIKENESS`)."""
-"""The rise of step 2's innovation that, with :data:`WEAK_LIKENESS`, makes an onset an attack (a quiet one in a room's tail)."""
 
 ORDER = 48
 """The linear predictor's order: up to 20 ringing modes and the anti-alias filter's 8 poles."""
@@ -301,7 +305,7 @@ def find_onsets(signal, rate, *, threshold_db=DEFAULT_THRESHOLD_DB, min_interval
        attacks' common response over :data:`TAIL` s (the room's tail: least squares over all the
        onsets found, each scaled by its signature's fit) is taken off too; a second round takes off
        the quiet onsets found as well and adds the remainder's new jumps (farther than
-       :data:`SECOND_GAP` ``min_interval``\ s from the onsets known). An onset is an attack when
+       :data:`SECOND_GAP` times ``min_interval`` from the onsets known). An onset is an attack when
        the remainder jumps :data:`MIN_JUMP` times at it and either its start looks like the
        signature (correlation ≥ :data:`LIKENESS`) or step 2 or 3 found it rising (or it looks
        half like it, :data:`WEAK_LIKENESS`, and step 2's innovation rises :data:`WEAK_RISE` times);
