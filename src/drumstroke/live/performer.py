@@ -411,8 +411,8 @@ class Performer:
                 given = self._next / self.rate
                 if given > new[0].start:
                     late = replace(note, cut=given + self.guard + 2.0 * took)  # room to plan it again
-                    if late.at < late.cut + 1e-3:
-                        return Outcome(note, False, f"planned too late: the setpoints up to {given:.6g} s had been "
+                    if late.at < late.cut + 1e-3:  # the record says the cut it would have needed
+                        return Outcome(late, False, f"planned too late: the setpoints up to {given:.6g} s had been "
                                                     "given")
                     note = late
                     continue
