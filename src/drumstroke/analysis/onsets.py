@@ -88,8 +88,7 @@ class Onsets:
         level = impacts.level_db
         audible = np.isfinite(level)
         level = level[audible]
-        return cls(impacts.t[audible], level - level.max() if len(level) else level, source=source,
-                   info={"tip_speed_max": float(impacts.tip_speed.max()) if len(level) else 0.0})
+        return cls(impacts.t[audible], level - level.max() if len(level) else level, source=source)
 
     @property
     def intervals(self):

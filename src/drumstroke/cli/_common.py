@@ -6,9 +6,10 @@ from pathlib import Path
 
 from ..formats import midi, wav
 from ..model import inertia_ratio
+from ..recipe import DEFAULT_COR
 from ..render.page import plural
 from ..score import BOUNCE_NOTE, FIRST_IMPACT_NOTE
-from ._options import Output
+from ._options import Output, number
 
 
 class Parser(argparse.ArgumentParser):
@@ -49,6 +50,16 @@ class Bar:
 
     def __exit__(self, *exc):
         self.close()
+
+
+def add_cor(parser, *, default=DEFAULT_COR, hint=""):
+    """Add ``--cor C`` to ``parser`` (or a group of it): the coefficient of restitution, in [0, 1).
+
+    ``default`` None leaves the option unset when not given (the library then uses
+    :data:`~drumstroke.recipe.DEFAULT_COR`); ``hint`` ends its help.
+    """
+    return parser.add_argument("--cor", type=number(low=0.0, high=1.0, high_open=True), default=default,
+                               metavar="C", help=f"coefficient of restitution, in [0, 1) (default {DEFAULT_COR:g}{hint})")
 
 
 def add_sound_options(parser):

@@ -9,7 +9,7 @@ from ..errors import ParameterError
 from ..formats import json, toml, trajectory_csv
 from ..model import MODELS
 from ..render import plot
-from ._common import add_sound_options, print_written
+from ._common import add_cor, add_sound_options, print_written
 from ._options import Output, add_mkdir, number, whole
 
 
@@ -35,8 +35,7 @@ def add_design(commands):
                      help="after the last note: caught at the rebound's apex (default; a buzz: press), pressed to "
                           "rest, or let bounce")
     des.add_argument("--model", choices=MODELS, default="paper", help="the model (default paper)")
-    des.add_argument("--cor", type=number(low=0.0, high=1.0, high_open=True), default=0.86,
-                     help="coefficient of restitution, in [0, 1) (default 0.86)")
+    add_cor(des)
     des.add_argument("--force-max", type=number(low=0.0, high=1e6, low_open=True, unit="m/s^2"), default=3000.0,
                      metavar="A", help="the strongest thumb acceleration allowed, m/s^2 (default 3000)")
     des.add_argument("--out", action=Output, suffixes=toml.SUFFIXES, metavar="RECIPE",

@@ -3,10 +3,12 @@
 import math
 
 from .._atomic import publish
+from ..analysis.fit import COR_RANGE
+from ..dynamics import CEILING_DB, FLOOR_DB
 from ..formats import json, toml
 from ..model import MODELS
 from ..render import plot
-from ._common import Bar, add_sound_options, print_written
+from ._common import Bar, add_cor, add_sound_options, print_written
 from ._options import Output, add_mkdir, existing_file, number
 
 
@@ -22,10 +24,9 @@ def add_fit(commands):
                      help="a recording of one stroke (.wav, .flac) or its onsets (.csv, as `drumstroke onsets` writes)")
     fit.add_argument("--model", choices=MODELS, default="paper", help="the model (default paper)")
     cor = fit.add_mutually_exclusive_group()
-    cor.add_argument("--cor", type=number(low=0.0, high=1.0, high_open=True), default=0.86,
-                     help="coefficient of restitution, in [0, 1) (default 0.86; measure it with measure-cor)")
-    cor.add_argument("--fit-cor", action="store_true", help="fit c too, in [0.3, 0.99]")
-    fit.add_argument("--level", type=number(low=-35.96, high=12.04, unit="dB re 1 m/s"), metavar="DB",
+    add_cor(cor, hint="; measure it with measure-cor")
+    cor.add_argument("--fit-cor", action="store_true", help=f"fit c too, in [{COR_RANGE[0]:g}, {COR_RANGE[1]:g}]")
+    fit.add_argument("--level", type=number(low=FLOOR_DB, high=CEILING_DB, unit="dB re 1 m/s"), metavar="DB",
                      help="the loudest onset's level, dB re 1 m/s tip speed, when known (default: fitted)")
     fit.add_argument("--out", action=Output, suffixes=toml.SUFFIXES, metavar="RECIPE", required=True,
                      help="write the fitted recipe as .toml (its t = 0 is the release, printed)")

@@ -3,7 +3,7 @@
 from ..errors import ParameterError
 from ..formats import json
 from ..model import MODELS
-from ._common import Bar, Parser
+from ._common import Bar, Parser, add_cor
 from ._options import Output, add_mkdir, existing_file, existing_folder, number, whole
 from .stats import print_analysis
 
@@ -56,8 +56,7 @@ def add_listen(commands):
     fitting = mks.add_argument_group("with --recordings: the fit")
     fitting.add_argument("--model", choices=MODELS, default="paper", help="the model (default paper)")
     cor = fitting.add_mutually_exclusive_group()
-    cor.add_argument("--cor", type=number(low=0.0, high=1.0, high_open=True), metavar="C",
-                     help="coefficient of restitution, in [0, 1) (default 0.86; measure it: drumstroke measure-cor)")
+    add_cor(cor, default=None, hint="; measure it: drumstroke measure-cor")
     cor.add_argument("--fit-cor", action="store_true", help="fit c to each recording too")
     add_mkdir(mks)
     mks.set_defaults(run=_make_stimuli)

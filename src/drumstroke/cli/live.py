@@ -7,7 +7,7 @@ from ..errors import ParameterError
 from ..formats import json
 from ..model import MODELS
 from ..robot.track import ENGINES
-from ._common import robot_config
+from ._common import add_cor, robot_config
 from ._options import Output, add_mkdir, existing_file, number
 
 
@@ -48,8 +48,7 @@ def add_live(commands):
     live.add_argument("--model", choices=MODELS, default="paper", help="the model (default paper)")
     live.add_argument("--sticks", default="right,left", metavar="A,B",
                       help="the sticks' names, comma-separated (default right,left)")
-    live.add_argument("--cor", type=number(low=0.0, high=1.0, high_open=True), default=0.86,
-                      help="coefficient of restitution, in [0, 1) (default 0.86)")
+    add_cor(live)
     live.add_argument("--force-max", type=number(low=0.0, high=1e6, low_open=True, unit="m/s^2"), default=3000.0,
                       metavar="A", help="the strongest thumb acceleration allowed, m/s^2 (default 3000)")
     live.add_argument("--duration", type=number(low=0.0, high=1e6, low_open=True, unit="s"), metavar="S",

@@ -40,7 +40,7 @@ class Stimulus:
     name : str
         The library stroke (and the pair's id).
     path : Path
-        The WAV file (48 kHz mono).
+        The WAV file (mono; 48 kHz for a library stroke, the recording's rate for a recorded one).
     onsets : int
         How many onsets the simulated robot played (the impacts heard).
     fit : drumstroke.analysis.fit.Fit or None
