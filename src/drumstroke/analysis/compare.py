@@ -26,7 +26,7 @@ Examples
 ((4, 4), [10.0, 10.0, 10.0])
 """
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -75,7 +75,6 @@ class Comparison:
     envelope_b: np.ndarray
     rate_a: np.ndarray
     rate_b: np.ndarray
-    info: dict = field(default_factory=dict, compare=False)
 
     def __repr__(self):
         return (f"Comparison({self.counts[0]} vs {self.counts[1]} onsets above {self.threshold_db:g} dB; "
