@@ -15,7 +15,7 @@ import pytest
 
 import drumstroke
 from drumstroke.analysis import Onsets, fit_stroke
-from drumstroke.analysis.fit import MAX_ONSETS, TOLERANCE
+from drumstroke.analysis.fit import FORCES, MAX_ONSETS, TOLERANCE
 from drumstroke.dynamics import CEILING_DB
 
 THRESHOLD = -30.0
@@ -180,6 +180,24 @@ def test_a_false_onset_between_two_impacts_is_left_out_as_such(tmp_path):
     assert [i for i, _ in fit.unmatched] == [9] and "a false detection" in fit.unmatched[0][1]
     assert not fit.beyond_human and fit.offset == pytest.approx(stroke.impacts.level_db.max(), abs=0.01)
     assert_plays(*replayed(fit, tmp_path), onsets)
+
+
+def test_the_fits_check_reports_an_impact_above_the_threshold_that_no_onset_has():
+    """The re-simulation's check, which a correct design never trips through fit_stroke: a stroke designed for
+    all the onsets, measured against the onsets less one, has that one as an extra impact, so it is not within."""
+    from drumstroke.analysis.fit import _Search
+
+    recipe = drumstroke.Recipe(force=drumstroke.Constant(100.0), theta0=0.3, cor=0.8, t_end=4.0)
+    onsets = onsets_of(drumstroke.simulate(recipe))
+    fit = fit_stroke(onsets, cor=0.8)
+    assert fit.within and not len(fit.extra_t)
+    fewer = Onsets(np.delete(onsets.t, 3), np.delete(onsets.level_db, 3), threshold_db=THRESHOLD)
+    search = _Search(fewer, model="paper", stick=drumstroke.Stick(), forces=FORCES,
+                     highest=None, progress=None)
+    checked = search.measure(fit.design, fit.offset, 0.8, False)
+    assert checked.extra_t == pytest.approx([onsets.t[3]], abs=TOLERANCE[0])
+    assert checked.extra_level == pytest.approx([onsets.level_db[3]], abs=TOLERANCE[1])
+    assert not checked.within and not checked.unmatched
 
 
 def test_hostile_onsets_get_one_clear_error():
