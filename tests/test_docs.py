@@ -2,7 +2,9 @@
 
 Examples run page by page in a fresh folder holding a copy of examples/ (and of tests/data/, real MIDI
 files): a page's ```python blocks in order in one namespace, and each `drumstroke ...` line of its ```sh blocks with exit status 0,
-interleaved in page order (a command may use a file an earlier block wrote). The README's set-up
+interleaved in page order (a command may use a file an earlier block wrote). A plain command runs in this process
+through `drumstroke.cli.main` (the console script's own entry point: it saves each one the interpreter's start); a
+command with shell syntax (a redirection, a wildcard) and `drumstroke live` (a real-time runtime) run in a shell. The README's set-up
 section is left out: CI runs those two commands itself. `drumstroke listen serve` serves forever, so
 it is started in the background, checked to answer HTTP on its port, and stopped.
 """
@@ -10,6 +12,7 @@ it is started in the background, checked to answer HTTP on its port, and stopped
 import argparse
 import os
 import re
+import shlex
 import shutil
 import socket
 import subprocess
@@ -55,7 +58,18 @@ def _free_port():
         return s.getsockname()[1]
 
 
-def _run(command, folder, env):
+SHELL = re.compile(r"[|<>;&$`*?~]")
+
+
+def _run(command, folder, env, capsys):
+    words = shlex.split(command, comments=True)
+    if words[1] != "live" and not SHELL.search(command.split("#", 1)[0]):
+        from drumstroke.cli import main
+
+        status = main(words[1:])
+        out, err = capsys.readouterr()
+        assert status == 0, f"{command!r} exited with {status}\n--- stdout\n{out[-3000:]}\n--- stderr\n{err[-3000:]}"
+        return
     result = subprocess.run(command, shell=True, cwd=folder, env=env, capture_output=True, text=True, timeout=300,
                             check=False)
     assert result.returncode == 0, (
@@ -86,7 +100,7 @@ def _serve(command, folder, env):
 
 
 @pytest.mark.parametrize("page", PAGES, ids=[p.relative_to(ROOT).as_posix() for p in PAGES])
-def test_every_example_on_the_page_runs(page, tmp_path, monkeypatch):
+def test_every_example_on_the_page_runs(page, tmp_path, monkeypatch, capsys):
     shutil.copytree(ROOT / "examples", tmp_path / "examples")
     shutil.copytree(ROOT / "tests" / "data", tmp_path / "tests" / "data")  # the real songs the docs play
     monkeypatch.chdir(tmp_path)
@@ -103,7 +117,7 @@ def test_every_example_on_the_page_runs(page, tmp_path, monkeypatch):
             if command.startswith("drumstroke listen serve"):
                 _serve(command, tmp_path, env)
             else:
-                _run(command, tmp_path, env)
+                _run(command, tmp_path, env, capsys)
 
 
 def test_the_pages_have_examples():
