@@ -33,6 +33,40 @@ def test_a_write_replaces_the_file_whole_and_keeps_its_permissions(tmp_path):
     assert list(tmp_path.iterdir()) == [path]
 
 
+def test_a_secret_is_its_owners_only_from_its_creation(tmp_path, monkeypatch):
+    """A file written with mode 0o600 (a token) is never readable by others, not even for a moment: every file
+    that appears in the folder while it is written, the temporary included, has the mode (the temporary's mode
+    read when it is opened and at each write)."""
+    import drumstroke._atomic as atomic
+
+    seen = []
+    real = atomic.os.fdopen
+
+    def watching(fd, *args, **kwargs):
+        seen.append(os.fstat(fd).st_mode & 0o777)
+        handle = real(fd, *args, **kwargs)
+        original = handle.write
+
+        def write(data):
+            seen.append(os.fstat(fd).st_mode & 0o777)
+            return original(data)
+
+        handle.write = write
+        return handle
+
+    monkeypatch.setattr(atomic.os, "fdopen", watching)
+    old_umask = os.umask(0o022)
+    try:
+        path = tmp_path / "token.toml"
+        path.write_text("older, readable by all")
+        path.chmod(0o644)
+        write_atomic(path, "secret", mode=0o600)
+    finally:
+        os.umask(old_umask)
+    assert path.read_text() == "secret" and path.stat().st_mode & 0o777 == 0o600
+    assert seen and set(seen) == {0o600}
+
+
 def test_a_missing_folder_is_an_error_naming_the_file_and_is_not_created(tmp_path):
     path = tmp_path / "no" / "such" / "a.txt"
     with pytest.raises(FileNotFoundError) as caught:

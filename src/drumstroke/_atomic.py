@@ -49,8 +49,11 @@ _SWEPT_LOCK = threading.Lock()
 _STARTS = {}
 
 
-def write_atomic(path, data, *, now=False):
+def write_atomic(path, data, *, now=False, mode=None):
     """Write ``data`` (str or bytes) to ``path`` through a temporary file and a rename.
+
+    The file gets ``mode`` (permission bits, e.g. 0o600 for a secret; it has them from its
+    creation, never the umask's first), else the old file's, else what the umask gives.
 
     The folder must exist: nothing is created but the file. Inside :func:`publish`, the file
     is staged and replaced when the run ends, unless ``now`` (a write that is its own atomic
@@ -66,7 +69,8 @@ def write_atomic(path, data, *, now=False):
         if path.is_dir():
             raise IsADirectoryError(errno.EISDIR, os.strerror(errno.EISDIR))
         temporary = temporary_path(path)
-        write_new(temporary, data.encode() if isinstance(data, str) else data, mode=_mode_for(path))
+        write_new(temporary, data.encode() if isinstance(data, str) else data,
+                  mode=_mode_for(path) if mode is None else mode)
         if run is not None:
             run.stage(temporary, path)
         else:

@@ -200,6 +200,6 @@ def _write_config(out, pairs):
 
     config = out / CONFIG_NAME
     token = secrets.token_urlsafe(32)  # 256 random bits: each new config its own secret
-    write_toml(config, {"title": "Robot or human?", "admin_token": token, "seed": 1, "pair": pairs})
-    config.chmod(0o600)  # it holds the export's token
+    # it holds the export's token: its owner's only from its creation, over an older config's mode too
+    write_toml(config, {"title": "Robot or human?", "admin_token": token, "seed": 1, "pair": pairs}, mode=0o600)
     return config

@@ -59,9 +59,10 @@ def read_toml(path, what):
     return data
 
 
-def write_toml(path, data):
-    """Write ``data`` (a dict of scalars, lists and tables) as TOML to ``path``, atomically."""
-    write_atomic(path, toml_text(data))
+def write_toml(path, data, *, mode=None):
+    """Write ``data`` (a dict of scalars, lists and tables) as TOML to ``path``, atomically (``mode``: as
+    :func:`drumstroke._atomic.write_atomic`'s)."""
+    write_atomic(path, toml_text(data), mode=mode)
 
 
 def toml_text(data):
