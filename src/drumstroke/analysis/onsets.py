@@ -687,7 +687,8 @@ def _broadband_onsets(band, rate, min_interval):
 def _merge(tonal, broadband, gap, deep=()):
     """The onsets (samples), sorted, and how each was found (0 broadband, 1 tonal, 2 deep only).
 
-    Onsets closer than ``gap`` are one, at the broadband time if any, else the tonal one.
+    Onsets closer than ``gap`` are one (as are two groups' choices closer than a quarter of it), at the broadband
+    time if any, else the tonal one.
     """
     marked = sorted([(s, 1) for s in tonal] + [(s, 0) for s in broadband] + [(s, 2) for s in deep])
     groups = []
@@ -696,7 +697,14 @@ def _merge(tonal, broadband, gap, deep=()):
             groups[-1].append((s, kind))
         else:
             groups.append([(s, kind)])
-    chosen = [min(group, key=lambda item: item[1]) for group in groups]
+    chosen = []
+    for group in groups:  # a group's choice may fall on the next group's (its broadband time on that one's tonal)
+        s, kind = min(group, key=lambda item: item[1])
+        if chosen and s - chosen[-1][0] < gap / 4:
+            if kind < chosen[-1][1]:
+                chosen[-1] = (s, kind)
+        else:
+            chosen.append((s, kind))
     return np.array([s for s, _ in chosen], dtype=float), np.array([k for _, k in chosen], dtype=np.int64)
 
 
