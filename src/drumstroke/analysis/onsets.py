@@ -230,7 +230,11 @@ SURE_JUMP = 1.5
 """The least jump of the remainder at an onset whose start is almost the signature (:data:`SURE_LIKENESS`)."""
 
 MOVED_JUMP = 3.0
-"""The least jump of the remainder where a refused onset in a room's tail is tried again (a little later: step 4)."""
+"""The least jump of the remainder where an onset in a room's tail that does not look like the signature is tried
+again (a little later: step 4)."""
+
+MOVE_REACH = 3.0
+"""How far after it (in multiples of ``min_interval``) such an onset is tried again."""
 
 ORDER = 48
 """The linear predictor's order: up to 20 ringing modes and the anti-alias filter's 8 poles."""
@@ -413,8 +417,8 @@ def find_onsets(signal, rate, *, threshold_db=DEFAULT_THRESHOLD_DB, min_interval
     attack = (modes_jump >= MIN_JUMP) & ((likeness >= LIKENESS) | rises | weak)
     attack |= (modes_jump >= SURE_JUMP) & (likeness >= SURE_LIKENESS)
     if reverberant:
-        times, kinds, attack, likeness = _replace_late(times, kinds, attack, likeness, residual, modes_innovation, tail,
-                                                       q2, modes_delay, modes_rate, min_interval, rate, offset)
+        times, attack, likeness = _try_later(times, kinds, attack, likeness, residual, modes_innovation, tail, q2,
+                                                modes_delay, modes_rate, min_interval, rate, offset)
     q3 = max(q, int(rate // (2.5 * _level_corner(band, rate, first))))
     lowest, lowest_rate, lowest_delay = _decimate(band, rate, q3)
     _, level_coefficients = _robust_innovation(lowest, LEVEL_ORDER, coefficients=True)
@@ -611,22 +615,24 @@ def _room_tail(e, at, amp, template, length):
     return h if np.all(np.isfinite(h)) else None
 
 
-def _replace_late(times, kinds, attack, likeness, residual, e, tail, q2, modes_delay, modes_rate, min_interval, rate,
+def _try_later(times, kinds, attack, likeness, residual, e, tail, q2, modes_delay, modes_rate, min_interval, rate,
                   offset):
-    """Onsets found in the modes' band alone and refused, tried again where the remainder jumps most just after.
+    """Decimated onsets whose start does not look like the signature, tried again where the remainder jumps most just after.
 
-    In a room's tail the change point of such an onset is often placed 1-5 ms early (on what is left of the
-    earlier onsets' tails), where its start does not look like the signature. It is moved to where
-    ``residual`` (the modes' band's remainder) jumps most before :data:`SECOND_GAP` times ``min_interval``
-    (s) later, and kept there when the remainder jumps :data:`MOVED_JUMP` times and its start looks like the
-    signature (:data:`LIKENESS`); timed by its signature's fit plus ``offset`` (full-rate samples, as
-    :func:`_retime`). Times are full-rate samples, ``residual`` and ``e`` at ``modes_rate``.
+    In a room's tail the change point of an onset found in the decimated innovation or in the modes' band
+    is often placed 1-6 ms early (on what is left of the earlier onsets' tails), where its start does not
+    look like the signature: refused, or accepted at the wrong time. It is moved to where ``residual``
+    (the modes' band's remainder) jumps most before :data:`MOVE_REACH` times ``min_interval`` (s) later,
+    and taken there when the remainder jumps :data:`MOVED_JUMP` times and its start looks like the
+    signature (:data:`LIKENESS`), timed by its signature's fit plus ``offset`` (full-rate samples, as
+    :func:`_retime`); else it stays as it was. Times are full-rate samples, ``residual`` and ``e`` at
+    ``modes_rate``.
     """
     after, before, _ = _windows(residual, modes_rate, MODES_WIDTH)
     profile = np.sqrt(after / np.maximum(before, 1e-300 + after * 1e-12))
     moved = times.copy()
-    reach = SECOND_GAP * min_interval * rate
-    for i in np.flatnonzero(~attack & (kinds == 2)):
+    reach = MOVE_REACH * min_interval * rate
+    for i in np.flatnonzero((likeness < LIKENESS) & (kinds >= 1)):
         end = min(times[i] + reach, times[i + 1] - min_interval * rate if i + 1 < len(times) else np.inf)
         low, high = int(np.ceil((times[i] + modes_delay) / q2)) + 1, int((end + modes_delay) / q2)
         high = min(high, len(profile))
@@ -636,13 +642,13 @@ def _replace_late(times, kinds, attack, likeness, residual, e, tail, q2, modes_d
                 moved[i] = k * q2 - modes_delay
     tried = moved != times
     if not np.any(tried):
-        return times, kinds, attack, likeness
+        return times, attack, likeness
     _, jump, like, where = _pursue(e, (moved + modes_delay) / q2, modes_rate, tail=tail)
     take = tried & (jump >= MOVED_JUMP) & (like >= LIKENESS)
     times, attack, likeness = times.copy(), attack.copy(), likeness.copy()
     times[take] = where[take] * q2 - modes_delay + offset
     attack[take], likeness[take] = True, like[take]
-    return times, kinds, attack, likeness
+    return times, attack, likeness
 
 
 def _retime(times, kinds, fitted, likeness):
