@@ -419,6 +419,8 @@ def find_onsets(signal, rate, *, threshold_db=DEFAULT_THRESHOLD_DB, min_interval
     if reverberant:
         times, attack, likeness = _try_later(times, kinds, attack, likeness, residual, modes_innovation, tail, q2,
                                                 modes_delay, modes_rate, min_interval, rate, offset)
+        times, kinds, attack, likeness = _last_round(times, kinds, attack, likeness, modes_innovation, tail, q2,
+                                                     modes_delay, modes_rate, min_interval, rate, offset)
     q3 = max(q, int(rate // (2.5 * _level_corner(band, rate, first))))
     lowest, lowest_rate, lowest_delay = _decimate(band, rate, q3)
     _, level_coefficients = _robust_innovation(lowest, LEVEL_ORDER, coefficients=True)
@@ -649,6 +651,40 @@ def _try_later(times, kinds, attack, likeness, residual, e, tail, q2, modes_dela
     times[take] = where[take] * q2 - modes_delay + offset
     attack[take], likeness[take] = True, like[take]
     return times, attack, likeness
+
+
+def _last_round(times, kinds, attack, likeness, e, tail, q2, modes_delay, modes_rate, min_interval, rate, offset):
+    """More onsets where the remainder jumps once the attacks found, as finally timed, are taken off.
+
+    The rounds before take off their candidates, the refused ones too and some 1-6 ms early
+    (:func:`_try_later`); with the attacks alone, at their final times, a quiet attack in a room's tail
+    may jump out. The remainder's jumps farther than :data:`SECOND_GAP` times ``min_interval`` (s) from
+    every onset are attacks (found in the modes' band alone) when the remainder jumps :data:`MIN_JUMP`
+    times at them and their start looks like the signature (:data:`LIKENESS`), timed by their
+    signature's fit plus ``offset``. Times are full-rate samples, ``e`` at ``modes_rate``.
+    """
+    residual, _, _, _ = _pursue(e, (times[attack] + modes_delay) / q2, modes_rate, tail=tail)
+    new = []
+    for k in _jumps(residual, modes_rate, min_interval, MIN_JUMP, MODES_WIDTH):
+        s = k * q2 - modes_delay
+        near = np.searchsorted(times, s)
+        if all(abs(times[j] - s) > SECOND_GAP * min_interval * rate for j in (near - 1, near) if 0 <= j < len(times)):
+            new.append(s)
+    if not new:
+        return times, kinds, attack, likeness
+    order = np.argsort(np.concatenate((times, new)), kind="stable")
+    every = np.concatenate((times, new))[order]
+    fresh = np.concatenate((np.zeros(len(times), dtype=bool), np.ones(len(new), dtype=bool)))[order]
+    _, jump, like, where = _pursue(e, (every + modes_delay) / q2, modes_rate, tail=tail)
+    take = fresh & (jump >= MIN_JUMP) & (like >= LIKENESS)
+    every[take] = where[take] * q2 - modes_delay + offset
+    kinds = np.concatenate((kinds, np.full(len(new), 2)))[order]
+    attack = np.concatenate((attack, np.ones(len(new), dtype=bool)))[order]
+    likeness = np.where(take, like, np.concatenate((likeness, np.zeros(len(new))))[order])
+    keep = ~fresh | take
+    every, kinds, attack, likeness = every[keep], kinds[keep], attack[keep], likeness[keep]
+    order = np.argsort(every, kind="stable")  # a fitted time stays between its neighbours' (2 min_interval away)
+    return every[order], kinds[order], attack[order], likeness[order]
 
 
 def _retime(times, kinds, fitted, likeness):
