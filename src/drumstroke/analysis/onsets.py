@@ -316,6 +316,12 @@ def find_onsets(signal, rate, *, threshold_db=DEFAULT_THRESHOLD_DB, min_interval
        signature (correlation ≥ :data:`LIKENESS`) or step 2 or 3 found it rising (or it looks
        half like it, :data:`WEAK_LIKENESS`, and step 2's innovation rises :data:`WEAK_RISE` times);
        a start almost the signature (:data:`SURE_LIKENESS`) needs a jump of :data:`SURE_JUMP` only.
+       In a reverberant recording (below), a decimated onset whose start does not look like the
+       signature is tried again where the remainder jumps most up to :data:`MOVE_REACH` times
+       ``min_interval`` later (its change point is often placed early on the earlier tails), kept
+       there when the remainder jumps :data:`MOVED_JUMP` times and it looks like the signature; and
+       a last round takes off only the attacks found, at their final times, and keeps the
+       remainder's new jumps that look like the signature.
     5. An onset's amplitude is the peak of its own sound in the drum's lowest modes (the band up
        to 2.1 times its lowest strong mode, ≥ 400 Hz, decimated to 2.5 times that: a stick's
        speed sets their amplitude in proportion, while the higher modes grow faster with it,
