@@ -172,6 +172,23 @@ def test_onsets_of_rendered_strokes_are_within_a_millisecond(strokes, room, cond
     assert np.median(np.abs(level_errors)) < most_level, np.median(np.abs(level_errors))
 
 
+@pytest.mark.parametrize(("condition", "least_found", "most_extra"), [
+    ("ours, snares, room, SNR 40 dB", 64, 25), ("other drum, room, SNR 30 dB", 65, 22)])
+def test_quiet_impacts_in_a_room_on_other_strokes(room, condition, least_found, most_extra):
+    """Another six random strokes in the room (seed 23): the impacts above −30 dB found within 1 ms.
+
+    Measured (docs/analysis.md): 65 and 66 of 70 (20 and 17 extras); 63 of 70 each before step 4's retry in a
+    room and the last round, and before two merged groups' choices 0.03 ms apart were made one.
+    """
+    options = {**CONDITIONS[condition][0], "room": room}
+    found = extra = 0
+    for i, (times, speeds) in enumerate(random_strokes(STROKES, seed=23)):
+        signal, truth = render(times, speeds, seed=i, **options)
+        result = score(find_onsets(signal, RATE), truth, speeds)
+        found, extra = found + result["found"], extra + result["extra"]
+    assert found >= least_found and extra <= most_extra, (found, extra)
+
+
 def test_onsets_at_8_khz_and_other_rates(strokes):
     """8, 11.025 and 16 kHz recordings (another drum, SNR 30 dB): the impacts above −20 dB within 1 ms."""
     for rate in (8000, 11025, 16000):
