@@ -320,8 +320,9 @@ def find_onsets(signal, rate, *, threshold_db=DEFAULT_THRESHOLD_DB, min_interval
        signature is tried again where the remainder jumps most up to :data:`MOVE_REACH` times
        ``min_interval`` later (its change point is often placed early on the earlier tails), kept
        there when the remainder jumps :data:`MOVED_JUMP` times and it looks like the signature; and
-       a last round takes off only the attacks found, at their final times, and keeps the
-       remainder's new jumps that look like the signature.
+       a last round takes off only the attacks found, at their final times, and fits them again
+       with the remainder's new jumps: the new and the refused ones that look like the signature
+       (and jump :data:`MIN_JUMP` times) are attacks.
     5. An onset's amplitude is the peak of its own sound in the drum's lowest modes (the band up
        to 2.1 times its lowest strong mode, ≥ 400 Hz, decimated to 2.5 times that: a stick's
        speed sets their amplitude in proportion, while the higher modes grow faster with it,
@@ -660,14 +661,16 @@ def _try_later(times, kinds, attack, likeness, residual, e, tail, q2, modes_dela
 
 
 def _last_round(times, kinds, attack, likeness, e, tail, q2, modes_delay, modes_rate, min_interval, rate, offset):
-    """More onsets where the remainder jumps once the attacks found, as finally timed, are taken off.
+    """More onsets where the remainder jumps once the attacks found, as finally timed, are taken off; the refused ones tried again.
 
     The rounds before take off their candidates, the refused ones too and some 1-6 ms early
     (:func:`_try_later`); with the attacks alone, at their final times, a quiet attack in a room's tail
     may jump out. The remainder's jumps farther than :data:`SECOND_GAP` times ``min_interval`` (s) from
-    every onset are attacks (found in the modes' band alone) when the remainder jumps :data:`MIN_JUMP`
-    times at them and their start looks like the signature (:data:`LIKENESS`), timed by their
-    signature's fit plus ``offset``. Times are full-rate samples, ``e`` at ``modes_rate``.
+    every onset join the onsets (found in the modes' band alone); all are fitted again in time order at
+    their final times, and the new and the refused ones are attacks when the remainder jumps
+    :data:`MIN_JUMP` times at them and their start looks like the signature (:data:`LIKENESS`), the new
+    ones timed by their signature's fit plus ``offset``. Times are full-rate samples, ``e`` at
+    ``modes_rate``.
     """
     residual, _, _, _ = _pursue(e, (times[attack] + modes_delay) / q2, modes_rate, tail=tail)
     new = []
@@ -676,17 +679,16 @@ def _last_round(times, kinds, attack, likeness, e, tail, q2, modes_delay, modes_
         near = np.searchsorted(times, s)
         if all(abs(times[j] - s) > SECOND_GAP * min_interval * rate for j in (near - 1, near) if 0 <= j < len(times)):
             new.append(s)
-    if not new:
-        return times, kinds, attack, likeness
     order = np.argsort(np.concatenate((times, new)), kind="stable")
     every = np.concatenate((times, new))[order]
     fresh = np.concatenate((np.zeros(len(times), dtype=bool), np.ones(len(new), dtype=bool)))[order]
-    _, jump, like, where = _pursue(e, (every + modes_delay) / q2, modes_rate, tail=tail)
-    take = fresh & (jump >= MIN_JUMP) & (like >= LIKENESS)
-    every[take] = where[take] * q2 - modes_delay + offset
     kinds = np.concatenate((kinds, np.full(len(new), 2)))[order]
-    attack = np.concatenate((attack, np.ones(len(new), dtype=bool)))[order]
+    attack = np.concatenate((attack, np.zeros(len(new), dtype=bool)))[order]
+    _, jump, like, where = _pursue(e, (every + modes_delay) / q2, modes_rate, tail=tail)
+    take = ~attack & (jump >= MIN_JUMP) & (like >= LIKENESS)
+    every[take & fresh] = where[take & fresh] * q2 - modes_delay + offset
     likeness = np.where(take, like, np.concatenate((likeness, np.zeros(len(new))))[order])
+    attack |= take
     keep = ~fresh | take
     every, kinds, attack, likeness = every[keep], kinds[keep], attack[keep], likeness[keep]
     order = np.argsort(every, kind="stable")  # a fitted time stays between its neighbours' (2 min_interval away)
