@@ -425,7 +425,7 @@ def find_onsets(signal, rate, *, threshold_db=DEFAULT_THRESHOLD_DB, min_interval
     attack |= (modes_jump >= SURE_JUMP) & (likeness >= SURE_LIKENESS)
     if reverberant:
         times, attack, likeness = _try_later(times, kinds, attack, likeness, residual, modes_innovation, tail, q2,
-                                                modes_delay, modes_rate, min_interval, rate, offset)
+                                             modes_delay, modes_rate, min_interval, rate, offset)
         times, kinds, attack, likeness = _last_round(times, kinds, attack, likeness, modes_innovation, tail, q2,
                                                      modes_delay, modes_rate, min_interval, rate, offset)
     q3 = max(q, int(rate // (2.5 * _level_corner(band, rate, first))))
@@ -625,7 +625,7 @@ def _room_tail(e, at, amp, template, length):
 
 
 def _try_later(times, kinds, attack, likeness, residual, e, tail, q2, modes_delay, modes_rate, min_interval, rate,
-                  offset):
+               offset):
     """Decimated onsets whose start does not look like the signature, tried again where the remainder jumps most just after.
 
     In a room's tail the change point of an onset found in the decimated innovation or in the modes' band
@@ -661,7 +661,7 @@ def _try_later(times, kinds, attack, likeness, residual, e, tail, q2, modes_dela
 
 
 def _last_round(times, kinds, attack, likeness, e, tail, q2, modes_delay, modes_rate, min_interval, rate, offset):
-    """More onsets where the remainder jumps once the attacks found, as finally timed, are taken off; the refused ones tried again.
+    """New onsets where the remainder jumps once only the attacks found are taken off; the refused ones tried again.
 
     The rounds before take off their candidates, the refused ones too and some 1-6 ms early
     (:func:`_try_later`); with the attacks alone, at their final times, a quiet attack in a room's tail
