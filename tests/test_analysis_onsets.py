@@ -108,7 +108,7 @@ STROKES = 6
 # condition: (render options, least recall of the impacts above −30 dB, above −20 dB, most extra onsets in all,
 # largest median level error (dB) of the impacts above −20 dB)
 # Measured (docs/analysis.md): recall −30 dB / −20 dB, extras, level error: 0.96/1.00, 7, 0.47 | 0.99/0.98, 24, 0.46 |
-# 0.97/1.00, 5, 0.42 | 0.97/0.96, 7, 0.34 | 0.96/1.00, 20, 0.44 | 1.00/1.00, 6, 0.80 | 0.95/1.00, 17, 0.79
+# 0.97/1.00, 5, 0.42 | 0.97/0.96, 7, 0.34 | 0.96/1.00, 22, 0.44 | 1.00/1.00, 6, 0.80 | 0.95/1.00, 18, 0.79
 # (0.946: 70 of 74).
 # The issue asks 0.95 at −30 dB: asserted where met.
 CONDITIONS = {
@@ -170,6 +170,23 @@ def test_onsets_of_rendered_strokes_are_within_a_millisecond(strokes, room, cond
     assert found / loud >= least_30 and found_20 / loud_20 >= least_20, (found, loud, found_20, loud_20)
     assert extra <= most_extra
     assert np.median(np.abs(level_errors)) < most_level, np.median(np.abs(level_errors))
+
+
+@pytest.mark.parametrize(("condition", "least_found", "most_extra"), [
+    ("ours, snares, room, SNR 40 dB", 64, 25), ("other drum, room, SNR 30 dB", 65, 25)])
+def test_quiet_impacts_in_a_room_on_other_strokes(room, condition, least_found, most_extra):
+    """Another six random strokes in the room (seed 23): the impacts above −30 dB found within 1 ms.
+
+    Measured (docs/analysis.md): 65 and 66 of 70 (21 extras each); 63 of 70 each before step 4's retry in a
+    room and the last round, and before two merged groups' choices 0.03 ms apart were made one.
+    """
+    options = {**CONDITIONS[condition][0], "room": room}
+    found = extra = 0
+    for i, (times, speeds) in enumerate(random_strokes(STROKES, seed=23)):
+        signal, truth = render(times, speeds, seed=i, **options)
+        result = score(find_onsets(signal, RATE), truth, speeds)
+        found, extra = found + result["found"], extra + result["extra"]
+    assert found >= least_found and extra <= most_extra, (found, extra)
 
 
 def test_onsets_at_8_khz_and_other_rates(strokes):

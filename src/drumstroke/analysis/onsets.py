@@ -229,6 +229,13 @@ SURE_LIKENESS = 0.9
 SURE_JUMP = 1.5
 """The least jump of the remainder at an onset whose start is almost the signature (:data:`SURE_LIKENESS`)."""
 
+MOVED_JUMP = 3.0
+"""The least jump of the remainder where an onset in a room's tail that does not look like the signature is tried
+again (a little later: step 4)."""
+
+MOVE_REACH = 3.0
+"""How far after it (in multiples of ``min_interval``) such an onset is tried again."""
+
 ORDER = 48
 """The linear predictor's order: up to 20 ringing modes and the anti-alias filter's 8 poles."""
 
@@ -309,6 +316,13 @@ def find_onsets(signal, rate, *, threshold_db=DEFAULT_THRESHOLD_DB, min_interval
        signature (correlation ≥ :data:`LIKENESS`) or step 2 or 3 found it rising (or it looks
        half like it, :data:`WEAK_LIKENESS`, and step 2's innovation rises :data:`WEAK_RISE` times);
        a start almost the signature (:data:`SURE_LIKENESS`) needs a jump of :data:`SURE_JUMP` only.
+       In a reverberant recording (below), a decimated onset whose start does not look like the
+       signature is tried again where the remainder jumps most up to :data:`MOVE_REACH` times
+       ``min_interval`` later (its change point is often placed early on the earlier tails), kept
+       there when the remainder jumps :data:`MOVED_JUMP` times and it looks like the signature; and
+       a last round takes off only the attacks found, at their final times, and fits them again
+       with the remainder's new jumps: the new and the refused ones that look like the signature
+       (and jump :data:`MIN_JUMP` times) are attacks.
     5. An onset's amplitude is the peak of its own sound in the drum's lowest modes (the band up
        to 2.1 times its lowest strong mode, ≥ 400 Hz, decimated to 2.5 times that: a stick's
        speed sets their amplitude in proportion, while the higher modes grow faster with it,
@@ -402,13 +416,18 @@ def find_onsets(signal, rate, *, threshold_db=DEFAULT_THRESHOLD_DB, min_interval
             deep.append(s)
     times, kinds = _merge(tonal, broadband, min_interval * rate, deep)
     _, modes_jump, likeness, where = _pursue(modes_innovation, (times + modes_delay) / q2, modes_rate, tail=tail)
-    times = _retime(times, kinds, where * q2 - modes_delay, likeness)
+    times, offset = _retime(times, kinds, where * q2 - modes_delay, likeness)
     tonal_jump = _jump_at(innovation, (times + delay) / q, low_rate)
     broadband_jump = _jump_at(np.diff(band, prepend=band[0]), times + 0.5, rate)
     rises = (tonal_jump >= MIN_JUMP) | ((broadband_jump >= BROADBAND_JUMP) & (tonal_jump >= TONAL_SUPPORT))
     weak = (likeness >= WEAK_LIKENESS) & (tonal_jump >= WEAK_RISE)  # half like it, rising a little
     attack = (modes_jump >= MIN_JUMP) & ((likeness >= LIKENESS) | rises | weak)
     attack |= (modes_jump >= SURE_JUMP) & (likeness >= SURE_LIKENESS)
+    if reverberant:
+        times, attack, likeness = _try_later(times, kinds, attack, likeness, residual, modes_innovation, tail, q2,
+                                             modes_delay, modes_rate, min_interval, rate, offset)
+        times, kinds, attack, likeness = _last_round(times, kinds, attack, likeness, modes_innovation, tail, q2,
+                                                     modes_delay, modes_rate, min_interval, rate, offset)
     q3 = max(q, int(rate // (2.5 * _level_corner(band, rate, first))))
     lowest, lowest_rate, lowest_delay = _decimate(band, rate, q3)
     _, level_coefficients = _robust_innovation(lowest, LEVEL_ORDER, coefficients=True)
@@ -605,21 +624,93 @@ def _room_tail(e, at, amp, template, length):
     return h if np.all(np.isfinite(h)) else None
 
 
+def _try_later(times, kinds, attack, likeness, residual, e, tail, q2, modes_delay, modes_rate, min_interval, rate,
+               offset):
+    """Decimated onsets whose start does not look like the signature, tried again where the remainder jumps most just after.
+
+    In a room's tail the change point of an onset found in the decimated innovation or in the modes' band
+    is often placed 1-6 ms early (on what is left of the earlier onsets' tails), where its start does not
+    look like the signature: refused, or accepted at the wrong time. It is moved to where ``residual``
+    (the modes' band's remainder) jumps most before :data:`MOVE_REACH` times ``min_interval`` (s) later,
+    and taken there when the remainder jumps :data:`MOVED_JUMP` times and its start looks like the
+    signature (:data:`LIKENESS`), timed by its signature's fit plus ``offset`` (full-rate samples, as
+    :func:`_retime`); else it stays as it was. Times are full-rate samples, ``residual`` and ``e`` at
+    ``modes_rate``.
+    """
+    after, before, _ = _windows(residual, modes_rate, MODES_WIDTH)
+    profile = np.sqrt(after / np.maximum(before, 1e-300 + after * 1e-12))
+    moved = times.copy()
+    reach = MOVE_REACH * min_interval * rate
+    for i in np.flatnonzero((likeness < LIKENESS) & (kinds >= 1)):
+        end = min(times[i] + reach, times[i + 1] - min_interval * rate if i + 1 < len(times) else np.inf)
+        low, high = int(np.ceil((times[i] + modes_delay) / q2)) + 1, int((end + modes_delay) / q2)
+        high = min(high, len(profile))
+        if high > low:
+            k = low + int(np.argmax(profile[low:high]))
+            if profile[k] >= MIN_JUMP:
+                moved[i] = k * q2 - modes_delay
+    tried = moved != times
+    if not np.any(tried):
+        return times, attack, likeness
+    _, jump, like, where = _pursue(e, (moved + modes_delay) / q2, modes_rate, tail=tail)
+    take = tried & (jump >= MOVED_JUMP) & (like >= LIKENESS)
+    times, attack, likeness = times.copy(), attack.copy(), likeness.copy()
+    times[take] = where[take] * q2 - modes_delay + offset
+    attack[take], likeness[take] = True, like[take]
+    return times, attack, likeness
+
+
+def _last_round(times, kinds, attack, likeness, e, tail, q2, modes_delay, modes_rate, min_interval, rate, offset):
+    """New onsets where the remainder jumps once only the attacks found are taken off; the refused ones tried again.
+
+    The rounds before take off their candidates, the refused ones too and some 1-6 ms early
+    (:func:`_try_later`); with the attacks alone, at their final times, a quiet attack in a room's tail
+    may jump out. The remainder's jumps farther than :data:`SECOND_GAP` times ``min_interval`` (s) from
+    every onset join the onsets (found in the modes' band alone); all are fitted again in time order at
+    their final times, and the new and the refused ones are attacks when the remainder jumps
+    :data:`MIN_JUMP` times at them and their start looks like the signature (:data:`LIKENESS`), the new
+    ones timed by their signature's fit plus ``offset``. Times are full-rate samples, ``e`` at
+    ``modes_rate``.
+    """
+    residual, _, _, _ = _pursue(e, (times[attack] + modes_delay) / q2, modes_rate, tail=tail)
+    new = []
+    for k in _jumps(residual, modes_rate, min_interval, MIN_JUMP, MODES_WIDTH):
+        s = k * q2 - modes_delay
+        near = np.searchsorted(times, s)
+        if all(abs(times[j] - s) > SECOND_GAP * min_interval * rate for j in (near - 1, near) if 0 <= j < len(times)):
+            new.append(s)
+    order = np.argsort(np.concatenate((times, new)), kind="stable")
+    every = np.concatenate((times, new))[order]
+    fresh = np.concatenate((np.zeros(len(times), dtype=bool), np.ones(len(new), dtype=bool)))[order]
+    kinds = np.concatenate((kinds, np.full(len(new), 2)))[order]
+    attack = np.concatenate((attack, np.zeros(len(new), dtype=bool)))[order]
+    _, jump, like, where = _pursue(e, (every + modes_delay) / q2, modes_rate, tail=tail)
+    take = ~attack & (jump >= MIN_JUMP) & (like >= LIKENESS)
+    every[take & fresh] = where[take & fresh] * q2 - modes_delay + offset
+    likeness = np.where(take, like, np.concatenate((likeness, np.zeros(len(new))))[order])
+    attack |= take
+    keep = ~fresh | take
+    every, kinds, attack, likeness = every[keep], kinds[keep], attack[keep], likeness[keep]
+    order = np.argsort(every, kind="stable")  # a fitted time stays between its neighbours' (2 min_interval away)
+    return every[order], kinds[order], attack[order], likeness[order]
+
+
 def _retime(times, kinds, fitted, likeness):
     """Onsets found only in the modes' band timed by their signature's fit, against the others' times.
 
     ``fitted`` (full-rate samples) is where each signature fits; its offset from the precise
     times (broadband or tonal onsets whose start looks like the signature, likeness ≥ 0.9) is
-    their median difference, added to the fitted time of each onset found only in the modes' band.
+    their median difference, added to the fitted time of each onset found only in the modes' band. Returns
+    the times and that offset (0 when there is no precise onset or none to retime).
     """
     sure = (kinds < 2) & (likeness >= 0.9)
     if not np.any(sure) or not np.any(kinds == 2):
-        return times
+        return times, 0.0
     offset = float(np.median(times[sure] - fitted[sure]))
     out = times.copy()
     out[kinds == 2] = fitted[kinds == 2] + offset
     order = np.argsort(out, kind="stable")
-    return out[order] if np.all(np.diff(out[order]) > 0) else times
+    return (out[order] if np.all(np.diff(out[order]) > 0) else times), offset
 
 
 def _level_corner(band, rate, onsets):
@@ -687,7 +778,8 @@ def _broadband_onsets(band, rate, min_interval):
 def _merge(tonal, broadband, gap, deep=()):
     """The onsets (samples), sorted, and how each was found (0 broadband, 1 tonal, 2 deep only).
 
-    Onsets closer than ``gap`` are one, at the broadband time if any, else the tonal one.
+    Onsets closer than ``gap`` are one (as are two groups' choices closer than a quarter of it), at the broadband
+    time if any, else the tonal one.
     """
     marked = sorted([(s, 1) for s in tonal] + [(s, 0) for s in broadband] + [(s, 2) for s in deep])
     groups = []
@@ -696,7 +788,14 @@ def _merge(tonal, broadband, gap, deep=()):
             groups[-1].append((s, kind))
         else:
             groups.append([(s, kind)])
-    chosen = [min(group, key=lambda item: item[1]) for group in groups]
+    chosen = []
+    for group in groups:  # a group's choice may fall on the next group's (its broadband time on that one's tonal)
+        s, kind = min(group, key=lambda item: item[1])
+        if chosen and s - chosen[-1][0] < gap / 4:
+            if kind < chosen[-1][1]:
+                chosen[-1] = (s, kind)
+        else:
+            chosen.append((s, kind))
     return np.array([s for s, _ in chosen], dtype=float), np.array([k for _, k in chosen], dtype=np.int64)
 
 
