@@ -22,13 +22,13 @@ def write_test(folder, *, pairs, token, seed, limits=""):
     return folder / "test.toml"
 
 
-def start_test(folder, *, pairs, token, seed, limits="", proxies=()):
+def start_test(folder, *, pairs, token, seed, limits="", proxies=(), hosts=()):
     """:func:`write_test`, then serve it with uvicorn on a free loopback port in a thread, as ``listen serve`` does.
 
     Returns (server, config, store); ``server.url`` is its address."""
     config = Config.from_toml(write_test(folder, pairs=pairs, token=token, seed=seed, limits=limits))
     store = Store(folder / "results.sqlite")
-    server = make_server(config, store, port=0, forwarded_allow_ips=proxies).start()
+    server = make_server(config, store, port=0, forwarded_allow_ips=proxies, allowed_hosts=hosts).start()
     return server, config, store
 
 

@@ -460,6 +460,8 @@ def test_serve_and_analyze_check_their_options_before_starting(tmp_path, capsys)
         (["listen", "serve", config, "--db", tmp_path / "a.sqlite", "--host", "no-such-host.invalid"],
          "host 'no-such-host.invalid' cannot be resolved"),
         (["listen", "serve", config, "--db", tmp_path / "a.sqlite", "--forwarded-allow-ips", "*"], "'*' would trust"),
+        (["listen", "serve", config, "--db", tmp_path / "a.sqlite", "--allowed-host", "study.example.org:443"],
+         "allowed host 'study.example.org:443' is not a host name"),
         (["listen", "serve", config, "--db", tmp_path / "a.sqlite", "--forwarded-allow-ips", "proxy"],
          "entry 'proxy' is not an IP address"),
         (["listen", "serve", config, "--db", tmp_path / "notes.sqlite"],

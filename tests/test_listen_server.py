@@ -15,6 +15,7 @@ import urllib.parse
 import pytest
 
 from _listen import Client, start_test
+from drumstroke.errors import ParameterError
 from drumstroke.evaluation.app import plan
 from drumstroke.evaluation.pages import SECURITY_HEADERS
 
@@ -110,7 +111,7 @@ def test_a_head_that_trickles_in_is_cut_at_the_head_timeout_and_an_idle_connecti
     server, _, _, _ = served
     with socket.create_connection(address(server)) as connection:
         began = time.monotonic()
-        connection.sendall(b"GET / HTTP/1.1\r\nHost: x\r\nX-Slow: ")
+        connection.sendall(b"GET / HTTP/1.1\r\nHost: localhost\r\nX-Slow: ")
         connection.settimeout(0.2)
         reply, sent = b"", 0
         while time.monotonic() - began < 5.0:
@@ -132,15 +133,15 @@ def test_a_head_that_trickles_in_is_cut_at_the_head_timeout_and_an_idle_connecti
 
 def test_malformed_heads_are_answered_400_with_a_message(served):
     server, _, _, _ = served
-    for head in (b"GET /p/\xb2/pair/0 HTTP/1.1\r\nHost: x\r\n\r\n",  # a raw byte in the path
-                 b"GET / HTTP/1.1\r\nHost: x\r\nX-Big: " + b"a" * 17000,  # 16 KiB and the head not over
-                 b"GET / HTTP/1.1\r\nHost: x\r\nBad Header\r\n\r\n",
+    for head in (b"GET /p/\xb2/pair/0 HTTP/1.1\r\nHost: localhost\r\n\r\n",  # a raw byte in the path
+                 b"GET / HTTP/1.1\r\nHost: localhost\r\nX-Big: " + b"a" * 17000,  # 16 KiB and the head not over
+                 b"GET / HTTP/1.1\r\nHost: localhost\r\nBad Header\r\n\r\n",
                  b"NOT HTTP AT ALL\r\n\r\n"):
         reply, seconds, closed = exchange(server, head)
         assert statuses(reply) == [400] and b"not valid HTTP/1.1" in reply and closed and seconds < 0.5, reply
         assert headers_of(reply)["x-content-type-options"] == "nosniff"
     # a whole head over 16 KiB, come at once
-    reply, seconds, closed = exchange(server, b"GET / HTTP/1.1\r\nHost: x\r\nX-Big: " + b"a" * 17000 + b"\r\n\r\n")
+    reply, seconds, closed = exchange(server, b"GET / HTTP/1.1\r\nHost: localhost\r\nX-Big: " + b"a" * 17000 + b"\r\n\r\n")
     assert statuses(reply) == [431] and b"at most 16384 bytes" in reply and closed and seconds < 0.5, reply
 
 
@@ -154,7 +155,7 @@ def test_a_client_that_stops_reading_a_response_is_dropped(served):
     with socket.socket() as connection:
         connection.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
         connection.connect(address(server))
-        connection.sendall(f"GET /p/{participant}/audio/{position}/A HTTP/1.1\r\nHost: x\r\n\r\n".encode())
+        connection.sendall(f"GET /p/{participant}/audio/{position}/A HTTP/1.1\r\nHost: localhost\r\n\r\n".encode())
         time.sleep(1.0 + 1.5)  # reading nothing for longer than body_timeout
         connection.settimeout(5.0)
         received = 0
@@ -194,7 +195,7 @@ def test_connections_over_the_caps_are_answered_503_at_once(tmp_path):
         assert statuses(reply) == [503] and b"too many connections are open: try again" in reply
         assert all(answered(c, wait=0.01) is None for c in held)
         held[7].setblocking(True)
-        held[7].sendall(b"GET / HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n")
+        held[7].sendall(b"GET / HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n")
         assert statuses(held[7].recv(4096)) == [200]
         for connection in held:
             connection.close()
@@ -217,7 +218,7 @@ def test_a_thousand_trickling_connections_neither_stop_a_participant_nor_stay(tm
         refused = answered_at_once(trickles)  # the caps (100 per client by default) answer the others at once
         held = [connection for connection in trickles if connection not in refused]
         for connection in held:
-            connection.send(b"GET / HTTP/1.1\r\nHost: x\r\nX-Slow: ")
+            connection.send(b"GET / HTTP/1.1\r\nHost: localhost\r\nX-Slow: ")
         result = {}
         trickler = threading.Thread(target=lambda: result.update(trickle(held, time.monotonic() + 10.0)))
         trickler.start()
@@ -295,3 +296,30 @@ def trickle(held, deadline, interval=0.25):
                     except OSError:
                         pass
     return {"closed": closed, "replies": replies, "sent": sent}
+
+
+def test_a_host_the_server_does_not_serve_is_answered_400_and_starts_nothing(served, tmp_path):
+    """DNS rebinding: a page elsewhere reaching a server on loopback through a name of its own is refused; the
+    loopback names (any port) and, when named, the proxy's are served."""
+    server, _, store, _ = served
+    port = address(server)[1]
+    for host in ("evil.example", "evil.example:80", "127.0.0.1.evil.example", "[::2]"):
+        reply, _, closed = exchange(server, f"POST /start HTTP/1.1\r\nHost: {host}\r\nContent-Length: 0\r\n\r\n".encode())
+        assert statuses(reply) == [400] and b"does not serve the host" in reply and closed, (host, reply)
+        assert headers_of(reply)["x-content-type-options"] == "nosniff"
+    for host in (f"localhost:{port}", f"127.0.0.1:{port}", "LOCALHOST", f"[::1]:{port}"):
+        reply, _, _ = exchange(server, f"GET / HTTP/1.1\r\nHost: {host}\r\nConnection: close\r\n\r\n".encode())
+        assert statuses(reply) == [200], (host, reply[:300])
+    assert store.rows() == []
+    (tmp_path / "named").mkdir()
+    named, _, _ = start_test(tmp_path / "named", pairs=PAIRS, token=TOKEN, seed=3, hosts=["Study.Example.org"])
+    try:
+        for host, status in (("study.example.org", 200), ("study.example.org:443", 200), (f"localhost:{port}", 200),
+                             ("other.example.org", 400)):
+            reply, _, _ = exchange(named, f"GET / HTTP/1.1\r\nHost: {host}\r\nConnection: close\r\n\r\n".encode())
+            assert statuses(reply) == [status], (host, reply[:300])
+    finally:
+        named.stop()
+    (tmp_path / "bad").mkdir()
+    with pytest.raises(ParameterError, match=r"allowed host 'study.example.org/x' is not a host name"):
+        start_test(tmp_path / "bad", pairs=PAIRS, token=TOKEN, seed=3, hosts=["study.example.org/x"])

@@ -28,6 +28,10 @@ def add_listen(commands):
     srv.add_argument("--forwarded-allow-ips", metavar="IPS",
                      help="comma-separated addresses or networks of trusted reverse proxies, whose X-Forwarded-For and "
                           "X-Forwarded-Proto are believed (default: none)")
+    srv.add_argument("--allowed-host", action="append", default=[], metavar="NAME",
+                     help="a name browsers reach the test by (the reverse proxy's, e.g. study.example.org), "
+                          "repeatable; a request for another host is answered 400 (default: on loopback, its "
+                          "loopback names only; on another address, any)")
     add_mkdir(srv)
     srv.set_defaults(run=_serve)
     ana = actions.add_parser("analyze", help="run the statistics on the answers collected",
@@ -72,7 +76,8 @@ def _serve(args):
     store = Store(args.db)
     proxies = args.forwarded_allow_ips.split(",") if args.forwarded_allow_ips else ()
     try:
-        server = make_server(config, store, host=args.host, port=args.port, forwarded_allow_ips=proxies)
+        server = make_server(config, store, host=args.host, port=args.port, forwarded_allow_ips=proxies,
+                             allowed_hosts=args.allowed_host)
     except (ParameterError, ImportError):
         if new:  # a refused --host, --port or proxy, or a missing extra, leaves no database behind
             args.db.unlink()

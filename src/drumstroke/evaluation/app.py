@@ -46,7 +46,7 @@ from .._checks import check_int, check_keys
 from ..errors import ParameterError
 from ..formats.responses_csv import responses_text
 from ..formats.toml import read_toml
-from .limits import Limits
+from .limits import Limits, served_hosts
 
 QUESTIONS = ("answer", "confidence", "similarity")
 EXAMPLE_TOKENS = frozenset({"change-this-token", "change-me", "Xq3v0m8-H2kS1pLrT9yWcE4nB7uJ6dFa_Zo5RiMtGbN"})
@@ -283,7 +283,7 @@ class Store:
         return responses_text(self.rows())
 
 
-def make_server(config, store, *, host="127.0.0.1", port=8000, forwarded_allow_ips=()):
+def make_server(config, store, *, host="127.0.0.1", port=8000, forwarded_allow_ips=(), allowed_hosts=()):
     """The test's web server, its socket bound: ``serve()`` it until Ctrl-C, or ``start()``/``stop()`` it in a thread.
 
     Parameters
@@ -298,6 +298,11 @@ def make_server(config, store, *, host="127.0.0.1", port=8000, forwarded_allow_i
         The addresses or networks of trusted reverse proxies (e.g. ``["127.0.0.1"]``), whose
         ``X-Forwarded-For`` and ``X-Forwarded-Proto`` are believed: the client's address for the limits,
         https for ``Secure`` cookies. Empty (the default): none is.
+    allowed_hosts : sequence of str
+        The names browsers reach the test by (e.g. ``["study.example.org"]``, the reverse proxy's); a
+        request whose ``Host`` names another is answered 400. Empty (the default): a server listening on
+        loopback answers its loopback names only (``localhost``, ``127.0.0.1``, ``[::1]``: a page elsewhere
+        cannot reach it by DNS rebinding), one listening on another address any name.
 
     Returns
     -------
@@ -306,16 +311,18 @@ def make_server(config, store, *, host="127.0.0.1", port=8000, forwarded_allow_i
     Raises
     ------
     ParameterError
-        A host that cannot be resolved, a port out of range or taken, a proxy that is not an address.
+        A host that cannot be resolved, a port out of range or taken, a proxy that is not an address, an
+        allowed host that is not a host name.
     ImportError
         Without the ``listen`` extra (Starlette and uvicorn).
     """
     check_int("port", port, low=0, high=65535)
+    hosts = served_hosts(host, allowed_hosts)
     try:
         from .server import Server
         from .web import make_app
     except ImportError as error:
         raise ImportError(f"serving the listening test needs {error.name}: pip install 'drumstroke[listen]'") from None
 
-    return Server(make_app(config, store), config.limits, host=host, port=port,
+    return Server(make_app(config, store, hosts=hosts), config.limits, host=host, port=port,
                   forwarded_allow_ips=forwarded_allow_ips)

@@ -8,6 +8,7 @@ admin tokens) per client and in all within a sliding minute, in memory bounded b
 
 import ipaddress
 import math
+import re
 import time
 from collections import deque
 from dataclasses import dataclass
@@ -102,6 +103,49 @@ def trusted_networks(entries):
         except ValueError:
             raise ParameterError(f"forwarded_allow_ips entry {text!r} is not an IP address or network") from None
     return tuple(networks)
+
+
+LOOPBACK_NAMES = frozenset({"localhost", "127.0.0.1", "[::1]"})
+"""The names a browser on the server's own machine reaches it by."""
+
+_HOST_NAME = re.compile(r"(?:\[[0-9a-f:.]+\]|[a-z0-9](?:[a-z0-9.-]{0,251}[a-z0-9])?)")
+
+
+def served_hosts(listen, allowed):
+    """The names the ``Host`` header may give (lower case, no port), or None for any.
+
+    ``allowed`` names (e.g. ``["study.example.org"]``, an IPv6 address in brackets) are served, with the
+    loopback names; with none, a server listening on loopback (``listen``) serves its loopback names only
+    (a page elsewhere cannot reach it through a name of its own: DNS rebinding), one listening on another
+    address any name.
+
+    Raises
+    ------
+    ParameterError
+        A name that is not a host name or a bracketed IPv6 address.
+    """
+    names = set()
+    for entry in allowed:
+        name = str(entry).strip().lower()
+        if not _HOST_NAME.fullmatch(name):
+            raise ParameterError(f"allowed host {str(entry)!r} is not a host name (letters, digits, dots and hyphens; "
+                                 "an IPv6 address in brackets; no port)")
+        names.add(name)
+    if names:
+        return frozenset(names | LOOPBACK_NAMES)
+    try:
+        loopback = ipaddress.ip_address(listen.strip("[]")).is_loopback
+    except ValueError:
+        loopback = listen.lower() == "localhost"
+    return LOOPBACK_NAMES if loopback else None
+
+
+def host_name(header):
+    """The name a ``Host`` header gives (lower case, its port taken off)."""
+    name = header.strip().lower()
+    if name.startswith("["):
+        return name.partition("]")[0] + "]"
+    return name.rpartition(":")[0] if ":" in name else name
 
 
 class Window:

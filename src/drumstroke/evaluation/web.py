@@ -48,7 +48,7 @@ from starlette.responses import HTMLResponse, PlainTextResponse, RedirectRespons
 from starlette.routing import Route
 
 from . import pages
-from .limits import MAX_HEAD, Window, client_key
+from .limits import MAX_HEAD, Window, client_key, host_name
 
 log = logging.getLogger(__name__)
 
@@ -67,8 +67,12 @@ _UNPLAYABLE = ("this stimulus cannot be played: the server cannot read its file 
                "experimenter)")
 
 
-def make_app(config, store):
-    """The ASGI application serving ``config``'s test from ``store`` (a :class:`~drumstroke.evaluation.app.Store`)."""
+def make_app(config, store, *, hosts=None):
+    """The ASGI application serving ``config``'s test from ``store`` (a :class:`~drumstroke.evaluation.app.Store`).
+
+    ``hosts``: the names a request's ``Host`` header may give (see
+    :func:`~drumstroke.evaluation.limits.served_hosts`); None, any.
+    """
     site = _Site(config, store)
     routes = [
         Route("/", site.consent),
@@ -81,7 +85,7 @@ def make_app(config, store):
         Route("/admin/export.csv", site.export),
         Route("/static/{name}", site.static),
     ]
-    return _Guard(Starlette(routes=routes, exception_handlers={HTTPException: _refused, Exception: _failed}))
+    return _Guard(Starlette(routes=routes, exception_handlers={HTTPException: _refused, Exception: _failed}), hosts)
 
 
 class _Site:
@@ -290,13 +294,14 @@ class _Tokens:
 
 
 class _Guard:
-    """The application behind a check of the head's size, with the security headers on every response.
+    """The application behind a check of the head's size and its ``Host`` (one of ``hosts``, unless None), with
+    the security headers on every response.
 
     ``Cache-Control: no-store`` is added to a response that does not set its own (the static files do).
     """
 
-    def __init__(self, app):
-        self.app = app
+    def __init__(self, app, hosts=None):
+        self.app, self.hosts = app, hosts
 
     async def __call__(self, scope, receive, send):
         if scope["type"] != "http":
@@ -307,6 +312,11 @@ class _Guard:
         app = self.app if size <= MAX_HEAD else PlainTextResponse(
             f"431 Request Header Fields Too Large: a request's line and headers may hold at most {MAX_HEAD} bytes\n",
             status_code=431, headers=_CLOSE)
+        if self.hosts is not None and app is self.app:
+            name = host_name(next((v for k, v in scope["headers"] if k == b"host"), b"").decode("latin-1"))
+            if name and name not in self.hosts:  # a page elsewhere reaching this server by a name of its own
+                app = PlainTextResponse(f"400 Bad Request: this server does not serve the host {_shown(name)!r} "
+                                        "(listen serve --allowed-host names it)\n", status_code=400, headers=_CLOSE)
 
         async def guarded(message):
             if message["type"] == "http.response.start":
