@@ -315,7 +315,7 @@ class _Guard:
         if self.hosts is not None and app is self.app:
             name = host_name(next((v for k, v in scope["headers"] if k == b"host"), b"").decode("latin-1"))
             if name and name not in self.hosts:  # a page elsewhere reaching this server by a name of its own
-                app = PlainTextResponse(f"400 Bad Request: this server does not serve the host {_shown(name)!r} "
+                app = PlainTextResponse(f"400 Bad Request: this server does not serve the host {_shown(name, 64)} "
                                         "(listen serve --allowed-host names it)\n", status_code=400, headers=_CLOSE)
 
         async def guarded(message):
