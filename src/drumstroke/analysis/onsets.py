@@ -18,7 +18,7 @@ Onsets(2 over [0.1, 0.35] s, levels -4.5 to 0 dB; drop.wav)
 -40.0
 """
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -396,27 +396,25 @@ def find_onsets(signal, rate, *, threshold_db=DEFAULT_THRESHOLD_DB, min_interval
     broadband = list(_broadband_onsets(band, rate, min_interval))
     first, _ = _merge(tonal, broadband, min_interval * rate)
     q2 = max(q, rate // MODES_RATE)
-    modes, modes_rate, modes_delay = _decimate(band, rate, q2)
-    modes_innovation = _robust_innovation(modes)
-    residual, _, _, _, at, amp, template = _pursue(modes_innovation, (first + modes_delay) / q2, modes_rate, spikes=True)
-    tail = _room_tail(modes_innovation, at, amp, template, round(TAIL * modes_rate)) if TAIL else None
+    modes_band, modes_rate, modes_delay = _decimate(band, rate, q2)
+    modes = _Modes(_robust_innovation(modes_band), q2, modes_delay, modes_rate)
+    residual, _, _, _, at, amp, template = _pursue(modes.e, modes.at(first), modes.rate, spikes=True)
+    tail = _room_tail(modes.e, at, amp, template, round(TAIL * modes.rate)) if TAIL else None
     if tail is not None:
-        residual, _, _, _ = _pursue(modes_innovation, (first + modes_delay) / q2, modes_rate, tail=tail)
+        modes = replace(modes, tail=tail)
+        residual = modes.pursue(first)[0]
     size = len(template)
     reverberant = (tail is not None and len(tail) > size
                    and tail[size:] @ tail[size:] >= ROOM * (tail[:size] @ tail[:size]))  # step 5 takes tails off
-    deep = [k * q2 - modes_delay for k in _jumps(residual, modes_rate, min_interval, MIN_JUMP, MODES_WIDTH)]
+    deep = modes.jumps(residual, min_interval)
     more, _ = _merge(first, deep, min_interval * rate)  # a second round: the quiet ones found taken off too
-    residual, _, _, _ = _pursue(modes_innovation, (more + modes_delay) / q2, modes_rate, tail=tail)
-    known = np.sort(np.concatenate((more, deep)))
-    for k in _jumps(residual, modes_rate, min_interval, MIN_JUMP, MODES_WIDTH):
-        s = k * q2 - modes_delay  # a new one only away from the known ones (not a spike's leftover before one)
-        near = np.searchsorted(known, s)
-        if all(abs(known[j] - s) > SECOND_GAP * min_interval * rate for j in (near - 1, near) if 0 <= j < len(known)):
-            deep.append(s)
+    residual = modes.pursue(more)[0]
+    # a new one only away from the known ones (not a spike's leftover before one)
+    deep += _away(modes.jumps(residual, min_interval), np.sort(np.concatenate((more, deep))),
+                  SECOND_GAP * min_interval * rate)
     times, kinds = _merge(tonal, broadband, min_interval * rate, deep)
-    _, modes_jump, likeness, where = _pursue(modes_innovation, (times + modes_delay) / q2, modes_rate, tail=tail)
-    times, offset = _retime(times, kinds, where * q2 - modes_delay, likeness)
+    _, modes_jump, likeness, where = modes.pursue(times)
+    times, offset = _retime(times, kinds, modes.samples(where), likeness)
     tonal_jump = _jump_at(innovation, (times + delay) / q, low_rate)
     broadband_jump = _jump_at(np.diff(band, prepend=band[0]), times + 0.5, rate)
     rises = (tonal_jump >= MIN_JUMP) | ((broadband_jump >= BROADBAND_JUMP) & (tonal_jump >= TONAL_SUPPORT))
@@ -424,10 +422,9 @@ def find_onsets(signal, rate, *, threshold_db=DEFAULT_THRESHOLD_DB, min_interval
     attack = (modes_jump >= MIN_JUMP) & ((likeness >= LIKENESS) | rises | weak)
     attack |= (modes_jump >= SURE_JUMP) & (likeness >= SURE_LIKENESS)
     if reverberant:
-        times, attack, likeness = _try_later(times, kinds, attack, likeness, residual, modes_innovation, tail, q2,
-                                             modes_delay, modes_rate, min_interval, rate, offset)
-        times, kinds, attack, likeness = _last_round(times, kinds, attack, likeness, modes_innovation, tail, q2,
-                                                     modes_delay, modes_rate, min_interval, rate, offset)
+        times, attack, likeness = _try_later(modes, times, kinds, attack, likeness, residual, min_interval, rate,
+                                             offset)
+        times, kinds, attack, likeness = _last_round(modes, times, kinds, attack, likeness, min_interval, rate, offset)
     q3 = max(q, int(rate // (2.5 * _level_corner(band, rate, first))))
     lowest, lowest_rate, lowest_delay = _decimate(band, rate, q3)
     _, level_coefficients = _robust_innovation(lowest, LEVEL_ORDER, coefficients=True)
@@ -624,8 +621,45 @@ def _room_tail(e, at, amp, template, length):
     return h if np.all(np.isfinite(h)) else None
 
 
-def _try_later(times, kinds, attack, likeness, residual, e, tail, q2, modes_delay, modes_rate, min_interval, rate,
-               offset):
+@dataclass(frozen=True)
+class _Modes:
+    """The drum's modes' band of step 4: its innovation ``e``, decimated ``q`` times with ``delay``
+    samples of filter delay (full rate), at ``rate`` Hz, and the room's ``tail`` once fitted."""
+
+    e: np.ndarray
+    q: int
+    delay: float
+    rate: float
+    tail: np.ndarray | None = None
+
+    def at(self, samples):
+        """Full-rate ``samples`` as (fractional) samples of the band."""
+        return (samples + self.delay) / self.q
+
+    def samples(self, at):
+        """Samples of the band ``at`` as full-rate samples."""
+        return at * self.q - self.delay
+
+    def pursue(self, samples):
+        """:func:`_pursue` of the onsets at full-rate ``samples``, the room's tail taken off with each."""
+        return _pursue(self.e, self.at(samples), self.rate, tail=self.tail)
+
+    def jumps(self, residual, min_interval):
+        """Where ``residual`` (in the band) jumps :data:`MIN_JUMP` times, as a list of full-rate samples."""
+        return [self.samples(k) for k in _jumps(residual, self.rate, min_interval, MIN_JUMP, MODES_WIDTH)]
+
+
+def _away(candidates, known, gap):
+    """The ``candidates`` farther than ``gap`` from their nearest neighbours in ``known`` (sorted), in order."""
+    kept = []
+    for s in candidates:
+        near = np.searchsorted(known, s)
+        if all(abs(known[j] - s) > gap for j in (near - 1, near) if 0 <= j < len(known)):
+            kept.append(s)
+    return kept
+
+
+def _try_later(modes, times, kinds, attack, likeness, residual, min_interval, rate, offset):
     """Decimated onsets whose start does not look like the signature, tried again where the remainder jumps most just after.
 
     In a room's tail the change point of an onset found in the decimated innovation or in the modes' band
@@ -634,33 +668,31 @@ def _try_later(times, kinds, attack, likeness, residual, e, tail, q2, modes_dela
     (the modes' band's remainder) jumps most before :data:`MOVE_REACH` times ``min_interval`` (s) later,
     and taken there when the remainder jumps :data:`MOVED_JUMP` times and its start looks like the
     signature (:data:`LIKENESS`), timed by its signature's fit plus ``offset`` (full-rate samples, as
-    :func:`_retime`); else it stays as it was. Times are full-rate samples, ``residual`` and ``e`` at
-    ``modes_rate``.
+    :func:`_retime`); else it stays as it was. Times are full-rate samples, ``residual`` in ``modes``' band.
     """
-    after, before, _ = _windows(residual, modes_rate, MODES_WIDTH)
+    after, before, _ = _windows(residual, modes.rate, MODES_WIDTH)
     profile = np.sqrt(after / np.maximum(before, 1e-300 + after * 1e-12))
     moved = times.copy()
-    reach = MOVE_REACH * min_interval * rate
     for i in np.flatnonzero((likeness < LIKENESS) & (kinds >= 1)):
-        end = min(times[i] + reach, times[i + 1] - min_interval * rate if i + 1 < len(times) else np.inf)
-        low, high = int(np.ceil((times[i] + modes_delay) / q2)) + 1, int((end + modes_delay) / q2)
-        high = min(high, len(profile))
+        end = min(times[i] + MOVE_REACH * min_interval * rate,
+                  times[i + 1] - min_interval * rate if i + 1 < len(times) else np.inf)
+        low, high = int(np.ceil(modes.at(times[i]))) + 1, min(int(modes.at(end)), len(profile))
         if high > low:
             k = low + int(np.argmax(profile[low:high]))
             if profile[k] >= MIN_JUMP:
-                moved[i] = k * q2 - modes_delay
+                moved[i] = modes.samples(k)
     tried = moved != times
     if not np.any(tried):
         return times, attack, likeness
-    _, jump, like, where = _pursue(e, (moved + modes_delay) / q2, modes_rate, tail=tail)
+    _, jump, like, where = modes.pursue(moved)
     take = tried & (jump >= MOVED_JUMP) & (like >= LIKENESS)
     times, attack, likeness = times.copy(), attack.copy(), likeness.copy()
-    times[take] = where[take] * q2 - modes_delay + offset
+    times[take] = modes.samples(where[take]) + offset
     attack[take], likeness[take] = True, like[take]
     return times, attack, likeness
 
 
-def _last_round(times, kinds, attack, likeness, e, tail, q2, modes_delay, modes_rate, min_interval, rate, offset):
+def _last_round(modes, times, kinds, attack, likeness, min_interval, rate, offset):
     """New onsets where the remainder jumps once only the attacks found are taken off; the refused ones tried again.
 
     The rounds before take off their candidates, the refused ones too and some 1-6 ms early
@@ -669,24 +701,18 @@ def _last_round(times, kinds, attack, likeness, e, tail, q2, modes_delay, modes_
     every onset join the onsets (found in the modes' band alone); all are fitted again in time order at
     their final times, and the new and the refused ones are attacks when the remainder jumps
     :data:`MIN_JUMP` times at them and their start looks like the signature (:data:`LIKENESS`), the new
-    ones timed by their signature's fit plus ``offset``. Times are full-rate samples, ``e`` at
-    ``modes_rate``.
+    ones timed by their signature's fit plus ``offset``. Times are full-rate samples.
     """
-    residual, _, _, _ = _pursue(e, (times[attack] + modes_delay) / q2, modes_rate, tail=tail)
-    new = []
-    for k in _jumps(residual, modes_rate, min_interval, MIN_JUMP, MODES_WIDTH):
-        s = k * q2 - modes_delay
-        near = np.searchsorted(times, s)
-        if all(abs(times[j] - s) > SECOND_GAP * min_interval * rate for j in (near - 1, near) if 0 <= j < len(times)):
-            new.append(s)
+    residual = modes.pursue(times[attack])[0]
+    new = _away(modes.jumps(residual, min_interval), times, SECOND_GAP * min_interval * rate)
     order = np.argsort(np.concatenate((times, new)), kind="stable")
     every = np.concatenate((times, new))[order]
     fresh = np.concatenate((np.zeros(len(times), dtype=bool), np.ones(len(new), dtype=bool)))[order]
     kinds = np.concatenate((kinds, np.full(len(new), 2)))[order]
     attack = np.concatenate((attack, np.zeros(len(new), dtype=bool)))[order]
-    _, jump, like, where = _pursue(e, (every + modes_delay) / q2, modes_rate, tail=tail)
+    _, jump, like, where = modes.pursue(every)
     take = ~attack & (jump >= MIN_JUMP) & (like >= LIKENESS)
-    every[take & fresh] = where[take & fresh] * q2 - modes_delay + offset
+    every[take & fresh] = modes.samples(where[take & fresh]) + offset
     likeness = np.where(take, like, np.concatenate((likeness, np.zeros(len(new))))[order])
     attack |= take
     keep = ~fresh | take
