@@ -265,7 +265,7 @@ class _Search:
             raise ParameterError(f"stick must be a drumstroke.Stick, got {stick!r}")
         if not isinstance(forces, ForceRange):
             raise ParameterError(f"forces must be a drumstroke.design.ForceRange, got {forces!r}")
-        self.onsets, self.model, self.stick, self.forces = onsets, model, stick, forces
+        self.onsets, self.stick = onsets, stick
         self.options = {"model": model, "stick": stick, "forces": forces}
         if highest is not None:
             self.options["highest"] = highest
@@ -394,24 +394,21 @@ class _Search:
             return False
         levels = self.onsets.level_db[self.keep]
         n = len(self.keep)
-        candidates = []
+        best = None  # (criterion, onset, why): the one whose leaving out leaves the simplest force
         for k in range(1, n - 1):
             below = min(levels[k - 1], levels[k + 1]) - levels[k]
-            if below >= FALSE_ONSET_DB:
-                candidates.append(([k], f"{below:.1f} dB quieter than both onsets beside it"))
-        best = None
-        for notes, why in candidates:
-            kept, self.keep = self.keep, [x for k, x in enumerate(self.keep) if k not in notes]
+            if below < FALSE_ONSET_DB:
+                continue
+            kept, self.keep = self.keep, self.keep[:k] + self.keep[k + 1:]
             value = self.change(offset, cor)[0] if fixed else self.best_offset(cor)[0]
             self.keep = kept
-            if value < now / 2 and (best is None or (len(notes), value) < best[0]):
-                best = ((len(notes), value), notes, why)  # the fewest left out, then the simplest force
+            if value < now / 2 and (best is None or value < best[0]):
+                best = (value, k, f"{below:.1f} dB quieter than both onsets beside it")
         if best is None:
             return False
-        _, notes, why = best
-        for k in reversed(notes):
-            self.leave_out(k, f"{why}, and played only by a force beyond the human thumb: a false detection (an "
-                              "echo, the snares, noise)?")
+        _, k, why = best
+        self.leave_out(k, f"{why}, and played only by a force beyond the human thumb: a false detection (an echo, "
+                          "the snares, noise)?")
         return True
 
     def best_cor(self, offset):

@@ -399,7 +399,7 @@ def find_onsets(signal, rate, *, threshold_db=DEFAULT_THRESHOLD_DB, min_interval
     modes_band, modes_rate, modes_delay = _decimate(band, rate, q2)
     modes = _Modes(_robust_innovation(modes_band), q2, modes_delay, modes_rate)
     residual, _, _, _, at, amp, template = _pursue(modes.e, modes.at(first), modes.rate, spikes=True)
-    tail = _room_tail(modes.e, at, amp, template, round(TAIL * modes.rate)) if TAIL else None
+    tail = _room_tail(modes.e, at, amp, round(TAIL * modes.rate))
     if tail is not None:
         modes = replace(modes, tail=tail)
         residual = modes.pursue(first)[0]
@@ -600,7 +600,7 @@ def _pursue(e, positions, rate, span=SIGNATURE, tail=None, spikes=False):
     return r, jumps, likeness, where
 
 
-def _room_tail(e, at, amp, template, length):
+def _room_tail(e, at, amp, length):
     """The attacks' common response (``length`` samples from each start), by least squares over all of them."""
     from scipy.linalg import solve_toeplitz
 
@@ -610,12 +610,10 @@ def _room_tail(e, at, amp, template, length):
         return None
     s = np.zeros(len(e))
     np.add.at(s, at, amp)
-    n = len(e)
-    size = 1 << int(np.ceil(np.log2(n + length)))
+    size = 1 << int(np.ceil(np.log2(len(e) + length)))
     S = np.fft.rfft(s, size)
     r_ss = np.fft.irfft(S * np.conj(S), size)[:length]
     r_se = np.fft.irfft(np.conj(S) * np.fft.rfft(e, size), size)[:length]
-    r_ss = r_ss.copy()
     r_ss[0] *= 1.0 + TAIL_RIDGE
     h = solve_toeplitz(r_ss, r_se)
     return h if np.all(np.isfinite(h)) else None
@@ -849,7 +847,7 @@ def _attack_amplitudes(low, coefficients, positions, rate, *, tail=0, sure=None)
     if tail <= 0 or not np.any(inside):
         return amplitude
     e = lfilter(coefficients, [1.0], low)
-    h = _room_tail(e, starts[inside], amplitude[inside], None, tail)
+    h = _room_tail(e, starts[inside], amplitude[inside], tail)
     if h is None:
         return amplitude
     sure = np.ones(len(starts), dtype=bool) if sure is None else np.asarray(sure, dtype=bool)

@@ -3,7 +3,8 @@
 import math
 
 from .._atomic import publish
-from ..analysis.fit import COR_RANGE
+from ..analysis.fit import COR_RANGE, TOLERANCE
+from ..design import HUMAN_FORCE
 from ..dynamics import CEILING_DB, FLOOR_DB
 from ..formats import json, toml
 from ..model import MODELS
@@ -51,7 +52,7 @@ def _fit(args):
     print(f"fitted {len(onsets)} onsets of {onsets.source} (threshold {threshold}) on the {fitted.model} model: "
           f"c = {fitted.cor:.4f}{' (fitted)' if fitted.fitted_cor else ''}, loudest onset at {fitted.offset:.2f} dB "
           f"re 1 m/s (offset), released at {fitted.release:.6f} s")
-    human = "beyond the human thumb (0-250 m/s^2)" if fitted.beyond_human else "within the human thumb (0-250 m/s^2)"
+    human = f"{'beyond' if fitted.beyond_human else 'within'} the human thumb (0-{HUMAN_FORCE:g} m/s^2)"
     print(f"forces {fitted.design.min_force:.4g} to {fitted.design.max_force:.4g} m/s^2, {human}; relative change "
           f"{fitted.change:.4g}; ends {fitted.design.end}")
     print(f"{'#':>4} {'onset (s)':>11} {'onset (dB)':>10} {'dt (ms)':>9} {'dlevel (dB)':>11}")
@@ -66,7 +67,7 @@ def _fit(args):
         print(f"   + {t:>11.6f} {level:>10.2f}  an impact the recording does not have (above its threshold)")
     verdict = "within" if fitted.within else "NOT within"
     print(f"largest residuals {fitted.time_error * 1e3:.4g} ms, {fitted.level_error:.4g} dB; {len(fitted.unmatched)} "
-          f"onsets not played, {len(fitted.extra_t)} impacts added: {verdict} 2 ms and 1 dB")
+          f"onsets not played, {len(fitted.extra_t)} impacts added: {verdict} {TOLERANCE[0] * 1e3:g} ms and {TOLERANCE[1]:g} dB")
     written = []
     with publish():
         fitted.recipe.to_toml(args.out)
