@@ -209,6 +209,10 @@ def test_bad_options_are_refused():
         design([0.2], velocities=[0])
     with pytest.raises(drumstroke.ParameterError, match="density"):
         buzz(0.0, 1.0, velocity=90, density=0.0)
+    with pytest.raises(drumstroke.ParameterError, match=r"drift must be \(seconds, dB\), two numbers > 0, got \(0.001,\)"):
+        design([0.2], [-3], drift=(1e-3,))
+    with pytest.raises(drumstroke.ParameterError, match=r"drift\[1\] must be .* \(0, inf\) dB, got -1"):
+        design([0.2], [-3], drift=(1e-3, -1.0))
 
 
 # -- the round trip: strokes from random recipes, their audible impacts designed back ---------------------

@@ -12,6 +12,7 @@ drumstroke.errors.ParameterError: t_end must be in [1e-06, 3600] s, got an integ
 """
 
 import math
+import sys
 from numbers import Integral, Real
 
 import numpy as np
@@ -88,14 +89,14 @@ def check_keys(name, table, allowed):
 
 def shown(value, *, most=80):
     """``repr(value)`` for a message, or its length when that is long: an integer's digits, a text's characters."""
-    if isinstance(value, Integral) and not isinstance(value, bool) and _is_long(value):
+    if _is_long(value):
         return f"an integer of {digits(int(value))} digits"
     if isinstance(value, str) and len(value) > most:
         return f"{value[:most // 2]!r}... ({len(value)} characters)"
     try:
         text = repr(value)
     except ValueError:  # it holds an integer too long to convert to text
-        return f"a {type(value).__name__} holding an integer of over 4300 digits"
+        return f"a {type(value).__name__} holding an integer of over {sys.get_int_max_str_digits()} digits"
     return text if len(text) <= most else f"{text[:most]}... ({len(text)} characters)"
 
 

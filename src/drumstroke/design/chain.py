@@ -41,7 +41,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .._checks import check_choice, check_real
+from .._checks import check_choice, check_real, shown
 from ..dynamics import CEILING_DB, FLOOR_DB, velocity_to_level
 from ..errors import ParameterError, SimulationError
 from ..model import MODELS, Stick
@@ -353,10 +353,12 @@ def design(times, levels=None, *, velocities=None, start=None, end="catch", mode
         A note cannot be played within the limits; it names the note, the need, the limit and
         the nearest reachable time and level.
     """
-    plan = _Plan.of(times, levels, velocities, start=start, end=end, model=model, cor=cor, stick=stick,
-                    forces=forces, limits=limits, lead=lead, tail=tail, catch_at=catch_at, highest=highest)
+    if not isinstance(drift, (tuple, list)) or len(drift) != 2:
+        raise ParameterError(f"drift must be (seconds, dB), two numbers > 0, got {shown(drift)}")
     drift = tuple(check_real(f"drift[{i}]", x, low=0.0, low_open=True, unit=unit)
                   for i, (x, unit) in enumerate(zip(drift, ("s", "dB"))))
+    plan = _Plan.of(times, levels, velocities, start=start, end=end, model=model, cor=cor, stick=stick,
+                    forces=forces, limits=limits, lead=lead, tail=tail, catch_at=catch_at, highest=highest)
     return plan.build(drift)
 
 
@@ -465,7 +467,7 @@ class _Plan:
     def top(self):
         return math.sin(min(self.limits.theta_high, self.highest))
 
-    def build(self, drift=DRIFT):
+    def build(self, drift):
         pieces, release, hold, theta0 = self.pieces()
         recipe = self.recipe.replace(force=_profile(pieces), t_end=pieces[-1].end, theta0=theta0,
                                      omega0=self.start.omega if self.start is not None else 0.0, name="designed")
@@ -697,7 +699,7 @@ class _Plan:
     def level_of(self, speed):
         return 20.0 * math.log10(speed * self.recipe.stick.pivot_to_tip / LEVEL_REFERENCE)
 
-    def check(self, stroke, release, drift=DRIFT):
+    def check(self, stroke, release, drift):
         """Hold the simulated stroke to the notes; return its largest time and level errors."""
         n = len(self.times)
         impacts = stroke.impacts
