@@ -1,5 +1,7 @@
-"""What the benchmark scripts share: a median of repeated runs and a progress line on stderr."""
+"""What the benchmark scripts share: a median of repeated runs, a progress line on stderr, the machine's description."""
 
+import datetime
+import platform
 import statistics
 import sys
 import time
@@ -14,6 +16,18 @@ def median_time(fn, repeats=7):
         fn()
         times.append(time.perf_counter() - start)
     return statistics.median(times)
+
+
+def machine():
+    """The machine and versions a results file was measured with."""
+    import numpy as np
+    import scipy
+
+    import drumstroke
+
+    return {"date": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
+            "platform": platform.platform(), "processor": platform.processor(), "python": platform.python_version(),
+            "numpy": np.__version__, "scipy": scipy.__version__, "drumstroke": drumstroke.__version__}
 
 
 def progress(message):

@@ -15,16 +15,13 @@ Cases:
 Prints a table and writes it with the machine and date to benchmarks/design_results.json.
 """
 
-import datetime
 import json
-import platform
 import sys
 import time
 from pathlib import Path
 
 import numpy as np
-import scipy
-from _timing import median_time, progress
+from _timing import machine, median_time, progress
 
 import drumstroke
 from drumstroke.design import Target, assign_sticks, buzz, design, plan_stick
@@ -34,10 +31,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 from reference import reference_flight
 
-REPEATS = 7
 STICK = drumstroke.Stick()
-
-
 
 
 def diddle_case(model):
@@ -136,10 +130,7 @@ def main():
                  else f"time error {row['time_error']:.1e} s, level error {row['level_error']:.1e} dB")
         lines.append(f"{row['case']:<48} {row['ours'] * 1e3:>7.4g} ms {ref:>10} {ratio:>8}  {extra}")
     print("\n".join(lines))
-    machine = {"date": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
-               "platform": platform.platform(), "processor": platform.processor(), "python": platform.python_version(),
-               "numpy": np.__version__, "scipy": scipy.__version__, "drumstroke": drumstroke.__version__}
-    (HERE / "design_results.json").write_text(json.dumps({"machine": machine, "rows": rows}, indent=2) + "\n")
+    (HERE / "design_results.json").write_text(json.dumps({"machine": machine(), "rows": rows}, indent=2) + "\n")
 
 
 if __name__ == "__main__":

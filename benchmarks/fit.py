@@ -15,15 +15,12 @@ table and writes it, with the accuracy of each fit (largest residuals, offset an
 machine and the date, to benchmarks/fit_results.json.
 """
 
-import datetime
 import json
-import platform
 import statistics
 from pathlib import Path
 
 import numpy as np
-import scipy
-from _timing import median_time, progress
+from _timing import machine, median_time, progress
 
 import drumstroke
 from drumstroke.analysis import Onsets, fit_stroke
@@ -33,8 +30,6 @@ HERE = Path(__file__).resolve().parent
 IMPACTS = 30
 STROKES = 5
 REPEATS = 3
-
-
 
 
 def strokes(model, seed=20261125):
@@ -98,10 +93,7 @@ def main():
     print("\n".join(lines))
     print(f"\n* {STROKES} constant-force strokes per model, their first {IMPACTS} impacts as onsets; medians over the "
           "strokes of the median of 3 runs (fit_cor: 1 run).")
-    machine = {"date": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
-               "platform": platform.platform(), "processor": platform.processor(), "python": platform.python_version(),
-               "numpy": np.__version__, "scipy": scipy.__version__, "drumstroke": drumstroke.__version__}
-    (HERE / "fit_results.json").write_text(json.dumps({"machine": machine, "rows": results}, indent=2) + "\n")
+    (HERE / "fit_results.json").write_text(json.dumps({"machine": machine(), "rows": results}, indent=2) + "\n")
 
 
 if __name__ == "__main__":

@@ -249,8 +249,8 @@ def test_a_flood_of_10000_notes_a_second_for_5_s_loses_no_setpoint(tmp_path):
     assert len(notes) > 10_000
     # notes are planned, unless the host was starved of the processor throughout: then each was planned too late
     # or found the planner's queue full, and said so
-    assert 0 < planned or all("planned too late" in line or "wait to be planned" in line
-                              for line in record["problems"]), (record["problems"][:5], record["problems"][-3:])
+    assert 0 < planned or record["problems"] and all("planned too late" in line or "wait to be planned" in line
+                                                     for line in record["problems"]), record["problems"][:5]
     t, theta, omega, alpha = receiver.stream(record["sticks"])
     assert len(t) == record["sent"]["count"] and t[-1] >= 7.0
     assert_same_as_offline(t, theta, omega, alpha, record)
