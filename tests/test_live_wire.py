@@ -414,6 +414,30 @@ def test_the_simulated_robot_tells_the_onsets_an_offline_track_of_the_stream_fin
     assert all(math.isfinite(onset) for onset in right)
 
 
+def test_over_a_long_stream_the_robot_tells_each_note_the_contact_nearest_it():
+    """40 notes on both sticks over 10 s: each told the contact nearest it of all the stick's contacts.
+
+    The monitor looks only at the contacts late enough for a note still to come, and its loops keep
+    no per-period log (a live robot plays for hours): what it tells is what a search of every
+    contact finds.
+    """
+    performer = Performer(clock=ManualClock())
+    robot = RobotMonitor(performer)
+    runtime = Runtime(performer, outputs=[robot])
+    rng = np.random.default_rng(3)
+    runtime.schedule([Request(0.3 + 0.24 * i, "auto", int(v), source="test") for i, v in
+                      enumerate(rng.integers(30, 128, 40))])
+    runtime.run(duration=10.3)
+    robot.close()
+    planned = [(t, o.note.stick) for o in performer.log if o.planned for t, _ in o.impacts]
+    assert len(planned) == 40 and {stick for _, stick in planned} == {"right", "left"}
+    assert sorted((t, stick) for t, stick, _ in robot.onsets) == sorted(planned)
+    for t, stick, onset in robot.onsets:
+        every = robot._loops[stick].joint.contacts().t
+        assert onset == every[np.argmin(np.abs(every - t))] and abs(onset - t) <= 0.02  # the monitor's window
+    assert robot.summary()["onsets"] == 40
+
+
 def test_the_session_record_is_json_with_every_note_and_replays_from_its_file(tmp_path):
     performer = Performer(clock=ManualClock())
     runtime = Runtime(performer)

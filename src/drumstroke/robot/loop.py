@@ -108,8 +108,8 @@ class Joint(Protocol):
             The mean torque applied over the period (N·m).
         """
 
-    def contacts(self):
-        """The :class:`Contacts` so far."""
+    def contacts(self, since=0):
+        """The :class:`Contacts` so far, from the ``since``-th on (0: all; an integer ≥ 0)."""
 
 
 @dataclass(frozen=True, repr=False)
@@ -169,9 +169,12 @@ class ControlLoop:
         The control rate (Hz).
     capacity : int
         Periods to make room for in the log at the start (it grows as needed).
+    record : bool
+        Keep θ, ω and the torque of every period for :meth:`log` (default). A loop that runs for
+        hours and needs only the joint's contacts (a live robot's) keeps none: its memory stays the same.
     """
 
-    def __init__(self, joint, controller, rate, *, capacity=1024):
+    def __init__(self, joint, controller, rate, *, capacity=1024, record=True):
         self.rate = check_real("rate", rate, low=10.0, high=1e5, unit="Hz")
         self.period = 1.0 / self.rate
         self.joint = joint
@@ -180,7 +183,8 @@ class ControlLoop:
         self._measured = quantize(joint.theta, self._resolution)
         self._omega_hat = joint.omega
         self._count = 0
-        capacity = max(int(capacity), 1)
+        self.record = bool(record)
+        capacity = max(int(capacity), 1) if self.record else 0
         self._theta, self._omega, self._torque = np.empty(capacity), np.empty(capacity), np.empty(capacity)
 
     def __len__(self):
@@ -213,7 +217,10 @@ class ControlLoop:
             step(theta, omega, alpha)
 
     def log(self):
-        """The :class:`Log` so far (copies)."""
+        """The :class:`Log` so far (copies); a loop that keeps no record has none."""
+        if not self.record:
+            raise ParameterError("this loop keeps no log (it was made with record=False): its joint's contacts() "
+                                 "are what it played")
         n = self._count
         return Log(self._theta[:n].copy(), self._omega[:n].copy(), self._torque[:n].copy(), self.joint.contacts())
 
@@ -228,17 +235,18 @@ class ControlLoop:
     def _apply(self, theta, omega, torque):
         """Advance the joint one period under ``torque`` (N·m), logging where it started and what it applied."""
         k = self._count
-        if k == len(self._theta):
-            self._reserve(1)
         applied = self.joint.advance(torque, self.period)
-        self._theta[k], self._omega[k], self._torque[k] = theta, omega, applied
+        if self.record:
+            if k == len(self._theta):
+                self._reserve(1)
+            self._theta[k], self._omega[k], self._torque[k] = theta, omega, applied
         self._count = k + 1
         return applied
 
     def _reserve(self, more):
         """Room in the log for ``more`` periods after those run (at least doubling when it grows)."""
         n, need = self._count, self._count + more
-        if need > len(self._theta):
+        if self.record and need > len(self._theta):
             size = max(need, 2 * len(self._theta))
             self._theta, self._omega, self._torque = (np.concatenate((a[:n], np.empty(size - n)))
                                                       for a in (self._theta, self._omega, self._torque))

@@ -58,7 +58,7 @@ try:
 except ImportError as error:  # pragma: no cover - exercised only where mujoco is absent
     raise ImportError("drumstroke's MuJoCo plant needs mujoco: pip install 'drumstroke[robot]'") from error
 
-from .._checks import check_real
+from .._checks import check_int, check_real
 from ..errors import ParameterError
 from ..model import inertia_ratio
 from ..trajectory import DEFAULT_RATE
@@ -240,9 +240,9 @@ class MujocoJoint:
         self._periods += 1
         return applied / substeps
 
-    def contacts(self):
-        """The :class:`~drumstroke.robot.loop.Contacts` so far."""
-        return Contacts.from_events(self._events, self._tip)
+    def contacts(self, since=0):
+        """The :class:`~drumstroke.robot.loop.Contacts` so far, from the ``since``-th on (0: all)."""
+        return Contacts.from_events(self._events[check_int("since", since, low=0):], self._tip)
 
 
 def head_gap(plant, theta):

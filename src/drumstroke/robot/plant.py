@@ -268,9 +268,10 @@ class SimpleJoint:
         self._periods += 1
         return applied
 
-    def contacts(self):
-        """The :class:`~drumstroke.robot.loop.Contacts` so far."""
-        return Contacts.from_events(self._events[:int(self._state.item(3))], self.plant.stick.pivot_to_tip)
+    def contacts(self, since=0):
+        """The :class:`~drumstroke.robot.loop.Contacts` so far, from the ``since``-th on (0: all)."""
+        return Contacts.from_events(self._events[check_int("since", since, low=0):int(self._state.item(3))],
+                                    self.plant.stick.pivot_to_tip)
 
 
 def run_plant(plant, stiffness, damping, torque, rate, *, theta0=0.0, omega0=0.0):
