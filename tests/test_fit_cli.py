@@ -128,3 +128,21 @@ def test_a_recording_end_to_end(tmp_path):
         assert abs(times[j] - t) < 2e-3 and abs(levels[j] - level) < 1.0  # the fit plays what was detected
         # and the impact re-simulated is the original's, in time (levels: as well as the detector measured them)
         assert np.min(np.abs(original - times[j])) < 2e-3
+
+
+def test_fit_and_compare_say_what_reading_a_recording_noted(tmp_path):
+    """A stereo recording, clipped: fit and compare say so on stderr, as onsets does (the loudest levels read low)."""
+    recipe = drumstroke.Recipe(force=drumstroke.Constant(100.0), theta0=0.3, cor=0.8, t_end=2.0)
+    impacts = drumstroke.simulate(recipe).impacts
+    from drumstroke.render.audio import Drum, synthesize
+
+    signal = synthesize(impacts.t + 0.3, impacts.tip_speed, drum=Drum(snares=False))
+    loud = np.clip(3.0 * signal / np.abs(signal).max(), -1.0, 1.0)
+    clipped = int(np.count_nonzero(np.abs(loud) >= 0.999))
+    assert clipped > 10
+    soundfile.write(tmp_path / "stereo.wav", np.column_stack((loud, loud)), 48000, subtype="FLOAT")
+    for result in (run("fit", tmp_path / "stereo.wav", "--out", tmp_path / "fit.toml"),
+                   run("compare", tmp_path / "stereo.wav", tmp_path / "fit.toml")):
+        assert result.returncode == 0, result.stderr
+        assert "note: stereo.wav has 2 channels, mixed down to one" in result.stderr
+        assert f"warning: stereo.wav has {2 * clipped} clipped samples" in result.stderr

@@ -92,6 +92,11 @@ def test_make_stimuli_from_recordings_on_the_command_line(tmp_path):
     assert result.returncode == 0, result.stderr
     assert "fitted on the paper model with c = 0.86" in result.stdout and "the pairs are complete" in result.stdout
     assert (tmp_path / "test" / "robot-free.wav").exists() and (tmp_path / "test" / "free.toml").exists()
+    mono, rate = soundfile.read(tmp_path / "human-free.wav")
+    soundfile.write(tmp_path / "human-wide.wav", np.column_stack((mono, mono)), rate, subtype="FLOAT")
+    result = run("listen", "make-stimuli", "--recordings", tmp_path / "human-wide.wav", "--out", tmp_path / "wide")
+    assert result.returncode == 0, result.stderr
+    assert "note: human-wide.wav has 2 channels, mixed down to one" in result.stderr  # as onsets and fit say
 
 
 @pytest.mark.parametrize("args, needle", [
@@ -106,6 +111,8 @@ def test_bad_make_stimuli_options_are_one_line(tmp_path, args, needle):
     assert not (tmp_path / "t").exists()
 
 
-def test_fit_options_are_refused_with_a_library(tmp_path):
-    assert_one_line_error(run("listen", "make-stimuli", "--library", tmp_path, "--out", tmp_path / "t", "--fit-cor"),
-                          "--fit-cor")
+@pytest.mark.parametrize("option", [["--fit-cor"], ["--cor", "0.8"], ["--model", "paper"], ["--model", "geometry"]])
+def test_fit_options_are_refused_with_a_library(tmp_path, option):
+    """Even the default model, named: it would be ignored (a library's strokes carry their own)."""
+    assert_one_line_error(run("listen", "make-stimuli", "--library", tmp_path, "--out", tmp_path / "t", *option),
+                          "--model, --cor and --fit-cor fit recordings")

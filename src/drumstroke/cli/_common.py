@@ -5,7 +5,7 @@ import sys
 from pathlib import Path
 
 from ..formats import midi, wav
-from ..model import inertia_ratio
+from ..model import MODELS, inertia_ratio
 from ..recipe import DEFAULT_COR
 from ..render.page import plural
 from ..score import BOUNCE_NOTE, FIRST_IMPACT_NOTE
@@ -60,6 +60,24 @@ def add_cor(parser, *, default=DEFAULT_COR, hint=""):
     """
     return parser.add_argument("--cor", type=number(low=0.0, high=1.0, high_open=True), default=default,
                                metavar="C", help=f"coefficient of restitution, in [0, 1) (default {DEFAULT_COR:g}{hint})")
+
+
+def add_model(parser, *, default="paper", what="the model"):
+    """Add ``--model {paper,geometry}`` to ``parser``: ``what`` the command does with it, default paper.
+
+    ``default`` None leaves it unset when not given (a command that refuses it in some uses).
+    """
+    return parser.add_argument("--model", choices=MODELS, default=default, help=f"{what} (default paper)")
+
+
+def print_recording_notes(onsets):
+    """On stderr, what reading a recording noted in its onsets' ``info``: channels mixed down, clipped samples."""
+    info = onsets.info
+    if info.get("mixed_down"):
+        print(f"note: {onsets.source} has {info['channels']} channels, mixed down to one", file=sys.stderr)
+    if info.get("clipped"):
+        print(f"warning: {onsets.source} has {info['clipped']} clipped samples (|x| >= 0.999 full scale): the loudest "
+              "levels read low", file=sys.stderr)
 
 
 def add_sound_options(parser):

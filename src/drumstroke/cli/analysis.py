@@ -1,13 +1,11 @@
 """``drumstroke onsets`` and ``measure-cor``: a recording's impacts, and c from a drop (SPEC §10)."""
 
-import sys
 
 from .._atomic import publish
 from ..errors import ParameterError
 from ..formats import json, onsets_csv
-from ..model import MODELS
 from ..render import plot
-from ._common import print_written
+from ._common import add_model, print_recording_notes, print_written
 from ._options import Output, add_mkdir, existing_file, number
 
 
@@ -39,7 +37,7 @@ def add_measure_cor(commands):
                     "confidence interval; the impacts' levels (falling 20 log10 c dB an impact) as a cross-check.")
     cor.add_argument("drop", type=existing_file, metavar="DROP",
                      help="a recording of the drop (WAV, FLAC, OGG, ...) or its onsets CSV")
-    cor.add_argument("--model", choices=MODELS, default="paper", help="whose exact flights (default paper)")
+    add_model(cor, what="whose exact flights")
     cor.add_argument("--confidence", type=number(low=0.0, high=1.0, low_open=True, high_open=True), default=0.95,
                      help="of the intervals, in (0, 1) (default 0.95)")
     _add_detection(cor)
@@ -66,13 +64,9 @@ def _read(args, path):
     if path.suffix.lower() == ".csv":
         return read_onsets(path), None
     signal, rate, notes = read_recording(path)
-    if notes["mixed_down"]:
-        print(f"note: {path.name} has {notes['channels']} channels, mixed down to one", file=sys.stderr)
-    if notes["clipped"]:
-        print(f"warning: {path.name} has {notes['clipped']} clipped samples (|x| >= 0.999 full scale): the loudest "
-              "levels read low", file=sys.stderr)
     onsets = find_onsets(signal, rate, threshold_db=args.threshold, min_interval=args.min_interval,
                          source=path.name, notes=notes)
+    print_recording_notes(onsets)
     return onsets, (signal, rate)
 
 

@@ -4,7 +4,7 @@ from .._atomic import publish
 from ..analysis.compare import FLOOR_DB
 from ..formats import json
 from ..render import plot
-from ._common import print_written
+from ._common import print_recording_notes, print_written
 from ._options import Output, add_mkdir, existing_file, number
 
 
@@ -32,6 +32,8 @@ def _compare(args):
     from ..analysis.compare import compare, stroke_onsets
 
     a, b = stroke_onsets(args.a), stroke_onsets(args.b)
+    print_recording_notes(a)
+    print_recording_notes(b)
     result = compare(a, b, threshold_db=args.threshold)
     figures = result.summary()
     for name, onsets in (("A", a), ("B", b)):

@@ -8,10 +8,9 @@ from ..errors import ParameterError
 from ..formats import json, trajectory_csv
 from ..formats.midi import PERCUSSION_CHANNEL
 from ..formats.pattern import FORMAT
-from ..model import MODELS
 from ..render import plot
 from ..score import BOUNCE_NOTE, DRUM_MAP, FIRST_IMPACT_NOTE, FIRST_LIBRARY_NOTE
-from ._common import Bar, add_sound_options, print_written
+from ._common import Bar, add_model, add_sound_options, print_written
 from ._options import Output, add_mkdir, existing_file, existing_folder, number
 
 OPTIONS = {"mapping": "--mapping", "channels": "--channel", "tracks": "--track"}
@@ -62,8 +61,7 @@ def add_compose(commands):
                       help="a library folder ('library build'), for scores that name its strokes")
     comp.add_argument("--rate", type=number(low=1.0, high=1e5, unit="Hz"), metavar="HZ",
                       help="control rate of the result, in [1, 1e5] Hz (default: the library's, else 1000)")
-    comp.add_argument("--model", choices=MODELS, default="paper",
-                      help="the model the planner designs auto and buzz notes with (default paper)")
+    add_model(comp, what="the model the planner designs auto and buzz notes with")
     comp.add_argument("--sticks", type=int, choices=(1, 2), default=2,
                       help="sticks the planner may give notes that name none (default 2)")
     midi = comp.add_argument_group("MIDI scores")

@@ -7,9 +7,8 @@ import sys
 from .._atomic import publish
 from ..errors import ParameterError
 from ..formats import json, toml, trajectory_csv
-from ..model import MODELS
 from ..render import plot
-from ._common import add_cor, add_sound_options, print_written
+from ._common import add_cor, add_model, add_sound_options, print_written
 from ._options import Output, add_mkdir, number, whole
 
 
@@ -34,7 +33,7 @@ def add_design(commands):
     des.add_argument("--end", choices=("catch", "press", "bounce"), default=None,
                      help="after the last note: caught at the rebound's apex (default; a buzz: press), pressed to "
                           "rest, or let bounce")
-    des.add_argument("--model", choices=MODELS, default="paper", help="the model (default paper)")
+    add_model(des)
     add_cor(des)
     des.add_argument("--force-max", type=number(low=0.0, high=1e6, low_open=True, unit="m/s^2"), default=3000.0,
                      metavar="A", help="the strongest thumb acceleration allowed, m/s^2 (default 3000)")
@@ -62,7 +61,7 @@ def add_rudiment(commands):
     rud.add_argument("--tempo", type=number(low=1.0, high=400.0, unit="bpm"), metavar="BPM",
                      help="quarter notes a minute, in [1, 400] (default: the middle of the rudiment's range)")
     rud.add_argument("--bars", type=whole(low=1, high=64), default=2, help="bars of 4/4 to play, 1-64 (default 2)")
-    rud.add_argument("--model", choices=MODELS, default="paper", help="the model (default paper)")
+    add_model(rud)
     rud.add_argument("--csv", action=Output, suffixes=trajectory_csv.SUFFIXES, metavar="PATH",
                      help="write t (s) and theta (rad), omega (rad/s) per stick as .csv")
     rud.add_argument("--json", action=Output, suffixes=json.SUFFIXES, metavar="PATH",

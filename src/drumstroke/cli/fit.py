@@ -7,9 +7,8 @@ from ..analysis.fit import COR_RANGE, TOLERANCE
 from ..design import HUMAN_FORCE
 from ..dynamics import CEILING_DB, FLOOR_DB
 from ..formats import json, toml
-from ..model import MODELS
 from ..render import plot
-from ._common import Bar, add_cor, add_sound_options, print_written
+from ._common import Bar, add_cor, add_model, add_sound_options, print_recording_notes, print_written
 from ._options import Output, add_mkdir, existing_file, number
 
 
@@ -23,7 +22,7 @@ def add_fit(commands):
                     "those whose force is closest to constant (see docs/fit.md).")
     fit.add_argument("recording", type=existing_file, metavar="RECORDING",
                      help="a recording of one stroke (.wav, .flac) or its onsets (.csv, as `drumstroke onsets` writes)")
-    fit.add_argument("--model", choices=MODELS, default="paper", help="the model (default paper)")
+    add_model(fit)
     cor = fit.add_mutually_exclusive_group()
     add_cor(cor, hint="; measure it with measure-cor")
     cor.add_argument("--fit-cor", action="store_true", help=f"fit c too, in [{COR_RANGE[0]:g}, {COR_RANGE[1]:g}]")
@@ -45,6 +44,7 @@ def _fit(args):
     from ..render.outputs import write_stroke_outputs
 
     onsets = read_onsets(args.recording)
+    print_recording_notes(onsets)
     with Bar("fitting", delay=0.5) as bar:
         fitted = fit_stroke(onsets, model=args.model, cor=args.cor, fit_cor=args.fit_cor, offset=args.level,
                             progress=bar.update)

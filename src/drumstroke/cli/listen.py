@@ -2,8 +2,7 @@
 
 from ..errors import ParameterError
 from ..formats import json
-from ..model import MODELS
-from ._common import Bar, Parser, add_cor
+from ._common import Bar, Parser, add_cor, add_model, print_recording_notes
 from ._options import Output, add_mkdir, existing_file, existing_folder, number, whole
 from .stats import print_analysis
 
@@ -58,7 +57,7 @@ def add_listen(commands):
                      help="the folder to write the recordings and the config to (created if missing)")
     mks.add_argument("--strokes", metavar="A,B,...", help="with --library: which strokes, comma-separated (default: all)")
     fitting = mks.add_argument_group("with --recordings: the fit")
-    fitting.add_argument("--model", choices=MODELS, default="paper", help="the model (default paper)")
+    add_model(fitting, default=None, what="the model the recordings are fitted on")
     cor = fitting.add_mutually_exclusive_group()
     add_cor(cor, default=None, hint="; measure it: drumstroke measure-cor")
     cor.add_argument("--fit-cor", action="store_true", help="fit c to each recording too")
@@ -105,12 +104,12 @@ def _make_stimuli(args):
 
     if args.recordings and args.strokes:
         raise ParameterError("--strokes picks library strokes: give it with --library, not --recordings")
-    if args.library and (args.cor is not None or args.fit_cor or args.model != "paper"):
+    if args.library and (args.cor is not None or args.fit_cor or args.model is not None):
         raise ParameterError("--model, --cor and --fit-cor fit recordings: give them with --recordings, not --library")
     with Bar("making stimuli", delay=1.0) as bar:
         if args.recordings:
-            made = fit_stimuli(args.recordings, args.out, model=args.model, cor=args.cor, fit_cor=args.fit_cor,
-                               progress=bar.update)
+            made = fit_stimuli(args.recordings, args.out, model=args.model or "paper", cor=args.cor,
+                               fit_cor=args.fit_cor, progress=bar.update)
         else:
             made = make_stimuli(args.library, args.out, strokes=args.strokes.split(",") if args.strokes else None,
                                 progress=bar.update)
@@ -118,6 +117,7 @@ def _make_stimuli(args):
         print(f"wrote {stimulus.path} ({stimulus.onsets} onsets played by the simulated robot)")
         if stimulus.fit is not None:
             fit = stimulus.fit
+            print_recording_notes(fit.onsets)
             print(f"  fitted on the {fit.model} model with c = {fit.cor:.4g}: {int(fit.played.sum())} of "
                   f"{len(fit.onsets)} onsets played, largest residuals {fit.time_error * 1e3:.3f} ms, "
                   f"{fit.level_error:.3f} dB; recipe {stimulus.recipe}")

@@ -5,9 +5,8 @@ from datetime import datetime
 
 from ..errors import ParameterError
 from ..formats import json
-from ..model import MODELS
 from ..robot.track import ENGINES
-from ._common import add_cor, robot_config
+from ._common import add_cor, add_model, robot_config
 from ._options import Output, add_mkdir, existing_file, number
 
 
@@ -45,7 +44,7 @@ def add_live(commands):
                       help="ms between a note's arrival and its sound, in [1, 10000] (default 50)")
     live.add_argument("--rate", type=number(low=10.0, high=1e5, unit="Hz"), default=1000.0,
                       help="the control rate, Hz, in [10, 1e5] (default 1000)")
-    live.add_argument("--model", choices=MODELS, default="paper", help="the model (default paper)")
+    add_model(live)
     live.add_argument("--sticks", default="right,left", metavar="A,B",
                       help="the sticks' names, comma-separated (default right,left)")
     add_cor(live)

@@ -12,7 +12,7 @@ from ..palette.transforms import STRETCH_LIMIT
 from ..presets import PRESETS
 from ..render import plot
 from ..trajectory import DEFAULT_RATE
-from ._common import Bar, add_sound_options, print_summary, print_written
+from ._common import Bar, add_model, add_sound_options, print_summary, print_written
 from ._options import Output, add_mkdir, existing_file, existing_folder, number, whole
 
 
@@ -70,7 +70,7 @@ def add_figures(commands):
                                           "OUTDIR/figN-PRESET.png.")
     fig.add_argument("outdir", action=Output, folder=True, metavar="OUTDIR",
                      help="the folder to write the four PNG files to (created if missing)")
-    fig.add_argument("--model", choices=MODELS, default="paper", help="model to draw them with (default paper)")
+    add_model(fig, what="the model to draw them with")
     add_mkdir(fig)
     fig.set_defaults(run=_figures)
 

@@ -160,10 +160,10 @@ def fit_stimuli(recordings, out, *, model="paper", cor=None, fit_cor=False, prog
                                  f"make the pair {name!r}: give each stroke its own name")
     fits, sounds = [], []
     for i, path in enumerate(recordings):
-        signal, rate, _ = read_recording(path)
+        signal, rate, notes = read_recording(path)
         sounds.append((signal, rate))
         options = {"fit_cor": True} if fit_cor else {"cor": DEFAULT_COR if cor is None else cor}
-        fits.append(fit_stroke(find_onsets(signal, rate, source=path.name), model=model, **options))
+        fits.append(fit_stroke(find_onsets(signal, rate, source=path.name, notes=notes), model=model, **options))
         if progress:
             progress(0.5 * (i + 1) / len(recordings))
     out = Path(out)
