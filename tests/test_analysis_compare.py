@@ -159,3 +159,10 @@ def test_bad_compare_options_are_one_line(tmp_path, args, needle):
 def test_a_corrupt_recipe_is_one_line(tmp_path):
     (tmp_path / "bad.toml").write_text("force = [[[")
     assert_one_line_error(run("compare", tmp_path / "bad.toml", tmp_path / "bad.toml"), "bad.toml")
+
+
+def test_the_bounce_rate_is_one_over_each_interval_at_its_midpoint():
+    midpoints, rate = Onsets(np.array([0.0, 0.1, 0.15, 0.175]), np.array([0.0, -1.0, -2.0, -3.0])).bounce_rate()
+    assert midpoints == pytest.approx([0.05, 0.125, 0.1625], abs=1e-15)
+    assert rate == pytest.approx([10.0, 20.0, 40.0], rel=1e-12)
+    assert [len(a) for a in Onsets(np.array([0.2]), np.array([0.0])).bounce_rate()] == [0, 0]

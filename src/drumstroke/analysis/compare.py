@@ -191,5 +191,4 @@ def _rate(onsets, grid):
     """Bounce rate (Hz) at ``grid``: 1 / interval at each interval's midpoint, linear between them."""
     if not len(grid):
         return np.empty(0)
-    intervals = np.diff(onsets.t)
-    return np.interp(grid, onsets.t[:-1] + intervals / 2.0, 1.0 / intervals)
+    return np.interp(grid, *onsets.bounce_rate())

@@ -95,6 +95,16 @@ class Onsets:
         """Times between successive onsets (s) [shape=(n - 1,)]."""
         return np.diff(self.t)
 
+    def bounce_rate(self):
+        """The bounce rate: 1 / each interval (Hz), at the interval's midpoint (s) [each shape=(n - 1,)].
+
+        Returns
+        -------
+        midpoints, rate : ndarray
+        """
+        intervals = self.intervals
+        return self.t[:-1] + intervals / 2.0, 1.0 / intervals
+
 
 def write_onsets(path, onsets):
     """Write ``onsets`` to the onsets CSV at ``path`` (``t,level_db``) and the JSON beside it, atomically.

@@ -76,11 +76,7 @@ def _fit(args):
             json.write_json(args.json, fitted.to_dict())
             written.append(args.json)
         if args.plot:
-            plot.save_figure(plot.fit_figure(fitted.stroke, release=fitted.release, onset_t=onsets.t,
-                                             onset_level=onsets.level_db, offset=fitted.offset,
-                                             threshold_db=onsets.threshold_db,
-                                             left_out=[i for i, _ in fitted.unmatched],
-                                             title=f"{onsets.source} fitted"), args.plot)
+            plot.save_figure(plot.fit_figure(fitted), args.plot)
             written.append(args.plot)
         written += write_stroke_outputs(fitted.stroke, audio=args.audio, midi=args.midi, snares=not args.no_snares)
     print_written(written)

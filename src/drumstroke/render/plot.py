@@ -148,9 +148,7 @@ def comparison_figure(comparison, *, labels=None):
     top.legend(loc="upper right", fontsize=8)
     for onsets, label, color in ((a, labels[0], "C0"), (b, labels[1], "C3")):
         if len(onsets) >= 2:
-            intervals = np.diff(onsets.t)
-            middle.semilogy(onsets.t[:-1] + intervals / 2.0, 1.0 / intervals, ".-", ms=3.0, color=color, lw=1.0,
-                            label=label)
+            middle.semilogy(*onsets.bounce_rate(), ".-", ms=3.0, color=color, lw=1.0, label=label)
     middle.set_ylabel("bounce rate (Hz)")
     middle.set_xlabel("t from the first onset (s)")
     difference = comparison.interval_difference * 1e3
@@ -165,8 +163,7 @@ def comparison_figure(comparison, *, labels=None):
     return figure
 
 
-def fit_figure(stroke, *, release, onset_t, onset_level, offset, threshold_db=-np.inf, left_out=(), title=None,
-               rate=2000.0):
+def fit_figure(fit, *, title=None, rate=2000.0):
     """A matplotlib Figure of a stroke fitted to recorded onsets, on the recording's clock.
 
     θ(t) with the fitted stroke's impacts and the recorded onsets marked on the drumhead (those left
@@ -174,19 +171,19 @@ def fit_figure(stroke, *, release, onset_t, onset_level, offset, threshold_db=-n
 
     Parameters
     ----------
-    stroke : drumstroke.Stroke
-        The fitted recipe simulated; its t = 0 is ``release`` on the recording's clock.
-    release : float
-        s on the recording's clock.
-    onset_t, onset_level : ndarray [shape=(n,)]
-        The recorded onsets: s, dB re the loudest.
-    offset : float
-        dB re 1 m/s: the loudest onset's level in the model (the impacts are drawn ``offset`` lower).
-    threshold_db : float
-        dB re the loudest: the onsets' detection threshold (-inf: none).
-    left_out : sequence of int
-        The onsets the fit could not play.
+    fit : drumstroke.analysis.fit.Fit
+        Its stroke (t = 0 at its ``release``, s on the recording's clock), its onsets (s; dB re the
+        loudest, with their detection threshold), its ``offset`` (dB re 1 m/s: the loudest onset's
+        level in the model; the impacts are drawn that much lower) and the onsets it could not play.
+    title : str, optional
+        Default: the onsets' source, fitted.
+    rate : float
+        Hz, at which θ(t) and a(t) are drawn.
     """
+    stroke, release, offset = fit.stroke, fit.release, fit.offset
+    onset_t, onset_level, threshold_db = fit.onsets.t, fit.onsets.level_db, fit.onsets.threshold_db
+    left_out = [i for i, _ in fit.unmatched]
+    title = title or f"{fit.onsets.source or 'a recording'} fitted"
     trajectory = as_trajectory(stroke)
     recipe = trajectory.recipe
     t, theta, _ = trajectory.sample(rate)
@@ -197,7 +194,6 @@ def fit_figure(stroke, *, release, onset_t, onset_level, offset, threshold_db=-n
     top.axhline(head, color="0.55", lw=1.0, ls="--", label=f"drumhead θ_max = {head:.4f} rad")
     top.plot(clock, theta, color="C0", lw=1.1, label="θ(t), fitted")
     impacts = stroke.impacts
-    onset_t, onset_level = np.asarray(onset_t, float), np.asarray(onset_level, float)
     out = np.zeros(len(onset_t), bool)
     out[list(left_out)] = True
     top.scatter(impacts.t + release, np.full(len(impacts), head), s=14, color="C3", zorder=3,
@@ -225,7 +221,7 @@ def fit_figure(stroke, *, release, onset_t, onset_level, offset, threshold_db=-n
     bottom.legend(loc="upper right", fontsize=8)
     top.set_xlim(min(release, onset_t.min()), max(release + trajectory.t_end, onset_t.max()))
     d = inertia_ratio(recipe.model, recipe.stick)
-    figure.suptitle(f"{title or 'fitted stroke'} — model: {recipe.model} (D = {d:.4f} m², c = {recipe.cor:.4g}), "
+    figure.suptitle(f"{title} — model: {recipe.model} (D = {d:.4f} m², c = {recipe.cor:.4g}), "
                     f"loudest onset {offset:.2f} dB re 1 m/s", fontsize=11)
     return figure
 
