@@ -79,14 +79,14 @@ def case(model):
 def main():
     results = [case(model) for model in drumstroke.MODELS]
     header = (f"{'model':<9} {'fit, c given':>13} {'fit, fit_cor':>13} {'design':>9} {'simulate':>9} "
-              f"{'fit/design':>11} {'fit_cor/design':>15}  accuracy")
+              f"{'fit/design':>11} {'fit_cor/design':>15} {'fit/simulate':>13}  accuracy")
     lines = [header, "-" * len(header)]
     for row in results:
         m, acc = row["medians"], row["accuracy"]
         lines.append(
             f"{row['model']:<9} {m['fit (c given)'] * 1e3:>10.4g} ms {m['fit (fit_cor)'] * 1e3:>10.4g} ms "
             f"{m['design'] * 1e3:>6.3g} ms {m['simulate'] * 1e3:>6.3g} ms {row['fit_over_design']:>10.0f}x "
-            f"{row['fit_cor_over_design']:>14.0f}x  residuals <= {max(a['time_error'] for a in acc):.1e} s, "
+            f"{row['fit_cor_over_design']:>14.0f}x {row['fit_over_simulate']:>12.0f}x  residuals <= {max(a['time_error'] for a in acc):.1e} s, "
             f"{max(a['level_error'] for a in acc):.1e} dB; offset error <= {max(a['offset_error'] for a in acc):.1e} "
             f"dB ({max(a['offset_error_fit_cor'] for a in acc):.1e} with fit_cor); c error <= "
             f"{max(a['cor_error'] for a in acc):.1e}")

@@ -33,6 +33,7 @@ import platform
 import re
 import shutil
 import socket
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -44,6 +45,7 @@ from datetime import timedelta
 from pathlib import Path
 
 import numpy as np
+from _timing import median_time
 from hypothesis import HealthCheck, Phase, given, settings
 from hypothesis import strategies as st
 
@@ -896,6 +898,8 @@ def main():
     with tempfile.TemporaryDirectory() as scratch:
         scratch = Path(scratch)
         drumstroke.simulate("free-bounce")  # compile (or load) the solver before anything is timed
+        reference = median_time(lambda: drumstroke.simulate("free-bounce").sample(1000.0))
+        startup = statistics.median(run_command(["--version"])[2] for _ in range(5))
         print(f"{options.recipes:,} seeded and {options.hypothesis:,} hypothesis recipes ...", file=sys.stderr)
         start = time.perf_counter()
         tally = seeded(options.recipes, scratch)
@@ -924,10 +928,13 @@ def main():
                     "impacts_out_of_order": tally.count("impacts out of time order"),
                     "off_the_control_rate": tally.count("samples off the control rate"),
                     "slowest_s": round(tally.slowest, 4), "seconds": round(fuzz_seconds, 1),
+                    "reference_s": reference, "slowest_over_reference": tally.slowest / reference,
                     "failures": [repr(f)[:500] for f in tally.failures[:20]]},
         "hostile": {"inputs": len(results), "one_line_exit_2_named": len(results) - len(failed),
                     "failed": failed, "slowest_s": slowest_hostile["seconds"], "slowest": slowest_hostile["id"],
                     "median_s": round(float(np.median([r["seconds"] for r in results])), 3),
+                    "startup_s": round(startup, 3), "slowest_over_startup": slowest_hostile["seconds"] / startup,
+                    "median_over_startup": float(np.median([r["seconds"] for r in results])) / startup,
                     "cases": results},
     }
     (HERE / "robustness_results.json").write_text(json.dumps(report, indent=1) + "\n")
@@ -935,10 +942,12 @@ def main():
     print(f"random valid recipes: {r['run']:,} run in {r['seconds']} s ({r['simulated']:,} simulated, "
           f"{r['refused_by_the_model']:,} refused by the model): {r['crashes']} crashes, {r['hangs']} hangs, "
           f"{r['NaN']} NaN, {r['below_the_head']} samples below the head, {r['impacts_out_of_order']} impacts out "
-          f"of order; slowest {r['slowest_s'] * 1000:.1f} ms (a hang: over {DEADLINE:g} s)")
+          f"of order; slowest {r['slowest_s'] * 1000:.1f} ms, {r['slowest_over_reference']:.1f}x the free-bounce "
+          f"preset simulated and sampled at 1 kHz ({r['reference_s'] * 1000:.2f} ms; a hang: over {DEADLINE:g} s)")
     print(f"hostile inputs: {h['one_line_exit_2_named']} of {h['inputs']} a one-line error, exit 2, naming the "
-          f"parameter or path; slowest {h['slowest_s']:.2f} s ({h['slowest']}), median {h['median_s']:.2f} s "
-          f"(a process each)")
+          f"parameter or path; slowest {h['slowest_s']:.2f} s ({h['slowest']}), median {h['median_s']:.2f} s, "
+          f"{h['slowest_over_startup']:.1f}x and {h['median_over_startup']:.1f}x the command's bare start-up "
+          f"(`drumstroke --version`, {h['startup_s']:.2f} s; a process each)")
     for failure in failed:
         print(f"  FAILED {failure['id']}: {failure['problem']}")
     print(f"wrote {HERE / 'robustness_results.json'}")
