@@ -273,6 +273,7 @@ class _Search:
         self.progress = progress or (lambda fraction: None)
         self.left_out = {}
         self.keep = self._playable()
+        self._changes = {}  # (onsets kept, offset, c) → the criterion: the search asks for some again
 
     def _playable(self):
         """The onsets the model can take at all: within its 48 dB, at least 1 ms apart."""
@@ -293,6 +294,12 @@ class _Search:
 
     def change(self, offset, cor):
         """The criterion at ``offset`` (dB) and ``cor``: (value, the Unreachable if the design fails)."""
+        key = (tuple(self.keep), float(offset), float(cor))
+        if key not in self._changes:
+            self._changes[key] = self._change(offset, cor)
+        return self._changes[key]
+
+    def _change(self, offset, cor):
         keep = self.keep
         levels = self.onsets.level_db[keep] + offset
         try:
