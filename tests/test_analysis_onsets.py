@@ -86,7 +86,7 @@ def test_unreadable_onsets_files_are_refused(tmp_path, monkeypatch):
     big = tmp_path / "big.csv"
     big.write_text("t,level_db\n0.1,0\n")
     monkeypatch.setattr(onsets_csv, "MAX_BYTES", 10)
-    with pytest.raises(ParameterError, match="at most 10 bytes"):
+    with pytest.raises(ParameterError, match="larger than 10 bytes, the most an onsets file may be"):
         read_onsets(big)
 
 

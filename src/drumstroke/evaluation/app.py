@@ -44,6 +44,7 @@ from urllib.parse import quote
 
 from .._checks import check_int, check_keys
 from ..errors import ParameterError
+from ..formats.reading import check_regular
 from ..formats.responses_csv import responses_text
 from ..formats.toml import read_toml
 from .limits import Limits, served_hosts
@@ -146,9 +147,7 @@ class Config:
                 if not isinstance(name, str):
                     raise ParameterError(f"{where}.{side} must be a file path, got {name!r}")
                 file = (path.parent / name).resolve()
-                if not file.is_file():  # a FIFO or a device would block or never end when served
-                    problem = "is not a regular file" if file.exists() else "does not exist"
-                    raise ParameterError(f"{where}.{side} {str(file)!r} {problem}")
+                check_regular(file, f"{where}.{side}")  # a FIFO or a device would block or never end when served
                 files[side] = file
             pairs.append(Pair(pid, files["human"], files["robot"]))
         return cls(data.get("title", "Robot or human?"), data.get("admin_token"), data.get("seed"), tuple(pairs),
@@ -185,8 +184,8 @@ class Store:
         self.path = str(path)
         self._uri = None if create else f"file:{quote(str(Path(path).resolve()))}?mode=ro"
         where = f"database {self.path!r}"
-        if Path(path).exists() and not Path(path).is_file():
-            raise ParameterError(f"{where} is not a regular file")
+        if Path(path).exists():
+            check_regular(path, "database")
         if not create and not Path(path).exists():
             raise ParameterError(f"{where} does not exist")
         db = None

@@ -33,7 +33,6 @@ t,level_db
 {'t': 's', 'level_db': 'dB re the loudest onset'}
 """
 
-import csv
 import io
 import math
 from pathlib import Path
@@ -42,6 +41,7 @@ import numpy as np
 
 from .._atomic import write_atomic
 from ..errors import ParameterError
+from .reading import read_csv_rows
 from .sidecar import describe, read_sidecar, sidecar_for, write_sidecar
 
 SUFFIXES = (".csv",)
@@ -122,19 +122,7 @@ def read_onsets_csv(path):
     """
     where = f"onsets file {str(path)!r}"
     path = Path(path)
-    try:
-        size = path.stat().st_size
-        if not path.is_file():
-            raise ParameterError(f"{where} is not a regular file")
-        if size > MAX_BYTES:
-            raise ParameterError(f"{where} is {size} bytes; an onsets CSV may be at most {MAX_BYTES} bytes")
-        with open(path, encoding="utf-8-sig", newline="") as handle:
-            lines = list(csv.reader(handle))
-    except (OSError, UnicodeDecodeError) as error:
-        reason = error.strerror if isinstance(error, OSError) else "not a UTF-8 text file"
-        raise ParameterError(f"{where} cannot be read: {reason}") from None
-    except csv.Error as error:
-        raise ParameterError(f"{where} is not a CSV file of 't,level_db' rows: {error}") from None
+    lines = read_csv_rows(path, "onsets file", limit=MAX_BYTES, rows_of=" of 't,level_db' rows")
     if not lines or tuple(cell.strip() for cell in lines[0]) != COLUMNS:
         first = ",".join(lines[0]) if lines else "(an empty file)"
         raise ParameterError(f"{where} line 1 must be the header {','.join(COLUMNS)}, got {first[:80]!r}")

@@ -32,6 +32,8 @@ Traceback (most recent call last):
 drumstroke.errors.ParameterError: recipe 'r.toml': force.parts[0].value is an integer of 401 digits, beyond any number drumstroke takes (|x| < 1.8e308)
 """
 
+import csv
+import io
 import os
 import re
 import stat
@@ -83,7 +85,7 @@ def read_bytes(path, what, *, limit):
         except OSError as error:
             raise ParameterError(f"{where} cannot be read: {_reason(error)}") from None
     if status.st_size > limit or len(data) > limit:
-        raise ParameterError(f"{where} cannot be read: it is larger than {_size(limit)}, the most a {what} may be")
+        raise ParameterError(f"{where} cannot be read: it is larger than {_size(limit)}, the most {'an' if what[:1] in 'aeiou' else 'a'} {what} may be")
     return data
 
 
@@ -101,6 +103,19 @@ def read_text(path, what, *, limit, encoding="utf-8"):
         column = error.start - (data.rfind(b"\n", 0, error.start) + 1) + 1
         raise ParameterError(f"{what} {os.fspath(path)!r} cannot be read: not a UTF-8 text file (byte "
                              f"0x{data[error.start]:02x} at line {line}, column {column})") from None
+
+
+def read_csv_rows(path, what, *, limit, rows_of=""):
+    """The rows (lists of text cells) of the CSV file at ``path``, read by :func:`read_text` (a byte-order mark is fine).
+
+    ``rows_of`` says what the rows should be (e.g. ``" of 't,value' rows"``), for the message when
+    the text is not CSV.
+    """
+    text = read_text(path, what, limit=limit, encoding="utf-8-sig")
+    try:
+        return list(csv.reader(io.StringIO(text, newline="")))
+    except csv.Error as error:
+        raise ParameterError(f"{what} {os.fspath(path)!r} is not a CSV file{rows_of}: {error}") from None
 
 
 def check_regular(path, what):

@@ -18,7 +18,7 @@ import io
 
 from .._atomic import write_atomic
 from ..errors import ParameterError
-from .reading import MIB, read_text
+from .reading import MIB, read_csv_rows
 
 COLUMNS = ("subject", "pair", "robot", "answer", "confidence", "similarity")
 
@@ -28,11 +28,7 @@ MAX_BYTES = 16 * MIB
 
 def read_responses_csv(path, columns=COLUMNS):
     """The rows (lists of text) under the header ``columns`` of the CSV at ``path``; errors name the file."""
-    text = read_text(path, "responses", limit=MAX_BYTES, encoding="utf-8-sig")
-    try:
-        rows = list(csv.reader(io.StringIO(text, newline="")))
-    except csv.Error as error:
-        raise ParameterError(f"responses {str(path)!r} is not a CSV file: {error}") from None
+    rows = read_csv_rows(path, "responses", limit=MAX_BYTES)
     if not rows or tuple(c.strip() for c in rows[0]) != tuple(columns):
         raise ParameterError(f"responses {str(path)!r} must start with the header {','.join(columns)}")
     return rows[1:]

@@ -13,12 +13,11 @@ Examples
 [(0.0, 0.0), (0.1, 140.0)]
 """
 
-import csv
 import io
 
 from .._atomic import write_atomic
 from ..errors import ParameterError
-from .reading import MIB, read_text
+from .reading import MIB, read_csv_rows
 
 MAX_BYTES = 64 * MIB
 """The largest signal file read (bytes): about a million samples."""
@@ -27,11 +26,7 @@ MAX_BYTES = 64 * MIB
 def read_signal(path, what):
     """The ``(t, value)`` rows of the CSV at ``path``, as floats; errors name ``what``, the file and the line."""
     where = f"{what} {str(path)!r}"
-    text = read_text(path, what, limit=MAX_BYTES, encoding="utf-8-sig")  # a byte-order mark is fine
-    try:
-        lines = list(csv.reader(io.StringIO(text, newline="")))
-    except csv.Error as error:
-        raise ParameterError(f"{where} is not a CSV file of 't,value' rows: {error}") from None
+    lines = read_csv_rows(path, what, limit=MAX_BYTES, rows_of=" of 't,value' rows")
     rows = []
     for number, row in enumerate(lines, start=1):
         if not row or row[0].lstrip().startswith("#"):

@@ -28,7 +28,7 @@ import numpy as np
 from .._atomic import write_atomic
 from .._version import __version__
 from ..errors import ParameterError
-from .reading import MIB, read_text
+from .reading import MIB, read_csv_rows
 from .sidecar import describe, sidecar_for, write_sidecar
 
 SUFFIXES = (".csv", ".parquet")
@@ -90,11 +90,7 @@ def write_table(table, path, *, units=None, fields=None):
 
 def read_table(path):
     """A CSV table's columns as text, by header name (``{name: [cell, ...]}``)."""
-    text = read_text(path, "table", limit=MAX_BYTES)
-    try:
-        rows = list(csv.reader(io.StringIO(text, newline="")))
-    except csv.Error as error:
-        raise ParameterError(f"table {str(path)!r} is not a CSV file: {error}") from None
+    rows = read_csv_rows(path, "table", limit=MAX_BYTES)
     if not rows:
         raise ParameterError(f"table {str(path)!r} is empty: it needs a header line")
     return {name: [row[i] for row in rows[1:]] for i, name in enumerate(rows[0])}
