@@ -47,6 +47,7 @@ from starlette.exceptions import HTTPException
 from starlette.responses import HTMLResponse, PlainTextResponse, RedirectResponse, Response
 from starlette.routing import Route
 
+from .._checks import shown
 from . import pages
 from .limits import MAX_HEAD, Window, client_key, host_name
 
@@ -315,7 +316,7 @@ class _Guard:
         if self.hosts is not None and app is self.app:
             name = host_name(next((v for k, v in scope["headers"] if k == b"host"), b"").decode("latin-1"))
             if name and name not in self.hosts:  # a page elsewhere reaching this server by a name of its own
-                app = PlainTextResponse(f"400 Bad Request: this server does not serve the host {_shown(name, 64)} "
+                app = PlainTextResponse(f"400 Bad Request: this server does not serve the host {_shown(name, 128)} "
                                         "(listen serve --allowed-host names it)\n", status_code=400, headers=_CLOSE)
 
         async def guarded(message):
@@ -434,11 +435,9 @@ def _same(a, b):
     return hmac.compare_digest(a.encode(), b.encode())
 
 
-def _shown(text, size=24):
-    """``text`` (or None) for a message: quoted, its start only if long."""
-    if text is None:
-        return "nothing"
-    return repr(text) if len(text) <= size else f"{text[:size]!r}... ({len(text)} characters)"
+def _shown(text, size=48):
+    """``text`` (or None: "nothing") for a message, as :func:`~drumstroke._checks.shown` shows it."""
+    return "nothing" if text is None else shown(text, most=size)
 
 
 async def _refused(request, error):
