@@ -307,6 +307,10 @@ def test_a_host_the_server_does_not_serve_is_answered_400_and_starts_nothing(ser
         reply, _, closed = exchange(server, f"POST /start HTTP/1.1\r\nHost: {host}\r\nContent-Length: 0\r\n\r\n".encode())
         assert statuses(reply) == [400] and b"does not serve the host" in reply and closed, (host, reply)
         assert headers_of(reply)["x-content-type-options"] == "nosniff"
+    reply, _, closed = exchange(server, b"GET / HTTP/1.0\r\n\r\n")  # no Host: HTTP/1.0 allows it
+    assert statuses(reply) == [400] and b"in one Host header, got 0" in reply and closed, reply
+    reply, _, closed = exchange(server, b"GET / HTTP/1.1\r\nHost: localhost\r\nHost: evil.example\r\n\r\n")
+    assert statuses(reply) == [400] and closed, reply  # two: the HTTP parser refuses it first
     for host in (f"localhost:{port}", f"127.0.0.1:{port}", "LOCALHOST", f"[::1]:{port}"):
         reply, _, _ = exchange(server, f"GET / HTTP/1.1\r\nHost: {host}\r\nConnection: close\r\n\r\n".encode())
         assert statuses(reply) == [200], (host, reply[:300])

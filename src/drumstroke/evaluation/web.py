@@ -314,10 +314,14 @@ class _Guard:
             f"431 Request Header Fields Too Large: a request's line and headers may hold at most {MAX_HEAD} bytes\n",
             status_code=431, headers=_CLOSE)
         if self.hosts is not None and app is self.app:
-            name = host_name(next((v for k, v in scope["headers"] if k == b"host"), b"").decode("latin-1"))
-            if name and name not in self.hosts:  # a page elsewhere reaching this server by a name of its own
-                app = PlainTextResponse(f"400 Bad Request: this server does not serve the host {_shown(name, 128)} "
-                                        "(listen serve --allowed-host names it)\n", status_code=400, headers=_CLOSE)
+            named = [host_name(v.decode("latin-1")) for k, v in scope["headers"] if k == b"host"]
+            if len(named) != 1:  # HTTP/1.0 may leave it out; a browser never does, nor sends two
+                app = PlainTextResponse(f"400 Bad Request: a request names the host it is for in one Host header, "
+                                        f"got {len(named)}\n", status_code=400, headers=_CLOSE)
+            elif named[0] not in self.hosts:  # a page elsewhere reaching this server by a name of its own
+                app = PlainTextResponse(f"400 Bad Request: this server does not serve the host "
+                                        f"{_shown(named[0], 128)} (listen serve --allowed-host names it)\n",
+                                        status_code=400, headers=_CLOSE)
 
         async def guarded(message):
             if message["type"] == "http.response.start":
