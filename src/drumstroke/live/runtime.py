@@ -36,9 +36,11 @@ from .performer import Chunk, ManualClock, SystemClock
 SPIN = 2e-4
 """s before a setpoint's time when the loop stops sleeping and spins (sleep wakes up to ~0.1 ms late)."""
 
-AHEAD = 0.002
+AHEAD = 0.01
 """s: how far ahead of the clock setpoints are computed and validated (at most the performer's guard less a
-control period): a note's planning has the rest of the guard."""
+control period), again once half of that is left: a few setpoints a time, so that the cost of a chunk is
+spread over several (at 1 kHz, 2 ms computed a period at a time took half again the CPU) and sending
+never waits for it; a note's planning has the rest of the guard."""
 
 SWITCH = 5e-5
 """s: Python's thread switch interval while the loop runs (default 5 ms): the loop waits this long at most
@@ -236,7 +238,7 @@ class Runtime:
                         if self._closing.is_set() and performer.closed is not None and performer.done <= chunk.t[-1]:
                             return
                 now = clock.now()
-                if pending is None or not len(pending) or pending.t[-1] < now + period:  # then the next ones
+                if pending is None or not len(pending) or pending.t[-1] < now + max(period, ahead / 2):  # the next
                     fresh = performer.setpoints(now + ahead)
                     if len(fresh):
                         self._validate(fresh)
