@@ -236,6 +236,18 @@ again (a little later: step 4)."""
 MOVE_REACH = 3.0
 """How far after it (in multiples of ``min_interval``) such an onset is tried again."""
 
+AFTER_REACH = 40e-3
+"""How far after an attack (s) a quiet one is sought by fitting its whole signature (step 4, in a reverberant recording)."""
+
+AFTER_F = 8.0
+"""The least F statistic (two parameters, over the louder attack's signature) of such a quiet attack's fit."""
+
+AFTER_RATIO = (0.45, 1.5)
+"""The range of such a quiet attack's scale over the louder one's (a bouncing stick's next impact is a few dB quieter)."""
+
+AFTER_ROUNDS = 1
+"""How many times that search runs (each with the attacks it found taken off too)."""
+
 ORDER = 48
 """The linear predictor's order: up to 20 ringing modes and the anti-alias filter's 8 poles."""
 
@@ -425,6 +437,9 @@ def find_onsets(signal, rate, *, threshold_db=DEFAULT_THRESHOLD_DB, min_interval
         times, attack, likeness = _try_later(modes, times, kinds, attack, likeness, residual, min_interval, rate,
                                              offset)
         times, kinds, attack, likeness = _last_round(modes, times, kinds, attack, likeness, min_interval, rate, offset)
+        for _ in range(AFTER_ROUNDS):
+            times, kinds, attack, likeness = _after_louder(modes, times, kinds, attack, likeness, min_interval, rate,
+                                                           offset)
     q3 = max(q, int(rate // (2.5 * _level_corner(band, rate, first))))
     lowest, lowest_rate, lowest_delay = _decimate(band, rate, q3)
     _, level_coefficients = _robust_innovation(lowest, LEVEL_ORDER, coefficients=True)
@@ -638,9 +653,9 @@ class _Modes:
         """Samples of the band ``at`` as full-rate samples."""
         return at * self.q - self.delay
 
-    def pursue(self, samples):
+    def pursue(self, samples, spikes=False):
         """:func:`_pursue` of the onsets at full-rate ``samples``, the room's tail taken off with each."""
-        return _pursue(self.e, self.at(samples), self.rate, tail=self.tail)
+        return _pursue(self.e, self.at(samples), self.rate, tail=self.tail, spikes=spikes)
 
     def jumps(self, residual, min_interval):
         """Where ``residual`` (in the band) jumps :data:`MIN_JUMP` times, as a list of full-rate samples."""
@@ -717,6 +732,74 @@ def _last_round(modes, times, kinds, attack, likeness, min_interval, rate, offse
     every, kinds, attack, likeness = every[keep], kinds[keep], attack[keep], likeness[keep]
     order = np.argsort(every, kind="stable")  # a fitted time stays between its neighbours' (2 min_interval away)
     return every[order], kinds[order], attack[order], likeness[order]
+
+
+def _after_louder(modes, times, kinds, attack, likeness, min_interval, rate, offset):
+    """A quiet attack in each attack's signature, found by fitting its whole signature where the remainder jumps too little.
+
+    In a room a bouncing stick's impact 13-40 ms after a louder one (a few dB louder) may not make the
+    remainder jump over its 2-ms windows: what is left of the louder one's signature and of the earlier
+    tails is as loud. Its whole signature (the spike and the 50 ms after it) stands out more: over each
+    attack's signature (the attacks taken off, at their final times), the signature and its derivative
+    are fitted at every trial time from ``min_interval`` after it to :data:`AFTER_REACH` s after it (or
+    ``min_interval`` before the next attack), truncated to that window; the best fit with a positive scale
+    is an attack when it takes off enough of the window's remainder (an F-test: :data:`AFTER_F`, two
+    parameters) and its scale is :data:`AFTER_RATIO` of the louder one's (a bouncing stick's next impact,
+    not a little of the louder one's signature left over). It is timed by its signature's fit plus
+    ``offset`` (full-rate samples, as :func:`_retime`). Times are full-rate samples.
+    """
+    from numpy.lib.stride_tricks import sliding_window_view
+
+    sure = np.flatnonzero(attack)
+    if not len(sure):
+        return times, kinds, attack, likeness
+    residual, _, _, _, at, amp, template = modes.pursue(times[sure], spikes=True)
+    size = len(template)
+    basis = np.column_stack([template, np.gradient(template)])
+    grams = np.cumsum(basis[:, :, None] * basis[:, None, :], axis=0)  # the truncated signatures' normal equations
+    gap = max(1, round(min_interval * modes.rate))
+    reach = round(AFTER_REACH * modes.rate)
+    spike = int(np.argmax(np.abs(template)))
+    positions = np.round(modes.at(times[sure])).astype(np.int64)
+    new = []
+    for i, (s, alpha) in enumerate(zip(at, amp)):
+        if alpha <= 0.0 or s + size > len(residual):
+            continue
+        stop = positions[i] + reach if i + 1 == len(sure) else min(positions[i] + reach, positions[i + 1] - gap)
+        lags = np.arange(positions[i] + gap, stop + 1) - spike - s  # where each trial signature starts in the window
+        lags = lags[(lags > 0) & (lags < size - 8)]
+        if not len(lags):
+            continue
+        y = residual[s:s + size]
+        total = float(y @ y)
+        padded = np.concatenate((y, np.zeros(size)))
+        windows = sliding_window_view(padded, size)[lags]  # the window from each trial start on (zeros past it)
+        rhs = np.stack([windows @ basis[:, 0], windows @ basis[:, 1]], axis=1)
+        gram = grams[size - lags - 1]
+        try:
+            weights = np.linalg.solve(gram + 1e-12 * np.trace(gram[0]) * np.eye(2), rhs[:, :, None])[:, :, 0]
+        except np.linalg.LinAlgError:
+            continue
+        drop = np.einsum("ij,ij->i", weights, rhs)
+        drop[weights[:, 0] <= 0.0] = -np.inf
+        k = int(np.argmax(drop))
+        if not np.isfinite(drop[k]):
+            continue
+        f = (drop[k] / 2.0) / max(total - drop[k], 1e-300) * (size - 4)
+        ratio = weights[k, 0] / alpha
+        if f >= AFTER_F and AFTER_RATIO[0] <= ratio <= AFTER_RATIO[1]:
+            shift = float(np.clip(-weights[k, 1] / weights[k, 0], -1.0, 1.0))
+            new.append(modes.samples(s + lags[k] + spike + shift) + offset)
+    if not new:
+        return times, kinds, attack, likeness
+    order = np.argsort(np.concatenate((times, new)), kind="stable")
+    every = np.concatenate((times, new))[order]
+    kinds = np.concatenate((kinds, np.full(len(new), 2)))[order]
+    attack = np.concatenate((attack, np.ones(len(new), dtype=bool)))[order]
+    fresh = np.concatenate((np.zeros(len(times), dtype=bool), np.ones(len(new), dtype=bool)))[order]
+    like = modes.pursue(every)[2]
+    likeness = np.where(fresh, like, np.concatenate((likeness, np.zeros(len(new))))[order])
+    return every, kinds, attack, likeness
 
 
 def _retime(times, kinds, fitted, likeness):
