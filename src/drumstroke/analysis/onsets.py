@@ -242,11 +242,14 @@ AFTER_REACH = 40e-3
 AFTER_F = 8.0
 """The least F statistic (two parameters, over the louder attack's signature) of such a quiet attack's fit."""
 
+AFTER_WEAK_F = 8.0
+"""A lower F statistic enough for such a quiet attack whose start looks half like the signature (:data:`WEAK_LIKENESS`)."""
+
 AFTER_RATIO = (0.45, 1.5)
 """The range of such a quiet attack's scale over the louder one's (a bouncing stick's next impact is a few dB quieter)."""
 
-AFTER_ROUNDS = 1
-"""How many times that search runs (each with the attacks it found taken off too)."""
+AFTER_ROUNDS = 3
+"""The most times that search runs (each with the attacks it found taken off too), while it finds more."""
 
 ORDER = 48
 """The linear predictor's order: up to 20 ringing modes and the anti-alias filter's 8 poles."""
@@ -437,9 +440,12 @@ def find_onsets(signal, rate, *, threshold_db=DEFAULT_THRESHOLD_DB, min_interval
         times, attack, likeness = _try_later(modes, times, kinds, attack, likeness, residual, min_interval, rate,
                                              offset)
         times, kinds, attack, likeness = _last_round(modes, times, kinds, attack, likeness, min_interval, rate, offset)
-        for _ in range(AFTER_ROUNDS):
+        for _ in range(AFTER_ROUNDS):  # again with the ones found taken off, while it finds more
+            count = len(times)
             times, kinds, attack, likeness = _after_louder(modes, times, kinds, attack, likeness, min_interval, rate,
                                                            offset)
+            if len(times) == count:
+                break
     q3 = max(q, int(rate // (2.5 * _level_corner(band, rate, first))))
     lowest, lowest_rate, lowest_delay = _decimate(band, rate, q3)
     _, level_coefficients = _robust_innovation(lowest, LEVEL_ORDER, coefficients=True)
@@ -760,6 +766,8 @@ def _after_louder(modes, times, kinds, attack, likeness, min_interval, rate, off
     gap = max(1, round(min_interval * modes.rate))
     reach = round(AFTER_REACH * modes.rate)
     spike = int(np.argmax(np.abs(template)))
+    head = template[:spike + HEAD]
+    head_norm = float(np.sqrt(head @ head))
     positions = np.round(modes.at(times[sure])).astype(np.int64)
     new = []
     for i, (s, alpha) in enumerate(zip(at, amp)):
@@ -787,11 +795,17 @@ def _after_louder(modes, times, kinds, attack, likeness, min_interval, rate, off
             continue
         f = (drop[k] / 2.0) / max(total - drop[k], 1e-300) * (size - 4)
         ratio = weights[k, 0] / alpha
-        if f >= AFTER_F and AFTER_RATIO[0] <= ratio <= AFTER_RATIO[1]:
+        start = windows[k, :len(head)]
+        like = abs(start @ head) / (np.sqrt(start @ start) * head_norm + 1e-300)
+        if (f >= AFTER_F or (f >= AFTER_WEAK_F and like >= WEAK_LIKENESS)) and AFTER_RATIO[0] <= ratio <= AFTER_RATIO[1]:
             shift = float(np.clip(-weights[k, 1] / weights[k, 0], -1.0, 1.0))
             new.append(modes.samples(s + lags[k] + spike + shift) + offset)
     if not new:
         return times, kinds, attack, likeness
+    new = np.array(new)
+    near = np.abs(times[:, None] - new[None, :]).min(axis=1) < min_interval * rate
+    refused = ~attack & near  # a refused onset where one is found now: the new one replaces it
+    times, kinds, attack, likeness = times[~refused], kinds[~refused], attack[~refused], likeness[~refused]
     order = np.argsort(np.concatenate((times, new)), kind="stable")
     every = np.concatenate((times, new))[order]
     kinds = np.concatenate((kinds, np.full(len(new), 2)))[order]
