@@ -441,10 +441,10 @@ def find_onsets(signal, rate, *, threshold_db=DEFAULT_THRESHOLD_DB, min_interval
                                              offset)
         times, kinds, attack, likeness = _last_round(modes, times, kinds, attack, likeness, min_interval, rate, offset)
         for _ in range(AFTER_ROUNDS):  # again with the ones found taken off, while it finds more
-            count = len(times)
+            count = np.count_nonzero(attack)
             times, kinds, attack, likeness = _after_louder(modes, times, kinds, attack, likeness, min_interval, rate,
                                                            offset)
-            if len(times) == count:
+            if np.count_nonzero(attack) == count:
                 break
     q3 = max(q, int(rate // (2.5 * _level_corner(band, rate, first))))
     lowest, lowest_rate, lowest_delay = _decimate(band, rate, q3)
