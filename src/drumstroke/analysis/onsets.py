@@ -242,10 +242,10 @@ AFTER_REACH = 40e-3
 AFTER_F = 8.0
 """The least F statistic (two parameters, over the louder attack's signature) of such a quiet attack's fit."""
 
-AFTER_WEAK_F = 8.0
+AFTER_WEAK_F = 6.0
 """A lower F statistic enough for such a quiet attack whose start looks half like the signature (:data:`WEAK_LIKENESS`)."""
 
-AFTER_RATIO = (0.45, 1.5)
+AFTER_RATIO = (0.35, 1.5)
 """The range of such a quiet attack's scale over the louder one's (a bouncing stick's next impact is a few dB quieter)."""
 
 AFTER_ROUNDS = 3
