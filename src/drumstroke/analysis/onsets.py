@@ -762,8 +762,6 @@ def _after_louder(modes, times, kinds, attack, likeness, min_interval, rate, off
     samples. (Fitting the louder attack again jointly with each trial changes the fit's gain by 0.1-4 %
     at the impacts missed, more at false trials: it is not done.)
     """
-    from numpy.lib.stride_tricks import sliding_window_view
-
     sure = np.flatnonzero(attack)
     if not len(sure):
         return times, kinds, attack, likeness
@@ -786,28 +784,15 @@ def _after_louder(modes, times, kinds, attack, likeness, min_interval, rate, off
         lags = lags[(lags > 0) & (lags < size - 2 * MODES_WIDTH)]  # two jump windows of it in the window at least
         if not len(lags):
             continue
-        y = residual[s:s + size]
-        total = float(y @ y)
-        padded = np.concatenate((y, np.zeros(size)))
-        windows = sliding_window_view(padded, size)[lags]  # the window from each trial start on (zeros past it)
-        rhs = np.stack([windows @ basis[:, 0], windows @ basis[:, 1]], axis=1)
-        gram = grams[size - lags - 1]
-        try:
-            weights = np.linalg.solve(gram + 1e-12 * np.trace(gram[0]) * np.eye(2), rhs[:, :, None])[:, :, 0]
-        except np.linalg.LinAlgError:
+        k, weights, f = _best_trial(residual[s:s + size], basis, grams, lags)
+        if k is None:
             continue
-        drop = np.einsum("ij,ij->i", weights, rhs)  # what each trial's fit takes off the window's remainder
-        drop[weights[:, 0] <= 0.0] = -np.inf
-        k = int(np.argmax(drop))
-        if not np.isfinite(drop[k]):
-            continue
-        f = (drop[k] / 2.0) / max(total - drop[k], 1e-300) * (size - 4)  # 4 parameters: the louder one's, the trial's
-        ratio = weights[k, 0] / alpha
-        start = windows[k, :len(head)]
+        ratio = weights[0] / alpha
+        start = residual[s + lags[k]:s + lags[k] + len(head)]
         like = abs(start @ head) / (np.sqrt(start @ start) * head_norm + 1e-300)
         passes = f >= AFTER_F or (f >= AFTER_WEAK_F and like >= WEAK_LIKENESS)
         if passes and AFTER_RATIO[0] <= ratio <= AFTER_RATIO[1]:
-            shift = float(np.clip(-weights[k, 1] / weights[k, 0], -1.0, 1.0))
+            shift = float(np.clip(-weights[1] / weights[0], -1.0, 1.0))
             new.append(modes.samples(s + lags[k] + spike + shift) + offset)
             likes.append(like)
     if not new:
@@ -822,6 +807,34 @@ def _after_louder(modes, times, kinds, attack, likeness, min_interval, rate, off
     attack = np.concatenate((attack, np.ones(len(new), dtype=bool)))[order]
     likeness = np.concatenate((likeness, likes))[order]
     return every, kinds, attack, likeness
+
+
+def _best_trial(y, basis, grams, lags):
+    """The trial signature that takes off the most of ``y`` (a window of the remainder) with a positive scale.
+
+    Each trial is ``basis`` (the signature and its derivative, as columns) starting ``lags`` samples
+    into the window, truncated to it (``grams``: the normal equations of its first rows, cumulated).
+    Returns the trial's index in ``lags``, its least-squares weights and the F statistic of its two
+    parameters against what is left of ``y`` (``len(y) - 4`` degrees of freedom: the window's own
+    attack's two parameters too), or ``(None, None, None)`` when no trial has a positive scale.
+    """
+    from numpy.lib.stride_tricks import sliding_window_view
+
+    size = len(y)
+    total = float(y @ y)
+    windows = sliding_window_view(np.concatenate((y, np.zeros(size))), size)[lags]  # from each trial on; zeros past
+    rhs = np.stack([windows @ basis[:, 0], windows @ basis[:, 1]], axis=1)
+    gram = grams[size - lags - 1]
+    try:
+        weights = np.linalg.solve(gram + 1e-12 * np.trace(gram[0]) * np.eye(2), rhs[:, :, None])[:, :, 0]
+    except np.linalg.LinAlgError:
+        return None, None, None
+    drop = np.einsum("ij,ij->i", weights, rhs)  # what each trial's fit takes off the window
+    drop[weights[:, 0] <= 0.0] = -np.inf
+    k = int(np.argmax(drop))
+    if not np.isfinite(drop[k]):
+        return None, None, None
+    return k, weights[k], (drop[k] / 2.0) / max(total - drop[k], 1e-300) * (size - 4)
 
 
 def _retime(times, kinds, fitted, likeness):
