@@ -118,7 +118,7 @@ CONDITIONS = {
     "ours, no snares, SNR 20 dB": ({"snares": False, "snr": 20}, 0.95, 0.9, 10, 0.6),
     "ours, snares, room, SNR 40 dB": ({"snares": True, "snr": 40, "room": "room"}, 0.95, 0.95, 26, 0.6),
     "other drum, SNR 30 dB": ({"kind": "other", "snr": 30}, 0.95, 0.95, 8, 1.1),
-    "other drum, room, SNR 30 dB": ({"kind": "other", "snr": 30, "room": "room"}, 0.94, 0.95, 25, 1.1),
+    "other drum, room, SNR 30 dB": ({"kind": "other", "snr": 30, "room": "room"}, 0.95, 0.95, 25, 1.1),
 }
 
 
@@ -172,21 +172,54 @@ def test_onsets_of_rendered_strokes_are_within_a_millisecond(strokes, room, cond
     assert np.median(np.abs(level_errors)) < most_level, np.median(np.abs(level_errors))
 
 
-@pytest.mark.parametrize(("condition", "least_found", "most_extra"), [
-    ("ours, snares, room, SNR 40 dB", 64, 25), ("other drum, room, SNR 30 dB", 65, 25)])
-def test_quiet_impacts_in_a_room_on_other_strokes(room, condition, least_found, most_extra):
-    """Another six random strokes in the room (seed 23): the impacts above −30 dB found within 1 ms.
+@pytest.mark.parametrize(("condition", "seed", "least_found", "most_extra"), [
+    ("ours, snares, room, SNR 40 dB", 23, 66, 25), ("other drum, room, SNR 30 dB", 23, 67, 25),
+    ("ours, snares, room, SNR 40 dB", 13, 58, 20), ("other drum, room, SNR 30 dB", 13, 58, 26)])
+def test_quiet_impacts_in_a_room_on_other_strokes(room, condition, seed, least_found, most_extra):
+    """Other sets of six random strokes in the room: the impacts above −30 dB (of 70 and 60) found within 1 ms.
 
-    Measured (docs/analysis.md): 65 and 66 of 70 (21 extras each); 63 of 70 each before step 4's retry in a
-    room and the last round, and before two merged groups' choices 0.03 ms apart were made one.
+    Measured (docs/analysis.md): seed 23, 67 and 68 (21 and 22 extras), 65 and 66 before the search for
+    quiet attacks after louder ones (step 4), 63 each before the retry in a room and the last round, and
+    before two merged groups' choices 0.03 ms apart were made one; seed 13, 59 each (16 and 23 extras),
+    55 each before that search.
     """
     options = {**CONDITIONS[condition][0], "room": room}
     found = extra = 0
-    for i, (times, speeds) in enumerate(random_strokes(STROKES, seed=23)):
+    for i, (times, speeds) in enumerate(random_strokes(STROKES, seed=seed)):
         signal, truth = render(times, speeds, seed=i, **options)
         result = score(find_onsets(signal, RATE), truth, speeds)
         found, extra = found + result["found"], extra + result["extra"]
     assert found >= least_found and extra <= most_extra, (found, extra)
+
+
+@pytest.mark.parametrize(("scale", "found"), [(0.6, True), (1.0, True), (0.2, False), (0.0, False)])
+def test_a_quiet_attack_in_a_louder_ones_signature_is_found_by_its_whole_signature(scale, found):
+    """Step 4's search after louder attacks, on an innovation made of known signatures (2 kHz, 50 ms).
+
+    A signature (a spike and 50 ms of decaying noise) twice as loud alone at sample 100 (the pursuit's
+    template), once at 600 and ``scale`` times 25 ms later, in white noise 40 dB under the spike: the
+    last is found at its sample (within half of one) when it is 0.35-1.5 times the one before, and
+    nothing else is; a scale of 0.2 (what is left of a louder attack, not a bouncing stick's next impact)
+    or none adds no onset.
+    """
+    from drumstroke.analysis.onsets import _after_louder, _Modes
+
+    rng = np.random.default_rng(3)
+    signature = rng.standard_normal(102) * np.exp(-np.arange(102) / 30.0)
+    signature[2] = 10.0  # the spike, 2 samples in (as the pursuit takes it)
+    e = 0.1 * rng.standard_normal(2000)
+    e[98:200] += 2.0 * signature
+    e[598:700] += signature
+    e[648:750] += scale * signature
+    modes = _Modes(e, 1, 0.0, 2000.0)
+    known = np.array([100.0, 600.0])
+    times, kinds, attack, likeness = _after_louder(modes, known, np.array([1, 1]), np.array([True, True]),
+                                                   np.array([1.0, 1.0]), 2e-3, 2000, 0.0)
+    if found:
+        assert len(times) == 3 and np.all(attack) and kinds[2] == 2 and abs(times[2] - 650.0) < 0.5, times
+        assert likeness[2] > 0.9
+    else:
+        assert times.tolist() == known.tolist()
 
 
 def test_onsets_at_8_khz_and_other_rates(strokes):
