@@ -222,6 +222,27 @@ def test_a_quiet_attack_in_a_louder_ones_signature_is_found_by_its_whole_signatu
         assert times.tolist() == known.tolist()
 
 
+def test_an_innovation_without_a_signature_to_fit_is_left_as_it_is():
+    """All zeros (no attack to take a signature from): nothing is taken off, and every step still gets its values.
+
+    The pursuit's normal equations are singular there; each caller (the room's tail, the search after
+    louder attacks) unpacks the same values as when it fits.
+    """
+    from drumstroke.analysis.onsets import _after_louder, _Modes, _pursue
+
+    e = np.zeros(400)
+    for spikes in (False, True):
+        found = _pursue(e, [100.0, 250.0], 2000.0, spikes=spikes)
+        assert len(found) == (7 if spikes else 4)
+        assert np.array_equal(found[0], e) and found[3].tolist() == [100.0, 250.0]
+    *_, at, amp, template = _pursue(e, [100.0, 250.0], 2000.0, spikes=True)
+    assert at.tolist() == [100, 250] and not amp.any() and not template.any()
+    modes = _Modes(e, 1, 0.0, 2000.0)
+    times, _, attack, _ = _after_louder(modes, np.array([100.0, 250.0]), np.array([1, 1]), np.array([True, True]),
+                                        np.array([1.0, 1.0]), 2e-3, 2000, 0.0)
+    assert times.tolist() == [100.0, 250.0] and attack.all()
+
+
 def test_onsets_at_8_khz_and_other_rates(strokes):
     """8, 11.025 and 16 kHz recordings (another drum, SNR 30 dB): the impacts above −20 dB within 1 ms."""
     for rate in (8000, 11025, 16000):

@@ -597,8 +597,11 @@ def _pursue(e, positions, rate, span=SIGNATURE, tail=None, spikes=False):
     basis = np.column_stack([template, np.gradient(template)]) if size > 1 else template[:, None]
     gram = basis.T @ basis
     positions = np.asarray(positions, dtype=float)
-    if not np.all(np.isfinite(gram)) or np.linalg.cond(gram) > 1e12:
-        return e.copy(), _jump_at(e, positions, rate, MODES_WIDTH), np.ones(len(positions)), positions.copy()
+    if not np.all(np.isfinite(gram)) or np.linalg.cond(gram) > 1e12:  # no signature to fit: nothing taken off
+        found = e.copy(), _jump_at(e, positions, rate, MODES_WIDTH), np.ones(len(positions)), positions.copy()
+        if spikes:
+            return *found, np.round(positions).astype(np.int64), np.zeros(len(positions)), template
+        return found
     solve = np.linalg.solve(gram, basis.T)
     head = template[:lead + HEAD]
     head_norm = float(np.sqrt(head @ head))
