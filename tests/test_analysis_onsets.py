@@ -112,9 +112,9 @@ STROKES = 6
 # (0.946: 70 of 74).
 # The issue asks 0.95 at −30 dB: asserted where met.
 CONDITIONS = {
-    "ours, snares": ({"snares": True}, 0.95, 0.95, 10, 0.7),
+    "ours, snares": ({"snares": True}, 0.97, 0.95, 10, 0.7),
     "ours, no snares": ({"snares": False}, 0.95, 0.95, 30, 1.0),
-    "ours, snares, SNR 30 dB": ({"snares": True, "snr": 30}, 0.95, 0.95, 8, 0.7),
+    "ours, snares, SNR 30 dB": ({"snares": True, "snr": 30}, 0.97, 0.95, 8, 0.7),
     "ours, no snares, SNR 20 dB": ({"snares": False, "snr": 20}, 0.95, 0.9, 10, 0.6),
     "ours, snares, room, SNR 40 dB": ({"snares": True, "snr": 40, "room": "room"}, 0.95, 0.95, 26, 0.6),
     "other drum, SNR 30 dB": ({"kind": "other", "snr": 30}, 0.95, 0.95, 8, 1.1),
@@ -174,16 +174,19 @@ def test_onsets_of_rendered_strokes_are_within_a_millisecond(strokes, room, cond
 
 @pytest.mark.parametrize(("condition", "seed", "least_found", "most_extra"), [
     ("ours, snares, room, SNR 40 dB", 23, 66, 25), ("other drum, room, SNR 30 dB", 23, 67, 25),
-    ("ours, snares, room, SNR 40 dB", 13, 58, 20), ("other drum, room, SNR 30 dB", 13, 58, 26)])
-def test_quiet_impacts_in_a_room_on_other_strokes(room, condition, seed, least_found, most_extra):
-    """Other sets of six random strokes in the room: the impacts above −30 dB (of 70 and 60) found within 1 ms.
+    ("ours, snares, room, SNR 40 dB", 13, 58, 20), ("other drum, room, SNR 30 dB", 13, 58, 26),
+    ("ours, snares", 31, 63, 15), ("ours, snares", 36, 55, 15)])
+def test_quiet_impacts_on_other_strokes(room, condition, seed, least_found, most_extra):
+    """Other sets of six random strokes: the impacts above −30 dB (of 70, 60, 65 and 56) found within 1 ms.
 
-    Measured (docs/analysis.md): seed 23, 67 and 68 (21 and 22 extras), 65 and 66 before the search for
-    quiet attacks after louder ones (step 4), 63 each before the retry in a room and the last round, and
-    before two merged groups' choices 0.03 ms apart were made one; seed 13, 59 each (16 and 23 extras),
-    55 each before that search.
+    Measured (docs/analysis.md), in the room: seed 23, 67 and 68 (21 and 22 extras), 65 and 66 before
+    the search for quiet attacks after louder ones (step 4), 63 each before the retry in a room and the
+    last round, and before two merged groups' choices 0.03 ms apart were made one; seed 13, 59 each
+    (16 and 23 extras), 55 each before that search. Without a room, our drum with its snares (their
+    rattle hides quiet impacts as a room's tail does): seed 31, 64 (12 extras), 60 before that search
+    ran in every recording; seed 36, 56 (12 extras), 53 before.
     """
-    options = {**CONDITIONS[condition][0], "room": room}
+    options = {**CONDITIONS[condition][0], "room": room if CONDITIONS[condition][0].get("room") else None}
     found = extra = 0
     for i, (times, speeds) in enumerate(random_strokes(STROKES, seed=seed)):
         signal, truth = render(times, speeds, seed=i, **options)

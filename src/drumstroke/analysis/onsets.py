@@ -247,7 +247,7 @@ MOVE_REACH = 3.0
 """How far after it (in multiples of ``min_interval``) such an onset is tried again."""
 
 AFTER_REACH = 40e-3
-"""How far after an attack (s) a quiet one is sought by fitting its whole signature (step 4, reverberant recordings)."""
+"""How far after an attack (s) a quiet one is sought by fitting its whole signature (the end of step 4)."""
 
 AFTER_F = 8.0
 """The least F statistic (two parameters, over the louder attack's signature) of such a quiet attack's fit."""
@@ -347,11 +347,12 @@ def find_onsets(signal, rate, *, threshold_db=DEFAULT_THRESHOLD_DB, min_interval
        there when the remainder jumps :data:`MOVED_JUMP` times and it looks like the signature; and
        a last round takes off only the attacks found, at their final times, and fits them again
        with the remainder's new jumps: the new and the refused ones that look like the signature
-       (and jump :data:`MIN_JUMP` times) are attacks. Then a quiet attack up to :data:`AFTER_REACH`
-       s after each attack, where the remainder does not jump, is sought by fitting its whole signature
-       there: the best fit over the louder one's signature is an attack when an F-test passes
-       (:data:`AFTER_F`, or :data:`AFTER_WEAK_F` with a start half like the signature) and its scale is
-       :data:`AFTER_RATIO` of the louder one's (a bouncing stick's next impact); again while it finds more.
+       (and jump :data:`MIN_JUMP` times) are attacks. Then, in every recording, a quiet attack up
+       to :data:`AFTER_REACH` s after each attack, where the remainder does not jump, is sought by
+       fitting its whole signature there: the best fit over the louder one's signature is an attack
+       when an F-test passes (:data:`AFTER_F`, or :data:`AFTER_WEAK_F` with a start half like the
+       signature) and its scale is :data:`AFTER_RATIO` of the louder one's (a bouncing stick's next
+       impact); again while it finds more.
     5. An onset's amplitude is the peak of its own sound in the drum's lowest modes (the band up
        to 2.1 times its lowest strong mode, ≥ 400 Hz, decimated to 2.5 times that: a stick's
        speed sets their amplitude in proportion, while the higher modes grow faster with it,
@@ -454,12 +455,12 @@ def find_onsets(signal, rate, *, threshold_db=DEFAULT_THRESHOLD_DB, min_interval
         times, attack, likeness = _try_later(modes, times, kinds, attack, likeness, residual, min_interval, rate,
                                              offset)
         times, kinds, attack, likeness = _last_round(modes, times, kinds, attack, likeness, min_interval, rate, offset)
-        for _ in range(AFTER_ROUNDS):  # again with the ones found taken off, while it finds more
-            count = np.count_nonzero(attack)
-            times, kinds, attack, likeness = _after_louder(modes, times, kinds, attack, likeness, min_interval, rate,
-                                                           offset)
-            if np.count_nonzero(attack) == count:
-                break
+    for _ in range(AFTER_ROUNDS):  # again with the ones found taken off, while it finds more
+        count = np.count_nonzero(attack)
+        times, kinds, attack, likeness = _after_louder(modes, times, kinds, attack, likeness, min_interval, rate,
+                                                       offset)
+        if np.count_nonzero(attack) == count:
+            break
     q3 = max(q, int(rate // (2.5 * _level_corner(band, rate, first))))
     lowest, lowest_rate, lowest_delay = _decimate(band, rate, q3)
     _, level_coefficients = _robust_innovation(lowest, LEVEL_ORDER, coefficients=True)
@@ -760,9 +761,9 @@ def _last_round(modes, times, kinds, attack, likeness, min_interval, rate, offse
 def _after_louder(modes, times, kinds, attack, likeness, min_interval, rate, offset):
     """A quiet attack in each attack's signature, found by fitting its whole signature where the remainder jumps too little.
 
-    In a room a bouncing stick's impact 13-40 ms after one a few dB louder may not make the remainder
-    jump over its 2-ms windows: what is left of the louder one's signature and of the earlier tails is
-    as loud there. Its whole signature (the spike and the 50 ms after it) stands out more. Over each
+    A bouncing stick's impact 13-40 ms after one a few dB louder may not make the remainder jump over
+    its 2-ms windows: what is left of the louder one's signature (and of the snare wires' rattle, the
+    room's tails) is as loud there. Its whole signature (the spike and the 50 ms after it) stands out more. Over each
     attack's signature in the remainder (the attacks taken off, at their final times), the signature and
     its derivative are fitted by least squares at every trial time from ``min_interval`` (s) after the
     attack to :data:`AFTER_REACH` s after it (or ``min_interval`` before the next attack), truncated to
