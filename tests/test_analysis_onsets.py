@@ -113,7 +113,7 @@ STROKES = 6
 # The issue asks 0.95 at −30 dB: asserted where met.
 CONDITIONS = {
     "ours, snares": ({"snares": True}, 0.97, 0.95, 10, 0.7),
-    "ours, no snares": ({"snares": False}, 0.95, 0.95, 30, 1.0),
+    "ours, no snares": ({"snares": False}, 0.97, 0.98, 30, 1.0),
     "ours, snares, SNR 30 dB": ({"snares": True, "snr": 30}, 0.97, 0.95, 8, 0.7),
     "ours, no snares, SNR 20 dB": ({"snares": False, "snr": 20}, 0.95, 0.9, 10, 0.6),
     "ours, snares, room, SNR 40 dB": ({"snares": True, "snr": 40, "room": "room"}, 0.95, 0.95, 26, 0.6),
@@ -175,16 +175,19 @@ def test_onsets_of_rendered_strokes_are_within_a_millisecond(strokes, room, cond
 @pytest.mark.parametrize(("condition", "seed", "least_found", "most_extra"), [
     ("ours, snares, room, SNR 40 dB", 23, 66, 25), ("other drum, room, SNR 30 dB", 23, 67, 25),
     ("ours, snares, room, SNR 40 dB", 13, 58, 20), ("other drum, room, SNR 30 dB", 13, 58, 26),
-    ("ours, snares", 31, 63, 15), ("ours, snares", 36, 55, 15)])
+    ("ours, snares", 31, 63, 15), ("ours, snares", 36, 55, 15), ("ours, no snares", 42, 62, 30)])
 def test_quiet_impacts_on_other_strokes(room, condition, seed, least_found, most_extra):
-    """Other sets of six random strokes: the impacts above −30 dB (of 70, 60, 65 and 56) found within 1 ms.
+    """Other sets of six random strokes: the impacts above −30 dB (of 70, 60, 65, 56 and 64) found within 1 ms.
 
     Measured (docs/analysis.md), in the room: seed 23, 67 and 68 (21 and 22 extras), 65 and 66 before
     the search for quiet attacks after louder ones (step 4), 63 each before the retry in a room and the
     last round, and before two merged groups' choices 0.03 ms apart were made one; seed 13, 59 each
     (16 and 23 extras), 55 each before that search. Without a room, our drum with its snares (their
     rattle hides quiet impacts as a room's tail does): seed 31, 64 (12 extras), 60 before that search
-    ran in every recording; seed 36, 56 (12 extras), 53 before.
+    ran in every recording; seed 36, 56 (12 extras), 53 before. Our drum without snares (its modes'
+    beating makes broadband jumps near a sharp attack): seed 42, 63 (24 extras), 60 before a tonal
+    onset rising 10 times was trusted over a broadband one more than 0.5 ms away (three impacts of
+    −12 to −16 dB had been placed 1.6–2 ms off).
     """
     options = {**CONDITIONS[condition][0], "room": room if CONDITIONS[condition][0].get("room") else None}
     found = extra = 0

@@ -188,6 +188,13 @@ BROADBAND_JUMP = 3.0
 TONAL_SUPPORT = 1.6
 """How much the innovation must rise too at a broadband attack (beating modes make broadband jumps alone)."""
 
+STRONG_RISE = 10.0
+"""How many times step 2's innovation rises at a tonal onset whose change point is trusted over a broadband
+onset of the same group more than :data:`DISAGREE` away (the modes' beating makes broadband jumps too)."""
+
+DISAGREE = 0.5e-3
+"""s: how far apart a group's broadband and tonal times may be and still be one attack's."""
+
 MODES_RATE = 2000
 """The rate (Hz) to which the modes' band is decimated (its anti-alias corner at 0.4 of it: below the snare wires)."""
 
@@ -322,7 +329,9 @@ def find_onsets(signal, rate, *, threshold_db=DEFAULT_THRESHOLD_DB, min_interval
     3. *Broadband attacks* (snare wires, a stick's click) are found the same way at full rate on
        the first difference (a jump of :data:`BROADBAND_JUMP`, with the innovation rising
        :data:`TONAL_SUPPORT` times too: beating modes alone make broadband jumps). Their
-       full-rate time replaces a decimated one within ``min_interval``; closer onsets are one.
+       full-rate time replaces a decimated one within ``min_interval`` (closer onsets are one),
+       unless the decimated one is more than :data:`DISAGREE` away and step 2's innovation rises
+       :data:`STRONG_RISE` times there: a sharp attack's change point, beside its modes' beating.
     4. *Quiet attacks in louder ones' ringing and rattle* are found in the drum's modes' band
        (decimated to ~:data:`MODES_RATE` Hz: below the snare wires), whose innovation (a
        predictor of order :data:`MODES_ORDER` fitted by least squares reweighted by the
@@ -424,7 +433,12 @@ def find_onsets(signal, rate, *, threshold_db=DEFAULT_THRESHOLD_DB, min_interval
     _, innovation = _innovation(low)
     tonal = [k * q - delay for k in _jumps(innovation, low_rate, min_interval, MIN_JUMP)]
     broadband = list(_broadband_onsets(band, rate, min_interval))
-    first, _ = _merge(tonal, broadband, min_interval * rate)
+
+    def strong(tonal_at, broadband_at):  # a sharp attack's change point, and a broadband jump of its beating apart
+        return abs(tonal_at - broadband_at) > DISAGREE * rate and _jump_at(
+            innovation, [(tonal_at + delay) / q], low_rate)[0] >= STRONG_RISE
+
+    first, _ = _merge(tonal, broadband, min_interval * rate, strong=strong)
     q2 = max(q, rate // MODES_RATE)
     modes_band, modes_rate, modes_delay = _decimate(band, rate, q2)
     modes = _Modes(_robust_innovation(modes_band), q2, modes_delay, modes_rate)
@@ -442,7 +456,7 @@ def find_onsets(signal, rate, *, threshold_db=DEFAULT_THRESHOLD_DB, min_interval
     # a new one only away from the known ones (not a spike's leftover before one)
     deep += _away(modes.jumps(residual, min_interval), np.sort(np.concatenate((more, deep))),
                   SECOND_GAP * min_interval * rate)
-    times, kinds = _merge(tonal, broadband, min_interval * rate, deep)
+    times, kinds = _merge(tonal, broadband, min_interval * rate, deep, strong=strong)
     _, modes_jump, likeness, where = modes.pursue(times)
     times, offset = _retime(times, kinds, modes.samples(where), likeness)
     tonal_jump = _jump_at(innovation, (times + delay) / q, low_rate)
@@ -931,11 +945,13 @@ def _broadband_onsets(band, rate, min_interval):
     return [k - 0.5 for k in _jumps(d, rate, min_interval, BROADBAND_JUMP)]  # the difference is centred ½ sample early
 
 
-def _merge(tonal, broadband, gap, deep=()):
+def _merge(tonal, broadband, gap, deep=(), strong=None):
     """The onsets (samples), sorted, and how each was found (0 broadband, 1 tonal, 2 deep only).
 
     Onsets closer than ``gap`` are one (as are two groups' choices closer than a quarter of it), at the broadband
-    time if any, else the tonal one.
+    time if any, else the tonal one. With ``strong`` (``(tonal, broadband)`` samples → whether the tonal
+    time is trusted over the broadband one), a group's tonal time nearest its broadband time replaces it
+    when ``strong`` says so.
     """
     marked = sorted([(s, 1) for s in tonal] + [(s, 0) for s in broadband] + [(s, 2) for s in deep])
     groups = []
@@ -947,6 +963,9 @@ def _merge(tonal, broadband, gap, deep=()):
     chosen = []
     for group in groups:  # a group's choice may fall on the next group's (its broadband time on that one's tonal)
         s, kind = min(group, key=lambda item: item[1])
+        near = min((t for t, k in group if k == 1), key=lambda t: abs(t - s), default=None)
+        if kind == 0 and near is not None and strong is not None and strong(near, s):
+            s, kind = near, 1
         if chosen and s - chosen[-1][0] < gap / 4:
             if kind < chosen[-1][1]:
                 chosen[-1] = (s, kind)
