@@ -756,15 +756,12 @@ def _last_round(modes, times, kinds, attack, likeness, min_interval, rate, offse
     """
     residual = modes.pursue(times[attack])[0]
     new = _away(modes.jumps(residual, min_interval), times, SECOND_GAP * min_interval * rate)
-    order = np.argsort(np.concatenate((times, new)), kind="stable")
-    every = np.concatenate((times, new))[order]
-    fresh = np.concatenate((np.zeros(len(times), dtype=bool), np.ones(len(new), dtype=bool)))[order]
-    kinds = np.concatenate((kinds, np.full(len(new), 2)))[order]
-    attack = np.concatenate((attack, np.zeros(len(new), dtype=bool)))[order]
+    every, kinds, attack, likeness, fresh = _insert(times, kinds, attack, likeness, new, taken=False,
+                                                    like=np.zeros(len(new)))
     _, jump, like, where = modes.pursue(every)
     take = ~attack & (jump >= MIN_JUMP) & (like >= LIKENESS)
     every[take & fresh] = modes.samples(where[take & fresh]) + offset
-    likeness = np.where(take, like, np.concatenate((likeness, np.zeros(len(new))))[order])
+    likeness = np.where(take, like, likeness)
     attack |= take
     keep = ~fresh | take
     every, kinds, attack, likeness = every[keep], kinds[keep], attack[keep], likeness[keep]
@@ -829,12 +826,19 @@ def _after_louder(modes, times, kinds, attack, likeness, min_interval, rate, off
     near = np.abs(times[:, None] - new[None, :]).min(axis=1) < min_interval * rate
     refused = ~attack & near  # a refused onset where one is found now: the new one replaces it
     times, kinds, attack, likeness = times[~refused], kinds[~refused], attack[~refused], likeness[~refused]
+    return _insert(times, kinds, attack, likeness, new, taken=True, like=likes)[:4]
+
+
+def _insert(times, kinds, attack, likeness, new, *, taken, like):
+    """The onsets with ``new`` ones among them (full-rate samples, found in the modes' band alone), in time order.
+
+    ``taken`` says whether the new ones are attacks, ``like`` their likeness. Returns the times, kinds,
+    attack and likeness arrays, and which onsets are the new ones.
+    """
     order = np.argsort(np.concatenate((times, new)), kind="stable")
-    every = np.concatenate((times, new))[order]
-    kinds = np.concatenate((kinds, np.full(len(new), 2)))[order]
-    attack = np.concatenate((attack, np.ones(len(new), dtype=bool)))[order]
-    likeness = np.concatenate((likeness, likes))[order]
-    return every, kinds, attack, likeness
+    fresh = np.concatenate((np.zeros(len(times), dtype=bool), np.ones(len(new), dtype=bool)))[order]
+    return (np.concatenate((times, new))[order], np.concatenate((kinds, np.full(len(new), 2)))[order],
+            np.concatenate((attack, np.full(len(new), taken)))[order], np.concatenate((likeness, like))[order], fresh)
 
 
 def _best_trial(y, basis, grams, lags):
