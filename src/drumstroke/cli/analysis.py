@@ -1,6 +1,5 @@
 """``drumstroke onsets`` and ``measure-cor``: a recording's impacts, and c from a drop (SPEC §10)."""
 
-
 from .._atomic import publish
 from ..errors import ParameterError
 from ..formats import json, onsets_csv
@@ -62,12 +61,14 @@ def _read(args, path):
     from ..analysis.onsets import find_onsets, read_onsets, read_recording
 
     if path.suffix.lower() == ".csv":
-        return read_onsets(path), None
-    signal, rate, notes = read_recording(path)
-    onsets = find_onsets(signal, rate, threshold_db=args.threshold, min_interval=args.min_interval,
-                         source=path.name, notes=notes)
-    print_recording_notes(onsets)
-    return onsets, (signal, rate)
+        onsets, sound = read_onsets(path), None
+    else:
+        signal, rate, notes = read_recording(path)
+        onsets = find_onsets(signal, rate, threshold_db=args.threshold, min_interval=args.min_interval,
+                             source=path.name, notes=notes)
+        sound = signal, rate
+    print_recording_notes(onsets)  # an onsets CSV keeps its recording's notes in its metadata
+    return onsets, sound
 
 
 def _onsets(args):

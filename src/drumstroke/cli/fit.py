@@ -67,7 +67,8 @@ def _fit(args):
         print(f"   + {t:>11.6f} {level:>10.2f}  an impact the recording does not have (above its threshold)")
     verdict = "within" if fitted.within else "NOT within"
     print(f"largest residuals {fitted.time_error * 1e3:.4g} ms, {fitted.level_error:.4g} dB; {len(fitted.unmatched)} "
-          f"onsets not played, {len(fitted.extra_t)} impacts added: {verdict} {TOLERANCE[0] * 1e3:g} ms and {TOLERANCE[1]:g} dB")
+          f"onsets not played, {len(fitted.extra_t)} impacts added: {verdict} {TOLERANCE[0] * 1e3:g} ms and "
+          f"{TOLERANCE[1]:g} dB")
     written = []
     with publish():
         fitted.recipe.to_toml(args.out)

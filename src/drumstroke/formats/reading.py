@@ -85,7 +85,8 @@ def read_bytes(path, what, *, limit):
         except OSError as error:
             raise ParameterError(f"{where} cannot be read: {_reason(error)}") from None
     if status.st_size > limit or len(data) > limit:
-        raise ParameterError(f"{where} cannot be read: it is larger than {_size(limit)}, the most {'an' if what[:1] in 'aeiou' else 'a'} {what} may be")
+        article = "an" if what[:1] in "aeiou" else "a"
+        raise ParameterError(f"{where} cannot be read: it is larger than {_size(limit)}, the most {article} {what} may be")
     return data
 
 

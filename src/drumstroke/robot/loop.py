@@ -171,7 +171,8 @@ class ControlLoop:
         Periods to make room for in the log at the start (it grows as needed).
     record : bool
         Keep θ, ω and the torque of every period for :meth:`log` (default). A loop that runs for
-        hours and needs only the joint's contacts (a live robot's) keeps none: its memory stays the same.
+        hours and needs only the joint's contacts (a live robot's) keeps none: its own memory stays the
+        same (the joint's contacts, a few dozen bytes each, still accumulate).
     """
 
     def __init__(self, joint, controller, rate, *, capacity=1024, record=True):
@@ -244,9 +245,11 @@ class ControlLoop:
         return applied
 
     def _reserve(self, more):
-        """Room in the log for ``more`` periods after those run (at least doubling when it grows)."""
+        """Room in the log for ``more`` periods after those run (at least doubling when it grows); none unrecorded."""
+        if not self.record:
+            return
         n, need = self._count, self._count + more
-        if self.record and need > len(self._theta):
+        if need > len(self._theta):
             size = max(need, 2 * len(self._theta))
             self._theta, self._omega, self._torque = (np.concatenate((a[:n], np.empty(size - n)))
                                                       for a in (self._theta, self._omega, self._torque))
