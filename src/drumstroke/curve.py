@@ -1,0 +1,236 @@
+"""The one exact motion type: a :class:`Curve`, segments of exact motion end to end on one clock.
+
+Every layer that moves a stick builds its motion as a curve: a simulated stroke (the solver's
+arcs), a jerk-limited move between strokes, a hold, a composed part, the live performer's running
+motion. A curve is a path, ``curve(t) -> (theta, omega)``, so a curve can be a segment of another.
+
+A :class:`Segment` is one exact piece: a path on its own clock (local time = t − ``offset``), used
+on [``start``, ``end``] of the curve's clock (s), with the impacts it makes (local times). Each time
+is evaluated by the segment that holds it (at a boundary, the later one), clamped to the segment's
+span, so a curve holds its first state before it starts and its last after it ends.
+
+A curve moves one joint or several: a segment's path returns arrays shaped like ``t`` for one
+joint, ``t.shape + (joints,)`` for several (a limb that carries a stick over a kit), and the curve's
+are shaped as its segments'.
+
+Examples
+--------
+>>> import numpy as np
+>>> rise = Segment(0.5, 1.0, lambda t: (2.0 * t, np.full(np.shape(t), 2.0)), offset=0.5)
+>>> curve = Curve.hold(0.0).spliced(rise).spliced(Segment.hold(1.0, 1.0))
+>>> theta, omega = curve(np.array([0.25, 0.75, 2.0]))
+>>> theta.tolist(), omega.tolist()
+([0.0, 0.5, 1.0], [0.0, 2.0, 0.0])
+>>> curve.state(0.75)
+(0.5, 2.0)
+"""
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .errors import ParameterError
+
+STEP = 1e-6
+"""s: the half-step of the central difference of ω that gives the flight acceleration α."""
+
+
+def _no_impacts():
+    return np.empty(0)
+
+
+@dataclass(frozen=True, eq=False)
+class Segment:
+    """One exact piece of a curve.
+
+    Parameters
+    ----------
+    start, end : float
+        s on the curve's clock: the span it is used on (``end`` may be inf).
+    path : callable
+        ``path(local t) -> (theta, omega)`` (rad, rad/s), vectorised; at an impact time the state
+        just after it.
+    offset : float
+        s: the curve's time of the path's local 0 (local t = t − offset).
+    impacts : ndarray [shape=(m,)]
+        Local times (s) of the impacts it makes, increasing: α is one-sided across them.
+    source : object
+        What made it (a designed stroke, a move...), for the callers that ask.
+    """
+
+    start: float
+    end: float
+    path: Callable = field(repr=False)
+    offset: float = 0.0
+    impacts: np.ndarray = field(default_factory=_no_impacts, repr=False)
+    source: object = field(default=None, repr=False)
+
+    def __post_init__(self):
+        if not (math.isfinite(self.start) and self.end >= self.start and not math.isnan(self.end)):
+            raise ParameterError(f"a segment's end must be at or after its start (s), got start {self.start!r} and "
+                                 f"end {self.end!r}")
+
+    @classmethod
+    def hold(cls, theta, start, end=math.inf):
+        """The stick (or the joints) held still at ``theta`` (rad) on [``start``, ``end``] s."""
+        value = np.asarray(theta, dtype=float)
+
+        def hold(t):
+            shape = np.shape(t) + value.shape
+            return np.broadcast_to(value, shape).copy(), np.zeros(shape)
+
+        return cls(float(start), float(end), hold, float(start))
+
+    def local(self, t):
+        """Local times of curve times ``t`` (s), clamped to the segment's span."""
+        return np.clip(t, self.start, self.end) - self.offset
+
+
+@dataclass(frozen=True, eq=False)
+class Curve:
+    """Segments end to end: each starts where the one before it ends.
+
+    Parameters
+    ----------
+    segments : tuple of Segment
+        At least one, in time order, each one's start at the end of the one before (within 1e-9 s).
+    """
+
+    segments: tuple
+
+    def __post_init__(self):
+        segments = tuple(self.segments)
+        if not segments or not all(isinstance(s, Segment) for s in segments):
+            raise ParameterError(f"segments must be a non-empty sequence of Segment, got {self.segments!r}")
+        for k in range(1, len(segments)):
+            if abs(segments[k].start - segments[k - 1].end) > 1e-9 * max(1.0, abs(segments[k].start)):
+                raise ParameterError(f"segments[{k}] starts at {segments[k].start!r} s, not where segments[{k - 1}] "
+                                     f"ends ({segments[k - 1].end!r} s): a curve's segments tile its span")
+        object.__setattr__(self, "segments", segments)
+        object.__setattr__(self, "_starts", np.array([s.start for s in segments]))
+
+    # --- making one ------------------------------------------------------------------------------------------------
+
+    @classmethod
+    def hold(cls, theta, start=0.0, end=math.inf):
+        """A curve that holds ``theta`` (rad; one value a joint) from ``start`` to ``end`` (s)."""
+        return cls((Segment.hold(theta, start, end),))
+
+    @classmethod
+    def sequence(cls, pieces, start=0.0):
+        """Paths one after another from ``start`` (s): ``pieces`` are (duration s, path) with local time 0 at
+        each one's start (a move, a hold, a stroke's arcs)."""
+        segments, t = [], float(start)
+        for duration, path in pieces:
+            segments.append(Segment(t, t + duration, path, t))
+            t += duration
+        return cls(tuple(segments))
+
+    def spliced(self, new):
+        """This motion up to where ``new`` (a Segment or a Curve) starts, then ``new``."""
+        added = (new,) if isinstance(new, Segment) else tuple(new.segments)
+        cut = added[0].start
+        kept = [s for s in self.segments if s.start < cut]
+        if not kept:
+            return Curve(added)
+        last = kept[-1]
+        kept[-1] = Segment(last.start, cut, last.path, last.offset, last.impacts, last.source)
+        return Curve(tuple(kept) + added)
+
+    def since(self, t):
+        """The same motion from ``t`` (s) on: the segments that end before it forgotten."""
+        keep = next((k for k, s in enumerate(self.segments) if s.end > t), len(self.segments) - 1)
+        return self if keep == 0 else Curve(self.segments[keep:])
+
+    # --- reading it ------------------------------------------------------------------------------------------------
+
+    @property
+    def start(self):
+        """s: where the first segment starts."""
+        return self.segments[0].start
+
+    @property
+    def end(self):
+        """s: where the last segment ends (inf for a curve that holds on)."""
+        return self.segments[-1].end
+
+    @property
+    def impacts(self):
+        """The curve's impact times (s) [shape=(m,)], of the segments' impacts within their spans."""
+        times = [s.impacts + s.offset for s in self.segments]
+        return np.concatenate([t[(t >= s.start) & (t <= s.end)] for t, s in zip(times, self.segments)])
+
+    def segment_at(self, t):
+        """The segment that holds time ``t`` (s): the last that starts at or before it (the first before the start)."""
+        return self.segments[max(int(np.searchsorted(self._starts, t, side="right")) - 1, 0)]
+
+    def last(self, kind):
+        """The last segment whose source is a ``kind`` (a class), or None."""
+        return next((s for s in reversed(self.segments) if isinstance(s.source, kind)), None)
+
+    def __call__(self, t):
+        """θ (rad) and ω (rad/s) at times ``t`` (s), each from the segment that holds it."""
+        return self._each(t, lambda segment, times: segment.path(segment.local(times)), 2)
+
+    def state(self, t):
+        """θ (rad) and ω (rad/s) at one time ``t`` (s), as floats (one joint) or arrays (several)."""
+        segment = self.segment_at(t)
+        theta, omega = segment.path(segment.local(np.array([float(t)])))
+        if np.ndim(theta) == 1:
+            return float(theta[0]), float(omega[0])
+        return theta[0], omega[0]
+
+    def acceleration(self, t):
+        """The flight acceleration dω/dt (rad/s²) at times ``t`` (s), impacts excluded.
+
+        A central difference over 2·:data:`STEP` of the segment's exact ω, one-sided where the
+        segment's span or one of its impacts lies within the step.
+        """
+        return self._each(t, lambda segment, times: (_flight_acceleration(segment, times),), 1)[0]
+
+    def _each(self, t, evaluate, count):
+        """``evaluate(segment, times)`` of every group of times ``t`` one segment holds, put back in t's order."""
+        t = np.asarray(t, dtype=float)
+        flat = t.ravel()
+        which = np.clip(np.searchsorted(self._starts, flat, side="right") - 1, 0, len(self.segments) - 1)
+        if len(self.segments) == 1:
+            return tuple(np.reshape(a, t.shape + np.shape(a)[1:]) for a in evaluate(self.segments[0], flat))
+        if flat.size and np.all(which[1:] >= which[:-1]):  # sorted times (samples): contiguous runs
+            runs = np.split(np.arange(flat.size), np.flatnonzero(np.diff(which)) + 1)
+        else:  # each segment's times in one run: linear in samples + segments
+            order = np.argsort(which, kind="stable")
+            runs = np.split(order, np.flatnonzero(np.diff(which[order])) + 1) if flat.size else []
+        out = None
+        for chosen in runs:
+            values = evaluate(self.segments[which[chosen[0]]], flat[chosen])
+            if out is None:
+                out = tuple(np.empty(flat.shape + np.shape(v)[1:]) for v in values)
+            for array, value in zip(out, values):
+                array[chosen] = value
+        if out is None:  # no times
+            return tuple(np.empty(t.shape) for _ in range(count))
+        return tuple(np.reshape(a, t.shape + a.shape[1:]) for a in out)
+
+    def __repr__(self):
+        return f"Curve({len(self.segments)} segments over [{self.start:.6g}, {self.end:.6g}] s)"
+
+
+def _flight_acceleration(segment, t):
+    """dω/dt of one segment at curve times ``t`` (s): central, one-sided at its span's ends and its impacts."""
+    lo = np.clip(t - STEP, segment.start, segment.end)
+    hi = np.clip(t + STEP, segment.start, segment.end)
+    impacts = segment.impacts + segment.offset
+    if len(impacts):
+        j = np.searchsorted(impacts, t, side="right")
+        before = impacts[np.clip(j - 1, 0, len(impacts) - 1)]
+        after = impacts[np.clip(j, 0, len(impacts) - 1)]
+        lo = np.where((j > 0) & (before > lo), t, lo)  # an impact just behind: look ahead only
+        hi = np.where((j < len(impacts)) & (after < hi), t, hi)
+    _, w_hi = segment.path(hi - segment.offset)
+    _, w_lo = segment.path(lo - segment.offset)
+    width = hi - lo
+    if np.ndim(w_hi) > 1:
+        width = width[:, None]
+    return np.where(width > 0, (w_hi - w_lo) / np.where(width > 0, width, 1.0), 0.0)

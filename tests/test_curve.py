@@ -1,0 +1,114 @@
+"""The one exact motion type: curves of segments, checked against closed forms."""
+
+import math
+
+import numpy as np
+import pytest
+
+from drumstroke.curve import STEP, Curve, Segment
+from drumstroke.errors import ParameterError
+
+
+def _parabola(acceleration, theta0=0.0, omega0=0.0):
+    """θ = θ0 + ω0 t + a t²/2: its ω is linear, so a central difference gives a exactly (to round-off)."""
+    def path(t):
+        t = np.asarray(t, dtype=float)
+        return theta0 + omega0 * t + 0.5 * acceleration * t * t, omega0 + acceleration * t
+    return path
+
+
+def _bounce(head=-0.25, speed=2.0, gravity=-9.0, cor=0.5):
+    """A ball's fall onto ``head`` at local t = 0 (ω = −speed) and its rebound at cor·speed, under constant α."""
+    def path(t):
+        t = np.asarray(t, dtype=float)
+        after = t >= 0.0
+        omega0 = np.where(after, cor * speed, -speed)
+        return head + omega0 * t + 0.5 * gravity * t * t, omega0 + gravity * t
+    return path
+
+
+def test_a_hold_stays_still_with_no_speed_or_acceleration():
+    curve = Curve.hold(0.3, 1.0)
+    t = np.linspace(0.0, 5.0, 11)
+    theta, omega = curve(t)
+    assert np.all(theta == 0.3) and np.all(omega == 0.0)
+    assert np.all(curve.acceleration(t) == 0.0)
+    assert curve.state(2.0) == (0.3, 0.0)
+
+
+def test_each_time_is_evaluated_by_the_segment_that_holds_it_on_its_own_clock():
+    curve = Curve.sequence([(1.0, _parabola(2.0)), (1.0, _parabola(0.0, 1.0, 2.0))])
+    theta, omega = curve(np.array([0.5, 1.0, 1.5]))
+    assert theta.tolist() == [0.25, 1.0, 2.0]  # at the boundary the later segment: its local 0
+    assert omega.tolist() == [1.0, 2.0, 2.0]
+
+
+def test_times_outside_the_span_are_clamped_to_it():
+    curve = Curve.sequence([(1.0, _parabola(2.0))], start=1.0)
+    theta, omega = curve(np.array([0.0, 3.0]))
+    assert theta.tolist() == [0.0, 1.0] and omega.tolist() == [0.0, 2.0]
+
+
+def test_unsorted_times_give_what_sorted_times_give(rng):
+    curve = Curve.sequence([(0.3, _parabola(2.0)), (0.5, _parabola(-1.0, 0.09, 0.6)), (1.0, _parabola(0.0, 0.5))])
+    t = rng.uniform(-0.1, 2.0, 200)
+    order = np.argsort(t)
+    theta, omega = curve(t)
+    sorted_theta, sorted_omega = curve(t[order])
+    assert np.array_equal(theta[order], sorted_theta) and np.array_equal(omega[order], sorted_omega)
+    grid = np.reshape(t, (20, 10))
+    assert curve(grid)[0].shape == (20, 10)
+
+
+def test_acceleration_is_the_flight_acceleration_exactly_for_constant_forcing():
+    curve = Curve.sequence([(1.0, _parabola(-7.5, 0.1, 3.0)), (1.0, _parabola(4.0, 0.1, 0.0))])
+    t = np.linspace(0.0, 2.0, 2001)
+    alpha = curve.acceleration(t)
+    expected = np.where(t < 1.0, -7.5, 4.0)
+    assert np.abs(alpha - expected).max() < 1e-6 * 7.5  # one-sided at the segments' edges: never across
+
+
+def test_acceleration_is_one_sided_across_an_impact():
+    segment = Segment(0.0, 1.0, _bounce(), offset=0.5, impacts=np.array([0.0]))
+    curve = Curve((segment,))
+    t = 0.5 + np.array([-STEP / 2, 0.0, STEP / 2, 0.3])
+    assert np.abs(curve.acceleration(t) - (-9.0)).max() < 1e-6  # without it: a jump of 3 rad/s over 2 µs
+    assert curve.impacts.tolist() == [0.5]
+
+
+def test_a_splice_keeps_the_motion_before_the_cut_and_plays_the_new_one_after():
+    first = Curve.sequence([(2.0, _parabola(1.0))])
+    later = Curve.sequence([(1.0, _parabola(-1.0, 0.5, 1.0))], start=1.0)
+    spliced = first.spliced(later)
+    assert [s.start for s in spliced.segments] == [0.0, 1.0] and spliced.segments[0].end == 1.0
+    theta, _ = spliced(np.array([0.5, 1.0, 1.5]))
+    assert theta.tolist() == [0.125, 0.5, 0.5 + 0.5 - 0.125]
+    assert spliced.since(1.5).segments == spliced.segments[1:]
+
+
+def test_several_joints_are_columns_of_one_curve():
+    hold = Segment.hold([0.1, -0.2], 0.0, 1.0)
+    move = Segment(1.0, math.inf, lambda t: (np.column_stack((0.1 + t, -0.2 - t)), np.column_stack(
+        (np.ones(np.shape(t)), -np.ones(np.shape(t))))), offset=1.0)
+    curve = Curve((hold, move))
+    theta, omega = curve(np.array([0.5, 1.5]))
+    assert theta.shape == (2, 2) and theta.tolist() == [[0.1, -0.2], [0.6, -0.7]]
+    assert omega.tolist() == [[0.0, 0.0], [1.0, -1.0]]
+    assert np.abs(curve.acceleration(np.array([0.5, 1.5]))).max() < 1e-6
+    state = curve.state(1.5)
+    assert np.allclose(state[0], [0.6, -0.7])
+
+
+@pytest.mark.parametrize("segments, match", [
+    ((), "non-empty"),
+    ((Segment.hold(0.0, 0.0, 1.0), Segment.hold(0.0, 1.5)), r"segments\[1\] starts at 1.5"),
+])
+def test_segments_must_tile_the_span(segments, match):
+    with pytest.raises(ParameterError, match=match):
+        Curve(segments)
+
+
+@pytest.mark.parametrize("start, end", [(1.0, 0.5), (math.nan, 1.0), (0.0, math.nan), (math.inf, math.inf)])
+def test_a_segment_ends_at_or_after_its_start(start, end):
+    with pytest.raises(ParameterError, match="end must be at or after its start"):
+        Segment(start, end, _parabola(0.0))
