@@ -267,9 +267,11 @@ class OnsetConfig:
     after_weak_f : float ≥ 0
         The F statistic enough for a quiet attack whose start looks like the signature by
         ``weak_likeness`` (step 4).
-    after_ratio_low, after_ratio_high : float in [0, 100], low ≤ high
-        Amplitude ratio: the range of such a quiet attack's scale over the louder one's (a bouncing
-        stick's next impact: a few dB quieter; step 4).
+    after_ratio_low : float in [0, 100], ≤ ``after_ratio_high``
+        Amplitude ratio: the least scale of such a quiet attack over the louder one's (a bouncing
+        stick's next impact: a few dB quieter, not what is left of the louder one's signature; step 4).
+    after_ratio_high : float in [0, 100]
+        Amplitude ratio: the largest such scale (step 4).
     after_rounds : int in [0, 100]
         How many times at most that search runs (each with the attacks it found taken off too), while
         it finds more (step 4).
