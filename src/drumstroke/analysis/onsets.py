@@ -4,8 +4,10 @@ Audio tells levels only up to one gain (the microphone's distance, the preamp): 
 dB re the loudest onset (0 dB is the loudest, the others below). The model's levels are absolute (dB re
 1 m/s tip speed, :mod:`drumstroke.dynamics`); a fit finds the offset (:mod:`.fit`).
 
-Onsets go to and come from an onsets CSV (:mod:`drumstroke.formats.onsets_csv`: ``t,level_db``
-rows, the source and threshold in the JSON beside it): :func:`write_onsets`, :func:`read_onsets`.
+A recording's onsets are found by :func:`find_onsets` (samples) or :func:`find_recording_onsets` (a
+file), a pipeline of stages whose every threshold is a field of :class:`OnsetConfig`. Onsets go to and
+come from an onsets CSV (:mod:`drumstroke.formats.onsets_csv`: ``t,level_db`` rows, the source and
+threshold in the JSON beside it): :func:`write_onsets`, :func:`read_onsets` (which reads CSVs only).
 
 Examples
 --------
@@ -19,6 +21,7 @@ Onsets(2 over [0.1, 0.35] s, levels -4.5 to 0 dB; drop.wav)
 """
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
@@ -652,7 +655,7 @@ class _Heard:
 
     tonal: list
     broadband: list
-    strong: object
+    strong: Callable[[float, float], bool]
     gap: float
 
     def merge(self, deep=()):
