@@ -4,7 +4,7 @@ Cases (48 kHz; the median of 7 runs after a warm-up):
 
 - onsets of a 5-s recording: the paper's free bounce (gravity only, c = 0.86; 98 impacts, 23 louder
   than −30 dB) rendered by ``render.audio`` with the snare wires on, white noise at 30 dB SNR, a
-  WAV file: ``read_onsets`` (reading the file included) against librosa's own onset detector as a
+  WAV file: ``find_recording_onsets`` (reading the file included) against librosa's own onset detector as a
   user would call it (``librosa.onset.onset_detect`` with ``backtrack=True``, its default 512-sample
   hops), both scored against the struck times: the impacts louder than −30 dB found within 1 ms.
 - c from that drop: ``measure_cor`` on the onsets, and ``drumstroke measure-cor``'s work
@@ -27,7 +27,7 @@ import soundfile
 from _timing import median_time
 
 import drumstroke
-from drumstroke.analysis import measure_cor, read_onsets
+from drumstroke.analysis import find_recording_onsets, measure_cor
 from drumstroke.robot.metrics import match_onsets
 from drumstroke.stroke import simulate
 
@@ -55,8 +55,8 @@ def main():
     with tempfile.TemporaryDirectory() as folder:
         path = Path(folder) / "free-bounce.wav"
         soundfile.write(str(path), signal, RATE, subtype="PCM_24")
-        ours = median_time(lambda: read_onsets(path))
-        onsets = read_onsets(path)
+        ours = median_time(lambda: find_recording_onsets(path))
+        onsets = find_recording_onsets(path)
 
         def reference():
             y, sr = librosa.load(str(path), sr=None)
@@ -66,7 +66,7 @@ def main():
         found_theirs = reference()
         drop_time = median_time(lambda: measure_cor(onsets))
         drop = measure_cor(onsets)
-        whole = median_time(lambda: measure_cor(read_onsets(path)))
+        whole = median_time(lambda: measure_cor(find_recording_onsets(path)))
     rows = [
         {"case": "onsets of a 5-s recording (48 kHz WAV, snares, SNR 30 dB)", "ours": ours, "reference": theirs,
          "ratio": theirs / ours, "ours_scored": scored(onsets.t, truth, level),

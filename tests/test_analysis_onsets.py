@@ -9,7 +9,8 @@ import soundfile
 
 from _cli import assert_one_line_error, run
 from _recordings import RATE, random_strokes, render, room_response, score
-from drumstroke.analysis import Onsets, find_onsets, read_onsets, read_recording, write_onsets
+from drumstroke.analysis import (OnsetConfig, Onsets, find_onsets, find_recording_onsets, read_onsets, read_recording,
+                                 write_onsets)
 from drumstroke.errors import ParameterError
 from drumstroke.formats import onsets_csv
 
@@ -207,7 +208,7 @@ def test_a_quiet_attack_in_a_louder_ones_signature_is_found_by_its_whole_signatu
     nothing else is; a scale of 0.2 (what is left of a louder attack, not a bouncing stick's next impact)
     or none adds no onset.
     """
-    from drumstroke.analysis.onsets import _after_louder, _Modes
+    from drumstroke.analysis.onsets import _after_louder, _Candidates, _Modes
 
     rng = np.random.default_rng(3)
     signature = rng.standard_normal(102) * np.exp(-np.arange(102) / 30.0)
@@ -218,8 +219,9 @@ def test_a_quiet_attack_in_a_louder_ones_signature_is_found_by_its_whole_signatu
     e[648:750] += scale * signature
     modes = _Modes(e, 1, 0.0, 2000.0)
     known = np.array([100.0, 600.0])
-    times, kinds, attack, likeness = _after_louder(modes, known, np.array([1, 1]), np.array([True, True]),
-                                                   np.array([1.0, 1.0]), 2e-3, 2000, 0.0)
+    candidates = _Candidates(known, np.array([1, 1]), np.array([True, True]), np.array([1.0, 1.0]))
+    found_now = _after_louder(modes, candidates, 2000, OnsetConfig(min_interval=2e-3))
+    times, kinds, attack, likeness = found_now.times, found_now.kinds, found_now.attack, found_now.likeness
     if found:
         assert len(times) == 3 and np.all(attack) and kinds[2] == 2 and abs(times[2] - 650.0) < 0.5, times
         assert likeness[2] > 0.9
@@ -230,22 +232,20 @@ def test_a_quiet_attack_in_a_louder_ones_signature_is_found_by_its_whole_signatu
 def test_an_innovation_without_a_signature_to_fit_is_left_as_it_is():
     """All zeros (no attack to take a signature from): nothing is taken off, and every step still gets its values.
 
-    The pursuit's normal equations are singular there; each caller (the room's tail, the search after
-    louder attacks) unpacks the same values as when it fits.
+    The pursuit's normal equations are singular there; its record holds the same values as when it
+    fits, for each caller (the room's tail, the search after louder attacks).
     """
-    from drumstroke.analysis.onsets import _after_louder, _Modes, _pursue
+    from drumstroke.analysis.onsets import _after_louder, _Candidates, _Modes, _pursue
 
     e = np.zeros(400)
-    for spikes in (False, True):
-        found = _pursue(e, [100.0, 250.0], 2000.0, spikes=spikes)
-        assert len(found) == (7 if spikes else 4)
-        assert np.array_equal(found[0], e) and found[3].tolist() == [100.0, 250.0]
-    *_, at, amp, template = _pursue(e, [100.0, 250.0], 2000.0, spikes=True)
-    assert at.tolist() == [100, 250] and not amp.any() and not template.any()
+    found = _pursue(e, [100.0, 250.0], 2000.0, OnsetConfig())
+    assert np.array_equal(found.residual, e) and found.where.tolist() == [100.0, 250.0]
+    assert len(found.jumps) == len(found.likeness) == 2
+    assert found.at.tolist() == [100, 250] and not found.amplitude.any() and not found.template.any()
     modes = _Modes(e, 1, 0.0, 2000.0)
-    times, _, attack, _ = _after_louder(modes, np.array([100.0, 250.0]), np.array([1, 1]), np.array([True, True]),
-                                        np.array([1.0, 1.0]), 2e-3, 2000, 0.0)
-    assert times.tolist() == [100.0, 250.0] and attack.all()
+    candidates = _Candidates(np.array([100.0, 250.0]), np.array([1, 1]), np.array([True, True]), np.array([1.0, 1.0]))
+    after = _after_louder(modes, candidates, 2000, OnsetConfig(min_interval=2e-3))
+    assert after.times.tolist() == [100.0, 250.0] and after.attack.all()
 
 
 def test_onsets_at_8_khz_and_other_rates(strokes):
@@ -268,9 +268,9 @@ def test_a_lower_rate_is_refused_by_name():
     ({"signal": [0.0, np.nan]}, r"signal\[1\] must be a finite number"),
 ])
 def test_bad_detection_options_are_named(kwargs, message):
-    arguments = {"signal": np.zeros(48000), "rate": 48000, **kwargs}
+    options = {name: value for name, value in kwargs.items() if name != "signal"}
     with pytest.raises(ParameterError, match=message):
-        find_onsets(**arguments)
+        find_onsets(kwargs.get("signal", np.zeros(48000)), 48000, config=OnsetConfig(**options))
 
 
 def test_the_threshold_rises_over_the_noise_floor():
@@ -279,10 +279,81 @@ def test_the_threshold_rises_over_the_noise_floor():
     times, speeds = np.array([0.2, 0.6, 0.9]), np.array([1.0, 0.5, 0.25])
     signal, _ = render(times, speeds, kind="other", seed=3)
     signal = signal + rng.standard_normal(len(signal)) * 0.9 * 1e-3
-    onsets = find_onsets(signal, RATE, threshold_db=-60.0)
+    onsets = find_onsets(signal, RATE, config=OnsetConfig(threshold_db=-60.0))
     assert onsets.threshold_db > -60.0 and onsets.threshold_db == pytest.approx(onsets.info["floor_db"] + 10.0)
     assert np.all(onsets.level_db >= onsets.threshold_db)
     assert score(onsets, times, speeds)["found"] == 3
+
+
+# ------------------------------------------------------------------------------------------ the detector's config
+
+
+def test_a_higher_threshold_keeps_exactly_the_default_onsets_above_it(strokes):
+    """``threshold_db`` only filters: the onsets at −20 dB are the default's at or above it, bit for bit."""
+    times, speeds = strokes[0]
+    signal, _ = render(times, speeds, snares=True, snr=30, seed=0)
+    default = find_onsets(signal, RATE)
+    higher = find_onsets(signal, RATE, config=OnsetConfig(threshold_db=-20.0))
+    used = max(-20.0, default.info["floor_db"] + 10.0)  # the noise floor's threshold, if higher
+    keep = default.level_db >= used
+    assert higher.threshold_db == used and 0 < len(higher) < len(default)
+    assert np.array_equal(higher.t, default.t[keep]) and np.array_equal(higher.level_db, default.level_db[keep])
+
+
+def test_without_the_search_after_louder_attacks_fewer_onsets_are_found(strokes):
+    """``after_rounds=0`` turns step 4's search after louder attacks off: it only adds attacks, so no more are found."""
+    fewer = []
+    for i, (times, speeds) in enumerate(strokes[:3]):
+        signal, truth = render(times, speeds, snares=True, seed=i)
+        default, off = find_onsets(signal, RATE), find_onsets(signal, RATE, config=OnsetConfig(after_rounds=0))
+        assert len(off) <= len(default)
+        assert score(off, truth, speeds)["found"] <= score(default, truth, speeds)["found"]
+        fewer.append(len(off) < len(default))
+    assert any(fewer)
+
+
+@pytest.mark.parametrize(("options", "message"), [
+    ({"min_jump": 0.5}, r"min_jump must be in \[1, 100\] \(RMS ratio\), got 0.5"),
+    ({"likeness": 1.5}, r"likeness must be in \[0, 1\] \(correlation\), got 1.5"),
+    ({"signature": 0.0}, r"signature must be in \[0.001, 0.5\] s, got 0.0"),
+    ({"modes_width": 2.5}, r"modes_width must be an integer in \[1, 64\] samples, got 2.5"),
+    ({"order": 0}, r"order must be an integer in \[1, 400\], got 0"),
+    ({"after_rounds": True}, r"after_rounds must be an integer in \[0, 100\], got True"),
+    ({"high_pass": "60"}, r"high_pass must be a number in \[1, 1000\] Hz, got '60'"),
+    ({"floor_margin_db": float("nan")}, r"floor_margin_db must be a finite number in \[0, 60\] dB"),
+    ({"after_ratio_low": 2.0}, r"after_ratio_low must be at most after_ratio_high \(1.5\), got 2.0"),
+])
+def test_bad_config_values_are_named_with_their_range_and_unit(options, message):
+    with pytest.raises(ParameterError, match=message):
+        OnsetConfig(**options)
+
+
+def test_the_config_must_be_an_onset_config():
+    with pytest.raises(ParameterError, match="config must be an OnsetConfig, got dict"):
+        find_onsets(np.zeros(48000), 48000, config={"threshold_db": -30.0})
+
+
+def test_every_config_field_is_validated_and_documented_with_its_default():
+    """Each field has a range, a line in the class's docstring and a row (name, default) in docs/analysis.md."""
+    import dataclasses
+    import pathlib
+
+    from drumstroke.analysis.onsets import _RANGES
+
+    docs = (pathlib.Path(__file__).parent.parent / "docs" / "analysis.md").read_text()
+    fields = dataclasses.fields(OnsetConfig)
+    assert [f.name for f in fields] == list(_RANGES)
+    for f in fields:
+        assert f"\n    {f.name} : " in OnsetConfig.__doc__, f.name
+        row = docs.split(f"| `{f.name}` |")[1].split("\n")[0] if f"| `{f.name}` |" in docs else ""
+        assert f"| {f.default:g} |" in row, f.name
+
+
+def test_read_onsets_reads_csvs_only_and_names_the_detector(tmp_path):
+    path = _wav(tmp_path / "take.wav", np.zeros(RATE))
+    with pytest.raises(ParameterError, match=r"read_onsets reads onsets CSVs \(.csv\) only, got .*take.wav.*"
+                                             r"find_recording_onsets\(path\)"):
+        read_onsets(path)
 
 
 # ------------------------------------------------------------------------------------------ hostile files
@@ -299,7 +370,7 @@ def test_a_stereo_file_is_mixed_down_and_says_so(tmp_path, strokes):
     mono, rate, notes = read_recording(path)
     assert notes == {"channels": 2, "mixed_down": True, "clipped": 0} and rate == RATE
     assert np.allclose(mono, 0.75 * signal, atol=2.0 / 32768)
-    onsets = read_onsets(path)
+    onsets = find_recording_onsets(path)
     assert onsets.info["mixed_down"] and onsets.source == "stereo.wav"
     result = score(onsets, truth, speeds, loudest_db=-20.0)
     assert result["found"] == result["loud"]
@@ -309,18 +380,18 @@ def test_a_clipped_file_works_and_counts_its_clipped_samples(tmp_path, strokes):
     times, speeds = strokes[1]
     signal, truth = render(times, speeds, kind="other", snr=40)
     path = _wav(tmp_path / "clipped.wav", np.clip(5.0 * signal, -1.0, 1.0))
-    onsets = read_onsets(path)
+    onsets = find_recording_onsets(path)
     assert onsets.info["clipped"] > 100
     result = score(onsets, truth, speeds, loudest_db=-20.0)
     assert result["found"] == result["loud"] and np.abs(result["errors"]).max() < 1e-3
 
 
 def test_silence_and_too_little_are_no_impacts(tmp_path):
-    silent = read_onsets(_wav(tmp_path / "silent.wav", np.zeros(RATE)))
+    silent = find_recording_onsets(_wav(tmp_path / "silent.wav", np.zeros(RATE)))
     assert len(silent) == 0 and silent.info["found"] == "no impacts found: the signal is silent"
-    empty = read_onsets(_wav(tmp_path / "empty.wav", np.zeros(0)))
+    empty = find_recording_onsets(_wav(tmp_path / "empty.wav", np.zeros(0)))
     assert len(empty) == 0 and "shorter than 50 ms" in empty.info["found"]
-    hum = read_onsets(_wav(tmp_path / "hum.wav", 0.3 * np.sin(2 * np.pi * 220 * np.arange(RATE) / RATE)))
+    hum = find_recording_onsets(_wav(tmp_path / "hum.wav", 0.3 * np.sin(2 * np.pi * 220 * np.arange(RATE) / RATE)))
     assert len(hum) <= 1  # a tone starting at the file's start, at most
 
 
@@ -348,7 +419,7 @@ def test_hostile_files_get_one_clear_error(tmp_path, make, message):
     path = tmp_path / "take.wav"
     make(path)
     with pytest.raises(ParameterError, match=message) as error:
-        read_onsets(path)
+        find_recording_onsets(path)
     assert str(path) in str(error.value)
 
 

@@ -158,8 +158,8 @@ def stroke_onsets(path):
     Parameters
     ----------
     path : str or Path
-        A recipe is simulated (its impacts, exact); a CSV or an audio file is read by
-        :func:`.onsets.read_onsets` (a recording's impacts found by detection).
+        A recipe is simulated (its impacts, exact); an onsets CSV is read (:func:`.onsets.read_onsets`);
+        any other file is a recording whose impacts are found (:func:`.onsets.find_recording_onsets`).
 
     Returns
     -------
@@ -175,9 +175,9 @@ def stroke_onsets(path):
         onsets = Onsets.from_impacts(stroke.impacts, source=path.name)
         onsets.info["model"] = stroke.recipe.model
         return onsets
-    from .onsets import read_onsets
+    from .onsets import find_recording_onsets, read_onsets
 
-    return read_onsets(path)
+    return read_onsets(path) if path.suffix.lower() == ".csv" else find_recording_onsets(path)
 
 
 def _counted(onsets, threshold):

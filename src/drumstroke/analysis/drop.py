@@ -151,7 +151,7 @@ def measure_cor(onsets, *, model="paper", stick=None, gravity=9.8, confidence=CO
     Parameters
     ----------
     onsets : Onsets
-        A drop's impacts (:func:`drumstroke.analysis.read_onsets` of its recording); other onsets
+        A drop's impacts (:func:`drumstroke.analysis.find_recording_onsets` of its recording); other onsets
         (ringing, rattle) are passed over (:func:`drop_impacts`).
     model : {"paper", "geometry"}
         Whose flight times (SPEC §1).

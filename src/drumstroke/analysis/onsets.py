@@ -4,8 +4,10 @@ Audio tells levels only up to one gain (the microphone's distance, the preamp): 
 dB re the loudest onset (0 dB is the loudest, the others below). The model's levels are absolute (dB re
 1 m/s tip speed, :mod:`drumstroke.dynamics`); a fit finds the offset (:mod:`.fit`).
 
-Onsets go to and come from an onsets CSV (:mod:`drumstroke.formats.onsets_csv`: ``t,level_db``
-rows, the source and threshold in the JSON beside it): :func:`write_onsets`, :func:`read_onsets`.
+A recording's onsets are found by :func:`find_onsets` (samples) or :func:`find_recording_onsets` (a
+file), a pipeline of stages whose every threshold is a field of :class:`OnsetConfig`. Onsets go to and
+come from an onsets CSV (:mod:`drumstroke.formats.onsets_csv`: ``t,level_db`` rows, the source and
+threshold in the JSON beside it): :func:`write_onsets`, :func:`read_onsets` (which reads CSVs only).
 
 Examples
 --------
@@ -18,6 +20,8 @@ Onsets(2 over [0.1, 0.35] s, levels -4.5 to 0 dB; drop.wav)
 -40.0
 """
 
+import math
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
@@ -124,20 +128,16 @@ def write_onsets(path, onsets):
                      fields={"source": onsets.source, "threshold_db": onsets.threshold_db, "info": onsets.info})
 
 
-def read_onsets(path, *, threshold_db=None, min_interval=None):
-    """The onsets of the file at ``path``: an onsets CSV as written, or found in a recording.
+def read_onsets(path):
+    """The onsets in the onsets CSV at ``path``, as :func:`write_onsets` wrote them.
+
+    A recording is not read here: :func:`find_recording_onsets` finds its onsets (detection).
 
     Parameters
     ----------
     path : str or os.PathLike
-        An onsets CSV (``.csv``: ``t,level_db``, :func:`write_onsets`; its source and threshold
-        from the JSON beside it when there is one, else the file's name and -inf), or an audio
-        file soundfile reads (WAV, FLAC, OGG, …), whose impacts are found by :func:`find_onsets`
-        (several channels are mixed down; ``info`` says so, and how many samples are clipped).
-    threshold_db : float in [-120, 0] or None
-        dB re the loudest onset, for a recording (default :data:`DEFAULT_THRESHOLD_DB`).
-    min_interval : float in [0.5e-3, 1] or None
-        s, for a recording (default :data:`MIN_INTERVAL`).
+        An onsets CSV (``.csv``: ``t,level_db``); its source and threshold from the JSON beside it
+        when there is one, else the file's name and -inf.
 
     Returns
     -------
@@ -146,14 +146,13 @@ def read_onsets(path, *, threshold_db=None, min_interval=None):
     Raises
     ------
     ParameterError
-        Naming the file (and the line) of what it refuses.
+        Naming the file (and the line) of what it refuses; naming :func:`find_recording_onsets`
+        for a file that is not a CSV (a recording).
     """
     path = Path(path)
     if path.suffix.lower() != ".csv":
-        signal, rate, notes = read_recording(path)
-        return find_onsets(signal, rate, source=path.name, notes=notes,
-                           threshold_db=DEFAULT_THRESHOLD_DB if threshold_db is None else threshold_db,
-                           min_interval=MIN_INTERVAL if min_interval is None else min_interval)
+        raise ParameterError(f"read_onsets reads onsets CSVs (.csv) only, got {str(path)!r}: find a recording's "
+                             "onsets with find_recording_onsets(path) (or find_onsets(signal, rate))")
     t, level_db, meta = read_onsets_csv(path)
     info = meta.get("info")
     try:
@@ -170,116 +169,203 @@ MIN_RATE = 8000
 MAX_SECONDS = 600.0
 """The longest recording analysed (s); a longer file is refused before it is read."""
 
-DEFAULT_THRESHOLD_DB = -40.0
-"""The default detection threshold (dB re the loudest onset)."""
-
-FLOOR_MARGIN_DB = 10.0
-"""How far above the noise floor an onset's level must be (dB): the threshold used is at least floor + this."""
-
-MIN_INTERVAL = 2e-3
-"""The default shortest time between two onsets (s): closer attacks are one."""
-
-MIN_JUMP = 2.0
-"""How much an attack's sound must rise over what the sound before it predicts (RMS ratio, 6 dB)."""
-
-BROADBAND_JUMP = 3.0
-"""How much the first difference's RMS must rise at a broadband attack (over 1 ms, against the 4 ms before)."""
-
-TONAL_SUPPORT = 1.6
-"""How much the innovation must rise too at a broadband attack (beating modes make broadband jumps alone)."""
-
-STRONG_RISE = 10.0
-"""How many times step 2's innovation rises at a tonal onset whose change point is trusted over a broadband
-onset of the same group more than :data:`DISAGREE` away (the modes' beating makes broadband jumps too)."""
-
-DISAGREE = 0.5e-3
-"""s: how far apart a group's broadband and tonal times may be and still be one attack's."""
-
-MODES_RATE = 2000
-"""The rate (Hz) to which the modes' band is decimated (its anti-alias corner at 0.4 of it: below the snare wires)."""
-
-MODES_WIDTH = 4
-"""The shortest window (samples) of the modes' band's jumps (2 ms at 2 kHz)."""
-
-MODES_ORDER = 40
-"""The modes' band predictor's order."""
-
-LEVEL_ORDER = 24
-"""The order of the predictor in the band levels are measured in (the lowest modes: up to 2.1 times the lowest strong one)."""
-
-SIGNATURE = 50e-3
-"""How long an attack's signature in the modes' band's innovation lasts (s): the spike, the beating, first reflections."""
-
-HEAD = 6
-"""The samples after the spike that tell whether an onset's start looks like the signature."""
-
-TAIL = 0.15
-"""How long the attacks' common response taken off past the signature lasts (s): the room's tail, fitted by least
-squares over all the first onsets (each scaled by its signature's fit), so overlapping neighbours average out."""
-
-ROOM = 0.03
-"""The least energy of the room's tail past the signature (a fraction of the signature's part) that makes a recording
-reverberant: its levels are then measured with the earlier onsets' tails taken off (step 5). Measured: 0.11-0.14 in the
-tests' room, under 0.01 without it."""
-
-TAIL_RIDGE = 0.01
-"""The ridge on that least-squares fit (a fraction of its normal equations' diagonal)."""
-
-SECOND_GAP = 2.0
-"""How far (in multiples of ``min_interval``) a second round's onset in the modes' band must be from the onsets
-known before it."""
-
-LIKENESS = 0.7
-"""The least correlation of an onset's start with the signature's for an onset found in the modes' band alone."""
-
-WEAK_LIKENESS = 0.5
-"""A likeness to the signature that makes an onset an attack when step 2's innovation rises :data:`WEAK_RISE` times
-at it."""
-
-WEAK_RISE = 1.6
-"""The rise of step 2's innovation that, with :data:`WEAK_LIKENESS`, makes an onset an attack (a quiet one in a
-room's tail)."""
-
-SURE_LIKENESS = 0.9
-"""A likeness to the signature that makes an onset an attack with a jump of only :data:`SURE_JUMP`."""
-
-SURE_JUMP = 1.5
-"""The least jump of the remainder at an onset whose start is almost the signature (:data:`SURE_LIKENESS`)."""
-
-MOVED_JUMP = 3.0
-"""The least jump of the remainder where an onset in a room's tail that does not look like the signature is tried
-again (a little later: step 4)."""
-
-MOVE_REACH = 3.0
-"""How far after it (in multiples of ``min_interval``) such an onset is tried again."""
-
-AFTER_REACH = 40e-3
-"""How far after an attack (s) a quiet one is sought by fitting its whole signature (the end of step 4)."""
-
-AFTER_F = 8.0
-"""The least F statistic (two parameters, over the louder attack's signature) of such a quiet attack's fit."""
-
-AFTER_WEAK_F = 6.0
-"""The lower F statistic enough for a quiet attack whose start looks half like the signature (:data:`WEAK_LIKENESS`)."""
-
-AFTER_RATIO = (0.35, 1.5)
-"""The range of such a quiet attack's scale over the louder one's (a bouncing stick's next impact: a few dB quieter)."""
-
-AFTER_ROUNDS = 3
-"""The most times that search runs (each with the attacks it found taken off too), while it finds more."""
-
-ORDER = 48
-"""The linear predictor's order: up to 20 ringing modes and the anti-alias filter's 8 poles."""
-
 CLIP_LEVEL = 0.999
 """Samples at or above this magnitude (full scale) count as clipped."""
 
-HIGH_PASS = 60.0
-"""Corner of the high-pass (Hz) that removes rumble and DC before anything else."""
+_BLOCK = 1 << 20  # samples a block when looking for jumps: bounds the memory, not a tuning
+_SPECTRA = 4096  # the most frames whose spectra choose the decimation: bounds the time on a long file
 
-_FLOOR_QUANTILE = 0.05
-_BLOCK = 1 << 20  # samples a block when looking for jumps
-_SPECTRA = 4096  # the most frames whose spectra choose the decimation
+
+@dataclass(frozen=True)
+class OnsetConfig:
+    """Every threshold, length and count of the onset detector (:func:`find_onsets`), each with its unit.
+
+    The defaults are the values the accuracy in docs/analysis.md was measured with; a variant is
+    ``dataclasses.replace(OnsetConfig(), threshold_db=-30.0)``. The steps named are those of
+    :func:`find_onsets`. A jump is the RMS over the next window over that over the 4 windows before.
+
+    Parameters
+    ----------
+    threshold_db : float in [-120, 0]
+        dB re the loudest onset: quieter onsets are not reported (step 6).
+    min_interval : float in [0.0005, 1]
+        s: the shortest time between two onsets; closer attacks are one (steps 2-4).
+    floor_margin_db : float in [0, 60]
+        dB: how far over the noise floor an onset must be; the threshold used is at least the floor
+        plus this (step 6).
+    floor_quantile : float in [0, 1]
+        Ratio: the quantile of the lowest band's 5-ms peaks that is the noise floor (step 6).
+    high_pass : float in [1, 1000]
+        Hz: the corner of the high-pass that takes off rumble and DC first; also the lowest
+        frequency a strong mode of the level band may have (steps 1, 5).
+    analysis_rate : int in [2000, 768000]
+        Hz: the rate step 2 decimates to at most (less where the signal's band ends lower).
+    order : int in [1, 400]
+        The order of step 2's linear predictor (Burg's method): up to 20 ringing modes and the
+        anti-alias filter's 8 poles.
+    min_jump : float in [1, 100]
+        RMS ratio: the least jump of step 2's innovation (over 1 ms) at a candidate, and of the
+        modes' band's remainder at an attack (step 4).
+    broadband_jump : float in [1, 100]
+        RMS ratio: the least jump of the first difference (over 1 ms) at a broadband attack (step 3).
+    tonal_support : float in [1, 100]
+        RMS ratio: the least jump of step 2's innovation at a broadband attack too (beating modes
+        make broadband jumps alone; step 3).
+    strong_rise : float in [1, 1000]
+        RMS ratio: the jump of step 2's innovation at which its time is trusted over a broadband time
+        of the same onset more than ``disagreement`` away (step 3).
+    disagreement : float in [0, 0.01]
+        s: how far apart an onset's broadband and tonal times may be and still be one attack's (step 3).
+    modes_rate : int in [500, 8000]
+        Hz: the rate the modes' band is decimated to (its anti-alias corner at 0.4 of it: below the
+        snare wires; step 4).
+    modes_width : int in [1, 64]
+        Samples of the modes' band: the shortest window of its jumps (2 ms at 2 kHz; step 4).
+    modes_order : int in [1, 400]
+        The order of the modes' band's predictor (least squares, reweighted; step 4).
+    signature : float in [0.001, 0.5]
+        s: how long an attack's signature in the modes' band's innovation lasts past its spike: the
+        spike, the modes' beating, the room's first reflections (step 4).
+    head : int in [1, 100]
+        Samples of the modes' band: the start of the signature after its spike whose correlation
+        with an onset's start is its likeness (step 4).
+    tail : float in [0.001, 2]
+        s: how long the attacks' common response (the room's tail, least squares over all the
+        onsets) lasts from the signature's start (steps 4, 5).
+    room : float in [0, 100]
+        Energy ratio: the least energy of the room's tail past the signature, over the signature's
+        part, that makes a recording reverberant (measured 0.11-0.14 in the tests' room, under 0.01
+        without it; steps 4, 5).
+    tail_ridge : float in [1e-06, 1]
+        Ratio: the ridge on the tail's least-squares fit, a fraction of its normal equations' diagonal.
+    second_gap : float in [0, 100]
+        Multiples of ``min_interval``: how far a later round's onset in the modes' band must be from
+        the onsets known before it (step 4).
+    likeness : float in [0, 1]
+        Correlation: the least likeness of an onset's start to the signature for an attack found in
+        the modes' band alone (step 4).
+    weak_likeness : float in [0, 1]
+        Correlation: a likeness that makes an onset an attack when step 2's innovation jumps
+        ``weak_rise`` times at it (a quiet one in a room's tail; step 4), and lets the search after
+        louder attacks accept ``after_weak_f``.
+    weak_rise : float in [1, 100]
+        RMS ratio: that jump of step 2's innovation (step 4).
+    sure_likeness : float in [0, 1]
+        Correlation: a likeness that makes an onset an attack with a jump of ``sure_jump`` only (step 4).
+    sure_jump : float in [1, 100]
+        RMS ratio: that least jump of the remainder (step 4).
+    precise_likeness : float in [0, 1]
+        Correlation: the least likeness of the broadband and tonal onsets whose times set the offset
+        of the times fitted in the modes' band (step 4).
+    moved_jump : float in [1, 100]
+        RMS ratio: the least jump of the remainder where an onset in a room's tail that does not look
+        like the signature is tried again, a little later (step 4, reverberant recordings).
+    move_reach : float in [0, 100]
+        Multiples of ``min_interval``: how far after it such an onset is tried again (step 4).
+    after_reach : float in [0, 0.5]
+        s: how far after an attack a quiet one is sought by fitting its whole signature (step 4).
+    after_f : float ≥ 0
+        The least F statistic (two parameters, over the louder attack's signature) of such a quiet
+        attack's fit (step 4).
+    after_weak_f : float ≥ 0
+        The F statistic enough for a quiet attack whose start looks like the signature by
+        ``weak_likeness`` (step 4).
+    after_ratio_low : float in [0, 100], ≤ ``after_ratio_high``
+        Amplitude ratio: the least scale of such a quiet attack over the louder one's (a bouncing
+        stick's next impact: a few dB quieter, not what is left of the louder one's signature; step 4).
+    after_ratio_high : float in [0, 100]
+        Amplitude ratio: the largest such scale (step 4).
+    after_rounds : int in [0, 100]
+        How many times at most that search runs (each with the attacks it found taken off too), while
+        it finds more (step 4).
+    level_order : int in [1, 400]
+        The order of the predictor of the band levels are measured in (step 5).
+    level_ratio : float in [1, 10]
+        Frequency ratio: the top of the level band over its lowest strong mode (step 5).
+    level_band : float in [50, 4000]
+        Hz: the lowest top of the level band (step 5).
+
+    Examples
+    --------
+    >>> OnsetConfig(threshold_db=-30.0).threshold_db
+    -30.0
+    >>> OnsetConfig(min_jump=0.5)
+    Traceback (most recent call last):
+    ...
+    drumstroke.errors.ParameterError: min_jump must be in [1, 100] (RMS ratio), got 0.5
+    """
+
+    threshold_db: float = -40.0
+    min_interval: float = 2e-3
+    floor_margin_db: float = 10.0
+    floor_quantile: float = 0.05
+    high_pass: float = 60.0
+    analysis_rate: int = 6000
+    order: int = 48
+    min_jump: float = 2.0
+    broadband_jump: float = 3.0
+    tonal_support: float = 1.6
+    strong_rise: float = 10.0
+    disagreement: float = 0.5e-3
+    modes_rate: int = 2000
+    modes_width: int = 4
+    modes_order: int = 40
+    signature: float = 50e-3
+    head: int = 6
+    tail: float = 0.15
+    room: float = 0.03
+    tail_ridge: float = 0.01
+    second_gap: float = 2.0
+    likeness: float = 0.7
+    weak_likeness: float = 0.5
+    weak_rise: float = 1.6
+    sure_likeness: float = 0.9
+    sure_jump: float = 1.5
+    precise_likeness: float = 0.9
+    moved_jump: float = 3.0
+    move_reach: float = 3.0
+    after_reach: float = 40e-3
+    after_f: float = 8.0
+    after_weak_f: float = 6.0
+    after_ratio_low: float = 0.35
+    after_ratio_high: float = 1.5
+    after_rounds: int = 3
+    level_order: int = 24
+    level_ratio: float = 2.1
+    level_band: float = 400.0
+
+    def __post_init__(self):
+        for name, (low, high, unit) in _RANGES.items():
+            value = getattr(self, name)
+            if isinstance(low, int):
+                value = check_int(name, value, low=low, high=high, unit=unit)
+            else:
+                value = check_real(name, value, low=low, high=high, unit=unit)
+            object.__setattr__(self, name, value)
+        if self.after_ratio_low > self.after_ratio_high:
+            raise ParameterError(f"after_ratio_low must be at most after_ratio_high ({self.after_ratio_high!r}), "
+                                 f"got {self.after_ratio_low!r}")
+
+
+_RANGES = {  # each OnsetConfig field: its least and largest value (ints for a count) and its unit
+    "threshold_db": (-120.0, 0.0, "dB"), "min_interval": (0.5e-3, 1.0, "s"),
+    "floor_margin_db": (0.0, 60.0, "dB"), "floor_quantile": (0.0, 1.0, "(ratio)"),
+    "high_pass": (1.0, 1000.0, "Hz"), "analysis_rate": (2000, 768000, "Hz"), "order": (1, 400, ""),
+    "min_jump": (1.0, 100.0, "(RMS ratio)"), "broadband_jump": (1.0, 100.0, "(RMS ratio)"),
+    "tonal_support": (1.0, 100.0, "(RMS ratio)"), "strong_rise": (1.0, 1000.0, "(RMS ratio)"),
+    "disagreement": (0.0, 0.01, "s"), "modes_rate": (500, 8000, "Hz"), "modes_width": (1, 64, "samples"),
+    "modes_order": (1, 400, ""), "signature": (1e-3, 0.5, "s"), "head": (1, 100, "samples"),
+    "tail": (1e-3, 2.0, "s"), "room": (0.0, 100.0, "(energy ratio)"), "tail_ridge": (1e-6, 1.0, "(ratio)"),
+    "second_gap": (0.0, 100.0, "(min_interval)"), "likeness": (0.0, 1.0, "(correlation)"),
+    "weak_likeness": (0.0, 1.0, "(correlation)"), "weak_rise": (1.0, 100.0, "(RMS ratio)"),
+    "sure_likeness": (0.0, 1.0, "(correlation)"), "sure_jump": (1.0, 100.0, "(RMS ratio)"),
+    "precise_likeness": (0.0, 1.0, "(correlation)"), "moved_jump": (1.0, 100.0, "(RMS ratio)"),
+    "move_reach": (0.0, 100.0, "(min_interval)"), "after_reach": (0.0, 0.5, "s"),
+    "after_f": (0.0, math.inf, ""), "after_weak_f": (0.0, math.inf, ""),
+    "after_ratio_low": (0.0, 100.0, "(amplitude ratio)"), "after_ratio_high": (0.0, 100.0, "(amplitude ratio)"),
+    "after_rounds": (0, 100, ""), "level_order": (1, 400, ""), "level_ratio": (1.0, 10.0, "(frequency ratio)"),
+    "level_band": (50.0, 4000.0, "Hz"),
+}
 
 
 def read_recording(path, *, max_seconds=MAX_SECONDS):
@@ -311,68 +397,98 @@ def read_recording(path, *, max_seconds=MAX_SECONDS):
     return signal, rate, {"channels": channels, "mixed_down": channels > 1, "clipped": clipped}
 
 
-def find_onsets(signal, rate, *, threshold_db=DEFAULT_THRESHOLD_DB, min_interval=MIN_INTERVAL, source="",
-                notes=None):
+def find_recording_onsets(path, *, config=OnsetConfig()):
+    """The impacts in the recording at ``path``: :func:`read_recording`, then :func:`find_onsets`.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        An audio file soundfile reads (WAV, FLAC, OGG, …); several channels are mixed down.
+    config : OnsetConfig
+        The detector's thresholds.
+
+    Returns
+    -------
+    Onsets
+        Its source is the file's name; its ``info`` says how the file was read (channels, mixed
+        down, clipped samples) besides how the onsets were found.
+
+    Raises
+    ------
+    ParameterError
+        Naming the file, when it cannot be read as audio or lasts more than :data:`MAX_SECONDS`.
+    """
+    path = Path(path)
+    signal, rate, notes = read_recording(path)
+    return find_onsets(signal, rate, config=config, source=path.name, notes=notes)
+
+
+def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
     """The impacts in a recording: their times to a fraction of a millisecond and their relative levels.
 
-    How (docs/analysis.md tells more):
+    The detector is a pipeline of stages, each a function of the recording and ``config``
+    (:class:`OnsetConfig`, whose fields are named below; docs/analysis.md tells more):
 
-    1. The signal is high-passed (:data:`HIGH_PASS`) and decimated (causal 8th-order Butterworth)
-       to ~6 kHz, or further where its band 20 dB over the noise floor (the quietest tenth of its
-       21-ms frames) ends lower (≥ 2.5 times that band's top, ≥ 2 kHz).
-    2. *Ringing is predicted away.* A linear predictor (Burg's method, order :data:`ORDER`) fitted
-       to the whole decimated signal — the drum's modes, the room — leaves the innovation: what
-       the past does not predict, which is where a stick strikes. Candidates are where its RMS
-       over the next 1 ms rises :data:`MIN_JUMP` times over the 4 ms before (peaks picked by
-       ``librosa.util.peak_pick``); Akaike's information criterion (AIC) places each on the
-       change point; the anti-alias filter's delay is taken off.
-    3. *Broadband attacks* (snare wires, a stick's click) are found the same way at full rate on
-       the first difference (a jump of :data:`BROADBAND_JUMP`, with the innovation rising
-       :data:`TONAL_SUPPORT` times too: beating modes alone make broadband jumps). Their
-       full-rate time replaces a decimated one within ``min_interval`` (closer onsets are one),
-       unless the decimated one is more than :data:`DISAGREE` away and step 2's innovation rises
-       :data:`STRONG_RISE` times there: a sharp attack's change point, beside its modes' beating.
+    1. :func:`_tonal_innovation`. The signal is high-passed (``high_pass``) and decimated (causal
+       8th-order Butterworth) to ``analysis_rate``, or further where its band 20 dB over the noise
+       floor (the quietest tenth of its 21-ms frames) ends lower (≥ 2.5 times that band's top,
+       ≥ 2 kHz). *Ringing is predicted away:* a linear predictor (Burg's method, order ``order``)
+       fitted to the whole decimated signal — the drum's modes, the room — leaves the innovation:
+       what the past does not predict, which is where a stick strikes.
+    2. :func:`_heard_jumps`. Candidates are where the innovation's RMS over the next 1 ms rises
+       ``min_jump`` times over the 4 ms before (peaks picked by ``librosa.util.peak_pick``);
+       Akaike's information criterion (AIC) places each on the change point; the anti-alias
+       filter's delay is taken off.
+    3. The same stage finds *broadband attacks* (snare wires, a stick's click) the same way at full
+       rate on the first difference (a jump of ``broadband_jump``, with the innovation rising
+       ``tonal_support`` times too: beating modes alone make broadband jumps). Their full-rate
+       time replaces a decimated one within ``min_interval`` (closer onsets are one), unless the
+       decimated one is more than ``disagreement`` away and step 2's innovation rises
+       ``strong_rise`` times there: a sharp attack's change point, beside its modes' beating.
     4. *Quiet attacks in louder ones' ringing and rattle* are found in the drum's modes' band
-       (decimated to ~:data:`MODES_RATE` Hz: below the snare wires), whose innovation (a
-       predictor of order :data:`MODES_ORDER` fitted by least squares reweighted by the
+       (:func:`_modes_band`: decimated to ~``modes_rate`` Hz, below the snare wires), whose
+       innovation (a predictor of order ``modes_order`` fitted by least squares reweighted by the
        inverse local power of a first fit's innovation: the ringing between attacks, not the
-       attacks, sets it) holds each attack's *signature*: a spike and :data:`SIGNATURE` s of what
-       the predictor cannot follow (beating modes, the room's first reflections). Matching
-       pursuit: the loudest attack's signature, fitted by least squares (with its derivative:
-       a fraction of a sample) at each onset found, is taken off in time order; jumps of the
-       remainder (windows of :data:`MODES_WIDTH` samples) are more onsets, timed by where their
-       signature fits (offset by the other onsets' precise times). Past the signature, the
-       attacks' common response over :data:`TAIL` s (the room's tail: least squares over all the
-       onsets found, each scaled by its signature's fit) is taken off too; a second round takes off
-       the quiet onsets found as well and adds the remainder's new jumps (farther than
-       :data:`SECOND_GAP` times ``min_interval`` from the onsets known). An onset is an attack when
-       the remainder jumps :data:`MIN_JUMP` times at it and either its start looks like the
-       signature (correlation ≥ :data:`LIKENESS`) or step 2 or 3 found it rising (or it looks
-       half like it, :data:`WEAK_LIKENESS`, and step 2's innovation rises :data:`WEAK_RISE` times);
-       a start almost the signature (:data:`SURE_LIKENESS`) needs a jump of :data:`SURE_JUMP` only.
-       In a reverberant recording (below), a decimated onset whose start does not look like the
-       signature is tried again where the remainder jumps most up to :data:`MOVE_REACH` times
-       ``min_interval`` later (its change point is often placed early on the earlier tails), kept
-       there when the remainder jumps :data:`MOVED_JUMP` times and it looks like the signature; and
-       a last round takes off only the attacks found, at their final times, and fits them again
-       with the remainder's new jumps: the new and the refused ones that look like the signature
-       (and jump :data:`MIN_JUMP` times) are attacks. Then, in every recording, a quiet attack up
-       to :data:`AFTER_REACH` s after each attack, where the remainder does not jump, is sought by
+       attacks) leaves each attack a *signature* (its spike and ``signature`` s after it) that the
+       predictor cannot follow (beating modes, the room's first reflections). Matching pursuit:
+       the loudest attack's signature, fitted by least squares (with its derivative: a fraction of
+       a sample) at each onset found, is taken off in time order; jumps of the remainder (windows
+       of ``modes_width`` samples) are more onsets (:func:`_quiet_jumps`), timed by where their
+       signature fits (offset by the precise times of the other onsets, those whose start looks like
+       the signature by ``precise_likeness``). Past the signature, the attacks' common response
+       over ``tail`` s (the room's tail: least squares over all the onsets found, each scaled by its
+       signature's fit) is taken off too; a second round takes off the quiet onsets found as well
+       and adds the remainder's new jumps (farther than ``second_gap`` times ``min_interval`` from
+       the onsets known). :func:`_judged` makes an onset an attack when the remainder jumps
+       ``min_jump`` times at it and either its start looks like the signature (correlation ≥
+       ``likeness``) or step 2 or 3 found it rising (or it looks half like it, ``weak_likeness``,
+       and step 2's innovation rises ``weak_rise`` times); a start almost the signature
+       (``sure_likeness``) needs a jump of ``sure_jump`` only. In a reverberant recording (below),
+       :func:`_try_later` tries a decimated onset whose start does not look like the signature
+       again where the remainder jumps most up to ``move_reach`` times ``min_interval`` later (its
+       change point is often placed early on the earlier tails), kept there when the remainder
+       jumps ``moved_jump`` times and it looks like the signature; and :func:`_last_round` takes
+       off only the attacks found, at their final times, and fits them again with the remainder's
+       new jumps: the new and the refused ones that look like the signature (and jump ``min_jump``
+       times) are attacks. Then, in every recording, :func:`_search_after_louder` seeks a quiet
+       attack up to ``after_reach`` s after each attack, where the remainder does not jump, by
        fitting its whole signature there: the best fit over the louder one's signature is an attack
-       when an F-test passes (:data:`AFTER_F`, or :data:`AFTER_WEAK_F` with a start half like the
-       signature) and its scale is :data:`AFTER_RATIO` of the louder one's (a bouncing stick's next
-       impact); again while it finds more.
-    5. An onset's amplitude is the peak of its own sound in the drum's lowest modes (the band up
-       to 2.1 times its lowest strong mode, ≥ 400 Hz, decimated to 2.5 times that: a stick's
-       speed sets their amplitude in proportion, while the higher modes grow faster with it,
-       Hertz's contact being shorter): the band over the next 5 ms (or up to the next onset)
-       less the earlier sound extrapolated by a predictor (order :data:`LEVEL_ORDER`, fitted as
-       in step 4), its peak between samples (4 times upsampled). In a reverberant recording (the
-       room's tail past the signature carries ≥ :data:`ROOM` of its energy), an onset whose start
-       looks like the signature has the earlier such onsets' tails (the band's innovation's common
-       response, as in step 4, past 5 ms) taken off its innovation first. Its level is in dB re the
-       loudest onset. The noise floor (the 5th percentile of that band's peaks over 5-ms frames)
-       plus :data:`FLOOR_MARGIN_DB`, or ``threshold_db`` if higher, is the threshold used.
+       when an F-test passes (``after_f``, or ``after_weak_f`` with a start half like the signature)
+       and its scale is ``after_ratio_low`` to ``after_ratio_high`` of the louder one's (a bouncing
+       stick's next impact); again while it finds more (``after_rounds`` times at most).
+    5. :func:`_levels`. An onset's amplitude is the peak of its own sound in the drum's lowest
+       modes (the band up to ``level_ratio`` times its lowest strong mode, ≥ ``level_band`` Hz,
+       decimated to 2.5 times that: a stick's speed sets their amplitude in proportion, while the
+       higher modes grow faster with it, Hertz's contact being shorter): the band over the next
+       5 ms (or up to the next onset) less the earlier sound extrapolated by a predictor (order
+       ``level_order``, fitted as in step 4), its peak between samples (4 times upsampled). In a
+       reverberant recording (the room's tail past the signature carries ≥ ``room`` of its
+       energy), an onset whose start looks like the signature has the earlier such onsets' tails
+       (the band's innovation's common response, as in step 4, past 5 ms) taken off its innovation
+       first.
+    6. :func:`_reported`. Its level is in dB re the loudest onset. The noise floor (the
+       ``floor_quantile`` quantile of the level band's peaks over 5-ms frames) plus
+       ``floor_margin_db``, or ``threshold_db`` if higher, is the threshold used.
 
     Parameters
     ----------
@@ -380,11 +496,10 @@ def find_onsets(signal, rate, *, threshold_db=DEFAULT_THRESHOLD_DB, min_interval
         Mono samples (full scale), finite.
     rate : int in [8000, 768000]
         Samples per second (Hz).
-    threshold_db : float in [-120, 0]
-        Onsets quieter than this (dB re the loudest onset) are not reported. The threshold used is
-        the higher of this and the noise floor plus :data:`FLOOR_MARGIN_DB` (in :attr:`Onsets.threshold_db`).
-    min_interval : float in [0.5e-3, 1]
-        The shortest time between two onsets (s).
+    config : OnsetConfig
+        The detector's thresholds (its ``threshold_db``: dB re the loudest onset; the threshold
+        used is the higher of it and the noise floor plus ``floor_margin_db``, in
+        :attr:`Onsets.threshold_db`).
     source : str
         What the signal is (a file's name), kept in the result.
     notes : dict or None
@@ -405,100 +520,419 @@ def find_onsets(signal, rate, *, threshold_db=DEFAULT_THRESHOLD_DB, min_interval
     >>> onsets = find_onsets(hit(0.2, 0.8) + hit(0.55, 0.4), rate)
     >>> np.round(onsets.t, 4).tolist(), np.round(onsets.level_db, 1).tolist()
     ([0.2, 0.55], [0.0, -6.2])
+    >>> len(find_onsets(hit(0.2, 0.8) + hit(0.55, 0.4), rate, config=OnsetConfig(threshold_db=-3.0)))
+    1
     """
     signal = check_vector("signal", signal, unit="full scale")
     rate = check_int("rate", rate, low=MIN_RATE, high=768000, unit="Hz")
-    threshold_db = check_real("threshold_db", threshold_db, low=-120.0, high=0.0, unit="dB")
-    min_interval = check_real("min_interval", min_interval, low=0.5e-3, high=1.0, unit="s")
+    if not isinstance(config, OnsetConfig):
+        raise ParameterError(f"config must be an OnsetConfig, got {type(config).__name__}")
     if len(signal) > MAX_SECONDS * rate:
         raise ParameterError(f"signal lasts {len(signal) / rate:.6g} s; at most {MAX_SECONDS:g} s are analysed: cut "
                              "it into parts")
-    info = {**(notes or {}), "rate": rate, "seconds": len(signal) / rate, "requested_threshold_db": threshold_db,
+    info = {**(notes or {}), "rate": rate, "seconds": len(signal) / rate, "requested_threshold_db": config.threshold_db,
             "method": "jumps of the linear-prediction innovation (decimated) and of the first difference; AIC change points; "
                       "matching pursuit of attack signatures in the modes' band"}
-
-    def none(reason):
-        return Onsets(np.empty(0), np.empty(0), threshold_db=threshold_db, source=source,
-                      info={**info, "found": f"no impacts found: {reason}", "floor_db": None})
-
     if len(signal) < round(0.05 * rate):
-        return none("the signal is shorter than 50 ms")
-    band = _high_pass(signal, rate)
+        return _no_onsets("the signal is shorter than 50 ms", info, source, config)
+    band = _high_pass(signal, rate, config.high_pass)
     peak = float(np.abs(band).max())
     if not peak > 1e-9:  # −180 dB full scale: digital silence
-        return none("the signal is silent")
+        return _no_onsets("the signal is silent", info, source, config)
     band = band / peak
-    q = max(_decimation(band, rate), rate // 6000)
+    tonal = _tonal_innovation(band, rate, config)
+    heard = _heard_jumps(band, rate, tonal, config)
+    first, _ = heard.merge()
+    modes, residual = _modes_band(band, rate, tonal.q, first, config)
+    deep, residual = _quiet_jumps(modes, first, residual, rate, config)
+    candidates, modes = _judged(band, rate, tonal, modes, heard.merge(deep), config)
+    if modes.reverberant:
+        candidates = _try_later(modes, candidates, residual, rate, config)
+        candidates = _last_round(modes, candidates, rate, config)
+    candidates = _search_after_louder(modes, candidates, rate, config)
+    amplitude, floor = _levels(band, rate, tonal.q, first, candidates, modes.reverberant, config)
+    return _reported(candidates, amplitude, floor, {**info, "analysis_rate": tonal.rate}, source, rate, config)
+
+
+def _no_onsets(reason, info, source, config):
+    return Onsets(np.empty(0), np.empty(0), threshold_db=config.threshold_db, source=source,
+                  info={**info, "found": f"no impacts found: {reason}", "floor_db": None})
+
+
+# ------------------------------------------------------------------------------------------ the stages
+
+
+@dataclass(frozen=True)
+class _Innovation:
+    """What a linear predictor of the band decimated ``q`` times does not predict: ``e``, at ``rate`` Hz,
+    its filter's delay ``delay`` (full-rate samples)."""
+
+    e: np.ndarray
+    q: int
+    delay: float
+    rate: float
+
+    def at(self, samples):
+        """Full-rate ``samples`` as (fractional) samples of the band."""
+        return (samples + self.delay) / self.q
+
+    def samples(self, at):
+        """Samples of the band ``at`` as full-rate samples."""
+        return at * self.q - self.delay
+
+
+@dataclass(frozen=True)
+class _Modes(_Innovation):
+    """The drum's modes' band of step 4: its innovation, the room's ``tail`` once fitted, whether the
+    recording is ``reverberant``, and the ``offset`` (full-rate samples) of the times fitted there from
+    the precise times (:func:`_retime`)."""
+
+    tail: np.ndarray | None = None
+    reverberant: bool = False
+    offset: float = 0.0
+
+    def pursue(self, samples, config):
+        """:func:`_pursue` of the onsets at full-rate ``samples``, the room's tail taken off with each."""
+        return _pursue(self.e, self.at(samples), self.rate, config, tail=self.tail)
+
+    def jumps(self, residual, config):
+        """Where ``residual`` (in the band) jumps ``config.min_jump`` times, as a list of full-rate samples."""
+        return [self.samples(k) for k in _jumps(residual, self.rate, config.min_interval, config.min_jump,
+                                                config.modes_width)]
+
+    def fitted(self, where):
+        """Full-rate times of signatures fitted at ``where`` (samples of the band): offset to the precise times."""
+        return self.samples(where) + self.offset
+
+
+@dataclass(frozen=True)
+class _Candidates:
+    """The onsets under judgement, in time order (each an array [shape=(n,)]).
+
+    Attributes
+    ----------
+    times : ndarray
+        Full-rate samples (fractional).
+    kinds : ndarray of int
+        How each was found: 0 broadband (step 3), 1 tonal (step 2), 2 in the modes' band alone (step 4).
+    attack : ndarray of bool
+        Whether it is judged an attack (a stick's impact) so far.
+    likeness : ndarray
+        The correlation of its start with the signature's (step 4).
+    """
+
+    times: np.ndarray
+    kinds: np.ndarray
+    attack: np.ndarray
+    likeness: np.ndarray
+
+    def __len__(self):
+        return len(self.times)
+
+    def take(self, which):
+        """The candidates ``which`` selects (booleans, or indices in the order wanted)."""
+        return _Candidates(self.times[which], self.kinds[which], self.attack[which], self.likeness[which])
+
+    def insert(self, new, *, attack, likeness):
+        """These candidates and ``new`` ones (full-rate samples, found in the modes' band alone), in time order.
+
+        ``attack`` (bool) says whether the new ones are attacks, ``likeness`` is theirs. Returns the
+        candidates and which of them are the new ones.
+        """
+        order = np.argsort(np.concatenate((self.times, new)), kind="stable")
+        fresh = np.concatenate((np.zeros(len(self.times), dtype=bool), np.ones(len(new), dtype=bool)))[order]
+        merged = _Candidates(np.concatenate((self.times, new))[order],
+                             np.concatenate((self.kinds, np.full(len(new), 2)))[order],
+                             np.concatenate((self.attack, np.full(len(new), attack)))[order],
+                             np.concatenate((self.likeness, likeness))[order])
+        return merged, fresh
+
+
+@dataclass(frozen=True)
+class _Heard:
+    """Steps 2 and 3's onsets (full-rate samples): ``tonal`` ones, ``broadband`` ones, and ``strong``, which
+    says whether a group's tonal time is trusted over its broadband one; ``gap`` is ``min_interval`` in samples."""
+
+    tonal: list
+    broadband: list
+    strong: Callable[[float, float], bool]
+    gap: float
+
+    def merge(self, deep=()):
+        """:func:`_merge` of these onsets and the ``deep`` ones (found in the modes' band): times and kinds."""
+        return _merge(self.tonal, self.broadband, self.gap, deep, strong=self.strong)
+
+
+@dataclass(frozen=True)
+class _Pursuit:
+    """What :func:`_pursue` leaves and finds, each onset's values in an array [shape=(n,)].
+
+    Attributes
+    ----------
+    residual : ndarray
+        The innovation less every onset's fitted signature (and the room's tail with it).
+    jumps : ndarray
+        Each onset's jump (:func:`_jump_at`, windows of ≥ ``modes_width`` samples) in the innovation
+        less the earlier onsets' signatures.
+    likeness : ndarray
+        The largest correlation coefficient (magnitude) of the signature's start (its spike and
+        ``head`` samples) with what is there, over the five alignments.
+    where : ndarray
+        Where each onset's signature fits best (samples of the band, to a fraction: the derivative's
+        weight over the signature's).
+    at : ndarray of int
+        Where each fitted signature starts (samples of the band).
+    amplitude : ndarray
+        Each fitted signature's scale (0 where none was fitted).
+    template : ndarray
+        The signature.
+    """
+
+    residual: np.ndarray
+    jumps: np.ndarray
+    likeness: np.ndarray
+    where: np.ndarray
+    at: np.ndarray
+    amplitude: np.ndarray
+    template: np.ndarray
+
+
+def _tonal_innovation(band, rate, config):
+    """Step 1: ``band`` (high-passed, normalised) decimated, and its innovation (Burg's predictor, ``config.order``)."""
+    q = max(_decimation(band, rate), rate // config.analysis_rate)
     low, low_rate, delay = _decimate(band, rate, q)
-    _, innovation = _innovation(low)
-    tonal = [k * q - delay for k in _jumps(innovation, low_rate, min_interval, MIN_JUMP)]
-    broadband = list(_broadband_onsets(band, rate, min_interval))
+    _, innovation = _innovation(low, config.order)
+    return _Innovation(innovation, q, delay, low_rate)
+
+
+def _heard_jumps(band, rate, tonal, config):
+    """Steps 2 and 3: the jumps of the decimated innovation (``tonal``) and of the first difference at full rate."""
+    tonal_onsets = [tonal.samples(k) for k in _jumps(tonal.e, tonal.rate, config.min_interval, config.min_jump)]
+    broadband = [k - 0.5 for k in _jumps(np.diff(band, prepend=band[0]), rate, config.min_interval,
+                                         config.broadband_jump)]  # the difference is centred ½ sample early
 
     def strong(tonal_at, broadband_at):  # a sharp attack's change point, and a broadband jump of its beating apart
-        return abs(tonal_at - broadband_at) > DISAGREE * rate and _jump_at(
-            innovation, [(tonal_at + delay) / q], low_rate)[0] >= STRONG_RISE
+        return abs(tonal_at - broadband_at) > config.disagreement * rate and _jump_at(
+            tonal.e, [tonal.at(tonal_at)], tonal.rate)[0] >= config.strong_rise
 
-    first, _ = _merge(tonal, broadband, min_interval * rate, strong=strong)
-    q2 = max(q, rate // MODES_RATE)
+    return _Heard(tonal_onsets, broadband, strong, config.min_interval * rate)
+
+
+def _modes_band(band, rate, q, first, config):
+    """Step 4's band: its innovation, the room's tail fitted over the ``first`` onsets, whether it is reverberant.
+
+    Returns the :class:`_Modes` and the innovation less the first onsets' signatures (and tails).
+    """
+    q2 = max(q, rate // config.modes_rate)
     modes_band, modes_rate, modes_delay = _decimate(band, rate, q2)
-    modes = _Modes(_robust_innovation(modes_band), q2, modes_delay, modes_rate)
-    residual, _, _, _, at, amp, template = _pursue(modes.e, modes.at(first), modes.rate, spikes=True)
-    tail = _room_tail(modes.e, at, amp, round(TAIL * modes.rate))
-    if tail is not None:
-        modes = replace(modes, tail=tail)
-        residual = modes.pursue(first)[0]
-    size = len(template)
-    reverberant = (tail is not None and len(tail) > size
-                   and tail[size:] @ tail[size:] >= ROOM * (tail[:size] @ tail[:size]))  # step 5 takes tails off
-    deep = modes.jumps(residual, min_interval)
-    more, _ = _merge(first, deep, min_interval * rate)  # a second round: the quiet ones found taken off too
-    residual = modes.pursue(more)[0]
+    modes = _Modes(_robust_innovation(modes_band, config.modes_order)[1], q2, modes_delay, modes_rate)
+    pursuit = modes.pursue(first, config)
+    tail = _room_tail(modes.e, pursuit.at, pursuit.amplitude, round(config.tail * modes.rate), config.tail_ridge)
+    if tail is None:
+        return modes, pursuit.residual
+    size = len(pursuit.template)
+    reverberant = bool(len(tail) > size and tail[size:] @ tail[size:] >= config.room * (tail[:size] @ tail[:size]))
+    modes = replace(modes, tail=tail, reverberant=reverberant)
+    return modes, modes.pursue(first, config).residual
+
+
+def _quiet_jumps(modes, first, residual, rate, config):
+    """Step 4's two rounds: the remainder's jumps after the ``first`` onsets, then after those found too.
+
+    Returns the onsets found (full-rate samples) and the remainder of the second round.
+    """
+    deep = modes.jumps(residual, config)
+    more, _ = _merge(first, deep, config.min_interval * rate)  # a second round: the quiet ones found taken off too
+    residual = modes.pursue(more, config).residual
     # a new one only away from the known ones (not a spike's leftover before one)
-    deep += _away(modes.jumps(residual, min_interval), np.sort(np.concatenate((more, deep))),
-                  SECOND_GAP * min_interval * rate)
-    times, kinds = _merge(tonal, broadband, min_interval * rate, deep, strong=strong)
-    _, modes_jump, likeness, where = modes.pursue(times)
-    times, offset = _retime(times, kinds, modes.samples(where), likeness)
-    tonal_jump = _jump_at(innovation, (times + delay) / q, low_rate)
+    deep += _away(modes.jumps(residual, config), np.sort(np.concatenate((more, deep))),
+                  config.second_gap * config.min_interval * rate)
+    return deep, residual
+
+
+def _judged(band, rate, tonal, modes, merged, config):
+    """Step 4's judgement of the ``merged`` onsets (times, kinds): their times, whether each is an attack.
+
+    Returns the :class:`_Candidates` and ``modes`` with the offset of its fitted times (:func:`_retime`).
+    """
+    times, kinds = merged
+    pursuit = modes.pursue(times, config)
+    likeness = pursuit.likeness
+    times, offset = _retime(times, kinds, modes.samples(pursuit.where), likeness, config.precise_likeness)
+    tonal_jump = _jump_at(tonal.e, tonal.at(times), tonal.rate)
     broadband_jump = _jump_at(np.diff(band, prepend=band[0]), times + 0.5, rate)
-    rises = (tonal_jump >= MIN_JUMP) | ((broadband_jump >= BROADBAND_JUMP) & (tonal_jump >= TONAL_SUPPORT))
-    weak = (likeness >= WEAK_LIKENESS) & (tonal_jump >= WEAK_RISE)  # half like it, rising a little
-    attack = (modes_jump >= MIN_JUMP) & ((likeness >= LIKENESS) | rises | weak)
-    attack |= (modes_jump >= SURE_JUMP) & (likeness >= SURE_LIKENESS)
-    if reverberant:
-        times, attack, likeness = _try_later(modes, times, kinds, attack, likeness, residual, min_interval, rate,
-                                             offset)
-        times, kinds, attack, likeness = _last_round(modes, times, kinds, attack, likeness, min_interval, rate, offset)
-    for _ in range(AFTER_ROUNDS):  # again with the ones found taken off, while it finds more
-        count = np.count_nonzero(attack)
-        times, kinds, attack, likeness = _after_louder(modes, times, kinds, attack, likeness, min_interval, rate,
-                                                       offset)
-        if np.count_nonzero(attack) == count:
+    rises = (tonal_jump >= config.min_jump) | ((broadband_jump >= config.broadband_jump)
+                                              & (tonal_jump >= config.tonal_support))
+    weak = (likeness >= config.weak_likeness) & (tonal_jump >= config.weak_rise)  # half like it, rising a little
+    attack = (pursuit.jumps >= config.min_jump) & ((likeness >= config.likeness) | rises | weak)
+    attack |= (pursuit.jumps >= config.sure_jump) & (likeness >= config.sure_likeness)
+    return _Candidates(times, kinds, attack, likeness), replace(modes, offset=offset)
+
+
+def _try_later(modes, candidates, residual, rate, config):
+    """Decimated onsets whose start does not look like the signature, tried again where the remainder jumps most just after.
+
+    In a room's tail the change point of an onset found in the decimated innovation or in the modes' band
+    is often placed 1-6 ms early (on what is left of the earlier onsets' tails), where its start does not
+    look like the signature: refused, or accepted at the wrong time. It is moved to where ``residual``
+    (the modes' band's remainder) jumps most before ``move_reach`` times ``min_interval`` later,
+    and taken there when the remainder jumps ``moved_jump`` times and its start looks like the
+    signature (``likeness``), timed by its signature's fit (:meth:`_Modes.fitted`); else it stays as it was.
+    """
+    times, likeness = candidates.times, candidates.likeness
+    after, before, _ = _windows(residual, modes.rate, config.modes_width)
+    profile = np.sqrt(after / np.maximum(before, 1e-300 + after * 1e-12))
+    moved = times.copy()
+    for i in np.flatnonzero((likeness < config.likeness) & (candidates.kinds >= 1)):
+        end = min(times[i] + config.move_reach * config.min_interval * rate,
+                  times[i + 1] - config.min_interval * rate if i + 1 < len(times) else np.inf)
+        low, high = int(np.ceil(modes.at(times[i]))) + 1, min(int(modes.at(end)), len(profile))
+        if high > low:
+            k = low + int(np.argmax(profile[low:high]))
+            if profile[k] >= config.min_jump:
+                moved[i] = modes.samples(k)
+    tried = moved != times
+    if not np.any(tried):
+        return candidates
+    pursuit = modes.pursue(moved, config)
+    take = tried & (pursuit.jumps >= config.moved_jump) & (pursuit.likeness >= config.likeness)
+    times, attack, likeness = times.copy(), candidates.attack.copy(), likeness.copy()
+    times[take] = modes.fitted(pursuit.where[take])
+    attack[take], likeness[take] = True, pursuit.likeness[take]
+    return _Candidates(times, candidates.kinds, attack, likeness)
+
+
+def _last_round(modes, candidates, rate, config):
+    """New onsets where the remainder jumps once only the attacks found are taken off; the refused ones tried again.
+
+    The rounds before take off their candidates, the refused ones too and some 1-6 ms early
+    (:func:`_try_later`); with the attacks alone, at their final times, a quiet attack in a room's tail
+    may jump out. The remainder's jumps farther than ``second_gap`` times ``min_interval`` from
+    every onset join the onsets (found in the modes' band alone); all are fitted again in time order at
+    their final times, and the new and the refused ones are attacks when the remainder jumps
+    ``min_jump`` times at them and their start looks like the signature (``likeness``), the new
+    ones timed by their signature's fit (:meth:`_Modes.fitted`).
+    """
+    residual = modes.pursue(candidates.times[candidates.attack], config).residual
+    new = _away(modes.jumps(residual, config), candidates.times, config.second_gap * config.min_interval * rate)
+    every, fresh = candidates.insert(new, attack=False, likeness=np.zeros(len(new)))
+    pursuit = modes.pursue(every.times, config)
+    take = ~every.attack & (pursuit.jumps >= config.min_jump) & (pursuit.likeness >= config.likeness)
+    times = every.times.copy()
+    times[take & fresh] = modes.fitted(pursuit.where[take & fresh])
+    every = _Candidates(times, every.kinds, every.attack | take, np.where(take, pursuit.likeness, every.likeness))
+    every = every.take(~fresh | take)
+    return every.take(np.argsort(every.times, kind="stable"))  # a fitted time stays between its neighbours'
+
+
+def _search_after_louder(modes, candidates, rate, config):
+    """:func:`_after_louder` again, the attacks it found taken off, while it finds more (``after_rounds`` at most)."""
+    for _ in range(config.after_rounds):
+        count = np.count_nonzero(candidates.attack)
+        candidates = _after_louder(modes, candidates, rate, config)
+        if np.count_nonzero(candidates.attack) == count:
             break
-    q3 = max(q, int(rate // (2.5 * _level_corner(band, rate, first))))
+    return candidates
+
+
+def _after_louder(modes, candidates, rate, config):
+    """A quiet attack in each attack's signature, found by fitting its whole signature where the remainder jumps too little.
+
+    A bouncing stick's impact 13-40 ms after one a few dB louder may not make the remainder jump over
+    its 2-ms windows: what is left of the louder one's signature (and of the snare wires' rattle, the
+    room's tails) is as loud there. Its whole signature (the spike and the 50 ms after it) stands out more. Over each
+    attack's signature in the remainder (the attacks taken off, at their final times), the signature and
+    its derivative are fitted by least squares at every trial time from ``min_interval`` after the
+    attack to ``after_reach`` s after it (or ``min_interval`` before the next attack), truncated to
+    that window. The fit that takes off the most with a positive scale is an attack when it takes off
+    enough of the window's remainder (an F-test of its two parameters: ``after_f``, or
+    ``after_weak_f`` when its start looks half like the signature, ``weak_likeness``) and its
+    scale is ``after_ratio_low`` to ``after_ratio_high`` of the louder one's (a bouncing stick's next
+    impact, not what is left of the louder one's signature). It is timed by its signature's fit
+    (:meth:`_Modes.fitted`) and replaces a refused onset within ``min_interval``. (Fitting the louder
+    attack again jointly with each trial changes the fit's gain by 0.1-4 % at the impacts missed,
+    more at false trials: it is not done.)
+    """
+    sure = np.flatnonzero(candidates.attack)
+    if not len(sure):
+        return candidates
+    times = candidates.times
+    pursuit = modes.pursue(times[sure], config)
+    residual, template = pursuit.residual, pursuit.template
+    size = len(template)
+    basis = np.column_stack([template, np.gradient(template)])
+    grams = np.cumsum(basis[:, :, None] * basis[:, None, :], axis=0)  # the truncated signatures' normal equations
+    gap = max(1, round(config.min_interval * modes.rate))
+    reach = round(config.after_reach * modes.rate)
+    spike = int(np.argmax(np.abs(template)))
+    head = template[:spike + config.head]
+    head_norm = float(np.sqrt(head @ head))
+    positions = np.round(modes.at(times[sure])).astype(np.int64)
+    new, likes = [], []
+    for i, (s, alpha) in enumerate(zip(pursuit.at, pursuit.amplitude)):
+        if alpha <= 0.0 or s + size > len(residual):
+            continue
+        stop = positions[i] + reach if i + 1 == len(sure) else min(positions[i] + reach, positions[i + 1] - gap)
+        lags = np.arange(positions[i] + gap, stop + 1) - spike - s  # where each trial signature starts in the window
+        lags = lags[(lags > 0) & (lags < size - 2 * config.modes_width)]  # two jump windows of it in the window
+        if not len(lags):
+            continue
+        k, weights, f = _best_trial(residual[s:s + size], basis, grams, lags)
+        if k is None:
+            continue
+        ratio = weights[0] / alpha
+        start = residual[s + lags[k]:s + lags[k] + len(head)]
+        like = abs(start @ head) / (np.sqrt(start @ start) * head_norm + 1e-300)
+        passes = f >= config.after_f or (f >= config.after_weak_f and like >= config.weak_likeness)
+        if passes and config.after_ratio_low <= ratio <= config.after_ratio_high:
+            shift = float(np.clip(-weights[1] / weights[0], -1.0, 1.0))
+            new.append(modes.fitted(s + lags[k] + spike + shift))
+            likes.append(like)
+    if not new:
+        return candidates
+    new = np.array(new)
+    near = np.abs(times[:, None] - new[None, :]).min(axis=1) < config.min_interval * rate
+    refused = ~candidates.attack & near  # a refused onset where one is found now: the new one replaces it
+    return candidates.take(~refused).insert(new, attack=True, likeness=likes)[0]
+
+
+def _levels(band, rate, q, first, candidates, reverberant, config):
+    """Step 5: each candidate's amplitude in the drum's lowest modes (full scale), and that band's noise floor.
+
+    The band's top comes from the ``first`` onsets (:func:`_level_corner`); ``q`` is step 1's decimation.
+    """
+    q3 = max(q, int(rate // (2.5 * _level_corner(band, rate, first, config))))
     lowest, lowest_rate, lowest_delay = _decimate(band, rate, q3)
-    _, level_coefficients = _robust_innovation(lowest, LEVEL_ORDER, coefficients=True)
-    amplitude = _attack_amplitudes(lowest, level_coefficients, (times + lowest_delay) / q3, lowest_rate,
-                                   tail=round(TAIL * lowest_rate) if reverberant else 0, sure=likeness >= LIKENESS)
-    floor = _noise_floor(lowest, lowest_rate)
-    info = {**info, "analysis_rate": low_rate}
-    found = (amplitude > floor * 10.0 ** (FLOOR_MARGIN_DB / 20.0)) & attack
+    level_coefficients, _ = _robust_innovation(lowest, config.level_order)
+    amplitude = _attack_amplitudes(lowest, level_coefficients, (candidates.times + lowest_delay) / q3, lowest_rate,
+                                   tail=round(config.tail * lowest_rate) if reverberant else 0,
+                                   sure=candidates.likeness >= config.likeness, ridge=config.tail_ridge)
+    return amplitude, _noise_floor(lowest, lowest_rate, config.floor_quantile)
+
+
+def _reported(candidates, amplitude, floor, info, source, rate, config):
+    """Step 6: the attacks above the noise floor and the threshold, in s and dB re the loudest."""
+    found = (amplitude > floor * 10.0 ** (config.floor_margin_db / 20.0)) & candidates.attack
     if not np.any(found):
-        return none("no attack rises above the noise floor")
-    times, amplitude = times[found], amplitude[found]
+        return _no_onsets("no attack rises above the noise floor", info, source, config)
+    times, amplitude = candidates.times[found], amplitude[found]
     level = 20.0 * np.log10(amplitude / amplitude.max())
     floor_db = float(20.0 * np.log10(floor / amplitude.max())) if floor > 0.0 else -np.inf
-    used = max(threshold_db, floor_db + FLOOR_MARGIN_DB)
+    used = max(config.threshold_db, floor_db + config.floor_margin_db)
     keep = level >= used
-    info["floor_db"] = floor_db if np.isfinite(floor_db) else None
+    info = {**info, "floor_db": floor_db if np.isfinite(floor_db) else None}
     return Onsets(np.maximum(times[keep] / rate, 0.0), level[keep], threshold_db=float(used), source=source,
                   info=info)
 
 
-def _high_pass(signal, rate):
+# ------------------------------------------------------------------------------------------ the stages' tools
+
+
+def _high_pass(signal, rate, corner):
+    """``signal`` less its rumble and DC: a 2nd-order Butterworth high-pass at ``corner`` Hz."""
     from scipy.signal import butter, sosfilt
 
-    return sosfilt(butter(2, HIGH_PASS, btype="highpass", fs=rate, output="sos"), signal)
+    return sosfilt(butter(2, corner, btype="highpass", fs=rate, output="sos"), signal)
 
 
 def _decimation(band, rate):
@@ -536,7 +970,7 @@ def _decimate(band, rate, q, corner=None):
     return sosfilt(sos, band)[::q].copy(), rate / q, float(delay)
 
 
-def _innovation(x, order=ORDER):
+def _innovation(x, order):
     """A linear predictor of ``x`` (Burg's method; its error filter's coefficients) and what it does not predict."""
     import librosa
     from scipy.signal import lfilter
@@ -548,10 +982,10 @@ def _innovation(x, order=ORDER):
     return a, lfilter(a, [1.0], x)
 
 
-def _robust_innovation(x, order=MODES_ORDER, *, coefficients=False):
-    """The innovation of ``x`` by a linear predictor fitted by least squares reweighted by the inverse local power of a first fit's innovation.
+def _robust_innovation(x, order):
+    """A linear predictor of ``x`` fitted by least squares reweighted by the inverse local power of a first fit's innovation.
 
-    With ``coefficients``, also the predictor's error filter (first the innovation, then the filter).
+    Returns its error filter's coefficients and what it does not predict (as :func:`_innovation`).
     """
     from numpy.lib.stride_tricks import sliding_window_view
     from scipy.ndimage import uniform_filter1d
@@ -573,351 +1007,7 @@ def _robust_innovation(x, order=MODES_ORDER, *, coefficients=False):
         a = burg
     if not np.all(np.isfinite(a)):
         a = burg
-    e = lfilter(a, [1.0], x)
-    return (e, a) if coefficients else e
-
-
-def _pursue(e, positions, rate, span=SIGNATURE, tail=None, spikes=False):
-    """``e`` less each onset's signature, the onsets taken in time order; how each onset rises over what went before.
-
-    The signature is the innovation of the loudest attack (its largest spike and the ``span`` s
-    after it); each onset's is fitted by least squares (the signature and its derivative: a
-    fraction of a sample's shift) at the best of five alignments and taken off before the next.
-    With ``tail`` (a longer response, from the signature's start: :func:`_room_tail`), its part
-    past the signature is taken off too, scaled by the signature's fit.
-
-    Returns
-    -------
-    residual : ndarray
-        ``e`` less every onset's fitted signature.
-    jumps : ndarray
-        Each onset's jump (:func:`_jump_at`, windows of ≥ :data:`MODES_WIDTH` samples) in ``e``
-        less the earlier onsets' signatures.
-    likeness : ndarray
-        The largest correlation coefficient (magnitude) of the signature's start (its spike and
-        :data:`HEAD` samples) with what is there, over the five alignments.
-    where : ndarray
-        Where each onset's signature fits best (samples of ``e``, to a fraction: the derivative's
-        weight over the signature's).
-    at, amplitude, template : ndarray
-        With ``spikes`` only: where each fitted signature starts (samples), its scale, and the signature.
-    """
-    from numpy.lib.stride_tricks import sliding_window_view
-
-    length = max(4, round(span * rate))
-    peak = int(np.argmax(np.abs(e)))
-    lead = min(2, peak)
-    template = e[peak - lead:peak + length].copy()
-    size = len(template)
-    basis = np.column_stack([template, np.gradient(template)]) if size > 1 else template[:, None]
-    gram = basis.T @ basis
-    positions = np.asarray(positions, dtype=float)
-    if not np.all(np.isfinite(gram)) or np.linalg.cond(gram) > 1e12:  # no signature to fit: nothing taken off
-        found = e.copy(), _jump_at(e, positions, rate, MODES_WIDTH), np.ones(len(positions)), positions.copy()
-        if spikes:
-            return *found, np.round(positions).astype(np.int64), np.zeros(len(positions)), template
-        return found
-    solve = np.linalg.solve(gram, basis.T)
-    head = template[:lead + HEAD]
-    head_norm = float(np.sqrt(head @ head))
-    width = max(MODES_WIDTH, round(1e-3 * rate))
-    half = max(1, width // 2)
-    r = e.copy()
-    jumps = np.zeros(len(positions))
-    likeness = np.zeros(len(positions))
-    where = positions.copy()
-    at, amp = np.zeros(len(positions), dtype=np.int64), np.zeros(len(positions))
-    for i, c in enumerate(np.round(positions).astype(np.int64)):
-        # the jump: the next window's power over the 4 windows before, the largest within half a window
-        low, high = max(0, c - half - 4 * width), min(len(r), c + half + width + 1)
-        jumps[i] = _jump_at(r[low:high], [c - low], rate, MODES_WIDTH)[0] if high - low > width else 0.0
-        starts = c - lead + np.arange(-2, 3)
-        starts = starts[(starts >= 0) & (starts + size <= len(r))]
-        if not len(starts):
-            continue
-        block = sliding_window_view(r[starts[0]:starts[-1] + size], size)
-        heads = block[:, :len(head)]
-        likeness[i] = float(np.max(np.abs(heads @ head) / (np.sqrt(np.einsum("ij,ij->i", heads, heads)) * head_norm + 1e-300)))
-        weights = block @ solve.T
-        cost = np.einsum("ij,ij->i", block, block) - np.einsum("ij,ij->i", weights, weights @ gram)
-        k = int(np.argmin(cost))
-        r[starts[k]:starts[k] + size] -= basis @ weights[k]
-        if tail is not None and len(tail) > size:
-            stop = min(len(r), starts[k] + len(tail))
-            r[starts[k] + size:stop] -= weights[k][0] * tail[size:stop - starts[k]]
-        at[i], amp[i] = starts[k], weights[k][0]
-        shift = -weights[k][1] / weights[k][0] if len(weights[k]) > 1 and weights[k][0] != 0.0 else 0.0
-        where[i] = starts[k] + lead + float(np.clip(shift, -1.0, 1.0))
-    if spikes:
-        return r, jumps, likeness, where, at, amp, template
-    return r, jumps, likeness, where
-
-
-def _room_tail(e, at, amp, length):
-    """The attacks' common response (``length`` samples from each start), by least squares over all of them."""
-    from scipy.linalg import solve_toeplitz
-
-    keep = amp != 0.0
-    at, amp = at[keep], amp[keep]
-    if len(at) == 0:
-        return None
-    s = np.zeros(len(e))
-    np.add.at(s, at, amp)
-    size = 1 << int(np.ceil(np.log2(len(e) + length)))
-    S = np.fft.rfft(s, size)
-    r_ss = np.fft.irfft(S * np.conj(S), size)[:length]
-    r_se = np.fft.irfft(np.conj(S) * np.fft.rfft(e, size), size)[:length]
-    r_ss[0] *= 1.0 + TAIL_RIDGE
-    h = solve_toeplitz(r_ss, r_se)
-    return h if np.all(np.isfinite(h)) else None
-
-
-@dataclass(frozen=True)
-class _Modes:
-    """The drum's modes' band of step 4: its innovation ``e``, decimated ``q`` times with ``delay``
-    samples of filter delay (full rate), at ``rate`` Hz, and the room's ``tail`` once fitted."""
-
-    e: np.ndarray
-    q: int
-    delay: float
-    rate: float
-    tail: np.ndarray | None = None
-
-    def at(self, samples):
-        """Full-rate ``samples`` as (fractional) samples of the band."""
-        return (samples + self.delay) / self.q
-
-    def samples(self, at):
-        """Samples of the band ``at`` as full-rate samples."""
-        return at * self.q - self.delay
-
-    def pursue(self, samples, spikes=False):
-        """:func:`_pursue` of the onsets at full-rate ``samples``, the room's tail taken off with each."""
-        return _pursue(self.e, self.at(samples), self.rate, tail=self.tail, spikes=spikes)
-
-    def jumps(self, residual, min_interval):
-        """Where ``residual`` (in the band) jumps :data:`MIN_JUMP` times, as a list of full-rate samples."""
-        return [self.samples(k) for k in _jumps(residual, self.rate, min_interval, MIN_JUMP, MODES_WIDTH)]
-
-
-def _away(candidates, known, gap):
-    """The ``candidates`` farther than ``gap`` from their nearest neighbours in ``known`` (sorted), in order."""
-    kept = []
-    for s in candidates:
-        near = np.searchsorted(known, s)
-        if all(abs(known[j] - s) > gap for j in (near - 1, near) if 0 <= j < len(known)):
-            kept.append(s)
-    return kept
-
-
-def _try_later(modes, times, kinds, attack, likeness, residual, min_interval, rate, offset):
-    """Decimated onsets whose start does not look like the signature, tried again where the remainder jumps most just after.
-
-    In a room's tail the change point of an onset found in the decimated innovation or in the modes' band
-    is often placed 1-6 ms early (on what is left of the earlier onsets' tails), where its start does not
-    look like the signature: refused, or accepted at the wrong time. It is moved to where ``residual``
-    (the modes' band's remainder) jumps most before :data:`MOVE_REACH` times ``min_interval`` (s) later,
-    and taken there when the remainder jumps :data:`MOVED_JUMP` times and its start looks like the
-    signature (:data:`LIKENESS`), timed by its signature's fit plus ``offset`` (full-rate samples, as
-    :func:`_retime`); else it stays as it was. Times are full-rate samples, ``residual`` in ``modes``' band.
-    """
-    after, before, _ = _windows(residual, modes.rate, MODES_WIDTH)
-    profile = np.sqrt(after / np.maximum(before, 1e-300 + after * 1e-12))
-    moved = times.copy()
-    for i in np.flatnonzero((likeness < LIKENESS) & (kinds >= 1)):
-        end = min(times[i] + MOVE_REACH * min_interval * rate,
-                  times[i + 1] - min_interval * rate if i + 1 < len(times) else np.inf)
-        low, high = int(np.ceil(modes.at(times[i]))) + 1, min(int(modes.at(end)), len(profile))
-        if high > low:
-            k = low + int(np.argmax(profile[low:high]))
-            if profile[k] >= MIN_JUMP:
-                moved[i] = modes.samples(k)
-    tried = moved != times
-    if not np.any(tried):
-        return times, attack, likeness
-    _, jump, like, where = modes.pursue(moved)
-    take = tried & (jump >= MOVED_JUMP) & (like >= LIKENESS)
-    times, attack, likeness = times.copy(), attack.copy(), likeness.copy()
-    times[take] = modes.samples(where[take]) + offset
-    attack[take], likeness[take] = True, like[take]
-    return times, attack, likeness
-
-
-def _last_round(modes, times, kinds, attack, likeness, min_interval, rate, offset):
-    """New onsets where the remainder jumps once only the attacks found are taken off; the refused ones tried again.
-
-    The rounds before take off their candidates, the refused ones too and some 1-6 ms early
-    (:func:`_try_later`); with the attacks alone, at their final times, a quiet attack in a room's tail
-    may jump out. The remainder's jumps farther than :data:`SECOND_GAP` times ``min_interval`` (s) from
-    every onset join the onsets (found in the modes' band alone); all are fitted again in time order at
-    their final times, and the new and the refused ones are attacks when the remainder jumps
-    :data:`MIN_JUMP` times at them and their start looks like the signature (:data:`LIKENESS`), the new
-    ones timed by their signature's fit plus ``offset``. Times are full-rate samples.
-    """
-    residual = modes.pursue(times[attack])[0]
-    new = _away(modes.jumps(residual, min_interval), times, SECOND_GAP * min_interval * rate)
-    every, kinds, attack, likeness, fresh = _insert(times, kinds, attack, likeness, new, taken=False,
-                                                    like=np.zeros(len(new)))
-    _, jump, like, where = modes.pursue(every)
-    take = ~attack & (jump >= MIN_JUMP) & (like >= LIKENESS)
-    every[take & fresh] = modes.samples(where[take & fresh]) + offset
-    likeness = np.where(take, like, likeness)
-    attack |= take
-    keep = ~fresh | take
-    every, kinds, attack, likeness = every[keep], kinds[keep], attack[keep], likeness[keep]
-    order = np.argsort(every, kind="stable")  # a fitted time stays between its neighbours' (2 min_interval away)
-    return every[order], kinds[order], attack[order], likeness[order]
-
-
-def _after_louder(modes, times, kinds, attack, likeness, min_interval, rate, offset):
-    """A quiet attack in each attack's signature, found by fitting its whole signature where the remainder jumps too little.
-
-    A bouncing stick's impact 13-40 ms after one a few dB louder may not make the remainder jump over
-    its 2-ms windows: what is left of the louder one's signature (and of the snare wires' rattle, the
-    room's tails) is as loud there. Its whole signature (the spike and the 50 ms after it) stands out more. Over each
-    attack's signature in the remainder (the attacks taken off, at their final times), the signature and
-    its derivative are fitted by least squares at every trial time from ``min_interval`` (s) after the
-    attack to :data:`AFTER_REACH` s after it (or ``min_interval`` before the next attack), truncated to
-    that window. The fit that takes off the most with a positive scale is an attack when it takes off
-    enough of the window's remainder (an F-test of its two parameters: :data:`AFTER_F`, or
-    :data:`AFTER_WEAK_F` when its start looks half like the signature, :data:`WEAK_LIKENESS`) and its
-    scale is :data:`AFTER_RATIO` of the louder one's (a bouncing stick's next impact, not what is left
-    of the louder one's signature). It is timed by its signature's fit plus ``offset`` (full-rate
-    samples, as :func:`_retime`) and replaces a refused onset within ``min_interval``. Times are full-rate
-    samples. (Fitting the louder attack again jointly with each trial changes the fit's gain by 0.1-4 %
-    at the impacts missed, more at false trials: it is not done.)
-    """
-    sure = np.flatnonzero(attack)
-    if not len(sure):
-        return times, kinds, attack, likeness
-    residual, _, _, _, at, amp, template = modes.pursue(times[sure], spikes=True)
-    size = len(template)
-    basis = np.column_stack([template, np.gradient(template)])
-    grams = np.cumsum(basis[:, :, None] * basis[:, None, :], axis=0)  # the truncated signatures' normal equations
-    gap = max(1, round(min_interval * modes.rate))
-    reach = round(AFTER_REACH * modes.rate)
-    spike = int(np.argmax(np.abs(template)))
-    head = template[:spike + HEAD]
-    head_norm = float(np.sqrt(head @ head))
-    positions = np.round(modes.at(times[sure])).astype(np.int64)
-    new, likes = [], []
-    for i, (s, alpha) in enumerate(zip(at, amp)):
-        if alpha <= 0.0 or s + size > len(residual):
-            continue
-        stop = positions[i] + reach if i + 1 == len(sure) else min(positions[i] + reach, positions[i + 1] - gap)
-        lags = np.arange(positions[i] + gap, stop + 1) - spike - s  # where each trial signature starts in the window
-        lags = lags[(lags > 0) & (lags < size - 2 * MODES_WIDTH)]  # two jump windows of it in the window at least
-        if not len(lags):
-            continue
-        k, weights, f = _best_trial(residual[s:s + size], basis, grams, lags)
-        if k is None:
-            continue
-        ratio = weights[0] / alpha
-        start = residual[s + lags[k]:s + lags[k] + len(head)]
-        like = abs(start @ head) / (np.sqrt(start @ start) * head_norm + 1e-300)
-        passes = f >= AFTER_F or (f >= AFTER_WEAK_F and like >= WEAK_LIKENESS)
-        if passes and AFTER_RATIO[0] <= ratio <= AFTER_RATIO[1]:
-            shift = float(np.clip(-weights[1] / weights[0], -1.0, 1.0))
-            new.append(modes.samples(s + lags[k] + spike + shift) + offset)
-            likes.append(like)
-    if not new:
-        return times, kinds, attack, likeness
-    new = np.array(new)
-    near = np.abs(times[:, None] - new[None, :]).min(axis=1) < min_interval * rate
-    refused = ~attack & near  # a refused onset where one is found now: the new one replaces it
-    times, kinds, attack, likeness = times[~refused], kinds[~refused], attack[~refused], likeness[~refused]
-    return _insert(times, kinds, attack, likeness, new, taken=True, like=likes)[:4]
-
-
-def _insert(times, kinds, attack, likeness, new, *, taken, like):
-    """The onsets with ``new`` ones among them (full-rate samples, found in the modes' band alone), in time order.
-
-    ``taken`` says whether the new ones are attacks, ``like`` their likeness. Returns the times, kinds,
-    attack and likeness arrays, and which onsets are the new ones.
-    """
-    order = np.argsort(np.concatenate((times, new)), kind="stable")
-    fresh = np.concatenate((np.zeros(len(times), dtype=bool), np.ones(len(new), dtype=bool)))[order]
-    return (np.concatenate((times, new))[order], np.concatenate((kinds, np.full(len(new), 2)))[order],
-            np.concatenate((attack, np.full(len(new), taken)))[order], np.concatenate((likeness, like))[order], fresh)
-
-
-def _best_trial(y, basis, grams, lags):
-    """The trial signature that takes off the most of ``y`` (a window of the remainder) with a positive scale.
-
-    Each trial is ``basis`` (the signature and its derivative, as columns) starting ``lags`` samples
-    into the window, truncated to it (``grams``: the normal equations of its first rows, cumulated).
-    Returns the trial's index in ``lags``, its least-squares weights and the F statistic of its two
-    parameters against what is left of ``y`` (``len(y) - 4`` degrees of freedom: the window's own
-    attack's two parameters too), or ``(None, None, None)`` when no trial has a positive scale.
-    """
-    from numpy.lib.stride_tricks import sliding_window_view
-
-    size = len(y)
-    total = float(y @ y)
-    windows = sliding_window_view(np.concatenate((y, np.zeros(size))), size)[lags]  # from each trial on; zeros past
-    rhs = np.stack([windows @ basis[:, 0], windows @ basis[:, 1]], axis=1)
-    gram = grams[size - lags - 1]
-    try:
-        weights = np.linalg.solve(gram + 1e-12 * np.trace(gram[0]) * np.eye(2), rhs[:, :, None])[:, :, 0]
-    except np.linalg.LinAlgError:
-        return None, None, None
-    drop = np.einsum("ij,ij->i", weights, rhs)  # what each trial's fit takes off the window
-    drop[weights[:, 0] <= 0.0] = -np.inf
-    k = int(np.argmax(drop))
-    if not np.isfinite(drop[k]):
-        return None, None, None
-    return k, weights[k], (drop[k] / 2.0) / max(total - drop[k], 1e-300) * (size - 4)
-
-
-def _retime(times, kinds, fitted, likeness):
-    """Onsets found only in the modes' band timed by their signature's fit, against the others' times.
-
-    ``fitted`` (full-rate samples) is where each signature fits; its offset from the precise
-    times (broadband or tonal onsets whose start looks like the signature, likeness ≥ 0.9) is
-    their median difference, added to the fitted time of each onset found only in the modes' band. Returns
-    the times and that offset (0 when there is no precise onset or none to retime).
-    """
-    sure = (kinds < 2) & (likeness >= 0.9)
-    if not np.any(sure) or not np.any(kinds == 2):
-        return times, 0.0
-    offset = float(np.median(times[sure] - fitted[sure]))
-    out = times.copy()
-    out[kinds == 2] = fitted[kinds == 2] + offset
-    order = np.argsort(out, kind="stable")
-    return (out[order] if np.all(np.diff(out[order]) > 0) else times), offset
-
-
-def _level_corner(band, rate, onsets):
-    """The top (Hz) of the band levels are measured in: 2.1 times its lowest strong mode, ≥ 400 Hz.
-
-    The lowest strong mode is the lowest frequency within 20 dB of the strongest in the 50 ms
-    after the loudest of ``onsets`` (full-rate samples; the signal's largest sample if none).
-    """
-    if len(onsets):
-        starts = np.clip(np.round(onsets).astype(np.int64), 0, len(band) - 1)
-        peaks = [np.abs(band[k:k + max(1, round(5e-3 * rate))]).max() for k in starts]
-        start = int(starts[int(np.argmax(peaks))])
-    else:
-        start = int(np.argmax(np.abs(band)))
-    size = 1 << int(np.ceil(np.log2(rate * 0.05)))
-    segment = band[start:start + size]
-    if len(segment) < size // 4:
-        return 400.0
-    power = np.abs(np.fft.rfft(segment * np.hanning(len(segment)), size)) ** 2
-    frequencies = np.fft.rfftfreq(size, 1.0 / rate)
-    strong = np.flatnonzero((power >= 0.01 * power.max()) & (frequencies >= HIGH_PASS))
-    lowest = frequencies[strong[0]] if len(strong) else 190.0
-    return float(max(400.0, 2.1 * lowest))
-
-
-def _windows(x, rate, least=12):
-    """The mean square of ``x`` over the 1 ms (≥ ``least`` samples) from each sample, and over the 4 times that before it."""
-    width = max(least, round(1e-3 * rate))
-    power = np.concatenate(([0.0], np.cumsum(x * x)))
-    n = np.arange(len(x))
-    after = (power[np.minimum(n + width, len(x))] - power[n]) / width
-    before = (power[n] - power[np.maximum(n - 4 * width, 0)]) / (4 * width)
-    return after, before, width
+    return a, lfilter(a, [1.0], x)
 
 
 def _jumps(x, rate, min_interval, least, samples=12):
@@ -943,10 +1033,45 @@ def _jumps(x, rate, min_interval, least, samples=12):
     return [max(0, p - 4 * width) + _aic(x[max(0, p - 4 * width):p + 2 * width]) for p in peaks]
 
 
-def _broadband_onsets(band, rate, min_interval):
-    """Full-rate samples of broadband attacks: where the first difference's RMS jumps, placed by the AIC."""
-    d = np.diff(band, prepend=band[0])
-    return [k - 0.5 for k in _jumps(d, rate, min_interval, BROADBAND_JUMP)]  # the difference is centred ½ sample early
+def _windows(x, rate, least=12):
+    """The mean square of ``x`` over the 1 ms (≥ ``least`` samples) from each sample, and over the 4 times that before it."""
+    width = max(least, round(1e-3 * rate))
+    power = np.concatenate(([0.0], np.cumsum(x * x)))
+    n = np.arange(len(x))
+    after = (power[np.minimum(n + width, len(x))] - power[n]) / width
+    before = (power[n] - power[np.maximum(n - 4 * width, 0)]) / (4 * width)
+    return after, before, width
+
+
+def _jump_at(x, positions, rate, samples=12):
+    """The largest RMS jump of ``x`` (the next 1 ms over the 4 ms before) within half a window of each position."""
+    width = max(samples, round(1e-3 * rate))
+    half = max(1, width // 2)
+    out = np.zeros(len(positions))
+    for n, i in enumerate(np.round(np.asarray(positions, dtype=float)).astype(np.int64)):
+        low, high = max(0, i - half - 4 * width), min(len(x), i + half + width + 1)
+        after, before, _ = _windows(x[low:high], rate, samples)
+        k = np.arange(max(i - half, low), min(i + half + 1, high)) - low
+        valid = k >= min(4 * width, i)  # a full window before, or the signal's start
+        jump = np.sqrt(after[k] / np.maximum(before[k], 1e-300 + after[k] * 1e-12))
+        out[n] = jump[valid].max(initial=0.0)
+    return out
+
+
+def _aic(x):
+    """Akaike's change point of ``x``: the first sample of its second, louder-or-quieter segment."""
+    n = len(x)
+    power = np.cumsum(x * x)
+    total = power[-1]
+    k = np.arange(1, n)
+    before = power[:-1] / k
+    after = (total - power[:-1]) / (n - k)
+    tiny = total / n * 1e-12 + 1e-300
+    aic = k * np.log(before + tiny) + (n - k - 1) * np.log(after + tiny)
+    edge = max(2, n // 50)
+    aic[:edge] = np.inf
+    aic[-edge:] = np.inf
+    return int(np.argmin(aic)) + 1
 
 
 def _merge(tonal, broadband, gap, deep=(), strong=None):
@@ -978,7 +1103,166 @@ def _merge(tonal, broadband, gap, deep=(), strong=None):
     return np.array([s for s, _ in chosen], dtype=float), np.array([k for _, k in chosen], dtype=np.int64)
 
 
-def _attack_amplitudes(low, coefficients, positions, rate, *, tail=0, sure=None):
+def _away(candidates, known, gap):
+    """The ``candidates`` farther than ``gap`` from their nearest neighbours in ``known`` (sorted), in order."""
+    kept = []
+    for s in candidates:
+        near = np.searchsorted(known, s)
+        if all(abs(known[j] - s) > gap for j in (near - 1, near) if 0 <= j < len(known)):
+            kept.append(s)
+    return kept
+
+
+def _pursue(e, positions, rate, config, tail=None):
+    """``e`` less each onset's signature, the onsets taken in time order; how each onset rises over what went before.
+
+    The signature is the innovation of the loudest attack (its largest spike and the
+    ``config.signature`` s after it); each onset's is fitted by least squares (the signature and its derivative: a
+    fraction of a sample's shift) at the best of five alignments and taken off before the next.
+    With ``tail`` (a longer response, from the signature's start: :func:`_room_tail`), its part
+    past the signature is taken off too, scaled by the signature's fit. ``positions`` and ``rate``
+    are in samples of ``e`` and Hz. Returns a :class:`_Pursuit`.
+    """
+    from numpy.lib.stride_tricks import sliding_window_view
+
+    length = max(4, round(config.signature * rate))
+    peak = int(np.argmax(np.abs(e)))
+    lead = min(2, peak)
+    template = e[peak - lead:peak + length].copy()
+    size = len(template)
+    basis = np.column_stack([template, np.gradient(template)]) if size > 1 else template[:, None]
+    gram = basis.T @ basis
+    positions = np.asarray(positions, dtype=float)
+    if not np.all(np.isfinite(gram)) or np.linalg.cond(gram) > 1e12:  # no signature to fit: nothing taken off
+        return _Pursuit(e.copy(), _jump_at(e, positions, rate, config.modes_width), np.ones(len(positions)),
+                        positions.copy(), np.round(positions).astype(np.int64), np.zeros(len(positions)), template)
+    solve = np.linalg.solve(gram, basis.T)
+    head = template[:lead + config.head]
+    head_norm = float(np.sqrt(head @ head))
+    width = max(config.modes_width, round(1e-3 * rate))
+    half = max(1, width // 2)
+    r = e.copy()
+    jumps = np.zeros(len(positions))
+    likeness = np.zeros(len(positions))
+    where = positions.copy()
+    at, amp = np.zeros(len(positions), dtype=np.int64), np.zeros(len(positions))
+    for i, c in enumerate(np.round(positions).astype(np.int64)):
+        # the jump: the next window's power over the 4 windows before, the largest within half a window
+        low, high = max(0, c - half - 4 * width), min(len(r), c + half + width + 1)
+        jumps[i] = _jump_at(r[low:high], [c - low], rate, config.modes_width)[0] if high - low > width else 0.0
+        starts = c - lead + np.arange(-2, 3)
+        starts = starts[(starts >= 0) & (starts + size <= len(r))]
+        if not len(starts):
+            continue
+        block = sliding_window_view(r[starts[0]:starts[-1] + size], size)
+        heads = block[:, :len(head)]
+        likeness[i] = float(np.max(np.abs(heads @ head) / (np.sqrt(np.einsum("ij,ij->i", heads, heads)) * head_norm + 1e-300)))
+        weights = block @ solve.T
+        cost = np.einsum("ij,ij->i", block, block) - np.einsum("ij,ij->i", weights, weights @ gram)
+        k = int(np.argmin(cost))
+        r[starts[k]:starts[k] + size] -= basis @ weights[k]
+        if tail is not None and len(tail) > size:
+            stop = min(len(r), starts[k] + len(tail))
+            r[starts[k] + size:stop] -= weights[k][0] * tail[size:stop - starts[k]]
+        at[i], amp[i] = starts[k], weights[k][0]
+        shift = -weights[k][1] / weights[k][0] if len(weights[k]) > 1 and weights[k][0] != 0.0 else 0.0
+        where[i] = starts[k] + lead + float(np.clip(shift, -1.0, 1.0))
+    return _Pursuit(r, jumps, likeness, where, at, amp, template)
+
+
+def _room_tail(e, at, amp, length, ridge):
+    """The attacks' common response (``length`` samples from each start), by least squares over all of them.
+
+    ``ridge`` is added to the normal equations' diagonal, as a fraction of it.
+    """
+    from scipy.linalg import solve_toeplitz
+
+    keep = amp != 0.0
+    at, amp = at[keep], amp[keep]
+    if len(at) == 0:
+        return None
+    s = np.zeros(len(e))
+    np.add.at(s, at, amp)
+    size = 1 << int(np.ceil(np.log2(len(e) + length)))
+    S = np.fft.rfft(s, size)
+    r_ss = np.fft.irfft(S * np.conj(S), size)[:length]
+    r_se = np.fft.irfft(np.conj(S) * np.fft.rfft(e, size), size)[:length]
+    r_ss[0] *= 1.0 + ridge
+    h = solve_toeplitz(r_ss, r_se)
+    return h if np.all(np.isfinite(h)) else None
+
+
+def _retime(times, kinds, fitted, likeness, precise):
+    """Onsets found only in the modes' band timed by their signature's fit, against the others' times.
+
+    ``fitted`` (full-rate samples) is where each signature fits; its offset from the precise
+    times (broadband or tonal onsets whose start looks like the signature, likeness ≥ ``precise``) is
+    their median difference, added to the fitted time of each onset found only in the modes' band. Returns
+    the times and that offset (0 when there is no precise onset or none to retime).
+    """
+    sure = (kinds < 2) & (likeness >= precise)
+    if not np.any(sure) or not np.any(kinds == 2):
+        return times, 0.0
+    offset = float(np.median(times[sure] - fitted[sure]))
+    out = times.copy()
+    out[kinds == 2] = fitted[kinds == 2] + offset
+    order = np.argsort(out, kind="stable")
+    return (out[order] if np.all(np.diff(out[order]) > 0) else times), offset
+
+
+def _best_trial(y, basis, grams, lags):
+    """The trial signature that takes off the most of ``y`` (a window of the remainder) with a positive scale.
+
+    Each trial is ``basis`` (the signature and its derivative, as columns) starting ``lags`` samples
+    into the window, truncated to it (``grams``: the normal equations of its first rows, cumulated).
+    Returns the trial's index in ``lags``, its least-squares weights and the F statistic of its two
+    parameters against what is left of ``y`` (``len(y) - 4`` degrees of freedom: the window's own
+    attack's two parameters too), or ``(None, None, None)`` when no trial has a positive scale.
+    """
+    from numpy.lib.stride_tricks import sliding_window_view
+
+    size = len(y)
+    total = float(y @ y)
+    windows = sliding_window_view(np.concatenate((y, np.zeros(size))), size)[lags]  # from each trial on; zeros past
+    rhs = np.stack([windows @ basis[:, 0], windows @ basis[:, 1]], axis=1)
+    gram = grams[size - lags - 1]
+    try:
+        weights = np.linalg.solve(gram + 1e-12 * np.trace(gram[0]) * np.eye(2), rhs[:, :, None])[:, :, 0]
+    except np.linalg.LinAlgError:
+        return None, None, None
+    drop = np.einsum("ij,ij->i", weights, rhs)  # what each trial's fit takes off the window
+    drop[weights[:, 0] <= 0.0] = -np.inf
+    k = int(np.argmax(drop))
+    if not np.isfinite(drop[k]):
+        return None, None, None
+    return k, weights[k], (drop[k] / 2.0) / max(total - drop[k], 1e-300) * (size - 4)
+
+
+def _level_corner(band, rate, onsets, config):
+    """The top (Hz) of the band levels are measured in: ``config.level_ratio`` times its lowest strong mode, ≥
+    ``config.level_band`` Hz.
+
+    The lowest strong mode is the lowest frequency within 20 dB of the strongest in the 50 ms
+    after the loudest of ``onsets`` (full-rate samples; the signal's largest sample if none).
+    """
+    if len(onsets):
+        starts = np.clip(np.round(onsets).astype(np.int64), 0, len(band) - 1)
+        peaks = [np.abs(band[k:k + max(1, round(5e-3 * rate))]).max() for k in starts]
+        start = int(starts[int(np.argmax(peaks))])
+    else:
+        start = int(np.argmax(np.abs(band)))
+    size = 1 << int(np.ceil(np.log2(rate * 0.05)))
+    segment = band[start:start + size]
+    if len(segment) < size // 4:
+        return config.level_band
+    power = np.abs(np.fft.rfft(segment * np.hanning(len(segment)), size)) ** 2
+    frequencies = np.fft.rfftfreq(size, 1.0 / rate)
+    strong = np.flatnonzero((power >= 0.01 * power.max()) & (frequencies >= config.high_pass))
+    lowest = frequencies[strong[0]] if len(strong) else 190.0
+    return float(max(config.level_band, config.level_ratio * lowest))
+
+
+def _attack_amplitudes(low, coefficients, positions, rate, *, tail=0, sure=None, ridge=0.01):
     """Each attack's own peak (full scale): the signal less the earlier sound predicted on past the onset.
 
     The earlier sound (the drum's and the room's ringing) is extrapolated past the onset from the
@@ -988,7 +1272,8 @@ def _attack_amplitudes(low, coefficients, positions, rate, *, tail=0, sure=None)
     response to the onsets over ``tail`` samples (:func:`_room_tail`, each onset scaled by its first
     amplitude) is what the predictor cannot foresee of the earlier sound; an onset's own sound is
     then the predictor's response to its innovation less the tails (past the 5 ms) of the earlier
-    onsets. ``sure`` (booleans, one per onset): the onsets so measured and whose tails are taken off.
+    onsets. ``sure`` (booleans, one per onset): the onsets so measured and whose tails are taken off;
+    ``ridge``: the tail's fit's (:func:`_room_tail`).
     """
     from scipy.signal import firwin, lfilter, upfirdn
 
@@ -1002,7 +1287,7 @@ def _attack_amplitudes(low, coefficients, positions, rate, *, tail=0, sure=None)
     if tail <= 0 or not np.any(inside):
         return amplitude
     e = lfilter(coefficients, [1.0], low)
-    h = _room_tail(e, starts[inside], amplitude[inside], tail)
+    h = _room_tail(e, starts[inside], amplitude[inside], tail, ridge)
     if h is None:
         return amplitude
     sure = np.ones(len(starts), dtype=bool) if sure is None else np.asarray(sure, dtype=bool)
@@ -1018,21 +1303,6 @@ def _attack_amplitudes(low, coefficients, positions, rate, *, tail=0, sure=None)
                 own[:len(part)] -= amplitude[j] * part
         own = lfilter([1.0], coefficients, own)  # the predictor's response: the sound less its extrapolation
         out[i] = float(np.abs(upfirdn(interpolator, np.concatenate((np.zeros(4), own, np.zeros(4))), 4)).max())
-    return out
-
-
-def _jump_at(x, positions, rate, samples=12):
-    """The largest RMS jump of ``x`` (the next 1 ms over the 4 ms before) within half a window of each position."""
-    width = max(samples, round(1e-3 * rate))
-    half = max(1, width // 2)
-    out = np.zeros(len(positions))
-    for n, i in enumerate(np.round(np.asarray(positions, dtype=float)).astype(np.int64)):
-        low, high = max(0, i - half - 4 * width), min(len(x), i + half + width + 1)
-        after, before, _ = _windows(x[low:high], rate, samples)
-        k = np.arange(max(i - half, low), min(i + half + 1, high)) - low
-        valid = k >= min(4 * width, i)  # a full window before, or the signal's start
-        jump = np.sqrt(after[k] / np.maximum(before[k], 1e-300 + after[k] * 1e-12))
-        out[n] = jump[valid].max(initial=0.0)
     return out
 
 
@@ -1059,27 +1329,11 @@ def _residual_peak(x, coefficients, start, stop, interpolator=None):
     return float(np.abs(upfirdn(interpolator, padded, 4)).max())
 
 
-def _aic(x):
-    """Akaike's change point of ``x``: the first sample of its second, louder-or-quieter segment."""
-    n = len(x)
-    power = np.cumsum(x * x)
-    total = power[-1]
-    k = np.arange(1, n)
-    before = power[:-1] / k
-    after = (total - power[:-1]) / (n - k)
-    tiny = total / n * 1e-12 + 1e-300
-    aic = k * np.log(before + tiny) + (n - k - 1) * np.log(after + tiny)
-    edge = max(2, n // 50)
-    aic[:edge] = np.inf
-    aic[-edge:] = np.inf
-    return int(np.argmin(aic)) + 1
-
-
-def _noise_floor(x, rate):
-    """The 5th percentile of the peaks of ``x`` over 5-ms frames (full scale)."""
+def _noise_floor(x, rate, quantile):
+    """The ``quantile`` of the peaks of ``x`` over 5-ms frames (full scale)."""
     frame = max(1, round(5e-3 * rate))
     count = len(x) // frame
     if count < 1:
         return 0.0
     peaks = np.abs(x[:count * frame]).reshape(count, frame).max(axis=1)
-    return float(np.quantile(peaks, _FLOOR_QUANTILE))
+    return float(np.quantile(peaks, quantile))

@@ -47,25 +47,26 @@ def add_measure_cor(commands):
 
 
 def _add_detection(parser):
-    from ..analysis.onsets import DEFAULT_THRESHOLD_DB, MIN_INTERVAL
+    from ..analysis.onsets import OnsetConfig
 
-    parser.add_argument("--threshold", type=number(low=-120.0, high=0.0, unit="dB"), default=DEFAULT_THRESHOLD_DB,
+    default = OnsetConfig()
+    parser.add_argument("--threshold", type=number(low=-120.0, high=0.0, unit="dB"), default=default.threshold_db,
                         metavar="DB", help=f"report no onset quieter than this, dB re the loudest, in [-120, 0] "
-                                           f"(default {DEFAULT_THRESHOLD_DB:g}; the noise floor may raise it)")
-    parser.add_argument("--min-interval", type=number(low=0.5e-3, high=1.0, unit="s"), default=MIN_INTERVAL,
+                                           f"(default {default.threshold_db:g}; the noise floor may raise it)")
+    parser.add_argument("--min-interval", type=number(low=0.5e-3, high=1.0, unit="s"), default=default.min_interval,
                         metavar="S", help=f"the shortest time between two onsets, s, in [0.0005, 1] "
-                                          f"(default {MIN_INTERVAL:g})")
+                                          f"(default {default.min_interval:g})")
 
 
 def _read(args, path):
-    from ..analysis.onsets import find_onsets, read_onsets, read_recording
+    from ..analysis.onsets import OnsetConfig, find_onsets, read_onsets, read_recording
 
     if path.suffix.lower() == ".csv":
         onsets, sound = read_onsets(path), None
     else:
         signal, rate, notes = read_recording(path)
-        onsets = find_onsets(signal, rate, threshold_db=args.threshold, min_interval=args.min_interval,
-                             source=path.name, notes=notes)
+        config = OnsetConfig(threshold_db=args.threshold, min_interval=args.min_interval)
+        onsets = find_onsets(signal, rate, config=config, source=path.name, notes=notes)
         sound = signal, rate
     print_recording_notes(onsets)  # an onsets CSV keeps its recording's notes in its metadata
     return onsets, sound

@@ -40,10 +40,11 @@ def add_fit(commands):
 
 
 def _fit(args):
-    from ..analysis import fit_stroke, read_onsets
+    from ..analysis import find_recording_onsets, fit_stroke, read_onsets
     from ..render.outputs import write_stroke_outputs
 
-    onsets = read_onsets(args.recording)
+    csv = args.recording.suffix.lower() == ".csv"
+    onsets = read_onsets(args.recording) if csv else find_recording_onsets(args.recording)
     print_recording_notes(onsets)
     with Bar("fitting", delay=0.5) as bar:
         fitted = fit_stroke(onsets, model=args.model, cor=args.cor, fit_cor=args.fit_cor, offset=args.level,

@@ -8,7 +8,7 @@ and ``human-NAME.wav``, to be recorded (library strokes) or the recording itself
 Each config gets a new random admin token and is readable by its owner only.
 
 The robot's version of a recorded stroke (analysis by synthesis, SPEC §10): the recording's onsets
-are found (:func:`drumstroke.analysis.onsets.read_onsets`), a recipe is fitted to them
+are found (:func:`drumstroke.analysis.onsets.find_onsets`), a recipe is fitted to them
 (:func:`drumstroke.analysis.fit.fit_stroke`, written as ``NAME.toml``), the robot plays the fitted
 stroke, and its onsets are rendered on the recording's clock (the fitted stroke's release where the
 recording's is), over the recording's duration, with its peak at the recording's peak: a pair differs
