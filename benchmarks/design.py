@@ -24,7 +24,7 @@ import numpy as np
 from _timing import machine, median_time, progress
 
 import drumstroke
-from drumstroke.design import Target, assign_sticks, buzz, design, plan_stick
+from drumstroke.design import Setup, Target, assign_sticks, buzz, design, plan_stick
 from drumstroke.dynamics import velocity_to_level
 
 HERE = Path(__file__).resolve().parent
@@ -39,9 +39,9 @@ def diddle_case(model):
     levels = [velocity_to_level(v) for v in velocities]
     v = 10 ** (levels[1] / 20) / STICK.pivot_to_tip
     u = 0.86 * 10 ** (levels[0] / 20) / STICK.pivot_to_tip
-    ours = median_time(lambda: design(times, levels, model=model))
+    ours = median_time(lambda: design(times, levels, setup=Setup(model=model)))
     reference = median_time(lambda: reference_flight(0.1, u, v, model), repeats=3)
-    made = design(times, levels, model=model)
+    made = design(times, levels, setup=Setup(model=model))
     up, down = reference_flight(0.1, u, v, model)
     rise, fall = [p.force for p in made.pieces if p.phase in ("rise", "fall")][:2]
     return {"case": f"diddle, 100 ms at velocity 100 ({model})", "ours": ours, "reference": reference,
@@ -50,8 +50,8 @@ def diddle_case(model):
 
 
 def buzz_case(model):
-    ours = median_time(lambda: buzz(0.0, 1.0, velocity=90, density=30.0, model=model))
-    made = buzz(0.0, 1.0, velocity=90, density=30.0, model=model)
+    ours = median_time(lambda: buzz(0.0, 1.0, velocity=90, density=30.0, setup=Setup(model=model)))
+    made = buzz(0.0, 1.0, velocity=90, density=30.0, setup=Setup(model=model))
     level = velocity_to_level(90)
     v = 10 ** (level / 20) / STICK.pivot_to_tip
 
@@ -97,7 +97,7 @@ def plan_case(model):
         for hand in ("right", "left"):
             chosen = [Target.from_velocity(t, v, kind=kind, duration=0.0625 if kind == "buzz" else None, key=k)
                       for k, ((t, _, v, kind), s) in enumerate(zip(notes, sticks)) if s == hand]
-            plans[hand] = plan_stick(chosen, model=model)
+            plans[hand] = plan_stick(chosen, setup=Setup(model=model))
         end = times[-1] + 1.0
         return {hand: p.trajectory(t_end=end).theta for hand, p in plans.items()}, plans
 

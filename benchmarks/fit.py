@@ -24,7 +24,7 @@ from _timing import machine, median_time, progress
 
 import drumstroke
 from drumstroke.analysis import Onsets, fit_stroke
-from drumstroke.design import design
+from drumstroke.design import Setup, design
 
 HERE = Path(__file__).resolve().parent
 IMPACTS = 30
@@ -59,7 +59,7 @@ def case(model):
         cor = recipe.cor
         rows["fit (c given)"].append(median_time(lambda o=onsets, c=cor: fit_stroke(o, model=model, cor=c), REPEATS))
         rows["fit (fit_cor)"].append(median_time(lambda o=onsets: fit_stroke(o, model=model, fit_cor=True), repeats=1))
-        rows["design"].append(median_time(lambda o=onsets, lv=levels, c=cor: design(o.t, lv, model=model, cor=c), REPEATS))
+        rows["design"].append(median_time(lambda o=onsets, lv=levels, c=cor: design(o.t, lv, setup=Setup(model=model, cor=c)), REPEATS))
         rows["simulate"].append(median_time(lambda r=recipe: drumstroke.simulate(r), REPEATS))
         given = fit_stroke(onsets, model=model, cor=recipe.cor)
         fitted = fit_stroke(onsets, model=model, fit_cor=True)

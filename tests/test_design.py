@@ -16,7 +16,7 @@ from hypothesis import strategies as st
 from scipy.special import ellipk, ellipkinc
 
 import drumstroke
-from drumstroke.design import ForceRange, Start, Unreachable, buzz, design
+from drumstroke.design import ForceRange, Setup, Start, Unreachable, buzz, design
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 from reference import reference_flight
@@ -54,7 +54,7 @@ def test_a_bounce_that_loses_only_the_impact_is_one_constant_force_found_exactly
     c = co.torque_rate(9.8, force)
     v = 3.0
     duration = oracle_flight(0.86 * v, c)
-    designed = design([0.2, 0.2 + duration], [level(v), level(0.86 * v)], model=model)
+    designed = design([0.2, 0.2 + duration], [level(v), level(0.86 * v)], setup=Setup(model=model))
     rise, fall = [p for p in designed.pieces if p.phase in ("rise", "fall")]
     assert rise.force == pytest.approx(force, abs=1e-7 * max(1.0, force))
     assert fall.force == pytest.approx(force, abs=1e-7 * max(1.0, force))
@@ -67,7 +67,7 @@ def test_a_bounce_that_loses_only_the_impact_is_one_constant_force_found_exactly
 def test_diddles_are_two_notes_as_a_drummer_plays_them(model, gap, second):
     """60-125 ms apart, the second as loud as the first or louder: energy is added on the way down."""
     first = velocity_to_level(100)
-    designed = design([0.5, 0.5 + gap], [first, first + second], model=model)
+    designed = design([0.5, 0.5 + gap], [first, first + second], setup=Setup(model=model))
     assert len(designed.impacts) == 2  # caught: nothing after the second note
     assert designed.impacts.t == pytest.approx([0.5, 0.5 + gap], abs=1e-8)
     assert designed.impacts.level_db == pytest.approx([first, first + second], abs=1e-6)
@@ -84,7 +84,7 @@ def test_a_flights_forces_equal_an_independent_shooting_with_solve_ivp(model, ga
     """benchmarks/reference.py's reference_flight: the same two forces found by scipy's DOP853 and fsolve."""
     u = 3.0
     v = ratio * u
-    designed = design([0.3, 0.3 + gap], [level(u / 0.86), level(v)], model=model, forces=WIDE)
+    designed = design([0.3, 0.3 + gap], [level(u / 0.86), level(v)], setup=Setup(model=model, forces=WIDE))
     rise, fall = [p.force for p in designed.pieces if p.phase in ("rise", "fall")]
     up, down = reference_flight(gap, u, v, model)
     assert (rise, fall) == pytest.approx((up, down), rel=1e-6, abs=1e-6)
@@ -107,7 +107,7 @@ def test_a_part_of_a_flight_takes_the_time_of_its_integral(s0, w0, s1, c):
 
 def test_the_design_is_the_recipe_the_solver_plays():
     """The recipe on its own (written and read back as TOML) makes the notes: the design is no private model."""
-    designed = design([0.3, 0.38, 0.46, 0.53], velocities=[110, 90, 90, 120], model="geometry")
+    designed = design([0.3, 0.38, 0.46, 0.53], velocities=[110, 90, 90, 120], setup=Setup(model="geometry"))
     stroke = drumstroke.simulate(designed.recipe)
     assert stroke.impacts.t[:4] + designed.release == pytest.approx(designed.times, abs=1e-8)
     assert stroke.impacts.level_db[:4] == pytest.approx([velocity_to_level(v) for v in (110, 90, 90, 120)],
@@ -119,7 +119,7 @@ def test_the_design_is_the_recipe_the_solver_plays():
 @pytest.mark.parametrize("density", [15.0, 25.0, 40.0])
 def test_long_buzzes_stay_on_their_notes(model, density):
     """Many bounces in a row: errors must not grow from bounce to bounce."""
-    designed = buzz(0.0, 3.0, velocity=90, density=density, model=model)
+    designed = buzz(0.0, 3.0, velocity=90, density=density, setup=Setup(model=model))
     n = len(designed.times)
     assert n >= 3.0 * density - 4
     assert designed.impacts.t[:n] == pytest.approx(designed.times, abs=1e-8)
@@ -176,10 +176,10 @@ def test_a_loud_throw_beyond_a_weak_thumb_is_unreachable_with_the_loudest():
     nearest level a throw from the highest angle gives is heard there."""
     weak = ForceRange(0.0, 50.0)
     with pytest.raises(Unreachable, match="needs more than the strongest force 50") as error:
-        design([0.095], velocities=[127], forces=weak)
+        design([0.095], velocities=[127], setup=Setup(forces=weak))
     loudest = error.value.nearest_level
     assert loudest < velocity_to_level(127)
-    made = design([0.5], [loudest - 1e-6], forces=weak)
+    made = design([0.5], [loudest - 1e-6], setup=Setup(forces=weak))
     assert made.impacts.level_db[0] == pytest.approx(loudest - 1e-6, abs=1e-6)
 
 
@@ -255,7 +255,7 @@ def test_the_audible_impacts_of_any_stroke_are_designed_back(force, model, theta
     times, targets = stroke.impacts.t[keep], levels[keep]
     assume(stroke.sample(1000.0).theta.max() < 1.2)  # clear of the vertical, where the stick balances
     # the design's two forces a flight may need a higher apex than the recipe's own forcing reached
-    designed = design(times, targets, model=model, cor=cor, forces=WIDE, highest=1.5)
+    designed = design(times, targets, setup=Setup(model=model, cor=cor, forces=WIDE), highest=1.5)
     n = len(keep)
     assert designed.impacts.t[:n] == pytest.approx(times, abs=1e-4)  # the issue's tolerance
     assert designed.impacts.level_db[:n] == pytest.approx(targets, abs=0.5)

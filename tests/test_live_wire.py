@@ -407,7 +407,7 @@ def test_the_simulated_robot_tells_the_onsets_an_offline_track_of_the_stream_fin
                                                 np.concatenate([c.omega[:, j] for c in chunks]),
                                                 alpha=np.concatenate([c.alpha[:, j] for c in chunks]),
                                                 rate=performer.rate, theta_max=HEAD)
-    played = track(stream, controller("pid-ff"), engine=engine, cor=performer.options["cor"])
+    played = track(stream, controller("pid-ff"), engine=engine, cor=performer.setup.cor)
     live = robot._loops["right"].joint.contacts().t
     assert np.allclose(played.onsets, live, atol=1e-12)
     right = [onset for t0, stick, onset in robot.onsets if stick == "right"]

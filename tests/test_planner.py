@@ -5,7 +5,7 @@ import pytest
 
 import drumstroke
 import drumstroke.dynamics
-from drumstroke.design import Problem, Target, assign_sticks, plan_stick
+from drumstroke.design import Problem, Setup, Target, assign_sticks, plan_stick
 from drumstroke.palette.motion import RETURN_LIMITS, Limits
 from drumstroke.robot.validate import validate
 
@@ -36,7 +36,7 @@ def check_trajectory(plan, t_end):
     ("quarter notes at 60 bpm", [(0.5 + k, 100, "auto", None) for k in range(5)]),
 ])
 def test_every_note_is_played_on_time_and_level(model, name, notes):
-    plan = plan_stick(targets(notes), model=model)
+    plan = plan_stick(targets(notes), setup=Setup(model=model))
     assert plan.problems == ()
     assert sorted(k for keys in plan.keys for k in keys) == list(range(len(notes)))
     for design, keys in zip(plan.designs, plan.keys):
@@ -79,7 +79,7 @@ def test_buzzes_make_their_bounces():
 
 def test_the_moves_between_strokes_keep_their_budget():
     plan = plan_stick(targets([(0.5, 127, "auto", None), (0.8, 30, "auto", None), (1.1, 127, "auto", None)]),
-                      moves=RETURN_LIMITS)
+                      setup=Setup(moves=RETURN_LIMITS))
     assert plan.problems == ()
     trajectory = check_trajectory(plan, 1.5)
     assert np.abs(trajectory.omega).max() <= Limits().max_speed

@@ -218,18 +218,24 @@ class Curve:
 
 
 def _flight_acceleration(segment, t):
-    """dω/dt of one segment at curve times ``t`` (s): central, one-sided at its span's ends and its impacts."""
-    lo = np.clip(t - STEP, segment.start, segment.end)
-    hi = np.clip(t + STEP, segment.start, segment.end)
-    impacts = segment.impacts + segment.offset
+    """dω/dt of one segment at curve times ``t`` (s): central, one-sided at its span's ends and its impacts.
+
+    Worked in the segment's local time, as its path is evaluated: an impact and a time that round to the same
+    curve time stay on their sides.
+    """
+    local = segment.local(t)
+    first, last = segment.start - segment.offset, segment.end - segment.offset
+    lo = np.clip(local - STEP, first, last)
+    hi = np.clip(local + STEP, first, last)
+    impacts = segment.impacts
     if len(impacts):
-        j = np.searchsorted(impacts, t, side="right")
+        j = np.searchsorted(impacts, local, side="right")
         before = impacts[np.clip(j - 1, 0, len(impacts) - 1)]
         after = impacts[np.clip(j, 0, len(impacts) - 1)]
-        lo = np.where((j > 0) & (before > lo), t, lo)  # an impact just behind: look ahead only
-        hi = np.where((j < len(impacts)) & (after < hi), t, hi)
-    _, w_hi = segment.path(hi - segment.offset)
-    _, w_lo = segment.path(lo - segment.offset)
+        lo = np.where((j > 0) & (before > lo), local, lo)  # an impact just behind: look ahead only
+        hi = np.where((j < len(impacts)) & (after < hi), local, hi)
+    _, w_hi = segment.path(hi)
+    _, w_lo = segment.path(lo)
     width = hi - lo
     if np.ndim(w_hi) > 1:
         width = width[:, None]

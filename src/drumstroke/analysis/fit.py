@@ -52,7 +52,7 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 
 from .._checks import check_choice, check_real
-from ..design import FORCE_LIMIT, HUMAN_FORCE, ForceRange, Start, Unreachable, design, design_pieces
+from ..design import FORCE_LIMIT, HUMAN_FORCE, ForceRange, Setup, Start, Unreachable, design, design_pieces
 from ..design.chain import HIGHEST, MIN_GAP
 from ..dynamics import CEILING_DB, FLOOR_DB
 from ..errors import ParameterError
@@ -266,9 +266,8 @@ class _Search:
         if not isinstance(forces, ForceRange):
             raise ParameterError(f"forces must be a drumstroke.design.ForceRange, got {forces!r}")
         self.onsets, self.stick = onsets, stick
-        self.options = {"model": model, "stick": stick, "forces": forces}
-        if highest is not None:
-            self.options["highest"] = highest
+        self.setup = Setup(model=model, stick=stick, forces=forces)
+        self.highest = HIGHEST if highest is None else highest
         self.coefficients = coefficients(model, stick)
         self.progress = progress or (lambda fraction: None)
         self.left_out = {}
@@ -303,8 +302,8 @@ class _Search:
         keep = self.keep
         levels = self.onsets.level_db[keep] + offset
         try:
-            pieces, _ = design_pieces(self.onsets.t[keep], np.clip(levels, FLOOR_DB, CEILING_DB), cor=cor,
-                                      **self.options)
+            pieces, _ = design_pieces(self.onsets.t[keep], np.clip(levels, FLOOR_DB, CEILING_DB),
+                                      setup=self.setup.replace(cor=cor), highest=self.highest)
         except Unreachable as error:
             return math.inf, error
         flights = [p for p in pieces if p.phase in ("rise", "fall")]
@@ -450,7 +449,7 @@ class _Search:
         if math.isfinite(self.onsets.threshold_db) and cor > 0.0:
             next_level = self.onsets.level_db[keep[-1]] + 20.0 * math.log10(cor)
             end = "bounce" if next_level < self.onsets.threshold_db else "catch"
-        options = dict(self.options, cor=cor, end=end, drift=TOLERANCE)
+        options = dict(setup=self.setup.replace(cor=cor), highest=self.highest, end=end, drift=TOLERANCE)
         start = self.start(times, levels, cor)
         if start is not None:
             try:
@@ -461,12 +460,12 @@ class _Search:
 
     def start(self, times, levels, cor):
         """Rest at the height from which the first flight's rising force throws the stick onto the first onset."""
-        pieces, _ = design_pieces(times, levels, cor=cor, **self.options)
+        pieces, _ = design_pieces(times, levels, setup=self.setup.replace(cor=cor), highest=self.highest)
         rise = next(p.force for p in pieces if p.phase == "rise")
         rate = self.coefficients.torque_rate(STANDARD_GRAVITY, rise)
         speed = 10.0 ** (levels[0] / 20.0) * LEVEL_REFERENCE / self.stick.pivot_to_tip
         height = math.sin(self.stick.theta_max) + speed * speed / (2.0 * rate) if rate > 0.0 else math.inf
-        if height >= math.sin(self.options.get("highest", HIGHEST)):
+        if height >= math.sin(self.highest):
             return None
         return Start(float(times[0]) - 10.0, math.asin(height))
 

@@ -18,7 +18,7 @@ import numpy as np
 from .._checks import check_real
 from ..dynamics import velocity_to_level
 from ..errors import ParameterError
-from .chain import design
+from .chain import LEAD, design
 
 DENSITY = 30.0
 """Default bounces per second of a buzz (human buzzes: 15–40)."""
@@ -32,7 +32,8 @@ def buzz_times(start, end, density):
     return start + np.arange(int(np.ceil((end - start) * density - 1e-9))) / density
 
 
-def buzz(start, end, *, level=None, velocity=None, density=DENSITY, decay=0.0, finish="press", **options):
+def buzz(start, end, *, level=None, velocity=None, density=DENSITY, decay=0.0, finish="press", start_state=None,
+         setup=None, lead=LEAD):
     """Design a buzz from ``start`` to ``end`` (s): bounces at ``density`` per second, at rest (or caught) by ``end``.
 
     Parameters
@@ -47,9 +48,12 @@ def buzz(start, end, *, level=None, velocity=None, density=DENSITY, decay=0.0, f
         dB per second each bounce is softer than the first (0: even).
     finish : {"press", "catch"}
         Pressed to rest on the head, or caught at the last rebound's apex, by ``end``.
-    **options
-        Passed to :func:`~drumstroke.design.chain.design`: ``start`` is taken (give ``start_state``),
-        as are ``model``, ``cor``, ``stick``, ``forces``, ``limits``, ``lead``.
+    start_state : Start, optional
+        The stick's state before the first bounce (:func:`~drumstroke.design.chain.design`'s ``start``).
+    setup : Setup, optional
+        The model, c, the stick, the forces and the joint's limits (default ``Setup()``).
+    lead : float in (0, 10]
+        s, the throw's duration without a ``start_state``.
 
     Returns
     -------
@@ -69,10 +73,9 @@ def buzz(start, end, *, level=None, velocity=None, density=DENSITY, decay=0.0, f
     if len(times) < 2:
         raise ParameterError(f"a buzz of {density:g} bounces/s needs at least {2 / density:.4g} s, got "
                              f"{end - start:.4g} s from {start:g} to {end:g}")
-    start_state = options.pop("start_state", None)
     for count in range(len(times), 0, -1):
         designed = design(times[:count], first - decay * (times[:count] - start), start=start_state, end=finish,
-                          **options)
+                          setup=setup, lead=lead)
         if designed.t_end <= end:
             return designed
     raise ParameterError(f"the buzz cannot {finish} by {end:g} s")  # pragma: no cover - one bounce always fits

@@ -44,19 +44,16 @@ import numpy as np
 from .._checks import check_choice, check_real, shown
 from ..dynamics import CEILING_DB, FLOOR_DB, velocity_to_level
 from ..errors import ParameterError, SimulationError
-from ..model import MODELS, Stick
 from ..palette.motion import Limits
-from ..profiles import ACCELERATION_LIMIT, Constant, PiecewiseLinear
-from ..recipe import DEFAULT_COR, STANDARD_GRAVITY, Recipe
+from ..profiles import Constant, PiecewiseLinear
+from ..recipe import STANDARD_GRAVITY, Recipe
 from ..stroke import simulate
 from ..trajectory import LEVEL_REFERENCE, Impacts
 from .flight import apex_for_fall, flight_time, force_to_reach, height_time, solve_apex, solve_flight
+from .setup import FORCE_LIMIT, ForceRange, Setup  # noqa: F401 (FORCE_LIMIT and ForceRange: also drumstroke.design.chain's)
 
 HUMAN_FORCE = 250.0
 """The top of the human thumb's range of a(t) (m/s², paper §3.3: about 10 N on this stick)."""
-
-FORCE_LIMIT = 3000.0
-"""The default strongest a(t) a design may ask for (m/s²): 12 times the human thumb."""
 
 ENDS = ("catch", "press", "bounce")
 """What may follow the last note: caught at its rebound's apex, pressed to rest, or let bounce."""
@@ -92,28 +89,6 @@ _SWITCH = 0.05
 
 _SETTLE_ROUNDS = 30
 """Most rounds of solving each flight with its neighbours' forces (they settle in a handful)."""
-
-
-@dataclass(frozen=True)
-class ForceRange:
-    """The thumb accelerations a design may use (m/s²).
-
-    Parameters
-    ----------
-    low : float in [-1e6, high)
-        m/s²; default 0, the thumb only presses (negative values pull the stick up: un-natural).
-    high : float in (low, 1e6]
-        m/s²; default :data:`FORCE_LIMIT`.
-    """
-
-    low: float = 0.0
-    high: float = FORCE_LIMIT
-
-    def __post_init__(self):
-        low = check_real("forces.low", self.low, low=-ACCELERATION_LIMIT, high=ACCELERATION_LIMIT, unit="m/s^2")
-        high = check_real("forces.high", self.high, low=low, high=ACCELERATION_LIMIT, low_open=True, unit="m/s^2")
-        object.__setattr__(self, "low", low)
-        object.__setattr__(self, "high", high)
 
 
 @dataclass(frozen=True)
@@ -301,8 +276,8 @@ class Design:
         return self.stroke.state(np.where(np.abs(local - self.recipe.t_end) < 1e-12, self.recipe.t_end, local))
 
 
-def design(times, levels=None, *, velocities=None, start=None, end="catch", model="paper", cor=DEFAULT_COR,
-           stick=None, forces=None, limits=None, lead=LEAD, tail=None, catch_at=None, highest=HIGHEST, drift=DRIFT):
+def design(times, levels=None, *, velocities=None, start=None, end="catch", setup=None, lead=LEAD, tail=None,
+           catch_at=None, highest=HIGHEST, drift=DRIFT):
     """Design the stroke that plays ``times`` at ``levels`` on one stick, and check it by simulating it.
 
     Parameters
@@ -320,15 +295,10 @@ def design(times, levels=None, *, velocities=None, start=None, end="catch", mode
         than ``forces.high``, higher if less than ``forces.low``).
     end : {"catch", "press", "bounce"}
         What follows the last note (see :data:`ENDS`).
-    model : {"paper", "geometry"}
-    cor : float in [0, 1)
-        Coefficient of restitution c.
-    stick : Stick, optional
-    forces : ForceRange, optional
-        The thumb accelerations allowed (m/s²). Default 0 to :data:`FORCE_LIMIT`.
-    limits : Limits, optional
-        The joint's range (the stick's highest angle), speed and acceleration
-        (:class:`~drumstroke.palette.motion.Limits`; default ``Limits()``).
+    setup : Setup, optional
+        The model, c, the stick, the thumb accelerations allowed (m/s²) and the joint's range
+        (the stick's highest angle), speed and acceleration (default ``Setup()``: the paper's
+        model and stick, c = 0.86, 0 to :data:`FORCE_LIMIT` m/s², ``Limits()``).
     lead : float in (0, 10]
         s, the approach's duration when no ``start`` is given.
     tail : float in (0, 60], optional
@@ -357,13 +327,12 @@ def design(times, levels=None, *, velocities=None, start=None, end="catch", mode
         raise ParameterError(f"drift must be (seconds, dB), two numbers > 0, got {shown(drift)}")
     drift = tuple(check_real(f"drift[{i}]", x, low=0.0, low_open=True, unit=unit)
                   for i, (x, unit) in enumerate(zip(drift, ("s", "dB"))))
-    plan = _Plan.of(times, levels, velocities, start=start, end=end, model=model, cor=cor, stick=stick,
-                    forces=forces, limits=limits, lead=lead, tail=tail, catch_at=catch_at, highest=highest)
+    plan = _Plan.of(times, levels, velocities, start=start, end=end, setup=setup, lead=lead, tail=tail,
+                    catch_at=catch_at, highest=highest)
     return plan.build(drift)
 
 
-def design_pieces(times, levels, *, start=None, end="catch", model="paper", cor=DEFAULT_COR, stick=None, forces=None,
-                  limits=None, lead=LEAD, highest=HIGHEST):
+def design_pieces(times, levels, *, start=None, end="catch", setup=None, lead=LEAD, highest=HIGHEST):
     """The constant forces of :func:`design`'s stroke for these notes, without simulating it.
 
     What a search over many candidate notes needs (a fit tries levels and c until the forces are the
@@ -384,8 +353,7 @@ def design_pieces(times, levels, *, start=None, end="catch", model="paper", cor=
     Unreachable
         As :func:`design`.
     """
-    plan = _Plan.of(times, levels, None, start=start, end=end, model=model, cor=cor, stick=stick, forces=forces,
-                    limits=limits, lead=lead, tail=None, highest=highest)
+    plan = _Plan.of(times, levels, None, start=start, end=end, setup=setup, lead=lead, tail=None, highest=highest)
     pieces, release, _, _ = plan.pieces()
     return tuple(pieces), release
 
@@ -408,20 +376,12 @@ class _Plan:
     highest: float = HIGHEST
 
     @classmethod
-    def of(cls, times, levels, velocities, *, start, end, model, cor, stick, forces, limits, lead, tail,
-           catch_at=None, highest=HIGHEST):
-        check_choice("model", model, MODELS)
+    def of(cls, times, levels, velocities, *, start, end, setup, lead, tail, catch_at=None, highest=HIGHEST):
+        setup = Setup() if setup is None else setup
+        if not isinstance(setup, Setup):
+            raise ParameterError(f"setup must be a drumstroke.design.Setup, got {setup!r}")
         check_choice("end", end, ENDS)
-        cor = check_real("cor", cor, low=0.0, high=1.0, high_open=True)
-        stick = Stick() if stick is None else stick
-        if not isinstance(stick, Stick):
-            raise ParameterError(f"stick must be a drumstroke.Stick, got {stick!r}")
-        forces = ForceRange() if forces is None else forces
-        if not isinstance(forces, ForceRange):
-            raise ParameterError(f"forces must be a drumstroke.design.ForceRange, got {forces!r}")
-        limits = Limits() if limits is None else limits
-        if not isinstance(limits, Limits):
-            raise ParameterError(f"limits must be a drumstroke.palette.motion.Limits, got {limits!r}")
+        stick, forces, limits = setup.stick, setup.forces, setup.limits
         if start is not None and not isinstance(start, Start):
             raise ParameterError(f"start must be a drumstroke.design.Start or None, got {start!r}")
         lead = check_real("lead", lead, low=0.0, high=10.0, low_open=True, unit="s")
@@ -441,7 +401,7 @@ class _Plan:
             raise Unreachable(f"note {i} ({levels[i]:.2f} dB) needs the stick at {speeds[i]:.4g} rad/s, over the "
                               f"joint's max_speed {limits.max_speed:g} rad/s; the loudest reachable is {loudest:.2f} dB",
                               note=i, nearest_level=loudest)
-        recipe = Recipe(force=Constant(0.0), model=model, cor=cor, stick=stick)
+        recipe = Recipe(force=Constant(0.0), model=setup.model, cor=setup.cor, stick=stick)
         highest = check_real("highest", highest, low=stick.theta_max, high=math.pi / 2, low_open=True,
                              high_open=True, unit="rad")
         if catch_at is not None:
@@ -717,7 +677,7 @@ class _Plan:
         return float(time_errors.max()), float(level_errors.max())
 
 
-def flights_within(times, levels, *, model="paper", cor=DEFAULT_COR, stick=None, forces=None, limits=None):
+def flights_within(times, levels, *, setup=None):
     """For each pair of consecutive notes, whether one flight within the limits plays the second after the first.
 
     The quick test the planner uses to chain notes (each flight solved once, as if the force changed
@@ -727,8 +687,7 @@ def flights_within(times, levels, *, model="paper", cor=DEFAULT_COR, stick=None,
     -------
     list of bool [len(times) − 1]
     """
-    plan = _Plan.of(times, levels, None, start=None, end="catch", model=model, cor=cor, stick=stick, forces=forces,
-                    limits=limits, lead=LEAD, tail=None)
+    plan = _Plan.of(times, levels, None, start=None, end="catch", setup=setup, lead=LEAD, tail=None)
     within = []
     for i in range(len(plan.times) - 1):
         try:
@@ -740,8 +699,7 @@ def flights_within(times, levels, *, model="paper", cor=DEFAULT_COR, stick=None,
     return within
 
 
-def catch_height(last, following, gap, *, model="paper", cor=DEFAULT_COR, stick=None, forces=None, limits=None,
-                 lead=LEAD):
+def catch_height(last, following, gap, *, setup=None, lead=LEAD):
     """Where to catch a stroke after its last note so that the next stroke is thrown from there, or None.
 
     The stick leaves the head at c times the last note's speed, is caught at rest at the height
@@ -764,8 +722,8 @@ def catch_height(last, following, gap, *, model="paper", cor=DEFAULT_COR, stick=
     float or None
         rad; None when even the strongest force cannot catch the stick below the joint's highest angle.
     """
-    plan = _Plan.of([0.0, max(gap, 2 * MIN_GAP)], [last, following], None, start=None, end="catch", model=model,
-                    cor=cor, stick=stick, forces=forces, limits=limits, lead=lead, tail=None)
+    plan = _Plan.of([0.0, max(gap, 2 * MIN_GAP)], [last, following], None, start=None, end="catch", setup=setup,
+                    lead=lead, tail=None)
     head, top = plan.head, plan.top
     u, v = plan.recipe.cor * plan.speeds[0], plan.speeds[1]
     low, high = plan.rate_of(plan.forces.low), plan.rate_of(plan.forces.high)

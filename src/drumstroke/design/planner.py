@@ -32,10 +32,11 @@ import numpy as np
 from .._checks import check_real
 from ..dynamics import velocity_to_level
 from ..errors import ParameterError
-from ..palette.motion import RETURN_LIMITS, Limits, assemble, return_time
+from ..palette.motion import Limits, assemble, plan_return, return_time
 from ..trajectory import DEFAULT_RATE
 from .buzz import DENSITY, buzz_times
-from .chain import LEAD, ForceRange, Start, Unreachable, catch_height, design, flights_within
+from .chain import LEAD, Start, Unreachable, catch_height, design, flights_within
+from .setup import Setup
 
 KINDS = ("auto", "buzz")
 """What a target asks for: a note the planner designs, or a buzz over a span."""
@@ -153,23 +154,16 @@ class StickPlan:
                         end=max(t_end, self.designs[-1].t_end), home=False)
 
 
-def plan_stick(targets, *, model="paper", cor=None, stick=None, forces=None, limits=None, moves=None,
-               gap=0.25):
+def plan_stick(targets, *, setup=None, gap=0.25):
     """Plan one stick's notes: chains of bounces, designed; strokes joined; the unplayable reported.
 
     Parameters
     ----------
     targets : sequence of Target
         In any order; times at least 1 ms apart.
-    model : {"paper", "geometry"}
-    cor : float in [0, 1), optional
-    stick : Stick, optional
-    forces : ForceRange, optional
-        The thumb accelerations allowed (m/s²).
-    limits : Limits, optional
-        The joint's limits the strokes keep (default ``Limits()``).
-    moves : Limits, optional
-        The budget of the moves between strokes (default :data:`~drumstroke.palette.motion.RETURN_LIMITS`).
+    setup : Setup, optional
+        The model, c, the stick, the thumb accelerations allowed (m/s²), the joint's limits the
+        strokes keep and the budget of the moves between strokes (default ``Setup()``).
     gap : float
         s, the span of a buzz that is the stick's last note and gives no duration.
 
@@ -177,16 +171,95 @@ def plan_stick(targets, *, model="paper", cor=None, stick=None, forces=None, lim
     -------
     StickPlan
     """
-    from ..recipe import DEFAULT_COR
-
+    setup = Setup() if setup is None else setup
+    if not isinstance(setup, Setup):
+        raise ParameterError(f"setup must be a drumstroke.design.Setup, got {setup!r}")
     for target in targets:
         if not isinstance(target, Target):
             raise ParameterError(f"targets must be drumstroke.design.Target, got {target!r}")
     targets = sorted(targets, key=lambda target: target.t)
-    options = {"model": model, "cor": DEFAULT_COR if cor is None else cor, "stick": stick,
-               "forces": forces or ForceRange(), "limits": limits or Limits()}
-    moves = moves or RETURN_LIMITS
-    return _Planner(targets, options, moves, gap).run()
+    return _Planner(targets, setup, gap).run()
+
+
+def next_stroke(times, levels, setup, *, free, theta, omega=0.0, running=None, end="catch", catch_at=None):
+    """The stroke that takes a stick from where it is to its next notes, and the moves before it.
+
+    The one decision of the offline planner and the live performer. The stick may change its motion
+    from ``free`` (s), where it is at ``theta`` (rad) moving at ``omega`` (rad/s); in this order of
+    preference:
+
+    1. from ``running``, a state of the motion still under way (an impact still to come, a
+       rebound still rising), the stroke bounces on: no move, the motion goes on through the notes;
+    2. a throw from where the stick rests (caught at a rebound's apex, or held), held there until it
+       is released;
+    3. for each lead in :data:`LEADS`, longest first, a throw from that lead's height, reached by a
+       time-optimal jerk-limited move within ``setup.moves`` that fits before its release.
+
+    Parameters
+    ----------
+    times, levels : array_like [shape=(n,)]
+        The notes: s and dB re 1 m/s tip speed.
+    setup : Setup
+    free : float
+        s: from when the motion may change.
+    theta, omega : float
+        rad and rad/s at ``free``: at rest when |omega| < 1e-6 rad/s.
+    running : Start, optional
+        A state from which the stroke may bounce on (at or after ``free``).
+    end, catch_at
+        As :func:`~drumstroke.design.chain.design`'s.
+
+    Returns
+    -------
+    made : Design
+    moves : list of (duration s, path)
+        The moves from ``free`` to the design's release (empty when it bounces on or is thrown from
+        where the stick rests: the stick is held until the release).
+
+    Raises
+    ------
+    Unreachable
+        The first note cannot be reached by any of them (the reason of the first that failed), or a
+        later note cannot be chained (``note`` > 0: no other start helps; the chain splits there).
+    """
+    options = {"end": end, "catch_at": catch_at, "setup": setup}
+    failure = None
+    if running is not None:
+        try:
+            made = design(times, levels, start=running, **options)
+        except Unreachable as error:
+            if error.note > 0:
+                raise
+            failure = error
+        else:
+            if made.release >= running.t - 1e-9:
+                return made, []
+            failure = Unreachable("the stroke would start before the motion may change", note=0)
+    if abs(omega) < 1e-6 and theta > setup.head + 1e-9 and free < times[0]:
+        try:
+            return design(times, levels, start=Start(free, theta), **options), []
+        except Unreachable as error:
+            if error.note > 0:
+                raise
+            failure = failure or error
+    for lead in LEADS:
+        try:
+            made = design(times, levels, lead=lead, **options)
+        except Unreachable as error:
+            if error.note > 0:
+                raise
+            failure = failure or error
+            continue
+        window = made.release - free
+        target = (float(made.recipe.theta0), 0.0)
+        need = return_time((theta, omega), target, setup.head, setup.moves)
+        moves = plan_return((theta, omega), target, window, setup.head, setup.moves) if need <= window else None
+        if moves is not None:
+            return made, moves
+        failure = failure or Unreachable(
+            f"the stick, free at {free:.6g} s, needs {need:.4g} s to reach the height of its next throw, but only "
+            f"{max(window, 0.0):.4g} s are left", note=0)
+    raise failure
 
 
 @dataclass(frozen=True)
@@ -201,13 +274,13 @@ class _Atom:
 
 
 class _Planner:
-    def __init__(self, targets, options, moves, gap):
-        self.targets, self.options, self.moves, self.gap = targets, options, moves, gap
+    def __init__(self, targets, setup, gap):
+        self.targets, self.setup, self.gap = targets, setup, gap
         self.designs, self.keys, self.problems = [], [], []
 
     def run(self):
         atoms = self.atoms()
-        joins = flights_within([a.t for a in atoms], [a.level for a in atoms], **self.options) if len(atoms) > 1 else []
+        joins = flights_within([a.t for a in atoms], [a.level for a in atoms], setup=self.setup) if len(atoms) > 1 else []
         for k, join in enumerate(joins):  # a long gap is a caught stroke and a new throw, when one fits
             if join and atoms[k + 1].t - atoms[k].t > LONGEST_BOUNCE and self.catchable(atoms[k], atoms[k + 1]):
                 joins[k] = False
@@ -217,7 +290,7 @@ class _Planner:
             while j + 1 < len(atoms) and joins[j]:
                 j += 1
             i = self.chain(atoms, i, j)
-        return StickPlan(tuple(self.designs), tuple(self.keys), tuple(self.problems), self.moves)
+        return StickPlan(tuple(self.designs), tuple(self.keys), tuple(self.problems), self.setup.moves)
 
     def atoms(self):
         """The notes, each buzz spread into its bounces (at :data:`~drumstroke.design.buzz.DENSITY` per second)."""
@@ -261,7 +334,7 @@ class _Planner:
         if height is None:
             return False
         try:
-            design([following.t], [following.level], start=Start(last.t + 1e-9, height), **self.options)
+            design([following.t], [following.level], start=Start(last.t + 1e-9, height), setup=self.setup)
         except Unreachable:
             return False
         return True
@@ -276,8 +349,7 @@ class _Planner:
         """
         if following is None:
             return "catch", None
-        options = {key: self.options[key] for key in ("model", "cor", "stick", "forces", "limits")}
-        return "catch", catch_height(last.level, following.level, following.t - last.t, **options)
+        return "catch", catch_height(last.level, following.level, following.t - last.t, setup=self.setup)
 
     def skip(self, atoms, i):
         """The next atom after leaving out atom i: a buzz is left out whole if its first bounce is."""
@@ -289,35 +361,12 @@ class _Planner:
 
     def stroke(self, times, levels, *, end, catch_at):
         """The design of the notes from where the stick is: caught and thrown again, or moved to a standard throw."""
-        options = dict(end=end, catch_at=catch_at, **self.options)
         previous = self.designs[-1] if self.designs else None
         if previous is None:
-            return design(times, levels, **options)
-        theta = float(previous.state(previous.t_end)[0])
-        failure = None
-        if previous.end == "catch" and previous.t_end < times[0]:
-            try:
-                return design(times, levels, start=Start(previous.t_end, theta), **options)
-            except Unreachable as error:
-                if error.note > 0:
-                    raise
-                failure = error
-        for lead in LEADS:
-            try:
-                made = design(times, levels, lead=lead, **options)
-            except Unreachable as error:
-                if error.note > 0:
-                    raise
-                failure = failure or error
-                continue
-            window = made.release - previous.t_end
-            need = return_time((theta, 0.0), (float(made.recipe.theta0), 0.0), made.recipe.theta_max, self.moves)
-            if need <= window:
-                return made
-            failure = failure or Unreachable(
-                f"the stick, free at {previous.t_end:.6g} s, needs {need:.4g} s to reach the height of its next "
-                f"throw, but only {max(window, 0.0):.4g} s are left", note=0)
-        raise failure
+            return design(times, levels, end=end, catch_at=catch_at, setup=self.setup)
+        theta = float(previous.state(previous.t_end)[0])  # caught at its last rebound's apex: at rest
+        return next_stroke(times, levels, self.setup, free=previous.t_end, theta=theta, end=end,
+                           catch_at=catch_at)[0]
 
     def keep(self, made, keys):
         self.designs.append(made)

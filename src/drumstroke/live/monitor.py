@@ -13,7 +13,6 @@ import threading
 import numpy as np
 
 from ..errors import ParameterError
-from ..recipe import DEFAULT_COR
 from ..robot.controllers import CONTROLLERS, Controller, controller
 from ..robot.loop import ControlLoop
 from ..robot.plant import Plant, SimpleJoint
@@ -61,7 +60,7 @@ class RobotMonitor:
             raise ParameterError(f"the plant's head ({plant.head:.6g} rad) is not the performer's stick's "
                                  f"({performer.head:.6g} rad)")
         self.performer, self.engine, self.controller = performer, engine, control.name
-        cor = performer.options.get("cor", DEFAULT_COR)
+        cor = performer.setup.cor
         self._loops = {}
         for stick in performer.sticks:
             start = {"theta0": performer.rest, "omega0": 0.0, "start": performer.sent + 1.0 / performer.rate}

@@ -36,17 +36,17 @@ True
 import math
 import threading
 import time
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from .._checks import check_real
-from ..design import ForceRange, Start, Unreachable, design
+from ..curve import Curve, Segment
+from ..design import Design, ForceRange, Setup, Start, Unreachable, next_stroke
 from ..design.buzz import DENSITY, buzz_times
-from ..design.planner import LEADS
 from ..dynamics import velocity_to_level
 from ..errors import ParameterError
-from ..model import MODELS, Stick
+from ..model import MODELS
 from ..palette.motion import Limits, plan_return, return_time
 from ..recipe import DEFAULT_COR
 from ..trajectory import DEFAULT_RATE
@@ -174,62 +174,11 @@ class Chunk:
         return f"Chunk({len(self.t)} setpoints of {', '.join(self.sticks)}, {span})"
 
 
-@dataclass(frozen=True)
-class _Piece:
-    """One piece of a stick's motion from ``start`` (s, the clock) to ``end``: a curve on its own clock."""
-
-    start: float
-    end: float
-    path: object  # path(local t) -> (theta, omega)
-    impacts: np.ndarray = field(default_factory=lambda: np.empty(0))  # local times of its impacts
-    design: object = None
-    offset: float = 0.0  # local time = t - offset
-
-
-def _piece_at(pieces, t):
-    for piece in reversed(pieces):
-        if piece.start <= t:
-            return piece
-    return pieces[0]
-
-
-def _state(pieces, t):
-    """θ (rad) and ω (rad/s) of a stick's motion at ``t`` (s)."""
-    piece = _piece_at(pieces, t)
-    theta, omega = piece.path(np.array([t - piece.offset]))
-    return float(theta[0]), float(omega[0])
-
-
-def _last_design(pieces):
-    return next((piece for piece in reversed(pieces) if piece.design is not None), None)
-
-
-def _evaluate(pieces, t):
-    """θ, ω and α at times ``t`` (s) [shape=(n,)], each from the piece that holds it."""
-    theta, omega, alpha = (np.empty(len(t)) for _ in range(3))
-    starts = np.array([piece.start for piece in pieces])
-    which = np.maximum(np.searchsorted(starts, t, side="right") - 1, 0)
-    for k in np.unique(which):
-        piece = pieces[k]
-        mask = which == k
-        local = t[mask] - piece.offset
-        theta[mask], omega[mask] = piece.path(local)
-        alpha[mask] = _flight_acceleration(piece, local)
-    return theta, omega, alpha
-
-
-def _replace_from(pieces, cut, new):
-    """The motion ``pieces`` kept before ``cut`` (s) and followed by ``new``."""
-    kept = [piece for piece in pieces if piece.start < cut]
-    kept[-1] = replace(kept[-1], end=cut)
-    return tuple(kept + list(new))
-
-
 @dataclass
 class _Stick:
-    """One stick's planned motion: pieces end to end, the last holding on forever; how many notes changed it."""
+    """One stick's planned motion (a Curve whose last segment holds on forever); how many notes changed it."""
 
-    pieces: tuple
+    motion: Curve
     last_note: float = -math.inf
     version: int = 0
 
@@ -287,16 +236,15 @@ class Performer:
         self.guard = check_real("guard", guard, low=0.0, high=self.latency, low_open=True, high_open=True, unit="s")
         self.closest = check_real("closest", closest, low=0.0, high=1.0, unit="s")
         self.limits = limits or Limits()
-        stick = Stick()
-        self.head = stick.theta_max
-        self.rest = check_real("rest", rest, low=self.head, high=self.limits.theta_high, low_open=True, unit="rad")
         cor = DEFAULT_COR if cor is None else check_real("cor", cor, low=0.0, high=1.0, high_open=True)
-        self.options = {"model": model, "cor": cor, "forces": forces or ForceRange(), "limits": self.limits,
-                        "stick": stick}
+        # live moves use the joint's own limits: a note heard 50 ms after it arrives leaves no time for gentle ones
+        self.setup = Setup(model=model, cor=cor, forces=forces or ForceRange(), limits=self.limits, moves=self.limits)
+        self.head = self.setup.head
+        self.rest = check_real("rest", rest, low=self.head, high=self.limits.theta_high, low_open=True, unit="rad")
         self.clock = clock or SystemClock()
         self.log = []
         self.closed = None
-        self._sticks = {name: _Stick((_Piece(0.0, math.inf, _hold(self.rest)),)) for name in sticks}
+        self._sticks = {name: _Stick(Curve.hold(self.rest)) for name in sticks}
         self._next = 0  # the index k of the next setpoint to give, at k/rate
         self._lock = threading.Lock()
 
@@ -309,7 +257,7 @@ class Performer:
         if self.model in _WARM:
             return
         scratch = Performer(sticks=self.sticks[:1], model=self.model, rate=self.rate, latency=self.latency,
-                            guard=self.guard, cor=self.options["cor"], forces=self.options["forces"],
+                            guard=self.guard, cor=self.setup.cor, forces=self.setup.forces,
                             limits=self.limits, rest=self.rest, closest=self.closest, clock=ManualClock())
         stick = self.sticks[0]
         for arrived, velocity, stroke in ((0.0, 100, "auto"), (0.02, 60, "auto"), (0.3, 127, "auto"),
@@ -392,14 +340,14 @@ class Performer:
         """
         stick = self._sticks[note.stick]
         for _ in range(4):
-            pieces, version, last_note = stick.pieces, stick.version, stick.last_note
+            motion, version, last_note = stick.motion, stick.version, stick.last_note
             if note.at < last_note + max(self.closest, 1e-3):
                 when = "not after" if note.at <= last_note else f"less than {self.closest:g} s after"
                 return Outcome(note, False, f"heard at {note.at:.6g} s, {when} the {note.stick} stick's last note "
                                             f"at {last_note:.6g} s")
             began = time.perf_counter()
             try:
-                new, made = self._plan(pieces, note)
+                new, made = self._plan(motion, note)
             except (Unreachable, ParameterError) as error:
                 return Outcome(note, False, str(error))
             took = time.perf_counter() - began
@@ -409,14 +357,14 @@ class Performer:
                 if stick.version != version:
                     continue
                 given = self._next / self.rate
-                if given > new[0].start:
+                if given > new.start:
                     late = replace(note, cut=given + self.guard + 2.0 * took)  # room to plan it again
                     if late.at < late.cut + 1e-3:  # the record says the cut it would have needed
                         return Outcome(late, False, f"planned too late: the setpoints up to {given:.6g} s had been "
                                                     "given")
                     note = late
                     continue
-                stick.pieces = _replace_from(stick.pieces, new[0].start, new)
+                stick.motion = stick.motion.spliced(new)
                 stick.last_note = float(made.times[-1])
                 stick.version += 1
             return Outcome(note, True, design=made)
@@ -442,73 +390,30 @@ class Performer:
             return f"heard at {note.at:.6g} s, too soon: the motion may change from {note.cut:.6g} s"
         return ""
 
-    def _plan(self, pieces, note):
-        """The pieces that play ``note`` from its cut on, and the design; raises Unreachable when none can."""
+    def _plan(self, motion, note):
+        """The motion that plays ``note`` from its cut on (a Curve), and the design; raises Unreachable when none can."""
         level = velocity_to_level(note.velocity)
         if note.stroke == "buzz":
             times = buzz_times(note.at, note.at + (note.duration or BUZZ), DENSITY)
         else:
             times = np.array([note.at])
         levels = np.full(len(times), level)
-        cut = note.cut
-        last = _last_design(pieces)
-        failure = None
+        cut, running = note.cut, None
+        last = motion.last(Design)
         if last is not None:
-            made = last.design
-            future = made.impacts.t[: len(made.times)]
-            if future[-1] >= cut:  # 1. a bounce from the last planned impact
-                start = Start(float(future[-1]), self.head, self.options["cor"] * float(-made.impacts.omega[
-                    len(made.times) - 1]))
-                try:
-                    return self._stroke(times, levels, start, cut=start.t)
-                except Unreachable as error:
-                    failure = error
+            made = last.source
+            n = len(made.times)
+            if made.impacts.t[n - 1] >= cut:  # its last planned impact is still to come: bounce on from it
+                running = Start(float(made.impacts.t[n - 1]), self.head, self.setup.cor * float(-made.impacts.omega[n - 1]))
             else:
-                theta, omega = _state(pieces, cut)
-                if omega > 1e-9:  # 2. from the rebound, rising
-                    try:
-                        return self._stroke(times, levels, Start(cut, theta, omega), cut=cut)
-                    except Unreachable as error:
-                        failure = failure or error
-        rest_from = max(cut, last.end if last is not None and math.isfinite(last.end) else cut)
-        theta, omega = _state(pieces, rest_from)
-        if abs(omega) < 1e-6 and theta > self.head + 1e-9:  # 3. a throw from where the stick rests
-            try:
-                return self._stroke(times, levels, Start(rest_from, theta), cut=rest_from)
-            except Unreachable as error:
-                failure = failure or error
-        for lead in LEADS:  # 4. a move to a quick throw's height, then the throw
-            if times[0] - lead <= rest_from:
-                continue
-            try:
-                made = design(times, levels, lead=lead, **self.options)
-            except Unreachable as error:
-                failure = failure or error
-                continue
-            window = made.release - rest_from
-            target = (float(made.recipe.theta0), 0.0)
-            if window < 0.0 or return_time((theta, omega), target, self.head, self.limits) > window:
-                continue
-            moves = plan_return((theta, omega), target, window, self.head, self.limits)
-            if moves is None:
-                continue
-            return _moves(moves, rest_from) + self._design_pieces(made), made
-        raise failure or Unreachable(f"heard at {note.at:.6g} s: no stroke reaches it from the {note.stick} stick's "
-                                     "motion in time", note=0)
-
-    def _stroke(self, times, levels, start, *, cut):
-        made = design(times, levels, start=start, **self.options)
-        if made.release < cut - 1e-9:
-            raise Unreachable("the stroke would start before the motion may change", note=0)
-        hold = [_Piece(cut, made.release, _hold(start.theta), offset=cut)] if made.release > cut else []
-        return hold + self._design_pieces(made), made
-
-    def _design_pieces(self, made):
-        """The designed stroke from its release, then holding where it was caught."""
-        stroke = made.stroke
-        theta_end = float(made.state(made.t_end)[0])
-        return [_Piece(made.release, made.t_end, stroke.arcs.evaluate, stroke.impacts.t, made, offset=made.release),
-                _Piece(made.t_end, math.inf, _hold(theta_end), offset=made.t_end)]
+                theta, omega = motion.state(cut)
+                if omega > 1e-9:  # its rebound still rises
+                    running = Start(cut, theta, omega)
+        free = max(cut, last.end if last is not None and math.isfinite(last.end) else cut)
+        theta, omega = motion.state(free)
+        made, moves = next_stroke(times, levels, self.setup, free=free, theta=theta, omega=omega, running=running)
+        start = running.t if running is not None and made.release <= running.t + 1e-9 else free
+        return _played(made, start, moves), made
 
     # --- the end ---------------------------------------------------------------------------------------------------
 
@@ -526,22 +431,21 @@ class Performer:
             if self.closed is not None:
                 return self.done
             for stick in self._sticks.values():
-                last = stick.pieces[-1]
-                start = max(cut, last.start)
-                theta, omega = _state(stick.pieces, start)
+                start = max(cut, stick.motion.segments[-1].start)
+                theta, omega = stick.motion.state(start)
                 target = (self.rest, 0.0)
                 window = return_time((theta, omega), target, self.head, self.limits)
                 moves = plan_return((theta, omega), target, window, self.head, self.limits) if window > 0 else []
                 if moves:
-                    stick.pieces = _replace_from(stick.pieces, start, _moves(moves, start) + [
-                        _Piece(start + window, math.inf, _hold(self.rest), offset=start + window)])
+                    home = Curve.sequence(moves, start)
+                    stick.motion = stick.motion.spliced(home).spliced(Segment.hold(self.rest, home.end))
             self.closed = cut  # last: a thread that sees it closed sees the moves to rest
             return self.done
 
     @property
     def done(self):
         """s: from when every stick holds still (its last piece's start)."""
-        return max(stick.pieces[-1].start for stick in list(self._sticks.values()))
+        return max(stick.motion.segments[-1].start for stick in list(self._sticks.values()))
 
     # --- setpoints out ---------------------------------------------------------------------------------------------
 
@@ -555,14 +459,12 @@ class Performer:
             stop = math.floor(float(until) * self.rate + 1e-9) + 1
             k = np.arange(self._next, max(stop, self._next))
             self._next = max(stop, self._next)
-            snapshot = [self._sticks[name].pieces for name in self.sticks]
+            snapshot = [self._sticks[name].motion for name in self.sticks]
             sent = self.sent
             for stick in self._sticks.values():  # what is given no longer changes: forget it
-                keep = next((i for i, piece in enumerate(stick.pieces) if piece.end > sent), len(stick.pieces) - 1)
-                if keep:
-                    stick.pieces = stick.pieces[keep:]
+                stick.motion = stick.motion.since(sent)
         t = k / self.rate
-        columns = [_evaluate(pieces, t) for pieces in snapshot]
+        columns = [(*motion(t), motion.acceleration(t)) for motion in snapshot]
         return Chunk(t, *(np.column_stack([c[i] for c in columns]) if len(t) else np.empty((0, len(self.sticks)))
                           for i in range(3)), self.sticks)
 
@@ -596,38 +498,12 @@ class Performer:
         return performer.setpoints(until)
 
 
-def _moves(moves, start):
-    """Pieces of the moves (duration, path) one after the other from ``start`` (s)."""
-    pieces, t = [], start
-    for duration, path in moves:
-        pieces.append(_Piece(t, t + duration, path, offset=t))
-        t += duration
-    return pieces
-
-
-def _hold(theta):
-    def hold(t):
-        t = np.asarray(t, dtype=float)
-        return np.full(t.shape, theta), np.zeros(t.shape)
-
-    return hold
-
-
-_STEP = 1e-6  # s: the half-step of the central difference of ω that gives α
-
-
-def _flight_acceleration(piece, local):
-    """dω/dt (rad/s²) of a piece at its local times: a central difference of its ω over 2 µs, one-sided where an
-    impact lies within the step (after an impact forwards, before one backwards), as Trajectory's alpha is."""
-    before, after = local - _STEP, local + _STEP
-    if len(piece.impacts):
-        i = np.searchsorted(piece.impacts, local, side="right")
-        previous = piece.impacts[np.maximum(i - 1, 0)]
-        following = piece.impacts[np.minimum(i, len(piece.impacts) - 1)]
-        just_after = (i > 0) & (local - previous < _STEP)
-        just_before = (i < len(piece.impacts)) & (following - local <= _STEP)
-        before = np.where(just_after, local, np.where(just_before, local - 2 * _STEP, before))
-        after = np.where(just_after, local + 2 * _STEP, np.where(just_before, local, after))
-    _, omega_before = piece.path(np.maximum(before, piece.start - piece.offset))
-    _, omega_after = piece.path(after)
-    return (omega_after - omega_before) / (after - np.maximum(before, piece.start - piece.offset))
+def _played(made, start, moves):
+    """The motion from ``start`` (s): the moves (or the stick held until the release), the designed stroke, then the
+    stick held where the stroke caught it."""
+    stroke = made.stroke
+    lead_in = Curve.sequence(moves, start) if moves else Curve.hold(float(made.state(made.release)[0]), start,
+                                                                    made.release)
+    played = Segment(made.release, made.t_end, stroke.arcs.evaluate, made.release, stroke.impacts.t, made)
+    caught = Segment.hold(float(made.state(made.t_end)[0]), made.t_end)
+    return lead_in.spliced(played).spliced(caught) if made.release > start else Curve((played, caught))

@@ -310,11 +310,11 @@ class Runtime:
     def session(self, **extra):
         """The session's record: the performer's options, every note and what became of it, problems, timing."""
         p = self.performer
-        forces = p.options["forces"]
+        forces = p.setup.forces
         record = {
             "drumstroke": __version__, "started": self.started, "clock": "s since the session started (monotonic)",
             "model": p.model, "rate": p.rate, "latency": p.latency, "guard": p.guard, "closest": p.closest,
-            "sticks": list(p.sticks), "rest": p.rest, "cor": p.options["cor"],
+            "sticks": list(p.sticks), "rest": p.rest, "cor": p.setup.cor,
             "forces": {"low": forces.low, "high": forces.high}, "limits": p.limits.to_dict(),
             "closed": p.closed, "done": p.done if p.closed is not None else None, "failure": self.failure,
             "sent": {"count": self.sent, "first": self.first, "last": self.last},
