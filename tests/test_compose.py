@@ -22,6 +22,7 @@ from scipy.optimize import brentq
 from _cli import assert_one_line_error
 from _midi import read_with_mido
 from drumstroke.compose import compose
+from drumstroke.design import Setup
 from drumstroke.dynamics import FLOOR_DB, level_to_velocity, velocity_to_level
 from drumstroke.errors import ParameterError
 from drumstroke.formats.midi import TempoMap
@@ -219,7 +220,7 @@ def return_extremes(piece, library, rate=10_000.0):
 def test_returns_between_strokes_stay_within_the_limits(library, limits):
     """Speed within 1e-9 relative; acceleration by central differences at 10 kHz within 0.1 %
     (the quintics' jerk makes the difference err by ~1e-5 of the limit)."""
-    piece = compose(parse_pattern(PATTERN), library, limits=limits)
+    piece = compose(parse_pattern(PATTERN), library, setup=Setup(moves=limits or RETURN_LIMITS))
     bounds = limits or RETURN_LIMITS
     assert all(p.played for p in piece.placements)
     speed, accel, low = return_extremes(piece, library)

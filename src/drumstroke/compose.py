@@ -37,12 +37,11 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ._checks import check_real
-from .design import Target, assign_sticks, plan_stick
+from .design import Setup, Target, assign_sticks, plan_stick
 from .dynamics import level_to_velocity, velocity_to_level
 from .errors import ParameterError
 from .formats.midi import TempoMap
-from .model import Stick
-from .palette.motion import RETURN_LIMITS, assemble, plan_return, return_time
+from .palette.motion import assemble, plan_return, return_time
 from .palette.transforms import compress, compress_limit, trim
 from .recipe import T_END_LIMIT
 from .score import PLANNED, Score, ScoreNote
@@ -176,9 +175,14 @@ class Composition:
         return result
 
 
-def compose(notes, library=None, *, rate=None, limits=None, progress=None, model="paper", sticks=2, forces=None,
-            joint=None):
+def compose(notes, library=None, *, setup=None, rate=None, sticks=2, progress=None):
     """Compose ``notes`` into one trajectory per stick: library strokes placed, ``auto`` and ``buzz`` notes designed.
+
+    Every note becomes a candidate span on its stick: a library stroke at the note's velocity (with
+    the apexes it may be cut at), or a stroke the planner designed (a chain of notes bouncing on,
+    caught after its last). One pass places each stick's spans in time order: a span plays when the
+    stick can reach its start from the span before it (that one cut at its latest apex that leaves
+    time for the move), and is left out, reported, when it cannot.
 
     Parameters
     ----------
@@ -189,120 +193,71 @@ def compose(notes, library=None, *, rate=None, limits=None, progress=None, model
         (what :func:`~drumstroke.score.read_score` returns) brings its tempo map along.
     library : drumstroke.palette.library.Library or None
         Needed for notes that name library strokes.
+    setup : Setup or None
+        The model the planner designs with, c, the thumb accelerations it may use (m/s²), the
+        joint's limits the designed strokes keep, and the budget of every move between strokes
+        (default ``Setup()``: moves within :data:`~drumstroke.palette.motion.RETURN_LIMITS`).
     rate : float in [1, 100000] or None
         Control rate (Hz) of the result; default the library's (without one, 1000).
-    limits : Limits or None
-        Bounds on the moves between strokes (default :data:`~drumstroke.palette.motion.RETURN_LIMITS`).
-    progress : callable or None
-        Called with the fraction done (0 to 1) as the notes are placed and the sticks assembled.
-    model : {"paper", "geometry"}
-        The model the planner designs with.
     sticks : {1, 2}
         How many sticks the planner may give the notes without one.
-    forces : drumstroke.design.ForceRange or None
-        The thumb accelerations the planner may use (default 0 to 3000 m/s²).
-    joint : Limits or None
-        The joint's limits the designed strokes keep (default ``Limits()``).
+    progress : callable or None
+        Called with the fraction done (0 to 1) as the notes are placed and the sticks assembled.
 
     Returns
     -------
     Composition
     """
-    limits = limits or RETURN_LIMITS
+    setup = Setup() if setup is None else setup
+    if not isinstance(setup, Setup):
+        raise ParameterError(f"setup must be a drumstroke.design.Setup, got {setup!r}")
     tempo_map = notes.tempo_map if isinstance(notes, Score) else TempoMap()
-    notes = list(notes.notes if isinstance(notes, Score) else notes)
-    if not notes:
-        raise ParameterError("notes must hold at least one note")
-    for note in notes:
-        if not isinstance(note, ScoreNote):
-            raise ParameterError(f"notes must be ScoreNote objects, got {note!r}")
-        if note.stroke not in PLANNED and (library is None or note.stroke not in library):
-            strokes = f"the library has {', '.join(library)}" if library is not None else "no library was given"
-            raise ParameterError(f"{note.source or 'note'}: stroke {note.stroke!r} is not auto, buzz or a library "
-                                 f"stroke; {strokes}")
-    default_rate = library.rate if library is not None else DEFAULT_RATE
-    rate = default_rate if rate is None else check_real("rate", rate, low=1.0, high=1e5, unit="Hz")
-    notes.sort(key=lambda n: n.time)
-    if notes[-1].time > T_END_LIMIT:  # found before any work: a song too long to compose fails at once
-        raise ParameterError(f"{notes[-1].source or 'note'}: time must be at most {T_END_LIMIT:g} s (a composition "
-                             f"lasts at most an hour), got {notes[-1].time:.6g} s")
-    notes = _with_sticks(notes, sticks)
-    problems = []
-    variants = {}
+    notes = _checked(notes, library)
+    rate = (library.rate if library is not None else DEFAULT_RATE) if rate is None else check_real(
+        "rate", rate, low=1.0, high=1e5, unit="Hz")
+    notes = _with_sticks(sorted(notes, key=lambda n: n.time), sticks)
+    step = _Progress(progress, 2 * len(notes))
+    variants, problems = {}, []
     for note in notes:
         key = (note.stroke, note.velocity)
         if note.stroke not in PLANNED and key not in variants:
-            variants[key] = _Variant(*_at_velocity(library[note.stroke].trajectory, note, problems, limits))
-    placed = [n for n in notes if n.stroke not in PLANNED]
-    head = library[placed[0].stroke].trajectory.theta_max if placed else Stick().theta_max
+            stroke, factor, problem = _at_velocity(library[note.stroke].trajectory, note, setup.moves)
+            variants[key] = _Variant(stroke, factor)
+            problems += [problem] if problem else []
     by_stick = {}
     for note in notes:
         by_stick.setdefault(note.stick, []).append(note)
-    done = 0
-
-    def advance(count):  # placing a note is one step, assembling it into its stick another
-        nonlocal done
-        done += count
-        if progress is not None:
-            progress(done / (2 * len(notes)))
-
-    designed = {}
-    for stick, stick_notes in by_stick.items():
-        wanted = [n for n in stick_notes if n.stroke in PLANNED]
-        if wanted:
-            targets = [Target.from_velocity(n.time, n.velocity, kind=n.stroke, duration=n.duration, key=k)
-                       for k, n in enumerate(wanted)]
-            designed[stick] = (wanted, plan_stick(targets, model=model, forces=forces, limits=joint, moves=limits))
-            advance(len(wanted))
-    offset = _offset(placed, variants, head, limits, rate, designed)
-    plans = {stick: _place([n for n in stick_notes if n.stroke not in PLANNED], variants, offset, head, limits,
-                           problems, advance) for stick, stick_notes in by_stick.items()}
-    placements = []
-    for stick, (wanted, plan) in designed.items():
-        placements += _designed_placements(wanted, plan, offset, problems)
-        plans[stick] = _clear_of(plans[stick], plan, offset, head, limits, problems)
-    for plan in plans.values():
-        _report_cuts(plan, library, problems)
-    ends = [_finish(plan, head, limits) for plan in plans.values() if any(p.played for p, _ in plan)]
-    ends += [offset + plan.designs[-1].t_end for _, plan in designed.values() if plan.designs]
+    spans = {stick: _spans(stick_notes, variants, setup, rate, step) for stick, stick_notes in by_stick.items()}
+    for stick_spans in spans.values():
+        problems += [problem for span in stick_spans for problem in span.problems]
+    offset = _offset(spans, setup, rate)
+    placed = {stick: _place(stick_spans, offset, setup) for stick, stick_spans in spans.items()}
+    for stick_placed in placed.values():
+        problems += [problem for _, problem in stick_placed if problem]
+        problems += [problem for span, _ in stick_placed if span.played for problem in _cut_short(span, library)]
+    ends = [_finish(stick_placed, setup) for stick_placed in placed.values()
+            if any(span.played for span, _ in stick_placed)]
     if not ends:
         raise ParameterError("no note could be played: " + "; ".join(problems[:3]))
     end = max(ends) + HOLD_AFTER
     if not math.isfinite(end):
-        raise ParameterError(f"the last stroke cannot return to its start angle within {limits}")
+        raise ParameterError(f"the last stroke cannot return to its start angle within {setup.moves}")
     assembled = {}
-    for stick in by_stick:
-        played = [(p.start, trim(v.stroke, 0.0, p.cut) if p.cut is not None else v.stroke)
-                  for p, v in plans[stick] if p.played]
-        plan = designed[stick][1] if stick in designed else None
-        if plan is not None:
-            played += [(offset + d.release, Trajectory.from_stroke(d.stroke, rate=rate, name="designed"))
-                       for d in plan.designs]
-        if not played:
-            continue
-        played.sort(key=lambda item: item[0])
-        assembled[stick] = assemble([piece for _, piece in played], [start for start, _ in played], limits=limits,
-                                    end=end, name=f"composition ({stick} stick)", home=plan is None).sample(rate)
-        advance(len(plans[stick]))
-    placements = sorted(placements + [p for plan in plans.values() for p, _ in plan], key=lambda p: p.note.time)
+    for stick, stick_placed in placed.items():
+        played = [span for span, _ in stick_placed if span.played]
+        if played:
+            pieces = [trim(span.stroke, 0.0, span.cut) if span.cut is not None else span.stroke for span in played]
+            assembled[stick] = assemble(pieces, [span.start for span in played], limits=setup.moves, end=end,
+                                        name=f"composition ({stick} stick)",
+                                        home=played[-1].design is None).sample(rate)
+        step(sum(len(span.notes) for span, _ in stick_placed))
+    placements = sorted((p for stick_placed in placed.values() for span, _ in stick_placed for p in span.placements()),
+                        key=lambda p: p.note.time)
     trajectory = Trajectory.from_sticks(assembled, name=f"composition of {len(placements)} notes",
                                         history=(f"compose {len(placements)} notes",))
-    designs = tuple((stick, d) for stick, (_, plan) in designed.items() for d in plan.designs)
+    designs = tuple((stick, span.design) for stick, stick_placed in placed.items() for span, _ in stick_placed
+                    if span.design is not None and span.played)
     return Composition(trajectory, offset, tuple(placements), tuple(problems), tempo_map, designs)
-
-
-def _report_cuts(plan, library, problems):
-    """A problem for each played library stroke cut before one of its hits (see :data:`HITS`)."""
-    for placement, variant in plan:
-        if not placement.played or placement.cut is None:
-            continue
-        note = placement.note
-        hits = variant.stroke.impacts.t[:HITS.get(library[note.stroke].category, 0)]
-        lost = int(np.sum(hits > placement.cut))
-        if lost:
-            problems.append(f"{note.source or 'note'}: {note.stroke!r} on the {note.stick} stick is cut "
-                            f"{placement.cut:.3f} s into it for the next note: {lost} of its {len(hits)} hits not "
-                            "played")
 
 
 def rudiment_score(name, tempo, *, bars=2):
@@ -338,76 +293,217 @@ def _with_sticks(notes, sticks):
     return [note if note.stick is not None else replace(note, stick=stick) for note, stick in zip(notes, chosen)]
 
 
-def _designed_placements(notes, plan, offset, problems):
-    """The placements of a stick's planned notes: each played note on its design, the others left out."""
-    played = {}
-    for design, keys in zip(plan.designs, plan.keys):
-        for key in keys:
-            played[key] = design
-    for problem in plan.problems:
-        problems.append(f"{notes[problem.key].source or 'note'}: {problem.reason}; left out")
-    return [Placement(note, True, offset + played[k].release, offset + note.time, 1.0) if k in played
-            else Placement(note, False, factor=1.0) for k, note in enumerate(notes)]
+class _Progress:
+    """The fraction done, reported as steps are done: placing a note is one step, assembling it into its stick
+    another."""
+
+    def __init__(self, report, total):
+        self.report, self.total, self.done = report, total, 0
+
+    def __call__(self, count):
+        self.done += count
+        if self.report is not None:
+            self.report(self.done / self.total)
 
 
-def _clear_of(plan, designed, offset, head, limits, problems):
-    """A stick's library strokes that fit between its designed strokes (moves included); the others left out."""
-    spans = [(offset + d.release, offset + d.t_end, d) for d in designed.designs]
-    kept = []
-    for placement, variant in plan:
-        if not placement.played:
-            kept.append((placement, variant))
+def _checked(notes, library):
+    notes = list(notes.notes if isinstance(notes, Score) else notes)
+    if not notes:
+        raise ParameterError("notes must hold at least one note")
+    for note in notes:
+        if not isinstance(note, ScoreNote):
+            raise ParameterError(f"notes must be ScoreNote objects, got {note!r}")
+        if note.stroke not in PLANNED and (library is None or note.stroke not in library):
+            strokes = f"the library has {', '.join(library)}" if library is not None else "no library was given"
+            raise ParameterError(f"{note.source or 'note'}: stroke {note.stroke!r} is not auto, buzz or a library "
+                                 f"stroke; {strokes}")
+    last = max(note.time for note in notes)
+    if last > T_END_LIMIT:  # found before any work: a song too long to compose fails at once
+        note = max(notes, key=lambda n: n.time)
+        raise ParameterError(f"{note.source or 'note'}: time must be at most {T_END_LIMIT:g} s (a composition "
+                             f"lasts at most an hour), got {last:.6g} s")
+    return notes
+
+
+class _Span:
+    """A candidate on one stick: a library stroke for one note, or a designed stroke for a chain of notes.
+
+    It starts ``lead`` s before ``at`` (s, the score's time: its note's for a library stroke, whose first
+    impact is ``lead`` s into it; its release for a design); ``start`` is where it starts on the
+    composition's time once placed. ``cuts`` are where the stroke may end (its own time, s, latest
+    first), ``cut`` where it was cut (None: played to its end), ``played`` whether it plays.
+    """
+
+    def __init__(self, notes, stroke, at, *, lead=0.0, cuts=(), factor=1.0, design=None, problems=()):
+        self.notes, self.stroke, self.at, self.lead, self.cuts = notes, stroke, at, lead, list(cuts)
+        self.factor, self.design, self.problems = factor, design, tuple(problems)
+        self.start, self.cut, self.played = math.nan, None, True
+        self._states = {}
+
+    def place(self, offset):
+        self.offset, self.start = offset, offset + self.at - self.lead
+
+    @property
+    def first(self):
+        return self.notes[0]
+
+    def state(self, t):
+        """(θ rad, ω rad/s) at ``t`` (s, its own time)."""
+        if t not in self._states:
+            theta, omega = self.stroke.path(np.array([t]))
+            self._states[t] = float(theta[0]), float(omega[0])
+        return self._states[t]
+
+    @property
+    def length(self):
+        """s: how long it plays (to its cut)."""
+        return self.cut if self.cut is not None else self.stroke.t_end
+
+    def placements(self):
+        if self.design is None:
+            note = self.first
+            if not self.played:
+                return [Placement(note, False, factor=self.factor)]
+            return [Placement(note, True, self.start, self.start + self.lead, self.factor, self.cut)]
+        return [Placement(note, True, self.start, self.offset + note.time, 1.0) if self.played
+                else Placement(note, False, factor=1.0) for note in self.notes]
+
+
+def _spans(notes, variants, setup, rate, step):
+    """A stick's candidate spans in time order: library strokes and the planner's designs of its other notes.
+
+    The designs' notes the planner could not play are left out here, with its reasons."""
+    spans = []
+    for note in notes:
+        if note.stroke not in PLANNED:
+            variant = variants[(note.stroke, note.velocity)]
+            spans.append(_Span([note], variant.stroke, note.time, lead=float(variant.stroke.impacts.t[0]),
+                               cuts=variant.cuts, factor=variant.factor))
+            step(1)
+    wanted = [n for n in notes if n.stroke in PLANNED]
+    if wanted:
+        targets = [Target.from_velocity(n.time, n.velocity, kind=n.stroke, duration=n.duration, key=k)
+                   for k, n in enumerate(wanted)]
+        plan = plan_stick(targets, setup=setup)
+        step(len(wanted))
+        for made, keys in zip(plan.designs, plan.keys):
+            stroke = Trajectory.from_stroke(made.stroke, rate=rate, name="designed")
+            spans.append(_Span([wanted[k] for k in keys], stroke, made.release, cuts=[stroke.t_end], design=made))
+        for problem in plan.problems:
+            note = wanted[problem.key]
+            left_out = _Span([note], None, note.time,
+                             problems=[f"{note.source or 'note'}: {problem.reason}; left out"])
+            left_out.played = False
+            spans.append(left_out)
+    return sorted(spans, key=lambda span: span.first.time)
+
+
+def _offset(spans, setup, rate):
+    """The lead (s) before the score's time 0 so every stick's first stroke fits, on the control grid."""
+    need = 0.0
+    for stick_spans in spans.values():
+        first = next((span for span in stick_spans if span.played), None)
+        if first is None:
             continue
-        end = placement.start + (placement.cut if placement.cut is not None else variant.stroke.t_end)
-        start_state = variant.state(0.0)
-        clash = next((d for s, e, d in spans if not (end + _gap(variant, placement, d, head, limits) <= s
-                                                     or placement.start >= e + _gap_after(d, start_state, head,
-                                                                                            limits))), None)
-        if clash is None:
-            kept.append((placement, variant))
+        theta, omega = first.state(0.0)
+        wind = return_time((theta, 0.0), (theta, omega), first.stroke.theta_max, setup.moves) if first.design is None else 0.0
+        need = max(need, first.lead + wind - first.at)
+    return math.ceil(need * rate - 1e-9) / rate if need > 0 else 0.0
+
+
+def _place(spans, offset, setup):
+    """One stick's spans placed in time order, each played or left out: [(span, problem or '')].
+
+    A span plays when the stick can move from the span before it (cut at its latest apex that leaves time
+    for the move) to its start; the last plays on until it settles, or until its latest apex the stick can
+    leave for home."""
+    placed, previous = [], None
+    for span in spans:
+        if not span.played:  # the planner could not play it; its problem is its own
+            placed.append((span, ""))
             continue
-        note = placement.note
-        problems.append(f"{note.source or 'note'}: {note.stroke!r} on the {note.stick} stick meets the stroke "
-                        f"designed for the notes at {clash.times[0]:.6g}-{clash.times[-1]:.6g} s; left out")
-        kept.append((Placement(note, False, factor=variant.factor), variant))
-    return kept
+        span.place(offset)
+        if previous is not None:
+            cut = _latest_cut(previous, span, setup)
+            if cut is None:
+                need = _earliest_start(previous, span, setup) - span.start
+                note, before = span.first, previous.first
+                span.played = False
+                placed.append((span, f"{note.source}: {note.stroke!r} on the {note.stick} stick comes "
+                                     f"{need * 1e3:.0f} ms too soon after {before.stroke!r} at {before.time:.6g} s; "
+                                     "left out"))
+                continue
+            previous.cut = cut if cut < previous.stroke.t_end else None
+        placed.append((span, ""))
+        previous = span
+    if previous is not None and previous.design is None:
+        home = (previous.state(0.0)[0], 0.0)
+        head = previous.stroke.theta_max
+        cut = next((c for c in previous.cuts if math.isfinite(return_time(previous.state(c), home, head, setup.moves))),
+                   previous.cuts[-1])
+        previous.cut = cut if cut < previous.stroke.t_end else None
+    return placed
 
 
-def _gap(variant, placement, design, head, limits):
-    """The time (s) a library stroke needs after its end to reach a designed stroke's start."""
-    end = placement.cut if placement.cut is not None else variant.stroke.t_end
-    return return_time(variant.state(end), (float(design.recipe.theta0), 0.0), head, limits)
+def _latest_cut(span, following, setup):
+    target = following.state(0.0)
+    for cut in span.cuts:
+        window = following.start - (span.start + cut)
+        if window >= -1e-9 and plan_return(span.state(cut), target, window, span.stroke.theta_max, setup.moves) is not None:
+            return cut
+    return None
 
 
-def _gap_after(design, start_state, head, limits):
-    """The time (s) a designed stroke needs after its end to reach a library stroke's start."""
-    theta = float(design.state(design.t_end)[0])
-    return return_time((theta, 0.0), start_state, head, limits)
+def _earliest_start(span, following, setup):
+    cut = span.cuts[-1]
+    return span.start + cut + return_time(span.state(cut), following.state(0.0), span.stroke.theta_max, setup.moves)
 
 
-def _at_velocity(stroke, note, problems, limits):
-    """The stroke compressed so its first impact has the note's velocity level, with the factor."""
+def _finish(placed, setup):
+    """When the stick is done after its last stroke (s): home at its start angle after a library stroke, caught
+    after a designed one."""
+    last = [span for span, _ in placed if span.played][-1]
+    if last.design is not None:
+        return last.offset + last.design.t_end
+    home = (last.state(0.0)[0], 0.0)
+    return last.start + last.length + return_time(last.state(last.length), home, last.stroke.theta_max, setup.moves)
+
+
+def _cut_short(span, library):
+    """A problem if a library stroke was cut before one of its hits (see :data:`HITS`)."""
+    if span.design is not None or span.cut is None:
+        return []
+    note = span.first
+    hits = span.stroke.impacts.t[:HITS.get(library[note.stroke].category, 0)]
+    lost = int(np.sum(hits > span.cut))
+    if not lost:
+        return []
+    return [f"{note.source or 'note'}: {note.stroke!r} on the {note.stick} stick is cut {span.cut:.3f} s into it for "
+            f"the next note: {lost} of its {len(hits)} hits not played"]
+
+
+def _at_velocity(stroke, note, moves):
+    """The stroke compressed so its first impact has the note's velocity level, the factor, and a problem or ''."""
     if not len(stroke.impacts):
         raise ParameterError(f"{note.source or 'note'}: stroke {note.stroke!r} has no impact to land on the note")
     first = stroke.impacts.level_db[0]
     factor = 10.0 ** ((velocity_to_level(note.velocity) - first) / 20.0)
-    top = compress_limit(stroke)
     wanted = factor
-    factor = min(factor, top)
+    factor = min(factor, compress_limit(stroke))
     scaled = stroke if factor == 1.0 else compress(stroke, factor)
-    while not _can_wind_up(scaled, limits) and factor > 1e-6:  # a stroke that starts moving needs room above
+    while not _can_wind_up(scaled, moves) and factor > 1e-6:  # a stroke that starts moving needs room above
         factor *= 0.98
         scaled = compress(stroke, factor)
-    if factor < wanted:
-        reached = level_to_velocity(first + 20.0 * math.log10(factor))
-        problems.append(f"{note.source}: velocity {note.velocity} would lift {note.stroke!r} past upright; "
-                        f"played at velocity {reached}, the loudest it can go")
-    return scaled, factor
+    if factor >= wanted:
+        return scaled, factor, ""
+    reached = level_to_velocity(first + 20.0 * math.log10(factor))
+    return scaled, factor, (f"{note.source}: velocity {note.velocity} would lift {note.stroke!r} past upright; "
+                            f"played at velocity {reached}, the loudest it can go")
 
 
 class _Variant:
-    """A library stroke at one velocity, with where it may be cut and its state at those times, each found once:
-    a composition asks for them again at every note that plays it."""
+    """A library stroke at one velocity and where it may be cut, found once: a composition asks again at every note
+    that plays it."""
 
     def __init__(self, stroke, factor):
         self.stroke, self.factor = stroke, factor
@@ -415,89 +511,9 @@ class _Variant:
         apexes = stroke.apexes[np.isfinite(stroke.apexes)]
         apexes = apexes[(apexes > stroke.impacts.t[0]) & (apexes < settle)]
         self.cuts = [settle, *apexes[::-1].tolist()]  # where it may be cut (its own time, s), latest first
-        self._states = {}
-
-    def state(self, t):
-        """(θ rad, ω rad/s) at ``t`` (s, its own time)."""
-        if t not in self._states:
-            self._states[t] = _state(self.stroke, t)
-        return self._states[t]
 
 
-def _can_wind_up(stroke, limits):
-    theta, omega = _state(stroke, 0.0)
-    return math.isfinite(return_time((theta, 0.0), (theta, omega), stroke.theta_max, limits))
-
-
-def _offset(notes, variants, head, limits, rate, designed=None):
-    """The lead (s) before the score's time 0 so every stick's first downstroke fits, on the control grid.
-
-    ``designed``: {stick: (notes, StickPlan)}, whose first strokes start (are released) before time 0."""
-    need = max([0.0] + [-plan.designs[0].release for _, plan in (designed or {}).values() if plan.designs])
-    firsts = {}
-    for note in notes:
-        firsts.setdefault(note.stick, note)
-    for note in firsts.values():
-        variant = variants[(note.stroke, note.velocity)]
-        theta, omega = variant.state(0.0)
-        wind = return_time((theta, 0.0), (theta, omega), head, limits)
-        need = max(need, variant.stroke.impacts.t[0] + wind - note.time)
-    return math.ceil(need * rate - 1e-9) / rate if need > 0 else 0.0
-
-
-def _place(notes, variants, offset, head, limits, problems, advance):
-    """Placements on one stick: (Placement, _Variant) in time order, cuts chosen; ``advance(1)`` for each note."""
-    plan = []
-    for note in notes:
-        advance(1)
-        variant = variants[(note.stroke, note.velocity)]
-        start = offset + note.time - variant.stroke.impacts.t[0]
-        placed = Placement(note, True, start, offset + note.time, variant.factor)
-        previous = next((i for i in range(len(plan) - 1, -1, -1) if plan[i][0].played), None)
-        if previous is not None:
-            before, before_variant = plan[previous]
-            cut = _latest_cut(before_variant, before.start, variant, start, head, limits)
-            if cut is None:
-                need = _earliest_start(before_variant, before.start, variant, head, limits) - start
-                problems.append(
-                    f"{note.source}: {note.stroke!r} on the {note.stick} stick comes {need * 1e3:.0f} ms too soon "
-                    f"after {before.note.stroke!r} at {before.note.time:.6g} s; left out")
-                plan.append((Placement(note, False, factor=variant.factor), variant))
-                continue
-            cut = cut if cut < before_variant.stroke.t_end else None
-            plan[previous] = (replace(before, cut=cut), before_variant)
-        plan.append((placed, variant))
-    last = next((i for i in range(len(plan) - 1, -1, -1) if plan[i][0].played), None)
-    if last is not None:  # the last stroke plays on until it settles, or until its latest apex the stick can leave
-        p, v = plan[last]
-        home = (v.state(0.0)[0], 0.0)
-        cut = next((c for c in v.cuts if math.isfinite(return_time(v.state(c), home, head, limits))), v.cuts[-1])
-        plan[last] = (replace(p, cut=cut if cut < v.stroke.t_end else None), v)
-    return plan
-
-
-def _latest_cut(variant, start, following, following_start, head, limits):
-    target = following.state(0.0)
-    for cut in variant.cuts:
-        window = following_start - (start + cut)
-        if window >= 0.0 and plan_return(variant.state(cut), target, window, head, limits) is not None:
-            return cut
-    return None
-
-
-def _earliest_start(variant, start, following, head, limits):
-    cut = variant.cuts[-1]
-    return start + cut + return_time(variant.state(cut), following.state(0.0), head, limits)
-
-
-def _finish(plan, head, limits):
-    """When the stick is home after its last stroke (s)."""
-    played = [(p, v) for p, v in plan if p.played]
-    p, v = played[-1]
-    end = p.cut if p.cut is not None else v.stroke.t_end
-    return p.start + end + return_time(v.state(end), (v.state(0.0)[0], 0.0), head, limits)
-
-
-def _state(stroke, t):
-    theta, omega = stroke.path(np.array([t]))
-    return float(theta[0]), float(omega[0])
+def _can_wind_up(stroke, moves):
+    theta, omega = stroke.path(np.array([0.0]))
+    theta, omega = float(theta[0]), float(omega[0])
+    return math.isfinite(return_time((theta, 0.0), (theta, omega), stroke.theta_max, moves))

@@ -93,6 +93,7 @@ def add_compose(commands):
 
 def _compose(args):
     from ..compose import compose
+    from ..design import Setup
     from ..palette.library import load_library
     from ..render.outputs import write_composition_outputs
     from ..score import read_score
@@ -111,7 +112,7 @@ def _compose(args):
         raise ParameterError(f"{args.score} has no notes to play on the channels and tracks chosen; choose others "
                              "with --channel, --track or --mapping (--verbose lists every note skipped)")
     bar = None if args.quiet else Bar("composing", delay=1.0)
-    piece = compose(score, library, rate=rate, progress=bar.update if bar else None, model=args.model,
+    piece = compose(score, library, rate=rate, progress=bar.update if bar else None, setup=Setup(model=args.model),
                     sticks=args.sticks)
     if bar:
         bar.close()

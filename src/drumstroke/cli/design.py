@@ -75,21 +75,20 @@ def add_rudiment(commands):
 
 
 def _design(args):
-    from ..design import ForceRange, buzz, design
+    from ..design import ForceRange, Setup, buzz, design
     from ..render.data import design_to_dict
     from ..render.outputs import write_stroke_outputs
 
-    forces = ForceRange(high=args.force_max)
-    options = {"model": args.model, "cor": args.cor, "forces": forces}
+    setup = Setup(model=args.model, cor=args.cor, forces=ForceRange(high=args.force_max))
     if args.buzz is not None:
         if args.times is not None or args.velocities is not None or args.levels is not None:
             raise ParameterError("give --buzz or --times, not both")
         made = buzz(*args.buzz, velocity=args.velocity, density=args.density, decay=args.decay,
-                    finish=args.end or "press", **options)
+                    finish=args.end or "press", setup=setup)
     else:
         if args.times is None or (args.velocities is None) == (args.levels is None):
             raise ParameterError("give --times with --velocities or --levels (or --buzz T0:T1)")
-        made = design(args.times, args.levels, velocities=args.velocities, end=args.end or "catch", **options)
+        made = design(args.times, args.levels, velocities=args.velocities, end=args.end or "catch", setup=setup)
     human = "beyond the human thumb (0-250 m/s^2)" if made.beyond_human else "within the human thumb (0-250 m/s^2)"
     print(f"designed {len(made.times)} notes on the {made.model} model: released at {made.release:.6f} s, forces "
           f"{made.min_force:.4g} to {made.max_force:.4g} m/s^2, {human}; ends {made.end} at {made.t_end:.6f} s")
@@ -110,6 +109,7 @@ def _design(args):
 
 def _rudiment(args):
     from ..compose import compose, rudiment_score
+    from ..design import Setup
     from ..palette.rudiments import rudiments
     from ..render.outputs import write_composition_outputs
 
@@ -126,7 +126,7 @@ def _rudiment(args):
     score, played = rudiment_score(chosen.name, tempo, bars=args.bars)
     if played.warning:
         print(f"warning: {played.warning}", file=sys.stderr)
-    piece = compose(score, model=args.model)
+    piece = compose(score, setup=Setup(model=args.model))
     played_notes = sum(p.played for p in piece.placements)
     print(f"{chosen.number} {chosen.title} at {tempo:g} bpm, {args.bars} bar{'s' * (args.bars != 1)} (model "
           f"{piece.model}): {played_notes} of {len(score.notes)} notes played, {len(piece.designs)} designed strokes; "
