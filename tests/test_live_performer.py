@@ -6,6 +6,7 @@ import pytest
 
 import drumstroke
 from drumstroke.dynamics import velocity_to_level
+from drumstroke.design import Setup
 from drumstroke.live import ManualClock, Performer
 from drumstroke.palette.motion import Limits
 from drumstroke.robot.validate import validate
@@ -20,7 +21,7 @@ def perform(notes, *, until, model="paper", step=0.01):
     """Run a performer on a manual clock: the clock advances in ``step`` s, samples are taken as it goes and each
     note is given when its arrival time comes (heard 50 ms later). Returns (performer, setpoints, outcomes)."""
     clock = ManualClock()
-    performer = Performer(clock=clock, model=model)
+    performer = Performer(clock=clock, setup=Setup(model=model, moves=Limits()))
     chunks, outcomes, pending = [], [], sorted(notes)
     t = 0.0
     while t <= until + 1e-12:
@@ -118,7 +119,7 @@ def test_a_note_before_the_sticks_last_is_dropped_and_a_buzz_makes_its_bounces()
 
 def test_an_unreachable_note_is_dropped_and_the_motion_goes_on():
     clock = ManualClock()
-    performer = Performer(clock=clock, forces=drumstroke.design.ForceRange(0.0, 50.0))  # a weak thumb
+    performer = Performer(clock=clock, setup=Setup(forces=drumstroke.design.ForceRange(0.0, 50.0), moves=Limits()))  # a weak thumb
     performer.note("right", 30)
     clock.set(0.045)
     outcome = performer.note("right", 127)  # 50 ms after a soft note, as loud as can be
@@ -143,3 +144,9 @@ def test_bad_times_are_refused_with_their_name():
         Performer(sticks=("right", "right"))
     with pytest.raises(drumstroke.ParameterError, match="rest must be"):
         Performer(rest=-1.0)
+
+
+def test_a_setup_whose_moves_are_gentler_than_its_joint_is_refused_live():
+    with pytest.raises(drumstroke.ParameterError, match="setup.moves must be setup.limits live"):
+        Performer(setup=Setup())
+    assert Performer(setup=Setup(model="geometry", moves=Limits())).model == "geometry"

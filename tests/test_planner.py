@@ -5,7 +5,7 @@ import pytest
 
 import drumstroke
 import drumstroke.dynamics
-from drumstroke.design import Problem, Setup, Target, assign_sticks, plan_stick
+from drumstroke.design import Problem, Setup, Start, Target, assign_sticks, next_stroke, plan_stick
 from drumstroke.palette.motion import RETURN_LIMITS, Limits
 from drumstroke.robot.validate import validate
 
@@ -108,3 +108,46 @@ def test_sticking_a_part_that_names_no_stick():
     assert assign_sticks([0.0, 0.1], sticks=1) == ["right", "right"]
     with pytest.raises(drumstroke.ParameterError, match="sticks must be 1 or 2"):
         assign_sticks([0.0], sticks=3)
+
+
+def test_next_stroke_throws_from_where_the_stick_rests_when_it_can():
+    setup = Setup()
+    made, moves = next_stroke([1.0], [0.0], setup, free=0.5, theta=0.0)  # gravity alone is too slow from level
+    assert moves == [] and made.release >= 0.5 - 1e-9
+    assert float(made.recipe.theta0) == pytest.approx(0.0, abs=1e-12)  # thrown from the height it rests at
+    assert made.impacts.t[0] == pytest.approx(1.0, abs=1e-8)
+
+
+def test_next_stroke_moves_to_a_throw_when_the_stick_cannot_be_thrown_from_where_it_is():
+    setup = Setup()
+    made, moves = next_stroke([1.0], [-6.0], setup, free=0.5, theta=setup.head)  # resting on the head
+    assert moves, "a stick on the head must be lifted first"
+    duration = sum(d for d, _ in moves)
+    assert duration == pytest.approx(made.release - 0.5, abs=1e-9)  # the moves fill the window to the release
+    first, last = moves[0][1](np.array([0.0])), moves[-1][1](np.array([moves[-1][0]]))
+    assert first[0][0] == pytest.approx(setup.head, abs=1e-9) and first[1][0] == pytest.approx(0.0, abs=1e-9)
+    assert last[0][0] == pytest.approx(float(made.recipe.theta0), abs=1e-9) and abs(last[1][0]) < 1e-6
+
+
+def test_next_stroke_bounces_on_from_a_running_motion():
+    setup = Setup()
+    running = Start(0.4, setup.head, 5.0)  # leaving the head at 5 rad/s
+    made, moves = next_stroke([0.5], [-6.0], setup, free=0.4, theta=setup.head, omega=5.0, running=running)
+    assert moves == [] and made.release == pytest.approx(0.4, abs=1e-12)
+    assert made.impacts.t[0] == pytest.approx(0.5, abs=1e-8)
+
+
+def test_next_stroke_says_why_when_no_start_reaches_the_note():
+    with pytest.raises(drumstroke.ParameterError, match="needs .* s to reach the height of its next throw"):
+        next_stroke([0.52], [-6.0], Setup(), free=0.5, theta=1.2, omega=-20.0)
+
+
+def test_a_setup_names_what_is_wrong():
+    with pytest.raises(drumstroke.ParameterError, match=r"cor must be in \[0, 1\)"):
+        Setup(cor=1.0)
+    with pytest.raises(drumstroke.ParameterError, match="model must be one of"):
+        Setup(model="fast")
+    with pytest.raises(drumstroke.ParameterError, match="forces must be a drumstroke.design.ForceRange"):
+        Setup(forces=(0, 100))
+    with pytest.raises(drumstroke.ParameterError, match="setup must be a drumstroke.design.Setup"):
+        plan_stick([Target(0.5, -6.0)], setup={"model": "paper"})

@@ -80,7 +80,7 @@ def _address(*, default_host, port_low):
 
 
 def _live(args):
-    from ..design import ForceRange
+    from ..design import ForceRange, Setup
     from ..live import Performer
     from ..live.stage import perform
     from ..score import read_score
@@ -90,9 +90,10 @@ def _live(args):
     if not (args.osc_out or args.csv or args.simulate_robot):
         raise ParameterError("give where the setpoints go: --osc-out, --csv or --simulate-robot")
     config = robot_config(args.config)
-    performer = Performer(sticks=tuple(name.strip() for name in args.sticks.split(",")), model=args.model,
-                          rate=args.rate, latency=args.latency / 1e3, cor=args.cor,
-                          forces=ForceRange(high=args.force_max), limits=config.limits)
+    setup = Setup(model=args.model, cor=args.cor, forces=ForceRange(high=args.force_max), limits=config.limits,
+                  moves=config.limits)
+    performer = Performer(sticks=tuple(name.strip() for name in args.sticks.split(",")), setup=setup, rate=args.rate,
+                          latency=args.latency / 1e3)
     log = args.log or f"session-{datetime.now().strftime('%Y%m%d-%H%M%S')}.json"
     robot = {"engine": args.simulate_robot, "control": args.controller, "plant": config.plant} \
         if args.simulate_robot else None

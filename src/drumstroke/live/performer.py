@@ -42,13 +42,11 @@ import numpy as np
 
 from .._checks import check_real
 from ..curve import Curve, Segment
-from ..design import Design, ForceRange, Setup, Start, Unreachable, next_stroke
+from ..design import Design, Setup, Start, Unreachable, next_stroke
 from ..design.buzz import DENSITY, buzz_times
 from ..dynamics import velocity_to_level
 from ..errors import ParameterError
-from ..model import MODELS
 from ..palette.motion import Limits, plan_return, return_time
-from ..recipe import DEFAULT_COR
 from ..trajectory import DEFAULT_RATE
 
 LATENCY = 0.05
@@ -194,7 +192,10 @@ class Performer:
     ----------
     sticks : sequence of str
         The sticks' names (default right and left).
-    model : {"paper", "geometry"}
+    setup : Setup, optional
+        The model, c, the thumb accelerations the planner may use (m/s²) and the joint's limits, which
+        the strokes and the moves both keep (default ``Setup(moves=Limits())``: a strong drumming
+        joint, as live moves must be quick; a setup whose moves differ from its limits is refused).
     rate : float in [10, 1e5]
         The control rate (Hz).
     latency : float in (0, 10]
@@ -202,12 +203,6 @@ class Performer:
     guard : float in (0, latency)
         s after now from which a new note may change the motion: setpoints up to then may be given
         ahead of their time.
-    cor : float in [0, 1), optional
-    forces : ForceRange, optional
-        The thumb accelerations the planner may use (default 0 to 3000 m/s²).
-    limits : Limits, optional
-        The joint's limits: the strokes and the moves keep them (default ``Limits()``, a strong drumming
-        joint: live moves must be quick).
     rest : float
         rad, where the sticks wait before the first note and after :meth:`close` (default 0: level).
     closest : float in [0, 1]
@@ -217,29 +212,25 @@ class Performer:
         Default a :class:`SystemClock`; a :class:`ManualClock` runs faster than real time.
     """
 
-    def __init__(self, *, sticks=("right", "left"), model="paper", rate=DEFAULT_RATE, latency=LATENCY, guard=GUARD,
-                 cor=None, forces=None, limits=None, rest=0.0, closest=CLOSEST, clock=None):
-        if model not in MODELS:
-            raise ParameterError(f"model must be one of {', '.join(MODELS)}, got {model!r}")
+    def __init__(self, *, sticks=("right", "left"), setup=None, rate=DEFAULT_RATE, latency=LATENCY, guard=GUARD,
+                 rest=0.0, closest=CLOSEST, clock=None):
+        setup = Setup(moves=Limits()) if setup is None else setup
+        if not isinstance(setup, Setup):
+            raise ParameterError(f"setup must be a drumstroke.design.Setup, got {setup!r}")
+        if setup.moves != setup.limits:
+            raise ParameterError(f"setup.moves must be setup.limits live (a note heard {LATENCY:g} s after it arrives "
+                                 f"leaves no time for gentler moves), got {setup.moves!r}")
         sticks = tuple(sticks)
         if not sticks or len(set(sticks)) != len(sticks) or not all(isinstance(s, str) and s for s in sticks) \
                 or "auto" in sticks:
             raise ParameterError(f"sticks must be distinct non-empty names other than 'auto', got {sticks!r}")
-        if limits is not None and not isinstance(limits, Limits):
-            raise ParameterError(f"limits must be a drumstroke.palette.motion.Limits, got {limits!r}")
-        if forces is not None and not isinstance(forces, ForceRange):
-            raise ParameterError(f"forces must be a drumstroke.design.ForceRange, got {forces!r}")
         self.sticks = sticks
-        self.model = model
+        self.setup = setup
+        self.model, self.limits, self.head = setup.model, setup.limits, setup.head
         self.rate = check_real("rate", rate, low=10.0, high=1e5, unit="Hz")
         self.latency = check_real("latency", latency, low=0.0, high=10.0, low_open=True, unit="s")
         self.guard = check_real("guard", guard, low=0.0, high=self.latency, low_open=True, high_open=True, unit="s")
         self.closest = check_real("closest", closest, low=0.0, high=1.0, unit="s")
-        self.limits = limits or Limits()
-        cor = DEFAULT_COR if cor is None else check_real("cor", cor, low=0.0, high=1.0, high_open=True)
-        # live moves use the joint's own limits: a note heard 50 ms after it arrives leaves no time for gentle ones
-        self.setup = Setup(model=model, cor=cor, forces=forces or ForceRange(), limits=self.limits, moves=self.limits)
-        self.head = self.setup.head
         self.rest = check_real("rest", rest, low=self.head, high=self.limits.theta_high, low_open=True, unit="rad")
         self.clock = clock or SystemClock()
         self.log = []
@@ -256,9 +247,8 @@ class Performer:
         """
         if self.model in _WARM:
             return
-        scratch = Performer(sticks=self.sticks[:1], model=self.model, rate=self.rate, latency=self.latency,
-                            guard=self.guard, cor=self.setup.cor, forces=self.setup.forces,
-                            limits=self.limits, rest=self.rest, closest=self.closest, clock=ManualClock())
+        scratch = Performer(sticks=self.sticks[:1], setup=self.setup, rate=self.rate, latency=self.latency,
+                            guard=self.guard, rest=self.rest, closest=self.closest, clock=ManualClock())
         stick = self.sticks[0]
         for arrived, velocity, stroke in ((0.0, 100, "auto"), (0.02, 60, "auto"), (0.3, 127, "auto"),
                                           (0.6, 30, "auto"), (1.0, 90, "buzz")):

@@ -372,7 +372,7 @@ def replay_session(session, *, until=None):
     Chunk
         From the session's first setpoint (t = 0), exactly as it sent them.
     """
-    from ..design import ForceRange
+    from ..design import ForceRange, Setup
     from ..formats.json import read_json
     from ..palette.motion import Limits
     from .performer import LiveNote, Outcome, Performer
@@ -388,10 +388,12 @@ def replay_session(session, *, until=None):
         if missing:
             raise DrumstrokeError(f"it has no {', '.join(missing)}")
         forces = session["forces"]
-        options = {"sticks": tuple(session["sticks"]), "model": session["model"], "rate": session["rate"],
+        limits = Limits.from_dict(session["limits"])
+        setup = Setup(model=session["model"], cor=session["cor"], forces=ForceRange(forces["low"], forces["high"]),
+                      limits=limits, moves=limits)
+        options = {"sticks": tuple(session["sticks"]), "setup": setup, "rate": session["rate"],
                    "latency": session["latency"], "guard": session["guard"], "closest": session["closest"],
-                   "rest": session["rest"], "cor": session["cor"],
-                   "forces": ForceRange(forces["low"], forces["high"]), "limits": Limits.from_dict(session["limits"])}
+                   "rest": session["rest"]}
         log = []
         for i, row in enumerate(session["notes"]):
             if not isinstance(row, dict) or not isinstance(row.get("planned"), bool):
