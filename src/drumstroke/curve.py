@@ -122,11 +122,7 @@ class Curve:
     def sequence(cls, pieces, start=0.0):
         """Paths one after another from ``start`` (s): ``pieces`` are (duration s, path) with local time 0 at
         each one's start (a move, a hold, a stroke's arcs)."""
-        segments, t = [], float(start)
-        for duration, path in pieces:
-            segments.append(Segment(t, t + duration, path, t))
-            t += duration
-        return cls(tuple(segments))
+        return cls(placed(pieces, start))
 
     def spliced(self, new):
         """This motion up to where ``new`` (a Segment or a Curve) starts, then ``new``."""
@@ -215,6 +211,16 @@ class Curve:
 
     def __repr__(self):
         return f"Curve({len(self.segments)} segments over [{self.start:.6g}, {self.end:.6g}] s)"
+
+
+def placed(pieces, start=0.0):
+    """Segments of paths one after another from ``start`` (s): ``pieces`` are (duration s, path), each path's local
+    time 0 at its start."""
+    segments, t = [], float(start)
+    for duration, path in pieces:
+        segments.append(Segment(t, t + duration, path, t))
+        t += duration
+    return tuple(segments)
 
 
 def _flight_acceleration(segment, t):

@@ -47,6 +47,7 @@ import numpy as np
 from ._atomic import publish
 from ._checks import as_vector, check_real
 from ._version import __version__
+from .curve import Curve, Segment
 from .errors import ParameterError, TrajectoryError
 from .formats import trajectory_csv
 from .formats.sidecar import sidecar_for, write_sidecar
@@ -70,9 +71,6 @@ DEFAULT_STICK = "stick"
 
 TIME_TOLERANCE = 1e-9
 """Relative tolerance of a sample time against its place on the rate's grid (× max(1, |t|))."""
-
-_DIFF = 1e-6  # s, the step of the acceleration's central difference on a curve
-
 
 @dataclass(frozen=True, repr=False)
 class Impacts:
@@ -137,30 +135,23 @@ class Motion:
     theta_max: float
 
 
-class _Buffer:
-    """Sample storage that grows by doubling; trajectories extended from one another share it."""
+@dataclass(frozen=True, eq=False)
+class Samples:
+    """Samples as given, read-only: t (s) [shape=(n,)], θ (rad) and ω (rad/s) [shape=(n, sticks)], α (rad/s²) like
+    θ or None."""
 
-    def __init__(self, t, theta, omega, alpha):
-        self.t, self.theta, self.omega, self.alpha = t, theta, omega, alpha
-        self.size = len(t)
+    t: np.ndarray
+    theta: np.ndarray
+    omega: np.ndarray
+    alpha: np.ndarray | None = None
 
-    def append(self, t, theta, omega, alpha):
-        n, m = self.size, len(t)
-        if n + m > len(self.t):
-            capacity = max(2 * len(self.t), n + m, 16)
-            self.t = _grown(self.t, n, capacity)
-            self.theta, self.omega = _grown(self.theta, n, capacity), _grown(self.omega, n, capacity)
-            self.alpha = None if self.alpha is None else _grown(self.alpha, n, capacity)
-        self.t[n:n + m], self.theta[n:n + m], self.omega[n:n + m] = t, theta, omega
-        if self.alpha is not None:
-            self.alpha[n:n + m] = alpha
-        self.size = n + m
+    def __post_init__(self):
+        for array in (self.t, self.theta, self.omega, self.alpha):
+            if array is not None:
+                array.flags.writeable = False
 
-
-def _grown(array, n, capacity):
-    out = np.empty((capacity, *array.shape[1:]))
-    out[:n] = array[:n]
-    return out
+    def __len__(self):
+        return len(self.t)
 
 
 @dataclass(frozen=True, eq=False, repr=False)
@@ -198,6 +189,9 @@ class Trajectory:
         Whether evenly spaced samples of the solver's arcs are carried from one to the next by
         the addition theorem of sn, cn, dn (faster; within ~3e-14 rad of evaluating each afresh)
         or each evaluated afresh (what the robot's reference does).
+    stored : Samples or None
+        The samples as given (a file, a robot log, a stream), or None when the samples are the
+        curve's at the rate.
     """
 
     motions: tuple
@@ -211,7 +205,7 @@ class Trajectory:
     recipe_time: Callable | None = field(default=None, repr=False)
     start: float = 0.0
     carry: bool = True
-    _stored: tuple | None = field(default=None, repr=False)  # (buffer, n): samples as given
+    stored: Samples | None = field(default=None, repr=False)
 
     # --- making one --------------------------------------------------------------------------------------------------
 
@@ -227,12 +221,9 @@ class Trajectory:
         recipe = stroke.recipe
         rate = _check_rate(rate)
         label = recipe.name or "custom"
-        # Built field by field: this is every sampled stroke's path, and dataclass __init__ would double its overhead.
-        motion = _made(Motion, path=stroke.arcs.evaluate, impacts=stroke.impacts,
-                       omega_after=-recipe.cor * stroke.impacts.omega, theta_max=recipe.theta_max)
-        return _made(cls, motions=(motion,), sticks=(DEFAULT_STICK,), t_end=recipe.t_end, rate=rate, name=name or label,
-                     model=recipe.model, recipe=recipe, history=(f"simulate {label} (model {recipe.model})",),
-                     recipe_time=_identity, start=0.0, carry=True, _stored=None)
+        motion = Motion(stroke.arcs.evaluate, stroke.impacts, -recipe.cor * stroke.impacts.omega, recipe.theta_max)
+        return cls((motion,), (DEFAULT_STICK,), recipe.t_end, rate, name or label, recipe.model, recipe,
+                   (f"simulate {label} (model {recipe.model})",), _identity)
 
     @classmethod
     def from_samples(cls, t, theta, omega, impacts=None, omega_after=None, *, theta_max=None, tip_distance=None,
@@ -286,9 +277,8 @@ class Trajectory:
                 after = (np.asarray(omega_after, dtype=float) if omega_after is not None
                          else _omega_after(t, omega[:, 0], impacts.t))
             motions.append(Motion(None, found, after, head))
-        buffer = _Buffer(t, theta, omega, alpha)
         return cls(tuple(motions), sticks, float(t[-1]), rate, name, model, recipe, tuple(history),
-                   start=float(t[0]), _stored=(buffer, len(t)))
+                   start=float(t[0]), stored=Samples(t, theta, omega, alpha))
 
     @classmethod
     def from_sticks(cls, trajectories, *, name="", history=()):
@@ -308,17 +298,14 @@ class Trajectory:
                     "needs the same rate, start and end")
         models = sorted({p.model for _, p in parts})
         stored = None
-        if all(p._stored is not None for _, p in parts):
-            columns = [p._positions() for _, p in parts]
-            alphas = [p._stored[0].alpha for _, p in parts]
-            n = len(columns[0][0])
-            buffer = _Buffer(columns[0][0].copy(), np.column_stack([c[1] for c in columns]),
-                             np.column_stack([c[2] for c in columns]),
-                             None if any(a is None for a in alphas) else np.column_stack([a[:n, 0] for a in alphas]))
-            stored = (buffer, n)
+        if all(p.stored is not None for _, p in parts):
+            kept = [p.stored for _, p in parts]
+            alpha = None if any(k.alpha is None for k in kept) else np.column_stack([k.alpha[:, 0] for k in kept])
+            stored = Samples(kept[0].t.copy(), np.column_stack([k.theta[:, 0] for k in kept]),
+                             np.column_stack([k.omega[:, 0] for k in kept]), alpha)
         return cls(tuple(p.motions[0] for _, p in parts), tuple(stick for stick, _ in parts), first.t_end,
                    first.rate, name, models[0] if len(models) == 1 else "mixed", None, tuple(history),
-                   start=first.start, _stored=stored)
+                   start=first.start, stored=stored)
 
     @classmethod
     def read_csv(cls, path, *, stick=None, rate=None, theta_max=None, tip_distance=None):
@@ -399,8 +386,8 @@ class Trajectory:
 
     def __len__(self):
         """The number of samples at :attr:`rate`."""
-        if self._stored is not None:
-            return self._stored[1]
+        if self.stored is not None:
+            return len(self.stored)
         n = math.floor((self.t_end - self.start) * self.rate * (1.0 + 1e-12)) + 1
         if n > MAX_SAMPLES:
             raise ParameterError(f"rate = {self.rate:g} Hz over {self.t_end - self.start:g} s gives {n} samples; at "
@@ -430,8 +417,8 @@ class Trajectory:
         theta, omega, alpha : ndarray [shape=(m,) for one stick, (m, sticks) for several]
         """
         t, theta, omega = self._positions(first, stop)
-        if self._stored is not None and self._stored[0].alpha is not None:
-            alpha = self._stored[0].alpha[first:len(t) + first]
+        if self.stored is not None and self.stored.alpha is not None:
+            alpha = self.stored.alpha[first:len(t) + first]
         else:
             alpha = self._alpha_at(t)
         return t, theta, omega, self._shaped(alpha)
@@ -444,10 +431,9 @@ class Trajectory:
                 <= n):
             raise ParameterError(f"first and stop must be sample indices with 0 <= first <= stop <= {n}, got "
                                  f"{first!r} and {stop!r}")
-        if self._stored is not None:
-            buffer = self._stored[0]
-            return (buffer.t[first:stop], self._shaped(buffer.theta[first:stop]),
-                    self._shaped(buffer.omega[first:stop]))
+        if self.stored is not None:
+            stored = self.stored
+            return stored.t[first:stop], self._shaped(stored.theta[first:stop]), self._shaped(stored.omega[first:stop])
         t = np.arange(first, stop, dtype=float)
         t /= self.rate
         if self.start:
@@ -460,7 +446,7 @@ class Trajectory:
 
     def _evaluate(self, j, t):
         """Stick j's curve at evenly spaced times ``t`` (the solver's arcs carry sn, cn, dn from one to the next)."""
-        path = self.motions[j].path if self._stored is None else self.curves[j]
+        path = self.motions[j].path if self.stored is None else self.curves[j]
         if self.carry and isinstance(getattr(path, "__self__", None), Arcs):
             return path(t, spacing=1.0 / self.rate)
         return path(t)
@@ -531,7 +517,7 @@ class Trajectory:
         if rate == self.rate:
             return self
         motions = tuple(replace(m, path=curve) for m, curve in zip(self.motions, self.curves))
-        moved = replace(self, motions=motions, rate=rate, _stored=None)
+        moved = replace(self, motions=motions, rate=rate, stored=None)
         len(moved)  # checks the count
         return moved
 
@@ -559,15 +545,12 @@ class Trajectory:
         if len(self.sticks) == 1:
             return self
         j = self.sticks.index(name)
-        stored = None
-        if self._stored is not None:
-            buffer, n = self._stored
-            alpha = None if buffer.alpha is None else buffer.alpha[:n, j:j + 1].copy()
-            part = _Buffer(buffer.t[:n].copy(), buffer.theta[:n, j:j + 1].copy(), buffer.omega[:n, j:j + 1].copy(),
-                           alpha)
-            stored = (part, n)
+        stored = self.stored
+        if stored is not None:
+            stored = Samples(stored.t, stored.theta[:, j:j + 1], stored.omega[:, j:j + 1],
+                             None if stored.alpha is None else stored.alpha[:, j:j + 1])
         return replace(self, motions=(self.motions[j],), sticks=(name,), name=self.name or name,
-                       model=self.model, _stored=stored)
+                       model=self.model, stored=stored)
 
     def _one(self, what):
         if len(self.motions) != 1:
@@ -578,12 +561,12 @@ class Trajectory:
     @cached_property
     def curves(self):
         """Each stick's curve, ``path(t) -> (theta, omega)``: its motion's, or the Hermite curve through its samples."""
-        if self._stored is None:
+        if self.stored is None:
             return tuple(m.path for m in self.motions)
-        buffer, n = self._stored
+        stored = self.stored
         return tuple(m.path if m.path is not None else
-                     _hermite_path(buffer.t[:n].copy(), buffer.theta[:n, j].copy(), buffer.omega[:n, j].copy(),
-                                   m.impacts.t, m.impacts.omega, m.omega_after, m.theta_max)
+                     _hermite_path(stored.t, stored.theta[:, j], stored.omega[:, j], m.impacts.t, m.impacts.omega,
+                                   m.omega_after, m.theta_max)
                      for j, m in enumerate(self.motions))
 
     @property
@@ -679,12 +662,13 @@ class Trajectory:
     # --- the stepping seam -------------------------------------------------------------------------------------------
 
     def extend(self, t, theta, omega, alpha=None, impacts=None, omega_after=None):
-        """This trajectory with samples appended: the next chunk of a stream.
+        """This trajectory with samples appended: the next chunk of a stream (see :class:`Stream`).
 
         The chunk must continue the time grid (its first time one period after the last),
         be finite, stay on or above the head, and continue the motion: its first θ within
         what the speeds at the join allow, one period's travel (so the stick never jumps).
-        Appending is amortised O(chunk): trajectories extended from one another share storage.
+        The samples are copied: a host that appends many chunks keeps a :class:`Stream`,
+        which appends in amortised O(chunk).
 
         Parameters
         ----------
@@ -707,42 +691,7 @@ class Trajectory:
         TrajectoryError
             Naming the sample (counted in the whole trajectory) and what is wrong.
         """
-        buffer, n = self._materialised()
-        if len(self.motions) != 1 and impacts is not None:
-            raise ParameterError("impacts can be given for one stick only; several sticks' impacts are found")
-        t_new, theta_new, omega_new, alpha_new = _chunk_arrays(t, theta, omega, alpha, len(self.sticks),
-                                                               buffer.alpha is not None)
-        _check_chunk(self, buffer, n, t_new, theta_new, omega_new)
-        if buffer.size != n:  # an older trajectory than the buffer's tip: its own storage
-            buffer = _Buffer(buffer.t[:n].copy(), buffer.theta[:n].copy(), buffer.omega[:n].copy(),
-                             None if buffer.alpha is None else buffer.alpha[:n].copy())
-        buffer.append(t_new, theta_new, omega_new, alpha_new)
-        end = buffer.size
-        motions = []
-        for j, motion in enumerate(self.motions):
-            if impacts is None:  # from the last sample before the chunk on: an impact may straddle the join
-                found, after = find_impacts(buffer.t[n - 1:end], buffer.theta[n - 1:end, j],
-                                            buffer.omega[n - 1:end, j], theta_max=motion.theta_max,
-                                            tip_distance=motion.impacts.tip_distance)
-                new_t, new_omega = found.t, found.omega
-            else:
-                new_t, new_omega = np.asarray(impacts.t, dtype=float), np.asarray(impacts.omega, dtype=float)
-                after = (np.asarray(omega_after, dtype=float) if omega_after is not None
-                         else _omega_after(buffer.t[:end], buffer.omega[:end, j], new_t))
-            if len(new_t):  # most chunks have none: nothing to join
-                joined = Impacts(np.concatenate((motion.impacts.t, new_t)),
-                                 np.concatenate((motion.impacts.omega, new_omega)), motion.impacts.tip_distance)
-                motion = Motion(None, joined, np.concatenate((motion.omega_after, after)), motion.theta_max)
-            motions.append(replace(motion, path=None))
-        return replace(self, motions=tuple(motions), t_end=float(buffer.t[end - 1]), _stored=(buffer, end))
-
-    def _materialised(self):
-        """The stored samples, making them from the curve first if there are none."""
-        if self._stored is not None:
-            return self._stored
-        t, theta, omega = self._positions()
-        shape = (len(t), len(self.sticks))
-        return _Buffer(t.copy(), theta.reshape(shape).copy(), omega.reshape(shape).copy(), None), len(t)
+        return Stream(self).extend(t, theta, omega, alpha, impacts, omega_after).trajectory()
 
     def flight_acceleration(self, t):
         """dω/dt (rad/s²) on the curve at times ``t`` (s) in [start, t_end], impacts excluded (one stick).
@@ -754,10 +703,9 @@ class Trajectory:
         return self._alpha_at(np.asarray(t, dtype=float))
 
     def _alpha_at(self, t):
-        if len(self.motions) == 1:
-            return _flight_acceleration(self.curves[0], self.motions[0].impacts.t, t, self.start, self.t_end)
-        return np.column_stack([_flight_acceleration(path, m.impacts.t, t, self.start, self.t_end)
-                                for path, m in zip(self.curves, self.motions)])
+        columns = [_as_curve(path, m.impacts.t, self.start, self.t_end).acceleration(t)
+                   for path, m in zip(self.curves, self.motions)]
+        return columns[0] if len(columns) == 1 else np.column_stack(columns)
 
     # --- provenance --------------------------------------------------------------------------------------------------
 
@@ -781,6 +729,83 @@ class Trajectory:
                                           impacts.level_db)
             ],
         }
+
+
+class Stream:
+    """Samples that arrive in chunks: the stepping seam a live host streams through.
+
+    Starts from a trajectory (its samples, or its curve's at its rate) and takes chunks with
+    :meth:`extend`, each checked as :meth:`Trajectory.extend` says, in amortised O(chunk): the
+    samples grow in place, by doubling. :meth:`trajectory` is what has arrived, an immutable
+    :class:`Trajectory` whose samples later chunks never change.
+
+    Examples
+    --------
+    >>> import drumstroke
+    >>> stroke = drumstroke.simulate("free-bounce", t_end=0.5).sample(1000.0)
+    >>> stream = Stream(Trajectory.from_samples(*stroke.samples(0, 10)[:3], rate=1000.0))
+    >>> for first in range(10, len(stroke), 100):
+    ...     _ = stream.extend(*stroke.samples(first, min(first + 100, len(stroke)))[:3])
+    >>> received = stream.trajectory()
+    >>> len(received) == len(stroke), bool(np.abs(received.theta - stroke.theta).max() < 1e-12)
+    (True, True)
+    """
+
+    def __init__(self, trajectory):
+        if not isinstance(trajectory, Trajectory):
+            raise ParameterError(f"trajectory must be a drumstroke.Trajectory, got {trajectory!r}")
+        stored = trajectory.stored
+        if stored is None:
+            t, theta, omega = trajectory._positions()
+            shape = (len(t), len(trajectory.sticks))
+            stored = Samples(t, theta.reshape(shape), omega.reshape(shape))
+        self.base, self.size = trajectory, len(stored)
+        self.t, self.theta, self.omega = stored.t.copy(), stored.theta.copy(), stored.omega.copy()
+        self.alpha = None if stored.alpha is None else stored.alpha.copy()
+        self.motions = [replace(m, path=None) for m in trajectory.motions]
+
+    def extend(self, t, theta, omega, alpha=None, impacts=None, omega_after=None):
+        """Append a chunk (see :meth:`Trajectory.extend` for what it must be); returns the stream."""
+        if len(self.motions) != 1 and impacts is not None:
+            raise ParameterError("impacts can be given for one stick only; several sticks' impacts are found")
+        t, theta, omega, alpha = _chunk_arrays(t, theta, omega, alpha, len(self.motions), self.alpha is not None)
+        _check_chunk(self, t, theta, omega)
+        n, m = self.size, len(t)
+        if n + m > len(self.t):
+            capacity = max(2 * len(self.t), n + m, 16)
+            self.t, self.theta, self.omega = (_grown(a, n, capacity) for a in (self.t, self.theta, self.omega))
+            self.alpha = None if self.alpha is None else _grown(self.alpha, n, capacity)
+        self.t[n:n + m], self.theta[n:n + m], self.omega[n:n + m] = t, theta, omega
+        if alpha is not None:
+            self.alpha[n:n + m] = alpha
+        self.size = end = n + m
+        for j, motion in enumerate(self.motions):
+            if impacts is None:  # from the last sample before the chunk on: an impact may straddle the join
+                found, after = find_impacts(self.t[n - 1:end], self.theta[n - 1:end, j], self.omega[n - 1:end, j],
+                                            theta_max=motion.theta_max, tip_distance=motion.impacts.tip_distance)
+                new_t, new_omega = found.t, found.omega
+            else:
+                new_t, new_omega = np.asarray(impacts.t, dtype=float), np.asarray(impacts.omega, dtype=float)
+                after = (np.asarray(omega_after, dtype=float) if omega_after is not None
+                         else _omega_after(self.t[:end], self.omega[:end, j], new_t))
+            if len(new_t):  # most chunks have none: nothing to join
+                joined = Impacts(np.concatenate((motion.impacts.t, new_t)),
+                                 np.concatenate((motion.impacts.omega, new_omega)), motion.impacts.tip_distance)
+                self.motions[j] = Motion(None, joined, np.concatenate((motion.omega_after, after)),
+                                         motion.theta_max)
+        return self
+
+    def trajectory(self):
+        """The samples so far as a Trajectory (views that later chunks never change)."""
+        n = self.size
+        stored = Samples(self.t[:n], self.theta[:n], self.omega[:n], None if self.alpha is None else self.alpha[:n])
+        return replace(self.base, motions=tuple(self.motions), t_end=float(self.t[n - 1]), stored=stored)
+
+
+def _grown(array, n, capacity):
+    out = np.empty((capacity, *array.shape[1:]))
+    out[:n] = array[:n]
+    return out
 
 
 def find_impacts(t, theta, omega, *, theta_max, tip_distance):
@@ -920,59 +945,43 @@ def _chunk_arrays(t, theta, omega, alpha, sticks, stores_alpha):
     return t, theta, omega, alpha
 
 
-def _check_chunk(trajectory, buffer, n, t, theta, omega):
-    """A chunk continues the grid, is finite, stays above the head and does not jump."""
+def _check_chunk(stream, t, theta, omega):
+    """A chunk continues the stream's grid, is finite, stays above the head and does not jump."""
+    n = stream.size
     for name, values in (("t", t), ("theta", theta), ("omega", omega)):
         bad = np.flatnonzero(~np.isfinite(values.reshape(len(t), -1)).all(axis=1))
         if len(bad):
             raise TrajectoryError(f"sample {n + int(bad[0])}: {name} is not finite; t, theta and omega must be finite")
-    joined = np.concatenate((buffer.t[n - 1:n], t))
+    joined = np.concatenate((stream.t[n - 1:n], t))
     back = np.flatnonzero(np.diff(joined) <= 0.0)
     if len(back):
         i = int(back[0])
         raise TrajectoryError(f"sample {n + i}: time {float(joined[i + 1])!r} s does not come after "
                               f"{float(joined[i])!r} s; times must increase strictly")
-    check_grid(joined, trajectory.rate, first=n - 1)
-    heads = np.array([m.theta_max for m in trajectory.motions])
+    check_grid(joined, stream.base.rate, first=n - 1)
+    heads = np.array([m.theta_max for m in stream.base.motions])
     below = np.flatnonzero((theta < heads - 1e-12).any(axis=1))
     if len(below):
         i = int(below[0])
         raise TrajectoryError(f"sample {n + i}: theta is below the head")
-    dt = 1.0 / trajectory.rate
-    last_theta, last_omega = buffer.theta[n - 1], buffer.omega[n - 1]
+    dt = 1.0 / stream.base.rate
+    last_theta, last_omega = stream.theta[n - 1], stream.omega[n - 1]
     reach = dt * (np.maximum(np.abs(last_omega), np.abs(omega[0])) + np.abs(omega[0] - last_omega)) + 1e-9
     jump = np.abs(theta[0] - last_theta)
     if np.any(jump > reach):
         j = int(np.argmax(jump - reach))
-        raise TrajectoryError(f"sample {n}: theta of {trajectory.sticks[j]!r} jumps by {float(jump[j]):.6g} rad from "
-                              f"the last sample, more than one period's travel at its speeds ({float(reach[j]):.6g} "
-                              "rad): a chunk must continue the motion")
+        raise TrajectoryError(f"sample {n}: theta of {stream.base.sticks[j]!r} jumps by {float(jump[j]):.6g} rad "
+                              f"from the last sample, more than one period's travel at its speeds "
+                              f"({float(reach[j]):.6g} rad): a chunk must continue the motion")
 
 
 def _identity(t):
     return t
 
 
-def _made(cls, **fields):
-    """An instance of the frozen dataclass ``cls`` with ``fields`` (all of them, already valid)."""
-    made = object.__new__(cls)
-    made.__dict__.update(fields)
-    return made
-
-
-def _flight_acceleration(path, impacts, t, start, t_end):
-    """dω/dt away from impacts: a central difference, one-sided where an impact is within the step."""
-    lo = np.clip(t - _DIFF, start, t_end)
-    hi = np.clip(t + _DIFF, start, t_end)
-    if len(impacts):
-        j = np.searchsorted(impacts, t, side="right")
-        before = impacts[np.clip(j - 1, 0, len(impacts) - 1)]
-        after = impacts[np.clip(j, 0, len(impacts) - 1)]
-        lo = np.where((j > 0) & (before > lo), t, lo)  # an impact just behind: look ahead only
-        hi = np.where((j < len(impacts)) & (after < hi), t, hi)
-    _, w_hi = path(hi)
-    _, w_lo = path(lo)
-    return np.where(hi > lo, (w_hi - w_lo) / np.where(hi > lo, hi - lo, 1.0), 0.0)
+def _as_curve(path, impacts, start, t_end):
+    """A stick's path as a Curve: itself, or one segment over [start, t_end] with its impacts (s)."""
+    return path if isinstance(path, Curve) else Curve((Segment(start, t_end, path, 0.0, impacts),))
 
 
 def _hermite_path(t, theta, omega, impact_t, omega_before, omega_after, theta_max):

@@ -32,6 +32,7 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from .._checks import check_keys, check_real
+from ..curve import Curve, Segment, placed
 from ..errors import ParameterError
 from ..model import Stick
 from ..stroke import Stroke, as_trajectory
@@ -166,15 +167,15 @@ def assemble(pieces, starts, *, limits, name, end=None, home=True):
         if abs(p.theta_max - head) > 1e-12 or p.impacts.tip_distance != pieces[0].impacts.tip_distance:
             raise ParameterError(f"strokes[{i}] is for a different stick (theta_max {p.theta_max:.6g} rad, "
                                  f"strokes[0] has {head:.6g} rad); concatenate strokes of one stick")
-    segments = []  # (start, duration, path)
+    segments = []
     first = _start_state(pieces[0])
     if starts[0] > 0.0:
         plan = plan_return((first[0], 0.0), first, starts[0], head, limits)
         if plan is None:
             raise ParameterError(f"the first stroke needs a lead-in before it starts at {starts[0]:g} s")
-        segments += _placed(plan, 0.0)
+        segments += placed(plan, 0.0)
     for i, piece in enumerate(pieces):
-        segments.append((starts[i], piece.t_end, piece.path))
+        segments.append(Segment(starts[i], starts[i] + piece.t_end, piece.path, starts[i], piece.impacts.t))
         after = starts[i] + piece.t_end
         if i + 1 < len(pieces):
             window = starts[i + 1] - after
@@ -187,7 +188,7 @@ def assemble(pieces, starts, *, limits, name, end=None, home=True):
                     f"{label} = {window:.6g} s is too short for the stick to return from {piece.name!r} to "
                     f"{pieces[i + 1].name!r} within {limits.max_speed:g} rad/s and {limits.max_acceleration:g} "
                     f"rad/s^2 above the head; it needs {needed}")
-            segments += _placed(plan, after)
+            segments += placed(plan, after)
     t_end = starts[-1] + pieces[-1].t_end
     if end is not None and end > t_end:
         last = pieces[-1]
@@ -195,7 +196,7 @@ def assemble(pieces, starts, *, limits, name, end=None, home=True):
         plan = plan_return(_end_state(last), target, end - t_end, head, limits)
         if plan is None:
             raise ParameterError(f"the last stroke {last.name!r} cannot return home by {end:g} s")
-        segments += _placed(plan, t_end)
+        segments += placed(plan, t_end)
         t_end = end
     impacts_t = np.concatenate([p.impacts.t + s for p, s in zip(pieces, starts)])
     omega = np.concatenate([p.impacts.omega for p in pieces])
@@ -203,7 +204,7 @@ def assemble(pieces, starts, *, limits, name, end=None, home=True):
     models = sorted({p.model for p in pieces})
     recipes = {id(p.recipe) for p in pieces}
     return Trajectory.single(
-        _sequence(segments), Impacts(impacts_t, omega, pieces[0].impacts.tip_distance), after, theta_max=head,
+        Curve(tuple(segments)), Impacts(impacts_t, omega, pieces[0].impacts.tip_distance), after, theta_max=head,
         t_end=float(t_end), rate=pieces[0].rate, name=name, model=models[0] if len(models) == 1 else "mixed",
         recipe=pieces[0].recipe if len(recipes) == 1 else None,
         history=(f"{name} of " + ", ".join(p.name for p in pieces),))
@@ -376,40 +377,8 @@ def _path_of(trajectory):
 
 
 def _hold(theta, duration):
-    def hold(t):
-        t = np.asarray(t, dtype=float)
-        return np.full(t.shape, theta), np.zeros(t.shape)
-
-    return duration, hold
-
-
-def _placed(plan, start):
-    out = []
-    for duration, path in plan:
-        out.append((start, duration, path))
-        start += duration
-    return out
-
-
-def _sequence(segments):
-    """One path from segments (start s, duration s, path) that tile the timeline."""
-    starts = np.array([s for s, _, _ in segments])
-    paths = [p for _, _, p in segments]
-
-    def path(t):
-        t = np.asarray(t, dtype=float)
-        flat = t.ravel()
-        theta, omega = np.empty(flat.shape), np.empty(flat.shape)
-        which = np.clip(np.searchsorted(starts, flat, side="right") - 1, 0, len(paths) - 1)
-        order = np.argsort(which, kind="stable")  # each segment's samples in one run: linear in samples + segments
-        runs = np.flatnonzero(np.diff(which[order])) + 1
-        for chosen in np.split(order, runs) if flat.size else ():
-            k = which[chosen[0]]
-            local = np.clip(flat[chosen] - starts[k], 0.0, segments[k][1])
-            theta[chosen], omega[chosen] = paths[k](local)
-        return theta.reshape(t.shape), omega.reshape(t.shape)
-
-    return path
+    """A plan's hold: (duration s, path) of the stick still at ``theta`` (rad)."""
+    return duration, Segment.hold(theta, 0.0).path
 
 
 def _start_state(s):
