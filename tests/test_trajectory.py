@@ -15,7 +15,7 @@ from drumstroke.errors import ParameterError, TrajectoryError
 from drumstroke.formats.ros_json import read_ros_json
 from drumstroke.palette.library import build_library, load_library, read_palette
 from drumstroke.robot.export import export_csv, export_ros_json
-from drumstroke.trajectory import DEFAULT_RATE, Impacts, Trajectory
+from drumstroke.trajectory import DEFAULT_RATE, Impacts, Stream, Trajectory
 
 RATE = 1000.0
 
@@ -226,3 +226,33 @@ def test_impacts_given_with_samples_are_kept_exactly(bounce):
     with pytest.raises(ParameterError, match="impacts can be given for one stick only"):
         Trajectory.from_samples(t, np.column_stack((theta, theta)), np.column_stack((omega, omega)),
                                 Impacts(np.empty(0), np.empty(0), 0.27))
+
+
+def test_a_stream_takes_chunks_as_extend_does_and_what_was_read_stays(bounce):
+    pieces = chunks(bounce, 7)
+    stream = Stream(Trajectory.from_samples(*pieces[0][:3], rate=RATE, theta_max=bounce.theta_max))
+    early = None
+    for k, piece in enumerate(pieces[1:]):
+        stream.extend(*piece[:3])
+        if k == 3:
+            early = stream.trajectory()
+            kept = early.theta.copy()
+    received = stream.trajectory()
+    whole = Trajectory.from_samples(*(np.concatenate([p[k] for p in pieces]) for k in range(3)), rate=RATE,
+                                    theta_max=bounce.theta_max)
+    for a, b in zip(received.samples(), whole.samples()):
+        assert np.array_equal(a, b)
+    assert np.array_equal(received.impacts.t, whole.impacts.t)
+    assert len(early) == 5 * 7 and np.array_equal(early.theta, kept)  # the doubling storage never moved under it
+    with pytest.raises(ValueError):
+        early.stored.theta[0] = 1.0  # read-only
+    with pytest.raises(drumstroke.ParameterError, match="trajectory must be a drumstroke.Trajectory"):
+        Stream(bounce.samples())
+    with pytest.raises(drumstroke.ParameterError, match="impacts must be a drumstroke.Impacts or None"):
+        Trajectory.from_samples(*pieces[0], rate=RATE)  # alpha given where the impacts go
+
+
+def test_a_stream_of_an_exact_curve_starts_from_its_samples(bounce):
+    stream = Stream(bounce).extend([bounce.t[-1] + 1.0 / RATE], [bounce.theta[-1]], [0.0])
+    received = stream.trajectory()
+    assert len(received) == len(bounce) + 1 and np.array_equal(received.theta[:-1], bounce.theta)

@@ -266,6 +266,8 @@ class Trajectory:
                                                                        high=0.0, unit="rad")
         tip = Stick().pivot_to_tip if tip_distance is None else check_real("tip_distance", tip_distance, low=0.0,
                                                                            low_open=True, unit="m")
+        if impacts is not None and not isinstance(impacts, Impacts):
+            raise ParameterError(f"impacts must be a drumstroke.Impacts or None, got {type(impacts).__name__}")
         if impacts is not None and theta.shape[1] != 1:
             raise ParameterError("impacts can be given for one stick only; several sticks' impacts are found")
         motions = []
