@@ -113,22 +113,27 @@ def test_a_head_that_trickles_in_is_cut_at_the_head_timeout_and_an_idle_connecti
         began = time.monotonic()
         connection.sendall(b"GET / HTTP/1.1\r\nHost: localhost\r\nX-Slow: ")
         connection.settimeout(0.2)
-        reply, sent = b"", 0
-        while time.monotonic() - began < 5.0:
+        reply, sent, lasted = b"", 0, None
+        while time.monotonic() - began < 8.0:
             try:
                 chunk = connection.recv(4096)
             except TimeoutError:
-                connection.send(b"a")  # a byte every 0.2 s: it does not put the deadline off
-                sent += 1
+                if lasted is None:  # a byte every 0.2 s until the server answers: it does not put the deadline off
+                    try:
+                        sent += connection.send(b"a")
+                    except OSError:  # closed under it: a byte sent after its close is reset; read what it sent
+                        lasted = time.monotonic() - began
                 continue
+            except ConnectionResetError:  # the reset of a byte that crossed the server's close, after its answer
+                break
             if not chunk:
                 break
             reply += chunk
-        lasted = time.monotonic() - began
+            lasted = time.monotonic() - began if lasted is None else lasted
     assert statuses(reply) == [408] and b"did not arrive within 1 s" in reply
-    assert 0.9 < lasted < 2.5 and sent >= 4
+    assert 0.9 < lasted < 5.0 and sent >= 4  # cut at 1 s, not put off by the bytes that kept coming until 8 s
     reply, lasted, closed = exchange(server, b"")  # nothing sent: closed without a word
-    assert reply == b"" and closed and 0.9 < lasted < 2.5
+    assert reply == b"" and closed and 0.9 < lasted < 5.0
 
 
 def test_malformed_heads_are_answered_400_with_a_message(served):
@@ -207,7 +212,7 @@ def test_connections_over_the_caps_are_answered_503_at_once(tmp_path):
 
 def test_a_thousand_trickling_connections_neither_stop_a_participant_nor_stay(tmp_path):
     """1,000 connections from 5 addresses trickle a request head; a participant from a sixth does the whole test."""
-    head_timeout = 3.0
+    head_timeout = 5.0  # longer than the participant's whole test takes on a busy host
     server, _, store = start_test(tmp_path, pairs=PAIRS, token=TOKEN, seed=5, limits=f"head_timeout = {head_timeout}")
     try:
         opened, trickles = {}, []
@@ -220,7 +225,7 @@ def test_a_thousand_trickling_connections_neither_stop_a_participant_nor_stay(tm
         for connection in held:
             connection.send(b"GET / HTTP/1.1\r\nHost: localhost\r\nX-Slow: ")
         result = {}
-        trickler = threading.Thread(target=lambda: result.update(trickle(held, time.monotonic() + 10.0)))
+        trickler = threading.Thread(target=lambda: result.update(trickle(held, time.monotonic() + 15.0)))
         trickler.start()
 
         began = time.monotonic()
@@ -242,7 +247,7 @@ def test_a_thousand_trickling_connections_neither_stop_a_participant_nor_stay(tm
         assert len(closed) == len(held) == 500 and all(statuses(replies[c]) == [408] for c in held)
         lifetimes = [closed[c] - opened[c] for c in held]
         assert min(closed.values()) > finished  # all 500 were open while the participant took the test
-        assert head_timeout - 0.1 < min(lifetimes) and max(lifetimes) < head_timeout + 1.5
+        assert head_timeout - 0.1 < min(lifetimes) and max(lifetimes) < head_timeout + 3.0
         assert min(sent[c] for c in held) >= 5  # each kept trickling, a byte every 0.25 s, to the end
     finally:
         for connection in trickles:
@@ -250,12 +255,13 @@ def test_a_thousand_trickling_connections_neither_stop_a_participant_nor_stay(tm
         server.stop()
 
 
-def answered_at_once(connections, quiet=0.5):
-    """{connection: what the server sent} for those it answered, once none has answered for ``quiet`` s."""
+def answered_at_once(connections, quiet=1.0, first=30.0):
+    """{connection: what the server sent} for those it answered, once none has answered for ``quiet`` s since the
+    first answer (waited for up to ``first`` s: a busy host may take a while to accept a thousand connections)."""
     for connection in connections:
         connection.setblocking(False)
-    replies, last = {}, time.monotonic()
-    while time.monotonic() - last < quiet:
+    replies, last = {}, time.monotonic() + first
+    while time.monotonic() - last < quiet and (replies or time.monotonic() < last):
         for connection in connections:
             if connection not in replies:
                 try:
