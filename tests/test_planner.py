@@ -6,6 +6,7 @@ import pytest
 import drumstroke
 import drumstroke.dynamics
 from drumstroke.design import Problem, Setup, Start, Target, assign_sticks, next_stroke, plan_stick
+from drumstroke.design.chain import standard_throw
 from drumstroke.palette.motion import RETURN_LIMITS, Limits
 from drumstroke.robot.validate import validate
 
@@ -151,3 +152,11 @@ def test_a_setup_names_what_is_wrong():
         Setup(forces=(0, 100))
     with pytest.raises(drumstroke.ParameterError, match="setup must be a drumstroke.design.Setup"):
         plan_stick([Target(0.5, -6.0)], setup={"model": "paper"})
+
+
+@pytest.mark.parametrize("time, level, lead", [(1.0, -6.0, 0.1), (1.0, 5.0, 0.0125), (0.5, -30.0, 0.05),
+                                               (2.0, 12.0, 0.1)])
+def test_the_standard_throw_in_closed_form_is_where_the_simulated_design_starts(time, level, lead):
+    made = drumstroke.design.design([time], [level], lead=lead)
+    release, height = standard_throw(time, level, lead=lead)
+    assert release == made.release and height == float(made.recipe.theta0)

@@ -358,6 +358,36 @@ def design_pieces(times, levels, *, start=None, end="catch", setup=None, lead=LE
     return tuple(pieces), release
 
 
+def standard_throw(time, level, *, setup=None, lead=LEAD):
+    """Where :func:`design` without a start throws the stick from onto a note, without simulating it.
+
+    Parameters
+    ----------
+    time : float
+        s, the note's time.
+    level : float
+        dB re 1 m/s tip speed.
+    setup : Setup, optional
+    lead : float in (0, 10]
+        s, the throw's duration (shorter when it needs more force than the setup's range).
+
+    Returns
+    -------
+    release : float
+        s: when the stick leaves its rest.
+    theta : float
+        rad: the height it rests at before the release.
+
+    Raises
+    ------
+    Unreachable
+        As :func:`design` for its first note.
+    """
+    plan = _Plan.of([time], [level], None, start=None, end="catch", setup=setup, lead=lead, tail=None)
+    _, release, _, theta = plan.approach()
+    return float(release), float(theta)
+
+
 @dataclass
 class _Plan:
     """What a design is worked out from, in the solver's units (sin θ, rad/s, torque rates C)."""

@@ -35,7 +35,7 @@ from ..errors import ParameterError
 from ..palette.motion import Limits, assemble, plan_return, return_time
 from ..trajectory import DEFAULT_RATE
 from .buzz import DENSITY, buzz_times
-from .chain import LEAD, Start, Unreachable, catch_height, design, flights_within
+from .chain import LEAD, Start, Unreachable, catch_height, design, flights_within, standard_throw
 from .setup import Setup
 
 KINDS = ("auto", "buzz")
@@ -243,22 +243,25 @@ def next_stroke(times, levels, setup, *, free, theta, omega=0.0, running=None, e
                 raise
             failure = failure or error
     for lead in LEADS:
-        try:
+        try:  # where the throw starts, in closed form: a stroke is designed and simulated only if the move fits
+            release, height = standard_throw(times[0], levels[0], setup=setup, lead=lead)
+            window = release - free
+            need = return_time((theta, omega), (height, 0.0), setup.head, setup.moves)
+            if need > window:
+                failure = failure or Unreachable(
+                    f"the stick, free at {free:.6g} s, needs {need:.4g} s to reach the height of its next throw, but "
+                    f"only {max(window, 0.0):.4g} s are left", note=0)
+                continue
             made = design(times, levels, lead=lead, **options)
         except Unreachable as error:
             if error.note > 0:
                 raise
             failure = failure or error
             continue
-        window = made.release - free
-        target = (float(made.recipe.theta0), 0.0)
-        need = return_time((theta, omega), target, setup.head, setup.moves)
-        moves = plan_return((theta, omega), target, window, setup.head, setup.moves) if need <= window else None
+        moves = plan_return((theta, omega), (float(made.recipe.theta0), 0.0), made.release - free, setup.head,
+                            setup.moves)
         if moves is not None:
             return made, moves
-        failure = failure or Unreachable(
-            f"the stick, free at {free:.6g} s, needs {need:.4g} s to reach the height of its next throw, but only "
-            f"{max(window, 0.0):.4g} s are left", note=0)
     raise failure
 
 
