@@ -27,7 +27,7 @@ Examples
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -58,6 +58,8 @@ class Segment:
         Local times (s) of the impacts it makes, increasing: α is one-sided across them.
     source : object
         What made it (a designed stroke, a move...), for the callers that ask.
+    still : bool
+        Whether it holds still (θ constant, ω and α 0): its acceleration is not differenced.
     """
 
     start: float
@@ -66,6 +68,7 @@ class Segment:
     offset: float = 0.0
     impacts: np.ndarray = field(default_factory=_no_impacts, repr=False)
     source: object = field(default=None, repr=False)
+    still: bool = field(default=False, repr=False)
 
     def __post_init__(self):
         if not (math.isfinite(self.start) and self.end >= self.start and not math.isnan(self.end)):
@@ -79,13 +82,14 @@ class Segment:
 
         def hold(t):
             shape = np.shape(t) + value.shape
-            return np.broadcast_to(value, shape).copy(), np.zeros(shape)
+            return (np.full(shape, float(value)) if not value.shape else np.broadcast_to(value, shape).copy(),
+                    np.zeros(shape))
 
-        return cls(float(start), float(end), hold, float(start))
+        return cls(float(start), float(end), hold, float(start), still=True)
 
     def local(self, t):
         """Local times of curve times ``t`` (s), clamped to the segment's span."""
-        return np.clip(t, self.start, self.end) - self.offset
+        return np.minimum(np.maximum(t, self.start), self.end) - self.offset  # np.clip costs more on short runs
 
 
 @dataclass(frozen=True, eq=False)
@@ -132,7 +136,7 @@ class Curve:
         if not kept:
             return Curve(added)
         last = kept[-1]
-        kept[-1] = Segment(last.start, cut, last.path, last.offset, last.impacts, last.source)
+        kept[-1] = replace(last, end=cut)
         return Curve(tuple(kept) + added)
 
     def since(self, t):
@@ -184,7 +188,16 @@ class Curve:
         A central difference over 2·:data:`STEP` of the segment's exact ω, one-sided where the
         segment's span or one of its impacts lies within the step.
         """
-        return self._each(t, lambda segment, times: (_flight_acceleration(segment, times),), 1)[0]
+        return self._each(t, lambda segment, times: (_flight_acceleration(segment, segment.local(times)),), 1)[0]
+
+    def evaluate(self, t):
+        """θ (rad), ω (rad/s) and the flight acceleration α (rad/s²) at times ``t`` (s), in one pass: a stream's
+        setpoints."""
+        def all_three(segment, times):
+            local = segment.local(times)
+            return (*segment.path(local), _flight_acceleration(segment, local))
+
+        return self._each(t, all_three, 3)
 
     def _each(self, t, evaluate, count):
         """``evaluate(segment, times)`` of every group of times ``t`` one segment holds, put back in t's order."""
@@ -193,14 +206,16 @@ class Curve:
         which = np.clip(np.searchsorted(self._starts, flat, side="right") - 1, 0, len(self.segments) - 1)
         if len(self.segments) == 1:
             return tuple(np.reshape(a, t.shape + np.shape(a)[1:]) for a in evaluate(self.segments[0], flat))
-        if flat.size and np.all(which[1:] >= which[:-1]):  # sorted times (samples): contiguous runs
-            runs = np.split(np.arange(flat.size), np.flatnonzero(np.diff(which)) + 1)
+        if flat.size and np.all(which[1:] >= which[:-1]):  # sorted times (samples): contiguous runs, as slices
+            edges = [0, *(np.flatnonzero(np.diff(which)) + 1).tolist(), flat.size]
+            runs = [slice(a, b) for a, b in zip(edges[:-1], edges[1:])]
         else:  # each segment's times in one run: linear in samples + segments
             order = np.argsort(which, kind="stable")
             runs = np.split(order, np.flatnonzero(np.diff(which[order])) + 1) if flat.size else []
         out = None
         for chosen in runs:
-            values = evaluate(self.segments[which[chosen[0]]], flat[chosen])
+            first = chosen.start if isinstance(chosen, slice) else chosen[0]
+            values = evaluate(self.segments[which[first]], flat[chosen])
             if out is None:
                 out = tuple(np.empty(flat.shape + np.shape(v)[1:]) for v in values)
             for array, value in zip(out, values):
@@ -223,21 +238,23 @@ def placed(pieces, start=0.0):
     return tuple(segments)
 
 
-def _flight_acceleration(segment, t):
-    """dω/dt of one segment at curve times ``t`` (s): central, one-sided at its span's ends and its impacts.
+def _flight_acceleration(segment, local):
+    """dω/dt of one segment at its ``local`` times (s, within its span): central, one-sided at its span's ends and
+    its impacts.
 
     Worked in the segment's local time, as its path is evaluated: an impact and a time that round to the same
     curve time stay on their sides.
     """
-    local = segment.local(t)
+    if segment.still:
+        return np.zeros_like(segment.path(local)[1])
     first, last = segment.start - segment.offset, segment.end - segment.offset
-    lo = np.clip(local - STEP, first, last)
-    hi = np.clip(local + STEP, first, last)
+    lo = np.maximum(local - STEP, first)  # local is within [first, last] already
+    hi = np.minimum(local + STEP, last)
     impacts = segment.impacts
     if len(impacts):
         j = np.searchsorted(impacts, local, side="right")
-        before = impacts[np.clip(j - 1, 0, len(impacts) - 1)]
-        after = impacts[np.clip(j, 0, len(impacts) - 1)]
+        before = impacts[np.maximum(j - 1, 0)]
+        after = impacts[np.minimum(j, len(impacts) - 1)]
         lo = np.where((j > 0) & (before > lo), local, lo)  # an impact just behind: look ahead only
         hi = np.where((j < len(impacts)) & (after < hi), local, hi)
     _, w_hi = segment.path(hi)

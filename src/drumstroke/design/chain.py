@@ -35,9 +35,10 @@ True
 ('catch', 'paper', 'piecewise-linear')
 """
 
+import functools
 import itertools
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -383,9 +384,24 @@ def standard_throw(time, level, *, setup=None, lead=LEAD):
     Unreachable
         As :func:`design` for its first note.
     """
-    plan = _Plan.of([time], [level], None, start=None, end="catch", setup=setup, lead=lead, tail=None)
+    setup = Setup() if setup is None else setup
+    if not isinstance(setup, Setup):
+        raise ParameterError(f"setup must be a drumstroke.design.Setup, got {setup!r}")
+    time = check_real("time", time, low=-1e6, high=1e6, unit="s")
+    level = check_real("level", level, low=FLOOR_DB, high=CEILING_DB, unit="dB")
+    speed = 10.0 ** (level / 20.0) * LEVEL_REFERENCE / setup.stick.pivot_to_tip
+    if speed > setup.limits.max_speed:  # the full checks say why
+        _Plan.of([time], [level], None, start=None, end="catch", setup=setup, lead=lead, tail=None)
+    # a planner asks for many throws of one setup: its checked plan made once, the note put in
+    plan = replace(_throw_plan(setup, float(lead)), times=np.array([time]), levels=np.array([level]),
+                   speeds=np.array([speed]))
     _, release, _, theta = plan.approach()
     return float(release), float(theta)
+
+
+@functools.lru_cache(maxsize=64)
+def _throw_plan(setup, lead):
+    return _Plan.of([0.0], [0.0], None, start=None, end="catch", setup=setup, lead=lead, tail=None)
 
 
 @dataclass

@@ -454,7 +454,7 @@ class Performer:
             for stick in self._sticks.values():  # what is given no longer changes: forget it
                 stick.motion = stick.motion.since(sent)
         t = k / self.rate
-        columns = [(*motion(t), motion.acceleration(t)) for motion in snapshot]
+        columns = [motion.evaluate(t) for motion in snapshot]
         return Chunk(t, *(np.column_stack([c[i] for c in columns]) if len(t) else np.empty((0, len(self.sticks)))
                           for i in range(3)), self.sticks)
 
