@@ -388,7 +388,7 @@ def standard_throw(time, level, *, setup=None, lead=LEAD):
     if not isinstance(setup, Setup):
         raise ParameterError(f"setup must be a drumstroke.design.Setup, got {setup!r}")
     time = check_real("time", time, low=-1e6, high=1e6, unit="s")
-    level = check_real("level", level, low=FLOOR_DB, high=CEILING_DB, unit="dB")
+    level = check_real("level", level, low=FLOOR_DB - 1e-9, high=CEILING_DB + 1e-9, unit="dB")  # as design's
     speed = 10.0 ** (level / 20.0) * LEVEL_REFERENCE / setup.stick.pivot_to_tip
     if speed > setup.limits.max_speed:  # the full checks say why
         _Plan.of([time], [level], None, start=None, end="catch", setup=setup, lead=lead, tail=None)
