@@ -49,13 +49,13 @@ SCORE as a text pattern (any other file name):
 {FORMAT}"""
 
 
-def add_compose(commands):
-    """Register ``compose``."""
-    comp = commands.add_parser("compose", help="turn a score (MIDI file or text pattern) into one trajectory per stick",
-                               description="Turn a score into one motor-angle trajectory per stick, its\n"
-                                           "strokes designed by the planner or taken from a library, and\n"
-                                           "write it.",
-                               epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+def add_compose(comp):
+    """Give ``compose``'s parser ``comp`` its description and options."""
+    comp.description = ("Turn a score into one motor-angle trajectory per stick, its\n"
+                        "strokes designed by the planner or taken from a library, and\n"
+                        "write it.")
+    comp.epilog = EPILOG
+    comp.formatter_class = argparse.RawDescriptionHelpFormatter
     comp.add_argument("score", type=Path, metavar="SCORE", help="a .mid/.midi file or a text pattern (formats below)")
     comp.add_argument("--library", type=existing_folder, metavar="DIR",
                       help="a library folder ('library build'), for scores that name its strokes")
