@@ -26,8 +26,8 @@ import traceback
 from importlib import import_module
 
 from .. import __version__
-from ..errors import DrumstrokeError
-from ._common import Parser
+from ..errors import DrumstrokeError, ParameterError
+from ._common import Parser, named_option
 from ._options import check_outputs, output_option
 
 COMMANDS = {
@@ -106,6 +106,8 @@ def _failed(error, name, args):
 
 def _input_error(error, args):
     """The one line to say for an error a user's input can cause, or None for a bug."""
+    if isinstance(error, ParameterError):
+        return _one_line(named_option(error))
     if isinstance(error, DrumstrokeError):
         return _one_line(error)
     if isinstance(error, OSError):

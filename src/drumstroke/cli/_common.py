@@ -11,6 +11,16 @@ from ..render.page import plural
 from ..score import BOUNCE_NOTE, FIRST_IMPACT_NOTE
 from ._options import Output, number
 
+OPTIONS = {"mapping": "--mapping", "channels": "--channel", "tracks": "--track"}
+"""The option of each library parameter the command line passes on under another name: what errors and reports
+about that parameter call it (:func:`named_option`)."""
+
+
+def named_option(error):
+    """``error`` (a ParameterError) about its parameter's option, when the command line has one: ``--channel ...``."""
+    option = OPTIONS.get(error.parameter)
+    return error.renamed(option) if option else error
+
 
 class Parser(argparse.ArgumentParser):
     """An argument parser whose errors are one line and exit status 2, without the usage text.

@@ -10,11 +10,8 @@ from ..formats.midi import PERCUSSION_CHANNEL
 from ..formats.pattern import FORMAT
 from ..render import plot
 from ..score import BOUNCE_NOTE, DRUM_MAP, FIRST_IMPACT_NOTE, FIRST_LIBRARY_NOTE
-from ._common import Bar, add_model, add_sound_options, print_written
+from ._common import OPTIONS, Bar, add_model, add_sound_options, print_written
 from ._options import Output, add_mkdir, existing_file, existing_folder, number
-
-OPTIONS = {"mapping": "--mapping", "channels": "--channel", "tracks": "--track"}
-"""What the command calls read_score's choices, for its messages."""
 
 _WRITTEN = {"first": "; written for each stroke's first impact", "bounce": "; written for bounces", None: ""}
 _DRUM_MAP = "\n".join(f"  {key}  {row.name:<15} read as {row.stroke!r}{_WRITTEN[row.written]}"
@@ -101,11 +98,11 @@ def _compose(args):
     rate = args.rate
     library = load_library(args.library) if args.library else None
     score = read_score(args.score, mapping=args.mapping, stroke_names=list(library or ()), channels=args.channel,
-                       tracks=args.track, options=OPTIONS)
+                       tracks=args.track)
     report = score.report
-    say(report.summary())
+    say(report.summary(OPTIONS))
     if args.verbose:
-        for line in report.details():
+        for line in report.details(OPTIONS):
             print(line)
     if not score.notes:
         raise ParameterError(f"{args.score} has no notes to play on the channels and tracks chosen; choose others "
