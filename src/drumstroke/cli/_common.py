@@ -44,16 +44,20 @@ class Bar:
     """
 
     def __init__(self, label, *, delay=0.0):
-        from tqdm import tqdm
+        self._bar = None
+        if sys.stderr.isatty():  # off a terminal nothing is drawn, and tqdm is not imported (a piped command starts sooner)
+            from tqdm import tqdm
 
-        self._bar = tqdm(total=1.0, desc=label, delay=delay, disable=not sys.stderr.isatty(), file=sys.stderr,
-                         leave=False, bar_format="{desc}: {percentage:3.0f}%|{bar}| {elapsed}<{remaining}")
+            self._bar = tqdm(total=1.0, desc=label, delay=delay, file=sys.stderr, leave=False,
+                             bar_format="{desc}: {percentage:3.0f}%|{bar}| {elapsed}<{remaining}")
 
     def update(self, fraction):
-        self._bar.update(min(max(fraction, 0.0), 1.0) - self._bar.n)
+        if self._bar is not None:
+            self._bar.update(min(max(fraction, 0.0), 1.0) - self._bar.n)
 
     def close(self):
-        self._bar.close()
+        if self._bar is not None:
+            self._bar.close()
 
     def __enter__(self):
         return self
