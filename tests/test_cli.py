@@ -25,7 +25,7 @@ import drumstroke.robot.track
 import drumstroke.stroke
 import drumstroke.sweep
 from _cli import EXE, assert_one_line_error, run
-from drumstroke.cli import build_parser, main
+from drumstroke.cli import COMMANDS, build_parser, main
 from drumstroke.cli._common import Bar
 from drumstroke.cli._options import Output
 
@@ -400,3 +400,24 @@ def test_a_progress_bar_and_the_output_do_not_collide_on_a_terminal(tmp_path, mo
     assert "drawing figures: 100%|" in terminal.getvalue()
     screen = [line for line in _screen(terminal.getvalue()) if line]
     assert screen == [f"wrote {p}" for p in sorted((tmp_path / "figs").iterdir())]
+
+
+@pytest.mark.parametrize("argv", [["--version"], ["--help"], ["simulate", "--help"]])
+def test_the_front_door_imports_no_command_work(argv):
+    """--version and --help (and a command's help) import none of what the commands compute with (not timed)."""
+    heavy = ("scipy.optimize", "numba", "librosa", "matplotlib", "drumstroke.design", "drumstroke.analysis")
+    code = ("import contextlib, io, sys\nfrom drumstroke.cli import main\n"
+            f"with contextlib.redirect_stdout(io.StringIO()):\n    status = main({argv!r})\n"
+            f"print(status, [m for m in {heavy!r} if m in sys.modules])")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=False)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.split() == ["0", "[]"]
+
+
+def test_every_command_listed_is_built_by_its_module():
+    """Each command --help lists (without importing its module) gets its description and options from the module."""
+    commands = next(a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction))
+    assert list(commands.choices) == list(COMMANDS)
+    for name, parser in commands.choices.items():
+        assert parser.description, name
+        assert parser.get_default("run") or any(isinstance(a, argparse._SubParsersAction) for a in parser._actions)

@@ -58,7 +58,8 @@ def define_triangle():
 
         def __post_init__(self):
             if not 0.0 < self.period <= 3600.0:
-                raise ParameterError(f"triangle-test.period must be in (0, 3600] s, got {self.period!r}")
+                raise ParameterError(f"triangle-test.period must be in (0, 3600] s, got {self.period!r}",
+                                     parameter="triangle-test.period", value=self.period, allowed="(0, 3600] s")
 
         def __call__(self, t):
             phase = np.mod(np.asarray(t, dtype=float) / self.period, 1.0)

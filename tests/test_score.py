@@ -4,6 +4,7 @@ Oracles: note times worked out by hand (beat · 60 / tempo with values chosen to
 the documented default mapping written out, and the notes of real MIDI files counted here with mido.
 """
 
+import re
 from pathlib import Path
 
 import mido
@@ -260,34 +261,43 @@ def test_by_default_only_channel_10_is_played_through_the_drum_map(tmp_path):
 def test_channels_and_tracks_choose_what_is_played_and_the_report_says_why_the_rest_is_not(tmp_path):
     path = midi_file(tmp_path / "song.mid", [list(t) for t in SONG])
     options = {"channels": "--channel", "tracks": "--track", "mapping": "--mapping"}
-    score = read_score(path, stroke_names=NAMES, channels=[1, 10], tracks=["melody", 0], options=options)
+    score = read_score(path, stroke_names=NAMES, channels=[1, 10], tracks=["melody", 0])
     # channel 1 is not percussion: key 60 + i is the library's i-th stroke, 38 still the planner's
     assert [(n.time, n.stroke) for n in score.notes] == [
         (0.0, "auto"), (0.25, "single"), (0.75, "tap"), (1.0, "auto"), (1.25, "auto"), (1.5, "auto")]
     assert score.report.counts == {("played", 10): 3, ("played", 1): 3, ("unmapped", 10): 2, ("track", 2): 2}
-    assert "2 in tracks not chosen (--track) (channel 2: 2)" in score.report.summary()
+    assert "2 in tracks not chosen (--track) (channel 2: 2)" in score.report.summary(options)
+    assert "2 in tracks not chosen (tracks) (channel 2: 2)" in score.report.summary()
     assert read_score(path, stroke_names=NAMES, tracks=["1"], channels=[2]).report.counts == {
         ("played", 2): 2, ("track", 10): 5, ("track", 1): 3}
     mapping = {42: ("double", "left")}
-    score = read_score(path, mapping=mapping, channels=(10,), options=options)
+    score = read_score(path, mapping=mapping, channels=(10,))
     assert [(n.time, n.stroke, n.stick) for n in score.notes] == [(0.5, "double", "left")]
-    assert "4 not in the mapping (--mapping) (channel 10: 4)" in score.report.summary()
+    assert "4 not in the mapping (--mapping) (channel 10: 4)" in score.report.summary(options)
+    assert "4 not in the mapping (mapping) (channel 10: 4)" in score.report.summary()
 
 
-@pytest.mark.parametrize(("choice", "match"), [
-    ({"channels": [0]}, (r"^--channel \(a MIDI channel, counted from 1; 10 is General MIDI percussion\) must be an "
-                         r"integer in \[1, 16\], got 0")),
-    ({"channels": [17]}, r"got 17"),
-    ({"channels": 10}, r"--channel must be a non-empty list of MIDI channels, got 10"),
-    ({"tracks": ["drum"]}, (r"^--track 'drum' is not a track of MIDI file '.*song.mid'; its tracks are 0 'drums', "
-                            r"1 'bass', 2 'melody'")),
-    ({"tracks": [3]}, r"^--track 3 is not a track"),
-    ({"tracks": ["-1"]}, r"^--track '-1' is not a track"),
+@pytest.mark.parametrize(("choice", "value", "match"), [
+    ({"channels": [0]}, 0, (r"^--channel \(a MIDI channel, counted from 1; 10 is General MIDI percussion\) must be "
+                            r"an integer in \[1, 16\], got 0")),
+    ({"channels": [17]}, 17, r"^--channel .* got 17"),
+    ({"channels": 10}, 10, r"^--channel must be a non-empty list of MIDI channels, got 10"),
+    ({"tracks": ["drum"]}, "drum", (r"^--track 'drum' is not a track of MIDI file '.*song.mid'; its tracks are "
+                                    r"0 'drums', 1 'bass', 2 'melody'")),
+    ({"tracks": [3]}, 3, r"^--track 3 is not a track"),
+    ({"tracks": ["-1"]}, "-1", r"^--track '-1' is not a track"),
 ])
-def test_a_channel_or_track_that_is_not_there_is_refused_naming_the_option(tmp_path, choice, match):
+def test_a_channel_or_track_that_is_not_there_is_refused_naming_the_parameter(tmp_path, choice, value, match):
+    """The error names the parameter (and carries it, and the value): a caller words it with its own name for it."""
     path = midi_file(tmp_path / "song.mid", [list(t) for t in SONG])
-    with pytest.raises(ParameterError, match=match):
-        read_score(path, stroke_names=NAMES, options={"channels": "--channel", "tracks": "--track"}, **choice)
+    with pytest.raises(ParameterError) as raised:
+        read_score(path, stroke_names=NAMES, **choice)
+    (parameter,) = choice
+    option = {"channels": "--channel", "tracks": "--track"}[parameter]
+    error = raised.value
+    assert (error.parameter, error.value) == (parameter, value)
+    assert re.match(match, str(error.renamed(option)))
+    assert str(error) == parameter + str(error.renamed(option)).removeprefix(option)
 
 
 def test_a_pattern_refuses_channels_and_tracks_and_gives_its_tempo_and_meter(tmp_path):

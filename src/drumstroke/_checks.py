@@ -1,8 +1,9 @@
 """Input checks shared by every public entry point.
 
 Each check raises :class:`~drumstroke.errors.ParameterError` with a message that
-names the parameter, the value and the allowed range, and returns the value as
-a float so callers can write ``x = check_real("x", x)``. A value too long to show
+names the parameter, the value and the allowed range (and carries them as its
+``parameter``, ``value`` and ``allowed``), and returns the value as a float so
+callers can write ``x = check_real("x", x)``. A value too long to show
 (an integer of 400 digits, a long text) is shown by its length:
 
 >>> check_real("t_end", 10**400, low=1e-6, high=3600.0, unit="s")
@@ -22,22 +23,21 @@ from .errors import ParameterError
 
 def check_real(name, value, *, low=-math.inf, high=math.inf, low_open=False, high_open=False, unit=""):
     """Return ``value`` as a finite float within [low, high] (ends open on request)."""
+    allowed = _range_text(low, high, low_open, high_open, unit)
+    about = {"parameter": name, "value": value, "allowed": allowed}
     if isinstance(value, bool) or not isinstance(value, Real):
-        allowed = _range_text(low, high, low_open, high_open, unit)
-        raise ParameterError(f"{name} must be a number in {allowed}, got {shown(value)}")
+        raise ParameterError(f"{name} must be a number in {allowed}, got {shown(value)}", **about)
     try:
         number = float(value)
     except OverflowError:  # an integer beyond any float: out of every range
-        raise ParameterError(f"{name} must be in {_range_text(low, high, low_open, high_open, unit)}, "
-                             f"got {shown(value)}") from None
+        raise ParameterError(f"{name} must be in {allowed}, got {shown(value)}", **about) from None
     if not math.isfinite(number):
-        allowed = _range_text(low, high, low_open, high_open, unit)
-        raise ParameterError(f"{name} must be a finite number in {allowed}, got {number!r}")
+        raise ParameterError(f"{name} must be a finite number in {allowed}, got {number!r}", **about)
     too_low = number <= low if low_open else number < low
     too_high = number >= high if high_open else number > high
     if too_low or too_high:
-        allowed = _range_text(low, high, low_open, high_open, unit)
-        raise ParameterError(f"{name} must be in {allowed}, got {shown(value) if _is_long(value) else repr(number)}")
+        got = shown(value) if _is_long(value) else repr(number)
+        raise ParameterError(f"{name} must be in {allowed}, got {got}", **about)
     return number
 
 
@@ -48,18 +48,20 @@ def check_vector(name, values, *, low=-math.inf, high=math.inf, unit=""):
     if len(bad):
         i = int(bad[0])
         allowed = _range_text(low, high, False, False, unit)
-        raise ParameterError(f"{name}[{i}] must be a finite number in {allowed}, got {float(vector[i])!r}")
+        raise ParameterError(f"{name}[{i}] must be a finite number in {allowed}, got {float(vector[i])!r}",
+                             parameter=name, value=values, allowed=allowed)
     return vector
 
 
 def as_vector(name, values):
     """Return ``values`` as a 1-D float array (any values), or raise naming ``name``."""
+    about = {"parameter": name, "value": values, "allowed": "a 1-D array of numbers"}
     try:
         vector = np.asarray(values, dtype=float)
     except (TypeError, ValueError, OverflowError):
-        raise ParameterError(f"{name} must be a 1-D array of numbers, got {shown(values)}") from None
+        raise ParameterError(f"{name} must be a 1-D array of numbers, got {shown(values)}", **about) from None
     if vector.ndim != 1:
-        raise ParameterError(f"{name} must be a 1-D array of numbers, got shape {vector.shape}")
+        raise ParameterError(f"{name} must be a 1-D array of numbers, got shape {vector.shape}", **about)
     return vector
 
 
@@ -68,15 +70,17 @@ def check_int(name, value, *, low, high=None, unit=""):
     allowed = f"[{low}, {high}]" if high is not None else f"[{low}, inf)"
     allowed = f"{allowed} {unit}" if unit else allowed
     if isinstance(value, bool) or not isinstance(value, Integral) or value < low or (high is not None and value > high):
-        raise ParameterError(f"{name} must be an integer in {allowed}, got {shown(value)}")
+        raise ParameterError(f"{name} must be an integer in {allowed}, got {shown(value)}", parameter=name, value=value,
+                             allowed=allowed)
     return int(value)
 
 
 def check_choice(name, value, choices):
     """Return ``value`` if it is one of ``choices``."""
     if value not in choices:
-        listed = ", ".join(repr(c) for c in choices)
-        raise ParameterError(f"{name} must be one of {listed}, got {shown(value)}")
+        allowed = "one of " + ", ".join(repr(c) for c in choices)
+        raise ParameterError(f"{name} must be {allowed}, got {shown(value)}", parameter=name, value=value,
+                             allowed=allowed)
     return value
 
 
@@ -84,7 +88,9 @@ def check_keys(name, table, allowed):
     """Raise unless every key of the dict ``table`` (called ``name`` in the message) is in ``allowed``."""
     unknown = sorted(set(table) - set(allowed))
     if unknown:
-        raise ParameterError(f"{name} has unknown key {unknown[0]!r}; allowed keys: {', '.join(allowed)}")
+        keys = ", ".join(allowed)
+        raise ParameterError(f"{name} has unknown key {unknown[0]!r}; allowed keys: {keys}", parameter=name,
+                             value=unknown[0], allowed=f"the keys {keys}")
 
 
 def shown(value, *, most=80):

@@ -8,8 +8,39 @@ class DrumstrokeError(Exception):
 class ParameterError(DrumstrokeError, ValueError):
     """An input is out of range, malformed or inconsistent.
 
-    The message names the parameter, the value and the allowed range.
+    The message names the parameter, the value and the allowed range. An error about one
+    parameter carries them as data too, for a caller that calls the parameter something else
+    (the command line names its option, a recipe the table a profile came from):
+
+    >>> error = ParameterError("cor must be in [0, 1), got 1.5", parameter="cor", value=1.5, allowed="[0, 1)")
+    >>> error.parameter, error.value, error.allowed, error.reason
+    ('cor', 1.5, '[0, 1)', 'must be in [0, 1), got 1.5')
+    >>> str(error.renamed("--cor"))
+    '--cor must be in [0, 1), got 1.5'
+
+    Attributes
+    ----------
+    parameter : str or None
+        The parameter's name, with which the message begins; None when the error is not about one parameter.
+    value : object
+        The value given (None when ``parameter`` is None).
+    allowed : str or None
+        What is allowed, as the message says it (``"[0, 1)"``, ``"one of 'a', 'b'"``), when the message says it.
     """
+
+    def __init__(self, message, *, parameter=None, value=None, allowed=None):
+        super().__init__(message)
+        self.parameter, self.value, self.allowed = parameter, value, allowed
+
+    @property
+    def reason(self):
+        """The message after the parameter's name (the whole message when it is about no one parameter)."""
+        return str(self)[len(self.parameter or ""):].lstrip()
+
+    def renamed(self, parameter):
+        """The same error (about a parameter) with the parameter called ``parameter``: ``--cor``, ``force.value``."""
+        return type(self)(parameter + str(self)[len(self.parameter):], parameter=parameter, value=self.value,
+                          allowed=self.allowed)
 
 
 class SimulationError(DrumstrokeError):

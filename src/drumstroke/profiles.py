@@ -26,8 +26,9 @@ Adding a kind
 A kind is a subclass of :class:`Profile` that sets ``kind`` and declares its
 ``parameters``; defining the class registers it, and recipes, sums, sweeps and
 ``simulate`` take it at once. Nothing else in the package is edited. Ranges are
-checked in ``__post_init__``, with messages that start with the kind's name so
-that an error in a recipe names the table (``force.duration must be ...``).
+checked in ``__post_init__``, raising a ParameterError about the parameter named
+with the kind's name (``parameter="ramp.duration"``, which the message starts
+with), so that an error in a recipe names the table (``force.duration must be ...``).
 A ramp from ``start`` to ``end`` (m/s²) over the first ``duration`` (s), constant
 after it::
 
@@ -52,7 +53,8 @@ after it::
 
         def __post_init__(self):
             if not self.duration > 0:
-                raise ParameterError(f"ramp.duration must be > 0 s, got {self.duration!r}")
+                raise ParameterError(f"ramp.duration must be > 0 s, got {self.duration!r}",
+                                     parameter="ramp.duration", value=self.duration, allowed="> 0 s")
 
         def __call__(self, t):
             return np.interp(t, [0.0, self.duration], [self.start, self.end])
@@ -429,10 +431,9 @@ class Pulses(Profile):
             "base": _check_level("pulses.base", self.base),
         }
         if abs(checked["amplitude"] + checked["base"]) > ACCELERATION_LIMIT:
-            raise ParameterError(
-                f"pulses.base + pulses.amplitude must be in [-1e+06, 1e+06] m/s^2, "
-                f"got {checked['base'] + checked['amplitude']!r}"
-            )
+            total = checked["base"] + checked["amplitude"]
+            raise ParameterError(f"pulses.base + pulses.amplitude must be in [-1e+06, 1e+06] m/s^2, got {total!r}",
+                                 parameter="pulses.base", value=total, allowed="[-1e+06, 1e+06] m/s^2")
         for name, value in checked.items():
             object.__setattr__(self, name, value)
 
@@ -520,10 +521,12 @@ class Sum(Profile):
     def __post_init__(self):
         parts = tuple(self.parts) if isinstance(self.parts, (list, tuple)) else None
         if not parts or not all(isinstance(p, Profile) for p in parts):
-            raise ParameterError(f"sum.parts must be a non-empty list of profiles, got {shown(self.parts)}")
+            raise ParameterError(f"sum.parts must be a non-empty list of profiles, got {shown(self.parts)}",
+                                 parameter="sum.parts", value=self.parts, allowed="a non-empty list of profiles")
         depth = 1 + max((part.depth for part in parts if isinstance(part, Sum)), default=0)
         if depth > MAX_SUM_DEPTH:
-            raise ParameterError(f"sum.parts must nest sums at most {MAX_SUM_DEPTH} deep, got sums {depth} deep")
+            raise ParameterError(f"sum.parts must nest sums at most {MAX_SUM_DEPTH} deep, got sums {depth} deep",
+                                 parameter="sum.parts", value=self.parts, allowed=f"sums at most {MAX_SUM_DEPTH} deep")
         object.__setattr__(self, "parts", parts)
         object.__setattr__(self, "depth", depth)
 
@@ -593,16 +596,16 @@ def _sum_depth(spec):
 
 @contextmanager
 def named(name, kind):
-    """Re-raise a profile's ParameterError with the profile's place (``force``) for its kind (``constant``).
+    """Re-raise an error about a profile's parameter with the profile's place (``force``) for its kind (``constant``).
 
-    ``constant.value must be ...`` becomes ``force.value must be ...``.
+    The error about ``constant.value`` is raised as one about ``force.value``.
     """
     try:
         yield
     except ParameterError as error:
-        message = str(error)
-        if message.startswith(kind + "."):
-            raise ParameterError(name + message[len(kind):]) from None
+        parameter = error.parameter or ""
+        if parameter.startswith(kind + "."):
+            raise error.renamed(name + parameter[len(kind):]) from None
         raise
 
 
@@ -615,12 +618,14 @@ def _check_level(name, value):
 
 
 def _check_points(name, points):
+    pairs = "a non-empty list of [t, value] pairs of numbers"
     try:
         rows = [tuple(point) for point in points]
     except TypeError:
-        raise ParameterError(f"{name} must be a non-empty list of [t, value] pairs of numbers, got {points!r}") from None
+        raise ParameterError(f"{name} must be {pairs}, got {points!r}", parameter=name, value=points,
+                             allowed=pairs) from None
     if not rows or any(len(row) != 2 for row in rows):
-        raise ParameterError(f"{name} must be a non-empty list of [t, value] pairs of numbers, got {points!r}")
+        raise ParameterError(f"{name} must be {pairs}, got {points!r}", parameter=name, value=points, allowed=pairs)
     for i, (ti, vi) in enumerate(rows):
         check_real(f"{name}[{i}] time", ti, low=0.0, high=3600.0, unit="s")
         _check_level(f"{name}[{i}] value", vi)
@@ -629,10 +634,11 @@ def _check_points(name, points):
     steps = np.diff(t)
     if np.any(steps < MIN_SPACING):
         i = int(np.argmax(steps < MIN_SPACING)) + 1
+        least = float(t[i - 1]) + MIN_SPACING
         raise ParameterError(
             f"{name} times must be strictly increasing, at least {MIN_SPACING:g} s apart; point {i} has "
-            f"t = {float(t[i])!r} s after t = {float(t[i - 1])!r} s (allowed: t >= {float(t[i - 1]) + MIN_SPACING!r})"
-        )
+            f"t = {float(t[i])!r} s after t = {float(t[i - 1])!r} s (allowed: t >= {least!r})",
+            parameter=name, value=points, allowed=f"t >= {least!r} for point {i}")
     return t.copy(), v.copy()
 
 

@@ -48,6 +48,9 @@ STANDARD_GRAVITY = 9.8
 DEFAULT_COR = 0.86
 """The paper's coefficient of restitution between stick and head."""
 
+COR_RANGE = (0.3, 0.99)
+"""The coefficients of restitution a fit searches (``fit_stroke(fit_cor=True)``; drumheads and sticks measure 0.5–0.9)."""
+
 _TOP_KEYS = ("model", "t_end", "theta0", "omega0", "cor", "stick", "force", "gravity")
 
 

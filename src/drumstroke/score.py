@@ -184,14 +184,14 @@ class ScoreReport:
         1–16 (None for a text pattern, whose notes are all played).
     track_names : tuple of str
         The MIDI file's track names, by track number (empty for a text pattern).
-    options : dict
-        What the caller calls the choices, for messages: ``{"tracks": ..., "channels": ..., "mapping": ...}``.
+    mapped : bool
+        Whether a mapping was given (notes off it are "not in the mapping", else not in the default one).
     """
 
     source: str
     counts: dict
     track_names: tuple = ()
-    options: dict = field(default_factory=dict)
+    mapped: bool = False
     _skipped: tuple = field(default=(), repr=False)  # compact columns: time, key, velocity, channel, track, reason
 
     def count(self, reason=None, channel=None):
@@ -210,8 +210,12 @@ class ScoreReport:
         """How many notes were skipped, for any reason."""
         return self.count() - self.played
 
-    def summary(self):
-        """One line: the notes read, the notes to play and the skipped ones per reason, with their channels."""
+    def summary(self, names=None):
+        """One line: the notes read, the notes to play and the skipped ones per reason, with their channels.
+
+        ``names`` is what the caller calls read_score's ``tracks``, ``channels`` and ``mapping`` (the command
+        line: its options), for the reasons; by default, those names.
+        """
         if all(channel is None for _, channel in self.counts):  # a text pattern: every note is played
             return f"{self.source}: {self.played} notes"
         channels = sorted({c for _, c in self.counts})
@@ -220,28 +224,30 @@ class ScoreReport:
                 f"{len(self.track_names)} track{'s' * (len(self.track_names) != 1)}; {self.played} to play"
                 + (f" ({played})" if played else ""))
         if self.skipped:
-            parts = [f"{self.count(reason)} {self._reason_text(reason)} ({self._by_channel(reason)})"
+            parts = [f"{self.count(reason)} {self._reason_text(reason, names)} ({self._by_channel(reason)})"
                      for reason in SKIP_REASONS if self.count(reason)]
             line += f"; skipped {self.skipped}: " + ", ".join(parts)
         return line
 
-    def details(self):
-        """Each skipped note on a line of its own, in time order: where it is and why it was skipped."""
+    def details(self, names=None):
+        """Each skipped note on a line of its own, in time order: where it is and why it was skipped (``names``: as
+        :meth:`summary` takes them)."""
         times, keys, velocities, channels, tracks, reasons = self._skipped or ((),) * 6
         for time, key, velocity, channel, track, reason in zip(times, keys, velocities, channels, tracks, reasons):
             reason = SKIP_REASONS[reason]
             yield (f"{self.source}: note {key} at {time:.6g} s (channel {channel}, track {track} "
-                   f"{self.track_names[track]!r}, velocity {velocity}) skipped: {self._reason_text(reason)}")
+                   f"{self.track_names[track]!r}, velocity {velocity}) skipped: {self._reason_text(reason, names)}")
 
     def _by_channel(self, reason):
         counts = sorted((c, n) for (r, c), n in self.counts.items() if r == reason and n)
         return ", ".join(f"channel {c}: {n}" for c, n in counts)
 
-    def _reason_text(self, reason):
-        option = self.options.get({"track": "tracks", "channel": "channels", "unmapped": "mapping"}[reason])
+    def _reason_text(self, reason, names):
+        parameter = {"track": "tracks", "channel": "channels", "unmapped": "mapping"}[reason]
+        option = (names or {}).get(parameter, parameter)
         if reason != "unmapped":
             return f"in tracks not chosen ({option})" if reason == "track" else f"on channels not chosen ({option})"
-        if option:
+        if self.mapped:
             return f"not in the mapping ({option})"
         percussion = all(c == PERCUSSION_CHANNEL for (r, c), n in self.counts.items() if r == reason and n)
         return "not in the drum map" if percussion else "not in the default mapping"
@@ -331,7 +337,7 @@ def read_mapping(path):
     return mapping
 
 
-def read_score(path, *, mapping=None, stroke_names=None, channels=None, tracks=None, options=None):
+def read_score(path, *, mapping=None, stroke_names=None, channels=None, tracks=None):
     """The notes of a score file: a MIDI file through a note mapping, or a text pattern.
 
     Parameters
@@ -351,9 +357,6 @@ def read_score(path, *, mapping=None, stroke_names=None, channels=None, tracks=N
     tracks : sequence of int or str, or None
         For a MIDI file only: the tracks to play, by number (from 0, in the file's order)
         or by name. Default: every track.
-    options : dict or None
-        What the caller calls ``mapping``, ``channels`` and ``tracks``, for messages (the command
-        line: ``{"mapping": "--mapping", "channels": "--channel", "tracks": "--track"}``).
 
     Returns
     -------
@@ -364,27 +367,27 @@ def read_score(path, *, mapping=None, stroke_names=None, channels=None, tracks=N
     ------
     ParameterError
         If the file cannot be read, or a mapping, channel or track is given for a text pattern or does
-        not exist.
+        not exist; its ``parameter`` is ``mapping``, ``channels`` or ``tracks`` when one of them is wrong.
     """
     path = Path(path)
-    names = {"mapping": "mapping", "channels": "channels", "tracks": "tracks"} | (options or {})
     if path.suffix.lower() not in MIDI_SUFFIXES:
         for key, given in (("mapping", mapping), ("channels", channels), ("tracks", tracks)):
             if given is not None:
-                raise ParameterError(f"{names[key]} applies to MIDI scores (.mid, .midi); {str(path)!r} is a text "
-                                     "pattern, which names its strokes")
+                raise ParameterError(f"{key} applies to MIDI scores (.mid, .midi); {str(path)!r} is a text pattern, "
+                                     "which names its strokes", parameter=key, value=given,
+                                     allowed="None for a text pattern")
         pattern = read_pattern_file(path)
         notes = _notes(pattern)
         return Score(tuple(notes), TempoMap.constant(pattern.tempo, meter=pattern.meter),
                      ScoreReport(str(path), {("played", None): len(notes)}))
-    channels = _check_channels(channels, names["channels"])
+    channels = _check_channels(channels)
     stroke_names = () if stroke_names is None else stroke_names
     if mapping is not None and not isinstance(mapping, dict):
         mapping = read_mapping(mapping)
     from .formats.midi import read_midi
 
     midi = read_midi(path)
-    chosen = _chosen_tracks(tracks, midi, names["tracks"])
+    chosen = _chosen_tracks(tracks, midi)
     mappings = {channel: mapping if mapping is not None else
                 default_mapping(list(stroke_names), percussion=channel == PERCUSSION_CHANNEL) for channel in channels}
     notes, counts, skipped = [], Counter(), tuple(array(code) for code in "dBBBHB")
@@ -405,28 +408,33 @@ def read_score(path, *, mapping=None, stroke_names=None, channels=None, tracks=N
         counts[SKIP_REASONS[reason], note.channel] += 1
         for column, value in zip(skipped, (note.time, note.note, note.velocity, note.channel, note.track, reason)):
             column.append(value)
-    report_names = {key: value for key, value in names.items() if key in ("channels", "tracks")}
-    if mapping is not None:
-        report_names["mapping"] = names["mapping"]
-    report = ScoreReport(str(path), dict(counts), midi.track_names, report_names, skipped)
+    report = ScoreReport(str(path), dict(counts), midi.track_names, mapping is not None, skipped)
     return Score(tuple(notes), midi.tempo_map, report)
 
 
-def _check_channels(channels, name):
+def _check_channels(channels):
     if channels is None:
         return (PERCUSSION_CHANNEL,)
     if isinstance(channels, (int, str)) or not channels:
-        raise ParameterError(f"{name} must be a non-empty list of MIDI channels, got {channels!r}")
-    return tuple(check_int(f"{name} (a MIDI channel, counted from 1; 10 is General MIDI percussion)", channel,
-                           low=1, high=16) for channel in channels)
+        raise ParameterError(f"channels must be a non-empty list of MIDI channels, got {channels!r}",
+                             parameter="channels", value=channels, allowed="a non-empty list of MIDI channels")
+    checked = []
+    for channel in channels:
+        try:
+            checked.append(check_int("channels", channel, low=1, high=16))
+        except ParameterError as error:  # one entry: said what a channel is
+            raise ParameterError(f"channels (a MIDI channel, counted from 1; 10 is General MIDI percussion) "
+                                 f"{error.reason}", parameter="channels", value=channel, allowed=error.allowed) from None
+    return tuple(checked)
 
 
-def _chosen_tracks(tracks, midi, name):
+def _chosen_tracks(tracks, midi):
     """The track numbers ``tracks`` (numbers from 0 or names) stand for in ``midi``, or None for all."""
     if tracks is None:
         return None
     if isinstance(tracks, (int, str)) or not tracks:
-        raise ParameterError(f"{name} must be a non-empty list of track numbers or names, got {tracks!r}")
+        raise ParameterError(f"tracks must be a non-empty list of track numbers or names, got {tracks!r}",
+                             parameter="tracks", value=tracks, allowed="a non-empty list of track numbers or names")
     listed = ", ".join(f"{i} {track!r}" for i, track in enumerate(midi.track_names))
     chosen = set()
     for track in tracks:
@@ -437,6 +445,6 @@ def _chosen_tracks(tracks, midi, name):
         elif not isinstance(track, (bool, str)) and isinstance(track, int) and 0 <= track < len(midi.track_names):
             chosen.add(track)
         else:
-            raise ParameterError(f"{name} {track!r} is not a track of MIDI file {midi.path!r}; its tracks are "
-                                 f"{listed}")
+            raise ParameterError(f"tracks {track!r} is not a track of MIDI file {midi.path!r}; its tracks are "
+                                 f"{listed}", parameter="tracks", value=track, allowed=listed)
     return chosen

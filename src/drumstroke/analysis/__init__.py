@@ -9,9 +9,25 @@ The data flows through it in this order:
 - :mod:`.compare`: two strokes side by side (onsets, intervals, level envelopes, bounce rate).
 """
 
+from typing import TYPE_CHECKING
+
 from .drop import Drop, measure_cor
-from .fit import Fit, fit_stroke
 from .onsets import OnsetConfig, Onsets, find_onsets, find_recording_onsets, read_onsets, read_recording, write_onsets
 
 __all__ = ["Drop", "Fit", "OnsetConfig", "Onsets", "find_onsets", "find_recording_onsets", "fit_stroke", "measure_cor",
            "read_onsets", "read_recording", "write_onsets"]
+
+if TYPE_CHECKING:  # for the tools that read the source; at run time, as below
+    from .fit import Fit, fit_stroke
+
+
+def __getattr__(name):
+    """``Fit`` and ``fit_stroke``, imported on first use.
+
+    A fit needs scipy.optimize and the designer; reading onsets, and the command line's parser, need neither.
+    """
+    if name in ("Fit", "fit_stroke"):
+        from . import fit
+
+        return getattr(fit, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

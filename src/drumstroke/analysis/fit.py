@@ -57,7 +57,7 @@ from ..design.chain import HIGHEST, MIN_GAP
 from ..dynamics import CEILING_DB, FLOOR_DB
 from ..errors import ParameterError
 from ..model import MODELS, Stick, coefficients
-from ..recipe import DEFAULT_COR, STANDARD_GRAVITY
+from ..recipe import COR_RANGE, DEFAULT_COR, STANDARD_GRAVITY
 from ..robot.metrics import WIDE_WINDOW, match_onsets
 from ..trajectory import LEVEL_REFERENCE
 from .onsets import Onsets
@@ -67,9 +67,6 @@ TOLERANCE = (2e-3, 1.0)
 
 MATCH_WINDOW = WIDE_WINDOW
 """s: an onset and an impact of the fitted stroke further apart than this are not paired (±10 ms)."""
-
-COR_RANGE = (0.3, 0.99)
-"""The coefficients of restitution ``fit_cor`` searches (drumheads and sticks measure 0.5–0.9)."""
 
 FORCES = ForceRange(-HUMAN_FORCE, FORCE_LIMIT)
 """The thumb accelerations a fit may use by default (m/s²): a pull as strong as the human press, up to the design's
@@ -218,7 +215,7 @@ def fit_stroke(onsets, *, model="paper", cor=DEFAULT_COR, fit_cor=False, offset=
     cor : float in [0, 1)
         Coefficient of restitution c, when it is not fitted.
     fit_cor : bool
-        Fit c too (within :data:`COR_RANGE`), by the same criterion as the offset.
+        Fit c too (within :data:`~drumstroke.recipe.COR_RANGE`), by the same criterion as the offset.
     offset : float, optional
         dB re 1 m/s: the loudest onset's level, when known (e.g. from a calibrated microphone);
         default: fitted.
@@ -418,7 +415,7 @@ class _Search:
         return True
 
     def best_cor(self, offset):
-        """(c, offset) of the least criterion over :data:`COR_RANGE`, the offset given or fitted at each c."""
+        """(c, offset) of the least criterion over :data:`~drumstroke.recipe.COR_RANGE`, the offset given or fitted at each c."""
         def criterion(cor):
             if offset is not None:
                 return min(self.change(offset, cor)[0], 1e9), offset

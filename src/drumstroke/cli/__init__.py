@@ -1,9 +1,11 @@
 """The ``drumstroke`` command: a thin layer over the API, and the only place that prints.
 
-One module per command group registers its sub-commands and runs them: :mod:`.simulate`
+One module per command group gives its commands their options and runs them: :mod:`.simulate`
 (``simulate``, ``presets``, ``figures``, ``sweep``), :mod:`.library`, :mod:`.compose`, :mod:`.design` (``design``, ``rudiment``), :mod:`.stats`,
 :mod:`.listen`, :mod:`.live`, :mod:`.robot`, :mod:`.analysis` (``onsets``, ``measure-cor``), :mod:`.fit`,
-:mod:`.compare` and :mod:`.demo`. Every option is checked before any work
+:mod:`.compare` and :mod:`.demo`. A command's module is imported only when it runs (or its help is
+asked for): ``drumstroke --version`` and ``--help`` import none, and each module imports what its
+commands compute with only inside them. Every option is checked before any work
 (:mod:`._options`): bad input ends with exit status 2 and one line naming the option, the value
 and what is allowed, and nothing written.
 
@@ -21,18 +23,34 @@ import sqlite3
 import sys
 import tempfile
 import traceback
+from importlib import import_module
 
 from .. import __version__
-from ..errors import DrumstrokeError
-from . import analysis, compare, compose, demo, design, fit, library, listen, live, robot, simulate, stats
-from ._common import Parser
+from ..errors import DrumstrokeError, ParameterError
+from ._common import Parser, named_option
 from ._options import check_outputs, output_option
 
-_COMMANDS = (simulate.add_simulate, library.add_library, compose.add_compose, design.add_design,
-             design.add_rudiment, simulate.add_presets, simulate.add_figures, simulate.add_sweep, stats.add_stats,
-             listen.add_listen, live.add_live, robot.add_robot, analysis.add_onsets, analysis.add_measure_cor,
-             fit.add_fit, compare.add_compare, demo.add_demo)
-"""Each command's registration, in the order ``drumstroke --help`` lists them."""
+COMMANDS = {
+    "simulate": ("simulate", "simulate one stroke: a preset, a palette stroke or a recipe file"),
+    "library": ("library", "build, list or check a stroke library (text files a robot host loads)"),
+    "compose": ("compose", "turn a score (MIDI file or text pattern) into one trajectory per stick"),
+    "design": ("design", "design the thumb force that plays given notes on one stick"),
+    "rudiment": ("design", "play one of the 40 PAS rudiments at a tempo, designed by the planner"),
+    "presets": ("simulate", "list the named recipes and the strokes of the shipped palette"),
+    "figures": ("simulate", "draw the paper's Figs. 4-7 as PNG files"),
+    "sweep": ("simulate", "simulate a grid or random sample of recipes; one row of features each"),
+    "stats": ("stats", "listening-test statistics: Tryon's ICIs, Rg, equivalence tests, correlations"),
+    "listen": ("listen", "the listening-test web app: serve it, analyse it, make its stimuli"),
+    "live": ("live", "play notes as they arrive: OSC, MIDI or a score in, setpoints at the control rate out"),
+    "robot": ("robot", "play strokes on a simulated robot joint; validate and export trajectories"),
+    "onsets": ("analysis", "find the stick's impacts in a recording: times (sub-ms) and relative levels"),
+    "measure-cor": ("analysis", "measure the coefficient of restitution c from a recording of a dropped stick"),
+    "fit": ("fit", "fit a recipe to a recorded stroke: start, c and force profile whose impacts match it"),
+    "compare": ("compare", "compare two strokes: bounces, intervals, how the volume fades, bounce rate"),
+    "demo": ("demo", "build the library, render every stroke, compose a groove, write index.html"),
+}
+"""Each command, in the order ``drumstroke --help`` lists them: the module whose ``add_NAME(parser)`` gives it its
+options (NAME with ``_`` for ``-``), and its line in that list."""
 
 REPORT = "the drumstroke project's issue tracker"
 """Where a bug is to be reported, as the message of an unexpected error says."""
@@ -46,9 +64,9 @@ def main(argv=None):
     when interrupted; 141 when the output pipe closed.
     """
     argv = sys.argv[1:] if argv is None else list(argv)
-    parser = build_parser()
     name, args = "drumstroke", None
     try:
+        parser = _parser([word for word in argv if not word.startswith("-")][:1])  # the command: no option takes a value
         args = parser.parse_args(argv)
         if getattr(args, "command", None):  # named as argparse names it: with the action of a command group
             action = getattr(args, f"{args.command}_command", None)
@@ -88,6 +106,8 @@ def _failed(error, name, args):
 
 def _input_error(error, args):
     """The one line to say for an error a user's input can cause, or None for a bug."""
+    if isinstance(error, ParameterError):
+        return _one_line(named_option(error))
     if isinstance(error, DrumstrokeError):
         return _one_line(error)
     if isinstance(error, OSError):
@@ -128,10 +148,22 @@ def _one_line(error):
 
 def build_parser():
     """The ``drumstroke`` argument parser with every command (the CLI reference is generated from it)."""
+    return _parser(COMMANDS)
+
+
+def _parser(built):
+    """The argument parser listing every command, with the options of the commands named in ``built``.
+
+    The others are listed by name and line only, their modules not imported: a command runs
+    with the same parser either way.
+    """
     parser = Parser(prog="drumstroke", description="Drum strokes from a physical model of a bouncing stick.")
     parser.add_argument("--version", action="version", version=f"drumstroke {__version__}")
     parser.add_argument("--debug", action="store_true", help="print the traceback of an error too")
     commands = parser.add_subparsers(dest="command", parser_class=Parser, metavar="COMMAND")
-    for add in _COMMANDS:
-        add(commands)
+    for name, (module, line) in COMMANDS.items():
+        command = commands.add_parser(name, help=line)
+        if name in built:
+            add = getattr(import_module(f".{module}", __name__), f"add_{name.replace('-', '_')}")
+            add(command)
     return parser

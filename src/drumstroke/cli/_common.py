@@ -11,6 +11,16 @@ from ..render.page import plural
 from ..score import BOUNCE_NOTE, FIRST_IMPACT_NOTE
 from ._options import Output, number
 
+OPTIONS = {"mapping": "--mapping", "channels": "--channel", "tracks": "--track"}
+"""The option of each library parameter the command line passes on under another name: what errors and reports
+about that parameter call it (:func:`named_option`)."""
+
+
+def named_option(error):
+    """``error`` (a ParameterError) about its parameter's option, when the command line has one: ``--channel ...``."""
+    option = OPTIONS.get(error.parameter)
+    return error.renamed(option) if option else error
+
 
 class Parser(argparse.ArgumentParser):
     """An argument parser whose errors are one line and exit status 2, without the usage text.
@@ -34,16 +44,20 @@ class Bar:
     """
 
     def __init__(self, label, *, delay=0.0):
-        from tqdm import tqdm
+        self._bar = None
+        if sys.stderr.isatty():  # off a terminal nothing is drawn, and tqdm is not imported (a piped command starts sooner)
+            from tqdm import tqdm
 
-        self._bar = tqdm(total=1.0, desc=label, delay=delay, disable=not sys.stderr.isatty(), file=sys.stderr,
-                         leave=False, bar_format="{desc}: {percentage:3.0f}%|{bar}| {elapsed}<{remaining}")
+            self._bar = tqdm(total=1.0, desc=label, delay=delay, file=sys.stderr, leave=False,
+                             bar_format="{desc}: {percentage:3.0f}%|{bar}| {elapsed}<{remaining}")
 
     def update(self, fraction):
-        self._bar.update(min(max(fraction, 0.0), 1.0) - self._bar.n)
+        if self._bar is not None:
+            self._bar.update(min(max(fraction, 0.0), 1.0) - self._bar.n)
 
     def close(self):
-        self._bar.close()
+        if self._bar is not None:
+            self._bar.close()
 
     def __enter__(self):
         return self

@@ -61,9 +61,9 @@ def _parsed(text, kind):
 
 def _checked(check, value, **limits):
     try:
-        return check("it", value, **limits)
+        return check("value", value, **limits)
     except ParameterError as error:
-        raise argparse.ArgumentTypeError(str(error).removeprefix("it ")) from None
+        raise argparse.ArgumentTypeError(error.reason) from None
 
 
 class Output(argparse.Action):

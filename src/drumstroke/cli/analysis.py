@@ -8,15 +8,13 @@ from ._common import add_model, print_recording_notes, print_written
 from ._options import Output, add_mkdir, existing_file, number
 
 
-def add_onsets(commands):
-    """Register ``onsets``."""
-    ons = commands.add_parser(
-        "onsets", help="find the stick's impacts in a recording: times (sub-ms) and relative levels",
-        description="Find the impacts in a recording (WAV, FLAC, OGG, ...; several channels are mixed down): their "
-                    "times to a fraction of a millisecond and their levels in dB re the loudest. The ringing of the "
-                    "drum and the room is predicted away (a linear predictor) and each attack placed on its change "
-                    "point. Prints them and the threshold used; writes them as an onsets CSV (t,level_db, its "
-                    "metadata in the JSON beside it).")
+def add_onsets(ons):
+    """Give ``onsets``'s parser ``ons`` its description and options."""
+    ons.description = ("Find the impacts in a recording (WAV, FLAC, OGG, ...; several channels are mixed down): their "
+                       "times to a fraction of a millisecond and their levels in dB re the loudest. The ringing of the "
+                       "drum and the room is predicted away (a linear predictor) and each attack placed on its change "
+                       "point. Prints them and the threshold used; writes them as an onsets CSV (t,level_db, its "
+                       "metadata in the JSON beside it).")
     ons.add_argument("recording", type=existing_file, metavar="RECORDING", help="an audio file")
     _add_detection(ons)
     ons.add_argument("--out", action=Output, suffixes=onsets_csv.SUFFIXES, metavar="ONSETS",
@@ -27,13 +25,11 @@ def add_onsets(commands):
     ons.set_defaults(run=_onsets)
 
 
-def add_measure_cor(commands):
-    """Register ``measure-cor``."""
-    cor = commands.add_parser(
-        "measure-cor", help="measure the coefficient of restitution c from a recording of a dropped stick",
-        description="c from a stick dropped on the head (the paper's method): the flights between successive "
-                    "impacts fitted by the model's exact flights under gravity, T_n = F(c^(n-1) w1), with a "
-                    "confidence interval; the impacts' levels (falling 20 log10 c dB an impact) as a cross-check.")
+def add_measure_cor(cor):
+    """Give ``measure-cor``'s parser ``cor`` its description and options."""
+    cor.description = ("c from a stick dropped on the head (the paper's method): the flights between successive "
+                       "impacts fitted by the model's exact flights under gravity, T_n = F(c^(n-1) w1), with a "
+                       "confidence interval; the impacts' levels (falling 20 log10 c dB an impact) as a cross-check.")
     cor.add_argument("drop", type=existing_file, metavar="DROP",
                      help="a recording of the drop (WAV, FLAC, OGG, ...) or its onsets CSV")
     add_model(cor, what="whose exact flights")

@@ -8,13 +8,11 @@ from ._common import print_recording_notes, print_written
 from ._options import Output, add_mkdir, existing_file, number
 
 
-def add_compare(commands):
-    """Register ``compare``."""
-    com = commands.add_parser(
-        "compare", help="compare two strokes: bounces, intervals, how the volume fades, bounce rate",
-        description="Compare stroke B with stroke A, each a recording (.wav, .flac, .ogg: its impacts detected), an "
-                    "onsets CSV or a recipe (.toml: simulated), aligned at their first onsets: how many onsets, "
-                    "the intervals and levels bounce by bounce, the level envelope and the bounce rate over time.")
+def add_compare(com):
+    """Give ``compare``'s parser ``com`` its description and options."""
+    com.description = ("Compare stroke B with stroke A, each a recording (.wav, .flac, .ogg: its impacts detected), an "
+                       "onsets CSV or a recipe (.toml: simulated), aligned at their first onsets: how many onsets, "
+                       "the intervals and levels bounce by bounce, the level envelope and the bounce rate over time.")
     com.add_argument("a", type=existing_file, metavar="A", help="the first stroke (the reference, e.g. a human's)")
     com.add_argument("b", type=existing_file, metavar="B", help="the second stroke (differences are B - A)")
     com.add_argument("--threshold", type=number(low=-200.0, high=0.0, unit="dB"), default=FLOOR_DB, metavar="DB",

@@ -10,11 +10,8 @@ from ..formats.midi import PERCUSSION_CHANNEL
 from ..formats.pattern import FORMAT
 from ..render import plot
 from ..score import BOUNCE_NOTE, DRUM_MAP, FIRST_IMPACT_NOTE, FIRST_LIBRARY_NOTE
-from ._common import Bar, add_model, add_sound_options, print_written
+from ._common import OPTIONS, Bar, add_model, add_sound_options, print_written
 from ._options import Output, add_mkdir, existing_file, existing_folder, number
-
-OPTIONS = {"mapping": "--mapping", "channels": "--channel", "tracks": "--track"}
-"""What the command calls read_score's choices, for its messages."""
 
 _WRITTEN = {"first": "; written for each stroke's first impact", "bounce": "; written for bounces", None: ""}
 _DRUM_MAP = "\n".join(f"  {key}  {row.name:<15} read as {row.stroke!r}{_WRITTEN[row.written]}"
@@ -49,13 +46,13 @@ SCORE as a text pattern (any other file name):
 {FORMAT}"""
 
 
-def add_compose(commands):
-    """Register ``compose``."""
-    comp = commands.add_parser("compose", help="turn a score (MIDI file or text pattern) into one trajectory per stick",
-                               description="Turn a score into one motor-angle trajectory per stick, its\n"
-                                           "strokes designed by the planner or taken from a library, and\n"
-                                           "write it.",
-                               epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+def add_compose(comp):
+    """Give ``compose``'s parser ``comp`` its description and options."""
+    comp.description = ("Turn a score into one motor-angle trajectory per stick, its\n"
+                        "strokes designed by the planner or taken from a library, and\n"
+                        "write it.")
+    comp.epilog = EPILOG
+    comp.formatter_class = argparse.RawDescriptionHelpFormatter
     comp.add_argument("score", type=Path, metavar="SCORE", help="a .mid/.midi file or a text pattern (formats below)")
     comp.add_argument("--library", type=existing_folder, metavar="DIR",
                       help="a library folder ('library build'), for scores that name its strokes")
@@ -102,11 +99,11 @@ def _compose(args):
     rate = args.rate
     library = load_library(args.library) if args.library else None
     score = read_score(args.score, mapping=args.mapping, stroke_names=list(library or ()), channels=args.channel,
-                       tracks=args.track, options=OPTIONS)
+                       tracks=args.track)
     report = score.report
-    say(report.summary())
+    say(report.summary(OPTIONS))
     if args.verbose:
-        for line in report.details():
+        for line in report.details(OPTIONS):
             print(line)
     if not score.notes:
         raise ParameterError(f"{args.score} has no notes to play on the channels and tracks chosen; choose others "

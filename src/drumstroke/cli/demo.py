@@ -4,13 +4,11 @@ from ._common import Bar, print_summary, print_written
 from ._options import Output, add_mkdir
 
 
-def add_demo(commands):
-    """Register ``demo``."""
-    demo = commands.add_parser(
-        "demo", help="build the library, render every stroke, compose a groove, write index.html",
-        description="Write the demo into OUTDIR: the paper's Figs. 4-7 (PNG, JSON, CSV each), the shipped library "
-                    "(library/), every library stroke's picture, sound and MIDI file (strokes/), a groove composed "
-                    "from them (groove.*), and index.html, a page showing and playing it all.")
+def add_demo(demo):
+    """Give ``demo``'s parser ``demo`` its description and options."""
+    demo.description = ("Write the demo into OUTDIR: the paper's Figs. 4-7 (PNG, JSON, CSV each), the shipped library "
+                        "(library/), every library stroke's picture, sound and MIDI file (strokes/), a groove composed "
+                        "from them (groove.*), and index.html, a page showing and playing it all.")
     demo.add_argument("outdir", action=Output, folder=True, metavar="OUTDIR",
                       help="the folder to write the demo to (created if missing)")
     add_mkdir(demo)

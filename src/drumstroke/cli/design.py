@@ -12,13 +12,11 @@ from ._common import add_cor, add_model, add_sound_options, print_written
 from ._options import Output, add_mkdir, number, whole
 
 
-def add_design(commands):
-    """Register ``design``."""
-    des = commands.add_parser(
-        "design", help="design the thumb force that plays given notes on one stick",
-        description="Design, through the exact model, the force profile whose stroke plays the notes given (times "
-                    "and levels) on one stick as consecutive bounces, or a buzz; simulate it and check it; write its "
-                    "recipe and what it plays.")
+def add_design(des):
+    """Give ``design``'s parser ``des`` its description and options."""
+    des.description = ("Design, through the exact model, the force profile whose stroke plays the notes given (times "
+                       "and levels) on one stick as consecutive bounces, or a buzz; simulate it and check it; write its "
+                       "recipe and what it plays.")
     notes = des.add_argument_group("the notes (give times with velocities or levels, or a buzz)")
     notes.add_argument("--times", type=_numbers, metavar="T1,T2,...", help="the notes' times, s, increasing")
     notes.add_argument("--velocities", type=_numbers, metavar="V1,V2,...", help="their MIDI velocities, 1-127")
@@ -50,12 +48,10 @@ def add_design(commands):
     des.set_defaults(run=_design)
 
 
-def add_rudiment(commands):
-    """Register ``rudiment``."""
-    rud = commands.add_parser(
-        "rudiment", help="play one of the 40 PAS rudiments at a tempo, designed by the planner",
-        description="Play a PAS International Drum Rudiment at a tempo on two sticks: every note designed by the "
-                    "planner; write what it plays. --list lists the 40 with their tempo ranges.")
+def add_rudiment(rud):
+    """Give ``rudiment``'s parser ``rud`` its description and options."""
+    rud.description = ("Play a PAS International Drum Rudiment at a tempo on two sticks: every note designed by the "
+                       "planner; write what it plays. --list lists the 40 with their tempo ranges.")
     rud.add_argument("name", nargs="?", metavar="NAME", help="a rudiment's name, title or number (1-40)")
     rud.add_argument("--list", action="store_true", help="list the 40 rudiments and their tempo ranges")
     rud.add_argument("--tempo", type=number(low=1.0, high=400.0, unit="bpm"), metavar="BPM",

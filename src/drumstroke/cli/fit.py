@@ -3,23 +3,20 @@
 import math
 
 from .._atomic import publish
-from ..analysis.fit import COR_RANGE, TOLERANCE
-from ..design import HUMAN_FORCE
 from ..dynamics import CEILING_DB, FLOOR_DB
 from ..formats import json, toml
+from ..recipe import COR_RANGE
 from ..render import plot
 from ._common import Bar, add_cor, add_model, add_sound_options, print_recording_notes, print_written
 from ._options import Output, add_mkdir, existing_file, number
 
 
-def add_fit(commands):
-    """Register ``fit``."""
-    fit = commands.add_parser(
-        "fit", help="fit a recipe to a recorded stroke: start, c and force profile whose impacts match it",
-        description="Fit, through the inverse design, the start, c (with --fit-cor) and the force profile whose "
-                    "impacts match a recorded stroke's onsets (times and relative levels); simulate the recipe and "
-                    "print each onset's residuals, the level offset, c and the model. The level offset (and c) are "
-                    "those whose force is closest to constant (see docs/fit.md).")
+def add_fit(fit):
+    """Give ``fit``'s parser ``fit`` its description and options."""
+    fit.description = ("Fit, through the inverse design, the start, c (with --fit-cor) and the force profile whose "
+                       "impacts match a recorded stroke's onsets (times and relative levels); simulate the recipe and "
+                       "print each onset's residuals, the level offset, c and the model. The level offset (and c) are "
+                       "those whose force is closest to constant (see docs/fit.md).")
     fit.add_argument("recording", type=existing_file, metavar="RECORDING",
                      help="a recording of one stroke (.wav, .flac) or its onsets (.csv, as `drumstroke onsets` writes)")
     add_model(fit)
@@ -41,6 +38,8 @@ def add_fit(commands):
 
 def _fit(args):
     from ..analysis import find_recording_onsets, fit_stroke, read_onsets
+    from ..analysis.fit import TOLERANCE
+    from ..design import HUMAN_FORCE
     from ..render.outputs import write_stroke_outputs
 
     csv = args.recording.suffix.lower() == ".csv"

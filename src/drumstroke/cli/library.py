@@ -7,11 +7,10 @@ from ._common import Bar, Parser
 from ._options import Output, add_mkdir, existing_file, existing_folder, number
 
 
-def add_library(commands):
-    """Register ``library`` and its actions."""
-    lib = commands.add_parser("library", help="build, list or check a stroke library (text files a robot host loads)",
-                              description="Stroke libraries: folders of text files (per stroke a recipe .toml, "
-                                          "its samples .csv and impacts .json, and a manifest) a robot host loads.")
+def add_library(lib):
+    """Give ``library``'s parser ``lib`` its description and actions."""
+    lib.description = ("Stroke libraries: folders of text files (per stroke a recipe .toml, "
+                       "its samples .csv and impacts .json, and a manifest) a robot host loads.")
     actions = lib.add_subparsers(dest="library_command", parser_class=Parser, metavar="ACTION", required=True)
     build = actions.add_parser("build", help="simulate a palette and write it as a library folder",
                                description="Simulate every stroke of a palette and write them to DIR as a library; "

@@ -7,11 +7,10 @@ from ._options import Output, add_mkdir, existing_file, existing_folder, number,
 from .stats import print_analysis
 
 
-def add_listen(commands):
-    """Register ``listen`` and its actions."""
-    lis = commands.add_parser("listen", help="the listening-test web app: serve it, analyse it, make its stimuli",
-                              description="The listening test of the paper as a web app: make the robot's "
-                                          "recordings, serve the test, analyse the answers.")
+def add_listen(lis):
+    """Give ``listen``'s parser ``lis`` its description and actions."""
+    lis.description = ("The listening test of the paper as a web app: make the robot's "
+                       "recordings, serve the test, analyse the answers.")
     actions = lis.add_subparsers(dest="listen_command", parser_class=Parser, metavar="ACTION", required=True)
     srv = actions.add_parser("serve", help="serve the listening test in a browser",
                              description="Serve the listening test over HTTP (uvicorn) until Ctrl-C; each answer is "

@@ -5,20 +5,18 @@ from datetime import datetime
 
 from ..errors import ParameterError
 from ..formats import json
-from ..robot.track import ENGINES
+from ..robot import ENGINES
 from ._common import add_cor, add_model, robot_config
 from ._options import Output, add_mkdir, existing_file, number
 
 
-def add_live(commands):
-    """Register ``live``."""
-    live = commands.add_parser(
-        "live", help="play notes as they arrive: OSC, MIDI or a score in, setpoints at the control rate out",
-        description="Take notes as they arrive (OSC, MIDI, or a score played against the clock), design each stroke "
-                    "into each stick's running motion within the latency, and stream setpoints t, theta, omega, "
-                    "alpha per stick at the control rate (OSC, CSV on stdout, a simulated robot), each chunk "
-                    "validated against the joint's limits. Ctrl-C (or SIGTERM) brings the sticks to rest and writes "
-                    "the session's record; a second Ctrl-C stops at once. Messages go to stderr.")
+def add_live(live):
+    """Give ``live``'s parser ``live`` its description and options."""
+    live.description = ("Take notes as they arrive (OSC, MIDI, or a score played against the clock), design each stroke "
+                        "into each stick's running motion within the latency, and stream setpoints t, theta, omega, "
+                        "alpha per stick at the control rate (OSC, CSV on stdout, a simulated robot), each chunk "
+                        "validated against the joint's limits. Ctrl-C (or SIGTERM) brings the sticks to rest and writes "
+                        "the session's record; a second Ctrl-C stops at once. Messages go to stderr.")
     ins = live.add_argument_group("notes in (at least one)")
     ins.add_argument("--osc-in", type=_address(default_host="127.0.0.1", port_low=0), metavar="[HOST:]PORT",
                      help="listen for /drum/note and /drum/note/at over UDP (host default 127.0.0.1: this machine)")

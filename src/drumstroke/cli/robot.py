@@ -9,10 +9,9 @@ from ._options import Output, add_mkdir, existing_file, existing_folder, number,
 from .hardware import add_hardware_actions
 
 
-def add_robot(commands):
-    """Register ``robot`` and its actions."""
-    robot = commands.add_parser("robot", help="play strokes on a simulated robot joint; validate and export trajectories",
-                                description="Play, score, tune, validate and export strokes for a robot joint.")
+def add_robot(robot):
+    """Give ``robot``'s parser ``robot`` its description and actions."""
+    robot.description = "Play, score, tune, validate and export strokes for a robot joint."
     actions = robot.add_subparsers(dest="robot_command", parser_class=Parser, metavar="ACTION", required=True)
     trk = actions.add_parser("track", help="play a stroke with one controller or all, and score it",
                              description="Play a stroke with each controller asked for; print what each kept.")

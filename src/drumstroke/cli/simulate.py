@@ -16,13 +16,11 @@ from ._common import Bar, add_model, add_sound_options, print_summary, print_wri
 from ._options import Output, add_mkdir, existing_file, existing_folder, number, whole
 
 
-def add_simulate(commands):
-    """Register ``simulate``."""
-    sim = commands.add_parser(
-        "simulate", help="simulate one stroke: a preset, a palette stroke or a recipe file",
-        description="Simulate one stroke and print its impacts; write its data, picture and sound if asked. The "
-                    "post-processing options apply in the order given, and what is printed and written is the "
-                    "stroke after them.")
+def add_simulate(sim):
+    """Give ``simulate``'s parser ``sim`` its description and options."""
+    sim.description = ("Simulate one stroke and print its impacts; write its data, picture and sound if asked. The "
+                       "post-processing options apply in the order given, and what is printed and written is the "
+                       "stroke after them.")
     sim.add_argument("stroke", metavar="STROKE",
                      help="a preset ('drumstroke presets'), a stroke of the shipped palette (e.g. double: its recipe "
                           "simulated, then its transforms), or a recipe .toml file; with --library, one of its strokes")
@@ -55,19 +53,17 @@ def add_simulate(commands):
     sim.set_defaults(run=_simulate, steps=[])
 
 
-def add_presets(commands):
-    """Register ``presets``."""
-    commands.add_parser("presets", help="list the named recipes and the strokes of the shipped palette",
-                        description="List the presets (the paper's stroke categories) and the strokes of the shipped "
-                                    "palette: the names 'drumstroke simulate' takes. Writes nothing."
-                        ).set_defaults(run=_presets)
+def add_presets(pre):
+    """Give ``presets``'s parser ``pre`` its description and options."""
+    pre.description = ("List the presets (the paper's stroke categories) and the strokes of the shipped "
+                       "palette: the names 'drumstroke simulate' takes. Writes nothing.")
+    pre.set_defaults(run=_presets)
 
 
-def add_figures(commands):
-    """Register ``figures``."""
-    fig = commands.add_parser("figures", help="draw the paper's Figs. 4-7 as PNG files",
-                              description="Simulate the presets of the paper's Figs. 4-7 and draw each as "
-                                          "OUTDIR/figN-PRESET.png.")
+def add_figures(fig):
+    """Give ``figures``'s parser ``fig`` its description and options."""
+    fig.description = ("Simulate the presets of the paper's Figs. 4-7 and draw each as "
+                       "OUTDIR/figN-PRESET.png.")
     fig.add_argument("outdir", action=Output, folder=True, metavar="OUTDIR",
                      help="the folder to write the four PNG files to (created if missing)")
     add_model(fig, what="the model to draw them with")
@@ -75,11 +71,10 @@ def add_figures(commands):
     fig.set_defaults(run=_figures)
 
 
-def add_sweep(commands):
-    """Register ``sweep``."""
-    swp = commands.add_parser("sweep", help="simulate a grid or random sample of recipes; one row of features each",
-                              description="Simulate every point of a sweep file (a grid or a random sample of "
-                                          "recipe parameters) and write one row of stroke features per point.")
+def add_sweep(swp):
+    """Give ``sweep``'s parser ``swp`` its description and options."""
+    swp.description = ("Simulate every point of a sweep file (a grid or a random sample of "
+                       "recipe parameters) and write one row of stroke features per point.")
     swp.add_argument("grid", type=existing_file, metavar="GRID",
                      help="a sweep .toml file (docs/profiles.md: sweeps; examples/sweeps/)")
     swp.add_argument("--out", action=Output, suffixes=table.SUFFIXES, required=True, metavar="TABLE",

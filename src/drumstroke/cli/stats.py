@@ -5,16 +5,14 @@ from ..formats import json
 from ._options import Output, add_mkdir, existing_file, number, whole
 
 
-def add_stats(commands):
-    """Register ``stats``."""
-    sts = commands.add_parser(
-        "stats", help="listening-test statistics: Tryon's ICIs, Rg, equivalence tests, correlations",
-        description="The listening test's statistics from its answers (a CSV) or from two groups' summary numbers: "
-                    "Group A (incorrect answers per subject) against Group B (subjects guessing 50-50), Tryon's "
-                    "inferential confidence intervals and the maximum probable difference Rg (the paper's Table 2); "
-                    "with --delta, Tryon's ICI test (each side at alpha/2, the paper's Rg < delta) and Schuirmann's "
-                    "standard TOST (each side at alpha), each with its p-value; correlations of the answers with "
-                    "confidence and similarity.")
+def add_stats(sts):
+    """Give ``stats``'s parser ``sts`` its description and options."""
+    sts.description = ("The listening test's statistics from its answers (a CSV) or from two groups' summary numbers: "
+                       "Group A (incorrect answers per subject) against Group B (subjects guessing 50-50), Tryon's "
+                       "inferential confidence intervals and the maximum probable difference Rg (the paper's Table 2); "
+                       "with --delta, Tryon's ICI test (each side at alpha/2, the paper's Rg < delta) and Schuirmann's "
+                       "standard TOST (each side at alpha), each with its p-value; correlations of the answers with "
+                       "confidence and similarity.")
     sts.add_argument("responses", type=existing_file, nargs="?", metavar="RESPONSES",
                      help="a CSV with subject,pair,robot,answer,confidence,similarity")
     sts.add_argument("--summary", metavar="MEAN_A,SD_A,MEAN_B,SD_B,N",

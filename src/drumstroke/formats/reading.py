@@ -70,23 +70,22 @@ def read_bytes(path, what, *, limit):
         denied, …), not a regular file (named: a FIFO, a directory, a device, a socket), or
         larger than ``limit``.
     """
-    where = f"{what} {os.fspath(path)!r}"
-    _refuse_special(path, where)
+    _refuse_special(path, what)
     try:
         descriptor = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_NOCTTY", 0))
     except (OSError, ValueError) as error:  # ValueError: a NUL in the name
-        raise ParameterError(f"{where} cannot be read: {_reason(error)}") from None
+        raise _unreadable(path, what, _reason(error)) from None
     with os.fdopen(descriptor, "rb") as handle:
         try:
             status = os.fstat(descriptor)
-            _refuse(status.st_mode, where)  # what was opened: the path may have changed since
+            _refuse(status.st_mode, path, what)  # what was opened: the path may have changed since
             if status.st_size <= limit:
                 data = handle.read(limit + 1)  # a file whose size the system does not know (/proc) stops here too
         except OSError as error:
-            raise ParameterError(f"{where} cannot be read: {_reason(error)}") from None
+            raise _unreadable(path, what, _reason(error)) from None
     if status.st_size > limit or len(data) > limit:
         article = "an" if what[:1] in "aeiou" else "a"
-        raise ParameterError(f"{where} cannot be read: it is larger than {_size(limit)}, the most {article} {what} may be")
+        raise _unreadable(path, what, f"it is larger than {_size(limit)}, the most {article} {what} may be")
     return data
 
 
@@ -102,8 +101,8 @@ def read_text(path, what, *, limit, encoding="utf-8"):
     except UnicodeDecodeError as error:
         line = data.count(b"\n", 0, error.start) + 1
         column = error.start - (data.rfind(b"\n", 0, error.start) + 1) + 1
-        raise ParameterError(f"{what} {os.fspath(path)!r} cannot be read: not a UTF-8 text file (byte "
-                             f"0x{data[error.start]:02x} at line {line}, column {column})") from None
+        raise _unreadable(path, what, f"not a UTF-8 text file (byte 0x{data[error.start]:02x} at line {line}, "
+                                      f"column {column})") from None
 
 
 def read_csv_rows(path, what, *, limit, rows_of=""):
@@ -116,17 +115,17 @@ def read_csv_rows(path, what, *, limit, rows_of=""):
     try:
         return list(csv.reader(io.StringIO(text, newline="")))
     except csv.Error as error:
-        raise ParameterError(f"{what} {os.fspath(path)!r} is not a CSV file{rows_of}: {error}") from None
+        raise ParameterError(f"{what} {os.fspath(path)!r} is not a CSV file{rows_of}: {error}", parameter=what,
+                             value=os.fspath(path), allowed="a CSV file") from None
 
 
 def check_regular(path, what):
     """Refuse ``path`` (naming ``what``) unless it is a regular file that exists; nothing is opened."""
-    where = f"{what} {os.fspath(path)!r}"
     try:
         mode = os.stat(path).st_mode
     except (OSError, ValueError) as error:
-        raise ParameterError(f"{where} cannot be read: {_reason(error)}") from None
-    _refuse(mode, where)
+        raise _unreadable(path, what, _reason(error)) from None
+    _refuse(mode, path, what)
 
 
 def check_document(data, where, *, depth=MAX_DEPTH):
@@ -166,21 +165,27 @@ def parse_int(text):
     return Huge(text) if most and len(text.lstrip("+-")) > most else int(text)
 
 
-def _refuse_special(path, where):
+def _refuse_special(path, what):
     """Refuse a path that exists and is not a regular file, before it is opened (opening a FIFO could block)."""
     try:
         mode = os.stat(path).st_mode
     except (OSError, ValueError):  # missing, unreadable, or a name with a NUL: opening says why
         return
-    _refuse(mode, where)
+    _refuse(mode, path, what)
 
 
-def _refuse(mode, where):
+def _refuse(mode, path, what):
     for test, kind in _KINDS:
         if test(mode):
-            raise ParameterError(f"{where} cannot be read: it is {kind}, not a regular file")
+            raise _unreadable(path, what, f"it is {kind}, not a regular file")
     if not stat.S_ISREG(mode):
-        raise ParameterError(f"{where} cannot be read: it is not a regular file")
+        raise _unreadable(path, what, "it is not a regular file")
+
+
+def _unreadable(path, what, reason):
+    """The error that the file ``path`` (the parameter ``what``) cannot be read, for ``reason``."""
+    return ParameterError(f"{what} {os.fspath(path)!r} cannot be read: {reason}", parameter=what, value=os.fspath(path),
+                          allowed="a readable regular file")
 
 
 def _reason(error):

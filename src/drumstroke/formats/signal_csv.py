@@ -39,9 +39,9 @@ def read_signal(path, what):
             is_header = not rows and not any(_is_number(cell) for cell in row)
             if not is_header:
                 raise ParameterError(f"{where} line {number} must be 't,value' with two numbers, got "
-                                     f"{','.join(row)!r}") from None
+                                     f"{','.join(row)!r}", parameter=what, value=str(path)) from None
     if not rows:
-        raise ParameterError(f"{where} has no 't,value' rows")
+        raise ParameterError(f"{where} has no 't,value' rows", parameter=what, value=str(path))
     return rows
 
 

@@ -23,12 +23,10 @@ from ..errors import ParameterError
 from ..recipe import DEFAULT_COR
 from ..stroke import as_trajectory
 from ..trajectory import DEFAULT_RATE, Impacts, Trajectory
+from . import ENGINES
 from .controllers import Controller
 from .loop import ControlLoop
 from .plant import Plant, SimpleJoint
-
-ENGINES = ("simple", "mujoco")
-"""The plants a reference can be played on: the simple joint, MuJoCo's (the ``robot`` extra)."""
 
 
 def reference(source, rate=DEFAULT_RATE):
