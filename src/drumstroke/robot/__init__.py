@@ -1,1 +1,1 @@
-"""Robot execution (SPEC §5): a simulated joint, controllers, what was played, validation and export."""
+"""Robot execution: a simulated joint, controllers, what was played, validation and export."""
