@@ -1,6 +1,6 @@
 """An independent reference for drumstroke: scipy's DOP853 with events and a restart at each impact.
 
-Written from SPEC §1, not from drumstroke's solver. It shares with drumstroke only the
+Written from the model's equations (docs/model.md), not from drumstroke's solver. It shares with drumstroke only the
 inputs: the recipe, its profiles (called at interior points of each piece) and
 ``drumstroke.model.coefficients`` (k, k′, D, θ_max).
 
@@ -257,7 +257,7 @@ def _sample(segments, theta_max, t_end, rate):
 
 
 # ----------------------------------------------------------------------------------------------
-# the exact oracle for constant forcing (SPEC §1)
+# the exact oracle for constant forcing (docs/model.md, A flight in closed form)
 
 
 def _time_from_apex(sin_theta, speed, c, sin_apex):

@@ -1,4 +1,4 @@
-"""The robot's figures over the whole shipped library (SPEC §5), as reported in the README.
+"""The robot's figures over the whole shipped library, as reported in the README.
 
 Plays every library stroke on the simple plant with every controller the package offers, at its
 default gains — the paper's PI first — and with PI tuned formally (one gain set for all; then one per

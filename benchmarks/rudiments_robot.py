@@ -1,4 +1,4 @@
-"""The 40 PAS rudiments, designed by the planner, played by the robot: the onsets it keeps (SPEC §5, §8).
+"""The 40 PAS rudiments, designed by the planner, played by the robot: the onsets it keeps.
 
 Each rudiment at the bottom, the middle and the top of its tempo range, two bars on two sticks, is
 composed by the planner (``paper`` model) and each stick's trajectory tracked by the impedance

@@ -1,4 +1,4 @@
-"""Two strokes compared: against the closed forms of a free bounce (SPEC §1), invariants and bad input."""
+"""Two strokes compared: against the closed forms of a free bounce, invariants and bad input."""
 
 import json
 import math
@@ -18,7 +18,7 @@ THETA_MAX = -math.asin(0.07 / 0.27)  # paper Eq. 5 with Table 1
 
 
 def free_bounce(cor):
-    """A free bounce's onsets from SPEC §1's closed forms: dropped from θ = 0 at rest under gravity alone.
+    """A free bounce's onsets from the closed forms of docs/model.md: dropped from θ = 0 at rest under gravity alone.
 
     Each flight returns at its launch speed, so impact k has speed ω₁·c^k; its flight time is twice the
     rise time [K(m) − F(ψ | m)] / √C.

@@ -1,4 +1,4 @@
-"""c from a drop (SPEC §1, §10): exact simulated drops, rendered noisy ones, the command."""
+"""c from a drop: exact simulated drops, rendered noisy ones, the command."""
 
 import json
 

@@ -1,4 +1,4 @@
-"""Onsets from audio and the onsets CSV (SPEC §10): round trips with known impact times, hostile files."""
+"""Onsets from audio and the onsets CSV: round trips with known impact times, hostile files."""
 
 import json
 import math

@@ -1,6 +1,6 @@
 """The compiled solver (solver/kernel.py) and sampler on random recipes, against independent references.
 
-* Constant forcing: the exact elliptic oracle of SPEC §1 (benchmarks/reference.py ``oracle_for``,
+* Constant forcing: the exact elliptic oracle of docs/model.md (benchmarks/reference.py ``oracle_for``,
   scipy's ellipk/ellipkinc, impact by impact), and ``method="taylor"`` (every flight integrated
   by Taylor steps) against ``method="auto"`` (closed forms).
 * Piecewise-linear and pulsed forcing and their sums: scipy's DOP853 with event location and a
@@ -35,7 +35,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 from reference import ReferenceError, constant_forcing_rate, oracle_for, reference_simulate
 
 # Tolerances (measured worst values on these draws in brackets)
-ORACLE_TIME_TOL = 1e-9  # s, impact times against the exact oracle (SPEC §1) [3.6e-15 s, 8,407 impacts]
+ORACLE_TIME_TOL = 1e-9  # s, impact times against the exact oracle [3.6e-15 s, 8,407 impacts]
 ORACLE_SPEED_RTOL = 1e-9  # |ω⁻| against the oracle's impact speed, relative [0: the same closed form]
 REST_TOL = 1e-6  # s, rest time against the oracle's accumulation time [1.3e-15 s]
 TAYLOR_TIME_TOL = 1e-9  # s, method="taylor" against method="auto" [7.1e-15 s]
@@ -56,7 +56,7 @@ MAX_SIN_APEX = 1.0 - 2e-4  # m = (1 + sin θ_a)/2 ≤ 1 − 1e-4 (see the module
 
 
 def _sin_apex(theta0, omega0, c):
-    """sin θ_a of the first flight under constant C > 0 (SPEC §1); +inf if C ≤ 0 and ω₀ > 0."""
+    """sin θ_a of the first flight under constant C > 0 (docs/model.md); +inf if C ≤ 0 and ω₀ > 0."""
     if c <= 0.0:
         return math.inf
     return math.sin(theta0) + omega0 * omega0 / (2.0 * c)

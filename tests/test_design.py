@@ -1,6 +1,6 @@
 """Inverse design: the force that plays given notes, checked by the solver and against exact flights.
 
-Oracles: SPEC §1's closed form of a flight under constant forcing (scipy's elliptic integrals,
+Oracles: docs/model.md's closed form of a flight under constant forcing (scipy's elliptic integrals,
 independent of drumstroke's compiled ones); the notes themselves (every design is simulated and
 its impacts compared); strokes simulated from random recipes, whose audible impacts must come back.
 """
@@ -38,7 +38,7 @@ def level(speed):
 
 
 def oracle_flight(u, c):
-    """SPEC §1: the duration of a flight launched from the head at u under constant C, by scipy."""
+    """The duration of a flight launched from the head at u under constant C, by scipy."""
     sh = math.sin(HEAD)
     apex = sh + u * u / (2.0 * c)
     m = (1.0 + apex) / 2.0

@@ -6,7 +6,8 @@ interleaved in page order (a command may use a file an earlier block wrote). A p
 through `drumstroke.cli.main` (the console script's own entry point: it saves each one the interpreter's start); a
 command with shell syntax (a redirection, a wildcard) and `drumstroke live` (a real-time runtime) run in a shell. The README's set-up
 section is left out: CI runs those two commands itself. `drumstroke listen serve` serves forever, so
-it is started in the background, checked to answer HTTP on its port, and stopped.
+it is started in the background, checked to answer HTTP on its port, and stopped. And no file of the repository cites
+what its users do not have: the team's internal notes or a path outside the repository.
 """
 
 import argparse
@@ -169,3 +170,39 @@ def test_the_site_builds_strictly(tmp_path):
     drawing = (site / "architecture-layers.svg").read_text(encoding="utf-8")
     assert drawing.lstrip().startswith("<?xml") and "<svg" in drawing and "compose.py" in drawing
     assert 'src="../architecture-layers.svg"' in (site / "architecture" / "index.html").read_text(encoding="utf-8")
+
+
+# Built from parts, so that this file does not match itself.
+_INTERNAL = re.compile(r"\b(?:" + "SP" + "EC|" + "ST" + r"YLE)\b")  # the team's two notes' names, as words
+_OUTSIDE = ("../" + "shared", "/work" + "/shared", "shared" + "/paper")
+_SHIPPED = ("docs", "src", "tests", "examples", "benchmarks", "README.md", "mkdocs.yml", "pyproject.toml")
+
+
+def _shipped_files():
+    """The repository's tracked files under _SHIPPED (every file there when git or the checkout is missing)."""
+    try:
+        listed = subprocess.run(["git", "ls-files", "-z", "--", *_SHIPPED], cwd=ROOT, capture_output=True, check=True,
+                                timeout=60).stdout.decode().split("\0")
+    except (OSError, subprocess.SubprocessError):
+        listed = []
+    paths = [ROOT / name for name in listed if name]
+    if not paths:  # not a checkout: every file there
+        paths = [path for name in _SHIPPED for path in [ROOT / name, *(ROOT / name).rglob("*")]
+                 if "__pycache__" not in path.parts]
+    return [path for path in paths if path.is_file()]
+
+
+def test_no_file_cites_what_users_do_not_have():
+    """The docs hold every fact they cite: no file names the team's internal notes or a path outside the repository."""
+    files = _shipped_files()
+    assert len(files) > 100 and ROOT / "docs" / "model.md" in files
+    found = []
+    for path in files:
+        try:
+            text = path.read_text(encoding="utf-8")
+        except UnicodeDecodeError:
+            continue  # images, audio, binary data
+        for number, line in enumerate(text.splitlines(), start=1):
+            if _INTERNAL.search(line) or any(needle in line for needle in _OUTSIDE):
+                found.append(f"{path.relative_to(ROOT)}:{number}: {line.strip()[:100]}")
+    assert not found, "\n".join(found)

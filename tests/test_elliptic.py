@@ -6,12 +6,12 @@
   independent one, here and in a random sample.
 * ``shift`` (the addition theorem that the sampler uses to carry sn, cn, dn from one sample to
   the next) against ``jacobi`` at u₀ + k·h, and against mpmath.
-* ``time_from_apex`` and ``flight_time`` against SPEC §1 written out in mpmath:
+* ``time_from_apex`` and ``flight_time`` against docs/model.md's closed form written out in mpmath:
   sin θ_a = sin θ + ω²/(2C), m = (1 + sin θ_a)/2, ψ = asin(√((1 + sin θ)/(1 + sin θ_a))),
   |τ| = (K(m) − F(ψ | m))/√C, and a flight from the head lasts twice the rise.
 * ``state``: energy ω²/2 + C·sin θ = C·sin θ_a = C·(2m − 1) along the orbit (from
   m = (1 + sin θ_a)/2), the apex at τ = 0, and θ(τ) = 2·asin(√m·sn(K(m) − √C·τ | m)) − π/2
-  (SPEC §1's form, with sn(K − v), not the module's cd(v)) in mpmath.
+  (docs/model.md's form, with sn(K − v), not the module's cd(v)) in mpmath.
 
 Nothing here uses drumstroke's own coefficients or solver; the head angle is Table 1's.
 """
@@ -26,7 +26,7 @@ from scipy.special import ellipj, ellipk, ellipkinc
 from drumstroke.solver.elliptic import flight_time, jacobi, parameter, shift, state, time_from_apex
 
 EPS = 2.0**-52
-HEAD = -math.asin(0.07 / 0.27)  # θ_max of Table 1 (SPEC §1: −asin(h/x) = −0.2623 rad)
+HEAD = -math.asin(0.07 / 0.27)  # θ_max of Table 1 (the paper's Eq. 5: −asin(h/x) = −0.2623 rad)
 M_TOP = 1.0 - 1e-9  # the solver takes orbits with m ≥ 1 − 1e-9 to its Taylor path
 
 # Tolerances (measured worst values in brackets, on the seeded draws)
@@ -193,7 +193,7 @@ def test_shift_by_zero_and_by_k_are_exact_identities():
 
 
 def _mp_time_from_apex(sin_theta, sin_apex, c):
-    """SPEC §1: [K(m) − F(ψ(θ) | m)]/√C, m = (1 + sin θ_a)/2, ψ = asin(√((1 + sin θ)/(1 + sin θ_a))).
+    """docs/model.md: [K(m) − F(ψ(θ) | m)]/√C, m = (1 + sin θ_a)/2, ψ = asin(√((1 + sin θ)/(1 + sin θ_a))).
 
     Arguments are mpf (exact); evaluated at 60 digits, which leaves ≥ 30 after the cancellation
     K − F at ψ → π/2 (launches of 1e-8 rad/s: 1 − sin²ψ ~ 1e-18).
@@ -205,7 +205,7 @@ def _mp_time_from_apex(sin_theta, sin_apex, c):
 
 
 def _exact_orbit(sin_theta, omega, c):
-    """sin θ_a = sin θ + ω²/(2C) (SPEC §1), exact from the float inputs."""
+    """sin θ_a = sin θ + ω²/(2C) (docs/model.md), exact from the float inputs."""
     with mp.workdps(60):
         return mp.mpf(sin_theta) + mp.mpf(omega) ** 2 / (2 * mp.mpf(c))
 
@@ -311,7 +311,7 @@ def test_time_from_apex_near_vertical_orbits(gap, rng):
 
 
 def _mp_theta(tau, c, m):
-    """SPEC §1: θ(τ) = 2·asin(√m·sn(K(m) − √C·τ | m)) − π/2 and its derivative, at 40 digits.
+    """docs/model.md: θ(τ) = 2·asin(√m·sn(K(m) − √C·τ | m)) − π/2 and its derivative, at 40 digits.
 
     dθ/dτ = −2√(mC)·cn·dn/√(1 − m·sn²) = −2√(mC)·cn(K − √C·τ | m), since dn² = 1 − m·sn².
     """
@@ -333,7 +333,7 @@ def energy_tolerance(m):
 
 
 def _to_head(c, m):
-    """Time (s) from the apex to the head on orbit m (scipy, SPEC §1), or K(m)/√C if it never rises above it."""
+    """Time (s) from the apex to the head on orbit m (scipy, docs/model.md), or K(m)/√C if it never rises above it."""
     sin_head, sin_apex = math.sin(HEAD), 2.0 * m - 1.0
     if sin_apex <= sin_head:
         return float(ellipk(m)) / math.sqrt(c)
@@ -355,7 +355,7 @@ def test_state_conserves_energy_and_starts_at_the_apex(rng):
         theta, omega = state(0.0, c, m)
         with mp.workdps(40):
             apex = 2 * mp.asin(mp.sqrt(mp.mpf(m))) - mp.pi / 2
-            assert abs(mp.sin(apex) - (2 * mp.mpf(m) - 1)) < mp.mpf(10) ** -35  # the algebra of SPEC §1
+            assert abs(mp.sin(apex) - (2 * mp.mpf(m) - 1)) < mp.mpf(10) ** -35  # the algebra of docs/model.md
         error = abs(float(theta - apex))
         worst_apex = max(worst_apex, error)
         assert error <= theta_tolerance(m), (c, m, theta, apex)
@@ -375,7 +375,7 @@ def test_state_conserves_energy_and_starts_at_the_apex(rng):
 
 
 def test_state_matches_spec_theta_in_mpmath(rng):
-    """θ(τ) against SPEC's sn(K − √C·τ) form on the part of each orbit above the head, and ω
+    """θ(τ) against docs/model.md's sn(K − √C·τ) form on the part of each orbit above the head, and ω
     against its derivative, ω = −2√(mC)·cn(K − √C·τ | m)."""
     worst = worst_omega = 0.0
     for _ in range(150):
@@ -396,4 +396,4 @@ def test_state_matches_spec_theta_in_mpmath(rng):
             assert error <= 2.0 * theta_tolerance(m), (c, m, tau, omega, exact_omega)
         # at ±to_head the stick is at the head
         assert abs(state(to_head, c, m)[0] - HEAD) <= theta_tolerance(m) + 1e-13
-    print(f"state vs SPEC θ(τ): worst θ {worst:.3g} rad, ω {worst_omega:.3g}·√C rad/s")
+    print(f"state vs the docs' θ(τ): worst θ {worst:.3g} rad, ω {worst_omega:.3g}·√C rad/s")

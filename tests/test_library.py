@@ -1,4 +1,4 @@
-"""The stroke library on disk (SPEC §4): palettes, build, write→read round trips, corruption, atomic rebuilds.
+"""The stroke library on disk: palettes, build, write→read round trips, corruption, atomic rebuilds.
 
 The files are read back here independently of the loader (numpy.loadtxt, json, hashlib) and compared
 bit for bit with what the build returned. Every corruption the loader must catch is made on a copy

@@ -1,6 +1,6 @@
-"""drumstroke against an independent exact oracle (SPEC §1) and a third-party integrator.
+"""drumstroke against an independent exact oracle and a third-party integrator.
 
-The oracle is written here from the formulas of SPEC §1, in mpmath at 40 significant
+The oracle is written here from the formulas of docs/model.md, in mpmath at 40 significant
 digits; it does not use drumstroke's own elliptic module, coefficients or profiles.
 For constant forcing C = (k·g + k′·a)/D > 0:
 
@@ -48,7 +48,7 @@ exact summation at higher precision down to terms below 1e-20 s.
 """
 
 MAX_TERMS = 20_000
-IMPACT_TIME_TOL = 1e-9  # s, SPEC §1: impact times located to ≤ 1e-9 s
+IMPACT_TIME_TOL = 1e-9  # s: impact times located to ≤ 1e-9 s
 IMPACT_SPEED_RTOL = 1e-9
 # s. Measured ~1e-14; 1e-9 (tighter than a loose 1e-6) also catches an error in the summed
 # Zeno tail, which itself lasts only ~1e-6 s.

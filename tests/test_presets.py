@@ -1,4 +1,4 @@
-"""The paper's figure claims (SPEC §2), as tests on the presets."""
+"""The paper's figure claims (its Section 4, Figs. 4–7), as tests on the presets."""
 
 import numpy as np
 import pytest

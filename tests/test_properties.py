@@ -1,4 +1,4 @@
-"""Invariants of simulate() over random valid recipes (SPEC §1–§3), and the solver on extreme recipes.
+"""Invariants of simulate() over random valid recipes, and the solver on extreme recipes.
 
 The hypothesis tests draw recipes from the valid domain: either model; θ₀ on the head, at 0 or in
 [θ_max + 1 mrad, 1.3]; ω₀ = 0 or 0.1 ≤ |ω₀| ≤ 20 rad/s; c in [0, 1] (0 and 1 included); t_end in

@@ -1,7 +1,7 @@
 """The benchmark's reference (benchmarks/reference.py) against the exact oracle, and drumstroke against it.
 
 The reference is scipy's DOP853 with events and an impact/restart loop; the oracle is the
-closed form of SPEC §1 for constant forcing. If the reference agrees with the oracle, it
+closed form of docs/model.md for constant forcing. If the reference agrees with the oracle, it
 can stand in for it where there is none (time-varying forcing: the paper's Figs. 5–7).
 """
 
@@ -19,7 +19,7 @@ from drumstroke import simulate
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 from reference import oracle_for, oracle_impacts, reference_simulate
 
-IMPACT_TIME_TOL = 1e-9  # s, SPEC §1
+IMPACT_TIME_TOL = 1e-9  # s, as the docs require (docs/model.md)
 THETA_TOL = 1e-8  # rad
 AUDIBLE = 1e-3  # rad/s: impacts slower than this are part of the inaudible buzz before rest
 RATE = 1000.0  # Hz
@@ -32,7 +32,7 @@ def reference(name):
 
 
 def test_oracle_matches_spec_formula_in_mpmath():
-    """The scipy oracle (ψ through atan2, for accuracy) equals SPEC §1's asin form at 30 digits."""
+    """The scipy oracle (ψ through atan2, for accuracy) equals docs/model.md's asin form at 30 digits."""
     recipe = drumstroke.preset("free-bounce")
     coef = drumstroke.model.coefficients(recipe.model, recipe.stick)
     c = float(coef.torque_rate(9.8, 0.0))

@@ -1,4 +1,4 @@
-"""Controllers on the simulated joint (SPEC §5): steady state, onset metrics, the paper's PI finding, tuning, gains.
+"""Controllers on the simulated joint: steady state, onset metrics, the paper's PI finding, tuning, gains.
 
 Oracles: a P controller holding the stick against gravity settles where Kp·e = m·g·k·cos θ; the time
 warp of :func:`lead_in_contact` written out from its definition on the trajectory's exact path. The
@@ -118,7 +118,7 @@ def test_a_reference_for_another_stick_is_refused():
 
 @pytest.mark.parametrize("name", ["free-bounce", "high-low", "low-high"])
 def test_the_paper_pi_loses_the_tail_the_impedance_controller_keeps(strokes, name):
-    """SPEC §5: the PI cannot follow the fast bounces at the end, so the robot's strokes have shorter tails.
+    """The paper's §6: the PI cannot follow the fast bounces at the end, so the robot's strokes have shorter tails.
 
     Measured (default gains, PI kp = 3, ki = 2): tail kept within ±2 ms PI 0.15 / 0.00 / 0.00 against
     impedance 1.00 / 0.93 / 1.00; PI tail shortfall 0.325 / 1.711 / 0.400 s; the PI plays 15 / 39 / 28

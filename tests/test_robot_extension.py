@@ -1,4 +1,4 @@
-"""A controller added from outside the package (SPEC §5; STYLE rule 11): declared, registered, played, tuned.
+"""A controller added from outside the package: declared, registered, played, tuned.
 
 The controller, a PD with a share of the gravity feedforward, is defined here and nowhere else;
 defining it registers it. Oracle: held at a constant target θ it settles where

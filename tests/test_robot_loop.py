@@ -1,4 +1,4 @@
-"""The one control loop (SPEC §5): a whole run is many steps of the stepping code, on either plant.
+"""The one control loop: a whole run is many steps of the stepping code, on either plant.
 
 Oracles: :func:`track` against the same reference stepped by hand through :meth:`ControlLoop.step`,
 sample for sample (``np.array_equal``: the same code, so the same floating-point numbers); a run

@@ -1,4 +1,4 @@
-"""Onset metrics (SPEC §5): scored as the field scores onsets, against mir_eval itself.
+"""Onset metrics: scored as the field scores onsets, against mir_eval itself.
 
 Oracles: ``mir_eval.onset.evaluate`` (precision, recall, F-measure) and ``mir_eval.util.match_events``
 (the size of a maximum matching) on the same onsets — hand-made, drawn from a seeded generator, and

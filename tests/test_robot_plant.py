@@ -1,4 +1,4 @@
-"""The robot joint on its own (SPEC §5): drumhead contact, energy, gravity, motor limits, encoder, parameters.
+"""The robot joint on its own: drumhead contact, energy, gravity, motor limits, encoder, parameters.
 
 Oracles are closed forms of the joint equation J·θ̈ = τ − m·g·k·cos θ − b·θ̇ − τ_c·sign θ̇ + τ_h:
 free fall from level reaches the head at √(2·m·g·k·(−sin θ_head)/J); with no friction and no contact

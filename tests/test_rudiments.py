@@ -1,11 +1,11 @@
-"""The 40 PAS rudiments (SPEC §8): PAS's order and families, the figures that define each family, playable
+"""The 40 PAS rudiments: PAS's order and families, the figures that define each family, playable
 at both ends of every tempo range, the text pattern, and the loader's errors.
 
 The expectations are written from the PAS International Drum Rudiments sheet, not read from the data: the
 titles in order, the stickings, and each family's figures — single strokes alternate; a multiple bounce
 roll is buzzes, hand to hand, closed; an n-stroke roll is diddles and accented singles adding up to n; a
-flam is one grace note on the other stick 15-50 ms early and 10-20 dB softer (SPEC §8); a drag is two on
-one stick. The ends of the tempo ranges are checked against SPEC §8's human limits.
+flam is one grace note on the other stick 15-50 ms early and 10-20 dB softer (docs/design.md); a drag is two on
+one stick. The ends of the tempo ranges are checked against human drummers' limits.
 """
 
 import dataclasses
@@ -283,7 +283,7 @@ def test_every_rudiment_plays_at_both_ends_of_its_range(r, end):
 
 @pytest.mark.parametrize("r", ALL, ids=lambda r: r.name)
 def test_the_top_of_each_range_is_human(r):
-    """SPEC §8: a stick's two notes no closer than a fast diddle (60 ms); both sticks together at most ~20 notes/s."""
+    """Human: a stick's two notes no closer than a fast diddle (60 ms); both sticks together at most ~20 notes/s."""
     notes = main_times(r, r.tempo[1])
     for stick in ("R", "L"):
         times = [t for t, s in notes if s == stick]
@@ -394,7 +394,7 @@ def test_the_pattern_notes_an_out_of_range_tempo_in_a_comment():
 # --- dynamics ---------------------------------------------------------------------------------------------------
 
 def test_the_dynamics_are_a_drummers():
-    """Accent over tap by 10-15 dB; a grace note 10-20 dB under the notes flams decorate (SPEC §8)."""
+    """Accent over tap by 10-15 dB; a grace note 10-20 dB under the notes flams decorate (human figures)."""
     assert DYNAMICS["accent"] > DYNAMICS["normal"] > DYNAMICS["tap"] > DYNAMICS["grace"] >= 1
     assert 10.0 <= level("accent") - level("tap") <= 15.0
     for main in ("accent", "normal"):

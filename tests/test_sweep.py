@@ -28,7 +28,7 @@ model = ["paper", "geometry"]
 
 
 def _free_bounce_oracle(cor, theta0, force, model, n):
-    """The first n impact times and speeds of a stroke from rest at theta0 under constant force (SPEC §1, scipy)."""
+    """The first n impact times and speeds of a stroke from rest at theta0 under constant force (model.md, scipy)."""
     stick = drumstroke.Stick()
     d = 0.0714 if model == "paper" else (3 * 0.27**2 - 3 * 0.27 * 0.39 + 0.39**2) / 3
     c = (stick.pivot_to_com * 9.8 + stick.pivot_to_thumb * force) / d

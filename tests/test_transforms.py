@@ -1,4 +1,4 @@
-"""Transforms of trajectories (SPEC §4, paper §3.5): stretch, compress, reverse, trim, catch, concat.
+"""Transforms of trajectories (the paper's Section 3.5): stretch, compress, reverse, trim, catch, concat.
 
 Oracles: the simulated stroke itself (``Stroke.state``, exact), read at the times each transform's
 map sends a time to; exact identities (reverse∘reverse, stretch(f)∘stretch(1/f)); the physics of a

@@ -1,6 +1,6 @@
 """Bad input, from the public API, raises ParameterError naming the parameter, the value and the range.
 
-SPEC §7 and STYLE rule 5: every validation error is a :class:`drumstroke.ParameterError` (a
+Every validation error is a :class:`drumstroke.ParameterError` (a
 ValueError) whose message names the bad parameter, the value it got and what is allowed; never an
 ``assert`` (``python -O`` strips those), never a bare numpy/csv/TypeError. A valid recipe that asks
 for motion the model does not cover raises :class:`drumstroke.SimulationError` instead.
@@ -608,7 +608,7 @@ def test_simulate_profile_number_out_of_range(field, value, shown):
 
 @pytest.mark.parametrize("value", [np.float32(9.8), np.int64(9), np.float64(9.8), 9])
 def test_simulate_takes_numpy_numbers_as_profiles(value):
-    """SPEC §7: numbers in; a numpy scalar is a number wherever the API takes one."""
+    """Numbers in; a numpy scalar is a number wherever the API takes one."""
     stroke = drumstroke.simulate(gravity=value, t_end=0.5)
     assert stroke.recipe.gravity == Constant(float(value))
 

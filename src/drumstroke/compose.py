@@ -1,4 +1,4 @@
-"""Composition: a score becomes one continuous motor-angle trajectory per stick (SPEC §4).
+"""Composition: a score becomes one continuous motor-angle trajectory per stick.
 
 For each note the library stroke is set to the note's velocity and placed so
 that its first impact lands exactly on the note's time; between strokes the

@@ -1,4 +1,4 @@
-"""The stick and the two named models of its dynamics (SPEC §1).
+"""The stick and the two named models of its dynamics (the paper's Section 3.3).
 
 The stick is a uniform rigid rod turning about a fixed fulcrum. With θ its
 angle (rad, 0 parallel to the head, downward negative) the equation of motion

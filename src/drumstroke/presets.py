@@ -1,4 +1,4 @@
-"""Named recipes, one or more for every stroke category of the paper (SPEC §2).
+"""Named recipes, one or more for every stroke category of the paper (its Section 3.2).
 
 All start as the paper's runs do (t ∈ [0, 5] s, θ₀ = 0, ω₀ = 0, g = 9.8 m/s²,
 c = 0.86, the ``paper`` model) unless their description says otherwise.

@@ -1,4 +1,4 @@
-"""Time profiles for the thumb's acceleration a(t) and for gravity g(t) (SPEC §2).
+"""Time profiles for the thumb's acceleration a(t) and for gravity g(t).
 
 Every kind is piecewise linear in time, so every profile reduces to
 :class:`Pieces`: edges 0 = e₀ < e₁ < … < eₙ = t_end and, on each [eᵢ, eᵢ₊₁),

@@ -1,4 +1,4 @@
-"""Recipes: everything that defines one stroke, as a TOML file a person writes (SPEC §3).
+"""Recipes: everything that defines one stroke, as a TOML file a person writes.
 
 A recipe names the model, the stick, the coefficient of restitution, the start
 state, the duration, and the two profiles a(t) and g(t). Only ``[force]`` is

@@ -1,4 +1,4 @@
-"""A simulated stroke and the function that makes one (SPEC §3).
+"""A simulated stroke and the function that makes one.
 
 Examples
 --------

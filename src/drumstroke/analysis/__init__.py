@@ -1,4 +1,4 @@
-"""From recordings to the model (SPEC §10): analysis by synthesis.
+"""From recordings to the model: analysis by synthesis.
 
 The data flows through it in this order:
 

@@ -1,7 +1,7 @@
-"""c from a drop: a stick let fall on the head bounces under gravity alone (SPEC §1, §10; the paper's method).
+"""c from a drop: a stick let fall on the head bounces under gravity alone (the paper's method, its Section 3.3).
 
 Each impact turns the arrival speed ω into a launch speed c·ω, and under gravity alone the
-flight that follows is an exact pendulum arc whose duration F(ω) depends only on ω (SPEC §1:
+flight that follows is an exact pendulum arc whose duration F(ω) depends only on ω (docs/model.md:
 F(ω) = 2[K(m) − F(ψ(θ_max) | m)]/√C, :func:`drumstroke.solver.elliptic.flight_time`). So
 successive flights last
 
@@ -154,7 +154,7 @@ def measure_cor(onsets, *, model="paper", stick=None, gravity=9.8, confidence=CO
         A drop's impacts (:func:`drumstroke.analysis.find_recording_onsets` of its recording); other onsets
         (ringing, rattle) are passed over (:func:`drop_impacts`).
     model : {"paper", "geometry"}
-        Whose flight times (SPEC §1).
+        Whose flight times (:mod:`drumstroke.model`).
     stick : Stick or None
         The stick (default: the paper's Table 1).
     gravity : float in (0, 100]

@@ -1,4 +1,4 @@
-"""A recipe fitted to a recorded stroke: analysis by synthesis through the inverse design (SPEC §10, §8).
+"""A recipe fitted to a recorded stroke: analysis by synthesis through the inverse design.
 
 A recording gives a stroke's impacts: their times and their levels up to one gain
 (:class:`~drumstroke.analysis.onsets.Onsets`, dB re the loudest). Taken as the notes of one stick,

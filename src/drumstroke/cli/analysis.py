@@ -1,4 +1,4 @@
-"""``drumstroke onsets`` and ``measure-cor``: a recording's impacts, and c from a drop (SPEC §10)."""
+"""``drumstroke onsets`` and ``measure-cor``: a recording's impacts, and c from a drop."""
 
 from .._atomic import publish
 from ..errors import ParameterError

@@ -1,4 +1,4 @@
-"""The inverse of the model: from the notes a stick must play to the force that plays them (SPEC §8).
+"""The inverse of the model: from the notes a stick must play to the force that plays them.
 
 - :mod:`.setup`: :class:`Setup`, what every design and plan of one stick is made with (the model, c,
   the stick, the force range, the joint's limits, the moves' budget).

@@ -1,4 +1,4 @@
-"""Buzz strokes: a multiple-bounce stroke of a given density and level envelope over a span (SPEC §8).
+"""Buzz strokes: a multiple-bounce stroke of a given density and level envelope over a span.
 
 A buzz (a press or closed roll's stroke) is many quick bounces of one stick. Here it is
 designed like any other notes (:func:`~drumstroke.design.chain.design`): bounces at a

@@ -1,4 +1,4 @@
-"""Inverse design of one stick's notes: the force profile whose stroke plays exactly those impacts (SPEC §8).
+"""Inverse design of one stick's notes: the force profile whose stroke plays exactly those impacts.
 
 The notes one stick must play — times (s) and levels (dB re 1 m/s tip speed) — are played
 as consecutive bounces of one stroke. The stroke is built from exact flights

@@ -1,4 +1,4 @@
-"""One flight of the stick, designed in closed form (SPEC §1, §8).
+"""One flight of the stick, designed in closed form.
 
 Under a constant torque rate C (s⁻², :meth:`~drumstroke.model.Coefficients.torque_rate`) a
 flight is an exact elliptic arc, and its shape does not depend on C: only its speed does.

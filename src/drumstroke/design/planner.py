@@ -1,4 +1,4 @@
-"""The performance planner: one stick's notes become designed strokes joined by moves (SPEC §8).
+"""The performance planner: one stick's notes become designed strokes joined by moves.
 
 Per stick, in time order, the planner decides which notes form one bounce chain and which start
 a new stroke:

@@ -1,1 +1,1 @@
-"""Evaluation (SPEC §6): the listening test's statistics."""
+"""Evaluation: the listening test's statistics."""

@@ -1,4 +1,4 @@
-"""The listening-test app: a study's config, each participant's plan, answers stored exactly once in SQLite (SPEC §6).
+"""The listening-test app: a study's config, each participant's plan, answers stored exactly once in SQLite.
 
 A participant gives consent, gets a generated id, and hears the configured
 pairs in an order shuffled for them from the config's recorded seed and their

@@ -1,4 +1,4 @@
-"""The listening test's statistics (SPEC §6): Tryon's inferential confidence intervals, as in the paper.
+"""The listening test's statistics: Tryon's inferential confidence intervals, as in the paper.
 
 Responses are one row per subject and pair: who answered, which pair, which
 stimulus was the robot, the answer to "which is the robot?", the confidence

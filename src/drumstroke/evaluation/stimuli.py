@@ -7,7 +7,7 @@ it played are rendered as audio, and a listening-test config
 and ``human-NAME.wav``, to be recorded (library strokes) or the recording itself (recorded strokes).
 Each config gets a new random admin token and is readable by its owner only.
 
-The robot's version of a recorded stroke (analysis by synthesis, SPEC §10): the recording's onsets
+The robot's version of a recorded stroke (analysis by synthesis): the recording's onsets
 are found (:func:`drumstroke.analysis.onsets.find_onsets`), a recipe is fitted to them
 (:func:`drumstroke.analysis.fit.fit_stroke`, written as ``NAME.toml``), the robot plays the fitted
 stroke, and its onsets are rendered on the recording's clock (the fitted stroke's release where the

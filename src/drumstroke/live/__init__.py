@@ -1,4 +1,4 @@
-"""Live performance (SPEC §9): notes in as they arrive, validated setpoints out at the control rate.
+"""Live performance: notes in as they arrive, validated setpoints out at the control rate.
 
 The data flows through it in this order:
 

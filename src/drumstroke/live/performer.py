@@ -1,4 +1,4 @@
-"""The live performer: notes in as they come, setpoints out at the control rate (SPEC §9).
+"""The live performer: notes in as they come, setpoints out at the control rate.
 
 A :class:`Performer` keeps, for each stick, the motion planned so far as a chain of pieces on one
 clock (s): designed strokes (:mod:`drumstroke.design`), jerk-limited moves and holds. A note that

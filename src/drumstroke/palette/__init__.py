@@ -1,4 +1,4 @@
-"""The stroke palette (SPEC §4): trajectories, their post-processing, and the library on disk."""
+"""The stroke palette: trajectories, their post-processing, and the library on disk."""
 
 from ..stroke import as_trajectory
 from .motion import RETURN_LIMITS, Limits, concat

@@ -1,4 +1,4 @@
-"""Palettes and the stroke library: what to simulate, and the strokes a robot host loads at run time (SPEC §4).
+"""Palettes and the stroke library: what to simulate, and the strokes a robot host loads at run time.
 
 A palette file names strokes — a recipe each (a preset, a recipe file or an inline table) and
 the transforms to apply. :func:`build_library` simulates a palette and writes it as a library

@@ -1,4 +1,4 @@
-"""The 40 PAS International Drum Rudiments as notes for two sticks (SPEC §8).
+"""The 40 PAS International Drum Rudiments as notes for two sticks.
 
 The rudiments are data, :data:`RUDIMENTS_FILE` (``rudiments.toml`` next to this module), written from
 the Percussive Arts Society's standard sheet: per rudiment the notes of one cycle — their beats,
@@ -57,7 +57,7 @@ Stick heights of a rudimental drummer, each half the one above: accent 12 in, no
 grace 1.5 in; at a given stroke time the tip's speed is proportional to the height, so each step is
 6 dB, 16 velocity steps of 0.38 dB (:mod:`drumstroke.dynamics`). An accent is 12.2 dB over a tap; a
 grace note is 11.8 dB under a normal note and 17.9 dB under an accent, inside the 10-20 dB of a flam
-(SPEC §8). Normal is velocity 100 (1.2 m/s at the tip); tap is 84, the shipped ``tap`` stroke's level.
+(docs/design.md). Normal is velocity 100 (1.2 m/s at the tip); tap is 84, the shipped ``tap`` stroke's level.
 """
 
 FAMILIES = ("roll", "diddle", "flam", "drag")
@@ -71,7 +71,7 @@ TEMPO_LIMITS = (1.0, 400.0)
 """The tempos (beats per minute) :meth:`Rudiment.notes_at` plays at all; a rudiment's own range is narrower."""
 
 GRACE_OFFSETS_MS = (-100.0, -15.0)
-"""The grace offsets (ms before the main note) the data may use: a flam's is -15 to -50 ms (SPEC §8),
+"""The grace offsets (ms before the main note) the data may use: a flam's is -15 to -50 ms (a human flam's),
 a drag's first grace note is earlier."""
 
 STICKS = MappingProxyType({"R": "right", "L": "left"})

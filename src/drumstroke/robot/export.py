@@ -1,4 +1,4 @@
-"""Export a validated trajectory in forms a robot stack takes (SPEC §5): CSV at the control rate, ROS 2.
+"""Export a validated trajectory in forms a robot stack takes: CSV at the control rate, ROS 2.
 
 Every writer runs :func:`~drumstroke.robot.validate.validate` first and writes
 nothing when it fails; every writer writes atomically, so a failed write leaves an

@@ -1,4 +1,4 @@
-"""The one control loop, over a plant interface: whole runs are many steps of the stepping code (SPEC §5).
+"""The one control loop, over a plant interface: whole runs are many steps of the stepping code.
 
 Each control period :meth:`ControlLoop.step` reads the encoder (θ quantised to the plant's
 resolution), updates the speed estimate, runs the controller's law on the reference and

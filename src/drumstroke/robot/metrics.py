@@ -1,4 +1,4 @@
-"""What the robot played, measured against the reference (SPEC §5), as onset detection is scored.
+"""What the robot played, measured against the reference, as onset detection is scored.
 
 - Reference onsets are the reference trajectory's audible impacts: tip speed at or above
   MIDI velocity 1's level (:data:`drumstroke.dynamics.FLOOR_DB`, 1.6 cm/s).

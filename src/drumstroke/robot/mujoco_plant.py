@@ -1,4 +1,4 @@
-"""The robot joint as a MuJoCo model, driven by the same control loop (SPEC §5).
+"""The robot joint as a MuJoCo model, driven by the same control loop.
 
 An independent check of the simple plant (:mod:`drumstroke.robot.plant`): the same
 motor, gearbox, stick and drumhead written as MJCF and integrated by MuJoCo, behind the

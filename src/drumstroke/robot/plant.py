@@ -1,4 +1,4 @@
-"""The simulated robot joint: a DC motor and gearbox swinging the stick onto a drumhead (SPEC §5).
+"""The simulated robot joint: a DC motor and gearbox swinging the stick onto a drumhead.
 
 Joint-side equation of motion, θ the stick's angle (rad) as in the model::
 

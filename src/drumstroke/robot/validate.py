@@ -1,4 +1,4 @@
-"""Validation before hardware (SPEC §5): every export and every stream goes through :func:`validate`.
+"""Validation before hardware: every export and every stream goes through :func:`validate`.
 
 A trajectory for a robot joint is three arrays sampled at the control rate:
 times t (s), angles θ (rad) and angular speeds ω (rad/s). It is accepted only
