@@ -23,21 +23,22 @@ from .errors import ParameterError
 
 def check_real(name, value, *, low=-math.inf, high=math.inf, low_open=False, high_open=False, unit=""):
     """Return ``value`` as a finite float within [low, high] (ends open on request)."""
-    allowed = _range_text(low, high, low_open, high_open, unit)
-    about = {"parameter": name, "value": value, "allowed": allowed}
+    def refuse(must, got):  # the range is worded only for an error: a check that passes is on every hot path
+        allowed = _range_text(low, high, low_open, high_open, unit)
+        return ParameterError(f"{name} {must} {allowed}, got {got}", parameter=name, value=value, allowed=allowed)
+
     if isinstance(value, bool) or not isinstance(value, Real):
-        raise ParameterError(f"{name} must be a number in {allowed}, got {shown(value)}", **about)
+        raise refuse("must be a number in", shown(value))
     try:
         number = float(value)
     except OverflowError:  # an integer beyond any float: out of every range
-        raise ParameterError(f"{name} must be in {allowed}, got {shown(value)}", **about) from None
+        raise refuse("must be in", shown(value)) from None
     if not math.isfinite(number):
-        raise ParameterError(f"{name} must be a finite number in {allowed}, got {number!r}", **about)
+        raise refuse("must be a finite number in", repr(number))
     too_low = number <= low if low_open else number < low
     too_high = number >= high if high_open else number > high
     if too_low or too_high:
-        got = shown(value) if _is_long(value) else repr(number)
-        raise ParameterError(f"{name} must be in {allowed}, got {got}", **about)
+        raise refuse("must be in", shown(value) if _is_long(value) else repr(number))
     return number
 
 

@@ -38,7 +38,7 @@ True
 import functools
 import itertools
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -392,11 +392,9 @@ def standard_throw(time, level, *, setup=None, lead=LEAD):
     speed = 10.0 ** (level / 20.0) * LEVEL_REFERENCE / setup.stick.pivot_to_tip
     if speed > setup.limits.max_speed:  # the full checks say why
         _Plan.of([time], [level], None, start=None, end="catch", setup=setup, lead=lead, tail=None)
-    # a planner asks for many throws of one setup: its checked plan made once, the note put in
-    plan = replace(_throw_plan(setup, float(lead)), times=np.array([time]), levels=np.array([level]),
-                   speeds=np.array([speed]))
-    _, release, _, theta = plan.approach()
-    return float(release), float(theta)
+    plan = _throw_plan(setup, float(lead))  # a planner asks for many throws of one setup: its plan checked once
+    _, height = plan.throw(speed)
+    return time - height_time(height, plan.head) / speed, math.asin(height)
 
 
 @functools.lru_cache(maxsize=64)
@@ -594,7 +592,7 @@ class _Plan:
         elif rate < low:
             rate = low
         if rate <= 0.0 or head + force_to_reach(v, rate) > top + 1e-12:
-            raise Unreachable(f"note 0 ({self.levels[0]:.2f} dB) needs more than the strongest force "
+            raise Unreachable(f"note 0 ({self.level_of(v):.2f} dB) needs more than the strongest force "
                               f"{self.forces.high:g} m/s^2 from the joint's highest angle", note=0,
                               nearest_level=self.level_of(math.sqrt(2.0 * high * (top - head))) if high > 0 else None)
         return rate, head + force_to_reach(v, rate)

@@ -246,11 +246,16 @@ def next_stroke(times, levels, setup, *, free, theta, omega=0.0, running=None, e
         try:  # where the throw starts, in closed form: a stroke is designed and simulated only if the move fits
             release, height = standard_throw(times[0], levels[0], setup=setup, lead=lead)
             window = release - free
+            if window < 0.0:  # no move needs no time: the throw would start before the stick is free
+                failure = failure or Unreachable(
+                    f"the stick is free at {free:.6g} s, after a throw of {times[0] - release:.4g} s onto the note at "
+                    f"{times[0]:.6g} s would start", note=0)
+                continue
             need = return_time((theta, omega), (height, 0.0), setup.head, setup.moves)
             if need > window:
                 failure = failure or Unreachable(
                     f"the stick, free at {free:.6g} s, needs {need:.4g} s to reach the height of its next throw, but "
-                    f"only {max(window, 0.0):.4g} s are left", note=0)
+                    f"only {window:.4g} s are left", note=0)
                 continue
             made = design(times, levels, lead=lead, **options)
         except Unreachable as error:

@@ -492,8 +492,7 @@ def _played(made, start, moves):
     """The motion from ``start`` (s): the moves (or the stick held until the release), the designed stroke, then the
     stick held where the stroke caught it."""
     stroke = made.stroke
-    lead_in = Curve.sequence(moves, start) if moves else Curve.hold(float(made.state(made.release)[0]), start,
-                                                                    made.release)
+    lead_in = Curve.sequence(moves, start) if moves else Curve.hold(float(made.recipe.theta0), start, made.release)
     played = Segment(made.release, made.t_end, stroke.arcs.evaluate, made.release, stroke.impacts.t, made)
     caught = Segment.hold(float(made.state(made.t_end)[0]), made.t_end)
     return lead_in.spliced(played).spliced(caught) if made.release > start else Curve((played, caught))
