@@ -155,19 +155,18 @@ def _put_in_place(staged):
         for temporary in [*staged.values(), *records]:
             remove(temporary)
         raise
-    try:  # committed: a kill from here on is finished by the next write in one of the folders
+    try:  # committed: a kill or an interrupt from here on is finished by the next write in one of the folders
         for path, temporary in staged.items():
             with naming(path):
                 os.replace(temporary, path)
     except OSError:
-        for temporary in staged.values():
+        for temporary in [*staged.values(), *records]:
             remove(temporary)  # the command fails, naming the file that could not be put in place
         raise
-    finally:
-        for folder in folders:
-            sync_folder(folder)
-        for record in records:
-            remove(record)
+    for folder in folders:
+        sync_folder(folder)
+    for record in records:
+        remove(record)
 
 
 def _finish(record):
@@ -185,7 +184,7 @@ def _finish(record):
                 os.replace(temporary, path)
         else:
             remove(temporary)
-    for r in data["records"]:
+    for r in [*data["records"], record]:  # itself too, should its folder have moved since
         sync_folder(Path(r).parent)
         remove(r)
 
