@@ -19,9 +19,9 @@ script installs (:data:`HOOK`); drumstroke has no hook of its own. Then:
 
 - the folder must hold the previous result or the new one, whole: the library loads and
   ``check_library`` finds no problem; the outputs are byte for byte all A's or all B's. Or the
-  new run had committed and was killed while renaming its files into place: then a record of the
-  run is there (a mix that can be told), and the next run completes it — checked by doing what
-  the next run does (``sweep``) and finding all of the new result;
+  new run had committed its bundle and was killed while renaming its files into place: then the
+  bundle's record is there (a mix that can be told), and the next run completes it — checked by
+  doing what the next run does first (``remove_stale``) and finding all of the new result;
 - the leftovers (temporaries of the killed run) are counted, files and bytes;
 - the same command is run again to the end: its result must be whole and the folder must hold
   nothing else (no debris).
@@ -49,7 +49,7 @@ from pathlib import Path
 import numpy as np
 
 import drumstroke
-from drumstroke._atomic import sweep
+from drumstroke._atomic import describe_temporary, remove_stale
 from drumstroke.palette.library import check_library, load_library
 
 HERE = Path(__file__).resolve().parent
@@ -184,8 +184,8 @@ class Campaign:
             figures["outcome"] = "previous"
         elif after == new["result"]:
             figures["outcome"] = "new"
-        elif any(n.startswith(".publish.drumstroke-") for n in os.listdir(_folder(command, workspace))):
-            sweep(_folder(command, workspace))  # what the next run writing there does first
+        elif _bundle_records(_folder(command, workspace)):
+            remove_stale(_folder(command, workspace))  # what the next run writing there does first
             completed = self.result_of(command, workspace) == new["result"]
             figures["outcome"] = "completed by the next run" if completed else "mix"
         else:
@@ -290,6 +290,11 @@ def digest(path):
 
 def _folder(command, workspace):
     return workspace / ("lib" if command == "library build" else "out")
+
+
+def _bundle_records(folder):
+    """The records of bundles in ``folder`` (drumstroke's temporaries ``….bundle``)."""
+    return [name for name in os.listdir(folder) if name.endswith(".bundle") and describe_temporary(folder / name)]
 
 
 def _size(path):

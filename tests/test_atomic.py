@@ -1,7 +1,9 @@
-"""Atomic writes, published runs and sweeping: what a failure or a kill (real processes, real SIGKILL) leaves.
+"""Atomic writes and bundles: what a failure or a kill (real processes, real SIGKILL) leaves.
 
 A write creates nothing but its file, and an error names the file asked for, not the temporary one;
-temporaries name their writer, and a sweep removes a dead writer's only; a run's files appear together.
+temporaries name their writer, and a killed writer's are removed where that file is next written,
+never a running writer's; a bundle's files appear together. A writer killed at any call leaves the
+old files whole or the new ones whole, and the next write leaves no debris.
 """
 
 import errno
@@ -10,13 +12,12 @@ import re
 import signal
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import pytest
 
 import drumstroke
-from drumstroke._atomic import describe_temporary, publish, sweep, temporary_path, write_atomic
+from drumstroke._atomic import Bundle, bundled, describe_temporary, remove_stale, temporary_path, write_atomic
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 from robustness_kill import HOOK, run
@@ -97,7 +98,7 @@ def test_a_full_disk_names_the_file_with_the_reason_and_keeps_the_old_one(tmp_pa
     assert path.read_text() == "old" and list(tmp_path.iterdir()) == [path]
 
 
-# --- temporaries name their writer; a sweep removes only the dead's -----------------------------------------------
+# --- temporaries name their writer; a killed writer's are removed where that file is next written ----------------
 
 MAKE = """
 import sys
@@ -123,99 +124,87 @@ def make_temporaries(folder, mode):
     return process, name
 
 
-def renamed(name, **fields):
-    """A temporary's name with its host, pid or start replaced."""
-    match = re.fullmatch(r"(.*\.drumstroke-)([0-9a-f]{8})-(\d+)-(\d+)(-.*)", name)
-    host, pid, start = fields.get("host", match[2]), fields.get("pid", match[3]), fields.get("start", match[4])
-    return f"{match[1]}{host}-{pid}-{start}{match[5]}"
+def listing(folder):
+    return sorted(p.name for p in Path(folder).iterdir())
 
 
-def test_a_sweep_removes_the_temporaries_of_dead_writers_only(tmp_path, monkeypatch):
+def test_only_the_temporaries_of_writers_no_longer_running_are_removed(tmp_path):
     dead, dead_name = make_temporaries(tmp_path, "exit")
     live, live_name = make_temporaries(tmp_path, "wait")
     try:
-        assert re.fullmatch(rf"\.s\.csv\.drumstroke-[0-9a-f]{{8}}-{dead.pid}-\d+-[0-9a-f]{{8}}\.tmp", dead_name)
-        reused = renamed(live_name, start=int(re.search(r"-(\d+)-[0-9a-f]{8}\.tmp$", live_name)[1]) + 1)
-        host = re.search(r"drumstroke-([0-9a-f]{8})-", dead_name)[1]
-        elsewhere = renamed(dead_name, host="0" * 8 if host != "0" * 8 else "1" * 8)
+        assert re.fullmatch(rf"\.s\.csv\.drumstroke-{dead.pid}-[0-9a-f]{{8}}\.tmp", dead_name)
         mine = temporary_path(tmp_path / "mine.csv").name
-        for name in (reused, elsewhere, mine, ".notes.txt.tmp", "data.drumstroke-1-2-3.tmp"):
+        for name in (mine, ".notes.txt.tmp", "data.drumstroke-1-2.tmp", f".s.csv.drumstroke-{dead.pid}-xyz.tmp"):
             (tmp_path / name).write_text("z")
-        before = sorted(p.name for p in tmp_path.iterdir())
-        someone_else = os.getuid() + 1
-        monkeypatch.setattr(os, "getuid", lambda: someone_else)  # none of these is theirs
-        assert sweep(tmp_path) == [] and sorted(p.name for p in tmp_path.iterdir()) == before
-        monkeypatch.undo()
-        removed = sweep(tmp_path)
+        before = listing(tmp_path)
         dead_folder = [n for n in before if n.startswith(".stage.") and f"-{dead.pid}-" in n]
-        assert removed == sorted([dead_name, reused, *dead_folder])  # a pid now running a younger process: dead
-        left = sorted(p.name for p in tmp_path.iterdir())
-        assert left == sorted(set(before) - set(removed))
-        assert live_name in left and elsewhere in left and mine in left  # running, another host's, this process's
+        assert remove_stale(tmp_path) == sorted([dead_name, *dead_folder])
+        left = listing(tmp_path)
+        assert left == sorted(set(before) - {dead_name, *dead_folder})
+        assert live_name in left and mine in left  # a running process's, this process's
         assert describe_temporary(tmp_path / live_name).endswith(f"drumstroke process {live.pid}, running")
     finally:
         live.communicate("")
     assert describe_temporary(tmp_path / live_name).startswith("a temporary file of drumstroke process")
     assert "stopped before it finished" in describe_temporary(tmp_path / live_name)
-    assert sorted(sweep(tmp_path)) == sorted(n for n in left if f"-{live.pid}-" in n and n.endswith(".tmp"))
+    assert describe_temporary(tmp_path / ".notes.txt.tmp") is None
+    assert remove_stale(tmp_path) == [n for n in left if f"-{live.pid}-" in n and n.endswith(".tmp")]
 
 
-def test_a_write_sweeps_its_folder_and_older_drumstrokes_temporaries_of_its_file(tmp_path):
-    make_temporaries(tmp_path, "exit")
-    old, new, other = ".a.txt.k3x_9q2a.tmp", ".a.txt.zz81mmq0.tmp", ".b.txt.k3x_9q2a.tmp"
-    for name in (old, new, other):
-        (tmp_path / name).write_text("left by drumstroke 0.1")
-    an_hour_ago = time.time() - 3600
-    for name in (old, other):
-        os.utime(tmp_path / name, (an_hour_ago, an_hour_ago))
+def test_a_write_removes_the_killed_writers_temporaries_of_its_own_file_only(tmp_path):
+    _, dead_name = make_temporaries(tmp_path, "exit")  # a temporary of s.csv, a temporary folder of "stage"
+    (stage,) = [n for n in listing(tmp_path) if n.startswith(".stage.")]
     write_atomic(tmp_path / "a.txt", "a")
-    # The dead writer's temporaries went; of the old unnamed ones, only a.txt's older than this process.
-    assert sorted(p.name for p in tmp_path.iterdir()) == sorted([new, other, "a.txt"])
+    assert listing(tmp_path) == sorted([dead_name, stage, "a.txt"])
+    write_atomic(tmp_path / "s.csv", "s")
+    assert listing(tmp_path) == sorted([stage, "a.txt", "s.csv"])
 
 
-# --- a run's files are published together --------------------------------------------------------------------------
+# --- a bundle's files are put in place together --------------------------------------------------------------------
 
 
-def listing(folder):
-    return sorted(p.name for p in Path(folder).iterdir())
-
-
-def test_a_run_publishes_its_files_together_when_it_ends(tmp_path):
+def test_a_bundle_puts_its_files_in_place_together_when_it_ends(tmp_path):
     (tmp_path / "a.csv").write_text("old a")
     (tmp_path / "b.wav").write_text("old b")
-    with publish():
-        write_atomic(tmp_path / "a.csv", "new a")
-        write_atomic(tmp_path / "b.wav", b"new b")
-        with publish():  # joins the run
-            write_atomic(tmp_path / "c.json", "new c")
-        write_atomic(tmp_path / "a.csv", "newer a")  # written twice: the last counts
+    with Bundle() as bundle:
+        write_atomic(tmp_path / "a.csv", "new a", bundle=bundle)
+        bundle.write(tmp_path / "b.wav", b"new b")
+        with bundled(bundle) as joined:  # the caller's bundle: nothing put in place at this block's end
+            assert joined is bundle
+            write_atomic(tmp_path / "c.json", "new c", bundle=joined)
+        assert not (tmp_path / "c.json").exists()
+        write_atomic(tmp_path / "a.csv", "newer a", bundle=bundle)  # written twice: the last counts
         assert (tmp_path / "a.csv").read_text() == "old a" and not (tmp_path / "c.json").exists()
         assert len(listing(tmp_path)) == 5  # two files and three staged
-        assert write_atomic(tmp_path / "now.txt", "now", now=True) is None and (tmp_path / "now.txt").exists()
+        assert write_atomic(tmp_path / "now.txt", "now") is None and (tmp_path / "now.txt").exists()  # no bundle
     assert [(tmp_path / n).read_text() for n in ("a.csv", "b.wav", "c.json")] == ["newer a", "new b", "new c"]
     assert listing(tmp_path) == ["a.csv", "b.wav", "c.json", "now.txt"]
+    with bundled(None) as own:  # none given: a bundle of its own, put in place at the block's end
+        write_atomic(tmp_path / "d.txt", "d", bundle=own)
+        assert not (tmp_path / "d.txt").exists()
+    assert (tmp_path / "d.txt").read_text() == "d"
 
 
-def test_an_error_in_a_run_leaves_every_file_as_it_was(tmp_path):
+def test_an_error_in_a_bundle_leaves_every_file_as_it_was(tmp_path):
     (tmp_path / "a.csv").write_text("old a")
-    with pytest.raises(KeyboardInterrupt), publish():
-        write_atomic(tmp_path / "a.csv", "new a")
-        write_atomic(tmp_path / "b.wav", "new b")
+    with pytest.raises(KeyboardInterrupt), Bundle() as bundle:
+        write_atomic(tmp_path / "a.csv", "new a", bundle=bundle)
+        write_atomic(tmp_path / "b.wav", "new b", bundle=bundle)
         raise KeyboardInterrupt
     assert listing(tmp_path) == ["a.csv"] and (tmp_path / "a.csv").read_text() == "old a"
 
 
-def test_a_run_writing_onto_a_directory_names_it_and_replaces_nothing(tmp_path):
+def test_a_bundle_writing_onto_a_directory_names_it_and_replaces_nothing(tmp_path):
     (tmp_path / "a.csv").write_text("old a")
     (tmp_path / "d").mkdir()
-    with pytest.raises(IsADirectoryError) as caught, publish():
-        write_atomic(tmp_path / "a.csv", "new a")
-        write_atomic(tmp_path / "d", "new d")
+    with pytest.raises(IsADirectoryError) as caught, Bundle() as bundle:
+        write_atomic(tmp_path / "a.csv", "new a", bundle=bundle)
+        write_atomic(tmp_path / "d", "new d", bundle=bundle)
     assert caught.value.filename == str(tmp_path / "d")
     assert listing(tmp_path) == ["a.csv", "d"] and (tmp_path / "a.csv").read_text() == "old a"
 
 
-def test_a_rename_refused_at_the_end_of_a_run_names_the_file_and_leaves_no_debris(tmp_path, monkeypatch):
+def test_a_rename_refused_at_the_end_of_a_bundle_names_the_file_and_leaves_no_debris(tmp_path, monkeypatch):
     replace = os.replace
 
     def refuse_b(source, target):
@@ -224,66 +213,101 @@ def test_a_rename_refused_at_the_end_of_a_run_names_the_file_and_leaves_no_debri
         replace(source, target)
 
     monkeypatch.setattr(os, "replace", refuse_b)
-    with pytest.raises(PermissionError, match="Permission denied") as caught, publish():
-        write_atomic(tmp_path / "a.csv", "new a")
-        write_atomic(tmp_path / "b.wav", "new b")
+    with pytest.raises(PermissionError, match="Permission denied") as caught, Bundle() as bundle:
+        write_atomic(tmp_path / "a.csv", "new a", bundle=bundle)
+        write_atomic(tmp_path / "b.wav", "new b", bundle=bundle)
     assert caught.value.filename == str(tmp_path / "b.wav")
     assert listing(tmp_path) == ["a.csv"]  # the command failed, naming the file it could not write
 
 
+# --- killed by SIGKILL at any point (real processes) ---------------------------------------------------------------
+
 RUN = """
-from drumstroke._atomic import publish, write_atomic
-with publish():
-    for path in arguments:
-        write_atomic(path, "new " + path.rsplit("/", 1)[-1])
+from drumstroke._atomic import Bundle, write_atomic
+content, paths = arguments[0], arguments[1:]
+if len(paths) == 1:
+    write_atomic(paths[0], content + " " + paths[0].rsplit("/", 1)[-1])
+else:
+    with Bundle() as bundle:
+        for path in paths:
+            write_atomic(path, content + " " + path.rsplit("/", 1)[-1], bundle=bundle)
+if count_file:
+    with open(count_file, "w") as handle:
+        handle.write(str(calls))
 """
 
 
-def run_killed(paths, kill):
-    """Write ``paths`` in one run in a real process, killed by SIGKILL where ``kill`` (name, part, k) says."""
-    status, _ = run([str(p) for p in paths], kill=kill, program=HOOK + RUN)
-    assert status == -signal.SIGKILL
+def write_in_process(content, paths, kill=("any", "", 0), count_file=""):
+    """Write ``paths`` (one file, or several as one bundle) holding ``content`` in a real process, killed by
+    SIGKILL where ``kill`` (name, part, k) says; its exit status."""
+    status, _ = run([content, *map(str, paths)], kill=kill, count_file=count_file, program=HOOK + RUN)
+    return status
 
 
 def contents(paths):
     return [Path(p).read_text() if Path(p).exists() else None for p in paths]
 
 
-def test_a_run_killed_while_renaming_is_completed_by_the_next_run_writing_in_either_folder(tmp_path):
+def records(*folders):
+    return [n for folder in folders for n in listing(folder) if n.endswith(".bundle")]
+
+
+def test_a_bundle_killed_while_renaming_is_finished_by_the_next_write_in_either_folder(tmp_path):
     one, two = tmp_path / "one", tmp_path / "two"
     one.mkdir(), two.mkdir()
     paths = [one / "a.csv", two / "b.wav", one / "c.json"]
     for path in paths:
         path.write_text(f"old {path.name}")
-    run_killed(paths, ("replace", str(tmp_path), 2))  # after a.csv went into place, before b.wav
-    assert contents(paths) == ["new a.csv", "old b.wav", "old c.json"]  # a mix, and a record says so
-    for folder in (one, two):
-        assert [n for n in listing(folder) if n.startswith(".publish.drumstroke-")]
-    write_atomic(two / "other.txt", "x")  # the next run writing to one of the folders completes it
+    assert write_in_process("new", paths, kill=("replace", str(tmp_path), 2)) == -signal.SIGKILL  # after a.csv
+    assert contents(paths) == ["new a.csv", "old b.wav", "old c.json"]  # a mix, and a record in each folder says so
+    assert len(records(one)) == 1 and len(records(two)) == 1
+    write_atomic(two / "other.txt", "x")  # the next write in one of the folders finishes it
     assert contents(paths) == ["new a.csv", "new b.wav", "new c.json"]
     assert listing(one) == ["a.csv", "c.json"] and listing(two) == ["b.wav", "other.txt"]
 
 
-def test_a_run_killed_before_its_last_record_is_undone(tmp_path):
+def test_a_bundle_killed_before_its_last_record_is_undone(tmp_path):
     one, two = tmp_path / "one", tmp_path / "two"
     one.mkdir(), two.mkdir()
     paths = [one / "a.csv", two / "b.wav"]
     for path in paths:
         path.write_text(f"old {path.name}")
-    run_killed(paths, ("open", ".publish.drumstroke-", 2))  # one record written, not the other: not committed
+    # One record written, not the other: not committed.
+    assert write_in_process("new", paths, kill=("open", ".files.drumstroke-", 2)) == -signal.SIGKILL
     assert contents(paths) == ["old a.csv", "old b.wav"]
     assert len(listing(one)) == 3 and len(listing(two)) == 2  # a record and staged files
-    write_atomic(two / "other.txt", "x")
-    write_atomic(one / "other.txt", "x")
+    write_atomic(one / "other.txt", "x")  # the record in one: its staged files in both folders go
     assert contents(paths) == ["old a.csv", "old b.wav"]
-    assert listing(one) == ["a.csv", "other.txt"] and listing(two) == ["b.wav", "other.txt"]
+    assert listing(one) == ["a.csv", "other.txt"] and listing(two) == ["b.wav"]
 
 
-def test_a_run_killed_while_staging_leaves_the_old_files_and_debris_the_next_run_sweeps(tmp_path):
-    paths = [tmp_path / "a.csv", tmp_path / "b.wav"]
-    for path in paths:
-        path.write_text(f"old {path.name}")
-    run_killed(paths, ("fsync", "", 2))  # b.wav's data written, not yet synced
-    assert contents(paths) == ["old a.csv", "old b.wav"] and len(listing(tmp_path)) == 4
-    write_atomic(tmp_path / "a.csv", "mine")
-    assert listing(tmp_path) == ["a.csv", "b.wav"] and contents(paths) == ["mine", "old b.wav"]
+@pytest.mark.parametrize("layout", ["one file", "a bundle in two folders"])
+def test_a_writer_killed_at_any_call_leaves_old_or_new_whole_and_the_next_write_no_debris(tmp_path, layout):
+    """SIGKILL before each file-system call the writer makes, in turn: after it, every file holds the old text or
+    every file the new one, or (killed while renaming a committed bundle) a record is there and clearing what the
+    killed writer left (what the next write does first) gives the new files; the next write then leaves the files
+    and nothing else."""
+    one, two = tmp_path / "one", tmp_path / "two"
+    one.mkdir(), two.mkdir()
+    paths = [one / "a.csv"] if layout == "one file" else [one / "a.csv", two / "b.wav", one / "c.json"]
+    count = tmp_path / "calls.txt"
+    assert write_in_process("old", paths, count_file=str(count)) == 0
+    calls = int(count.read_text())
+    assert calls >= (4 if layout == "one file" else 12)
+    outcomes = set()
+    for k in range(1, calls + 1):
+        assert write_in_process("new", paths, kill=("any", "", k)) == -signal.SIGKILL
+        found = contents(paths)
+        old, new = [f"old {p.name}" for p in paths], [f"new {p.name}" for p in paths]
+        if found not in (old, new):
+            assert records(one, two), (k, found)
+            for folder in (one, two):
+                remove_stale(folder)
+            assert contents(paths) == new, k
+            found = "finished"
+        outcomes.add("old" if found == old else "new" if found == new else found)
+        write_in_process("old", paths)  # the next run, to the end
+        assert contents(paths) == old, k
+        assert listing(one) + listing(two) == sorted(p.name for p in paths if p.parent == one) + sorted(
+            p.name for p in paths if p.parent == two), k
+    assert outcomes == ({"old", "new"} if layout == "one file" else {"old", "new", "finished"})

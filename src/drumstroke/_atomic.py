@@ -1,98 +1,70 @@
-"""Atomic writes and published runs: a process killed at any instant leaves old files whole or new ones whole.
+"""Atomic writes: a process killed at any instant leaves the old files whole or the new ones whole.
 
-- **A file** (:func:`write_atomic`) is written under a temporary name beside it, synced, then
-  renamed over its path: a reader sees the old file or the new one.
-- **A run's files** (:func:`publish`): inside ``with publish():`` each :func:`write_atomic` is
-  staged (written and synced under a temporary name) and no file is replaced until the block
-  ends. Then a record listing every staged file and its path is written in each folder the
-  run writes to, the files are renamed into place, and the records are removed. The last
-  record written is the commit point: a kill before it leaves the previous files (the staged
-  ones are debris); a kill after it leaves records that say the set is being replaced, and the
-  next run writing to one of those folders completes it (:func:`sweep`).
-- **Debris is swept**: every temporary drumstroke makes is named
-  ``.NAME.drumstroke-HOST-PID-START-NONCE.tmp`` (a record ``.publish.drumstroke-….run``),
-  naming its writer: HOST (8 hex digits of the host name's SHA-256), process id and start time
-  (clock ticks after boot, from ``/proc``; 0 where there is none). :func:`sweep` removes those
-  of dead writers — a process id that no longer runs, or now runs a process that started at
-  another time — owned by this user and made on this host; never a live process's. Each
-  folder is swept the first time a process writes to it.
+- **A file** (:func:`write_atomic`) is written to a temporary file beside it, flushed and synced,
+  renamed over its path, and the folder synced: a reader sees the old file or the new one.
+- **A bundle** (:class:`Bundle`) is the files one command writes together (a CSV and the JSON
+  beside it; a run's data, plot and sound). The caller makes it, ``with Bundle() as bundle:``,
+  and hands it to each writer (their ``bundle`` argument): the files are written and synced
+  under temporary names, and none is renamed into place before the block ends. Then a record
+  listing them is written in each folder the bundle writes to, the files are renamed into
+  place and the records removed. The last record written is the commit point: killed before
+  it, the bundle leaves the old files; after it, the records say the new files are being put
+  in place, and the next write to one of those folders finishes that.
+- **Temporaries name their writer**, ``.NAME.drumstroke-PID-NONCE.tmp`` (a record ``….bundle``).
+  Before a file is written, what killed writers left for it is cleared: their bundles in its
+  folder are finished and their temporaries of that file removed. A writer is taken for killed
+  when no process of its id runs here; a running writer's temporaries are never touched.
 """
 
 import contextlib
-import contextvars
 import errno
-import glob
-import hashlib
 import json
 import os
 import re
 import secrets
 import shutil
-import socket
-import threading
-import time
 from pathlib import Path
 
 from .errors import ParameterError
 
-_HOST = hashlib.sha256(socket.gethostname().encode()).hexdigest()[:8]
-_PROC = os.path.exists("/proc/self/stat")
-_TEMPORARY = re.compile(r"\.(?P<name>.*)\.drumstroke-(?P<host>[0-9a-f]{8})-(?P<pid>\d+)-(?P<start>\d+)-[0-9a-f]{8}"
-                        r"\.(?P<kind>tmp|run)", re.DOTALL)
-_LEGACY = re.compile(r"[a-z0-9_]{8}")
-"""The random part of the temporary names of older drumstroke (``tempfile``'s), which named no writer."""
-_STARTED = time.time()
-"""When this process loaded drumstroke: older temporaries of older drumstroke are another process's debris."""
-_RUN = contextvars.ContextVar("drumstroke_run", default=None)
-_SWEPT = set()
-_SWEPT_LOCK = threading.Lock()
-_STARTS = {}
+_TEMPORARY = re.compile(r"\.(?P<name>.*)\.drumstroke-(?P<pid>\d+)-[0-9a-f]{8}\.(?P<kind>tmp|bundle)", re.DOTALL)
 
 
-def write_atomic(path, data, *, now=False, mode=None):
+def write_atomic(path, data, *, mode=None, bundle=None):
     """Write ``data`` (str or bytes) to ``path`` through a temporary file and a rename.
 
     The file gets ``mode`` (permission bits, e.g. 0o600 for a secret; it has them from its
-    creation, never the umask's first), else the old file's, else what the umask gives.
+    creation, never the umask's first), else the old file's, else what the umask gives. With
+    ``bundle`` (a :class:`Bundle`), the file is put in place when the bundle ends, with its
+    other files.
 
-    The folder must exist: nothing is created but the file. Inside :func:`publish`, the file
-    is staged and replaced when the run ends, unless ``now`` (a write that is its own atomic
-    step, such as a library's manifest). An error is an ``OSError`` naming ``path`` (not the
-    temporary file) with the system's reason: a missing folder, a folder that cannot be
-    written, ``path`` a directory, a full disk.
+    The folder must exist: nothing is created but the file. An error is an ``OSError`` naming
+    ``path`` (not the temporary file) with the system's reason: a missing folder, a folder that
+    cannot be written, ``path`` a directory, a full disk.
     """
+    if bundle is not None:
+        bundle.write(path, data, mode=mode)
+        return
     path = Path(path)
-    run = None if now else _RUN.get()
-    temporary = None
-    try:
-        _sweep_once(path)
-        if path.is_dir():
-            raise IsADirectoryError(errno.EISDIR, os.strerror(errno.EISDIR))
-        temporary = temporary_path(path)
-        write_new(temporary, data.encode() if isinstance(data, str) else data,
-                  mode=_mode_for(path) if mode is None else mode)
-        if run is not None:
-            run.stage(temporary, path)
-        else:
+    with naming(path):
+        temporary = _stage(path, data, mode)
+        try:
             os.replace(temporary, path)
-            sync_folder(path.parent)
-        temporary = None
-    except OSError as error:
-        raise OSError(error.errno, error.strerror or str(error), str(path)) from None  # the subclass follows errno
-    finally:
-        if temporary is not None:
+        except BaseException:
             remove(temporary)
-
-
-@contextlib.contextmanager
-def naming(path):
-    """Inside, an ``OSError`` that names a temporary (or nothing) names ``path``, the user's file or folder."""
-    try:
-        yield
-    except OSError as error:
-        if error.filename is not None and not any(_TEMPORARY.fullmatch(part) for part in Path(error.filename).parts):
             raise
-        raise OSError(error.errno, error.strerror or str(error), str(path)) from None
+        sync_folder(path.parent)
+
+
+def _stage(path, data, mode):
+    """Clear what killed writers left for ``path``, then write ``data`` to a new temporary file beside it."""
+    remove_stale(path.parent, path.name)
+    if path.is_dir():
+        raise IsADirectoryError(errno.EISDIR, os.strerror(errno.EISDIR))
+    temporary = temporary_path(path)
+    write_new(temporary, data.encode() if isinstance(data, str) else data,
+              mode=_mode_for(path) if mode is None else mode)
+    return temporary
 
 
 def _mode_for(path):
@@ -103,6 +75,201 @@ def _mode_for(path):
         umask = os.umask(0)
         os.umask(umask)
         return 0o666 & ~umask
+
+
+@contextlib.contextmanager
+def naming(path):
+    """Inside, an ``OSError`` that names a temporary (or nothing) names ``path``, the user's file or folder."""
+    try:
+        yield
+    except OSError as error:
+        if error.filename is not None and not any(_TEMPORARY.fullmatch(part) for part in Path(error.filename).parts):
+            raise
+        raise OSError(error.errno, error.strerror or str(error), str(path)) from None  # the subclass follows errno
+
+
+# --- bundles: files put in place together --------------------------------------------------------------------------
+
+
+class Bundle:
+    """Files written together: all are put in place when the ``with`` block ends, none if it raises.
+
+    Give it to the writers as their ``bundle`` (``write_json(path, data, bundle=bundle)``). A file
+    written twice counts once, the last time. See the module's notes for what a kill leaves.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> folder = Path(tempfile.mkdtemp())
+    >>> with Bundle() as bundle:
+    ...     write_atomic(folder / "a.csv", "t\\n0\\n", bundle=bundle)
+    ...     bundle.write(folder / "a.json", "{}")
+    ...     print(sorted(p.name for p in folder.iterdir() if not p.name.startswith(".")))
+    []
+    >>> sorted(p.name for p in folder.iterdir())
+    ['a.csv', 'a.json']
+    """
+
+    def __init__(self):
+        self._staged = {}
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, kind, error, trace):
+        staged, self._staged = self._staged, {}
+        if kind is None:
+            _put_in_place(staged)
+        else:
+            for temporary in staged.values():
+                remove(temporary)
+
+    def write(self, path, data, *, mode=None):
+        """Write ``data`` (str or bytes) for ``path`` as :func:`write_atomic` does, put in place when the bundle ends."""
+        path = Path(os.path.abspath(path))
+        with naming(path):
+            temporary = _stage(path, data, mode)
+        earlier = self._staged.pop(path, None)
+        if earlier is not None:
+            remove(earlier)
+        self._staged[path] = temporary
+
+
+def bundled(bundle):
+    """``with bundled(bundle) as files:``: ``bundle`` if given (its maker ends it), else a new :class:`Bundle`."""
+    return contextlib.nullcontext(bundle) if bundle is not None else Bundle()
+
+
+def _put_in_place(staged):
+    """Rename the staged files ({path: temporary}) into place, past a record in each folder if there are several."""
+    folders = list(dict.fromkeys(path.parent for path in staged))
+    records = [temporary_path(folder / "files", kind="bundle") for folder in folders] if len(staged) > 1 else []
+    text = json.dumps({"records": [str(r) for r in records], "files": [[str(p), str(t)] for p, t in staged.items()]})
+    try:
+        for record in records:
+            with naming(record.parent):
+                write_new(record, text.encode(), mode=0o600)
+        for folder in folders:
+            sync_folder(folder)
+    except BaseException:
+        for temporary in [*staged.values(), *records]:
+            remove(temporary)
+        raise
+    try:  # committed: a kill or an interrupt from here on is finished by the next write in one of the folders
+        for path, temporary in staged.items():
+            with naming(path):
+                os.replace(temporary, path)
+    except OSError:
+        for temporary in [*staged.values(), *records]:
+            remove(temporary)  # the command fails, naming the file that could not be put in place
+        raise
+    for folder in folders:
+        sync_folder(folder)
+    for record in records:
+        remove(record)
+
+
+def _finish(record):
+    """Finish a killed writer's bundle from its ``record``: in place if all its records were written, else undone."""
+    data = _read_record(record)
+    pid = _TEMPORARY.fullmatch(record.name)["pid"]
+    if data is None or not all(_is_temporary_of(r, pid, "bundle") for r in data["records"]) or not all(
+            _is_temporary_of(t, pid, "tmp") and Path(t).parent == Path(p).parent for p, t in data["files"]):
+        remove(record)  # cut short by the kill (not committed), or not drumstroke's: touch nothing it names
+        return
+    committed = all(_read_record(Path(r)) == data for r in data["records"])
+    for path, temporary in data["files"]:
+        if committed:
+            with contextlib.suppress(OSError):  # already in place
+                os.replace(temporary, path)
+        else:
+            remove(temporary)
+    for r in [*data["records"], record]:  # itself too, should its folder have moved since
+        sync_folder(Path(r).parent)
+        remove(r)
+
+
+def _read_record(record):
+    """A bundle's record ({"records": [path], "files": [[path, temporary]]}), or None if it is not whole."""
+    try:
+        data = json.loads(Path(record).read_text())
+        if all(isinstance(r, str) for r in data["records"]) and all(
+                len(f) == 2 and all(isinstance(p, str) for p in f) for f in data["files"]):
+            return data
+    except (OSError, UnicodeDecodeError, ValueError, KeyError, TypeError, RecursionError):
+        pass
+    return None
+
+
+def _is_temporary_of(path, pid, kind):
+    match = _TEMPORARY.fullmatch(Path(path).name)
+    return match is not None and match["pid"] == pid and match["kind"] == kind
+
+
+# --- temporaries and what killed writers left ---------------------------------------------------------------------
+
+
+def temporary_path(path, *, kind="tmp"):
+    """A new temporary name beside ``path`` naming this process: ``.NAME.drumstroke-PID-NONCE.tmp``."""
+    path = Path(path)
+    return path.parent / f".{path.name[:100]}.drumstroke-{os.getpid()}-{secrets.token_hex(4)}.{kind}"
+
+
+def remove_stale(folder, name=None):
+    """Clear what killed writers left in ``folder``; return the names of the temporaries removed.
+
+    Their bundles' records are seen to first (the files put in place if the bundle had
+    committed), then their temporaries are removed: of the file ``name`` only, if given.
+    """
+    folder = Path(folder)
+    stale = _stale(folder)
+    if any(match["kind"] == "bundle" for match in stale):
+        for match in stale:
+            if match["kind"] == "bundle":
+                _finish(folder / match.string)
+        stale = _stale(folder)
+    removed = sorted(m.string for m in stale if m["kind"] == "tmp" and (name is None or m["name"] == name[:100]))
+    for temporary in removed:
+        remove(folder / temporary)
+    return removed
+
+
+def _stale(folder):
+    """The temporaries in ``folder`` whose writers no longer run, as matches of their names."""
+    try:
+        names = os.listdir(folder)
+    except OSError:
+        return []
+    return [match for name in names if (match := _TEMPORARY.fullmatch(name)) and not _running(int(match["pid"]))]
+
+
+def _running(pid):
+    """Whether the process ``pid`` may be running here: yes unless the system says there is none."""
+    if pid == os.getpid() or os.name != "posix":  # elsewhere os.kill would stop it
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except (OSError, OverflowError):
+        return True  # another user's, or no such id to ask about: left alone
+    return True
+
+
+def describe_temporary(path):
+    """What the temporary at ``path`` is, in words, or None if it is not one of drumstroke's."""
+    match = _TEMPORARY.fullmatch(Path(path).name)
+    if match is None:
+        return None
+    pid = int(match["pid"])
+    what = "record of a bundle" if match["kind"] == "bundle" else "folder" if os.path.isdir(path) else "file"
+    if _running(pid):
+        return f"a temporary {what} of drumstroke process {pid}, running"
+    return f"a temporary {what} of drumstroke process {pid}, which was stopped before it finished; the next run " \
+           "writing here removes it"
+
+
+# --- files and folders ------------------------------------------------------------------------------------------------
 
 
 def write_folder_atomic(path, fill, *, overwrite=False, what="folder"):
@@ -117,9 +284,8 @@ def write_folder_atomic(path, fill, *, overwrite=False, what="folder"):
         raise ParameterError(f"{what} {str(path)!r}: the folder {str(path.parent)!r} does not exist")
     if os.path.lexists(path) and not overwrite:
         raise ParameterError(f"{what} {str(path)!r} exists; choose a new path, or overwrite it")
-    _sweep_once(path)
+    remove_stale(path.parent, path.name)
     work = temporary_folder(path)
-    token = _RUN.set(None)  # the folder is its own atomic step, even inside a run
     try:
         fill(work / path.name)
         old = work / f"{path.name}.old" if os.path.lexists(path) else None
@@ -132,137 +298,7 @@ def write_folder_atomic(path, fill, *, overwrite=False, what="folder"):
                 os.replace(old, path)
             raise
     finally:
-        _RUN.reset(token)
         remove(work)
-
-
-# --- a run's files, published together -----------------------------------------------------------------------------
-
-
-@contextlib.contextmanager
-def publish():
-    """Publish every file :func:`write_atomic` writes in the block together, when it ends.
-
-    Until then each is staged beside its path; an exception in the block removes them and
-    leaves every file as it was. A ``publish`` inside another joins it. See the module's
-    notes for what a kill leaves.
-    """
-    if _RUN.get() is not None:
-        yield
-        return
-    run = _Run()
-    token = _RUN.set(run)
-    try:
-        yield
-    except BaseException:
-        _RUN.reset(token)
-        run.discard()
-        raise
-    _RUN.reset(token)
-    run.commit()
-
-
-class _Run:
-    """The files of one run, staged: their temporary files by path, in the order written."""
-
-    def __init__(self):
-        self.staged = {}
-
-    def stage(self, temporary, path):
-        path = Path(os.path.abspath(path))
-        earlier = self.staged.pop(path, None)  # written twice: the last one counts
-        if earlier is not None:
-            remove(earlier)
-        self.staged[path] = Path(os.path.abspath(temporary))
-
-    def discard(self):
-        for temporary in self.staged.values():
-            remove(temporary)
-        self.staged.clear()
-
-    def commit(self):
-        folders = list(dict.fromkeys(path.parent for path in self.staged))
-        records = [temporary_path(folder / "publish", kind="run") for folder in folders] if len(self.staged) > 1 else []
-        text = json.dumps({"format": "drumstroke-run", "records": [str(r) for r in records],
-                           "files": [{"path": str(p), "staged": str(t)} for p, t in self.staged.items()]}, indent=1)
-        try:
-            for record in records:
-                _write_record(record, text)
-            for folder in folders:
-                sync_folder(folder)
-        except BaseException:
-            self._undo(records)
-            raise
-        try:  # committed: from here on, what a kill or an interrupt leaves is completed by the next run here
-            for path, temporary in self.staged.items():
-                _replace(temporary, path)
-        except OSError:
-            self._undo(records)  # the command fails, naming the file that could not be replaced
-            raise
-        for folder in folders:
-            sync_folder(folder)
-        for record in records:
-            remove(record)
-
-    def _undo(self, records):
-        self.discard()
-        for record in records:
-            remove(record)
-
-
-def _write_record(record, text):
-    try:
-        write_new(record, text.encode(), mode=0o600)
-    except OSError as error:
-        raise OSError(error.errno, error.strerror or str(error), str(record.parent)) from None
-
-
-def _replace(temporary, path):
-    try:
-        os.replace(temporary, path)
-    except OSError as error:
-        raise OSError(error.errno, error.strerror or str(error), str(path)) from None
-
-
-def _complete(record):
-    """Finish the run of a dead writer's ``record``: into place if every record of it was written, else undone."""
-    try:
-        data = json.loads(Path(record).read_text())
-        records = [Path(r) for r in data["records"]]
-        files = [(Path(f["path"]), Path(f["staged"])) for f in data["files"]]
-    except (OSError, UnicodeDecodeError, ValueError, KeyError, TypeError, RecursionError):
-        remove(record)  # cut short by the kill: its run never committed, and its staged files are debris
-        return
-    writer = _writer_of(_TEMPORARY.fullmatch(Path(record).name))
-    ours = all(_is_temporary_of(r, writer, "run") for r in records) and all(
-        _is_temporary_of(staged, writer, "tmp") and staged.parent == path.parent for path, staged in files)
-    if ours and all(r.exists() for r in records):
-        for path, staged in files:
-            if staged.exists() and _owned(staged):
-                with contextlib.suppress(OSError):
-                    os.replace(staged, path)
-    elif ours:
-        for _, staged in files:
-            remove(staged)
-    for r in records if ours else [record]:
-        remove(r)
-
-
-def _is_temporary_of(path, writer, kind):
-    match = _TEMPORARY.fullmatch(Path(path).name)
-    return match is not None and match["kind"] == kind and _writer_of(match) == writer
-
-
-# --- temporary names and their writers ------------------------------------------------------------------------------
-
-
-def temporary_path(path, *, kind="tmp"):
-    """A new temporary name beside ``path`` naming this process: ``.NAME.drumstroke-HOST-PID-START-NONCE.tmp``."""
-    path = Path(path)
-    pid = os.getpid()
-    if pid not in _STARTS:  # a forked child finds its own
-        _STARTS[pid] = _start_of(pid) or 0
-    return path.parent / f".{path.name[:100]}.drumstroke-{_HOST}-{pid}-{_STARTS[pid]}-{secrets.token_hex(4)}.{kind}"
 
 
 def temporary_folder(path):
@@ -316,129 +352,6 @@ def remove(path):
             os.unlink(path)
     except OSError:
         pass
-
-
-def _start_of(pid):
-    """A process's start (clock ticks after boot) from /proc; None if it does not run (or is a zombie)."""
-    try:
-        with open(f"/proc/{pid}/stat", "rb") as handle:
-            text = handle.read().decode(errors="replace")
-    except OSError:
-        return None
-    state, *fields = text[text.rindex(")") + 2:].split()
-    return None if state in ("Z", "X") else int(fields[18])
-
-
-def _writer_of(match):
-    return match["host"], int(match["pid"]), int(match["start"])
-
-
-def _alive(host, pid, start):
-    """Whether a temporary's writer may still run: yes unless it is known to be dead."""
-    if host != _HOST:
-        return True
-    if _PROC:
-        return _start_of(pid) == start
-    if os.name != "posix":
-        return True  # no safe way to ask
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except OSError:
-        return True
-    return True
-
-
-def _owned(path):
-    """Whether ``path`` (not followed) belongs to this user; on systems without owners, yes."""
-    if not hasattr(os, "getuid"):
-        return True
-    try:
-        return os.lstat(path).st_uid == os.getuid()
-    except OSError:
-        return False
-
-
-# --- sweeping ------------------------------------------------------------------------------------------------------
-
-
-def sweep(folder):
-    """Remove from ``folder`` the temporaries of dead drumstroke processes; return the names removed.
-
-    Only names of drumstroke's pattern (see the module's notes) owned by this user, made on
-    this host by a process that no longer runs. A dead run's records are seen to first: its
-    files are put in place if it had committed, else its staged files removed.
-    """
-    folder = Path(folder)
-    writers = {_writer_of(match) for match in _temporaries(folder)}
-    dead = {writer for writer in writers if not _alive(*writer)}
-    if not dead:
-        return []
-    # The dead write no more: list again, so that a record written just before the end is seen.
-    for match in _temporaries(folder):
-        if match["kind"] == "run" and _writer_of(match) in dead:
-            _complete(folder / match.string)
-    removed = []
-    for match in _temporaries(folder):
-        if match["kind"] == "tmp" and _writer_of(match) in dead:
-            remove(folder / match.string)
-            removed.append(match.string)
-    return sorted(removed)
-
-
-def _temporaries(folder):
-    try:
-        names = os.listdir(folder)
-    except OSError:
-        return []
-    return [match for name in names if (match := _TEMPORARY.fullmatch(name)) and _owned(os.path.join(folder, name))]
-
-
-def sweep_legacy(folder, prefix, suffix=""):
-    """Remove the temporaries ``PREFIX????????SUFFIX`` older drumstroke left in ``folder`` before this process started.
-
-    Those names (``tempfile``'s) do not say who wrote them: only one older than this process and
-    owned by this user is taken for a killed run's.
-    """
-    pattern = glob.escape(os.path.join(folder, prefix)) + "?" * 8 + glob.escape(suffix)
-    removed = []
-    for name in glob.glob(pattern):
-        middle = os.path.basename(name)[len(prefix):len(os.path.basename(name)) - len(suffix)]
-        try:
-            old = os.lstat(name).st_mtime < _STARTED
-        except OSError:
-            continue
-        if _LEGACY.fullmatch(middle) and old and _owned(name):
-            remove(name)
-            removed.append(os.path.basename(name))
-    return sorted(removed)
-
-
-def _sweep_once(path):
-    """Sweep ``path``'s folder the first time this process writes there, and older drumstroke's temporaries of it."""
-    folder = os.path.abspath(path.parent)
-    with _SWEPT_LOCK:
-        first = (os.getpid(), folder) not in _SWEPT
-        _SWEPT.add((os.getpid(), folder))
-    if first:
-        sweep(folder)
-    sweep_legacy(folder, f".{path.name}.", ".tmp")
-
-
-def describe_temporary(path):
-    """What the temporary at ``path`` is, in words, or None if it is not one of drumstroke's."""
-    match = _TEMPORARY.fullmatch(Path(path).name)
-    if match is None:
-        return None
-    host, pid, start = _writer_of(match)
-    what = "record of a run" if match["kind"] == "run" else "folder" if os.path.isdir(path) else "file"
-    if host != _HOST:
-        return f"a temporary {what} of drumstroke on another host"
-    if _alive(host, pid, start):
-        return f"a temporary {what} of drumstroke process {pid}, running"
-    return f"a temporary {what} of drumstroke process {pid}, which was stopped before it finished; the next run " \
-           "writing here removes it"
 
 
 @contextlib.contextmanager

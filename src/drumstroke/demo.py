@@ -3,15 +3,15 @@
 :func:`write_figures` simulates the presets that reproduce the paper's Figs. 4–7 and writes their files;
 :func:`run_demo` does that, builds the shipped library, renders each stroke as a picture, a sound and
 MIDI, composes the demo groove from them and writes ``index.html`` linking it all. Both need the
-``plot`` extra; the demo also ``audio`` and ``midi``. Each publishes its files together
-(:func:`drumstroke._atomic.publish`): killed at any point, it leaves the previous files or the new
-ones (the demo's library switches on its own, atomically, when it is built).
+``plot`` extra; the demo also ``audio`` and ``midi``. Each puts its files in place together, as one
+:class:`drumstroke._atomic.Bundle`: killed at any point, it leaves the previous files or the new ones
+(the demo's library switches on its own, atomically, when it is built).
 """
 
 from dataclasses import dataclass
 from pathlib import Path
 
-from ._atomic import publish
+from ._atomic import Bundle, bundled
 from .presets import PRESETS
 from .render.page import Card, plural
 
@@ -90,8 +90,7 @@ def figure_stem(figure, preset):
     return f"{figure.lower().replace('. ', '').replace(' ', '')}-{preset}"
 
 
-@publish()
-def write_figures(outdir, *, model=None, outputs=("plot",), progress=None):
+def write_figures(outdir, *, model=None, outputs=("plot",), progress=None, bundle=None):
     """Simulate the paper's figures (:data:`FIGURES`) and write each one's files to ``outdir``.
 
     Parameters
@@ -104,6 +103,8 @@ def write_figures(outdir, *, model=None, outputs=("plot",), progress=None):
         Which files to write for each figure: the stroke as JSON, θ(t) as CSV at 1 kHz, a PNG plot.
     progress : callable or None
         Called with the fraction done, in [0, 1].
+    bundle : Bundle or None
+        The caller's bundle to put the files in place with (default: a bundle of their own).
 
     Returns
     -------
@@ -119,18 +120,18 @@ def write_figures(outdir, *, model=None, outputs=("plot",), progress=None):
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     figures = []
-    for i, (figure, preset) in enumerate(FIGURES.items()):
-        stroke = simulate(preset, model=model)
-        stem = outdir / figure_stem(figure, preset)
-        files = {key: stem.with_suffix(suffix) for key, suffix in _SUFFIXES.items() if key in outputs}
-        paths = write_stroke_outputs(stroke, **files, title=f"{figure} {preset}")
-        figures.append(Figure(figure, preset, stroke, tuple(paths)))
-        if progress:
-            progress((i + 1) / len(FIGURES))
+    with bundled(bundle) as together:
+        for i, (figure, preset) in enumerate(FIGURES.items()):
+            stroke = simulate(preset, model=model)
+            stem = outdir / figure_stem(figure, preset)
+            files = {key: stem.with_suffix(suffix) for key, suffix in _SUFFIXES.items() if key in outputs}
+            paths = write_stroke_outputs(stroke, **files, title=f"{figure} {preset}", bundle=together)
+            figures.append(Figure(figure, preset, stroke, tuple(paths)))
+            if progress:
+                progress((i + 1) / len(FIGURES))
     return figures
 
 
-@publish()
 def run_demo(outdir, *, progress=None):
     """Write the demo to ``outdir``: the paper's figures, the shipped library, every stroke and a groove, a page.
 
@@ -149,6 +150,12 @@ def run_demo(outdir, *, progress=None):
     -------
     Demo
     """
+    with Bundle() as bundle:
+        return _demo(Path(outdir), progress or (lambda fraction: None), bundle)
+
+
+def _demo(out, report, bundle):
+    """:func:`run_demo`'s work into the folder ``out``, its files in ``bundle``; ``report`` takes the fraction done."""
     from ._atomic import write_atomic
     from .compose import compose, rudiment_score
     from .palette.library import DEMO_PATTERN, build_library
@@ -157,15 +164,14 @@ def run_demo(outdir, *, progress=None):
     from .render.page import write_index
     from .score import read_pattern
 
-    out = Path(outdir)
-    report = progress or (lambda fraction: None)
-    figures = write_figures(out, outputs=("json", "csv", "plot"), progress=lambda f: report(0.2 * f))
+    figures = write_figures(out, outputs=("json", "csv", "plot"), progress=lambda f: report(0.2 * f), bundle=bundle)
     library = build_library(out / "library", progress=lambda f: report(0.2 + 0.2 * f))
     (out / "strokes").mkdir(exist_ok=True)
     cards, strokes = [], []
     for i, (name, entry) in enumerate(library.items()):
         files = write_stroke_outputs(entry.trajectory, plot=out / "strokes" / f"{name}.png",
-                                     audio=out / "strokes" / f"{name}.wav", midi=out / "strokes" / f"{name}.mid")
+                                     audio=out / "strokes" / f"{name}.wav", midi=out / "strokes" / f"{name}.mid",
+                                     bundle=bundle)
         cards.append(_card(name, entry.category, entry.description, entry.trajectory, files, out))
         strokes += files
         report(0.4 + 0.4 * (i + 1) / len(library))
@@ -177,7 +183,8 @@ def run_demo(outdir, *, progress=None):
         stem = out / "rudiments" / name
         files = write_composition_outputs(played_rudiment, title=f"{chosen.title} at {tempo:g} bpm",
                                           plot=stem.with_suffix(".png"), audio=stem.with_suffix(".wav"),
-                                          midi=stem.with_suffix(".mid"), json=stem.with_suffix(".json"))
+                                          midi=stem.with_suffix(".mid"), json=stem.with_suffix(".json"),
+                                          bundle=bundle)
         rudiment_files += files
         links = {path.suffix: path.relative_to(out).as_posix() for path in files}
         impacts = sum(len(s.impacts) for s in played_rudiment.sticks.values())
@@ -190,10 +197,10 @@ def run_demo(outdir, *, progress=None):
             f"model {played_rudiment.model}."))
         report(0.8 + 0.1 * (i + 1) / len(RUDIMENTS))
     piece = compose(read_pattern(DEMO_PATTERN), library)
-    write_atomic(out / "groove.pattern", DEMO_PATTERN.read_text())
+    write_atomic(out / "groove.pattern", DEMO_PATTERN.read_text(), bundle=bundle)
     groove = [out / "groove.pattern", *write_composition_outputs(
         piece, title="groove", csv=out / "groove.csv", json=out / "groove.json", plot=out / "groove.png",
-        audio=out / "groove.wav", midi=out / "groove.mid")]
+        audio=out / "groove.wav", midi=out / "groove.mid", bundle=bundle)]
     played = sum(p.played for p in piece.placements)
     facts = (f"{plural(played, 'note')} on the sticks {', '.join(piece.sticks)}; {piece.t_end:.2f} s at "
              f"{piece.rate:g} Hz.")
@@ -209,7 +216,7 @@ def run_demo(outdir, *, progress=None):
                       "and as it sounds on a synthesized snare drum; first a groove composed from them, then PAS "
                       "rudiments whose every note the planner designed, last the paper's Figs. 4–7 as drumstroke "
                       "draws them.",
-                cards=[groove_card, *cards, *rudiment_cards, *figure_cards])
+                cards=[groove_card, *cards, *rudiment_cards, *figure_cards], bundle=bundle)
     report(1.0)
     return Demo(out, tuple(figures), library, tuple(strokes), tuple(rudiment_files), piece, played, tuple(groove),
                 index)

@@ -167,13 +167,14 @@ class Recipe:
         path = Path(path)
         return cls.from_dict(read_toml(path, "recipe"), name=path.stem, base_dir=path.parent)
 
-    def to_toml(self, path):
+    def to_toml(self, path, *, bundle=None):
         """Write the recipe as TOML, atomically (a crash leaves any old file whole).
 
-        A ``samples`` file is written relative to the new file's folder when it can be.
+        A ``samples`` file is written relative to the new file's folder when it can be. ``bundle``:
+        a :class:`drumstroke._atomic.Bundle` the file is put in place with (default: at once).
         """
         path = Path(path)
-        write_toml(path, self.toml_data(path.parent))
+        write_toml(path, self.toml_data(path.parent), bundle=bundle)
 
     def toml_data(self, folder):
         """The recipe as TOML data for a file in ``folder``: ``samples`` files relative to it when they can be."""

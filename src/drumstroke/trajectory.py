@@ -44,7 +44,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ._atomic import publish
+from ._atomic import bundled
 from ._checks import as_vector, check_real
 from ._version import __version__
 from .curve import Curve, Segment
@@ -341,11 +341,10 @@ class Trajectory:
                                 rate=rate if rate is not None else stated["rate"], alpha=alpha, sticks=names,
                                 name=Path(path).stem, model=stated["model"])
 
-    @publish()
-    def write_csv(self, path, *, alpha=False, metadata=None, sidecar=True):
+    def write_csv(self, path, *, alpha=False, metadata=None, sidecar=True, bundle=None):
         """Write the samples as a trajectory CSV, header first, atomically; its metadata in the JSON beside it.
 
-        The two files are published together (:func:`drumstroke._atomic.publish`).
+        The two files are put in place together (a :class:`drumstroke._atomic.Bundle`).
 
         Parameters
         ----------
@@ -358,6 +357,8 @@ class Trajectory:
         sidecar : bool
             Write the metadata to the JSON beside the CSV (``X.json`` for ``X.csv``). False leaves
             it to the caller, who puts the returned metadata in a JSON of its own at that path.
+        bundle : Bundle or None
+            The caller's bundle to put the files in place with (default: a bundle of their own).
 
         Returns
         -------
@@ -373,10 +374,11 @@ class Trajectory:
         side = sidecar_for(path) if sidecar else None
         t, theta, omega, acceleration = self.samples() if alpha else (*self._all, None)
         names, columns = trajectory_csv.stick_columns(self.sticks, theta, omega, acceleration)
-        trajectory_csv.write_columns(path, ("t", *names), (t, *columns))
         block = self.csv_metadata(path, alpha=alpha, metadata=metadata)
-        if side is not None:
-            write_sidecar(side, block)
+        with bundled(bundle) as files:
+            trajectory_csv.write_columns(path, ("t", *names), (t, *columns), bundle=files)
+            if side is not None:
+                write_sidecar(side, block, bundle=files)
         return block
 
     def csv_metadata(self, path, *, alpha=False, metadata=None):

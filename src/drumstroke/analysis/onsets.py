@@ -110,8 +110,8 @@ class Onsets:
         return self.t[:-1] + intervals / 2.0, 1.0 / intervals
 
 
-def write_onsets(path, onsets):
-    """Write ``onsets`` to the onsets CSV at ``path`` (``t,level_db``) and the JSON beside it, atomically.
+def write_onsets(path, onsets, *, bundle=None):
+    """Write ``onsets`` to the onsets CSV at ``path`` (``t,level_db``) and the JSON beside it, atomically, together.
 
     The JSON holds the source, the detection threshold (dB re the loudest; null when the onsets
     were given) and ``info`` (how they were found).
@@ -121,11 +121,14 @@ def write_onsets(path, onsets):
     path : str or os.PathLike
         Ending in ``.csv``, in an existing folder.
     onsets : Onsets
+    bundle : Bundle or None
+        A :class:`drumstroke._atomic.Bundle` to put the files in place with (default: a bundle of their own).
     """
     if not isinstance(onsets, Onsets):
         raise ParameterError(f"onsets must be an Onsets, got {type(onsets).__name__}")
     write_onsets_csv(path, onsets.t, onsets.level_db,
-                     fields={"source": onsets.source, "threshold_db": onsets.threshold_db, "info": onsets.info})
+                     fields={"source": onsets.source, "threshold_db": onsets.threshold_db, "info": onsets.info},
+                     bundle=bundle)
 
 
 def read_onsets(path):

@@ -1,6 +1,6 @@
 """``drumstroke onsets`` and ``measure-cor``: a recording's impacts, and c from a drop."""
 
-from .._atomic import publish
+from .._atomic import Bundle
 from ..errors import ParameterError
 from ..formats import json, onsets_csv
 from ..render import plot
@@ -86,14 +86,14 @@ def _onsets(args):
         for i, (t, level) in enumerate(zip(onsets.t, onsets.level_db)):
             print(f"{i:>4} {t:>11.6f} {level:>11.2f}")
     written = []
-    with publish():
+    with Bundle() as bundle:
         if args.out:
-            write_onsets(args.out, onsets)
+            write_onsets(args.out, onsets, bundle=bundle)
             written += [args.out, args.out.with_suffix(".json")]
         if args.plot:
             plot.save_figure(plot.onsets_figure(signal, rate, onsets.t, onsets.level_db,
                                                 threshold_db=onsets.threshold_db, title=args.recording.name),
-                             args.plot)
+                             args.plot, bundle=bundle)
             written.append(args.plot)
     print_written(written)
 
@@ -118,6 +118,5 @@ def _measure_cor(args):
     print(f"largest flight residual {abs(drop.residuals).max() * 1e3:.3f} ms; first launch speed "
           f"{drop.launch_speed:.4g} rad/s")
     if args.json:
-        with publish():
-            json.write_json(args.json, {**drop.to_dict(), "threshold_db": onsets.threshold_db})
+        json.write_json(args.json, {**drop.to_dict(), "threshold_db": onsets.threshold_db})
         print_written([args.json])

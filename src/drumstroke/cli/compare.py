@@ -1,6 +1,6 @@
 """``drumstroke compare``: two strokes side by side (recordings, onsets CSVs or recipes)."""
 
-from .._atomic import publish
+from .._atomic import Bundle
 from ..analysis.compare import FLOOR_DB
 from ..formats import json
 from ..render import plot
@@ -52,13 +52,13 @@ def _compare(args):
     else:
         print("too few onsets to compare intervals, envelopes and bounce rates (each stroke needs two)")
     written = []
-    with publish():
+    with Bundle() as bundle:
         if args.json:
             json.write_json(args.json, {"comparison": figures, "a": _onsets_dict(result.a),
-                                        "b": _onsets_dict(result.b)})
+                                        "b": _onsets_dict(result.b)}, bundle=bundle)
             written.append(args.json)
         if args.plot:
-            plot.save_figure(plot.comparison_figure(result), args.plot)
+            plot.save_figure(plot.comparison_figure(result), args.plot, bundle=bundle)
             written.append(args.plot)
     print_written(written)
 

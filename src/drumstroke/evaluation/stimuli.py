@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .._atomic import publish
+from .._atomic import Bundle
 from ..errors import ParameterError
 
 CONFIG_NAME = "listening-test.toml"
@@ -169,16 +169,16 @@ def fit_stimuli(recordings, out, *, model="paper", cor=None, fit_cor=False, prog
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)  # the folder the stimuli go in, as asked
     pairs, made = [], []
-    with publish():  # the recordings, the robot's versions and the recipes appear together
+    with Bundle() as bundle:  # the recordings, the robot's versions and the recipes appear together
         for i, (name, fit, (signal, rate)) in enumerate(zip(names, fits, sounds)):
             human, robot, recipe = out / f"human-{name}.wav", out / f"robot-{name}.wav", out / f"{name}.toml"
             played = track(reference(fit.stroke), controller(CONTROLLER))
             sound = synthesize(played.onsets + fit.release, played.onset_speed, duration=len(signal) / rate,
                                rate=rate)
             peak, robot_peak = float(np.max(np.abs(signal))), float(np.max(np.abs(sound), initial=0.0))
-            write_wav(robot, sound * (peak / robot_peak) if robot_peak > 0.0 else sound, rate=rate)
-            write_wav(human, signal, rate=rate)
-            fit.recipe.to_toml(recipe)
+            write_wav(robot, sound * (peak / robot_peak) if robot_peak > 0.0 else sound, rate=rate, bundle=bundle)
+            write_wav(human, signal, rate=rate, bundle=bundle)
+            fit.recipe.to_toml(recipe, bundle=bundle)
             made.append(Stimulus(name, robot, len(played.onsets), fit=fit, recipe=recipe))
             pairs.append({"id": name, "human": human.name, "robot": robot.name})
             if progress:

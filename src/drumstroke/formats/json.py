@@ -27,9 +27,11 @@ MAX_BYTES = 64 * MIB
 """The largest JSON file read (bytes): a stroke's, a composition's or a library manifest is far smaller."""
 
 
-def write_json(path, data, *, indent=1):
-    """Write ``data`` as JSON to ``path`` atomically; numpy arrays and numbers become lists and numbers."""
-    write_atomic(path, json_text(data, indent=indent))
+def write_json(path, data, *, indent=1, bundle=None):
+    """Write ``data`` as JSON to ``path`` atomically; numpy arrays and numbers become lists and numbers.
+
+    ``bundle``: a :class:`drumstroke._atomic.Bundle` the file is put in place with (default: at once)."""
+    write_atomic(path, json_text(data, indent=indent), bundle=bundle)
 
 
 def json_text(data, *, indent=1):

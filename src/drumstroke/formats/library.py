@@ -46,8 +46,7 @@ from .._atomic import (
     move_aside,
     naming,
     remove,
-    sweep,
-    sweep_legacy,
+    remove_stale,
     sync_folder,
     temporary_folder,
     write_atomic,
@@ -89,8 +88,7 @@ class Staging:
             raise ParameterError(f"directory {str(directory)!r} exists and is not a folder")
         directory.mkdir(parents=True, exist_ok=True)
         self.directory = directory
-        sweep(directory)
-        sweep_legacy(directory, ".strokes-")
+        remove_stale(directory)
         with naming(directory):
             self.folder = temporary_folder(directory / "strokes")
         self.records = []
@@ -129,7 +127,7 @@ class Staging:
                 os.replace(self.folder, target)
                 sync_folder(self.directory)
             try:
-                write_atomic(self.directory / MANIFEST, json_text(manifest), now=True)  # the switch
+                write_atomic(self.directory / MANIFEST, json_text(manifest))  # the switch
             except BaseException:
                 if placed:
                     asides.append(move_aside(target))
@@ -355,14 +353,7 @@ def _leftovers(directory, current):
             found.append(f"{str(path)!r}: {temporary}")
         elif _FOLDER.fullmatch(name) and name != current and path.is_dir():
             found.append(f"{str(path)!r}: an old stroke folder, not the manifest's; the next build removes it")
-        elif _LEGACY.fullmatch(name):
-            found.append(f"{str(path)!r}: a temporary of a build by an older drumstroke that did not finish; the "
-                         "next build removes it")
     return tuple(found)
-
-
-_LEGACY = re.compile(r"\.strokes-[a-z0-9_]{8}|\.manifest\.json\.[a-z0-9_]{8}\.tmp")
-"""The temporaries of older drumstroke's builds, which did not name their writer."""
 
 
 STROKE_KEYS = ("name", "category", "description", "model", "theta_max", "t_end", "samples", "impacts",

@@ -206,7 +206,7 @@ class Track(NamedTuple):
     notes: object
 
 
-def write_midi(path, tracks, *, tempo_map=None, channel=PERCUSSION_CHANNEL, title=""):
+def write_midi(path, tracks, *, tempo_map=None, channel=PERCUSSION_CHANNEL, title="", bundle=None):
     """Write impacts as MIDI notes, one track each, to ``path`` (a type-1 Standard MIDI File), atomically.
 
     Track 0 holds the title, the time signatures and the tempo changes; then one
@@ -232,6 +232,8 @@ def write_midi(path, tracks, *, tempo_map=None, channel=PERCUSSION_CHANNEL, titl
         MIDI channel counted from 1 (10, General MIDI percussion, by default).
     title : str
         Track 0's name (UTF-8), e.g. the score and the model that made it.
+    bundle : Bundle or None
+        Put the file in place with this :class:`drumstroke._atomic.Bundle`'s others (default: at once).
 
     Returns
     -------
@@ -267,7 +269,7 @@ def write_midi(path, tracks, *, tempo_map=None, channel=PERCUSSION_CHANNEL, titl
 
     buffer = io.BytesIO()
     mido.MidiFile(type=1, ticks_per_beat=clock.resolution, charset="utf-8", tracks=files_tracks).save(file=buffer)
-    write_atomic(path, buffer.getvalue())
+    write_atomic(path, buffer.getvalue(), bundle=bundle)
     return [[Note(time, key, velocity, channel, number)
              for time, key, velocity in zip(clock.seconds(starts).tolist(), keys.tolist(), velocities.tolist())]
             for number, (starts, keys, velocities) in enumerate(parts, start=1)]

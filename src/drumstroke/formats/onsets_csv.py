@@ -39,7 +39,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .._atomic import write_atomic
+from .._atomic import bundled, write_atomic
 from ..errors import ParameterError
 from .reading import read_csv_rows
 from .sidecar import describe, read_sidecar, sidecar_for, write_sidecar
@@ -74,8 +74,8 @@ def onsets_text(t, level_db):
     return buffer.getvalue()
 
 
-def write_onsets_csv(path, t, level_db, *, fields=None):
-    """Write onsets to the CSV at ``path`` and their metadata to the JSON beside it, atomically.
+def write_onsets_csv(path, t, level_db, *, fields=None, bundle=None):
+    """Write onsets to the CSV at ``path`` and their metadata to the JSON beside it, atomically, together.
 
     Parameters
     ----------
@@ -88,6 +88,8 @@ def write_onsets_csv(path, t, level_db, *, fields=None):
     fields : dict or None
         What else the JSON beside it says, in order (``source``, ``threshold_db`` in dB re the
         loudest — a non-finite one is written as null —, how they were found).
+    bundle : Bundle or None
+        A :class:`drumstroke._atomic.Bundle` to put the files in place with (default: a bundle of their own).
 
     Raises
     ------
@@ -98,8 +100,9 @@ def write_onsets_csv(path, t, level_db, *, fields=None):
     path = check_onsets_path(path, name="path")
     side = sidecar_for(path, name="path")
     fields = {key: _plain(value) for key, value in (fields or {}).items()}
-    write_atomic(path, onsets_text(t, level_db))
-    write_sidecar(side, describe(path, COLUMNS, UNITS, fields))
+    with bundled(bundle) as files:
+        write_atomic(path, onsets_text(t, level_db), bundle=files)
+        write_sidecar(side, describe(path, COLUMNS, UNITS, fields), bundle=files)
 
 
 def read_onsets_csv(path):

@@ -29,7 +29,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .._atomic import write_atomic
+from .._atomic import bundled, write_atomic
 from .._checks import check_real
 from ..errors import ParameterError
 from .json import read_json, write_json
@@ -73,8 +73,9 @@ def joint_trajectory(t, positions, velocities, accelerations, joint_names):
             "points": points}
 
 
-def write_joint_trajectory(path, t, positions, velocities, accelerations, joint_names, *, metadata=None):
-    """Write a JointTrajectory document to ``path``, and its metadata to :func:`metadata_path`, atomically.
+def write_joint_trajectory(path, t, positions, velocities, accelerations, joint_names, *, metadata=None,
+                           bundle=None):
+    """Write a JointTrajectory document to ``path``, and its metadata to :func:`metadata_path`, atomically, together.
 
     Parameters
     ----------
@@ -83,11 +84,14 @@ def write_joint_trajectory(path, t, positions, velocities, accelerations, joint_
         As for :func:`joint_trajectory`.
     metadata : dict or None
         drumstroke's own data about the message (plain data), written to the sidecar; None writes none.
+    bundle : Bundle or None
+        A :class:`drumstroke._atomic.Bundle` to put the files in place with (default: a bundle of their own).
     """
     message = joint_trajectory(t, positions, velocities, accelerations, joint_names)
-    write_atomic(path, json.dumps(message, allow_nan=False) + "\n")
-    if metadata is not None:
-        write_json(metadata_path(path), metadata)
+    with bundled(bundle) as files:
+        write_atomic(path, json.dumps(message, allow_nan=False) + "\n", bundle=files)
+        if metadata is not None:
+            write_json(metadata_path(path), metadata, bundle=files)
 
 
 def metadata_path(path):

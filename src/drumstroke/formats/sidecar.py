@@ -100,9 +100,9 @@ def sidecar_for(csv, *, json=None, others=None, name="csv"):
     return side
 
 
-def write_sidecar(path, block):
-    """Write a JSON holding only a CSV's metadata ``block`` to ``path``, atomically."""
-    write_json(path, {KEY: block})
+def write_sidecar(path, block, *, bundle=None):
+    """Write a JSON holding only a CSV's metadata ``block`` to ``path``, atomically (in ``bundle``, if given)."""
+    write_json(path, {KEY: block}, bundle=bundle)
 
 
 def read_sidecar(csv):

@@ -25,7 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .._atomic import write_atomic
+from .._atomic import bundled, write_atomic
 from .._version import __version__
 from ..errors import ParameterError
 from .reading import MIB, read_csv_rows
@@ -46,8 +46,10 @@ def check_table_path(path, *, name="out"):
     return path
 
 
-def write_table(table, path, *, units=None, fields=None):
+def write_table(table, path, *, units=None, fields=None, bundle=None):
     """Write a sweep's columns to ``path``: ``.csv`` or ``.parquet`` (needs pyarrow), atomically.
+
+    A CSV and the JSON beside it are put in place together.
 
     Parameters
     ----------
@@ -58,6 +60,8 @@ def write_table(table, path, *, units=None, fields=None):
         A CSV's columns' units, for the JSON beside it ("" for those not named).
     fields : dict or None
         What else that JSON says of the table.
+    bundle : Bundle or None
+        A :class:`drumstroke._atomic.Bundle` to put the files in place with (default: a bundle of their own).
 
     Raises
     ------
@@ -73,8 +77,9 @@ def write_table(table, path, *, units=None, fields=None):
         writer.writerow(table)
         for row in zip(*table.values()):
             writer.writerow(_cell(value) for value in row)
-        write_atomic(path, buffer.getvalue())
-        write_sidecar(side, describe(path, list(table), units or {}, fields or {}))
+        with bundled(bundle) as files:
+            write_atomic(path, buffer.getvalue(), bundle=files)
+            write_sidecar(side, describe(path, list(table), units or {}, fields or {}), bundle=files)
     else:
         try:
             import pyarrow as pa
@@ -85,7 +90,7 @@ def write_table(table, path, *, units=None, fields=None):
         arrow = arrow.replace_schema_metadata({"drumstroke": __version__})
         buffer = io.BytesIO()
         pq.write_table(arrow, buffer)
-        write_atomic(path, buffer.getvalue())
+        write_atomic(path, buffer.getvalue(), bundle=bundle)
 
 
 def read_table(path):

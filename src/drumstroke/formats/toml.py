@@ -59,10 +59,10 @@ def read_toml(path, what):
     return data
 
 
-def write_toml(path, data, *, mode=None):
-    """Write ``data`` (a dict of scalars, lists and tables) as TOML to ``path``, atomically (``mode``: as
-    :func:`drumstroke._atomic.write_atomic`'s)."""
-    write_atomic(path, toml_text(data), mode=mode)
+def write_toml(path, data, *, mode=None, bundle=None):
+    """Write ``data`` (a dict of scalars, lists and tables) as TOML to ``path``, atomically (``mode`` and
+    ``bundle``: as :func:`drumstroke._atomic.write_atomic`'s)."""
+    write_atomic(path, toml_text(data), mode=mode, bundle=bundle)
 
 
 def toml_text(data):

@@ -95,9 +95,9 @@ def columns_text(names, columns):
     return buffer.getvalue()
 
 
-def write_columns(path, names, columns):
-    """Write columns (1-D arrays of one length) under the header ``names``, atomically."""
-    write_atomic(path, columns_text(names, columns))
+def write_columns(path, names, columns, *, bundle=None):
+    """Write columns (1-D arrays of one length) under the header ``names``, atomically (in ``bundle``, if given)."""
+    write_atomic(path, columns_text(names, columns), bundle=bundle)
 
 
 def stick_columns(sticks, theta, omega, alpha=None):

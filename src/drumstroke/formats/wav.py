@@ -31,7 +31,7 @@ FORMATS = {".wav": ("WAV", "PCM_24"), ".flac": ("FLAC", "PCM_24"), ".ogg": ("OGG
 """The audio files written, by extension: soundfile's format and subtype."""
 
 
-def write_wav(path, signal, *, rate):
+def write_wav(path, signal, *, rate, bundle=None):
     """Write ``signal`` as a mono audio file in the format of ``path``'s extension, atomically.
 
     Parameters
@@ -42,6 +42,8 @@ def write_wav(path, signal, *, rate):
         Samples, finite and in [-1, 1] (full scale).
     rate : int > 0
         Samples per second (Hz).
+    bundle : Bundle or None
+        Put the file in place with this :class:`drumstroke._atomic.Bundle`'s others (default: at once).
     """
     file_format, subtype = audio_format(path)
     soundfile = _soundfile()
@@ -49,7 +51,7 @@ def write_wav(path, signal, *, rate):
     check_int("rate", rate, low=1, unit="Hz")
     buffer = io.BytesIO()
     soundfile.write(buffer, signal, rate, subtype=subtype, format=file_format)
-    write_atomic(path, buffer.getvalue())
+    write_atomic(path, buffer.getvalue(), bundle=bundle)
 
 
 def audio_format(path):

@@ -252,7 +252,7 @@ def synthesize(times, tip_speeds, *, duration=None, drum=Drum(), rate=SAMPLE_RAT
     return signal
 
 
-def render_wav(path, times, tip_speeds, *, duration=None, drum=Drum(), rate=SAMPLE_RATE):
+def render_wav(path, times, tip_speeds, *, duration=None, drum=Drum(), rate=SAMPLE_RATE, bundle=None):
     """Synthesize impacts (see :func:`synthesize`) and write them as an audio file (see :func:`write_wav`).
 
     Parameters
@@ -269,6 +269,8 @@ def render_wav(path, times, tip_speeds, *, duration=None, drum=Drum(), rate=SAMP
         The instrument.
     rate : int > 18000
         Samples per second (Hz).
+    bundle : Bundle or None
+        Put the file in place with this :class:`drumstroke._atomic.Bundle`'s others (default: at once).
 
     Returns
     -------
@@ -284,7 +286,7 @@ def render_wav(path, times, tip_speeds, *, duration=None, drum=Drum(), rate=SAMP
     """
     audio_format(path)  # before the work, not after it
     signal = synthesize(times, tip_speeds, duration=duration, drum=drum, rate=rate)
-    write_wav(path, signal, rate=rate)
+    write_wav(path, signal, rate=rate, bundle=bundle)
     return signal
 
 

@@ -1,6 +1,8 @@
 """Strokes, trajectories and compositions as data files: JSON and CSV.
 
-Every file records the model that made it; every file is written atomically. A CSV starts
+Every file records the model that made it; every file is written atomically, and each writer
+puts its files in place with those of a ``bundle`` (a :class:`drumstroke._atomic.Bundle`) when
+given one. A CSV starts
 with its header; its metadata (version, model, name, rate, units, sticks) is in the JSON
 beside it (:mod:`drumstroke.formats.sidecar`), or in the run's own JSON when that is the
 file beside it: the ``csv`` argument of :func:`write_json` and :func:`write_composition_json`.
@@ -12,30 +14,30 @@ from ..stroke import as_trajectory
 from ..trajectory import DEFAULT_RATE
 
 
-def write_json(stroke, path, *, csv=None, extra=None):
+def write_json(stroke, path, *, csv=None, extra=None, bundle=None):
     """Write a Stroke's or a Trajectory's ``to_dict()`` as JSON to ``path``, with a CSV's metadata ``csv`` if given
     and the fields of ``extra`` (a dict) beside its own."""
-    write_json_data(path, _with_csv(stroke.to_dict() | (extra or {}), csv))
+    write_json_data(path, _with_csv(stroke.to_dict() | (extra or {}), csv), bundle=bundle)
 
 
-def write_composition_json(composition, path, *, csv=None):
+def write_composition_json(composition, path, *, csv=None, bundle=None):
     """Write a composition's notes, placements, impacts and problems (:func:`composition_to_dict`) as JSON.
 
     ``csv``: the metadata of the composition's CSV, when this JSON is the one beside it.
     """
-    write_json_data(path, _with_csv(composition_to_dict(composition), csv))
+    write_json_data(path, _with_csv(composition_to_dict(composition), csv), bundle=bundle)
 
 
-def write_csv(stroke, path, *, rate=DEFAULT_RATE, sidecar=True):
+def write_csv(stroke, path, *, rate=DEFAULT_RATE, sidecar=True, bundle=None):
     """Write a Stroke's or a Trajectory's θ(t) sampled at ``rate`` (Hz) as CSV with the header ``t,theta,omega``.
 
     Units: s, rad, rad/s. The metadata goes in the JSON beside it (``sidecar``, see
     :meth:`~drumstroke.trajectory.Trajectory.write_csv`) and is returned.
     """
-    return as_trajectory(stroke, rate=rate).write_csv(path, sidecar=sidecar)
+    return as_trajectory(stroke, rate=rate).write_csv(path, sidecar=sidecar, bundle=bundle)
 
 
-def write_composition_csv(composition, path, *, rate=None, sidecar=True):
+def write_composition_csv(composition, path, *, rate=None, sidecar=True, bundle=None):
     """Write a :class:`~drumstroke.compose.Composition` at ``rate`` (Hz; default its own) as CSV.
 
     One stick: the header ``t,theta,omega``, like a stroke. Several: ``t`` then
@@ -43,7 +45,7 @@ def write_composition_csv(composition, path, *, rate=None, sidecar=True):
     time of the score's time 0, s) goes in the JSON beside it (``sidecar``) and is returned.
     """
     return composition.trajectory.sample(rate).write_csv(path, metadata={"offset": composition.offset},
-                                                          sidecar=sidecar)
+                                                          sidecar=sidecar, bundle=bundle)
 
 
 def composition_to_dict(composition):

@@ -1,9 +1,10 @@
 """Output bundles: every file a stroke or a composition can be written as, in one call.
 
 Each function writes the files it is given paths for and returns those paths in the order written;
-it prints nothing; the folders must exist. The files of one call are published together
-(:func:`drumstroke._atomic.publish`): each is staged under a temporary name and all are renamed
-into place at the end, so a call killed at any point leaves the previous set or the new one. Plots need matplotlib, audio files soundfile and MIDI
+it prints nothing; the folders must exist. The files of one call are one bundle
+(:class:`drumstroke._atomic.Bundle`, the caller's if given): each is written under a temporary name
+and all are renamed into place at the end, so a call killed at any point leaves the previous set or
+the new one. Plots need matplotlib, audio files soundfile and MIDI
 files mido (the extras ``plot``, ``audio`` and ``midi``); they are imported only when such a file
 is asked for. A plot's format follows its extension (PNG, PDF or SVG), and so does an audio
 file's (WAV, FLAC or OGG/Vorbis).
@@ -13,16 +14,15 @@ from pathlib import Path
 
 import numpy as np
 
-from .._atomic import publish
+from .._atomic import bundled
 from ..formats.sidecar import sidecar_for
 from ..score import BOUNCE_NOTE, FIRST_IMPACT_NOTE
 from ..trajectory import DEFAULT_RATE
 from . import data
 
 
-@publish()
 def write_stroke_outputs(stroke, *, json=None, csv=None, plot=None, audio=None, midi=None, rate=DEFAULT_RATE,
-                         title=None, snares=True, extra=None):
+                         title=None, snares=True, extra=None, bundle=None):
     """Write a stroke's files: its data, its plot, its sound.
 
     Parameters
@@ -49,6 +49,8 @@ def write_stroke_outputs(stroke, *, json=None, csv=None, plot=None, audio=None, 
         Whether the drum of ``audio`` has its snare wires on.
     extra : dict or None
         More fields for ``json``, beside the stroke's own (a design's, say).
+    bundle : Bundle or None
+        The caller's bundle to put the files in place with (default: a bundle of their own).
 
     Returns
     -------
@@ -62,32 +64,34 @@ def write_stroke_outputs(stroke, *, json=None, csv=None, plot=None, audio=None, 
         already there that is not the CSV's metadata.
     """
     side = sidecar_for(csv, json=json, others={"plot": plot, "audio": audio, "midi": midi}) if csv else None
-    block = data.write_csv(stroke, csv, rate=rate, sidecar=side is not None) if csv else None
     written = []
-    if json:
-        data.write_json(stroke, json, csv=block if side is None else None, extra=extra)
-        written.append(Path(json))
-    if csv:
-        written += [Path(csv), *([side] if side else [])]
-    if plot:
-        from .plot import save_stroke_plot
+    with bundled(bundle) as files:
+        block = data.write_csv(stroke, csv, rate=rate, sidecar=side is not None, bundle=files) if csv else None
+        if json:
+            data.write_json(stroke, json, csv=block if side is None else None, extra=extra, bundle=files)
+            written.append(Path(json))
+        if csv:
+            written += [Path(csv), *([side] if side else [])]
+        if plot:
+            from .plot import save_stroke_plot
 
-        save_stroke_plot(stroke, plot, title=title)
-        written.append(Path(plot))
-    impacts = stroke.impacts
-    if audio:
-        written.append(_write_audio(audio, impacts.t, impacts.tip_speed, snares))
-    if midi:
-        from ..formats.midi import Track, write_midi
+            save_stroke_plot(stroke, plot, title=title, bundle=files)
+            written.append(Path(plot))
+        impacts = stroke.impacts
+        if audio:
+            written.append(_write_audio(audio, impacts.t, impacts.tip_speed, snares, files))
+        if midi:
+            from ..formats.midi import Track, write_midi
 
-        name = f"{stroke.name} (model {stroke.model})"
-        write_midi(midi, [Track(name, impacts.t, impacts.level_db, _keys(np.arange(len(impacts)) == 0))], title=name)
-        written.append(Path(midi))
+            name = f"{stroke.name} (model {stroke.model})"
+            write_midi(midi, [Track(name, impacts.t, impacts.level_db, _keys(np.arange(len(impacts)) == 0))],
+                       title=name, bundle=files)
+            written.append(Path(midi))
     return written
 
 
-@publish()
-def write_composition_outputs(piece, *, title, csv=None, json=None, plot=None, audio=None, midi=None, snares=True):
+def write_composition_outputs(piece, *, title, csv=None, json=None, plot=None, audio=None, midi=None, snares=True,
+                              bundle=None):
     """Write a composition's files: its trajectories, notes and placements, its plot, its sound.
 
     Parameters
@@ -111,6 +115,8 @@ def write_composition_outputs(piece, *, title, csv=None, json=None, plot=None, a
         key 38, its bounces on 40 (:data:`drumstroke.score.DRUM_MAP`).
     snares : bool
         Whether the drum of ``audio`` has its snare wires on.
+    bundle : Bundle or None
+        The caller's bundle to put the files in place with (default: a bundle of their own).
 
     Returns
     -------
@@ -126,33 +132,35 @@ def write_composition_outputs(piece, *, title, csv=None, json=None, plot=None, a
     side = sidecar_for(csv, json=json, others={"plot": plot, "audio": audio, "midi": midi}) if csv else None
     written = []
     block = None
-    if csv:
-        block = data.write_composition_csv(piece, csv, sidecar=side is not None)
-        written += [Path(csv), *([side] if side else [])]
-    if json:
-        data.write_composition_json(piece, json, csv=block if side is None else None)
-        written.append(Path(json))
-    if plot:
-        from .plot import composition_figure, save_figure
+    with bundled(bundle) as files:
+        if csv:
+            block = data.write_composition_csv(piece, csv, sidecar=side is not None, bundle=files)
+            written += [Path(csv), *([side] if side else [])]
+        if json:
+            data.write_composition_json(piece, json, csv=block if side is None else None, bundle=files)
+            written.append(Path(json))
+        if plot:
+            from .plot import composition_figure, save_figure
 
-        save_figure(composition_figure(piece, title=title), plot)
-        written.append(Path(plot))
-    if audio:
-        times, speeds, _ = piece.impacts()
-        written.append(_write_audio(audio, times, speeds, snares))
-    if midi:
-        from ..formats.midi import Track, write_midi
+            save_figure(composition_figure(piece, title=title), plot, bundle=files)
+            written.append(Path(plot))
+        if audio:
+            times, speeds, _ = piece.impacts()
+            written.append(_write_audio(audio, times, speeds, snares, files))
+        if midi:
+            from ..formats.midi import Track, write_midi
 
-        tracks = [Track(stick, t, level, _keys(first)) for stick, (t, level, first) in piece.stick_impacts().items()]
-        write_midi(midi, tracks, tempo_map=piece.tempo_map, title=f"{title} (model {piece.model})")
-        written.append(Path(midi))
+            tracks = [Track(stick, t, level, _keys(first))
+                      for stick, (t, level, first) in piece.stick_impacts().items()]
+            write_midi(midi, tracks, tempo_map=piece.tempo_map, title=f"{title} (model {piece.model})", bundle=files)
+            written.append(Path(midi))
     return written
 
 
-def _write_audio(path, times, tip_speeds, snares):
+def _write_audio(path, times, tip_speeds, snares, bundle):
     from .audio import Drum, render_wav
 
-    render_wav(path, times, tip_speeds, drum=Drum(snares=snares))
+    render_wav(path, times, tip_speeds, drum=Drum(snares=snares), bundle=bundle)
     return Path(path)
 
 

@@ -52,8 +52,9 @@ audio { width: 100%; margin: 0.4rem 0; } .facts { color: #555; font-size: 0.9rem
 """
 
 
-def write_index(path, *, title, intro, cards):
-    """Write the page to ``path``: a heading, an introduction and one section per :class:`Card`."""
+def write_index(path, *, title, intro, cards, bundle=None):
+    """Write the page to ``path``: a heading, an introduction and one section per :class:`Card` (in ``bundle``, a
+    :class:`drumstroke._atomic.Bundle`, if given)."""
     sections = "\n".join(_section(card) for card in cards)
     page = f"""<!DOCTYPE html>
 <html lang="en">
@@ -70,7 +71,7 @@ def write_index(path, *, title, intro, cards):
 </body>
 </html>
 """
-    write_atomic(path, page)
+    write_atomic(path, page, bundle=bundle)
 
 
 def _section(card):

@@ -278,16 +278,18 @@ def _draw_theta(ax, t, theta, trajectory):
     ax.grid(alpha=0.25)
 
 
-def save_stroke_plot(stroke, path, *, title=None):
-    """Draw ``stroke`` (see :func:`stroke_figure`) to a picture file, written atomically."""
-    save_figure(stroke_figure(stroke, title=title), path)
+def save_stroke_plot(stroke, path, *, title=None, bundle=None):
+    """Draw ``stroke`` (see :func:`stroke_figure`) to a picture file, written atomically (in ``bundle``, if given)."""
+    save_figure(stroke_figure(stroke, title=title), path, bundle=bundle)
 
 
-def save_figure(figure, path):
-    """Write a Figure to a picture file, atomically: PNG, PDF or SVG by ``path``'s extension (:data:`SUFFIXES`)."""
+def save_figure(figure, path, *, bundle=None):
+    """Write a Figure to a picture file, atomically: PNG, PDF or SVG by ``path``'s extension (:data:`SUFFIXES`).
+
+    ``bundle``: a :class:`drumstroke._atomic.Bundle` the file is put in place with (default: at once)."""
     buffer = io.BytesIO()
     figure.savefig(buffer, format=picture_format(path), dpi=110)
-    write_atomic(path, buffer.getvalue())
+    write_atomic(path, buffer.getvalue(), bundle=bundle)
 
 
 def picture_format(path):

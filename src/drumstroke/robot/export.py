@@ -32,7 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .._atomic import publish, write_atomic
+from .._atomic import Bundle, write_atomic
 from .._version import __version__
 from ..errors import ParameterError, TrajectoryError
 from ..formats.ros_json import MESSAGE_TYPE, read_ros_json, seconds_to_duration, write_joint_trajectory
@@ -45,7 +45,6 @@ from .validate import validate
 __all__ = ["export_csv", "export_ros_json", "export_rosbag", "read_ros_json", "seconds_to_duration"]
 
 
-@publish()
 def export_csv(path, trajectory, theta=None, omega=None, *, rate=None, model=None, name=None, head=None, limits=None,
                start=None, stick=None):
     """Validate a trajectory and write it as CSV ``t,theta,omega,alpha`` (s, rad, rad/s, rad/s²).
@@ -78,14 +77,16 @@ def export_csv(path, trajectory, theta=None, omega=None, *, rate=None, model=Non
     checked = validate(trajectory, theta, omega, rate=rate, head=head, limits=limits, start=start, stick=stick)
     side = sidecar_for(path, name="path")
     names = ("t", "theta", "omega", "alpha")
-    write_atomic(path, csv_text(names, (checked.t, checked.theta, checked.omega, np.append(checked.alpha, 0.0))))
-    write_sidecar(side, csv_metadata(path, names, model=model, name=name, rate=checked.rate, sticks=(stick or "stick",),
-                                     extra={"note": "alpha is the forward difference (omega[k+1] - omega[k])*rate, "
-                                                    "0 at the last sample"}))
+    block = csv_metadata(path, names, model=model, name=name, rate=checked.rate, sticks=(stick or "stick",),
+                         extra={"note": "alpha is the forward difference (omega[k+1] - omega[k])*rate, "
+                                        "0 at the last sample"})
+    with Bundle() as bundle:  # the CSV with the JSON beside it
+        write_atomic(path, csv_text(names, (checked.t, checked.theta, checked.omega, np.append(checked.alpha, 0.0))),
+                     bundle=bundle)
+        write_sidecar(side, block, bundle=bundle)
     return checked
 
 
-@publish()
 def export_ros_json(path, trajectory, theta=None, omega=None, *, rate=None, model=None, name=None, joint_names=None,
                     head=None, limits=None, start=None, metadata=True):
     """Validate a trajectory of one or several joints and write it as a ROS ``JointTrajectory`` in JSON.
