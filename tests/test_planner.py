@@ -139,8 +139,12 @@ def test_next_stroke_bounces_on_from_a_running_motion():
 
 
 def test_next_stroke_says_why_when_no_start_reaches_the_note():
-    with pytest.raises(drumstroke.ParameterError, match="needs .* s to reach the height of its next throw"):
-        next_stroke([0.52], [-6.0], Setup(), free=0.5, theta=1.2, omega=-20.0)
+    with pytest.raises(drumstroke.ParameterError, match=r"needs 0\.1\d+ s to reach the height of its next throw, "
+                                                        r"but only 0\.02 s are left"):
+        next_stroke([0.62], [-6.0], Setup(), free=0.5, theta=1.3, omega=15.0)  # rising fast: it must stop first
+    with pytest.raises(drumstroke.ParameterError, match="free at 0.5 s, after a throw of 0.1 s onto the note at "
+                                                        "0.52 s would start"):
+        next_stroke([0.52], [-6.0], Setup(), free=0.5, theta=1.3, omega=15.0)
 
 
 def test_a_setup_names_what_is_wrong():
