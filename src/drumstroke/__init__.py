@@ -9,15 +9,36 @@ the thumb, makes single, double, triple and buzz strokes.
 ('paper', True)
 """
 
+from importlib import import_module
+
 from ._version import __version__
-from .errors import DrumstrokeError, ParameterError, SimulationError
-from .model import MODELS, Stick
-from .palette.library import make_stroke
-from .presets import PRESETS, preset
-from .profiles import Constant, PiecewiseLinear, Profile, Pulses, Samples, Sum
-from .recipe import Recipe
-from .stroke import Batch, Stroke, simulate, simulate_many
-from .trajectory import Impacts, Trajectory
+
+_WHERE = {
+    "DrumstrokeError": "errors", "ParameterError": "errors", "SimulationError": "errors",
+    "MODELS": "model", "Stick": "model",
+    "make_stroke": "palette.library",
+    "PRESETS": "presets", "preset": "presets",
+    "Constant": "profiles", "PiecewiseLinear": "profiles", "Profile": "profiles", "Pulses": "profiles",
+    "Samples": "profiles", "Sum": "profiles",
+    "Recipe": "recipe",
+    "Batch": "stroke", "Stroke": "stroke", "simulate": "stroke", "simulate_many": "stroke",
+    "Impacts": "trajectory", "Trajectory": "trajectory",
+}
+"""Where each name of the package's namespace lives: imported on first use, so ``import drumstroke`` (and with it
+the command's ``--version`` and ``--help``) costs next to nothing."""
+
+
+def __getattr__(name):
+    if name not in _WHERE:
+        raise AttributeError(f"module 'drumstroke' has no attribute {name!r}")
+    value = getattr(import_module(f".{_WHERE[name]}", __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_WHERE))
+
 
 __all__ = [
     "MODELS",

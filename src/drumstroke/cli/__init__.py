@@ -27,8 +27,7 @@ from importlib import import_module
 
 from .. import __version__
 from ..errors import DrumstrokeError, ParameterError
-from ._common import Parser, named_option
-from ._options import check_outputs, output_option
+from ._parser import Parser, named_option
 
 COMMANDS = {
     "simulate": ("simulate", "simulate one stroke: a preset, a palette stroke or a recipe file"),
@@ -74,6 +73,8 @@ def main(argv=None):
         if not hasattr(args, "run"):
             parser.print_help()
             return 2
+        from ._options import check_outputs
+
         check_outputs(args)
         return args.run(args) or 0
     except SystemExit as stop:  # --help, --version, or a bad option: argparse has said so
@@ -111,6 +112,8 @@ def _input_error(error, args):
     if isinstance(error, DrumstrokeError):
         return _one_line(error)
     if isinstance(error, OSError):
+        from ._options import output_option
+
         option = output_option(args, error.filename) if error.filename and args is not None else None
         where = f"{option}: cannot write {error.filename!r}: " if option else (
             f"{error.filename!r}: " if error.filename else "")

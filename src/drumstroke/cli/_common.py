@@ -1,6 +1,5 @@
 """What the command modules share: the parser class, the progress bar, sound options and printers."""
 
-import argparse
 import sys
 from pathlib import Path
 
@@ -10,31 +9,7 @@ from ..recipe import DEFAULT_COR
 from ..render.page import plural
 from ..score import BOUNCE_NOTE, FIRST_IMPACT_NOTE
 from ._options import Output, number
-
-OPTIONS = {"mapping": "--mapping", "channels": "--channel", "tracks": "--track"}
-"""The option of each library parameter the command line passes on under another name: what errors and reports
-about that parameter call it (:func:`named_option`)."""
-
-
-def named_option(error):
-    """``error`` (a ParameterError) about its parameter's option, when the command line has one: ``--channel ...``."""
-    option = OPTIONS.get(error.parameter)
-    return error.renamed(option) if option else error
-
-
-class Parser(argparse.ArgumentParser):
-    """An argument parser whose errors are one line and exit status 2, without the usage text.
-
-    Abbreviated options are refused (``--rat`` is not ``--rate``): a later option must not change
-    what an old command line means.
-    """
-
-    def __init__(self, *args, **kwargs):
-        super().__init__(*args, **{"allow_abbrev": False, **kwargs})
-
-    def error(self, message):
-        self.exit(2, f"{self.prog}: error: {message}\n")
-
+from ._parser import OPTIONS, Parser, named_option  # noqa: F401 (the commands' modules take them from here)
 
 class Bar:
     """A progress bar (tqdm) on stderr, drawn only on a terminal and only after ``delay`` seconds.

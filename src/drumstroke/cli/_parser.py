@@ -1,0 +1,30 @@
+"""The command line's parser and its one wording of a library parameter as an option: light, for the front door.
+
+``drumstroke --version`` and ``--help`` import this and nothing of the library's numerics.
+"""
+
+import argparse
+
+OPTIONS = {"mapping": "--mapping", "channels": "--channel", "tracks": "--track"}
+"""The option of each library parameter the command line passes on under another name: what errors and reports
+about that parameter call it (:func:`named_option`)."""
+
+
+def named_option(error):
+    """``error`` (a ParameterError) about its parameter's option, when the command line has one: ``--channel ...``."""
+    option = OPTIONS.get(error.parameter)
+    return error.renamed(option) if option else error
+
+
+class Parser(argparse.ArgumentParser):
+    """An argument parser whose errors are one line and exit status 2, without the usage text.
+
+    Abbreviated options are refused (``--rat`` is not ``--rate``): a later option must not change
+    what an old command line means.
+    """
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **{"allow_abbrev": False, **kwargs})
+
+    def error(self, message):
+        self.exit(2, f"{self.prog}: error: {message}\n")
