@@ -8,7 +8,6 @@ librosa's onset detector for the audio — and compared with values worked out h
 
 import json
 import math
-import os
 import shutil
 import subprocess
 import sys
@@ -242,7 +241,8 @@ def test_library_check_names_each_damaged_file_as_list_does_and_a_build_repairs_
     data[-10] ^= 0x02
     (strokes / "tap.csv").write_bytes(bytes(data))
     (strokes / "notes.txt").write_text("mine")
-    killed = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True, text=True)
+    killed = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True, text=True,
+                            check=True)
     pid = int(killed.stdout)  # a process that ran and runs no more
     staging = folder / f".strokes.drumstroke-{pid}-0123abcd.tmp"
     staging.mkdir()  # the staging folder of a build killed before it finished
@@ -252,8 +252,8 @@ def test_library_check_names_each_damaged_file_as_list_does_and_a_build_repairs_
         f"library file {str(strokes / 'single.json')!r} is missing (stroke 'single')",
         f"library file {str(strokes / 'tap.csv')!r} is corrupt: its SHA-256 differs from the manifest's",
         f"library file {str(strokes / 'notes.txt')!r} is not in the manifest (an extra file in the stroke folder)",
-        f"note: {str(staging)!r}: a temporary folder of drumstroke process {pid}, which was stopped before it "
-        "finished; the next run writing here removes it"]
+        (f"note: {str(staging)!r}: a temporary folder of drumstroke process {pid}, which was stopped before it "
+         "finished; the next run writing here removes it")]
     assert_one_line_error(run("library", "list", folder), f"library {str(folder)!r} has 3 problems",
                           *result.stdout.splitlines()[:3])
     rebuilt = run("library", "build", folder, "--rate", 500, "--palette", built[0].parent / "palette.toml")
