@@ -8,8 +8,9 @@ librosa's onset detector for the audio — and compared with values worked out h
 
 import json
 import math
-import os
 import shutil
+import subprocess
+import sys
 from html.parser import HTMLParser
 
 import librosa
@@ -240,18 +241,21 @@ def test_library_check_names_each_damaged_file_as_list_does_and_a_build_repairs_
     data[-10] ^= 0x02
     (strokes / "tap.csv").write_bytes(bytes(data))
     (strokes / "notes.txt").write_text("mine")
-    (folder / ".strokes-k3x_9q2a").mkdir()  # a build of drumstroke 0.1 that did not finish
+    killed = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True, text=True,
+                            check=True)
+    pid = int(killed.stdout)  # a process that ran and runs no more
+    staging = folder / f".strokes.drumstroke-{pid}-0123abcd.tmp"
+    staging.mkdir()  # the staging folder of a build killed before it finished
     result = run("library", "check", folder)
     assert result.returncode == 2 and result.stderr == "", result
-    legacy = f"{str(folder / '.strokes-k3x_9q2a')!r}: a temporary of a build by an older drumstroke that did not finish"
     assert result.stdout.splitlines() == [
         f"library file {str(strokes / 'single.json')!r} is missing (stroke 'single')",
         f"library file {str(strokes / 'tap.csv')!r} is corrupt: its SHA-256 differs from the manifest's",
         f"library file {str(strokes / 'notes.txt')!r} is not in the manifest (an extra file in the stroke folder)",
-        f"note: {legacy}; the next build removes it"]
+        (f"note: {str(staging)!r}: a temporary folder of drumstroke process {pid}, which was stopped before it "
+         "finished; the next run writing here removes it")]
     assert_one_line_error(run("library", "list", folder), f"library {str(folder)!r} has 3 problems",
                           *result.stdout.splitlines()[:3])
-    os.utime(folder / ".strokes-k3x_9q2a", (0, 0))  # older than the build's process
     rebuilt = run("library", "build", folder, "--rate", 500, "--palette", built[0].parent / "palette.toml")
     assert rebuilt.returncode == 0, rebuilt.stderr
     assert run("library", "check", folder).stdout == whole.stdout
