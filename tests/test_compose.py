@@ -379,6 +379,29 @@ def test_compose_command_warns_and_strict_fails_on_a_note_left_out(library, tmp_
     assert "composed 1 of 2 notes" in result.stdout
 
 
+@pytest.mark.parametrize("text, problems, count", [
+    ("tempo 100\n0 double 90\n1 single 124\n", 1, "1 problem"),  # the double cut short, nothing left out
+    ("tempo 100\n0 double 90\n1 single 124\n1.02 single 90\n", 2, "1 note left out, 1 other problem"),
+])
+def test_compose_command_counts_its_problems_in_one_line(library, tmp_path, text, problems, count):
+    """The one warning line without --verbose: "other" only after notes left out, "the first" only of several."""
+    pattern = write(tmp_path / "cut.pattern", text)
+    found = compose(read_score(pattern), library).problems
+    assert len(found) == problems and "cut 0.260 s into it" in found[-1]
+    result = run("compose", pattern, "--library", library.path)
+    assert result.returncode == 0, result
+    first = f": {found[0]}" if problems == 1 else f"; the first: {found[0]}; --verbose lists them all"
+    assert result.stderr == f"warning: {count} (velocities out of reach, strokes cut short){first}\n"
+
+
+def test_compose_command_counts_each_sticks_impacts_in_words(library, tmp_path):
+    pattern = write(tmp_path / "one.pattern", "tempo 60\n0 single 100\n")
+    sticks = compose(read_score(pattern), library).sticks
+    assert {name: len(stick.impacts) for name, stick in sticks.items()} == {"right": 1}  # a single hits once
+    result = run("compose", pattern, "--library", library.path)
+    assert result.returncode == 0 and result.stdout.splitlines()[1].endswith("sticks: right (1 impact)")
+
+
 def test_a_stroke_not_in_the_library_is_named_with_its_line(library):
     """Exposes a bug: Library.__getitem__ raises ParameterError, not KeyError, so Mapping.__contains__ in
     ``note.stroke not in library`` raises the library's message (no line) instead of answering False."""
