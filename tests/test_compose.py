@@ -8,9 +8,6 @@ head and upright, returns within the speed and acceleration limits, one time gri
 
 import json
 import math
-import shutil
-import subprocess
-import sys
 from pathlib import Path
 
 import mido
@@ -19,7 +16,7 @@ import pretty_midi
 import pytest
 from scipy.optimize import brentq
 
-from _cli import assert_one_line_error
+from _cli import assert_one_line_error, run
 from _midi import read_with_mido
 from drumstroke.compose import compose
 from drumstroke.design import Setup
@@ -60,11 +57,6 @@ MIDI_EVENTS = [(0, 38, 100), (240, 42, 70), (480, 37, 40), (960, 40, 90), (1920,
 MIDI_NOTES = [(0.0, "right"), (0.5, "right"), (1.0, "right"), (3.0, "right"), (4.0, "right")]
 LIBRARY_MAPPING = {38: ("single", "right"), 40: ("single", "right"), 37: ("tap", "right")}
 
-
-def run(*args):
-    exe = shutil.which("drumstroke")
-    command = [exe] if exe else [sys.executable, "-m", "drumstroke.cli"]
-    return subprocess.run([*command, *map(str, args)], check=False, capture_output=True, text=True, timeout=120)
 
 
 @pytest.fixture(scope="module")
@@ -386,6 +378,29 @@ def test_compose_command_warns_and_strict_fails_on_a_note_left_out(library, tmp_
     assert len(warnings) == 1 and "line 3" in warnings[0] and "too soon" in warnings[0]
     assert ("--strict" in result.stderr) == strict
     assert "composed 1 of 2 notes" in result.stdout
+
+
+@pytest.mark.parametrize("text, problems, count", [
+    ("tempo 100\n0 double 90\n1 single 124\n", 1, "1 problem"),  # the double cut short, nothing left out
+    ("tempo 100\n0 double 90\n1 single 124\n1.02 single 90\n", 2, "1 note left out, 1 other problem"),
+])
+def test_compose_command_counts_its_problems_in_one_line(library, tmp_path, text, problems, count):
+    """The one warning line without --verbose: "other" only after notes left out, "the first" only of several."""
+    pattern = write(tmp_path / "cut.pattern", text)
+    found = compose(read_score(pattern), library).problems
+    assert len(found) == problems and "cut 0.260 s into it" in found[-1]
+    result = run("compose", pattern, "--library", library.path)
+    assert result.returncode == 0, result
+    first = f": {found[0]}" if problems == 1 else f"; the first: {found[0]}; --verbose lists them all"
+    assert result.stderr == f"warning: {count} (velocities out of reach, strokes cut short){first}\n"
+
+
+def test_compose_command_counts_each_sticks_impacts_in_words(library, tmp_path):
+    pattern = write(tmp_path / "one.pattern", "tempo 60\n0 single 100\n")
+    sticks = compose(read_score(pattern), library).sticks
+    assert {name: len(stick.impacts) for name, stick in sticks.items()} == {"right": 1}  # a single hits once
+    result = run("compose", pattern, "--library", library.path)
+    assert result.returncode == 0 and result.stdout.splitlines()[1].endswith("sticks: right (1 impact)")
 
 
 def test_a_stroke_not_in_the_library_is_named_with_its_line(library):
