@@ -17,6 +17,7 @@ import pytest
 
 import drumstroke
 from drumstroke import Constant, ParameterError, PiecewiseLinear, Pulses, Recipe, Samples, SimulationError, Stick, Sum
+from drumstroke.profiles import profile_from_dict
 
 THETA_MAX = Stick().theta_max
 THETA0_RANGE = f"[{THETA_MAX:g}, {math.pi / 2:g}) rad"
@@ -54,6 +55,26 @@ def test_parameter_error_is_a_value_error():
     assert issubclass(ParameterError, ValueError)
     assert issubclass(ParameterError, drumstroke.DrumstrokeError)
     assert not issubclass(SimulationError, ValueError)
+
+
+@pytest.mark.parametrize(("make", "parameter", "value", "allowed"), [
+    (lambda: Constant(2e6), "constant.value", 2e6, "[-1e+06, 1e+06] m/s^2"),
+    (lambda: Stick(length=-1.0), "stick.length", -1.0, None),
+    (lambda: profile_from_dict({"kind": "constant", "value": float("inf")}), "force.value", float("inf"),
+     "[-1e+06, 1e+06] m/s^2"),
+    (lambda: profile_from_dict({"kind": "sum", "parts": [{"kind": "constant", "value": "x"}]}, name="thumb"),
+     "thumb.parts[0].value", "x", "[-1e+06, 1e+06] m/s^2"),
+    (lambda: profile_from_dict({"kind": "ramp"}), "force.kind", "ramp", None),
+])
+def test_an_error_about_one_parameter_carries_it_as_its_message_names_it(make, parameter, value, allowed):
+    """parameter, value and allowed are what the message says: it starts with the parameter and says what is allowed."""
+    with pytest.raises(ParameterError) as raised:
+        make()
+    error = raised.value
+    assert error.parameter == parameter and str(error).startswith(f"{parameter} must ")
+    assert error.value == value
+    assert error.allowed in str(error) and (allowed is None or error.allowed == allowed)
+    assert str(error.renamed("--x")) == "--x " + error.reason
 
 
 # -- Recipe fields ------------------------------------------------------------------------

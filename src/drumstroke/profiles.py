@@ -571,14 +571,18 @@ def profile_from_dict(spec, *, name="force", base_dir=None):
         An instance of the class registered under ``kind``.
     """
     if not isinstance(spec, dict):
-        raise ParameterError(f"{name} must be a table with a 'kind' key, got {shown(spec)}")
+        raise ParameterError(f"{name} must be a table with a 'kind' key, got {shown(spec)}", parameter=name, value=spec,
+                             allowed="a table with a 'kind' key")
     depth = _sum_depth(spec)
     if depth > MAX_SUM_DEPTH:
-        raise ParameterError(f"{name} must nest sums at most {MAX_SUM_DEPTH} deep, got sums {depth} deep")
+        raise ParameterError(f"{name} must nest sums at most {MAX_SUM_DEPTH} deep, got sums {depth} deep",
+                             parameter=name, value=spec, allowed=f"sums at most {MAX_SUM_DEPTH} deep")
     table = dict(spec)
     kind = table.pop("kind", None)
     if not isinstance(kind, str) or kind not in _REGISTRY:
-        raise ParameterError(f"{name}.kind must be one of {', '.join(map(repr, _REGISTRY))}, got {kind!r}")
+        allowed = "one of " + ", ".join(map(repr, _REGISTRY))
+        raise ParameterError(f"{name}.kind must be {allowed}, got {kind!r}", parameter=f"{name}.kind", value=kind,
+                             allowed=allowed)
     with named(name, kind):
         return _REGISTRY[kind].from_table(table, name=name, base_dir=base_dir)
 
