@@ -8,9 +8,6 @@ head and upright, returns within the speed and acceleration limits, one time gri
 
 import json
 import math
-import shutil
-import subprocess
-import sys
 from pathlib import Path
 
 import mido
@@ -19,7 +16,7 @@ import pretty_midi
 import pytest
 from scipy.optimize import brentq
 
-from _cli import assert_one_line_error
+from _cli import assert_one_line_error, run
 from _midi import read_with_mido
 from drumstroke.compose import compose
 from drumstroke.design import Setup
@@ -59,12 +56,6 @@ MIDI_EVENTS = [(0, 38, 100), (240, 42, 70), (480, 37, 40), (960, 40, 90), (1920,
 # seconds by hand: tick·0.5/480 up to tick 960 (1.0 s), then 1.0 + (tick − 960)·1.0/480
 MIDI_NOTES = [(0.0, "right"), (0.5, "right"), (1.0, "right"), (3.0, "right"), (4.0, "right")]
 LIBRARY_MAPPING = {38: ("single", "right"), 40: ("single", "right"), 37: ("tap", "right")}
-
-
-def run(*args):
-    exe = shutil.which("drumstroke")
-    command = [exe] if exe else [sys.executable, "-m", "drumstroke.cli"]
-    return subprocess.run([*command, *map(str, args)], check=False, capture_output=True, text=True, timeout=120)
 
 
 @pytest.fixture(scope="module")
