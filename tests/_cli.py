@@ -73,11 +73,11 @@ def _show_on_stderr(message, category, filename, lineno, file=None, line=None):
     sys.stderr.write(warnings.formatwarning(message, category, filename, lineno, line))
 
 
-def run_process(*args, cwd=None, **options):
-    """Run ``drumstroke ARGS`` as a subprocess; return the CompletedProcess (text output captured)."""
+def run_process(*args, cwd=None, timeout=120):
+    """Run ``drumstroke ARGS`` as a subprocess (the console script); return the CompletedProcess (text output)."""
     command = [EXE] if EXE else [sys.executable, "-m", "drumstroke.cli"]
     return subprocess.run([*command, *map(str, args)], check=False, capture_output=True, text=True, cwd=cwd,
-                          timeout=120, **options)
+                          timeout=timeout)
 
 
 def assert_one_line_error(result, *needles):

@@ -9,14 +9,14 @@ import json
 import re
 import shlex
 import shutil
-import subprocess
+from itertools import pairwise
 from pathlib import Path
 
 import matplotlib.image
 import mido
 import soundfile
 
-from _cli import EXE
+from _cli import run_process
 from drumstroke.palette.library import load_library
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -105,10 +105,9 @@ def test_the_quick_tour_runs_as_written(tmp_path):
     written = []
     for words in _tour_commands():
         assert words[0] == "drumstroke", words
-        result = subprocess.run([EXE, *words[1:]], cwd=tmp_path, capture_output=True, text=True, timeout=300,
-                                check=False)
+        result = run_process(*words[1:], cwd=tmp_path, timeout=300)
         assert result.returncode == 0, (words, result.stderr[-2000:])
-        outputs = [value for option, value in zip(words, words[1:]) if option in OUTPUT_OPTIONS]
+        outputs = [value for option, value in pairwise(words) if option in OUTPUT_OPTIONS]
         outputs += [words[3]] if words[1:3] == ["library", "build"] else []
         for name in outputs:
             assert f"wrote {name}" in result.stdout, (name, result.stdout[-2000:])
