@@ -590,3 +590,26 @@ def test_compose_help_describes_the_pattern_format_and_the_drum_map():
     for needle in ("tempo BPM", "meter N/D", "BEAT STROKE VELOCITY [STICK [BEATS]]", "38  Acoustic Snare", "40  Electric Snare",
                    "37  Side Stick", "--channel N", "--track TRACK", "--quiet", "--verbose"):
         assert needle in result.stdout, needle
+
+
+def _printed(page, first_line):
+    """The lines of the ```text block of ``page`` (under docs/) that starts with ``first_line``."""
+    text = (Path(__file__).resolve().parents[1] / "docs" / page).read_text(encoding="utf-8")
+    (block,) = [b for b in text.split("```text\n")[1:] if b.startswith(first_line)]
+    return block.split("\n```", 1)[0].splitlines()
+
+
+def test_the_docs_show_what_compose_prints(library, tmp_path):
+    """docs/palette.md's outputs of the backbeat example and of the real song, line for line."""
+    root = Path(__file__).resolve().parents[1]
+    outputs = [(option, tmp_path / f"piece.{suffix}") for option, suffix in
+               (("--csv", "csv"), ("--plot", "png"), ("--audio", "wav"), ("--midi", "mid"))]
+    result = run("compose", "examples/backbeat.pattern", "--library", library.path,
+                 *(word for pair in outputs for word in pair), cwd=root)
+    assert result.returncode == 0, result.stderr
+    lines = result.stdout.replace(f"{tmp_path}/", "").splitlines()  # the summary, then what was written
+    assert _printed("palette.md", "examples/backbeat.pattern: ") == [*lines[:2], *result.stderr.splitlines(), *lines[2:]]
+    (tmp_path / "song.mid").write_bytes(SONG.read_bytes())
+    result = run("compose", "song.mid", "--library", library.path, cwd=tmp_path)
+    assert result.returncode == 0 and result.stderr == "", result.stderr
+    assert _printed("palette.md", "song.mid: ") == result.stdout.splitlines()

@@ -129,16 +129,16 @@ def _compose(args):
 
 
 def _warn(piece, played, args, say):
-    """Compose's problems: each with --verbose, else one line with the first and the count."""
+    """Compose's problems: each with --verbose or when there is one, else one line with the counts and the first."""
     problems = piece.problems
-    if args.verbose:
+    if args.verbose or len(problems) == 1:
         for problem in problems:
-            print(f"warning: {problem}", file=sys.stderr)
+            say(f"warning: {problem}", file=sys.stderr)
     elif problems:
         left_out = len(piece.placements) - played
         others = len(problems) - left_out
         kinds = [f"{left_out} note{'s' * (left_out != 1)} left out" if left_out else "",
-                 f"{others} other problem{'s' * (others != 1)} (velocities out of reach, strokes cut short)"
-                 if others > 0 else ""]
-        more = f"; the first: {problems[0]}" + ("; --verbose lists them all" if len(problems) > 1 else "")
-        say(f"warning: {', '.join(kind for kind in kinds if kind)}{more}", file=sys.stderr)
+                 f"{others}{' other' * bool(left_out)} problem{'s' * (others != 1)} (velocities out of reach, "
+                 "strokes cut short)" if others > 0 else ""]
+        say(f"warning: {', '.join(kind for kind in kinds if kind)}; the first: {problems[0]}; --verbose lists them "
+            "all", file=sys.stderr)
