@@ -97,14 +97,14 @@ def test_figures_draws_figs_4_to_7(tmp_path):
         assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
-def test_demo_writes_plots_and_json_for_the_four_figures(tmp_path):
-    result = run("demo", tmp_path / "out")
+def test_demo_writes_plots_and_json_for_the_four_figures(demo):
+    out, result = demo
     assert result.returncode == 0, result.stderr
     for stem in ("fig4-free-bounce", "fig5-low-high", "fig6-high-low", "fig7-finger-pulses"):
-        data = json.loads((tmp_path / "out" / f"{stem}.json").read_text())
+        data = json.loads((out / f"{stem}.json").read_text())
         assert data["model"] == "paper" and len(data["impacts"]) > 5
-        assert (tmp_path / "out" / f"{stem}.png").stat().st_size > 10_000
-        assert (tmp_path / "out" / f"{stem}.csv").read_text().splitlines()[0] == "t,theta,omega"
+        assert (out / f"{stem}.png").stat().st_size > 10_000
+        assert (out / f"{stem}.csv").read_text().splitlines()[0] == "t,theta,omega"
         assert data["csv"]["file"] == f"{stem}.csv" and data["csv"]["model"] == "paper"
 
 

@@ -416,9 +416,8 @@ class Links(HTMLParser):
             self.sections.append(attrs.get("id"))
 
 
-def test_demo_writes_a_page_whose_every_link_is_a_real_file(tmp_path):
-    out = tmp_path / "out"
-    result = run("demo", out)
+def test_demo_writes_a_page_whose_every_link_is_a_real_file(demo):
+    out, result = demo
     assert result.returncode == 0, result.stderr
     page = Links()
     page.feed((out / "index.html").read_text(encoding="utf-8"))
