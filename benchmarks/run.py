@@ -244,7 +244,8 @@ def run_process_case(name):
         "error_ours_vs": None,
         "error_reference": None,
         "counts_agree": True,
-        "timing": {"repeats": PROCESS_REPEATS, "ours_all": times[1:], "command": " ".join(command)},
+        "timing": {"repeats": PROCESS_REPEATS, "ours_all": times[1:],
+                   "command": " ".join([Path(command[0]).name, *command[1:]])},  # as typed: no path of this host
     }
 
 

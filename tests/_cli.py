@@ -1,10 +1,10 @@
-"""Running the ``drumstroke`` command in tests: in-process, or as a subprocess where the process is tested.
+"""Running the ``drumstroke`` command in tests.
 
-:func:`run` calls :func:`drumstroke.cli.main` in this process (no second or so of start-up per call), with
-what a subprocess would have of its own: its stdout and stderr captured, warnings shown on its stderr
-with Python's default filters, its own numpy error state, logging and ``sys.argv``, an empty stdin,
-and a working directory put back after it. :func:`run_process` runs the console script itself, for
-tests of what only a process shows (start-up imports, signals, the environment, a terminal).
+:func:`run` calls :func:`drumstroke.cli.main` in this process as the console script would: the
+same argv, working folder, stdout and stderr, and warnings and log records shown on stderr as a
+fresh interpreter shows them. It spares a Python start-up per call; :func:`run_process` runs the
+console script in a subprocess, for the tests where the process itself is what is tested (its
+start-up, its environment, its exit on a signal or a closed pipe).
 """
 
 import contextlib
@@ -15,69 +15,64 @@ import shutil
 import subprocess
 import sys
 import warnings
-from types import SimpleNamespace
+from unittest import mock
 
-import numpy as np
-
-from drumstroke.cli import main
+from drumstroke import cli
 
 EXE = shutil.which("drumstroke")
-
-# Python's filters when no -W option and no PYTHONWARNINGS is given, as a fresh process starts with.
-_DEFAULT_FILTERS = (("default", DeprecationWarning, "__main__"), ("ignore", DeprecationWarning, None),
-                    ("ignore", PendingDeprecationWarning, None), ("ignore", ImportWarning, None),
-                    ("ignore", ResourceWarning, None))
+COMMAND = [EXE] if EXE else [sys.executable, "-m", "drumstroke.cli"]
 
 
 def run(*args, cwd=None):
-    """Run ``drumstroke ARGS`` in this process; return its returncode, stdout, stderr and args (text)."""
+    """Run ``drumstroke ARGS`` in-process; return a CompletedProcess (returncode, stdout, stderr as text)."""
     argv = list(map(str, args))
-    stdout, stderr = io.StringIO(), io.StringIO()
-    with _process_state(argv, stdout, stderr, cwd):
-        try:
-            code = main(argv)
-        except SystemExit as stop:  # as the interpreter turns it into an exit status
-            code = stop.code
-    if code is not None and not isinstance(code, int):
-        stderr.write(f"{code}\n")
-        code = 1
-    return SimpleNamespace(args=["drumstroke", *argv], returncode=code or 0, stdout=stdout.getvalue(),
-                           stderr=stderr.getvalue())
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.ExitStack() as stack:
+        stack.enter_context(contextlib.redirect_stdout(out))
+        stack.enter_context(contextlib.redirect_stderr(err))
+        stack.enter_context(_as_a_fresh_interpreter(err))
+        stack.enter_context(mock.patch.object(sys, "argv", [COMMAND[0], *argv]))
+        stack.enter_context(mock.patch.object(sys, "stdin", io.StringIO()))  # as subprocess.DEVNULL: nothing to read
+        # a process writing into a pipe has no terminal: help is wrapped at COLUMNS or 80 characters
+        stack.enter_context(mock.patch.dict(os.environ, {"COLUMNS": os.environ.get("COLUMNS", "80")}))
+        if cwd is not None:
+            stack.enter_context(contextlib.chdir(cwd))
+        returncode = _exit_status(cli.main(argv), err)
+    return subprocess.CompletedProcess([*COMMAND, *argv], returncode, out.getvalue(), err.getvalue())
+
+
+def run_process(*args, cwd=None):
+    """Run ``drumstroke ARGS`` in a subprocess (the console script); return the CompletedProcess (text output)."""
+    return subprocess.run([*COMMAND, *map(str, args)], check=False, capture_output=True, text=True, cwd=cwd,
+                          stdin=subprocess.DEVNULL, timeout=120)
+
+
+def _exit_status(code, err):
+    """The exit status ``sys.exit(code)`` gives a process (a message is printed on stderr, status 1)."""
+    if code is None or isinstance(code, int):
+        return code or 0
+    print(code, file=err)
+    return 1
 
 
 @contextlib.contextmanager
-def _process_state(argv, stdout, stderr, cwd):
-    """What a fresh process of the command would have, and this one gets back afterwards."""
-    root = logging.getLogger()
-    handlers, level = root.handlers[:], root.level
-    saved_argv, saved_stdin, here = sys.argv, sys.stdin, os.getcwd()
-    sys.argv, sys.stdin = ["drumstroke", *argv], io.StringIO()
-    try:
-        if cwd is not None:
-            os.chdir(cwd)
-        with (warnings.catch_warnings(), np.errstate(divide="warn", over="warn", under="ignore", invalid="warn"), contextlib.redirect_stdout(stdout),
-              contextlib.redirect_stderr(stderr)):
-            warnings.resetwarnings()
-            for action, category, module in reversed(_DEFAULT_FILTERS):
-                warnings.filterwarnings(action, category=category, module=module or "")
-            warnings.showwarning = _show_on_stderr
+def _as_a_fresh_interpreter(err):
+    """Warnings filtered and shown on ``err``, and log records of WARNING and above written there, as in a new
+    process: pytest records both otherwise (and turns RuntimeWarnings into errors), which a process does not."""
+    handler = logging.StreamHandler(err)  # what logging.lastResort does when nothing is configured
+    handler.setLevel(logging.WARNING)
+    with warnings.catch_warnings():
+        warnings.resetwarnings()
+        warnings.filterwarnings("default", category=DeprecationWarning, module="__main__", append=True)
+        for category in (DeprecationWarning, PendingDeprecationWarning, ImportWarning, ResourceWarning):
+            warnings.filterwarnings("ignore", category=category, append=True)
+        warnings.showwarning = lambda message, category, filename, lineno, file=None, line=None: err.write(
+            warnings.formatwarning(message, category, filename, lineno, line))
+        logging.getLogger().addHandler(handler)
+        try:
             yield
-    finally:
-        os.chdir(here)
-        sys.argv, sys.stdin = saved_argv, saved_stdin
-        root.handlers[:], root.level = handlers, level
-
-
-def _show_on_stderr(message, category, filename, lineno, file=None, line=None):
-    """Print a warning on the current sys.stderr, as Python does (pytest's capture is bypassed)."""
-    sys.stderr.write(warnings.formatwarning(message, category, filename, lineno, line))
-
-
-def run_process(*args, cwd=None, timeout=120):
-    """Run ``drumstroke ARGS`` as a subprocess (the console script); return the CompletedProcess (text output)."""
-    command = [EXE] if EXE else [sys.executable, "-m", "drumstroke.cli"]
-    return subprocess.run([*command, *map(str, args)], check=False, capture_output=True, text=True, cwd=cwd,
-                          timeout=timeout)
+        finally:
+            logging.getLogger().removeHandler(handler)
 
 
 def assert_one_line_error(result, *needles):

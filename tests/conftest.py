@@ -10,11 +10,8 @@ def rng():
 
 @pytest.fixture(scope="session")
 def demo(tmp_path_factory):
-    """``drumstroke demo OUT`` run once (it builds, renders and composes everything): the folder and the result.
-
-    Its tests only read what it wrote.
-    """
+    """``drumstroke demo OUT`` run once for the tests that read what it wrote: (the finished run, OUT)."""
     from _cli import run
 
     out = tmp_path_factory.mktemp("demo") / "out"
-    return out, run("demo", out)
+    return run("demo", out), out

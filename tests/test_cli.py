@@ -1,4 +1,5 @@
-"""The ``drumstroke`` command, run as a user runs it: a real process, real files."""
+"""The ``drumstroke`` command, run as a user runs it, on real files: in-process through ``main`` (tests/_cli.py),
+and as the console script in a process of its own where the process is what is tested."""
 
 import argparse
 import csv
@@ -24,7 +25,7 @@ import drumstroke.palette.library
 import drumstroke.robot.track
 import drumstroke.stroke
 import drumstroke.sweep
-from _cli import EXE, assert_one_line_error, run
+from _cli import EXE, assert_one_line_error, run, run_process
 from drumstroke.cli import COMMANDS, build_parser, main
 from drumstroke.cli._common import Bar
 from drumstroke.cli._options import Output
@@ -32,6 +33,15 @@ from drumstroke.cli._options import Output
 
 def test_console_script_is_installed():
     assert EXE is not None, "pip install should put 'drumstroke' on PATH"
+
+
+@pytest.mark.parametrize("args", [("presets",), ("simulate", "free-bounce", "--rate", "-5"), ("--version",),
+                                  ("compose", "--help")])
+def test_the_console_script_prints_and_exits_as_the_in_process_run_of_the_tests(args):
+    """What tests/_cli.py's run() returns is what the console script in its own process gives."""
+    process, in_process = run_process(*args), run(*args)
+    assert (process.returncode, process.stdout, process.stderr) == (
+        in_process.returncode, in_process.stdout, in_process.stderr)
 
 
 def test_simulate_writes_json_csv_and_plot(tmp_path):
@@ -98,7 +108,7 @@ def test_figures_draws_figs_4_to_7(tmp_path):
 
 
 def test_demo_writes_plots_and_json_for_the_four_figures(demo):
-    out, result = demo
+    result, out = demo
     assert result.returncode == 0, result.stderr
     for stem in ("fig4-free-bounce", "fig5-low-high", "fig6-high-low", "fig7-finger-pulses"):
         data = json.loads((out / f"{stem}.json").read_text())

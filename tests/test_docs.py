@@ -121,6 +121,18 @@ def test_every_example_on_the_page_runs(page, tmp_path, monkeypatch, capsys):
                 _run(command, tmp_path, env, capsys)
 
 
+def test_the_song_summary_the_palette_page_quotes_is_what_compose_prints(tmp_path):
+    """What the page says compose prints for a real song is what it prints, line for line."""
+    from _cli import run
+
+    page = (DOCS / "palette.md").read_text(encoding="utf-8")
+    (quoted,) = re.findall(r"the summary is:\n\n```text\n(.*?)```", page, re.DOTALL)
+    shutil.copy(ROOT / "tests" / "data" / "midi" / "d6caebd1964d9e4a3c5ea59525230e2a.mid", tmp_path / "song.mid")
+    result = run("compose", "song.mid", cwd=tmp_path)
+    assert result.returncode == 0 and result.stderr == "", result
+    assert result.stdout == quoted
+
+
 def test_the_pages_have_examples():
     """The pages that teach by example keep their examples (a broken fence would silently drop them)."""
     for name in ("README.md", "tutorial.md", "model.md", "profiles.md", "palette.md", "robot.md", "listening-test.md"):

@@ -108,32 +108,47 @@ def test_lying_negative_and_oversized_content_lengths_are_answered_and_store_not
 
 
 def test_a_head_that_trickles_in_is_cut_at_the_head_timeout_and_an_idle_connection_closed(served):
+    """A byte every 0.2 s does not put the 1 s deadline off: the head is answered 408 and the connection closed.
+
+    The client waits for the end up to a generous bound (a busy machine is slow, not wrong), reads whatever
+    came before a reset (the server may reset a connection whose trickled bytes it left unread), and checks
+    that its bytes came closer together than the timeout, so that only a deadline on the whole head cuts it.
+    """
     server, _, _, _ = served
+    began = time.monotonic()  # before connecting: the server's clock for this connection starts after it
     with socket.create_connection(address(server)) as connection:
-        began = time.monotonic()
         connection.sendall(b"GET / HTTP/1.1\r\nHost: localhost\r\nX-Slow: ")
-        connection.settimeout(0.2)
-        reply, sent, lasted = b"", 0, None
-        while time.monotonic() - began < 8.0:
-            try:
-                chunk = connection.recv(4096)
-            except TimeoutError:
-                if lasted is None:  # a byte every 0.2 s until the server answers: it does not put the deadline off
-                    try:
-                        sent += connection.send(b"a")
-                    except OSError:  # closed under it: a byte sent after its close is reset; read what it sent
-                        lasted = time.monotonic() - began
-                continue
-            except ConnectionResetError:  # the reset of a byte that crossed the server's close, after its answer
-                break
-            if not chunk:
-                break
-            reply += chunk
-            lasted = time.monotonic() - began if lasted is None else lasted
+        reply, sent, ended = read_while_trickling(connection, began + 30.0)
     assert statuses(reply) == [408] and b"did not arrive within 1 s" in reply
-    assert 0.9 < lasted < 5.0 and sent >= 4  # cut at 1 s, not put off by the bytes that kept coming until 8 s
-    reply, lasted, closed = exchange(server, b"")  # nothing sent: closed without a word
-    assert reply == b"" and closed and 0.9 < lasted < 5.0
+    lasted = ended - began
+    assert lasted > 0.9 and len(sent) >= 2
+    assert max(b - a for a, b in zip([began, *sent], [*sent, ended])) < 1.0, sent  # never idle for the timeout
+    began = time.monotonic()
+    reply, _, closed = exchange(server, b"", wait=30.0)  # nothing sent: closed without a word
+    assert reply == b"" and closed and time.monotonic() - began > 0.9
+
+
+def read_while_trickling(connection, deadline, interval=0.2):
+    """Send a byte every ``interval`` s while reading what comes, until the server ends the connection or
+    ``deadline``: (what came, when each byte was sent, when it ended)."""
+    connection.settimeout(interval)
+    reply, sent = b"", []
+    while time.monotonic() < deadline:
+        try:
+            chunk = connection.recv(4096)
+        except TimeoutError:
+            try:
+                connection.send(b"a")
+                sent.append(time.monotonic())
+            except OSError:  # the server has closed its end: what it said is read next
+                pass
+            continue
+        except ConnectionResetError:  # after its answer, for the bytes it left unread
+            break
+        if not chunk:
+            break
+        reply += chunk
+    return reply, sent, time.monotonic()
 
 
 def test_malformed_heads_are_answered_400_with_a_message(served):
@@ -211,24 +226,29 @@ def test_connections_over_the_caps_are_answered_503_at_once(tmp_path):
 
 
 def test_a_thousand_trickling_connections_neither_stop_a_participant_nor_stay(tmp_path):
-    """1,000 connections from 5 addresses trickle a request head; a participant from a sixth does the whole test."""
-    head_timeout = 5.0  # longer than the participant's whole test takes on a busy host
+    """1,000 connections from 5 addresses trickle a request head; a participant from a sixth does the whole test.
+
+    The head timeout leaves a busy machine the time to open the flood and take the test while all of it is
+    held; each wait polls up to a generous bound, and times are taken so that load can only lengthen them.
+    """
+    head_timeout = 3.0
     server, _, store = start_test(tmp_path, pairs=PAIRS, token=TOKEN, seed=5, limits=f"head_timeout = {head_timeout}")
     try:
         opened, trickles = {}, []
         for i in range(1000):
+            began = time.monotonic()  # before connecting: the server's clock for it starts after
             connection = socket.create_connection(address(server), source_address=(f"127.0.0.{2 + i % 5}", 0))
-            opened[connection] = time.monotonic()
+            opened[connection] = began
             trickles.append(connection)
-        refused = answered_at_once(trickles)  # the caps (100 per client by default) answer the others at once
+        # the caps (100 per client by default) answer the other 500 at once: without waiting for a request
+        refused = answered(trickles, 500, time.monotonic() + 60.0)
         held = [connection for connection in trickles if connection not in refused]
         for connection in held:
             connection.send(b"GET / HTTP/1.1\r\nHost: localhost\r\nX-Slow: ")
         result = {}
-        trickler = threading.Thread(target=lambda: result.update(trickle(held, time.monotonic() + 15.0)))
+        trickler = threading.Thread(target=lambda: result.update(trickle(held, time.monotonic() + 60.0)))
         trickler.start()
 
-        began = time.monotonic()
         client = Client(server.url, source="127.0.0.1")
         participant = client.start()
         for k in range(PAIRS):
@@ -242,12 +262,13 @@ def test_a_thousand_trickling_connections_neither_stop_a_participant_nor_stay(tm
 
         assert len(refused) == 500
         assert all(statuses(r) == [503] and b"from your address" in r for r in refused.values())
-        assert finished - began < 5.0 and len(store.rows()) == PAIRS
+        assert len(store.rows()) == PAIRS
         closed, replies, sent = result["closed"], result["replies"], result["sent"]
         assert len(closed) == len(held) == 500 and all(statuses(replies[c]) == [408] for c in held)
         lifetimes = [closed[c] - opened[c] for c in held]
         assert min(closed.values()) > finished  # all 500 were open while the participant took the test
-        assert head_timeout - 0.1 < min(lifetimes) and max(lifetimes) < head_timeout + 3.0
+        # cut at the deadline of the whole head, though a byte came every 0.25 s: not before it, and not put off
+        assert head_timeout - 0.1 < min(lifetimes) and max(lifetimes) < 2 * head_timeout
         assert min(sent[c] for c in held) >= 5  # each kept trickling, a byte every 0.25 s, to the end
     finally:
         for connection in trickles:
@@ -255,18 +276,16 @@ def test_a_thousand_trickling_connections_neither_stop_a_participant_nor_stay(tm
         server.stop()
 
 
-def answered_at_once(connections, quiet=1.0, first=30.0):
-    """{connection: what the server sent} for those it answered, once none has answered for ``quiet`` s since the
-    first answer (waited for up to ``first`` s: a busy host may take a while to accept a thousand connections)."""
+def answered(connections, count, deadline):
+    """{connection: what the server sent} for those it answered, once ``count`` have answered (or ``deadline``)."""
     for connection in connections:
         connection.setblocking(False)
-    replies, last = {}, time.monotonic() + first
-    while time.monotonic() - last < quiet and (replies or time.monotonic() < last):
+    replies = {}
+    while len(replies) < count and time.monotonic() < deadline:
         for connection in connections:
             if connection not in replies:
                 try:
                     replies[connection] = connection.recv(4096)
-                    last = time.monotonic()
                 except BlockingIOError:
                     pass
         time.sleep(0.05)

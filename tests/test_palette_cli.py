@@ -417,7 +417,7 @@ class Links(HTMLParser):
 
 
 def test_demo_writes_a_page_whose_every_link_is_a_real_file(demo):
-    out, result = demo
+    result, out = demo
     assert result.returncode == 0, result.stderr
     page = Links()
     page.feed((out / "index.html").read_text(encoding="utf-8"))

@@ -23,23 +23,26 @@ from .errors import ParameterError
 
 def check_real(name, value, *, low=-math.inf, high=math.inf, low_open=False, high_open=False, unit=""):
     """Return ``value`` as a finite float within [low, high] (ends open on request)."""
-    def refuse(must, got):  # the range is worded only for an error: a check that passes is on every hot path
-        allowed = _range_text(low, high, low_open, high_open, unit)
-        return ParameterError(f"{name} {must} {allowed}, got {got}", parameter=name, value=value, allowed=allowed)
-
+    limits = (low, high, low_open, high_open, unit)
     if isinstance(value, bool) or not isinstance(value, Real):
-        raise refuse("must be a number in", shown(value))
+        raise _refused(name, value, "must be a number in", shown(value), limits)
     try:
         number = float(value)
     except OverflowError:  # an integer beyond any float: out of every range
-        raise refuse("must be in", shown(value)) from None
+        raise _refused(name, value, "must be in", shown(value), limits) from None
     if not math.isfinite(number):
-        raise refuse("must be a finite number in", repr(number))
+        raise _refused(name, value, "must be a finite number in", repr(number), limits)
     too_low = number <= low if low_open else number < low
     too_high = number >= high if high_open else number > high
     if too_low or too_high:
-        raise refuse("must be in", shown(value) if _is_long(value) else repr(number))
+        raise _refused(name, value, "must be in", shown(value) if _is_long(value) else repr(number), limits)
     return number
+
+
+def _refused(name, value, must, got, limits):
+    """The error of a value out of its range, the range worded only now: a check that passes is on every hot path."""
+    allowed = _range_text(*limits)
+    return ParameterError(f"{name} {must} {allowed}, got {got}", parameter=name, value=value, allowed=allowed)
 
 
 def check_vector(name, values, *, low=-math.inf, high=math.inf, unit=""):

@@ -27,7 +27,7 @@ Examples
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -136,7 +136,7 @@ class Curve:
         if not kept:
             return Curve(added)
         last = kept[-1]
-        kept[-1] = replace(last, end=cut)
+        kept[-1] = Segment(last.start, cut, last.path, last.offset, last.impacts, last.source, last.still)
         return Curve(tuple(kept) + added)
 
     def since(self, t):

@@ -9,6 +9,7 @@ from ..formats import json, trajectory_csv
 from ..formats.midi import PERCUSSION_CHANNEL
 from ..formats.pattern import FORMAT
 from ..render import plot
+from ..render.page import plural
 from ..score import BOUNCE_NOTE, DRUM_MAP, FIRST_IMPACT_NOTE, FIRST_LIBRARY_NOTE
 from ._common import OPTIONS, Bar, add_model, add_sound_options, print_written
 from ._options import Output, add_mkdir, existing_file, existing_folder, number
@@ -114,7 +115,7 @@ def _compose(args):
     if bar:
         bar.close()
     played = sum(p.played for p in piece.placements)
-    sticks = ", ".join(f"{name} ({len(s.impacts)} impacts)" for name, s in piece.sticks.items())
+    sticks = ", ".join(f"{name} ({plural(len(s.impacts), 'impact')})" for name, s in piece.sticks.items())
     say(f"composed {played} of {len(score.notes)} notes from {args.score} (model {piece.model}): {piece.t_end:.3f} s "
         f"at {piece.rate:g} Hz, score time 0 at {piece.offset:g} s; sticks: {sticks}")
     _warn(piece, played, args, say)
@@ -129,16 +130,16 @@ def _compose(args):
 
 
 def _warn(piece, played, args, say):
-    """Compose's problems: each with --verbose or when there is one, else one line with the counts and the first."""
+    """Compose's problems: each with --verbose, else one line with the first and the count."""
     problems = piece.problems
-    if args.verbose or len(problems) == 1:
+    if args.verbose:
         for problem in problems:
-            say(f"warning: {problem}", file=sys.stderr)
+            print(f"warning: {problem}", file=sys.stderr)
     elif problems:
         left_out = len(piece.placements) - played
         others = len(problems) - left_out
-        kinds = [f"{left_out} note{'s' * (left_out != 1)} left out" if left_out else "",
-                 f"{others}{' other' * bool(left_out)} problem{'s' * (others != 1)} (velocities out of reach, "
-                 "strokes cut short)" if others > 0 else ""]
-        say(f"warning: {', '.join(kind for kind in kinds if kind)}; the first: {problems[0]}; --verbose lists them "
-            "all", file=sys.stderr)
+        other = "other problem" if left_out else "problem"  # "other" only after the notes left out
+        kinds = [f"{plural(left_out, 'note')} left out" if left_out else "",
+                 f"{plural(others, other)} (velocities out of reach, strokes cut short)" if others > 0 else ""]
+        more = f"; the first: {problems[0]}; --verbose lists them all" if len(problems) > 1 else f": {problems[0]}"
+        say(f"warning: {', '.join(kind for kind in kinds if kind)}{more}", file=sys.stderr)

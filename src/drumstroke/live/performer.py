@@ -41,7 +41,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from .._checks import check_real
-from ..curve import Curve, Segment
+from ..curve import Curve, Segment, placed
 from ..design import Design, Setup, Start, Unreachable, next_stroke
 from ..design.buzz import DENSITY, buzz_times
 from ..dynamics import velocity_to_level
@@ -492,7 +492,7 @@ def _played(made, start, moves):
     """The motion from ``start`` (s): the moves (or the stick held until the release), the designed stroke, then the
     stick held where the stroke caught it."""
     stroke = made.stroke
-    lead_in = Curve.sequence(moves, start) if moves else Curve.hold(float(made.recipe.theta0), start, made.release)
+    lead_in = placed(moves, start) if moves else (
+        (Segment.hold(float(made.recipe.theta0), start, made.release),) if made.release > start else ())
     played = Segment(made.release, made.t_end, stroke.arcs.evaluate, made.release, stroke.impacts.t, made)
-    caught = Segment.hold(float(made.state(made.t_end)[0]), made.t_end)
-    return lead_in.spliced(played).spliced(caught) if made.release > start else Curve((played, caught))
+    return Curve((*lead_in, played, Segment.hold(float(made.state(made.t_end)[0]), made.t_end)))
