@@ -133,6 +133,23 @@ def test_the_song_summary_the_palette_page_quotes_is_what_compose_prints(tmp_pat
     assert result.stdout == quoted
 
 
+def test_the_backbeat_output_the_palette_page_quotes_is_what_compose_prints(tmp_path):
+    """The page's compose of examples/backbeat.pattern prints what it quotes (stdout, its warning in place)."""
+    from _cli import run
+    from drumstroke.palette.library import build_library, read_palette
+
+    page = (DOCS / "palette.md").read_text(encoding="utf-8")
+    (quoted,) = re.findall(r"which cuts its second hit\):\n\n```text\n(.*?)```", page, re.DOTALL)
+    (command,) = [line for line in commands(page) if line.startswith("drumstroke compose examples/backbeat")]
+    shutil.copytree(ROOT / "examples", tmp_path / "examples")
+    strokes = {"single", "tap", "double", "triple", "press-roll"}  # the pattern's
+    build_library(tmp_path / "lib", palette=[entry for entry in read_palette() if entry.name in strokes])
+    result = run(*shlex.split(command)[1:], cwd=tmp_path)
+    assert result.returncode == 0, result
+    lines = result.stdout.splitlines()  # the summary's two lines, then what was written
+    assert [*lines[:2], *result.stderr.splitlines(), *lines[2:]] == quoted.splitlines()
+
+
 def test_the_pages_have_examples():
     """The pages that teach by example keep their examples (a broken fence would silently drop them)."""
     for name in ("README.md", "tutorial.md", "model.md", "profiles.md", "palette.md", "robot.md", "listening-test.md"):

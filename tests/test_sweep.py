@@ -2,8 +2,6 @@
 
 import csv
 import math
-import subprocess
-import sys
 
 import numpy as np
 import pyarrow.parquet as pq
@@ -11,6 +9,7 @@ import pytest
 from scipy.special import ellipk, ellipkinc
 
 import drumstroke
+from _cli import run
 from drumstroke import ParameterError
 from drumstroke.formats.table import write_table
 from drumstroke.sweep import FEATURES, Grid, run_sweep, stroke_features
@@ -239,8 +238,7 @@ def _as_dict(text):
 
 def test_the_command_writes_the_table_and_refuses_bad_input(grid_file, tmp_path):
     out = tmp_path / "table.csv"
-    done = subprocess.run([sys.executable, "-m", "drumstroke.cli", "sweep", str(grid_file), "--out", str(out)],
-                          capture_output=True, text=True, timeout=120)
+    done = run("sweep", grid_file, "--out", out)
     assert done.returncode == 0, done.stderr
     assert "24 points (grid)" in done.stdout and f"wrote {out}: 24 rows" in done.stdout
     with open(out, newline="") as handle:
@@ -249,12 +247,10 @@ def test_the_command_writes_the_table_and_refuses_bad_input(grid_file, tmp_path)
         (["--out", str(tmp_path / "t.txt")], "--out: '" + str(tmp_path / "t.txt") + "' must end in one of .csv, .parquet"),
         (["--out", str(out), "--audible-db", "nan"], "--audible-db: must be a finite number"),
     ]:
-        bad = subprocess.run([sys.executable, "-m", "drumstroke.cli", "sweep", str(grid_file), *args],
-                             capture_output=True, text=True, timeout=120)
+        bad = run("sweep", grid_file, *args)
         assert bad.returncode == 2 and message in bad.stderr and "Traceback" not in bad.stderr
         assert len(bad.stderr.strip().splitlines()) == 1
-    missing = subprocess.run([sys.executable, "-m", "drumstroke.cli", "sweep", str(tmp_path / "none.toml"),
-                              "--out", str(out)], capture_output=True, text=True, timeout=120)
+    missing = run("sweep", tmp_path / "none.toml", "--out", out)
     assert missing.returncode == 2 and f"file '{tmp_path / 'none.toml'}' does not exist" in missing.stderr
 
 

@@ -5,6 +5,7 @@ from datetime import datetime
 
 from ..errors import ParameterError
 from ..formats import json
+from ..render.page import plural
 from ..robot import ENGINES
 from ._common import add_cor, add_model, robot_config
 from ._options import Output, add_mkdir, existing_file, number
@@ -107,7 +108,7 @@ def _live(args):
     late = timing["lateness_ms"]
     _say(f"played {sum(note['planned'] for note in notes)} of {len(notes)} notes on the {performer.model} model; "
          f"{timing['setpoints']} setpoints at {performer.rate:g} Hz, sent late by {late['median'] or 0:.3f} ms "
-         f"(median), {late['p99'] or 0:.3f} ms (p99); {record['problem_count']} problems")
+         f"(median), {late['p99'] or 0:.3f} ms (p99); {plural(record['problem_count'], 'problem')}")
     if record["robot"]:
         robot = record["robot"]
         _say(f"robot ({robot['engine']}, {robot['controller']}): {robot['onsets']} onsets for {robot['notes']} "
