@@ -45,7 +45,7 @@ from .palette.motion import assemble, plan_return, return_time
 from .palette.transforms import compress, compress_limit, trim
 from .recipe import T_END_LIMIT
 from .score import PLANNED, Score, ScoreNote
-from .trajectory import DEFAULT_RATE, Trajectory
+from .trajectory import DEFAULT_RATE, THETA_TOP, Trajectory
 
 HOLD_AFTER = 0.25
 """Time (s) the stick holds still at the end of a composition, after its last return."""
@@ -221,7 +221,7 @@ def compose(notes, library=None, *, setup=None, rate=None, sticks=2, progress=No
     for note in notes:
         key = (note.stroke, note.velocity)
         if note.stroke not in PLANNED and key not in variants:
-            stroke, factor, problem = _at_velocity(library[note.stroke].trajectory, note, setup.moves)
+            stroke, factor, problem = _at_velocity(library[note.stroke].trajectory, note, setup)
             variants[key] = _Variant(stroke, factor)
             problems += [problem] if problem else []
     by_stick = {}
@@ -482,22 +482,26 @@ def _cut_short(span, library):
             f"the next note: {lost} of its {len(hits)} hits not played"]
 
 
-def _at_velocity(stroke, note, moves):
-    """The stroke compressed so its first impact has the note's velocity level, the factor, and a problem or ''."""
+def _at_velocity(stroke, note, setup):
+    """The stroke compressed so its first impact has the note's velocity level, the factor, and a problem or ''.
+
+    The stroke is scaled no higher than the joint's highest angle (``setup.limits.theta_high``)."""
     if not len(stroke.impacts):
         raise ParameterError(f"{note.source or 'note'}: stroke {note.stroke!r} has no impact to land on the note")
     first = stroke.impacts.level_db[0]
     factor = 10.0 ** ((velocity_to_level(note.velocity) - first) / 20.0)
     wanted = factor
-    factor = min(factor, compress_limit(stroke))
+    top = setup.limits.theta_high
+    factor = min(factor, compress_limit(stroke, top))
     scaled = stroke if factor == 1.0 else compress(stroke, factor)
-    while not _can_wind_up(scaled, moves) and factor > 1e-6:  # a stroke that starts moving needs room above
+    while not _can_wind_up(scaled, setup.moves) and factor > 1e-6:  # a stroke that starts moving needs room above
         factor *= 0.98
         scaled = compress(stroke, factor)
     if factor >= wanted:
         return scaled, factor, ""
     reached = level_to_velocity(first + 20.0 * math.log10(factor))
-    return scaled, factor, (f"{note.source}: velocity {note.velocity} would lift {note.stroke!r} past upright; "
+    where = "past upright" if top >= THETA_TOP else f"above the joint's highest angle, {top:.4g} rad"
+    return scaled, factor, (f"{note.source}: velocity {note.velocity} would lift {note.stroke!r} {where}; "
                             f"played at velocity {reached}, the loudest it can go")
 
 

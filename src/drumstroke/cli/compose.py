@@ -11,7 +11,7 @@ from ..formats.pattern import FORMAT
 from ..render import plot
 from ..render.page import plural
 from ..score import BOUNCE_NOTE, DRUM_MAP, FIRST_IMPACT_NOTE, FIRST_LIBRARY_NOTE
-from ._common import OPTIONS, Bar, add_model, add_sound_options, print_written
+from ._common import OPTIONS, Bar, add_model, add_sound_options, print_written, robot_config
 from ._options import Output, add_mkdir, existing_file, existing_folder, number
 
 _WRITTEN = {"first": "; written for each stroke's first impact", "bounce": "; written for bounces", None: ""}
@@ -60,6 +60,9 @@ def add_compose(comp):
     comp.add_argument("--rate", type=number(low=1.0, high=1e5, unit="Hz"), metavar="HZ",
                       help="control rate of the result, in [1, 1e5] Hz (default: the library's, else 1000)")
     add_model(comp, what="the model the planner designs auto and buzz notes with")
+    comp.add_argument("--config", type=existing_file, metavar="TOML",
+                      help="robot config: the joint's [limits] (its range, speed, acceleration) every planned motion "
+                           "keeps")
     comp.add_argument("--sticks", type=int, choices=(1, 2), default=2,
                       help="sticks the planner may give notes that name none (default 2)")
     midi = comp.add_argument_group("MIDI scores")
@@ -110,7 +113,7 @@ def _compose(args):
         raise ParameterError(f"{args.score} has no notes to play on the channels and tracks chosen; choose others "
                              "with --channel, --track or --mapping (--verbose lists every note skipped)")
     bar = None if args.quiet else Bar("composing", delay=1.0)
-    piece = compose(score, library, rate=rate, progress=bar.update if bar else None, setup=Setup(model=args.model),
+    piece = compose(score, library, rate=rate, progress=bar.update if bar else None, setup=Setup(model=args.model, limits=robot_config(args.config).limits),
                     sticks=args.sticks)
     if bar:
         bar.close()

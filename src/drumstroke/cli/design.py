@@ -8,8 +8,8 @@ from .._atomic import Bundle
 from ..errors import ParameterError
 from ..formats import json, toml, trajectory_csv
 from ..render import plot
-from ._common import add_cor, add_model, add_sound_options, print_written
-from ._options import Output, add_mkdir, number, whole
+from ._common import add_cor, add_model, add_sound_options, print_written, robot_config
+from ._options import Output, add_mkdir, existing_file, number, whole
 
 
 def add_design(des):
@@ -57,6 +57,8 @@ def add_rudiment(rud):
     rud.add_argument("--tempo", type=number(low=1.0, high=400.0, unit="bpm"), metavar="BPM",
                      help="quarter notes a minute, in [1, 400] (default: the middle of the rudiment's range)")
     rud.add_argument("--bars", type=whole(low=1, high=64), default=2, help="bars of 4/4 to play, 1-64 (default 2)")
+    rud.add_argument("--config", type=existing_file, metavar="TOML",
+                     help="robot config: the joint's [limits] (its range, speed, acceleration) every planned motion keeps")
     add_model(rud)
     rud.add_argument("--csv", action=Output, suffixes=trajectory_csv.SUFFIXES, metavar="PATH",
                      help="write t (s) and theta (rad), omega (rad/s) per stick as .csv")
@@ -122,7 +124,7 @@ def _rudiment(args):
     score, played = rudiment_score(chosen.name, tempo, bars=args.bars)
     if played.warning:
         print(f"warning: {played.warning}", file=sys.stderr)
-    piece = compose(score, setup=Setup(model=args.model))
+    piece = compose(score, setup=Setup(model=args.model, limits=robot_config(args.config).limits))
     played_notes = sum(p.played for p in piece.placements)
     print(f"{chosen.number} {chosen.title} at {tempo:g} bpm, {args.bars} bar{'s' * (args.bars != 1)} (model "
           f"{piece.model}): {played_notes} of {len(score.notes)} notes played, {len(piece.designs)} designed strokes; "

@@ -788,6 +788,38 @@ def catch_height(last, following, gap, *, setup=None, lead=LEAD):
     return math.asin(height)
 
 
+READY_GAP = 1.0
+"""s: after a stick's last note it is caught as if the same note came again this long after (:func:`ready_height`)."""
+
+
+def ready_height(level, *, setup=None, lead=LEAD):
+    """Where a stick is caught after its last note: at a playing height, ready to play that note again.
+
+    A drummer ends a part with the stick caught low over the head, not thrown up to its rebound's
+    apex. The height is :func:`catch_height`'s for the same note again :data:`READY_GAP` s later:
+    the height of its standard throw (``lead`` s), lower if the catch would need more than
+    ``forces.high``. With the default setup it is at most 0.4625 rad (26.5°, the standard throw of
+    velocity 127); a quiet note's is a few millimetres above the head.
+
+    Parameters
+    ----------
+    level : float
+        dB re 1 m/s tip speed, the last note's.
+
+    Returns
+    -------
+    float or None
+        rad; None when even the strongest force cannot catch the stick below the joint's highest angle.
+
+    Examples
+    --------
+    >>> from drumstroke.dynamics import velocity_to_level
+    >>> round(ready_height(velocity_to_level(127)), 4)
+    0.4625
+    """
+    return catch_height(level, level, READY_GAP, setup=setup, lead=lead)
+
+
 def check_notes(times, levels, velocities):
     """The notes' times (s) and levels (dB) as arrays, checked (see :func:`design`)."""
     from .._checks import check_vector

@@ -35,7 +35,7 @@ from ..errors import ParameterError
 from ..palette.motion import Limits, assemble, plan_return, return_time
 from ..trajectory import DEFAULT_RATE
 from .buzz import DENSITY, buzz_times
-from .chain import LEAD, Start, Unreachable, catch_height, design, flights_within, standard_throw
+from .chain import LEAD, Start, Unreachable, catch_height, design, flights_within, ready_height, standard_throw
 from .setup import Setup
 
 KINDS = ("auto", "buzz")
@@ -355,8 +355,8 @@ class _Planner:
         pressed multiple-bounce roll's onsets against 98 % of the other rudiments'); caught, it ends at
         its last bounce.
         """
-        if following is None:
-            return "catch", None
+        if following is None:  # the stick's last note: caught at a playing height, not thrown up to its apex
+            return "catch", ready_height(last.level, setup=self.setup)
         return "catch", catch_height(last.level, following.level, following.t - last.t, setup=self.setup)
 
     def skip(self, atoms, i):

@@ -9,6 +9,8 @@ Examples
 >>> setup = Setup(model="geometry", cor=0.8)
 >>> setup.forces, setup.head == setup.stick.theta_max
 (ForceRange(low=0.0, high=3000.0), True)
+>>> Setup(limits=Limits(theta_high=0.5)).moves.theta_high      # the moves keep the joint's range
+0.5
 >>> Setup(cor=1.0)
 Traceback (most recent call last):
 ...
@@ -67,9 +69,10 @@ class Setup:
     limits : Limits
         The joint's range (rad), speed (rad/s) and acceleration (rad/s²) every stroke keeps;
         default ``Limits()``.
-    moves : Limits
+    moves : Limits, optional
         The budget of the jerk-limited moves between strokes; default
-        :data:`~drumstroke.palette.motion.RETURN_LIMITS` (gentler than the joint can).
+        :data:`~drumstroke.palette.motion.RETURN_LIMITS` (gentler than the joint can) narrowed to
+        ``limits`` (:meth:`~drumstroke.palette.motion.Limits.within`): no move leaves the joint's range.
     """
 
     model: str = "paper"
@@ -77,7 +80,7 @@ class Setup:
     stick: Stick = field(default_factory=Stick)
     forces: ForceRange = field(default_factory=ForceRange)
     limits: Limits = field(default_factory=Limits)
-    moves: Limits = RETURN_LIMITS
+    moves: Limits | None = None
 
     def __post_init__(self):
         check_choice("model", self.model, MODELS)
@@ -86,8 +89,10 @@ class Setup:
                                   ("forces", ForceRange, "drumstroke.design.ForceRange"),
                                   ("limits", Limits, "drumstroke.palette.motion.Limits"),
                                   ("moves", Limits, "drumstroke.palette.motion.Limits")):
-            if not isinstance(getattr(self, name), kind):
+            if not isinstance(getattr(self, name), kind) and not (name == "moves" and self.moves is None):
                 raise ParameterError(f"{name} must be a {where}, got {getattr(self, name)!r}")
+        if self.moves is None:
+            object.__setattr__(self, "moves", RETURN_LIMITS.within(self.limits))
 
     @property
     def head(self):
@@ -95,5 +100,7 @@ class Setup:
         return self.stick.theta_max
 
     def replace(self, **changes):
-        """The same setup with ``changes`` (validated again)."""
+        """The same setup with ``changes`` (validated again); new ``limits`` narrow the default moves anew."""
+        if "limits" in changes and "moves" not in changes and self.moves == RETURN_LIMITS.within(self.limits):
+            changes["moves"] = None
         return replace(self, **changes)

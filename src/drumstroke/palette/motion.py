@@ -27,7 +27,7 @@ Examples
 
 import functools
 import math
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
@@ -121,6 +121,20 @@ class Limits:
     def to_dict(self):
         """The limits as a plain dict, keys as in a ``[limits]`` table."""
         return {f.name: getattr(self, f.name) for f in fields(self)}
+
+    def within(self, joint):
+        """These limits narrowed to ``joint``'s: the narrower range and the lower speed, acceleration and jerk.
+
+        >>> RETURN_LIMITS.within(Limits(theta_high=0.5, max_speed=10.0)).max_speed
+        10.0
+        """
+        if not isinstance(joint, Limits):
+            raise ParameterError(f"joint must be a drumstroke.palette.motion.Limits, got {joint!r}")
+        return replace(self, theta_low=max(self.theta_low, joint.theta_low),
+                       theta_high=min(self.theta_high, joint.theta_high),
+                       max_speed=min(self.max_speed, joint.max_speed),
+                       max_acceleration=min(self.max_acceleration, joint.max_acceleration),
+                       max_jerk=min(self.max_jerk, joint.max_jerk))
 
 
 RETURN_LIMITS = Limits(max_speed=20.0, max_acceleration=1000.0, max_jerk=1.0e5)
@@ -280,7 +294,7 @@ def _shortest_move(start, target, theta_max, limits):
     if _meet(start, target):
         return 0.0
     solved = _ruckig(start, target, 0.0, limits)
-    if solved is None or not _above(solved, theta_max):
+    if solved is None or not _above(solved, theta_max, limits):
         return math.inf
     return solved.duration
 
@@ -303,12 +317,12 @@ def _move(start, target, duration, theta_max, limits):
         return None
     solved = _ruckig(start, target, duration, limits)
     if solved is not None and abs(solved.duration - duration) <= 1e-9 * max(1.0, duration) and _above(solved,
-                                                                                                        theta_max):
+                                                                                                        theta_max, limits):
         return duration, _path_of(solved)
     # ruckig cannot always stretch a move to a given duration (its synchronisation step fails for some short
     # ones): then the time-optimal move, and the target held for the rest, when the target is at rest
     solved = _ruckig(start, target, 0.0, limits)
-    if solved is None or solved.duration > duration + 1e-12 or target[1] != 0.0 or not _above(solved, theta_max):
+    if solved is None or solved.duration > duration + 1e-12 or target[1] != 0.0 or not _above(solved, theta_max, limits):
         return None
     moving, rest = _path_of(solved), solved.duration
 
@@ -347,9 +361,10 @@ def _ruckig(start, target, minimum, limits):
 _MARGIN = 0.98  # moves plan a little inside the limits, so sampled round-off never crosses them
 
 
-def _above(trajectory, theta_max):
+def _above(trajectory, theta_max, limits):
+    """Whether a move stays above the head and within the joint's highest angle."""
     extrema = trajectory.position_extrema[0]
-    return extrema.min >= theta_max - 1e-12 and extrema.max <= THETA_TOP
+    return extrema.min >= theta_max - 1e-12 and extrema.max <= limits.theta_high + 1e-12
 
 
 def _path_of(trajectory):

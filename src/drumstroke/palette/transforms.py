@@ -91,11 +91,12 @@ def compress(stroke, factor):
     return result
 
 
-def compress_limit(stroke):
-    """The largest compress factor that keeps ``stroke`` below upright (π/2)."""
+def compress_limit(stroke, top=THETA_TOP):
+    """The largest compress factor that keeps ``stroke`` at or below ``top`` (rad; default upright, π/2)."""
     s = as_trajectory(stroke)
+    top = check_real("top", top, low=s.theta_max, high=THETA_TOP, low_open=True, unit="rad")
     excursion = s.peak - s.theta_max
-    return math.inf if excursion <= 0.0 else (THETA_TOP - s.theta_max) / excursion
+    return math.inf if excursion <= 0.0 else (top - s.theta_max) / excursion
 
 
 def reverse(stroke):
