@@ -106,8 +106,9 @@ def composition_figure(composition, *, title="composition", rate=1000.0, accent=
     """
     notes = [p.note for p in composition.placements]
     bars = bar_times(notes, composition.tempo_map)
-    names = [*(n for n in LETTERS if n in composition.sticks), *(n for n in composition.sticks if n not in LETTERS)]
-    sticks = {name: composition.sticks[name].sample(rate) for name in names}
+    parts = composition.sticks
+    names = [*(n for n in LETTERS if n in parts), *(n for n in parts if n not in LETTERS)]  # right, left, others
+    sticks = {name: parts[name].sample(rate) for name in names}
     figure = _figure(figsize=(11.0, 1.8 + 2.6 * len(sticks)), layout="constrained")
     axes = figure.subplots(len(sticks), 1, sharex=True, sharey=True, squeeze=False)[:, 0]
     levels = np.concatenate([s.impacts.level_db for s in sticks.values()])
