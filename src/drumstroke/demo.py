@@ -162,7 +162,7 @@ def _demo(out, report, bundle):
     from .palette.rudiments import rudiment
     from .render.outputs import write_composition_outputs, write_stroke_outputs
     from .render.page import write_index
-    from .score import read_pattern
+    from .score import read_score
 
     figures = write_figures(out, outputs=("json", "csv", "plot"), progress=lambda f: report(0.2 * f), bundle=bundle)
     library = build_library(out / "library", progress=lambda f: report(0.2 + 0.2 * f))
@@ -181,7 +181,7 @@ def _demo(out, report, bundle):
         chosen = rudiment(name)
         played_rudiment = compose(rudiment_score(name, tempo, bars=2)[0])
         stem = out / "rudiments" / name
-        files = write_composition_outputs(played_rudiment, title=f"{chosen.title} at {tempo:g} bpm",
+        files = write_composition_outputs(played_rudiment, title=chosen.title,
                                           plot=stem.with_suffix(".png"), audio=stem.with_suffix(".wav"),
                                           midi=stem.with_suffix(".mid"), json=stem.with_suffix(".json"),
                                           bundle=bundle)
@@ -190,13 +190,14 @@ def _demo(out, report, bundle):
         impacts = sum(len(s.impacts) for s in played_rudiment.sticks.values())
         done = sum(p.played for p in played_rudiment.placements)
         rudiment_cards.append(Card(
-            f"{chosen.number}. {chosen.title}", f"PAS rudiment at {tempo:g} bpm", f"Sticking {chosen.sticking}; "
-            f"two bars, every note designed by the planner ({len(played_rudiment.designs)} strokes).",
+            f"{chosen.number}. {chosen.title}", f"PAS rudiment at {tempo:g} bpm",
+            f"One cycle on the PAS sheet: {chosen.sticking}; two bars, every note designed by the planner "
+            f"({len(played_rudiment.designs)} strokes).",
             links.pop(".png"), links.pop(".wav"), tuple((_LABELS[suffix], link) for suffix, link in links.items()),
             f"{done} of {plural(len(played_rudiment.placements), 'note')} played, {plural(impacts, 'impact')}; "
-            f"model {played_rudiment.model}."))
+            f"model {played_rudiment.model}.", _sticking(played_rudiment)))
         report(0.8 + 0.1 * (i + 1) / len(RUDIMENTS))
-    piece = compose(read_pattern(DEMO_PATTERN), library)
+    piece = compose(read_score(DEMO_PATTERN), library)
     write_atomic(out / "groove.pattern", DEMO_PATTERN.read_text(), bundle=bundle)
     groove = [out / "groove.pattern", *write_composition_outputs(
         piece, title="groove", csv=out / "groove.csv", json=out / "groove.json", plot=out / "groove.png",
@@ -204,10 +205,11 @@ def _demo(out, report, bundle):
     played = sum(p.played for p in piece.placements)
     facts = (f"{plural(played, 'note')} on the sticks {', '.join(piece.sticks)}; {piece.t_end:.2f} s at "
              f"{piece.rate:g} Hz.")
-    groove_card = Card("groove", "composition", "Four bars at 96 bpm composed from the library (groove.pattern): "
-                       "backbeat singles, ghost taps, a double, a triplet ruff, rolls and a free bounce.",
+    groove_card = Card("groove", "composition", "Four bars and a closing downbeat at 96 bpm composed from the "
+                       "library (groove.pattern): backbeat singles, ghost taps, a double, a triplet ruff, rolls and a free bounce.",
                        "groove.png", "groove.wav", (("MIDI", "groove.mid"), ("CSV", "groove.csv"),
-                                                    ("JSON", "groove.json"), ("pattern", "groove.pattern")), facts)
+                                                    ("JSON", "groove.json"), ("pattern", "groove.pattern")), facts,
+                       _sticking(piece))
     figure_cards = [_card(f.figure, f"preset {f.preset}", PRESETS[f.preset].description, f.stroke, f.paths, out)
                     for f in figures]
     index = out / "index.html"
@@ -220,6 +222,13 @@ def _demo(out, report, bundle):
     report(1.0)
     return Demo(out, tuple(figures), library, tuple(strokes), tuple(rudiment_files), piece, played, tuple(groove),
                 index)
+
+
+def _sticking(piece):
+    """A composed part's notes as a drummer writes them, bar by bar (:func:`drumstroke.render.sticking.sticking`)."""
+    from .render.sticking import sticking
+
+    return sticking([p.note for p in piece.placements], piece.tempo_map)
 
 
 def _card(title, subtitle, description, stroke, files, out):

@@ -106,7 +106,8 @@ def write_composition_outputs(piece, *, title, csv=None, json=None, plot=None, a
     json : str, Path or None
         The notes, their placements and the impacts.
     plot : str, Path or None
-        A picture of θ(t) per stick with the notes: .png, .pdf or .svg.
+        A picture of the part as a drummer reads it (:func:`drumstroke.render.plot.composition_figure`): θ(t)
+        per stick on one scale with the impacts and each note's sticking; .png, .pdf or .svg.
     audio : str, Path or None
         Every stick's impacts as 48 kHz mono audio (.wav, .flac or .ogg), on the composition's timeline.
     midi : str, Path or None

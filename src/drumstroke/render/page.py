@@ -26,6 +26,9 @@ class Card:
     links : tuple of (str, str)
         Other files, as (label, path): ``(("MIDI", "strokes/single.mid"),)``.
     facts : str
+    sticking : str
+        The notes as a drummer writes them (:func:`drumstroke.render.sticking.sticking`), for a part; shown
+        under the picture and in its alternative text.
     """
 
     title: str
@@ -35,6 +38,7 @@ class Card:
     audio: str | None = None
     links: tuple = ()
     facts: str = ""
+    sticking: str = ""
 
 
 def plural(count, noun):
@@ -49,6 +53,8 @@ section { border-top: 1px solid #ddd; padding: 1rem 0; }
 section h2 { margin: 0; font-size: 1.15rem; } .category { color: #666; font-weight: normal; }
 img { width: 100%; height: auto; border: 1px solid #eee; }
 audio { width: 100%; margin: 0.4rem 0; } .facts { color: #555; font-size: 0.9rem; }
+figure { margin: 0; } figcaption { font-size: 0.9rem; color: #333; margin-top: 0.3rem; }
+.sticking { font-family: ui-monospace, monospace; font-size: 1rem; }
 """
 
 
@@ -79,9 +85,16 @@ def _section(card):
     anchor = re.sub(r"[^a-z0-9]+", "-", card.title.lower()).strip("-")
     audio = f'\n<audio controls preload="none" src="{e(card.audio)}"></audio>' if card.audio else ""
     links = " ".join(f'<a href="{e(href)}">{e(label)}</a>' for label, href in card.links)
+    if card.sticking:
+        alt = f"θ(t) of each stick of {card.title} with its impacts and its sticking: {card.sticking}"
+        caption = f'\n<figcaption>Sticking: <span class="sticking">{e(card.sticking)}</span></figcaption>'
+    else:
+        alt, caption = f"θ(t) of {card.title}", ""
     return f"""<section id="{anchor}">
 <h2>{e(card.title)} <span class="category">— {e(card.subtitle)}</span></h2>
 <p>{e(card.description)}</p>{audio}
 <p class="facts">{e(card.facts)} {links}</p>
-<img src="{e(card.image)}" alt="θ(t) of {e(card.title)}" loading="lazy">
+<figure>
+<img src="{e(card.image)}" alt="{e(alt)}" loading="lazy">{caption}
+</figure>
 </section>"""

@@ -7,6 +7,7 @@ follows its extension (:data:`SUFFIXES`); matplotlib is imported when a figure i
 """
 
 import io
+from itertools import pairwise
 from pathlib import Path
 
 import numpy as np
@@ -14,7 +15,10 @@ import numpy as np
 from .._atomic import write_atomic
 from ..errors import ParameterError
 from ..model import inertia_ratio
+from ..score import PLANNED
 from ..stroke import Stroke, as_trajectory
+from .page import plural
+from .sticking import ACCENT_VELOCITY, GHOST_VELOCITY, GRACE_VELOCITY, LETTERS, bar_times, mark
 
 SUFFIXES = (".png", ".pdf", ".svg")
 """The extensions of the pictures written: PNG (110 dpi), PDF and SVG (vector)."""
@@ -77,31 +81,146 @@ def stroke_figure(stroke, *, title=None, rate=2000.0):
     return figure
 
 
-def composition_figure(composition, *, title="composition", rate=1000.0):
-    """A matplotlib Figure of a composition: θ(t) per stick with impacts, notes and left-out notes marked."""
-    sticks = composition.sticks
-    figure = _figure(figsize=(11.0, 1.0 + 3.1 * len(sticks)), layout="constrained")
-    axes = np.atleast_1d(figure.subplots(len(sticks), 1, sharex=True, squeeze=False)[:, 0])
+def composition_figure(composition, *, title="composition", rate=1000.0, accent=ACCENT_VELOCITY,
+                       grace=GRACE_VELOCITY, ghost=GHOST_VELOCITY):
+    """A matplotlib Figure of a composed part as a drummer reads it: one lane per stick on one θ scale.
+
+    Each lane (``right`` on top, then ``left``, then any other stick) draws the stick's angle θ(t) over
+    the drumhead, its impacts as dots whose size and colour show their level (one colour scale for all
+    sticks), and under the head each note's sticking (:mod:`drumstroke.render.sticking`): R or L,
+    ``>`` an accent (velocity ≥ ``accent``), lowercase a grace-level note (velocity ≤ ``grace``),
+    parentheses a ghost note (velocity ≤ ``ghost``), ``z`` a buzz; a note left out is crossed in red.
+    A library stroke's name stands above its note. The time axis is seconds from the score's start
+    (its time 0), with the bars (solid) and beats (dotted) of its tempo map; the title says what it is,
+    the tempo, the bars and the model.
+
+    Parameters
+    ----------
+    composition : Composition
+    title : str
+        What it is: a rudiment's or a score file's name.
+    rate : float > 0
+        Samples per second drawn (Hz).
+    accent, grace, ghost : int in [1, 127]
+        The velocities of the marks (see :mod:`drumstroke.render.sticking`).
+    """
+    notes = [p.note for p in composition.placements]
+    bars = bar_times(notes, composition.tempo_map)
+    parts = composition.sticks
+    names = [*(n for n in LETTERS if n in parts), *(n for n in parts if n not in LETTERS)]  # right, left, others
+    sticks = {name: parts[name].sample(rate) for name in names}
+    figure = _figure(figsize=(11.0, 1.8 + 2.6 * len(sticks)), layout="constrained")
+    axes = figure.subplots(len(sticks), 1, sharex=True, sharey=True, squeeze=False)[:, 0]
+    levels = np.concatenate([s.impacts.level_db for s in sticks.values()])
+    scale = _level_scale(levels)
+    shift = composition.offset  # the score's time 0 at x = 0
     for ax, (name, trajectory) in zip(axes, sticks.items()):
-        t, theta, _ = trajectory.sample(rate)
-        _draw_theta(ax, t, theta, trajectory)
+        _draw_lane(ax, trajectory, shift, scale)
+        _draw_bars(ax, bars, composition.tempo_map)
         for p in composition.placements:
-            if p.note.stick != name:
-                continue
-            time = composition.offset + p.note.time
-            ax.axvline(time, color="0.3" if p.played else "C3", lw=0.6, ls=":" if p.played else "--", zorder=0)
-            # Above the axes, where no curve runs; the constrained layout makes room for the labels.
-            ax.annotate(p.note.stroke if p.played else f"{p.note.stroke} (left out)", (time, 1.0),
-                        xycoords=("data", "axes fraction"), xytext=(0, 2), textcoords="offset points",
-                        rotation=90, fontsize=7, va="bottom", ha="center", color="0.25" if p.played else "C3")
-        ax.set_ylabel(f"θ {name} (rad)")
-        ax.legend(loc="upper left", bbox_to_anchor=(1.005, 1.0), fontsize=8)
-    axes[-1].set_xlabel("t (s)")
-    axes[-1].set_xlim(0.0, composition.t_end)
-    figure.suptitle(f"{title} — model: {composition.model}, score time 0 at {composition.offset:.3f} s, "
-                    f"{sum(p.played for p in composition.placements)} of {len(composition.placements)} notes",
-                    fontsize=11)
+            if p.note.stick == name:
+                _draw_note(ax, p, trajectory.theta_max, mark(name, p.note.velocity, buzz=p.note.stroke == "buzz",
+                                                             accent=accent, grace=grace, ghost=ghost))
+        ax.set_ylabel(f"θ {name} stick (rad)")
+    heads = [s.theta_max for s in sticks.values()]
+    top = max(float(np.max(s.theta)) for s in sticks.values())
+    room = max(top - min(heads), 0.05)
+    axes[0].set_ylim(min(heads) - 0.22 * room, top + 0.08 * room)  # under the head: the sticking
+    axes[0].set_xlim(-shift, composition.t_end - shift)
+    axes[-1].set_xlabel(f"time from the score's start (s); bars solid, beats dotted\nsticking: R right, L left; "
+                        f"R> accent (velocity ≥ {accent}), r grace level (≤ {grace}), (R) ghost (≤ {ghost}), "
+                        f"z buzz", fontsize=9)
+    _level_legend(axes, scale, any(not p.played for p in composition.placements))
+    played = sum(p.played for p in composition.placements)
+    bar_count = len(bars) - 1
+    length = plural(bar_count, "bar") if bar_count > 0 else f"{composition.t_end - shift:.2f} s"
+    figure.suptitle(f"{title} — {_tempo_text(composition.tempo_map)}, {length}, model: {composition.model}\n"
+                    f"{played} of {plural(len(notes), 'note')} played", fontsize=11)
     return figure
+
+
+def _draw_lane(ax, trajectory, shift, scale):
+    """One stick's θ(t) over the head, its impacts sized and coloured by level."""
+    head = trajectory.theta_max
+    ax.axhline(head, color="0.55", lw=1.0, ls="--")
+    ax.plot(trajectory.t - shift, trajectory.theta, color="C0", lw=1.1)
+    impacts = trajectory.impacts
+    if len(impacts):
+        ax.scatter(impacts.t - shift, np.full(len(impacts), head), s=scale.size(impacts.level_db),
+                   c=impacts.level_db, cmap=scale.cmap, norm=scale.norm, zorder=3, edgecolors="none")
+    ax.grid(alpha=0.25, axis="y")
+
+
+def _draw_bars(ax, bars, tempo_map):
+    """Bar lines (solid) and quarter-note beat lines (dotted) at the score's ``bars`` (s, the score's time)."""
+    for start, end in pairwise(bars):
+        ax.axvline(start, color="0.45", lw=0.9, zorder=0)
+        first, last = tempo_map.beats([start, end])
+        for beat in tempo_map.seconds(np.arange(first + 1.0, last - 1e-9)):
+            ax.axvline(beat, color="0.6", lw=0.6, ls=":", zorder=0)
+    if bars.size:
+        ax.axvline(bars[-1], color="0.45", lw=0.9, zorder=0)
+
+
+def _draw_note(ax, placement, head, text):
+    """A note's sticking under the head at its time; a left-out note crossed in red; a library stroke named above."""
+    note = placement.note
+    color = "0.1" if placement.played else "C3"
+    ax.annotate(text, (note.time, head), xytext=(0, -4), textcoords="offset points", ha="center", va="top",
+                fontsize=8, color=color, fontweight="bold" if text.endswith(">") else "normal", gid="sticking")
+    if not placement.played:
+        ax.plot([note.time], [head], marker="x", ms=7, mew=1.5, color="C3", zorder=4)
+    if note.stroke not in PLANNED:  # a library stroke: its name, above the lane where no curve runs
+        ax.annotate(note.stroke, (note.time, 1.0), xycoords=("data", "axes fraction"), xytext=(0, 2),
+                    textcoords="offset points", rotation=90, fontsize=7, va="bottom", ha="center", color="0.35")
+
+
+class _LevelScale:
+    """The impacts' level (dB re 1 m/s tip speed) as dot size and colour, one scale for every stick."""
+
+    cmap = "viridis"
+
+    def __init__(self, low, high):
+        from matplotlib.colors import Normalize
+
+        self.norm = Normalize(low, high)
+
+    def size(self, level_db):
+        """Dot area (points²): 8 for the softest impact to 64 for the loudest."""
+        return 8.0 + 56.0 * np.clip(self.norm(level_db), 0.0, 1.0)
+
+
+def _level_scale(levels, *, span=40.0):
+    """The scale of the impacts' ``levels`` (dB): from the loudest down ``span`` dB (a roll's last bounces, softer
+    still, are drawn as the softest)."""
+    finite = levels[np.isfinite(levels)]
+    high = float(finite.max()) if finite.size else 0.0
+    low = max(float(finite.min()), high - span) if finite.size else high - span
+    return _LevelScale(low, max(high, low + 1.0))
+
+
+def _level_legend(axes, scale, left_out):
+    """The key to the lanes: the head, θ, impacts at three levels (their sizes and colours), left-out notes."""
+    from matplotlib import colormaps
+    from matplotlib.lines import Line2D
+
+    cmap = colormaps[scale.cmap]
+    handles = [Line2D([], [], color="0.55", ls="--", label="drumhead"),
+               Line2D([], [], color="C0", label="θ(t), the stick's angle")]
+    for k, level in enumerate(np.linspace(scale.norm.vmin, scale.norm.vmax, 3)):
+        handles.append(Line2D([], [], ls="", marker="o", markeredgecolor="none", color=cmap(scale.norm(level)),
+                              markersize=float(np.sqrt(scale.size(level))),
+                              label=f"impact at {'≤ ' if k == 0 else ''}{level:.0f} dB re 1 m/s"))
+    if left_out:
+        handles.append(Line2D([], [], ls="", marker="x", color="C3", mew=1.5, label="note left out"))
+    axes[0].legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8,
+                   title="impacts: size and colour\nshow the level (tip speed)", title_fontsize=8)
+
+
+def _tempo_text(tempo_map):
+    """``"100 bpm"``, or ``"96–120 bpm"`` for a tempo that changes."""
+    bpm = sorted({round(60e6 / tempo, 1) for _, tempo in tempo_map.tempi})
+    return f"{bpm[0]:g} bpm" if len(bpm) == 1 else f"{bpm[0]:g}–{bpm[-1]:g} bpm"
 
 
 def tracking_figure(played):
