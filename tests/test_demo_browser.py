@@ -1,7 +1,7 @@
 """The demo page in a real browser — Debian's Chromium driven by Playwright: the rudiments and the groove show their
 pictures and their sticking with accents and ghost notes.
 
-With ``DRUMSTROKE_SCREENSHOTS=DIR`` set, the test also saves the groove's and a rudiment's sections as
+The screenshot test saves (into ``DRUMSTROKE_SCREENSHOTS=DIR`` when it is set) the groove's and a rudiment's sections as
 ``DIR/demo-groove.png`` and ``DIR/demo-rudiments.png`` (the docs show those of ``docs/images``).
 """
 
@@ -79,13 +79,14 @@ def test_the_groove_shows_its_picture_and_its_accents_and_ghost_notes(browser_pa
     assert errors == []
 
 
-def test_screenshots_of_the_groove_and_a_rudiment_for_the_docs(browser_page):
+def test_screenshots_of_the_groove_and_a_rudiment_for_the_docs(browser_page, tmp_path):
+    """The sections photographed as the docs show them: into ``$DRUMSTROKE_SCREENSHOTS`` when set, else a scratch folder."""
     page, _, _ = browser_page
-    folder = os.environ.get(SCREENSHOTS)
-    if not folder:
-        pytest.skip(f"set {SCREENSHOTS}=DIR to save the screenshots")
-    Path(folder).mkdir(parents=True, exist_ok=True)
+    folder = Path(os.environ.get(SCREENSHOTS) or tmp_path)
+    folder.mkdir(parents=True, exist_ok=True)
     for selector, name in ((section(SHOWN), "demo-rudiments.png"), ("#groove", "demo-groove.png")):
         shown(page, selector)
-        page.locator(selector).screenshot(path=str(Path(folder) / name))
-        assert (Path(folder) / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+        page.locator(selector).screenshot(path=str(folder / name))
+        png = (folder / name).read_bytes()
+        width, height = int.from_bytes(png[16:20], "big"), int.from_bytes(png[20:24], "big")
+        assert png[:8] == b"\x89PNG\r\n\x1a\n" and width >= 800 and height >= 400, (name, width, height)
