@@ -134,20 +134,26 @@ def test_the_song_summary_the_palette_page_quotes_is_what_compose_prints(tmp_pat
 
 
 def test_the_backbeat_output_the_palette_page_quotes_is_what_compose_prints(tmp_path):
-    """The page's compose of examples/backbeat.pattern prints what it quotes (stdout, its warning in place)."""
+    """The page's compose of examples/backbeat.pattern prints what it quotes, and nothing on stderr; the pattern it
+    quotes for a stroke cut short prints the warning it quotes."""
     from _cli import run
     from drumstroke.palette.library import build_library, read_palette
 
     page = (DOCS / "palette.md").read_text(encoding="utf-8")
-    (quoted,) = re.findall(r"which cuts its second hit\):\n\n```text\n(.*?)```", page, re.DOTALL)
+    (quoted,) = re.findall(r"nothing on stderr \(every note is played whole\):\n\n```text\n(.*?)```", page, re.DOTALL)
     (command,) = [line for line in commands(page) if line.startswith("drumstroke compose examples/backbeat")]
     shutil.copytree(ROOT / "examples", tmp_path / "examples")
     strokes = {"single", "tap", "double", "triple", "press-roll"}  # the pattern's
     build_library(tmp_path / "lib", palette=[entry for entry in read_palette() if entry.name in strokes])
     result = run(*shlex.split(command)[1:], cwd=tmp_path)
+    assert result.returncode == 0 and result.stderr == "", result
+    assert result.stdout.splitlines() == quoted.splitlines()
+
+    ((pattern, warning),) = re.findall(r"needs \d+ ms\):\n\n```text\n(.*?)```\n\n```text\n(.*?)```", page, re.DOTALL)
+    (tmp_path / "cut.pattern").write_text(pattern)
+    result = run("compose", "cut.pattern", "--library", "lib", cwd=tmp_path)
     assert result.returncode == 0, result
-    lines = result.stdout.splitlines()  # the summary's two lines, then what was written
-    assert [*lines[:2], *result.stderr.splitlines(), *lines[2:]] == quoted.splitlines()
+    assert result.stderr.splitlines() == warning.splitlines()
 
 
 def test_the_pages_have_examples():
