@@ -167,7 +167,7 @@ def test_the_backbeat_output_the_palette_page_quotes_is_what_compose_prints(tmp_
     assert result.returncode == 0 and result.stderr == "", result
     assert result.stdout.splitlines() == quoted.splitlines()
 
-    ((pattern, warning),) = re.findall(r"needs \d+ ms\):\n\n```text\n(.*?)```\n\n```text\n(.*?)```", page, re.DOTALL)
+    ((pattern, warning),) = re.findall(r"need \d+ ms\):\n\n```text\n(.*?)```\n\n```text\n(.*?)```", page, re.DOTALL)
     (tmp_path / "cut.pattern").write_text(pattern)
     result = run("compose", "cut.pattern", "--library", "lib", cwd=tmp_path)
     assert result.returncode == 0, result
