@@ -11,6 +11,7 @@ import contextlib
 import io
 import logging
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -83,3 +84,20 @@ def assert_one_line_error(result, *needles):
     assert "Traceback" not in result.stderr
     for needle in needles:
         assert needle in lines[0], (needle, lines[0])
+
+
+def problem_lines(text):
+    """The lines of a command's output that report a warning or a problem, which a clean run never prints: a
+    ``warning:`` line (compose, design, a clipped recording), a Python warning as an interpreter shows it, a library
+    stroke cut short, notes left out or not played, problems counted, sweep points that could not be simulated."""
+    return [line for line in text.splitlines() if _reports_a_problem(line)]
+
+
+def _reports_a_problem(line):
+    if re.match(r"\s*warning\b", line, re.IGNORECASE) or re.search(r"\w+Warning: ", line):
+        return True
+    if re.search(r"\bcut [\d.]+ s into it\b|\bleft out\b|\bnot played:|could not be simulated", line):
+        return True
+    if re.search(r"\b[1-9]\d* (?:\w+ )?(?:not played|problems?)\b", line):  # '2 onsets not played'; '0 problems' is clean
+        return True
+    return any(done != total for done, total in re.findall(r"\b(\d+) of (\d+) notes\b", line))

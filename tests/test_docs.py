@@ -2,7 +2,7 @@
 
 Examples run page by page in a fresh folder holding a copy of examples/ (and of tests/data/, real MIDI
 files): a page's ```python blocks in order in one namespace, and each `drumstroke ...` line of its ```sh blocks with exit status 0,
-interleaved in page order (a command may use a file an earlier block wrote). A plain command runs in this process
+no Python warning and no warning or problem in what it prints (tests/_cli.py's `problem_lines`), interleaved in page order (a command may use a file an earlier block wrote). A plain command runs in this process
 through `drumstroke.cli.main` (the console script's own entry point: it saves each one the interpreter's start); a
 command with shell syntax (a redirection, a wildcard) and `drumstroke live` (a real-time runtime) run in a shell. The README's set-up
 section is left out: CI runs those two commands itself. `drumstroke listen serve` serves forever, so
@@ -11,6 +11,7 @@ what its users do not have: the team's internal notes or a path outside the repo
 """
 
 import argparse
+import gc
 import os
 import re
 import shlex
@@ -21,9 +22,12 @@ import sys
 import sysconfig
 import time
 import urllib.request
+import warnings
 from pathlib import Path
 
 import pytest
+
+from _cli import problem_lines
 
 ROOT = Path(__file__).resolve().parents[1]
 DOCS = ROOT / "docs"
@@ -63,19 +67,34 @@ SHELL = re.compile(r"[|<>;&$`*?~]")
 
 
 def _run(command, folder, env, capsys):
+    """Run one command of a page: exit status 0, and no warning or problem in what it prints (a Python warning
+    raised in this process is one too)."""
     words = shlex.split(command, comments=True)
     if words[1] != "live" and not SHELL.search(command.split("#", 1)[0]):
         from drumstroke.cli import main
 
-        status = main(words[1:])
+        with warnings.catch_warnings(record=True) as raised:
+            warnings.simplefilter("always")
+            status = main(words[1:])
         out, err = capsys.readouterr()
         assert status == 0, f"{command!r} exited with {status}\n--- stdout\n{out[-3000:]}\n--- stderr\n{err[-3000:]}"
-        return
-    result = subprocess.run(command, shell=True, cwd=folder, env=env, capture_output=True, text=True, timeout=300,
-                            check=False)
-    assert result.returncode == 0, (
-        f"{command!r} exited with {result.returncode}\n--- stdout\n{result.stdout[-3000:]}\n"
-        f"--- stderr\n{result.stderr[-3000:]}")
+        assert not raised, f"{command!r} raised {[str(w.message) for w in raised]}"
+    else:
+        result = subprocess.run(command, shell=True, cwd=folder, env={**env, "PYTHONWARNINGS": "always"},
+                                capture_output=True, text=True, timeout=300, check=False)
+        out, err = result.stdout, result.stderr
+        assert result.returncode == 0, (
+            f"{command!r} exited with {result.returncode}\n--- stdout\n{out[-3000:]}\n--- stderr\n{err[-3000:]}")
+    assert not problem_lines(out + err), f"{command!r} reported {problem_lines(out + err)}"
+
+
+def _exec(code, name, namespace):
+    """Run a page's Python block; a warning it raises (an unclosed file's ResourceWarning too) fails it."""
+    with warnings.catch_warnings(record=True) as raised:
+        warnings.simplefilter("always")
+        exec(compile(code, name, "exec"), namespace)  # noqa: S102 - running the docs' examples is the test
+        gc.collect()  # an unclosed file warns when it is collected
+    assert not raised, f"{name} raised {[f'{w.category.__name__}: {w.message}' for w in raised]}"
 
 
 def _serve(command, folder, env):
@@ -111,8 +130,7 @@ def test_every_example_on_the_page_runs(page, tmp_path, monkeypatch, capsys):
     namespace = {"__name__": "__docs__"}
     for number, (language, code) in enumerate(page_blocks(page), start=1):
         if language == "python":
-            code = compile(code, f"{page.name}, block {number}", "exec")
-            exec(code, namespace)  # noqa: S102 - running the docs' examples is the test
+            _exec(code, f"{page.name}, block {number}", namespace)
             continue
         for command in commands(code):
             if command.startswith("drumstroke listen serve"):
@@ -134,20 +152,26 @@ def test_the_song_summary_the_palette_page_quotes_is_what_compose_prints(tmp_pat
 
 
 def test_the_backbeat_output_the_palette_page_quotes_is_what_compose_prints(tmp_path):
-    """The page's compose of examples/backbeat.pattern prints what it quotes (stdout, its warning in place)."""
+    """The page's compose of examples/backbeat.pattern prints what it quotes, and nothing on stderr; the pattern it
+    quotes for a stroke cut short prints the warning it quotes."""
     from _cli import run
     from drumstroke.palette.library import build_library, read_palette
 
     page = (DOCS / "palette.md").read_text(encoding="utf-8")
-    (quoted,) = re.findall(r"which cuts its second hit\):\n\n```text\n(.*?)```", page, re.DOTALL)
+    (quoted,) = re.findall(r"nothing on stderr \(every note is played whole\):\n\n```text\n(.*?)```", page, re.DOTALL)
     (command,) = [line for line in commands(page) if line.startswith("drumstroke compose examples/backbeat")]
     shutil.copytree(ROOT / "examples", tmp_path / "examples")
     strokes = {"single", "tap", "double", "triple", "press-roll"}  # the pattern's
     build_library(tmp_path / "lib", palette=[entry for entry in read_palette() if entry.name in strokes])
     result = run(*shlex.split(command)[1:], cwd=tmp_path)
+    assert result.returncode == 0 and result.stderr == "", result
+    assert result.stdout.splitlines() == quoted.splitlines()
+
+    ((pattern, warning),) = re.findall(r"need \d+ ms\):\n\n```text\n(.*?)```\n\n```text\n(.*?)```", page, re.DOTALL)
+    (tmp_path / "cut.pattern").write_text(pattern)
+    result = run("compose", "cut.pattern", "--library", "lib", cwd=tmp_path)
     assert result.returncode == 0, result
-    lines = result.stdout.splitlines()  # the summary's two lines, then what was written
-    assert [*lines[:2], *result.stderr.splitlines(), *lines[2:]] == quoted.splitlines()
+    assert result.stderr.splitlines() == warning.splitlines()
 
 
 def test_the_pages_have_examples():

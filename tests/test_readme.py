@@ -16,7 +16,7 @@ import matplotlib.image
 import mido
 import soundfile
 
-from _cli import run
+from _cli import problem_lines, run
 from drumstroke.palette.library import load_library
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -100,13 +100,14 @@ OUTPUT_OPTIONS = ("--plot", "--json", "--csv", "--audio", "--wav", "--midi", "--
 
 
 def test_the_quick_tour_runs_as_written(tmp_path):
-    """Every command of the tour, in order, in a folder holding examples/."""
+    """Every command of the tour, in order, in a folder holding examples/, with no warning and no problem reported."""
     shutil.copytree(ROOT / "examples", tmp_path / "examples")
     written = []
     for words in _tour_commands():
         assert words[0] == "drumstroke", words
         result = run(*words[1:], cwd=tmp_path)
         assert result.returncode == 0, (words, result.stderr[-2000:])
+        assert not problem_lines(result.stdout + result.stderr), (words, problem_lines(result.stdout + result.stderr))
         outputs = [value for option, value in zip(words, words[1:]) if option in OUTPUT_OPTIONS]
         outputs += [words[3]] if words[1:3] == ["library", "build"] else []
         for name in outputs:

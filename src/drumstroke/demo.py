@@ -206,7 +206,8 @@ def _demo(out, report, bundle):
     facts = (f"{plural(played, 'note')} on the sticks {', '.join(piece.sticks)}; {piece.t_end:.2f} s at "
              f"{piece.rate:g} Hz.")
     groove_card = Card("groove", "composition", "Four bars and a closing downbeat at 96 bpm composed from the "
-                       "library (groove.pattern): backbeat singles, ghost taps, a double, a triplet ruff, rolls and a free bounce.",
+                       "library (groove.pattern): backbeat singles, ghost taps, a double, a triplet ruff, rolls, a free "
+                       "bounce and a swell.",
                        "groove.png", "groove.wav", (("MIDI", "groove.mid"), ("CSV", "groove.csv"),
                                                     ("JSON", "groove.json"), ("pattern", "groove.pattern")), facts,
                        _sticking(piece))
