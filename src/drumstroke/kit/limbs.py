@@ -15,8 +15,8 @@ state is where each hand is (the piece it last played) and when each last played
   the lead hand, or, open-handed, the hand on the piece's side;
 - backbeat: the snare played by the time-keeping hand, on beats 2 and 4 (when the notes' beats
   are known) or whenever that hand is on a time-keeping piece;
-- cross: the hands crossed (the right hand left of the left), unless the lead hand is on a
-  time-keeping piece (the usual crossed-arms hi-hat) and the drummer does not play open-handed;
+- cross: the hands crossed (the right hand left of the left), unless the lead hand is on a cymbal
+  (the usual crossed-arms hi-hat, a crash across) and the drummer does not play open-handed;
 - other: a small cost for the other hand playing at all, so that of two equal choices the lead
   plays.
 
@@ -98,7 +98,8 @@ class Costs:
     other : float ≥ 0
         Per note of the hand that does not lead.
     drop : float > 0
-        Per note left unplayed; far above every other cost, so the fewest are.
+        Per note left unplayed; far above every other cost, so the fewest are. A given note its hand
+        cannot reach in time costs more than dropping every other note: it is played all the same.
     """
 
     travel: float = 5.0
@@ -360,6 +361,8 @@ class _Hands:
 
     def __init__(self, part, kit, lead, open_handed, costs):
         self.part, self.kit, self.costs = part, kit, costs
+        # a given note moved to too fast costs more than dropping every other note: the given come first
+        self.forced = costs.drop * (len(part.notes) + 1)
         self.lead, self.open_handed = lead, open_handed
         pieces = kit.pieces
         n = len(pieces)
@@ -395,9 +398,9 @@ class _Hands:
             notes = [i for i in group if self.part.choices[i][0] in HANDS]
             if notes:
                 hand_groups.append((float(self.part.times[group[0]]), self._one_per_given_hand(notes, reasons)))
-        # First only the ways that play as many of each group's notes as two hands can; only when no path
-        # of those is possible, every way: a dropped note costs more than any path dropping fewer, so the
-        # first search's best, when there is one, is the best of all.
+        # First only the ways that play as many of each group's notes as two hands can, every move in time;
+        # only when no path of those is possible, every way: a dropped note (or a given one too fast) costs
+        # more than any path with fewer, so the first search's best, when there is one, is the best of all.
         found = self._search(hand_groups, fewest=True) or self._search(hand_groups, fewest=False)
         total, best, trail = found
         self._write_back(best, trail, limbs, reasons)
@@ -412,7 +415,7 @@ class _Hands:
             new = {}
             for state, (cost, _, _) in states.items():
                 for k, option in enumerate(options):
-                    step = self._step(state, option, t, len(notes))
+                    step = self._step(state, option, t, len(notes), fewest)
                     if step is None:
                         continue
                     key, extra = step
@@ -454,8 +457,9 @@ class _Hands:
             options = [(r, l) for r, l in options if (r is not None) + (l is not None) == most]
         return options
 
-    def _step(self, state, option, t, count):
-        """The state after playing ``option`` at ``t`` from ``state``, and its cost; None if impossible."""
+    def _step(self, state, option, t, count, strict):
+        """The state after playing ``option`` at ``t`` from ``state``, and its cost; None if impossible (or,
+        ``strict``, if a given note's move is too fast)."""
         part, costs = self.part, self.costs
         pieces, times = [state[0], state[1]], [state[2], state[3]]
         for h in (0, 1):  # forget what no longer matters: a hand rested since its last note
@@ -471,9 +475,9 @@ class _Hands:
             if before[h] >= 0 and before[h] != p:
                 need = self.move[h][before[h]][p]
                 if need > gap + 1e-9:
-                    if part.given[i] is None:
+                    if strict or part.given[i] is None:
                         return None
-                    extra += costs.drop  # a given note is kept: its move is reported, not refused
+                    extra += self.forced  # a given note is kept: its move is reported, not refused
                 extra += costs.travel * need
             if gap < costs.comfort:
                 extra += costs.repeat * (1.0 - gap / costs.comfort)
@@ -499,10 +503,11 @@ class _Hands:
         return on[0] if len(on) == 1 else self.lead_h
 
     def _crossed(self, pieces):
-        """Whether the hands are crossed (the right left of the left) where that is not the drummer's way."""
+        """Whether the hands are crossed (the right left of the left) where that is not the drummer's way: the
+        lead hand crosses over to a cymbal (the hi-hat, a crash), unless the drummer plays open-handed."""
         if pieces[0] < 0 or pieces[1] < 0 or self.yaw[pieces[0]] <= self.yaw[pieces[1]]:
             return False
-        return self.open_handed or not self._on_time(pieces[self.lead_h])
+        return self.open_handed or self.role[pieces[self.lead_h]] not in ("time", "accent")
 
     def _write_back(self, state, trail, limbs, reasons):
         """Follow the best path back, giving each note its hand or the reason it is not played."""
@@ -511,7 +516,16 @@ class _Hands:
             previous, k = back[state]
             steps.append((t, notes, options[k], previous))
             state = previous
-        for t, notes, option, previous in reversed(steps):
+        steps.reverse()
+        following = [None, None]  # each hand's next note after the step at hand (filled in going backwards)
+        after = []
+        for t, _, option, _ in reversed(steps):
+            after.append(tuple(following))
+            for h, i in enumerate(option):
+                if i is not None:
+                    following[h] = (t, i)
+        after.reverse()
+        for (t, notes, option, previous), next_notes in zip(steps, after):
             for h, i in enumerate(option):
                 if i is not None:
                     limbs[i] = HANDS[h]
@@ -519,26 +533,26 @@ class _Hands:
                         reasons[i] = self._given_too_fast(i, h, t, previous)
             for i in notes:
                 if i not in option:
-                    reasons[i] = self._why_not(i, t, option, previous)
+                    reasons[i] = self._why_not(i, t, option, previous, next_notes)
 
-    def _gap_and_need(self, h, p, t, state):
-        start, last = state[h], state[2 + h]
-        gap = math.inf if last is None else t - last
+    def _reach(self, h, start, p, gap):
+        """The move of hand ``h`` from piece ``start`` (-1: none yet) to ``p`` in ``gap`` s: (need s, fits)."""
         need = 0.0 if start < 0 or start == p else self.move[h][start][p]
-        return gap, need, start
+        return need, need <= gap + 1e-9
 
     def _given_too_fast(self, i, h, t, state):
-        gap, need, start = self._gap_and_need(h, self.part.pieces[i], t, state)
-        if need <= gap + 1e-9:
+        start, last = state[h], state[2 + h]
+        gap = math.inf if last is None else t - last
+        need, fits = self._reach(h, start, self.part.pieces[i], gap)
+        if fits:
             return None
-        return (f"the {HANDS[h]} hand (given) needs {need:.3g} s to move from "
-                f"{self.kit.pieces[start].name!r} and has {gap:.3g} s")
+        return f"the {HANDS[h]} hand (given) needs {need:.3g} s to move from {self._name(start)} and has {gap:.3g} s"
 
-    def _why_not(self, i, t, option, state):
-        name = self.kit.pieces[self.part.pieces[i]].name
+    def _why_not(self, i, t, option, state, next_notes):
+        """Why note ``i`` at ``t`` is left out, the best path having played ``option`` there from ``state``."""
         if all(j is not None for j in option):
-            return (f"a third hand note at one time: the right hand plays note {option[0]}, "
-                    f"the left note {option[1]}")
+            return f"a third hand note at one time: the right hand plays note {option[0]}, the left note {option[1]}"
+        p = self.part.pieces[i]
         why = []
         for h, hand in enumerate(HANDS):
             if hand not in self.part.choices[i]:
@@ -546,7 +560,23 @@ class _Hands:
             if option[h] is not None:
                 why.append(f"the {hand} hand plays note {option[h]} at the same time")
                 continue
-            gap, need, start = self._gap_and_need(h, self.part.pieces[i], t, state)
-            why.append(f"the {hand} hand needs {need:.3g} s to move from {self.kit.pieces[start].name!r} to "
-                       f"{name!r} and has {gap:.3g} s")
+            start, last = state[h], state[2 + h]
+            gap = math.inf if last is None else t - last
+            need, fits = self._reach(h, start, p, gap)
+            if not fits:
+                why.append(f"the {hand} hand needs {need:.3g} s to move from {self._name(start)} to "
+                           f"{self._name(p)} and has {gap:.3g} s")
+                continue
+            if next_notes[h] is not None:  # it could play it, but not then its next note
+                t_next, j = next_notes[h]
+                need, fits = self._reach(h, p, self.part.pieces[j], t_next - t)
+                if not fits:
+                    why.append(f"the {hand} hand playing it would not reach its next note ({j}, "
+                               f"{self._name(self.part.pieces[j])} at {t_next:.6g} s): it needs {need:.3g} s "
+                               f"and has {t_next - t:.3g} s")
+                    continue
+            why.append(f"the {hand} hand playing it would leave another note unplayed")
         return "; ".join(why)
+
+    def _name(self, piece):
+        return repr(self.kit.pieces[piece].name) if piece >= 0 else "where it starts"
