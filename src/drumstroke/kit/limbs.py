@@ -412,10 +412,10 @@ class _Hands:
         trail = []  # per group: its time, its notes, its options, and each state's (previous state, option)
         for t, notes in hand_groups:
             options = self._options(notes, fewest)
+            plans = [self._plan(option, len(notes)) for option in options]
             new = {}
             for state, (cost, _, _) in states.items():
-                for k, option in enumerate(options):
-                    step = self._step(state, option, t, len(notes), fewest)
+                for k, step in enumerate(self._steps(state, plans, t, fewest)):
                     if step is None:
                         continue
                     key, extra = step
@@ -457,41 +457,60 @@ class _Hands:
             options = [(r, l) for r, l in options if (r is not None) + (l is not None) == most]
         return options
 
-    def _step(self, state, option, t, count, strict):
-        """The state after playing ``option`` at ``t`` from ``state``, and its cost; None if impossible (or,
-        ``strict``, if a given note's move is too fast)."""
+    def _plan(self, option, count):
+        """What playing ``option`` costs whatever the state (the dropped notes, lead, other), and its notes as
+        (hand, note, piece, given, backbeat): backbeat True on beat 2 or 4, None when the beat is unknown."""
         part, costs = self.part, self.costs
-        pieces, times = [state[0], state[1]], [state[2], state[3]]
-        for h in (0, 1):  # forget what no longer matters: a hand rested since its last note
-            if times[h] is not None and t - times[h] >= self.rested:
-                times[h] = None
-        before = list(pieces)
-        extra = costs.drop * (count - sum(i is not None for i in option))
+        fixed = costs.drop * (count - sum(i is not None for i in option))
+        moves = []
         for h, i in enumerate(option):
             if i is None:
                 continue
             p = part.pieces[i]
-            gap = math.inf if times[h] is None else t - times[h]
-            if before[h] >= 0 and before[h] != p:
-                need = self.move[h][before[h]][p]
-                if need > gap + 1e-9:
-                    if strict or part.given[i] is None:
-                        return None
-                    extra += self.forced  # a given note is kept: its move is reported, not refused
-                extra += costs.travel * need
-            if gap < costs.comfort:
-                extra += costs.repeat * (1.0 - gap / costs.comfort)
             if self.role[p] == "time" and h != self.keeper[p]:
-                extra += costs.lead
-            if self.role[p] == "backbeat" and h == self._time_hand(before) and (
-                    part.on_backbeat[i] or (part.on_backbeat[i] is None and self._on_time(before[h]))):
-                extra += costs.backbeat
+                fixed += costs.lead
             if h != self.lead_h:
-                extra += costs.other
-            pieces[h], times[h] = p, t
-        if self._crossed(pieces):
-            extra += costs.cross
-        return (pieces[0], pieces[1], times[0], times[1]), extra
+                fixed += costs.other
+            backbeat = part.on_backbeat[i] if self.role[p] == "backbeat" else False
+            moves.append((h, i, p, part.given[i] is not None, backbeat))
+        return fixed, tuple(moves)
+
+    def _steps(self, state, plans, t, strict):
+        """For each plan, the state after playing it at ``t`` from ``state`` and its cost; None if impossible
+        (or, ``strict``, if a given note's move is too fast). The hot loop: plain lists and numbers."""
+        costs, move, rested = self.costs, self.move, self.rested
+        pieces, times = [state[0], state[1]], [state[2], state[3]]
+        for h in (0, 1):  # forget what no longer matters: a hand rested since its last note
+            if times[h] is not None and t - times[h] >= rested:
+                times[h] = None
+        keeper = self._time_hand(pieces)
+        keeping = self._on_time(pieces[keeper])
+        steps = []
+        for fixed, moves in plans:
+            extra, after, now = fixed, list(pieces), list(times)
+            for h, i, p, given, backbeat in moves:
+                before = pieces[h]
+                gap = math.inf if times[h] is None else t - times[h]
+                if before >= 0 and before != p:
+                    need = move[h][before][p]
+                    if need > gap + 1e-9:
+                        if strict or not given:
+                            extra = None
+                            break
+                        extra += self.forced  # a given note is kept: its move is reported, not refused
+                    extra += costs.travel * need
+                if gap < costs.comfort:
+                    extra += costs.repeat * (1.0 - gap / costs.comfort)
+                if h == keeper and (backbeat or (backbeat is None and keeping)):
+                    extra += costs.backbeat
+                after[h], now[h] = p, t
+            if extra is None:
+                steps.append(None)
+                continue
+            if self._crossed(after):
+                extra += costs.cross
+            steps.append(((after[0], after[1], now[0], now[1]), extra))
+        return steps
 
     def _on_time(self, piece):
         """Whether ``piece`` (an index, -1 for none yet) keeps time."""
