@@ -194,3 +194,18 @@ def test_pieces_and_kits_built_in_python_are_checked_too():
         Kit((snare,), {**KIT.limbs, "tail": {}})
     with pytest.raises(ParameterError, match=r"piece must be one of the kit's pieces"):
         KIT.piece("cowbell")
+
+
+def test_the_docs_example_kit_is_a_kit(tmp_path):
+    """The kit file the documentation shows, field by field, reads as a kit."""
+    from pathlib import Path
+
+    page = (Path(__file__).resolve().parents[1] / "docs" / "kit.md").read_text(encoding="utf-8")
+    example = page.split("```toml\n", 1)[1].split("```", 1)[0]
+    path = tmp_path / "small.toml"
+    path.write_text(example, encoding="utf-8")
+    kit = read_kit(path)
+    assert [p.name for p in kit.pieces] == ["snare", "hihat", "kick"]
+    assert kit.limbs == KIT.limbs and kit.stick == KIT.stick
+    for piece in kit.pieces:
+        assert piece == KIT.piece(piece.name)
