@@ -115,8 +115,8 @@ def _set(table, key, value):
 
 BAD = {
     "out of reach": (lambda d: _set(d["pieces"]["crash"]["place"], "yaw", 1.2),
-                     r"pieces\.crash\.place\.yaw = 1\.2 rad is out of the right hand's reach: its yaw joint "
-                     r"moves in \[-1\.3, 1\] rad"),
+                     (r"pieces\.crash\.place\.yaw = 1\.2 rad is out of the right hand's reach: its yaw joint "
+                      r"moves in \[-1\.3, 1\] rad")),
     "two in one place": (lambda d: _set(d["pieces"]["tom2"], "place", {"yaw": 0.005, "lift": 0.195}),
                          r"pieces\.tom2\.place is pieces\.tom1's place for the right hand"),
     "a key on two pieces": (lambda d: _set(d["pieces"]["tom2"], "keys", [45, 50]),
@@ -129,8 +129,8 @@ BAD = {
     "h of 0": (lambda d: _set(d["pieces"]["crash"], "height", 0.0), r"pieces\.crash\.height must be in \(0, 10\) m"),
     "h negative": (lambda d: _set(d["pieces"]["hihat"], "height", -0.05), r"pieces\.hihat\.height must be in"),
     "unknown limb": (lambda d: _set(d["pieces"]["snare"], "limbs", ["right", "third-hand"]),
-                     r"pieces\.snare\.limbs must be one of 'right', 'left', 'right-foot', 'left-foot', "
-                     r"got 'third-hand'"),
+                     (r"pieces\.snare\.limbs must be one of 'right', 'left', 'right-foot', 'left-foot', "
+                      r"got 'third-hand'")),
     "a limb the kit lacks": (lambda d: d["limbs"].pop("left-foot"),
                              r"pieces\.hihat\.limbs names 'left-foot', not a limb of the kit"),
     "missing c": (lambda d: d["pieces"]["ride"].pop("cor"), r"pieces\.ride\.cor is missing"),

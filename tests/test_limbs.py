@@ -1,6 +1,7 @@
 """The limb assignment: grooves, fills and cymbal patterns get the sticking a drummer writes for them;
 on random parts no limb is in two places at once, every move fits the joints' limits, given limbs stay."""
 
+import itertools
 import math
 from dataclasses import replace
 
@@ -88,7 +89,7 @@ def test_a_crash_after_a_fill_is_the_hand_that_can_get_there():
     pieces = ["snare"] * 4 + ["tom1"] * 4 + ["tom2"] * 4 + ["floor-tom"] * 4
     rows = [(k / 4, piece) for k, piece in enumerate(pieces)] + [(4.0, "crash"), (4.0, "kick")]
     assigned = limbs_of(part(rows))
-    assert move_time(KIT, L, "floor-tom", "crash") > 0.15 > 0.0
+    assert move_time(KIT, L, "floor-tom", "crash") > 0.15
     assert assigned[-2:] == [("crash", R), ("kick", RF)]
     assert [limb for _, limb in assigned[:16]] == [R, L] * 8
 
@@ -245,7 +246,7 @@ def check_assignment(notes, given, result):
                     and (result.reasons[i] is None or "needs" in result.reasons[i]))
     for limb in KIT.limbs:
         mine = [(t, i) for t, i in played if result.limbs[i] == limb]
-        for (t0, i0), (t1, i1) in zip(mine, mine[1:]):
+        for (t0, i0), (t1, i1) in itertools.pairwise(mine):
             assert t1 - t0 > 0.001, (limb, notes[i0], notes[i1])  # no limb plays two notes at one time
             if limb in HANDS and notes[i0].piece != notes[i1].piece and result.reasons[i1] is None:
                 # every hand move fits in the time between the hand's notes within its joints' limits
@@ -280,8 +281,6 @@ def test_the_notes_order_does_not_matter(rng):
 
 def test_the_dynamic_programme_finds_the_cheapest_assignment_of_a_short_part(rng):
     """Against every assignment of the hands, tried one by one (a part of 9 notes: 2^9 tries)."""
-    import itertools
-
     names = ["snare", "tom1", "tom2", "floor-tom", "hihat", "crash", "ride"]
     for _ in range(5):
         times = np.cumsum(rng.choice([0.1, 0.15, 0.2, 0.3], size=9))

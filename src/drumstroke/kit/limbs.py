@@ -345,7 +345,7 @@ def _assign_feet(part, groups, limbs, reasons, comfort):
             else:
                 free = [f for f in part.choices[i] if f not in busy]
                 if not free:
-                    reasons[i] = (f"no foot is free: " + ", ".join(f"the {f} plays note {busy[f]}"
+                    reasons[i] = ("no foot is free: " + ", ".join(f"the {f} plays note {busy[f]}"
                                                                     for f in part.choices[i]))
                     continue
                 foot = free[0]
@@ -363,7 +363,7 @@ class _Hands:
         self.part, self.kit, self.costs = part, kit, costs
         # a given note moved to too fast costs more than dropping every other note: the given come first
         self.forced = costs.drop * (len(part.notes) + 1)
-        self.lead, self.open_handed = lead, open_handed
+        self.open_handed = open_handed
         pieces = kit.pieces
         n = len(pieces)
         # move[h][a][b]: hand h (0 right, 1 left) from piece a to piece b, s; inf where it does not play both
