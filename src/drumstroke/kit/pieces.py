@@ -422,7 +422,9 @@ class Kit:
             raise ParameterError(f"stick must be a table, got {shown(stick)}")
         check_keys("stick", stick, [k for k in Stick().to_dict() if k != "pivot_height"])
         # the fulcrum's height is each piece's; the stick's own is any valid one, below its tip
-        stick = Stick(**stick, pivot_height=min(Stick().pivot_height, 0.5 * stick.get("pivot_to_tip", 1.0)))
+        tip = check_real("stick.pivot_to_tip", stick.get("pivot_to_tip", Stick().pivot_to_tip), low=0.0,
+                         high=10.0, low_open=True, unit="m")
+        stick = Stick(**stick, pivot_height=min(Stick().pivot_height, 0.5 * tip))
         return cls(pieces, limbs, stick=stick, place_tolerance=data.get("place_tolerance", PLACE_TOLERANCE))
 
 
@@ -467,13 +469,12 @@ def _keys_and_states(at, spec):
     """A piece's keys (a list, or the hi-hat's table of state to key or keys) as (keys, states)."""
     if not isinstance(spec, dict):
         return spec, {}
-    keys, states = [], {}
+    pairs = []
     for state, value in spec.items():
         check_choice(f"{at}.{state}", state, HIHAT_STATES)
-        for key in value if isinstance(value, list) else [value]:
-            keys.append(key)
-            states[key] = state
-    return tuple(keys), states
+        pairs += [(key, state) for key in (value if isinstance(value, list) else [value])]
+    keys = _keys(at, [key for key, _ in pairs])  # checked before they key a table
+    return keys, dict(pairs)
 
 
 def _keys(at, keys):
