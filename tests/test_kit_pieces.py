@@ -1,0 +1,215 @@
+"""The kit's description: the shipped kit loads, answers the General MIDI keys once each, sets each piece's
+head angle from its h, is laid out as drummers set up; a bad kit file is one error naming the piece and field."""
+
+import copy
+import math
+import tomllib
+
+import pytest
+
+from drumstroke.design import Setup
+from drumstroke.errors import ParameterError
+from drumstroke.formats.toml import write_toml
+from drumstroke.kit.pieces import DEFAULT_KIT, Kit, Piece, default_kit, read_kit, write_kit
+from drumstroke.model import Stick
+
+KIT = default_kit()
+DATA = tomllib.loads(DEFAULT_KIT.read_text(encoding="utf-8"))
+
+GENERAL_MIDI = {  # the General MIDI percussion keys of a five-piece kit with hi-hat, ride and crash
+    35: "kick", 36: "kick", 37: "snare", 38: "snare", 40: "snare", 42: "hihat", 44: "hihat", 46: "hihat",
+    41: "floor-tom", 43: "floor-tom", 45: "tom2", 47: "tom2", 48: "tom1", 50: "tom1", 49: "crash", 57: "crash",
+    51: "ride", 59: "ride", 53: "ride-bell",
+}
+
+
+def test_the_default_kit_loads_with_its_pieces_and_limbs():
+    assert [p.name for p in KIT.pieces] == ["snare", "kick", "hihat", "tom1", "tom2", "floor-tom", "ride",
+                                          "ride-bell", "crash"]
+    assert KIT.hands == ("right", "left") and KIT.feet == ("right-foot", "left-foot")
+    assert set(KIT.limbs["right"]) == set(KIT.limbs["left"]) == {"yaw", "lift"}
+    assert KIT.limbs["right-foot"] == KIT.limbs["left-foot"] == {}
+
+
+def test_every_default_key_maps_to_one_piece():
+    assert set(KIT.keys) == set(GENERAL_MIDI)
+    for key, name in GENERAL_MIDI.items():
+        piece, _ = KIT.piece_for_key(key)
+        assert piece.name == name
+        assert sum(key in p.keys for p in KIT.pieces) == 1
+    assert [KIT.piece_for_key(key)[1] for key in (42, 46, 44)] == ["closed", "open", "pedal"]
+    assert KIT.piece_for_key(38)[1] is None
+    for unanswered in (34, 39, 52, 55, 81, 127, True, "38"):
+        assert KIT.piece_for_key(unanswered) is None
+
+
+def test_the_feet_play_the_kick_and_the_hi_hats_pedal_the_hands_the_rest():
+    hihat = KIT.piece("hihat")
+    assert KIT.piece("kick").limbs_for() == ("right-foot",)
+    assert hihat.limbs_for("pedal") == ("left-foot",)
+    assert hihat.limbs_for("closed") == hihat.limbs_for("open") == ("right", "left")
+    assert (KIT.piece("kick").pedal, hihat.pedal) == ("kick", "hihat")
+
+
+@pytest.mark.parametrize("name", [p.name for p in KIT.pieces if p.hands])
+def test_each_pieces_setup_meets_it_at_minus_asin_h_over_x(name):
+    piece = KIT.piece(name)
+    h = DATA["pieces"][name]["height"]
+    base = Setup(model="geometry")
+    setup = piece.setup(base)
+    assert setup.head == pytest.approx(-math.asin(h / 0.27), rel=0, abs=1e-15)
+    assert setup.stick.pivot_height == h and setup.stick.pivot_to_tip == base.stick.pivot_to_tip
+    assert setup.cor == DATA["pieces"][name]["cor"] and setup.model == "geometry"
+    assert setup.limits.theta_low == setup.head  # the joint's lowest angle is this piece's surface
+    assert setup.moves == base.moves and setup.forces == base.forces
+
+
+def test_the_snare_is_the_papers_stick_and_head():
+    setup = KIT.piece("snare").setup(Setup())
+    assert setup.head == Stick().theta_max and setup.cor == Setup().cor
+
+
+def test_a_foot_piece_has_no_stick():
+    with pytest.raises(ParameterError, match="pieces.kick is played by right-foot, not by a stick"):
+        KIT.piece("kick").setup(Setup())
+    with pytest.raises(ParameterError, match="base must be a drumstroke.design.Setup"):
+        KIT.piece("snare").setup(Stick())
+
+
+def test_cymbals_give_back_less_than_heads_and_sit_higher():
+    cymbals = [p for p in KIT.pieces if p.kind in ("cymbal", "hihat")]
+    drums = [p for p in KIT.pieces if p.kind == "membrane"]
+    assert max(p.cor for p in cymbals) < min(p.cor for p in drums)
+    assert max(p.height for p in cymbals) < min(p.height for p in drums)  # the stick meets them flatter
+    assert min(p.place["lift"] for p in cymbals) > max(p.place["lift"] for p in drums)
+
+
+def test_the_layout_is_a_right_handed_drummers():
+    yaw = {p.name: p.place["yaw"] for p in KIT.pieces if p.hands}  # positive: to the drummer's left
+    assert yaw["hihat"] > yaw["crash"] > yaw["snare"] > yaw["tom1"] > yaw["tom2"] > yaw["floor-tom"] > yaw["ride"]
+    assert KIT.piece("crash").place["lift"] == max(p.place["lift"] for p in KIT.pieces if p.hands)
+    assert [p.role for p in KIT.pieces if p.role == "time"] == ["time"] * 3  # hi-hat, ride, bell
+    assert KIT.piece("snare").role == "backbeat" and KIT.piece("crash").role == "accent"
+
+
+def test_the_default_kit_round_trips_through_toml(tmp_path):
+    path = tmp_path / "kit.toml"
+    write_kit(path, KIT)
+    again = read_kit(path)
+    assert again == KIT
+    assert tomllib.loads(path.read_text(encoding="utf-8")) == KIT.to_dict()
+
+
+def bad_kit(tmp_path, change):
+    """The default kit's data with ``change`` applied, written to a file."""
+    data = copy.deepcopy(DATA)
+    change(data)
+    path = tmp_path / "bad.toml"
+    write_toml(path, data)
+    return path
+
+
+def _set(table, key, value):
+    table[key] = value
+
+
+BAD = {
+    "out of reach": (lambda d: _set(d["pieces"]["crash"]["place"], "yaw", 1.2),
+                     (r"pieces\.crash\.place\.yaw = 1\.2 rad is out of the right hand's reach: its yaw joint "
+                      r"moves in \[-1\.3, 1\] rad")),
+    "two in one place": (lambda d: _set(d["pieces"]["tom2"], "place", {"yaw": 0.005, "lift": 0.195}),
+                         r"pieces\.tom2\.place is pieces\.tom1's place for the right hand"),
+    "a key on two pieces": (lambda d: _set(d["pieces"]["tom2"], "keys", [45, 50]),
+                            r"pieces\.tom2\.keys: key 50 is also pieces\.tom1's"),
+    "c above 1": (lambda d: _set(d["pieces"]["snare"], "cor", 1.2), r"pieces\.snare\.cor must be in \[0, 1\)"),
+    "c of 1": (lambda d: _set(d["pieces"]["snare"], "cor", 1.0), r"pieces\.snare\.cor must be in \[0, 1\)"),
+    "c below 0": (lambda d: _set(d["pieces"]["ride"], "cor", -0.1), r"pieces\.ride\.cor must be in \[0, 1\)"),
+    "h at x": (lambda d: _set(d["pieces"]["crash"], "height", 0.27),
+               r"pieces\.crash\.height must be in \(0, 0\.27\) m"),
+    "h of 0": (lambda d: _set(d["pieces"]["crash"], "height", 0.0), r"pieces\.crash\.height must be in \(0, 10\) m"),
+    "h negative": (lambda d: _set(d["pieces"]["hihat"], "height", -0.05), r"pieces\.hihat\.height must be in"),
+    "unknown limb": (lambda d: _set(d["pieces"]["snare"], "limbs", ["right", "third-hand"]),
+                     (r"pieces\.snare\.limbs must be one of 'right', 'left', 'right-foot', 'left-foot', "
+                      r"got 'third-hand'")),
+    "a limb the kit lacks": (lambda d: d["limbs"].pop("left-foot"),
+                             r"pieces\.hihat\.limbs names 'left-foot', not a limb of the kit"),
+    "missing c": (lambda d: d["pieces"]["ride"].pop("cor"), r"pieces\.ride\.cor is missing"),
+    "missing keys": (lambda d: d["pieces"]["ride"].pop("keys"), r"pieces\.ride\.keys is missing"),
+    "missing h": (lambda d: d["pieces"]["tom1"].pop("height"), r"pieces\.tom1\.height is missing"),
+    "missing place": (lambda d: d["pieces"]["tom1"].pop("place"), r"pieces\.tom1\.place\.yaw is missing"),
+    "missing joint": (lambda d: d["pieces"]["tom1"]["place"].pop("lift"), r"pieces\.tom1\.place\.lift is missing"),
+    "unknown joint": (lambda d: _set(d["pieces"]["tom1"]["place"], "roll", 0.1),
+                      r"pieces\.tom1\.place\.roll: the hands have no joint 'roll'"),
+    "missing pedal": (lambda d: d["pieces"]["kick"].pop("pedal"), r"pieces\.kick\.pedal is missing"),
+    "two pieces on one pedal": (lambda d: _set(d["pieces"]["hihat"], "pedal", "kick") or
+                                _set(d["pieces"]["hihat"], "limbs", ["right", "left", "right-foot"]),
+                                r"pieces\.hihat\.pedal 'kick' is also pieces\.kick's for the right-foot"),
+    "a hi-hat key without a state": (lambda d: _set(d["pieces"]["hihat"], "keys", [42, 46, 44]),
+                                     r"pieces\.hihat\.keys: key 42 has no state"),
+    "an unknown state": (lambda d: _set(d["pieces"]["hihat"], "keys", {"closed": 42, "half": 46}),
+                         r"pieces\.hihat\.keys\.half must be one of 'closed', 'open', 'pedal'"),
+    "a key out of MIDI": (lambda d: _set(d["pieces"]["snare"], "keys", [38, 128]),
+                          r"pieces\.snare\.keys must be MIDI keys, integers in \[0, 127\], got 128"),
+    "a hi-hat key that is not a key": (lambda d: _set(d["pieces"]["hihat"], "keys", {"closed": [42, {"a": 1}]}),
+                                       r"pieces\.hihat\.keys must be MIDI keys, integers in \[0, 127\], got \{'a': 1\}"),
+    "a stick's tip that is not a length": (lambda d: _set(d["stick"], "pivot_to_tip", "long"),
+                                           r"stick\.pivot_to_tip must be a number in \(0, 10\] m"),
+    "an unknown field": (lambda d: _set(d["pieces"]["snare"], "colour", "red"),
+                         r"pieces\.snare has unknown key 'colour'"),
+    "an unknown kind": (lambda d: _set(d["pieces"]["snare"], "kind", "gong"), r"pieces\.snare\.kind must be one of"),
+    "a joint's bad limit": (lambda d: _set(d["limbs"]["left"]["joints"]["yaw"], "max_speed", 0.0),
+                            r"limbs\.left\.joints\.yaw\.max_speed must be in \(0, inf\) rad/s"),
+    "a foot with a joint": (lambda d: _set(d["limbs"]["right-foot"], "joints", d["limbs"]["right"]["joints"]),
+                            r"limbs\.right-foot\.joints must be empty"),
+    "hands without a yaw": (lambda d: d["limbs"]["left"]["joints"].pop("yaw"), r"limbs\.left\.joints\.yaw is missing"),
+    "no pieces": (lambda d: d.pop("pieces"), r"pieces is missing"),
+}
+
+
+@pytest.mark.parametrize("case", BAD)
+def test_a_bad_kit_is_one_error_naming_the_file_the_piece_and_the_field(case, tmp_path):
+    change, message = BAD[case]
+    path = bad_kit(tmp_path, change)
+    with pytest.raises(ParameterError, match=rf"^kit '{path}': {message}") as error:
+        read_kit(path)
+    assert str(error.value).count("\n") == 0
+
+
+def test_a_file_that_is_not_toml_is_named(tmp_path):
+    path = tmp_path / "kit.toml"
+    path.write_text("[pieces.snare\n", encoding="utf-8")
+    with pytest.raises(ParameterError, match=rf"kit '{path}' is not valid TOML"):
+        read_kit(path)
+
+
+def test_pieces_and_kits_built_in_python_are_checked_too():
+    snare = KIT.piece("snare")
+    with pytest.raises(ParameterError, match="piece name must be"):
+        Piece("Snare", "membrane", (38,), ("right",), 0.8, height=0.07, place={"yaw": 0.0})
+    with pytest.raises(ParameterError, match=r"pieces\.x\.height is only for a piece a hand plays"):
+        Piece("x", "kick", (36,), ("right-foot",), 0.5, height=0.07, pedal="kick")
+    with pytest.raises(ParameterError, match=r"pieces\.x\.keys: only a hi-hat's keys have states"):
+        Piece("x", "membrane", (38,), ("right",), 0.8, height=0.07, place={"yaw": 0.0}, states={38: "open"})
+    with pytest.raises(ParameterError, match=r"pieces\.snare appears twice"):
+        Kit((snare, snare), KIT.limbs)
+    with pytest.raises(ParameterError, match=r"pieces must be a non-empty sequence"):
+        Kit((), KIT.limbs)
+    with pytest.raises(ParameterError, match=r"limbs must be one of"):
+        Kit((snare,), {**KIT.limbs, "tail": {}})
+    with pytest.raises(ParameterError, match=r"piece must be one of the kit's pieces"):
+        KIT.piece("cowbell")
+
+
+def test_the_docs_example_kit_is_a_kit(tmp_path):
+    """The kit file the documentation shows, field by field, reads as a kit."""
+    from pathlib import Path
+
+    page = (Path(__file__).resolve().parents[1] / "docs" / "kit.md").read_text(encoding="utf-8")
+    example = page.split("```toml\n", 1)[1].split("```", 1)[0]
+    path = tmp_path / "small.toml"
+    path.write_text(example, encoding="utf-8")
+    kit = read_kit(path)
+    assert [p.name for p in kit.pieces] == ["snare", "hihat", "kick"]
+    assert kit.limbs == KIT.limbs and kit.stick == KIT.stick
+    for piece in kit.pieces:
+        assert piece == KIT.piece(piece.name)
