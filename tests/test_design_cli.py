@@ -81,6 +81,6 @@ def test_compose_plays_auto_and_buzz_notes_without_a_library(tmp_path):
     assert result.returncode == 3 and "left out" in result.stderr
     assert_one_line_error(run("compose", tmp_path / "flam.pattern", "--sticks", "3"), "--sticks")
     named = tmp_path / "named.pattern"
-    named.write_text("tempo 100\n0 single 100\n")
-    assert_one_line_error(run("compose", named), "'single' is not auto, buzz or a library stroke",
-                          "no library was given")
+    named.write_text("tempo 100\n0 flam 100\n")  # no --library: the shipped palette's strokes, no flam among them
+    assert_one_line_error(run("compose", named), "'flam' is not auto, buzz or a library stroke",
+                          "the library has single, tap")
