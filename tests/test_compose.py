@@ -6,6 +6,7 @@ written out by hand (127 is 4 m/s, 48 dB down to velocity 1, linear in dB), and 
 head and upright, returns within the speed and acceleration limits, one time grid for every stick.
 """
 
+import collections
 import json
 import math
 from pathlib import Path
@@ -22,7 +23,7 @@ from drumstroke.compose import compose
 from drumstroke.design import Setup
 from drumstroke.dynamics import FLOOR_DB, level_to_velocity, velocity_to_level
 from drumstroke.errors import ParameterError
-from drumstroke.formats.midi import TempoMap
+from drumstroke.formats.midi import GM_PERCUSSION, TempoMap
 from drumstroke.palette.library import Entry, build_library, load_library, make_stroke, palette_library, read_palette
 from drumstroke.palette.motion import RETURN_LIMITS, Limits
 from drumstroke.recipe import Recipe
@@ -613,10 +614,13 @@ def test_compose_command_prints_one_summary_line_with_the_counts(library, tmp_pa
             counts[kind] = counts.get(kind, 0) + 1
     played, unmapped = counts[10, True], counts[10, False]
     others = sorted((c, n) for (c, _), n in counts.items() if c != 10)
+    skipped = collections.Counter(message.note for message in mido.MidiFile(SONG).tracks[0] if message.type == "note_on"
+                                  and message.velocity and message.channel == 9 and message.note not in (37, 38, 40))
+    keys = ", ".join(f"{key} {GM_PERCUSSION[key]} ×{n}" for key, n in sorted(skipped.items(), key=lambda kn: (-kn[1], kn[0])))
     assert lines[0] == (f"{SONG}: {sum(counts.values())} notes on 9 channels, 1 track; {played} to play (channel 10: "
                         f"{played}); skipped {sum(counts.values()) - played}: {sum(n for _, n in others)} on channels "
                         f"not chosen (--channel) (" + ", ".join(f"channel {c}: {n}" for c, n in others) +
-                        f"), {unmapped} not in the drum map (channel 10: {unmapped})")
+                        f"), {unmapped} not in the drum map (channel 10: {keys})")
     assert lines[1].startswith(f"composed {played} of {played} notes")  # the planner plays every one, on two sticks
     assert lines[2:] == [f"wrote {tmp_path / 'song.mid'}"]
     assert result.stderr == ""

@@ -31,7 +31,9 @@ those only the keys the mapping names are played. Without --mapping, channel
 and any other channel also plays key {FIRST_LIBRARY_NOTE} + i (C4 and up) as the library's
 i-th stroke, in the order of 'drumstroke library list' (without --library, of the
 shipped palette, 'drumstroke presets'). Every note not played
-is counted in one summary line (--verbose lists each, --quiet nothing).
+is counted in one summary line, the keys no mapping plays named with their
+counts (on channel {PERCUSSION_CHANNEL} with their General MIDI names: 42 Closed Hi-Hat ×12);
+--verbose lists each note, --quiet nothing.
 
 The planner (auto and buzz notes) designs, per stick, the thumb force that plays
 the notes as bounces of the model (--model), chooses the sticks of notes that
