@@ -19,7 +19,6 @@ Examples
 ()
 """
 
-import difflib
 import math
 import os
 import re
@@ -27,7 +26,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from pathlib import Path
 
-from .._checks import check_keys, check_real
+from .._checks import check_keys, check_real, did_you_mean
 from ..errors import ParameterError
 from ..formats import trajectory_csv
 from ..formats.json import json_text
@@ -159,7 +158,7 @@ class Library(Mapping):
         try:
             stroke = self._strokes[name]
         except KeyError:
-            raise ParameterError(f"stroke {name!r} is not in the library {str(self.path)!r}{_did_you_mean(name, self)}; "
+            raise ParameterError(f"stroke {name!r} is not in the library {str(self.path)!r}{did_you_mean(name, self)}; "
                                  f"it has {', '.join(self._strokes)}") from None
         if isinstance(stroke, Entry):  # a palette's stroke (palette_library): simulated once, when first asked for
             stroke = self._strokes[name] = _library_stroke(stroke, self.rate)
@@ -220,15 +219,10 @@ def make_stroke(source, *, library=None, model=None, progress=None):
         entries = {entry.name: entry for entry in read_palette()}
         if source not in entries:
             raise ParameterError(f"stroke must be a preset, a stroke of the shipped palette or a recipe .toml file, "
-                                 f"got {source!r}{_did_you_mean(source, [*PRESETS, *entries])}; presets: "
+                                 f"got {source!r}{did_you_mean(source, [*PRESETS, *entries])}; presets: "
                                  f"{', '.join(PRESETS)}; palette strokes: {', '.join(n for n in entries if n not in PRESETS)}")
         return entries[source].make(model=model, progress=progress)
     return simulate(source, model=model, progress=progress)
-
-
-def _did_you_mean(name, names):
-    close = difflib.get_close_matches(name, list(names), n=1)
-    return f" (did you mean {close[0]!r}?)" if close else ""
 
 
 def build_library(directory, *, rate=DEFAULT_RATE, palette=None, progress=None):
