@@ -1,4 +1,4 @@
-"""The one exception root of drumstroke and its two branches."""
+"""The one exception root of drumstroke and its two branches, and the one warning drumstroke gives."""
 
 
 class DrumstrokeError(Exception):
@@ -62,4 +62,12 @@ class TrajectoryError(ParameterError):
 
     The message names the sample, the quantity, its value and the limit, e.g.
     ``sample 1203: speed 41.2 rad/s exceeds max_speed 40 rad/s``.
+    """
+
+
+class SampledImpactsWarning(UserWarning):
+    """Impacts found again in sampled motion, as the exact ones were not recorded: the fast ones may be missed.
+
+    :meth:`drumstroke.Trajectory.read_csv` gives it for a CSV whose JSON beside it records no impacts.
+    The command line does not show it: its commands read a CSV for its samples.
     """
