@@ -10,6 +10,8 @@ import json
 import re
 import shlex
 import shutil
+import sys
+import tomllib
 from pathlib import Path
 
 import matplotlib.image
@@ -50,6 +52,39 @@ def test_the_extras_the_commands_install_exist():
     test_extra = re.search(r"^test = \[(.*?)^\]", pyproject, re.MULTILINE | re.DOTALL).group(1)
     assert '"drumstroke[all]"' in test_extra and '"drumstroke[docs]"' in test_extra
     assert 'drumstroke = "drumstroke.cli:main"' in pyproject
+
+
+def _canonical(name):
+    return re.sub(r"[-_.]+", "-", name).lower()
+
+
+def _installed_by(pyproject, extra):
+    """The distributions ``pip install '.[extra]'`` asks for: the core's and the extra's, its extras' followed."""
+    names, todo = {_canonical(re.split(r"[\s<>=!~;\[]", r)[0]) for r in pyproject["project"]["dependencies"]}, [extra]
+    extras = pyproject["project"]["optional-dependencies"]
+    while todo:
+        for requirement in extras[todo.pop()]:
+            name = _canonical(re.split(r"[\s<>=!~;\[]", requirement)[0])
+            if name == "drumstroke":
+                todo += re.search(r"\[(.*)\]", requirement).group(1).split(",")
+            names.add(name)
+    return names
+
+
+def test_the_all_extra_installs_what_the_examples_import():
+    """Every module the README's and docs' Python examples import is the standard library's, drumstroke's, or from
+    a distribution `pip install '.[all]'` installs (pandas in formats.md, soundfile, rosbags, numpy)."""
+    from importlib.metadata import packages_distributions
+
+    from test_docs import PAGES, page_blocks
+
+    installed = _installed_by(tomllib.loads((ROOT / "pyproject.toml").read_text()), "all")
+    modules = {module for page in PAGES for language, code in page_blocks(page) if language == "python"
+               for module in re.findall(r"^\s*(?:import|from)\s+(\w+)", code, re.MULTILINE)}
+    third_party = sorted(modules - set(sys.stdlib_module_names) - {"drumstroke"})
+    assert "pandas" in third_party and "numpy" in third_party
+    for module in third_party:
+        assert {_canonical(d) for d in packages_distributions()[module]} & installed, module
 
 
 def test_the_quick_tour_has_commands_and_one_python_block():
