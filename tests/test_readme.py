@@ -39,6 +39,38 @@ def test_the_readme_has_exactly_two_setup_commands():
     assert tests.endswith("python -m pytest") and "pip install -e '.[test]'" in tests
 
 
+def _listed_pattern(name):
+    """A name the README lists (``strokes/NAME.png|.wav|.mid``, ``figN-PRESET.png|.json|.csv``, ``library/``) as a
+    regular expression for the paths it stands for."""
+    base, *suffixes = name.split("|")
+    stem, dot, suffix = base.rpartition(".") if "." in base else (base, "", "")
+    alternatives = "|".join(re.escape(s) for s in [dot + suffix, *suffixes]) if dot else ""
+    stem = re.escape(stem).replace("NAME", "[a-z0-9-]+").replace("PRESET", "[a-z-]+").replace("N", "[0-9]")
+    return f"{stem}({alternatives})"
+
+
+def test_the_setup_section_lists_exactly_what_the_demo_writes(demo):
+    """Each file `drumstroke demo out` writes is one the README's list names, and each name it lists is written."""
+    result, out = demo
+    assert result.returncode == 0, result.stderr
+    listing = _section("Set-up: two commands").split("writes into `out/`:", 1)[1].split("```", 1)[0]
+    names = re.findall(r"`([^`]+)`", listing)
+    stems = [name for name in names if not re.search(r"[./]", name)]  # the figure cases, named one by one
+    patterns = {name: _listed_pattern(name) for name in names if name not in stems}
+    written = {path.relative_to(out).as_posix() for path in out.rglob("*") if path.is_file()}
+    written = {"library/" if path.startswith("library/") else path for path in written}
+    for path in written:
+        assert [name for name, pattern in patterns.items() if re.fullmatch(pattern, path)], path
+    for name, pattern in patterns.items():
+        assert any(re.fullmatch(pattern, path) for path in written), name
+    assert sorted({Path(p).stem for p in written if p.startswith("fig")}) == stems
+    by_folder = {folder: {Path(p).stem for p in written if p.startswith(f"{folder}/")} for folder in ("strokes",
+                                                                                                 "rudiments")}
+    assert "library of 20 strokes" in listing and len(by_folder["strokes"]) == 20
+    assert "six of the 40 PAS rudiments" in listing and len(by_folder["rudiments"]) == 6
+    assert len(written) == 1 + 3 * 20 + 4 * 6 + 6 + 3 * 4 + 1  # index, strokes, rudiments, groove, figures, library
+
+
 def test_ci_runs_the_readme_test_command_verbatim():
     _, tests = _setup_commands()
     lines = [line for line in (ROOT / ".ci" / "run").read_text().splitlines() if line and not line.startswith("#")]
