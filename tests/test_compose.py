@@ -6,6 +6,7 @@ written out by hand (127 is 4 m/s, 48 dB down to velocity 1, linear in dB), and 
 head and upright, returns within the speed and acceleration limits, one time grid for every stick.
 """
 
+import collections
 import json
 import math
 from pathlib import Path
@@ -22,8 +23,8 @@ from drumstroke.compose import compose
 from drumstroke.design import Setup
 from drumstroke.dynamics import FLOOR_DB, level_to_velocity, velocity_to_level
 from drumstroke.errors import ParameterError
-from drumstroke.formats.midi import TempoMap
-from drumstroke.palette.library import Entry, build_library, load_library, read_palette
+from drumstroke.formats.midi import GM_PERCUSSION, TempoMap
+from drumstroke.palette.library import Entry, build_library, load_library, make_stroke, palette_library, read_palette
 from drumstroke.palette.motion import RETURN_LIMITS, Limits
 from drumstroke.recipe import Recipe
 from drumstroke.render.outputs import write_composition_outputs
@@ -108,10 +109,10 @@ def head_of(library):
 
 # --- first impacts on the notes ------------------------------------------------------------------------------------
 
-@pytest.mark.parametrize("which", ["built", "loaded"])
+@pytest.mark.parametrize("which", ["built", "loaded", "shipped"])
 @pytest.mark.parametrize("kind", ["pattern", "midi"])
 def test_every_note_first_impact_lands_on_offset_plus_its_time(library, loaded, tmp_path, kind, which):
-    lib = library if which == "built" else loaded
+    lib = {"built": library, "loaded": loaded, "shipped": palette_library()}[which]
     notes, expected = score(kind, lib, tmp_path)
     piece = compose(notes, lib)
     head = head_of(lib)
@@ -403,6 +404,49 @@ def test_compose_command_counts_each_sticks_impacts_in_words(library, tmp_path):
     assert result.returncode == 0 and result.stdout.splitlines()[1].endswith("sticks: right (1 impact)")
 
 
+def test_the_shipped_palettes_strokes_are_simulate_s_made_only_when_asked_for(monkeypatch):
+    """Without a library, compose plays the shipped palette's strokes as ``drumstroke simulate NAME`` makes them."""
+    made = []
+    make = Entry.make
+    monkeypatch.setattr(Entry, "make", lambda entry, **k: made.append(entry.name) or make(entry, **k))
+    shipped = palette_library()
+    assert list(shipped) == [entry.name for entry in read_palette()] and made == []
+    double = shipped["double"].trajectory
+    assert shipped["double"].trajectory is double and made == ["double"]  # simulated once
+    assert shipped.get("flam") is None and "flam" not in shipped
+    assert np.array_equal(double.impacts.t, make_stroke("double").impacts.t)
+    assert shipped.rate == 1000.0 and double.t_end * 1000.0 == pytest.approx(round(double.t_end * 1000.0), abs=1e-6)
+
+
+def test_compose_command_without_a_library_plays_the_shipped_palette_and_says_so(tmp_path):
+    pattern = write(tmp_path / "two.pattern", "tempo 120\n0 single 100\n1 double 90 left\n2 auto 80\n")
+    result = run("compose", pattern, "--json", tmp_path / "c.json", "--strict")
+    assert result.returncode == 0, result
+    assert "strokes from the shipped palette: no --library" in result.stdout.splitlines()[1]
+    data = json.loads((tmp_path / "c.json").read_text())
+    assert [note["played"] for note in data["notes"]] == [True, True, True]
+    built = build_library(tmp_path / "lib", palette=[e for e in read_palette() if e.name in ("single", "double")])
+    result = run("compose", pattern, "--library", built.path)
+    assert result.returncode == 0 and f"strokes from library {built.path}" in result.stdout
+    planned = write(tmp_path / "auto.pattern", "tempo 120\n0 auto 100\n")  # no library stroke: no library named
+    assert "strokes from" not in run("compose", planned).stdout
+    wrong = write(tmp_path / "wrong.pattern", "tempo 120\n0 singel 100\n")
+    assert_one_line_error(run("compose", wrong), "wrong.pattern line 2: stroke 'singel' is not auto, buzz or a "
+                                                 "library stroke; the library has single, tap, double")
+
+
+def test_a_midi_scores_library_keys_play_the_shipped_palette_without_a_library(tmp_path):
+    """Off channel 10, key 60 + i is the i-th stroke: of the shipped palette when no library is given."""
+    names = [entry.name for entry in read_palette()]
+    track = mido.MidiTrack([mido.Message("note_on", channel=0, note=60 + names.index("double"), velocity=90, time=0),
+                            mido.Message("note_off", channel=0, note=60 + names.index("double"), time=240)])
+    mido.MidiFile(type=0, ticks_per_beat=480, tracks=[track]).save(tmp_path / "one.mid")
+    result = run("compose", tmp_path / "one.mid", "--channel", "1", "--json", tmp_path / "one.json")
+    assert result.returncode == 0, result
+    (note,) = json.loads((tmp_path / "one.json").read_text())["notes"]
+    assert note["stroke"] == "double" and note["played"]
+
+
 def test_a_stroke_not_in_the_library_is_named_with_its_line(library):
     """Exposes a bug: Library.__getitem__ raises ParameterError, not KeyError, so Mapping.__contains__ in
     ``note.stroke not in library`` raises the library's message (no line) instead of answering False."""
@@ -570,10 +614,13 @@ def test_compose_command_prints_one_summary_line_with_the_counts(library, tmp_pa
             counts[kind] = counts.get(kind, 0) + 1
     played, unmapped = counts[10, True], counts[10, False]
     others = sorted((c, n) for (c, _), n in counts.items() if c != 10)
+    skipped = collections.Counter(message.note for message in mido.MidiFile(SONG).tracks[0] if message.type == "note_on"
+                                  and message.velocity and message.channel == 9 and message.note not in (37, 38, 40))
+    keys = ", ".join(f"{key} {GM_PERCUSSION[key]} ×{n}" for key, n in sorted(skipped.items(), key=lambda kn: (-kn[1], kn[0])))
     assert lines[0] == (f"{SONG}: {sum(counts.values())} notes on 9 channels, 1 track; {played} to play (channel 10: "
                         f"{played}); skipped {sum(counts.values()) - played}: {sum(n for _, n in others)} on channels "
                         f"not chosen (--channel) (" + ", ".join(f"channel {c}: {n}" for c, n in others) +
-                        f"), {unmapped} not in the drum map (channel 10: {unmapped})")
+                        f"), {unmapped} not in the drum map (channel 10: {keys})")
     assert lines[1].startswith(f"composed {played} of {played} notes")  # the planner plays every one, on two sticks
     assert lines[2:] == [f"wrote {tmp_path / 'song.mid'}"]
     assert result.stderr == ""

@@ -62,8 +62,31 @@ def test_rudiment_list_and_play(tmp_path):
 
 def test_rudiment_bad_input():
     assert_one_line_error(run("rudiment", "paradidle"), "did you mean")
+    from drumstroke.errors import ParameterError
+    from drumstroke.palette.rudiments import rudiment
+
+    for name in ("paradiddle", "41", "zzz"):  # the library's message, about NAME and pointing at --list
+        with pytest.raises(ParameterError) as raised:
+            rudiment(name)
+        expected = str(raised.value).replace("rudiment must", "NAME must", 1).replace("rudiments()",
+                                                                                   "'drumstroke rudiment --list'")
+        result = run("rudiment", name)
+        assert result.returncode == 2 and result.stderr == f"drumstroke rudiment: error: {expected}\n"
+    assert "(did you mean 'single-paradiddle', 'double-paradiddle' or 'triple-paradiddle'?)" in \
+        run("rudiment", "paradiddle").stderr
     assert_one_line_error(run("rudiment", "single-paradiddle", "--tempo", "0"), "--tempo")
     assert_one_line_error(run("rudiment"), "NAME", "--list")
+
+
+def test_rudiment_list_prints_the_40_by_number_with_their_family_and_tempo_range():
+    from drumstroke.palette.rudiments import rudiments
+
+    result = run("rudiment", "--list")
+    assert result.returncode == 0 and result.stderr == ""
+    rows = [line.split() for line in result.stdout.splitlines()]
+    assert [(int(row[0]), row[1], row[2], row[3]) for row in rows] == [
+        (r.number, r.name, r.family, f"{r.tempo[0]:g}-{r.tempo[1]:g}") for r in rudiments()]
+    assert [row[0] for row in rows] == [str(n) for n in range(1, 41)]
 
 
 def test_compose_plays_auto_and_buzz_notes_without_a_library(tmp_path):
@@ -81,6 +104,6 @@ def test_compose_plays_auto_and_buzz_notes_without_a_library(tmp_path):
     assert result.returncode == 3 and "left out" in result.stderr
     assert_one_line_error(run("compose", tmp_path / "flam.pattern", "--sticks", "3"), "--sticks")
     named = tmp_path / "named.pattern"
-    named.write_text("tempo 100\n0 single 100\n")
-    assert_one_line_error(run("compose", named), "'single' is not auto, buzz or a library stroke",
-                          "no library was given")
+    named.write_text("tempo 100\n0 flam 100\n")  # no --library: the shipped palette's strokes, no flam among them
+    assert_one_line_error(run("compose", named), "'flam' is not auto, buzz or a library stroke",
+                          "the library has single, tap")

@@ -10,6 +10,8 @@ import json
 import re
 import shlex
 import shutil
+import sys
+import tomllib
 from pathlib import Path
 
 import matplotlib.image
@@ -37,6 +39,38 @@ def test_the_readme_has_exactly_two_setup_commands():
     assert tests.endswith("python -m pytest") and "pip install -e '.[test]'" in tests
 
 
+def _listed_pattern(name):
+    """A name the README lists (``strokes/NAME.png|.wav|.mid``, ``figN-PRESET.png|.json|.csv``, ``library/``) as a
+    regular expression for the paths it stands for."""
+    base, *suffixes = name.split("|")
+    stem, dot, suffix = base.rpartition(".") if "." in base else (base, "", "")
+    alternatives = "|".join(re.escape(s) for s in [dot + suffix, *suffixes]) if dot else ""
+    stem = re.escape(stem).replace("NAME", "[a-z0-9-]+").replace("PRESET", "[a-z-]+").replace("N", "[0-9]")
+    return f"{stem}({alternatives})"
+
+
+def test_the_setup_section_lists_exactly_what_the_demo_writes(demo):
+    """Each file `drumstroke demo out` writes is one the README's list names, and each name it lists is written."""
+    result, out = demo
+    assert result.returncode == 0, result.stderr
+    listing = _section("Set-up: two commands").split("writes into `out/`:", 1)[1].split("```", 1)[0]
+    names = re.findall(r"`([^`]+)`", listing)
+    stems = [name for name in names if not re.search(r"[./]", name)]  # the figure cases, named one by one
+    patterns = {name: _listed_pattern(name) for name in names if name not in stems}
+    written = {path.relative_to(out).as_posix() for path in out.rglob("*") if path.is_file()}
+    written = {"library/" if path.startswith("library/") else path for path in written}
+    for path in written:
+        assert [name for name, pattern in patterns.items() if re.fullmatch(pattern, path)], path
+    for name, pattern in patterns.items():
+        assert any(re.fullmatch(pattern, path) for path in written), name
+    assert sorted({Path(p).stem for p in written if p.startswith("fig")}) == stems
+    by_folder = {folder: {Path(p).stem for p in written if p.startswith(f"{folder}/")} for folder in ("strokes",
+                                                                                                 "rudiments")}
+    assert "library of 20 strokes" in listing and len(by_folder["strokes"]) == 20
+    assert "six of the 40 PAS rudiments" in listing and len(by_folder["rudiments"]) == 6
+    assert len(written) == 1 + 3 * 20 + 4 * 6 + 6 + 3 * 4 + 1  # index, strokes, rudiments, groove, figures, library
+
+
 def test_ci_runs_the_readme_test_command_verbatim():
     _, tests = _setup_commands()
     lines = [line for line in (ROOT / ".ci" / "run").read_text().splitlines() if line and not line.startswith("#")]
@@ -50,6 +84,39 @@ def test_the_extras_the_commands_install_exist():
     test_extra = re.search(r"^test = \[(.*?)^\]", pyproject, re.MULTILINE | re.DOTALL).group(1)
     assert '"drumstroke[all]"' in test_extra and '"drumstroke[docs]"' in test_extra
     assert 'drumstroke = "drumstroke.cli:main"' in pyproject
+
+
+def _canonical(name):
+    return re.sub(r"[-_.]+", "-", name).lower()
+
+
+def _installed_by(pyproject, extra):
+    """The distributions ``pip install '.[extra]'`` asks for: the core's and the extra's, its extras' followed."""
+    names, todo = {_canonical(re.split(r"[\s<>=!~;\[]", r)[0]) for r in pyproject["project"]["dependencies"]}, [extra]
+    extras = pyproject["project"]["optional-dependencies"]
+    while todo:
+        for requirement in extras[todo.pop()]:
+            name = _canonical(re.split(r"[\s<>=!~;\[]", requirement)[0])
+            if name == "drumstroke":
+                todo += re.search(r"\[(.*)\]", requirement).group(1).split(",")
+            names.add(name)
+    return names
+
+
+def test_the_all_extra_installs_what_the_examples_import():
+    """Every module the README's and docs' Python examples import is the standard library's, drumstroke's, or from
+    a distribution `pip install '.[all]'` installs (pandas in formats.md, soundfile, rosbags, numpy)."""
+    from importlib.metadata import packages_distributions
+
+    from test_docs import PAGES, page_blocks
+
+    installed = _installed_by(tomllib.loads((ROOT / "pyproject.toml").read_text()), "all")
+    modules = {module for page in PAGES for language, code in page_blocks(page) if language == "python"
+               for module in re.findall(r"^\s*(?:import|from)\s+(\w+)", code, re.MULTILINE)}
+    third_party = sorted(modules - set(sys.stdlib_module_names) - {"drumstroke"})
+    assert "pandas" in third_party and "numpy" in third_party
+    for module in third_party:
+        assert {_canonical(d) for d in packages_distributions()[module]} & installed, module
 
 
 def test_the_quick_tour_has_commands_and_one_python_block():

@@ -348,15 +348,34 @@ def test_bad_playing_input_is_refused(kwargs, match):
 def test_a_rudiment_is_found_by_name_title_or_number():
     assert rudiment("double-stroke-open-roll") is rudiment(6) is rudiment("6") is rudiment("Double Stroke Open Roll")
     assert rudiment("Drag Paradiddle #1").number == 36
-    with pytest.raises(ParameterError, match=r"unknown rudiment 'flam tapp'; did you mean 'flam-tap'\?"):
+    allowed = r"rudiment must be a name, title or number in \[1, 40\] of the rudiments rudiments\(\) lists, got "
+    with pytest.raises(ParameterError, match=allowed + r"'flam tapp' \(did you mean 'flam-tap'\?\)$"):
         rudiment("flam tapp")
-    with pytest.raises(ParameterError, match=r"unknown rudiment 'zzz'"):
+    with pytest.raises(ParameterError, match=allowed + r"'zzz'$"):
         rudiment("zzz")
     for number in (0, 41, "41"):
-        with pytest.raises(ParameterError, match=r"rudiment number must be in \[1, 40\]"):
+        with pytest.raises(ParameterError, match=allowed + repr(number)) as raised:
             rudiment(number)
-    with pytest.raises(ParameterError, match="rudiment must be a name or a number"):
+        assert (raised.value.parameter, raised.value.value) == ("rudiment", number)
+    with pytest.raises(ParameterError, match=allowed + "None"):
         rudiment(None)
+
+
+@pytest.mark.parametrize("name, suggested", [
+    ("paradiddle", ["single-paradiddle", "double-paradiddle", "triple-paradiddle"]),  # contained: in PAS order
+    ("Ratamacue", ["single-ratamacue", "double-ratamacue", "triple-ratamacue"]),
+    ("swiss", ["swiss-army-triplet"]),
+    ("flam tapp", ["flam-tap"]),  # a misspelling: the closest by difflib's ratio, the first of equals
+    ("drag paradidle", ["drag-paradiddle-1"]),
+])
+def test_a_wrong_name_suggests_the_names_most_like_it_first(name, suggested):
+    with pytest.raises(ParameterError) as raised:
+        rudiment(name)
+    quoted = [repr(n) for n in suggested]
+    listed = quoted[0] if len(quoted) == 1 else ", ".join(quoted[:-1]) + " or " + quoted[-1]
+    assert str(raised.value).endswith(f"(did you mean {listed}?)"), raised.value
+    numbers = [rudiment(n).number for n in suggested]
+    assert numbers == sorted(numbers)
 
 
 # --- the text pattern -------------------------------------------------------------------------------------------

@@ -1,17 +1,20 @@
 """Scores: text patterns, MIDI note mappings and MIDI files become ScoreNotes; bad input is named by line.
 
 Oracles: note times worked out by hand (beat · 60 / tempo with values chosen to be exact in binary),
-the documented default mapping written out, and the notes of real MIDI files counted here with mido.
+the documented default mapping written out, the notes of real MIDI files counted here with mido, and the
+General MIDI percussion names by pretty_midi's table.
 """
 
+import collections
 import re
 from pathlib import Path
 
 import mido
+import pretty_midi
 import pytest
 
 from drumstroke.errors import ParameterError
-from drumstroke.formats.midi import TempoMap
+from drumstroke.formats.midi import GM_PERCUSSION, TempoMap
 from drumstroke.score import (
     BOUNCE_NOTE,
     DEFAULT_STICK,
@@ -249,7 +252,7 @@ def test_by_default_only_channel_10_is_played_through_the_drum_map(tmp_path):
     assert (report.played, report.skipped, report.count("channel"), report.count(channel=10)) == (3, 7, 5, 5)
     assert report.summary() == (f"{path}: 10 notes on 3 channels, 3 tracks; 3 to play (channel 10: 3); skipped 7: "
                                 "5 on channels not chosen (channels) (channel 1: 3, channel 2: 2), "
-                                "2 not in the drum map (channel 10: 2)")
+                                "2 not in the drum map (channel 10: 42 Closed Hi-Hat ×1, 61 Low Bongo ×1)")
     details = list(report.details())
     assert details[0] == (f"{path}: note 40 at 0 s (channel 2, track 1 'bass', velocity 80) skipped: on channels not "
                           "chosen (channels)")
@@ -273,8 +276,13 @@ def test_channels_and_tracks_choose_what_is_played_and_the_report_says_why_the_r
     mapping = {42: ("double", "left")}
     score = read_score(path, mapping=mapping, channels=(10,))
     assert [(n.time, n.stroke, n.stick) for n in score.notes] == [(0.5, "double", "left")]
-    assert "4 not in the mapping (--mapping) (channel 10: 4)" in score.report.summary(options)
-    assert "4 not in the mapping (mapping) (channel 10: 4)" in score.report.summary()
+    keys = "channel 10: 37 Side Stick ×1, 38 Acoustic Snare ×1, 40 Electric Snare ×1, 61 Low Bongo ×1"
+    assert f"4 not in the mapping (--mapping) ({keys})" in score.report.summary(options)
+    assert f"4 not in the mapping (mapping) ({keys})" in score.report.summary()
+    # off the percussion channel a key is a pitch: named by its number only, each channel apart
+    score = read_score(path, stroke_names=NAMES[:1], channels=[1, 10])
+    assert ("3 not in the default mapping (channel 1: 61 ×1; channel 10: 42 Closed Hi-Hat ×1, 61 Low Bongo ×1)"
+            in score.report.summary())
 
 
 @pytest.mark.parametrize(("choice", "value", "match"), [
@@ -312,6 +320,23 @@ def test_a_pattern_refuses_channels_and_tracks_and_gives_its_tempo_and_meter(tmp
             read_score(pattern, **choice)
 
 
+def mido_unmapped_keys(path):
+    """Independently, with mido: how many notes each key off the drum map has on channel 10."""
+    keys = collections.Counter(message.note for track in mido.MidiFile(path).tracks for message in track
+                               if message.type == "note_on" and message.velocity and message.channel == 9)
+    return {key: n for key, n in keys.items() if key not in (37, 38, 40)}
+
+
+def test_the_general_midi_percussion_names_are_pretty_midis_and_level_2s():
+    """Keys 35-81 by pretty_midi's General MIDI table (spelling aside: hyphens, spaces, case), 27-87 all named."""
+    spelled = lambda name: re.sub(r"[\s-]", "", name.lower())
+    assert {key: spelled(GM_PERCUSSION[key]) for key in range(35, 82)} == {
+        key: spelled(pretty_midi.note_number_to_drum_name(key)) for key in range(35, 82)}
+    assert sorted(GM_PERCUSSION) == list(range(27, 88)) and len(set(GM_PERCUSSION.values())) == 61
+    assert {key: row.name for key, row in DRUM_MAP.items()} == {37: "Side Stick", 38: "Acoustic Snare",
+                                                                40: "Electric Snare"}
+
+
 def mido_counts(path):
     """Independently, with mido: (on channel 10 in the drum map, on channel 10 not in it, per other channel)."""
     played = unmapped = 0
@@ -341,7 +366,9 @@ def test_a_real_song_plays_its_drum_map_notes_on_channel_10_and_counts_the_rest(
     summary = report.summary()
     assert f"; {played} to play" in summary and "\n" not in summary
     if unmapped:
-        assert f"{unmapped} not in the drum map (channel 10: {unmapped})" in summary
+        keys = ", ".join(f"{key} {GM_PERCUSSION[key]} ×{n}" for key, n in
+                         sorted(mido_unmapped_keys(path).items(), key=lambda kn: (-kn[1], kn[0])))
+        assert f"{unmapped} not in the drum map (channel 10: {keys})" in summary
     if others:
         assert f"{sum(others.values())} on channels not chosen" in summary
 

@@ -12,6 +12,7 @@ Traceback (most recent call last):
 drumstroke.errors.ParameterError: t_end must be in [1e-06, 3600] s, got an integer of 401 digits
 """
 
+import difflib
 import math
 import sys
 from numbers import Integral, Real
@@ -95,6 +96,38 @@ def check_keys(name, table, allowed):
         keys = ", ".join(allowed)
         raise ParameterError(f"{name} has unknown key {unknown[0]!r}; allowed keys: {keys}", parameter=name,
                              value=unknown[0], allowed=f"the keys {keys}")
+
+
+def closest(name, names, *, most=3):
+    """The names in ``names`` most like ``name``, the likeliest first: a suggestion for a name not found.
+
+    The names that contain ``name`` (three characters or more, case aside) come first, in their given
+    order (a list shipped in order puts the plain ones first: ``paradiddle`` suggests
+    ``single-paradiddle`` before ``flam-paradiddle``), at most ``most`` of them; when none does, the one
+    most like it (a misspelling): the highest :class:`difflib.SequenceMatcher` ratio, at least 0.6 (as
+    :func:`difflib.get_close_matches`), the first of equals.
+
+    >>> closest("paradiddle", ["flam-tap", "single-paradiddle", "double-paradiddle", "flam-paradiddle"])
+    ['single-paradiddle', 'double-paradiddle', 'flam-paradiddle']
+    >>> closest("dubble", ["single", "double", "triple"]), closest("xyz", ["single"])
+    (['double'], [])
+    """
+    names = [str(n) for n in names]
+    key = str(name).lower()
+    within = [n for n in names if len(key) >= 3 and key in n.lower()]
+    if within:
+        return within[:most]
+    ratios = [difflib.SequenceMatcher(None, key, n.lower()).ratio() for n in names]
+    best = max(range(len(names)), key=ratios.__getitem__, default=None)  # max keeps the first of equals
+    return [names[best]] if best is not None and ratios[best] >= 0.6 else []
+
+
+def did_you_mean(name, names):
+    """`` (did you mean 'a', 'b' or 'c'?)`` with :func:`closest`'s names for ``name``, or an empty string."""
+    close = [repr(n) for n in closest(name, names)]
+    if not close:
+        return ""
+    return f" (did you mean {' or '.join([', '.join(close[:-1]), close[-1]] if len(close) > 1 else close)}?)"
 
 
 def shown(value, *, most=80):

@@ -2,7 +2,8 @@
 
 :func:`write_figures` simulates the presets that reproduce the paper's Figs. 4–7 and writes their files;
 :func:`run_demo` does that, builds the shipped library, renders each stroke as a picture, a sound and
-MIDI, composes the demo groove from them and writes ``index.html`` linking it all. Both need the
+MIDI, plays the :data:`RUDIMENTS` through the planner, composes the demo groove from the library and
+writes ``index.html`` linking it all. Both need the
 ``plot`` extra; the demo also ``audio`` and ``midi``. Each puts its files in place together, as one
 :class:`drumstroke._atomic.Bundle`: killed at any point, it leaves the previous files or the new ones
 (the demo's library switches on its own, atomically, when it is built).

@@ -1,4 +1,4 @@
-"""The one exception root of drumstroke and its two branches."""
+"""The one exception root of drumstroke and its two branches, and the one warning drumstroke gives."""
 
 
 class DrumstrokeError(Exception):
@@ -17,6 +17,8 @@ class ParameterError(DrumstrokeError, ValueError):
     ('cor', 1.5, '[0, 1)', 'must be in [0, 1), got 1.5')
     >>> str(error.renamed("--cor"))
     '--cor must be in [0, 1), got 1.5'
+    >>> str(error.renamed("--cor", allowed="[0, 1) ('drumstroke presets' shows some)"))
+    "--cor must be in [0, 1) ('drumstroke presets' shows some), got 1.5"
 
     Attributes
     ----------
@@ -37,10 +39,14 @@ class ParameterError(DrumstrokeError, ValueError):
         """The message after the parameter's name (the whole message when it is about no one parameter)."""
         return str(self)[len(self.parameter or ""):].lstrip()
 
-    def renamed(self, parameter):
-        """The same error (about a parameter) with the parameter called ``parameter``: ``--cor``, ``force.value``."""
-        return type(self)(parameter + str(self)[len(self.parameter):], parameter=parameter, value=self.value,
-                          allowed=self.allowed)
+    def renamed(self, parameter, *, allowed=None):
+        """The same error (about a parameter) with the parameter called ``parameter``: ``--cor``, ``force.value``;
+        and what is allowed said as ``allowed``, if given (the command line's words for it)."""
+        message = parameter + str(self)[len(self.parameter):]
+        if allowed is not None and self.allowed:
+            message = message.replace(self.allowed, allowed)
+        return type(self)(message, parameter=parameter, value=self.value,
+                          allowed=self.allowed if allowed is None else allowed)
 
 
 class SimulationError(DrumstrokeError):
@@ -56,4 +62,12 @@ class TrajectoryError(ParameterError):
 
     The message names the sample, the quantity, its value and the limit, e.g.
     ``sample 1203: speed 41.2 rad/s exceeds max_speed 40 rad/s``.
+    """
+
+
+class SampledImpactsWarning(UserWarning):
+    """Impacts found again in sampled motion, as the exact ones were not recorded: the fast ones may be missed.
+
+    :meth:`drumstroke.Trajectory.read_csv` gives it for a CSV whose JSON beside it records no impacts.
+    The command line does not show it: its commands read a CSV for its samples.
     """

@@ -51,7 +51,7 @@ from typing import NamedTuple
 
 from ._checks import check_int, check_keys, check_real, shown
 from .errors import ParameterError
-from .formats.midi import PERCUSSION_CHANNEL, TempoMap
+from .formats.midi import GM_PERCUSSION, PERCUSSION_CHANNEL, TempoMap
 from .formats.pattern import parse_pattern as pattern_rows
 from .formats.pattern import read_pattern_file
 from .formats.toml import read_toml
@@ -80,9 +80,9 @@ class DrumKey(NamedTuple):
 
 
 DRUM_MAP = {
-    37: DrumKey("Side Stick", "auto", None),
-    38: DrumKey("Acoustic Snare", "auto", "first"),
-    40: DrumKey("Electric Snare", "auto", "bounce"),
+    37: DrumKey(GM_PERCUSSION[37], "auto", None),
+    38: DrumKey(GM_PERCUSSION[38], "auto", "first"),
+    40: DrumKey(GM_PERCUSSION[40], "auto", "bounce"),
 }
 """The drum map, both ways, in one table: MIDI key on channel 10 → what it is read as and written for.
 
@@ -213,6 +213,10 @@ class ScoreReport:
     def summary(self, names=None):
         """One line: the notes read, the notes to play and the skipped ones per reason, with their channels.
 
+        The notes no mapping plays are counted by key, the most frequent first, on the percussion channel
+        with the key's General MIDI name (:data:`~drumstroke.formats.midi.GM_PERCUSSION`):
+        ``not in the drum map (channel 10: 42 Closed Hi-Hat ×12, 36 Bass Drum 1 ×10)``.
+
         ``names`` is what the caller calls read_score's ``tracks``, ``channels`` and ``mapping`` (the command
         line: its options), for the reasons; by default, those names.
         """
@@ -224,7 +228,8 @@ class ScoreReport:
                 f"{len(self.track_names)} track{'s' * (len(self.track_names) != 1)}; {self.played} to play"
                 + (f" ({played})" if played else ""))
         if self.skipped:
-            parts = [f"{self.count(reason)} {self._reason_text(reason, names)} ({self._by_channel(reason)})"
+            parts = [f"{self.count(reason)} {self._reason_text(reason, names)} "
+                     f"({reason == 'unmapped' and self._keys_by_channel() or self._by_channel(reason)})"
                      for reason in SKIP_REASONS if self.count(reason)]
             line += f"; skipped {self.skipped}: " + ", ".join(parts)
         return line
@@ -241,6 +246,20 @@ class ScoreReport:
     def _by_channel(self, reason):
         counts = sorted((c, n) for (r, c), n in self.counts.items() if r == reason and n)
         return ", ".join(f"channel {c}: {n}" for c, n in counts)
+
+    def _keys_by_channel(self):
+        """The keys of the notes no mapping plays, counted per channel, the most frequent first; on the percussion
+        channel with their General MIDI names (``channel 10: 42 Closed Hi-Hat ×12, 36 Bass Drum 1 ×10``)."""
+        _, keys, _, channels, _, reasons = self._skipped or ((),) * 6
+        unmapped = SKIP_REASONS.index("unmapped")
+        counts = Counter((c, k) for k, c, r in zip(keys, channels, reasons) if r == unmapped)
+        parts = []
+        for channel in sorted({c for c, _ in counts}):
+            named = GM_PERCUSSION if channel == PERCUSSION_CHANNEL else {}
+            ranked = sorted(((n, k) for (c, k), n in counts.items() if c == channel), key=lambda nk: (-nk[0], nk[1]))
+            keys = ", ".join(" ".join(filter(None, (str(k), named.get(k), f"×{n}"))) for n, k in ranked)
+            parts.append(f"channel {channel}: {keys}")
+        return "; ".join(parts)
 
     def _reason_text(self, reason, names):
         parameter = {"track": "tracks", "channel": "channels", "unmapped": "mapping"}[reason]

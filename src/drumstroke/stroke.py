@@ -12,7 +12,6 @@ Examples
 (5001, True)
 """
 
-import difflib
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -21,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ._checks import check_choice, check_real
+from ._checks import check_choice, check_real, did_you_mean
 from ._version import __version__
 from .errors import ParameterError, SimulationError
 from .model import MODELS, Stick, coefficients
@@ -241,10 +240,9 @@ def resolve(recipe):
         path = Path(recipe)
         if path.suffix == ".toml" or path.exists():
             return Recipe.from_toml(path)
-        close = difflib.get_close_matches(str(recipe), list(PRESETS), n=1)
         raise ParameterError(
             f"recipe must be a preset name ({', '.join(PRESETS)}) or a .toml file, got {str(recipe)!r}"
-            + (f" (did you mean {close[0]!r}?)" if close else "")
+            + did_you_mean(recipe, PRESETS)
             + "; a stroke of the shipped palette (e.g. 'double') is made by drumstroke.make_stroke"
         )
     raise ParameterError(f"recipe must be a Recipe, a preset name or a path, got {recipe!r}")

@@ -37,6 +37,7 @@ True
 """
 
 import math
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from functools import cached_property
@@ -48,7 +49,7 @@ from ._atomic import bundled
 from ._checks import as_vector, check_real
 from ._version import __version__
 from .curve import Curve, Segment
-from .errors import ParameterError, TrajectoryError
+from .errors import ParameterError, SampledImpactsWarning, TrajectoryError
 from .formats import trajectory_csv
 from .formats.sidecar import sidecar_for, write_sidecar
 from .model import Stick
@@ -316,6 +317,15 @@ class Trajectory:
         Its model and rate come from the JSON beside it (``X.json`` for ``X.csv``), or from the
         comment line an older drumstroke wrote first, or (the rate) from the ``t`` column.
 
+        Its impacts come from that JSON when it records them, exactly as they were simulated: a run
+        that writes its own JSON with the CSV does (``simulate --json s.json --csv s.csv``, ``compose``,
+        ``design``, ``rudiment``, a library's strokes; :func:`~drumstroke.formats.trajectory_csv.recorded_impacts`).
+        Otherwise they are found again in the samples (:func:`find_impacts`), with a warning: one per
+        sample period at most, its time to a fraction of a period, its ω that of the sample before. So
+        the fast tail of a bounce sequence, where bounces come closer than two sample periods, is
+        missed (a stroke with 73 impacts read back from 1 kHz samples shows 32), and so is an impact
+        that leaves the stick resting on the head.
+
         Parameters
         ----------
         path : str or Path
@@ -324,22 +334,48 @@ class Trajectory:
         rate : float or None
             Hz; default the file's (see above).
         theta_max, tip_distance : float or None
-            The head (rad) and x (m) for the impacts found in the samples; default the paper's stick's.
+            The head (rad) and x (m) for the impacts found in the samples, and x for recorded impacts
+            when the JSON does not say; default the paper's stick's.
+
+        Warns
+        -----
+        drumstroke.errors.SampledImpactsWarning
+            When the impacts are found again in the samples (the JSON beside the CSV records none).
         """
         comment, columns = trajectory_csv.read_columns(path)
         stated = trajectory_csv.file_metadata(path, comment, columns)
+        recorded = trajectory_csv.recorded_impacts(path, columns)
         sticks = trajectory_csv.sticks_in(columns)
         if stick is not None or not sticks:
             t, theta, omega, alpha = trajectory_csv.stick_of(columns, stick, path)
-            names = (stick or DEFAULT_STICK,)
+            names, parts = (stick or DEFAULT_STICK,), [(theta, omega, alpha)]
         else:
-            t = columns["t"]
-            theta = np.column_stack([columns[f"theta_{s}"] for s in sticks])
-            omega = np.column_stack([columns[f"omega_{s}"] for s in sticks])
-            alpha, names = None, sticks
-        return cls.from_samples(t, theta, omega, theta_max=theta_max, tip_distance=tip_distance,
-                                rate=rate if rate is not None else stated["rate"], alpha=alpha, sticks=names,
-                                name=Path(path).stem, model=stated["model"])
+            t, names = columns["t"], sticks
+            parts = [(columns[f"theta_{s}"], columns[f"omega_{s}"], None) for s in sticks]
+        if recorded is not None and len(recorded) == 1 and len(parts) == 1:  # a stroke's, or a one-stick piece's
+            recorded = dict.fromkeys(names, *recorded.values())
+        recorded = [(recorded or {}).get(name) for name in names]
+        if any(impacts is None for impacts in recorded):
+            warnings.warn(f"{str(path)!r}: its impacts are found again in its samples, as the JSON beside it records "
+                          "none; bounces closer than two sample periods are missed (the JSON a run writes with the "
+                          "CSV, e.g. --json s.json --csv s.csv, records them all)", SampledImpactsWarning,
+                          stacklevel=2)
+        read = {"theta_max": theta_max, "tip_distance": tip_distance, "model": stated["model"],
+                "rate": rate if rate is not None else stated["rate"], "name": Path(path).stem}
+        one = {name: cls._read_stick(t, *part, impacts, stick=name, **read)
+               for name, part, impacts in zip(names, parts, recorded)}
+        return next(iter(one.values())) if len(one) == 1 else cls.from_sticks(one, name=read["name"])
+
+    @classmethod
+    def _read_stick(cls, t, theta, omega, alpha, recorded, *, stick, theta_max, tip_distance, model, rate, name):
+        """One stick of a CSV: its samples, with the impacts recorded beside it when there are some."""
+        impacts = after = None
+        if recorded is not None:
+            impact_t, impact_omega, after, tip = recorded
+            tip = tip if tip is not None else Stick().pivot_to_tip if tip_distance is None else tip_distance
+            impacts = Impacts(impact_t, impact_omega, tip)
+        return cls.from_samples(t, theta, omega, impacts, after, theta_max=theta_max, tip_distance=tip_distance,
+                                rate=rate, alpha=alpha, sticks=(stick,), name=name, model=model)
 
     def write_csv(self, path, *, alpha=False, metadata=None, sidecar=True, bundle=None):
         """Write the samples as a trajectory CSV, header first, atomically; its metadata in the JSON beside it.

@@ -23,10 +23,11 @@ import sqlite3
 import sys
 import tempfile
 import traceback
+import warnings
 from importlib import import_module
 
 from .. import __version__
-from ..errors import DrumstrokeError, ParameterError
+from ..errors import DrumstrokeError, ParameterError, SampledImpactsWarning
 from ._parser import Parser, named_option
 
 COMMANDS = {
@@ -76,7 +77,9 @@ def main(argv=None):
         from ._options import check_outputs
 
         check_outputs(args)
-        return args.run(args) or 0
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", SampledImpactsWarning)  # the commands read a CSV for its samples
+            return args.run(args) or 0
     except SystemExit as stop:  # --help, --version, or a bad option: argparse has said so
         return stop.code
     except BaseException as error:  # noqa: BLE001 - the one place every error ends

@@ -5,15 +5,19 @@
 
 import argparse
 
-OPTIONS = {"mapping": "--mapping", "channels": "--channel", "tracks": "--track"}
+OPTIONS = {"mapping": "--mapping", "channels": "--channel", "tracks": "--track", "rudiment": "NAME"}
 """The option of each library parameter the command line passes on under another name: what errors and reports
 about that parameter call it (:func:`named_option`)."""
+
+ALLOWED = {"rudiment": "a name, title or number in [1, 40] of the rudiments 'drumstroke rudiment --list' lists"}
+"""What a library parameter allows, in the command line's words where the library's point at Python (the
+rudiments: ``rudiments()``): errors about it say this instead (:func:`named_option`)."""
 
 
 def named_option(error):
     """``error`` (a ParameterError) about its parameter's option, when the command line has one: ``--channel ...``."""
     option = OPTIONS.get(error.parameter)
-    return error.renamed(option) if option else error
+    return error.renamed(option, allowed=ALLOWED.get(error.parameter)) if option else error
 
 
 class Parser(argparse.ArgumentParser):

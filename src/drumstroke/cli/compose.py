@@ -10,7 +10,7 @@ from ..formats.midi import PERCUSSION_CHANNEL
 from ..formats.pattern import FORMAT
 from ..render import plot
 from ..render.page import plural
-from ..score import BOUNCE_NOTE, DRUM_MAP, FIRST_IMPACT_NOTE, FIRST_LIBRARY_NOTE
+from ..score import BOUNCE_NOTE, DRUM_MAP, FIRST_IMPACT_NOTE, FIRST_LIBRARY_NOTE, PLANNED
 from ._common import OPTIONS, Bar, add_model, add_sound_options, print_written, robot_config
 from ._options import Output, add_mkdir, existing_file, existing_folder, number
 
@@ -29,8 +29,11 @@ those only the keys the mapping names are played. Without --mapping, channel
 
 ('auto': a note the planner designs, on a stick it chooses; no library needed),
 and any other channel also plays key {FIRST_LIBRARY_NOTE} + i (C4 and up) as the library's
-i-th stroke, in the order of 'drumstroke library list'. Every note not played
-is counted in one summary line (--verbose lists each, --quiet nothing).
+i-th stroke, in the order of 'drumstroke library list' (without --library, of the
+shipped palette, 'drumstroke presets'). Every note not played
+is counted in one summary line, the keys no mapping plays named with their
+counts (on channel {PERCUSSION_CHANNEL} with their General MIDI names: 42 Closed Hi-Hat ×12);
+--verbose lists each note, --quiet nothing.
 
 The planner (auto and buzz notes) designs, per stick, the thumb force that plays
 the notes as bounces of the model (--model), chooses the sticks of notes that
@@ -56,7 +59,8 @@ def add_compose(comp):
     comp.formatter_class = argparse.RawDescriptionHelpFormatter
     comp.add_argument("score", type=Path, metavar="SCORE", help="a .mid/.midi file or a text pattern (formats below)")
     comp.add_argument("--library", type=existing_folder, metavar="DIR",
-                      help="a library folder ('library build'), for scores that name its strokes")
+                      help="a library folder ('library build') whose strokes the score names (default: the shipped "
+                           "palette's, simulated as 'drumstroke simulate NAME' makes them)")
     comp.add_argument("--rate", type=number(low=1.0, high=1e5, unit="Hz"), metavar="HZ",
                       help="control rate of the result, in [1, 1e5] Hz (default: the library's, else 1000)")
     add_model(comp, what="the model the planner designs auto and buzz notes with")
@@ -95,14 +99,14 @@ def add_compose(comp):
 def _compose(args):
     from ..compose import compose
     from ..design import Setup
-    from ..palette.library import load_library
+    from ..palette.library import load_library, palette_library
     from ..render.outputs import write_composition_outputs
     from ..score import read_score
 
     say = (lambda *a, **k: None) if args.quiet else print
     rate = args.rate
-    library = load_library(args.library) if args.library else None
-    score = read_score(args.score, mapping=args.mapping, stroke_names=list(library or ()), channels=args.channel,
+    library = load_library(args.library) if args.library else palette_library()
+    score = read_score(args.score, mapping=args.mapping, stroke_names=list(library), channels=args.channel,
                        tracks=args.track)
     report = score.report
     say(report.summary(OPTIONS))
@@ -113,14 +117,15 @@ def _compose(args):
         raise ParameterError(f"{args.score} has no notes to play on the channels and tracks chosen; choose others "
                              "with --channel, --track or --mapping (--verbose lists every note skipped)")
     bar = None if args.quiet else Bar("composing", delay=1.0)
-    piece = compose(score, library, rate=rate, progress=bar.update if bar else None, setup=Setup(model=args.model, limits=robot_config(args.config).limits),
-                    sticks=args.sticks)
+    setup = Setup(model=args.model, limits=robot_config(args.config).limits)
+    piece = compose(score, library, rate=rate, progress=bar.update if bar else None, setup=setup, sticks=args.sticks)
     if bar:
         bar.close()
     played = sum(p.played for p in piece.placements)
     sticks = ", ".join(f"{name} ({plural(len(s.impacts), 'impact')})" for name, s in piece.sticks.items())
-    say(f"composed {played} of {len(score.notes)} notes from {args.score} (model {piece.model}): {piece.t_end:.3f} s "
-        f"at {piece.rate:g} Hz, score time 0 at {piece.offset:g} s; sticks: {sticks}")
+    say(f"composed {played} of {len(score.notes)} notes from {args.score} (model {piece.model}"
+        f"{_strokes_from(score, args)}): {piece.t_end:.3f} s at {piece.rate:g} Hz, score time 0 at {piece.offset:g} s; "
+        f"sticks: {sticks}")
     _warn(piece, played, args, say)
     written = write_composition_outputs(piece, title=args.score.stem, csv=args.csv, json=args.json, plot=args.plot,
                                         audio=args.audio, midi=args.midi, snares=not args.no_snares)
@@ -130,6 +135,13 @@ def _compose(args):
         print("drumstroke compose: error: notes were left out (--strict)", file=sys.stderr)
         return 3
     return 0
+
+
+def _strokes_from(score, args):
+    """Where the score's library strokes came from, when it names any: the summary says which library played."""
+    if all(note.stroke in PLANNED for note in score.notes):
+        return ""
+    return f"; strokes from library {args.library}" if args.library else "; strokes from the shipped palette: no --library"
 
 
 def _warn(piece, played, args, say):

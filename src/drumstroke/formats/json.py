@@ -16,6 +16,8 @@ Examples
 import json
 import os
 
+import numpy as np
+
 from .._atomic import write_atomic
 from ..errors import ParameterError
 from .reading import MAX_DEPTH, MIB, check_document, parse_int, read_text
@@ -70,6 +72,46 @@ def loads(text, where):
     except RecursionError:
         raise ParameterError(f"{where} is not readable JSON: its objects or arrays nest more than {MAX_DEPTH} levels "
                              "deep, the most a file may") from None
+
+
+def impact_columns(rows, where, *, start, end):
+    """The impacts of a stroke's, a composition's or a library's JSON (``"impacts"``, one row each), as arrays.
+
+    Parameters
+    ----------
+    rows : list of dict
+        Each with ``t`` (s) and ``omega`` (rad/s), and ``omega_after`` (rad/s) in all or none, as
+        :meth:`drumstroke.Trajectory.to_dict` (all) and :meth:`drumstroke.Stroke.to_dict` (none) write them.
+    where : str
+        The file, as errors name it.
+    start, end : float
+        The span (s) the impacts must lie in: the samples' first and last times.
+
+    Returns
+    -------
+    t, omega : ndarray [shape=(m,)]
+    omega_after : ndarray [shape=(m,)] or None
+        None when the rows do not record it.
+
+    Raises
+    ------
+    ParameterError
+        Rows without those numbers, numbers not finite, impacts out of time order or outside
+        [start, end], moving up before (ω > 0) or down after.
+    """
+    try:
+        keys = ("t", "omega", "omega_after") if rows and all("omega_after" in row for row in rows) else ("t", "omega")
+        table = np.array([[row[key] for key in keys] for row in rows], dtype=float).reshape(-1, len(keys))
+    except (KeyError, TypeError, ValueError):
+        raise ParameterError(f"{where}: it needs impacts with t, omega (and omega_after)") from None
+    t, omega, after = (*table.T, None)[:3]
+    if not np.all(np.isfinite(table)):
+        raise ParameterError(f"{where}: {len(t)} impacts, not all finite")
+    if (np.any(np.diff(t) < 0) or (len(t) and (t[0] < start or t[-1] > end)) or np.any(omega > 0)
+            or (after is not None and np.any(after < 0))):
+        raise ParameterError(f"{where}: impacts must be in time order within [{start:g}, {end:g}] s, moving "
+                             "down before (omega <= 0) and up after (omega_after >= 0)")
+    return t, omega, after
 
 
 def _exists(path):

@@ -55,7 +55,7 @@ from .._atomic import (
 from .._checks import check_int, check_real
 from .._version import __version__
 from ..errors import ParameterError
-from .json import json_text, read_json
+from .json import impact_columns, json_text, read_json
 from .toml import read_toml
 from .trajectory_csv import read_columns
 
@@ -407,21 +407,17 @@ def _read_trajectory(path, record, rate):
 
 
 def _read_impacts(path, data, record, t_end):
-    where = f"library file {str(path)!r}"
+    where = f"library file {str(path)!r} is corrupt"
     try:
-        rows = data["impacts"]
-        table = np.array([[row["t"], row["omega"], row["omega_after"]] for row in rows], dtype=float).reshape(-1, 3)
         tip = float(data["tip_distance"])
     except (KeyError, TypeError, ValueError):
-        raise ParameterError(f"{where} is corrupt: it needs tip_distance and impacts with t, omega, omega_after") \
-            from None
-    t, omega, after = table.T
-    if len(t) != record["impacts"] or not np.all(np.isfinite(table)) or not math.isfinite(tip):
-        raise ParameterError(f"{where} is corrupt: {len(t)} impacts (finite: {bool(np.isfinite(table).all())}); "
-                             f"the manifest says {record['impacts']}")
-    if np.any(np.diff(t) < 0) or (len(t) and (t[0] < 0 or t[-1] > t_end)) or np.any(omega > 0) or np.any(after < 0):
-        raise ParameterError(f"{where} is corrupt: impacts must be in time order within [0, {t_end:g}] s, moving "
-                             "down before (omega <= 0) and up after (omega_after >= 0)")
+        raise ParameterError(f"{where}: it needs tip_distance and impacts") from None
+    t, omega, after = impact_columns(data.get("impacts"), where, start=0.0, end=t_end)
+    if after is None and len(t):
+        raise ParameterError(f"{where}: its impacts need omega_after")
+    if len(t) != record["impacts"] or not math.isfinite(tip):
+        raise ParameterError(f"{where}: {len(t)} impacts, tip_distance {tip!r}; the manifest says {record['impacts']} "
+                             "impacts")
     return t, omega, after, tip
 
 

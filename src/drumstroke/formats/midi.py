@@ -64,6 +64,26 @@ NOTE_LENGTH = 0.020
 PERCUSSION_CHANNEL = 10
 """General MIDI percussion channel, counted from 1 as musicians do (mido's channel 9)."""
 
+GM_PERCUSSION = {
+    27: "High Q", 28: "Slap", 29: "Scratch Push", 30: "Scratch Pull", 31: "Sticks", 32: "Square Click",
+    33: "Metronome Click", 34: "Metronome Bell",
+    35: "Acoustic Bass Drum", 36: "Bass Drum 1", 37: "Side Stick", 38: "Acoustic Snare", 39: "Hand Clap",
+    40: "Electric Snare", 41: "Low Floor Tom", 42: "Closed Hi-Hat", 43: "High Floor Tom", 44: "Pedal Hi-Hat",
+    45: "Low Tom", 46: "Open Hi-Hat", 47: "Low-Mid Tom", 48: "Hi Mid Tom", 49: "Crash Cymbal 1", 50: "High Tom",
+    51: "Ride Cymbal 1", 52: "Chinese Cymbal", 53: "Ride Bell", 54: "Tambourine", 55: "Splash Cymbal", 56: "Cowbell",
+    57: "Crash Cymbal 2", 58: "Vibraslap", 59: "Ride Cymbal 2", 60: "Hi Bongo", 61: "Low Bongo", 62: "Mute Hi Conga",
+    63: "Open Hi Conga", 64: "Low Conga", 65: "High Timbale", 66: "Low Timbale", 67: "High Agogo", 68: "Low Agogo",
+    69: "Cabasa", 70: "Maracas", 71: "Short Whistle", 72: "Long Whistle", 73: "Short Guiro", 74: "Long Guiro",
+    75: "Claves", 76: "Hi Wood Block", 77: "Low Wood Block", 78: "Mute Cuica", 79: "Open Cuica", 80: "Mute Triangle",
+    81: "Open Triangle",
+    82: "Shaker", 83: "Jingle Bell", 84: "Belltree", 85: "Castanets", 86: "Mute Surdo", 87: "Open Surdo",
+}
+"""The General MIDI percussion key map: key on :data:`PERCUSSION_CHANNEL` → its sound's name.
+
+Keys 35–81 are General MIDI Level 1's (the MMA's names; its "Closed Hi Hat" written "Closed Hi-Hat"
+as its pedal and open hi-hats are), 27–34 and 82–87 the ones General MIDI Level 2 adds. Other keys
+have no General MIDI name."""
+
 FASTEST_TEMPO = 60_000
 """The shortest beat a tempo map holds (µs per quarter note): 1000 bpm, as text patterns allow."""
 

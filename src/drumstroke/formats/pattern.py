@@ -48,6 +48,8 @@ lines are skipped:
                            BEATS quarter notes (the fifth field; default: until
                            the stick's next note)
                    NAME    a stroke of the library, played as it is stored
+                           (without one, of the shipped palette: 'drumstroke
+                           presets' lists them)
 
 For example:
 

@@ -42,6 +42,7 @@ import numpy as np
 
 from .._atomic import write_atomic
 from ..errors import ParameterError
+from .json import impact_columns, read_json
 from .reading import MIB, read_text
 from .sidecar import describe, read_sidecar, sidecar_path
 
@@ -186,6 +187,62 @@ def _from_sidecar(block, side, columns):
     if not isinstance(model, str):
         raise ParameterError(f"{where}: csv.model must be text, got {model!r}")
     return {"model": model, "rate": float(rate), "rate_from": where}
+
+
+def recorded_impacts(path, columns):
+    """The impacts the JSON beside a trajectory CSV records, by stick; None when it records none.
+
+    A run that writes its own JSON beside its CSV records there every impact as the solver found
+    it: ``simulate --json s.json --csv s.csv``, ``design`` and ``compose`` or ``rudiment`` likewise, a
+    library's ``NAME.json``, the demo's and ``figures``' files. A stroke's JSON has ``"impacts"``, one
+    row each, and ``"tip_distance"``; a composition's has ``"impacts"`` by stick. Any other JSON
+    beside the CSV (the metadata alone, as :meth:`drumstroke.Trajectory.write_csv` writes it) records none.
+
+    Parameters
+    ----------
+    path : str or Path
+        The CSV.
+    columns : dict of str to ndarray
+        Its columns (:func:`read_columns`): the impacts must lie within its ``t``.
+
+    Returns
+    -------
+    dict or None
+        ``{stick: (t, omega, omega_after, tip_distance)}``: s, rad/s before and after each impact
+        (after: None when the JSON does not say), m (None when the JSON does not say); the stick
+        None for a stroke's one stick.
+
+    Raises
+    ------
+    ParameterError
+        When the JSON records impacts that are not valid for the samples (see
+        :func:`drumstroke.formats.json.impact_columns`): remove or rewrite it.
+    """
+    side = sidecar_path(path)
+    if read_sidecar(path) is None:  # no JSON beside the CSV, or not this kind
+        return None
+    data = read_json(side, "metadata")
+    rows = data.get("impacts")
+    start, end = float(columns["t"][0]), float(columns["t"][-1])
+    where = f"metadata {str(side)!r}"
+    if isinstance(rows, list):
+        rows = {None: rows}
+    if not isinstance(rows, dict) or not rows:
+        return None
+    return {stick: (*impact_columns(stick_rows, where if stick is None else f"{where} impacts[{stick!r}]",
+                                    start=start, end=end), _tip_distance(stick_rows, data.get("tip_distance")))
+            for stick, stick_rows in rows.items()}
+
+
+def _tip_distance(rows, stated):
+    """x (m): as the JSON states it, else from the first impact that moves (its tip speed over |ω|), else None."""
+    if isinstance(stated, (int, float)) and not isinstance(stated, bool) and stated > 0:
+        return float(stated)
+    for row in rows:
+        speed = row.get("tip_speed")
+        if isinstance(speed, (int, float)) and not isinstance(speed, bool) and speed > 0 and row["omega"] < 0:
+            return speed / -row["omega"]
+    return None
 
 
 def sticks_in(columns):

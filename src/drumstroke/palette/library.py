@@ -19,7 +19,6 @@ Examples
 ()
 """
 
-import difflib
 import math
 import os
 import re
@@ -27,7 +26,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from pathlib import Path
 
-from .._checks import check_keys, check_real
+from .._checks import check_keys, check_real, did_you_mean
 from ..errors import ParameterError
 from ..formats import trajectory_csv
 from ..formats.json import json_text
@@ -145,7 +144,7 @@ class Library(Mapping):
     Attributes
     ----------
     path : Path
-        The library folder.
+        The library folder, or the palette file its strokes are simulated from (:func:`palette_library`).
     rate : float
         Samples per second of every trajectory (Hz).
     """
@@ -157,16 +156,19 @@ class Library(Mapping):
 
     def __getitem__(self, name):
         try:
-            return self._strokes[name]
+            stroke = self._strokes[name]
         except KeyError:
-            raise ParameterError(f"stroke {name!r} is not in the library {str(self.path)!r}{_did_you_mean(name, self)}; "
+            raise ParameterError(f"stroke {name!r} is not in the library {str(self.path)!r}{did_you_mean(name, self)}; "
                                  f"it has {', '.join(self._strokes)}") from None
+        if isinstance(stroke, Entry):  # a palette's stroke (palette_library): simulated once, when first asked for
+            stroke = self._strokes[name] = _library_stroke(stroke, self.rate)
+        return stroke
 
     def __contains__(self, name):
         return name in self._strokes
 
     def get(self, name, default=None):
-        return self._strokes.get(name, default)
+        return self[name] if name in self._strokes else default
 
     def __iter__(self):
         return iter(self._strokes)
@@ -217,15 +219,10 @@ def make_stroke(source, *, library=None, model=None, progress=None):
         entries = {entry.name: entry for entry in read_palette()}
         if source not in entries:
             raise ParameterError(f"stroke must be a preset, a stroke of the shipped palette or a recipe .toml file, "
-                                 f"got {source!r}{_did_you_mean(source, [*PRESETS, *entries])}; presets: "
+                                 f"got {source!r}{did_you_mean(source, [*PRESETS, *entries])}; presets: "
                                  f"{', '.join(PRESETS)}; palette strokes: {', '.join(n for n in entries if n not in PRESETS)}")
         return entries[source].make(model=model, progress=progress)
     return simulate(source, model=model, progress=progress)
-
-
-def _did_you_mean(name, names):
-    close = difflib.get_close_matches(name, list(names), n=1)
-    return f" (did you mean {close[0]!r}?)" if close else ""
 
 
 def build_library(directory, *, rate=DEFAULT_RATE, palette=None, progress=None):
@@ -248,9 +245,9 @@ def build_library(directory, *, rate=DEFAULT_RATE, palette=None, progress=None):
     try:
         strokes = []
         for i, entry in enumerate(entries):
-            trajectory = _on_grid(entry.make(), rate)
-            _write_stroke(staging, entry, trajectory, rate)
-            strokes.append(LibraryStroke(entry.name, entry.category, entry.description, trajectory))
+            stroke = _library_stroke(entry, rate)
+            _write_stroke(staging, entry, stroke.trajectory, rate)
+            strokes.append(stroke)
             if progress:
                 progress((i + 1) / len(entries))
         staging.commit(rate)
@@ -258,6 +255,35 @@ def build_library(directory, *, rate=DEFAULT_RATE, palette=None, progress=None):
         staging.discard()
         raise
     return Library(staging.directory, rate, strokes)
+
+
+def palette_library(palette=None, *, rate=DEFAULT_RATE):
+    """A palette's strokes as a :class:`Library`, each simulated when first asked for, nothing written.
+
+    What ``drumstroke compose`` plays without ``--library``: the shipped palette's strokes by name,
+    made as ``drumstroke simulate NAME`` makes them (:func:`make_stroke`: the recipe simulated, then
+    its transforms), cut to end on a sample time as :func:`build_library` cuts them.
+
+    Parameters
+    ----------
+    palette : str, Path or None
+        A palette file, or None for the shipped palette (:data:`DEFAULT_PALETTE`).
+    rate : float in [1, 100000]
+        The library's rate (Hz): the default control rate of what is composed from it.
+
+    Examples
+    --------
+    >>> library = palette_library()
+    >>> len(library), library.path.name, len(library["double"].trajectory.impacts)
+    (20, 'default.toml', 2)
+    """
+    rate = check_real("rate", rate, low=1.0, high=1e5, unit="Hz")
+    return Library(DEFAULT_PALETTE if palette is None else palette, rate, read_palette(palette))
+
+
+def _library_stroke(entry, rate):
+    """A palette's entry made into a library's stroke at ``rate``: simulated, post-processed, ending on a sample."""
+    return LibraryStroke(entry.name, entry.category, entry.description, _on_grid(entry.make(), rate))
 
 
 def _on_grid(trajectory, rate):

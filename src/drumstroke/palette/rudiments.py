@@ -32,7 +32,6 @@ tempo 120
 1.75 auto 84 left
 """
 
-import difflib
 import math
 import re
 from dataclasses import dataclass
@@ -43,7 +42,7 @@ from pathlib import Path
 from types import MappingProxyType
 from typing import NamedTuple
 
-from .._checks import check_choice, check_int, check_keys, check_real
+from .._checks import check_choice, check_int, check_keys, check_real, did_you_mean, shown
 from ..errors import ParameterError
 from ..formats.toml import read_toml
 
@@ -355,24 +354,35 @@ def rudiments():
 def rudiment(name):
     """The shipped rudiment called ``name``: its name (``flam-tap``), title (``Flam Tap``) or number (22 or ``"22"``).
 
-    A name not found is a ParameterError suggesting the closest one.
+    A name not found is a ParameterError (``parameter`` "rudiment") suggesting the likeliest names: those
+    that contain it, else the closest (:func:`drumstroke._checks.closest`).
+
+    >>> try:
+    ...     rudiment("paradiddle")
+    ... except ParameterError as error:
+    ...     print(error.allowed)
+    ...     print(str(error).split(", got ")[1])
+    a name, title or number in [1, 40] of the rudiments rudiments() lists
+    'paradiddle' (did you mean 'single-paradiddle', 'double-paradiddle' or 'triple-paradiddle'?)
     """
     known = rudiments()
+    allowed = f"a name, title or number in [1, {len(known)}] of the rudiments rudiments() lists"
     if isinstance(name, bool) or not isinstance(name, (int, str)):
-        raise ParameterError(f"rudiment must be a name or a number in [1, {len(known)}], got {name!r}")
+        raise ParameterError(f"rudiment must be {allowed}, got {shown(name)}", parameter="rudiment", value=name,
+                             allowed=allowed)
     if isinstance(name, int) or name.strip().isdigit():
         number = int(name)
         for entry in known:
             if entry.number == number:
                 return entry
-        raise ParameterError(f"rudiment number must be in [1, {len(known)}], got {name!r}")
+        raise ParameterError(f"rudiment must be {allowed}, got {shown(name)}", parameter="rudiment", value=name,
+                             allowed=allowed)
     key = re.sub(r"[\s_]+", "-", name.strip().lower()).replace("#", "")
     by_name = {entry.name: entry for entry in known}
     if key in by_name:
         return by_name[key]
-    close = difflib.get_close_matches(key, list(by_name), n=1, cutoff=0.6)
-    hint = f"; did you mean {close[0]!r}?" if close else f"; the names run from {known[0].name!r} to {known[-1].name!r}"
-    raise ParameterError(f"unknown rudiment {name!r}{hint} (rudiments() lists all {len(known)})")
+    raise ParameterError(f"rudiment must be {allowed}, got {shown(name)}{did_you_mean(key, by_name)}",
+                         parameter="rudiment", value=name, allowed=allowed)
 
 
 def _rudiment_from_table(table, where):
