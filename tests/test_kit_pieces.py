@@ -61,7 +61,8 @@ def test_each_pieces_setup_meets_it_at_minus_asin_h_over_x(name):
     assert setup.stick.pivot_height == h and setup.stick.pivot_to_tip == base.stick.pivot_to_tip
     assert setup.cor == DATA["pieces"][name]["cor"] and setup.model == "geometry"
     assert setup.limits.theta_low == setup.head  # the joint's lowest angle is this piece's surface
-    assert setup.moves == base.moves and setup.forces == base.forces
+    assert setup.moves == base.moves.within(setup.limits) and setup.forces == base.forces  # moves kept above it too
+    assert setup.moves.theta_low == setup.head and setup.moves.max_speed == base.moves.max_speed
 
 
 def test_the_snare_is_the_papers_stick_and_head():

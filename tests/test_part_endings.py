@@ -110,11 +110,11 @@ def test_a_joint_s_range_is_kept_by_every_planned_motion_and_nothing_left_out_si
 
 
 def test_library_strokes_are_scaled_below_the_joint_s_highest_angle_and_say_so(palette):
-    joint = Limits(theta_high=0.3, max_speed=40.0)
+    joint = Limits(theta_high=0.15, max_speed=40.0)
     piece = compose(read_score(EXAMPLES / "backbeat.pattern", stroke_names=list(palette)), palette,
                     setup=Setup(limits=joint))
     assert piece.trajectory.theta.max() <= joint.theta_high + 1e-12
-    assert any("above the joint's highest angle, 0.3 rad" in problem for problem in piece.problems)
+    assert any("above the joint's highest angle, 0.15 rad" in problem for problem in piece.problems)
     unlimited = compose(read_score(EXAMPLES / "backbeat.pattern", stroke_names=list(palette)), palette)
     assert unlimited.trajectory.theta.max() > joint.theta_high  # the test means something
 

@@ -123,15 +123,15 @@ class Limits:
         return {f.name: getattr(self, f.name) for f in fields(self)}
 
     def within(self, joint):
-        """These limits narrowed to ``joint``'s: the narrower range and the lower speed, acceleration and jerk.
+        """A budget within ``joint``'s limits: the joint's range, and the lower of each speed, acceleration and jerk.
 
-        >>> RETURN_LIMITS.within(Limits(theta_high=0.5, max_speed=10.0)).max_speed
-        10.0
+        >>> moves = RETURN_LIMITS.within(Limits(theta_high=0.5, max_speed=10.0))
+        >>> moves.theta_high, moves.max_speed, moves.max_acceleration
+        (0.5, 10.0, 1000.0)
         """
         if not isinstance(joint, Limits):
             raise ParameterError(f"joint must be a drumstroke.palette.motion.Limits, got {joint!r}")
-        return replace(self, theta_low=max(self.theta_low, joint.theta_low),
-                       theta_high=min(self.theta_high, joint.theta_high),
+        return replace(self, theta_low=joint.theta_low, theta_high=joint.theta_high,
                        max_speed=min(self.max_speed, joint.max_speed),
                        max_acceleration=min(self.max_acceleration, joint.max_acceleration),
                        max_jerk=min(self.max_jerk, joint.max_jerk))
