@@ -82,8 +82,9 @@ class Segment:
 
         def hold(t):
             shape = np.shape(t) + value.shape
-            return (np.full(shape, float(value)) if not value.shape else np.broadcast_to(value, shape).copy(),
-                    np.zeros(shape))
+            held = np.empty(shape)  # filled: np.full costs more on the short runs a stream asks for
+            held[...] = value
+            return held, np.zeros(shape)
 
         return cls(float(start), float(end), hold, float(start), still=True)
 
@@ -195,7 +196,8 @@ class Curve:
         setpoints."""
         def all_three(segment, times):
             local = segment.local(times)
-            return (*segment.path(local), _flight_acceleration(segment, local))
+            theta, omega = segment.path(local)
+            return theta, omega, np.zeros_like(omega) if segment.still else _flight_acceleration(segment, local)
 
         return self._each(t, all_three, 3)
 
@@ -203,9 +205,11 @@ class Curve:
         """``evaluate(segment, times)`` of every group of times ``t`` one segment holds, put back in t's order."""
         t = np.asarray(t, dtype=float)
         flat = t.ravel()
-        which = np.clip(np.searchsorted(self._starts, flat, side="right") - 1, 0, len(self.segments) - 1)
         if len(self.segments) == 1:
             return tuple(np.reshape(a, t.shape + np.shape(a)[1:]) for a in evaluate(self.segments[0], flat))
+        which = np.maximum(np.searchsorted(self._starts, flat, side="right") - 1, 0)  # np.clip costs more
+        if flat.size and which[0] == which[-1] and np.all(which == which[0]):  # one segment holds them all
+            return tuple(np.reshape(a, t.shape + np.shape(a)[1:]) for a in evaluate(self.segments[which[0]], flat))
         if flat.size and np.all(which[1:] >= which[:-1]):  # sorted times (samples): contiguous runs, as slices
             edges = [0, *(np.flatnonzero(np.diff(which)) + 1).tolist(), flat.size]
             runs = [slice(a, b) for a, b in zip(edges[:-1], edges[1:])]
