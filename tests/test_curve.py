@@ -112,3 +112,17 @@ def test_segments_must_tile_the_span(segments, match):
 def test_a_segment_ends_at_or_after_its_start(start, end):
     with pytest.raises(ParameterError, match="end must be at or after its start"):
         Segment(start, end, _parabola(0.0))
+
+
+def test_a_curve_cut_and_joined_without_checks_equals_one_checked_from_its_segments():
+    """spliced and since trust segments that tile (they are cut from a curve): the result is the curve the checked
+    constructor makes of the same segments, at every time."""
+    rise = Segment(0.5, 1.0, lambda t: (2.0 * t, np.full(np.shape(t), 2.0)), offset=0.5)
+    joined = Curve.hold(0.0).spliced(Curve((rise, Segment.hold(1.0, 1.0))))
+    checked = Curve(joined.segments)
+    t = np.linspace(-1.0, 3.0, 401)
+    for a, b in zip(joined.evaluate(t), checked.evaluate(t)):
+        np.testing.assert_array_equal(a, b)
+    later = joined.since(0.75)
+    assert later.segments == joined.segments[1:]
+    np.testing.assert_array_equal(later(t[t >= 0.75])[0], checked(t[t >= 0.75])[0])

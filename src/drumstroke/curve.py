@@ -116,6 +116,15 @@ class Curve:
         object.__setattr__(self, "segments", segments)
         object.__setattr__(self, "_starts", np.array([s.start for s in segments]))
 
+    @classmethod
+    def _of(cls, segments):
+        """A curve of ``segments`` (a tuple) known to tile their span (cut from a curve, or joined where it was cut):
+        not checked again, as a live stream makes several a note."""
+        curve = object.__new__(cls)
+        object.__setattr__(curve, "segments", segments)
+        object.__setattr__(curve, "_starts", np.array([s.start for s in segments]))
+        return curve
+
     # --- making one ------------------------------------------------------------------------------------------------
 
     @classmethod
@@ -135,15 +144,17 @@ class Curve:
         cut = added[0].start
         kept = [s for s in self.segments if s.start < cut]
         if not kept:
-            return Curve(added)
+            return new if isinstance(new, Curve) else Curve(added)
         last = kept[-1]
         kept[-1] = Segment(last.start, cut, last.path, last.offset, last.impacts, last.source, last.still)
+        if isinstance(new, Curve):  # its segments tile, and the kept ones end where it starts
+            return Curve._of(tuple(kept) + added)
         return Curve(tuple(kept) + added)
 
     def since(self, t):
         """The same motion from ``t`` (s) on: the segments that end before it forgotten."""
         keep = next((k for k, s in enumerate(self.segments) if s.end > t), len(self.segments) - 1)
-        return self if keep == 0 else Curve(self.segments[keep:])
+        return self if keep == 0 else Curve._of(self.segments[keep:])
 
     # --- reading it ------------------------------------------------------------------------------------------------
 

@@ -93,11 +93,19 @@ class Setup:
                 raise ParameterError(f"{name} must be a {where}, got {getattr(self, name)!r}")
         if self.moves is None:
             object.__setattr__(self, "moves", RETURN_LIMITS.within(self.limits))
+        # asked for at every design and looked up in the planner's caches: worked out once
+        object.__setattr__(self, "_head", self.stick.theta_max)
+        # of numbers only (the model by its index): the same in every process, so a pickled setup keeps it right
+        object.__setattr__(self, "_hash", hash((MODELS.index(self.model), self.cor, self.stick, self.forces,
+                                                self.limits, self.moves)))
+
+    def __hash__(self):
+        return self._hash
 
     @property
     def head(self):
         """θ_max (rad): where the stick meets the head."""
-        return self.stick.theta_max
+        return self._head
 
     def replace(self, **changes):
         """The same setup with ``changes`` (validated again); new ``limits`` narrow the default moves anew."""
