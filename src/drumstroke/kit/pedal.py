@@ -815,6 +815,11 @@ def _double(pedal, k, times, speeds, levels):
     if gap >= back.duration + again.duration:  # time enough to come back to rest: a press from rest
         depth = pedal.travel
     else:
+        if launch == 0.0 and gap <= math.pi / pedal.frequency:  # no rebound: any swing back takes half a period
+            raise Unreachable(f"note {k} (t = {times[k]:.6g} s, {levels[k]:.4g} dB) comes {gap:.6g} s after note "
+                              f"{k - 1}; a beater that does not rebound (c = 0) takes half a period, "
+                              f"{math.pi / pedal.frequency:.6g} s, to swing back from the head under a constant press",
+                              note=k, nearest_time=float(times[k - 1] + math.pi / pedal.frequency))
         depth = double_depth(gap, launch, speeds[k], pedal.frequency)
         back, again = Swing.of(pedal, depth, launch), Swing.of(pedal, depth, speeds[k])
     what = "from the rebound" if depth < pedal.travel else "from rest"
