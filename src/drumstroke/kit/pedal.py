@@ -642,7 +642,8 @@ class Swing:
     def of(cls, pedal, depth, speed):
         rate = pedal.frequency
         scaled = speed / rate
-        equilibrium = pedal.phi_head - depth / 2.0 + scaled**2 / (2.0 * depth)
+        with np.errstate(over="ignore"):  # a press beyond any foot comes out inf, and is refused as such
+            equilibrium = pedal.phi_head - depth / 2.0 + scaled**2 / (2.0 * depth)
         return cls(depth, speed, pedal.force_for(equilibrium), 2.0 * math.atan2(depth, scaled) / rate)
 
 
@@ -821,6 +822,9 @@ def _double(pedal, k, times, speeds, levels):
                               f"{math.pi / pedal.frequency:.6g} s, to swing back from the head under a constant press",
                               note=k, nearest_time=float(times[k - 1] + math.pi / pedal.frequency))
         depth = double_depth(gap, launch, speeds[k], pedal.frequency)
+        if not depth > 1e-12:  # a rebound too slow to turn back within the gap (c nearly 0)
+            raise Unreachable(f"note {k} (t = {times[k]:.6g} s, {levels[k]:.4g} dB) comes {gap:.6g} s after note "
+                              f"{k - 1}, whose rebound ({launch:.3g} rad/s) is too slow to turn back in time", note=k)
         back, again = Swing.of(pedal, depth, launch), Swing.of(pedal, depth, speeds[k])
     what = "from the rebound" if depth < pedal.travel else "from rest"
     _press_limit(pedal, back, k, times[k], levels[k], f"to turn note {k - 1}'s rebound back")
