@@ -9,5 +9,6 @@
   repeats, the lead hand keeping time, the backbeat, crossing), the unplayable reported.
 - :mod:`.pedal`: the kick's beater (and the hi-hat's pedal): a rod about the pedal's axle striking a
   vertical head, driven by the foot against the pedal's spring; the same kind of exact hybrid system as
-  the stick (flight, impact with restitution, rest), and its inverse.
+  the stick (flight, impact with restitution, rest), and its inverse: :class:`~.pedal.Pedal`,
+  :func:`~.pedal.simulate_pedal` (foot force -> exact motion), :func:`~.pedal.design_pedal` (notes -> foot force).
 """
