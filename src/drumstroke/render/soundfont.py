@@ -21,6 +21,7 @@ Examples
 [(0.0, 36, 111, 10), (0.5, 38, 95, 10)]
 """
 
+import os
 import shutil
 import struct
 import subprocess
@@ -131,7 +132,7 @@ def render_soundfont(hits, soundfont, *, duration=None, rate=SAMPLE_RATE, gain=F
         FluidSynth's master gain. The signal is scaled down as a whole if its peak passes 0.99.
     timeout : float > 0
         Seconds FluidSynth may take before it is stopped (a ParameterError then).
-    fluidsynth : str
+    fluidsynth : str or path-like
         The FluidSynth program: a name on the PATH or a path.
 
     Returns
@@ -147,7 +148,7 @@ def render_soundfont(hits, soundfont, *, duration=None, rate=SAMPLE_RATE, gain=F
     last = float(hits.t.max()) if len(hits) else 0.0
     if duration is not None:
         duration = check_real("duration", duration, low=last, unit="s")
-    program = shutil.which(fluidsynth) if isinstance(fluidsynth, str) else None
+    program = shutil.which(os.fspath(fluidsynth)) if isinstance(fluidsynth, (str, os.PathLike)) else None
     if program is None:
         raise ParameterError(f"fluidsynth: the program {shown(fluidsynth)} is not found; install FluidSynth "
                              "(Debian: apt-get install fluidsynth) or give its path",
