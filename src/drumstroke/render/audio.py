@@ -235,7 +235,16 @@ def synthesize(times, tip_speeds, *, duration=None, drum=Drum(), rate=SAMPLE_RAT
         duration = last + TAIL_DECAYS * drum.decay
     duration = check_real("duration", duration, low=last, unit="s")
 
-    size = round(duration * rate)
+    return limit_peak(ring(times, tip_speeds, drum, rate=rate, size=round(duration * rate)))
+
+
+def ring(times, tip_speeds, drum, *, rate, size):
+    """The drum's ringing after impacts, before :func:`limit_peak`: :func:`synthesize` without its checks.
+
+    For a caller that mixes several instruments and limits the mix's peak once
+    (:mod:`drumstroke.render.kit_audio`). Arguments as :func:`synthesize`'s, already checked; ``size``
+    is the number of samples (impacts at or after it are left out).
+    """
     start = np.ceil(times * rate).astype(np.int64)
     inside = start < size
     start, offset = start[inside], start[inside] - times[inside] * rate
@@ -246,6 +255,11 @@ def synthesize(times, tip_speeds, *, duration=None, drum=Drum(), rate=SAMPLE_RAT
     signal = _membrane(start, offset, amplitude, tip_speeds[inside], drum, rate, size)
     if drum.snares and drum.snare_level > 0.0:
         signal += _snare(start, offset, drum.snare_level * amplitude, drum, rate, size)
+    return signal
+
+
+def limit_peak(signal):
+    """``signal`` scaled down in place so that its largest absolute sample is :data:`PEAK`, if it is above; returned."""
     peak = np.abs(signal).max(initial=0.0)
     if peak > PEAK:
         signal *= PEAK / peak
