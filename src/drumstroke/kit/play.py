@@ -48,7 +48,7 @@ import numpy as np
 
 from .._checks import check_real, check_vector, shown
 from ..curve import Curve, Segment, placed
-from ..design.chain import LEAD, MIN_GAP, Unreachable, design
+from ..design.chain import LEAD, MIN_GAP
 from ..design.planner import LEADS, Problem, Target, plan_stick
 from ..design.setup import Setup
 from ..dynamics import CEILING_DB, FLOOR_DB, velocity_to_level
@@ -359,42 +359,35 @@ class _Hand:
         return runs
 
     def run(self, surface, run):
-        """Plan one run on ``surface``; a first note the hand cannot reach in time is left out and the rest
-        planned again."""
+        """Plan one run on ``surface``, its first throw the planner's or, when the hand cannot get there in time,
+        a shorter one; when none gives the time, the first note is left out and the rest planned again."""
         pending = list(run)
         while pending:
-            plan = plan_stick([Target(self.notes[i].time, self.levels[i], key=i) for i in pending],
-                              setup=surface.setup)
-            if not plan.designs:
-                self.report(plan.problems)
-                return
-            first = plan.designs[0]
-            made, moves, short = (first, [], None) if self.last is None else self.arrive(surface, first)
-            if made is not None:
-                self.keep(surface, plan, made, moves)
-                return
+            targets = [Target(self.notes[i].time, self.levels[i], key=i) for i in pending]
+            for lead in LEADS if self.last is not None else (LEAD,):
+                plan = plan_stick(targets, setup=surface.setup, lead=lead)
+                if not plan.designs:
+                    self.report(plan.problems)
+                    return
+                moves, need, available = self.arrive(surface, plan.designs[0])
+                if moves is not None:
+                    self.keep(surface, plan, moves)
+                    return
             key = plan.keys[0][0]
-            need, available = short
             nearest = self.notes[key].time + need - available if math.isfinite(need) else None
             self.leave_out(key, self.too_slow(surface, need, available), nearest)
             pending.remove(key)
 
     def arrive(self, surface, first):
-        """The stroke onto the run's first notes and the moves that take the hand there from its last stroke:
-        (Design, moves, None), or (None, None, (need s, available s)) when no move fits in time."""
+        """The moves that take the hand from its last stroke to ``first``'s throw on ``surface`` (none for its
+        first stroke), the time they need and the time there is (s); the moves None when they do not fit."""
+        if self.last is None:
+            return [], 0.0, math.inf
         before, last = self.last
-        start = self.position(before, _caught(last))
-        need, available = math.inf, first.release - last.t_end
-        for lead in LEADS:  # the planner's throw first, then shorter ones: the move gets more time
-            made = first if lead == LEAD else _thrown(first, lead, surface.setup)
-            if made is None:
-                continue
-            moves = self.crossing(start, self.position(surface, float(made.recipe.theta0)))
-            need = math.inf if moves is None else sum(move.duration for move in moves)
-            available = made.release - last.t_end
-            if need <= available:
-                return made, moves, None
-        return None, None, (need, available)
+        moves = self.crossing(self.position(before, _caught(last)), self.position(surface, _thrown(first)))
+        need = math.inf if moves is None else sum(move.duration for move in moves)
+        available = first.release - last.t_end
+        return (moves if need <= available else None), need, available
 
     def crossing(self, start, target):
         """The moves from ``start`` to ``target`` (every joint's angle, at rest) that keep the stick clear: the
@@ -447,18 +440,16 @@ class _Hand:
             clear &= ~over | (theta >= surface.head + self.clearance - 1e-12)
         return clear
 
-    def keep(self, surface, plan, made, moves):
-        """Add the run's strokes (the first ``made``, after ``moves``) and the planner's moves between them."""
-        designs = (made,) + plan.designs[1:]
+    def keep(self, surface, plan, moves):
+        """Add the run's strokes (the first after ``moves``) and the planner's moves between them."""
+        designs, made = plan.designs, plan.designs[0]
+        held = self.position(surface, _thrown(made))
         if self.last is None:
-            self.segments.append(Segment.hold(self.position(surface, float(made.recipe.theta0)),
-                                              min(0.0, made.release), made.release))
+            self.segments.append(Segment.hold(held, min(0.0, made.release), made.release))
         else:
             free = self.last[1].t_end
             self.segments += placed([(move.duration, move.path) for move in moves], free)
-            arrived = free + sum(move.duration for move in moves)
-            self.segments.append(Segment.hold(self.position(surface, float(made.recipe.theta0)), arrived,
-                                              made.release))
+            self.segments.append(Segment.hold(held, free + sum(move.duration for move in moves), made.release))
         for k, stroke in enumerate(designs):
             if k:
                 self.between(surface, designs[k - 1], stroke)
@@ -504,7 +495,9 @@ class _Hand:
         if not math.isfinite(need):
             return (f"no move of the {self.hand} hand {where} keeps the stick {self.clearance:g} rad above the "
                     f"surfaces it passes within the joints' ranges")
-        return f"the {self.hand} hand's move {where} needs {need:.4g} s, {available:.4g} s available"
+        caught = self.last[1].t_end
+        return (f"the {self.hand} hand's move {where} needs {need:.4g} s, {available:.4g} s available (its stick "
+                f"caught at {caught:.6g} s, the throw onto the note released at {caught + available:.6g} s)")
 
     def position(self, surface, theta):
         """Every joint's angle (rad) with the hand at ``surface``'s place and the stick at ``theta``."""
@@ -528,12 +521,9 @@ def _caught(made):
     return float(made.state(np.array([made.t_end]))[0][0])
 
 
-def _thrown(made, lead, setup):
-    """``made``'s notes thrown by a standard throw of ``lead`` s instead, caught as it is; None if unreachable."""
-    try:
-        return design(made.times, made.levels, lead=lead, end=made.end, catch_at=_caught(made), setup=setup)
-    except Unreachable:
-        return None
+def _thrown(made):
+    """θ (rad) a designed stroke's stick is held at, at rest, until its release."""
+    return float(made.recipe.theta0)
 
 
 def _with_theta(position, theta):
