@@ -20,9 +20,10 @@ surface is below it (θ ≥ θ_max), as in the planner. The lift joint does not 
 counts as a surface at its own θ_max. A move is checked on a grid of :data:`CHECK_STEP` s and at
 each joint's extremes; when the direct move passes too low, the hand lifts the stick first (to the
 clearance above every footprint it sweeps), moves across, then lowers it: three synchronised moves.
-When that does not fit in the time before the next stroke's release, the planner's shorter throws
-(:data:`~drumstroke.design.planner.LEADS`) are tried; when none fits, the note is left out and
-reported, with the time the move needs and the time there is — never a jump.
+When that does not fit in the time before the next stroke's release, the run is planned again with
+the planner's shorter throws onto its first note (:data:`~drumstroke.design.planner.LEADS`): the
+move gets their time; when none fits, that note is left out and reported, with the time the move
+needs and the time there is — never a jump — and the run's other notes are planned again.
 
 Examples
 --------
@@ -364,16 +365,20 @@ class _Hand:
         pending = list(run)
         while pending:
             targets = [Target(self.notes[i].time, self.levels[i], key=i) for i in pending]
+            attempt = None
             for lead in LEADS if self.last is not None else (LEAD,):
                 plan = plan_stick(targets, setup=surface.setup, lead=lead)
                 if not plan.designs:
-                    self.report(plan.problems)
-                    return
+                    if attempt is None:  # the planner's own throw plays none of them: its reasons
+                        self.report(plan.problems)
+                        return
+                    continue
                 moves, need, available = self.arrive(surface, plan.designs[0])
                 if moves is not None:
                     self.keep(surface, plan, moves)
                     return
-            key = plan.keys[0][0]
+                attempt = (plan.keys[0][0], need, available)
+            key, need, available = attempt
             nearest = self.notes[key].time + need - available if math.isfinite(need) else None
             self.leave_out(key, self.too_slow(surface, need, available), nearest)
             pending.remove(key)
