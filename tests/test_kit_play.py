@@ -226,7 +226,7 @@ def random_parts(draw):
     return notes, velocities
 
 
-@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(random_parts())
 def test_random_parts_play_every_note_or_report_it_and_the_motion_is_sound(drawn):
     notes, velocities = drawn
