@@ -2,6 +2,7 @@
 its time and level, on its piece (the hand at the piece's place, the stick on its surface), no jump, every
 joint within its limits, the stick clear of the surfaces it passes over, the rest reported with numbers."""
 
+import itertools
 import math
 import re
 
@@ -127,7 +128,7 @@ def test_quiet_notes_from_piece_to_piece_lift_the_stick_over_the_surfaces_betwee
     motion = performance.hands["right"]
     check_played(performance, notes, {o.index: o.level for o in performance.outcomes})
     check_motion(motion)
-    for a, b in zip(notes, notes[1:]):  # between two notes the stick rises above the surfaces' clearance
+    for a, b in itertools.pairwise(notes):  # between two notes the stick rises above the surfaces' clearance
         t = np.linspace(a.time + 0.01, b.time - 0.01, 500)
         q, _ = motion.curve(t)
         moving = np.any(np.abs(np.diff(q[:, 0])) > 0)
@@ -209,6 +210,25 @@ def test_bad_input_is_refused_naming_the_parameter(options, match):
         play_hands([KitNote(0.5, "snare")], KIT, **options)
     with pytest.raises(ParameterError, match="kit must be a drumstroke.kit.pieces.Kit"):
         play_hands([KitNote(0.5, "snare")], "kit", velocities=[100])
+
+
+def test_an_assignment_given_is_checked_against_the_notes():
+    notes = [KitNote(0.5, "snare"), KitNote(1.0, "kick")]
+    assignment = assign_limbs(notes, KIT)
+    played = play_hands(notes, KIT, velocities=[100, 100], limbs=assignment)
+    assert [o.limb for o in played.outcomes] == ["right"] and played.feet[0].limb == "right-foot"
+    with pytest.raises(ParameterError, match=r"limbs must hold a limb for each of the 1 notes, got 2"):
+        play_hands(notes[:1], KIT, velocities=[100], limbs=assignment)
+    with pytest.raises(ParameterError, match=r"limbs\[0\] must be a limb that plays 'kick' \(right-foot\), got 'right'"):
+        play_hands(notes[::-1], KIT, velocities=[100, 100], limbs=assignment)
+    with pytest.raises(ParameterError, match="piece must be one of the kit's pieces"):
+        play_hands([KitNote(0.5, "gong"), notes[1]], KIT, velocities=[100, 100], limbs=assignment)
+
+
+def test_no_notes_are_no_motion():
+    performance = play_hands([], KIT, velocities=[])
+    assert performance.outcomes == () and performance.feet == ()
+    assert all(motion.curve is None for motion in performance.hands.values())
 
 
 HAND_PIECES = [p.name for p in KIT.pieces if p.hands]

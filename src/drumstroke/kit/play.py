@@ -41,6 +41,7 @@ Examples
 [[-0.8, 0.0, -0.3008]]
 """
 
+import itertools
 import math
 from dataclasses import dataclass, field, replace
 from typing import NamedTuple
@@ -249,9 +250,7 @@ def play_hands(notes, kit, *, levels=None, velocities=None, setup=None, limbs=No
     if not isinstance(setup, Setup):
         raise ParameterError(f"setup must be a drumstroke.design.Setup, got {shown(setup)}")
     assignment = limbs if isinstance(limbs, Assignment) else assign_limbs(notes, kit, given=limbs)
-    notes = tuple(note if isinstance(note, KitNote) else KitNote(*note) for note in notes)
-    if len(assignment.limbs) != len(notes):
-        raise ParameterError(f"limbs must hold a limb for each of the {len(notes)} notes, got {len(assignment.limbs)}")
+    notes = _checked(notes, kit, assignment)
     levels = _levels(levels, velocities, len(notes))
     clearance = check_real("clearance", clearance, low=0.0, high=0.5, unit="rad")
     surfaces = _surfaces(kit, setup, footprint)
@@ -269,6 +268,22 @@ def play_hands(notes, kit, *, levels=None, velocities=None, setup=None, limbs=No
         else:
             outcomes.append(played[i])
     return HandsPerformance({hand: motion for hand, (motion, _) in hands.items()}, tuple(outcomes), tuple(feet))
+
+
+def _checked(notes, kit, assignment):
+    """The notes as KitNotes, each on a piece of ``kit`` and its limb (the assignment's) one that plays it."""
+    if isinstance(notes, (str, bytes)) or not hasattr(notes, "__len__"):
+        raise ParameterError(f"notes must be a sequence of KitNote, got {shown(notes)}")
+    notes = tuple(note if isinstance(note, KitNote) else KitNote(*note) for note in notes)
+    if len(assignment.limbs) != len(notes):
+        raise ParameterError(f"limbs must hold a limb for each of the {len(notes)} notes, got {len(assignment.limbs)}")
+    for i, (note, limb) in enumerate(zip(notes, assignment.limbs)):
+        check_real(f"notes[{i}].time", note.time, low=0.0, high=1e6, unit="s")
+        can = kit.piece(note.piece).limbs_for(note.state)
+        if limb is not None and limb not in can:
+            raise ParameterError(f"limbs[{i}] must be a limb that plays {note.piece!r} ({', '.join(can)}), "
+                                 f"got {shown(limb)}")
+    return notes
 
 
 def _levels(levels, velocities, count):
@@ -322,7 +337,8 @@ class _Hand:
         self.joints = tuple(kit.limbs[hand])
         self.yaw = self.joints.index(YAW)
         mine = [s for s in surfaces.values() if hand in kit.piece(s.name).hands]
-        theta = replace(setup.moves, theta_low=min(s.head for s in mine))  # no surface it plays lies lower
+        # no surface it plays lies lower than the lowest of them
+        theta = replace(setup.moves, theta_low=min((s.head for s in mine), default=setup.moves.theta_low))
         self.limits = tuple(kit.limbs[hand][joint] for joint in self.joints) + (theta,)
         self.segments, self.hits, self.designs = [], [], []
         self.outcomes = {}
@@ -404,7 +420,7 @@ class _Hand:
         stops = [start, _with_theta(start, max(start[-1], height)), _with_theta(target, max(target[-1], height)),
                  target]
         moves = []
-        for a, b in zip(stops, stops[1:]):
+        for a, b in itertools.pairwise(stops):
             if np.array_equal(a, b):
                 continue
             move = synchronised_move(a, b, self.limits)
