@@ -54,10 +54,11 @@ def check_motion(motion, *, clearance=CLEARANCE, footprint=FOOTPRINT, rate=1000.
     t, q, v = motion.sample(rate, motion.t_end + 0.2)
     dt = 1.0 / rate
     joints = [KIT.limbs[motion.hand][j] for j in motion.joints[:-1]]
-    for k, limits in enumerate(joints):  # the kit's joints: range, speed, and no jump
+    for k, limits in enumerate(joints):  # the kit's joints: range, speed, acceleration, and no jump
         assert np.all(q[:, k] >= limits.theta_low - 1e-12) and np.all(q[:, k] <= limits.theta_high + 1e-12)
         assert np.max(np.abs(v[:, k])) <= limits.max_speed * (1 + 1e-9)
         assert np.max(np.abs(np.diff(q[:, k]))) <= limits.max_speed * dt * (1 + 1e-9)
+        assert np.max(np.abs(np.diff(v[:, k]))) <= limits.max_acceleration * dt * (1 + 1e-9)
     lowest = min(HEADS[p.name] for p in KIT.pieces if motion.hand in p.hands)
     assert np.all(q[:, -1] >= lowest - 1e-9) and np.all(q[:, -1] <= SETUP.limits.theta_high)
     assert np.max(np.abs(v[:, -1])) <= SETUP.limits.max_speed
