@@ -164,3 +164,20 @@ def test_the_standard_throw_in_closed_form_is_where_the_simulated_design_starts(
     made = drumstroke.design.design([time], [level], lead=lead)
     release, height = standard_throw(time, level, lead=lead)
     assert release == made.release and height == float(made.recipe.theta0)
+
+
+@pytest.mark.parametrize("lead", [0.1, 0.05, 0.025, 0.0125])
+def test_the_first_throw_is_as_long_as_asked_and_the_notes_are_played_the_same(lead):
+    targets = [Target(1.0, -3.0), Target(1.09, -3.0), Target(1.6, 0.0)]
+    plan = plan_stick(targets, lead=lead)
+    release, height = standard_throw(1.0, -3.0, lead=lead)
+    first = plan.designs[0]
+    assert first.release == pytest.approx(release, abs=1e-9) and float(first.recipe.theta0) == pytest.approx(height)
+    assert plan.problems == ()
+    impacts = np.concatenate([d.impacts.t[:len(d.times)] for d in plan.designs])
+    np.testing.assert_allclose(impacts, [1.0, 1.09, 1.6], atol=1e-8)
+
+
+def test_a_throw_of_no_time_is_refused():
+    with pytest.raises(drumstroke.errors.ParameterError, match=r"lead must be in \(0, 10\] s, got 0.0"):
+        plan_stick([Target(1.0, 0.0)], lead=0.0)

@@ -154,7 +154,7 @@ class StickPlan:
                         end=max(t_end, self.designs[-1].t_end), home=False)
 
 
-def plan_stick(targets, *, setup=None, gap=0.25):
+def plan_stick(targets, *, setup=None, gap=0.25, lead=LEAD):
     """Plan one stick's notes: chains of bounces, designed; strokes joined; the unplayable reported.
 
     Parameters
@@ -166,6 +166,9 @@ def plan_stick(targets, *, setup=None, gap=0.25):
         strokes keep and the budget of the moves between strokes (default ``Setup()``).
     gap : float
         s, the span of a buzz that is the stick's last note and gives no duration.
+    lead : float in (0, 10]
+        s, the throw onto the first note, from rest at its standard height (a caller whose stick must
+        first get there asks for a shorter one, :data:`LEADS`).
 
     Returns
     -------
@@ -178,7 +181,8 @@ def plan_stick(targets, *, setup=None, gap=0.25):
         if not isinstance(target, Target):
             raise ParameterError(f"targets must be drumstroke.design.Target, got {target!r}")
     targets = sorted(targets, key=lambda target: target.t)
-    return _Planner(targets, setup, gap).run()
+    lead = check_real("lead", lead, low=0.0, high=10.0, low_open=True, unit="s")
+    return _Planner(targets, setup, gap, lead).run()
 
 
 def next_stroke(times, levels, setup, *, free, theta, omega=0.0, running=None, end="catch", catch_at=None):
@@ -282,8 +286,8 @@ class _Atom:
 
 
 class _Planner:
-    def __init__(self, targets, setup, gap):
-        self.targets, self.setup, self.gap = targets, setup, gap
+    def __init__(self, targets, setup, gap, lead):
+        self.targets, self.setup, self.gap, self.lead = targets, setup, gap, lead
         self.designs, self.keys, self.problems = [], [], []
 
     def run(self):
@@ -371,7 +375,7 @@ class _Planner:
         """The design of the notes from where the stick is: caught and thrown again, or moved to a standard throw."""
         previous = self.designs[-1] if self.designs else None
         if previous is None:
-            return design(times, levels, end=end, catch_at=catch_at, setup=self.setup)
+            return design(times, levels, end=end, catch_at=catch_at, setup=self.setup, lead=self.lead)
         theta = float(previous.state(previous.t_end)[0])  # caught at its last rebound's apex: at rest
         return next_stroke(times, levels, self.setup, free=previous.t_end, theta=theta, end=end,
                            catch_at=catch_at)[0]

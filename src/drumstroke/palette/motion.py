@@ -10,7 +10,8 @@ the moves between strokes.
   a move to the target angle at rest, a hold, a wind-up into the target speed — every move
   time-optimal and jerk-limited (ruckig, the standard online trajectory generator), with zero
   acceleration at its ends, within the limits, never below the head; :func:`plan_move`, one such
-  move of a given duration.
+  move of a given duration; :func:`synchronised_move`, several joints moving together (a hand carrying
+  its stick from one piece of a kit to another), every joint arriving at once.
 - :func:`assemble`: trajectories placed on one timeline with the returns between them;
   :func:`concat`: one after another with given gaps.
 
@@ -27,7 +28,7 @@ Examples
 
 import functools
 import math
-from dataclasses import dataclass, fields, replace
+from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 
@@ -282,6 +283,80 @@ def plan_move(start, target, duration, *, theta_max, limits):
     return _move(start, target, max(duration, 0.0), theta_max, limits)
 
 
+@dataclass(frozen=True)
+class JointsMove:
+    """A move of several joints together: :func:`synchronised_move`'s.
+
+    Attributes
+    ----------
+    duration : float
+        s.
+    path : callable
+        ``path(t) -> (positions, velocities)`` at ``t`` s into the move (rad, rad/s) [shape=t.shape + (joints,)],
+        a :class:`~drumstroke.curve.Segment`'s path.
+    turns : ndarray [shape=(k,)]
+        s: where a joint's angle is at its highest or lowest (ruckig's position extrema), in [0, ``duration``]:
+        with a fine grid, where to look for the move's extremes.
+    """
+
+    duration: float
+    path: object = field(repr=False)
+    turns: np.ndarray = field(repr=False)
+
+
+def synchronised_move(start, target, limits, *, velocities=None):
+    """The time-optimal jerk-limited move of several joints together, to rest, every joint arriving at once.
+
+    ruckig's synchronised move: the slowest joint takes the shortest time its limits allow and the others
+    move slower, in step with it; each joint starts and ends at zero acceleration, within its speed,
+    acceleration and jerk (a little inside, as every move here) and its range.
+
+    Parameters
+    ----------
+    start, target : array_like [shape=(joints,)]
+        rad: the joints' angles.
+    limits : sequence of Limits [joints]
+        Each joint's range (rad), max_speed (rad/s), max_acceleration (rad/s²) and max_jerk (rad/s³).
+    velocities : array_like [shape=(joints,)], optional
+        rad/s at the start; default at rest.
+
+    Returns
+    -------
+    JointsMove or None
+        None when no move keeps every joint within its range.
+
+    Examples
+    --------
+    >>> move = synchronised_move([0.0, 0.0], [1.0, 0.1], [Limits(theta_low=-1.0), Limits(theta_low=-1.0)])
+    >>> positions, _ = move.path(np.array([0.0, move.duration]))
+    >>> positions.round(9).tolist()
+    [[0.0, 0.0], [1.0, 0.1]]
+    """
+    start = np.asarray(start, dtype=float)
+    target = np.asarray(target, dtype=float)
+    velocities = np.zeros_like(start) if velocities is None else np.asarray(velocities, dtype=float)
+    if start.ndim != 1 or target.shape != start.shape or velocities.shape != start.shape:
+        raise ParameterError(f"start, target and velocities must be one angle (rad) per joint, got shapes "
+                             f"{start.shape}, {target.shape} and {velocities.shape}")
+    if len(limits) != len(start) or not all(isinstance(joint, Limits) for joint in limits):
+        raise ParameterError(f"limits must be a drumstroke.palette.motion.Limits for each of the {len(start)} joints, "
+                             f"got {limits!r}")
+    solved = _ruckig_joints(list(zip(start, velocities)), [(x, 0.0) for x in target], 0.0, limits)
+    if solved is None:
+        return None
+    extrema = solved.position_extrema
+    if any(e.min < joint.theta_low - 1e-12 or e.max > joint.theta_high + 1e-12 for e, joint in zip(extrema, limits)):
+        return None
+    paths = [_path_of(solved, joint) for joint in range(len(start))]
+
+    def path(t):
+        states = [joint(t) for joint in paths]
+        return np.stack([s[0] for s in states], axis=-1), np.stack([s[1] for s in states], axis=-1)
+
+    turns = np.clip([t for e in extrema for t in (e.t_min, e.t_max)], 0.0, solved.duration)
+    return JointsMove(float(solved.duration), path, np.unique(turns))
+
+
 def _shortest(start, target, theta_max, limits):
     """The duration (s) of the time-optimal move within the limits, 0 for none needed, inf if none stays above the head."""
     return _shortest_move(tuple(map(float, start)), tuple(map(float, target)), float(theta_max), limits)
@@ -336,23 +411,33 @@ def _move(start, target, duration, theta_max, limits):
 
 def _ruckig(start, target, minimum, limits):
     """ruckig's move (a one-joint jerk-limited trajectory) from ``start`` to ``target`` lasting at least ``minimum`` s."""
+    return _ruckig_joints([start], [target], minimum, [limits])
+
+
+def _ruckig_joints(starts, targets, minimum, limits):
+    """ruckig's move of several joints together, from ``starts`` to ``targets`` ((θ, ω) each, at zero acceleration),
+    synchronised in time (every joint arrives at once), lasting at least ``minimum`` s; None when ruckig finds none."""
     try:
-        from ruckig import InputParameter, Result, Ruckig, RuckigError, Trajectory
+        from ruckig import InputParameter, Result, Ruckig, RuckigError, Synchronization, Trajectory
     except ImportError:
         raise ImportError("moving the stick between strokes needs ruckig: pip install ruckig") from None
-    parameters = InputParameter(1)
-    parameters.current_position, parameters.current_velocity = [start[0]], [start[1]]
-    parameters.current_acceleration = [0.0]
-    parameters.target_position, parameters.target_velocity = [target[0]], [target[1]]
-    parameters.target_acceleration = [0.0]
-    parameters.max_velocity = [_MARGIN * limits.max_speed]
-    parameters.max_acceleration = [_MARGIN * limits.max_acceleration]
-    parameters.max_jerk = [_MARGIN * limits.max_jerk]
+    n = len(starts)
+    parameters = InputParameter(n)
+    parameters.current_position = [float(s[0]) for s in starts]
+    parameters.current_velocity = [float(s[1]) for s in starts]
+    parameters.current_acceleration = [0.0] * n
+    parameters.target_position = [float(s[0]) for s in targets]
+    parameters.target_velocity = [float(s[1]) for s in targets]
+    parameters.target_acceleration = [0.0] * n
+    parameters.max_velocity = [_MARGIN * joint.max_speed for joint in limits]
+    parameters.max_acceleration = [_MARGIN * joint.max_acceleration for joint in limits]
+    parameters.max_jerk = [_MARGIN * joint.max_jerk for joint in limits]
+    parameters.synchronization = Synchronization.Time
     if minimum > 0.0:
         parameters.minimum_duration = minimum
-    trajectory = Trajectory(1)
+    trajectory = Trajectory(n)
     try:
-        result = Ruckig(1).calculate(parameters, trajectory)
+        result = Ruckig(n).calculate(parameters, trajectory)
     except RuckigError:  # no profile found (ruckig says why in its message)
         return None
     return trajectory if result in (Result.Working, Result.Finished) else None
@@ -367,15 +452,16 @@ def _above(trajectory, theta_max, limits):
     return extrema.min >= theta_max - 1e-12 and extrema.max <= limits.theta_high + 1e-12
 
 
-def _path_of(trajectory):
-    """θ(t), ω(t) of a ruckig trajectory, evaluated phase by phase (constant jerk: cubic in time), vectorised."""
-    profile = trajectory.profiles[0][0]
+def _path_of(trajectory, joint=0):
+    """θ(t), ω(t) of one joint of a ruckig trajectory, evaluated phase by phase (constant jerk: cubic in time),
+    vectorised."""
+    profile = trajectory.profiles[0][joint]
     if profile.brake.duration > 0.0 or profile.accel.duration > 0.0:  # a start outside the limits: ruckig's own
         def path(t):
             t = np.asarray(t, dtype=float)
             states = [trajectory.at_time(float(x)) for x in t.ravel()]
-            return (np.array([s[0][0] for s in states]).reshape(t.shape),
-                    np.array([s[1][0] for s in states]).reshape(t.shape))
+            return (np.array([s[0][joint] for s in states]).reshape(t.shape),
+                    np.array([s[1][joint] for s in states]).reshape(t.shape))
         return path
     edges = np.concatenate(([0.0], np.cumsum(profile.t)))
     jerk, acceleration = np.array(profile.j), np.array(profile.a)

@@ -1,0 +1,552 @@
+"""The hands' performance of a kit part: each hand's motion over its joints, and what became of each note.
+
+:func:`play_hands` takes a kit part's notes (times, pieces, levels; the limbs assigned or given) and
+plays each hand's share. A hand's notes, in time order, fall into runs on one piece; each run is
+planned by the one-stick planner (:func:`~drumstroke.design.planner.plan_stick`) on that piece's
+:class:`~drumstroke.design.Setup` (its h, so its surface at θ_max = −asin(h/x), its c): the notes of a
+run bounce on, or are caught and thrown again, as the planner decides, and the run's last note is
+caught at its ready height. Between two runs the hand moves: its positioning joints (``yaw``, and
+``lift`` on the shipped kit) from the last piece's place to the next's, and θ, the stick's angle to
+the horizontal (one angle over every piece, each piece's surface at its own θ_max), from where the
+stick was caught to where the next run's first stroke is thrown from — all joints together, as one
+time-optimal, jerk-limited, synchronised move (:func:`~drumstroke.palette.motion.synchronised_move`),
+then held there until the throw.
+
+The stick stays clear of every surface it passes over. What lies under it is told by the yaw: a piece's
+footprint is its place's yaw ± a half-width (``footprint``), and while the yaw is within it the stick
+stays ``clearance`` rad above that piece's surface (θ ≥ θ_max + clearance) — except where the
+positioning joints are exactly at a piece's place, where the stick plays that piece and only its
+surface is below it (θ ≥ θ_max), as in the planner. The lift joint does not enter: a raised cymbal
+counts as a surface at its own θ_max. A move is checked on a grid of :data:`CHECK_STEP` s and at
+each joint's extremes; when the direct move passes too low, the hand lifts the stick first (to the
+clearance above every footprint it sweeps), moves across, then lowers it: three synchronised moves.
+When that does not fit in the time before the next stroke's release, the run is planned again with
+the planner's shorter throws onto its first note (:data:`~drumstroke.design.planner.LEADS`): the
+move gets their time; when none fits, that note is left out and reported, with the time the move
+needs and the time there is — never a jump — and the run's other notes are planned again.
+
+Examples
+--------
+>>> from drumstroke.kit.limbs import KitNote
+>>> from drumstroke.kit.pieces import default_kit
+>>> notes = [KitNote(0.5, "snare"), KitNote(1.0, "floor-tom"), KitNote(1.5, "snare")]
+>>> part = play_hands(notes, default_kit(), velocities=[100, 90, 100], limbs=["right"] * 3)
+>>> [(o.piece, round(o.impact, 9), o.played) for o in part.outcomes]
+[('snare', 0.5, True), ('floor-tom', 1.0, True), ('snare', 1.5, True)]
+>>> right = part.hands["right"]
+>>> right.joints
+('yaw', 'lift', 'theta')
+>>> positions, _ = right.curve(np.array([1.0]))     # at the floor tom's impact: over it, on its surface
+>>> positions.round(4).tolist()
+[[-0.8, 0.0, -0.3008]]
+"""
+
+import itertools
+import math
+from dataclasses import dataclass, field, replace
+from typing import NamedTuple
+
+import numpy as np
+
+from .._checks import check_real, check_vector, shown
+from ..curve import Curve, Segment, placed
+from ..design.chain import LEAD, MIN_GAP
+from ..design.planner import LEADS, Problem, Target, plan_stick
+from ..design.setup import Setup
+from ..dynamics import CEILING_DB, FLOOR_DB, velocity_to_level
+from ..errors import ParameterError
+from ..palette.motion import plan_return, synchronised_move
+from ..trajectory import DEFAULT_RATE
+from .limbs import Assignment, KitNote, assign_limbs
+from .pieces import FEET, YAW, Kit
+
+THETA = "theta"
+"""The name of a hand's last joint: the stick's angle to the horizontal (rad), common to every piece."""
+
+CLEARANCE = 0.05
+"""Default: rad the stick stays above a surface it passes over (1.35 cm at the paper stick's tip, x = 0.27 m)."""
+
+FOOTPRINT = 0.25
+"""Default: rad of yaw either side of a piece's place over which the stick is above it (a 14-inch drum's
+radius, 0.18 m, seen from the shoulder at about 0.7 m)."""
+
+CHECK_STEP = 1e-4
+"""s: the grid a move is checked for clearance on (with each joint's extremes)."""
+
+_AT_PLACE = 1e-9  # rad: positioning joints this near a piece's place are at it (the stick plays that piece)
+
+
+class Hit(NamedTuple):
+    """One impact of a hand's stick: when (s), on which piece, at what level (dB re 1 m/s), and the note's index."""
+
+    t: float
+    piece: str
+    level: float
+    note: int
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """What became of one note a hand was to play (or no limb could).
+
+    Attributes
+    ----------
+    index : int
+        The note's index in the part.
+    note : KitNote
+    limb : str or None
+        The hand that plays it; None when no limb was assigned.
+    level : float
+        dB re 1 m/s tip speed: the level asked for.
+    impact : float or None
+        s: when its impact lands (None when not played).
+    impact_level : float or None
+        dB: the impact's level (None when not played).
+    problem : Problem or None
+        Why it is not played: the reason, the nearest time (s) and level (dB) reachable where known.
+    """
+
+    index: int
+    note: KitNote
+    limb: str | None
+    level: float
+    impact: float | None = None
+    impact_level: float | None = None
+    problem: Problem | None = None
+
+    @property
+    def played(self):
+        """Whether the note is played."""
+        return self.problem is None
+
+    @property
+    def piece(self):
+        """The piece's name."""
+        return self.note.piece
+
+
+@dataclass(frozen=True, repr=False)
+class HandMotion:
+    """One hand's motion over the kit.
+
+    Attributes
+    ----------
+    hand : str
+    joints : tuple of str
+        The curve's columns: the hand's positioning joints in the kit's order, then :data:`THETA`.
+    curve : Curve or None
+        The hand's exact motion, ``curve(t) -> (positions, velocities)`` (rad, rad/s) [shape=t.shape +
+        (joints,)]: held before its first stroke and after its last (None for a hand without notes).
+    hits : tuple of Hit
+        Every impact of its stick, in time order.
+    designs : tuple of (str, Design)
+        The strokes it plays, each with its piece's name.
+    limits : tuple of Limits
+        Each joint's limits: the kit's for the positioning joints; for θ the setup's moves (its range from
+        the lowest surface the hand plays).
+    t_end : float
+        s: where its last stroke ends (its stick caught); 0 without notes.
+    """
+
+    hand: str
+    joints: tuple
+    curve: Curve | None
+    hits: tuple
+    designs: tuple
+    limits: tuple
+    t_end: float
+
+    def __repr__(self):
+        return f"HandMotion({self.hand!r}, {len(self.hits)} hits, {len(self.designs)} strokes)"
+
+    def sample(self, rate=DEFAULT_RATE, t_end=None):
+        """The motion at ``rate`` Hz from 0 (or its first release, if earlier) to ``t_end`` s (default its end).
+
+        Returns
+        -------
+        t : ndarray [shape=(n,)]
+            s, multiples of 1/rate.
+        positions, velocities : ndarray [shape=(n, joints)]
+            rad, rad/s.
+        """
+        if self.curve is None:
+            raise ParameterError(f"the {self.hand} hand plays no note: it has no motion to sample")
+        rate = check_real("rate", rate, low=0.0, high=1e6, low_open=True, unit="Hz")
+        start = min(0.0, self.curve.start)
+        end = self.t_end if t_end is None else check_real("t_end", t_end, low=start, high=1e6, unit="s")
+        t = np.arange(math.floor(start * rate), math.floor(end * rate + 1e-9) + 1) / rate
+        return (t, *self.curve(t))
+
+
+class FootNote(NamedTuple):
+    """A note a foot plays, passed on as given: its index in the part, the note, the foot, its level (dB)."""
+
+    index: int
+    note: KitNote
+    limb: str
+    level: float
+
+
+@dataclass(frozen=True, repr=False)
+class HandsPerformance:
+    """The hands' performance of a kit part.
+
+    Attributes
+    ----------
+    hands : dict of str to HandMotion
+        Each of the kit's hands.
+    outcomes : tuple of Outcome
+        Every note not a foot's, in the part's order: played (its impact) or not (its problem).
+    feet : tuple of FootNote
+        The feet's notes, untouched, for the pedals to play.
+    """
+
+    hands: dict
+    outcomes: tuple
+    feet: tuple
+
+    def __repr__(self):
+        played = sum(o.played for o in self.outcomes)
+        return f"HandsPerformance({played} of {len(self.outcomes)} hand notes played, {len(self.feet)} foot notes)"
+
+    @property
+    def problems(self):
+        """The problems of the notes not played."""
+        return tuple(o.problem for o in self.outcomes if not o.played)
+
+
+def play_hands(notes, kit, *, levels=None, velocities=None, setup=None, limbs=None, clearance=CLEARANCE,
+               footprint=FOOTPRINT):
+    """Play the hands' notes of a kit part: each hand's motion, every note played or reported.
+
+    Parameters
+    ----------
+    notes : sequence of KitNote
+        Times (s), pieces, the hi-hat's states; any order.
+    kit : Kit
+    levels : array_like [shape=(n,)], optional
+        dB re 1 m/s tip speed, each in [-35.96, 12.04] (MIDI velocities 1-127). Give these or ``velocities``.
+    velocities : array_like [shape=(n,)], optional
+        MIDI velocities 1-127.
+    setup : Setup, optional
+        What every stick is played with (model, forces, joint limits, the moves' budget); each piece's
+        :meth:`~drumstroke.kit.pieces.Piece.setup` sets its h and c. Default ``Setup()``.
+    limbs : Assignment or sequence of str or None, optional
+        The notes' limbs: an :func:`~drumstroke.kit.limbs.assign_limbs` result, or limbs given for some
+        notes (None for the others, which are assigned). Default: all assigned.
+    clearance : float in [0, 0.5]
+        rad the stick stays above each surface it passes over (θ ≥ θ_max + clearance).
+    footprint : float in [0, 1] or dict of str to float
+        rad of yaw either side of a piece's place over which the stick is above it; one for every piece
+        or one per piece name (the pieces not named: :data:`FOOTPRINT`).
+
+    Returns
+    -------
+    HandsPerformance
+    """
+    if not isinstance(kit, Kit):
+        raise ParameterError(f"kit must be a drumstroke.kit.pieces.Kit, got {shown(kit)}")
+    setup = Setup() if setup is None else setup
+    if not isinstance(setup, Setup):
+        raise ParameterError(f"setup must be a drumstroke.design.Setup, got {shown(setup)}")
+    assignment = limbs if isinstance(limbs, Assignment) else assign_limbs(notes, kit, given=limbs)
+    notes = _checked(notes, kit, assignment)
+    levels = _levels(levels, velocities, len(notes))
+    clearance = check_real("clearance", clearance, low=0.0, high=0.5, unit="rad")
+    surfaces = _surfaces(kit, setup, footprint)
+    hands = {hand: _Hand(hand, kit, setup, surfaces, clearance).play(
+                 [i for i, limb in enumerate(assignment.limbs) if limb == hand], notes, levels)
+             for hand in kit.hands}
+    played = {i: outcome for motion, outcomes in hands.values() for i, outcome in outcomes.items()}
+    outcomes, feet = [], []
+    for i, (note, limb) in enumerate(zip(notes, assignment.limbs)):
+        if limb in FEET:
+            feet.append(FootNote(i, note, limb, levels[i]))
+        elif limb is None:
+            problem = Problem(i, note.time, assignment.reasons[i] or "no limb plays it")
+            outcomes.append(Outcome(i, note, None, levels[i], problem=problem))
+        else:
+            outcomes.append(played[i])
+    return HandsPerformance({hand: motion for hand, (motion, _) in hands.items()}, tuple(outcomes), tuple(feet))
+
+
+def _checked(notes, kit, assignment):
+    """The notes as KitNotes, each on a piece of ``kit`` and its limb (the assignment's) one that plays it."""
+    if isinstance(notes, (str, bytes)) or not hasattr(notes, "__len__"):
+        raise ParameterError(f"notes must be a sequence of KitNote, got {shown(notes)}")
+    notes = tuple(note if isinstance(note, KitNote) else KitNote(*note) for note in notes)
+    if len(assignment.limbs) != len(notes):
+        raise ParameterError(f"limbs must hold a limb for each of the {len(notes)} notes, got {len(assignment.limbs)}")
+    for i, (note, limb) in enumerate(zip(notes, assignment.limbs)):
+        check_real(f"notes[{i}].time", note.time, low=0.0, high=1e6, unit="s")
+        can = kit.piece(note.piece).limbs_for(note.state)
+        if limb is not None and limb not in can:
+            raise ParameterError(f"limbs[{i}] must be a limb that plays {note.piece!r} ({', '.join(can)}), "
+                                 f"got {shown(limb)}")
+    return notes
+
+
+def _levels(levels, velocities, count):
+    """The notes' levels (dB), from ``levels`` or ``velocities``, one per note."""
+    if (levels is None) == (velocities is None):
+        raise ParameterError("give the notes' levels (dB) or their velocities (MIDI 1-127), one of the two")
+    if levels is None:
+        velocities = check_vector("velocities", velocities, low=1.0, high=127.0)
+        levels = [velocity_to_level(v) for v in velocities]
+    levels = check_vector("levels", levels, low=FLOOR_DB - 1e-9, high=CEILING_DB + 1e-9, unit="dB")
+    if len(levels) != count:
+        raise ParameterError(f"levels (or velocities) must hold one per note ({count}), got {len(levels)}")
+    return [float(level) for level in levels]
+
+
+@dataclass(frozen=True)
+class _Surface:
+    """A piece a hand plays, as the moves see it: its place, its surface's θ_max (rad) and its footprint's
+    half-width (rad of yaw), and the setup it is played with."""
+
+    name: str
+    place: dict
+    head: float
+    footprint: float
+    setup: Setup = field(repr=False)
+
+
+def _surfaces(kit, setup, footprint):
+    """Every piece a hand plays, by name, as a :class:`_Surface`."""
+    named = footprint if isinstance(footprint, dict) else {}
+    hands = [piece for piece in kit.pieces if piece.hands]
+    for name in named:
+        if name not in [piece.name for piece in hands]:
+            raise ParameterError(f"footprint names {shown(name)}, not a piece a hand plays "
+                                 f"({', '.join(piece.name for piece in hands)})")
+    default = FOOTPRINT if isinstance(footprint, dict) else footprint
+    surfaces = {}
+    for piece in hands:
+        width = check_real(f"footprint[{piece.name!r}]" if piece.name in named else "footprint",
+                           named.get(piece.name, default), low=0.0, high=1.0, unit="rad")
+        played = piece.setup(setup)
+        surfaces[piece.name] = _Surface(piece.name, piece.place, played.head, width, played)
+    return surfaces
+
+
+class _Hand:
+    """One hand's notes played: runs planned on their pieces, moves between them (see the module's docstring)."""
+
+    def __init__(self, hand, kit, setup, surfaces, clearance):
+        self.hand, self.surfaces, self.clearance = hand, surfaces, clearance
+        self.joints = tuple(kit.limbs[hand])
+        self.yaw = self.joints.index(YAW)
+        mine = [s for s in surfaces.values() if hand in kit.piece(s.name).hands]
+        # no surface it plays lies lower than the lowest of them
+        theta = replace(setup.moves, theta_low=min((s.head for s in mine), default=setup.moves.theta_low))
+        self.limits = tuple(kit.limbs[hand][joint] for joint in self.joints) + (theta,)
+        self.segments, self.hits, self.designs = [], [], []
+        self.outcomes = {}
+        self.last = None  # (surface, Design): the stroke the stick was last caught after
+
+    def play(self, indices, notes, levels):
+        """(HandMotion, {note index: Outcome}) of the notes ``indices`` of the part."""
+        self.notes, self.levels = notes, levels
+        for run in self.runs(sorted(indices, key=lambda i: notes[i].time)):
+            self.run(self.surfaces[notes[run[0]].piece], run)
+        curve, t_end = None, 0.0
+        if self.last is not None:
+            surface, stroke = self.last
+            t_end = stroke.t_end
+            self.segments.append(Segment.hold(self.position(surface, _caught(stroke)), t_end))
+            curve = Curve(tuple(self.segments))
+        motion = HandMotion(self.hand, self.joints + (THETA,), curve, tuple(sorted(self.hits)),
+                            tuple(self.designs), self.limits, t_end)
+        return motion, self.outcomes
+
+    def runs(self, order):
+        """The notes in time order as runs on one piece; a note too close to the one before is left out."""
+        runs, last = [], None
+        for i in order:
+            note = self.notes[i]
+            if last is not None and note.time - self.notes[last].time < MIN_GAP:
+                self.leave_out(i, f"the {self.hand} hand plays note {last} {note.time - self.notes[last].time:.3g} "
+                                  f"s before it; its stick's notes must be at least {MIN_GAP:g} s apart")
+                continue
+            if runs and self.notes[runs[-1][-1]].piece == note.piece:
+                runs[-1].append(i)
+            else:
+                runs.append([i])
+            last = i
+        return runs
+
+    def run(self, surface, run):
+        """Plan one run on ``surface``, its first throw the planner's or, when the hand cannot get there in time,
+        a shorter one; when none gives the time, the first note is left out and the rest planned again."""
+        pending = list(run)
+        while pending:
+            targets = [Target(self.notes[i].time, self.levels[i], key=i) for i in pending]
+            attempt = None
+            for lead in LEADS if self.last is not None else (LEAD,):
+                plan = plan_stick(targets, setup=surface.setup, lead=lead)
+                if not plan.designs:
+                    if attempt is None:  # the planner's own throw plays none of them: its reasons
+                        self.report(plan.problems)
+                        return
+                    continue
+                moves, need, available = self.arrive(surface, plan.designs[0])
+                if moves is not None:
+                    self.keep(surface, plan, moves)
+                    return
+                attempt = (plan.keys[0][0], need, available)
+            key, need, available = attempt
+            nearest = self.notes[key].time + need - available if math.isfinite(need) else None
+            self.leave_out(key, self.too_slow(surface, need, available), nearest)
+            pending.remove(key)
+
+    def arrive(self, surface, first):
+        """The moves that take the hand from its last stroke to ``first``'s throw on ``surface`` (none for its
+        first stroke), the time they need and the time there is (s); the moves None when they do not fit."""
+        if self.last is None:
+            return [], 0.0, math.inf
+        before, last = self.last
+        moves = self.crossing(self.position(before, _caught(last)), self.position(surface, _thrown(first)))
+        need = math.inf if moves is None else sum(move.duration for move in moves)
+        available = first.release - last.t_end
+        return (moves if need <= available else None), need, available
+
+    def crossing(self, start, target):
+        """The moves from ``start`` to ``target`` (every joint's angle, at rest) that keep the stick clear: the
+        direct synchronised move, else lift, across, lower; None when none does."""
+        direct = synchronised_move(start, target, self.limits)
+        if direct is not None and self.clear(direct):
+            return [direct]
+        height = self.height_over(start[self.yaw], target[self.yaw])
+        stops = [start, _with_theta(start, max(start[-1], height)), _with_theta(target, max(target[-1], height)),
+                 target]
+        moves = []
+        for a, b in itertools.pairwise(stops):
+            if np.array_equal(a, b):
+                continue
+            move = synchronised_move(a, b, self.limits)
+            if move is None or not self.clear(move):
+                return None
+            moves.append(move)
+        return moves
+
+    def height_over(self, a, b):
+        """θ (rad) clear of every surface whose footprint the yaw sweeps going from ``a`` to ``b`` (rad)."""
+        low, high = min(a, b), max(a, b)
+        heads = [s.head for s in self.surfaces.values()
+                 if s.place[YAW] + s.footprint >= low and s.place[YAW] - s.footprint <= high]
+        return max(heads) + self.clearance
+
+    def clear(self, move):
+        """Whether the stick stays clear of the surfaces under it throughout ``move`` (on a grid, and at its
+        joints' extremes)."""
+        t = np.unique(np.concatenate((np.arange(0.0, move.duration, CHECK_STEP), [move.duration], move.turns)))
+        positions, _ = move.path(t)
+        return bool(np.all(self.clear_at(positions)))
+
+    def clear_at(self, positions):
+        """For each row of every joint's angle (rad), whether the stick is clear of the surfaces under it.
+
+        Where the positioning joints are at a piece's place the stick plays that piece: only its surface is
+        below it (θ ≥ θ_max); elsewhere, over every footprint the yaw is in, θ ≥ θ_max + clearance.
+        """
+        theta, yaw = positions[:, -1], positions[:, self.yaw]
+        clear = np.ones(len(positions), bool)
+        at_place = np.zeros(len(positions), bool)
+        for surface in self.surfaces.values():
+            here = np.all(np.abs(positions[:, :-1] - self.position(surface, 0.0)[:-1]) <= _AT_PLACE, axis=1)
+            clear &= ~here | (theta >= surface.head - 1e-12)
+            at_place |= here
+        for surface in self.surfaces.values():
+            over = (np.abs(yaw - surface.place[YAW]) <= surface.footprint) & ~at_place
+            clear &= ~over | (theta >= surface.head + self.clearance - 1e-12)
+        return clear
+
+    def keep(self, surface, plan, moves):
+        """Add the run's strokes (the first after ``moves``) and the planner's moves between them."""
+        designs, made = plan.designs, plan.designs[0]
+        held = self.position(surface, _thrown(made))
+        if self.last is None:
+            self.segments.append(Segment.hold(held, min(0.0, made.release), made.release))
+        else:
+            free = self.last[1].t_end
+            self.segments += placed([(move.duration, move.path) for move in moves], free)
+            self.segments.append(Segment.hold(held, free + sum(move.duration for move in moves), made.release))
+        for k, stroke in enumerate(designs):
+            if k:
+                self.between(surface, designs[k - 1], stroke)
+            self.stroke(surface, stroke, plan.keys[k])
+        self.last = (surface, designs[-1])
+        self.report(plan.problems)
+
+    def between(self, surface, before, after):
+        """The planner's move of θ on one piece, from where ``before`` is caught to ``after``'s release."""
+        theta = _caught(before)
+        moves = plan_return((theta, 0.0), (float(after.recipe.theta0), 0.0), after.release - before.t_end,
+                            surface.head, surface.setup.moves)
+        if moves is None:  # the planner fitted this move when it made the strokes
+            raise RuntimeError(f"no move from {theta:.6g} rad to the stroke at {after.release:.6g} s")
+        self.segments += placed([(d, self.on_place(surface, path)) for d, path in moves], before.t_end)
+
+    def stroke(self, surface, made, keys):
+        """One designed stroke on ``surface``: its segment, its impacts, its notes' outcomes."""
+        stroke = made.stroke
+        self.segments.append(Segment(made.release, made.t_end, self.on_place(surface, stroke.arcs.evaluate),
+                                     made.release, stroke.impacts.t, made))
+        self.designs.append((surface.name, made))
+        impacts = made.impacts
+        for k, (t, level) in enumerate(zip(impacts.t, impacts.level_db)):
+            note = keys[k] if k < len(keys) else -1
+            self.hits.append(Hit(float(t), surface.name, float(level), note))
+            if note >= 0:
+                self.outcomes[note] = Outcome(note, self.notes[note], self.hand, self.levels[note], float(t),
+                                              float(level))
+
+    def report(self, problems):
+        """The planner's problems, as the notes' outcomes."""
+        for problem in problems:
+            self.leave_out(problem.key, problem.reason, problem.nearest_time, problem.nearest_level)
+
+    def leave_out(self, i, reason, nearest_time=None, nearest_level=None):
+        problem = Problem(i, self.notes[i].time, reason, nearest_time, nearest_level)
+        self.outcomes[i] = Outcome(i, self.notes[i], self.hand, self.levels[i], problem=problem)
+
+    def too_slow(self, surface, need, available):
+        """Why the hand cannot reach ``surface`` in time."""
+        where = f"from {self.last[0].name!r} to {surface.name!r}"
+        if not math.isfinite(need):
+            return (f"no move of the {self.hand} hand {where} keeps the stick {self.clearance:g} rad above the "
+                    f"surfaces it passes within the joints' ranges")
+        caught = self.last[1].t_end
+        return (f"the {self.hand} hand's move {where} needs {need:.4g} s, {available:.4g} s available (its stick "
+                f"caught at {caught:.6g} s, the throw onto the note released at {caught + available:.6g} s)")
+
+    def position(self, surface, theta):
+        """Every joint's angle (rad) with the hand at ``surface``'s place and the stick at ``theta``."""
+        return np.array([surface.place[joint] for joint in self.joints] + [theta])
+
+    def on_place(self, surface, path):
+        """A path of θ (one joint) as a path of every joint, the positioning joints held at ``surface``'s place."""
+        place = np.array([surface.place[joint] for joint in self.joints])
+
+        def path_of_joints(t):
+            theta, omega = path(t)
+            shape = np.shape(theta) + place.shape
+            return (np.concatenate((np.broadcast_to(place, shape), np.asarray(theta)[..., None]), axis=-1),
+                    np.concatenate((np.zeros(shape), np.asarray(omega)[..., None]), axis=-1))
+
+        return path_of_joints
+
+
+def _caught(made):
+    """θ (rad) where a designed stroke's stick is caught, at rest, at its end."""
+    return float(made.state(np.array([made.t_end]))[0][0])
+
+
+def _thrown(made):
+    """θ (rad) a designed stroke's stick is held at, at rest, until its release."""
+    return float(made.recipe.theta0)
+
+
+def _with_theta(position, theta):
+    """``position`` (every joint's angle, rad) with the stick at ``theta`` instead."""
+    return np.concatenate((position[:-1], [theta]))
