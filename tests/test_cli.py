@@ -436,7 +436,7 @@ def test_every_command_listed_is_built_by_its_module():
 def test_the_console_script_sets_numba_up_without_two_imports_and_prints_what_main_prints(tmp_path):
     """The console script loads no scipy.linalg and no cffi for a simulation (0.15 s of its start-up), prints exactly
     what main prints, and leaves both importable for what comes after (soundfile's audio, scipy's linalg)."""
-    code = ("import contextlib, io, sys\nfrom drumstroke.cli import console\n"
+    code = ("import contextlib, io, sys\nfrom drumstroke.cli.console import main as console\n"
             "sys.argv = ['drumstroke', 'simulate', 'free-bounce']\nout = io.StringIO()\n"
             "with contextlib.redirect_stdout(out):\n    status = console()\n"
             "loaded = [m for m in ('scipy.linalg', 'cffi') if m in sys.modules]\n"

@@ -40,7 +40,7 @@ def test_the_demo_pattern_round_trips_to_the_same_notes(tmp_path):
     write_pattern(path, *pattern)
     again = read_pattern(path)
     original = read_pattern(DEMO_PATTERN)
-    assert len(again) == len(original) == 26
+    assert len(again) == len(original) == 29
     assert [(n.time, n.stroke, n.velocity, n.stick) for n in again] == \
            [(n.time, n.stroke, n.velocity, n.stick) for n in original]
 

@@ -2,7 +2,7 @@
 
 import sys
 
-from .cli import console
+from .cli.console import main
 
 if __name__ == "__main__":  # not when a doctest run imports it
-    sys.exit(console())
+    sys.exit(main())
