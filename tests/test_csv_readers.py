@@ -64,6 +64,7 @@ cor = [0.5, 0.86]
 "force.value" = [0.0, 50.0]
 theta0 = [0.0, 0.2]
 """
+from drumstroke.errors import SampledImpactsWarning
 
 
 def cli(*args):
@@ -243,7 +244,7 @@ def test_the_sweep_table_says_its_units_and_grid(written):
                                   "Trajectory.write_csv, two sticks", "Trajectory.write_csv, alpha"])
 def test_read_csv_round_trips_the_new_files(written, case):
     path, expected, model = written[case]
-    back = Trajectory.read_csv(path)
+    back = _read_sampled(path)
     assert (back.model, back.rate) == (model, RATE)
     columns = back.columns() if back.sticks != ("stick",) else (back.t, back.theta, back.omega)
     for name, values in zip(expected, columns):
@@ -268,7 +269,7 @@ def test_an_old_file_with_a_comment_line_first_is_read(written, tmp_path):
     rows = "".join(f"{a:.17g},{b:.17g},{c:.17g}\n" for a, b, c in zip(t, theta, omega))
     old = tmp_path / "old.csv"
     old.write_text(f"{OLD_COMMENT}\nt,theta,omega\n0,2.2204460492503131e-16,-0\n" + rows.split("\n", 1)[1])
-    back = Trajectory.read_csv(old)
+    back = _read_sampled(old)
     assert (back.model, back.rate, back.name) == ("paper", RATE, "old")
     assert np.array_equal(back.theta[1:], theta[1:]) and back.theta[0] == 2.2204460492503131e-16
     assert validate_file(old).rate == RATE
@@ -284,7 +285,7 @@ def test_a_file_with_neither_metadata_nor_comment_takes_its_rate_from_t(written,
     path = tmp_path / "theirs.csv"
     pd.DataFrame({name: expected[name][:2001] / (2.0 if name == "t" else 1.0) for name in expected}).to_csv(
         path, index=False)
-    back = Trajectory.read_csv(path)
+    back = _read_sampled(path)
     assert (back.model, back.rate) == ("unknown", 2 * RATE)
     assert np.array_equal(back.theta, expected["theta"][:2001])
 
@@ -418,3 +419,10 @@ def test_recorded_impacts_outside_the_samples_are_refused_naming_the_json(tmp_pa
     (tmp_path / "s.json").write_text(json.dumps(data))
     with pytest.raises(ParameterError, match=r"metadata '.*s\.json': impacts must be in time order within \[0, 5\] s"):
         Trajectory.read_csv(tmp_path / "s.csv")
+
+
+def _read_sampled(path, **options):
+    """Trajectory.read_csv of a CSV with no JSON recording its impacts: they are found again in the samples, and
+    it says so."""
+    with pytest.warns(SampledImpactsWarning, match="found again in its samples"):
+        return Trajectory.read_csv(path, **options)

@@ -13,6 +13,7 @@ from drumstroke.palette.library import build_library, read_palette
 from drumstroke.trajectory import Trajectory
 
 PNG = b"\x89PNG\r\n\x1a\n"
+from drumstroke.errors import SampledImpactsWarning
 
 
 @pytest.fixture(scope="module")
@@ -125,7 +126,7 @@ def test_export_a_composition_to_ros_json_and_rosbags(library, tmp_path):
     pattern.write_text("tempo 100\n0 single 100\n1 double 90\n2 single 110 left\n")
     piece = tmp_path / "p.csv"
     assert run("compose", pattern, "--library", library, "--csv", piece).returncode == 0
-    composed = Trajectory.read_csv(piece)
+    composed = _read_sampled(piece)
     out = tmp_path / "p.json"
     result = run("robot", "export", piece, "--format", "ros-json", "--out", out, "--joint-names", "r_wrist,l_wrist",
                  "--rosbag", tmp_path / "bag", "--storage", "sqlite3", "--topic", "/drummer/trajectory")
@@ -210,3 +211,10 @@ def test_a_bad_config_is_named(tmp_path):
     assert_one_line_error(run("robot", "track", "free-bounce", "--config", config), "gear_ratio", "-3")
     config.write_text("[plant]\nwheels = 4\n")
     assert_one_line_error(run("robot", "track", "free-bounce", "--config", config), "wheels")
+
+
+def _read_sampled(path, **options):
+    """Trajectory.read_csv of a CSV with no JSON recording its impacts: they are found again in the samples, and
+    it says so."""
+    with pytest.warns(SampledImpactsWarning, match="found again in its samples"):
+        return Trajectory.read_csv(path, **options)

@@ -27,6 +27,7 @@ RATE = 1000.0
 HEAD = Stick().theta_max
 MESSAGE = "trajectory_msgs/msg/JointTrajectory"
 INTEGERS = {"int32": (-(2**31), 2**31), "uint32": (0, 2**32)}
+from drumstroke.errors import SampledImpactsWarning
 
 
 @pytest.fixture(scope="module")
@@ -112,7 +113,7 @@ def test_csv_round_trips_to_17_digits(stroke, tmp_path):
 def test_an_exported_csv_reads_and_validates_again(stroke, tmp_path):
     path = tmp_path / "double.csv"
     export_csv(path, *stroke, rate=RATE, model="paper", name="double")
-    back = Trajectory.read_csv(path)
+    back = _read_sampled(path)
     t, theta, omega, model = back.t, back.theta, back.omega, back.model
     assert model == "paper" and all(np.array_equal(a, b) for a, b in zip((t, theta, omega), stroke))
     again = validate_file(path)
@@ -520,3 +521,10 @@ def test_ros_time_must_start_at_or_after_the_stamp(stroke, tmp_path):
     with pytest.raises(ParameterError, match=r"t must be in \[0, 2147483647\) s for time_from_start, got -1\.0"):
         export_ros_json(tmp_path / "out.json", t - 1.0, theta, omega, rate=RATE, model="paper", name="x")
     assert not (tmp_path / "out.json").exists()
+
+
+def _read_sampled(path, **options):
+    """Trajectory.read_csv of a CSV with no JSON recording its impacts: they are found again in the samples, and
+    it says so."""
+    with pytest.warns(SampledImpactsWarning, match="found again in its samples"):
+        return Trajectory.read_csv(path, **options)
