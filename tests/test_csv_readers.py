@@ -28,7 +28,7 @@ import pytest
 import drumstroke
 from drumstroke.cli import main
 from drumstroke.compose import compose
-from drumstroke.errors import ParameterError
+from drumstroke.errors import ParameterError, SampledImpactsWarning
 from drumstroke.formats.responses_csv import COLUMNS, write_responses_csv
 from drumstroke.formats.signal_csv import write_signal
 from drumstroke.palette.library import build_library, load_library, read_palette
@@ -64,7 +64,6 @@ cor = [0.5, 0.86]
 "force.value" = [0.0, 50.0]
 theta0 = [0.0, 0.2]
 """
-from drumstroke.errors import SampledImpactsWarning
 
 
 def cli(*args):

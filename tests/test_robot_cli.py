@@ -9,11 +9,11 @@ from rosbags.typesys import Stores, get_typestore
 
 from _cli import assert_one_line_error, run
 from drumstroke.cli import main
+from drumstroke.errors import SampledImpactsWarning
 from drumstroke.palette.library import build_library, read_palette
 from drumstroke.trajectory import Trajectory
 
 PNG = b"\x89PNG\r\n\x1a\n"
-from drumstroke.errors import SampledImpactsWarning
 
 
 @pytest.fixture(scope="module")

@@ -15,7 +15,7 @@ from rosbags.typesys import Stores, get_typestore
 
 import drumstroke
 from drumstroke._version import __version__
-from drumstroke.errors import ParameterError, TrajectoryError
+from drumstroke.errors import ParameterError, SampledImpactsWarning, TrajectoryError
 from drumstroke.model import Stick
 from drumstroke.palette.library import read_palette
 from drumstroke.palette.motion import Limits
@@ -27,7 +27,6 @@ RATE = 1000.0
 HEAD = Stick().theta_max
 MESSAGE = "trajectory_msgs/msg/JointTrajectory"
 INTEGERS = {"int32": (-(2**31), 2**31), "uint32": (0, 2**32)}
-from drumstroke.errors import SampledImpactsWarning
 
 
 @pytest.fixture(scope="module")

@@ -11,14 +11,13 @@ import numpy as np
 import pytest
 
 import drumstroke
-from drumstroke.errors import ParameterError, TrajectoryError
+from drumstroke.errors import ParameterError, SampledImpactsWarning, TrajectoryError
 from drumstroke.formats.ros_json import read_ros_json
 from drumstroke.palette.library import build_library, load_library, read_palette
 from drumstroke.robot.export import export_csv, export_ros_json
 from drumstroke.trajectory import DEFAULT_RATE, Impacts, Stream, Trajectory
 
 RATE = 1000.0
-from drumstroke.errors import SampledImpactsWarning
 
 
 @pytest.fixture(scope="module")
