@@ -699,7 +699,7 @@ def play_kit(notes, kit, *, levels=None, velocities=None, keys=None, setup=None,
     >>> [(o.limb, round(o.impact, 9), round(o.impact_level, 6)) for o in part.outcomes]
     [('right-foot', 0.5, 17.0), ('right', 0.5, -2.054038), ('left-foot', 1.0, 5.0)]
     >>> [(h.limb, h.key) for h in part.hits if h.note >= 0]
-    [('right', 42), ('right-foot', 36), ('left-foot', 44)]
+    [('right', 42), ('right-foot', 35), ('left-foot', 44)]
     """
     if not isinstance(kit, Kit):
         raise ParameterError(f"kit must be a drumstroke.kit.pieces.Kit, got {shown(kit)}")
