@@ -661,3 +661,45 @@ def test_compose_help_describes_the_pattern_format_and_the_drum_map():
     for needle in ("tempo BPM", "meter N/D", "BEAT STROKE VELOCITY [STICK [BEATS]]", "38  Acoustic Snare", "40  Electric Snare",
                    "37  Side Stick", "--channel N", "--track TRACK", "--quiet", "--verbose"):
         assert needle in result.stdout, needle
+
+
+# --- a score on the kit --------------------------------------------------------------------------------------------
+
+KIT_SONG = Path(__file__).parent / "data" / "midi" / "d6caebd1964d9e4a3c5ea59525230e2a.mid"
+
+
+def test_a_pattern_names_its_pieces_and_old_patterns_play_the_snare():
+    from drumstroke.compose import compose_kit
+
+    score = parse_pattern("tempo 120\n0 auto 100 auto kick\n0 auto 90 right hihat\n1 single 110\n"
+                          "1.5 auto 80 left-foot hihat\n2 buzz 80 auto 0.5 ride\n")
+    assert [(n.piece, n.stick) for n in score][3:] == [("hihat", "left-foot"), ("ride", None)]
+    piece = compose_kit(score)
+    outcomes = piece.performance.outcomes
+    assert [(o.piece, o.limb, o.note.state) for o in outcomes] == [
+        ("kick", "right-foot", None), ("hihat", "right", "closed"), ("snare", "right", None),
+        ("hihat", "left-foot", "pedal"), ("ride", "right", None)]
+    assert [o.impact - piece.offset for o in outcomes] == pytest.approx([0.0, 0.0, 0.5, 0.75, 1.0], abs=1e-9)
+    t, columns = piece.sample()
+    assert list(columns)[:3] == ["right.yaw", "right.lift", "right.theta"]
+    assert "right-foot.theta" in columns and "left-foot.theta.velocity" in columns
+    with pytest.raises(ParameterError, match="piece 'cowbell' is not a piece of the kit"):
+        compose_kit(parse_pattern("tempo 120\n0 auto 100 auto cowbell\n"))
+    with pytest.raises(ParameterError, match="only a buzz takes a length"):
+        parse_pattern("tempo 120\n0 auto 100 auto 0.5 ride\n")
+
+
+def test_a_song_on_the_kit_reads_every_key_the_kit_answers():
+    from drumstroke.compose import compose_kit
+    from drumstroke.kit.pieces import default_kit
+
+    kit = default_kit()
+    score = read_score(KIT_SONG, kit=kit)
+    midi = mido.MidiFile(KIT_SONG)
+    drums = [m.note for m in midi if m.type == "note_on" and m.velocity > 0 and m.channel == 9]
+    answered = [k for k in drums if k in kit.keys]
+    assert len(score.notes) == len(answered) and [n.key for n in score.notes] == answered
+    assert "not on the kit (channel 10: 55 Splash Cymbal ×28)" in score.report.summary()
+    piece = compose_kit(score, kit, rate=100, pieces=["kick", "snare"])
+    assert set(piece.left_out) == {"ride", "tom2", "crash", "tom1", "floor-tom", "hihat"}
+    assert len(piece.performance.outcomes) + sum(piece.left_out.values()) == len(answered)
