@@ -658,7 +658,7 @@ def test_compose_command_plays_a_chosen_track_and_channel(library, tmp_path):
 def test_compose_help_describes_the_pattern_format_and_the_drum_map():
     result = run("compose", "--help")
     assert result.returncode == 0 and "README" not in result.stdout
-    for needle in ("tempo BPM", "meter N/D", "BEAT STROKE VELOCITY [STICK [BEATS]]", "38  Acoustic Snare", "40  Electric Snare",
+    for needle in ("tempo BPM", "meter N/D", "BEAT STROKE VELOCITY [STICK [BEATS] [PIECE]]", "38  Acoustic Snare", "40  Electric Snare",
                    "37  Side Stick", "--channel N", "--track TRACK", "--quiet", "--verbose"):
         assert needle in result.stdout, needle
 
