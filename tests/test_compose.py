@@ -9,6 +9,7 @@ head and upright, returns within the speed and acceleration limits, one time gri
 import collections
 import json
 import math
+import re
 from pathlib import Path
 
 import mido
@@ -703,3 +704,39 @@ def test_a_song_on_the_kit_reads_every_key_the_kit_answers():
     piece = compose_kit(score, kit, rate=100, pieces=["kick", "snare"])
     assert set(piece.left_out) == {"ride", "tom2", "crash", "tom1", "floor-tom", "hihat"}
     assert len(piece.performance.outcomes) + sum(piece.left_out.values()) == len(answered)
+
+
+def test_compose_kit_on_a_song_writes_a_column_per_joint_the_notes_and_the_pieces_keys(tmp_path):
+    import pandas
+
+    from drumstroke.kit.pieces import default_kit
+
+    kit = default_kit()
+    result = run("compose", KIT_SONG, "--kit", "--rate", "100", "--csv", tmp_path / "s.csv", "--json",
+                 tmp_path / "n.json", "--midi", tmp_path / "s.mid")
+    assert result.returncode == 0, result.stderr
+    played, total = map(int, re.search(r"played (\d+) of (\d+) notes on the kit", result.stdout).groups())
+    assert "28 not on the kit (channel 10: 55 Splash Cymbal ×28)" in result.stdout
+    frame = pandas.read_csv(tmp_path / "s.csv")
+    joints = ["right.yaw", "right.lift", "right.theta", "left.yaw", "left.lift", "left.theta", "right-foot.theta",
+              "left-foot.theta"]
+    assert list(frame.columns) == ["t", *joints, *(f"{j}.velocity" for j in joints)]
+    assert np.diff(frame["t"]).max() == pytest.approx(0.01)
+    document = json.loads((tmp_path / "n.json").read_text())
+    drums = [m.note for m in mido.MidiFile(KIT_SONG) if m.type == "note_on" and m.velocity > 0 and m.channel == 9]
+    assert len(document["notes"]) == total == sum(k in kit.keys for k in drums) == 590
+    assert sum(n["played"] for n in document["notes"]) == played
+    assert all(("impact" in n) == n["played"] == ("reason" not in n) for n in document["notes"])
+    assert played / total >= 0.9  # 555 of 590 (94 %) on the shipped kit
+    written = [m for m in mido.MidiFile(tmp_path / "s.mid") if m.type == "note_on" and m.velocity > 0]
+    assert len(written) == len(document["hits"]) and {m.channel for m in written} == {9}
+    assert {m.note for m in written} == {h["key"] for h in document["hits"]} <= set(kit.keys)
+
+
+def test_compose_kit_renders_a_pattern_s_audio(tmp_path):
+    pattern = tmp_path / "bar.pattern"
+    pattern.write_text("tempo 120\n0 auto 110 auto kick\n0 auto 90 auto hihat\n1 auto 100\n1 auto 90 auto hihat\n")
+    result = run("compose", pattern, "--kit", "--pieces", "kick,snare", "--audio", tmp_path / "bar.wav")
+    assert result.returncode == 0, result.stderr
+    assert "played 2 of 2 notes on the kit" in result.stdout and "not chosen (--pieces): hihat ×2" in result.stdout
+    assert (tmp_path / "bar.wav").stat().st_size > 1000
