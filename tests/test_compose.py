@@ -9,6 +9,7 @@ head and upright, returns within the speed and acceleration limits, one time gri
 import collections
 import json
 import math
+import re
 from pathlib import Path
 
 import mido
@@ -658,6 +659,84 @@ def test_compose_command_plays_a_chosen_track_and_channel(library, tmp_path):
 def test_compose_help_describes_the_pattern_format_and_the_drum_map():
     result = run("compose", "--help")
     assert result.returncode == 0 and "README" not in result.stdout
-    for needle in ("tempo BPM", "meter N/D", "BEAT STROKE VELOCITY [STICK [BEATS]]", "38  Acoustic Snare", "40  Electric Snare",
+    for needle in ("tempo BPM", "meter N/D", "BEAT STROKE VELOCITY [STICK [BEATS] [PIECE]]", "38  Acoustic Snare", "40  Electric Snare",
                    "37  Side Stick", "--channel N", "--track TRACK", "--quiet", "--verbose"):
         assert needle in result.stdout, needle
+
+
+# --- a score on the kit --------------------------------------------------------------------------------------------
+
+KIT_SONG = Path(__file__).parent / "data" / "midi" / "d6caebd1964d9e4a3c5ea59525230e2a.mid"
+
+
+def test_a_pattern_names_its_pieces_and_old_patterns_play_the_snare():
+    from drumstroke.compose import compose_kit
+
+    score = parse_pattern("tempo 120\n0 auto 100 auto kick\n0 auto 90 right hihat\n1 single 110\n"
+                          "1.5 auto 80 left-foot hihat\n2 buzz 80 auto 0.5 ride\n")
+    assert [(n.piece, n.stick) for n in score][3:] == [("hihat", "left-foot"), ("ride", None)]
+    piece = compose_kit(score)
+    outcomes = piece.performance.outcomes
+    assert [(o.piece, o.limb, o.note.state) for o in outcomes] == [
+        ("kick", "right-foot", None), ("hihat", "right", "closed"), ("snare", "right", None),
+        ("hihat", "left-foot", "pedal"), ("ride", "right", None)]
+    assert [o.impact - piece.offset for o in outcomes] == pytest.approx([0.0, 0.0, 0.5, 0.75, 1.0], abs=1e-9)
+    t, columns = piece.sample()
+    assert list(columns)[:3] == ["right.yaw", "right.lift", "right.theta"]
+    assert "right-foot.theta" in columns and "left-foot.theta.velocity" in columns
+    with pytest.raises(ParameterError, match="piece 'cowbell' is not a piece of the kit"):
+        compose_kit(parse_pattern("tempo 120\n0 auto 100 auto cowbell\n"))
+    with pytest.raises(ParameterError, match="only a buzz takes a length"):
+        parse_pattern("tempo 120\n0 auto 100 auto 0.5 ride\n")
+
+
+def test_a_song_on_the_kit_reads_every_key_the_kit_answers():
+    from drumstroke.compose import compose_kit
+    from drumstroke.kit.pieces import default_kit
+
+    kit = default_kit()
+    score = read_score(KIT_SONG, kit=kit)
+    midi = mido.MidiFile(KIT_SONG)
+    drums = [m.note for m in midi if m.type == "note_on" and m.velocity > 0 and m.channel == 9]
+    answered = [k for k in drums if k in kit.keys]
+    assert len(score.notes) == len(answered) and [n.key for n in score.notes] == answered
+    assert "not on the kit (channel 10: 55 Splash Cymbal ×28)" in score.report.summary()
+    piece = compose_kit(score, kit, rate=100, pieces=["kick", "snare"])
+    assert set(piece.left_out) == {"ride", "tom2", "crash", "tom1", "floor-tom", "hihat"}
+    assert len(piece.performance.outcomes) + sum(piece.left_out.values()) == len(answered)
+
+
+def test_compose_kit_on_a_song_writes_a_column_per_joint_the_notes_and_the_pieces_keys(tmp_path):
+    import pandas
+
+    from drumstroke.kit.pieces import default_kit
+
+    kit = default_kit()
+    result = run("compose", KIT_SONG, "--kit", "--rate", "100", "--csv", tmp_path / "s.csv", "--json",
+                 tmp_path / "n.json", "--midi", tmp_path / "s.mid")
+    assert result.returncode == 0, result.stderr
+    played, total = map(int, re.search(r"played (\d+) of (\d+) notes on the kit", result.stdout).groups())
+    assert "28 not on the kit (channel 10: 55 Splash Cymbal ×28)" in result.stdout
+    frame = pandas.read_csv(tmp_path / "s.csv")
+    joints = ["right.yaw", "right.lift", "right.theta", "left.yaw", "left.lift", "left.theta", "right-foot.theta",
+              "left-foot.theta"]
+    assert list(frame.columns) == ["t", *joints, *(f"{j}.velocity" for j in joints)]
+    assert np.diff(frame["t"]).max() == pytest.approx(0.01)
+    document = json.loads((tmp_path / "n.json").read_text())
+    drums = [m.note for m in mido.MidiFile(KIT_SONG) if m.type == "note_on" and m.velocity > 0 and m.channel == 9]
+    assert len(document["notes"]) == total == sum(k in kit.keys for k in drums) == 590
+    assert sum(n["played"] for n in document["notes"]) == played
+    assert all(("impact" in n) == n["played"] == ("reason" not in n) for n in document["notes"])
+    assert played / total >= 0.9  # 555 of 590 (94 %) on the shipped kit
+    written = [m for m in mido.MidiFile(tmp_path / "s.mid") if m.type == "note_on" and m.velocity > 0]
+    assert len(written) == len(document["hits"]) and {m.channel for m in written} == {9}
+    assert {m.note for m in written} == {h["key"] for h in document["hits"]} <= set(kit.keys)
+
+
+def test_compose_kit_renders_a_pattern_s_audio(tmp_path):
+    pattern = tmp_path / "bar.pattern"
+    pattern.write_text("tempo 120\n0 auto 110 auto kick\n0 auto 90 auto hihat\n1 auto 100\n1 auto 90 auto hihat\n")
+    result = run("compose", pattern, "--kit", "--pieces", "kick,snare", "--audio", tmp_path / "bar.wav")
+    assert result.returncode == 0, result.stderr
+    assert "played 2 of 2 notes on the kit" in result.stdout and "not chosen (--pieces): hihat ×2" in result.stdout
+    assert (tmp_path / "bar.wav").stat().st_size > 1000

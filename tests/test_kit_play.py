@@ -262,3 +262,99 @@ def test_random_parts_play_every_note_or_report_it_and_the_motion_is_sound(drawn
     check_played(performance, notes, {o.index: o.level for o in performance.outcomes})
     for motion in performance.hands.values():
         check_motion(motion)
+
+
+# --- the whole kit: the feet on their pedals -----------------------------------------------------------------------
+
+from drumstroke.dynamics import velocity_to_foot_level, velocity_to_level  # noqa: E402
+from drumstroke.kit.pedal import Pedal  # noqa: E402
+from drumstroke.kit.play import play_kit  # noqa: E402
+
+
+def first_arrival(curve, before, after, step=1e-6):
+    """The first time in [before, after] (s) the beater leaves the head (ω turns > 0: its arrival's rebound), to
+    ``step``: a grid, then bisection. Before it the press drives the beater on (ω ≤ 0)."""
+    t = np.arange(before, after, step * 100)
+    _, omega = curve(t)
+    k = int(np.flatnonzero(omega > 1e-3)[0])  # (at rest ω is 0 to round-off)
+    low, high = t[k - 1], t[k]
+    while high - low > step / 10:
+        mid = (low + high) / 2
+        if curve(np.array([mid]))[1][0] > 1e-3:
+            high = mid
+        else:
+            low = mid
+    return high
+
+
+def test_feet_notes_land_on_the_feet_curves_at_their_times_and_levels():
+    """Kicks and the hi-hat's pedal, each note found on the foot's own curve: the beater reaches the head at the
+    note's time (within 1e-6 s) and at its level from the speed just before (within 0.01 dB)."""
+    notes = [KitNote(0.4 + 0.6 * k, "kick") for k in range(4)] + [KitNote(0.7 + 0.6 * k, "hihat", "pedal")
+                                                                    for k in range(4)]
+    velocities = [127, 100, 64, 20] * 2
+    part = play_kit(notes, KIT, velocities=velocities)
+    assert not part.problems
+    pedal = Pedal()
+    for outcome, velocity in zip(part.outcomes, velocities):
+        motion = part.feet[outcome.limb]
+        assert outcome.limb == ("right-foot" if outcome.piece == "kick" else "left-foot")
+        t = first_arrival(motion.curve, outcome.note.time - 0.25, outcome.note.time + 0.01)
+        assert motion.curve(np.array([t]))[0][0] == pytest.approx(-pedal.phi_head, abs=1e-5)  # at the head
+        assert abs(t - outcome.note.time) <= 1e-6
+        _, omega = motion.curve(np.array([outcome.note.time - 1e-9]))
+        level = 20 * math.log10(abs(omega[0]) * pedal.length)
+        assert level == pytest.approx(velocity_to_foot_level(velocity), abs=0.01)
+        assert outcome.impact == pytest.approx(outcome.note.time, abs=1e-9)
+    for motion in part.feet.values():  # within its travel, at rest before and after
+        theta, _ = motion.curve(np.arange(0.0, motion.t_end + 0.5, 1e-3))
+        assert np.all(theta >= -pedal.phi_head - 1e-12) and np.all(theta <= -pedal.phi_rest + 1e-12)
+        assert theta[0] == -pedal.phi_rest and theta[-1] == pytest.approx(-pedal.phi_rest, abs=1e-12)
+
+
+def test_a_double_kick_is_two_notes_from_the_rebound():
+    notes = [KitNote(0.5, "kick"), KitNote(0.6, "kick")]
+    part = play_kit(notes, KIT, velocities=[100, 100])
+    assert [o.played for o in part.outcomes] == [True, True]
+    design = part.feet["right-foot"].design
+    assert [p.phase for p in design.pieces] == ["wait", "press", "rise", "press", "return", "wait"]
+    assert [h.t for h in part.hits] == pytest.approx([0.5, 0.6], abs=1e-9)
+    level = velocity_to_foot_level(100)
+    assert [20 * math.log10(h.speed) for h in part.hits] == pytest.approx([level, level], abs=1e-6)
+
+
+def test_foot_notes_the_pedal_cannot_play_are_reported_with_the_reason():
+    """A kick 10 ms in (its press from rest takes longer), a loud double 20 ms apart, two kicks at one time."""
+    notes = [KitNote(0.01, "kick"), KitNote(0.5, "kick"), KitNote(0.52, "kick"), KitNote(1.0, "kick"),
+             KitNote(1.0, "kick")]
+    part = play_kit(notes, KIT, velocities=[100, 127, 127, 100, 100], limbs=["right-foot"] * 5)
+    played = [o.played for o in part.outcomes]
+    assert played == [False, True, False, True, False]
+    first, double, twice = (o.problem for o in part.outcomes if not o.played)
+    assert "at rest from t = 0" in first.reason and first.nearest_time > 0.01
+    assert re.search(r"needs a press of [\d.]+ N .*max_force is 300 N", double.reason)
+    assert "at least 0.001 s apart" in twice.reason
+    assert [h.t for h in part.hits] == pytest.approx([0.5, 1.0], abs=1e-9)
+
+
+def test_the_hi_hat_states_are_recorded_with_every_hit():
+    """Closed, open, closed by the hand, the pedal by the foot: each hit sounds its note's key, a bounce too."""
+    notes = [KitNote(0.3, "hihat", "closed"), KitNote(0.6, "hihat", "open"), KitNote(0.9, "hihat", "closed"),
+             KitNote(1.2, "hihat", "pedal")]
+    part = play_kit(notes, KIT, velocities=[90, 90, 30, 90], keys=[42, 46, 42, 44])
+    assert all(o.played for o in part.outcomes)
+    for hit in part.hits:
+        previous = max((o for o in part.outcomes if o.impact <= hit.t + 1e-12), key=lambda o: o.impact)
+        assert hit.key == {"closed": 42, "open": 46, "pedal": 44}[previous.note.state]
+        assert hit.piece == "hihat"
+    assert [h.limb for h in part.hits if h.note >= 0] == ["right", "right", "right", "left-foot"]
+    with pytest.raises(ParameterError, match=r"keys\[1\] must be a key of 'hihat' when open \(46\), got 42"):
+        play_kit(notes, KIT, velocities=[90] * 4, keys=[42, 42, 42, 44])
+
+
+def test_play_kit_hands_are_play_hands():
+    notes, velocities = groove()
+    part = play_kit(notes, KIT, velocities=velocities)
+    hands = play_hands(notes, KIT, levels=[velocity_to_level(v) for v in velocities])
+    assert [o for o in part.outcomes if o.limb in ("right", "left")] == list(hands.outcomes)
+    assert all(o.played for o in part.outcomes)

@@ -521,3 +521,170 @@ def _can_wind_up(stroke, moves):
     theta, omega = stroke.path(np.array([0.0]))
     theta, omega = float(theta[0]), float(omega[0])
     return math.isfinite(return_time((theta, 0.0), (theta, omega), stroke.theta_max, moves))
+
+
+# --- a score on the kit --------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, repr=False)
+class KitComposition:
+    """A score played on a kit: every limb's joints on one timeline, every note's outcome, every hit.
+
+    Attributes
+    ----------
+    performance : KitPerformance
+        Every limb's exact motion, every note's outcome and every hit, on the composition's timeline.
+    kit : Kit
+    offset : float
+        Where the score's time 0 is on the timeline (s): room for the first press or throw before its note.
+    rate : float
+        The control rate (Hz).
+    t_end : float
+        s: the last limb's motion ended, held :data:`HOLD_AFTER` s.
+    tempo_map : TempoMap
+    left_out : dict of str to int
+        Notes on pieces not chosen (``pieces``), counted by piece.
+    """
+
+    performance: object
+    kit: object
+    offset: float
+    rate: float
+    t_end: float
+    tempo_map: TempoMap = field(default_factory=TempoMap)
+    left_out: dict = field(default_factory=dict)
+
+    def __repr__(self):
+        return f"KitComposition({self.performance!r}, {self.t_end:g} s at {self.rate:g} Hz)"
+
+    @property
+    def columns(self):
+        """The CSV's header after ``t``: ``LIMB.JOINT`` (rad) for every joint of every limb with a motion, then
+        ``LIMB.JOINT.velocity`` (rad/s); a hand's joints are its positioning joints and ``theta``, a foot's its
+        beater's ``theta`` (θ = −φ)."""
+        names = [f"{limb}.{joint}" for limb, (joints, _) in self.performance.motions.items() for joint in joints]
+        return names + [f"{name}.velocity" for name in names]
+
+    def sample(self, rate=None):
+        """Times (s, from 0 to :attr:`t_end` at ``rate`` Hz, default the composition's) and ``{column: values}``."""
+        rate = self.rate if rate is None else check_real("rate", rate, low=1.0, high=1e5, unit="Hz")
+        t = np.arange(math.floor(self.t_end * rate + 1e-9) + 1) / rate
+        positions, velocities = [], []
+        for joints, curve in self.performance.motions.values():
+            q, v = curve(t)
+            positions += [q] if q.ndim == 1 else [q[:, j] for j in range(len(joints))]
+            velocities += [v] if v.ndim == 1 else [v[:, j] for j in range(len(joints))]
+        return t, dict(zip(self.columns, positions + velocities, strict=True))
+
+    def write_csv(self, path, *, sidecar=True, bundle=None):
+        """Write ``t`` and a column per joint (:attr:`columns`), header first, atomically; the metadata (rate,
+        offset, units) in the JSON beside it as every trajectory CSV does (``sidecar=False``: returned only)."""
+        from ._atomic import bundled
+        from .formats.sidecar import describe, sidecar_for, write_sidecar
+        from .formats.trajectory_csv import write_columns
+
+        side = sidecar_for(path) if sidecar else None
+        t, columns = self.sample()
+        names = ["t", *columns]
+        units = {"t": "s"} | {name: "rad/s" if name.endswith(".velocity") else "rad" for name in columns}
+        block = describe(path, names, units, {"model": "kit", "name": "kit", "rate": float(self.rate),
+                                              "limbs": list(self.performance.motions), "offset": self.offset})
+        with bundled(bundle) as files:
+            write_columns(path, names, [t, *columns.values()], bundle=files)
+            if side is not None:
+                write_sidecar(side, block, bundle=files)
+        return block
+
+
+def compose_kit(notes, kit=None, *, setup=None, rate=None, pieces=None, lead="right", open_handed=False,
+                pedals=None):
+    """Play a score on a kit: its notes' limbs assigned, the hands' strokes planned, the feet's presses designed.
+
+    Every note is a note on a piece of the kit, at its time and velocity: a MIDI file's notes read with the kit
+    (:func:`~drumstroke.score.read_score` with ``kit=``: every key it answers, the hi-hat's state by its key),
+    a pattern's on the piece its line names (default the snare; its stroke's name is not used, a note is one
+    impact). A note's stick, when it names a limb of the kit, is given (``auto``: assigned); the hi-hat played
+    by a foot is its pedal. :func:`~drumstroke.kit.play.play_kit` plays them.
+
+    Parameters
+    ----------
+    notes : Score or sequence of ScoreNote
+    kit : Kit, optional
+        Default the shipped :func:`~drumstroke.kit.pieces.default_kit`.
+    setup : Setup, optional
+        What the sticks are played with (default ``Setup()``).
+    rate : float in [1, 100000], optional
+        Control rate (Hz) of the samples; default 1000.
+    pieces : sequence of str, optional
+        Play only these pieces (the others' notes are counted in ``left_out``); default every piece.
+    lead : {"right", "left"}
+    open_handed : bool
+    pedals : dict of str to Pedal, optional
+        As :func:`~drumstroke.kit.play.play_kit` takes them.
+
+    Returns
+    -------
+    KitComposition
+
+    Examples
+    --------
+    >>> from drumstroke.score import parse_pattern
+    >>> score = parse_pattern("tempo 120\\n0 auto 100 auto kick\\n0 auto 90 auto hihat\\n1 auto 110 auto\\n")
+    >>> piece = compose_kit(score)
+    >>> [(o.piece, o.limb, o.played) for o in piece.performance.outcomes]
+    [('kick', 'right-foot', True), ('hihat', 'right', True), ('snare', 'left', True)]
+    >>> piece.columns[:4], piece.offset
+    (['right.yaw', 'right.lift', 'right.theta', 'left.yaw'], 0.241)
+    """
+    from .kit.limbs import KitNote
+    from .kit.pieces import FEET, Kit, default_kit
+    from .kit.play import _pedals, play_kit
+
+    kit = default_kit() if kit is None else kit
+    if not isinstance(kit, Kit):
+        raise ParameterError(f"kit must be a drumstroke.kit.pieces.Kit, got {kit!r}")
+    tempo_map = notes.tempo_map if isinstance(notes, Score) else TempoMap()
+    notes = notes.notes if isinstance(notes, Score) else tuple(notes)
+    rate = DEFAULT_RATE if rate is None else check_real("rate", rate, low=1.0, high=1e5, unit="Hz")
+    names = [piece.name for piece in kit.pieces]
+    chosen = names if pieces is None else list(pieces)
+    for name in chosen:
+        if name not in names:
+            raise ParameterError(f"pieces names {name!r}, not a piece of the kit ({', '.join(names)})",
+                                 parameter="pieces", value=name, allowed=", ".join(names))
+    kept, left_out = [], {}
+    for note in notes:
+        if not isinstance(note, ScoreNote):
+            raise ParameterError(f"notes must be ScoreNotes, got {note!r}")
+        piece = note.piece or "snare"
+        if piece not in names:
+            raise ParameterError(f"{note.source or 'note'}: piece {piece!r} is not a piece of the kit "
+                                 f"({', '.join(names)})", parameter="piece", value=piece, allowed=", ".join(names))
+        if piece in chosen:
+            kept.append(note)
+        else:
+            left_out[piece] = left_out.get(piece, 0) + 1
+    if not kept:
+        raise ParameterError(f"no note to play on the pieces chosen ({', '.join(chosen)})")
+    # room before the first note for the slowest press from rest (half the pedal's period) and a stick's throw
+    pedals = _pedals(pedals, kit)
+    need = max([LEAD_ROOM] + [math.pi / pedal.frequency for pedal in pedals.values()])
+    offset = math.ceil(max(0.0, need - min(n.time for n in kept)) * rate - 1e-9) / rate
+    kit_notes, keys, limbs = [], [], []
+    for note in kept:
+        piece = kit.piece(note.piece or "snare")
+        limb = note.stick if note.stick in kit.limbs else None
+        state = piece.state(note.key) if note.key is not None else (
+            ("pedal" if limb in FEET else "closed") if piece.kind == "hihat" else None)
+        key = note.key if note.key is not None else next(k for k in piece.keys if piece.state(k) == state)
+        kit_notes.append(KitNote(note.time + offset, piece.name, state,
+                                 None if note.beat is None else float(note.beat)))
+        keys.append(key)
+        limbs.append(limb)
+    performance = play_kit(kit_notes, kit, velocities=[n.velocity for n in kept], keys=keys, setup=setup,
+                           limbs=limbs, lead=lead, open_handed=open_handed, pedals=pedals)
+    return KitComposition(performance, kit, offset, rate, performance.t_end + HOLD_AFTER, tempo_map, left_out)
+
+
+LEAD_ROOM = 0.1
+"""s kept before a composition's first note for a stick's throw onto it (the planner's throw)."""

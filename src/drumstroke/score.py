@@ -142,6 +142,10 @@ class ScoreNote:
         s, a buzz's span; None: until its stick's next note.
     beat : float or None
         Where it falls in quarter notes from the score's start (for choosing sticks: the lead hand on the beat).
+    piece : str or None
+        The kit's piece it is played on (a pattern's sixth field, a MIDI key's piece on a kit); None: the snare.
+    key : int in [0, 127] or None
+        The MIDI key it was read from (None for a pattern's note).
     """
 
     time: float
@@ -151,9 +155,15 @@ class ScoreNote:
     source: str = ""
     duration: float | None = None
     beat: float | None = None
+    piece: str | None = None
+    key: int | None = None
 
     def __post_init__(self):
         where = self.source or "note"
+        if self.piece is not None and (not isinstance(self.piece, str) or not self.piece):
+            raise ParameterError(f"{where}: piece must be a kit piece's name or None, got {self.piece!r}")
+        if self.key is not None:
+            check_int(f"{where}: key", self.key, low=0, high=127)
         check_real(f"{where}: time", self.time, low=0.0, high=1e6, unit="s")
         if isinstance(self.velocity, bool) or not isinstance(self.velocity, int) or not 1 <= self.velocity <= 127:
             raise ParameterError(f"{where}: velocity must be an integer in [1, 127], got {self.velocity!r}")
@@ -186,6 +196,8 @@ class ScoreReport:
         The MIDI file's track names, by track number (empty for a text pattern).
     mapped : bool
         Whether a mapping was given (notes off it are "not in the mapping", else not in the default one).
+    kit : bool
+        Whether the keys were read as a kit's (notes off it are "not on the kit").
     """
 
     source: str
@@ -193,6 +205,7 @@ class ScoreReport:
     track_names: tuple = ()
     mapped: bool = False
     _skipped: tuple = field(default=(), repr=False)  # compact columns: time, key, velocity, channel, track, reason
+    kit: bool = False
 
     def count(self, reason=None, channel=None):
         """How many notes were skipped for ``reason`` ("played" for the others; None: every note), on ``channel``
@@ -264,6 +277,8 @@ class ScoreReport:
     def _reason_text(self, reason, names):
         parameter = {"track": "tracks", "channel": "channels", "unmapped": "mapping"}[reason]
         option = (names or {}).get(parameter, parameter)
+        if reason == "unmapped" and self.kit:
+            return "not on the kit"
         if reason != "unmapped":
             return f"in tracks not chosen ({option})" if reason == "track" else f"on channels not chosen ({option})"
         if self.mapped:
@@ -303,7 +318,7 @@ def parse_pattern(text, *, name="pattern"):
 def _notes(pattern):
     notes = [ScoreNote(row.beat * 60.0 / pattern.tempo, row.stroke, row.velocity, _stick(row.stick or DEFAULT_STICK),
                        source=row.source, duration=None if row.beats is None else row.beats * 60.0 / pattern.tempo,
-                       beat=row.beat) for row in pattern.rows]
+                       beat=row.beat, piece=row.piece) for row in pattern.rows]
     return sorted(notes, key=lambda n: n.time)
 
 
@@ -356,7 +371,7 @@ def read_mapping(path):
     return mapping
 
 
-def read_score(path, *, mapping=None, stroke_names=None, channels=None, tracks=None):
+def read_score(path, *, mapping=None, stroke_names=None, channels=None, tracks=None, kit=None):
     """The notes of a score file: a MIDI file through a note mapping, or a text pattern.
 
     Parameters
@@ -376,6 +391,9 @@ def read_score(path, *, mapping=None, stroke_names=None, channels=None, tracks=N
     tracks : sequence of int or str, or None
         For a MIDI file only: the tracks to play, by number (from 0, in the file's order)
         or by name. Default: every track.
+    kit : Kit or None
+        For a MIDI file only, instead of a mapping: every key the kit answers is a note on its piece (planned,
+        ``auto``, its limb assigned later), with its key; the others are skipped as "not on the kit".
 
     Returns
     -------
@@ -390,7 +408,7 @@ def read_score(path, *, mapping=None, stroke_names=None, channels=None, tracks=N
     """
     path = Path(path)
     if path.suffix.lower() not in MIDI_SUFFIXES:
-        for key, given in (("mapping", mapping), ("channels", channels), ("tracks", tracks)):
+        for key, given in (("mapping", mapping), ("channels", channels), ("tracks", tracks), ("kit", kit)):
             if given is not None:
                 raise ParameterError(f"{key} applies to MIDI scores (.mid, .midi); {str(path)!r} is a text pattern, "
                                      "which names its strokes", parameter=key, value=given,
@@ -401,8 +419,14 @@ def read_score(path, *, mapping=None, stroke_names=None, channels=None, tracks=N
                      ScoreReport(str(path), {("played", None): len(notes)}))
     channels = _check_channels(channels)
     stroke_names = () if stroke_names is None else stroke_names
+    if kit is not None and mapping is not None:
+        raise ParameterError("give a mapping or a kit, not both: a kit plays every key it answers", parameter="mapping",
+                             value=mapping, allowed="None with a kit")
     if mapping is not None and not isinstance(mapping, dict):
         mapping = read_mapping(mapping)
+    pieces = {} if kit is None else {key: piece.name for piece in kit.pieces for key in piece.keys}
+    if kit is not None:
+        mapping = {key: ("auto", None) for key in pieces}
     from .formats.midi import read_midi
 
     midi = read_midi(path)
@@ -421,13 +445,15 @@ def read_score(path, *, mapping=None, stroke_names=None, channels=None, tracks=N
             stroke, stick = mappings[note.channel][note.note]
             source = f"{path} note {note.note} at {note.time:.6g} s (channel {note.channel}, track {note.track})"
             notes.append(ScoreNote(note.time, stroke, note.velocity, stick, source=source,
-                                   beat=float(midi.tempo_map.beats(note.time))))
+                                   beat=float(midi.tempo_map.beats(note.time)), piece=pieces.get(note.note),
+                                   key=note.note if kit is not None else None))
             counts["played", note.channel] += 1
             continue
         counts[SKIP_REASONS[reason], note.channel] += 1
         for column, value in zip(skipped, (note.time, note.note, note.velocity, note.channel, note.track, reason)):
             column.append(value)
-    report = ScoreReport(str(path), dict(counts), midi.track_names, mapping is not None, skipped)
+    report = ScoreReport(str(path), dict(counts), midi.track_names, mapping is not None and kit is None, skipped,
+                         kit=kit is not None)
     return Score(tuple(notes), midi.tempo_map, report)
 
 

@@ -7,7 +7,7 @@ Examples
 --------
 >>> pattern = parse_pattern("tempo 120\\nmeter 3/4\\n0 single 100\\n0.5 tap 40 left\\n")
 >>> pattern.tempo, pattern.meter, pattern.rows[1]
-(120.0, (3, 4), PatternRow(beat=0.5, stroke='tap', velocity=40, stick='left', source='pattern line 4', beats=None))
+(120.0, (3, 4), PatternRow(beat=0.5, stroke='tap', velocity=40, stick='left', source='pattern line 4', beats=None, piece=None))
 >>> print(pattern_text(*pattern), end="")
 tempo 120
 meter 3/4
@@ -23,6 +23,8 @@ from .._checks import check_real
 from ..errors import ParameterError
 from .reading import MIB, read_text
 
+_PIECE = re.compile(r"^[a-z][a-z0-9_-]{0,31}$")  # a kit piece's name (a letter first: never a number)
+
 MAX_BYTES = 16 * MIB
 """The largest pattern file read (bytes): some 800,000 notes."""
 
@@ -34,12 +36,16 @@ lines are skipped:
   meter N/D      optional, before the first note: the time signature (N in
                  [1, 255], D a power of two up to 128; default 4/4); it changes
                  no time, and is written into MIDI files
-  BEAT STROKE VELOCITY [STICK [BEATS]]
+  BEAT STROKE VELOCITY [STICK [BEATS] [PIECE]]
                  a note: its time in quarter notes from 0 (a number in [0, 1e6];
                  0.5 is the second eighth note); its stroke; a MIDI velocity
                  1-127 (the level of its impact); the stick that plays it (1-32
                  of a-z, 0-9, '_', '-'; default right; auto: the planner picks
-                 one), one trajectory per stick. Notes may come in any order.
+                 one), one trajectory per stick; on a kit (compose --kit) a
+                 limb: right, left, right-foot, left-foot or auto; then the
+                 kit's piece it is played on (default snare; compose --kit
+                 reads it, the snare-only compose plays every note on the
+                 snare). Notes may come in any order.
                  The stroke is one of:
                    auto    the planner designs the stroke that plays the note
                            (a diddle, a flam, a drag, an accent or a tap is just
@@ -61,6 +67,7 @@ For example:
   1.95   auto     50     left      # the flam's grace note, 31 ms early
   2      auto     110    right
   3      buzz     80     auto  0.5
+  3.5    auto     90     auto  ride     # on the kit: the ride
 """
 """The text pattern format, complete: what ``drumstroke compose --help`` prints."""
 
@@ -75,7 +82,7 @@ class Pattern(NamedTuple):
 
 class PatternRow(NamedTuple):
     """One note line: its beat (quarter notes from 0), stroke name, velocity (1–127), stick (or None), source,
-    and a buzz's length in beats (or None)."""
+    a buzz's length in beats (or None), and the kit's piece it names (or None)."""
 
     beat: float
     stroke: str
@@ -83,6 +90,7 @@ class PatternRow(NamedTuple):
     stick: str | None
     source: str
     beats: float | None = None
+    piece: str | None = None
 
 
 def read_pattern_file(path):
@@ -109,20 +117,35 @@ def parse_pattern(text, *, name="pattern"):
                 raise ParameterError(f"{where}: a meter is one 'meter N/D' line before the notes, got {line.strip()!r}")
             meter = _meter(fields[1], where)
             continue
-        if len(fields) not in (3, 4, 5):
-            raise ParameterError(f"{where}: a note is 'beat stroke velocity [stick [beats]]', got {line.strip()!r}")
-        if len(fields) == 5 and fields[1] != "buzz":
-            raise ParameterError(f"{where}: only a buzz takes a length (the fifth field), got {line.strip()!r}")
+        if len(fields) not in (3, 4, 5, 6):
+            raise ParameterError(f"{where}: a note is 'beat stroke velocity [stick [beats] [piece]]', got "
+                                 f"{line.strip()!r}")
         beat = check_real(f"{where}: beat", _number(fields[0], where, "beat"), low=0.0, high=1e6)
         velocity = _integer(fields[2], where)
-        beats = (check_real(f"{where}: buzz length", _number(fields[4], where, "buzz length"), low=0.0, high=1e6,
-                            low_open=True, unit="beats") if len(fields) == 5 else None)
-        rows.append(PatternRow(beat, fields[1], velocity, fields[3] if len(fields) >= 4 else None, where, beats))
+        beats, piece = _beats_and_piece(fields, where, line)
+        rows.append(PatternRow(beat, fields[1], velocity, fields[3] if len(fields) >= 4 else None, where, beats,
+                               piece))
     if tempo is None:
         raise ParameterError(f"{name} is empty: it needs a 'tempo BPM' line and notes")
     if not rows:
         raise ParameterError(f"{name} has a tempo but no notes")
     return Pattern(tempo, rows, meter)
+
+
+def _beats_and_piece(fields, where, line):
+    """A note line's buzz length (beats, or None) and piece (or None), the fields after its stick."""
+    rest = fields[4:]
+    beats = None
+    if rest and _PIECE.match(rest[0]) is None:  # a number: a buzz's length
+        if fields[1] != "buzz":
+            raise ParameterError(f"{where}: only a buzz takes a length (the fifth field), got {line.strip()!r}")
+        beats = check_real(f"{where}: buzz length", _number(rest[0], where, "buzz length"), low=0.0, high=1e6,
+                           low_open=True, unit="beats")
+        rest = rest[1:]
+    if len(rest) > 1 or (rest and _PIECE.match(rest[0]) is None):
+        raise ParameterError(f"{where}: a note is 'beat stroke velocity [stick [beats] [piece]]', a piece 1-32 of "
+                             f"a-z, 0-9, '_', '-' starting with a letter, got {line.strip()!r}")
+    return beats, rest[0] if rest else None
 
 
 def pattern_text(tempo, rows, meter=(4, 4)):
@@ -132,8 +155,10 @@ def pattern_text(tempo, rows, meter=(4, 4)):
     for row in rows:
         beat, stroke, velocity, stick = row[:4]
         beats = row[5] if len(row) > 5 else None
-        line = f"{beat:.17g} {stroke} {int(velocity)}" + (f" {stick or 'right'}" if stick or beats is not None else "")
-        lines.append(line + (f" {beats:.17g}" if beats is not None else ""))
+        piece = row[6] if len(row) > 6 else None
+        named = stick or beats is not None or piece
+        line = f"{beat:.17g} {stroke} {int(velocity)}" + (f" {stick or 'right'}" if named else "")
+        lines.append(line + (f" {beats:.17g}" if beats is not None else "") + (f" {piece}" if piece else ""))
     return "\n".join(lines) + "\n"
 
 

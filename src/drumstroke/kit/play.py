@@ -53,11 +53,14 @@ from ..curve import Curve, Segment, placed
 from ..design.chain import LEAD, MIN_GAP
 from ..design.planner import LEADS, Problem, Target, plan_stick
 from ..design.setup import Setup
-from ..dynamics import CEILING_DB, FLOOR_DB, velocity_to_level
+from ..design import Unreachable
+from ..dynamics import CEILING_DB, FLOOR_DB, velocity_to_foot_level, velocity_to_level
 from ..errors import ParameterError
 from ..palette.motion import plan_return, synchronised_move
 from ..trajectory import DEFAULT_RATE
 from .limbs import Assignment, KitNote, assign_limbs
+from .pedal import MIN_GAP as PEDAL_GAP
+from .pedal import Pedal, design_pedal
 from .pieces import FEET, YAW, Kit
 
 THETA = "theta"
@@ -550,3 +553,286 @@ def _thrown(made):
 def _with_theta(position, theta):
     """``position`` (every joint's angle, rad) with the stick at ``theta`` instead."""
     return np.concatenate((position[:-1], [theta]))
+
+
+# --- the whole kit: the hands, and the feet on their pedals --------------------------------------------------------
+
+
+class KitHit(NamedTuple):
+    """One impact of a limb on the kit: when (s), the piece, the MIDI key it sounds as (the hi-hat's says its
+    state), the limb, the striking speed (m/s: a stick's tip, a pedal's beater head) and the note's index (−1
+    for a stick's bounce after its note)."""
+
+    t: float
+    piece: str
+    key: int
+    limb: str
+    speed: float
+    note: int
+
+
+@dataclass(frozen=True, repr=False)
+class FootMotion:
+    """One foot's motion on its pedal.
+
+    Attributes
+    ----------
+    foot : str
+    pedal : str
+        The pedal's name (the kit's pieces name it: "kick", "hihat").
+    joints : tuple of str
+        ``("theta",)``: the beater's angle θ = −φ (rad), back from the vertical (see :mod:`.pedal`).
+    curve : Curve
+        The exact motion, ``curve(t) -> (θ, ω)`` (rad, rad/s); at rest at φ_rest before its first press and
+        after its design ends.
+    design : PedalDesign or None
+        The foot force that plays its notes (None for a foot without notes).
+    t_end : float
+        s: where its design ends, the beater back at rest (0 without notes).
+    """
+
+    foot: str
+    pedal: str
+    joints: tuple
+    curve: Curve
+    design: object
+    t_end: float
+
+    def __repr__(self):
+        notes = 0 if self.design is None else len(self.design.times)
+        return f"FootMotion({self.foot!r} on the {self.pedal!r} pedal, {notes} notes)"
+
+
+@dataclass(frozen=True, repr=False)
+class KitPerformance:
+    """A kit part played: every limb's motion, what became of every note, every impact.
+
+    Attributes
+    ----------
+    hands : dict of str to HandMotion
+        Each of the kit's hands.
+    feet : dict of str to FootMotion
+        Each of the kit's feet that works a pedal.
+    outcomes : tuple of Outcome
+        Every note, in the part's order: its limb, played (impact time, s; level, dB re 1 m/s of the tip or the
+        beater head) or not (its problem).
+    keys : tuple of int
+        Every note's MIDI key (the hi-hat's says its state).
+    hits : tuple of KitHit
+        Every impact of every limb, in time order.
+    """
+
+    hands: dict
+    feet: dict
+    outcomes: tuple
+    keys: tuple
+    hits: tuple
+
+    def __repr__(self):
+        played = sum(o.played for o in self.outcomes)
+        return f"KitPerformance({played} of {len(self.outcomes)} notes played, {len(self.hits)} hits)"
+
+    @property
+    def problems(self):
+        """The problems of the notes not played."""
+        return tuple(o.problem for o in self.outcomes if not o.played)
+
+    @property
+    def motions(self):
+        """Every limb with a motion, in the kit's order: ``{limb: (joints, curve)}`` (hands without notes left out)."""
+        hands = {hand: (m.joints, m.curve) for hand, m in self.hands.items() if m.curve is not None}
+        return hands | {foot: (m.joints, m.curve) for foot, m in self.feet.items()}
+
+    @property
+    def t_end(self):
+        """s: when the last limb's motion ends (its stick caught, its beater back at rest)."""
+        return max([m.t_end for m in self.hands.values()] + [m.t_end for m in self.feet.values()] + [0.0])
+
+
+def play_kit(notes, kit, *, levels=None, velocities=None, keys=None, setup=None, limbs=None, lead="right",
+             open_handed=False, pedals=None, clearance=CLEARANCE, footprint=FOOTPRINT):
+    """Play a kit part: the hands as :func:`play_hands` plays them, each foot's notes on its pedal.
+
+    A foot's notes (the kick's: the right foot; the hi-hat's pedal key: the left, on the shipped kit) are
+    designed by :func:`~drumstroke.kit.pedal.design_pedal` on the pedal its piece names (``end="release"``:
+    the beater back at rest after its last note). A note the pedal cannot play (a press stronger than its
+    ``max_force``, a first press that would start before 0 s, a double too fast for its rebound) is left out
+    with the design's reason, and the foot's other notes are designed again; so is a note within 1 ms of the
+    foot's note before it.
+
+    Parameters
+    ----------
+    notes : sequence of KitNote
+        Times (s), pieces, the hi-hat's states; any order.
+    kit : Kit
+    levels : array_like [shape=(n,)], optional
+        dB re 1 m/s: a hand's note its tip speed (within a stick's MIDI range, [-35.96, 12.04]); a foot's its
+        beater head's speed (within :data:`~drumstroke.kit.pedal.LEVEL_RANGE`). Give these or ``velocities``.
+    velocities : array_like [shape=(n,)], optional
+        MIDI velocities 1-127: a hand's note through :func:`~drumstroke.dynamics.velocity_to_level`, a foot's
+        through :func:`~drumstroke.dynamics.velocity_to_foot_level` (127 is a hard kick, 17 dB).
+    keys : sequence of int, optional
+        Each note's MIDI key, one of its piece's (a hi-hat's of its state); recorded with its hits. Default the
+        piece's first key for the note's state.
+    setup : Setup, optional
+        As :func:`play_hands` takes it.
+    limbs : Assignment or sequence of str or None, optional
+        The notes' limbs: an :func:`~drumstroke.kit.limbs.assign_limbs` result, or limbs given for some notes
+        (None for the others, assigned with ``lead`` and ``open_handed``).
+    lead : {"right", "left"}
+    open_handed : bool
+    pedals : dict of str to Pedal, optional
+        Each pedal the kit's pieces name, by name; default ``Pedal()`` for each. The hi-hat's foot is modelled
+        as a kick pedal whose "head" is the closed cymbals: without its own numbers, the defaults.
+    clearance, footprint
+        As :func:`play_hands` takes them.
+
+    Returns
+    -------
+    KitPerformance
+
+    Examples
+    --------
+    >>> from drumstroke.kit.pieces import default_kit
+    >>> notes = [KitNote(0.5, "kick"), KitNote(0.5, "hihat", "closed"), KitNote(1.0, "hihat", "pedal")]
+    >>> part = play_kit(notes, default_kit(), velocities=[127, 90, 64])
+    >>> [(o.limb, round(o.impact, 9), round(o.impact_level, 6)) for o in part.outcomes]
+    [('right-foot', 0.5, 17.0), ('right', 0.5, -2.054038), ('left-foot', 1.0, 5.0)]
+    >>> [(h.limb, h.key) for h in part.hits if h.note >= 0]
+    [('right', 42), ('right-foot', 35), ('left-foot', 44)]
+    """
+    if not isinstance(kit, Kit):
+        raise ParameterError(f"kit must be a drumstroke.kit.pieces.Kit, got {shown(kit)}")
+    if isinstance(notes, (str, bytes)) or not hasattr(notes, "__len__"):
+        raise ParameterError(f"notes must be a sequence of KitNote, got {shown(notes)}")
+    notes = tuple(note if isinstance(note, KitNote) else KitNote(*note) for note in notes)
+    assignment = limbs if isinstance(limbs, Assignment) else assign_limbs(
+        notes, kit, lead=lead, open_handed=open_handed, given=limbs)
+    keys = _keys(notes, kit, keys)
+    on_foot = [limb in FEET for limb in assignment.limbs]
+    hand_levels, foot_levels = _kit_levels(levels, velocities, on_foot)
+    hands = play_hands(notes, kit, levels=hand_levels, setup=setup, limbs=assignment, clearance=clearance,
+                       footprint=footprint)
+    pedals = _pedals(pedals, kit)
+    outcomes = {o.index: o for o in hands.outcomes}
+    feet = {}
+    for foot in kit.feet:
+        mine = [_with_level(f, foot_levels[f.index]) for f in hands.feet if f.limb == foot]
+        pedal = next((kit.piece(f.note.piece).pedal for f in mine), _pedal_of(kit, foot))
+        if pedal is None:
+            continue
+        feet[foot], played = _play_foot(foot, pedal, pedals[pedal], mine, kit)
+        outcomes.update(played)
+    outcomes = tuple(outcomes[i] for i in range(len(notes)))
+    return KitPerformance(hands.hands, feet, outcomes, keys, _kit_hits(hands.hands, feet, outcomes, keys))
+
+
+def _with_level(foot_note, level):
+    """``foot_note`` with the foot's level (dB re 1 m/s beater head speed)."""
+    return foot_note._replace(level=level)
+
+
+def _keys(notes, kit, keys):
+    """Each note's MIDI key: given (one of its piece's, of its state) or the piece's first for the state."""
+    if keys is None:
+        return tuple(next(k for k in kit.piece(n.piece).keys if kit.piece(n.piece).state(k) == n.state)
+                     if n.state else kit.piece(n.piece).keys[0] for n in notes)
+    if isinstance(keys, (str, bytes)) or not hasattr(keys, "__len__") or len(keys) != len(notes):
+        raise ParameterError(f"keys must hold a MIDI key for each of the {len(notes)} notes, got {shown(keys)}")
+    checked = []
+    for i, (note, key) in enumerate(zip(notes, keys)):
+        piece = kit.piece(note.piece)
+        if isinstance(key, bool) or int(key) != key or int(key) not in piece.keys or piece.state(int(key)) != note.state:
+            state = f" when {note.state}" if note.state else ""
+            raise ParameterError(f"keys[{i}] must be a key of {note.piece!r}{state} "
+                                 f"({', '.join(str(k) for k in piece.keys if piece.state(k) == note.state)}), "
+                                 f"got {shown(key)}")
+        checked.append(int(key))
+    return tuple(checked)
+
+
+def _kit_levels(levels, velocities, on_foot):
+    """The hands' levels (each foot's note 0 dB: play_hands passes them on untouched) and every note's foot level."""
+    if (levels is None) == (velocities is None):
+        raise ParameterError("give the notes' levels (dB) or their velocities (MIDI 1-127), one of the two")
+    if levels is None:
+        velocities = check_vector("velocities", velocities, low=1.0, high=127.0)
+        if len(velocities) != len(on_foot):
+            raise ParameterError(f"velocities must hold one per note ({len(on_foot)}), got {len(velocities)}")
+        return ([0.0 if foot else velocity_to_level(v) for v, foot in zip(velocities, on_foot)],
+                [velocity_to_foot_level(v) if foot else None for v, foot in zip(velocities, on_foot)])
+    levels = check_vector("levels", levels, low=-1e3, high=1e3, unit="dB")
+    if len(levels) != len(on_foot):
+        raise ParameterError(f"levels must hold one per note ({len(on_foot)}), got {len(levels)}")
+    return ([0.0 if foot else float(level) for level, foot in zip(levels, on_foot)],
+            [float(level) if foot else None for level, foot in zip(levels, on_foot)])
+
+
+def _pedals(pedals, kit):
+    """Every pedal the kit's pieces name, by name: given, or ``Pedal()``."""
+    names = sorted({piece.pedal for piece in kit.pieces if piece.pedal is not None})
+    pedals = {} if pedals is None else pedals
+    if not isinstance(pedals, dict):
+        raise ParameterError(f"pedals must be a dict of pedal name to Pedal, got {shown(pedals)}")
+    for name, pedal in pedals.items():
+        if name not in names:
+            raise ParameterError(f"pedals names {shown(name)}, not a pedal of the kit ({', '.join(names)})")
+        if not isinstance(pedal, Pedal):
+            raise ParameterError(f"pedals[{name!r}] must be a drumstroke.kit.pedal.Pedal, got {shown(pedal)}")
+    return {name: pedals.get(name, Pedal()) for name in names}
+
+
+def _pedal_of(kit, foot):
+    """The pedal ``foot`` works when it plays no note: its first piece's (None if it plays none)."""
+    return next((piece.pedal for piece in kit.pieces if foot in piece.feet), None)
+
+
+def _play_foot(foot, name, pedal, notes, kit):
+    """(FootMotion, {note index: Outcome}) of one foot's notes on the pedal ``name``."""
+    outcomes, kept = {}, []
+
+    def leave_out(note, reason, nearest_time=None):
+        problem = Problem(note.index, note.note.time, reason, nearest_time)
+        outcomes[note.index] = Outcome(note.index, note.note, foot, note.level, problem=problem)
+
+    for note in sorted(notes, key=lambda n: n.note.time):
+        if kit.piece(note.note.piece).pedal != name:
+            leave_out(note, f"the {foot} works the {name!r} pedal; it has no move to another")
+        elif kept and note.note.time - kept[-1].note.time < PEDAL_GAP:
+            leave_out(note, f"the {foot} plays note {kept[-1].index} {note.note.time - kept[-1].note.time:.3g} s "
+                            f"before it; a pedal's notes must be at least {PEDAL_GAP:g} s apart")
+        else:
+            kept.append(note)
+    design = None
+    while kept and design is None:
+        try:
+            design = design_pedal([n.note.time for n in kept], [n.level for n in kept], pedal)
+        except Unreachable as error:  # left out, and the foot's other notes designed again
+            leave_out(kept.pop(error.note), f"the {foot} on the {name!r} pedal (its note {error.note} there): {error}",
+                      error.nearest_time)
+    rest = Segment.hold(-pedal.phi_rest, 0.0)
+    if design is None:
+        return FootMotion(foot, name, (THETA,), Curve((rest,)), None, 0.0), outcomes
+    stroke = design.stroke
+    for note, t, level in zip(kept, stroke.impacts.t, stroke.impacts.level_db):
+        outcomes[note.index] = Outcome(note.index, note.note, foot, note.level, float(t), float(level))
+    curve = Curve(stroke.curve.segments + (Segment.hold(-pedal.phi_rest, stroke.t_end),))
+    return FootMotion(foot, name, (THETA,), curve, design, stroke.t_end), outcomes
+
+
+def _kit_hits(hands, feet, outcomes, keys):
+    """Every impact, in time order: a stick's bounce sounds as the note it follows (its key, so its state)."""
+    hits = []
+    for hand, motion in hands.items():
+        last = None
+        for hit in motion.hits:
+            last = hit.note if hit.note >= 0 else last
+            hits.append(KitHit(hit.t, hit.piece, keys[last], hand, 10.0 ** (hit.level / 20.0), hit.note))
+    for foot, motion in feet.items():
+        if motion.design is None:
+            continue
+        played = [o for o in outcomes if o.limb == foot and o.played]
+        impacts = motion.design.stroke.impacts
+        for outcome, t, speed in zip(played, impacts.t, impacts.tip_speed):
+            hits.append(KitHit(float(t), outcome.piece, keys[outcome.index], foot, float(speed), outcome.index))
+    return tuple(sorted(hits, key=lambda h: (h.t, h.limb)))
