@@ -429,9 +429,9 @@ def _place(spans, offset, setup):
                 need = _earliest_start(previous, span, setup) - span.start
                 note, before = span.first, previous.first
                 span.played = False
-                placed.append((span, f"{note.source}: {note.stroke!r} on the {note.stick} stick comes "
+                placed.append((span, (f"{note.source}: {note.stroke!r} on the {note.stick} stick comes "
                                      f"{need * 1e3:.0f} ms too soon after {before.stroke!r} at {before.time:.6g} s; "
-                                     "left out"))
+                                     "left out")))
                 continue
             previous.cut = cut if cut < previous.stroke.t_end else None
         placed.append((span, ""))
@@ -478,8 +478,8 @@ def _cut_short(span, library):
     lost = int(np.sum(hits > span.cut))
     if not lost:
         return []
-    return [f"{note.source or 'note'}: {note.stroke!r} on the {note.stick} stick is cut {span.cut:.3f} s into it for "
-            f"the next note: {lost} of its {len(hits)} hits not played"]
+    return [(f"{note.source or 'note'}: {note.stroke!r} on the {note.stick} stick is cut {span.cut:.3f} s into it for "
+            f"the next note: {lost} of its {len(hits)} hits not played")]
 
 
 def _at_velocity(stroke, note, setup):
@@ -556,6 +556,18 @@ class KitComposition:
 
     def __repr__(self):
         return f"KitComposition({self.performance!r}, {self.t_end:g} s at {self.rate:g} Hz)"
+
+    def summary(self):
+        """One line: the notes played of those given, per piece (most first), what --pieces left out, the span."""
+        from collections import Counter
+
+        outcomes = self.performance.outcomes
+        played = Counter(o.piece for o in outcomes if o.played)
+        counts = ", ".join(f"{name} {played[name]}/{n}" for name, n in Counter(o.piece for o in outcomes).most_common())
+        left = (f"; not chosen (--pieces): {', '.join(f'{k} ×{n}' for k, n in self.left_out.items())}"
+                if self.left_out else "")
+        return (f"played {sum(played.values())} of {len(outcomes)} notes on the kit ({counts}){left}; "
+                f"{self.t_end:.3f} s at {self.rate:g} Hz, score time 0 at {self.offset:g} s")
 
     @property
     def columns(self):

@@ -11,6 +11,7 @@ from ..score import BOUNCE_NOTE, FIRST_IMPACT_NOTE
 from ._options import Output, number
 from ._parser import OPTIONS, Parser, named_option  # noqa: F401 (the commands' modules take them from here)
 
+
 class Bar:
     """A progress bar (tqdm) on stderr, drawn only on a terminal and only after ``delay`` seconds.
 

@@ -13,6 +13,7 @@ from ..render.page import plural
 from ..score import BOUNCE_NOTE, DRUM_MAP, FIRST_IMPACT_NOTE, FIRST_LIBRARY_NOTE, PLANNED
 from ._common import OPTIONS, Bar, add_model, add_sound_options, print_written, robot_config
 from ._options import Output, add_mkdir, existing_file, existing_folder, number
+from .kit import add_kit_options, compose_kit
 
 _WRITTEN = {"first": "; written for each stroke's first impact", "bounce": "; written for bounces", None: ""}
 _DRUM_MAP = "\n".join(f"  {key}  {row.name:<15} read as {row.stroke!r}{_WRITTEN[row.written]}"
@@ -87,15 +88,7 @@ def add_compose(comp):
                       help=f"draw theta(t) per stick with the notes: {', '.join(plot.SUFFIXES)}")
     add_sound_options(comp)
     add_mkdir(comp)
-    kit = comp.add_argument_group("the kit (--kit)")
-    kit.add_argument("--kit", nargs="?", const="", type=str, metavar="FILE",
-                     help="play every channel-10 key the kit answers on its pieces, hands and feet (alone: the shipped "
-                          "kit; FILE: a kit .toml); without it, the snare only")
-    kit.add_argument("--pieces", metavar="LIST", help="with --kit: play only these pieces, comma-separated")
-    kit.add_argument("--lead", choices=("right", "left"), default="right", help="with --kit: the lead hand")
-    kit.add_argument("--open-handed", action="store_true", help="with --kit: the hand on a hi-hat's side keeps time")
-    kit.add_argument("--soundfont", type=existing_file, metavar="SF2",
-                     help="with --kit: render --audio through FluidSynth with this General MIDI SoundFont")
+    add_kit_options(comp)
     comp.add_argument("--strict", action="store_true",
                       help="exit with status 3 if a note of the channels and tracks played was left out or cut short")
     talk = comp.add_mutually_exclusive_group()
@@ -107,7 +100,7 @@ def add_compose(comp):
 
 def _compose(args):
     if args.kit is not None:
-        return _compose_kit(args)
+        return compose_kit(args)
     from ..compose import compose
     from ..design import Setup
     from ..palette.library import load_library, palette_library
@@ -169,95 +162,3 @@ def _warn(piece, played, args, say):
                  f"{plural(others, other)} (velocities out of reach, strokes cut short)" if others > 0 else ""]
         more = f"; the first: {problems[0]}; --verbose lists them all" if len(problems) > 1 else f": {problems[0]}"
         say(f"warning: {', '.join(kind for kind in kinds if kind)}{more}", file=sys.stderr)
-
-
-def _compose_kit(args):
-    """``compose --kit``: the score on the kit's pieces, every limb's joints, the notes' outcomes, the hits."""
-    import time
-    from collections import Counter
-
-    from ..compose import compose_kit
-    from ..design import Setup
-    from ..kit.pieces import default_kit, read_kit
-    from ..score import read_score
-
-    say = (lambda *a, **k: None) if args.quiet else print
-    kit = read_kit(args.kit) if args.kit else default_kit()
-    midi_score = args.score.suffix.lower() in (".mid", ".midi")
-    score = read_score(args.score, kit=kit if midi_score else None, channels=args.channel, tracks=args.track)
-    say(score.report.summary(OPTIONS))
-    if not score.notes:
-        raise ParameterError(f"{args.score} has no notes the kit answers on the channels and tracks chosen")
-    pieces = None if args.pieces is None else [p.strip() for p in args.pieces.split(",") if p.strip()]
-    start = time.perf_counter()
-    piece = compose_kit(score, kit, setup=Setup(model=args.model), rate=args.rate, pieces=pieces, lead=args.lead,
-                        open_handed=args.open_handed)
-    took = time.perf_counter() - start
-    outcomes = piece.performance.outcomes
-    played = Counter(o.piece for o in outcomes if o.played)
-    counts = ", ".join(f"{name} {played[name]}/{n}" for name, n in Counter(o.piece for o in outcomes).most_common())
-    left = "".join(f"; not chosen (--pieces): {', '.join(f'{k} ×{n}' for k, n in piece.left_out.items())}"
-                   if piece.left_out else "")
-    say(f"played {sum(played.values())} of {len(outcomes)} notes on the kit ({counts}){left}; "
-        f"{piece.t_end:.3f} s at {piece.rate:g} Hz, score time 0 at {piece.offset:g} s; composed in {took:.2f} s")
-    problems = piece.performance.problems
-    if args.verbose:
-        for problem in problems:
-            print(f"warning: {problem}", file=sys.stderr)
-    elif problems:
-        say(f"warning: {plural(len(problems), 'note')} left out; the first: {problems[0]}; --verbose lists them all",
-            file=sys.stderr)
-    written = _write_kit_outputs(piece, args)
-    if not args.quiet:
-        print_written(written)
-    if args.strict and (score.report.count("unmapped") or problems):
-        print("drumstroke compose: error: notes were left out (--strict)", file=sys.stderr)
-        return 3
-    return 0
-
-
-def _write_kit_outputs(piece, args):
-    """--csv, --json, --midi, --audio of a kit composition; the paths written."""
-    written = []
-    if args.csv:
-        piece.write_csv(args.csv)
-        written += [args.csv, args.csv.with_suffix(".json")]
-    if args.json:
-        json.write_json(args.json, _kit_document(piece))
-        written.append(args.json)
-    hits = piece.performance.hits
-    if args.midi or args.audio:
-        from ..render.kit_audio import KitHits, render_kit_wav
-        from ..render.soundfont import render_soundfont_wav, write_kit_midi
-
-        rows = KitHits.from_rows([(h.t, h.piece, h.key, h.speed) for h in hits])
-        if args.midi:
-            write_kit_midi(args.midi, rows)
-            written.append(args.midi)
-        if args.audio and args.soundfont:
-            render_soundfont_wav(args.audio, rows, args.soundfont)
-            written.append(args.audio)
-        elif args.audio:
-            render_kit_wav(args.audio, rows, kit=piece.kit)
-            written.append(args.audio)
-    return written
-
-
-def _kit_document(piece):
-    """The JSON of a kit composition: the kit, every note's outcome, every hit."""
-    performance = piece.performance
-    notes = []
-    for outcome, key in zip(performance.outcomes, performance.keys):
-        note = {"index": outcome.index, "time": outcome.note.time - piece.offset, "key": key, "piece": outcome.piece,
-                "state": outcome.note.state, "limb": outcome.limb, "played": outcome.played,
-                "level": outcome.level}
-        if outcome.played:
-            note |= {"impact": outcome.impact - piece.offset, "impact_level": outcome.impact_level}
-        else:
-            note["reason"] = outcome.problem.reason
-        notes.append(note)
-    hits = [{"t": h.t - piece.offset, "piece": h.piece, "key": h.key, "limb": h.limb, "speed": h.speed,
-             "note": h.note} for h in performance.hits]
-    return {"kit": {p.name: p.to_dict() for p in piece.kit.pieces}, "offset": piece.offset, "rate": piece.rate,
-            "t_end": piece.t_end, "notes": notes, "hits": hits, "left_out": piece.left_out,
-            "units": {"time": "s from the score's time 0", "level": "dB re 1 m/s", "speed": "m/s"}}

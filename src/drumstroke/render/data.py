@@ -81,3 +81,25 @@ def design_to_dict(design):
 
 def _with_csv(data, csv):
     return data if csv is None else data | {KEY: csv}
+
+
+def kit_to_dict(piece):
+    """A kit composition (:func:`drumstroke.compose.compose_kit`) as plain data: the kit, every note's outcome (its
+    key, piece, limb, whether played: its impact's time and level, or the reason), every hit, the units."""
+    performance = piece.performance
+    notes = []
+    for outcome, key in zip(performance.outcomes, performance.keys):
+        note = {"index": outcome.index, "time": outcome.note.time - piece.offset, "key": key, "piece": outcome.piece,
+                "state": outcome.note.state, "limb": outcome.limb, "played": outcome.played,
+                "level": outcome.level}
+        if outcome.played:
+            note |= {"impact": outcome.impact - piece.offset, "impact_level": outcome.impact_level}
+        else:
+            note["reason"] = outcome.problem.reason
+        notes.append(note)
+    hits = [{"t": h.t - piece.offset, "piece": h.piece, "key": h.key, "limb": h.limb, "speed": h.speed,
+             "note": h.note} for h in performance.hits]
+    return {"kit": {p.name: p.to_dict() for p in piece.kit.pieces}, "offset": piece.offset, "rate": piece.rate,
+            "t_end": piece.t_end, "notes": notes, "hits": hits, "left_out": piece.left_out,
+            "units": {"time": "s from the score's time 0", "level": "dB re 1 m/s", "speed": "m/s"}}
+

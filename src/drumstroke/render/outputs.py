@@ -158,6 +158,55 @@ def write_composition_outputs(piece, *, title, csv=None, json=None, plot=None, a
     return written
 
 
+def write_kit_outputs(piece, *, csv=None, json=None, midi=None, audio=None, soundfont=None, bundle=None):
+    """Write a kit composition's files (:func:`drumstroke.compose.compose_kit`), put in place together.
+
+    Parameters
+    ----------
+    piece : KitComposition
+    csv : str, Path or None
+        t (s) and a column per joint (rad, and rad/s), header first; its metadata in the JSON beside it.
+    json : str, Path or None
+        The kit, every note's outcome and every hit (:func:`~drumstroke.render.data.kit_to_dict`).
+    midi : str, Path or None
+        Each hit on its piece's General MIDI key, channel 10, a track a piece.
+    audio : str, Path or None
+        The hits as audio: drumstroke's synthesis of each piece, or through ``soundfont``.
+    soundfont : str, Path or None
+        A General MIDI SoundFont (.sf2) to render ``audio`` with FluidSynth.
+    bundle : Bundle or None
+
+    Returns
+    -------
+    list of Path
+        The files written.
+    """
+    from ..formats.json import write_json as write_json_data
+
+    written = []
+    with bundled(bundle) as files:
+        if csv:
+            piece.write_csv(csv, bundle=files)
+            written += [Path(csv), Path(csv).with_suffix(".json")]
+        if json:
+            write_json_data(json, data.kit_to_dict(piece), bundle=files)
+            written.append(Path(json))
+        if midi or audio:
+            from .kit_audio import KitHits, render_kit_wav
+            from .soundfont import render_soundfont_wav, write_kit_midi
+
+            hits = KitHits.from_rows([(h.t, h.piece, h.key, h.speed) for h in piece.performance.hits])
+            if midi:
+                write_kit_midi(midi, hits, bundle=files)
+                written.append(Path(midi))
+            if audio and soundfont:
+                render_soundfont_wav(audio, hits, soundfont, bundle=files)
+            elif audio:
+                render_kit_wav(audio, hits, kit=piece.kit, bundle=files)
+            written += [Path(audio)] if audio else []
+    return written
+
+
 def _write_audio(path, times, tip_speeds, snares, bundle):
     from .audio import Drum, render_wav
 
