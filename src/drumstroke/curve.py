@@ -25,6 +25,7 @@ Examples
 (0.5, 2.0)
 """
 
+import itertools
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -223,7 +224,7 @@ class Curve:
             return tuple(np.reshape(a, t.shape + np.shape(a)[1:]) for a in evaluate(self.segments[which[0]], flat))
         if flat.size and np.all(which[1:] >= which[:-1]):  # sorted times (samples): contiguous runs, as slices
             edges = [0, *(np.flatnonzero(np.diff(which)) + 1).tolist(), flat.size]
-            runs = [slice(a, b) for a, b in zip(edges[:-1], edges[1:])]
+            runs = [slice(a, b) for a, b in itertools.pairwise(edges)]
         else:  # each segment's times in one run: linear in samples + segments
             order = np.argsort(which, kind="stable")
             runs = np.split(order, np.flatnonzero(np.diff(which[order])) + 1) if flat.size else []

@@ -446,7 +446,7 @@ class _Search:
         if math.isfinite(self.onsets.threshold_db) and cor > 0.0:
             next_level = self.onsets.level_db[keep[-1]] + 20.0 * math.log10(cor)
             end = "bounce" if next_level < self.onsets.threshold_db else "catch"
-        options = dict(setup=self.setup.replace(cor=cor), highest=self.highest, end=end, drift=TOLERANCE)
+        options = {"setup": self.setup.replace(cor=cor), "highest": self.highest, "end": end, "drift": TOLERANCE}
         start = self.start(times, levels, cor)
         if start is not None:
             try:

@@ -17,4 +17,4 @@ from .chain import ENDS, FORCE_LIMIT, HUMAN_FORCE, Design, ForceRange, Piece, St
 from .planner import Problem, StickPlan, Target, assign_sticks, next_stroke, plan_stick
 from .setup import Setup
 
-__all__ = ["DENSITY", "ENDS", "FORCE_LIMIT", "HUMAN_FORCE", "Design", "ForceRange", "Piece", "Problem", "Start", "StickPlan", "Target", "Unreachable", "Setup", "assign_sticks", "buzz", "design", "design_pieces", "next_stroke", "plan_stick"]
+__all__ = ["DENSITY", "ENDS", "FORCE_LIMIT", "HUMAN_FORCE", "Design", "ForceRange", "Piece", "Problem", "Setup", "Start", "StickPlan", "Target", "Unreachable", "assign_sticks", "buzz", "design", "design_pieces", "next_stroke", "plan_stick"]

@@ -53,6 +53,7 @@ Examples
 True
 """
 
+import itertools
 import math
 from dataclasses import dataclass, field
 
@@ -314,7 +315,7 @@ class FootForce:
     def spans(self, t_end):
         """The constant pieces on [0, t_end] (s): (start, end, force) triples, end to end."""
         starts = [0.0] + [s for s, _ in self.pieces if 0.0 < s < t_end] + [t_end]
-        return [(a, b, float(self(a))) for a, b in zip(starts[:-1], starts[1:])]
+        return [(a, b, float(self(a))) for a, b in itertools.pairwise(starts)]
 
 
 # --- one flight in closed form ---------------------------------------------------------------------------------------

@@ -50,10 +50,10 @@ import numpy as np
 
 from .._checks import check_real, check_vector, shown
 from ..curve import Curve, Segment, placed
+from ..design import Unreachable
 from ..design.chain import LEAD, MIN_GAP
 from ..design.planner import LEADS, Problem, Target, plan_stick
 from ..design.setup import Setup
-from ..design import Unreachable
 from ..dynamics import CEILING_DB, FLOOR_DB, velocity_to_foot_level, velocity_to_level
 from ..errors import ParameterError
 from ..palette.motion import plan_return, synchronised_move
