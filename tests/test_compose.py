@@ -740,3 +740,16 @@ def test_compose_kit_renders_a_pattern_s_audio(tmp_path):
     assert result.returncode == 0, result.stderr
     assert "played 2 of 2 notes on the kit" in result.stdout and "not chosen (--pieces): hihat ×2" in result.stdout
     assert (tmp_path / "bar.wav").stat().st_size > 1000
+
+
+def test_compose_kit_puts_the_csv_s_metadata_into_the_json_beside_it_once(tmp_path):
+    """--csv s.csv --json s.json: the run's JSON is the CSV's sidecar, holding both the notes and the CSV's
+    metadata, written once (not the sidecar overwritten by the notes)."""
+    pattern = tmp_path / "bar.pattern"
+    pattern.write_text("tempo 120\n0 auto 110 auto kick\n1 auto 100\n")
+    result = run("compose", pattern, "--kit", "--csv", tmp_path / "s.csv", "--json", tmp_path / "s.json")
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.count("wrote") == 2 and "wrote " + str(tmp_path / "s.json") in result.stdout
+    document = json.loads((tmp_path / "s.json").read_text())
+    assert len(document["notes"]) == 2 and document["csv"]["rate"] == 1000.0 and document["model"] == "paper"
+    assert document["csv"]["columns"][0] == "t" and document["csv"]["model"] == "paper"

@@ -544,6 +544,8 @@ class KitComposition:
     tempo_map : TempoMap
     left_out : dict of str to int
         Notes on pieces not chosen (``pieces``), counted by piece.
+    model : str
+        The model the sticks' strokes were designed with (the pedals have their own, :mod:`drumstroke.kit.pedal`).
     """
 
     performance: object
@@ -553,6 +555,7 @@ class KitComposition:
     t_end: float
     tempo_map: TempoMap = field(default_factory=TempoMap)
     left_out: dict = field(default_factory=dict)
+    model: str = "paper"
 
     def __repr__(self):
         return f"KitComposition({self.performance!r}, {self.t_end:g} s at {self.rate:g} Hz)"
@@ -599,7 +602,7 @@ class KitComposition:
         t, columns = self.sample()
         names = ["t", *columns]
         units = {"t": "s"} | {name: "rad/s" if name.endswith(".velocity") else "rad" for name in columns}
-        block = describe(path, names, units, {"model": "kit", "name": "kit", "rate": float(self.rate),
+        block = describe(path, names, units, {"model": self.model, "name": "kit", "rate": float(self.rate),
                                               "limbs": list(self.performance.motions), "offset": self.offset})
         with bundled(bundle) as files:
             write_columns(path, names, [t, *columns.values()], bundle=files)
@@ -655,6 +658,9 @@ def compose_kit(notes, kit=None, *, setup=None, rate=None, pieces=None, lead="ri
     kit = default_kit() if kit is None else kit
     if not isinstance(kit, Kit):
         raise ParameterError(f"kit must be a drumstroke.kit.pieces.Kit, got {kit!r}")
+    setup = Setup() if setup is None else setup
+    if not isinstance(setup, Setup):
+        raise ParameterError(f"setup must be a drumstroke.design.Setup, got {setup!r}")
     tempo_map = notes.tempo_map if isinstance(notes, Score) else TempoMap()
     notes = notes.notes if isinstance(notes, Score) else tuple(notes)
     rate = DEFAULT_RATE if rate is None else check_real("rate", rate, low=1.0, high=1e5, unit="Hz")
@@ -695,7 +701,8 @@ def compose_kit(notes, kit=None, *, setup=None, rate=None, pieces=None, lead="ri
         limbs.append(limb)
     performance = play_kit(kit_notes, kit, velocities=[n.velocity for n in kept], keys=keys, setup=setup,
                            limbs=limbs, lead=lead, open_handed=open_handed, pedals=pedals)
-    return KitComposition(performance, kit, offset, rate, performance.t_end + HOLD_AFTER, tempo_map, left_out)
+    return KitComposition(performance, kit, offset, rate, performance.t_end + HOLD_AFTER, tempo_map, left_out,
+                          setup.model)
 
 
 LEAD_ROOM = 0.1

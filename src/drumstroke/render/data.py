@@ -83,6 +83,12 @@ def _with_csv(data, csv):
     return data if csv is None else data | {KEY: csv}
 
 
+def write_kit_json(piece, path, *, csv=None, bundle=None):
+    """Write a kit composition (:func:`kit_to_dict`) as JSON; ``csv``: its CSV's metadata, when this is the JSON
+    beside it."""
+    write_json_data(path, _with_csv(kit_to_dict(piece), csv), bundle=bundle)
+
+
 def kit_to_dict(piece):
     """A kit composition (:func:`drumstroke.compose.compose_kit`) as plain data: the kit, every note's outcome (its
     key, piece, limb, whether played: its impact's time and level, or the reason), every hit, the units."""
@@ -99,7 +105,8 @@ def kit_to_dict(piece):
         notes.append(note)
     hits = [{"t": h.t - piece.offset, "piece": h.piece, "key": h.key, "limb": h.limb, "speed": h.speed,
              "note": h.note} for h in performance.hits]
-    return {"kit": {p.name: p.to_dict() for p in piece.kit.pieces}, "offset": piece.offset, "rate": piece.rate,
+    return {"model": piece.model, "kit": {p.name: p.to_dict() for p in piece.kit.pieces}, "offset": piece.offset,
+            "rate": piece.rate,
             "t_end": piece.t_end, "notes": notes, "hits": hits, "left_out": piece.left_out,
             "units": {"time": "s from the score's time 0", "level": "dB re 1 m/s", "speed": "m/s"}}
 

@@ -165,7 +165,8 @@ def write_kit_outputs(piece, *, csv=None, json=None, midi=None, audio=None, soun
     ----------
     piece : KitComposition
     csv : str, Path or None
-        t (s) and a column per joint (rad, and rad/s), header first; its metadata in the JSON beside it.
+        t (s) and a column per joint (rad, and rad/s), header first; its metadata in the JSON beside it (``json``
+        when that is the one beside it).
     json : str, Path or None
         The kit, every note's outcome and every hit (:func:`~drumstroke.render.data.kit_to_dict`).
     midi : str, Path or None
@@ -180,16 +181,21 @@ def write_kit_outputs(piece, *, csv=None, json=None, midi=None, audio=None, soun
     -------
     list of Path
         The files written.
-    """
-    from ..formats.json import write_json as write_json_data
 
-    written = []
+    Raises
+    ------
+    ParameterError
+        Before writing anything, when the JSON beside ``csv`` is another of the files or a file already there
+        that is not the CSV's metadata.
+    """
+    side = sidecar_for(csv, json=json, others={"midi": midi, "audio": audio}) if csv else None
+    written, block = [], None
     with bundled(bundle) as files:
         if csv:
-            piece.write_csv(csv, bundle=files)
-            written += [Path(csv), Path(csv).with_suffix(".json")]
-        if json:
-            write_json_data(json, data.kit_to_dict(piece), bundle=files)
+            block = piece.write_csv(csv, sidecar=side is not None, bundle=files)
+            written += [Path(csv), *([side] if side else [])]
+        if json:  # the CSV's metadata in it when it is the JSON beside the CSV
+            data.write_kit_json(piece, json, csv=block if side is None else None, bundle=files)
             written.append(Path(json))
         if midi or audio:
             from .kit_audio import KitHits, render_kit_wav
