@@ -681,7 +681,7 @@ def test_a_pattern_names_its_pieces_and_old_patterns_play_the_snare():
         ("kick", "right-foot", None), ("hihat", "right", "closed"), ("snare", "right", None),
         ("hihat", "left-foot", "pedal"), ("ride", "right", None)]
     assert [o.impact - piece.offset for o in outcomes] == pytest.approx([0.0, 0.0, 0.5, 0.75, 1.0], abs=1e-9)
-    t, columns = piece.sample()
+    _, columns = piece.sample()
     assert list(columns)[:3] == ["right.yaw", "right.lift", "right.theta"]
     assert "right-foot.theta" in columns and "left-foot.theta.velocity" in columns
     with pytest.raises(ParameterError, match="piece 'cowbell' is not a piece of the kit"):
