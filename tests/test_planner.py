@@ -164,3 +164,11 @@ def test_the_standard_throw_in_closed_form_is_where_the_simulated_design_starts(
     made = drumstroke.design.design([time], [level], lead=lead)
     release, height = standard_throw(time, level, lead=lead)
     assert release == made.release and height == float(made.recipe.theta0)
+
+
+def test_a_throw_asked_for_again_at_other_times_is_still_where_the_design_starts():
+    """standard_throw keeps a throw's duration and height (by setup, lead and level): the cached answer, shifted to
+    another note's time, is what the design at that time finds."""
+    for time in (0.25, 1.0, 3.7, 1.0, 1000.3):
+        made = drumstroke.design.design([time], [-9.5], lead=0.05)
+        assert standard_throw(time, -9.5, lead=0.05) == (made.release, float(made.recipe.theta0))

@@ -52,8 +52,8 @@ class Segment:
     start, end : float
         s on the curve's clock: the span it is used on (``end`` may be inf).
     path : callable
-        ``path(local t) -> (theta, omega)`` (rad, rad/s), vectorised; at an impact time the state
-        just after it.
+        ``path(local t) -> (theta, omega)`` (rad, rad/s), vectorised, each time on its own (a curve
+        groups and joins the times it evaluates as it likes); at an impact time the state just after it.
     offset : float
         s: the curve's time of the path's local 0 (local t = t − offset).
     impacts : ndarray [shape=(m,)]
@@ -216,8 +216,13 @@ class Curve:
         """θ (rad), ω (rad/s) and the flight acceleration α (rad/s²) at times ``t`` (s), in one pass: a stream's
         setpoints."""
         def all_three(segment, local):
-            theta, omega = segment.path(local)
-            return theta, omega, np.zeros_like(omega) if segment.still else _flight_acceleration(segment, local)
+            if segment.still:
+                theta, omega = segment.path(local)
+                return theta, omega, np.zeros_like(omega)
+            lo, hi = _difference_ends(segment, local)
+            n = len(local)
+            theta, omega = segment.path(np.concatenate((local, hi, lo)))  # one call: its cost is mostly per call
+            return theta[:n], omega[:n], _slope(omega[n:], lo, hi)
 
         return self._each(t, all_three, 3)
 
@@ -280,27 +285,40 @@ def placed(pieces, start=0.0):
 
 
 def _flight_acceleration(segment, local):
-    """dω/dt of one segment at its ``local`` times (s, within its span): central, one-sided at its span's ends and
-    its impacts.
+    """dω/dt of one segment at its ``local`` times (s, within its span) [shape=(n,)]: central, one-sided at its span's
+    ends and its impacts."""
+    if segment.still:
+        return np.zeros_like(segment.path(local)[1])
+    lo, hi = _difference_ends(segment, local)
+    _, omega = segment.path(np.concatenate((hi, lo)))  # one call: a path's cost is mostly per call
+    return _slope(omega, lo, hi)
+
+
+def _difference_ends(segment, local):
+    """The local times (s) [shape=(n,)] the flight acceleration at ``local`` is the slope of ω between: 2·STEP
+    apart, one-sided where the segment's span or one of its impacts lies within the step.
 
     Worked in the segment's local time, as its path is evaluated: an impact and a time that round to the same
     curve time stay on their sides.
     """
-    if segment.still:
-        return np.zeros_like(segment.path(local)[1])
     first, last = segment.start - segment.offset, segment.end - segment.offset
     lo = np.maximum(local - STEP, first)  # local is within [first, last] already
     hi = np.minimum(local + STEP, last)
     impacts = segment.impacts
     if len(impacts):
-        j = np.searchsorted(impacts, local, side="right")
+        j = impacts.searchsorted(local, side="right")
         before = impacts[np.maximum(j - 1, 0)]
         after = impacts[np.minimum(j, len(impacts) - 1)]
         lo = np.where((j > 0) & (before > lo), local, lo)  # an impact just behind: look ahead only
         hi = np.where((j < len(impacts)) & (after < hi), local, hi)
-    _, w_hi = segment.path(hi)
-    _, w_lo = segment.path(lo)
+    return lo, hi
+
+
+def _slope(omega, lo, hi):
+    """(ω(hi) − ω(lo)) / (hi − lo), 0 where hi = lo, from ``omega`` = ω at ``hi`` then at ``lo`` [shape=(2n, ...)]."""
+    n = len(lo)
     width = hi - lo
-    if np.ndim(w_hi) > 1:
+    if np.ndim(omega) > 1:
         width = width[:, None]
-    return np.where(width > 0, (w_hi - w_lo) / np.where(width > 0, width, 1.0), 0.0)
+    positive = width > 0
+    return np.where(positive, (omega[:n] - omega[n:]) / np.where(positive, width, 1.0), 0.0)
