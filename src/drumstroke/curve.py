@@ -27,6 +27,7 @@ Examples
 
 import bisect
 import functools
+import itertools
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -241,7 +242,7 @@ class Curve:
         np.maximum(which, 0, out=which)
         if flat.size and (flat[1:] >= flat[:-1]).all():  # increasing (and no NaN): runs as slices
             edges = [0, *((which[1:] != which[:-1]).nonzero()[0] + 1).tolist(), flat.size]
-            runs = [slice(a, b) for a, b in zip(edges[:-1], edges[1:])]
+            runs = [slice(a, b) for a, b in itertools.pairwise(edges)]
         else:  # each segment's times in one run: linear in samples + segments
             order = np.argsort(which, kind="stable")
             runs = np.split(order, np.flatnonzero(np.diff(which[order])) + 1) if flat.size else []
