@@ -86,6 +86,55 @@ def test_a_splice_keeps_the_motion_before_the_cut_and_plays_the_new_one_after():
     assert spliced.since(1.5).segments == spliced.segments[1:]
 
 
+def _one_at_a_time(curve, t):
+    """θ, ω and α at each time alone, as the module says, in Python floats: the last segment that starts at or
+    before it (the first before the curve starts), on its clock, clamped to its span; α the slope of ω over
+    2·STEP, one-sided where the span's end or an impact lies within the step, 0 on a still segment."""
+    rows = []
+    for time in t.tolist():
+        segment = next((s for s in reversed(curve.segments) if s.start <= time), curve.segments[0])
+        local = min(max(time, segment.start), segment.end) - segment.offset
+        theta, omega = (float(x[0]) for x in segment.path(np.array([local])))
+        lo = max(local - STEP, segment.start - segment.offset)
+        hi = min(local + STEP, segment.end - segment.offset)
+        lo = local if any(lo < i <= local for i in segment.impacts.tolist()) else lo
+        hi = local if any(local < i < hi for i in segment.impacts.tolist()) else hi
+        slope = (float(segment.path(np.array([hi]))[1][0]) - float(segment.path(np.array([lo]))[1][0])) / (hi - lo)
+        rows.append((theta, omega, 0.0 if segment.still or hi == lo else slope))
+    return np.array(rows).reshape(-1, 3).T
+
+
+def test_a_chunk_of_setpoints_is_each_time_evaluated_alone_to_the_bit(rng):
+    """The quick paths (increasing times as runs, the clamp skipped within a span, one path call per run for θ,
+    ω and both ends of α's step) agree exactly with each time evaluated on its own."""
+    curve = Curve.sequence([(0.4, _parabola(1.0, 0.2, 0.5))], start=0.1) \
+        .spliced(Segment(0.5, 1.25, _bounce(), offset=1.0, impacts=np.array([0.0, 0.125]))) \
+        .spliced(Curve.sequence([(0.25, _parabola(3.0, -0.1, -1.0))], start=1.25)) \
+        .spliced(Curve((Segment.hold(0.05, 1.5, 1.75), Segment(1.75, 2.0, _parabola(-2.0), offset=1.75))))
+    samples = np.arange(0, 2201) / 1000.0  # before, through and after it: every boundary, the impacts at 1, 1.125 s
+    edges = np.array([s.start for s in curve.segments] + [1.0, 1.125])
+    near = np.concatenate((edges - STEP / 2, edges, edges + STEP / 2, edges + 3 * STEP))
+    for t in (samples, samples[480:530], np.sort(near), rng.uniform(-0.5, 3.0, 300), np.array([1.0])):
+        expected = _one_at_a_time(curve, t)
+        assert all(np.array_equal(got, want) for got, want in zip(curve.evaluate(t), expected))
+        assert all(np.array_equal(got, want) for got, want in zip(curve(t), expected[:2]))
+        assert np.array_equal(curve.acceleration(t), expected[2])
+    assert [curve.state(time) for time in near.tolist()] == list(zip(*_one_at_a_time(curve, near)[:2].tolist()))
+
+
+def test_a_splice_and_a_forgetting_make_curves_that_pass_the_checks():
+    """Both skip the checks (their segments tile by construction): the curve they make passes them."""
+    curve = Curve.hold(0.0)
+    for k in range(1, 6):
+        curve = curve.spliced(Curve.sequence([(0.3, _parabola(1.0)), (0.2, _parabola(-1.0))], start=0.4 * k))
+        curve = curve.since(0.4 * k - 0.3)
+        checked = Curve(curve.segments)
+        assert [(s.start, s.end) for s in checked.segments] == [(s.start, s.end) for s in curve.segments]
+    assert np.allclose([s.start for s in curve.segments], [1.6, 1.9, 2.0, 2.3], rtol=0.0, atol=1e-15)
+    with pytest.raises(ParameterError, match="new must be a Segment or a Curve"):
+        curve.spliced((1.0, _parabola(0.0)))
+
+
 def test_several_joints_are_columns_of_one_curve():
     hold = Segment.hold([0.1, -0.2], 0.0, 1.0)
     move = Segment(1.0, math.inf, lambda t: (np.column_stack((0.1 + t, -0.2 - t)), np.column_stack(

@@ -19,7 +19,7 @@ def targets(notes):
 def check_trajectory(plan, t_end):
     trajectory = plan.trajectory(t_end=t_end)
     validate(trajectory, limits=Limits())  # the default joint's limits: speed, acceleration, jerk, the head
-    t, theta, omega = trajectory
+    _t, theta, omega = trajectory
     assert theta.min() >= trajectory.theta_max - 1e-12
     # continuous: no sample farther from the last than the speed allows
     assert np.all(np.abs(np.diff(theta)) <= np.maximum(np.abs(omega[1:]), np.abs(omega[:-1])) / trajectory.rate
@@ -181,3 +181,11 @@ def test_the_first_throw_is_as_long_as_asked_and_the_notes_are_played_the_same(l
 def test_a_throw_of_no_time_is_refused():
     with pytest.raises(drumstroke.errors.ParameterError, match=r"lead must be in \(0, 10\] s, got 0.0"):
         plan_stick([Target(1.0, 0.0)], lead=0.0)
+
+
+def test_a_throw_asked_for_again_at_other_times_is_still_where_the_design_starts():
+    """standard_throw keeps a throw's duration and height (by setup, lead and level): the cached answer, shifted to
+    another note's time, is what the design at that time finds."""
+    for time in (0.25, 1.0, 3.7, 1.0, 1000.3):
+        made = drumstroke.design.design([time], [-9.5], lead=0.05)
+        assert standard_throw(time, -9.5, lead=0.05) == (made.release, float(made.recipe.theta0))

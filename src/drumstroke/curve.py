@@ -25,6 +25,8 @@ Examples
 (0.5, 2.0)
 """
 
+import bisect
+import functools
 import itertools
 import math
 from collections.abc import Callable
@@ -51,8 +53,8 @@ class Segment:
     start, end : float
         s on the curve's clock: the span it is used on (``end`` may be inf).
     path : callable
-        ``path(local t) -> (theta, omega)`` (rad, rad/s), vectorised; at an impact time the state
-        just after it.
+        ``path(local t) -> (theta, omega)`` (rad, rad/s), vectorised, each time on its own (a curve
+        groups and joins the times it evaluates as it likes); at an impact time the state just after it.
     offset : float
         s: the curve's time of the path's local 0 (local t = t − offset).
     impacts : ndarray [shape=(m,)]
@@ -83,15 +85,20 @@ class Segment:
 
         def hold(t):
             shape = np.shape(t) + value.shape
-            held = np.empty(shape)  # filled: np.full costs more on the short runs a stream asks for
-            held[...] = value
-            return held, np.zeros(shape)
+            return (np.full(shape, float(value)) if not value.shape else np.broadcast_to(value, shape).copy(),
+                    np.zeros(shape))
 
         return cls(float(start), float(end), hold, float(start), still=True)
 
     def local(self, t):
         """Local times of curve times ``t`` (s), clamped to the segment's span."""
         return np.minimum(np.maximum(t, self.start), self.end) - self.offset  # np.clip costs more on short runs
+
+    def _until(self, end):
+        """This segment used up to ``end`` (s, after its start), unchecked: the cut of a segment already checked."""
+        cut = object.__new__(Segment)
+        cut.__dict__.update(self.__dict__, end=end)
+        return cut
 
 
 @dataclass(frozen=True, eq=False)
@@ -115,16 +122,19 @@ class Curve:
                 raise ParameterError(f"segments[{k}] starts at {segments[k].start!r} s, not where segments[{k - 1}] "
                                      f"ends ({segments[k - 1].end!r} s): a curve's segments tile its span")
         object.__setattr__(self, "segments", segments)
-        object.__setattr__(self, "_starts", np.array([s.start for s in segments]))
 
     @classmethod
-    def _of(cls, segments):
-        """A curve of ``segments`` (a tuple) known to tile their span (cut from a curve, or joined where it was cut):
-        not checked again, as a live stream makes several a note."""
+    def _tiled(cls, segments):
+        """The curve of ``segments`` (a tuple) unchecked: for segments that tile by construction, cut from curves
+        already checked (a live performer splices one per note and forgets the past at every chunk)."""
         curve = object.__new__(cls)
         object.__setattr__(curve, "segments", segments)
-        object.__setattr__(curve, "_starts", np.array([s.start for s in segments]))
         return curve
+
+    @functools.cached_property
+    def _starts(self):
+        """The segments' starts (s) [shape=(n,)], made when a curve is first evaluated (many are only spliced)."""
+        return np.array([s.start for s in self.segments])
 
     # --- making one ------------------------------------------------------------------------------------------------
 
@@ -141,21 +151,19 @@ class Curve:
 
     def spliced(self, new):
         """This motion up to where ``new`` (a Segment or a Curve) starts, then ``new``."""
-        added = (new,) if isinstance(new, Segment) else tuple(new.segments)
+        if not isinstance(new, (Segment, Curve)):
+            raise ParameterError(f"new must be a Segment or a Curve, got {new!r}")
+        added = (new,) if isinstance(new, Segment) else new.segments
         cut = added[0].start
         kept = [s for s in self.segments if s.start < cut]
-        if not kept:
-            return new if isinstance(new, Curve) else Curve(added)
-        last = kept[-1]
-        kept[-1] = Segment(last.start, cut, last.path, last.offset, last.impacts, last.source, last.still)
-        if isinstance(new, Curve):  # its segments tile, and the kept ones end where it starts
-            return Curve._of(tuple(kept) + added)
-        return Curve(tuple(kept) + added)
+        if kept:
+            kept[-1] = kept[-1]._until(cut)
+        return Curve._tiled((*kept, *added))  # both checked, joined at the cut
 
     def since(self, t):
         """The same motion from ``t`` (s) on: the segments that end before it forgotten."""
         keep = next((k for k, s in enumerate(self.segments) if s.end > t), len(self.segments) - 1)
-        return self if keep == 0 else Curve._of(self.segments[keep:])
+        return self if keep == 0 else Curve._tiled(self.segments[keep:])
 
     # --- reading it ------------------------------------------------------------------------------------------------
 
@@ -177,7 +185,7 @@ class Curve:
 
     def segment_at(self, t):
         """The segment that holds time ``t`` (s): the last that starts at or before it (the first before the start)."""
-        return self.segments[max(int(np.searchsorted(self._starts, t, side="right")) - 1, 0)]
+        return self.segments[max(bisect.bisect_right(self._starts, t) - 1, 0)]  # a scalar: no numpy call
 
     def last(self, kind):
         """The last segment whose source is a ``kind`` (a class), or None."""
@@ -185,12 +193,14 @@ class Curve:
 
     def __call__(self, t):
         """θ (rad) and ω (rad/s) at times ``t`` (s), each from the segment that holds it."""
-        return self._each(t, lambda segment, times: segment.path(segment.local(times)), 2)
+        return self._each(t, lambda segment, local: segment.path(local), 2)
 
     def state(self, t):
         """θ (rad) and ω (rad/s) at one time ``t`` (s), as floats (one joint) or arrays (several)."""
+        t = float(t)
         segment = self.segment_at(t)
-        theta, omega = segment.path(segment.local(np.array([float(t)])))
+        local = min(max(t, segment.start), segment.end) - segment.offset  # as local() does, on one float
+        theta, omega = segment.path(np.array([local]))
         if np.ndim(theta) == 1:
             return float(theta[0]), float(omega[0])
         return theta[0], omega[0]
@@ -201,47 +211,68 @@ class Curve:
         A central difference over 2·:data:`STEP` of the segment's exact ω, one-sided where the
         segment's span or one of its impacts lies within the step.
         """
-        return self._each(t, lambda segment, times: (_flight_acceleration(segment, segment.local(times)),), 1)[0]
+        return self._each(t, lambda segment, local: (_flight_acceleration(segment, local),), 1)[0]
 
     def evaluate(self, t):
         """θ (rad), ω (rad/s) and the flight acceleration α (rad/s²) at times ``t`` (s), in one pass: a stream's
         setpoints."""
-        def all_three(segment, times):
-            local = segment.local(times)
-            theta, omega = segment.path(local)
-            return theta, omega, np.zeros_like(omega) if segment.still else _flight_acceleration(segment, local)
+        def all_three(segment, local):
+            if segment.still:
+                theta, omega = segment.path(local)
+                return theta, omega, np.zeros_like(omega)
+            lo, hi = _difference_ends(segment, local)
+            n = len(local)
+            theta, omega = segment.path(np.concatenate((local, hi, lo)))  # one call: its cost is mostly per call
+            return theta[:n], omega[:n], _slope(omega[n:], lo, hi)
 
         return self._each(t, all_three, 3)
 
     def _each(self, t, evaluate, count):
-        """``evaluate(segment, times)`` of every group of times ``t`` one segment holds, put back in t's order."""
+        """``evaluate(segment, local times)`` of every group of times ``t`` one segment holds, put back in t's order.
+
+        A chunk of setpoints is short: numpy's methods rather than its functions (whose wrappers cost
+        more than the work), and increasing times (samples) taken as contiguous runs.
+        """
         t = np.asarray(t, dtype=float)
         flat = t.ravel()
         if len(self.segments) == 1:
-            return tuple(np.reshape(a, t.shape + np.shape(a)[1:]) for a in evaluate(self.segments[0], flat))
-        which = np.maximum(np.searchsorted(self._starts, flat, side="right") - 1, 0)  # np.clip costs more
-        if flat.size and which[0] == which[-1] and np.all(which == which[0]):  # one segment holds them all
-            return tuple(np.reshape(a, t.shape + np.shape(a)[1:]) for a in evaluate(self.segments[which[0]], flat))
-        if flat.size and np.all(which[1:] >= which[:-1]):  # sorted times (samples): contiguous runs, as slices
-            edges = [0, *(np.flatnonzero(np.diff(which)) + 1).tolist(), flat.size]
+            segment = self.segments[0]
+            return _shaped(evaluate(segment, segment.local(flat)), t.shape)
+        which = self._starts.searchsorted(flat, side="right") - 1  # at most the last segment's index
+        np.maximum(which, 0, out=which)
+        if flat.size and (flat[1:] >= flat[:-1]).all():  # increasing (and no NaN): runs as slices
+            edges = [0, *((which[1:] != which[:-1]).nonzero()[0] + 1).tolist(), flat.size]
             runs = [slice(a, b) for a, b in itertools.pairwise(edges)]
         else:  # each segment's times in one run: linear in samples + segments
             order = np.argsort(which, kind="stable")
             runs = np.split(order, np.flatnonzero(np.diff(which[order])) + 1) if flat.size else []
         out = None
         for chosen in runs:
-            first = chosen.start if isinstance(chosen, slice) else chosen[0]
-            values = evaluate(self.segments[which[first]], flat[chosen])
+            sliced = isinstance(chosen, slice)
+            segment = self.segments[which[chosen.start if sliced else chosen[0]]]
+            times = flat[chosen]
+            if sliced and segment.start <= times[0] and times[-1] <= segment.end:  # increasing, within the span
+                local = times - segment.offset  # the clamp would change nothing
+            else:
+                local = segment.local(times)
+            values = evaluate(segment, local)
             if out is None:
                 out = tuple(np.empty(flat.shape + np.shape(v)[1:]) for v in values)
             for array, value in zip(out, values):
                 array[chosen] = value
         if out is None:  # no times
             return tuple(np.empty(t.shape) for _ in range(count))
-        return tuple(np.reshape(a, t.shape + a.shape[1:]) for a in out)
+        return _shaped(out, t.shape)
 
     def __repr__(self):
         return f"Curve({len(self.segments)} segments over [{self.start:.6g}, {self.end:.6g}] s)"
+
+
+def _shaped(arrays, shape):
+    """``arrays`` of flat times' values reshaped to times of ``shape`` (each keeps its trailing joints axis)."""
+    if len(shape) == 1:  # times already flat: nothing to reshape
+        return tuple(arrays)
+    return tuple(np.reshape(a, shape + np.shape(a)[1:]) for a in arrays)
 
 
 def placed(pieces, start=0.0):
@@ -255,27 +286,40 @@ def placed(pieces, start=0.0):
 
 
 def _flight_acceleration(segment, local):
-    """dω/dt of one segment at its ``local`` times (s, within its span): central, one-sided at its span's ends and
-    its impacts.
+    """dω/dt of one segment at its ``local`` times (s, within its span) [shape=(n,)]: central, one-sided at its span's
+    ends and its impacts."""
+    if segment.still:
+        return np.zeros_like(segment.path(local)[1])
+    lo, hi = _difference_ends(segment, local)
+    _, omega = segment.path(np.concatenate((hi, lo)))  # one call: a path's cost is mostly per call
+    return _slope(omega, lo, hi)
+
+
+def _difference_ends(segment, local):
+    """The local times (s) [shape=(n,)] the flight acceleration at ``local`` is the slope of ω between: 2·STEP
+    apart, one-sided where the segment's span or one of its impacts lies within the step.
 
     Worked in the segment's local time, as its path is evaluated: an impact and a time that round to the same
     curve time stay on their sides.
     """
-    if segment.still:
-        return np.zeros_like(segment.path(local)[1])
     first, last = segment.start - segment.offset, segment.end - segment.offset
     lo = np.maximum(local - STEP, first)  # local is within [first, last] already
     hi = np.minimum(local + STEP, last)
     impacts = segment.impacts
     if len(impacts):
-        j = np.searchsorted(impacts, local, side="right")
+        j = impacts.searchsorted(local, side="right")
         before = impacts[np.maximum(j - 1, 0)]
         after = impacts[np.minimum(j, len(impacts) - 1)]
         lo = np.where((j > 0) & (before > lo), local, lo)  # an impact just behind: look ahead only
         hi = np.where((j < len(impacts)) & (after < hi), local, hi)
-    _, w_hi = segment.path(hi)
-    _, w_lo = segment.path(lo)
+    return lo, hi
+
+
+def _slope(omega, lo, hi):
+    """(ω(hi) − ω(lo)) / (hi − lo), 0 where hi = lo, from ``omega`` = ω at ``hi`` then at ``lo`` [shape=(2n, ...)]."""
+    n = len(lo)
     width = hi - lo
-    if np.ndim(w_hi) > 1:
+    if np.ndim(omega) > 1:
         width = width[:, None]
-    return np.where(width > 0, (w_hi - w_lo) / np.where(width > 0, width, 1.0), 0.0)
+    positive = width > 0
+    return np.where(positive, (omega[:n] - omega[n:]) / np.where(positive, width, 1.0), 0.0)

@@ -392,13 +392,26 @@ def standard_throw(time, level, *, setup=None, lead=LEAD):
     speed = 10.0 ** (level / 20.0) * LEVEL_REFERENCE / setup.stick.pivot_to_tip
     if speed > setup.limits.max_speed:  # the full checks say why
         _Plan.of([time], [level], None, start=None, end="catch", setup=setup, lead=lead, tail=None)
-    plan = _throw_plan(setup, float(lead))  # a planner asks for many throws of one setup: its plan checked once
+    duration, theta = _throw(setup, float(lead), level)
+    return time - duration, theta
+
+
+@functools.lru_cache(maxsize=1024)
+def _throw(setup, lead, level):
+    """The throw's duration (s) and its rest height (rad) onto a note at ``level`` (dB).
+
+    Cached: a planner asks for the same throws again and again (the live performer at each lead it
+    tries, for notes at one of 127 velocities).
+    """
+    speed = 10.0 ** (level / 20.0) * LEVEL_REFERENCE / setup.stick.pivot_to_tip
+    plan = _throw_plan(setup, lead)
     _, height = plan.throw(speed)
-    return time - height_time(height, plan.head) / speed, math.asin(height)
+    return height_time(height, plan.head) / speed, math.asin(height)
 
 
 @functools.lru_cache(maxsize=64)
 def _throw_plan(setup, lead):
+    """The plan of a throw of ``lead`` s: a planner asks for many throws of one setup, its plan checked once."""
     return _Plan.of([0.0], [0.0], None, start=None, end="catch", setup=setup, lead=lead, tail=None)
 
 
