@@ -44,6 +44,16 @@ def test_the_console_script_prints_and_exits_as_the_in_process_run_of_the_tests(
         in_process.returncode, in_process.stdout, in_process.stderr)
 
 
+def test_the_console_script_writes_what_the_in_process_run_writes(tmp_path):
+    """The console script leaves its objects to the exit (cli.console): every file it wrote is there, whole."""
+    for where, runner in (("process", run_process), ("in-process", run)):
+        (tmp_path / where).mkdir()
+        done = runner("simulate", "double", "--json", "s.json", "--csv", "s.csv", "--midi", "s.mid", cwd=tmp_path / where)
+        assert done.returncode == 0, done.stderr
+    for name in ("s.json", "s.csv", "s.mid"):
+        assert (tmp_path / "process" / name).read_bytes() == (tmp_path / "in-process" / name).read_bytes(), name
+
+
 def test_simulate_writes_json_csv_and_plot(tmp_path):
     result = run("simulate", "free-bounce", "--json", tmp_path / "s.json", "--csv", tmp_path / "s.csv",
                  "--plot", tmp_path / "s.png", "--rate", 500)
