@@ -49,7 +49,7 @@ def test_the_extras_the_commands_install_exist():
         assert re.search(rf"^{extra} = \[", pyproject, re.MULTILINE), extra
     test_extra = re.search(r"^test = \[(.*?)^\]", pyproject, re.MULTILINE | re.DOTALL).group(1)
     assert '"drumstroke[all]"' in test_extra and '"drumstroke[docs]"' in test_extra
-    assert 'drumstroke = "drumstroke.cli:main"' in pyproject
+    assert 'drumstroke = "drumstroke.cli:console"' in pyproject
 
 
 def test_the_quick_tour_has_commands_and_one_python_block():
