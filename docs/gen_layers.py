@@ -42,6 +42,7 @@ SHORT = {
     "dynamics": "level <-> MIDI velocity",
     "_checks": "input checks",
     "_atomic": "atomic writes",
+    "_jit": "compiled kernels, loaded from numba's cache",
     "errors": "the exception root",
     "_version": "the version",
 }

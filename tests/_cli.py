@@ -1,6 +1,6 @@
 """Running the ``drumstroke`` command in tests.
 
-:func:`run` calls :func:`drumstroke.cli.main` in this process as the console script would: the
+:func:`run` calls :func:`drumstroke.cli.main` in this process as the console script does: the
 same argv, working folder, stdout and stderr, and warnings and log records shown on stderr as a
 fresh interpreter shows them. It spares a Python start-up per call; :func:`run_process` runs the
 console script in a subprocess, for the tests where the process itself is what is tested (its

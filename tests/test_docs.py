@@ -3,7 +3,7 @@
 Examples run page by page in a fresh folder holding a copy of examples/ (and of tests/data/, real MIDI
 files): a page's ```python blocks in order in one namespace, and each `drumstroke ...` line of its ```sh blocks with exit status 0,
 no Python warning and no warning or problem in what it prints (tests/_cli.py's `problem_lines`), interleaved in page order (a command may use a file an earlier block wrote). A plain command runs in this process
-through `drumstroke.cli.main` (the console script's own entry point: it saves each one the interpreter's start); a
+through `drumstroke.cli.main` (what the console script runs: it saves each one the interpreter's start); a
 command with shell syntax (a redirection, a wildcard) and `drumstroke live` (a real-time runtime) run in a shell. The README's set-up
 section is left out: CI runs those two commands itself. `drumstroke listen serve` serves forever, so
 it is started in the background, checked to answer HTTP on its port, and stopped. And no file of the repository cites

@@ -83,7 +83,7 @@ def test_the_extras_the_commands_install_exist():
         assert re.search(rf"^{extra} = \[", pyproject, re.MULTILINE), extra
     test_extra = re.search(r"^test = \[(.*?)^\]", pyproject, re.MULTILINE | re.DOTALL).group(1)
     assert '"drumstroke[all]"' in test_extra and '"drumstroke[docs]"' in test_extra
-    assert 'drumstroke = "drumstroke.cli.console:main"' in pyproject
+    assert 'drumstroke = "drumstroke.cli:console"' in pyproject
 
 
 def _canonical(name):

@@ -2,7 +2,7 @@
 
 import sys
 
-from .cli.console import main
+from .cli import console
 
 if __name__ == "__main__":  # not when a doctest run imports it
-    sys.exit(main())
+    sys.exit(console())

@@ -34,8 +34,8 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 
+from .._jit import jit
 from ..solver.elliptic import parameter, time_from_apex
 
 _XTOL = 1e-15
@@ -44,7 +44,7 @@ _XTOL = 1e-15
 _EPS = 2.220446049250313e-16
 
 
-@njit(cache=True)
+@jit
 def height_time(apex, s):
     """H(a, s): the time (s) to fall from rest at ``sin θ = apex`` to ``sin θ = s`` times the speed there, at C = 1.
 
@@ -68,7 +68,7 @@ def height_time(apex, s):
     return time_from_apex(s, w, 1.0, 0.5 * (1.0 + apex)) * w
 
 
-@njit(cache=True)
+@jit
 def _flight_time(apex, u, v, s0, sh):
     rise = height_time(apex, s0) / u if u > 0.0 else 0.0
     return rise + height_time(apex, sh) / v
@@ -89,7 +89,7 @@ def solve_apex(duration, *, u, v, s0, sh, top):
     return None if math.isnan(apex) else apex
 
 
-@njit(cache=True)
+@jit
 def _solve_apex(duration, u, v, s0, sh, top):
     """:func:`solve_apex` compiled, NaN for none: Brent's method on the strictly increasing flight time."""
     a = max(s0, sh)

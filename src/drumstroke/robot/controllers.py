@@ -35,9 +35,9 @@ from dataclasses import asdict, dataclass, field, fields
 from functools import partial
 
 import numpy as np
-from numba import njit
 
 from .._checks import check_keys, check_real
+from .._jit import jit
 from ..errors import ParameterError
 
 CONTROLLERS = {}
@@ -155,13 +155,13 @@ class Controller(ABC):
         return reference.theta, reference.omega, reference.alpha
 
 
-@njit(cache=True)
+@jit
 def _feedforward(inertia, mgk, ref_theta, ref_alpha):
     """J·α_ref + m·g·k·cos θ_ref (N·m): the torque the reference itself needs."""
     return inertia * ref_alpha + mgk * math.cos(ref_theta)
 
 
-@njit(cache=True)
+@jit
 def _integrate(state, e, dt, ki, tau_max):
     """∫e (rad·s) after this period, kept in ``state[0]`` and clamped so Ki·∫e stays within ±τ_max."""
     integral = state[0]
@@ -171,14 +171,14 @@ def _integrate(state, e, dt, ki, tau_max):
     return integral
 
 
-@njit(cache=True)
+@jit
 def _pi_law(params, state, ref_theta, ref_omega, ref_alpha, measured, omega_hat):
     kp, ki, dt, tau_max = params[0], params[1], params[2], params[3]
     e = ref_theta - measured
     return kp * e + ki * _integrate(state, e, dt, ki, tau_max)
 
 
-@njit(cache=True)
+@jit
 def _pid_ff_law(params, state, ref_theta, ref_omega, ref_alpha, measured, omega_hat):
     kp, ki, kd, dt, tau_max, inertia, mgk = params[0], params[1], params[2], params[3], params[4], params[5], params[6]
     e = ref_theta - measured
@@ -187,7 +187,7 @@ def _pid_ff_law(params, state, ref_theta, ref_omega, ref_alpha, measured, omega_
     return _feedforward(inertia, mgk, ref_theta, ref_alpha) + kp * e + ki * integral + kd * de
 
 
-@njit(cache=True)
+@jit
 def _impedance_law(params, state, ref_theta, ref_omega, ref_alpha, measured, omega_hat):
     kp, kd, band, floor, inertia, mgk, head = params[0], params[1], params[2], params[3], params[4], params[5], params[6]
     e = ref_theta - measured

@@ -20,13 +20,13 @@ Examples
 
 import math
 
-from numba import njit
+from .._jit import jit
 
 SPEED_FILTER = 1.0
 """How much of each new encoder difference the speed estimate takes (1: the raw difference over one period)."""
 
 
-@njit(cache=True)
+@jit
 def _accel(theta, omega, tau, J, mgk, b, tc, head, K, B):
     friction = b * omega + tc * math.tanh(omega / 1e-3)
     delta = head - theta
@@ -57,10 +57,10 @@ def limit_torque(tau, omega, tau_max, w_max):
     return min(max(tau, -top), top)
 
 
-_limit = njit(cache=True)(limit_torque)
+_limit = jit(limit_torque)
 
 
-@njit(cache=True)
+@jit
 def advance_joint(state, params, events, tau, substeps, h, t0):
     """The simple joint over one control period under the command ``tau`` (N·m): the mean torque applied (N·m).
 

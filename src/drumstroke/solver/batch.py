@@ -14,8 +14,9 @@ tests/test_batch.py holds it equal to :mod:`.kernel`, stroke by stroke.
 import math
 
 import numpy as np
-from numba import njit, prange
+from numba import prange
 
+from .._jit import jit
 from .constants import NEARLY_VERTICAL
 from .elliptic import flight_time, parameter, to_head
 from .taylor import zeno_floor
@@ -23,7 +24,7 @@ from .taylor import zeno_floor
 OK, UNSUPPORTED, TOO_MANY = 0, 1, 2
 
 
-@njit(cache=True)
+@jit
 def _first_impact(theta, omega, c, theta_max):
     """(kind, time, speed) of the first event: 0 impact at ``time``, 1 at rest now, 2 settle, 3 unsupported."""
     sin_head = math.sin(theta_max)
@@ -42,7 +43,7 @@ def _first_impact(theta, omega, c, theta_max):
     return 0, to_apex + apex_to_head, speed
 
 
-@njit(cache=True)
+@jit
 def _run(theta0, omega0, cor, c, theta_max, t_end, out_t, out_w, start, capacity):
     """One stroke: fills out_t/out_w from ``start``; returns (status, count, rest time or NaN)."""
     if not c > 0.0:
@@ -88,7 +89,7 @@ def _run(theta0, omega0, cor, c, theta_max, t_end, out_t, out_w, start, capacity
         launch *= cor
 
 
-@njit(cache=True, parallel=True)
+@jit(parallel=True)
 def _capacities(theta0, omega0, cor, c, theta_max, t_end, max_impacts):
     """An upper bound on each stroke's impact count (one flight each; exact counts come in the fill)."""
     out = np.zeros(len(theta0), dtype=np.int64)
@@ -113,7 +114,7 @@ def _capacities(theta0, omega0, cor, c, theta_max, t_end, max_impacts):
     return out
 
 
-@njit(cache=True, parallel=True)
+@jit(parallel=True)
 def _fill(theta0, omega0, cor, c, theta_max, t_end, offsets, out_t, out_w, status, count, rest):
     for i in prange(len(theta0)):
         capacity = offsets[i + 1] - offsets[i]

@@ -9,12 +9,12 @@ double-precision round-off.
 
 import math
 
-from numba import njit
+from .._jit import jit
 
 _Q_FACTOR = (3.0 * 2.0**-53) ** (-1.0 / 6.0)  # the series' relative error is then below 2⁻⁵³
 
 
-@njit(cache=True)
+@jit
 def rf(x, y, z):
     """Carlson's symmetric integral R_F(x, y, z) for x, y, z ≥ 0, at most one of them 0.
 

@@ -27,14 +27,14 @@ functions cannot be called from compiled code, so F comes from Carlson's R_F
 import math
 
 import numpy as np
-from numba import njit
 
+from .._jit import jit
 from .carlson import rf
 
 _EPS = 1.1102230246251565e-16  # 2⁻⁵³
 
 
-@njit(cache=True)
+@jit
 def parameter(sin_theta, omega, c):
     """The elliptic parameter m = (1 + sin θ + ω²/(2C))/2 of the orbit through (θ, ω).
 
@@ -43,7 +43,7 @@ def parameter(sin_theta, omega, c):
     return 0.5 * (1.0 + sin_theta + omega * omega / (2.0 * c))
 
 
-@njit(cache=True)
+@jit
 def time_from_apex(sin_theta, omega, c, m):
     """|τ|, the time between the apex and the state (θ, ω) on the orbit m (s).
 
@@ -66,7 +66,7 @@ def time_from_apex(sin_theta, omega, c, m):
     return math.sqrt(sin2) * rf(cos2, cos2 + (1.0 - m) * sin2, 1.0) / math.sqrt(c)
 
 
-@njit(cache=True)
+@jit
 def to_head(sin_theta, omega, c, m, sin_head):
     """From a state (θ, ω) on the orbit m under C = ``c``: the way down to the head.
 
@@ -84,7 +84,7 @@ def to_head(sin_theta, omega, c, m, sin_head):
     return (since_apex if omega > 0.0 else -since_apex), time_from_apex(sin_head, speed, c, m), speed
 
 
-@njit(cache=True)
+@jit
 def flight_time(launch_speed, c, sin_head):
     """Duration (s) of a flight launched upward from the head at ``launch_speed`` (rad/s), and its m.
 
@@ -101,7 +101,7 @@ def flight_time(launch_speed, c, sin_head):
     return 2.0 * time_from_apex(sin_head, launch_speed, c, m), m
 
 
-@njit(cache=True)
+@jit
 def jacobi(u, m):
     """sn, cn and dn of ``u`` for the parameter m in [0, 1), by the AGM and descending Landen steps.
 
@@ -136,7 +136,7 @@ def jacobi(u, m):
     return sn, cn, cn / dn_factor
 
 
-@njit(cache=True)
+@jit
 def shift(sn, cn, dn, sn_h, cn_h, dn_h, m):
     """sn, cn, dn of u + h from those of u and of h (the addition theorem, DLMF 22.8.1–3)."""
     d = 1.0 / (1.0 - m * sn * sn * sn_h * sn_h)
@@ -147,14 +147,14 @@ def shift(sn, cn, dn, sn_h, cn_h, dn_h, m):
     )
 
 
-@njit(cache=True)
+@jit
 def apex_form(sn, cn, dn, root_m, speed):
     """θ = 2·asin(√m·cd) − π/2 (rad) and ω = −speed·sd (rad/s), given √m and speed = 2√(m(1 − m)C)."""
     inverse = 1.0 / dn
     return 2.0 * math.asin(root_m * cn * inverse) - 0.5 * math.pi, -speed * sn * inverse
 
 
-@njit(cache=True)
+@jit
 def state(tau, c, m):
     """θ (rad) and ω (rad/s) at time ``tau`` after the apex (s) on the orbit ``m``."""
     sn, cn, dn = jacobi(math.sqrt(c) * tau, m)

@@ -15,8 +15,8 @@ round-off cannot accumulate.
 import math
 
 import numpy as np
-from numba import njit
 
+from .._jit import jit
 from . import elliptic
 from .constants import ARC_COLUMNS, ELLIPTIC, NEARLY_VERTICAL, REST, TAYLOR, TAYLOR_ORDER
 from .taylor import DONE as _TAYLOR_DONE
@@ -53,7 +53,7 @@ def initial_state(theta0, omega0):
     return state
 
 
-@njit(cache=True)
+@jit
 def _lift_off(ts, te, c0, c1, t):
     """When, in [t, te), a resting stick lifts off under C = c0 + c1·(t − ts); NaN if it stays."""
     if not holds(c0 + c1 * (t - ts), c1, te - t):
@@ -65,7 +65,7 @@ def _lift_off(ts, te, c0, c1, t):
     return math.nan
 
 
-@njit(cache=True, inline="always")
+@jit(inline="always")
 def _arc(arcs, n, start, kind, apex, c, m, theta, omega):
     """Row ``n`` of the arcs: one starting at ``start`` (s) from the state ``theta``, ``omega`` (rad, rad/s)."""
     arcs = grow(arcs, n)
@@ -74,14 +74,14 @@ def _arc(arcs, n, start, kind, apex, c, m, theta, omega):
     return arcs, n + 1
 
 
-@njit(cache=True, inline="always")
+@jit(inline="always")
 def _impact(impacts, n, t, omega):
     impacts = grow(impacts, n)
     impacts[n, 0], impacts[n, 1] = t, omega
     return impacts, n + 1
 
 
-@njit(cache=True)
+@jit
 def run(edges, c0, c1, theta_max, cor, closed_forms, max_step, max_impacts, finish, state):
     """Carry the stick through the pieces [edges[i], edges[i+1]) where C = c0[i] + c1[i]·(t − edges[i]).
 
@@ -254,7 +254,7 @@ def run(edges, c0, c1, theta_max, cor, closed_forms, max_step, max_impacts, fini
     return outcome, extra, arcs[:n_arcs], steps[:n_steps], impacts[:n_impacts], rests[:n_rests]
 
 
-@njit(cache=True)
+@jit
 def evaluate(table, steps, theta_max, t, spacing):
     """The arcs (see :class:`.arcs.Arcs`) at the times ``t`` (s): all but the last step of θ, and ω.
 

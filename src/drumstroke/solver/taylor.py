@@ -26,21 +26,21 @@ decision there (rest, the Zeno tail, the vertical, the impact limit).
 import math
 
 import numpy as np
-from numba import njit
 
+from .._jit import jit
 from . import constants
 from .constants import TAYLOR_ORDER as ORDER
 
 TOLERANCE = 1e-16
 GRID = 32
 
-zeno_floor = njit(cache=True)(constants.zeno_floor)
+zeno_floor = jit(constants.zeno_floor)
 
 # run_piece's outcomes
 DONE, REST, SETTLE, VERTICAL, TOO_MANY = 0, 1, 2, 3, 4
 
 
-@njit(cache=True)
+@jit
 def coefficients(theta, omega, c0, c1):
     """Taylor coefficients x₀…x_ORDER of θ about a state (θ, ω) where C(τ) = c0 + c1·τ."""
     x = np.zeros(ORDER + 1)
@@ -62,7 +62,7 @@ def coefficients(theta, omega, c0, c1):
     return x
 
 
-@njit(cache=True)
+@jit
 def step_size(x):
     """The largest step whose truncation error stays near TOLERANCE (s); inf for a polynomial.
 
@@ -77,7 +77,7 @@ def step_size(x):
     return h
 
 
-@njit(cache=True)
+@jit
 def evaluate(x, tau):
     """The polynomial with coefficients ``x`` and its derivative at ``tau``."""
     p = x[len(x) - 1]
@@ -88,7 +88,7 @@ def evaluate(x, tau):
     return p, d
 
 
-@njit(cache=True)
+@jit
 def first_crossing(x, level, h, downward):
     """The first τ in (0, h] where the polynomial crosses ``level``, or −1.
 
@@ -136,7 +136,7 @@ def first_crossing(x, level, h, downward):
     return -1.0
 
 
-@njit(cache=True)
+@jit
 def _root(f, a, b):
     """The root of the polynomial f in [a, b] where f changes sign (safeguarded Newton), or −1."""
     fa = evaluate(f, a)[0]
@@ -167,12 +167,12 @@ def _root(f, a, b):
     return t
 
 
-@njit(cache=True)
+@jit
 def _presses(c_now, slope):
     return c_now > 0.0 or (c_now == 0.0 and slope >= 0.0)
 
 
-@njit(cache=True)
+@jit
 def holds(c_now, slope, left):
     """Whether the head holds a stick lying on it at zero speed under C = ``c_now`` rising by ``slope`` (s⁻³).
 
@@ -186,7 +186,7 @@ def holds(c_now, slope, left):
     return slope > 0.0 and -c_now * min(-c_now / slope, left) < constants.ZENO_SPEED
 
 
-@njit(cache=True, inline="always")
+@jit(inline="always")
 def grow(array, n):
     """``array``, or a copy twice as long, so that row ``n`` exists (a growable buffer)."""
     if n < len(array):
@@ -196,7 +196,7 @@ def grow(array, n):
     return bigger
 
 
-@njit(cache=True)
+@jit
 def run_piece(t, theta, omega, lifting, ts, te, c0, c1, theta_max, cor, max_step, impacts_left):
     """Carry the stick from ``t`` to ``te`` where C(t) = c0 + c1·(t − ts), with Taylor steps.
 
