@@ -17,7 +17,7 @@ import soundfile
 import drumstroke
 from drumstroke.cli import main
 from drumstroke.compose import compose
-from drumstroke.errors import ParameterError
+from drumstroke.errors import ParameterError, SampledImpactsWarning
 from drumstroke.evaluation.app import Config
 from drumstroke.evaluation.stimuli import make_stimuli
 from drumstroke.palette.library import build_library, load_library, read_palette
@@ -105,7 +105,8 @@ def test_a_source_is_a_preset_a_library_stroke_or_a_trajectory_csv(library, tmp_
     assert stroke.name == "double" and len(stroke.impacts) == record["impacts"] > 1
     assert stroke.impacts.t[0] == pytest.approx(record["first_impact"], abs=1e-9)
     write_csv(preset, tmp_path / "bounce.csv", rate=2000.0)
-    sampled = load_source(tmp_path / "bounce.csv")
+    with pytest.warns(SampledImpactsWarning, match="found again in its samples"):  # no JSON records them
+        sampled = load_source(tmp_path / "bounce.csv")
     assert sampled.name == "bounce" and sampled.model == "paper"
     audible = preset.impacts.t[preset.impacts.tip_speed > 0.05]
     found = sampled.impacts.t
