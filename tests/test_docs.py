@@ -85,7 +85,10 @@ def _run(command, folder, env, capsys):
         out, err = result.stdout, result.stderr
         assert result.returncode == 0, (
             f"{command!r} exited with {result.returncode}\n--- stdout\n{out[-3000:]}\n--- stderr\n{err[-3000:]}")
-    assert not problem_lines(out + err), f"{command!r} reported {problem_lines(out + err)}"
+    problems = problem_lines(out + err)
+    if words[1] == "live":  # real time: how many notes are planned in time depends on the machine (docs/live.md)
+        problems = [line for line in problems if not re.match(r"played \d+ of \d+ notes on the \w+ model;", line)]
+    assert not problems, f"{command!r} reported {problems}"
 
 
 def _exec(code, name, namespace):
