@@ -653,7 +653,7 @@ def compose_kit(notes, kit=None, *, setup=None, rate=None, pieces=None, lead="ri
     """
     from .kit.limbs import KitNote
     from .kit.pieces import FEET, Kit, default_kit
-    from .kit.play import _pedals, play_kit
+    from .kit.play import kit_pedals, play_kit
 
     kit = default_kit() if kit is None else kit
     if not isinstance(kit, Kit):
@@ -685,7 +685,7 @@ def compose_kit(notes, kit=None, *, setup=None, rate=None, pieces=None, lead="ri
     if not kept:
         raise ParameterError(f"no note to play on the pieces chosen ({', '.join(chosen)})")
     # room before the first note for the slowest press from rest (half the pedal's period) and a stick's throw
-    pedals = _pedals(pedals, kit)
+    pedals = kit_pedals(pedals, kit)
     need = max([LEAD_ROOM] + [math.pi / pedal.frequency for pedal in pedals.values()])
     offset = math.ceil(max(0.0, need - min(n.time for n in kept)) * rate - 1e-9) / rate
     kit_notes, keys, limbs = [], [], []

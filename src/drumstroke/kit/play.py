@@ -713,7 +713,7 @@ def play_kit(notes, kit, *, levels=None, velocities=None, keys=None, setup=None,
     hand_levels, foot_levels = _kit_levels(levels, velocities, on_foot)
     hands = play_hands(notes, kit, levels=hand_levels, setup=setup, limbs=assignment, clearance=clearance,
                        footprint=footprint)
-    pedals = _pedals(pedals, kit)
+    pedals = kit_pedals(pedals, kit)
     outcomes = {o.index: o for o in hands.outcomes}
     feet = {}
     for foot in kit.feet:
@@ -768,8 +768,8 @@ def _kit_levels(levels, velocities, on_foot):
             [float(level) if foot else None for level, foot in zip(levels, on_foot)])
 
 
-def _pedals(pedals, kit):
-    """Every pedal the kit's pieces name, by name: given, or ``Pedal()``."""
+def kit_pedals(pedals, kit):
+    """Every pedal the kit's pieces name, by name: those given in ``pedals`` (checked), the others ``Pedal()``."""
     names = sorted({piece.pedal for piece in kit.pieces if piece.pedal is not None})
     pedals = {} if pedals is None else pedals
     if not isinstance(pedals, dict):
