@@ -144,16 +144,35 @@ def test_a_move_too_fast_for_the_joints_is_a_problem_with_the_numbers():
     assert first.played and abs(first.impact - 1.0) <= 1e-6
     assert not second.played
     match = re.fullmatch(r"the right hand's move from 'hihat' to 'floor-tom' needs ([\d.]+) s, (-?[\d.]+) s available "
-                         r"\(its stick caught at ([\d.]+) s, the throw onto the note released at ([\d.]+) s\)",
-                         second.problem.reason)
+                         r"\(leaving at ([\d.]+) s, its stick's last impact at ([\d.]+) s, the throw onto the note "
+                         r"released at ([\d.]+) s\)", second.problem.reason)
     assert match, second.problem.reason
-    need, available, caught, release = map(float, match.groups())
+    need, available, leave, impact, release = map(float, match.groups())
     assert need >= move_time(KIT, "right", "hihat", "floor-tom") - 1e-3  # at least the arm's own move
-    assert caught > 1.0 and release < 1.02 and available < need
-    assert available == pytest.approx(release - caught, abs=1e-3)
+    assert impact == pytest.approx(first.impact, abs=1e-5)  # it tried leaving on the rise after the impact
+    assert impact < leave < first.impact + 0.1 and release < 1.02 and available < need
+    assert available == pytest.approx(release - leave, abs=1e-3)
     assert second.problem.nearest_time == pytest.approx(1.02 + need - available, rel=1e-3)
     check_motion(performance.hands["right"])
     assert len(performance.hands["right"].curve.impacts) == 1
+
+
+def test_a_hand_short_of_time_leaves_on_the_rebound_not_at_the_catch():
+    """The hi-hat's rebound is caught 0.157 s after its impact, too late to reach the snare 0.2 s after it: the
+    move takes the stick over on its rise, at the flight's angle and speed, and both notes are played."""
+    notes = [KitNote(1.0, "hihat", "closed"), KitNote(1.2, "snare")]
+    performance = play_hands(notes, KIT, velocities=[90, 90], limbs=["right", "right"])
+    assert [o.played for o in performance.outcomes] == [True, True]
+    check_played(performance, notes, [velocity_to_level(90)] * 2)
+    motion = performance.hands["right"]
+    (_, hihat), _ = motion.designs
+    leave = next(s.end for s in motion.curve.segments if s.source is hihat)
+    assert hihat.impacts.t[-1] < leave < hihat.t_end - 0.05  # on the rise, well before the catch
+    flight = hihat.state(np.array([leave - 1e-7, leave]))
+    q, v = motion.curve(np.array([leave - 1e-7, leave + 1e-7]))
+    assert q[:, -1] == pytest.approx(flight[0], abs=1e-5) and v[0, -1] == pytest.approx(flight[1][0], rel=1e-6)
+    assert v[1, -1] == pytest.approx(flight[1][1], rel=1e-3)  # the move starts at the flight's speed: no jump
+    check_motion(motion)
 
 
 def test_the_synchronised_move_takes_the_slowest_joints_time_optimal_move():

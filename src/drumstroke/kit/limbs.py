@@ -97,6 +97,10 @@ class Costs:
         Per group of notes played with the hands crossed (unless allowed).
     other : float ≥ 0
         Per note of the hand that does not lead.
+    overhead : float in [0, 1]
+        s of a hand's time between two notes on different pieces that its positioning move cannot use: the
+        stick's rise from the first piece's surface and the throw onto the second (a move between pieces is
+        planned from the rise after the first note's impact to the second note's throw).
     drop : float > 0
         Per note left unplayed; far above every other cost, so the fewest are. A given note its hand
         cannot reach in time costs more than dropping every other note: it is played all the same.
@@ -109,12 +113,15 @@ class Costs:
     backbeat: float = 3.0
     cross: float = 3.0
     other: float = 0.05
+    overhead: float = 0.07
     drop: float = 1.0e6
 
     def __post_init__(self):
         for f in fields(self):
             if f.name == "comfort":
                 value = check_real("costs.comfort", self.comfort, low=0.0, high=10.0, low_open=True, unit="s")
+            elif f.name == "overhead":
+                value = check_real("costs.overhead", self.overhead, low=0.0, high=1.0, unit="s")
             else:
                 value = check_real(f"costs.{f.name}", getattr(self, f.name), low=0.0, high=1e12,
                                    low_open=f.name == "drop")
@@ -345,8 +352,8 @@ def _assign_feet(part, groups, limbs, reasons, comfort):
             else:
                 free = [f for f in part.choices[i] if f not in busy]
                 if not free:
-                    reasons[i] = ("no foot is free: " + ", ".join(f"the {f} plays note {busy[f]}"
-                                                                    for f in part.choices[i]))
+                    reasons[i] = ("no foot is free at that time: " + ", ".join(f"the {f} plays note {busy[f]}"
+                                                                                for f in part.choices[i]))
                     continue
                 foot = free[0]
                 if t - last[foot] < comfort:
@@ -366,7 +373,8 @@ class _Hands:
         self.open_handed = open_handed
         pieces = kit.pieces
         n = len(pieces)
-        # move[h][a][b]: hand h (0 right, 1 left) from piece a to piece b, s; inf where it does not play both
+        # move[h][a][b]: the time (s) hand h (0 right, 1 left) needs between a note on piece a and one on piece b;
+        # inf where it does not play both
         self.move = [[[math.inf] * n for _ in range(n)] for _ in HANDS]
         longest = 0.0
         for h, hand in enumerate(HANDS):
@@ -375,7 +383,8 @@ class _Hands:
             for a, first in enumerate(pieces):
                 for b, second in enumerate(pieces):
                     if hand in first.hands and hand in second.hands:
-                        self.move[h][a][b] = move_time(kit, hand, first, second)
+                        # the move, and the time around it it cannot use (none on one piece)
+                        self.move[h][a][b] = move_time(kit, hand, first, second) + costs.overhead * (a != b)
                         longest = max(longest, self.move[h][a][b])
         # past this a hand's last note changes no cost: its time is forgotten, and states merge
         self.rested = max(longest, costs.comfort)

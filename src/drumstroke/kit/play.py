@@ -10,7 +10,9 @@ caught at its ready height. Between two runs the hand moves: its positioning joi
 the horizontal (one angle over every piece, each piece's surface at its own θ_max), from where the
 stick was caught to where the next run's first stroke is thrown from — all joints together, as one
 time-optimal, jerk-limited, synchronised move (:func:`~drumstroke.palette.motion.synchronised_move`),
-then held there until the throw.
+then held there until the throw. When the move does not fit after the catch (at the rebound's apex), the
+hand leaves earlier, on the rise after the last impact (:data:`DEPARTURES`): the move takes the stick
+over from its flight at the flight's angle and speed.
 
 The stick stays clear of every surface it passes over. What lies under it is told by the yaw: a piece's
 footprint is its place's yaw ± a half-width (``footprint``), and while the yaw is within it the stick
@@ -19,7 +21,8 @@ positioning joints are exactly at a piece's place, where the stick plays that pi
 surface is below it (θ ≥ θ_max), as in the planner. The lift joint does not enter: a raised cymbal
 counts as a surface at its own θ_max. A move is checked on a grid of :data:`CHECK_STEP` s and at
 each joint's extremes; when the direct move passes too low, the hand lifts the stick first (to the
-clearance above every footprint it sweeps), moves across, then lowers it: three synchronised moves.
+clearance above every footprint it sweeps), then moves across (and down to the throw), or moves across
+at that height and then lowers it: two or three synchronised moves.
 When that does not fit in the time before the next stroke's release, the run is planned again with
 the planner's shorter throws onto its first note (:data:`~drumstroke.design.planner.LEADS`): the
 move gets their time; when none fits, that note is left out and reported, with the time the move
@@ -75,6 +78,10 @@ radius, 0.18 m, seen from the shoulder at about 0.7 m)."""
 
 CHECK_STEP = 1e-4
 """s: the grid a move is checked for clearance on (with each joint's extremes)."""
+
+DEPARTURES = (0.75, 0.5, 0.3, 0.15, 0.05)
+"""Where, as shares of the time from a stroke's last impact to its catch, a hand that cannot reach its next piece
+from the catch tries leaving instead (the move takes the stick over on its rise)."""
 
 _AT_PLACE = 1e-9  # rad: positioning joints this near a piece's place are at it (the stick plays that piece)
 
@@ -345,7 +352,7 @@ class _Hand:
         self.limits = tuple(kit.limbs[hand][joint] for joint in self.joints) + (theta,)
         self.segments, self.hits, self.designs = [], [], []
         self.outcomes = {}
-        self.last = None  # (surface, Design): the stroke the stick was last caught after
+        self.last = None  # (surface, Design, index of its segment): the hand's last stroke
 
     def play(self, indices, notes, levels):
         """(HandMotion, {note index: Outcome}) of the notes ``indices`` of the part."""
@@ -354,7 +361,7 @@ class _Hand:
             self.run(self.surfaces[notes[run[0]].piece], run)
         curve, t_end = None, 0.0
         if self.last is not None:
-            surface, stroke = self.last
+            surface, stroke, _ = self.last
             t_end = stroke.t_end
             self.segments.append(Segment.hold(self.position(surface, _caught(stroke)), t_end))
             curve = Curve(tuple(self.segments))
@@ -392,41 +399,66 @@ class _Hand:
                         self.report(plan.problems)
                         return
                     continue
-                moves, need, available = self.arrive(surface, plan.designs[0])
+                moves, leave, need, available = self.arrive(surface, plan.designs[0])
                 if moves is not None:
-                    self.keep(surface, plan, moves)
+                    self.keep(surface, plan, moves, leave)
                     return
-                attempt = (plan.keys[0][0], need, available)
-            key, need, available = attempt
+                attempt = (plan.keys[0][0], leave, need, available)
+            key, leave, need, available = attempt
             nearest = self.notes[key].time + need - available if math.isfinite(need) else None
-            self.leave_out(key, self.too_slow(surface, need, available), nearest)
+            self.leave_out(key, self.too_slow(surface, leave, need, available), nearest)
             pending.remove(key)
 
     def arrive(self, surface, first):
         """The moves that take the hand from its last stroke to ``first``'s throw on ``surface`` (none for its
-        first stroke), the time they need and the time there is (s); the moves None when they do not fit."""
-        if self.last is None:
-            return [], 0.0, math.inf
-        before, last = self.last
-        moves = self.crossing(self.position(before, _caught(last)), self.position(surface, _thrown(first)))
-        need = math.inf if moves is None else sum(move.duration for move in moves)
-        available = first.release - last.t_end
-        return (moves if need <= available else None), need, available
+        first stroke), when they leave (s), the time they need and the time there is (s); the moves None when no
+        departure fits.
 
-    def crossing(self, start, target):
-        """The moves from ``start`` to ``target`` (every joint's angle, at rest) that keep the stick clear: the
-        direct synchronised move, else lift, across, lower; None when none does."""
-        direct = synchronised_move(start, target, self.limits)
+        The hand leaves where its last stroke's stick is caught when the move fits from there; else earlier, on
+        the rise after the stroke's last impact (:func:`departures`): the move then takes the stick over from its
+        flight, at its angle and speed. Without a fit, the need and time reported are the departure's that came
+        closest."""
+        if self.last is None:
+            return [], 0.0, 0.0, math.inf
+        before, last, _ = self.last
+        target = self.position(surface, _thrown(first))
+        closest = None
+        for leave in departures(last):
+            theta, omega = last.state(np.array([leave]))
+            moves = self.crossing(self.position(before, float(theta[0])), target, float(omega[0]))
+            need = math.inf if moves is None else sum(move.duration for move in moves)
+            available = first.release - leave
+            if need <= available:
+                return moves, leave, need, available
+            if closest is None or need - available < closest[1] - closest[2]:
+                closest = (leave, need, available)
+        return (None, *closest)
+
+    def crossing(self, start, target, speed=0.0):
+        """The moves from ``start`` (every joint's angle, θ moving at ``speed`` rad/s, the others at rest) to
+        ``target`` (at rest) that keep the stick clear: the direct synchronised move, else lift then across, else
+        lift, across, lower; None when none does."""
+        velocities = np.zeros_like(start)
+        velocities[-1] = speed
+        direct = synchronised_move(start, target, self.limits, velocities=velocities)
         if direct is not None and self.clear(direct):
             return [direct]
         height = self.height_over(start[self.yaw], target[self.yaw])
-        stops = [start, _with_theta(start, max(start[-1], height)), _with_theta(target, max(target[-1], height)),
-                 target]
+        lifted = _with_theta(start, max(start[-1], height))
+        for stops in ([start, lifted, target], [start, lifted, _with_theta(target, max(target[-1], height)), target]):
+            moves = self.legs(stops, velocities)
+            if moves is not None:
+                return moves
+        return None
+
+    def legs(self, stops, velocities):
+        """The synchronised moves from stop to stop (the first leaving at ``velocities``), or None when one is not
+        clear."""
         moves = []
         for a, b in itertools.pairwise(stops):
-            if np.array_equal(a, b):
+            if np.array_equal(a, b) and (moves or not velocities.any()):
                 continue
-            move = synchronised_move(a, b, self.limits)
+            move = synchronised_move(a, b, self.limits, velocities=None if moves else velocities)
             if move is None or not self.clear(move):
                 return None
             moves.append(move)
@@ -464,21 +496,23 @@ class _Hand:
             clear &= ~over | (theta >= surface.head + self.clearance - 1e-12)
         return clear
 
-    def keep(self, surface, plan, moves):
-        """Add the run's strokes (the first after ``moves``) and the planner's moves between them."""
+    def keep(self, surface, plan, moves, leave):
+        """Add the run's strokes (the first after ``moves``, which leave at ``leave`` s) and the planner's moves
+        between them."""
         designs, made = plan.designs, plan.designs[0]
         held = self.position(surface, _thrown(made))
         if self.last is None:
             self.segments.append(Segment.hold(held, min(0.0, made.release), made.release))
         else:
-            free = self.last[1].t_end
-            self.segments += placed([(move.duration, move.path) for move in moves], free)
-            self.segments.append(Segment.hold(held, free + sum(move.duration for move in moves), made.release))
+            flight = self.last[2]  # the last stroke's segment: its flight ends where the move takes the stick over
+            self.segments[flight] = replace(self.segments[flight], end=leave)
+            self.segments += placed([(move.duration, move.path) for move in moves], leave)
+            self.segments.append(Segment.hold(held, leave + sum(move.duration for move in moves), made.release))
         for k, stroke in enumerate(designs):
             if k:
                 self.between(surface, designs[k - 1], stroke)
             self.stroke(surface, stroke, plan.keys[k])
-        self.last = (surface, designs[-1])
+        self.last = (surface, designs[-1], len(self.segments) - 1)
         self.report(plan.problems)
 
     def between(self, surface, before, after):
@@ -513,15 +547,15 @@ class _Hand:
         problem = Problem(i, self.notes[i].time, reason, nearest_time, nearest_level)
         self.outcomes[i] = Outcome(i, self.notes[i], self.hand, self.levels[i], problem=problem)
 
-    def too_slow(self, surface, need, available):
-        """Why the hand cannot reach ``surface`` in time."""
+    def too_slow(self, surface, leave, need, available):
+        """Why the hand cannot reach ``surface`` in time (leaving at ``leave`` s, its closest try)."""
         where = f"from {self.last[0].name!r} to {surface.name!r}"
         if not math.isfinite(need):
             return (f"no move of the {self.hand} hand {where} keeps the stick {self.clearance:g} rad above the "
                     f"surfaces it passes within the joints' ranges")
-        caught = self.last[1].t_end
-        return (f"the {self.hand} hand's move {where} needs {need:.4g} s, {available:.4g} s available (its stick "
-                f"caught at {caught:.6g} s, the throw onto the note released at {caught + available:.6g} s)")
+        return (f"the {self.hand} hand's move {where} needs {need:.4g} s, {available:.4g} s available (leaving at "
+                f"{leave:.6g} s, its stick's last impact at {self.last[1].impacts.t[-1]:.6g} s, the throw onto the "
+                f"note released at {leave + available:.6g} s)")
 
     def position(self, surface, theta):
         """Every joint's angle (rad) with the hand at ``surface``'s place and the stick at ``theta``."""
@@ -548,6 +582,13 @@ def _caught(made):
 def _thrown(made):
     """θ (rad) a designed stroke's stick is held at, at rest, until its release."""
     return float(made.recipe.theta0)
+
+
+def departures(made):
+    """When (s) a hand may leave the piece it played ``made`` on: where its stick is caught (its end), then earlier
+    along the rise after its last impact (:data:`DEPARTURES`, latest first): the earliest a hair after the impact."""
+    last = float(made.impacts.t[-1]) if len(made.impacts.t) else made.release
+    return [made.t_end] + [last + share * (made.t_end - last) for share in DEPARTURES]
 
 
 def _with_theta(position, theta):
