@@ -728,9 +728,22 @@ def test_compose_kit_on_a_song_writes_a_column_per_joint_the_notes_and_the_piece
     assert sum(n["played"] for n in document["notes"]) == played
     assert all(("impact" in n) == n["played"] == ("reason" not in n) for n in document["notes"])
     assert played / total >= 0.9  # 555 of 590 (94 %) on the shipped kit
-    written = [m for m in mido.MidiFile(tmp_path / "s.mid") if m.type == "note_on" and m.velocity > 0]
+    out = mido.MidiFile(tmp_path / "s.mid")
+    written = [m for m in out if m.type == "note_on" and m.velocity > 0]
     assert len(written) == len(document["hits"]) and {m.channel for m in written} == {9}
     assert {m.note for m in written} == {h["key"] for h in document["hits"]} <= set(kit.keys)
+    # the score's tempo map kept, a track per limb, every hit at its time on the score's clock (to half a tick)
+    assert [m.tempo for m in out if m.type == "set_tempo"] == [
+        m.tempo for m in mido.MidiFile(KIT_SONG) if m.type == "set_tempo"]
+    assert {track.name for track in out.tracks[1:]} == {h["limb"] for h in document["hits"]}
+    now, onsets = 0.0, []
+    for message in out:  # mido turns ticks into seconds through the tempo map
+        now += message.time
+        if message.type == "note_on" and message.velocity > 0:
+            onsets.append((round(now, 3), message.note))
+    expected = sorted((round(h["t"], 3), h["key"]) for h in document["hits"])
+    assert len(onsets) == len(expected)
+    assert np.abs(np.array(sorted(onsets))[:, 0] - np.array(expected)[:, 0]).max() <= 2e-3
 
 
 def test_compose_kit_renders_a_pattern_s_audio(tmp_path):

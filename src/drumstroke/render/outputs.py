@@ -170,7 +170,8 @@ def write_kit_outputs(piece, *, csv=None, json=None, midi=None, audio=None, soun
     json : str, Path or None
         The kit, every note's outcome and every hit (:func:`~drumstroke.render.data.kit_to_dict`).
     midi : str, Path or None
-        Each hit on its piece's General MIDI key, channel 10, a track a piece.
+        Each hit on its piece's General MIDI key (the hi-hat's by its state), channel 10, a track a limb (its
+        name), on the score's time and tempo map.
     audio : str, Path or None
         The hits as audio: drumstroke's synthesis of each piece, or through ``soundfont``.
     soundfont : str, Path or None
@@ -202,8 +203,12 @@ def write_kit_outputs(piece, *, csv=None, json=None, midi=None, audio=None, soun
             from .soundfont import render_soundfont_wav, write_kit_midi
 
             hits = KitHits.from_rows([(h.t, h.piece, h.key, h.speed) for h in piece.performance.hits])
-            if midi:
-                write_kit_midi(midi, hits, bundle=files)
+            if midi:  # on the score's time and tempo map, a track per limb
+                performed = piece.performance.hits
+                on_score = KitHits.from_rows([(max(h.t - piece.offset, 0.0), h.piece, h.key, h.speed)
+                                              for h in performed])
+                write_kit_midi(midi, on_score, limbs=[h.limb for h in performed], tempo_map=piece.tempo_map,
+                               title=f"drumstroke kit (model {piece.model})", bundle=files)
                 written.append(Path(midi))
             if audio and soundfont:
                 render_soundfont_wav(audio, hits, soundfont, bundle=files)

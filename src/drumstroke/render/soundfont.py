@@ -4,7 +4,7 @@ Needs the ``midi`` and ``audio`` extras (mido, soundfile) and the ``fluidsynth``
 subprocess (Debian: ``apt-get install fluidsynth``; a General MIDI SoundFont with it:
 ``fluid-soundfont-gm``, whose :data:`DEBIAN_SOUNDFONT` is FluidR3_GM).
 
-The hits are written as a General MIDI file (:func:`write_kit_midi`): one track per piece, every note
+The hits are written as a General MIDI file (:func:`write_kit_midi`): one track per piece (or limb), every note
 on channel 10 (General MIDI percussion), at its time to half a tick, the key it played, velocity
 ``level_to_velocity(20 log10(v / 1 m/s))`` (:mod:`drumstroke.dynamics`, as every MIDI file drumstroke
 writes). FluidSynth renders the file offline, without reverb or chorus (the sound as dry as
@@ -51,8 +51,8 @@ TIMEOUT = 600.0
 """How long FluidSynth may take (s) before it is stopped: it renders a minute of a kit in about a second."""
 
 
-def write_kit_midi(path, hits, *, bundle=None):
-    """Write ``hits`` as a General MIDI file, atomically: one track per piece, notes on channel 10.
+def write_kit_midi(path, hits, *, limbs=None, tempo_map=None, title="drumstroke kit", bundle=None):
+    """Write ``hits`` as a General MIDI file, atomically: notes on channel 10, a track per limb (or per piece).
 
     Parameters
     ----------
@@ -60,6 +60,14 @@ def write_kit_midi(path, hits, *, bundle=None):
         The ``.mid`` file to write.
     hits : KitHits or sequence of (time s, piece, key, speed m/s)
         The pieces are not checked against a kit: a key is all FluidSynth plays.
+    limbs : sequence of str, optional
+        The limb that played each hit: the file then has a track per limb, named by it (a drummer's sticking,
+        the piece told by the key); default a track per piece.
+    tempo_map : TempoMap, optional
+        The score's tempo changes and time signatures, written in track 0 (default 120 bpm, 4/4); the hits' times
+        (s) do not depend on it.
+    title : str
+        Track 0's name.
     bundle : Bundle or None
         Put the file in place with this :class:`drumstroke._atomic.Bundle`'s others (default: at once).
 
@@ -67,21 +75,23 @@ def write_kit_midi(path, hits, *, bundle=None):
     -------
     list of Note
         The notes written, in time order (see :func:`~drumstroke.formats.midi.write_midi`: hits slower
-        than velocity 1's level are left out, those of one piece on one tick and key merge into the louder).
+        than velocity 1's level are left out, those of one track on one tick and key merge into the louder).
     """
     hits = hits if isinstance(hits, KitHits) else KitHits.from_rows(hits)
+    if limbs is not None:
+        if isinstance(limbs, (str, bytes)) or len(limbs) != len(hits) or not all(isinstance(x, str) for x in limbs):
+            raise ParameterError(f"limbs must name the limb of each of the {len(hits)} hits, got {shown(limbs)}")
     with np.errstate(divide="ignore"):
         levels = 20.0 * np.log10(hits.speed / LEVEL_REFERENCE)
-    names = list(dict.fromkeys(hits.piece))
-    pieces = np.array(hits.piece, dtype=object)
+    groups = np.array(hits.piece if limbs is None else list(limbs), dtype=object)
     tracks = []
-    for name in names:
-        chosen = np.flatnonzero(pieces == name)
+    for name in dict.fromkeys(groups):
+        chosen = np.flatnonzero(groups == name)
         chosen = chosen[np.argsort(hits.t[chosen], kind="stable")]
         tracks.append(Track(name, hits.t[chosen], levels[chosen], hits.key[chosen]))
     if not tracks:
         tracks = [Track("kit", [], [], 0)]
-    written = write_midi(path, tracks, channel=PERCUSSION_CHANNEL, title="drumstroke kit", bundle=bundle)
+    written = write_midi(path, tracks, tempo_map=tempo_map, channel=PERCUSSION_CHANNEL, title=title, bundle=bundle)
     return sorted((note for notes in written for note in notes), key=lambda note: (note.time, note.track))
 
 
