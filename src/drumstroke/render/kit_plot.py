@@ -71,7 +71,7 @@ def kit_figure(composition, *, title="kit", window=None, rate=1000.0, sizes=(2.0
         raise ParameterError(f"composition must be a drumstroke.compose.KitComposition, got {type(composition)}")
     start, end = check_window(part_span(composition) if window is None else window, span=part_span(composition))
     rate = check_real("rate", rate, low=1.0, high=1e5, unit="Hz")
-    area = _Area(*sizes)
+    area = _Area(sizes)
     outcomes = composition.performance.outcomes
     shift = composition.offset  # the timeline's time of the score's 0
     lanes = [p.name for p in composition.kit.pieces if any(o.piece == p.name for o in outcomes)]
@@ -105,7 +105,7 @@ def kit_figure(composition, *, title="kit", window=None, rate=1000.0, sizes=(2.0
 
 def part_span(composition):
     """(start, end), s of the score's time: the part's whole timeline, its lead-in before the score's 0 included."""
-    return -composition.offset, composition.t_end - composition.offset
+    return 0.0 - composition.offset, composition.t_end - composition.offset  # 0.0 -: no "-0" in a message
 
 
 def check_window(window, *, span=None):
@@ -157,7 +157,12 @@ class _Area:
     """The markers' area (pt²) of a level (dB re 1 m/s): linear from ``smallest`` at LEVELS[0] to ``largest`` at
     LEVELS[1], clipped."""
 
-    def __init__(self, smallest, largest):
+    def __init__(self, sizes):
+        try:
+            smallest, largest = sizes
+        except (TypeError, ValueError):
+            raise ParameterError(f"sizes must be (smallest, largest), two areas in pt², got {sizes!r}",
+                                 parameter="sizes", value=sizes, allowed="(smallest, largest) pt²") from None
         self.smallest = check_real("sizes[0]", smallest, low=0.0, high=1e4, low_open=True, unit="pt²")
         self.largest = check_real("sizes[1]", largest, low=self.smallest, high=1e4, low_open=True, unit="pt²")
 
@@ -168,6 +173,8 @@ class _Area:
 
 def _draw_hits(ax, composition, lanes, window, area):
     """Every impact in the window on its piece's lane: a limb's colour and shape, the hi-hat's state as the fill."""
+    from matplotlib.markers import MarkerStyle
+
     shift, kit = composition.offset, composition.kit
     hits = [h for h in composition.performance.hits if window[0] <= h.t - shift <= window[1]]
     groups = {}
@@ -179,14 +186,15 @@ def _draw_hits(ax, composition, lanes, window, area):
         x = np.array([h.t - shift for h in group])
         y = np.array([lanes.index(h.piece) for h in group], float)
         size = area(20.0 * np.log10([h.speed for h in group]))
-        if fill != "full":  # open and pedal: the outline, then the pedal's lower half filled
+        if fill == "none":
+            ax.scatter(x, y, s=size, marker=shape, facecolors="none", edgecolors=color, linewidths=0.8, zorder=3,
+                       gid=f"{limb} hits {fill}")
+            continue
+        if fill == "bottom":  # the pedal: the outline, its lower half filled
             ax.scatter(x, y, s=size, marker=shape, facecolors="none", edgecolors=color, linewidths=0.8, zorder=3,
                        gid=f"{limb} outline")
-        if fill != "none":
-            from matplotlib.markers import MarkerStyle
-
-            ax.scatter(x, y, s=size, marker=MarkerStyle(shape, fillstyle=fill), color=color, linewidths=0, zorder=3,
-                       gid=f"{limb} hits")
+        ax.scatter(x, y, s=size, marker=MarkerStyle(shape, fillstyle=fill), color=color, linewidths=0, zorder=3,
+                   gid=f"{limb} hits {fill}")
     ax.set_yticks(range(len(lanes)), lanes, fontsize=8)
     ax.set_ylim(len(lanes) - 0.5, -0.5)  # the kit's first piece on top
     ax.grid(axis="y", color="0.85", lw=0.6)
