@@ -222,6 +222,8 @@ def test_other_bad_arguments_are_refused(groove):
     piece, _ = groove
     with pytest.raises(ParameterError, match="composition must be a drumstroke.compose.KitComposition"):
         kit_figure(piece.performance)
+    with pytest.raises(ParameterError, match="title must be a str, got 3"):
+        kit_figure(piece, title=3)
     with pytest.raises(ParameterError, match=r"rate must be in \[1, 100000\] Hz, got 0.0"):
         kit_figure(piece, rate=0.0)
     with pytest.raises(ParameterError, match=r"sizes\[1\] must be in \(5, 10000\] pt², got 4.0"):

@@ -69,6 +69,8 @@ def kit_figure(composition, *, title="kit", window=None, rate=1000.0, sizes=(2.0
 
     if not isinstance(composition, KitComposition):
         raise ParameterError(f"composition must be a drumstroke.compose.KitComposition, got {type(composition)}")
+    if not isinstance(title, str):
+        raise ParameterError(f"title must be a str, got {title!r}")
     start, end = check_window(part_span(composition) if window is None else window, span=part_span(composition))
     rate = check_real("rate", rate, low=1.0, high=1e5, unit="Hz")
     area = _Area(sizes)
