@@ -85,7 +85,8 @@ def add_compose(comp):
     comp.add_argument("--json", action=Output, suffixes=json.SUFFIXES, metavar="PATH",
                       help="write the notes, placements and impacts as .json")
     comp.add_argument("--plot", action=Output, suffixes=plot.SUFFIXES, metavar="PATH",
-                      help=f"draw theta(t) per stick with the notes: {', '.join(plot.SUFFIXES)}")
+                      help=f"draw theta(t) per stick with the notes (with --kit: a lane per piece, every hit, over the "
+                           f"joints' angles): {', '.join(plot.SUFFIXES)}")
     add_sound_options(comp)
     add_mkdir(comp)
     add_kit_options(comp)
@@ -101,6 +102,8 @@ def add_compose(comp):
 def _compose(args):
     if args.kit is not None:
         return compose_kit(args)
+    if args.plot_window is not None:
+        raise ParameterError("--plot-window draws a stretch of the kit's picture: give --kit too")
     from ..compose import compose
     from ..design import Setup
     from ..palette.library import load_library, palette_library

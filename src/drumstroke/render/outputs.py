@@ -158,17 +158,25 @@ def write_composition_outputs(piece, *, title, csv=None, json=None, plot=None, a
     return written
 
 
-def write_kit_outputs(piece, *, csv=None, json=None, midi=None, audio=None, soundfont=None, bundle=None):
+def write_kit_outputs(piece, *, title="kit", csv=None, json=None, plot=None, window=None, midi=None, audio=None,
+                      soundfont=None, bundle=None):
     """Write a kit composition's files (:func:`drumstroke.compose.compose_kit`), put in place together.
 
     Parameters
     ----------
     piece : KitComposition
+    title : str
+        Names the plot (e.g. the score file's stem).
     csv : str, Path or None
         t (s) and a column per joint (rad, and rad/s), header first; its metadata in the JSON beside it (``json``
         when that is the one beside it).
     json : str, Path or None
         The kit, every note's outcome and every hit (:func:`~drumstroke.render.data.kit_to_dict`).
+    plot : str, Path or None
+        A picture of the part as a drummer reads it (:func:`drumstroke.render.kit_plot.kit_figure`): a lane per
+        piece with every hit and every note not played, over the joints' angles; .png, .pdf or .svg.
+    window : (float, float) or None
+        (start, end), s of the score's time: the stretch ``plot`` draws (default the whole part).
     midi : str, Path or None
         Each hit on its piece's General MIDI key (the hi-hat's by its state), channel 10, a track a limb (its
         name), on the score's time and tempo map.
@@ -187,9 +195,14 @@ def write_kit_outputs(piece, *, csv=None, json=None, midi=None, audio=None, soun
     ------
     ParameterError
         Before writing anything, when the JSON beside ``csv`` is another of the files or a file already there
-        that is not the CSV's metadata.
+        that is not the CSV's metadata, or when ``window`` is not a stretch of the part
+        (:func:`~drumstroke.render.kit_plot.check_window`).
     """
-    side = sidecar_for(csv, json=json, others={"midi": midi, "audio": audio}) if csv else None
+    side = sidecar_for(csv, json=json, others={"plot": plot, "midi": midi, "audio": audio}) if csv else None
+    if plot:
+        from .kit_plot import check_window, part_span
+
+        window = None if window is None else check_window(window, span=part_span(piece))
     written, block = [], None
     with bundled(bundle) as files:
         if csv:
@@ -198,6 +211,12 @@ def write_kit_outputs(piece, *, csv=None, json=None, midi=None, audio=None, soun
         if json:  # the CSV's metadata in it when it is the JSON beside the CSV
             data.write_kit_json(piece, json, csv=block if side is None else None, bundle=files)
             written.append(Path(json))
+        if plot:
+            from .kit_plot import kit_figure
+            from .plot import save_figure
+
+            save_figure(kit_figure(piece, title=title, window=window), plot, bundle=files)
+            written.append(Path(plot))
         if midi or audio:
             from .kit_audio import KitHits, render_kit_wav
             from .soundfont import render_soundfont_wav, write_kit_midi

@@ -44,7 +44,7 @@ def stroke_figure(stroke, *, title=None, rate=2000.0):
     recipe = trajectory.recipe
     forced = recipe is not None and trajectory.recipe_time is not None
     t, theta, _ = trajectory.sample(rate)
-    figure = _figure(figsize=(9.0, 5.6 if forced else 4.0), layout="constrained")
+    figure = new_figure(figsize=(9.0, 5.6 if forced else 4.0), layout="constrained")
     if forced:
         top, bottom = figure.subplots(2, 1, sharex=True, height_ratios=(2.2, 1.0))
     else:
@@ -109,14 +109,14 @@ def composition_figure(composition, *, title="composition", rate=1000.0, accent=
     parts = composition.sticks
     names = [*(n for n in LETTERS if n in parts), *(n for n in parts if n not in LETTERS)]  # right, left, others
     sticks = {name: parts[name].sample(rate) for name in names}
-    figure = _figure(figsize=(11.0, 1.8 + 2.6 * len(sticks)), layout="constrained")
+    figure = new_figure(figsize=(11.0, 1.8 + 2.6 * len(sticks)), layout="constrained")
     axes = figure.subplots(len(sticks), 1, sharex=True, sharey=True, squeeze=False)[:, 0]
     levels = np.concatenate([s.impacts.level_db for s in sticks.values()])
     scale = _level_scale(levels)
     shift = composition.offset  # the score's time 0 at x = 0
     for ax, (name, trajectory) in zip(axes, sticks.items()):
         _draw_lane(ax, trajectory, shift, scale)
-        _draw_bars(ax, bars, composition.tempo_map)
+        draw_bars(ax, bars, composition.tempo_map)
         for p in composition.placements:
             if p.note.stick == name:
                 _draw_note(ax, p, trajectory.theta_max, mark(name, p.note.velocity, buzz=p.note.stroke == "buzz",
@@ -134,7 +134,7 @@ def composition_figure(composition, *, title="composition", rate=1000.0, accent=
     played = sum(p.played for p in composition.placements)
     bar_count = len(bars) - 1
     length = plural(bar_count, "bar") if bar_count > 0 else f"{composition.t_end - shift:.2f} s"
-    figure.suptitle(f"{title} — {_tempo_text(composition.tempo_map)}, {length}, model: {composition.model}\n"
+    figure.suptitle(f"{title} — {tempo_text(composition.tempo_map)}, {length}, model: {composition.model}\n"
                     f"{played} of {plural(len(notes), 'note')} played", fontsize=11)
     return figure
 
@@ -151,10 +151,13 @@ def _draw_lane(ax, trajectory, shift, scale):
     ax.grid(alpha=0.25, axis="y")
 
 
-def _draw_bars(ax, bars, tempo_map):
-    """Bar lines (solid) and quarter-note beat lines (dotted) at the score's ``bars`` (s, the score's time)."""
+def draw_bars(ax, bars, tempo_map, *, beats=True):
+    """Bar lines (solid) and, with ``beats``, quarter-note beat lines (dotted) at the score's ``bars`` (s, the
+    score's time)."""
     for start, end in pairwise(bars):
         ax.axvline(start, color="0.45", lw=0.9, zorder=0)
+        if not beats:
+            continue
         first, last = tempo_map.beats([start, end])
         for beat in tempo_map.seconds(np.arange(first + 1.0, last - 1e-9)):
             ax.axvline(beat, color="0.6", lw=0.6, ls=":", zorder=0)
@@ -217,7 +220,7 @@ def _level_legend(axes, scale, left_out):
                    title="impacts: size and colour\nshow the level (tip speed)", title_fontsize=8)
 
 
-def _tempo_text(tempo_map):
+def tempo_text(tempo_map):
     """``"100 bpm"``, or ``"96–120 bpm"`` for a tempo that changes."""
     bpm = sorted({round(60e6 / tempo, 1) for _, tempo in tempo_map.tempi})
     return f"{bpm[0]:g} bpm" if len(bpm) == 1 else f"{bpm[0]:g}–{bpm[-1]:g} bpm"
@@ -227,7 +230,7 @@ def tracking_figure(played):
     """A matplotlib Figure of a reference and what each controller played: θ(t) and the onsets of each."""
     ref = played[0].reference
     head = ref.theta_max
-    figure = _figure(figsize=(11.0, 1.6 + 2.4 * len(played)), layout="constrained")
+    figure = new_figure(figsize=(11.0, 1.6 + 2.4 * len(played)), layout="constrained")
     axes = np.atleast_1d(figure.subplots(len(played), 1, sharex=True, squeeze=False)[:, 0])
     for ax, p in zip(axes, played):
         ax.axhline(head, color="0.55", lw=1.0, ls="--", label="drumhead")
@@ -255,7 +258,7 @@ def comparison_figure(comparison, *, labels=None):
     """
     a, b = comparison.a, comparison.b
     labels = labels or (a.source or "A", b.source or "B")
-    figure = _figure(figsize=(10.0, 7.2), layout="constrained")
+    figure = new_figure(figsize=(10.0, 7.2), layout="constrained")
     top, middle, bottom = figure.subplots(3, 1)
     for onsets, label, color, marker in ((a, labels[0], "C0", "o"), (b, labels[1], "C3", "s")):
         top.vlines(onsets.t, comparison.threshold_db, onsets.level_db, color=color, lw=0.8, alpha=0.6)
@@ -307,7 +310,7 @@ def fit_figure(fit, *, title=None, rate=2000.0):
     recipe = trajectory.recipe
     t, theta, _ = trajectory.sample(rate)
     clock = t + release
-    figure = _figure(figsize=(10.0, 7.0), layout="constrained")
+    figure = new_figure(figsize=(10.0, 7.0), layout="constrained")
     top, middle, bottom = figure.subplots(3, 1, sharex=True, height_ratios=(2.2, 1.2, 1.0))
     head = trajectory.theta_max
     top.axhline(head, color="0.55", lw=1.0, ls="--", label=f"drumhead θ_max = {head:.4f} rad")
@@ -361,7 +364,7 @@ def onsets_figure(signal, rate, times, levels, *, threshold_db, title="recording
     title : str
         What the recording is.
     """
-    figure = _figure(figsize=(11.0, 5.0), layout="constrained")
+    figure = new_figure(figsize=(11.0, 5.0), layout="constrained")
     top, bottom = figure.subplots(2, 1, sharex=True, height_ratios=(3, 2))
     step = max(1, len(signal) // 200_000)  # a long file is drawn from every step-th sample
     t = np.arange(0, len(signal), step) / rate
@@ -419,7 +422,8 @@ def picture_format(path):
     return suffix[1:]
 
 
-def _figure(**options):
+def new_figure(**options):
+    """A matplotlib Figure (``options`` as Figure takes them), or an ImportError naming the ``plot`` extra."""
     try:
         from matplotlib.figure import Figure
     except ImportError as error:  # pragma: no cover - exercised only without the extra
