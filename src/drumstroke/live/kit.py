@@ -35,7 +35,7 @@ Examples
 (('right.yaw', 'right.lift', 'right.theta'), 'left-foot.theta')
 >>> outcome = performer.note("auto", 100, at=0.3, piece="floor-tom")
 >>> outcome.note.stick, outcome.move["from"], outcome.move["to"]
-('left', 'snare', 'floor-tom')
+('right', 'hihat', 'floor-tom')
 >>> performer.note("auto", 90, piece="tabla").reason
 "piece must be one of the kit's pieces (snare, kick, hihat, tom1, tom2, floor-tom, ride, ride-bell, crash), got 'tabla'"
 """
