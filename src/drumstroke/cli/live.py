@@ -15,7 +15,8 @@ def add_live(live):
     """Give ``live``'s parser ``live`` its description and options."""
     live.description = ("Take notes as they arrive (OSC, MIDI, or a score played against the clock), design each stroke "
                         "into each stick's running motion within the latency, and stream setpoints t, theta, omega, "
-                        "alpha per stick at the control rate (OSC, CSV on stdout, a simulated robot), each chunk "
+                        "alpha per stick (with --kit: every joint of every limb) at the control rate (OSC, CSV on "
+                        "stdout, a simulated robot), each chunk "
                         "validated against the joint's limits. Ctrl-C (or SIGTERM) brings the sticks to rest and writes "
                         "the session's record; a second Ctrl-C stops at once. Messages go to stderr.")
     ins = live.add_argument_group("notes in (at least one)")
@@ -46,6 +47,11 @@ def add_live(live):
     add_model(live)
     live.add_argument("--sticks", default="right,left", metavar="A,B",
                       help="the sticks' names, comma-separated (default right,left)")
+    live.add_argument("--kit", nargs="?", const="", metavar="FILE",
+                      help="play a kit: each note on its piece (OSC's piece, MIDI's keys, a score's pieces), every "
+                           "joint of every limb streamed (alone: the shipped kit; FILE: a kit .toml)")
+    live.add_argument("--lead", choices=("right", "left"), default="right",
+                      help="with --kit: the hand that keeps time on the hi-hat or ride (default right)")
     add_cor(live)
     live.add_argument("--force-max", type=number(low=0.0, high=1e6, low_open=True, unit="m/s^2"), default=3000.0,
                       metavar="A", help="the strongest thumb acceleration allowed, m/s^2 (default 3000)")
@@ -80,9 +86,9 @@ def _address(*, default_host, port_low):
 
 def _live(args):
     from ..design import ForceRange, Setup
-    from ..live import Performer
+    from ..kit.pieces import default_kit, read_kit
+    from ..live import KitPerformer, Performer
     from ..live.stage import perform
-    from ..score import read_score
 
     if not (args.osc_in or args.midi_in or args.midi_virtual or args.score):
         raise ParameterError("give the notes in: --osc-in, --midi-in, --midi-virtual or --score")
@@ -91,13 +97,19 @@ def _live(args):
     config = robot_config(args.config)
     setup = Setup(model=args.model, cor=args.cor, forces=ForceRange(high=args.force_max), limits=config.limits,
                   moves=config.limits)
-    performer = Performer(sticks=tuple(name.strip() for name in args.sticks.split(",")), setup=setup, rate=args.rate,
-                          latency=args.latency / 1e3)
+    kit = None if args.kit is None else read_kit(args.kit) if args.kit else default_kit()
+    if kit is not None and args.simulate_robot:
+        raise ParameterError("--simulate-robot plays sticks, one joint each: not --kit (give --osc-out or --csv)")
+    if kit is not None:
+        performer = KitPerformer(kit, lead=args.lead, setup=setup, rate=args.rate, latency=args.latency / 1e3)
+    else:
+        performer = Performer(sticks=tuple(name.strip() for name in args.sticks.split(",")), setup=setup,
+                              rate=args.rate, latency=args.latency / 1e3)
     log = args.log or f"session-{datetime.now().strftime('%Y%m%d-%H%M%S')}.json"
     robot = {"engine": args.simulate_robot, "control": args.controller, "plant": config.plant} \
         if args.simulate_robot else None
     record, status = perform(performer, osc_in=args.osc_in, midi_in=args.midi_in, midi_virtual=args.midi_virtual,
-                             score=read_score(args.score) if args.score else None, count_in=args.count_in,
+                             score=_score(args.score, kit), count_in=args.count_in,
                              osc_out=args.osc_out, csv=sys.stdout if args.csv else None, robot=robot,
                              duration=args.duration, report=None if args.quiet else _say,
                              listening=lambda host, port: _say(f"listening for OSC notes on {host}:{port}"))
@@ -115,6 +127,15 @@ def _live(args):
              f"notes, {robot['within_2ms']} within 2 ms")
     _say(f"wrote {log}")
     return status
+
+
+def _score(path, kit):
+    """The score to play: a MIDI file read with the kit's keys (or the snare's), a pattern's pieces as it names them."""
+    from ..score import read_score
+
+    if path is None:
+        return None
+    return read_score(path, kit=kit if kit is not None and path.suffix.lower() in (".mid", ".midi") else None)
 
 
 def _say(line):

@@ -2,18 +2,21 @@
 
 OSC (UDP, :class:`OscInput`), the addresses a live performer answers (every other is dropped):
 
-``/drum/note stick velocity [stroke [duration]]``
-    A note heard ``latency`` s after it arrives. ``stick`` is a stick's name or ``auto``;
-    ``velocity`` 1-127 (int or float); ``stroke`` ``auto`` (default) or ``buzz``; ``duration`` s,
-    a buzz's length.
-``/drum/note/at time stick velocity [stroke [duration]]``
+``/drum/note stick velocity [stroke [duration] [piece]]``
+    A note heard ``latency`` s after it arrives. ``stick`` is a stick's name (on a kit, a limb's:
+    ``right``, ``left``, ``right-foot``, ``left-foot``) or ``auto``; ``velocity`` 1-127 (int or
+    float); ``stroke`` ``auto`` (default) or ``buzz``; ``duration`` s, a buzz's length; ``piece``
+    the kit's piece it is played on (default the snare).
+``/drum/note/at time stick velocity [stroke [duration] [piece]]``
     A note heard at ``time`` (s on the session's clock, the clock of the ``t`` of every
     ``/drum/setpoint``): scheduled ahead, at least ``guard`` s after it arrives.
 
 MIDI (:class:`MidiInput`, ``mido`` with ``python-rtmidi``): a note-on with a velocity on channel 10 on
 one of the drum map's snare keys (37, 38, 40: :data:`drumstroke.score.DRUM_MAP`) is a note on the
-stick the performer chooses, heard ``latency`` s later; note-offs, clocks and controllers are not
-notes and pass silently; other keys and channels are dropped with a line.
+stick the performer chooses, heard ``latency`` s later; with a kit, on any key the kit answers, on its
+piece (:meth:`~drumstroke.kit.pieces.Kit.piece_for_key`: 42 the hi-hat closed, 46 open, 36 the kick…),
+the limb the performer chooses. Note-offs, clocks and controllers are not notes and pass silently;
+other keys and channels are dropped with a line.
 
 A score (:func:`score_requests`, a MIDI file or a text pattern): each planned note (``auto``,
 ``buzz``) arrives at its time in the score after a count-in (:data:`COUNT_IN`, 1 s on the session's
@@ -29,6 +32,7 @@ import sys
 import threading
 from dataclasses import dataclass
 
+from .._checks import shown
 from ..errors import ParameterError
 from ..score import AUTO_STICK, DRUM_MAP, PLANNED
 from .performer import STROKES
@@ -50,7 +54,8 @@ DATAGRAM = 65_507
 class Request:
     """A note asked for: when it arrived (s, the session's clock), where from, what.
 
-    ``at`` is None for a note heard ``latency`` after it arrives.
+    ``at`` is None for a note heard ``latency`` after it arrives; ``piece`` None for the snare; ``key`` the
+    MIDI key it came as, if it did.
     """
 
     arrived: float
@@ -60,42 +65,66 @@ class Request:
     stroke: str = "auto"
     duration: float | None = None
     source: str = ""
+    piece: str | None = None
+    key: int | None = None
+
+
+_FORM = "stick velocity [stroke [duration] [piece]]"
 
 
 def osc_request(address, args, arrived, source="osc"):
-    """The :class:`Request` of an OSC message (its address and arguments), or a line saying why it is dropped."""
+    """The :class:`Request` of an OSC message (its address and arguments), or a line saying why it is dropped.
+
+    Each field's type is checked here (its value, against the performer's sticks, pieces and ranges, when
+    the note is planned); a long text is shown cut short.
+    """
     if address not in (NOTE, NOTE_AT):
-        return f"{source}: unknown address {address!r} (a note is {NOTE} or {NOTE_AT})"
+        return f"{source}: unknown address {shown(address)} (a note is {NOTE} or {NOTE_AT})"
     args = list(args)
     at = None
     if address == NOTE_AT:
         if not args:
-            return f"{source}: {NOTE_AT} needs time stick velocity [stroke [duration]], got no arguments"
+            return f"{source}: {NOTE_AT} needs time {_FORM}, got no arguments"
         at = args.pop(0)
         if not _number(at):
-            return f"{source}: {NOTE_AT} time must be a number (s on the session's clock), got {at!r}"
-    if not 2 <= len(args) <= 4:
-        return f"{source}: {address} needs {'time ' if at is not None else ''}stick velocity [stroke [duration]], " \
+            return f"{source}: {NOTE_AT} time must be a number (s on the session's clock), got {shown(at)}"
+    if not 2 <= len(args) <= 5:
+        return f"{source}: {address} needs {'time ' if at is not None else ''}{_FORM}, " \
                f"got {len(args)} argument(s) after it"
-    stick, velocity = args[0], args[1]
-    stroke = args[2] if len(args) > 2 else STROKES[0]
-    duration = args[3] if len(args) > 3 else None
+    stick, velocity, *rest = args
+    stroke = rest.pop(0) if rest else STROKES[0]
+    duration = rest.pop(0) if rest and not isinstance(rest[0], str) else None
+    piece = rest.pop(0) if rest and isinstance(rest[0], str) else None
+    if rest:
+        return f"{source}: {address} needs {'time ' if at is not None else ''}{_FORM}, got {shown(rest[0])} where " \
+               "the piece's name goes"
     if not isinstance(stick, str):
-        return f"{source}: {address} stick must be a name (a string), got {stick!r}"
+        return f"{source}: {address} stick must be a name (a string), got {shown(stick)}"
     if not _number(velocity):
-        return f"{source}: {address} velocity must be a number in [1, 127], got {velocity!r}"
+        return f"{source}: {address} velocity must be a number in [1, 127], got {shown(velocity)}"
     if not isinstance(stroke, str):
-        return f"{source}: {address} stroke must be one of {', '.join(STROKES)}, got {stroke!r}"
+        return f"{source}: {address} stroke must be one of {', '.join(STROKES)}, got {shown(stroke)}"
     if duration is not None and not _number(duration):
-        return f"{source}: {address} duration must be a number of seconds, got {duration!r}"
+        return f"{source}: {address} duration must be a number of seconds, got {shown(duration)}"
     return Request(arrived, stick, float(velocity), None if at is None else float(at), stroke,
-                   None if duration is None else float(duration), source)
+                   None if duration is None else float(duration), source, piece)
 
 
-def midi_request(message, arrived, source="midi"):
-    """The :class:`Request` of a mido message, None for a message that is not a note, or a line saying why not."""
+def midi_request(message, arrived, source="midi", *, kit=None):
+    """The :class:`Request` of a mido message, None for a message that is not a note, or a line saying why not.
+
+    Without a ``kit`` (a :class:`~drumstroke.kit.pieces.Kit`) the snare's keys are notes; with one, every
+    key it answers, on its piece.
+    """
     if getattr(message, "type", None) != "note_on" or message.velocity == 0:
         return None  # note-offs, clocks, controllers: not notes
+    if kit is not None:
+        found = kit.piece_for_key(message.note) if message.channel == MIDI_CHANNEL else None
+        if found is None:
+            return (f"{source}: note {message.note} on channel {message.channel + 1} is not a note of the kit "
+                    f"(channel {MIDI_CHANNEL + 1}, keys {', '.join(str(key) for key in kit.keys)})")
+        return Request(arrived, AUTO_STICK, float(message.velocity), None, "auto", None, source, found[0].name,
+                       message.note)
     if message.channel != MIDI_CHANNEL or message.note not in DRUM_MAP:
         keys = ", ".join(str(key) for key in DRUM_MAP)
         return (f"{source}: note {message.note} on channel {message.channel + 1} is not a snare note (channel "
@@ -107,12 +136,13 @@ COUNT_IN = 1.0
 """s into the session a score starts (its time 0 arrives then): the runtime is running steadily by then."""
 
 
-def score_requests(score, source="score", *, count_in=COUNT_IN):
+def score_requests(score, source="score", *, count_in=COUNT_IN, kit=False):
     """The :class:`Request` of each note of a :class:`~drumstroke.score.Score`, and a line for each one dropped.
 
     A note arrives at ``count_in`` s (on the session's clock) plus its time in the score; the planner's
     strokes (``auto``, ``buzz``) are played, a library's are not (live has no library: each note is
-    designed as it comes).
+    designed as it comes). With ``kit`` (a kit performer's), each note names its piece (the snare when
+    the score names none) and its MIDI key.
 
     Returns
     -------
@@ -124,8 +154,9 @@ def score_requests(score, source="score", *, count_in=COUNT_IN):
             dropped.append(f"{source}: note {i} at {note.time:.6g} s: live plays the planner's strokes "
                            f"({', '.join(PLANNED)}), not the library's {note.stroke!r}")
             continue
+        piece = (note.piece or "snare", note.key) if kit else (None, None)
         requests.append(Request(count_in + float(note.time), note.stick or AUTO_STICK, float(note.velocity), None, note.stroke,
-                                note.duration if note.stroke == "buzz" else None, source))
+                                note.duration if note.stroke == "buzz" else None, source, *piece))
     return requests, dropped
 
 
@@ -214,14 +245,16 @@ class MidiInput:
     name : str
         The port's name (see ``mido.get_input_names()``); with ``virtual``, the name of a virtual
         port this process opens for other programs to play into (where the platform allows).
+    kit : Kit, optional
+        Read every key the kit answers, on its piece (default: the snare's keys).
     """
 
-    def __init__(self, name, *, virtual=False, submit, report, clock):
+    def __init__(self, name, *, virtual=False, submit, report, clock, kit=None):
         try:
             import mido
         except ImportError:
             raise ImportError("MIDI input needs mido and python-rtmidi: pip install 'drumstroke[live]'") from None
-        self._submit, self._report, self._clock = submit, report, clock
+        self._submit, self._report, self._clock, self._kit = submit, report, clock, kit
         try:
             with _c_stderr_silenced():  # ALSA's library prints its own lines when there is no MIDI system
                 if not virtual:
@@ -240,7 +273,7 @@ class MidiInput:
         return self
 
     def _receive(self, message):
-        request = midi_request(message, self._clock.now())
+        request = midi_request(message, self._clock.now(), kit=self._kit)
         if isinstance(request, str):
             self._report(request)
         elif request is not None:

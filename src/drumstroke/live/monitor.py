@@ -55,6 +55,9 @@ class RobotMonitor:
         if not isinstance(control, Controller) or control.name not in live_controllers():
             raise ParameterError(f"a live robot's controller must be one of {', '.join(live_controllers())}, got "
                                  f"{getattr(control, 'name', control)!r}")
+        if performer.columns != performer.sticks:
+            raise ParameterError("a simulated robot plays sticks, one joint each; a kit's limbs have several "
+                                 "(--simulate-robot does not play --kit)")
         plant = Plant() if plant is None else plant
         if abs(plant.head - performer.head) > 1e-9:
             raise ParameterError(f"the plant's head ({plant.head:.6g} rad) is not the performer's stick's "

@@ -9,7 +9,11 @@ OSC (:class:`OscOutput`): for each setpoint, one message per stick,
 
 CSV (:class:`CsvOutput`): the header ``t,theta_<stick>,omega_<stick>,alpha_<stick>,...`` (as
 :func:`drumstroke.formats.trajectory_csv.column_names` names them), then a row per setpoint at full
-precision (17 significant digits), flushed as it is written.
+precision (17 significant digits), flushed as it is written. A kit's joints (``joints=True``) are named
+as a composed kit's CSV names them: ``t``, each ``LIMB.JOINT`` (rad), each ``LIMB.JOINT.velocity``
+(rad/s), then each ``LIMB.JOINT.acceleration`` (rad/s²).
+
+On a kit the OSC message's ``stick`` is the joint's column name (``right.yaw``).
 """
 
 import socket
@@ -62,9 +66,11 @@ class OscOutput:
 class CsvOutput:
     """Setpoints as CSV rows to a text stream (stdout by default): the header first, then a row per setpoint."""
 
-    def __init__(self, stream, sticks):
+    def __init__(self, stream, sticks, *, joints=False):
         self._stream = stream
-        self._names = column_names(sticks, alpha=True)
+        self._joints = joints
+        self._names = ["t", *sticks, *(f"{name}.{what}" for what in ("velocity", "acceleration") for name in sticks)] \
+            if joints else column_names(sticks, alpha=True)
         self._header = False
 
     def __call__(self, chunk):
@@ -72,8 +78,11 @@ class CsvOutput:
             self._stream.write(",".join(self._names) + "\n")
             self._header = True
         if len(chunk):
-            columns = [chunk.t[:, None]] + [np.stack([chunk.theta[:, j], chunk.omega[:, j], chunk.alpha[:, j]], axis=1)
-                                            for j in range(len(chunk.sticks))]
+            if self._joints:  # every angle, then every speed, then every acceleration
+                columns = [chunk.t[:, None], chunk.theta, chunk.omega, chunk.alpha]
+            else:  # each stick's angle, speed and acceleration together
+                columns = [chunk.t[:, None]] + [np.stack([chunk.theta[:, j], chunk.omega[:, j], chunk.alpha[:, j]],
+                                                         axis=1) for j in range(len(chunk.sticks))]
             rows = np.concatenate(columns, axis=1) + 0.0  # no negative zeros
             self._stream.write("".join(",".join(f"{v:.17g}" for v in row) + "\n" for row in rows))
         self._stream.flush()

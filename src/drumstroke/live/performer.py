@@ -40,7 +40,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .._checks import check_real
+from .._checks import check_real, shown
 from ..curve import Curve, Segment, placed
 from ..design import Design, Setup, Start, Unreachable, next_stroke
 from ..design.buzz import DENSITY, buzz_times
@@ -104,8 +104,9 @@ class ManualClock:
 class LiveNote:
     """A note as it arrived: when (s, the performer's clock), on which stick, how loud, when it is heard.
 
-    ``stick`` is the stick that plays it (the one chosen, for a note that named none); ``cut`` the
-    time from which the planner changed the motion for it (s).
+    ``stick`` is the stick that plays it (the one chosen, for a note that named none; on a kit, the
+    limb); ``cut`` the time from which the planner changed the motion for it (s); ``piece`` the kit's
+    piece it is played on and ``key`` the MIDI key it came as (None: the snare, no key).
     """
 
     arrived: float
@@ -115,6 +116,8 @@ class LiveNote:
     stroke: str = "auto"
     duration: float | None = None
     cut: float = math.nan
+    piece: str | None = None
+    key: int | None = None
 
 
 @dataclass(frozen=True)
@@ -123,7 +126,9 @@ class Outcome:
 
     ``impacts`` are the designed stroke's impacts on its notes, (t s, level dB) each; ``design`` is the
     :class:`~drumstroke.design.Design` itself in the outcome :meth:`Performer.note` returns, and None in
-    the performer's log (which a long session would otherwise fill with strokes).
+    the performer's log (which a long session would otherwise fill with strokes). ``move`` is a kit
+    hand's move to the note's piece (:class:`~drumstroke.live.kit.KitPerformer`): from and to which
+    piece, its start and end (s) and each joint's angles there (rad); None when the hand did not move.
     """
 
     note: LiveNote
@@ -132,13 +137,16 @@ class Outcome:
     design: object = None
     compute: float = 0.0
     impacts: tuple = ()
+    move: dict | None = None
 
     def to_dict(self):
-        """The outcome as plain values (a session log's row)."""
+        """The outcome as plain values (a session log's row; a kit's note adds its piece, key and move)."""
         note = self.note
         row = {"arrived": note.arrived, "stick": note.stick, "velocity": note.velocity, "at": note.at,
                "stroke": note.stroke, "duration": note.duration, "cut": note.cut, "planned": self.planned,
                "reason": self.reason, "compute": self.compute}
+        if note.piece is not None:
+            row |= {"piece": note.piece, "key": note.key, "move": self.move}
         if self.planned:
             row["impacts"] = [list(impact) for impact in self.impacts]
         return {key: (None if isinstance(value, float) and not math.isfinite(value) else value)
@@ -156,6 +164,7 @@ class Chunk:
     theta, omega, alpha : ndarray [shape=(n, sticks)]
         rad, rad/s, rad/s² (α is the flight acceleration dω/dt, impacts excluded).
     sticks : tuple of str
+        The columns' names: the sticks', or on a kit every joint's, ``LIMB.JOINT`` (``right.yaw``).
     """
 
     t: np.ndarray
@@ -261,7 +270,8 @@ class Performer:
 
     # --- notes in --------------------------------------------------------------------------------------------------
 
-    def note(self, stick, velocity, *, at=None, stroke="auto", duration=None, arrived=None, cut=None):
+    def note(self, stick, velocity, *, at=None, stroke="auto", duration=None, arrived=None, cut=None, piece=None,
+             key=None):
         """Plan a note heard at ``at`` (s, the clock; default arrival + latency) on ``stick``; return its :class:`Outcome`.
 
         Parameters
@@ -280,12 +290,17 @@ class Performer:
         cut : float, optional
             s: change the motion from this time (a replay gives the logged one); default arrival + guard,
             or the first setpoint not yet given if that is later.
+        piece : str, optional
+            The piece it is played on: this performer plays the snare (None or "snare"); a
+            :class:`~drumstroke.live.kit.KitPerformer` any of its kit's.
+        key : int in [0, 127], optional
+            The MIDI key it came as (recorded; on a kit, the hi-hat's key says open or closed).
         """
         started = time.perf_counter()
         arrived = self.clock.now() if arrived is None else check_real("arrived", arrived, low=-1e9, high=1e9, unit="s")
         if cut is not None:
             cut = check_real("cut", cut, low=-1e9, high=1e9, unit="s")
-        outcome = self._note(arrived, stick, velocity, at, stroke, duration, cut)
+        outcome = self._note(arrived, stick, velocity, at, stroke, duration, cut, piece, key)
         impacts = ()
         if outcome.design is not None:
             made, n = outcome.design, len(outcome.design.times)
@@ -295,12 +310,13 @@ class Performer:
             self.log.append(replace(outcome, design=None))
         return outcome
 
-    def _note(self, arrived, stick, velocity, at, stroke, duration, cut):
+    def _note(self, arrived, stick, velocity, at, stroke, duration, cut, piece, key):
         with self._lock:
             given = self._next / self.rate
         cut = max(arrived + self.guard, given) if cut is None else cut
         named = AUTO if stick is None else stick
-        note = LiveNote(arrived, named, velocity, arrived + self.latency if at is None else at, stroke, duration, cut)
+        note = LiveNote(arrived, named, velocity, arrived + self.latency if at is None else at, stroke, duration, cut,
+                        piece, key)
         reason = self._refusal(note)
         if reason:
             return Outcome(note, False, reason)
@@ -308,17 +324,17 @@ class Performer:
         if self.closed is not None:
             return Outcome(note, False, f"the performer closed at {self.closed:.6g} s")
         failure = None
-        for name in self._choices(named, note.at):
+        for name in self._choices(note):
             outcome = self._note_on(replace(note, stick=name))
             if outcome.planned:
                 return outcome
             failure = failure or outcome
         return failure
 
-    def _choices(self, named, at):
+    def _choices(self, note):
         """The sticks to try for a note: the one named, or every stick, the one free longest first."""
-        if named != AUTO:
-            return [named]
+        if note.stick != AUTO:
+            return [note.stick]
         return sorted(self.sticks, key=lambda name: (self._sticks[name].last_note, self.sticks.index(name)))
 
     def _note_on(self, note):
@@ -337,7 +353,7 @@ class Performer:
                                             f"at {last_note:.6g} s")
             began = time.perf_counter()
             try:
-                new, made = self._plan(motion, note)
+                new, made, move = self._plan(motion, note)
             except (Unreachable, ParameterError) as error:
                 return Outcome(note, False, str(error))
             took = time.perf_counter() - began
@@ -357,16 +373,22 @@ class Performer:
                 stick.motion = stick.motion.spliced(new)
                 stick.last_note = float(made.times[-1])
                 stick.version += 1
-            return Outcome(note, True, design=made)
+            return Outcome(note, True, design=made, move=move)
         return Outcome(note, False, "the stick's motion or the setpoints given kept changing while this note was "
                                     "planned")
 
     def _refusal(self, note):
         """Why a note cannot be taken as given (its values), or ''."""
         if not isinstance(note.stick, str) or (note.stick not in self._sticks and note.stick != AUTO):
-            return f"stick must be one of {', '.join(self.sticks + (AUTO,))}, got {note.stick!r}"
+            return f"stick must be one of {', '.join(self.sticks + (AUTO,))}, got {shown(note.stick)}"
         if note.stroke not in STROKES:
-            return f"stroke must be one of {', '.join(STROKES)}, got {note.stroke!r}"
+            return f"stroke must be one of {', '.join(STROKES)}, got {shown(note.stroke)}"
+        if note.key is not None and (isinstance(note.key, bool) or not isinstance(note.key, int)
+                                     or not 0 <= note.key <= 127):
+            return f"key must be a MIDI key, an integer in [0, 127], got {shown(note.key)}"
+        reason = self._piece_refusal(note)
+        if reason:
+            return reason
         for name, value, low, high in (("velocity", note.velocity, 1.0, 127.0), ("at", note.at, -1e9, 1e9),
                                        ("duration", note.duration, 0.0, 10.0)):
             if value is None and name == "duration":
@@ -380,30 +402,46 @@ class Performer:
             return f"heard at {note.at:.6g} s, too soon: the motion may change from {note.cut:.6g} s"
         return ""
 
+    def _piece_refusal(self, note):
+        """Why the note's piece is not this performer's (it plays the snare), or ''."""
+        if note.piece not in (None, "snare"):
+            return (f"piece must be snare: this performer plays the snare (drumstroke live --kit plays a kit's "
+                    f"pieces), got {shown(note.piece)}")
+        return ""
+
     def _plan(self, motion, note):
-        """The motion that plays ``note`` from its cut on (a Curve), and the design; raises Unreachable when none can."""
-        level = velocity_to_level(note.velocity)
-        if note.stroke == "buzz":
-            times = buzz_times(note.at, note.at + (note.duration or BUZZ), DENSITY)
-        else:
-            times = np.array([note.at])
-        levels = np.full(len(times), level)
+        """The motion that plays ``note`` from its cut on (a Curve), the design and the move to its piece (None);
+        raises Unreachable when none can."""
+        made, start, moves = self._stroke(note, self.setup, motion.last(Design), motion.state)
+        return _played(made, start, moves), made, None
+
+    def _stroke(self, note, setup, last, state):
+        """The stroke that plays ``note`` on ``setup``'s surface after the stroke segment ``last`` (or None), the
+        stick's θ and ω at a time being ``state(t)``: (design, when its motion starts (s), the moves before it)."""
+        times = self._times(note)
+        levels = np.full(len(times), velocity_to_level(note.velocity))
         cut, running = note.cut, None
-        last = motion.last(Design)
         if last is not None:
             made = last.source
             n = len(made.times)
             if made.impacts.t[n - 1] >= cut:  # its last planned impact is still to come: bounce on from it
-                running = Start(float(made.impacts.t[n - 1]), self.head, self.setup.cor * float(-made.impacts.omega[n - 1]))
+                running = Start(float(made.impacts.t[n - 1]), setup.head, setup.cor * float(-made.impacts.omega[n - 1]))
             else:
-                theta, omega = motion.state(cut)
+                theta, omega = state(cut)
                 if omega > 1e-9:  # its rebound still rises
                     running = Start(cut, theta, omega)
         free = max(cut, last.end if last is not None and math.isfinite(last.end) else cut)
-        theta, omega = motion.state(free)
-        made, moves = next_stroke(times, levels, self.setup, free=free, theta=theta, omega=omega, running=running)
+        theta, omega = state(free)
+        made, moves = next_stroke(times, levels, setup, free=free, theta=theta, omega=omega, running=running)
         start = running.t if running is not None and made.release <= running.t + 1e-9 else free
-        return _played(made, start, moves), made
+        return made, start, moves
+
+    @staticmethod
+    def _times(note):
+        """The impact times (s) a note asks for: one, or a buzz's bounces."""
+        if note.stroke == "buzz":
+            return buzz_times(note.at, note.at + (note.duration or BUZZ), DENSITY)
+        return np.array([note.at])
 
     # --- the end ---------------------------------------------------------------------------------------------------
 
@@ -420,17 +458,23 @@ class Performer:
             cut = max(self.clock.now() + self.guard, given) if cut is None else cut
             if self.closed is not None:
                 return self.done
-            for stick in self._sticks.values():
-                start = max(cut, stick.motion.segments[-1].start)
-                theta, omega = stick.motion.state(start)
-                target = (self.rest, 0.0)
-                window = return_time((theta, omega), target, self.head, self.limits)
-                moves = plan_return((theta, omega), target, window, self.head, self.limits) if window > 0 else []
-                if moves:
-                    home = Curve.sequence(moves, start)
-                    stick.motion = stick.motion.spliced(home).spliced(Segment.hold(self.rest, home.end))
+            for name, stick in self._sticks.items():
+                home = self._home(name, stick.motion, max(cut, stick.motion.segments[-1].start))
+                if home is not None:
+                    stick.motion = stick.motion.spliced(home)
             self.closed = cut  # last: a thread that sees it closed sees the moves to rest
             return self.done
+
+    def _home(self, stick, motion, start):
+        """The motion (a Curve) that takes ``stick`` from ``start`` (s, where it finished) to rest, or None if it is there."""
+        theta, omega = motion.state(start)
+        target = (self.rest, 0.0)
+        window = return_time((theta, omega), target, self.head, self.limits)
+        moves = plan_return((theta, omega), target, window, self.head, self.limits) if window > 0 else []
+        if not moves:
+            return None
+        home = Curve.sequence(moves, start)
+        return home.spliced(Segment.hold(self.rest, home.end))
 
     @property
     def done(self):
@@ -454,9 +498,26 @@ class Performer:
             for stick in self._sticks.values():  # what is given no longer changes: forget it
                 stick.motion = stick.motion.since(sent)
         t = k / self.rate
-        columns = [motion.evaluate(t) for motion in snapshot]
-        return Chunk(t, *(np.column_stack([c[i] for c in columns]) if len(t) else np.empty((0, len(self.sticks)))
-                          for i in range(3)), self.sticks)
+        columns = [motion.evaluate(t) for motion in snapshot]  # a kit's hand gives every joint of it at once
+        return Chunk(t, *(np.column_stack([c[i] for c in columns]) if len(t) else np.empty((0, len(self.columns)))
+                          for i in range(3)), self.columns)
+
+    @property
+    def columns(self):
+        """The setpoints' columns (a :class:`Chunk`'s ``sticks``): here the sticks' names."""
+        return self.sticks
+
+    def checks(self):
+        """Each column's (head, Limits) that its setpoints are validated against (rad; the runtime checks them)."""
+        return [(self.head, self.limits)] * len(self.sticks)
+
+    def options(self):
+        """The performer's options as plain values (a session's record; :func:`~drumstroke.live.replay_session`
+        makes the performer again from them)."""
+        forces = self.setup.forces
+        return {"model": self.model, "rate": self.rate, "latency": self.latency, "guard": self.guard,
+                "closest": self.closest, "sticks": list(self.sticks), "rest": self.rest, "cor": self.setup.cor,
+                "forces": {"low": forces.low, "high": forces.high}, "limits": self.limits.to_dict()}
 
     @property
     def sent(self):
@@ -479,7 +540,7 @@ class Performer:
             note = outcome.note
             clock.set(max(note.arrived, clock.now()))
             again = performer.note(note.stick, note.velocity, at=note.at, stroke=note.stroke, duration=note.duration,
-                                   cut=note.cut)
+                                   cut=note.cut, piece=note.piece, key=note.key)
             if not again.planned:
                 raise ParameterError(f"the log's note at {note.at:.6g} s on {note.stick} was planned in the session "
                                      f"but not in its replay: {again.reason} (a log of other options?)")

@@ -27,7 +27,7 @@ from datetime import UTC, datetime
 
 import numpy as np
 
-from .._checks import check_real
+from .._checks import check_real, shown
 from .._version import __version__
 from ..errors import DrumstrokeError, TrajectoryError
 from ..robot.validate import validate
@@ -129,7 +129,8 @@ class Runtime:
     def _plan(self, request):
         try:
             outcome = self.performer.note(request.stick, request.velocity, at=request.at, stroke=request.stroke,
-                                          duration=request.duration, arrived=request.arrived)
+                                          duration=request.duration, arrived=request.arrived, piece=request.piece,
+                                          key=request.key)
         except DrumstrokeError as error:  # e.g. a host's request that arrived at no time
             self.problem(f"{request.source}: dropped a note: {error}")
             return
@@ -138,8 +139,9 @@ class Runtime:
                          "please report it with the session's record)")
             return
         if not outcome.planned:
-            self.problem(f"{request.source}: dropped the note at {outcome.note.at:.6g} s on {request.stick}: "
-                         f"{outcome.reason}")
+            where = "" if request.piece is None else f" ({shown(request.piece)})"
+            self.problem(f"{request.source}: dropped the note at {outcome.note.at:.6g} s{where} on "
+                         f"{shown(request.stick)}: {outcome.reason}")
 
     def _planner(self):
         while not self._aborted.is_set():
@@ -266,7 +268,7 @@ class Runtime:
         performer, before = self.performer, self._tail
         self._tail = _join(before, fresh, keep=2) if before is not None else _part(fresh, max(len(fresh) - 2, 0),
                                                                                    len(fresh))
-        for j, stick in enumerate(performer.sticks):
+        for j, (stick, (head, limits)) in enumerate(zip(performer.columns, performer.checks())):
             t, theta, omega = fresh.t, fresh.theta[:, j], fresh.omega[:, j]
             if before is not None:
                 t, theta, omega = (np.concatenate((a, b)) for a, b in (
@@ -274,9 +276,10 @@ class Runtime:
             if len(t) < 2:
                 continue
             try:
-                validate(t, theta, omega, rate=performer.rate, head=performer.head, limits=performer.limits)
+                validate(t, theta, omega, rate=performer.rate, head=head, limits=limits)
             except TrajectoryError as error:
-                self.failure = f"the {stick} stick's setpoints from {fresh.t[0]:.6g} s failed validation: {error}"
+                what = "stick" if stick in performer.sticks else "joint"
+                self.failure = f"the {stick} {what}'s setpoints from {fresh.t[0]:.6g} s failed validation: {error}"
                 self.problem(self.failure + " (a bug: please report it with the session's record)")
                 raise LiveError(self.failure) from None
 
@@ -310,12 +313,9 @@ class Runtime:
     def session(self, **extra):
         """The session's record: the performer's options, every note and what became of it, problems, timing."""
         p = self.performer
-        forces = p.setup.forces
         record = {
             "drumstroke": __version__, "started": self.started, "clock": "s since the session started (monotonic)",
-            "model": p.model, "rate": p.rate, "latency": p.latency, "guard": p.guard, "closest": p.closest,
-            "sticks": list(p.sticks), "rest": p.rest, "cor": p.setup.cor,
-            "forces": {"low": forces.low, "high": forces.high}, "limits": p.limits.to_dict(),
+            **p.options(),
             "closed": p.closed, "done": p.done if p.closed is not None else None, "failure": self.failure,
             "sent": {"count": self.sent, "first": self.first, "last": self.last},
             "notes": [o.to_dict() for o in list(p.log)],
@@ -391,9 +391,17 @@ def replay_session(session, *, until=None):
         limits = Limits.from_dict(session["limits"])
         setup = Setup(model=session["model"], cor=session["cor"], forces=ForceRange(forces["low"], forces["high"]),
                       limits=limits, moves=limits)
-        options = {"sticks": tuple(session["sticks"]), "setup": setup, "rate": session["rate"],
-                   "latency": session["latency"], "guard": session["guard"], "closest": session["closest"],
-                   "rest": session["rest"]}
+        options = {"setup": setup, "rate": session["rate"], "latency": session["latency"], "guard": session["guard"],
+                   "closest": session["closest"], "rest": session["rest"]}
+        performer = Performer
+        if "kit" in session:  # drumstroke live --kit's
+            from ..kit.pieces import Kit
+            from .kit import KitPerformer
+
+            performer = KitPerformer
+            options |= {"kit": Kit.from_dict(session["kit"]), "lead": session["lead"]}
+        else:
+            options["sticks"] = tuple(session["sticks"])
         log = []
         for i, row in enumerate(session["notes"]):
             if not isinstance(row, dict) or not isinstance(row.get("planned"), bool):
@@ -401,12 +409,12 @@ def replay_session(session, *, until=None):
             if row["planned"]:
                 note = LiveNote(float(row["arrived"]), row["stick"], float(row["velocity"]), float(row["at"]),
                                 row["stroke"], None if row["duration"] is None else float(row["duration"]),
-                                float(row["cut"]))
+                                float(row["cut"]), row.get("piece"), row.get("key"))
                 log.append(Outcome(note, True))
         closed = session["closed"]
         end = session["sent"]["last"] if until is None else until
         if end is None:
             raise DrumstrokeError("it sent no setpoint: give until")
-        return Performer.replay(log, until=float(end), closed=None if closed is None else float(closed), **options)
+        return performer.replay(log, until=float(end), closed=None if closed is None else float(closed), **options)
     except (KeyError, TypeError, ValueError, AttributeError, DrumstrokeError) as error:
         raise DrumstrokeError(f"{where} is not a drumstroke live session's: {error}") from None

@@ -25,6 +25,8 @@ def perform(performer, *, osc_in=None, midi_in=None, midi_virtual=None, score=No
     Parameters
     ----------
     performer : Performer
+        A :class:`~drumstroke.live.kit.KitPerformer` plays a kit: MIDI is read with its kit's keys, a score's
+        notes on their pieces, the CSV names every joint.
     osc_in : (str, int), optional
         Host and port to listen on for OSC notes (port 0: any free one, told to ``listening``).
     midi_in, midi_virtual : str, optional
@@ -61,11 +63,12 @@ def perform(performer, *, osc_in=None, midi_in=None, midi_virtual=None, score=No
         if osc_out is not None:
             closers.append(OscOutput(*osc_out))
             runtime.outputs.append(closers[-1])
+        kit = getattr(performer, "kit", None)
         if csv is not None:
-            runtime.outputs.append(CsvOutput(csv, performer.sticks))
+            runtime.outputs.append(CsvOutput(csv, performer.columns, joints=kit is not None))
         requests = []
         if score is not None:
-            requests, dropped = score_requests(score, source="score", count_in=count_in)
+            requests, dropped = score_requests(score, source="score", count_in=count_in, kit=kit is not None)
             for line in dropped:
                 runtime.problem(line)
             runtime.schedule(requests)
@@ -75,9 +78,9 @@ def perform(performer, *, osc_in=None, midi_in=None, midi_virtual=None, score=No
             if listening is not None:
                 listening(inputs[-1].host, inputs[-1].port)
         if midi_in is not None:
-            inputs.append(MidiInput(midi_in, **options).start())
+            inputs.append(MidiInput(midi_in, kit=kit, **options).start())
         if midi_virtual is not None:
-            inputs.append(MidiInput(midi_virtual, virtual=True, **options).start())
+            inputs.append(MidiInput(midi_virtual, virtual=True, kit=kit, **options).start())
         if duration is None and score is not None and not inputs:
             duration = max((r.arrived for r in requests), default=count_in) + performer.latency + TAIL
         with _Interrupts(runtime) as interrupts:
