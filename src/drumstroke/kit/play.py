@@ -262,11 +262,8 @@ def play_hands(notes, kit, *, levels=None, velocities=None, setup=None, limbs=No
     assignment = limbs if isinstance(limbs, Assignment) else assign_limbs(notes, kit, given=limbs)
     notes = _checked(notes, kit, assignment)
     levels = _levels(levels, velocities, len(notes))
-    clearance = check_real("clearance", clearance, low=0.0, high=0.5, unit="rad")
-    surfaces = _surfaces(kit, setup, footprint)
-    hands = {hand: _Hand(hand, kit, setup, surfaces, clearance).play(
-                 [i for i, limb in enumerate(assignment.limbs) if limb == hand], notes, levels)
-             for hand in kit.hands}
+    hands = {hand: _Hand(arm).play([i for i, limb in enumerate(assignment.limbs) if limb == hand], notes, levels)
+             for hand, arm in arms(kit, setup, clearance=clearance, footprint=footprint).items()}
     played = {i: outcome for motion, outcomes in hands.values() for i, outcome in outcomes.items()}
     outcomes, feet = [], []
     for i, (note, limb) in enumerate(zip(notes, assignment.limbs)):
@@ -339,100 +336,57 @@ def _surfaces(kit, setup, footprint):
     return surfaces
 
 
-class _Hand:
-    """One hand's notes played: runs planned on their pieces, moves between them (see the module's docstring)."""
+class Arm:
+    """One hand's joints over the kit: where each piece puts them, and the moves between pieces that keep the stick
+    clear of the surfaces it passes over (see the module's docstring). Made by :func:`arms`.
+
+    Attributes
+    ----------
+    hand : str
+    joints : tuple of str
+        Its positioning joints in the kit's order, then :data:`THETA`.
+    limits : tuple of Limits
+        Each joint's: the kit's for the positioning joints; for θ the setup's moves, its range from the lowest
+        surface the hand plays.
+    surfaces : dict
+        Every piece a hand plays, by name: its place, its surface's θ_max (``head``, rad), its footprint's
+        half-width (rad of yaw) and the :class:`~drumstroke.design.Setup` it is played with (``setup``).
+    places : dict of str to ndarray
+        The positioning joints' angles (rad) at each of those pieces.
+    clearance : float
+        rad the stick stays above a surface it passes over.
+    """
 
     def __init__(self, hand, kit, setup, surfaces, clearance):
         self.hand, self.surfaces, self.clearance = hand, surfaces, clearance
-        self.joints = tuple(kit.limbs[hand])
-        self.yaw = self.joints.index(YAW)
+        positioning = tuple(kit.limbs[hand])
+        self.joints = positioning + (THETA,)
+        self.yaw = positioning.index(YAW)
+        self.places = {name: np.array([s.place[joint] for joint in positioning]) for name, s in surfaces.items()}
         mine = [s for s in surfaces.values() if hand in kit.piece(s.name).hands]
         # no surface it plays lies lower than the lowest of them
         theta = replace(setup.moves, theta_low=min((s.head for s in mine), default=setup.moves.theta_low))
-        self.limits = tuple(kit.limbs[hand][joint] for joint in self.joints) + (theta,)
-        self.segments, self.hits, self.designs = [], [], []
-        self.outcomes = {}
-        self.last = None  # (surface, Design, index of its segment): the hand's last stroke
+        self.limits = tuple(kit.limbs[hand][joint] for joint in positioning) + (theta,)
 
-    def play(self, indices, notes, levels):
-        """(HandMotion, {note index: Outcome}) of the notes ``indices`` of the part."""
-        self.notes, self.levels = notes, levels
-        for run in self.runs(sorted(indices, key=lambda i: notes[i].time)):
-            self.run(self.surfaces[notes[run[0]].piece], run)
-        curve, t_end = None, 0.0
-        if self.last is not None:
-            surface, stroke, _ = self.last
-            t_end = stroke.t_end
-            self.segments.append(Segment.hold(self.position(surface, _caught(stroke)), t_end))
-            curve = Curve(tuple(self.segments))
-        motion = HandMotion(self.hand, self.joints + (THETA,), curve, tuple(sorted(self.hits)),
-                            tuple(self.designs), self.limits, t_end)
-        return motion, self.outcomes
+    def __repr__(self):
+        return f"Arm({self.hand!r}, joints {self.joints})"
 
-    def runs(self, order):
-        """The notes in time order as runs on one piece; a note too close to the one before is left out."""
-        runs, last = [], None
-        for i in order:
-            note = self.notes[i]
-            if last is not None and note.time - self.notes[last].time < MIN_GAP:
-                self.leave_out(i, f"the {self.hand} hand plays note {last} {note.time - self.notes[last].time:.3g} "
-                                  f"s before it; its stick's notes must be at least {MIN_GAP:g} s apart")
-                continue
-            if runs and self.notes[runs[-1][-1]].piece == note.piece:
-                runs[-1].append(i)
-            else:
-                runs.append([i])
-            last = i
-        return runs
+    def position(self, piece, theta):
+        """Every joint's angle (rad) with the hand at ``piece``'s place (its name) and the stick at ``theta``."""
+        return np.append(self.places[piece], theta)
 
-    def run(self, surface, run):
-        """Plan one run on ``surface``, its first throw the planner's or, when the hand cannot get there in time,
-        a shorter one; when none gives the time, the first note is left out and the rest planned again."""
-        pending = list(run)
-        while pending:
-            targets = [Target(self.notes[i].time, self.levels[i], key=i) for i in pending]
-            attempt = None
-            for lead in LEADS if self.last is not None else (LEAD,):
-                plan = plan_stick(targets, setup=surface.setup, lead=lead)
-                if not plan.designs:
-                    if attempt is None:  # the planner's own throw plays none of them: its reasons
-                        self.report(plan.problems)
-                        return
-                    continue
-                moves, leave, need, available = self.arrive(surface, plan.designs[0])
-                if moves is not None:
-                    self.keep(surface, plan, moves, leave)
-                    return
-                attempt = (plan.keys[0][0], leave, need, available)
-            key, leave, need, available = attempt
-            nearest = self.notes[key].time + need - available if math.isfinite(need) else None
-            self.leave_out(key, self.too_slow(surface, leave, need, available), nearest)
-            pending.remove(key)
+    def on_place(self, piece, path):
+        """A path of θ (one joint) as a path of every joint, the positioning joints held at ``piece``'s place."""
+        place = self.places[piece]
 
-    def arrive(self, surface, first):
-        """The moves that take the hand from its last stroke to ``first``'s throw on ``surface`` (none for its
-        first stroke), when they leave (s), the time they need and the time there is (s); the moves None when no
-        departure fits.
+        def path_of_joints(t):
+            theta, omega = path(t)
+            shape = np.shape(theta) + place.shape
+            return (np.concatenate((np.broadcast_to(place, shape), np.asarray(theta)[..., None]), axis=-1),
+                    np.concatenate((np.zeros(shape), np.asarray(omega)[..., None]), axis=-1))
 
-        The hand leaves where its last stroke's stick is caught when the move fits from there; else earlier, on
-        the rise after the stroke's last impact (:func:`departures`): the move then takes the stick over from its
-        flight, at its angle and speed. Without a fit, the need and time reported are the departure's that came
-        closest."""
-        if self.last is None:
-            return [], 0.0, 0.0, math.inf
-        before, last, _ = self.last
-        target = self.position(surface, _thrown(first))
-        closest = None
-        for leave in departures(last):
-            theta, omega = last.state(np.array([leave]))
-            moves = self.crossing(self.position(before, float(theta[0])), target, float(omega[0]))
-            need = math.inf if moves is None else sum(move.duration for move in moves)
-            available = first.release - leave
-            if need <= available:
-                return moves, leave, need, available
-            if closest is None or need - available < closest[1] - closest[2]:
-                closest = (leave, need, available)
-        return (None, *closest)
+        return path_of_joints
+
 
     def crossing(self, start, target, speed=0.0):
         """The moves from ``start`` (every joint's angle, θ moving at ``speed`` rad/s, the others at rest) to
@@ -488,7 +442,7 @@ class _Hand:
         clear = np.ones(len(positions), bool)
         at_place = np.zeros(len(positions), bool)
         for surface in self.surfaces.values():
-            here = np.all(np.abs(positions[:, :-1] - self.position(surface, 0.0)[:-1]) <= _AT_PLACE, axis=1)
+            here = np.all(np.abs(positions[:, :-1] - self.places[surface.name]) <= _AT_PLACE, axis=1)
             clear &= ~here | (theta >= surface.head - 1e-12)
             at_place |= here
         for surface in self.surfaces.values():
@@ -496,11 +450,126 @@ class _Hand:
             clear &= ~over | (theta >= surface.head + self.clearance - 1e-12)
         return clear
 
+
+def arms(kit, setup=None, *, clearance=CLEARANCE, footprint=FOOTPRINT):
+    """Each of ``kit``'s hands as an :class:`Arm`, by name.
+
+    Parameters
+    ----------
+    kit : Kit
+    setup : Setup, optional
+        What the sticks are played with; each piece's :meth:`~drumstroke.kit.pieces.Piece.setup` sets its h and c.
+        Default ``Setup()``.
+    clearance : float in [0, 0.5]
+        rad the stick stays above each surface it passes over (θ ≥ θ_max + clearance).
+    footprint : float in [0, 1] or dict of str to float
+        rad of yaw either side of a piece's place over which the stick is above it; one for every piece or one per
+        piece name (the pieces not named: :data:`FOOTPRINT`).
+    """
+    if not isinstance(kit, Kit):
+        raise ParameterError(f"kit must be a drumstroke.kit.pieces.Kit, got {shown(kit)}")
+    setup = Setup() if setup is None else setup
+    if not isinstance(setup, Setup):
+        raise ParameterError(f"setup must be a drumstroke.design.Setup, got {shown(setup)}")
+    clearance = check_real("clearance", clearance, low=0.0, high=0.5, unit="rad")
+    surfaces = _surfaces(kit, setup, footprint)
+    return {hand: Arm(hand, kit, setup, surfaces, clearance) for hand in kit.hands}
+
+
+class _Hand:
+    """One hand's notes played: runs planned on their pieces, moves between them (see the module's docstring)."""
+
+    def __init__(self, arm):
+        self.arm, self.hand = arm, arm.hand
+        self.segments, self.hits, self.designs = [], [], []
+        self.outcomes = {}
+        self.last = None  # (surface, Design, index of its segment): the hand's last stroke
+
+    def play(self, indices, notes, levels):
+        """(HandMotion, {note index: Outcome}) of the notes ``indices`` of the part."""
+        self.notes, self.levels = notes, levels
+        for run in self.runs(sorted(indices, key=lambda i: notes[i].time)):
+            self.run(self.arm.surfaces[notes[run[0]].piece], run)
+        curve, t_end = None, 0.0
+        if self.last is not None:
+            surface, stroke, _ = self.last
+            t_end = stroke.t_end
+            self.segments.append(Segment.hold(self.arm.position(surface.name, _caught(stroke)), t_end))
+            curve = Curve(tuple(self.segments))
+        motion = HandMotion(self.hand, self.arm.joints, curve, tuple(sorted(self.hits)),
+                            tuple(self.designs), self.arm.limits, t_end)
+        return motion, self.outcomes
+
+    def runs(self, order):
+        """The notes in time order as runs on one piece; a note too close to the one before is left out."""
+        runs, last = [], None
+        for i in order:
+            note = self.notes[i]
+            if last is not None and note.time - self.notes[last].time < MIN_GAP:
+                self.leave_out(i, f"the {self.hand} hand plays note {last} {note.time - self.notes[last].time:.3g} "
+                                  f"s before it; its stick's notes must be at least {MIN_GAP:g} s apart")
+                continue
+            if runs and self.notes[runs[-1][-1]].piece == note.piece:
+                runs[-1].append(i)
+            else:
+                runs.append([i])
+            last = i
+        return runs
+
+    def run(self, surface, run):
+        """Plan one run on ``surface``, its first throw the planner's or, when the hand cannot get there in time,
+        a shorter one; when none gives the time, the first note is left out and the rest planned again."""
+        pending = list(run)
+        while pending:
+            targets = [Target(self.notes[i].time, self.levels[i], key=i) for i in pending]
+            attempt = None
+            for lead in LEADS if self.last is not None else (LEAD,):
+                plan = plan_stick(targets, setup=surface.setup, lead=lead)
+                if not plan.designs:
+                    if attempt is None:  # the planner's own throw plays none of them: its reasons
+                        self.report(plan.problems)
+                        return
+                    continue
+                moves, leave, need, available = self.arrive(surface, plan.designs[0])
+                if moves is not None:
+                    self.keep(surface, plan, moves, leave)
+                    return
+                attempt = (plan.keys[0][0], leave, need, available)
+            key, leave, need, available = attempt
+            nearest = self.notes[key].time + need - available if math.isfinite(need) else None
+            self.leave_out(key, self.too_slow(surface, leave, need, available), nearest)
+            pending.remove(key)
+
+    def arrive(self, surface, first):
+        """The moves that take the hand from its last stroke to ``first``'s throw on ``surface`` (none for its
+        first stroke), when they leave (s), the time they need and the time there is (s); the moves None when no
+        departure fits.
+
+        The hand leaves where its last stroke's stick is caught when the move fits from there; else earlier, on
+        the rise after the stroke's last impact (:func:`departures`): the move then takes the stick over from its
+        flight, at its angle and speed. Without a fit, the need and time reported are the departure's that came
+        closest."""
+        if self.last is None:
+            return [], 0.0, 0.0, math.inf
+        before, last, _ = self.last
+        target = self.arm.position(surface.name, _thrown(first))
+        closest = None
+        for leave in departures(last):
+            theta, omega = last.state(np.array([leave]))
+            moves = self.arm.crossing(self.arm.position(before.name, float(theta[0])), target, float(omega[0]))
+            need = math.inf if moves is None else sum(move.duration for move in moves)
+            available = first.release - leave
+            if need <= available:
+                return moves, leave, need, available
+            if closest is None or need - available < closest[1] - closest[2]:
+                closest = (leave, need, available)
+        return (None, *closest)
+
     def keep(self, surface, plan, moves, leave):
         """Add the run's strokes (the first after ``moves``, which leave at ``leave`` s) and the planner's moves
         between them."""
         designs, made = plan.designs, plan.designs[0]
-        held = self.position(surface, _thrown(made))
+        held = self.arm.position(surface.name, _thrown(made))
         if self.last is None:
             self.segments.append(Segment.hold(held, min(0.0, made.release), made.release))
         else:
@@ -522,12 +591,12 @@ class _Hand:
                             surface.head, surface.setup.moves)
         if moves is None:  # the planner fitted this move when it made the strokes
             raise RuntimeError(f"no move from {theta:.6g} rad to the stroke at {after.release:.6g} s")
-        self.segments += placed([(d, self.on_place(surface, path)) for d, path in moves], before.t_end)
+        self.segments += placed([(d, self.arm.on_place(surface.name, path)) for d, path in moves], before.t_end)
 
     def stroke(self, surface, made, keys):
         """One designed stroke on ``surface``: its segment, its impacts, its notes' outcomes."""
         stroke = made.stroke
-        self.segments.append(Segment(made.release, made.t_end, self.on_place(surface, stroke.arcs.evaluate),
+        self.segments.append(Segment(made.release, made.t_end, self.arm.on_place(surface.name, stroke.arcs.evaluate),
                                      made.release, stroke.impacts.t, made))
         self.designs.append((surface.name, made))
         impacts = made.impacts
@@ -551,28 +620,11 @@ class _Hand:
         """Why the hand cannot reach ``surface`` in time (leaving at ``leave`` s, its closest try)."""
         where = f"from {self.last[0].name!r} to {surface.name!r}"
         if not math.isfinite(need):
-            return (f"no move of the {self.hand} hand {where} keeps the stick {self.clearance:g} rad above the "
+            return (f"no move of the {self.hand} hand {where} keeps the stick {self.arm.clearance:g} rad above the "
                     f"surfaces it passes within the joints' ranges")
         return (f"the {self.hand} hand's move {where} needs {need:.4g} s, {available:.4g} s available (leaving at "
                 f"{leave:.6g} s, its stick's last impact at {self.last[1].impacts.t[-1]:.6g} s, the throw onto the "
                 f"note released at {leave + available:.6g} s)")
-
-    def position(self, surface, theta):
-        """Every joint's angle (rad) with the hand at ``surface``'s place and the stick at ``theta``."""
-        return np.array([surface.place[joint] for joint in self.joints] + [theta])
-
-    def on_place(self, surface, path):
-        """A path of θ (one joint) as a path of every joint, the positioning joints held at ``surface``'s place."""
-        place = np.array([surface.place[joint] for joint in self.joints])
-
-        def path_of_joints(t):
-            theta, omega = path(t)
-            shape = np.shape(theta) + place.shape
-            return (np.concatenate((np.broadcast_to(place, shape), np.asarray(theta)[..., None]), axis=-1),
-                    np.concatenate((np.zeros(shape), np.asarray(omega)[..., None]), axis=-1))
-
-        return path_of_joints
-
 
 def _caught(made):
     """θ (rad) where a designed stroke's stick is caught, at rest, at its end."""

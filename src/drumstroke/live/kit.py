@@ -20,9 +20,9 @@ A hand's note is planned as the stick performer plans one, on its piece's own
 c), when the hand is over that piece. On another piece the hand moves first: from where its stick was
 caught, all its joints together, to the piece's place and the height of a throw onto the note, in one
 time-optimal jerk-limited synchronised move (:func:`~drumstroke.palette.motion.synchronised_move`,
-within the kit's joints' limits), or, when that would pass too low over a surface on the way, three
-(the stick raised ``clearance`` rad above every surface whose footprint the yaw sweeps, moved across,
-lowered); the throws tried are the planner's (:data:`~drumstroke.design.planner.LEADS`, longest first).
+within the kit's joints' limits), or, when that would pass too low over a surface on the way, two or
+three (the stick raised ``clearance`` rad above every surface whose footprint the yaw sweeps, moved
+across, lowered), as the offline kit moves (:meth:`~drumstroke.kit.play.Arm.crossing`); the throws tried are the planner's (:data:`~drumstroke.design.planner.LEADS`, longest first).
 A note no move reaches in time is dropped with what the move needs and the time there is: the motion
 never jumps. A foot's note is a press from rest (:func:`~drumstroke.kit.pedal.design_pedal`), once its
 beater is back at rest after its last note.
@@ -40,7 +40,6 @@ Examples
 "piece must be one of the kit's pieces (snare, kick, hihat, tom1, tom2, floor-tom, ride, ride-bell, crash), got 'tabla'"
 """
 
-import itertools
 import math
 from dataclasses import dataclass, replace
 from typing import NamedTuple
@@ -57,8 +56,8 @@ from ..errors import ParameterError
 from ..kit.limbs import move_time
 from ..kit.pedal import design_pedal
 from ..kit.pieces import FEET, PEDAL_STATE, YAW, Kit, default_kit
-from ..kit.play import CLEARANCE, FOOTPRINT, THETA, kit_pedals
-from ..palette.motion import Limits, plan_return, return_time, synchronised_move
+from ..kit.play import CLEARANCE, FOOTPRINT, THETA, arms, kit_pedals
+from ..palette.motion import Limits, plan_return, return_time
 from ..trajectory import DEFAULT_RATE
 from .performer import _WARM, AUTO, CLOSEST, GUARD, LATENCY, ManualClock, Performer, _played, _Stick
 
@@ -97,22 +96,21 @@ class KitPerformer(Performer):
                          rest=rest, closest=closest, clock=clock)
         self.kit = kit
         self.lead = check_choice("lead", lead, kit.hands)
-        self.clearance = check_real("clearance", clearance, low=0.0, high=0.5, unit="rad")
-        self.footprint = check_real("footprint", footprint, low=0.0, high=1.0, unit="rad")
+        self._arms = arms(kit, self.setup, clearance=clearance,
+                          footprint=check_real("footprint", footprint, low=0.0, high=1.0, unit="rad"))
+        self.clearance, self.footprint = self._arms[kit.hands[0]].clearance, footprint
         self.pedals = {foot: pedals[name] for foot, name in feet.items()}
-        self._setups = {p.name: p.setup(self.setup) for p in kit.pieces if p.hands}
+        self._setups = {name: surface.setup for name, surface in self._arms[kit.hands[0]].surfaces.items()}
         highest = max(s.head for s in self._setups.values()) + self.clearance
         if self.rest < highest:
             raise ParameterError(f"rest must be at least {highest:.6g} rad on this kit: {self.clearance:g} rad above "
                                  f"its highest surface, got {self.rest!r}")
-        self._joints = {hand: tuple(kit.limbs[hand]) for hand in kit.hands}
-        self._places = {hand: {p.name: np.array([p.place[j] for j in self._joints[hand]])
-                               for p in kit.pieces if hand in p.hands} for hand in kit.hands}
-        self._limits = {}
-        for hand in kit.hands:  # θ's range starts at the lowest surface the hand plays
-            lowest = min(self._setups[name].head for name in self._places[hand])
-            self._limits[hand] = tuple(kit.limbs[hand][j] for j in self._joints[hand]) + (
-                replace(self.limits, theta_low=lowest),)
+        self._joints = {hand: arm.joints[:-1] for hand, arm in self._arms.items()}
+        self._places = {hand: {name: place for name, place in arm.places.items() if hand in kit.piece(name).hands}
+                        for hand, arm in self._arms.items()}
+        # what the setpoints are checked against: the kit's joints, θ's range from the lowest surface the hand plays
+        self._limits = {hand: arm.limits[:-1] + (replace(self.limits, theta_low=arm.limits[-1].theta_low),)
+                        for hand, arm in self._arms.items()}
         self._sticks = {hand: _Stick(Curve.hold(self._position(hand, self._start(hand), self.rest)))
                         for hand in kit.hands}
         self._sticks |= {foot: _Stick(Curve.hold(-pedal.phi_rest)) for foot, pedal in self.pedals.items()}
@@ -270,32 +268,10 @@ class KitPerformer(Performer):
         raise Unreachable(slow, note=0) if slow else failure
 
     def _crossing(self, hand, start, target):
-        """The moves from ``start`` to ``target`` (every joint's angle, at rest) that keep the stick clear, and their
-        time (s): the direct synchronised move, else raise, across, lower; ([], inf) when none does."""
-        limits = self._limits[hand]
-        yaw = self._joints[hand].index(YAW)
-        over = self._over(hand, start[yaw], target[yaw])
-        direct = synchronised_move(start, target, limits) if over <= limits[-1].theta_high else None
-        if direct is not None and _lowest(direct) >= over - 1e-12:
-            return [direct], direct.duration
-        if over > limits[-1].theta_high:
-            return [], math.inf
-        stops = [start, _with_theta(start, max(start[-1], over)), _with_theta(target, max(target[-1], over)), target]
-        moves = []
-        for a, b in itertools.pairwise(stops):
-            if not np.array_equal(a, b):
-                moves.append(synchronised_move(a, b, limits))
-                if moves[-1] is None:
-                    return [], math.inf
-        return moves, sum(move.duration for move in moves)
-
-    def _over(self, hand, a, b):
-        """θ (rad) ``clearance`` above every surface ``hand`` plays whose footprint the yaw sweeps from ``a`` to ``b``."""
-        low, high = min(a, b), max(a, b)
-        heads = [self._setups[name].head for name in self._places[hand]
-                 if self.kit.piece(name).place[YAW] + self.footprint >= low
-                 and self.kit.piece(name).place[YAW] - self.footprint <= high]
-        return max(heads) + self.clearance
+        """The moves from ``start`` to ``target`` (every joint's angle, at rest) that keep the stick clear
+        (:meth:`~drumstroke.kit.play.Arm.crossing`), and their time (s); ([], inf) when none does."""
+        moves = self._arms[hand].crossing(start, target)
+        return ([], math.inf) if moves is None else (moves, sum(move.duration for move in moves))
 
     def _too_slow(self, hand, here, piece, need, available, free):
         where = f"from {here!r} to {piece!r}"
@@ -342,21 +318,12 @@ class KitPerformer(Performer):
 
     def _position(self, hand, piece, theta):
         """Every joint's angle (rad): ``hand`` at ``piece``'s place, its stick at ``theta``."""
-        return np.append(self._places[hand][piece], theta)
+        return self._arms[hand].position(piece, theta)
 
     def _over_piece(self, hand, piece, curve):
         """A curve of θ as a curve of every joint of ``hand``, its positioning joints held at ``piece``'s place."""
-        place = self._places[hand][piece]
-
-        def joints(path):
-            def every(t):
-                theta, omega = (np.asarray(x) for x in path(t))
-                shape = theta.shape + place.shape
-                return (np.concatenate((np.broadcast_to(place, shape), theta[..., None]), axis=-1),
-                        np.concatenate((np.zeros(shape), omega[..., None]), axis=-1))
-            return every
-
-        return Curve(tuple(Segment(s.start, s.end, joints(s.path), s.offset, s.impacts, s.source, s.still)
+        arm = self._arms[hand]
+        return Curve(tuple(Segment(s.start, s.end, arm.on_place(piece, s.path), s.offset, s.impacts, s.source, s.still)
                            for s in curve.segments))
 
 
@@ -394,13 +361,3 @@ def _theta_state(motion):
         positions, velocities = motion.state(t)
         return float(positions[-1]), float(velocities[-1])
     return state
-
-
-def _lowest(move):
-    """The stick's lowest θ (rad) over a synchronised move (its last joint; at its ends and its joints' turns)."""
-    t = np.concatenate(([0.0, move.duration], move.turns))
-    return float(move.path(t)[0][:, -1].min())
-
-
-def _with_theta(position, theta):
-    return np.append(position[:-1], theta)

@@ -78,9 +78,9 @@ def write_kit_midi(path, hits, *, limbs=None, tempo_map=None, title="drumstroke 
         than velocity 1's level are left out, those of one track on one tick and key merge into the louder).
     """
     hits = hits if isinstance(hits, KitHits) else KitHits.from_rows(hits)
-    if limbs is not None:
-        if isinstance(limbs, (str, bytes)) or len(limbs) != len(hits) or not all(isinstance(x, str) for x in limbs):
-            raise ParameterError(f"limbs must name the limb of each of the {len(hits)} hits, got {shown(limbs)}")
+    if limbs is not None and (isinstance(limbs, (str, bytes)) or len(limbs) != len(hits)
+                              or not all(isinstance(x, str) for x in limbs)):
+        raise ParameterError(f"limbs must name the limb of each of the {len(hits)} hits, got {shown(limbs)}")
     with np.errstate(divide="ignore"):
         levels = 20.0 * np.log10(hits.speed / LEVEL_REFERENCE)
     groups = np.array(hits.piece if limbs is None else list(limbs), dtype=object)
