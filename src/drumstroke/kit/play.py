@@ -254,16 +254,12 @@ def play_hands(notes, kit, *, levels=None, velocities=None, setup=None, limbs=No
     -------
     HandsPerformance
     """
-    if not isinstance(kit, Kit):
-        raise ParameterError(f"kit must be a drumstroke.kit.pieces.Kit, got {shown(kit)}")
-    setup = Setup() if setup is None else setup
-    if not isinstance(setup, Setup):
-        raise ParameterError(f"setup must be a drumstroke.design.Setup, got {shown(setup)}")
+    hand_arms = arms(kit, setup, clearance=clearance, footprint=footprint)  # kit, setup and the moves' options checked
     assignment = limbs if isinstance(limbs, Assignment) else assign_limbs(notes, kit, given=limbs)
     notes = _checked(notes, kit, assignment)
     levels = _levels(levels, velocities, len(notes))
     hands = {hand: _Hand(arm).play([i for i, limb in enumerate(assignment.limbs) if limb == hand], notes, levels)
-             for hand, arm in arms(kit, setup, clearance=clearance, footprint=footprint).items()}
+             for hand, arm in hand_arms.items()}
     played = {i: outcome for motion, outcomes in hands.values() for i, outcome in outcomes.items()}
     outcomes, feet = [], []
     for i, (note, limb) in enumerate(zip(notes, assignment.limbs)):
