@@ -12,6 +12,7 @@ from drumstroke.errors import ParameterError
 from drumstroke.formats.toml import write_toml
 from drumstroke.kit.pieces import DEFAULT_KIT, Kit, Piece, default_kit, read_kit, write_kit
 from drumstroke.model import Stick
+from drumstroke.stroke import simulate
 
 KIT = default_kit()
 DATA = tomllib.loads(DEFAULT_KIT.read_text(encoding="utf-8"))
@@ -67,6 +68,42 @@ def test_each_pieces_setup_meets_it_at_minus_asin_h_over_x(name):
     assert setup.moves.theta_low == setup.head and setup.moves.max_speed == base.moves.max_speed
 
 
+@pytest.mark.parametrize("state", ["closed", "half", "open"])
+def test_a_stick_dropped_on_each_hi_hat_state_bounces_with_that_states_c(state):
+    """Each state's c and h as the file gives them (the closed hat's at the piece's level), and a stick let fall
+    on that state's Setup, gravity alone, rebounds at c times its landing speed: the exact solver's flights are
+    conservative, so the second landing's speed over the first's is c."""
+    table = DATA["pieces"]["hihat"]
+    given = table["states"][state]
+    c, h = given.get("cor", table["cor"]), given.get("height", table["height"])
+    setup = KIT.piece("hihat").setup(Setup(), state=state)
+    assert (setup.cor, setup.stick.pivot_height) == (c, h)
+    assert setup.head == pytest.approx(-math.asin(h / 0.27), rel=0, abs=1e-15) == setup.limits.theta_low
+    stroke = simulate(theta0=0.3, omega0=0.0, t_end=1.0, cor=setup.cor, stick=setup.stick, model=setup.model)
+    first, second = stroke.impacts.omega[:2]
+    assert second / first == pytest.approx(c, rel=1e-9)
+    landed = stroke.state(stroke.impacts.t[:1])[0]
+    assert landed[0] == pytest.approx(setup.head, rel=0, abs=1e-12)  # on this state's surface
+
+
+def test_the_hi_hat_gives_back_less_the_looser_its_plates_and_rises_as_it_opens():
+    hihat = KIT.piece("hihat")
+    closed, half, opened = (hihat.surface(state) for state in ("closed", "half", "open"))
+    assert closed.cor > half.cor > opened.cor > KIT.piece("crash").cor  # still held at its centre by the clutch
+    assert closed.height > half.height > opened.height  # the top plate nearer the fulcrum
+    assert hihat.surface() == closed and hihat.setup(Setup()) == hihat.setup(Setup(), state="closed")
+
+
+def test_a_state_is_asked_of_a_piece_that_has_it():
+    with pytest.raises(ParameterError, match=r"state must be None or one of the states a hand plays on "
+                                             r"pieces\.hihat \(closed, half, open\), got 'pedal'"):
+        KIT.piece("hihat").setup(Setup(), state="pedal")
+    with pytest.raises(ParameterError, match=r"pieces\.snare \(none: it has no states\), got 'open'"):
+        KIT.piece("snare").setup(Setup(), state="open")
+    with pytest.raises(ParameterError, match=r"pieces\.kick is played by right-foot, not by a stick"):
+        KIT.piece("kick").setup(Setup(), state="closed")
+
+
 def test_the_snare_is_the_papers_stick_and_head():
     setup = KIT.piece("snare").setup(Setup())
     assert setup.head == Stick().theta_max and setup.cor == Setup().cor
@@ -101,6 +138,39 @@ def test_the_default_kit_round_trips_through_toml(tmp_path):
     again = read_kit(path)
     assert again == KIT
     assert tomllib.loads(path.read_text(encoding="utf-8")) == KIT.to_dict()
+
+
+def test_a_kit_file_of_the_older_form_reads_with_the_pieces_c_and_h_in_every_state(tmp_path):
+    """A kit written before the hi-hat's states had their own c and h (``keys = {closed = 42, ...}``) reads as it
+    did: each state the piece's c and h; written again, it is in the states' form, and reads back the same."""
+    data = copy.deepcopy(DATA)
+    hihat = data["pieces"]["hihat"]
+    hihat.pop("states")
+    hihat["keys"] = {"closed": 42, "open": 46, "pedal": 44}
+    old = tmp_path / "old.toml"
+    write_toml(old, data)
+    piece = read_kit(old).piece("hihat")
+    assert piece.keys == (42, 46, 44) and piece.states == {42: "closed", 46: "open", 44: "pedal"}
+    assert dict(piece.surfaces) == {"closed": (0.55, 0.05), "open": (0.55, 0.05)}
+    again = tmp_path / "again.toml"
+    write_kit(again, read_kit(old))
+    assert tomllib.loads(again.read_text(encoding="utf-8"))["pieces"]["hihat"]["states"] == {
+        "closed": {"keys": 42}, "open": {"keys": 46}, "pedal": {"keys": 44}}
+    assert read_kit(again) == read_kit(old)
+
+
+def test_a_hi_hat_with_a_state_of_several_keys_and_its_own_numbers_round_trips(tmp_path):
+    data = copy.deepcopy(DATA)
+    data["pieces"]["hihat"]["states"] = {"open": {"keys": [46, 26], "cor": 0.3}, "closed": {"keys": [42, 22]},
+                                         "pedal": {"keys": 44}}
+    path = tmp_path / "kit.toml"
+    write_toml(path, data)
+    kit = read_kit(path)
+    hihat = kit.piece("hihat")
+    assert hihat.keys == (46, 26, 42, 22, 44) and hihat.state(26) == "open" and hihat.state(22) == "closed"
+    assert hihat.surfaces == {"closed": (0.55, 0.05), "open": (0.3, 0.05)}
+    write_kit(tmp_path / "again.toml", kit)
+    assert read_kit(tmp_path / "again.toml") == kit
 
 
 def bad_kit(tmp_path, change):
@@ -172,6 +242,39 @@ BAD = {
                             r"limbs\.right-foot\.joints must be empty"),
     "hands without a yaw": (lambda d: d["limbs"]["left"]["joints"].pop("yaw"), r"limbs\.left\.joints\.yaw is missing"),
     "no pieces": (lambda d: d.pop("pieces"), r"pieces is missing"),
+    "a state's c of 1": (lambda d: _set(d["pieces"]["hihat"]["states"]["open"], "cor", 1.0),
+                         r"pieces\.hihat\.states\.open\.cor must be in \[0, 1\), got 1\.0"),
+    "a state's c below 0": (lambda d: _set(d["pieces"]["hihat"]["states"]["half"], "cor", -0.2),
+                            r"pieces\.hihat\.states\.half\.cor must be in \[0, 1\)"),
+    "a state's h at x": (lambda d: _set(d["pieces"]["hihat"]["states"]["open"], "height", 0.27),
+                         r"pieces\.hihat\.states\.open\.height must be in \(0, 0\.27\) m"),
+    "a state's h of 0": (lambda d: _set(d["pieces"]["hihat"]["states"]["open"], "height", 0.0),
+                         r"pieces\.hihat\.states\.open\.height must be in \(0, 10\) m"),
+    "the pedal state with a c": (lambda d: _set(d["pieces"]["hihat"]["states"]["pedal"], "cor", 0.5),
+                                 r"pieces\.hihat\.states\.pedal\.cor: the pedal state is the foot's"),
+    "an unknown state's table": (lambda d: _set(d["pieces"]["hihat"]["states"], "loose", {"keys": 26}),
+                                 r"pieces\.hihat\.states must be one of 'closed', 'half', 'open', 'pedal', got 'loose'"),
+    "a state without keys": (lambda d: d["pieces"]["hihat"]["states"]["half"].pop("keys"),
+                             r"pieces\.hihat\.states\.half\.keys is missing"),
+    "a state's unknown field": (lambda d: _set(d["pieces"]["hihat"]["states"]["open"], "gap", 0.01),
+                                r"pieces\.hihat\.states\.open has unknown key 'gap'"),
+    "a key in two states": (lambda d: _set(d["pieces"]["hihat"]["states"]["open"], "keys", [46, 42]),
+                            r"pieces\.hihat\.states names a key twice"),
+    "a state's key on another piece": (lambda d: _set(d["pieces"]["hihat"]["states"]["half"], "keys", 38),
+                                       r"pieces\.hihat\.keys: key 38 is also pieces\.snare's"),
+    "keys and states both": (lambda d: _set(d["pieces"]["hihat"], "keys", [42]),
+                             r"pieces\.hihat\.keys: a hi-hat with \[pieces\.hihat\.states\.STATE\] tables gives its keys"),
+    "states on a drum": (lambda d: d["pieces"]["snare"].pop("keys") and
+                         _set(d["pieces"]["snare"], "states", {"closed": {"keys": 38}}),
+                         r"pieces\.snare\.keys: only a hi-hat's keys have states"),
+    "a place that is not a number": (lambda d: _set(d["pieces"]["snare"]["place"], "yaw", math.nan),
+                                     r"pieces\.snare\.place\.yaw must be a finite number in"),
+    "an infinite c": (lambda d: _set(d["pieces"]["tom1"], "cor", math.inf),
+                      r"pieces\.tom1\.cor must be a finite number in \[0, 1\), got inf"),
+    "a state's h that is not a number": (lambda d: _set(d["pieces"]["hihat"]["states"]["open"], "height", math.nan),
+                                         r"pieces\.hihat\.states\.open\.height must be a finite number"),
+    "an infinite joint limit": (lambda d: _set(d["limbs"]["right"]["joints"]["lift"], "theta_high", math.inf),
+                                r"limbs\.right\.joints\.lift\.theta_high must be a finite number"),
 }
 
 
@@ -182,6 +285,13 @@ def test_a_bad_kit_is_one_error_naming_the_file_the_piece_and_the_field(case, tm
     with pytest.raises(ParameterError, match=rf"^kit '{path}': {message}") as error:
         read_kit(path)
     assert str(error.value).count("\n") == 0
+
+
+def test_a_byte_order_mark_before_the_kit_is_read_past(tmp_path):
+    """A Windows editor may start a UTF-8 file with a byte-order mark: the kit reads as without it."""
+    path = tmp_path / "kit.toml"
+    path.write_bytes(b"\xef\xbb\xbf" + DEFAULT_KIT.read_bytes())
+    assert read_kit(path) == KIT
 
 
 def test_a_file_that_is_not_toml_is_named(tmp_path):
