@@ -3,10 +3,13 @@ head angle from its h, is laid out as drummers set up; a bad kit file is one err
 
 import copy
 import math
+import re
 import tomllib
 
+import mido
 import pytest
 
+from _cli import assert_one_line_error, run_process
 from drumstroke.design import Setup
 from drumstroke.errors import ParameterError
 from drumstroke.formats.toml import write_toml
@@ -332,3 +335,60 @@ def test_the_docs_example_kit_is_a_kit(tmp_path):
     assert kit.limbs == KIT.limbs and kit.stick == KIT.stick
     for piece in kit.pieces:
         assert piece == KIT.piece(piece.name)
+
+
+CLI_BAD = ["out of reach", "two in one place", "a key on two pieces", "c above 1", "c below 0", "h at x", "h of 0",
+           "a state's h at x", "a state's c of 1", "unknown limb", "a limb the kit lacks", "a place that is not a number",
+           "an infinite c"]
+"""The bad kits a person is likeliest to write, each as the command sees it."""
+
+
+def small_song(path):
+    """A MIDI file of four drum notes on channel 10 (kick, snare, closed and open hi-hat), 0.25 s apart."""
+    track = mido.MidiTrack()
+    for key in (36, 38, 42, 46):
+        track += [mido.Message("note_on", channel=9, note=key, velocity=100, time=0),
+                  mido.Message("note_off", channel=9, note=key, velocity=0, time=240)]
+    song = mido.MidiFile(ticks_per_beat=480)
+    song.tracks.append(track)
+    song.save(path)
+    return path
+
+
+def compose_with(tmp_path, kit):
+    """``drumstroke compose SONG.mid --kit KIT --csv --json --audio`` in a subprocess, an older out.csv in place;
+    the result and the folder's files (name: bytes) after it."""
+    song = small_song(tmp_path / "song.mid")
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "out.csv").write_bytes(b"t,right.theta\n0,0.1\n")
+    result = run_process("compose", song, "--kit", kit, "--csv", out / "out.csv", "--json", out / "out.json",
+                         "--audio", out / "out.wav")
+    return result, {path.name: path.read_bytes() for path in out.iterdir()}
+
+
+@pytest.mark.parametrize("case", CLI_BAD)
+def test_compose_with_a_bad_kit_is_one_error_and_writes_nothing(case, tmp_path):
+    change, message = BAD[case]
+    kit = bad_kit(tmp_path, change)
+    result, files = compose_with(tmp_path, kit)
+    assert_one_line_error(result, f"kit '{kit}': ")
+    assert re.search(message, result.stderr), result.stderr
+    assert files == {"out.csv": b"t,right.theta\n0,0.1\n"}  # the older CSV untouched, nothing else written
+
+
+def test_compose_with_a_kit_that_is_not_toml_is_one_error_and_writes_nothing(tmp_path):
+    kit = tmp_path / "bad.toml"
+    kit.write_bytes(DEFAULT_KIT.read_bytes().replace(b"[pieces.snare]", b"[pieces.snare", 1))
+    result, files = compose_with(tmp_path, kit)
+    assert_one_line_error(result, f"kit '{kit}' is not valid TOML", "line ")
+    assert files == {"out.csv": b"t,right.theta\n0,0.1\n"}
+
+
+def test_compose_reads_a_kit_that_starts_with_a_byte_order_mark(tmp_path):
+    kit = tmp_path / "bom.toml"
+    kit.write_bytes(b"\xef\xbb\xbf" + DEFAULT_KIT.read_bytes())
+    result, files = compose_with(tmp_path, kit)
+    assert result.returncode == 0, result.stderr
+    assert "played 4 of 4 notes on the kit" in result.stdout
+    assert set(files) == {"out.csv", "out.json", "out.wav"} and files["out.csv"].startswith(b"t,right.yaw")
