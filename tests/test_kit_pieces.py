@@ -89,11 +89,11 @@ def test_a_stick_dropped_on_each_hi_hat_state_bounces_with_that_states_c(state):
     assert landed[0] == pytest.approx(setup.head, rel=0, abs=1e-12)  # on this state's surface
 
 
-def test_the_hi_hat_gives_back_less_the_looser_its_plates_and_rises_as_it_opens():
+def test_the_hi_hat_gives_back_less_the_looser_its_plates():
     hihat = KIT.piece("hihat")
     closed, half, opened = (hihat.surface(state) for state in ("closed", "half", "open"))
     assert closed.cor > half.cor > opened.cor > KIT.piece("crash").cor  # still held at its centre by the clutch
-    assert closed.height > half.height > opened.height  # the top plate nearer the fulcrum
+    assert closed.height == half.height == opened.height  # one surface for the hands' moves (default.toml says why)
     assert hihat.surface() == closed and hihat.setup(Setup()) == hihat.setup(Setup(), state="closed")
 
 

@@ -18,7 +18,8 @@ The hi-hat is one piece in several states, set by the foot on its pedal and name
 closed (42: the foot down, the top plate clamped onto the bottom one), half open, open (46: the foot
 up, the top plate loose on its clutch, above the bottom one) and the pedal (44: the foot closing it,
 no stick). Each state a hand plays is a surface of its own, with its c and h (a :class:`Surface`),
-as the kit file gives them: :meth:`Piece.setup` takes the state.
+as the kit file gives them (the shipped kit: its own c, the closed hat's h): :meth:`Piece.setup` takes the
+state.
 
 :func:`read_kit` reads a kit from a TOML file a person writes (the format is the shipped
 :data:`DEFAULT_KIT`'s, documented in ``docs/kit.md``); :func:`default_kit` is the shipped five-piece
