@@ -690,6 +690,39 @@ def test_a_pattern_names_its_pieces_and_old_patterns_play_the_snare():
         parse_pattern("tempo 120\n0 auto 100 auto 0.5 ride\n")
 
 
+def test_a_pattern_names_the_hi_hats_state_and_each_hit_carries_its_key():
+    """``hihat:half`` and so on: the note is played in that state (its key the state's, on its hits); a hi-hat
+    note naming none is closed, or the pedal for a foot; a state the piece does not have is refused by line."""
+    from drumstroke.compose import compose_kit
+    from drumstroke.formats.pattern import parse_pattern as pattern_rows
+    from drumstroke.formats.pattern import pattern_text
+    from drumstroke.kit.pieces import default_kit
+
+    text = ("tempo 120\n0 auto 90 right hihat:half\n0.5 auto 90 right hihat:open\n1 auto 90 right hihat\n"
+            "1.5 auto 70 auto hihat:pedal\n2 auto 90 right hihat:closed\n2.5 auto 70 left-foot hihat\n")
+    score = parse_pattern(text)
+    assert [n.state for n in score] == ["half", "open", None, "pedal", "closed", None]
+    assert pattern_text(*pattern_rows(text)) == text  # written back as read
+    piece = compose_kit(score)
+    performance = piece.performance
+    states = ["half", "open", "closed", "pedal", "closed", "pedal"]
+    assert [(o.note.state, o.played) for o in performance.outcomes] == [(s, True) for s in states]
+    hihat = default_kit().piece("hihat")
+    assert [hihat.state(k) for k in performance.keys] == states
+    for hit in performance.hits:  # a stick's bounces sound as the note they follow: in its state
+        if hit.note >= 0:
+            assert hihat.state(hit.key) == states[hit.note]
+    with pytest.raises(ParameterError, match=r"pattern line 2: state 'open' is not one of pieces\.snare's states "
+                                             r"\(none\)"):
+        compose_kit(parse_pattern("tempo 120\n0 auto 100 auto snare:open\n"))
+    with pytest.raises(ParameterError, match=r"pattern line 2: state 'loose' is not one of pieces\.hihat's states "
+                                             r"\(closed, half, open, pedal\)"):
+        compose_kit(parse_pattern("tempo 120\n0 auto 100 auto hihat:loose\n"))
+    for bad in ("hihat:", "hihat:Open", ":open", "hihat:open:half"):
+        with pytest.raises(ParameterError, match=r"pattern line 2: a note is .*a state after a colon"):
+            parse_pattern(f"tempo 120\n0 auto 100 auto {bad}\n")
+
+
 def test_a_song_on_the_kit_reads_every_key_the_kit_answers():
     from drumstroke.compose import compose_kit
     from drumstroke.kit.pieces import default_kit

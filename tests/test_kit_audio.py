@@ -121,8 +121,11 @@ def test_the_snare_through_the_kit_is_todays_snare_exactly():
 
 
 def test_the_mix_is_the_sum_of_its_pieces():
-    parts = [synthesize_kit(KitHits([t], [p], [k], [s]), duration=3.6)
-             for t, p, k, s in zip(PATTERN.t, PATTERN.piece, PATTERN.key, PATTERN.speed)]
+    """Every hit rings on its own, except the hi-hat's: its state follows the part (a later hit's state sets how
+    its modes decay from then on), so its hits are one part."""
+    rows = list(zip(PATTERN.t, PATTERN.piece, PATTERN.key, PATTERN.speed))
+    parts = [synthesize_kit([row], duration=3.6) for row in rows if row[1] != "hihat"]
+    parts.append(synthesize_kit([row for row in rows if row[1] == "hihat"], duration=3.6))
     mix = synthesize_kit(PATTERN, duration=3.6)
     assert np.abs(mix).max() < 0.99  # not scaled down
     np.testing.assert_allclose(mix, np.sum(parts, axis=0), rtol=0, atol=1e-12)
@@ -164,6 +167,60 @@ def test_a_closed_hihat_dies_far_sooner_than_an_open_one():
     assert opened >= 5 * closed
     # the pedal's chick: the two plates' long contact leaves it darker than a stick's tick on them
     assert centroid(one("hihat", 44)) < 0.5 * centroid(one("hihat", 42))
+
+
+def decay_from_wav(path, drop_db=30.0):
+    """Seconds from the peak of a WAV file's 5-ms RMS envelope (numpy over soundfile's samples) until its last
+    sample at or above ``drop_db`` below that peak."""
+    import soundfile
+
+    signal, rate = soundfile.read(path)
+    window = round(0.005 * rate)
+    envelope = np.sqrt(np.convolve(signal**2, np.ones(window) / window, mode="same"))
+    peak = int(envelope.argmax())
+    above = np.flatnonzero(envelope[peak:] >= envelope[peak] * 10 ** (-drop_db / 20))
+    return above[-1] / rate
+
+
+def test_the_hi_hat_rings_longer_the_more_open_it_is(tmp_path):
+    """A hit on each state, written as a WAV and read back: its -30 dB decay grows closed < half < open, and the
+    foot's chick is as short as a closed tick."""
+    decays = {}
+    for state, key in {"closed": 42, "half": 23, "open": 46, "pedal": 44}.items():
+        assert kit_piece("hihat").state(key) == state
+        render_kit_wav(tmp_path / f"{state}.wav", [(0.0, "hihat", key, 1.0)], duration=3.0)
+        decays[state] = decay_from_wav(tmp_path / f"{state}.wav")
+    print({state: f"{1e3 * t:.0f} ms" for state, t in decays.items()})
+    assert decays["closed"] < decays["half"] < decays["open"]
+    assert 2 * decays["closed"] < decays["half"] and 2 * decays["half"] < decays["open"]  # well apart, not a nudge
+    assert decays["pedal"] < decays["half"]
+
+
+@pytest.mark.parametrize("closing", [42, 44])
+def test_closing_the_hi_hat_chokes_its_open_ring(closing):
+    """An open hit's wash is cut when the hi-hat closes (a closed note, or the foot's chick): 0.2 s after the close
+    it is 30 dB below the same open hit left ringing, as far down as the close's own tick alone."""
+    opened = synthesize_kit([(0.0, "hihat", 46, 1.0)], duration=1.0)
+    closed_alone = synthesize_kit([(0.3, "hihat", closing, 1.0)], duration=1.0)
+    choked = synthesize_kit([(0.0, "hihat", 46, 1.0), (0.3, "hihat", closing, 1.0)], duration=1.0)
+    late = slice(round(0.5 * SAMPLE_RATE), round(0.7 * SAMPLE_RATE))
+
+    def rms(signal):
+        return float(np.sqrt(np.mean(signal[late] ** 2)))
+
+    assert rms(choked) < 10 ** (-30 / 20) * rms(opened)
+    assert rms(choked) < 2 * rms(closed_alone) + 1e-9
+    np.testing.assert_array_equal(choked[: round(0.3 * SAMPLE_RATE)], opened[: round(0.3 * SAMPLE_RATE)])
+
+
+def test_opening_the_hi_hat_leaves_what_rings_ringing_longer():
+    """A closed tick, then an open hit: from the open hit on, the tick's remains decay at the open rate, so the pair
+    differs from the two hits rendered apart only by that remainder, tiny beside the open hit's wash."""
+    pair = synthesize_kit([(0.0, "hihat", 42, 1.0), (0.3, "hihat", 46, 1.0)], duration=1.0)
+    apart = (synthesize_kit([(0.0, "hihat", 42, 1.0)], duration=1.0)
+             + synthesize_kit([(0.3, "hihat", 46, 1.0)], duration=1.0))
+    after = slice(round(0.3 * SAMPLE_RATE), None)
+    assert np.abs(pair[after] - apart[after]).max() < 1e-3 * np.abs(apart[after]).max()
 
 
 @pytest.mark.parametrize(("piece", "key"), EVERY_PIECE)

@@ -618,8 +618,9 @@ def compose_kit(notes, kit=None, *, setup=None, rate=None, pieces=None, lead="ri
     Every note is a note on a piece of the kit, at its time and velocity: a MIDI file's notes read with the kit
     (:func:`~drumstroke.score.read_score` with ``kit=``: every key it answers, the hi-hat's state by its key),
     a pattern's on the piece its line names (default the snare; its stroke's name is not used, a note is one
-    impact). A note's stick, when it names a limb of the kit, is given (``auto``: assigned); the hi-hat played
-    by a foot is its pedal. :func:`~drumstroke.kit.play.play_kit` plays them.
+    impact) and in the state it names (``hihat:half``). A note's stick, when it names a limb of the kit, is
+    given (``auto``: assigned); a hi-hat note that names no state (nor a key) is closed, or its pedal when a
+    foot plays it. :func:`~drumstroke.kit.play.play_kit` plays them.
 
     Parameters
     ----------
@@ -652,7 +653,7 @@ def compose_kit(notes, kit=None, *, setup=None, rate=None, pieces=None, lead="ri
     (['right.yaw', 'right.lift', 'right.theta', 'left.yaw'], 0.241)
     """
     from .kit.limbs import KitNote
-    from .kit.pieces import FEET, Kit, default_kit
+    from .kit.pieces import Kit, default_kit
     from .kit.play import kit_pedals, play_kit
 
     kit = default_kit() if kit is None else kit
@@ -692,8 +693,7 @@ def compose_kit(notes, kit=None, *, setup=None, rate=None, pieces=None, lead="ri
     for note in kept:
         piece = kit.piece(note.piece or "snare")
         limb = note.stick if note.stick in kit.limbs else None
-        state = piece.state(note.key) if note.key is not None else (
-            ("pedal" if limb in FEET else "closed") if piece.kind == "hihat" else None)
+        state = _kit_state(note, piece, limb)
         key = note.key if note.key is not None else next(k for k in piece.keys if piece.state(k) == state)
         kit_notes.append(KitNote(note.time + offset, piece.name, state,
                                  None if note.beat is None else float(note.beat)))
@@ -707,3 +707,19 @@ def compose_kit(notes, kit=None, *, setup=None, rate=None, pieces=None, lead="ri
 
 LEAD_ROOM = 0.1
 """s kept before a composition's first note for a stick's throw onto it (the planner's throw)."""
+
+
+def _kit_state(note, piece, limb):
+    """The state ``note`` is played in on ``piece``: the one it names, its key's, or the hi-hat's default."""
+    from .kit.pieces import FEET, PEDAL_STATE
+
+    if note.state is not None:
+        states = tuple(dict.fromkeys(piece.states.values()))
+        if note.state not in states:
+            allowed = ", ".join(states) or "none"
+            raise ParameterError(f"{note.source or 'note'}: state {note.state!r} is not one of pieces.{piece.name}'s "
+                                 f"states ({allowed})", parameter="state", value=note.state, allowed=allowed)
+        return note.state
+    if note.key is not None:
+        return piece.state(note.key)
+    return (PEDAL_STATE if limb in FEET else "closed") if piece.kind == "hihat" else None

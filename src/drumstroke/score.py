@@ -144,6 +144,9 @@ class ScoreNote:
         Where it falls in quarter notes from the score's start (for choosing sticks: the lead hand on the beat).
     piece : str or None
         The kit's piece it is played on (a pattern's sixth field, a MIDI key's piece on a kit); None: the snare.
+    state : str or None
+        The piece's state a pattern names (``hihat:open``: the hi-hat's, one of its states in the kit); None:
+        by its key, else the hi-hat closed (a hand) or its pedal (a foot).
     key : int in [0, 127] or None
         The MIDI key it was read from (None for a pattern's note).
     """
@@ -157,11 +160,14 @@ class ScoreNote:
     beat: float | None = None
     piece: str | None = None
     key: int | None = None
+    state: str | None = None
 
     def __post_init__(self):
         where = self.source or "note"
         if self.piece is not None and (not isinstance(self.piece, str) or not self.piece):
             raise ParameterError(f"{where}: piece must be a kit piece's name or None, got {self.piece!r}")
+        if self.state is not None and (self.piece is None or not isinstance(self.state, str) or not self.state):
+            raise ParameterError(f"{where}: state must be a state's name on a piece named, or None, got {self.state!r}")
         if self.key is not None:
             check_int(f"{where}: key", self.key, low=0, high=127)
         check_real(f"{where}: time", self.time, low=0.0, high=1e6, unit="s")
@@ -318,7 +324,7 @@ def parse_pattern(text, *, name="pattern"):
 def _notes(pattern):
     notes = [ScoreNote(row.beat * 60.0 / pattern.tempo, row.stroke, row.velocity, _stick(row.stick or DEFAULT_STICK),
                        source=row.source, duration=None if row.beats is None else row.beats * 60.0 / pattern.tempo,
-                       beat=row.beat, piece=row.piece) for row in pattern.rows]
+                       beat=row.beat, piece=row.piece, state=row.state) for row in pattern.rows]
     return sorted(notes, key=lambda n: n.time)
 
 

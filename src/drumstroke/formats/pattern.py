@@ -7,7 +7,7 @@ Examples
 --------
 >>> pattern = parse_pattern("tempo 120\\nmeter 3/4\\n0 single 100\\n0.5 tap 40 left\\n")
 >>> pattern.tempo, pattern.meter, pattern.rows[1]
-(120.0, (3, 4), PatternRow(beat=0.5, stroke='tap', velocity=40, stick='left', source='pattern line 4', beats=None, piece=None))
+(120.0, (3, 4), PatternRow(beat=0.5, stroke='tap', velocity=40, stick='left', source='pattern line 4', beats=None, piece=None, state=None))
 >>> print(pattern_text(*pattern), end="")
 tempo 120
 meter 3/4
@@ -23,7 +23,8 @@ from .._checks import check_real
 from ..errors import ParameterError
 from .reading import MIB, read_text
 
-_PIECE = re.compile(r"^[a-z][a-z0-9_-]{0,31}$")  # a kit piece's name (a letter first: never a number)
+_PIECE = re.compile(r"^([a-z][a-z0-9_-]{0,31})(?::([a-z]{1,32}))?$")  # a kit piece's name (a letter first: never a
+# number), and a state of it (the hi-hat's) after a colon
 
 MAX_BYTES = 16 * MIB
 """The largest pattern file read (bytes): some 800,000 notes."""
@@ -45,7 +46,9 @@ lines are skipped:
                  limb: right, left, right-foot, left-foot or auto; then the
                  kit's piece it is played on (default snare; compose --kit
                  reads it, the snare-only compose plays every note on the
-                 snare). Notes may come in any order.
+                 snare), and after a colon the hi-hat's state: hihat:closed
+                 (the default), hihat:half, hihat:open, hihat:pedal (the foot).
+                 Notes may come in any order.
                  The stroke is one of:
                    auto    the planner designs the stroke that plays the note
                            (a diddle, a flam, a drag, an accent or a tap is just
@@ -68,6 +71,7 @@ For example:
   2      auto     110    right
   3      buzz     80     auto  0.5
   3.5    auto     90     auto  ride     # on the kit: the ride
+  3.75   auto     70     auto  hihat:open
 """
 """The text pattern format, complete: what ``drumstroke compose --help`` prints."""
 
@@ -82,7 +86,7 @@ class Pattern(NamedTuple):
 
 class PatternRow(NamedTuple):
     """One note line: its beat (quarter notes from 0), stroke name, velocity (1–127), stick (or None), source,
-    a buzz's length in beats (or None), and the kit's piece it names (or None)."""
+    a buzz's length in beats (or None), the kit's piece it names (or None) and the piece's state (or None)."""
 
     beat: float
     stroke: str
@@ -91,6 +95,7 @@ class PatternRow(NamedTuple):
     source: str
     beats: float | None = None
     piece: str | None = None
+    state: str | None = None
 
 
 def read_pattern_file(path):
@@ -122,9 +127,9 @@ def parse_pattern(text, *, name="pattern"):
                                  f"{line.strip()!r}")
         beat = check_real(f"{where}: beat", _number(fields[0], where, "beat"), low=0.0, high=1e6)
         velocity = _integer(fields[2], where)
-        beats, piece = _beats_and_piece(fields, where, line)
+        beats, piece, state = _beats_and_piece(fields, where, line)
         rows.append(PatternRow(beat, fields[1], velocity, fields[3] if len(fields) >= 4 else None, where, beats,
-                               piece))
+                               piece, state))
     if tempo is None:
         raise ParameterError(f"{name} is empty: it needs a 'tempo BPM' line and notes")
     if not rows:
@@ -133,10 +138,11 @@ def parse_pattern(text, *, name="pattern"):
 
 
 def _beats_and_piece(fields, where, line):
-    """A note line's buzz length (beats, or None) and piece (or None), the fields after its stick."""
+    """A note line's buzz length (beats, or None), piece and its state (each None if not named): the fields after
+    its stick."""
     rest = fields[4:]
     beats = None
-    if rest and _PIECE.match(rest[0]) is None:  # a number: a buzz's length
+    if rest and rest[0][:1] in "0123456789.+-":  # a number: a buzz's length
         if fields[1] != "buzz":
             raise ParameterError(f"{where}: only a buzz takes a length (the fifth field), got {line.strip()!r}")
         beats = check_real(f"{where}: buzz length", _number(rest[0], where, "buzz length"), low=0.0, high=1e6,
@@ -144,8 +150,9 @@ def _beats_and_piece(fields, where, line):
         rest = rest[1:]
     if len(rest) > 1 or (rest and _PIECE.match(rest[0]) is None):
         raise ParameterError(f"{where}: a note is 'beat stroke velocity [stick [beats] [piece]]', a piece 1-32 of "
-                             f"a-z, 0-9, '_', '-' starting with a letter, got {line.strip()!r}")
-    return beats, rest[0] if rest else None
+                             f"a-z, 0-9, '_', '-' starting with a letter (and a state after a colon: hihat:open), "
+                             f"got {line.strip()!r}")
+    return (beats, *_PIECE.match(rest[0]).groups()) if rest else (beats, None, None)
 
 
 def pattern_text(tempo, rows, meter=(4, 4)):
@@ -156,9 +163,11 @@ def pattern_text(tempo, rows, meter=(4, 4)):
         beat, stroke, velocity, stick = row[:4]
         beats = row[5] if len(row) > 5 else None
         piece = row[6] if len(row) > 6 else None
+        state = row[7] if len(row) > 7 else None
         named = stick or beats is not None or piece
         line = f"{beat:.17g} {stroke} {int(velocity)}" + (f" {stick or 'right'}" if named else "")
-        lines.append(line + (f" {beats:.17g}" if beats is not None else "") + (f" {piece}" if piece else ""))
+        lines.append(line + (f" {beats:.17g}" if beats is not None else "") + (f" {piece}" if piece else "")
+                     + (f":{state}" if piece and state else ""))
     return "\n".join(lines) + "\n"
 
 

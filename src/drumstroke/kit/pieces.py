@@ -14,6 +14,13 @@ fulcrum (rad, positive up), so that a cymbal above the snare still lies below th
 (0, x): the stick's geometry is the same on every piece, only h changes. The feet have no
 positioning joint: each stays on its pedal.
 
+The hi-hat is one piece in several states, set by the foot on its pedal and named by the notes' keys:
+closed (42: the foot down, the top plate clamped onto the bottom one), half open, open (46: the foot
+up, the top plate loose on its clutch, above the bottom one) and the pedal (44: the foot closing it,
+no stick). Each state a hand plays is a surface of its own, with its c and h (a :class:`Surface`),
+as the kit file gives them (the shipped kit: its own c, the closed hat's h): :meth:`Piece.setup` takes the
+state.
+
 :func:`read_kit` reads a kit from a TOML file a person writes (the format is the shipped
 :data:`DEFAULT_KIT`'s, documented in ``docs/kit.md``); :func:`default_kit` is the shipped five-piece
 kit; :func:`write_kit` writes one back.
@@ -30,12 +37,15 @@ Examples
 True
 >>> round(kit.piece("snare").setup(Setup()).head, 4)
 -0.2623
+>>> [kit.piece("hihat").setup(Setup(), state=s).cor for s in ("closed", "half", "open")]
+[0.55, 0.45, 0.35]
 """
 
 import math
 import re
 from dataclasses import dataclass, field, replace
 from pathlib import Path
+from typing import NamedTuple
 
 from .._checks import check_choice, check_keys, check_real, shown
 from ..design.setup import Setup
@@ -61,11 +71,14 @@ hand's), the backbeat (the snare: the other hand's), accents (crashes: the free 
 KIND_ROLES = {"membrane": "drum", "cymbal": "accent", "hihat": "time", "kick": "drum"}
 """A piece's role when its table names none, by its kind."""
 
-HIHAT_STATES = ("closed", "open", "pedal")
-"""What the hi-hat's keys mean: struck closed, struck open, or closed by the foot alone (the pedal)."""
+HIHAT_STATES = ("closed", "half", "open", "pedal")
+"""What the hi-hat's keys mean: struck closed, half open or open, or closed by the foot alone (the pedal)."""
 
 PEDAL_STATE = "pedal"
 """The state a foot plays (the hi-hat's pedal); a hand plays the others."""
+
+HAND_STATES = tuple(state for state in HIHAT_STATES if state != PEDAL_STATE)
+"""The hi-hat's states a hand plays: each is a surface of its own (:class:`Surface`)."""
 
 YAW = "yaw"
 """The positioning joint every kit's hands have: the turn about the vertical (rad, 0 ahead, + to the left)."""
@@ -77,9 +90,17 @@ DEFAULT_KIT = Path(__file__).with_name("default.toml")
 """The shipped kit: a five-piece right-handed kit with hi-hat, ride (and its bell) and crash."""
 
 _NAME = re.compile(r"^[a-z0-9][a-z0-9_-]{0,31}$")
-_PIECE_KEYS = ("kind", "role", "keys", "limbs", "place", "height", "cor", "pedal")
+_PIECE_KEYS = ("kind", "role", "keys", "states", "limbs", "place", "height", "cor", "pedal")
+_STATE_KEYS = ("keys", "cor", "height")
 _KIT_KEYS = ("stick", "place_tolerance", "limbs", "pieces")
 _LIMB_KEYS = ("joints",)
+
+
+class Surface(NamedTuple):
+    """What a stick meets on one state of the hi-hat: its c and its h (m, below the fulcrum at the piece's place)."""
+
+    cor: float
+    height: float
 
 
 @dataclass(frozen=True)
@@ -97,10 +118,11 @@ class Piece:
     limbs : tuple of str
         The limbs that may play it, of :data:`LIMBS`.
     cor : float in [0, 1)
-        c, the coefficient of restitution of the stick (or the kick's beater) on it.
+        c, the coefficient of restitution of the stick (or the kick's beater) on it; a hi-hat's state
+        may have its own (``surfaces``).
     height : float in (0, 10) or None
         h, m: how far its surface lies below the stick's fulcrum at its place; needed when a hand
-        plays it (the kit checks h < x, the stick's fulcrum to tip).
+        plays it (the kit checks h < x, the stick's fulcrum to tip); a hi-hat's state may have its own.
     place : dict of str to float
         rad: the hands' positioning joints' angles that put the fulcrum over it; needed when a hand plays it.
     pedal : str or None
@@ -110,6 +132,10 @@ class Piece:
         a hi-hat has them).
     role : {"time", "backbeat", "accent", "drum"} or None
         What it is for, to the limb assignment; None: by its kind (:data:`KIND_ROLES`).
+    surfaces : dict of str to Surface
+        A hand-played hi-hat's states (of :data:`HAND_STATES` its keys name), each with the c and h a
+        stick meets in it; a state not given, or a field None, is the piece's ``cor`` and ``height``.
+        Kept resolved: every hand state its keys name, with both numbers.
     """
 
     name: str
@@ -122,6 +148,7 @@ class Piece:
     pedal: str | None = None
     states: dict = field(default_factory=dict)
     role: str | None = None
+    surfaces: dict = field(default_factory=dict)
 
     def __post_init__(self):
         if not isinstance(self.name, str) or not _NAME.match(self.name):
@@ -136,6 +163,7 @@ class Piece:
         self._check_hands(at)
         self._check_feet(at)
         self._check_states(at)
+        self._check_surfaces(at)
 
     def _check_hands(self, at):
         if not isinstance(self.place, dict):
@@ -174,13 +202,13 @@ class Piece:
             raise ParameterError(f"{at}.keys' states must be a table of key to state, got {shown(self.states)}")
         if self.kind != "hihat":
             if self.states:
-                raise ParameterError(f"{at}.keys: only a hi-hat's keys have states (closed, open, pedal); "
+                raise ParameterError(f"{at}.keys: only a hi-hat's keys have states ({', '.join(HIHAT_STATES)}); "
                                      f"give a list of keys")
             return
         for key in self.keys:
             if key not in self.states:
-                raise ParameterError(f"{at}.keys: key {key} has no state; a hi-hat's keys are a table "
-                                     f"{{closed = 42, open = 46, pedal = 44}}")
+                raise ParameterError(f"{at}.keys: key {key} has no state; a hi-hat gives its keys by state "
+                                     f"([{at}.states.closed] keys = 42, and so on)")
         for key, state in self.states.items():
             if key not in self.keys:
                 raise ParameterError(f"{at}.keys: state {state!r} names key {key!r}, not one of its keys")
@@ -188,6 +216,28 @@ class Piece:
         if PEDAL_STATE in self.states.values() and not self.feet:
             raise ParameterError(f"{at}.limbs must name a foot to play its pedal key; its limbs are "
                                  f"{', '.join(self.limbs)}")
+
+    def _check_surfaces(self, at):
+        """Each hand state's c and h, checked, the piece's where not given (kept resolved)."""
+        if not isinstance(self.surfaces, dict):
+            raise ParameterError(f"{at}.states must be a table of state to Surface (c, h), got {shown(self.surfaces)}")
+        played = [state for state in HAND_STATES if state in self.states.values()] if self.hands else []
+        for state in self.surfaces:
+            if state not in played:
+                raise ParameterError(f"{at}.states.{state}: only the states a hand plays on a hi-hat, those its keys "
+                                     f"name, have a c and h of their own ({', '.join(played) or 'none here'})")
+        resolved = {}
+        for state in played:
+            given = self.surfaces.get(state, (None, None))
+            if not isinstance(given, tuple) or len(given) != 2:
+                raise ParameterError(f"{at}.states.{state} must be a Surface (cor, height), got {shown(given)}")
+            cor, height = given
+            cor = self.cor if cor is None else check_real(f"{at}.states.{state}.cor", cor, low=0.0, high=1.0,
+                                                          high_open=True)
+            height = self.height if height is None else check_real(
+                f"{at}.states.{state}.height", height, low=0.0, high=10.0, low_open=True, high_open=True, unit="m")
+            resolved[state] = Surface(cor, height)
+        object.__setattr__(self, "surfaces", resolved)
 
     @property
     def hands(self):
@@ -210,13 +260,23 @@ class Piece:
             return self.feet
         return self.hands or self.feet
 
-    def stick(self, base):
-        """The Stick ``base`` (a :class:`~drumstroke.model.Stick`) with its fulcrum h above this piece."""
+    def surface(self, state=None):
+        """The c and h (m) a stick meets on it: in ``state`` (a hi-hat's, of :data:`HAND_STATES` its keys name),
+        or with None its own ``cor`` and ``height``."""
         if not self.hands:
             raise ParameterError(f"pieces.{self.name} is played by {', '.join(self.limbs)}, not by a stick")
-        return replace(base, pivot_height=self.height)
+        if state is None:
+            return Surface(self.cor, self.height)
+        if state not in self.surfaces:
+            raise ParameterError(f"state must be None or one of the states a hand plays on pieces.{self.name} "
+                                 f"({', '.join(self.surfaces) or 'none: it has no states'}), got {shown(state)}")
+        return self.surfaces[state]
 
-    def setup(self, base):
+    def stick(self, base, state=None):
+        """The Stick ``base`` (a :class:`~drumstroke.model.Stick`) with its fulcrum h above this piece (in ``state``)."""
+        return replace(base, pivot_height=self.surface(state).height)
+
+    def setup(self, base, state=None):
         """The :class:`~drumstroke.design.Setup` for playing this piece: ``base`` with its stick's fulcrum h
         above it (so ``setup.head`` = −asin(h/x)), c its own, and the joint's lowest angle at its surface.
 
@@ -225,22 +285,22 @@ class Piece:
         base : Setup
             The setup the kit's sticks are played with (its model, forces, limits, moves, and the stick
             whose fulcrum-to-tip x the kit was checked with).
+        state : str or None
+            The hi-hat's state the note is played in (of :data:`HAND_STATES` its keys name): its own c and h
+            (:attr:`surfaces`); None, or a piece without states: the piece's.
         """
         if not isinstance(base, Setup):
             raise ParameterError(f"base must be a drumstroke.design.Setup, got {shown(base)}")
-        stick = self.stick(base.stick)
+        surface = self.surface(state)
+        stick = replace(base.stick, pivot_height=surface.height)
         # the joint's range starts at the surface: the head the stick meets is this piece's, not the base's
         limits = replace(base.limits, theta_low=stick.theta_max)
-        return base.replace(stick=stick, cor=self.cor, limits=limits)
+        return base.replace(stick=stick, cor=surface.cor, limits=limits)
 
     def to_dict(self):
         """The piece as a TOML table (a dict), keys as :func:`read_kit` reads them (the name is the table's)."""
         table = {"kind": self.kind, "role": self.role}
-        if self.states:
-            table["keys"] = {state: [k for k in self.keys if self.states[k] == state]
-                             for state in HIHAT_STATES if state in self.states.values()}
-            table["keys"] = {state: ks[0] if len(ks) == 1 else ks for state, ks in table["keys"].items()}
-        else:
+        if not self.states:
             table["keys"] = list(self.keys)
         table["limbs"] = list(self.limbs)
         if self.hands:
@@ -249,6 +309,18 @@ class Piece:
         if self.pedal is not None:
             table["pedal"] = self.pedal
         table["cor"] = self.cor
+        if self.states:
+            table["states"] = {state: self._state_table(state) for state in dict.fromkeys(self.states[k] for k in self.keys)}
+        return table
+
+    def _state_table(self, state):
+        """One hi-hat state's table: its keys, and its c and h where they are not the piece's."""
+        keys = [key for key in self.keys if self.states[key] == state]
+        table = {"keys": keys[0] if len(keys) == 1 else keys}
+        surface = self.surfaces.get(state)
+        if surface is not None:
+            table |= {name: value for name, value, own in zip(Surface._fields, surface, (self.cor, self.height))
+                      if value != own}
         return table
 
 
@@ -316,9 +388,12 @@ class Kit:
         if not piece.hands:
             return
         x = self.stick.pivot_to_tip
-        if piece.height >= x:
-            raise ParameterError(f"{at}.height must be in (0, {x:g}) m, below the stick's fulcrum to tip x so "
-                                 f"the tip reaches it (θ_max = -asin(h/x)), got {piece.height!r}")
+        heights = {f"{at}.height": piece.height} | {f"{at}.states.{state}.height": surface.height
+                                                    for state, surface in piece.surfaces.items()}
+        for name, height in heights.items():
+            if height >= x:
+                raise ParameterError(f"{name} must be in (0, {x:g}) m, below the stick's fulcrum to tip x so "
+                                     f"the tip reaches it (θ_max = -asin(h/x)), got {height!r}")
         joints = self.limbs[piece.hands[0]]
         for joint in joints:
             if joint not in piece.place:
@@ -456,17 +531,23 @@ def _piece_from(name, table):
         raise ParameterError(f"pieces.{name} must be a table, got {shown(table)}")
     at = f"pieces.{name}"
     check_keys(at, table, _PIECE_KEYS)
-    for required in ("kind", "keys", "limbs", "cor"):
+    if "states" in table and "keys" in table:
+        raise ParameterError(f"{at}.keys: a hi-hat with [{at}.states.STATE] tables gives its keys there "
+                             f"(keys = 42 under [{at}.states.closed]), not both")
+    for required in ("kind", "keys" if "states" not in table else "states", "limbs", "cor"):
         if required not in table:
             raise ParameterError(f"{at}.{required} is missing")
-    keys, states = _keys_and_states(f"{at}.keys", table["keys"])
+    if "states" in table:
+        keys, states, surfaces = _states_from(f"{at}.states", table["states"])
+    else:
+        (keys, states), surfaces = _keys_and_states(f"{at}.keys", table["keys"]), {}
     return Piece(name=name, kind=table["kind"], keys=keys, limbs=table["limbs"], cor=table["cor"],
                  height=table.get("height"), place=table.get("place", {}), pedal=table.get("pedal"),
-                 states=states, role=table.get("role"))
+                 states=states, role=table.get("role"), surfaces=surfaces)
 
 
 def _keys_and_states(at, spec):
-    """A piece's keys (a list, or the hi-hat's table of state to key or keys) as (keys, states)."""
+    """A piece's keys (a list, or the older form of a hi-hat's: a table of state to key or keys) as (keys, states)."""
     if not isinstance(spec, dict):
         return spec, {}
     pairs = []
@@ -475,6 +556,34 @@ def _keys_and_states(at, spec):
         pairs += [(key, state) for key in (value if isinstance(value, list) else [value])]
     keys = _keys(at, [key for key, _ in pairs])  # checked before they key a table
     return keys, dict(pairs)
+
+
+def _states_from(at, spec):
+    """A hi-hat's ``[states.STATE]`` tables (each its keys, and a hand state's own c and h) as (keys, states,
+    surfaces)."""
+    if not isinstance(spec, dict) or not spec:
+        raise ParameterError(f"{at} must be a table of the hi-hat's states ({', '.join(HIHAT_STATES)}), each a "
+                             f"table with its keys, got {shown(spec)}")
+    keys, states, surfaces = [], {}, {}
+    for state, table in spec.items():
+        check_choice(at, state, HIHAT_STATES)
+        where = f"{at}.{state}"
+        if not isinstance(table, dict):
+            raise ParameterError(f"{where} must be a table (its keys; a hand's state its cor and height), "
+                                 f"got {shown(table)}")
+        if state == PEDAL_STATE and set(table) & {"cor", "height"}:
+            raise ParameterError(f"{where}.{min(set(table) & {'cor', 'height'})}: the pedal state is the foot's, "
+                                 "not a stick's: only a hand's states have a c and h")
+        check_keys(where, table, _STATE_KEYS)
+        if "keys" not in table:
+            raise ParameterError(f"{where}.keys is missing: the MIDI keys that play it in this state")
+        value = table["keys"]
+        mine = _keys(f"{where}.keys", value if isinstance(value, list) else [value])
+        keys += mine
+        states |= dict.fromkeys(mine, state)
+        if state != PEDAL_STATE:
+            surfaces[state] = Surface(table.get("cor"), table.get("height"))
+    return _keys(at, keys), states, surfaces
 
 
 def _keys(at, keys):

@@ -47,11 +47,18 @@ Cymbals and the hi-hat: a thin plate (:class:`Plate`)
       ring (T = 1.5 s at 1 kHz) under it.
     - **The ride's bell** (:data:`BELL`, the thick cup by the mount): 14 modes over 600 Hz–5 kHz, so
       few that each is heard: a bell's tone, long (T = 2 s at 1 kHz, decay slope 0.3).
-    - **The hi-hat**'s two 14" plates (:data:`HIHAT`), one set of modes (350 Hz–15 kHz) in three
+    - **The hi-hat**'s two 14" plates (:data:`HIHAT`), one set of modes (350 Hz–15 kHz) in four
       states: **closed**, the plates clamped together by the pedal, a short tick (T = 0.04 s at 1 kHz);
-      **open**, the plates free but touching now and then, a wash (T = 0.5 s); **pedal**, the top
-      plate clapped onto the bottom one by the foot, the "chick": a long contact of the two plates'
-      whole rims (1 ms: the high modes barely start) dying at once (T = 0.03 s).
+      **half** open, the plates brushing, a sizzle (T = 0.15 s, near the geometric mean of the two
+      ends: a decay time's ratio, not its difference, is what the ear hears); **open**, the plates
+      free but touching now and then, a wash (T = 0.5 s); **pedal**, the top plate clapped onto the
+      bottom one by the foot, the "chick": a long contact of the two plates' whole rims (1 ms: the
+      high modes barely start) dying at once (T = 0.03 s).
+
+      The hi-hat is one instrument whose state follows the part: from each of its hits on (a stick's
+      or the foot's), its modes decay at that hit's state's rate, those still ringing from earlier
+      hits too. An open hi-hat's wash is cut by the next closed note or by the foot closing it
+      (choked), as a drummer's foot cuts it; opened again, what still rings rings on.
 
 Other cymbal keys (crash 2, china, splash) are crashes; the numbers are estimates, chosen to sound
 like their instruments, to be replaced by measured ones.
@@ -176,10 +183,12 @@ BELL = Plate(low=600.0, high=5000.0, modes=14, decay=1.2, decay_slope=0.3, tilt=
 _HIHAT_PLATES = Plate(low=350.0, high=15000.0, modes=200, tilt=0.6, contact_time=1e-4, level=0.6, seed=4)
 HIHAT = {
     "closed": replace(_HIHAT_PLATES, decay=0.04, decay_slope=0.3),
+    "half": replace(_HIHAT_PLATES, decay=0.15, decay_slope=0.4),
     "open": replace(_HIHAT_PLATES, decay=0.5, decay_slope=0.5),
     "pedal": replace(_HIHAT_PLATES, decay=0.03, decay_slope=0.3, contact_time=4e-4, level=2.0),
 }
-"""The hi-hat's two 14" plates (one set of modes) by state: clamped (a tick), free (a wash), clapped (the chick)."""
+"""The hi-hat's two 14" plates (one set of modes) by state: clamped (a tick), brushing (a sizzle), free (a wash),
+clapped (the chick)."""
 
 
 def tom(diameter):
@@ -319,10 +328,11 @@ def synthesize_kit(hits, *, kit=None, duration=None, rate=SAMPLE_RATE):
     if not isinstance(kit, Kit):
         raise ParameterError(f"kit must be a drumstroke.kit.pieces.Kit, got {shown(kit)}")
     rate = check_real("rate", rate, low=2.0 * SNARE_BAND[1], low_open=True, unit="Hz")
-    voices = _voices(hits, kit)
+    voices, hihats = _voices(hits, kit), _hihats(hits, kit)
     last = float(hits.t.max()) if len(hits) else 0.0
     if duration is None:
-        duration = last + TAIL_DECAYS * max((_ring_time(voice) for voice in voices), default=0.0)
+        rings = [_ring_time(voice) for voice in voices] + [p.ring_time for _, plates in hihats.values() for p in plates]
+        duration = last + TAIL_DECAYS * max(rings, default=0.0)
     duration = check_real("duration", duration, low=last, unit="s")
 
     size = round(duration * rate)
@@ -332,6 +342,8 @@ def synthesize_kit(hits, *, kit=None, duration=None, rate=SAMPLE_RATE):
             signal += ring(hits.t[chosen], hits.speed[chosen], voice, rate=rate, size=size)
         else:
             signal += _plate(hits.t[chosen], hits.speed[chosen], voice, rate, size)
+    for chosen, plates in hihats.values():
+        signal += _plates(hits.t[chosen], hits.speed[chosen], plates, rate, size)
     return limit_peak(signal)
 
 
@@ -370,15 +382,30 @@ def render_kit_wav(path, hits, *, kit=None, duration=None, rate=SAMPLE_RATE, bun
 
 
 def _voices(hits, kit):
-    """{voice: indices of the hits it plays}, each hit's piece and key checked against the kit."""
+    """{voice: indices of the hits it plays}, each hit's piece and key checked against the kit (a hi-hat's hits,
+    of every state, are one instrument: :func:`_hihats`)."""
     chosen = {}
     for i, (name, key) in enumerate(zip(hits.piece, hits.key.tolist())):
         try:
             voice = kit_voice(kit.piece(name), key)
         except ParameterError as error:
             raise ParameterError(f"hit {i} (t = {hits.t[i]:g} s): {error}") from None
-        chosen.setdefault(voice, []).append(i)
+        if kit.piece(name).kind != "hihat":
+            chosen.setdefault(voice, []).append(i)
     return {voice: np.array(indices) for voice, indices in chosen.items()}
+
+
+def _hihats(hits, kit):
+    """{hi-hat's name: (indices of its hits, each hit's Plate: its state's)}: each hi-hat one instrument, whatever
+    the state of each hit (the hits checked by :func:`_voices`)."""
+    chosen = {}
+    for i, (name, key) in enumerate(zip(hits.piece, hits.key.tolist())):
+        piece = kit.piece(name)
+        if piece.kind == "hihat":
+            indices, plates = chosen.setdefault(name, ([], []))
+            indices.append(i)
+            plates.append(kit_voice(piece, key))
+    return {name: (np.array(indices), plates) for name, (indices, plates) in chosen.items()}
 
 
 def _ring_time(voice):
@@ -387,41 +414,54 @@ def _ring_time(voice):
 
 def _plate(times, speeds, plate, rate, size):
     """The plate's modes ringing after impacts at ``times`` with ``speeds`` (as :func:`~.audio.ring` for a drum)."""
-    frequencies, amplitudes = plate.frequencies_and_amplitudes()
+    return _plates(times, speeds, [plate] * len(times), rate, size)
+
+
+def _plates(times, speeds, plates, rate, size):
+    """One set of modes struck at ``times`` with ``speeds``, each hit as its :class:`Plate` of ``plates`` (one per
+    hit, all with the same modes: a hi-hat's states): its amplitudes and contact, and from it on every mode's decay."""
+    kinds = list(dict.fromkeys(plates))
+    which = np.array([kinds.index(plate) for plate in plates], dtype=np.int64)
+    frequencies, _ = kinds[0].frequencies_and_amplitudes()
+    amplitudes = np.array([kind.frequencies_and_amplitudes()[1] for kind in kinds])
     below = frequencies < rate / 2.0
-    frequencies, amplitudes = frequencies[below], amplitudes[below]
+    frequencies, amplitudes = frequencies[below], amplitudes[:, below]
     start = np.ceil(times * rate).astype(np.int64)
     order = np.argsort(start, kind="stable")
     order = order[start[order] < size]
-    start, offset, speeds = start[order], start[order] - times[order] * rate, speeds[order]
+    start, offset, speeds, which = start[order], start[order] - times[order] * rate, speeds[order], which[order]
     if not len(start) or not len(frequencies):
         return np.zeros(size)
     # A resting stick (v = 0) is silent anyway; the floor only keeps its contact time finite.
-    durations = contact_time(np.maximum(speeds, 1e-12), reference=plate.contact_time)
-    weights = GAIN * speeds[:, None] * amplitudes * half_sine_spectrum(frequencies, durations[:, None])
-    decays = plate.decay * (1000.0 / frequencies) ** plate.decay_slope
+    reference = np.array([kind.contact_time for kind in kinds])[which]
+    durations = contact_time(np.maximum(speeds, 1e-12), reference=reference)
+    weights = GAIN * speeds[:, None] * amplitudes[which] * half_sine_spectrum(frequencies, durations[:, None])
+    decays = np.array([kind.decay * (1000.0 / frequencies) ** kind.decay_slope for kind in kinds])
     poles = (-1.0 / decays + 2j * np.pi * frequencies) / rate
     # the fraction of a sample between t_i and its first sample: the decay starts exactly at t_i
-    return _ring_modes(start, weights * np.exp(poles * offset[:, None]), np.exp(poles), size)
+    return _ring_modes(start, weights * np.exp(poles[which] * offset[:, None]), np.exp(poles), which, size)
 
 
 @njit(cache=True)
-def _ring_modes(start, weights, poles, size):
+def _ring_modes(start, weights, poles, which, size):
     """Σ_k Im y_k[n], y_k[n] = x_k[n] + pole_k · y_k[n-1], x_k the weights[:, k] at the (sorted) samples ``start``.
 
-    One pass over the samples for all the modes: a plate has hundreds, and one filter each would cost
-    ten times as much.
+    The poles are those of the last hit so far: ``poles[which[hit]]`` (one row per kind of hit), so a hi-hat's
+    modes ring at the rate of its latest state. One pass over the samples for all the modes: a plate has
+    hundreds, and one filter each would cost ten times as much.
     """
     out = np.zeros(size)
-    state = np.zeros(poles.shape[0], np.complex128)
+    state = np.zeros(poles.shape[1], np.complex128)
+    now = poles[which[0]]
     hit = 0
     for n in range(size):
         while hit < start.shape[0] and start[hit] == n:
             state += weights[hit]
+            now = poles[which[hit]]
             hit += 1
         total = 0.0
-        for k in range(poles.shape[0]):
+        for k in range(poles.shape[1]):
             total += state[k].imag
-            state[k] *= poles[k]
+            state[k] *= now[k]
         out[n] = total
     return out
