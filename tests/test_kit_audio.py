@@ -335,6 +335,13 @@ def test_a_faster_hit_is_louder_through_the_soundfont(soundfont):
     assert rms[0] < rms[1] < rms[2]
 
 
+def test_the_half_open_hi_hat_sounds_through_the_soundfont_as_the_open_one(soundfont):
+    """General MIDI has no half-open hi-hat: the kit's key 23 plays the open hi-hat's sample (46), not silence."""
+    half, open_ = (render_soundfont([(0.0, "hihat", key, 1.0)], soundfont, duration=0.3) for key in (23, 46))
+    assert np.sqrt(np.mean(half ** 2)) > 1e-3
+    np.testing.assert_array_equal(half, open_)
+
+
 def test_bad_soundfonts_are_refused(soundfont, tmp_path):
     hits = [(0.0, "snare", 38, 1.0)]
     with pytest.raises(ParameterError, match=names("soundfont", "missing.sf2", "is missing")):

@@ -377,3 +377,24 @@ def test_play_kit_hands_are_play_hands():
     hands = play_hands(notes, KIT, levels=[velocity_to_level(v) for v in velocities])
     assert [o for o in part.outcomes if o.limb in ("right", "left")] == list(hands.outcomes)
     assert all(o.played for o in part.outcomes)
+
+
+def test_each_hi_hat_state_is_played_with_its_own_c_and_rebounds_with_it():
+    """Closed, open and half-open notes on one hand are three runs, each planned on its state's surface: the
+    stroke's c is the state's, and the stick leaves the cymbals at c times its arrival speed (the exact solver's
+    impact law, as the state's Setup has it)."""
+    notes = [KitNote(1.0, "hihat", "closed"), KitNote(1.5, "hihat", "open"), KitNote(2.0, "hihat", "half")]
+    performance = play_hands(notes, KIT, velocities=[90, 90, 90], limbs=["right"] * 3)
+    assert all(o.played for o in performance.outcomes)
+    motion = performance.hands["right"]
+    hihat = KIT.piece("hihat")
+    for (name, made), state in zip(motion.designs, ("closed", "open", "half"), strict=True):
+        cor = hihat.surface(state).cor
+        assert name == "hihat" and made.recipe.cor == cor
+        t = made.impacts.t[0]
+        _, before = motion.curve(np.array([t - 1e-7]))
+        _, after = motion.curve(np.array([t]))
+        assert after[0, -1] == pytest.approx(-cor * before[0, -1], rel=1e-4)
+    assert [hihat.surface(s).cor for s in ("closed", "half", "open")] == sorted(
+        (hihat.surface(s).cor for s in ("closed", "half", "open")), reverse=True)
+    check_motion(motion)

@@ -332,6 +332,18 @@ def _surfaces(kit, setup, footprint):
     return surfaces
 
 
+def _states(kit, setup, surfaces):
+    """Every piece a hand plays in each of its states (the hi-hat's: closed, half, open), by (name, state): its
+    surface with the state's own c and h; (name, None) the piece's own."""
+    states = {}
+    for name, surface in surfaces.items():
+        piece = kit.piece(name)
+        for state in (None, *piece.surfaces):
+            played = piece.setup(setup, state)
+            states[name, state] = replace(surface, head=played.head, setup=played)
+    return states
+
+
 class Arm:
     """One hand's joints over the kit: where each piece puts them, and the moves between pieces that keep the stick
     clear of the surfaces it passes over (see the module's docstring). Made by :func:`arms`.
@@ -347,6 +359,9 @@ class Arm:
     surfaces : dict
         Every piece a hand plays, by name: its place, its surface's θ_max (``head``, rad), its footprint's
         half-width (rad of yaw) and the :class:`~drumstroke.design.Setup` it is played with (``setup``).
+    states : dict of (str, str or None) to surface
+        The same in each of a piece's states (the hi-hat's closed, half, open: their own c and h), by (name,
+        state); (name, None) the piece's own. The moves' clearance is the piece's own surface's.
     places : dict of str to ndarray
         The positioning joints' angles (rad) at each of those pieces.
     clearance : float
@@ -355,11 +370,12 @@ class Arm:
 
     def __init__(self, hand, kit, setup, surfaces, clearance):
         self.hand, self.surfaces, self.clearance = hand, surfaces, clearance
+        self.states = _states(kit, setup, surfaces)
         positioning = tuple(kit.limbs[hand])
         self.joints = positioning + (THETA,)
         self.yaw = positioning.index(YAW)
         self.places = {name: np.array([s.place[joint] for joint in positioning]) for name, s in surfaces.items()}
-        mine = [s for s in surfaces.values() if hand in kit.piece(s.name).hands]
+        mine = [s for s in self.states.values() if hand in kit.piece(s.name).hands]
         # no surface it plays lies lower than the lowest of them
         theta = replace(setup.moves, theta_low=min((s.head for s in mine), default=setup.moves.theta_low))
         self.limits = tuple(kit.limbs[hand][joint] for joint in positioning) + (theta,)
@@ -485,7 +501,8 @@ class _Hand:
         """(HandMotion, {note index: Outcome}) of the notes ``indices`` of the part."""
         self.notes, self.levels = notes, levels
         for run in self.runs(sorted(indices, key=lambda i: notes[i].time)):
-            self.run(self.arm.surfaces[notes[run[0]].piece], run)
+            first = notes[run[0]]
+            self.run(self.arm.states[first.piece, first.state], run)
         curve, t_end = None, 0.0
         if self.last is not None:
             surface, stroke, _ = self.last
@@ -497,7 +514,8 @@ class _Hand:
         return motion, self.outcomes
 
     def runs(self, order):
-        """The notes in time order as runs on one piece; a note too close to the one before is left out."""
+        """The notes in time order as runs on one surface (a piece, in one state); a note too close to the one before
+        is left out."""
         runs, last = [], None
         for i in order:
             note = self.notes[i]
@@ -505,7 +523,8 @@ class _Hand:
                 self.leave_out(i, f"the {self.hand} hand plays note {last} {note.time - self.notes[last].time:.3g} "
                                   f"s before it; its stick's notes must be at least {MIN_GAP:g} s apart")
                 continue
-            if runs and self.notes[runs[-1][-1]].piece == note.piece:
+            before = self.notes[runs[-1][-1]] if runs else None
+            if before is not None and (before.piece, before.state) == (note.piece, note.state):  # one surface
                 runs[-1].append(i)
             else:
                 runs.append([i])

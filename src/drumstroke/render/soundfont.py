@@ -47,6 +47,11 @@ FLUIDSYNTH = "fluidsynth"
 FLUIDSYNTH_GAIN = 0.5
 """FluidSynth's master gain (its ``-g``; its own default is 0.2): a loud hit on FluidR3_GM peaks near half scale."""
 
+GM_SOUNDS = {23: 46}
+"""Keys outside General MIDI's percussion map played as a General MIDI key on a SoundFont: the shipped kit's
+half-open hi-hat (23; General MIDI has no half-open hi-hat) sounds as the open one (46). Files drumstroke writes
+keep the kit's keys."""
+
 TIMEOUT = 600.0
 """How long FluidSynth may take (s) before it is stopped: it renders a minute of a kit in about a second."""
 
@@ -149,6 +154,10 @@ def render_soundfont(hits, soundfont, *, duration=None, rate=SAMPLE_RATE, gain=F
     -------
     signal : ndarray [shape=(samples,), dtype=float64]
         Samples in [-0.99, 0.99] (full scale).
+
+    Notes
+    -----
+    A key General MIDI has no sound for is played as :data:`GM_SOUNDS` says (the half-open hi-hat as the open).
     """
     hits = hits if isinstance(hits, KitHits) else KitHits.from_rows(hits)
     soundfont = check_soundfont(soundfont)
@@ -165,7 +174,7 @@ def render_soundfont(hits, soundfont, *, duration=None, rate=SAMPLE_RATE, gain=F
                              parameter="fluidsynth", value=fluidsynth)
     with tempfile.TemporaryDirectory(prefix="drumstroke-soundfont-") as folder:
         score, played = Path(folder) / "hits.mid", Path(folder) / "played.wav"
-        write_kit_midi(score, hits)
+        write_kit_midi(score, KitHits(hits.t, hits.piece, [GM_SOUNDS.get(k, k) for k in hits.key], hits.speed))
         _run([program, "-n", "-i", "-q", "-R", "0", "-C", "0", "-g", repr(gain), "-r", str(rate), "-O", "float",
               "-T", "wav", "-F", str(played), str(soundfont), str(score)], soundfont, timeout)
         if not played.is_file():
