@@ -619,7 +619,7 @@ class KitComposition:
                 tables.append(replace(self.setup.limits, theta_low=hand.limits[-1].theta_low).to_dict())
             else:
                 pedal = self.pedals[self.performance.feet[limb].pedal]
-                tables = [{"theta_low": -pedal.phi_head, "theta_high": -pedal.phi_rest}]
+                tables = [{"theta_low": 0.0 - pedal.phi_head, "theta_high": 0.0 - pedal.phi_rest}]  # no -0
             limits |= {f"{limb}.{name}": table for name, table in zip(names, tables, strict=True)}
         hits = {limb: np.array([hit.t for hit in self.performance.hits if hit.limb == limb]) for limb in motions}
         return KitSamples(t, {j: columns[j] for j in joints}, {j: columns[f"{j}.velocity"] for j in joints},
