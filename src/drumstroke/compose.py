@@ -622,7 +622,8 @@ class KitComposition:
                 tables = [{"theta_low": 0.0 - pedal.phi_head, "theta_high": 0.0 - pedal.phi_rest}]  # no -0
             limits |= {f"{limb}.{name}": table for name, table in zip(names, tables, strict=True)}
         hits = {limb: np.array([hit.t for hit in self.performance.hits if hit.limb == limb]) for limb in motions}
-        return KitSamples(t, {j: columns[j] for j in joints}, {j: columns[f"{j}.velocity"] for j in joints},
+        # + 0.0: no -0 (a beater's ω = −φ̇ at rest), so the samples are those a kit CSV reads back, bit for bit
+        return KitSamples(t, {j: columns[j] + 0.0 for j in joints}, {j: columns[f"{j}.velocity"] + 0.0 for j in joints},
                           {limb: tuple(names) for limb, (names, _) in motions.items()}, float(self.rate if rate is None else rate),
                           self.model, self.offset, limits, hits)
 

@@ -467,9 +467,7 @@ def _kit_limbs(names, stated, where):
     if not isinstance(stated, list) or not stated or not all(isinstance(limb, str) for limb in stated):
         raise ParameterError(f"{where}: its JSON's limbs must be a list of limb names, got {stated!r}")
     limbs = {}
-    for name in names:
-        if _kind(name):
-            break
+    for name in (name for name in names if not _kind(name)):
         limb, _, joint = name.partition(".")
         if limb not in stated or not joint or "." in joint:
             raise ParameterError(f"{where}: column {name!r} is not LIMB.JOINT for a limb of {', '.join(stated)}")

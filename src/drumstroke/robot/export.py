@@ -135,7 +135,7 @@ def export_ros_json(path, trajectory, theta=None, omega=None, *, rate=None, mode
     model, name : str or None
         One line each, no ';'; default the trajectory's (arrays must give them).
     joint_names : sequence of str or None
-        One distinct ROS name ([A-Za-z][A-Za-z0-9_]*) per joint, in the order of the trajectory's
+        One distinct ROS name (a letter, then letters, digits and "_") per joint, in the order of the trajectory's
         sticks (a kit's: its columns); default ``<stick>_joint`` for each stick ("stick_joint" for
         one), a kit's :func:`ros_joint_name` of each column.
     head, limits

@@ -41,11 +41,10 @@ import numpy as np
 from .._checks import as_vector, check_keys, check_real
 from ..errors import ParameterError, TrajectoryError
 from ..formats.toml import read_toml
-from ..kit.play import THETA
 from ..formats.trajectory_csv import KitSamples, read_kit, read_stick
+from ..kit.play import THETA
 from ..palette.motion import Limits
 from ..trajectory import DEFAULT_RATE, THETA_TOP, TIME_TOLERANCE, Trajectory, check_grid, check_samples
-
 
 ANGLE_TOLERANCE = 1e-9
 """rad a kit's joint may pass its range by in :func:`validate_kit`: round-off (a pedal's beater, held at rest by
