@@ -335,3 +335,13 @@ def test_a_kit_csv_without_its_json_is_refused(kit_csv, tmp_path):
     result = run("robot", "export", tampered, "--rosbag", tmp_path / "bag")
     assert_one_line_error(result, "joint 'left.yaw': sample 3: theta 2 rad exceeds theta_high 1.3 rad")
     assert not (tmp_path / "bag").exists()
+
+
+def test_a_composition_exports_at_another_rate(piece, tmp_path, store):
+    checked = export_ros_json(tmp_path / "fast.json", piece, rate=4000.0)
+    document = json.loads((tmp_path / "fast.json").read_text())
+    check_message(document, piece.samples(4000.0), store)
+    assert all(c.rate == 4000.0 for c in checked)
+    assert len(document["points"]) == int(piece.t_end * 4000.0 + 1e-9) + 1
+    with pytest.raises(ParameterError, match=r"rate must be the kit trajectory's own, 1000 Hz, or None, got 4000"):
+        export_ros_json(tmp_path / "no.json", piece.samples(), rate=4000.0)

@@ -623,9 +623,11 @@ class KitComposition:
             limits |= {f"{limb}.{name}": table for name, table in zip(names, tables, strict=True)}
         hits = {limb: np.array([hit.t for hit in self.performance.hits if hit.limb == limb]) for limb in motions}
         # + 0.0: no -0 (a beater's ω = −φ̇ at rest), so the samples are those a kit CSV reads back, bit for bit
-        return KitSamples(t, {j: columns[j] + 0.0 for j in joints}, {j: columns[f"{j}.velocity"] + 0.0 for j in joints},
-                          {limb: tuple(names) for limb, (names, _) in motions.items()}, float(self.rate if rate is None else rate),
-                          self.model, self.offset, limits, hits)
+        positions = {j: columns[j] + 0.0 for j in joints}
+        velocities = {j: columns[f"{j}.velocity"] + 0.0 for j in joints}
+        limbs = {limb: tuple(names) for limb, (names, _) in motions.items()}
+        return KitSamples(t, positions, velocities, limbs, float(self.rate if rate is None else rate), self.model,
+                          self.offset, limits, hits)
 
     def write_csv(self, path, *, sidecar=True, bundle=None):
         """Write ``t`` and a column per joint (:attr:`columns`), header first, atomically; the metadata (rate,

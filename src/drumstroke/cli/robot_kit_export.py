@@ -73,12 +73,14 @@ def _sticks(args, config):
 
 def _report(checked, samples, names=None):
     """One line per joint: its range and peaks against its limits (a beater's range alone)."""
+    from ..formats.trajectory_csv import range_only
+
     for i, (column, c) in enumerate(checked.items()):
         joint = f"  {column}" + (f" (ROS {names[i]})" if names else "") + ":"
         table = samples.limits[column]
         span = (f"{c.lowest_angle:.4f} to {c.highest_angle:.4f} rad (range {c.limits.theta_low:.4g} to "
                 f"{c.limits.theta_high:.4g})")
-        if set(table) <= {"theta_low", "theta_high"}:
+        if range_only(table):
             print(f"{joint} {span}; a beater: its range only")
             continue
         lim = c.limits

@@ -13,6 +13,11 @@ One stick has the columns ``t,theta,omega`` (an export adds ``alpha``, rad/s²);
 — the drumstroke version, the model, the name, the rate, the units, the sticks — is in the
 JSON beside the file (:mod:`.sidecar`; :func:`metadata` makes it).
 
+A kit's trajectory (a song on the kit) has ``t``, then every joint's angle ``LIMB.JOINT``, then
+each one's ``LIMB.JOINT.velocity`` (and an export's ``LIMB.JOINT.acceleration``); its JSON, needed
+to read it back, adds each joint's limits and each limb's hits (:func:`write_kit`, :func:`read_kit`,
+:class:`KitSamples`).
+
 Reading accepts files of older drumstroke versions too, whose first line was a ``#`` comment
 (``# drumstroke 0.1.0; model=paper; stroke=free-bounce; rate=1000 Hz; units s, rad, rad/s``).
 :func:`file_metadata` takes the model and the rate from the JSON beside the file, else from
@@ -344,14 +349,25 @@ class KitSamples(NamedTuple):
     name: str = "kit"
 
 
+def range_only(table):
+    """Whether a kit joint's limits ``table`` bounds its range alone (``theta_low``, ``theta_high``: a pedal's beater).
+
+    Examples
+    --------
+    >>> range_only({"theta_low": 0.0, "theta_high": 1.0}), range_only({"theta_low": 0.0, "max_speed": 12.0})
+    (True, False)
+    """
+    return set(table) <= {"theta_low", "theta_high"}
+
+
 def kit_column_names(limbs, *, accelerations=False):
     """The header of a kit's trajectory after ``t``: ``LIMB.JOINT`` for every joint of every limb of ``limbs``
     (a dict of limb to joints), then ``LIMB.JOINT.velocity``, then (``accelerations``) ``LIMB.JOINT.acceleration``.
 
     Examples
     --------
-    >>> kit_column_names({"right": ("yaw", "theta"), "right-foot": ("theta",)})
-    ['right.yaw', 'right.theta', 'right-foot.theta', 'right.yaw.velocity', 'right.theta.velocity', 'right-foot.theta.velocity']
+    >>> kit_column_names({"right": ("yaw", "theta"), "left-foot": ("theta",)})[:4]
+    ['right.yaw', 'right.theta', 'left-foot.theta', 'right.yaw.velocity']
     """
     joints = [f"{limb}.{joint}" for limb, names in limbs.items() for joint in names]
     return [f"{joint}{kind}" for kind in KIT_KINDS[:3 if accelerations else 2] for joint in joints]

@@ -43,7 +43,7 @@ from .._version import __version__
 from ..errors import ParameterError, TrajectoryError
 from ..formats.ros_json import MESSAGE_TYPE, read_ros_json, seconds_to_duration, write_joint_trajectory
 from ..formats.sidecar import sidecar_for, write_sidecar
-from ..formats.trajectory_csv import KitSamples, write_kit
+from ..formats.trajectory_csv import KitSamples, range_only, write_kit
 from ..formats.trajectory_csv import columns_text as csv_text
 from ..formats.trajectory_csv import metadata as csv_metadata
 from ..trajectory import DEFAULT_STICK, Trajectory
@@ -249,7 +249,8 @@ def _kit_joints(trajectory, rate, model, name, joint_names, limits):
     """A kit's samples (at ``rate``, labelled), each joint validated (a tuple, in column order), the ROS names."""
     if rate is not None and isinstance(trajectory, KitSamples):
         if rate != trajectory.rate:
-            raise ParameterError(f"rate must be the kit trajectory's own, {trajectory.rate:g} Hz, or None, got {rate!r}")
+            raise ParameterError(f"rate must be the kit trajectory's own, {trajectory.rate:g} Hz, or None, "
+                                 f"got {rate!r}")
     else:
         trajectory = trajectory.samples(rate) if rate is not None else trajectory
     samples, _ = kit_samples(trajectory)
@@ -265,7 +266,7 @@ def _kit_ros_metadata(samples, checked, joint_names, **where):
     """drumstroke's own data about a kit's ROS message: as :func:`ros_metadata`, each joint with its column and
     the limits it was validated against (a beater's range alone), and the offset of the score's time 0."""
     joints = [{"name": joint, "column": column,
-               "limits": table if set(table) <= {"theta_low", "theta_high"} else c.limits.to_dict()}
+               "limits": table if range_only(table) else c.limits.to_dict()}
               for joint, column, c, table in zip(joint_names, samples.positions, checked, samples.limits.values())]
     return {"version": __version__, "model": samples.model, "name": samples.name, "rate": samples.rate,
             "type": MESSAGE_TYPE, **where, "joints": joints, "offset": samples.offset,

@@ -18,6 +18,10 @@ quantity, its value and the limit, e.g. ``sample 1203: speed 41.2 rad/s exceeds
 max_speed 40 rad/s``. Acceleration and jerk are forward differences: the
 acceleration of sample k is the step from sample k to k + 1.
 
+:func:`validate_kit` checks every joint of a kit's trajectory (a song on the kit) the same
+way, each against its own limits, leaving unbounded the steps across an impact, where the
+surface struck reverses a stick or a beater within one control period.
+
 Examples
 --------
 >>> import numpy as np
@@ -41,7 +45,7 @@ import numpy as np
 from .._checks import as_vector, check_keys, check_real
 from ..errors import ParameterError, TrajectoryError
 from ..formats.toml import read_toml
-from ..formats.trajectory_csv import KitSamples, read_kit, read_stick
+from ..formats.trajectory_csv import KitSamples, range_only, read_kit, read_stick
 from ..kit.play import THETA
 from ..palette.motion import Limits
 from ..trajectory import DEFAULT_RATE, THETA_TOP, TIME_TOLERANCE, Trajectory, check_grid, check_samples
@@ -343,7 +347,7 @@ def _kit_joint(samples, column, sticks, tolerance):
     table = samples.limits[column]
     own = Limits.from_dict(table)
     angle = joint == THETA  # a stick's or a beater's: the surface it strikes is its lowest angle
-    dynamics = not set(table) <= {"theta_low", "theta_high"}
+    dynamics = not range_only(table)
     if angle and dynamics and sticks is not None:
         own = replace(sticks, theta_low=own.theta_low)
     impacts = samples.hits.get(limb) if angle else None
