@@ -546,6 +546,10 @@ class KitComposition:
         Notes on pieces not chosen (``pieces``), counted by piece.
     model : str
         The model the sticks' strokes were designed with (the pedals have their own, :mod:`drumstroke.kit.pedal`).
+    setup : Setup
+        What the sticks were played with (its joint's limits bound every θ).
+    pedals : dict of str to Pedal
+        Each pedal the kit's pieces name, by name, as played.
     """
 
     performance: object
@@ -556,6 +560,8 @@ class KitComposition:
     tempo_map: TempoMap = field(default_factory=TempoMap)
     left_out: dict = field(default_factory=dict)
     model: str = "paper"
+    setup: Setup = field(default_factory=Setup)
+    pedals: dict = field(default_factory=dict)
 
     def __repr__(self):
         return f"KitComposition({self.performance!r}, {self.t_end:g} s at {self.rate:g} Hz)"
@@ -577,8 +583,9 @@ class KitComposition:
         """The CSV's header after ``t``: ``LIMB.JOINT`` (rad) for every joint of every limb with a motion, then
         ``LIMB.JOINT.velocity`` (rad/s); a hand's joints are its positioning joints and ``theta``, a foot's its
         beater's ``theta`` (θ = −φ)."""
-        names = [f"{limb}.{joint}" for limb, (joints, _) in self.performance.motions.items() for joint in joints]
-        return names + [f"{name}.velocity" for name in names]
+        from .formats.trajectory_csv import kit_column_names
+
+        return kit_column_names({limb: joints for limb, (joints, _) in self.performance.motions.items()})
 
     def sample(self, rate=None):
         """Times (s, from 0 to :attr:`t_end` at ``rate`` Hz, default the composition's) and ``{column: values}``."""
@@ -591,24 +598,44 @@ class KitComposition:
             velocities += [v] if v.ndim == 1 else [v[:, j] for j in range(len(joints))]
         return t, dict(zip(self.columns, positions + velocities, strict=True))
 
+    def samples(self, rate=None):
+        """The composition as :class:`~drumstroke.formats.trajectory_csv.KitSamples` at ``rate`` Hz (default its own):
+        every joint's samples, each joint's limits and each limb's hits.
+
+        The limits: a hand's positioning joints the kit's; its θ the setup's joint limits over the range from the
+        lowest surface the hand plays (its θ's range as played); a foot's beater its pedal's range alone, from the
+        head (θ = −φ_head) to rest (θ = −φ_rest), as the pedal's spring and the foot move it, no motor.
+        """
+        from .formats.trajectory_csv import KitSamples
+
+        t, columns = self.sample(rate)
+        motions = self.performance.motions
+        joints = self.columns[:len(columns) // 2]
+        limits = {}
+        for limb, (names, _) in motions.items():
+            if limb in self.performance.hands:
+                hand = self.performance.hands[limb]
+                tables = [joint.to_dict() for joint in hand.limits[:-1]]
+                tables.append(replace(self.setup.limits, theta_low=hand.limits[-1].theta_low).to_dict())
+            else:
+                pedal = self.pedals[self.performance.feet[limb].pedal]
+                tables = [{"theta_low": 0.0 - pedal.phi_head, "theta_high": 0.0 - pedal.phi_rest}]  # no -0
+            limits |= {f"{limb}.{name}": table for name, table in zip(names, tables, strict=True)}
+        hits = {limb: np.array([hit.t for hit in self.performance.hits if hit.limb == limb]) for limb in motions}
+        # + 0.0: no -0 (a beater's ω = −φ̇ at rest), so the samples are those a kit CSV reads back, bit for bit
+        positions = {j: columns[j] + 0.0 for j in joints}
+        velocities = {j: columns[f"{j}.velocity"] + 0.0 for j in joints}
+        limbs = {limb: tuple(names) for limb, (names, _) in motions.items()}
+        return KitSamples(t, positions, velocities, limbs, float(self.rate if rate is None else rate), self.model,
+                          self.offset, limits, hits)
+
     def write_csv(self, path, *, sidecar=True, bundle=None):
         """Write ``t`` and a column per joint (:attr:`columns`), header first, atomically; the metadata (rate,
-        offset, units) in the JSON beside it as every trajectory CSV does (``sidecar=False``: returned only)."""
-        from ._atomic import bundled
-        from .formats.sidecar import describe, sidecar_for, write_sidecar
-        from .formats.trajectory_csv import write_columns
+        offset, units, each joint's limits and each limb's hits: :meth:`samples`) in the JSON beside it as every
+        trajectory CSV does (``sidecar=False``: returned only)."""
+        from .formats.trajectory_csv import write_kit
 
-        side = sidecar_for(path) if sidecar else None
-        t, columns = self.sample()
-        names = ["t", *columns]
-        units = {"t": "s"} | {name: "rad/s" if name.endswith(".velocity") else "rad" for name in columns}
-        block = describe(path, names, units, {"model": self.model, "name": "kit", "rate": float(self.rate),
-                                              "limbs": list(self.performance.motions), "offset": self.offset})
-        with bundled(bundle) as files:
-            write_columns(path, names, [t, *columns.values()], bundle=files)
-            if side is not None:
-                write_sidecar(side, block, bundle=files)
-        return block
+        return write_kit(path, self.samples(), sidecar=sidecar, bundle=bundle)
 
 
 def compose_kit(notes, kit=None, *, setup=None, rate=None, pieces=None, lead="right", open_handed=False,
@@ -702,7 +729,7 @@ def compose_kit(notes, kit=None, *, setup=None, rate=None, pieces=None, lead="ri
     performance = play_kit(kit_notes, kit, velocities=[n.velocity for n in kept], keys=keys, setup=setup,
                            limbs=limbs, lead=lead, open_handed=open_handed, pedals=pedals)
     return KitComposition(performance, kit, offset, rate, performance.t_end + HOLD_AFTER, tempo_map, left_out,
-                          setup.model)
+                          setup.model, setup, pedals)
 
 
 LEAD_ROOM = 0.1

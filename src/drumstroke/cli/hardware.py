@@ -5,33 +5,40 @@ from pathlib import Path
 from ..errors import ParameterError
 from ..formats.ros_json import metadata_path
 from ..formats.rosbag import DEFAULT_TOPIC, STORAGES, check_topic
+from ..formats.trajectory_csv import is_kit_file
 from ..trajectory import Trajectory
 from ._common import robot_config
 from ._options import Output, add_mkdir, existing_file
+from .robot_kit_export import export_kit_file, validate_kit_file
 
 
 def add_hardware_actions(actions):
     """Register ``robot validate`` and ``robot export`` on the ``robot`` command's ``actions``."""
     val = actions.add_parser("validate", help="check a trajectory CSV before it goes to hardware",
-                             description="Check a trajectory CSV against the robot's limits; print its peaks.")
-    val.add_argument("trajectory", type=existing_file, metavar="TRAJECTORY", help="a trajectory .csv to check")
+                             description="Check a trajectory CSV against the robot's limits (a kit's: every joint "
+                                         "against its own); print its peaks.")
+    val.add_argument("trajectory", type=existing_file, metavar="TRAJECTORY",
+                     help="a trajectory .csv to check (a kit's, from compose --kit --csv, with its JSON)")
     val.add_argument("--stick", help="the stick of a composition CSV")
-    val.add_argument("--config", type=existing_file, metavar="TOML", help="robot config with a [limits] table")
+    val.add_argument("--config", type=existing_file, metavar="TOML",
+                     help="robot config with a [limits] table (a kit's: its sticks' theta limits)")
     val.set_defaults(run=_validate)
     exp = actions.add_parser("export", help="validate and export a trajectory CSV for a robot stack",
                              description="Validate a trajectory CSV, then write it for a robot stack: a CSV, a ROS 2 "
                                          "JointTrajectory as JSON, or a rosbag2 of that message.")
-    exp.add_argument("trajectory", type=existing_file, metavar="TRAJECTORY", help="a trajectory .csv to export")
+    exp.add_argument("trajectory", type=existing_file, metavar="TRAJECTORY",
+                     help="a trajectory .csv to export (a kit's: every joint, one ROS joint per column)")
     exp.add_argument("--format", choices=("csv", "ros-json"),
-                     help="--out's format: csv (t, theta, omega, alpha; metadata in X.json) or ros-json (metadata in "
-                          "X.meta.json)")
+                     help="--out's format: csv (t, theta, omega, alpha; a kit's: every joint's angle, speed and "
+                          "acceleration; metadata in X.json) or ros-json (metadata in X.meta.json)")
     exp.add_argument("--out", action=Output, metavar="PATH", help="the file to write (with --format)")
     exp.add_argument("--rosbag", type=Path, metavar="DIR", help="write a rosbag2 folder of one JointTrajectory")
     exp.add_argument("--storage", choices=STORAGES, default="mcap", help="the rosbag2 storage (default mcap)")
     exp.add_argument("--topic", default=DEFAULT_TOPIC, help=f"the rosbag2 topic (default {DEFAULT_TOPIC})")
     exp.add_argument("--overwrite", action="store_true", help="replace an existing --rosbag folder")
     exp.add_argument("--stick", help="the stick of a composition CSV to export (csv: needed; ROS: default every stick)")
-    exp.add_argument("--joint-names", metavar="A,B", help="ROS joint names, one per stick in the file's order")
+    exp.add_argument("--joint-names", metavar="A,B",
+                     help="ROS joint names, one per stick (a kit's: per joint, default LIMB_JOINT) in the file's order")
     exp.add_argument("--config", type=existing_file, metavar="TOML", help="robot config with a [limits] table")
     add_mkdir(exp)
     exp.set_defaults(run=_export)
@@ -41,6 +48,8 @@ def _validate(args):
     from ..robot.validate import validate_file
 
     config = robot_config(args.config)
+    if is_kit_file(args.trajectory):
+        return validate_kit_file(args, config)
     checked = validate_file(args.trajectory, stick=args.stick, head=config.plant.head, limits=config.limits)
     print(f"{args.trajectory}: valid: {_peaks(checked)}")
 
@@ -55,6 +64,8 @@ def _export(args):
         raise ParameterError(f"--rosbag {str(args.rosbag)!r} exists: choose a new folder, or replace it with --overwrite")
     topic = check_topic(args.topic, name="--topic")
     config = robot_config(args.config)
+    if is_kit_file(args.trajectory):
+        return export_kit_file(args, config, topic)
     options = {"head": config.plant.head, "limits": config.limits}
     trajectory = Trajectory.read_csv(args.trajectory, theta_max=config.plant.head)
     sticks = trajectory.sticks  # in the file's order, as --joint-names names them

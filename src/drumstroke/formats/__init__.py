@@ -10,7 +10,7 @@ Every CSV starts with its header line; what a header cannot say is in the JSON b
 :mod:`.toml`              TOML files: recipes, palettes, sweeps, robot and listening-test configs
 :mod:`.json`              JSON files: strokes, compositions, reports, a library's manifest
 :mod:`.signal_csv`        a recorded signal, ``t,value`` rows (a thumb-force recording)
-:mod:`.trajectory_csv`    trajectories: ``t,theta,omega[,alpha]``, or per stick ``theta_<stick>``…
+:mod:`.trajectory_csv`    trajectories of one stick (``t,theta,omega``), several, or a kit's joints
 :mod:`.sidecar`           the JSON beside a CSV: its version, model, name, rate, units, sticks
 :mod:`.table`             tables of results (a sweep's) as CSV or parquet
 :mod:`.midi`              Standard MIDI Files: notes read from scores, impacts written as notes

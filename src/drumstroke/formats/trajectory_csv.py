@@ -13,6 +13,11 @@ One stick has the columns ``t,theta,omega`` (an export adds ``alpha``, rad/s²);
 — the drumstroke version, the model, the name, the rate, the units, the sticks — is in the
 JSON beside the file (:mod:`.sidecar`; :func:`metadata` makes it).
 
+A kit's trajectory (a song on the kit) has ``t``, then every joint's angle ``LIMB.JOINT``, then
+each one's ``LIMB.JOINT.velocity`` (and an export's ``LIMB.JOINT.acceleration``); its JSON, needed
+to read it back, adds each joint's limits and each limb's hits (:func:`write_kit`, :func:`read_kit`,
+:class:`KitSamples`).
+
 Reading accepts files of older drumstroke versions too, whose first line was a ``#`` comment
 (``# drumstroke 0.1.0; model=paper; stroke=free-bounce; rate=1000 Hz; units s, rad, rad/s``).
 :func:`file_metadata` takes the model and the rate from the JSON beside the file, else from
@@ -37,14 +42,15 @@ t,theta,omega
 
 import io
 import re
+from typing import NamedTuple
 
 import numpy as np
 
-from .._atomic import write_atomic
+from .._atomic import bundled, write_atomic
 from ..errors import ParameterError
 from .json import impact_columns, read_json
 from .reading import MIB, read_text
-from .sidecar import describe, read_sidecar, sidecar_path
+from .sidecar import describe, read_sidecar, sidecar_for, sidecar_path, write_sidecar
 
 MAX_BYTES = 1024 * MIB
 """The largest trajectory file read (bytes): an hour of four sticks at 1 kHz is some 700 MB."""
@@ -141,9 +147,12 @@ def read_columns(path, *, what="trajectory file"):
     if data.shape[1] != len(names) or len(data) < 2:
         raise ParameterError(f"{where} is corrupt: {len(data)} rows of {data.shape[1]} columns under the header "
                              f"{','.join(names)} (at least 2 rows needed)")
-    finite = np.isfinite(data).all(axis=1)
+    finite = np.isfinite(data)
     if not finite.all():
-        raise ParameterError(f"{where} is corrupt: row {int(np.flatnonzero(~finite)[0])} is not finite")
+        row, column = (int(i) for i in np.argwhere(~finite)[0])
+        line = row + 2 + bool(comment)  # the header's line, then the rows
+        raise ParameterError(f"{where} is corrupt: row {row} is not finite (line {line}, column {column + 1} "
+                             f"{names[column]!r}: {float(data[row, column])!r})")
     return comment, dict(zip(names, data.T))
 
 
@@ -289,3 +298,246 @@ def _stated_rate(comment):
         return float(match.group(1))
     except ValueError:
         return None
+
+
+# --- a kit's trajectory: every joint of every limb -----------------------------------------------------------------
+
+KIT_KINDS = ("", ".velocity", ".acceleration")
+"""The suffixes of a kit file's columns after a joint's name: its angle (rad), speed (rad/s), an export's
+acceleration (rad/s²)."""
+
+_KIT_UNITS = dict(zip(KIT_KINDS, ("rad", "rad/s", "rad/s^2")))
+_KIT_FIELDS = ("rate", "model", "limbs", "offset", "limits", "hits")
+
+
+class KitSamples(NamedTuple):
+    """A kit's trajectory at its control rate: every joint's angle and speed, and what it was composed within.
+
+    :meth:`drumstroke.compose.KitComposition.samples` makes one; :func:`read_kit` reads one from a file.
+
+    Attributes
+    ----------
+    t : ndarray [shape=(n,)]
+        s, strictly increasing.
+    positions, velocities : dict of str to ndarray [shape=(n,)]
+        Each joint's angle (rad) and speed (rad/s), by its column name ``LIMB.JOINT``, in the limbs' order.
+    limbs : dict of str to tuple of str
+        Each limb's joints, in order (a hand's positioning joints then ``theta``; a foot's ``theta``).
+    rate : float
+        Hz.
+    model : str
+        The model the sticks' strokes were designed with.
+    offset : float
+        s: where the score's time 0 is on ``t``.
+    limits : dict of str to dict
+        Each joint's limits as a ``[limits]`` table (:class:`drumstroke.palette.motion.Limits`' fields); a
+        table of ``theta_low`` and ``theta_high`` alone (a pedal's beater) bounds the range only.
+    hits : dict of str to ndarray
+        Each limb's impact times (s, on ``t``), where its stick or beater is reversed by what it strikes.
+    name : str
+    """
+
+    t: np.ndarray
+    positions: dict
+    velocities: dict
+    limbs: dict
+    rate: float
+    model: str
+    offset: float
+    limits: dict
+    hits: dict
+    name: str = "kit"
+
+
+def range_only(table):
+    """Whether a kit joint's limits ``table`` bounds its range alone (``theta_low``, ``theta_high``: a pedal's beater).
+
+    Examples
+    --------
+    >>> range_only({"theta_low": 0.0, "theta_high": 1.0}), range_only({"theta_low": 0.0, "max_speed": 12.0})
+    (True, False)
+    """
+    return set(table) <= {"theta_low", "theta_high"}
+
+
+def kit_column_names(limbs, *, accelerations=False):
+    """The header of a kit's trajectory after ``t``: ``LIMB.JOINT`` for every joint of every limb of ``limbs``
+    (a dict of limb to joints), then ``LIMB.JOINT.velocity``, then (``accelerations``) ``LIMB.JOINT.acceleration``.
+
+    Examples
+    --------
+    >>> kit_column_names({"right": ("yaw", "theta"), "left-foot": ("theta",)})[:4]
+    ['right.yaw', 'right.theta', 'left-foot.theta', 'right.yaw.velocity']
+    """
+    joints = [f"{limb}.{joint}" for limb, names in limbs.items() for joint in names]
+    return [f"{joint}{kind}" for kind in KIT_KINDS[:3 if accelerations else 2] for joint in joints]
+
+
+def kit_metadata(path, samples, *, accelerations=False, extra=None):
+    """The metadata of the kit trajectory CSV at ``path`` holding ``samples`` (a :class:`KitSamples`), for the
+    JSON beside it: the rate, the model, the limbs, the offset, each joint's limits and each limb's hits."""
+    names = ["t", *kit_column_names(samples.limbs, accelerations=accelerations)]
+    units = {"t": "s"} | {name: _KIT_UNITS[_kind(name)] for name in names[1:]}
+    fields = {"model": samples.model, "name": samples.name, "rate": float(samples.rate),
+              "limbs": list(samples.limbs), "offset": float(samples.offset), "limits": samples.limits,
+              "hits": {limb: [float(t) for t in times] for limb, times in samples.hits.items()}, **(extra or {})}
+    return describe(path, names, units, fields)
+
+
+def write_kit(path, samples, *, accelerations=None, extra=None, sidecar=True, bundle=None):
+    """Write a kit's trajectory as CSV, header first, atomically; its :func:`kit_metadata` in the JSON beside it.
+
+    Parameters
+    ----------
+    path : str or Path
+    samples : KitSamples
+    accelerations : dict of str to ndarray or None
+        Each joint's acceleration (rad/s²) by its column name, written after the speeds.
+    extra : dict or None
+        More metadata fields (an export's ``note``).
+    sidecar : bool
+        Write the metadata to the JSON beside the CSV; False returns it only, for the caller's own JSON there.
+    bundle : Bundle or None
+
+    Returns
+    -------
+    dict
+        The metadata.
+    """
+    side = sidecar_for(path) if sidecar else None
+    block = kit_metadata(path, samples, accelerations=accelerations is not None, extra=extra)
+    columns = [samples.t, *samples.positions.values(), *samples.velocities.values(),
+               *(accelerations.values() if accelerations is not None else ())]
+    with bundled(bundle) as files:
+        write_columns(path, block["columns"], columns, bundle=files)
+        if side is not None:
+            write_sidecar(side, block, bundle=files)
+    return block
+
+
+def is_kit_file(path):
+    """Whether the CSV at ``path`` is a kit's trajectory: its header (first line) names ``LIMB.JOINT`` columns."""
+    try:
+        with open(path, encoding="utf-8", errors="replace") as file:
+            header = file.readline(1 << 16)
+    except OSError:
+        return False  # the reader says why
+    return header.startswith("t,") and "." in header
+
+
+def read_kit(path):
+    """Read a kit's trajectory CSV and the JSON beside it, every value checked.
+
+    The header comes first: ``t``, ``LIMB.JOINT`` for every joint, ``LIMB.JOINT.velocity`` for each, and
+    (an export's) ``LIMB.JOINT.acceleration``; every value is a finite number, ``t`` strictly increases.
+    The JSON beside it (written with it) gives the rate, the model, the limbs in order, the offset, each
+    joint's limits and each limb's hits.
+
+    Returns
+    -------
+    KitSamples
+
+    Raises
+    ------
+    ParameterError
+        Naming the file and the line, the column or the metadata field: no JSON beside the CSV, columns
+        missing, out of order or not the JSON's, a value not finite, a time not after the one before.
+    """
+    where = f"kit trajectory file {str(path)!r}"
+    side = sidecar_path(path)
+    block = read_sidecar(path)
+    if block is None:
+        raise ParameterError(f"{where} has no metadata beside it: {str(side)!r} (its rate, limbs, joint limits and "
+                             "hits) is missing or not drumstroke's; write the CSV and its JSON together "
+                             "(compose --kit --csv, robot export --format csv)")
+    comment, columns = read_columns(path, what="kit trajectory file")
+    _from_sidecar(block, side, columns)
+    missing = [key for key in _KIT_FIELDS if key not in block]
+    if missing:
+        raise ParameterError(f"metadata {str(side)!r} lacks {', '.join(missing)}: it is not a kit trajectory's; "
+                             "compose the song again")
+    names = list(columns)[1:]
+    limbs = _kit_limbs(names, block["limbs"], where)
+    t = columns["t"]
+    back = np.flatnonzero(np.diff(t) <= 0.0)
+    if len(back):
+        i = int(back[0]) + 1
+        line = i + 2 + bool(comment)
+        raise ParameterError(f"{where}, line {line}: t = {float(t[i])!r} s does not come after {float(t[i - 1])!r} s "
+                             f"(line {line - 1}); times must increase strictly")
+    joints = kit_column_names(limbs)[:sum(len(j) for j in limbs.values())]
+    at = f"metadata {str(side)!r}"
+    return KitSamples(t, {j: columns[j] for j in joints}, {j: columns[f"{j}.velocity"] for j in joints}, limbs,
+                      float(block["rate"]), block["model"], _number(at, "offset", block["offset"]),
+                      _kit_limits(at, block["limits"], joints), _kit_hits(at, block["hits"], limbs, t),
+                      str(block.get("name", "kit")))
+
+
+def _kind(name):
+    """The suffix of a kit column (of :data:`KIT_KINDS`)."""
+    return next((kind for kind in KIT_KINDS[1:] if name.endswith(kind)), "")
+
+
+def _kit_limbs(names, stated, where):
+    """Each limb's joints from a kit file's header (after ``t``), checked against the limbs its JSON states."""
+    if not isinstance(stated, list) or not stated or not all(isinstance(limb, str) for limb in stated):
+        raise ParameterError(f"{where}: its JSON's limbs must be a list of limb names, got {stated!r}")
+    limbs = {}
+    for name in (name for name in names if not _kind(name)):
+        limb, _, joint = name.partition(".")
+        if limb not in stated or not joint or "." in joint:
+            raise ParameterError(f"{where}: column {name!r} is not LIMB.JOINT for a limb of {', '.join(stated)}")
+        limbs.setdefault(limb, []).append(joint)
+    limbs = {limb: tuple(joints) for limb, joints in limbs.items()}
+    if list(limbs) != stated:
+        raise ParameterError(f"{where}: its columns are the joints of {', '.join(limbs) or 'no limb'}, in that order; "
+                             f"its JSON says {', '.join(stated)}")
+    expected = kit_column_names(limbs, accelerations=names[-1].endswith(".acceleration"))
+    if names == expected:
+        return limbs
+    missing = [name for name in expected if name not in names]
+    extra = [name for name in names if name not in expected]
+    if missing or extra:
+        raise ParameterError(f"{where} " + (f"has no column {missing[0]!r}" if missing else
+                                            f"has the column {extra[0]!r}, not one of its joints'") +
+                             ": after t, every joint's LIMB.JOINT, then each one's LIMB.JOINT.velocity (and "
+                             "LIMB.JOINT.acceleration)")
+    i = next(i for i, (name, wanted) in enumerate(zip(names, expected)) if name != wanted)
+    raise ParameterError(f"{where} has {names[i]!r} as column {i + 2}, where {expected[i]!r} belongs: after t, every "
+                         "joint's LIMB.JOINT, then each one's LIMB.JOINT.velocity, in the same order")
+
+
+def _number(where, key, value):
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not np.isfinite(value):
+        raise ParameterError(f"{where}: {key} must be a finite number, got {value!r}")
+    return float(value)
+
+
+def _kit_limits(where, limits, joints):
+    """Each joint's limits table, checked to hold numbers only (their meaning is the robot's to check)."""
+    if not isinstance(limits, dict) or sorted(limits) != sorted(joints):
+        raise ParameterError(f"{where}: limits must be a table for each joint ({', '.join(joints)}), got "
+                             f"{sorted(limits) if isinstance(limits, dict) else limits!r}")
+    checked = {}
+    for joint in joints:
+        table = limits[joint]
+        if not isinstance(table, dict) or not table:
+            raise ParameterError(f"{where}: limits[{joint!r}] must be a table of limits, got {table!r}")
+        checked[joint] = {key: _number(where, f"limits[{joint!r}].{key}", value) for key, value in table.items()}
+    return checked
+
+
+def _kit_hits(where, hits, limbs, t):
+    """Each limb's impact times, checked: finite, ascending, within ``t``."""
+    if not isinstance(hits, dict) or not set(hits) <= set(limbs):
+        raise ParameterError(f"{where}: hits must be a table of limb ({', '.join(limbs)}) to impact times, got "
+                             f"{sorted(hits) if isinstance(hits, dict) else hits!r}")
+    checked = {}
+    for limb, times in hits.items():
+        if not isinstance(times, list):
+            raise ParameterError(f"{where}: hits[{limb!r}] must be a list of times (s), got {times!r}")
+        values = np.array([_number(where, f"hits[{limb!r}][{i}]", v) for i, v in enumerate(times)], dtype=float)
+        if np.any(np.diff(values) < 0.0) or (len(values) and not t[0] <= values[0] <= values[-1] <= t[-1]):
+            raise ParameterError(f"{where}: hits[{limb!r}] must be ascending times within [{t[0]:g}, {t[-1]:g}] s")
+        checked[limb] = values
+    return checked

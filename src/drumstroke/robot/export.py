@@ -14,6 +14,11 @@ per stick: as JSON (:func:`export_ros_json`, with drumstroke's metadata in the s
 ``X.meta.json``) and as a rosbag2 (:func:`export_rosbag`, MCAP or SQLite 3, the metadata in
 its ``custom_data``); see :mod:`drumstroke.formats.ros_json` and :mod:`drumstroke.formats.rosbag`.
 
+A kit's trajectory — a :class:`~drumstroke.compose.KitComposition` or the
+:class:`~drumstroke.formats.trajectory_csv.KitSamples` of a kit CSV — exports every joint of every
+limb, validated by :func:`~drumstroke.robot.validate.validate_kit`: as a kit CSV with each joint's
+acceleration, or as one ``JointTrajectory`` of one joint per column (:func:`ros_joint_name`).
+
 Examples
 --------
 >>> import tempfile, pathlib
@@ -28,6 +33,7 @@ Examples
 (('stick_joint',), (201, 1), True)
 """
 
+import re
 from pathlib import Path
 
 import numpy as np
@@ -37,12 +43,18 @@ from .._version import __version__
 from ..errors import ParameterError, TrajectoryError
 from ..formats.ros_json import MESSAGE_TYPE, read_ros_json, seconds_to_duration, write_joint_trajectory
 from ..formats.sidecar import sidecar_for, write_sidecar
+from ..formats.trajectory_csv import KitSamples, range_only, write_kit
 from ..formats.trajectory_csv import columns_text as csv_text
 from ..formats.trajectory_csv import metadata as csv_metadata
 from ..trajectory import DEFAULT_STICK, Trajectory
-from .validate import validate
+from .validate import kit_samples, validate, validate_kit
 
-__all__ = ["export_csv", "export_ros_json", "export_rosbag", "read_ros_json", "seconds_to_duration"]
+__all__ = ["export_csv", "export_ros_json", "export_rosbag", "read_ros_json", "ros_joint_name", "seconds_to_duration"]
+
+ACCELERATIONS = "forward difference (omega[k+1] - omega[k])*rate, 0 at the last sample"
+"""How every export's accelerations are made."""
+
+_ROS_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
 
 
 def export_csv(path, trajectory, theta=None, omega=None, *, rate=None, model=None, name=None, head=None, limits=None,
@@ -54,25 +66,37 @@ def export_csv(path, trajectory, theta=None, omega=None, *, rate=None, model=Non
     :func:`~drumstroke.robot.validate.validate_file` and
     :meth:`drumstroke.trajectory.Trajectory.read_csv` read it back.
 
+    A kit's trajectory is written as a kit CSV (:func:`~drumstroke.formats.trajectory_csv.write_kit`):
+    ``t``, every joint's angle, speed and acceleration ``LIMB.JOINT.acceleration`` (the same forward
+    difference), its metadata in the JSON beside it.
+
     Parameters
     ----------
     path : str or Path
-    trajectory : Trajectory or ndarray
+    trajectory : Trajectory, ndarray, KitComposition or KitSamples
         A :class:`~drumstroke.trajectory.Trajectory` (one stick, or name its ``stick``), or the
-        times t (s) [shape=(n,)] of samples given as arrays with ``theta`` (rad) and ``omega`` (rad/s).
+        times t (s) [shape=(n,)] of samples given as arrays with ``theta`` (rad) and ``omega`` (rad/s);
+        or a kit's trajectory (see :func:`export_ros_json`).
     rate : float or None
         The control rate (Hz); default the trajectory's (arrays: 1000).
     model, name : str or None
         What made the trajectory and what it is called (one line each, no ';'); default the
         trajectory's (arrays must give them).
     head, limits, start, stick
-        As for :func:`~drumstroke.robot.validate.validate`.
+        As for :func:`~drumstroke.robot.validate.validate` (a kit: ``limits`` only, as for
+        :func:`~drumstroke.robot.validate.validate_kit`).
 
     Returns
     -------
-    Checked
-        What was validated and written.
+    Checked, or tuple of Checked
+        What was validated and written (a kit: one per joint).
     """
+    if _is_kit(trajectory):
+        _refuse_for_kit(theta=theta, omega=omega, head=head, start=start, stick=stick)
+        samples, checked, _ = _kit_joints(trajectory, rate, model, name, None, limits)
+        write_kit(path, samples, accelerations={c: np.append(k.alpha, 0.0) for c, k in zip(samples.positions, checked)},
+                  extra={"note": f"acceleration is the {ACCELERATIONS}"})
+        return checked
     model, name = _labels(trajectory, model, name, stick)
     checked = validate(trajectory, theta, omega, rate=rate, head=head, limits=limits, start=start, stick=stick)
     side = sidecar_for(path, name="path")
@@ -97,10 +121,13 @@ def export_ros_json(path, trajectory, theta=None, omega=None, *, rate=None, mode
     Parameters
     ----------
     path : str or Path
-    trajectory : Trajectory or ndarray
+    trajectory : Trajectory, ndarray, KitComposition or KitSamples
         A :class:`~drumstroke.trajectory.Trajectory`, one joint per stick; or the times (s) from the
         header stamp [shape=(n,)] of samples given as arrays, t[0] ≥ 0, written exactly split as
-        ``time_from_start`` {sec, nanosec}, nanosec in [0, 1e9), rounded to the nearest nanosecond.
+        ``time_from_start`` {sec, nanosec}, nanosec in [0, 1e9), rounded to the nearest nanosecond;
+        or a kit's trajectory, one joint per column (a :class:`~drumstroke.compose.KitComposition`,
+        sampled at ``rate``, default its own; or the :class:`~drumstroke.formats.trajectory_csv.KitSamples`
+        of a kit CSV), validated by :func:`~drumstroke.robot.validate.validate_kit`.
     theta, omega : ndarray [shape=(n,) or (n, joints)] or None
         With times: rad, rad/s; one column per joint.
     rate : float or None
@@ -108,10 +135,12 @@ def export_ros_json(path, trajectory, theta=None, omega=None, *, rate=None, mode
     model, name : str or None
         One line each, no ';'; default the trajectory's (arrays must give them).
     joint_names : sequence of str or None
-        One distinct name per joint, in the order of the trajectory's sticks; default
-        ``<stick>_joint`` for each stick ("stick_joint" for one).
+        One distinct ROS name (a letter, then letters, digits and "_") per joint, in the order of the trajectory's
+        sticks (a kit's: its columns); default ``<stick>_joint`` for each stick ("stick_joint" for
+        one), a kit's :func:`ros_joint_name` of each column.
     head, limits
-        As for :func:`~drumstroke.robot.validate.validate`, the same for every joint.
+        As for :func:`~drumstroke.robot.validate.validate`, the same for every joint (a kit: ``limits``
+        only, the sticks' θ limits as for :func:`~drumstroke.robot.validate.validate_kit`).
     start : (float, float), sequence of them, or None
         The joints' angle (rad) and speed (rad/s) now: one pair for one joint
         given as 1-D arrays, else one pair per joint.
@@ -123,10 +152,10 @@ def export_ros_json(path, trajectory, theta=None, omega=None, *, rate=None, mode
     tuple of Checked
         One per joint.
     """
-    checked, names, sticks, model, name = _joints(trajectory, theta, omega, rate, model, name, joint_names, head,
-                                                 limits, start)
-    data = ros_metadata(checked, names, sticks, model, name, message=Path(path).name) if metadata else None
-    write_joint_trajectory(path, *_columns(checked), names, metadata=data)
+    checked, names, describe = _ros_joints(trajectory, theta, omega, rate, model, name, joint_names, head, limits,
+                                           start)
+    write_joint_trajectory(path, *_columns(checked), names,
+                           metadata=describe(message=Path(path).name) if metadata else None)
     return checked
 
 
@@ -159,10 +188,10 @@ def export_rosbag(path, trajectory, theta=None, omega=None, *, rate=None, model=
     from ..formats.rosbag import DEFAULT_TOPIC, check_topic, write_rosbag
 
     topic = check_topic(DEFAULT_TOPIC if topic is None else topic)
-    checked, names, sticks, model, name = _joints(trajectory, theta, omega, rate, model, name, joint_names, head,
-                                                 limits, start)
+    checked, names, describe = _ros_joints(trajectory, theta, omega, rate, model, name, joint_names, head, limits,
+                                           start)
     write_rosbag(path, joint_trajectory(*_columns(checked), names), topic=topic, storage=storage,
-                 metadata=ros_metadata(checked, names, sticks, model, name, topic=topic), overwrite=overwrite)
+                 metadata=describe(topic=topic), overwrite=overwrite)
     return checked
 
 
@@ -178,7 +207,71 @@ def ros_metadata(checked, joint_names, sticks, model, name, **where):
             **where, "joints": [{"name": j, "stick": s} for j, s in zip(joint_names, sticks)],
             "head": first.head, "limits": first.limits.to_dict(),
             "units": {"positions": "rad", "velocities": "rad/s", "accelerations": "rad/s^2", "time_from_start": "s"},
-            "accelerations": "forward difference (omega[k+1] - omega[k])*rate, 0 at the last sample"}
+            "accelerations": ACCELERATIONS}
+
+
+def ros_joint_name(column):
+    """The ROS joint name of a kit's column: '.' and '-' become '_'.
+
+    Examples
+    --------
+    >>> ros_joint_name("right.yaw"), ros_joint_name("right-foot.theta")
+    ('right_yaw', 'right_foot_theta')
+    """
+    return column.replace(".", "_").replace("-", "_")
+
+
+def _ros_joints(trajectory, theta, omega, rate, model, name, joint_names, head, limits, start):
+    """Each joint validated, the joint names, and the function that makes the message's metadata (where it goes)."""
+    if _is_kit(trajectory):
+        _refuse_for_kit(theta=theta, omega=omega, head=head, start=start)
+        samples, checked, names = _kit_joints(trajectory, rate, model, name, joint_names, limits)
+        return checked, names, lambda **where: _kit_ros_metadata(samples, checked, names, **where)
+    checked, names, sticks, model, name = _joints(trajectory, theta, omega, rate, model, name, joint_names, head,
+                                                 limits, start)
+    return checked, names, lambda **where: ros_metadata(checked, names, sticks, model, name, **where)
+
+
+def _is_kit(trajectory):
+    from ..compose import KitComposition
+
+    return isinstance(trajectory, (KitComposition, KitSamples))
+
+
+def _refuse_for_kit(**given):
+    for option, value in given.items():
+        if value is not None:
+            raise ParameterError(f"{option} is not for a kit's trajectory: its joints' heads, ranges and samples are "
+                                 f"its own; got {option}={value!r}")
+
+
+def _kit_joints(trajectory, rate, model, name, joint_names, limits):
+    """A kit's samples (at ``rate``, labelled), each joint validated (a tuple, in column order), the ROS names."""
+    if rate is not None and isinstance(trajectory, KitSamples):
+        if rate != trajectory.rate:
+            raise ParameterError(f"rate must be the kit trajectory's own, {trajectory.rate:g} Hz, or None, "
+                                 f"got {rate!r}")
+    else:
+        trajectory = trajectory.samples(rate) if rate is not None else trajectory
+    samples, _ = kit_samples(trajectory)
+    samples = samples._replace(model=_check_text("model", samples.model if model is None else model),
+                               name=_check_text("name", samples.name if name is None else name))
+    columns = tuple(samples.positions)
+    names = check_joint_names([ros_joint_name(c) for c in columns] if joint_names is None else joint_names,
+                              sticks=columns, what="joint")
+    return samples, tuple(validate_kit(samples, limits=limits).values()), names
+
+
+def _kit_ros_metadata(samples, checked, joint_names, **where):
+    """drumstroke's own data about a kit's ROS message: as :func:`ros_metadata`, each joint with its column and
+    the limits it was validated against (a beater's range alone), and the offset of the score's time 0."""
+    joints = [{"name": joint, "column": column,
+               "limits": table if range_only(table) else c.limits.to_dict()}
+              for joint, column, c, table in zip(joint_names, samples.positions, checked, samples.limits.values())]
+    return {"version": __version__, "model": samples.model, "name": samples.name, "rate": samples.rate,
+            "type": MESSAGE_TYPE, **where, "joints": joints, "offset": samples.offset,
+            "units": {"positions": "rad", "velocities": "rad/s", "accelerations": "rad/s^2", "time_from_start": "s"},
+            "accelerations": ACCELERATIONS}
 
 
 def _joints(trajectory, theta, omega, rate, model, name, joint_names, head, limits, start):
@@ -228,11 +321,12 @@ def _check_text(name, value):
     return value
 
 
-def check_joint_names(joint_names, *, sticks=None, name="joint_names"):
-    """The ROS joint names: ``joint_names`` as distinct non-empty names, one per stick of ``sticks`` when given.
+def check_joint_names(joint_names, *, sticks=None, name="joint_names", what="stick"):
+    """The ROS joint names: ``joint_names`` as distinct ROS names, one per stick of ``sticks`` when given.
 
-    Default ``<stick>_joint`` for each of ``sticks`` ("stick_joint" without them). ``name`` is
-    the parameter named in the error.
+    A ROS name is a letter, then letters, digits and '_'. Default ``<stick>_joint`` for each of
+    ``sticks`` ("stick_joint" without them). ``name`` is the parameter named in the error, ``what``
+    what ``sticks`` are ("stick", "joint").
     """
     if joint_names is None:
         return tuple(f"{s}_joint" for s in (sticks or (DEFAULT_STICK,)))
@@ -245,8 +339,12 @@ def check_joint_names(joint_names, *, sticks=None, name="joint_names"):
     if not names or not all(isinstance(n, str) and n.strip() for n in names) or len(set(names)) != len(names):
         raise ParameterError(f"{name} must be distinct non-empty names, at least one, got {joint_names!r}")
     if sticks is not None and len(names) != len(sticks):
-        raise ParameterError(f"{name} must be one name per stick ({', '.join(sticks)}), got {len(names)}: "
+        raise ParameterError(f"{name} must be one name per {what} ({', '.join(sticks)}), got {len(names)}: "
                              f"{joint_names!r}")
+    bad = next((n for n in names if not _ROS_NAME.fullmatch(n)), None)
+    if bad is not None:
+        raise ParameterError(f"{name} must be ROS names, a letter then letters, digits and '_' "
+                             f"([A-Za-z][A-Za-z0-9_]*), got {bad!r}")
     return names
 
 

@@ -18,6 +18,10 @@ quantity, its value and the limit, e.g. ``sample 1203: speed 41.2 rad/s exceeds
 max_speed 40 rad/s``. Acceleration and jerk are forward differences: the
 acceleration of sample k is the step from sample k to k + 1.
 
+:func:`validate_kit` checks every joint of a kit's trajectory (a song on the kit) the same
+way, each against its own limits, leaving unbounded the steps across an impact, where the
+surface struck reverses a stick or a beater within one control period.
+
 Examples
 --------
 >>> import numpy as np
@@ -33,16 +37,22 @@ Traceback (most recent call last):
 drumstroke.errors.TrajectoryError: sample 51: speed 30.054 rad/s exceeds max_speed 30 rad/s
 """
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from pathlib import Path
 
 import numpy as np
 
 from .._checks import as_vector, check_keys, check_real
 from ..errors import ParameterError, TrajectoryError
 from ..formats.toml import read_toml
-from ..formats.trajectory_csv import read_stick
+from ..formats.trajectory_csv import KitSamples, range_only, read_kit, read_stick
+from ..kit.play import THETA
 from ..palette.motion import Limits
-from ..trajectory import DEFAULT_RATE, THETA_TOP, Trajectory, check_grid, check_samples
+from ..trajectory import DEFAULT_RATE, THETA_TOP, TIME_TOLERANCE, Trajectory, check_grid, check_samples
+
+ANGLE_TOLERANCE = 1e-9
+"""rad a kit's joint may pass its range by in :func:`validate_kit`: round-off (a pedal's beater, held at rest by
+its closed-form swing, lies 1.5e-13 rad past it)."""
 
 
 def read_limits(path):
@@ -83,9 +93,9 @@ class Checked:
     peak_speed : float
         max |ω| (rad/s).
     peak_acceleration : float
-        max |α| (rad/s²).
+        max |α| (rad/s²), over the steps that span no impact when validated with impacts (:func:`validate_kit`).
     peak_jerk : float
-        max |j| (rad/s³); 0 for two samples.
+        max |j| (rad/s³), likewise; 0 for two samples.
     """
 
     t: np.ndarray
@@ -157,20 +167,36 @@ def validate(trajectory, theta=None, omega=None, *, rate=None, head=None, limits
     rate = own_rate if rate is None else rate
     if rate != own_rate:
         check_grid(t, rate)
-    _check_angles(theta, head, limits)
+    return _checked(t, theta, omega, rate, head, limits, start)
+
+
+def _checked(t, theta, omega, rate, head, limits, start=None, *, impacts=None, dynamics=True, tolerance=0.0):
+    """Checks 3 to 5 of samples on the grid (new arrays, made read-only), as :class:`Checked`.
+
+    The accelerations and jerks that span one of ``impacts`` (times, s) are not bounded (see
+    :func:`validate_kit`); without ``dynamics`` only the angles are; they may pass their bounds by ``tolerance``
+    (rad).
+    """
+    _check_angles(theta, head, limits, tolerance)
     alpha = np.diff(omega) * rate
     jerk = np.diff(alpha) * rate
-    _check_bound(np.abs(omega), omega, "speed", "max_speed", limits.max_speed, "rad/s")
-    _check_bound(np.abs(alpha), alpha, "acceleration", "max_acceleration", limits.max_acceleration, "rad/s²")
-    _check_bound(np.abs(jerk), jerk, "jerk", "max_jerk", limits.max_jerk, "rad/s³")
+    if impacts is None or not len(impacts):
+        steady_alpha, steady_jerk = np.abs(alpha), np.abs(jerk)
+    else:
+        steady = _between_impacts(t, impacts)
+        steady_alpha, steady_jerk = np.abs(alpha) * steady, np.abs(jerk) * (steady[:-1] & steady[1:])
+    if dynamics:
+        _check_bound(np.abs(omega), omega, "speed", "max_speed", limits.max_speed, "rad/s")
+        _check_bound(steady_alpha, alpha, "acceleration", "max_acceleration", limits.max_acceleration, "rad/s²")
+        _check_bound(steady_jerk, jerk, "jerk", "max_jerk", limits.max_jerk, "rad/s³")
     if start is not None:
         _check_start_state(theta[0], omega[0], start, limits)
     for array in (t, theta, omega, alpha, jerk):
         array.flags.writeable = False
     return Checked(t=t, theta=theta, omega=omega, alpha=alpha, jerk=jerk, rate=rate, head=head, limits=limits,
                    lowest_angle=float(theta.min()), highest_angle=float(theta.max()),
-                   peak_speed=float(np.abs(omega).max()), peak_acceleration=float(np.abs(alpha).max()),
-                   peak_jerk=float(np.abs(jerk).max()) if len(jerk) else 0.0)
+                   peak_speed=float(np.abs(omega).max()), peak_acceleration=float(steady_alpha.max()),
+                   peak_jerk=float(steady_jerk.max()) if len(jerk) else 0.0)
 
 
 def _columns(trajectory, theta, omega, rate, stick):
@@ -232,6 +258,104 @@ def validate_file(path, *, stick=None, rate=None, head=None, limits=None, start=
         raise TrajectoryError(f"{where}: {error}") from None
 
 
+def _between_impacts(t, impacts):
+    """True for each step from t[k] to t[k + 1] that no impact falls in [shape=(n-1,)].
+
+    An impact at a sample's time (within the time grid's tolerance) may fall on either side of it, so
+    both steps beside that sample are taken as spanning it.
+    """
+    steady = np.ones(len(t) - 1, dtype=bool)
+    tolerance = TIME_TOLERANCE * np.maximum(1.0, np.abs(impacts))
+    first = np.clip(np.searchsorted(t, impacts - tolerance) - 1, 0, len(steady))
+    last = np.clip(np.searchsorted(t, impacts + tolerance) - 1, -1, len(steady) - 1)
+    marks = np.zeros(len(steady) + 1, dtype=int)
+    np.add.at(marks, first, 1)
+    np.add.at(marks, last + 1, -1)
+    return np.cumsum(marks[:-1]) <= 0
+
+
+def validate_kit(source, *, limits=None, tolerance=ANGLE_TOLERANCE):
+    """Check every joint of a kit's trajectory against its limits before it goes to hardware.
+
+    Each joint is checked as :func:`validate` checks a stick's joint, against its own limits (as
+    :meth:`drumstroke.compose.KitComposition.samples` records them): a hand's positioning joints
+    against the kit's; a stick's θ against the sticks' joint limits over the range from the lowest
+    surface its hand plays; a pedal's beater for its range alone (no motor drives it: its spring and
+    the foot do). The surface a stick or beater strikes reverses it within one control period, so
+    the finite-difference acceleration and jerk across an impact are the strike's, not the joint's,
+    and grow with the rate without bound: the steps that span one of the limb's hits are not
+    bounded, and the rest are, at any rate.
+
+    Parameters
+    ----------
+    source : KitComposition, KitSamples, str or Path
+        A composition (:func:`drumstroke.compose.compose_kit`), its samples, or a kit trajectory CSV
+        with the JSON beside it (:func:`drumstroke.formats.trajectory_csv.read_kit`).
+    limits : Limits or None
+        The sticks' joint limits, for those recorded (θ's speed, acceleration, jerk and highest angle;
+        its lowest stays its hand's lowest surface).
+    tolerance : float in [0, 0.01]
+        rad an angle may pass its range by: the round-off of exact motions (default
+        :data:`ANGLE_TOLERANCE`).
+
+    Returns
+    -------
+    dict of str to Checked
+        Every joint's, by its column name (``LIMB.JOINT``), in order.
+
+    Raises
+    ------
+    TrajectoryError
+        Naming each joint that fails and its first failure (the sample, the quantity, the value, the limit).
+    """
+    samples, where = kit_samples(source)
+    tolerance = check_real("tolerance", tolerance, low=0.0, high=0.01, unit="rad")
+    if limits is not None:
+        limits = _check_limits(limits)
+    try:
+        check_grid(samples.t, samples.rate)
+    except TrajectoryError as error:
+        raise TrajectoryError(f"{where}{error}") from None
+    checked, failures = {}, []
+    for column in samples.positions:
+        try:
+            checked[column] = _kit_joint(samples, column, limits, tolerance)
+        except (TrajectoryError, ParameterError) as error:
+            failures.append(f"joint {column!r}: {error}")
+    if failures:
+        count = "" if len(failures) == 1 else f"{len(failures)} of {len(samples.positions)} joints fail: "
+        raise TrajectoryError(f"{where}{count}{'; '.join(failures)}")
+    return checked
+
+
+def kit_samples(source):
+    """A kit's samples from a composition, samples or a file, and the words that prefix its errors."""
+    from ..compose import KitComposition
+
+    if isinstance(source, KitComposition):
+        return source.samples(), ""
+    if isinstance(source, KitSamples):
+        return source, ""
+    if isinstance(source, (str, Path)):
+        return read_kit(source), f"kit trajectory file {str(source)!r}: "
+    raise ParameterError(f"source must be a KitComposition, KitSamples or a kit trajectory file, got {source!r}")
+
+
+def _kit_joint(samples, column, sticks, tolerance):
+    """One joint of a kit checked against its limits (see :func:`validate_kit`)."""
+    limb, _, joint = column.partition(".")
+    table = samples.limits[column]
+    own = Limits.from_dict(table)
+    angle = joint == THETA  # a stick's or a beater's: the surface it strikes is its lowest angle
+    dynamics = not range_only(table)
+    if angle and dynamics and sticks is not None:
+        own = replace(sticks, theta_low=own.theta_low)
+    impacts = samples.hits.get(limb) if angle else None
+    return _checked(np.array(samples.t), np.array(samples.positions[column]), np.array(samples.velocities[column]),
+                    samples.rate, own.theta_low if angle else None, own, impacts=impacts, dynamics=dynamics,
+                    tolerance=tolerance)
+
+
 def _check_limits(limits):
     if limits is None:
         return Limits()
@@ -248,12 +372,12 @@ def _check_start(start):
     return (check_real("start angle", theta_now, unit="rad"), check_real("start speed", omega_now, unit="rad/s"))
 
 
-def _check_angles(theta, head, limits):
-    for bad, text in (
-        (theta < head, f"is below the head {head:.9g} rad"),
-        (theta < limits.theta_low, f"is below theta_low {limits.theta_low:.9g} rad"),
-        (theta > limits.theta_high, f"exceeds theta_high {limits.theta_high:.9g} rad"),
-    ):
+def _check_angles(theta, head, limits, tolerance=0.0):
+    checks = [] if head is None else [(theta < head - tolerance, f"is below the head {head:.9g} rad")]
+    for bad, text in checks + [
+        (theta < limits.theta_low - tolerance, f"is below theta_low {limits.theta_low:.9g} rad"),
+        (theta > limits.theta_high + tolerance, f"exceeds theta_high {limits.theta_high:.9g} rad"),
+    ]:
         where = np.flatnonzero(bad)
         if len(where):
             i = int(where[0])
