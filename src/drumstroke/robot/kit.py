@@ -73,8 +73,9 @@ from .kernel import estimate_speed, limit_torque, quantize
 from .metrics import AUDIBLE_SPEED, WINDOW, OnsetScores, match_onsets, pool
 from .plant import GRAVITY, Plant, SimpleJoint, contact_gains
 
-AT_PLACE = 1e-3
-"""rad: the simple engine's arm is at a piece's place when every positioning joint is this near it."""
+AT_PLACE = 5e-3
+"""rad: an arm is at a piece's place when every positioning joint is this near it (half the kit's default
+``place_tolerance``: two places a hand plays are farther apart than that in some joint)."""
 
 PAD_SIZE = 0.025
 """m: half the side of a piece's pad (the tip tracks its place within a millimetre)."""
@@ -171,8 +172,8 @@ class KitRobot:
         Every joint.
     sticks : dict of str to dict of str to Plant
         Each hand's stick joint on each piece it may play (its stick's fulcrum h above it).
-    cors : dict of str to float
-        Each surface's c, by piece (a pedal's piece: its pedal's).
+    surfaces : dict of str to Surface
+        Each surface a limb strikes: a hand's piece's (named as the piece), a pedal's head (named as its foot).
     """
 
     kit: object
@@ -182,10 +183,10 @@ class KitRobot:
     rate: float
     joints: tuple
     sticks: dict
-    cors: dict
+    surfaces: dict
 
     def __repr__(self):
-        return f"KitRobot({len(self.joints)} joints, {len(self.cors)} surfaces at {self.rate:g} Hz)"
+        return f"KitRobot({len(self.joints)} joints, {len(self.surfaces)} surfaces at {self.rate:g} Hz)"
 
     def limb_of(self, joint):
         """The limb a joint belongs to."""
@@ -259,11 +260,20 @@ def kit_robot(kit, *, plant=None, arm=None, pedals=None, rate=1000.0):
     joints += tuple(f"{foot}.{THETA}" for foot in feet)
     sticks = {hand: {p.name: replace(plant, stick=p.stick(kit.stick)) for p in kit.pieces if hand in p.hands}
               for hand in kit.hands}
-    cors = {p.name: p.cor for p in kit.pieces if p.hands}
+    surfaces = {p.name: Surface(p.name, p.cor, None) for p in kit.pieces if p.hands}
     for foot in feet:
         piece = next(p for p in kit.pieces if foot in p.feet)
-        cors.setdefault(piece.name, pedals[piece.pedal].cor)
-    return KitRobot(kit, plant, arm, pedals, rate, joints, sticks, cors)
+        surfaces[foot] = Surface(piece.name, pedals[piece.pedal].cor, foot)
+    return KitRobot(kit, plant, arm, pedals, rate, joints, sticks, surfaces)
+
+
+class Surface(NamedTuple):
+    """A surface a limb strikes: the piece it sounds as, its c, and the foot whose pedal's head it is (None: a pad
+    the sticks strike)."""
+
+    piece: str
+    cor: float
+    foot: str | None
 
 
 def arm_inertia(arm, stick, joint):
@@ -334,9 +344,9 @@ def kit_model(robot):
     """
     import mujoco
 
-    model = mujoco.MjModel.from_xml_string(_mjcf(robot, {name: (-1.0, -1.0) for name in robot.cors}))
-    for piece, solref in _calibrated(robot, model).items():
-        model.geom_solref[model.geom(f"pad:{piece}").id] = solref
+    model = mujoco.MjModel.from_xml_string(_mjcf(robot, {name: (-1.0, -1.0) for name in robot.surfaces}))
+    for name, solref in _calibrated(robot, model).items():
+        model.geom_solref[model.geom(f"pad:{name}").id] = solref
     return model
 
 
@@ -346,28 +356,28 @@ def _calibrated(robot, model):
 
     d = IMPEDANCE
     solrefs = {}
-    for piece, cor in robot.cors.items():
-        limb, single = _calibration_plant(robot, piece)
+    for name, surface in robot.surfaces.items():
+        limb, single = _calibration_plant(robot, name)
+        cor = surface.cor
         own = mujoco_model(single, cor, rate=robot.rate)
         estimate = float(own.body_invweight0[own.body("stick").id, 0])
         lever = single.stick.pivot_to_tip * math.cos(single.head)
         reach = lever**2 / single.inertia
         kit_estimate = float(model.body_invweight0[model.body(f"{limb}.stick").id, 0])
-        kit_reach = _contact_inverse_inertia(robot, model, limb, piece)
+        kit_reach = _contact_inverse_inertia(robot, model, limb, surface.piece)
         scale = ((1.0 - d) * kit_estimate + d * kit_reach) / ((1.0 - d) * estimate + d * reach)
         stiffness, damping = contact_solref(single, cor, rate=robot.rate)
-        solrefs[piece] = (stiffness * scale, damping * scale)
+        solrefs[name] = (stiffness * scale, damping * scale)
     return solrefs
 
 
-def _calibration_plant(robot, piece):
-    """(the limb whose body strikes ``piece`` in the calibration, the single joint standing for it)."""
-    kit_piece = robot.kit.piece(piece)
-    if kit_piece.hands:
-        hand = kit_piece.hands[0]
-        return hand, robot.sticks[hand][piece]
-    foot = kit_piece.feet[0]
-    return foot, beater_plant(robot.pedal_of(foot), robot.plant)
+def _calibration_plant(robot, name):
+    """(the limb whose body strikes the surface ``name`` in the calibration, the single joint standing for it)."""
+    surface = robot.surfaces[name]
+    if surface.foot is not None:
+        return surface.foot, beater_plant(robot.pedal_of(surface.foot), robot.plant)
+    hand = robot.kit.piece(surface.piece).hands[0]
+    return hand, robot.sticks[hand][surface.piece]
 
 
 def _contact_inverse_inertia(robot, model, limb, piece):
@@ -407,16 +417,18 @@ def _mjcf(robot, solrefs):
     d = IMPEDANCE
     solimp = f'solimp="{d!r} {d!r} 0.001 0.5 2"'
     pads, bodies = [], []
-    for piece, solref in solrefs.items():
-        kit_piece = robot.kit.piece(piece)
-        if kit_piece.hands:
-            centre = _hand_contact(robot, piece) - np.array([0.0, 0.0, TIP_RADIUS + PAD_THICKNESS])
-            size, affinity = f"{PAD_SIZE!r} {PAD_SIZE!r} {PAD_THICKNESS!r}", 1
-            yaw = kit_piece.place["yaw"]
+    for name, solref in solrefs.items():
+        surface = robot.surfaces[name]
+        if surface.foot is None:
+            centre = _hand_contact(robot, name) - np.array([0.0, 0.0, TIP_RADIUS + PAD_THICKNESS])
+            # every hand's bit, for MuJoCo's broadphase (it keeps each body's at compile time); while playing, the
+            # bits of the hands at its place only (_MujocoKit._place_pads)
+            size, affinity = f"{PAD_SIZE!r} {PAD_SIZE!r} {PAD_THICKNESS!r}", sum(_bit(robot, h) for h in robot.kit.hands)
+            yaw = robot.kit.piece(name).place["yaw"]
         else:
-            centre = _foot_contact(robot, kit_piece.feet[0]) + np.array([TIP_RADIUS + PAD_THICKNESS, 0.0, 0.0])
-            size, affinity, yaw = f"{PAD_THICKNESS!r} {PAD_SIZE!r} {PAD_SIZE!r}", 2, 0.0
-        pads.append(f'<geom name="pad:{piece}" type="box" size="{size}" pos="{_xyz(centre)}" euler="0 0 {yaw!r}" '
+            centre = _foot_contact(robot, surface.foot) + np.array([TIP_RADIUS + PAD_THICKNESS, 0.0, 0.0])
+            size, affinity, yaw = f"{PAD_THICKNESS!r} {PAD_SIZE!r} {PAD_SIZE!r}", _bit(robot, surface.foot), 0.0
+        pads.append(f'<geom name="pad:{name}" type="box" size="{size}" pos="{_xyz(centre)}" euler="0 0 {yaw!r}" '
                     f'condim="1" priority="1" contype="0" conaffinity="{affinity}" '
                     f'solref="{solref[0]!r} {solref[1]!r}" {solimp}/>')
     for hand in robot.kit.hands:
@@ -438,6 +450,12 @@ def _mjcf(robot, solrefs):
   </actuator>
 </mujoco>
 """
+
+
+def _bit(robot, limb):
+    """The collision bit of ``limb``'s tip (or beater): a pad collides with the limbs whose bits its conaffinity has."""
+    limbs = [*robot.kit.hands, *(robot.limb_of(j) for j in robot.joints if robot.limb_of(j) in FEET)]
+    return 1 << limbs.index(limb)
 
 
 def _xyz(v):
@@ -496,8 +514,8 @@ def _arm_body(robot, hand):
         <inertial pos="{com!r} 0 0" mass="{m!r}" diaginertia="{1e-3 * stick_across!r} {stick_across!r} {stick_across!r}"/>
         <geom name="shaft:{hand}" type="capsule" fromto="{-butt!r} 0 0 {tip!r} 0 0" size="0.006" contype="0"
               conaffinity="0" group="1"/>
-        <geom name="tip:{hand}" type="sphere" size="{TIP_RADIUS!r}" pos="{tip!r} 0 0" condim="1" contype="1"
-              conaffinity="0"/>
+        <geom name="tip:{hand}" type="sphere" size="{TIP_RADIUS!r}" pos="{tip!r} 0 0" condim="1"
+              contype="{_bit(robot, hand)}" conaffinity="0"/>
       </body>
     </body>"""
 
@@ -516,8 +534,8 @@ def _beater_body(robot, foot):
       <inertial pos="0 0 {com!r}" mass="{mass!r}" diaginertia="{across!r} {across!r} {1e-3 * across!r}"/>
       <geom name="shaft:{foot}" type="capsule" fromto="0 0 0 0 0 {pedal.length!r}" size="0.004" contype="0"
             conaffinity="0" group="1"/>
-      <geom name="tip:{foot}" type="sphere" size="{TIP_RADIUS!r}" pos="0 0 {pedal.length!r}" condim="1" contype="2"
-            conaffinity="0"/>
+      <geom name="tip:{foot}" type="sphere" size="{TIP_RADIUS!r}" pos="0 0 {pedal.length!r}" condim="1"
+            contype="{_bit(robot, foot)}" conaffinity="0"/>
     </body>"""
 
 
@@ -555,7 +573,11 @@ class _MujocoKit:
         self.data.qpos[self._q] = self._relative(positions)
         self.data.qvel[self._v] = self._relative(velocities)
         mujoco.mj_forward(model, self.data)
-        self._pads = {model.geom(f"pad:{p}").id: p for p in robot.cors}
+        self._pads = {model.geom(f"pad:{name}").id: s.piece for name, s in robot.surfaces.items()}
+        self._reach = _PlaceReach(robot)
+        self._geoms = {name: model.geom(f"pad:{name}").id for name in robot.surfaces}
+        self._reach_names = [name for name, surface in robot.surfaces.items() if surface.foot is None]
+        self._at = None
         self._tips = {model.geom(f"tip:{robot.limb_of(j)}").id: robot.limb_of(j) for j in robot.joints
                       if j.endswith(f".{THETA}")}
         self._touching = set()
@@ -581,11 +603,23 @@ class _MujocoKit:
         applied = np.array([limit_torque(tau, w, top, w_max) for tau, w, top, w_max in
                             zip(torques.tolist(), speeds.tolist(), self._top.tolist(), self._speed.tolist())])
         before = self.state()
+        self._place_pads(before[0])
         self.data.ctrl[self._act] = applied
         self._mujoco.mj_step(self.model, self.data, nstep=self.robot.plant.substeps)
         self._contacts(before)
         self._time += self._period
         return applied
+
+    def _place_pads(self, positions):
+        """Each hand's pad collides with the tips of the hands at its piece's place: the kit's pieces are surfaces in
+        each hand's joints, at its θ_max over its place, not a set of solids an arm might reach from elsewhere."""
+        at = self._reach(positions)
+        if at == self._at:
+            return
+        for name in self._reach_names:
+            bits = sum(_bit(self.robot, hand) for hand, piece in at.items() if piece == name)
+            self.model.geom_conaffinity[self._geoms[name]] = bits
+        self._at = at
 
     def _contacts(self, before):
         """Log each tip–pad pair that came into contact during the period: when (from the period's start state, its
@@ -638,6 +672,25 @@ def _meeting(robot, limb, piece, state, period):
     return min(max(when, -period), period), float(speed)
 
 
+class _PlaceReach:
+    """Which piece each hand's arm is at: the nearest place with every positioning joint within :data:`AT_PLACE`."""
+
+    def __init__(self, robot):
+        self.hands = robot.kit.hands
+        self._joints = {hand: [robot.joints.index(f"{hand}.{j}") for j in robot.kit.limbs[hand]] for hand in self.hands}
+        self._names = {hand: list(robot.sticks[hand]) for hand in self.hands}
+        self._places = {hand: np.array([robot.place(p) for p in self._names[hand]]) for hand in self.hands}
+
+    def __call__(self, positions):
+        """{hand: the piece it is at, or None} for every joint's angle ``positions`` (rad)."""
+        at = {}
+        for hand in self.hands:
+            distance = np.max(np.abs(self._places[hand] - positions[self._joints[hand]]), axis=1)
+            nearest = int(np.argmin(distance))
+            at[hand] = self._names[hand][nearest] if distance[nearest] <= AT_PLACE else None
+        return at
+
+
 class KitOnset(NamedTuple):
     """A limb meeting a piece: when (s), the piece, the limb, its striking speed (m/s: a tip's or a beater head's)."""
 
@@ -658,7 +711,8 @@ class _SimpleKit:
             state = {"theta0": float(positions[j]), "omega0": float(velocities[j]), "start": start}
             if limb in HANDS and name == THETA:
                 sticks = robot.sticks[limb]
-                self._heads[j] = {piece: (p.head, *contact_gains(p, robot.cors[piece])) for piece, p in sticks.items()}
+                self._heads[j] = {piece: (p.head, *contact_gains(p, robot.surfaces[piece].cor))
+                                  for piece, p in sticks.items()}
                 simple = SimpleJoint(next(iter(sticks.values())), stiffness=0.0, damping=0.0, **state)
                 simple.set_head(None, 0.0, 0.0)
             elif limb in HANDS:
@@ -674,9 +728,7 @@ class _SimpleKit:
                 simple.set_head(-pedal.phi_head, stiffness, damping)
                 self._external[j] = pedal
             self._joints.append(simple)
-        self._positioning = {hand: [robot.joints.index(f"{hand}.{j}") for j in robot.kit.limbs[hand]]
-                             for hand in robot.kit.hands}
-        self._places = {hand: {p: robot.place(p) for p in robot.sticks[hand]} for hand in robot.kit.hands}
+        self._reach = _PlaceReach(robot)
         self._at = {j: None for j in self._heads}
         self._seen = [0] * len(self._joints)
         self.onsets = []
@@ -697,13 +749,12 @@ class _SimpleKit:
 
     def _place_heads(self):
         """Each stick's joint gets the head of the piece its arm is at (within :data:`AT_PLACE`), or none."""
+        at = self._reach(self.state()[0])
         for j, heads in self._heads.items():
-            hand = self.robot.limb_of(self.robot.joints[j])
-            here = np.array([self._joints[i].theta for i in self._positioning[hand]])
-            at = next((p for p, place in self._places[hand].items() if np.max(np.abs(here - place)) <= AT_PLACE), None)
-            if at != self._at[j]:
-                self._joints[j].set_head(*(heads[at] if at is not None else (None, 0.0, 0.0)))
-                self._at[j] = at
+            piece = at[self.robot.limb_of(self.robot.joints[j])]
+            if piece != self._at[j]:
+                self._joints[j].set_head(*(heads[piece] if piece is not None else (None, 0.0, 0.0)))
+                self._at[j] = piece
 
     def _log(self):
         for j, simple in enumerate(self._joints):
@@ -719,7 +770,7 @@ class _SimpleKit:
 
 def _pedal_torque(pedal, theta):
     """The spring's and gravity's torque on the beater at θ = −φ (N·m, in θ's sense): −κ·(θ − θ_rest) + m·g·l·sin θ."""
-    return -pedal.spring * (theta + pedal.phi_rest) + pedal.gravity * math.sin(theta)
+    return -pedal.spring * (theta + pedal.phi_rest) + pedal.gravity * np.sin(theta)
 
 
 def _arm_plant(robot, joint):
@@ -912,7 +963,7 @@ def _steered(robot, composition, law, limb, curve, column, t):
         times = np.array([h.t for h in hits])
         stick = robot.kit.stick
         speeds = np.array([10.0 ** (h.level / 20.0) for h in hits]) / stick.pivot_to_tip
-        after = np.array([robot.cors[h.piece] for h in hits]) * speeds
+        after = np.array([robot.surfaces[h.piece].cor for h in hits]) * speeds
         heads = np.array([robot.sticks[limb][h.piece].head for h in hits])
         impacts, head, x = Impacts(times, -speeds, stick.pivot_to_tip), math.nan, stick.pivot_to_tip
     else:
@@ -974,6 +1025,9 @@ def _run(robot, kit, law, reference, pieces, progress):
         if isinstance(laws[i], dict):
             names, index = pieces[robot.limb_of(j)]
             choose[i] = ([laws[i][name] for name in names], index.tolist())
+    # a beater's law is fed forward the torque that holds its spring and gravity at the reference's angle too
+    held = [(-_pedal_torque(robot.pedal_of(robot.limb_of(j)), reference[j][0])).tolist()
+            if robot.limb_of(j) in FEET else None for j in joints]
     refs = [tuple(a.tolist() for a in reference[j]) for j in joints]
     n = len(refs[0][0])
     angles, torque = np.empty((n, len(joints))), np.empty((n, len(joints)))
@@ -992,8 +1046,134 @@ def _run(robot, kit, law, reference, pieces, progress):
             measured[i] = reading
             theta, omega, alpha = refs[i][0][k], refs[i][1][k], refs[i][2][k]
             command = choose[i][0][choose[i][1][k]] if i in choose else laws[i]
-            commands[i] = command(theta, omega, alpha, reading, omega_hat[i])
+            commands[i] = command(theta, omega, alpha, reading, omega_hat[i]) + (held[i][k] if held[i] else 0.0)
         torque[k] = kit.advance(commands, v)
         if progress and ((k + 1) % step == 0 or k + 1 == n):
             progress((k + 1) / n)
     return angles, torque
+
+
+# --- scoring --------------------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class KitScores:
+    """Onsets scored per piece within one window (:func:`score_onsets`).
+
+    Attributes
+    ----------
+    window : float
+        s.
+    pieces : tuple of PieceScores
+        Each piece with a note or an onset, in the kit's order.
+    total : OnsetScores
+        Every piece's counts summed (:func:`~drumstroke.robot.metrics.pool`).
+    """
+
+    window: float
+    pieces: tuple
+    total: OnsetScores
+
+    @property
+    def fraction(self):
+        """The notes struck on their piece within the window, of all notes (1 with no note)."""
+        return self.total.recall
+
+    def piece(self, name):
+        """The :class:`PieceScores` of ``name``."""
+        for scores in self.pieces:
+            if scores.piece == name:
+                return scores
+        raise ParameterError(f"piece must be one of those scored ({', '.join(s.piece for s in self.pieces)}), "
+                             f"got {shown(name)}")
+
+    def to_dict(self):
+        """Plain data for JSON."""
+        return {"window": self.window, "total": self.total.to_dict(),
+                "pieces": {s.piece: s.scores.to_dict() for s in self.pieces}}
+
+
+class PieceScores(NamedTuple):
+    """One piece's notes and onsets: its name, its notes' count, the robot's onsets on it, the :class:`OnsetScores`."""
+
+    piece: str
+    notes: int
+    onsets: int
+    scores: OnsetScores
+
+    @property
+    def matched(self):
+        """Notes struck on it within the window."""
+        return self.scores.matched
+
+    @property
+    def fraction(self):
+        """matched / notes (1 with no note)."""
+        return self.scores.recall
+
+
+def score_onsets(notes, onsets, *, window=WINDOW, order=None):
+    """Score the robot's onsets against the notes per piece: a note counts when its piece was struck within ±window.
+
+    On each piece the notes and the onsets on it are matched one to one as
+    :func:`~drumstroke.robot.metrics.match_onsets` matches them (as ``mir_eval.onset`` does, so each piece's
+    precision, recall and F-measure are ``mir_eval.onset.f_measure``'s but where it has no note or no onset).
+    An onset on another piece than the note's is no match: the note is missed and the onset is extra.
+
+    Parameters
+    ----------
+    notes : sequence of (float, str, float)
+        Each note's impact time (s), piece and level (dB re 1 m/s).
+    onsets : sequence of KitOnset or (float, str, ...)
+        Each onset's time (s) and piece, and its speed (m/s) as the fourth field.
+    window : float in (0, 1]
+        s.
+    order : sequence of str, optional
+        The pieces' order in the result (default as they first appear in the notes, then the onsets).
+
+    Returns
+    -------
+    KitScores
+    """
+    window = check_real("window", window, low=0.0, high=1.0, low_open=True, unit="s")
+    notes = sorted((float(t), piece, float(level)) for t, piece, level in notes)
+    onsets = sorted((float(o[0]), o[1], float(o[3])) for o in onsets)
+    names = list(order) if order is not None else []
+    for piece in [n[1] for n in notes] + [o[1] for o in onsets]:
+        if piece not in names:
+            names.append(piece)
+    pieces = []
+    for piece in names:
+        ref = np.array([n[0] for n in notes if n[1] == piece])
+        level = np.array([n[2] for n in notes if n[1] == piece])
+        got = np.array([o[0] for o in onsets if o[1] == piece])
+        speed = np.array([o[2] for o in onsets if o[1] == piece])
+        if not len(ref) and not len(got):
+            continue
+        match = match_onsets(ref, got, window=window)
+        kept = match >= 0
+        timing = got[match[kept]] - ref[kept]
+        levels = 20.0 * np.log10(speed[match[kept]]) - level[kept]
+        scores = OnsetScores.from_pairs(window, timing, levels, played=len(got), reference=len(ref))
+        pieces.append(PieceScores(piece, len(ref), len(got), scores))
+    total = pool([p.scores for p in pieces]) if pieces else OnsetScores.from_pairs(
+        window, np.empty(0), np.empty(0), played=0, reference=0)
+    return KitScores(window, tuple(pieces), total)
+
+
+def kit_scores(played, *, window=WINDOW):
+    """:func:`score_onsets` of what the robot played: the notes the reference played within the run
+    (:attr:`KitPlayed.notes`) against the audible onsets (tip or beater speed at least
+    :data:`~drumstroke.robot.metrics.AUDIBLE_SPEED`).
+
+    Parameters
+    ----------
+    played : KitPlayed
+    window : float in (0, 1]
+        s.
+    """
+    if not isinstance(played, KitPlayed):
+        raise ParameterError(f"played must be a drumstroke.robot.kit.KitPlayed, got {shown(played)}")
+    audible = [o for o in played.onsets if o.speed >= AUDIBLE_SPEED]
+    order = [p.name for p in played.robot.kit.pieces]
+    return score_onsets(played.notes, audible, window=window, order=order)
