@@ -318,15 +318,14 @@ below its fulcrum); its lever then is the beater's times cos 0.1, 0.5 % short.""
 
 
 def beater_plant(pedal, plant):
-    """The beater as the single joint sees it, for calibrating its head: a rod of the pedal's length, mass and
-    gravity torque, the rest of its inertia in the rotor, its head ``BEATER_TILT`` below level; ``plant``'s
-    contact time, substeps and encoder."""
-    mass, com = _beater_mass(pedal)
+    """The beater as the single joint sees it, for calibrating its head: a rod of the pedal's length and inertia
+    (the rest of it in the rotor), its head ``BEATER_TILT`` below level, next to no gravity (the pedal's model's
+    impact is the head's restitution alone); ``plant``'s contact time and substeps."""
     length = pedal.length
-    stick = Stick(length=length, pivot_to_tip=length, pivot_to_com=com, pivot_to_thumb=0.0,
+    mass = 1.5 * pedal.inertia / length**2  # the rod holds half the inertia
+    stick = Stick(length=length, pivot_to_tip=length, pivot_to_com=1e-3 * length, pivot_to_thumb=0.0,
                   pivot_height=length * math.sin(BEATER_TILT), mass=mass)
-    rotor = pedal.inertia - mass * length**2 / 3.0
-    return replace(plant, stick=stick, gear_ratio=1.0, rotor_inertia=rotor, viscous=0.0, coulomb=0.0,
+    return replace(plant, stick=stick, gear_ratio=1.0, rotor_inertia=pedal.inertia / 2.0, viscous=0.0, coulomb=0.0,
                    max_torque=_foot_torque(pedal), max_speed=1000.0)
 
 
@@ -1177,3 +1176,65 @@ def kit_scores(played, *, window=WINDOW):
     audible = [o for o in played.onsets if o.speed >= AUDIBLE_SPEED]
     order = [p.name for p in played.robot.kit.pieces]
     return score_onsets(played.notes, audible, window=window, order=order)
+
+
+def kit_drop_test(robot, surface, *, model=None):
+    """Drop a stick (or a beater) onto ``surface`` in the kit's model, its arm at the place, every motor off.
+
+    A stick starts touching its pad at the speed it would have dropped to from level, every other joint
+    at rest (a 3.5 ms contact is too short for an arm to sag); a beater at 1 m/s at its head, with its
+    spring and gravity off (the pedal's model's impact is the head's restitution alone). The first
+    contact is measured as the single joint's drop is (:func:`~drumstroke.robot.mujoco_plant.mujoco_drop_test`).
+
+    Parameters
+    ----------
+    robot : KitRobot
+    surface : str
+        One of ``robot.surfaces``.
+    model : mujoco.MjModel, optional
+        :func:`kit_model` of ``robot``, if made already (the test changes it: a fresh one for each).
+
+    Returns
+    -------
+    Drop
+        The limb's speeds into and out of the contact (rad/s, a stick's to the horizontal) and how long it lasted (s).
+    """
+    import mujoco
+
+    from .plant import Drop
+
+    if surface not in robot.surfaces:
+        raise ParameterError(f"surface must be one of {', '.join(robot.surfaces)}, got {shown(surface)}",
+                             parameter="surface", value=surface, allowed=", ".join(robot.surfaces))
+    model = kit_model(robot) if model is None else model
+    limb, single = _calibration_plant(robot, surface)
+    piece = robot.surfaces[surface].piece
+    data = mujoco.MjData(model)
+    _pose(robot, model, data, limb, piece)
+    theta = model.joint(f"{limb}.{THETA}")
+    if limb in HANDS:
+        speed = math.sqrt(2.0 * single.gravity_torque * -math.sin(single.head) / single.inertia)
+    else:  # the head's restitution alone: the spring's pull over the contact would add to a slow rebound
+        speed = 1.0 / robot.pedal_of(limb).length
+        model.opt.gravity[:] = 0.0
+        model.jnt_stiffness[theta.id] = 0.0
+    data.qpos[theta.qposadr[0]] -= 1e-12  # just in: the first step sees the contact from its start
+    data.qvel[theta.dofadr[0]] = -speed
+    pad, tip = model.geom(f"pad:{surface}").id, model.geom(f"tip:{limb}").id
+    model.geom_conaffinity[pad] = _bit(robot, limb)
+    step, touching = model.opt.timestep, False
+    for n in range(1, int(0.05 / step)):
+        mujoco.mj_step(model, data)
+        now = any({c.geom1, c.geom2} == {pad, tip} and c.dist < 0.0 for c in data.contact)
+        if touching and not now:
+            return Drop(speed, float(_speed(model, data, limb)), n * step)
+        touching = touching or now
+    return Drop(speed, 0.0, math.inf)
+
+
+def _speed(model, data, limb):
+    """A limb's θ speed (rad/s): a stick's to the horizontal (its arm's lift's and its own)."""
+    speed = data.qvel[model.joint(f"{limb}.{THETA}").dofadr[0]]
+    if limb in HANDS and f"{limb}.lift" in [model.joint(i).name for i in range(model.njnt)]:
+        speed += data.qvel[model.joint(f"{limb}.lift").dofadr[0]]
+    return speed
