@@ -1238,3 +1238,32 @@ def _speed(model, data, limb):
     if limb in HANDS and f"{limb}.lift" in [model.joint(i).name for i in range(model.njnt)]:
         speed += data.qvel[model.joint(f"{limb}.lift").dofadr[0]]
     return speed
+
+
+def first_seconds(score, seconds):
+    """The notes of ``score`` within ``seconds`` of its first note, moved to start at 0 s.
+
+    A song's drums may come in late (after 78 s, 120 s): its first seconds of drumming are these.
+
+    Parameters
+    ----------
+    score : Score
+    seconds : float > 0
+        s.
+
+    Returns
+    -------
+    Score
+        Its notes from the first to the last before ``seconds`` after it, each ``first`` s earlier; the same
+        tempo map and report.
+    """
+    from ..score import Score
+
+    if not isinstance(score, Score):
+        raise ParameterError(f"score must be a drumstroke.score.Score, got {shown(score)}")
+    seconds = check_real("seconds", seconds, low=0.0, low_open=True, unit="s")
+    if not score.notes:
+        return score
+    first = min(note.time for note in score.notes)
+    notes = tuple(replace(note, time=note.time - first) for note in score.notes if note.time < first + seconds)
+    return replace(score, notes=notes)
