@@ -54,14 +54,13 @@ Examples
 """
 
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from typing import NamedTuple
 
 import numpy as np
 
 from .._checks import check_int, check_real, shown
 from ..errors import ParameterError
-from ..kit.pedal import Pedal
 from ..kit.pieces import FEET, HANDS
 from ..kit.play import THETA, kit_pedals
 from ..model import Stick
