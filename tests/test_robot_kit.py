@@ -9,6 +9,7 @@ import mujoco
 import numpy as np
 import pytest
 
+from _cli import run
 from drumstroke.compose import compose_kit
 from drumstroke.errors import ParameterError
 from drumstroke.kit.pieces import default_kit
@@ -26,8 +27,6 @@ from drumstroke.robot.kit import (
 )
 from drumstroke.robot.plant import Plant, SimpleJoint, contact_gains
 from drumstroke.score import parse_pattern, read_score
-
-from _cli import run
 
 MIDI = Path(__file__).parent / "data" / "midi"
 SONGS = ["In Too Deep.mid", "Les Yeux Revolvers.mid", "d6caebd1964d9e4a3c5ea59525230e2a.mid",
