@@ -32,7 +32,7 @@ MIDI = Path(__file__).parent / "data" / "midi"
 SONGS = ["In Too Deep.mid", "Les Yeux Revolvers.mid", "d6caebd1964d9e4a3c5ea59525230e2a.mid",
          "d8faddb8596fff7abb24d78666f73e4e.mid"]  # the real songs with drums
 KIT = default_kit()
-ROBOT = kit_robot(KIT, plant=Plant(substeps=10))
+ROBOT = kit_robot(KIT)
 
 
 @pytest.fixture(scope="module")

@@ -2,42 +2,47 @@
 
 The robot
 ---------
-Each hand is an arm, a chain of hinges: ``yaw`` about the vertical through the drummer's body (the
-shoulder), ``lift`` raising the arm about a horizontal axis there, then at the arm's end, the fulcrum,
-the stick's motor ``theta``, the paper's joint. The kit's joint names and their order are the kit's;
-the stick is the kit's (``[stick]``). θ is the stick's angle to the horizontal, as the composition
-gives it: the motor turns the stick against the arm, so the arm's lift adds to its angle, and θ is
-read as lift + the motor's angle (the sum of the two encoders). Each foot works its pedal: the
-beater a hinge at the pedal's axle (θ = −φ, :mod:`drumstroke.kit.pedal`), its inertia, gravity and
-spring the pedal's, a motor on the axle standing for the foot.
+Each hand is an arm, a chain of hinges: ``yaw`` about the vertical through the drummer's body (at
+the shoulder), ``lift`` raising the arm about a horizontal axis there, then at the arm's end, the
+fulcrum, the stick's motor ``theta``, the paper's joint (:class:`Arm`; the stick is the kit's
+``[stick]``). θ is the stick's angle to the horizontal, as the composition gives it: the motor turns
+the stick against the arm, so the arm's lift adds to it, and θ is read as lift + the motor's angle
+(the sum of the two encoders). Each foot works its pedal: the beater a hinge at the pedal's axle
+(θ = −φ, :mod:`drumstroke.kit.pedal`), with the pedal's inertia, gravity torque and spring, and a
+motor on the axle standing for the foot. Joint ranges are the kit's limits; a positioning motor's
+rotor, N²·J_rotor, is its joint's armature as the stick's motor's is the single joint's.
 
 Every piece a hand plays is a thin square pad where the stick's tip meets it at that piece's
-θ_max = −asin(h/x) when the arm is at its place; the kick's head (and the hi-hat's closed cymbals
-under the left foot) a vertical pad where the beater's head meets it at φ_head. Only a tip and a
-pad collide, a beater and its pedal's pad. Each pad's contact is the single joint's head
-(:func:`drumstroke.robot.mujoco_plant.contact_solref`, the stick on that piece with its c; the
-beater, as a hinge of the same inertia, lever and gravity, with the pedal's c), carried over to the
-kit's model so that it presses with the same force at the same penetration and speed: MuJoCo weighs
-a contact's stiffness by its own estimate of the contact's inverse inertia (the bodies'
-``invweight0``), which a stick at the end of an arm does not share with the single joint.
-
-The arms' positioning joints have the inertia of a geared motor (:class:`Arm`); with the stick's
-strike they barely give, so the stick rebounds from a pad as from the single joint's head.
+θ_max = −asin(h/x) when the arm is at its place; a pedal's head a vertical pad where the beater's
+head meets it at φ_head. Only a tip and a pad collide, a beater and its pedal's pad, and a hand's
+pad only with the tips of the hands at its place (within :data:`AT_PLACE`): the kit places its
+pieces in each hand's joints (a place and a height under the fulcrum there), not as solids in space,
+and a pad met from elsewhere would be an artefact of the arm's dimensions. Each pad's contact is the
+single joint's head (:func:`drumstroke.robot.mujoco_plant.contact_solref`: the stick on that piece
+with its c; a beater as a hinge of its inertia and lever, with the pedal's c, the restitution of the
+pedal's model's impact), carried over to the kit's model so that it presses with the same force at
+the same penetration and speed: MuJoCo weighs a contact's stiffness by its own estimate of the
+contact's inverse inertia (the bodies' ``invweight0``), which a stick at the end of an arm does not
+share with the single joint. The arm gives a little under a strike: a stick rebounds about 1 % below
+its piece's c (:func:`kit_drop_test`).
 
 Playing
 -------
-:func:`track_kit` steps one control loop over every joint at the composition's rate: each joint
-its own law (:mod:`drumstroke.robot.controllers`), the gains of a positioning joint or a beater
-scaled from the stick's by the ratio of their inertias (the same closed-loop bandwidth). A stick's
-law is the one for the piece the reference is at or moving to (its head, for the impedance
-controller's soft band near it); a positioning joint has no head. ``engine="mujoco"`` steps the
-kit's model (:func:`kit_model`); ``engine="simple"`` gives every joint its own
-:class:`~drumstroke.robot.plant.SimpleJoint` (:func:`joint_plants`): a stick's joint has the head of
-the piece whose place its arm is at (within :data:`AT_PLACE`), none while it moves; a positioning
-joint is the simple plant's equation with its own inertia and gravity and no head; a beater's has
-its pedal's spring and gravity added each period. What was played is every joint's angle and the
-onsets: a tip or a beater coming into contact with a pad (MuJoCo), or a stick's joint with a
-piece's head (simple), each on its piece.
+:func:`track_kit` steps one control loop over every joint at the composition's rate, as
+:class:`~drumstroke.robot.loop.ControlLoop` steps one joint: each joint's encoder read, its speed
+estimated, its own law (:mod:`drumstroke.robot.controllers`), its motor's torque–speed line. A
+positioning joint's or a beater's law is the sticks' with its gains scaled by its inertia over a
+stick's (:func:`scaled_law`), a beater's fed forward its spring and gravity besides. A stick's law
+is the one for the piece its reference is at or nearest to (its head: the impedance controller's
+soft band is near it), and the law steers by the hand's θ with its impacts (each held at its own
+piece's head by the impedance controller's lead). ``engine="mujoco"`` steps the kit's model
+(:func:`kit_model`). ``engine="simple"`` gives every joint its own
+:class:`~drumstroke.robot.plant.SimpleJoint`, uncoupled: a stick's joint has the head of the piece
+its arm is at (within :data:`AT_PLACE`), none while it moves; a positioning joint is the simple
+plant's equation with its own inertia and gravity torque (the arm as a rod, the rest in its rotor)
+and no head; a beater's has its pedal's spring and gravity added to its motor's torque each period.
+What was played: every joint's angle, and the onsets, a tip or a beater coming into contact with a
+pad (MuJoCo) or a stick's joint with its piece's head (simple), each on its piece.
 
 :func:`kit_scores` scores the onsets per piece against the notes the reference played
 (:func:`score_onsets`).
@@ -64,7 +69,7 @@ from ..errors import ParameterError
 from ..kit.pieces import FEET, HANDS
 from ..kit.play import THETA, kit_pedals
 from ..model import Stick
-from ..trajectory import Impacts, Trajectory
+from ..trajectory import DEFAULT_RATE, Impacts, Trajectory
 from . import ENGINES
 from .controllers import CONTROLLERS, Controller
 from .controllers import controller as named_controller
@@ -81,6 +86,13 @@ PAD_SIZE = 0.025
 
 PAD_THICKNESS = 0.005
 """m: half a pad's thickness."""
+
+KIT_SUBSTEPS = 10
+"""Integration steps per control period on the kit by default: 100 µs at 1 kHz, a 3.5 ms contact in 35 RK4 steps
+(each pad calibrated at that step); the single joint's 40 would take four times as long."""
+
+ARM_JOINTS = ("yaw", "lift")
+"""The positioning joints an arm has, in the chain's order from the shoulder: a kit's hands have these or the yaw."""
 
 FOOT_PLACES = {"right-foot": (0.35, -0.15), "left-foot": (0.35, 0.25)}
 """m: where each foot's pedal axle stands on the floor, (ahead, to the left) of the body's axis."""
@@ -226,14 +238,14 @@ class KitRobot:
         return 2.0 * math.pi / (self.arm.encoder_counts * self.arm.gear_ratio)
 
 
-def kit_robot(kit, *, plant=None, arm=None, pedals=None, rate=1000.0):
+def kit_robot(kit, *, plant=None, arm=None, pedals=None, rate=DEFAULT_RATE):
     """The :class:`KitRobot` for ``kit``.
 
     Parameters
     ----------
     kit : Kit
     plant : Plant, optional
-        The sticks' joint; its stick is replaced by the kit's. Default ``Plant()``.
+        The sticks' joint; its stick is replaced by the kit's. Default ``Plant(substeps=KIT_SUBSTEPS)``.
     arm : Arm, optional
         Default ``Arm()``.
     pedals : dict of str to Pedal, optional
@@ -245,7 +257,7 @@ def kit_robot(kit, *, plant=None, arm=None, pedals=None, rate=1000.0):
 
     if not isinstance(kit, Kit):
         raise ParameterError(f"kit must be a drumstroke.kit.pieces.Kit, got {shown(kit)}")
-    plant = Plant() if plant is None else plant
+    plant = Plant(substeps=KIT_SUBSTEPS) if plant is None else plant
     if not isinstance(plant, Plant):
         raise ParameterError(f"plant must be a drumstroke.robot.plant.Plant, got {shown(plant)}")
     arm = Arm() if arm is None else arm
@@ -253,6 +265,12 @@ def kit_robot(kit, *, plant=None, arm=None, pedals=None, rate=1000.0):
         raise ParameterError(f"arm must be a drumstroke.robot.kit.Arm, got {shown(arm)}")
     rate = check_real("rate", rate, low=10.0, high=1e5, unit="Hz")
     pedals = kit_pedals(pedals, kit)
+    for hand in kit.hands:
+        extra = [joint for joint in kit.limbs[hand] if joint not in ARM_JOINTS]
+        if extra:
+            raise ParameterError(f"limbs.{hand}.joints: the robot's arm has the joints {', '.join(ARM_JOINTS)}, not "
+                                 f"{', '.join(map(repr, extra))}", parameter=f"limbs.{hand}.joints", value=extra[0],
+                                 allowed=", ".join(ARM_JOINTS))
     plant = replace(plant, stick=kit.stick)
     joints = tuple(f"{hand}.{j}" for hand in kit.hands for j in (*kit.limbs[hand], THETA))
     feet = tuple(foot for foot in kit.feet if any(foot in p.feet for p in kit.pieces))
@@ -490,7 +508,8 @@ def _arm_body(robot, hand):
     reach, mass = arm.reach, arm.mass
     across = mass * reach**2 / 12.0
     positioning = []
-    for joint, limit in limits.items():
+    for joint in (j for j in ARM_JOINTS if j in limits):  # yaw first: lift turns about the yawed arm's axis
+        limit = limits[joint]
         axis = "0 0 1" if joint == "yaw" else "0 -1 0"
         positioning.append(f'<joint name="{hand}.{joint}" type="hinge" axis="{axis}" armature="{arm.armature!r}" '
                            f'damping="{arm.viscous!r}" {_range(limit.theta_low, limit.theta_high)}/>')
@@ -854,8 +873,7 @@ def track_kit(composition, controller="impedance", engine="mujoco", seconds=None
     seconds : float > 0 or None
         Play the first ``seconds`` of the composition's timeline (default all of it).
     plant : Plant, optional
-        The sticks' joint (its stick is the kit's). Default ``Plant(substeps=10)``: 100 µs steps at 1 kHz,
-        a 3.5 ms contact in 35.
+        The sticks' joint (its stick is the kit's). Default ``Plant(substeps=KIT_SUBSTEPS)``.
     arm : Arm, optional
         Default ``Arm()``.
     progress : callable or None
@@ -875,8 +893,7 @@ def track_kit(composition, controller="impedance", engine="mujoco", seconds=None
                              parameter="engine", value=engine, allowed=", ".join(ENGINES))
     performance = composition.performance
     pedals = {m.pedal: m.design.stroke.pedal for m in performance.feet.values() if m.design is not None}
-    robot = kit_robot(composition.kit, plant=Plant(substeps=10) if plant is None else plant, arm=arm,
-                      pedals=pedals, rate=composition.rate)
+    robot = kit_robot(composition.kit, plant=plant, arm=arm, pedals=pedals, rate=composition.rate)
     t, columns = composition.sample()
     if seconds is not None:
         seconds = check_real("seconds", seconds, low=0.0, high=t[-1], low_open=True, unit="s")
@@ -980,7 +997,7 @@ def _steered(robot, composition, law, limb, curve, column, t):
     # the held part after an impact takes the trajectory's head: NaN, then each impact's piece's (a hand's)
     one = Trajectory.single(path, impacts, after, theta_max=head, t_end=float(composition.t_end),
                             rate=composition.rate, stick=limb, name=limb)
-    theta, omega, alpha = (a[:len(t)] for a in law.steer(one))
+    theta, omega, alpha = (np.array(a[:len(t)]) for a in law.steer(one))
     if heads is not None and len(heads):
         held = np.isnan(theta)
         which = np.searchsorted(impacts.t, t[held], side="right") - 1
@@ -1151,7 +1168,8 @@ def score_onsets(notes, onsets, *, window=WINDOW, order=None):
         match = match_onsets(ref, got, window=window)
         kept = match >= 0
         timing = got[match[kept]] - ref[kept]
-        levels = 20.0 * np.log10(speed[match[kept]]) - level[kept]
+        with np.errstate(divide="ignore"):  # an onset at no speed is −inf dB
+            levels = 20.0 * np.log10(speed[match[kept]]) - level[kept]
         scores = OnsetScores.from_pairs(window, timing, levels, played=len(got), reference=len(ref))
         pieces.append(PieceScores(piece, len(ref), len(got), scores))
     total = pool([p.scores for p in pieces]) if pieces else OnsetScores.from_pairs(
