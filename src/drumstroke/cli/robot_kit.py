@@ -61,13 +61,11 @@ def track_kit_command(args, config, names):
     span = "all of its drum part" if args.seconds is None else f"the first {args.seconds:g} s of its drum part"
     print(f"{args.source}, {span} on {'kit ' + args.kit if args.kit else 'the shipped kit'}: {piece.summary()}")
     plant = config.plant if args.config else None
-    bar = Bar("playing the kit", delay=1.0)
     report = []
-    for i, name in enumerate(names):
-        played = track_kit(piece, config.controllers[name], args.plant, plant=plant,
-                           progress=lambda done, i=i: bar.update((i + done) / len(names)))
+    for name in names:
+        with Bar(f"playing the kit ({name})", delay=1.0) as bar:
+            played = track_kit(piece, config.controllers[name], args.plant, plant=plant, progress=bar.update)
         scores = kit_scores(played)
-        bar.close()
         _print_scores(played, scores)
         report.append({"name": name, "scores": scores.to_dict()})
     if args.report:
