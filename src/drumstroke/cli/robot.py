@@ -7,25 +7,29 @@ from ..trajectory import DEFAULT_RATE
 from ._common import Bar, Parser, print_written, robot_config
 from ._options import Output, add_mkdir, existing_file, existing_folder, number, whole
 from .hardware import add_hardware_actions
+from .robot_kit import add_kit_track_options, check_kit_track, track_kit_command
 
 
 def add_robot(robot):
     """Give ``robot``'s parser ``robot`` its description and actions."""
     robot.description = "Play, score, tune, validate and export strokes for a robot joint."
     actions = robot.add_subparsers(dest="robot_command", parser_class=Parser, metavar="ACTION", required=True)
-    trk = actions.add_parser("track", help="play a stroke with one controller or all, and score it",
-                             description="Play a stroke with each controller asked for; print what each kept.")
-    trk.add_argument("source", metavar="SOURCE",
-                     help="a recipe .toml, a preset, a palette or library (--library) stroke, or a trajectory .csv")
+    trk = actions.add_parser("track", help="play a stroke (or a song on the kit) with one controller or all, and score it",
+                             description="Play a stroke with each controller asked for; print what each kept. With "
+                                         "--kit, play a song's drum part on the kit robot; print what each piece kept.")
+    trk.add_argument("source", metavar="SOURCE", help="a recipe .toml, a preset, a palette or library (--library) "
+                     "stroke, or a trajectory .csv; with --kit a song (.mid or a pattern)")
     trk.add_argument("--library", type=existing_folder, metavar="DIR", help="the library SOURCE names a stroke of")
     trk.add_argument("--stick", help="the stick to play from a composition CSV")
     trk.add_argument("--controller", default="all", metavar="NAME", help="pi, pid-ff, impedance or all (default)")
-    trk.add_argument("--plant", choices=("simple", "mujoco"), default="simple", help="the joint model (default simple)")
+    trk.add_argument("--plant", "--engine", dest="plant", choices=("simple", "mujoco"), default="simple",
+                     help="the joint model (default simple)")
     trk.add_argument("--config", type=existing_file, metavar="TOML", help="robot config: [plant], [controller.NAME] gains")
     trk.add_argument("--rate", type=number(low=10.0, high=1e5, unit="Hz"), default=DEFAULT_RATE, metavar="HZ",
                      help=f"control rate, in [10, 1e5] Hz (default {DEFAULT_RATE:g})")
     trk.add_argument("--report", action=Output, suffixes=json.SUFFIXES, metavar="JSON", help="write the metrics as .json")
     trk.add_argument("--plot", action=Output, suffixes=plot.SUFFIXES, metavar="PNG", help="draw theta(t) and onsets")
+    add_kit_track_options(trk)
     add_mkdir(trk)
     trk.set_defaults(run=_track)
     tun = actions.add_parser("tune", help="tune a controller's gains over a library, before/after table",
@@ -49,12 +53,15 @@ def _track(args):
     from ..robot.metrics import metrics
     from ..robot.track import reference, track
 
+    check_kit_track(args)
     config = robot_config(args.config)
     controllers = config.controllers
     names = list(controllers) if args.controller == "all" else [args.controller]
     for name in names:
         if name not in controllers:
             raise ParameterError(f"--controller must be one of {', '.join(controllers)} or all, got {name!r}")
+    if args.kit is not None:
+        return track_kit_command(args, config, names)
     rate = args.rate
     source = load_source(args.source, library=args.library, stick=args.stick, plant=config.plant)
     ref = reference(source, rate)

@@ -268,6 +268,19 @@ class SimpleJoint:
         self._periods += 1
         return applied
 
+    def set_head(self, head, stiffness, damping):
+        """Put another head under the stick from now: at ``head`` (rad; None: none) with gains K (N·m/rad), B (N·m·s/rad).
+
+        A kit's arm carries the stick from piece to piece (:mod:`drumstroke.robot.kit`): each has its
+        surface at its own θ_max, and between them there is none. A stick already below the new head
+        starts in contact with it, without an onset.
+        """
+        head = -math.inf if head is None else check_real("head", head, low=-math.pi / 2, high=math.pi / 2, unit="rad")
+        self._params[6] = head
+        self._params[7] = check_real("stiffness", stiffness, low=0.0, unit="N m/rad")
+        self._params[8] = check_real("damping", damping, low=0.0, unit="N m s/rad")
+        self._state[2] = 1.0 if self._state[0] < head else 0.0
+
     def contacts(self, since=0):
         """The :class:`~drumstroke.robot.loop.Contacts` so far, from the ``since``-th on (0: all)."""
         return Contacts.from_events(self._events[check_int("since", since, low=0):int(self._state.item(3))],
