@@ -273,7 +273,7 @@ def test_the_command_prints_each_pieces_figures(tmp_path):
     lines = done.stdout.splitlines()
     assert "the first 5 s of its drum part on the shipped kit" in lines[0]
     assert lines[1].startswith("impedance on the simple engine at 1000 Hz: ")
-    assert [line.split()[:3] for line in lines[3:6]] == [["ride", "1", "1"], ["crash", "9", "9"], ["all", "10", "10"]]
+    assert [line.split()[:3] for line in lines[3:6]] == [["ride", "2", "2"], ["crash", "9", "9"], ["all", "11", "11"]]
     assert lines[6] == f"wrote {report}"
     assert report.exists()
 

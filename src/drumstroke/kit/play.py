@@ -877,7 +877,9 @@ def _kit_levels(levels, velocities, on_foot):
 
 
 def kit_pedals(pedals, kit):
-    """Every pedal the kit's pieces name, by name: those given in ``pedals`` (checked), the others ``Pedal()``."""
+    """Every pedal the kit's pieces name, by name: those given in ``pedals`` (checked), the others ``Pedal()`` — with
+    the c of the piece it plays when only feet play that piece (the kick's ``cor`` is its beater's on its head; the
+    hi-hat's is a stick's on its plates, and its pedal keeps ``Pedal()``'s)."""
     names = sorted({piece.pedal for piece in kit.pieces if piece.pedal is not None})
     pedals = {} if pedals is None else pedals
     if not isinstance(pedals, dict):
@@ -887,7 +889,9 @@ def kit_pedals(pedals, kit):
             raise ParameterError(f"pedals names {shown(name)}, not a pedal of the kit ({', '.join(names)})")
         if not isinstance(pedal, Pedal):
             raise ParameterError(f"pedals[{name!r}] must be a drumstroke.kit.pedal.Pedal, got {shown(pedal)}")
-    return {name: pedals.get(name, Pedal()) for name in names}
+    beaten = {piece.pedal: piece.cor for piece in kit.pieces if piece.pedal is not None and not piece.hands}
+    return {name: pedals[name] if name in pedals else replace(Pedal(), cor=beaten.get(name, Pedal().cor))
+            for name in names}
 
 
 def _pedal_of(kit, foot):
