@@ -14,7 +14,7 @@ from drumstroke.compose import compose_kit
 from drumstroke.errors import ParameterError
 from drumstroke.kit.pieces import default_kit
 from drumstroke.robot.kit import (
-    Arm,
+    ArmPlant,
     KitOnset,
     arm_inertia,
     first_seconds,
@@ -256,7 +256,7 @@ def test_bad_input_is_refused_by_name(short):
     with pytest.raises(ParameterError, match=r"seconds must be in \(0, \d\.\d+\] s, got 0"):
         track_kit(piece, engine="simple", seconds=0.0)
     with pytest.raises(ParameterError, match=r"arm.reach must be in \(0, 2\] m, got -1"):
-        Arm(reach=-1.0)
+        ArmPlant(reach=-1.0)
     with pytest.raises(ParameterError, match="window must be in"):
         kit_scores(short, window=0.0)
     with pytest.raises(ParameterError, match="played must be a drumstroke.robot.kit.KitPlayed"):

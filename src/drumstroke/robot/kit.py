@@ -4,7 +4,7 @@ The robot
 ---------
 Each hand is an arm, a chain of hinges: ``yaw`` about the vertical through the drummer's body (at
 the shoulder), ``lift`` raising the arm about a horizontal axis there, then at the arm's end, the
-fulcrum, the stick's motor ``theta``, the paper's joint (:class:`Arm`; the stick is the kit's
+fulcrum, the stick's motor ``theta``, the paper's joint (:class:`ArmPlant`; the stick is the kit's
 ``[stick]``). θ is the stick's angle to the horizontal, as the composition gives it: the motor turns
 the stick against the arm, so the arm's lift adds to it, and θ is read as lift + the motor's angle
 (the sum of the two encoders). Each foot works its pedal: the beater a hinge at the pedal's axle
@@ -99,7 +99,7 @@ FOOT_PLACES = {"right-foot": (0.35, -0.15), "left-foot": (0.35, 0.25)}
 
 
 @dataclass(frozen=True)
-class Arm:
+class ArmPlant:
     """A hand's arm: from the shoulder (the yaw and lift axes) to the stick's fulcrum, and its positioning motors.
 
     Parameters
@@ -174,7 +174,7 @@ class KitRobot:
     kit : Kit
     plant : Plant
         The sticks' joint (motor, gearbox, friction, contact time, substeps); its stick the kit's.
-    arm : Arm
+    arm : ArmPlant
     pedals : dict of str to Pedal
         Each pedal by name.
     rate : float
@@ -189,7 +189,7 @@ class KitRobot:
 
     kit: object
     plant: Plant
-    arm: Arm
+    arm: ArmPlant
     pedals: dict
     rate: float
     joints: tuple
@@ -246,8 +246,8 @@ def kit_robot(kit, *, plant=None, arm=None, pedals=None, rate=DEFAULT_RATE):
     kit : Kit
     plant : Plant, optional
         The sticks' joint; its stick is replaced by the kit's. Default ``Plant(substeps=KIT_SUBSTEPS)``.
-    arm : Arm, optional
-        Default ``Arm()``.
+    arm : ArmPlant, optional
+        Default ``ArmPlant()``.
     pedals : dict of str to Pedal, optional
         As :func:`~drumstroke.kit.play.play_kit` takes them; default ``Pedal()`` for each.
     rate : float in [10, 1e5]
@@ -260,9 +260,9 @@ def kit_robot(kit, *, plant=None, arm=None, pedals=None, rate=DEFAULT_RATE):
     plant = Plant(substeps=KIT_SUBSTEPS) if plant is None else plant
     if not isinstance(plant, Plant):
         raise ParameterError(f"plant must be a drumstroke.robot.plant.Plant, got {shown(plant)}")
-    arm = Arm() if arm is None else arm
-    if not isinstance(arm, Arm):
-        raise ParameterError(f"arm must be a drumstroke.robot.kit.Arm, got {shown(arm)}")
+    arm = ArmPlant() if arm is None else arm
+    if not isinstance(arm, ArmPlant):
+        raise ParameterError(f"arm must be a drumstroke.robot.kit.ArmPlant, got {shown(arm)}")
     rate = check_real("rate", rate, low=10.0, high=1e5, unit="Hz")
     pedals = kit_pedals(pedals, kit)
     for hand in kit.hands:
@@ -874,8 +874,8 @@ def track_kit(composition, controller="impedance", engine="mujoco", seconds=None
         Play the first ``seconds`` of the composition's timeline (default all of it).
     plant : Plant, optional
         The sticks' joint (its stick is the kit's). Default ``Plant(substeps=KIT_SUBSTEPS)``.
-    arm : Arm, optional
-        Default ``Arm()``.
+    arm : ArmPlant, optional
+        Default ``ArmPlant()``.
     progress : callable or None
         Called with the fraction played, every second of it and at the end.
 
