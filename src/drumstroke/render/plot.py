@@ -253,8 +253,8 @@ def comparison_figure(comparison, *, labels=None):
     """A matplotlib Figure of two strokes compared (a :class:`drumstroke.analysis.compare.Comparison`).
 
     Top: each stroke's onsets (stems at their levels, dB re its loudest) and level envelope, from its
-    first onset; middle: the bounce rate, 1 / interval at each interval's midpoint (Hz, log scale); bottom: B's interval minus A's, bounce by
-    bounce (ms).
+    first onset, the unmatched ones crossed; middle: the bounce rate, 1 / interval at each interval's midpoint (Hz,
+    log scale); bottom: B's interval minus A's between successive matched pairs (ms).
     """
     a, b = comparison.a, comparison.b
     labels = labels or (a.source or "A", b.source or "B")
@@ -264,6 +264,11 @@ def comparison_figure(comparison, *, labels=None):
         top.vlines(onsets.t, comparison.threshold_db, onsets.level_db, color=color, lw=0.8, alpha=0.6)
         top.plot(onsets.t, onsets.level_db, marker=marker, ms=3.5, lw=1.0, color=color,
                  label=f"{label}: {len(onsets)} onsets")
+    for onsets, unmatched, label, color in ((a, comparison.unmatched_a, labels[0], "C0"),
+                                            (b, comparison.unmatched_b, labels[1], "C3")):
+        if len(unmatched):
+            top.plot(onsets.t[unmatched], onsets.level_db[unmatched], "x", ms=9, mew=1.8, color=color,
+                     label=f"{label}: {len(unmatched)} unmatched")
     top.set_ylim(comparison.threshold_db - 2.0, 2.0)
     top.set_ylabel("level (dB re loudest)")
     top.set_xlabel("t from the first onset (s)")
@@ -277,7 +282,7 @@ def comparison_figure(comparison, *, labels=None):
     bottom.axhline(0.0, color="0.55", lw=1.0)
     bottom.bar(np.arange(1, len(difference) + 1), difference, color="C2", width=0.7)
     bottom.set_ylabel(f"interval: {labels[1]} − {labels[0]} (ms)")
-    bottom.set_xlabel("bounce")
+    bottom.set_xlabel(f"interval between successive pairs (matched within ±{comparison.window * 1e3:g} ms)")
     for ax in (top, middle, bottom):
         ax.grid(alpha=0.25)
     figure.suptitle(f"{labels[1]} against {labels[0]}: onsets above {comparison.threshold_db:g} dB re each "
