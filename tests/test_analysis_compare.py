@@ -57,21 +57,32 @@ def test_the_closed_forms_are_the_simulated_free_bounce():
 
 @pytest.mark.parametrize("cor_a, cor_b", [(0.86, 0.8), (0.7, 0.9), (0.86, 0.86)])
 def test_free_bounces_compared_as_the_closed_forms_say(cor_a, cor_b):
+    """Bounces pair as mir_eval matches the closed forms' times; each pair differs as the closed forms say."""
+    import mir_eval
+
     result = compare(simulated(cor_a), simulated(cor_b))
     t_a, level_a = free_bounce(cor_a)
     t_b, level_b = free_bounce(cor_b)
     expected_counts = [int(np.sum(level >= FLOOR_DB)) for level in (level_a, level_b)]
     assert list(result.counts) == expected_counts
-    m = min(expected_counts)
-    assert np.allclose(result.interval_difference, np.diff(t_b[:m]) - np.diff(t_a[:m]), atol=1e-9, rtol=0)
-    # each bounce is c times the last: B − A grows by 20·log10(c_b / c_a) dB a bounce, exactly
-    assert np.allclose(result.level_difference, 20.0 * np.arange(m) * math.log10(cor_b / cor_a), atol=1e-9, rtol=0)
-    assert result.durations == pytest.approx((t_a[expected_counts[0] - 1] - t_a[0],
-                                              t_b[expected_counts[1] - 1] - t_b[0]), abs=1e-9)
+    t_a, t_b = t_a[:expected_counts[0]] - t_a[0], t_b[:expected_counts[1]] - t_b[0]
+    assert len(result.pairs) == len(mir_eval.util.match_events(t_a, t_b, 0.010))
+    if cor_a == cor_b:
+        assert result.pairs.tolist() == [[k, k] for k in range(expected_counts[0])]
+    i, j = result.pairs.T
+    assert np.all(np.diff(i) > 0) and np.all(np.diff(j) > 0) and np.all(np.abs(t_b[j] - t_a[i]) <= 0.010)
+    assert np.allclose(result.time_difference, t_b[j] - t_a[i], atol=1e-9, rtol=0)
+    assert np.allclose(result.interval_difference, np.diff(t_b[j]) - np.diff(t_a[i]), atol=1e-9, rtol=0)
+    # impact k is c^k times the first: B's j-th against A's i-th differ by 20·(j·log10 c_b − i·log10 c_a) dB
+    expected_levels = 20.0 * (j * math.log10(cor_b) - i * math.log10(cor_a))
+    assert np.allclose(result.level_difference, expected_levels, atol=1e-9, rtol=0)
+    assert result.durations == pytest.approx((t_a[-1], t_b[-1]), abs=1e-9)
     summary = result.summary()
     assert summary["count_difference"] == expected_counts[1] - expected_counts[0]
-    assert summary["level_difference_max_db"] == pytest.approx(abs(20.0 * (m - 1) * math.log10(cor_b / cor_a)),
-                                                               abs=1e-9)
+    assert summary["pairs"] == len(i) and summary["intervals_compared"] == len(i) - 1
+    assert summary["unmatched_a"] == sorted(set(range(expected_counts[0])) - set(i.tolist()))
+    assert summary["unmatched_b"] == sorted(set(range(expected_counts[1])) - set(j.tolist()))
+    assert summary["level_difference_max_db"] == pytest.approx(np.max(np.abs(expected_levels)), abs=1e-9)
 
 
 def test_the_envelope_and_the_rate_are_linear_between_onsets_and_midpoints():
