@@ -72,6 +72,9 @@ MISS_COST = 1.0
 """What a missed bounce costs a candidate sequence, in matched onsets: a sequence through ringing,
 which misses most of its impacts, loses to the drop's."""
 
+REFITTED = 20
+"""How many of the best candidate sequences are refitted on their onsets before the best is chosen."""
+
 NEIGHBOURS = 6
 """A candidate's next impact is sought among this many onsets after its last (extras between are few)."""
 
@@ -227,6 +230,7 @@ class _Choice:
     used: np.ndarray
     bounces: np.ndarray
     extra: np.ndarray
+    loudest: np.ndarray  # the onset whose level is each impact's
     score: float = -math.inf
     squares: float = math.inf
     omega: float = math.nan
@@ -255,25 +259,39 @@ def _choose(onsets, flights, tolerance):
     if not isinstance(onsets, Onsets):
         raise ParameterError(f"onsets must be an Onsets, got {type(onsets).__name__}")
     t = onsets.t
-    best = _Choice(np.arange(min(len(t), 2)), np.arange(min(len(t), 2)), np.empty(0, dtype=np.int64))
+    few = np.arange(min(len(t), 2))
+    candidates = {(): _Choice(few, few, np.empty(0, dtype=np.int64), few)}
     for a, b, c in _triples(t):
         omega = flights.launch(t[b] - t[a])
         cor = float(flights.launch(t[c] - t[b]) / omega)
         if COR_RANGE[0] <= cor <= COR_RANGE[1]:
-            choice = _match(t, flights, t[a], omega, cor, tolerance)
-            if (choice.score, -choice.squares) > (best.score, -best.squares):
-                best = choice
+            choice = _match(onsets, flights, t[a], omega, cor, tolerance)
+            key = tuple(choice.used)
+            if key not in candidates or _rank(choice) > _rank(candidates[key]):
+                candidates[key] = choice
+    # a triple's errors grow as its sequence is extrapolated: the best few are refitted before one is chosen
+    best = sorted(candidates.values(), key=_rank)[-REFITTED:]
+    return max((_refined(onsets, flights, choice, tolerance) for choice in best), key=_rank)
+
+
+def _rank(choice):
+    """Better sequences rank higher: the higher score, then more impacts matched, then the smaller residuals."""
+    return choice.score, len(choice.used), -choice.squares
+
+
+def _refined(onsets, flights, choice, tolerance):
+    """``choice`` refitted on its matched onsets and matched again, until it no longer improves."""
     for _ in range(10):
-        if len(best.used) < 3:
+        if len(choice.used) < 3:
             break
-        time, omega, cor = _refit(t[best.used], best.bounces, flights, best.omega, best.cor)
+        time, omega, cor = _refit(onsets.t[choice.used], choice.bounces, flights, choice.omega, choice.cor)
         if not COR_RANGE[0] <= cor <= COR_RANGE[1]:
             break
-        again = _match(t, flights, time, omega, cor, tolerance)
-        if np.array_equal(again.used, best.used):
-            break
-        best = again
-    return best
+        again = _match(onsets, flights, time, omega, cor, tolerance)
+        if np.array_equal(again.used, choice.used) or _rank(again) < _rank(choice):
+            return max(choice, again, key=_rank)
+        choice = again
+    return choice
 
 
 def _triples(t):
@@ -287,11 +305,13 @@ def _triples(t):
                     yield a, b, c
 
 
-def _match(t, flights, time, omega, cor, tolerance):
-    """The model's impacts (through one at ``time``) matched to the onsets ``t``; the best run of them."""
+def _match(onsets, flights, time, omega, cor, tolerance):
+    """The model's impacts (through one at ``time``) matched to the ``onsets``; the best run of them."""
+    t = onsets.t
     times, numbers = flights.impacts(time, omega, cor, t[0] - tolerance, t[-1] + tolerance)
     if len(times) < 2:
-        return _Choice(np.empty(0, dtype=np.int64), np.empty(0, dtype=np.int64), np.empty(0, dtype=np.int64))
+        none = np.empty(0, dtype=np.int64)
+        return _Choice(none, none, none, none)
     gaps = np.diff(times)
     reach = np.minimum(tolerance, SPAN_SHARE * np.minimum(np.r_[gaps[0], gaps], np.r_[gaps, gaps[-1]]))
     after = np.clip(np.searchsorted(t, times), 1, len(t) - 1)
@@ -302,21 +322,28 @@ def _match(t, flights, time, omega, cor, tolerance):
     hit[:start] = hit[stop:] = False
     used, bounces = nearest[hit], numbers[hit]
     if not len(used):
-        return _Choice(used, bounces, used)
+        return _Choice(used, bounces, used, used)
     extra = np.setdiff1d(np.arange(used[0], used[-1] + 1), used)
+    # an impact's doubled triggers are all within its reach: its level is their loudest's
+    low = np.searchsorted(t, times[hit] - reach[hit], side="left")
+    high = np.searchsorted(t, times[hit] + reach[hit], side="right")
+    loudest = np.array([i + np.argmax(onsets.level_db[i:j]) for i, j in zip(low, high)], dtype=np.int64)
     # number the bounces from the first used one; its launch speed is the model's there
-    return _Choice(used, bounces - bounces[0], extra, score, float(np.sum(error[hit] ** 2)),
+    return _Choice(used, bounces - bounces[0], extra, loudest, score, float(np.sum(error[hit] ** 2)),
                    float(omega * cor ** bounces[0]), cor)
 
 
 def _best_run(gains):
-    """(start, stop, total) of the contiguous run of ``gains`` with the largest total (Kadane's)."""
-    best, start, total, begin = (0, 0, -math.inf), 0, 0.0, 0
+    """(start, stop, total) of the contiguous run of ``gains`` with the largest total (Kadane's), the longest of equals.
+
+    A run that a miss and a match extend keeps its total: the longer gives the refit more impacts.
+    """
+    best, total, begin = (0, 0, -math.inf), 0.0, 0
     for i, gain in enumerate(gains):
-        if total <= 0.0:
+        if total < 0.0:
             total, begin = 0.0, i
         total += gain
-        if total > best[2]:
+        if total > best[2] or (total == best[2] and begin == best[0]):
             best = (begin, i + 1, total)
     return best
 
@@ -399,7 +426,7 @@ def measure_cor(onsets, *, model="paper", stick=None, gravity=9.8, confidence=CO
         se = math.inf
     quantile = float(stats.t.ppf(0.5 + confidence / 2.0, dof)) if dof > 0 else math.inf
     interval = (float(np.exp(log_c - quantile * se)), float(np.exp(log_c + quantile * se)))
-    cor_levels, levels_interval = _from_levels(onsets.level_db[choice.used], choice.bounces, confidence)
+    cor_levels, levels_interval = _from_levels(onsets.level_db[choice.loudest], choice.bounces, confidence)
     missed = np.setdiff1d(np.arange(ends[-1] + 1), ends)
     return Drop(cor=cor, interval=interval, cor_levels=cor_levels, levels_interval=levels_interval,
                 flights=len(measured), times=times, residuals=np.asarray(fit.fun), launch_speed=float(omega1),
