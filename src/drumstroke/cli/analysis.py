@@ -1,5 +1,7 @@
 """``drumstroke onsets`` and ``measure-cor``: a recording's impacts, and c from a drop."""
 
+import sys
+
 from .._atomic import Bundle
 from ..errors import ParameterError
 from ..formats import json, onsets_csv
@@ -29,10 +31,14 @@ def add_measure_cor(cor):
     """Give ``measure-cor``'s parser ``cor`` its description and options."""
     cor.description = ("c from a stick dropped on the head (the paper's method): the flights between successive "
                        "impacts fitted by the model's exact flights under gravity, T_n = F(c^(n-1) w1), with a "
-                       "confidence interval; the impacts' levels (falling 20 log10 c dB an impact) as a cross-check.")
+                       "confidence interval; the impacts chosen among the onsets by the model over all of them "
+                       "(extra onsets passed over, missed bounces allowed for); the impacts' levels (falling "
+                       "20 log10 c dB an impact) as a cross-check, with a warning when the two disagree.")
     cor.add_argument("drop", type=existing_file, metavar="DROP",
                      help="a recording of the drop (WAV, FLAC, OGG, ...) or its onsets CSV")
     add_model(cor, what="whose exact flights")
+    cor.add_argument("--tolerance", type=number(low=0.0, high=0.1, low_open=True), default=5e-3, metavar="S",
+                     help="how far an onset may be from the model's impact and still be it, in s (default 0.005)")
     cor.add_argument("--confidence", type=number(low=0.0, high=1.0, low_open=True, high_open=True), default=0.95,
                      help="of the intervals, in (0, 1) (default 0.95)")
     _add_detection(cor)
@@ -104,7 +110,7 @@ def _measure_cor(args):
     onsets, _ = _read(args, args.drop)
     if not len(onsets):
         raise ParameterError(f"no impacts found in {args.drop.name}: {onsets.info.get('found', 'none')}")
-    drop = measure_cor(onsets, model=args.model, confidence=args.confidence)
+    drop = measure_cor(onsets, model=args.model, confidence=args.confidence, tolerance=args.tolerance)
     low, high = drop.interval
     print(f"c = {drop.cor:.4f} ({drop.confidence:.0%} interval {low:.4f} to {high:.4f}) from {drop.flights} flights "
           f"({drop.flights + 1} impacts, {drop.times[0]:.4f} to {drop.times[-1]:.4f} s) on the {drop.model} model's "
@@ -117,6 +123,20 @@ def _measure_cor(args):
         print("levels cross-check: none (the levels do not fall from impact to impact)")
     print(f"largest flight residual {abs(drop.residuals).max() * 1e3:.3f} ms; first launch speed "
           f"{drop.launch_speed:.4g} rad/s")
+    print(f"impacts used: onsets {_listed(drop.used)}")
+    if len(drop.extra):
+        print(f"extra onsets passed over (doubled triggers, ghosts, ringing): {_listed(drop.extra)} at "
+              f"{_listed(onsets.t[drop.extra], '{:.4f}')} s")
+    if len(drop.missed):
+        print(f"missed bounces (no onset near the model's impact): {len(drop.missed)}, at "
+              f"{_listed(drop.missed, '{:.4f}')} s")
+    if drop.warning:
+        print(f"warning: {drop.warning}", file=sys.stderr)
     if args.json:
         json.write_json(args.json, {**drop.to_dict(), "threshold_db": onsets.threshold_db})
         print_written([args.json])
+
+
+def _listed(values, form="{}"):
+    """``values`` comma-separated, each in ``form``."""
+    return ", ".join(form.format(value) for value in values)
