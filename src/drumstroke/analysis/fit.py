@@ -51,7 +51,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import minimize_scalar
 
-from .._checks import check_choice, check_real
+from .._checks import check_choice, check_int, check_real
 from ..design import FORCE_LIMIT, HUMAN_FORCE, ForceRange, Setup, Start, Unreachable, design, design_pieces
 from ..design.chain import HIGHEST, MIN_GAP
 from ..dynamics import CEILING_DB, FLOOR_DB
@@ -242,9 +242,10 @@ class Suspect:
     ----------
     onset : int
         The onset's index; for ``"fill"``, the index of the onset after the missed bounce.
-    action : {"drop", "merge", "fill"}
-        Drop the onset; merge it into onset ``into`` (the same impact heard twice: that onset's time, the
-        louder level); or fill a bounce the onsets missed, at ``t`` and ``level``.
+    action : {"drop", "merge", "fill", "replace"}
+        Drop the onset (no bounce is near it); merge it into onset ``into`` (the same impact heard twice:
+        that onset's time, the louder level); fill a bounce the onsets missed; or replace the onset by its
+        bounce on the trend (a bounce heard off its time or level).
     reason : str
         Why, in numbers.
     t : float
@@ -253,6 +254,8 @@ class Suspect:
         dB re the loudest onset: the onset's level; for ``"fill"``, the trend's level of the missed bounce.
     into : int
         For ``"merge"``, the onset it merges into; else -1.
+    filled : tuple of float
+        For ``"fill"`` and ``"replace"``, the bounce played instead: (s, dB re the loudest onset); else ().
     """
 
     onset: int
@@ -261,11 +264,13 @@ class Suspect:
     t: float
     level: float
     into: int = -1
+    filled: tuple = ()
 
     def to_dict(self):
         """The suspect as plain data (JSON)."""
         return {"onset": self.onset, "action": self.action, "reason": self.reason, "t": self.t,
-                "level_db": self.level, "into": None if self.into < 0 else self.into}
+                "level_db": self.level, "into": None if self.into < 0 else self.into,
+                "filled": {"t": self.filled[0], "level_db": self.filled[1]} if self.filled else None}
 
 
 def find_suspects(onsets, *, model="paper", stick=None, time_tolerance=SUSPECT_TIME, level_tolerance=SUSPECT_LEVEL):
@@ -452,12 +457,13 @@ def _missed_suspects(onsets, trend, bounces, missed):
     for bounce, k in missed:
         when = float(trend.at([bounce])[0])
         suspects.append(Suspect(k, "fill", f"no onset at the trend's bounce {when:.4f} s ({levels(bounce):.1f} dB) "
-                                f"between onsets {k - 1} and {k}: a missed onset", when, levels(bounce)))
+                                f"between onsets {k - 1} and {k}: a missed onset", when, levels(bounce),
+                                filled=(when, levels(bounce))))
     return suspects
 
 
 def _off_trend(onsets, trend, bounces, time_tolerance, level_tolerance):
-    """Bounces further from the trend than the tolerances: dropped, with how far."""
+    """Bounces further from the trend than the tolerances: replaced by the trend's, with how far."""
     t, level = onsets.t, onsets.level_db
     index, numbers = np.array([i for i, _ in bounces]), np.array([m for _, m in bounces])
     times, levels = trend.at(numbers), _level_trend(onsets, trend, bounces)
@@ -473,7 +479,8 @@ def _off_trend(onsets, trend, bounces, time_tolerance, level_tolerance):
             why.append(f"{abs(off):.3g} dB {'louder' if off > 0 else 'quieter'} than the trend's level, which falls "
                        f"{-20.0 * math.log10(trend.cor):.3g} dB a bounce{rise}")
         if why:
-            suspects.append(Suspect(int(k), "drop", "; ".join(why), float(t[k]), float(level[k])))
+            suspects.append(Suspect(int(k), "replace", "; ".join(why) + ": replaced by the trend's bounce", float(t[k]),
+                                    float(level[k]), filled=(float(expected), levels(m))))
     return suspects
 
 
@@ -481,11 +488,12 @@ def _level_trend(onsets, trend, bounces):
     """Bounce number → its level on the trend (dB re the loudest onset): 20·log10 c a bounce, the median's start."""
     step = 20.0 * math.log10(trend.cor)
     first = float(np.median([onsets.level_db[k] - step * m for k, m in bounces]))
-    return lambda m: first + step * m
+    return lambda m: float(first + step * m)
 
 
 def fit_stroke(onsets, *, model="paper", cor=DEFAULT_COR, fit_cor=False, offset=None, stick=None, forces=None,
-               highest=None, progress=None):
+               highest=None, drop=(), merge=(), drop_suspects=False, suspect_time=SUSPECT_TIME,
+               suspect_level=SUSPECT_LEVEL, progress=None):
     """Fit the start, c (optionally) and the force profile whose impacts match the recorded onsets.
 
     Parameters
@@ -506,12 +514,25 @@ def fit_stroke(onsets, *, model="paper", cor=DEFAULT_COR, fit_cor=False, offset=
         criterion keeps to the human 0–250 whenever an offset allows it).
     highest : float, optional
         rad, the highest the fitted stroke may take the stick (default the design's, 1.25).
+    drop : sequence of int
+        Onsets (indices) to leave out, e.g. those a look at the recording shows are not the stick's.
+    merge : sequence of int
+        Onsets i to merge with onset i + 1 (one impact heard twice): i's time, the louder level.
+    drop_suspects : bool
+        Fit without the suspects (:func:`find_suspects`): drop or merge them, and play a bounce where an
+        onset was missed (at the trend's time and level, reported in ``filled_t``).
+    suspect_time : float in (0, 0.05]
+        s: how far from the trend's time a bounce is a suspect.
+    suspect_level : float in (0, 48]
+        dB: how far from the trend's level a bounce is a suspect.
     progress : callable, optional
         Called with the fraction done, in [0, 1].
 
     Returns
     -------
     Fit
+        Its residuals, ``unmatched`` and ``dropped`` indexed by the onsets given; its offset is the level of
+        the loudest onset given, whether fitted or not.
 
     Raises
     ------
@@ -524,26 +545,34 @@ def fit_stroke(onsets, *, model="paper", cor=DEFAULT_COR, fit_cor=False, offset=
     cor = check_real("cor", cor, low=0.0, high=1.0, high_open=True)
     if offset is not None:
         offset = check_real("offset", offset, low=FLOOR_DB, high=CEILING_DB, unit="dB re 1 m/s")
-    if len(onsets) < 2:
-        raise ParameterError(f"a fit needs at least 2 onsets (a throw and a bounce), got {len(onsets)}"
-                             + (" (no impacts found)" if not len(onsets) else ""))
     if len(onsets) > MAX_ONSETS:
         raise ParameterError(f"a fit takes one stroke, at most {MAX_ONSETS} onsets, got {len(onsets)}: cut the "
                              "recording to one stroke")
-    search = _Search(onsets, model=model, stick=Stick() if stick is None else stick,
-                     forces=FORCES if forces is None else forces, highest=highest, progress=progress)
+    drop = _indices("drop", drop, len(onsets))
+    merge = _indices("merge", merge, len(onsets) - 1)
+    check_choice("drop_suspects", drop_suspects, (True, False))
+    stick = Stick() if stick is None else stick
+    suspects = find_suspects(onsets, model=model, stick=stick, time_tolerance=suspect_time,
+                             level_tolerance=suspect_level)
+    edits = _Edits.made(onsets, drop, merge, suspects, apply=drop_suspects)
+    if offset is not None:
+        offset -= edits.shift
+    onsets = edits.fitted
+    if len(onsets) < 2:
+        raise ParameterError(f"a fit needs at least 2 onsets (a throw and a bounce), got {len(onsets)}"
+                             + (" (no impacts found)" if not len(onsets) else ""))
+    search = _Search(edits, model=model, stick=stick, forces=FORCES if forces is None else forces, highest=highest,
+                     progress=progress)
     return search.run(cor=cor, fit_cor=fit_cor, offset=offset)
 
 
 class _Search:
     """The notes tried, the onsets left out and why, and the criterion of a candidate (offset, c)."""
 
-    def __init__(self, onsets, *, model, stick, forces, highest, progress):
-        if not isinstance(stick, Stick):
-            raise ParameterError(f"stick must be a drumstroke.Stick, got {stick!r}")
+    def __init__(self, edits, *, model, stick, forces, highest, progress):
         if not isinstance(forces, ForceRange):
             raise ParameterError(f"forces must be a drumstroke.design.ForceRange, got {forces!r}")
-        self.onsets, self.stick = onsets, stick
+        self.edits, self.onsets, self.stick = edits, edits.fitted, stick
         self.setup = Setup(model=model, stick=stick, forces=forces)
         self.highest = HIGHEST if highest is None else highest
         self.coefficients = coefficients(model, stick)
@@ -748,27 +777,78 @@ class _Search:
         return Start(float(times[0]) - 10.0, math.asin(height))
 
     def measure(self, made, offset, cor, fit_cor):
-        """The fitted stroke's impacts against the onsets: residuals, onsets not played, impacts added."""
-        onsets, keep = self.onsets, np.array(self.keep)
+        """The fitted stroke's impacts against the onsets: residuals, onsets not played, impacts added.
+
+        Measured on the onsets fitted, reported on those given (a filled bounce is not one of them)."""
+        edits, onsets, keep = self.edits, self.onsets, np.array(self.keep)
+        given, origin, shift = edits.given, edits.origin, edits.shift
         impacts = made.impacts
         played_t, played_level = impacts.t, impacts.level_db - offset
         pairs = match_onsets(onsets.t[keep], np.maximum(played_t, 0.0), window=MATCH_WINDOW)
-        time_residual = np.full(len(onsets), np.nan)
-        level_residual = np.full(len(onsets), np.nan)
-        left_out = dict(self.left_out)
+        time_residual = np.full(len(given), np.nan)
+        level_residual = np.full(len(given), np.nan)
+        left_out = {int(origin[i]): why for i, why in self.left_out.items()}
         for onset, j in zip(keep, pairs):
             if j < 0:
-                left_out[int(onset)] = f"the fitted stroke has no impact within {MATCH_WINDOW * 1e3:g} ms of it"
-            else:
-                time_residual[onset] = played_t[j] - onsets.t[onset]
-                level_residual[onset] = played_level[j] - onsets.level_db[onset]
+                left_out[int(origin[onset])] = f"the fitted stroke has no impact within {MATCH_WINDOW * 1e3:g} ms of it"
+            elif origin[onset] >= 0:
+                time_residual[origin[onset]] = played_t[j] - onsets.t[onset]
+                level_residual[origin[onset]] = played_level[j] - onsets.level_db[onset]
+        left_out.pop(-1, None)  # a filled bounce the design could not play: not an onset of the recording
         extra = np.ones(len(played_t), bool)
         extra[pairs[pairs >= 0]] = False
         extra &= played_level >= onsets.threshold_db
-        return Fit(made.recipe.replace(name=f"fitted to {onsets.source}" if onsets.source else "fitted"), made.stroke,
-                   onsets, cor, float(offset), float(made.release), time_residual, level_residual,
-                   tuple(sorted(left_out.items())), played_t[extra], played_level[extra],
-                   self.change(offset, cor)[0], bool(fit_cor), made)
+        filled = origin < 0
+        return Fit(made.recipe.replace(name=f"fitted to {given.source}" if given.source else "fitted"), made.stroke,
+                   given, cor, float(offset + shift), float(made.release), time_residual, level_residual,
+                   tuple(sorted(left_out.items())), played_t[extra], played_level[extra] - shift,
+                   self.change(offset, cor)[0], bool(fit_cor), made, edits.suspects, edits.dropped,
+                   onsets.t[filled], onsets.level_db[filled] - shift)
+
+
+@dataclass(frozen=True)
+class _Edits:
+    """The onsets given, those fitted (some dropped or merged, missed bounces filled) and how they relate."""
+
+    given: Onsets
+    fitted: Onsets
+    origin: np.ndarray  # per onset fitted: its index among those given; -1 for a filled bounce
+    shift: float  # dB: a level fitted (re the loudest fitted) is the level given plus this
+    dropped: tuple  # (index given, why)
+    suspects: tuple
+
+    @classmethod
+    def made(cls, onsets, drop, merge, suspects, *, apply):
+        """Drop ``drop``, merge each i of ``merge`` with i + 1, and (``apply``) act on the suspects."""
+        level = onsets.level_db.copy()
+        removed = {i: "dropped by hand" for i in drop}
+        for i in merge:
+            removed.setdefault(i + 1, f"merged by hand into onset {i}")
+            level[i] = max(level[i], level[i + 1])
+        acted = suspects if apply else ()
+        filled = [s.filled for s in acted if s.action in ("fill", "replace")]
+        for s in acted:
+            if s.action != "fill" and s.onset not in removed:
+                removed[s.onset] = f"a suspect: {s.reason}"
+                if s.action == "merge":
+                    level[s.into] = max(level[s.into], level[s.onset])
+        kept = np.array([i for i in range(len(onsets)) if i not in removed], dtype=np.int64)
+        t = np.concatenate((onsets.t[kept], [when for when, _ in filled]))
+        levels = np.concatenate((level[kept], [loud for _, loud in filled]))
+        origin = np.concatenate((kept, -np.ones(len(filled), np.int64)))
+        order = np.argsort(t, kind="stable")
+        shift = -float(levels.max()) if len(levels) else 0.0
+        fitted = onsets if not removed and not filled else Onsets(
+            t[order], levels[order] + shift, threshold_db=onsets.threshold_db + shift, source=onsets.source)
+        return cls(onsets, fitted, origin[order], shift, tuple(sorted(removed.items())), tuple(suspects))
+
+
+def _indices(name, values, count):
+    """``values`` as a sorted tuple of distinct onset indices in [0, count)."""
+    values = tuple(values) if isinstance(values, list | tuple | np.ndarray) else values
+    if not isinstance(values, tuple):
+        raise ParameterError(f"{name} must be a sequence of onset indices, got {values!r}")
+    return tuple(sorted({check_int(f"{name}[{k}]", value, low=0, high=count - 1) for k, value in enumerate(values)}))
 
 
 def _level_cor(levels):
