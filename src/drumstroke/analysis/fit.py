@@ -93,6 +93,9 @@ times: the velocity a sample is played at, the detector's reading)."""
 _WINDOW = 0.35
 """Of the expected flight: the onset nearest a bounce's expected time, and within this of it, is that bounce."""
 
+_MOST_SUSPECT = 1.0 / 3.0
+"""The largest share of suspects among the onsets: with more, the onsets follow no one constant force's trend."""
+
 _MOST_MISSED = 3
 """Bounces missed in a row after which the trend is not followed further (the onsets after are not judged)."""
 
@@ -293,8 +296,9 @@ def find_suspects(onsets, *, model="paper", stick=None, time_tolerance=SUSPECT_T
        from the levels' trend (the first's plus 20·m·log10 c, the first taken as the median).
 
     The check assumes one constant force: a stroke whose force changes on purpose (a low→high stroke)
-    has flights off one trend that are not errors. When more than a third of the onsets would be
-    suspects, none is named (the onsets do not follow one constant force).
+    has flights off one trend that are not errors. When more than a third of the onsets are off the
+    trend in time (extra, missed or shifted), none is named: the onsets follow no one constant force.
+    The levels are judged only against times that follow it, however many are off.
 
     Parameters
     ----------
@@ -343,9 +347,10 @@ def find_suspects(onsets, *, model="paper", stick=None, time_tolerance=SUSPECT_T
         bounces, extra, missed = _walk(t, trend.flight_after(t[-1]))
     suspects = _extra_suspects(onsets, trend, bounces, extra) + _missed_suspects(onsets, trend, bounces, missed)
     merged = {s.onset for s in suspects if s.action == "merge"}
-    suspects += [s for s in _off_trend(onsets, trend, bounces, time_tolerance, level_tolerance) if s.onset not in merged]
-    if len(suspects) > len(onsets) / 3.0:
-        return ()
+    off = [s for s in _off_trend(onsets, trend, bounces, time_tolerance, level_tolerance) if s.onset not in merged]
+    if len(suspects) + sum("ms " in s.reason for s in off) > _MOST_SUSPECT * len(onsets):
+        return ()  # the times follow no one trend; the levels, rougher, are judged only against times that do
+    suspects += off
     return tuple(sorted(suspects, key=lambda s: (s.onset, s.t)))
 
 
