@@ -340,6 +340,8 @@ def find_suspects(onsets, *, model="paper", stick=None, time_tolerance=SUSPECT_T
     t, coeffs = onsets.t, coefficients(model, stick)
     slope, intercept = theilslopes(np.diff(t), t[:-1])[:2]
     bounces, extra, missed = _walk(t, lambda at: intercept + slope * at)
+    if missed and sum(m < missed[0][0] for _, m in bounces) >= 4:  # the line drifts: trust it up to its first miss
+        bounces = [(k, m) for k, m in bounces if m < missed[0][0]]
     for _ in range(2):  # the line of flights numbers the first bounces; the exact trend, all of them
         if len(bounces) < 4:
             return ()
@@ -407,8 +409,9 @@ class _Trend:
             return cls(p[0], *np.exp(p[1:]), sin_head).at(numbers) - times
 
         scale = [tolerance, 0.1, 0.1, 0.01]
-        fit = least_squares(residuals, start, loss="soft_l1", f_scale=tolerance, x_scale=scale)
-        inside = np.abs(fit.fun) <= tolerance  # then plain least squares on those within it: exact on exact bounces
+        fit = least_squares(residuals, start, x_scale=scale)  # near, then robust, then exact on the bounces near it
+        fit = least_squares(residuals, fit.x, loss="soft_l1", f_scale=tolerance, x_scale=scale)
+        inside = np.abs(fit.fun) <= tolerance
         if inside.sum() >= 4:
             times, numbers = times[inside], numbers[inside]
             fit = least_squares(residuals, fit.x, x_scale=scale, xtol=1e-12, ftol=1e-12)
