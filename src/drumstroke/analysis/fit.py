@@ -323,7 +323,7 @@ def find_suspects(onsets, *, model="paper", stick=None, time_tolerance=SUSPECT_T
     >>> t, level = impacts.t[:14].copy(), impacts.level_db[:14] - impacts.level_db.max()
     >>> t[5] += 0.004                                                   # a bounce heard 4 ms late
     >>> [(s.onset, s.action) for s in find_suspects(Onsets(t, level))]
-    [(5, 'drop')]
+    [(5, 'replace')]
     """
     if not isinstance(onsets, Onsets):
         raise ParameterError(f"onsets must be a drumstroke.analysis.Onsets, got {type(onsets).__name__}")

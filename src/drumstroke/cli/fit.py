@@ -84,8 +84,9 @@ def _fit(args):
         print(f"   + {t:>11.6f} {level:>10.2f}  an impact the recording does not have (above its threshold)")
     _print_suspects(fitted.suspects, acted=args.drop_suspects)
     verdict = "within" if fitted.within else "NOT within"
+    dropped = f"{len(fitted.dropped)} dropped, " if fitted.dropped else ""
     print(f"largest residuals {fitted.time_error * 1e3:.4g} ms, {fitted.level_error:.4g} dB; {len(fitted.unmatched)} "
-          f"onsets not played, {len(fitted.dropped)} dropped, {len(fitted.extra_t)} impacts added: {verdict} {TOLERANCE[0] * 1e3:g} ms and "
+          f"onsets not played, {dropped}{len(fitted.extra_t)} impacts added: {verdict} {TOLERANCE[0] * 1e3:g} ms and "
           f"{TOLERANCE[1]:g} dB")
     written = []
     with Bundle() as bundle:
