@@ -30,6 +30,11 @@ forces allows, or not reachable in one chain — is left out and reported with t
 detection (:data:`FALSE_ONSET_DB`); the model's impacts that match no onset are reported when they
 are at or above the detection threshold, not when below (the tail).
 
+Before fitting, the onsets are checked against one stick's bounces under a constant force
+(:func:`find_suspects`): extra onsets, missed bounces and bounces off the trend are listed as suspects,
+and ``drop_suspects`` fits without them (dropped, merged, or their bounces played on the trend);
+``drop`` and ``merge`` leave out onsets by hand. What is kept is played within :data:`TOLERANCE`.
+
 Examples
 --------
 >>> import numpy as np
