@@ -424,9 +424,11 @@ class _Trend:
 
     def flight_after(self, until):
         """The flight (s) after a bounce at t (s), the trend's bounce nearest t, up to the first after ``until``."""
+        from ..solver.elliptic import flight_time
+
         times = [self.start]
         while times[-1] <= until and len(times) < 2 * MAX_ONSETS:
-            times.append(float(self.at([len(times)])[0]))
+            times.append(times[-1] + flight_time(self.launch * self.cor ** (len(times) - 1), self.rate, self.sin_head)[0])
         times = np.array(times)
         return lambda at: float(np.diff(times)[min(int(np.argmin(np.abs(times[:-1] - at))), len(times) - 2)])
 
