@@ -185,14 +185,14 @@ def test_a_false_onset_between_two_impacts_is_left_out_as_such(tmp_path):
 def test_the_fits_check_reports_an_impact_above_the_threshold_that_no_onset_has():
     """The re-simulation's check, which a correct design never trips through fit_stroke: a stroke designed for
     all the onsets, measured against the onsets less one, has that one as an extra impact, so it is not within."""
-    from drumstroke.analysis.fit import _Search
+    from drumstroke.analysis.fit import _Edits, _Search
 
     recipe = drumstroke.Recipe(force=drumstroke.Constant(100.0), theta0=0.3, cor=0.8, t_end=4.0)
     onsets = onsets_of(drumstroke.simulate(recipe))
     fit = fit_stroke(onsets, cor=0.8)
     assert fit.within and not len(fit.extra_t)
     fewer = Onsets(np.delete(onsets.t, 3), np.delete(onsets.level_db, 3), threshold_db=THRESHOLD)
-    search = _Search(fewer, model="paper", stick=drumstroke.Stick(), forces=FORCES,
+    search = _Search(_Edits.made(fewer, (), (), (), apply=False), model="paper", stick=drumstroke.Stick(), forces=FORCES,
                      highest=None, progress=None)
     checked = search.measure(fit.design, fit.offset, 0.8, False)
     assert checked.extra_t == pytest.approx([onsets.t[3]], abs=TOLERANCE[0])

@@ -8,7 +8,7 @@ from ..formats import json, toml
 from ..recipe import COR_RANGE
 from ..render import plot
 from ._common import Bar, add_cor, add_model, add_sound_options, print_recording_notes, print_written
-from ._options import Output, add_mkdir, existing_file, number
+from ._options import Output, add_mkdir, existing_file, number, whole
 
 
 def add_fit(fit):
@@ -25,6 +25,18 @@ def add_fit(fit):
     cor.add_argument("--fit-cor", action="store_true", help=f"fit c too, in [{COR_RANGE[0]:g}, {COR_RANGE[1]:g}]")
     fit.add_argument("--level", type=number(low=FLOOR_DB, high=CEILING_DB, unit="dB re 1 m/s"), metavar="DB",
                      help="the loudest onset's level, dB re 1 m/s tip speed, when known (default: fitted)")
+    edits = fit.add_argument_group("onsets to leave out (the indices printed, from 0)")
+    edits.add_argument("--drop", type=whole(low=0), nargs="+", default=[], metavar="I",
+                       help="leave these onsets out (or edit the onsets' CSV and fit that)")
+    edits.add_argument("--merge", type=whole(low=0), nargs="+", default=[], metavar="I",
+                       help="merge onset I with onset I+1 (one impact heard twice): I's time, the louder level")
+    edits.add_argument("--drop-suspects", action="store_true",
+                       help="fit without the suspects (the onsets off one constant force's trend of bounces, always "
+                            "listed): drop extra onsets, merge doubles, play missed or misplaced bounces on the trend")
+    edits.add_argument("--suspect-ms", type=number(low=0.0, high=50.0, low_open=True, unit="ms"), default=2.0,
+                       metavar="MS", help="a bounce further than this from the trend's time is a suspect (default 2)")
+    edits.add_argument("--suspect-db", type=number(low=0.0, high=48.0, low_open=True, unit="dB"), default=3.0,
+                       metavar="DB", help="a bounce further than this from the trend's level is a suspect (default 3)")
     fit.add_argument("--out", action=Output, suffixes=toml.SUFFIXES, metavar="RECIPE", required=True,
                      help="write the fitted recipe as .toml (its t = 0 is the release, printed)")
     fit.add_argument("--json", action=Output, suffixes=json.SUFFIXES, metavar="PATH",
@@ -47,7 +59,8 @@ def _fit(args):
     print_recording_notes(onsets)
     with Bar("fitting", delay=0.5) as bar:
         fitted = fit_stroke(onsets, model=args.model, cor=args.cor, fit_cor=args.fit_cor, offset=args.level,
-                            progress=bar.update)
+                            drop=args.drop, merge=args.merge, drop_suspects=args.drop_suspects,
+                            suspect_time=args.suspect_ms * 1e-3, suspect_level=args.suspect_db, progress=bar.update)
     threshold = "given" if math.isinf(onsets.threshold_db) else f"{onsets.threshold_db:g} dB"
     print(f"fitted {len(onsets)} onsets of {onsets.source} (threshold {threshold}) on the {fitted.model} model: "
           f"c = {fitted.cor:.4f}{' (fitted)' if fitted.fitted_cor else ''}, loudest onset at {fitted.offset:.2f} dB "
@@ -56,18 +69,24 @@ def _fit(args):
     print(f"forces {fitted.design.min_force:.4g} to {fitted.design.max_force:.4g} m/s^2, {human}; relative change "
           f"{fitted.change:.4g}; ends {fitted.design.end}")
     print(f"{'#':>4} {'onset (s)':>11} {'onset (dB)':>10} {'dt (ms)':>9} {'dlevel (dB)':>11}")
-    reasons = dict(fitted.unmatched)
+    reasons, dropped = dict(fitted.unmatched), dict(fitted.dropped)
     for i, (t, level) in enumerate(zip(onsets.t, onsets.level_db)):
-        if i in reasons:
+        if i in dropped:
+            print(f"{i:>4} {t:>11.6f} {level:>10.2f}  dropped: {dropped[i]}")
+        elif i in reasons:
             print(f"{i:>4} {t:>11.6f} {level:>10.2f}  not played: {reasons[i]}")
         else:
             print(f"{i:>4} {t:>11.6f} {level:>10.2f} {fitted.time_residual[i] * 1e3:>9.4f} "
                   f"{fitted.level_residual[i]:>11.4f}")
+    for t, level in zip(fitted.filled_t, fitted.filled_level):
+        print(f"   = {t:>11.6f} {level:>10.2f}  a bounce played on the trend, where an onset was missed or misplaced")
     for t, level in zip(fitted.extra_t, fitted.extra_level):
         print(f"   + {t:>11.6f} {level:>10.2f}  an impact the recording does not have (above its threshold)")
+    _print_suspects(fitted.suspects, acted=args.drop_suspects)
     verdict = "within" if fitted.within else "NOT within"
+    dropped = f"{len(fitted.dropped)} dropped, " if fitted.dropped else ""
     print(f"largest residuals {fitted.time_error * 1e3:.4g} ms, {fitted.level_error:.4g} dB; {len(fitted.unmatched)} "
-          f"onsets not played, {len(fitted.extra_t)} impacts added: {verdict} {TOLERANCE[0] * 1e3:g} ms and "
+          f"onsets not played, {dropped}{len(fitted.extra_t)} impacts added: {verdict} {TOLERANCE[0] * 1e3:g} ms and "
           f"{TOLERANCE[1]:g} dB")
     written = []
     with Bundle() as bundle:
@@ -82,3 +101,14 @@ def _fit(args):
         written += write_stroke_outputs(fitted.stroke, audio=args.audio, midi=args.midi, snares=not args.no_snares,
                                         bundle=bundle)
     print_written(written)
+
+
+def _print_suspects(suspects, *, acted):
+    """The onsets one constant force's trend doubts, and whether the fit acted on them."""
+    if not suspects:
+        return
+    done = "acted on (--drop-suspects)" if acted else "kept: --drop-suspects fits without them"
+    print(f"{len(suspects)} suspect onsets against the trend of one constant force's bounces, {done}:")
+    for suspect in suspects:
+        into = f" into {suspect.into}" if suspect.into >= 0 else ""
+        print(f"  {suspect.onset:>4} {suspect.action}{into}: {suspect.reason}")

@@ -309,7 +309,7 @@ def fit_figure(fit, *, title=None, rate=2000.0):
     """
     stroke, release, offset = fit.stroke, fit.release, fit.offset
     onset_t, onset_level, threshold_db = fit.onsets.t, fit.onsets.level_db, fit.onsets.threshold_db
-    left_out = [i for i, _ in fit.unmatched]
+    left_out = [i for i, _ in fit.unmatched + fit.dropped]
     title = title or f"{fit.onsets.source or 'a recording'} fitted"
     trajectory = as_trajectory(stroke)
     recipe = trajectory.recipe
