@@ -934,7 +934,7 @@ def _first_transients(band, rate, candidates, config):
     horizon = max(1, round(5e-3 * rate))
     times = candidates.times.copy()
     for i in range(len(times)):
-        c = int(round(times[i]))
+        c = round(times[i])
         low = max(reach, c - reach, int(np.ceil((times[i - 1] + c) / 2)) if i else 0)
         high = min(len(d), c + reach, int((times[i + 1] + c) / 2) if i + 1 < len(times) else len(d))
         peak = d[c:min(len(d), c + horizon)].max(initial=0.0)
