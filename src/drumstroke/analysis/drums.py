@@ -43,7 +43,6 @@ Examples
 from dataclasses import replace
 
 import numpy as np
-from scipy.signal import butter, sosfilt
 
 from .._checks import check_real, shown
 from ..errors import ParameterError
@@ -112,7 +111,8 @@ def keep_drum(signal, rate, onsets, drum, **options):
     Returns
     -------
     Onsets
-        The kept onsets, their levels shifted so the loudest kept is 0 dB (the threshold with them);
+        The kept onsets, their levels shifted so the loudest kept is 0 dB (the threshold and the noise floor
+        with them);
         ``info`` says which drum was kept, the shift (dB) and how many onsets there were.
     """
     if drum not in DRUM_BANDS:
@@ -121,6 +121,8 @@ def keep_drum(signal, rate, onsets, drum, **options):
     level = onsets.level_db[kept]
     shift = float(-level.max()) if len(level) else 0.0
     info = {**onsets.info, "drum": drum, "drum_level_shift_db": shift, "onsets_of_all_drums": len(onsets)}
+    if info.get("floor_db") is not None:  # re the loudest onset, as the levels
+        info["floor_db"] += shift
     return replace(onsets, t=onsets.t[kept], level_db=level + shift, threshold_db=onsets.threshold_db + shift,
                    info=info)
 
@@ -141,6 +143,8 @@ def _checked(signal, rate, onsets):
 
 def _band_power(signal, rate, band):
     """The signal's power in ``band`` (low, high Hz; high None or past Nyquist: a high-pass)."""
+    from scipy.signal import butter, sosfilt  # not needed to read or write onsets, nor by the command line's parser
+
     low, high = band
     if high is None or high >= 0.45 * rate:
         sos = butter(4, low, "highpass", fs=rate, output="sos")
