@@ -115,7 +115,7 @@ def keep_drum(signal, rate, onsets, drum, **options):
         with them);
         ``info`` says which drum was kept, the shift (dB) and how many onsets there were.
     """
-    if drum not in DRUM_BANDS:
+    if not isinstance(drum, str) or drum not in DRUM_BANDS:
         raise ParameterError(f"drum must be one of {', '.join(DRUMS)}, got {shown(drum)}", parameter="drum", value=drum)
     kept = drum_of_onsets(signal, rate, onsets, **options) == drum
     level = onsets.level_db[kept]
@@ -137,7 +137,7 @@ def _checked(signal, rate, onsets):
         raise ParameterError(f"onsets must be an Onsets, got {type(onsets).__name__}", parameter="onsets")
     if len(onsets) and onsets.t[-1] * rate >= signal.size:
         raise ParameterError(f"onsets must lie within the signal's {signal.size / rate:.6g} s, got one at "
-                             f"{onsets.t[-1]!r} s", parameter="onsets")
+                             f"{float(onsets.t[-1])!r} s", parameter="onsets")
     return signal, rate, onsets
 
 
