@@ -5,7 +5,6 @@ from dataclasses import replace
 
 from .._atomic import Bundle
 from ..errors import ParameterError
-from ..analysis.drums import DRUMS
 from ..formats import json, onsets_csv
 from ..render import plot
 from ._common import add_model, print_recording_notes, print_written
@@ -14,6 +13,8 @@ from ._options import Output, add_mkdir, existing_file, number
 
 def add_onsets(ons):
     """Give ``onsets``'s parser ``ons`` its description and options."""
+    from ..analysis.drums import DRUMS
+
     ons.description = ("Find the impacts in a recording (WAV, FLAC, OGG, ...; several channels are mixed down): their "
                        "times to a fraction of a millisecond and their levels in dB re the loudest. The ringing of the "
                        "drum and the room is predicted away (a linear predictor) and each attack placed on its change "
