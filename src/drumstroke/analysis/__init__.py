@@ -4,6 +4,7 @@ The data flows through it in this order:
 
 - :mod:`.onsets`: :class:`Onsets`, a recording's impacts (times, relative levels), found in audio by a detector
   whose thresholds are an :class:`OnsetConfig`;
+- :mod:`.drums`: one drum of a kit's onsets (:func:`keep_drum`: a groove's snare, kick or hi-hat);
 - :mod:`.drop`: c from a stick dropped on the head (the ratio of successive flights and levels);
 - :mod:`.fit`: the start, c and force profile whose impacts match a recording's (via :mod:`drumstroke.design`);
 - :mod:`.compare`: two strokes side by side (onsets, intervals, level envelopes, bounce rate).
@@ -12,10 +13,11 @@ The data flows through it in this order:
 from typing import TYPE_CHECKING
 
 from .drop import Drop, measure_cor
+from .drums import DRUMS, drum_of_onsets, keep_drum
 from .onsets import OnsetConfig, Onsets, find_onsets, find_recording_onsets, read_onsets, read_recording, write_onsets
 
-__all__ = ["Drop", "Fit", "OnsetConfig", "Onsets", "find_onsets", "find_recording_onsets", "fit_stroke", "measure_cor",
-           "read_onsets", "read_recording", "write_onsets"]
+__all__ = ["DRUMS", "Drop", "Fit", "OnsetConfig", "Onsets", "drum_of_onsets", "find_onsets", "find_recording_onsets",
+           "fit_stroke", "keep_drum", "measure_cor", "read_onsets", "read_recording", "write_onsets"]
 
 if TYPE_CHECKING:  # for the tools that read the source; at run time, as below
     from .fit import Fit, fit_stroke

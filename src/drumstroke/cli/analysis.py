@@ -1,6 +1,7 @@
 """``drumstroke onsets`` and ``measure-cor``: a recording's impacts, and c from a drop."""
 
 import sys
+from dataclasses import replace
 
 from .._atomic import Bundle
 from ..errors import ParameterError
@@ -12,6 +13,8 @@ from ._options import Output, add_mkdir, existing_file, number
 
 def add_onsets(ons):
     """Give ``onsets``'s parser ``ons`` its description and options."""
+    from ..analysis.drums import DRUMS
+
     ons.description = ("Find the impacts in a recording (WAV, FLAC, OGG, ...; several channels are mixed down): their "
                        "times to a fraction of a millisecond and their levels in dB re the loudest. The ringing of the "
                        "drum and the room is predicted away (a linear predictor) and each attack placed on its change "
@@ -19,6 +22,9 @@ def add_onsets(ons):
                        "metadata in the JSON beside it).")
     ons.add_argument("recording", type=existing_file, metavar="RECORDING", help="an audio file")
     _add_detection(ons)
+    ons.add_argument("--drum", choices=("all", *DRUMS), default="all",
+                     help="keep only the onsets whose attack is this drum's (its band's energy the loudest over "
+                          "the first 30 ms; levels then re the loudest kept), e.g. a groove's snare (default all)")
     ons.add_argument("--out", action=Output, suffixes=onsets_csv.SUFFIXES, metavar="ONSETS",
                      help="write the onsets as .csv (t in s, level_db in dB re the loudest), the JSON beside it")
     ons.add_argument("--plot", action=Output, suffixes=plot.SUFFIXES, metavar="PATH",
@@ -80,6 +86,13 @@ def _onsets(args):
     if args.recording.suffix.lower() == ".csv":
         raise ParameterError(f"RECORDING must be an audio file (WAV, FLAC, OGG, ...), got the CSV {str(args.recording)!r}")
     onsets, (signal, rate) = _read(args, args.recording)
+    if args.drum != "all":
+        from ..analysis.drums import keep_drum
+
+        every = len(onsets)
+        onsets = keep_drum(signal, rate, onsets, args.drum)
+        print(f"kept the {len(onsets)} of {every} onsets whose attack is the {args.drum}'s")
+    onsets = replace(onsets, info={**onsets.info, "drum": args.drum})  # the JSON says which drum was kept
     floor = onsets.info.get("floor_db")
     floor_text = "none measured (no noise)" if floor is None else f"{floor:.1f} dB re the loudest"
     print(f"{args.recording.name}: {len(signal) / rate:.6g} s at {rate} Hz; noise floor {floor_text}; threshold "
