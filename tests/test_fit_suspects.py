@@ -1,7 +1,6 @@
 """fit's suspects: onsets off one constant force's trend of bounces, named, and dropped, merged or filled on request."""
 
 import json
-import shutil
 from pathlib import Path
 
 import numpy as np
@@ -106,7 +105,6 @@ def test_cli_drop_suspects(spoiled, tmp_path):
     assert bad.returncode == 2 and "--suspect-ms" in bad.stderr
 
 
-@pytest.mark.skipif(not SOUNDFONT.exists() or shutil.which("fluidsynth") is None, reason="FluidR3 and fluidsynth")
 def test_drop_rendered_through_fluidsynth(drop):
     """The drop played on FluidR3's snare (key 38) and found by drumstroke's onsets: the kept onsets fitted exactly.
 
