@@ -28,6 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from .._checks import check_int, check_real, check_vector
+from .._jit import jit
 from ..errors import ParameterError
 from ..formats.onsets_csv import read_onsets_csv, write_onsets_csv
 
@@ -1102,16 +1103,31 @@ def _windows(x, rate, least=12):
 def _jump_at(x, positions, rate, samples=12):
     """The largest RMS jump of ``x`` (the next 1 ms over the 4 ms before) within half a window of each position."""
     width = max(samples, round(1e-3 * rate))
+    x = np.ascontiguousarray(x, dtype=float)
+    return np.array([_jump_kernel(x, i, width) for i in np.round(np.asarray(positions, dtype=float)).astype(np.int64)])
+
+
+@jit
+def _jump_kernel(x, i, width):
+    """:func:`_jump_at` at sample ``i``, windows of ``width`` samples: :func:`_windows`' sums in its order (the same bits)."""
     half = max(1, width // 2)
-    out = np.zeros(len(positions))
-    for n, i in enumerate(np.round(np.asarray(positions, dtype=float)).astype(np.int64)):
-        low, high = max(0, i - half - 4 * width), min(len(x), i + half + width + 1)
-        after, before, _ = _windows(x[low:high], rate, samples)
-        k = np.arange(max(i - half, low), min(i + half + 1, high)) - low
-        valid = k >= min(4 * width, i)  # a full window before, or the signal's start
-        jump = np.sqrt(after[k] / np.maximum(before[k], 1e-300 + after[k] * 1e-12))
-        out[n] = jump[valid].max(initial=0.0)
-    return out
+    low, high = max(0, i - half - 4 * width), min(len(x), i + half + width + 1)
+    size = high - low
+    if size <= 0:
+        return 0.0
+    power = np.empty(size + 1)
+    power[0] = total = 0.0
+    for n in range(size):  # the running sum, as np.cumsum adds
+        total += x[low + n] * x[low + n]
+        power[n + 1] = total
+    best = 0.0
+    for k in range(max(i - half, low) - low, min(i + half + 1, high) - low):
+        if k < min(4 * width, i):  # a full window before, or the signal's start
+            continue
+        after = (power[min(k + width, size)] - power[k]) / width
+        before = (power[k] - power[max(k - 4 * width, 0)]) / (4 * width)
+        best = max(best, math.sqrt(after / max(before, 1e-300 + after * 1e-12)))
+    return best
 
 
 def _aic(x):
@@ -1179,8 +1195,6 @@ def _pursue(e, positions, rate, config, tail=None):
     past the signature is taken off too, scaled by the signature's fit. ``positions`` and ``rate``
     are in samples of ``e`` and Hz. Returns a :class:`_Pursuit`.
     """
-    from numpy.lib.stride_tricks import sliding_window_view
-
     length = max(4, round(config.signature * rate))
     peak = int(np.argmax(np.abs(e)))
     lead = min(2, peak)
@@ -1196,34 +1210,60 @@ def _pursue(e, positions, rate, config, tail=None):
     head = template[:lead + config.head]
     head_norm = float(np.sqrt(head @ head))
     width = max(config.modes_width, round(1e-3 * rate))
-    half = max(1, width // 2)
     r = e.copy()
     jumps = np.zeros(len(positions))
     likeness = np.zeros(len(positions))
     where = positions.copy()
     at, amp = np.zeros(len(positions), dtype=np.int64), np.zeros(len(positions))
-    for i, c in enumerate(np.round(positions).astype(np.int64)):
+    tail = np.zeros(0) if tail is None or len(tail) <= size else np.ascontiguousarray(tail, dtype=float)
+    _pursue_kernel(r, np.round(positions).astype(np.int64), lead, np.ascontiguousarray(basis), np.ascontiguousarray(solve),
+                   gram, np.ascontiguousarray(head), head_norm, width, tail, jumps, likeness, where, at, amp)
+    return _Pursuit(r, jumps, likeness, where, at, amp, template)
+
+
+@jit
+def _pursue_kernel(r, centres, lead, basis, solve, gram, head, head_norm, width, tail, jumps, likeness, where, at, amp):
+    """:func:`_pursue`'s loop over the onsets (at samples ``centres``), in time order: ``r`` less each one's fit, in place.
+
+    For each onset: its jump in ``r`` (:func:`_jump_kernel`), then the signature (``basis``: it and its
+    derivative; ``solve``: their least-squares operator; ``gram``: their normal equations) fitted at the best
+    of five starts, taken off with the room's ``tail`` (empty: none) scaled by it. Fills ``jumps``,
+    ``likeness``, ``where``, ``at`` and ``amp``.
+    """
+    size, count, two = basis.shape[0], head.shape[0], basis.shape[1] > 1
+    half = max(1, width // 2)
+    for i in range(len(centres)):
+        c = centres[i]
         # the jump: the next window's power over the 4 windows before, the largest within half a window
         low, high = max(0, c - half - 4 * width), min(len(r), c + half + width + 1)
-        jumps[i] = _jump_at(r[low:high], [c - low], rate, config.modes_width)[0] if high - low > width else 0.0
-        starts = c - lead + np.arange(-2, 3)
-        starts = starts[(starts >= 0) & (starts + size <= len(r))]
-        if not len(starts):
+        jumps[i] = _jump_kernel(r[low:high], c - low, width) if high - low > width else 0.0
+        best, best_cost, w0, w1 = -1, np.inf, 0.0, 0.0
+        for start in range(c - lead - 2, c - lead + 3):
+            if start < 0 or start + size > len(r):
+                continue
+            dot = norm = 0.0
+            for j in range(count):
+                dot += r[start + j] * head[j]
+                norm += r[start + j] * r[start + j]
+            likeness[i] = max(likeness[i], abs(dot) / (math.sqrt(norm) * head_norm + 1e-300))
+            a = b = energy = 0.0
+            for j in range(size):
+                a += solve[0, j] * r[start + j]
+                b += solve[1, j] * r[start + j] if two else 0.0
+                energy += r[start + j] * r[start + j]
+            fit = a * (a * gram[0, 0] + b * gram[1, 0]) + b * (a * gram[0, 1] + b * gram[1, 1]) if two else a * a * gram[0, 0]
+            cost = energy - fit
+            if cost < best_cost:
+                best, best_cost, w0, w1 = start, cost, a, b
+        if best < 0:
             continue
-        block = sliding_window_view(r[starts[0]:starts[-1] + size], size)
-        heads = block[:, :len(head)]
-        likeness[i] = float(np.max(np.abs(heads @ head) / (np.sqrt(np.einsum("ij,ij->i", heads, heads)) * head_norm + 1e-300)))
-        weights = block @ solve.T
-        cost = np.einsum("ij,ij->i", block, block) - np.einsum("ij,ij->i", weights, weights @ gram)
-        k = int(np.argmin(cost))
-        r[starts[k]:starts[k] + size] -= basis @ weights[k]
-        if tail is not None and len(tail) > size:
-            stop = min(len(r), starts[k] + len(tail))
-            r[starts[k] + size:stop] -= weights[k][0] * tail[size:stop - starts[k]]
-        at[i], amp[i] = starts[k], weights[k][0]
-        shift = -weights[k][1] / weights[k][0] if len(weights[k]) > 1 and weights[k][0] != 0.0 else 0.0
-        where[i] = starts[k] + lead + float(np.clip(shift, -1.0, 1.0))
-    return _Pursuit(r, jumps, likeness, where, at, amp, template)
+        for j in range(size):
+            r[best + j] -= basis[j, 0] * w0 + basis[j, 1] * w1 if two else basis[j, 0] * w0
+        for j in range(size, min(len(tail), len(r) - best)):
+            r[best + j] -= w0 * tail[j]
+        at[i], amp[i] = best, w0
+        shift = -w1 / w0 if w0 != 0.0 else 0.0
+        where[i] = best + lead + min(max(shift, -1.0), 1.0)
 
 
 def _room_tail(e, at, amp, length, ridge):
