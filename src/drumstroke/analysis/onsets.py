@@ -1073,8 +1073,6 @@ def _jumps(x, rate, min_interval, least, samples=12):
     A long signal is taken in blocks of :data:`_BLOCK` samples (overlapping by more than the windows
     and ``min_interval``), so memory does not grow with its length.
     """
-    import librosa
-
     width = max(samples, round(1e-3 * rate))
     gap = max(1, round(min_interval * rate))
     margin = 6 * width + 2 * gap
@@ -1084,10 +1082,33 @@ def _jumps(x, rate, min_interval, least, samples=12):
         after, before, _ = _windows(x[low:high], rate, samples)
         jump = np.sqrt(after / np.maximum(before, 1e-300 + after * 1e-12))
         jump[: 4 * width] = 0.0
-        found = librosa.util.peak_pick(jump, pre_max=gap, post_max=gap, pre_avg=1, post_avg=1, delta=0.0, wait=gap)
+        found = _peak_pick(jump, gap)
         found = found[(jump[found] >= least) & (low + found >= start) & (low + found < start + _BLOCK)]
         peaks += list(low + found)
     return [max(0, p - 4 * width) + _aic(x[max(0, p - 4 * width):p + 2 * width]) for p in peaks]
+
+
+def _peak_pick(x, gap):
+    """``librosa.util.peak_pick(x, pre_max=gap, post_max=gap, pre_avg=1, post_avg=1, delta=0, wait=gap)``, its sliding maximum in linear time.
+
+    A sample is a peak when it is the largest from ``gap`` samples before it to ``gap - 1`` after, at
+    least its predecessor, and more than ``gap`` samples after the last peak (greedily, in order; the
+    first sample is a peak when it is the largest of the first ``gap``).
+    """
+    from scipy.ndimage import maximum_filter1d
+
+    if not len(x):
+        return np.zeros(0, dtype=np.int64)
+    largest = maximum_filter1d(x, 2 * gap, mode="constant", cval=-np.inf)  # over x[n - gap:n + gap]
+    candidates = np.flatnonzero((x == largest) & (x >= (np.concatenate((x[:1], x[:-1])) + x) / 2.0))
+    peaks, last = [], -np.inf
+    if x[0] >= x[:gap].max():
+        peaks, last = [0], 0
+    for n in candidates[candidates > 0]:
+        if n > last + gap:
+            peaks.append(n)
+            last = n
+    return np.array(peaks, dtype=np.int64)
 
 
 def _windows(x, rate, least=12):
