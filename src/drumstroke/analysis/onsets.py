@@ -1115,9 +1115,11 @@ def _windows(x, rate, least=12):
     """The mean square of ``x`` over the 1 ms (≥ ``least`` samples) from each sample, and over the 4 times that before it."""
     width = max(least, round(1e-3 * rate))
     power = np.concatenate(([0.0], np.cumsum(x * x)))
-    n = np.arange(len(x))
-    after = (power[np.minimum(n + width, len(x))] - power[n]) / width
-    before = (power[n] - power[np.maximum(n - 4 * width, 0)]) / (4 * width)
+    count = len(x)  # slices, not indices: power[min(n + width, count)] and power[max(n - 4 width, 0)] for each n
+    ahead = np.concatenate((power[min(width, count):], np.full(max(min(width, count) - 1, 0), power[-1])))[:count]
+    behind = np.concatenate((np.zeros(min(4 * width, count)), power[:max(count - 4 * width, 0)]))
+    after = (ahead - power[:count]) / width
+    before = (power[:count] - behind) / (4 * width)
     return after, before, width
 
 
