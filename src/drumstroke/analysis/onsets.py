@@ -1153,20 +1153,22 @@ def _jump_kernel(x, i, width):
     return best
 
 
+@jit
 def _aic(x):
     """Akaike's change point of ``x``: the first sample of its second, louder-or-quieter segment."""
     n = len(x)
     power = np.cumsum(x * x)
     total = power[-1]
-    k = np.arange(1, n)
-    before = power[:-1] / k
-    after = (total - power[:-1]) / (n - k)
     tiny = total / n * 1e-12 + 1e-300
-    aic = k * np.log(before + tiny) + (n - k - 1) * np.log(after + tiny)
     edge = max(2, n // 50)
-    aic[:edge] = np.inf
-    aic[-edge:] = np.inf
-    return int(np.argmin(aic)) + 1
+    best, at = np.inf, 0
+    for k in range(max(1, edge + 1), n - edge):  # the first and last ``edge`` splits are not considered
+        before = power[k - 1] / k
+        after = (total - power[k - 1]) / (n - k)
+        aic = k * math.log(before + tiny) + (n - k - 1) * math.log(after + tiny)
+        if aic < best:
+            best, at = aic, k - 1
+    return at + 1
 
 
 def _merge(tonal, broadband, gap, deep=(), strong=None):
