@@ -1101,14 +1101,22 @@ def _peak_pick(x, gap):
         return np.zeros(0, dtype=np.int64)
     largest = maximum_filter1d(x, 2 * gap, mode="constant", cval=-np.inf)  # over x[n - gap:n + gap]
     candidates = np.flatnonzero((x == largest) & (x >= (np.concatenate((x[:1], x[:-1])) + x) / 2.0))
-    peaks, last = [], -np.inf
-    if x[0] >= x[:gap].max():
-        peaks, last = [0], 0
-    for n in candidates[candidates > 0]:
+    return _waited(candidates[candidates > 0], gap, bool(x[0] >= x[:gap].max()))
+
+
+@jit
+def _waited(candidates, gap, first):
+    """The ``candidates`` (sorted) each more than ``gap`` after the last kept, greedily; sample 0 first when ``first``."""
+    kept = np.empty(len(candidates) + 1, dtype=np.int64)
+    count, last = 0, -gap - 1
+    if first:
+        kept[0], count, last = 0, 1, 0
+    for n in candidates:
         if n > last + gap:
-            peaks.append(n)
+            kept[count] = n
+            count += 1
             last = n
-    return np.array(peaks, dtype=np.int64)
+    return kept[:count].copy()
 
 
 def _windows(x, rate, least=12):
