@@ -926,7 +926,7 @@ def _first_transients(band, rate, candidates, config):
     (the earlier sound, the noise), that earlier peak being under ``start_clear_db`` re the peak (else
     the first transient is hidden under it). It stays where it was when no sample is such.
     """
-    from numpy.lib.stride_tricks import sliding_window_view
+    from scipy.ndimage import maximum_filter1d
 
     reach = round(config.start_reach * rate)
     if reach < 1:
@@ -941,7 +941,7 @@ def _first_transients(band, rate, candidates, config):
         peak = d[c:min(len(d), c + horizon)].max(initial=0.0)
         if high - low < 2 or not peak > 0.0:
             continue
-        prior = sliding_window_view(d[low - reach:high - 1], reach).max(axis=1)  # each sample's reach before it
+        prior = maximum_filter1d(d[low - reach:high - 1], reach, origin=-(reach // 2))[:high - low]  # each sample's reach before it
         stands = ((d[low:high] > peak * 10.0 ** (config.start_db / 20.0)) & (d[low:high] > config.start_over * prior)
                   & (prior <= peak * 10.0 ** (config.start_clear_db / 20.0)))
         above = np.flatnonzero(stands)
