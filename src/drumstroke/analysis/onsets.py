@@ -23,6 +23,7 @@ Onsets(2 over [0.1, 0.35] s, levels -4.5 to 0 dB; drop.wav)
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
+from functools import cache
 from pathlib import Path
 
 import numpy as np
@@ -987,9 +988,18 @@ def _reported(candidates, amplitude, floor, info, source, rate, config):
 
 def _high_pass(signal, rate, corner):
     """``signal`` less its rumble and DC: a 2nd-order Butterworth high-pass at ``corner`` Hz."""
-    from scipy.signal import butter, sosfilt
+    from scipy.signal import sosfilt
 
-    return sosfilt(butter(2, corner, btype="highpass", fs=rate, output="sos"), signal)
+    return sosfilt(_high_pass_sections(corner, rate).copy(), signal)  # (a copy: the design is shared)
+
+
+@cache
+def _high_pass_sections(corner, rate):
+    """:func:`_high_pass`'s filter (second-order sections), designed once a corner and rate."""
+    from scipy.signal import butter
+
+    sos = butter(2, corner, btype="highpass", fs=rate, output="sos")
+    return sos
 
 
 def _decimation(band, rate):
@@ -1017,14 +1027,23 @@ def _decimate(band, rate, q, corner=None):
     """
     if q == 1 and corner is None:
         return band, rate, 0.0
-    from scipy.signal import butter, sosfilt, sosfreqz
+    from scipy.signal import sosfilt
 
     corner = 0.8 * rate / q / 2.0 if corner is None else min(corner, 0.8 * rate / q / 2.0)
+    sos, delay = _low_pass(corner, rate)
+    return sosfilt(sos.copy(), band)[::q].copy(), rate / q, delay  # (a copy: the design is shared)
+
+
+@cache
+def _low_pass(corner, rate):
+    """:func:`_decimate`'s filter (second-order sections) and its delay at low frequencies (samples), designed once a corner and rate."""
+    from scipy.signal import butter, sosfreqz
+
     sos = butter(8, corner, fs=rate, output="sos")
     step = corner / 800.0  # the group delay at corner / 8, from the phase's slope (the sections: well conditioned)
     _, response = sosfreqz(sos, worN=[corner / 8.0 - step, corner / 8.0 + step], fs=rate)
     delay = -np.diff(np.unwrap(np.angle(response)))[0] / (2.0 * np.pi * 2.0 * step) * rate
-    return sosfilt(sos, band)[::q].copy(), rate / q, float(delay)
+    return sos, float(delay)
 
 
 def _innovation(x, order):
