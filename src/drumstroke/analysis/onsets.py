@@ -29,7 +29,6 @@ from pathlib import Path
 import numpy as np
 
 from .._checks import check_int, check_real, check_vector
-from .._jit import jit
 from ..errors import ParameterError
 from ..formats.onsets_csv import read_onsets_csv, write_onsets_csv
 
@@ -1104,7 +1103,9 @@ def _jumps(x, rate, min_interval, least, samples=12):
         found = _peak_pick(jump, gap)
         found = found[(jump[found] >= least) & (low + found >= start) & (low + found < start + _BLOCK)]
         peaks += list(low + found)
-    return [max(0, p - 4 * width) + _aic(x[max(0, p - 4 * width):p + 2 * width]) for p in peaks]
+    from ._kernels import aic
+
+    return [max(0, p - 4 * width) + aic(x[max(0, p - 4 * width):p + 2 * width]) for p in peaks]
 
 
 def _peak_pick(x, gap):
@@ -1120,22 +1121,9 @@ def _peak_pick(x, gap):
         return np.zeros(0, dtype=np.int64)
     largest = maximum_filter1d(x, 2 * gap, mode="constant", cval=-np.inf)  # over x[n - gap:n + gap]
     candidates = np.flatnonzero((x == largest) & (x >= (np.concatenate((x[:1], x[:-1])) + x) / 2.0))
-    return _waited(candidates[candidates > 0], gap, bool(x[0] >= x[:gap].max()))
+    from ._kernels import waited
 
-
-@jit
-def _waited(candidates, gap, first):
-    """The ``candidates`` (sorted) each more than ``gap`` after the last kept, greedily; sample 0 first when ``first``."""
-    kept = np.empty(len(candidates) + 1, dtype=np.int64)
-    count, last = 0, -gap - 1
-    if first:
-        kept[0], count, last = 0, 1, 0
-    for n in candidates:
-        if n > last + gap:
-            kept[count] = n
-            count += 1
-            last = n
-    return kept[:count].copy()
+    return waited(candidates[candidates > 0], gap, bool(x[0] >= x[:gap].max()))
 
 
 def _windows(x, rate, least=12):
@@ -1152,50 +1140,11 @@ def _windows(x, rate, least=12):
 
 def _jump_at(x, positions, rate, samples=12):
     """The largest RMS jump of ``x`` (the next 1 ms over the 4 ms before) within half a window of each position."""
+    from ._kernels import jump_at
+
     width = max(samples, round(1e-3 * rate))
     x = np.ascontiguousarray(x, dtype=float)
-    return np.array([_jump_kernel(x, i, width) for i in np.round(np.asarray(positions, dtype=float)).astype(np.int64)])
-
-
-@jit
-def _jump_kernel(x, i, width):
-    """:func:`_jump_at` at sample ``i``, windows of ``width`` samples: :func:`_windows`' sums in its order (the same bits)."""
-    half = max(1, width // 2)
-    low, high = max(0, i - half - 4 * width), min(len(x), i + half + width + 1)
-    size = high - low
-    if size <= 0:
-        return 0.0
-    power = np.empty(size + 1)
-    power[0] = total = 0.0
-    for n in range(size):  # the running sum, as np.cumsum adds
-        total += x[low + n] * x[low + n]
-        power[n + 1] = total
-    best = 0.0
-    for k in range(max(i - half, low) - low, min(i + half + 1, high) - low):
-        if k < min(4 * width, i):  # a full window before, or the signal's start
-            continue
-        after = (power[min(k + width, size)] - power[k]) / width
-        before = (power[k] - power[max(k - 4 * width, 0)]) / (4 * width)
-        best = max(best, math.sqrt(after / max(before, 1e-300 + after * 1e-12)))
-    return best
-
-
-@jit
-def _aic(x):
-    """Akaike's change point of ``x``: the first sample of its second, louder-or-quieter segment."""
-    n = len(x)
-    power = np.cumsum(x * x)
-    total = power[-1]
-    tiny = total / n * 1e-12 + 1e-300
-    edge = max(2, n // 50)
-    best, at = np.inf, 0
-    for k in range(max(1, edge + 1), n - edge):  # the first and last ``edge`` splits are not considered
-        before = power[k - 1] / k
-        after = (total - power[k - 1]) / (n - k)
-        aic = k * math.log(before + tiny) + (n - k - 1) * math.log(after + tiny)
-        if aic < best:
-            best, at = aic, k - 1
-    return at + 1
+    return np.array([jump_at(x, i, width) for i in np.round(np.asarray(positions, dtype=float)).astype(np.int64)])
 
 
 def _merge(tonal, broadband, gap, deep=(), strong=None):
@@ -1247,6 +1196,8 @@ def _pursue(e, positions, rate, config, tail=None):
     past the signature is taken off too, scaled by the signature's fit. ``positions`` and ``rate``
     are in samples of ``e`` and Hz. Returns a :class:`_Pursuit`.
     """
+    from ._kernels import pursue
+
     length = max(4, round(config.signature * rate))
     peak = int(np.argmax(np.abs(e)))
     lead = min(2, peak)
@@ -1268,54 +1219,9 @@ def _pursue(e, positions, rate, config, tail=None):
     where = positions.copy()
     at, amp = np.zeros(len(positions), dtype=np.int64), np.zeros(len(positions))
     tail = np.zeros(0) if tail is None or len(tail) <= size else np.ascontiguousarray(tail, dtype=float)
-    _pursue_kernel(r, np.round(positions).astype(np.int64), lead, np.ascontiguousarray(basis), np.ascontiguousarray(solve),
-                   gram, np.ascontiguousarray(head), head_norm, width, tail, jumps, likeness, where, at, amp)
+    pursue(r, np.round(positions).astype(np.int64), lead, np.ascontiguousarray(basis), np.ascontiguousarray(solve), gram,
+           np.ascontiguousarray(head), head_norm, width, tail, jumps, likeness, where, at, amp)
     return _Pursuit(r, jumps, likeness, where, at, amp, template)
-
-
-@jit
-def _pursue_kernel(r, centres, lead, basis, solve, gram, head, head_norm, width, tail, jumps, likeness, where, at, amp):
-    """:func:`_pursue`'s loop over the onsets (at samples ``centres``), in time order: ``r`` less each one's fit, in place.
-
-    For each onset: its jump in ``r`` (:func:`_jump_kernel`), then the signature (``basis``: it and its
-    derivative; ``solve``: their least-squares operator; ``gram``: their normal equations) fitted at the best
-    of five starts, taken off with the room's ``tail`` (empty: none) scaled by it. Fills ``jumps``,
-    ``likeness``, ``where``, ``at`` and ``amp``.
-    """
-    size, count, two = basis.shape[0], head.shape[0], basis.shape[1] > 1
-    half = max(1, width // 2)
-    for i in range(len(centres)):
-        c = centres[i]
-        # the jump: the next window's power over the 4 windows before, the largest within half a window
-        low, high = max(0, c - half - 4 * width), min(len(r), c + half + width + 1)
-        jumps[i] = _jump_kernel(r[low:high], c - low, width) if high - low > width else 0.0
-        best, best_cost, w0, w1 = -1, np.inf, 0.0, 0.0
-        for start in range(c - lead - 2, c - lead + 3):
-            if start < 0 or start + size > len(r):
-                continue
-            dot = norm = 0.0
-            for j in range(count):
-                dot += r[start + j] * head[j]
-                norm += r[start + j] * r[start + j]
-            likeness[i] = max(likeness[i], abs(dot) / (math.sqrt(norm) * head_norm + 1e-300))
-            a = b = energy = 0.0
-            for j in range(size):
-                a += solve[0, j] * r[start + j]
-                b += solve[1, j] * r[start + j] if two else 0.0
-                energy += r[start + j] * r[start + j]
-            fit = a * (a * gram[0, 0] + b * gram[1, 0]) + b * (a * gram[0, 1] + b * gram[1, 1]) if two else a * a * gram[0, 0]
-            cost = energy - fit
-            if cost < best_cost:
-                best, best_cost, w0, w1 = start, cost, a, b
-        if best < 0:
-            continue
-        for j in range(size):
-            r[best + j] -= basis[j, 0] * w0 + basis[j, 1] * w1 if two else basis[j, 0] * w0
-        for j in range(size, min(len(tail), len(r) - best)):
-            r[best + j] -= w0 * tail[j]
-        at[i], amp[i] = best, w0
-        shift = -w1 / w0 if w0 != 0.0 else 0.0
-        where[i] = best + lead + min(max(shift, -1.0), 1.0)
 
 
 def _room_tail(e, at, amp, length, ridge):
