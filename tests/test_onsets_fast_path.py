@@ -78,6 +78,24 @@ def test_same_onsets_as_the_slower_code():
         np.testing.assert_allclose(got["scalars"], reference[f"{case}/scalars"], rtol=0.0, atol=1e-9, err_msg=name)
 
 
+def test_peaks_picked_as_librosa_picks_them():
+    """The detector's linear-time peak picker against ``librosa.util.peak_pick`` (ties, flat stretches, short signals)."""
+    import librosa
+
+    from drumstroke.analysis.onsets import _peak_pick
+
+    rng = np.random.default_rng(5)
+    for trial in range(300):
+        n, gap = int(rng.integers(1, 2000)), int(rng.integers(1, 120))
+        x = rng.standard_normal(n) ** 2
+        if trial % 3 == 0:
+            x = np.round(x, 1)  # ties
+        if trial % 4 == 0:
+            x[n // 3:2 * n // 3] = 0.0  # a flat stretch (the jumps are zeros at the start and over digital silence)
+        want = librosa.util.peak_pick(x, pre_max=gap, post_max=gap, pre_avg=1, post_avg=1, delta=0.0, wait=gap)
+        np.testing.assert_array_equal(_peak_pick(x, gap), want, err_msg=f"n={n}, gap={gap}")
+
+
 def _write():
     out = {}
     for i, (name, signal, rate) in enumerate(cases()):

@@ -454,7 +454,7 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        fitted to the whole decimated signal — the drum's modes, the room — leaves the innovation:
        what the past does not predict, which is where a stick strikes.
     2. :func:`_heard_jumps`. Candidates are where the innovation's RMS over the next 1 ms rises
-       ``min_jump`` times over the 4 ms before (peaks picked by ``librosa.util.peak_pick``);
+       ``min_jump`` times over the 4 ms before (peaks picked as ``librosa.util.peak_pick`` picks them);
        Akaike's information criterion (AIC) places each on the change point; the anti-alias
        filter's delay is taken off.
     3. The same stage finds *broadband attacks* (snare wires, a stick's click) the same way at full
