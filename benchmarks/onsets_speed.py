@@ -21,11 +21,10 @@ from _timing import machine
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent / "tests"))
-from _recorded_drums import RATE, recordings  # noqa: E402
-from _recordings import render  # noqa: E402
-
-from drumstroke.analysis import find_onsets  # noqa: E402
-from drumstroke.stroke import simulate  # noqa: E402
+from _recorded_drums import RATE, recordings
+from _recordings import render
+from drumstroke.analysis import find_onsets
+from drumstroke.stroke import simulate
 
 REPEATS = 7
 CORPUS = [("FluidR3", 38, "drop", "reverb"), ("FluidR3", 40, "roll", "noise72"), ("TimGM6mb", 38, "flams", "dry"),

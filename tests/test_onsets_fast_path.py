@@ -29,7 +29,6 @@ CORPUS = [("FluidR3", 38, "drop", "reverb"), ("FluidR3", 40, "roll", "noise72"),
 def cases():
     """Yield (name, signal, rate) of every recording compared."""
     from _recordings import RATE, random_strokes, render, room_response
-
     from drumstroke.stroke import simulate
 
     stroke = simulate("free-bounce", t_end=5.0)
@@ -38,7 +37,7 @@ def cases():
     yield "free-bounce snares snr30", signal, RATE
     strokes = random_strokes(3, seed=28)
     room = room_response(seed=2)
-    variants = [dict(snares=False), dict(snares=True, snr=40), dict(kind="other", snr=35), dict(snares=True, room=room)]
+    variants = [{"snares": False}, {"snares": True, "snr": 40}, {"kind": "other", "snr": 35}, {"snares": True, "room": room}]
     for i, (times, speeds) in enumerate(strokes):
         for j, variant in enumerate(variants):
             if (i + j) % 2 == 0 or j == 3:  # not every pair: the test's time
@@ -59,8 +58,8 @@ def _outputs(signal, rate):
     onsets = find_onsets(signal, rate)
     floor = onsets.info.get("floor_db")
     return {"t": onsets.t, "level_db": onsets.level_db,
-            "scalars": np.array([onsets.threshold_db, np.nan if floor is None else floor, onsets.info["analysis_rate"]
-                                 if "analysis_rate" in onsets.info else np.nan])}
+            "scalars": np.array([onsets.threshold_db, np.nan if floor is None else floor,
+                                 onsets.info.get("analysis_rate", np.nan)])}
 
 
 def test_same_onsets_as_the_slower_code():

@@ -941,7 +941,7 @@ def _first_transients(band, rate, candidates, config):
         peak = d[c:min(len(d), c + horizon)].max(initial=0.0)
         if high - low < 2 or not peak > 0.0:
             continue
-        prior = maximum_filter1d(d[low - reach:high - 1], reach, origin=-(reach // 2))[:high - low]  # each sample's reach before it
+        prior = maximum_filter1d(d[low - reach:high - 1], reach, origin=-(reach // 2))[:high - low]  # the reach before each
         stands = ((d[low:high] > peak * 10.0 ** (config.start_db / 20.0)) & (d[low:high] > config.start_over * prior)
                   & (prior <= peak * 10.0 ** (config.start_clear_db / 20.0)))
         above = np.flatnonzero(stands)
@@ -997,8 +997,7 @@ def _high_pass_sections(corner, rate):
     """:func:`_high_pass`'s filter (second-order sections), designed once a corner and rate."""
     from scipy.signal import butter
 
-    sos = butter(2, corner, btype="highpass", fs=rate, output="sos")
-    return sos
+    return butter(2, corner, btype="highpass", fs=rate, output="sos")
 
 
 def _decimation(band, rate):
@@ -1091,6 +1090,8 @@ def _jumps(x, rate, min_interval, least, samples=12):
     A long signal is taken in blocks of :data:`_BLOCK` samples (overlapping by more than the windows
     and ``min_interval``), so memory does not grow with its length.
     """
+    from ._kernels import aic
+
     width = max(samples, round(1e-3 * rate))
     gap = max(1, round(min_interval * rate))
     margin = 6 * width + 2 * gap
@@ -1103,8 +1104,6 @@ def _jumps(x, rate, min_interval, least, samples=12):
         found = _peak_pick(jump, gap)
         found = found[(jump[found] >= least) & (low + found >= start) & (low + found < start + _BLOCK)]
         peaks += list(low + found)
-    from ._kernels import aic
-
     return [max(0, p - 4 * width) + aic(x[max(0, p - 4 * width):p + 2 * width]) for p in peaks]
 
 
@@ -1117,12 +1116,12 @@ def _peak_pick(x, gap):
     """
     from scipy.ndimage import maximum_filter1d
 
+    from ._kernels import waited
+
     if not len(x):
         return np.zeros(0, dtype=np.int64)
     largest = maximum_filter1d(x, 2 * gap, mode="constant", cval=-np.inf)  # over x[n - gap:n + gap]
     candidates = np.flatnonzero((x == largest) & (x >= (np.concatenate((x[:1], x[:-1])) + x) / 2.0))
-    from ._kernels import waited
-
     return waited(candidates[candidates > 0], gap, bool(x[0] >= x[:gap].max()))
 
 
