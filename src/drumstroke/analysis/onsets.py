@@ -23,6 +23,7 @@ Onsets(2 over [0.1, 0.35] s, levels -4.5 to 0 dB; drop.wav)
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
+from functools import cache
 from pathlib import Path
 
 import numpy as np
@@ -453,7 +454,7 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        fitted to the whole decimated signal — the drum's modes, the room — leaves the innovation:
        what the past does not predict, which is where a stick strikes.
     2. :func:`_heard_jumps`. Candidates are where the innovation's RMS over the next 1 ms rises
-       ``min_jump`` times over the 4 ms before (peaks picked by ``librosa.util.peak_pick``);
+       ``min_jump`` times over the 4 ms before (peaks picked as ``librosa.util.peak_pick`` picks them);
        Akaike's information criterion (AIC) places each on the change point; the anti-alias
        filter's delay is taken off.
     3. The same stage finds *broadband attacks* (snare wires, a stick's click) the same way at full
@@ -925,7 +926,7 @@ def _first_transients(band, rate, candidates, config):
     (the earlier sound, the noise), that earlier peak being under ``start_clear_db`` re the peak (else
     the first transient is hidden under it). It stays where it was when no sample is such.
     """
-    from numpy.lib.stride_tricks import sliding_window_view
+    from scipy.ndimage import maximum_filter1d
 
     reach = round(config.start_reach * rate)
     if reach < 1:
@@ -940,7 +941,7 @@ def _first_transients(band, rate, candidates, config):
         peak = d[c:min(len(d), c + horizon)].max(initial=0.0)
         if high - low < 2 or not peak > 0.0:
             continue
-        prior = sliding_window_view(d[low - reach:high - 1], reach).max(axis=1)  # each sample's reach before it
+        prior = maximum_filter1d(d[low - reach:high - 1], reach, origin=-(reach // 2))[:high - low]  # the reach before each
         stands = ((d[low:high] > peak * 10.0 ** (config.start_db / 20.0)) & (d[low:high] > config.start_over * prior)
                   & (prior <= peak * 10.0 ** (config.start_clear_db / 20.0)))
         above = np.flatnonzero(stands)
@@ -986,9 +987,17 @@ def _reported(candidates, amplitude, floor, info, source, rate, config):
 
 def _high_pass(signal, rate, corner):
     """``signal`` less its rumble and DC: a 2nd-order Butterworth high-pass at ``corner`` Hz."""
-    from scipy.signal import butter, sosfilt
+    from scipy.signal import sosfilt
 
-    return sosfilt(butter(2, corner, btype="highpass", fs=rate, output="sos"), signal)
+    return sosfilt(_high_pass_sections(corner, rate).copy(), signal)  # (a copy: the design is shared)
+
+
+@cache
+def _high_pass_sections(corner, rate):
+    """:func:`_high_pass`'s filter (second-order sections), designed once a corner and rate."""
+    from scipy.signal import butter
+
+    return butter(2, corner, btype="highpass", fs=rate, output="sos")
 
 
 def _decimation(band, rate):
@@ -1016,14 +1025,23 @@ def _decimate(band, rate, q, corner=None):
     """
     if q == 1 and corner is None:
         return band, rate, 0.0
-    from scipy.signal import butter, sosfilt, sosfreqz
+    from scipy.signal import sosfilt
 
     corner = 0.8 * rate / q / 2.0 if corner is None else min(corner, 0.8 * rate / q / 2.0)
+    sos, delay = _low_pass(corner, rate)
+    return sosfilt(sos.copy(), band)[::q].copy(), rate / q, delay  # (a copy: the design is shared)
+
+
+@cache
+def _low_pass(corner, rate):
+    """:func:`_decimate`'s filter (second-order sections) and its delay at low frequencies (samples), designed once a corner and rate."""
+    from scipy.signal import butter, sosfreqz
+
     sos = butter(8, corner, fs=rate, output="sos")
     step = corner / 800.0  # the group delay at corner / 8, from the phase's slope (the sections: well conditioned)
     _, response = sosfreqz(sos, worN=[corner / 8.0 - step, corner / 8.0 + step], fs=rate)
     delay = -np.diff(np.unwrap(np.angle(response)))[0] / (2.0 * np.pi * 2.0 * step) * rate
-    return sosfilt(sos, band)[::q].copy(), rate / q, float(delay)
+    return sos, float(delay)
 
 
 def _innovation(x, order):
@@ -1072,7 +1090,7 @@ def _jumps(x, rate, min_interval, least, samples=12):
     A long signal is taken in blocks of :data:`_BLOCK` samples (overlapping by more than the windows
     and ``min_interval``), so memory does not grow with its length.
     """
-    import librosa
+    from ._kernels import aic
 
     width = max(samples, round(1e-3 * rate))
     gap = max(1, round(min_interval * rate))
@@ -1083,51 +1101,49 @@ def _jumps(x, rate, min_interval, least, samples=12):
         after, before, _ = _windows(x[low:high], rate, samples)
         jump = np.sqrt(after / np.maximum(before, 1e-300 + after * 1e-12))
         jump[: 4 * width] = 0.0
-        found = librosa.util.peak_pick(jump, pre_max=gap, post_max=gap, pre_avg=1, post_avg=1, delta=0.0, wait=gap)
+        found = _peak_pick(jump, gap)
         found = found[(jump[found] >= least) & (low + found >= start) & (low + found < start + _BLOCK)]
         peaks += list(low + found)
-    return [max(0, p - 4 * width) + _aic(x[max(0, p - 4 * width):p + 2 * width]) for p in peaks]
+    return [max(0, p - 4 * width) + aic(x[max(0, p - 4 * width):p + 2 * width]) for p in peaks]
+
+
+def _peak_pick(x, gap):
+    """``librosa.util.peak_pick(x, pre_max=gap, post_max=gap, pre_avg=1, post_avg=1, delta=0, wait=gap)``, its sliding maximum in linear time.
+
+    A sample is a peak when it is the largest from ``gap`` samples before it to ``gap - 1`` after, at
+    least its predecessor, and more than ``gap`` samples after the last peak (greedily, in order; the
+    first sample is a peak when it is the largest of the first ``gap``).
+    """
+    from scipy.ndimage import maximum_filter1d
+
+    from ._kernels import waited
+
+    if not len(x):
+        return np.zeros(0, dtype=np.int64)
+    largest = maximum_filter1d(x, 2 * gap, mode="constant", cval=-np.inf)  # over x[n - gap:n + gap]
+    candidates = np.flatnonzero((x == largest) & (x >= (np.concatenate((x[:1], x[:-1])) + x) / 2.0))
+    return waited(candidates[candidates > 0], gap, bool(x[0] >= x[:gap].max()))
 
 
 def _windows(x, rate, least=12):
     """The mean square of ``x`` over the 1 ms (≥ ``least`` samples) from each sample, and over the 4 times that before it."""
     width = max(least, round(1e-3 * rate))
     power = np.concatenate(([0.0], np.cumsum(x * x)))
-    n = np.arange(len(x))
-    after = (power[np.minimum(n + width, len(x))] - power[n]) / width
-    before = (power[n] - power[np.maximum(n - 4 * width, 0)]) / (4 * width)
+    count = len(x)  # slices, not indices: power[min(n + width, count)] and power[max(n - 4 width, 0)] for each n
+    ahead = np.concatenate((power[min(width, count):], np.full(max(min(width, count) - 1, 0), power[-1])))[:count]
+    behind = np.concatenate((np.zeros(min(4 * width, count)), power[:max(count - 4 * width, 0)]))
+    after = (ahead - power[:count]) / width
+    before = (power[:count] - behind) / (4 * width)
     return after, before, width
 
 
 def _jump_at(x, positions, rate, samples=12):
     """The largest RMS jump of ``x`` (the next 1 ms over the 4 ms before) within half a window of each position."""
+    from ._kernels import jump_at
+
     width = max(samples, round(1e-3 * rate))
-    half = max(1, width // 2)
-    out = np.zeros(len(positions))
-    for n, i in enumerate(np.round(np.asarray(positions, dtype=float)).astype(np.int64)):
-        low, high = max(0, i - half - 4 * width), min(len(x), i + half + width + 1)
-        after, before, _ = _windows(x[low:high], rate, samples)
-        k = np.arange(max(i - half, low), min(i + half + 1, high)) - low
-        valid = k >= min(4 * width, i)  # a full window before, or the signal's start
-        jump = np.sqrt(after[k] / np.maximum(before[k], 1e-300 + after[k] * 1e-12))
-        out[n] = jump[valid].max(initial=0.0)
-    return out
-
-
-def _aic(x):
-    """Akaike's change point of ``x``: the first sample of its second, louder-or-quieter segment."""
-    n = len(x)
-    power = np.cumsum(x * x)
-    total = power[-1]
-    k = np.arange(1, n)
-    before = power[:-1] / k
-    after = (total - power[:-1]) / (n - k)
-    tiny = total / n * 1e-12 + 1e-300
-    aic = k * np.log(before + tiny) + (n - k - 1) * np.log(after + tiny)
-    edge = max(2, n // 50)
-    aic[:edge] = np.inf
-    aic[-edge:] = np.inf
-    return int(np.argmin(aic)) + 1
+    x = np.ascontiguousarray(x, dtype=float)
+    return np.array([jump_at(x, i, width) for i in np.round(np.asarray(positions, dtype=float)).astype(np.int64)])
 
 
 def _merge(tonal, broadband, gap, deep=(), strong=None):
@@ -1179,7 +1195,7 @@ def _pursue(e, positions, rate, config, tail=None):
     past the signature is taken off too, scaled by the signature's fit. ``positions`` and ``rate``
     are in samples of ``e`` and Hz. Returns a :class:`_Pursuit`.
     """
-    from numpy.lib.stride_tricks import sliding_window_view
+    from ._kernels import pursue
 
     length = max(4, round(config.signature * rate))
     peak = int(np.argmax(np.abs(e)))
@@ -1196,33 +1212,14 @@ def _pursue(e, positions, rate, config, tail=None):
     head = template[:lead + config.head]
     head_norm = float(np.sqrt(head @ head))
     width = max(config.modes_width, round(1e-3 * rate))
-    half = max(1, width // 2)
     r = e.copy()
     jumps = np.zeros(len(positions))
     likeness = np.zeros(len(positions))
     where = positions.copy()
     at, amp = np.zeros(len(positions), dtype=np.int64), np.zeros(len(positions))
-    for i, c in enumerate(np.round(positions).astype(np.int64)):
-        # the jump: the next window's power over the 4 windows before, the largest within half a window
-        low, high = max(0, c - half - 4 * width), min(len(r), c + half + width + 1)
-        jumps[i] = _jump_at(r[low:high], [c - low], rate, config.modes_width)[0] if high - low > width else 0.0
-        starts = c - lead + np.arange(-2, 3)
-        starts = starts[(starts >= 0) & (starts + size <= len(r))]
-        if not len(starts):
-            continue
-        block = sliding_window_view(r[starts[0]:starts[-1] + size], size)
-        heads = block[:, :len(head)]
-        likeness[i] = float(np.max(np.abs(heads @ head) / (np.sqrt(np.einsum("ij,ij->i", heads, heads)) * head_norm + 1e-300)))
-        weights = block @ solve.T
-        cost = np.einsum("ij,ij->i", block, block) - np.einsum("ij,ij->i", weights, weights @ gram)
-        k = int(np.argmin(cost))
-        r[starts[k]:starts[k] + size] -= basis @ weights[k]
-        if tail is not None and len(tail) > size:
-            stop = min(len(r), starts[k] + len(tail))
-            r[starts[k] + size:stop] -= weights[k][0] * tail[size:stop - starts[k]]
-        at[i], amp[i] = starts[k], weights[k][0]
-        shift = -weights[k][1] / weights[k][0] if len(weights[k]) > 1 and weights[k][0] != 0.0 else 0.0
-        where[i] = starts[k] + lead + float(np.clip(shift, -1.0, 1.0))
+    tail = np.zeros(0) if tail is None or len(tail) <= size else np.ascontiguousarray(tail, dtype=float)
+    pursue(r, np.round(positions).astype(np.int64), lead, np.ascontiguousarray(basis), np.ascontiguousarray(solve), gram,
+           np.ascontiguousarray(head), head_norm, width, tail, jumps, likeness, where, at, amp)
     return _Pursuit(r, jumps, likeness, where, at, amp, template)
 
 

@@ -1,0 +1,69 @@
+"""The onset detector's time against librosa's, in one process: ``python benchmarks/onsets_speed.py``.
+
+Recordings (48 kHz, 5 s): benchmarks/analysis.py's (the paper's free bounce with snares at 30 dB SNR,
+as samples: no file read) and four of tests/_recorded_drums.py's corpus (FluidR3 snare 38 drop with
+FluidSynth's reverb, FluidR3 40 roll at -72 dBFS noise, TimGM6mb 38 flams dry, TimGM6mb 40 singles at
+-60 dBFS noise). Each is timed ``find_onsets(signal, 48000)`` against
+``librosa.onset.onset_detect(y=signal as float32, sr=48000, backtrack=True)``, the two calls in turn,
+median of 7 each after a warm-up; the ratio is ours over librosa's. Prints the table and writes it
+with the machine and date to benchmarks/onsets_speed_results.json.
+"""
+
+import json
+import statistics
+import sys
+import time
+from pathlib import Path
+
+import librosa
+import numpy as np
+from _timing import machine
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parent / "tests"))
+from _recorded_drums import RATE, recordings
+from _recordings import render
+from drumstroke.analysis import find_onsets
+from drumstroke.stroke import simulate
+
+REPEATS = 7
+CORPUS = [("FluidR3", 38, "drop", "reverb"), ("FluidR3", 40, "roll", "noise72"), ("TimGM6mb", 38, "flams", "dry"),
+          ("TimGM6mb", 40, "singles", "noise60")]
+
+
+def cases():
+    stroke = simulate("free-bounce", t_end=5.0)
+    signal, _ = render(stroke.impacts.t, stroke.impacts.tip_speed, snares=True, snr=30, tail=5.0 - stroke.impacts.t[-1])
+    yield "free bounce, snares, SNR 30 dB (benchmarks/analysis.py)", signal
+    for font, key, set_name, condition in CORPUS:
+        for recording in recordings(fonts=(font,), keys=(key,), sets=(set_name,), conditions=(condition,)):
+            yield recording.name, recording.signal
+
+
+def timed(signal):
+    ours, theirs = [], []
+    find_onsets(signal, RATE)
+    librosa.onset.onset_detect(y=signal.astype(np.float32), sr=RATE, backtrack=True)
+    for _ in range(REPEATS):
+        start = time.perf_counter()
+        find_onsets(signal, RATE)
+        ours.append(time.perf_counter() - start)
+        start = time.perf_counter()
+        librosa.onset.onset_detect(y=signal.astype(np.float32), sr=RATE, backtrack=True)
+        theirs.append(time.perf_counter() - start)
+    return statistics.median(ours), statistics.median(theirs)
+
+
+def main():
+    rows = []
+    print("| recording | ours (ms) | librosa (ms) | ratio |\n|---|---:|---:|---:|")
+    for name, signal in cases():
+        ours, theirs = timed(signal)
+        rows.append({"recording": name, "ours": ours, "librosa": theirs, "ratio": ours / theirs})
+        print(f"| {name} | {ours * 1e3:.1f} | {theirs * 1e3:.1f} | {ours / theirs:.2f} |")
+    (HERE / "onsets_speed_results.json").write_text(json.dumps({"machine": machine(), "repeats": REPEATS, "rows": rows},
+                                                               indent=1) + "\n")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,112 @@
+"""find_onsets made faster finds the same onsets: against the outputs of the slower code it replaced.
+
+tests/data/onsets_reference.npz holds, for each recording of :func:`cases`, the times (s), levels (dB re
+the loudest), threshold and noise floor that ``find_onsets`` returned BEFORE its hot paths were made
+faster (vectorised loops, no recomputation): it was written by the older code with
+``python tests/test_onsets_fast_path.py --write`` (commit e900400, on the code of 64cbfb4).
+The recordings are rebuilt here (seeded): our synthesis with and without the snare wires, another
+drum's, a room and noise (tests/_recordings.py), the paper's free bounce of benchmarks/analysis.py, and
+some of tests/_recorded_drums.py's SoundFont recordings (dry, noise, FluidSynth's reverb).
+
+Times must agree to 1e-12 s relative (the same samples, the same fractions), levels to 1e-9 dB. A change
+of what onsets are found (a change of the detector's accuracy) must write the reference again, from
+the code before the change, and say so.
+"""
+
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from drumstroke.analysis import find_onsets
+
+HERE = Path(__file__).resolve().parent
+REFERENCE = HERE / "data" / "onsets_reference.npz"
+CORPUS = [("FluidR3", 38, "drop", "reverb"), ("FluidR3", 40, "roll", "noise72"), ("TimGM6mb", 38, "flams", "dry"),
+          ("TimGM6mb", 40, "singles", "noise60"), ("FluidR3", 38, "roll", "reverb")]
+
+
+def cases():
+    """Yield (name, signal, rate) of every recording compared."""
+    from _recordings import RATE, random_strokes, render, room_response
+    from drumstroke.stroke import simulate
+
+    stroke = simulate("free-bounce", t_end=5.0)
+    signal, _ = render(stroke.impacts.t, stroke.impacts.tip_speed, snares=True, snr=30,
+                       tail=5.0 - stroke.impacts.t[-1])
+    yield "free-bounce snares snr30", signal, RATE
+    strokes = random_strokes(3, seed=28)
+    room = room_response(seed=2)
+    variants = [{"snares": False}, {"snares": True, "snr": 40}, {"kind": "other", "snr": 35}, {"snares": True, "room": room}]
+    for i, (times, speeds) in enumerate(strokes):
+        for j, variant in enumerate(variants):
+            if (i + j) % 2 == 0 or j == 3:  # not every pair: the test's time
+                signal, _ = render(times, speeds, seed=i, **variant)
+                yield f"stroke {i} {sorted(variant)} {j}", signal, RATE
+    yield from _corpus()
+
+
+def _corpus():
+    from _recorded_drums import RATE, recordings
+
+    for font, key, set_name, condition in CORPUS:
+        for recording in recordings(fonts=(font,), keys=(key,), sets=(set_name,), conditions=(condition,)):
+            yield recording.name, recording.signal, RATE
+
+
+def _outputs(signal, rate):
+    onsets = find_onsets(signal, rate)
+    floor = onsets.info.get("floor_db")
+    return {"t": onsets.t, "level_db": onsets.level_db,
+            "scalars": np.array([onsets.threshold_db, np.nan if floor is None else floor,
+                                 onsets.info.get("analysis_rate", np.nan)])}
+
+
+def test_same_onsets_as_the_slower_code():
+    with np.load(REFERENCE) as data:
+        reference = {key: data[key] for key in data.files}
+    everything = list(cases())
+    assert len(everything) == int(reference["count"])
+    for case, (name, signal, rate) in enumerate(everything):
+        assert str(reference[f"{case}/name"]) == name
+        got = _outputs(signal, rate)
+        want_t, want_level = reference[f"{case}/t"], reference[f"{case}/level_db"]
+        assert len(got["t"]) == len(want_t), name
+        np.testing.assert_allclose(got["t"], want_t, rtol=1e-12, atol=0.0, err_msg=name)
+        np.testing.assert_allclose(got["level_db"], want_level, rtol=0.0, atol=1e-9, err_msg=name)
+        np.testing.assert_allclose(got["scalars"], reference[f"{case}/scalars"], rtol=0.0, atol=1e-9, err_msg=name)
+
+
+def test_peaks_picked_as_librosa_picks_them():
+    """The detector's linear-time peak picker against ``librosa.util.peak_pick`` (ties, flat stretches, short signals)."""
+    import librosa
+
+    from drumstroke.analysis.onsets import _peak_pick
+
+    rng = np.random.default_rng(5)
+    for trial in range(300):
+        n, gap = int(rng.integers(1, 2000)), int(rng.integers(1, 120))
+        x = rng.standard_normal(n) ** 2
+        if trial % 3 == 0:
+            x = np.round(x, 1)  # ties
+        if trial % 4 == 0:
+            x[n // 3:2 * n // 3] = 0.0  # a flat stretch (the jumps are zeros at the start and over digital silence)
+        want = librosa.util.peak_pick(x, pre_max=gap, post_max=gap, pre_avg=1, post_avg=1, delta=0.0, wait=gap)
+        np.testing.assert_array_equal(_peak_pick(x, gap), want, err_msg=f"n={n}, gap={gap}")
+
+
+def _write():
+    out = {}
+    for i, (name, signal, rate) in enumerate(cases()):
+        got = _outputs(signal, rate)
+        print(i, name, len(got["t"]), file=sys.stderr)
+        out[f"{i}/name"] = np.array(name)
+        out.update({f"{i}/{key}": value for key, value in got.items()})
+    out["count"] = np.array(sum(1 for key in out if key.endswith("/name")))
+    np.savez_compressed(REFERENCE, **out)
+
+
+if __name__ == "__main__":
+    sys.path.insert(0, str(HERE))
+    if "--write" in sys.argv:
+        _write()
