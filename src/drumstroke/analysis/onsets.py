@@ -296,6 +296,11 @@ class OnsetConfig:
     start_clear_db : float in [-120, 0]
         dB re an attack's peak: the loudest the sound before it may be for its first transient to
         be sought (step 5).
+    decay_db : float in [-120, 0]
+        dB re the loudest attack: a quieter one must rise out of the sound before it (step 5).
+    decay_rise_db : float in [-60, 60]
+        dB: how far such a quiet attack's first difference must rise over the 2 ms after it above
+        its peak over the 5 ms before (step 5).
 
     Examples
     --------
@@ -349,6 +354,8 @@ class OnsetConfig:
     start_over: float = 2.0
     start_reach: float = 5e-3
     start_clear_db: float = -30.0
+    decay_db: float = -32.0
+    decay_rise_db: float = 6.0
 
     def __post_init__(self):
         for name, (low, high, unit) in _RANGES.items():
@@ -382,6 +389,7 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "after_rounds": (0, 100, ""), "level_order": (1, 400, ""), "level_ratio": (1.0, 10.0, "(frequency ratio)"),
     "level_band": (50.0, 4000.0, "Hz"), "start_db": (-120.0, 0.0, "dB"), "start_over": (1.0, 100.0, "(ratio)"),
     "start_reach": (0.0, 0.02, "s"), "start_clear_db": (-120.0, 0.0, "dB"),
+    "decay_db": (-120.0, 0.0, "dB"), "decay_rise_db": (-60.0, 60.0, "dB"),
 }
 
 
@@ -502,7 +510,9 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        reverberant recording (the room's tail past the signature carries ≥ ``room`` of its
        energy), an onset whose start looks like the signature has the earlier such onsets' tails
        (the band's innovation's common response, as in step 4, past 5 ms) taken off its innovation
-       first.
+       first. :func:`_out_of_decay`: an attack quieter than ``decay_db`` re the loudest is none when
+       its first difference does not rise ``decay_rise_db`` over the sound before it (a sample's
+       own decay, a room's tail).
     6. :func:`_reported`. Its level is in dB re the loudest onset. The noise floor (the
        ``floor_quantile`` quantile of the level band's peaks over 5-ms frames) plus
        ``floor_margin_db``, or ``threshold_db`` if higher, is the threshold used.
@@ -569,6 +579,7 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
     candidates = _search_after_louder(modes, candidates, rate, config)
     candidates = _first_transients(band, rate, candidates.take(candidates.attack), config)
     amplitude, floor = _levels(band, rate, tonal.q, first, candidates, modes.reverberant, config)
+    candidates = _out_of_decay(band, rate, candidates, amplitude, config)
     return _reported(candidates, amplitude, floor, {**info, "analysis_rate": tonal.rate}, source, rate, config)
 
 
@@ -949,6 +960,31 @@ def _first_transients(band, rate, candidates, config):
     if not np.all(np.diff(times) > 0):
         return candidates
     return replace(candidates, times=times)
+
+
+def _out_of_decay(band, rate, candidates, amplitude, config):
+    """Step 5's last part: a quiet attack that does not rise out of the sound before it is no attack.
+
+    A recorded sample's own decay and a room's tail beat and flutter: the stages before take some
+    of their swells, quiet and milliseconds to a quarter second after a note, for attacks. A
+    stick's impact adds a click to whatever rings: the first difference of ``band`` over the 2 ms
+    after an attack quieter than ``decay_db`` re the loudest must pass its peak over the 5 ms
+    before (up to 0.5 ms before the attack) by ``decay_rise_db``.
+    """
+    attack = candidates.attack
+    if not np.any(attack):
+        return candidates
+    loudest = amplitude[attack].max()
+    quiet = attack & (amplitude < loudest * 10.0 ** (config.decay_db / 20.0))
+    d = np.abs(np.diff(band, prepend=band[0]))
+    after, before, gap = round(2e-3 * rate), round(5e-3 * rate), round(0.5e-3 * rate)
+    keep = attack.copy()
+    for i in np.flatnonzero(quiet):
+        c = round(candidates.times[i])
+        rise = d[c:c + after].max(initial=0.0)
+        prior = d[max(0, c - before):max(1, c - gap)].max(initial=0.0)
+        keep[i] = rise > prior * 10.0 ** (config.decay_rise_db / 20.0)
+    return replace(candidates, attack=keep)
 
 
 def _levels(band, rate, q, first, candidates, reverberant, config):
