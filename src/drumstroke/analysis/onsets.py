@@ -1008,7 +1008,8 @@ def _learned_lead_ins(band, rate, candidates, config):
     0.5 ms before, under ``lead_clear_db`` re the attack's peak first difference over the 5 ms
     after), the median time from the onset to the main rise, the first sample within 2 ms before
     to 3 ms after it whose first difference passes ``lead_rise`` of that peak. The others are put
-    that long before their own main rise, when that earlier sound is quieter than they. Nothing
+    that long before their own main rise, when that earlier sound is quieter than they and the move
+    is no more than the lead-in and 0.3 ms earlier (or 0.3 ms later) than where they were. Nothing
     moves with fewer than 3 clear attacks, a lead-in under 0.25 ms or spread over more than 0.2 ms
     (interquartile: not a sample's own), or when the attacks would not stay in time order.
     """
@@ -1032,8 +1033,11 @@ def _learned_lead_ins(band, rate, candidates, config):
     if lead < 0.25e-3 * rate or spread > 0.2e-3 * rate:  # no lead-in to restore, or not a sample's fixed one
         return candidates
     times = candidates.times.copy()
-    moved = ~clear & over  # under louder earlier sound, the main rise is that sound's, not the attack's
-    times[which[moved]] = rise[moved] - lead
+    shift = rise - lead - times[which]
+    # under louder earlier sound the main rise found is that sound's, not the attack's; farther than
+    # its lead-in (and a little) before where the stages before put it, it is not this attack's either
+    moved = ~clear & over & (shift >= -lead - 0.3e-3 * rate) & (shift <= 0.3e-3 * rate)
+    times[which[moved]] += shift[moved]
     if not np.all(np.diff(times[which]) > 0):
         return candidates
     return replace(candidates, times=times)
