@@ -49,9 +49,9 @@ def _pooled(detected, set_name, condition):
 
 
 @pytest.mark.parametrize("set_name, condition, least", [
-    ("singles", "dry", (1.0, 1.0, 1.0)), ("singles", "noise60", (1.0, 1.0, 0.85)),
-    ("flams", "dry", (1.0, 1.0, 0.8)), ("flams", "noise60", (0.95, 1.0, 0.8)),
-    ("roll", "dry", (0.55, 0.75, 0.8)), ("roll", "noise60", (0.55, 0.7, 0.9)),
+    ("singles", "dry", (1.0, 1.0, 1.0)), ("singles", "noise60", (1.0, 1.0, 0.9)),
+    ("flams", "dry", (1.0, 1.0, 0.85)), ("flams", "noise60", (0.95, 1.0, 0.85)),
+    ("roll", "dry", (0.55, 0.75, 0.95)), ("roll", "noise60", (0.55, 0.7, 0.95)),
 ])
 def test_loud_notes_are_found_at_their_first_transient(detected, set_name, condition, least):
     """Notes within 30 dB of the loudest: found within 1 ms, within 5 ms, and the detections' precision (5 ms).
@@ -72,3 +72,26 @@ def test_a_note_out_of_digital_silence_starts_at_its_first_transient_not_its_lea
     assert onsets.info["floor_db"] is None  # no "-1878 dB" floor from the filters' decay over digital silence
     late = find_onsets(recording.signal, RATE, config=OnsetConfig(start_reach=0.0))  # without the first transients
     assert np.abs(late.t[0] - recording.t[0]) > 1e-3
+
+
+def _corpus_recording(name, condition):
+    """The benchmark's recording ``name`` (font key set) in ``condition``, with the corpus's seeds."""
+    return next(r for r in recordings(sets=("singles", "drop", "roll"), conditions=(condition,))
+                if f"{r.font} {r.key} {r.set}" == name)
+
+
+def test_swells_in_a_reverberant_tail_are_not_attacks():
+    """FluidR3's snare with FluidSynth's reverb: the quiet swells of its tail that do not rise out of it are refused."""
+    recording = _corpus_recording("FluidR3 38 singles", "reverb")
+    kept = score(recording, find_onsets(recording.signal, RATE).t)
+    every = score(recording, find_onsets(recording.signal, RATE, config=OnsetConfig(decay_db=-120.0)).t)
+    assert kept["within_1ms"] == kept["loud"] == every["within_1ms"]
+    assert kept["found"] - kept["correct_5ms"] < every["found"] - every["correct_5ms"]
+    assert kept["correct_5ms"] / kept["found"] >= 0.75
+
+
+def test_a_roll_over_its_own_ringing_is_timed_by_the_learned_lead_in():
+    """TimGM6mb's snare 40 in a roll: notes over the ringing (their click hidden, ~1.3 ms before the main rise) within 1 ms."""
+    recording = _corpus_recording("TimGM6mb 40 roll", "dry")
+    figures = score(recording, find_onsets(recording.signal, RATE).t)
+    assert figures["within_1ms"] / figures["loud"] >= 0.85  # 0.50 (14 of 28) before: placed on the main rise

@@ -297,6 +297,16 @@ class OnsetConfig:
     start_clear_db : float in [-120, 0]
         dB re an attack's peak: the loudest the sound before it may be for its first transient to
         be sought (step 5).
+    decay_db : float in [-120, 0]
+        dB re the loudest attack: a quieter one must rise out of the sound before it (step 5).
+    decay_rise_db : float in [-60, 60]
+        dB: how far such a quiet attack's first difference must rise over the 2 ms after it above
+        its peak over the 5 ms before (step 5).
+    lead_rise : float in [0.01, 1]
+        Ratio to an attack's peak first difference: where its main rise is (step 5).
+    lead_clear_db : float in [-120, 0]
+        dB re an attack's peak: the loudest the sound before it may be for it to be clear, its
+        lead-in to its main rise measured (step 5).
 
     Examples
     --------
@@ -350,6 +360,10 @@ class OnsetConfig:
     start_over: float = 2.0
     start_reach: float = 5e-3
     start_clear_db: float = -30.0
+    decay_db: float = -32.0
+    decay_rise_db: float = 6.0
+    lead_rise: float = 0.7
+    lead_clear_db: float = -20.0
 
     def __post_init__(self):
         for name, (low, high, unit) in _RANGES.items():
@@ -383,6 +397,8 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "after_rounds": (0, 100, ""), "level_order": (1, 400, ""), "level_ratio": (1.0, 10.0, "(frequency ratio)"),
     "level_band": (50.0, 4000.0, "Hz"), "start_db": (-120.0, 0.0, "dB"), "start_over": (1.0, 100.0, "(ratio)"),
     "start_reach": (0.0, 0.02, "s"), "start_clear_db": (-120.0, 0.0, "dB"),
+    "decay_db": (-120.0, 0.0, "dB"), "decay_rise_db": (-60.0, 60.0, "dB"),
+    "lead_rise": (0.01, 1.0, "(ratio)"), "lead_clear_db": (-120.0, 0.0, "dB"),
 }
 
 
@@ -503,7 +519,12 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        reverberant recording (the room's tail past the signature carries ≥ ``room`` of its
        energy), an onset whose start looks like the signature has the earlier such onsets' tails
        (the band's innovation's common response, as in step 4, past 5 ms) taken off its innovation
-       first.
+       first. :func:`_out_of_decay`: an attack quieter than ``decay_db`` re the loudest is none when
+       its first difference does not rise ``decay_rise_db`` over the sound before it (a sample's
+       own decay, a room's tail). :func:`_learned_lead_ins`: an attack over loud earlier sound
+       (over ``lead_clear_db`` re its peak) is placed its recording's lead-in before its main rise
+       (its first difference's first sample over ``lead_rise`` of its peak), that lead-in being the
+       median over the clear attacks (≥ 3) of their main rise less their onset.
     6. :func:`_reported`. Its level is in dB re the loudest onset. The noise floor (the
        ``floor_quantile`` quantile of the level band's peaks over 5-ms frames) plus
        ``floor_margin_db``, or ``threshold_db`` if higher, is the threshold used.
@@ -570,6 +591,8 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
     candidates = _search_after_louder(modes, candidates, rate, config)
     candidates = _first_transients(band, rate, candidates.take(candidates.attack), config)
     amplitude, floor = _levels(band, rate, tonal.q, first, candidates, modes.reverberant, config)
+    candidates = _out_of_decay(band, rate, candidates, amplitude, config)
+    candidates = _learned_lead_ins(band, rate, candidates, config)
     return _reported(candidates, amplitude, floor, {**info, "analysis_rate": tonal.rate}, source, rate, config)
 
 
@@ -948,6 +971,75 @@ def _first_transients(band, rate, candidates, config):
         if len(above):
             times[i] = low + above[0] - 0.5  # the difference is centred half a sample early
     if not np.all(np.diff(times) > 0):
+        return candidates
+    return replace(candidates, times=times)
+
+
+def _out_of_decay(band, rate, candidates, amplitude, config):
+    """Step 5's last part: a quiet attack that does not rise out of the sound before it is no attack.
+
+    A recorded sample's own decay and a room's tail beat and flutter: the stages before take some
+    of their swells, quiet and milliseconds to a quarter second after a note, for attacks. A
+    stick's impact adds a click to whatever rings: the first difference of ``band`` over the 2 ms
+    after an attack quieter than ``decay_db`` re the loudest must pass its peak over the 5 ms
+    before (up to 0.5 ms before the attack) by ``decay_rise_db``.
+    """
+    attack = candidates.attack
+    if not np.any(attack):
+        return candidates
+    loudest = amplitude[attack].max()
+    quiet = attack & (amplitude < loudest * 10.0 ** (config.decay_db / 20.0))
+    d = np.abs(np.diff(band, prepend=band[0]))
+    after, before, gap = round(2e-3 * rate), round(5e-3 * rate), round(0.5e-3 * rate)
+    keep = attack.copy()
+    for i in np.flatnonzero(quiet):
+        c = round(candidates.times[i])
+        rise = d[c:c + after].max(initial=0.0)
+        prior = d[max(0, c - before):max(1, c - gap)].max(initial=0.0)
+        keep[i] = rise > prior * 10.0 ** (config.decay_rise_db / 20.0)
+    return replace(candidates, attack=keep)
+
+
+def _learned_lead_ins(band, rate, candidates, config):
+    """Step 5's last part: an attack whose first transient is hidden by earlier sound is put its lead-in before its main rise.
+
+    A recorded sample restarted over its own ringing hides its first click; the stages before then
+    place the onset on the main rise, a sample's fixed lead-in (about 1 ms) late. The lead-in is
+    learned on the same recording: on its clear attacks (the sound over the 5 ms before, up to
+    0.5 ms before, under ``lead_clear_db`` re the attack's peak first difference over the 5 ms
+    after), the median time from the onset to the main rise, the first sample within 2 ms before
+    to 3 ms after it whose first difference passes ``lead_rise`` of that peak. The others are put
+    that long before their own main rise, when that earlier sound is quieter than they and the move
+    is no more than the lead-in and 0.3 ms earlier (or 0.3 ms later) than where they were. Nothing
+    moves with fewer than 3 clear attacks, a lead-in under 0.25 ms or spread over more than 0.2 ms
+    (interquartile: not a sample's own), or when the attacks would not stay in time order.
+    """
+    which = np.flatnonzero(candidates.attack)
+    d = np.abs(np.diff(band, prepend=band[0]))
+    after, before, gap = round(5e-3 * rate), round(5e-3 * rate), round(0.5e-3 * rate)
+    early, late = round(2e-3 * rate), round(3e-3 * rate)
+    rise, clear, over = np.zeros(len(which)), np.zeros(len(which), dtype=bool), np.zeros(len(which), dtype=bool)
+    for k, i in enumerate(which):
+        c = round(candidates.times[i])
+        peak = d[c:c + after].max(initial=0.0)
+        prior = d[max(0, c - before):max(1, c - gap)].max(initial=0.0)
+        clear[k], over[k] = prior <= peak * 10.0 ** (config.lead_clear_db / 20.0), prior < peak
+        low = max(0, c - early)
+        above = np.flatnonzero(d[low:c + late] >= config.lead_rise * peak)
+        rise[k] = low + above[0] if len(above) and peak > 0.0 else candidates.times[i]
+    if clear.sum() < 3:
+        return candidates
+    leads = rise[clear] - candidates.times[which[clear]]
+    lead, spread = np.median(leads), np.subtract(*np.percentile(leads, [75, 25]))
+    if lead < 0.25e-3 * rate or spread > 0.2e-3 * rate:  # no lead-in to restore, or not a sample's fixed one
+        return candidates
+    times = candidates.times.copy()
+    shift = rise - lead - times[which]
+    # under louder earlier sound the main rise found is that sound's, not the attack's; farther than
+    # its lead-in (and a little) before where the stages before put it, it is not this attack's either
+    moved = ~clear & over & (shift >= -lead - 0.3e-3 * rate) & (shift <= 0.3e-3 * rate)
+    times[which[moved]] += shift[moved]
+    if not np.all(np.diff(times[which]) > 0):
         return candidates
     return replace(candidates, times=times)
 
