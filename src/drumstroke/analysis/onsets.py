@@ -1231,11 +1231,17 @@ def _windows(x, rate, least=12):
 
 def _jump_at(x, positions, rate, samples=12):
     """The largest RMS jump of ``x`` (the next 1 ms over the 4 ms before) within half a window of each position."""
-    from ._kernels import jump_at
-
     width = max(samples, round(1e-3 * rate))
-    x = np.ascontiguousarray(x, dtype=float)
-    return np.array([jump_at(x, i, width) for i in np.round(np.asarray(positions, dtype=float)).astype(np.int64)])
+    half = max(1, width // 2)
+    out = np.zeros(len(positions))
+    for n, i in enumerate(np.round(np.asarray(positions, dtype=float)).astype(np.int64)):
+        low, high = max(0, i - half - 4 * width), min(len(x), i + half + width + 1)
+        after, before, _ = _windows(x[low:high], rate, samples)
+        k = np.arange(max(i - half, low), min(i + half + 1, high)) - low
+        valid = k >= min(4 * width, i)  # a full window before, or the signal's start
+        jump = np.sqrt(after[k] / np.maximum(before[k], 1e-300 + after[k] * 1e-12))
+        out[n] = jump[valid].max(initial=0.0)
+    return out
 
 
 def _merge(tonal, broadband, gap, deep=(), strong=None):
@@ -1287,7 +1293,7 @@ def _pursue(e, positions, rate, config, tail=None):
     past the signature is taken off too, scaled by the signature's fit. ``positions`` and ``rate``
     are in samples of ``e`` and Hz. Returns a :class:`_Pursuit`.
     """
-    from ._kernels import pursue
+    from numpy.lib.stride_tricks import sliding_window_view
 
     length = max(4, round(config.signature * rate))
     peak = int(np.argmax(np.abs(e)))
@@ -1304,14 +1310,33 @@ def _pursue(e, positions, rate, config, tail=None):
     head = template[:lead + config.head]
     head_norm = float(np.sqrt(head @ head))
     width = max(config.modes_width, round(1e-3 * rate))
+    half = max(1, width // 2)
     r = e.copy()
     jumps = np.zeros(len(positions))
     likeness = np.zeros(len(positions))
     where = positions.copy()
     at, amp = np.zeros(len(positions), dtype=np.int64), np.zeros(len(positions))
-    tail = np.zeros(0) if tail is None or len(tail) <= size else np.ascontiguousarray(tail, dtype=float)
-    pursue(r, np.round(positions).astype(np.int64), lead, np.ascontiguousarray(basis), np.ascontiguousarray(solve), gram,
-           np.ascontiguousarray(head), head_norm, width, tail, jumps, likeness, where, at, amp)
+    for i, c in enumerate(np.round(positions).astype(np.int64)):
+        # the jump: the next window's power over the 4 windows before, the largest within half a window
+        low, high = max(0, c - half - 4 * width), min(len(r), c + half + width + 1)
+        jumps[i] = _jump_at(r[low:high], [c - low], rate, config.modes_width)[0] if high - low > width else 0.0
+        starts = c - lead + np.arange(-2, 3)
+        starts = starts[(starts >= 0) & (starts + size <= len(r))]
+        if not len(starts):
+            continue
+        block = sliding_window_view(r[starts[0]:starts[-1] + size], size)
+        heads = block[:, :len(head)]
+        likeness[i] = float(np.max(np.abs(heads @ head) / (np.sqrt(np.einsum("ij,ij->i", heads, heads)) * head_norm + 1e-300)))
+        weights = block @ solve.T
+        cost = np.einsum("ij,ij->i", block, block) - np.einsum("ij,ij->i", weights, weights @ gram)
+        k = int(np.argmin(cost))
+        r[starts[k]:starts[k] + size] -= basis @ weights[k]
+        if tail is not None and len(tail) > size:
+            stop = min(len(r), starts[k] + len(tail))
+            r[starts[k] + size:stop] -= weights[k][0] * tail[size:stop - starts[k]]
+        at[i], amp[i] = starts[k], weights[k][0]
+        shift = -weights[k][1] / weights[k][0] if len(weights[k]) > 1 and weights[k][0] != 0.0 else 0.0
+        where[i] = starts[k] + lead + float(np.clip(shift, -1.0, 1.0))
     return _Pursuit(r, jumps, likeness, where, at, amp, template)
 
 
