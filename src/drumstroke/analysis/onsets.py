@@ -307,6 +307,9 @@ class OnsetConfig:
     lead_clear_db : float in [-120, 0]
         dB re an attack's peak: the loudest the sound before it may be for it to be clear, its
         lead-in to its main rise measured (step 5).
+    lead_db : float in [0, 120]
+        dB: how much louder than an attack one within ``start_reach`` after it must be for the
+        earlier to be taken for its first transient, the two one attack (step 5).
 
     Examples
     --------
@@ -521,7 +524,9 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        reverberant recording (the room's tail past the signature carries ≥ ``room`` of its
        energy), an onset whose start looks like the signature has the earlier such onsets' tails
        (the band's innovation's common response, as in step 4, past 5 ms) taken off its innovation
-       first. :func:`_out_of_decay`: an attack quieter than ``decay_db`` re the loudest is none when
+       first. :func:`_one_attack_each`: an attack followed within ``start_reach`` by one ``lead_db``
+       louder, standing out and rising on into it, is that one's first transient (one attack).
+       :func:`_out_of_decay`: an attack quieter than ``decay_db`` re the loudest is none when
        its first difference does not rise ``decay_rise_db`` over the sound before it (a sample's
        own decay, a room's tail). :func:`_learned_lead_ins`: an attack over loud earlier sound
        (over ``lead_clear_db`` re its peak) is placed its recording's lead-in before its main rise
