@@ -8,7 +8,7 @@ has the whole corpus's table, benchmarks/recorded_onsets.py makes it).
 import numpy as np
 import pytest
 
-from _recorded_drums import RATE, first_above, note_block, recordings, render_alone, score
+from _recorded_drums import LOUD_DB, RATE, first_above, match, note_block, recordings, render_alone, score
 from drumstroke.analysis import OnsetConfig, find_onsets
 
 # FluidSynth and both SoundFonts are needed (scripts/install-system-packages.sh installs them): without them
@@ -95,3 +95,22 @@ def test_a_roll_over_its_own_ringing_is_timed_by_the_learned_lead_in():
     recording = _corpus_recording("TimGM6mb 40 roll", "dry")
     figures = score(recording, find_onsets(recording.signal, RATE).t)
     assert figures["within_1ms"] / figures["loud"] >= 0.85  # 0.50 (14 of 28) before: placed on the main rise
+
+
+@pytest.mark.parametrize("set_name, condition, most_95, most_median", [
+    ("singles", "dry", 4.5, 0.5), ("singles", "noise60", 2.5, 0.5), ("roll", "dry", 4.0, 1.0),
+    ("roll", "noise60", 3.5, 1.0), ("flams", "dry", 25.0, 1.0), ("flams", "noise60", 25.0, 1.5),
+])
+def test_levels_of_loud_notes_found(detected, set_name, condition, most_95, most_median):
+    """The level error (dB re the loudest onset, less the truth: each note's own peak alone re the loudest's) of the
+    loud notes found within 5 ms: its 95th percentile and median (absolute), the figures reached a little over.
+
+    Measured (both SoundFonts' snare 38 pooled): 95th percentile 3.9, 1.9, 3.4, 2.9, 22.5, 22.9 dB; median
+    0.11-0.98 dB. The issue's 1 dB is not reached: the levels are the lowest modes' amplitude (in proportion to the
+    tip speed on drumstroke's drums), not the broadband peak (docs/analysis.md says how far apart the two are).
+    """
+    errors = [onsets.level_db[j] - recording.level_db[i] for recording, onsets in detected
+              if (recording.set, recording.condition) == (set_name, condition)
+              for i, j in match(recording.t, onsets.t, 5e-3) if recording.level_db[i] >= -LOUD_DB]
+    errors = np.abs(errors)
+    assert np.quantile(errors, 0.95) <= most_95 and np.median(errors) <= most_median

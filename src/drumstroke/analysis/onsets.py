@@ -307,6 +307,9 @@ class OnsetConfig:
     lead_clear_db : float in [-120, 0]
         dB re an attack's peak: the loudest the sound before it may be for it to be clear, its
         lead-in to its main rise measured (step 5).
+    lead_db : float in [0, 120]
+        dB: how much louder than an attack one within ``start_reach`` after it must be for the
+        earlier to be taken for its first transient, the two one attack (step 5).
 
     Examples
     --------
@@ -364,6 +367,7 @@ class OnsetConfig:
     decay_rise_db: float = 6.0
     lead_rise: float = 0.7
     lead_clear_db: float = -20.0
+    lead_db: float = 6.0
 
     def __post_init__(self):
         for name, (low, high, unit) in _RANGES.items():
@@ -399,6 +403,7 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "start_reach": (0.0, 0.02, "s"), "start_clear_db": (-120.0, 0.0, "dB"),
     "decay_db": (-120.0, 0.0, "dB"), "decay_rise_db": (-60.0, 60.0, "dB"),
     "lead_rise": (0.01, 1.0, "(ratio)"), "lead_clear_db": (-120.0, 0.0, "dB"),
+    "lead_db": (0.0, 120.0, "dB"),
 }
 
 
@@ -519,7 +524,9 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        reverberant recording (the room's tail past the signature carries ≥ ``room`` of its
        energy), an onset whose start looks like the signature has the earlier such onsets' tails
        (the band's innovation's common response, as in step 4, past 5 ms) taken off its innovation
-       first. :func:`_out_of_decay`: an attack quieter than ``decay_db`` re the loudest is none when
+       first. :func:`_one_attack_each`: an attack followed within ``start_reach`` by one ``lead_db``
+       louder, standing out and rising on into it, is that one's first transient (one attack).
+       :func:`_out_of_decay`: an attack quieter than ``decay_db`` re the loudest is none when
        its first difference does not rise ``decay_rise_db`` over the sound before it (a sample's
        own decay, a room's tail). :func:`_learned_lead_ins`: an attack over loud earlier sound
        (over ``lead_clear_db`` re its peak) is placed its recording's lead-in before its main rise
@@ -591,6 +598,7 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
     candidates = _search_after_louder(modes, candidates, rate, config)
     candidates = _first_transients(band, rate, candidates.take(candidates.attack), config)
     amplitude, floor = _levels(band, rate, tonal.q, first, candidates, modes.reverberant, config)
+    candidates, amplitude = _one_attack_each(band, rate, candidates, amplitude, config)
     candidates = _out_of_decay(band, rate, candidates, amplitude, config)
     candidates = _learned_lead_ins(band, rate, candidates, config)
     return _reported(candidates, amplitude, floor, {**info, "analysis_rate": tonal.rate}, source, rate, config)
@@ -998,6 +1006,40 @@ def _out_of_decay(band, rate, candidates, amplitude, config):
         prior = d[max(0, c - before):max(1, c - gap)].max(initial=0.0)
         keep[i] = rise > prior * 10.0 ** (config.decay_rise_db / 20.0)
     return replace(candidates, attack=keep)
+
+
+def _one_attack_each(band, rate, candidates, amplitude, config):
+    """Step 5: an attack followed within ``start_reach`` s by one ``lead_db`` louder is one attack with it.
+
+    A recorded sample's first click can be found as an attack of its own, about 1-3 ms before its
+    main rise (found too), and so can a point of the earlier sound's decay 2-4 ms before a note: a
+    stick's impact is not a quiet one followed so closely by a much louder one. The earlier is the
+    later's first transient, kept at its time with the later's amplitude, when the first
+    difference's peak over its 0.25 ms passes ``start_over`` times that over the ``start_reach`` s
+    before it and ``start_db`` re the later's (over ``start_reach`` s), and the sound rises on from
+    it (that peak over every 0.25 ms up to the later stays over half of it). Else both stay (which
+    is the attack is not told here). Returns the candidates and their amplitudes.
+    """
+    which = np.flatnonzero(candidates.attack)
+    if len(which) < 2:
+        return candidates, amplitude
+    d = np.abs(np.diff(band, prepend=band[0]))
+    width, reach = max(1, round(0.25e-3 * rate)), round(config.start_reach * rate)
+    keep, amplitude = np.ones(len(candidates), dtype=bool), amplitude.copy()
+    for i, j in zip(which[:-1], which[1:]):
+        a, b = round(candidates.times[i]), round(candidates.times[j])
+        if not keep[i] or b - a > reach or amplitude[j] < amplitude[i] * 10.0 ** (config.lead_db / 20.0):
+            continue
+        click = d[a:a + width].max(initial=0.0)
+        prior = d[max(0, a - reach):max(1, a - width)].max(initial=0.0)
+        between = d[a + width:max(a + width, b - width // 2)]
+        dip = (np.lib.stride_tricks.sliding_window_view(between, width).max(axis=1).min()
+               if len(between) >= width else click)
+        louder = d[b:b + reach].max(initial=0.0)
+        if click > config.start_over * prior and dip >= 0.5 * click and click >= louder * 10.0 ** (config.start_db / 20.0):
+            keep[j] = False
+            amplitude[i] = amplitude[j]
+    return candidates.take(keep), amplitude[keep]
 
 
 def _learned_lead_ins(band, rate, candidates, config):
