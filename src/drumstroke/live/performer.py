@@ -64,8 +64,8 @@ HORIZON = 4.0
 ahead would otherwise hold its stick, refusing every earlier note, for that hour."""
 
 ROWS = 100_000
-"""Dropped notes a performer's log keeps at most (then it counts them, :attr:`Performer.unrecorded`); planned notes
-are always kept, as a replay needs them (a stick plays at most one note every ``closest`` s)."""
+"""The rows of a performer's log from which it keeps no dropped note (it counts them, :attr:`Performer.unrecorded`);
+planned notes are always kept, as a replay needs them (a stick plays at most one note every ``closest`` s)."""
 
 STILL = 1e-5
 """rad/s: the largest speed at which a stick is still enough to be held where it is when the performer closes."""

@@ -18,8 +18,8 @@ A :class:`Runtime` runs a :class:`~drumstroke.live.performer.Performer` against 
   of a second after the stop, :data:`~drumstroke.live.performer.STILL`). :meth:`Runtime.session` is the
   record: notes in, strokes planned, problems, timing.
 - **bounded**: the record keeps at most :data:`PROBLEMS` problem lines, each at most :data:`LINE`
-  characters, and the performer's log at most :data:`~drumstroke.live.performer.ROWS` dropped notes
-  (then both count); ``report`` is told at most :data:`LINES` lines a second, the rest counted in one line.
+  characters, and the performer's log no dropped note past :data:`~drumstroke.live.performer.ROWS`
+  rows (then both count); ``report`` is told at most :data:`LINES` lines a second, the rest counted in one line.
 """
 
 import gc
@@ -187,7 +187,7 @@ class Runtime:
                          f"{shown(request.stick)}: {outcome.reason}")
         if self.performer.unrecorded and not self._rows_said:
             self._rows_said = True
-            self.problem(f"the record holds {ROWS} dropped notes: later ones are counted (unrecorded), not kept")
+            self.problem(f"the record holds {ROWS} notes: later dropped ones are counted (unrecorded), not kept")
 
     def _planner(self):
         while not self._aborted.is_set():
