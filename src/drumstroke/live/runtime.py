@@ -185,9 +185,10 @@ class Runtime:
             where = "" if request.piece is None else f" ({shown(request.piece)})"
             self.problem(f"{request.source}: dropped the note at {outcome.note.at:.6g} s{where} on "
                          f"{shown(request.stick)}: {outcome.reason}")
-        if self.performer.unrecorded and not self._rows_said:
-            self._rows_said = True
-            self.problem(f"the record holds {ROWS} notes: later dropped ones are counted (unrecorded), not kept")
+        if self.performer.unrecorded and not self._rows_said and self._report is not None:
+            self._rows_said = True  # said once, not a problem of its own: each note dropped is one already
+            with self._told:
+                self._report(f"the record holds {ROWS} notes: later dropped ones are counted (unrecorded), not kept")
 
     def _planner(self):
         while not self._aborted.is_set():
