@@ -66,7 +66,7 @@ ahead would otherwise hold its stick, refusing every earlier note, for that hour
 ROWS = 20_000
 """The rows of a performer's log from which it keeps no dropped note (it counts them, :attr:`Performer.unrecorded`);
 planned notes are always kept, as a replay needs them (a stick plays at most one note every ``closest`` s). A full
-log is a record of about 6 MB, written in well under a second when a session ends."""
+log is a record of about 6-8 MB, written in about a second when a session ends."""
 
 STILL = 1e-5
 """rad/s: the largest speed at which a stick is still enough to be held where it is when the performer closes."""

@@ -14,9 +14,8 @@ A :class:`Runtime` runs a :class:`~drumstroke.live.performer.Performer` against 
   the rest (:data:`SPIN`). Late setpoints (a busy host) are sent at once, in order, none skipped.
 - **the end**: :meth:`Runtime.stop` (a signal handler may call it) closes the performer at once: each
   stick finishes the stroke in progress up to its rebound's apex and moves to rest above the head, the
-  notes not yet begun given up; the loop ends once they rest, the last setpoints sent (a few hundredths
-  of a second after the stop, :data:`~drumstroke.live.performer.STILL`). :meth:`Runtime.session` is the
-  record: notes in, strokes planned, problems, timing.
+  notes not yet begun given up; the loop ends once they rest, the last setpoints sent (well within a
+  second of the stop). :meth:`Runtime.session` is the record: notes in, strokes planned, problems, timing.
 - **bounded**: the record keeps at most :data:`PROBLEMS` problem lines, each at most :data:`LINE`
   characters, and the performer's log no dropped note past :data:`~drumstroke.live.performer.ROWS`
   rows (then both count); ``report`` is told at most :data:`LINES` lines a second, the rest counted in one line.
