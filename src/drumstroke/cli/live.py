@@ -17,8 +17,10 @@ def add_live(live):
                         "into each stick's running motion within the latency, and stream setpoints t, theta, omega, "
                         "alpha per stick (with --kit: every joint of every limb) at the control rate (OSC, CSV on "
                         "stdout, a simulated robot), each chunk "
-                        "validated against the joint's limits. Ctrl-C (or SIGTERM) brings the sticks to rest and writes "
-                        "the session's record; a second Ctrl-C stops at once. Messages go to stderr.")
+                        "validated against the joint's limits. Ctrl-C, SIGTERM or --duration stops within a second: each stick "
+                        "finishes the stroke in progress, the notes not yet begun are given up, the sticks move to "
+                        "rest and the session's record is written; a second signal stops at once. Messages go to "
+                        "stderr, at most 20 problems a second (the rest counted).")
     ins = live.add_argument_group("notes in (at least one)")
     ins.add_argument("--osc-in", type=_address(default_host="127.0.0.1", port_low=0), metavar="[HOST:]PORT",
                      help="listen for /drum/note and /drum/note/at over UDP (host default 127.0.0.1: this machine)")
@@ -42,6 +44,9 @@ def add_live(live):
                       help="robot config: [plant] for the simulated joint, [limits] the stream keeps")
     live.add_argument("--latency", type=number(low=1.0, high=10_000.0, unit="ms"), default=50.0, metavar="MS",
                       help="ms between a note's arrival and its sound, in [1, 10000] (default 50)")
+    live.add_argument("--horizon", type=number(low=0.0, high=60.0, low_open=True, unit="s"), metavar="S",
+                      help="s: a note heard further ahead of its arrival is dropped, in [--latency, 60] (default 4, or "
+                           "the latency if longer)")
     live.add_argument("--rate", type=number(low=10.0, high=1e5, unit="Hz"), default=1000.0,
                       help="the control rate, Hz, in [10, 1e5] (default 1000)")
     add_model(live)
@@ -101,10 +106,11 @@ def _live(args):
     if kit is not None and args.simulate_robot:
         raise ParameterError("--simulate-robot plays sticks, one joint each: not --kit (give --osc-out or --csv)")
     if kit is not None:
-        performer = KitPerformer(kit, lead=args.lead, setup=setup, rate=args.rate, latency=args.latency / 1e3)
+        performer = KitPerformer(kit, lead=args.lead, setup=setup, rate=args.rate, latency=args.latency / 1e3,
+                                 horizon=args.horizon)
     else:
         performer = Performer(sticks=tuple(name.strip() for name in args.sticks.split(",")), setup=setup,
-                              rate=args.rate, latency=args.latency / 1e3)
+                              rate=args.rate, latency=args.latency / 1e3, horizon=args.horizon)
     log = args.log or f"session-{datetime.now().strftime('%Y%m%d-%H%M%S')}.json"
     robot = {"engine": args.simulate_robot, "control": args.controller, "plant": config.plant} \
         if args.simulate_robot else None

@@ -49,6 +49,13 @@ MIDI_CHANNEL = 9
 DATAGRAM = 65_507
 """The largest UDP payload (bytes): a datagram is read whole or not at all."""
 
+MESSAGE = 8192
+"""The largest datagram read as notes (bytes): a note's message is at most about 200 bytes, a bundle of notes a few of
+them; a larger datagram is dropped unparsed, with its line."""
+
+NAME = 64
+"""The longest text a note's field may hold (characters): a stick's, a stroke's or a piece's name."""
+
 
 @dataclass(frozen=True)
 class Request:
@@ -75,8 +82,9 @@ _FORM = "stick velocity [stroke [duration] [piece]]"
 def osc_request(address, args, arrived, source="osc"):
     """The :class:`Request` of an OSC message (its address and arguments), or a line saying why it is dropped.
 
-    Each field's type is checked here (its value, against the performer's sticks, pieces and ranges, when
-    the note is planned); a long text is shown cut short.
+    Each field's type is checked here, and the length of its texts (at most :data:`NAME` characters); its value
+    against the performer's sticks as it is submitted, against its pieces and ranges when it is planned. A long
+    text is shown cut short.
     """
     if address not in (NOTE, NOTE_AT):
         return f"{source}: unknown address {shown(address)} (a note is {NOTE} or {NOTE_AT})"
@@ -91,6 +99,9 @@ def osc_request(address, args, arrived, source="osc"):
     if not 2 <= len(args) <= 5:
         return f"{source}: {address} needs {'time ' if at is not None else ''}{_FORM}, " \
                f"got {len(args)} argument(s) after it"
+    long = next((arg for arg in args if isinstance(arg, str) and len(arg) > NAME), None)
+    if long is not None:
+        return f"{source}: {address} names must be at most {NAME} characters, got {shown(long, most=40)}"
     stick, velocity, *rest = args
     stroke = rest.pop(0) if rest else STROKES[0]
     duration = rest.pop(0) if rest and not isinstance(rest[0], str) else None
@@ -167,9 +178,10 @@ def _number(value):
 class OscInput:
     """Notes from OSC over UDP: a thread reads each datagram, parses it and hands on its notes.
 
-    Every datagram is read whole (at most :data:`DATAGRAM` bytes); one that is not OSC, or an OSC
-    message that is not a note, becomes one line for ``report``; a bundle's messages are read one by
-    one (its time tag is not waited for: a note names its time with :data:`NOTE_AT`).
+    Every datagram is read whole (at most :data:`DATAGRAM` bytes, into one buffer); one larger than
+    :data:`MESSAGE`, one that is not OSC, or an OSC message that is not a note, becomes one line for
+    ``report``; a bundle's messages are read one by one (its time tag is not waited for: a note names
+    its time with :data:`NOTE_AT`).
 
     Parameters
     ----------
@@ -211,9 +223,10 @@ class OscInput:
     def _serve(self):
         from pythonosc.osc_packet import OscPacket, ParseError
 
+        buffer = bytearray(DATAGRAM)  # one for every datagram: a flood of large ones allocates nothing
         while not self._stop.is_set():
             try:
-                data, sender = self._socket.recvfrom(DATAGRAM)
+                size, sender = self._socket.recvfrom_into(buffer)
             except TimeoutError:
                 continue
             except OSError as error:  # e.g. an ICMP error for an earlier reply: keep listening
@@ -221,6 +234,10 @@ class OscInput:
                 continue
             arrived = self._clock.now()
             source = f"osc {sender[0]}:{sender[1]}"
+            if size > MESSAGE:
+                self._report(f"{source}: dropped a datagram of {size} bytes unread: a note's is at most {MESSAGE}")
+                continue
+            data = bytes(buffer[:size])
             try:
                 messages = OscPacket(data).messages
             except (ParseError, ValueError, IndexError, TypeError) as error:

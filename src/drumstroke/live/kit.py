@@ -79,13 +79,14 @@ class KitPerformer(Performer):
         rad the stick stays above a surface it passes over on a move.
     footprint : float in [0, 1]
         rad of yaw either side of a piece's place over which the stick is above it.
-    rate, latency, guard, rest, closest, clock
+    rate, latency, guard, rest, closest, horizon, clock
         As :class:`~drumstroke.live.performer.Performer` takes them; ``rest`` (rad, the sticks' θ before
         the first note and after :meth:`close`) must clear every piece's surface by ``clearance``.
     """
 
     def __init__(self, kit=None, *, lead="right", setup=None, clearance=CLEARANCE, footprint=FOOTPRINT,
-                 rate=DEFAULT_RATE, latency=LATENCY, guard=GUARD, rest=0.0, closest=CLOSEST, clock=None):
+                 rate=DEFAULT_RATE, latency=LATENCY, guard=GUARD, rest=0.0, closest=CLOSEST, horizon=None,
+                 clock=None):
         kit = default_kit() if kit is None else kit
         if not isinstance(kit, Kit):
             raise ParameterError(f"kit must be a drumstroke.kit.pieces.Kit, got {shown(kit)}")
@@ -93,7 +94,7 @@ class KitPerformer(Performer):
         feet = {foot: next(p.pedal for p in kit.pieces if foot in p.feet) for foot in kit.feet
                 if any(foot in p.feet for p in kit.pieces)}
         super().__init__(sticks=kit.hands + tuple(feet), setup=setup, rate=rate, latency=latency, guard=guard,
-                         rest=rest, closest=closest, clock=clock)
+                         rest=rest, closest=closest, horizon=horizon, clock=clock)
         self.kit = kit
         self.lead = check_choice("lead", lead, kit.hands)
         self._arms = arms(kit, self.setup, clearance=clearance,
@@ -127,7 +128,8 @@ class KitPerformer(Performer):
         if ("kit", self.model) in _WARM:
             return
         scratch = KitPerformer(self.kit, lead=self.lead, setup=self.setup, rate=self.rate, latency=self.latency,
-                               guard=self.guard, rest=self.rest, closest=self.closest, clock=ManualClock())
+                               guard=self.guard, rest=self.rest, closest=self.closest, horizon=self.horizon,
+                               clock=ManualClock())
         for at, piece in ((0.3, None), (0.6, next(p.name for p in self.kit.pieces if p.hands and p.name != "snare")),
                           (0.9, next((p.name for p in self.kit.pieces if p.feet), None))):
             scratch.note("auto", 100, at=at, piece=piece)

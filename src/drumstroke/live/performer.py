@@ -59,6 +59,18 @@ may be given up to a little before that ahead of their time)."""
 CLOSEST = 0.03
 """Default shortest time (s) between two notes of one stick: closer ones are dropped before any planning."""
 
+HORIZON = 4.0
+"""Default horizon (s): a note heard further ahead of its arrival is dropped (at least the latency): one note an hour
+ahead would otherwise hold its stick, refusing every earlier note, for that hour."""
+
+ROWS = 20_000
+"""The rows of a performer's log from which it keeps no dropped note (it counts them, :attr:`Performer.unrecorded`);
+planned notes are always kept, as a replay needs them (a stick plays at most one note every ``closest`` s). A full
+log is a record of about 6-8 MB, written in about a second when a session ends."""
+
+STILL = 1e-5
+"""rad/s: the largest speed at which a stick is still enough to be held where it is when the performer closes."""
+
 _WARM = set()  # the models a performer of this process has warmed up
 
 AUTO = "auto"
@@ -100,7 +112,7 @@ class ManualClock:
         self._t = t
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class LiveNote:
     """A note as it arrived: when (s, the performer's clock), on which stick, how loud, when it is heard.
 
@@ -120,7 +132,7 @@ class LiveNote:
     key: int | None = None
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Outcome:
     """What became of a live note: planned or dropped (with the reason), its stroke, how long planning took (s).
 
@@ -217,12 +229,15 @@ class Performer:
     closest : float in [0, 1]
         s, the shortest time between two notes of one stick (default 0.03; closer notes are dropped
         unplanned: a flood costs nothing).
+    horizon : float in [latency, 60], optional
+        s: a note heard further ahead of its arrival is dropped (default :data:`HORIZON`, or the latency
+        if that is longer).
     clock : object with ``now()``, optional
         Default a :class:`SystemClock`; a :class:`ManualClock` runs faster than real time.
     """
 
     def __init__(self, *, sticks=("right", "left"), setup=None, rate=DEFAULT_RATE, latency=LATENCY, guard=GUARD,
-                 rest=0.0, closest=CLOSEST, clock=None):
+                 rest=0.0, closest=CLOSEST, horizon=None, clock=None):
         setup = Setup(moves=Limits()) if setup is None else setup
         if not isinstance(setup, Setup):
             raise ParameterError(f"setup must be a drumstroke.design.Setup, got {setup!r}")
@@ -240,9 +255,13 @@ class Performer:
         self.latency = check_real("latency", latency, low=0.0, high=10.0, low_open=True, unit="s")
         self.guard = check_real("guard", guard, low=0.0, high=self.latency, low_open=True, high_open=True, unit="s")
         self.closest = check_real("closest", closest, low=0.0, high=1.0, unit="s")
+        horizon = max(HORIZON, self.latency) if horizon is None else horizon
+        self.horizon = check_real("horizon", horizon, low=self.latency, high=60.0, unit="s (at least the latency)")
         self.rest = check_real("rest", rest, low=self.head, high=self.limits.theta_high, low_open=True, unit="rad")
         self.clock = clock or SystemClock()
         self.log = []
+        self.unrecorded = 0  # dropped notes past the log's ROWS
+        self.given_up = 0  # planned notes not yet begun when the performer closed
         self.closed = None
         self._sticks = {name: _Stick(Curve.hold(self.rest)) for name in sticks}
         self._next = 0  # the index k of the next setpoint to give, at k/rate
@@ -257,7 +276,8 @@ class Performer:
         if self.model in _WARM:
             return
         scratch = Performer(sticks=self.sticks[:1], setup=self.setup, rate=self.rate, latency=self.latency,
-                            guard=self.guard, rest=self.rest, closest=self.closest, clock=ManualClock())
+                            guard=self.guard, rest=self.rest, closest=self.closest, horizon=self.horizon,
+                            clock=ManualClock())
         stick = self.sticks[0]
         for arrived, velocity, stroke in ((0.0, 100, "auto"), (0.02, 60, "auto"), (0.3, 127, "auto"),
                                           (0.6, 30, "auto"), (1.0, 90, "buzz")):
@@ -307,7 +327,10 @@ class Performer:
             impacts = tuple(zip(made.impacts.t[:n].tolist(), made.impacts.level_db[:n].tolist()))
         outcome = replace(outcome, compute=time.perf_counter() - started, impacts=impacts)
         with self._lock:
-            self.log.append(replace(outcome, design=None))
+            if outcome.planned or len(self.log) < ROWS:
+                self.log.append(replace(outcome, design=None))
+            else:
+                self.unrecorded += 1
         return outcome
 
     def _note(self, arrived, stick, velocity, at, stroke, duration, cut, piece, key):
@@ -379,8 +402,9 @@ class Performer:
 
     def _refusal(self, note):
         """Why a note cannot be taken as given (its values), or ''."""
-        if not isinstance(note.stick, str) or (note.stick not in self._sticks and note.stick != AUTO):
-            return f"stick must be one of {', '.join(self.sticks + (AUTO,))}, got {shown(note.stick)}"
+        reason = self.stick_refusal(note.stick)
+        if reason:
+            return reason
         if note.stroke not in STROKES:
             return f"stroke must be one of {', '.join(STROKES)}, got {shown(note.stroke)}"
         if note.key is not None and (isinstance(note.key, bool) or not isinstance(note.key, int)
@@ -398,8 +422,17 @@ class Performer:
                 return f"{name} must be a finite number in [{low:g}, {high:g}], got {value!r}"
         if note.duration is not None and note.stroke != "buzz":
             return "only a buzz has a duration"
+        if note.at > note.arrived + self.horizon:
+            return (f"heard at {note.at:.6g} s, {note.at - note.arrived:.6g} s after it arrived: further ahead than "
+                    f"the horizon, {self.horizon:g} s")
         if note.at < note.cut + 1e-3:
             return f"heard at {note.at:.6g} s, too soon: the motion may change from {note.cut:.6g} s"
+        return ""
+
+    def stick_refusal(self, stick):
+        """Why ``stick`` is not one this performer's notes may name (its sticks, or "auto"), or ''."""
+        if not isinstance(stick, str) or (stick not in self._sticks and stick != AUTO):
+            return f"stick must be one of {', '.join(self.sticks + (AUTO,))}, got {shown(stick)}"
         return ""
 
     def _piece_refusal(self, note):
@@ -446,7 +479,9 @@ class Performer:
     # --- the end ---------------------------------------------------------------------------------------------------
 
     def close(self, cut=None):
-        """Take no more notes; each stick finishes what it plays, then moves to ``rest``. Returns when all rest (s).
+        """Take no more notes and stop soon: each stick finishes the stroke in progress up to the apex of its next
+        rebound (or where it is still), the notes not yet begun given up (:attr:`given_up` counts them), then moves
+        to ``rest``. Returns when all rest (s).
 
         ``cut`` (s) is when the performer closed (default now + guard, or the first setpoint not yet
         given if later; a replay gives the logged one).
@@ -458,10 +493,13 @@ class Performer:
             cut = max(self.clock.now() + self.guard, given) if cut is None else cut
             if self.closed is not None:
                 return self.done
+            held = {}
             for name, stick in self._sticks.items():
-                home = self._home(name, stick.motion, max(cut, stick.motion.segments[-1].start))
-                if home is not None:
-                    stick.motion = stick.motion.spliced(home)
+                held[name] = _still_from(stick.motion, cut)
+                motion = stick.motion.spliced(Segment.hold(stick.motion.state(held[name])[0], held[name]))
+                home = self._home(name, motion, held[name])
+                stick.motion = motion if home is None else motion.spliced(home)
+            self.given_up = sum(o.planned and o.note.at > held[o.note.stick] for o in self.log)
             self.closed = cut  # last: a thread that sees it closed sees the moves to rest
             return self.done
 
@@ -516,7 +554,7 @@ class Performer:
         makes the performer again from them)."""
         forces = self.setup.forces
         return {"model": self.model, "rate": self.rate, "latency": self.latency, "guard": self.guard,
-                "closest": self.closest, "sticks": list(self.sticks), "rest": self.rest, "cor": self.setup.cor,
+                "closest": self.closest, "horizon": self.horizon, "sticks": list(self.sticks), "rest": self.rest, "cor": self.setup.cor,
                 "forces": {"low": forces.low, "high": forces.high}, "limits": self.limits.to_dict()}
 
     @property
@@ -547,6 +585,24 @@ class Performer:
         if closed is not None:
             performer.close(closed)
         return performer.setpoints(until)
+
+
+def _still_from(motion, cut):
+    """The first time (s) from ``cut`` at which ``motion`` may be held where it is, found where it can be still (ω
+    within :data:`STILL` of 0): at the cut, at each apex of a designed stroke's rebounds, where a segment ends (a move
+    ends at rest, a stroke caught or pressed to rest). Holding there is a catch, as at the end of every stroke."""
+    for segment in motion.segments:
+        if segment.end < cut:
+            continue
+        first = max(cut, segment.start)
+        times = [first, segment.end]
+        if isinstance(segment.source, Design):
+            made = segment.source
+            times += [made.release + piece.end for piece in made.pieces if piece.phase in ("rise", "end")]
+        for t in sorted(t for t in times if first <= t <= segment.end and math.isfinite(t)):
+            if np.max(np.abs(motion.state(t)[1])) <= STILL:
+                return t
+    return max(cut, motion.segments[-1].start)  # the last segment holds still
 
 
 def _played(made, start, moves):

@@ -12,9 +12,13 @@ A :class:`Runtime` runs a :class:`~drumstroke.live.performer.Performer` against 
   performer's limits (the last two setpoints sent before it included, so speed, acceleration and jerk
   are checked across chunks), then sends each at its time: it sleeps until just before and spins
   the rest (:data:`SPIN`). Late setpoints (a busy host) are sent at once, in order, none skipped.
-- **the end**: :meth:`Runtime.stop` (a signal handler may call it) closes the performer: each stick
-  finishes what it plays and moves to rest above the head; the loop ends once they rest, the last
-  setpoints sent. :meth:`Runtime.session` is the record: notes in, strokes planned, problems, timing.
+- **the end**: :meth:`Runtime.stop` (a signal handler may call it) closes the performer at once: each
+  stick finishes the stroke in progress up to its rebound's apex and moves to rest above the head, the
+  notes not yet begun given up; the loop ends once they rest, the last setpoints sent (well within a
+  second of the stop). :meth:`Runtime.session` is the record: notes in, strokes planned, problems, timing.
+- **bounded**: the record keeps at most :data:`PROBLEMS` problem lines, each at most :data:`LINE`
+  characters, and the performer's log no dropped note past :data:`~drumstroke.live.performer.ROWS`
+  rows (then both count); ``report`` is told at most :data:`LINES` lines a second, the rest counted in one line.
 """
 
 import gc
@@ -31,7 +35,7 @@ from .._checks import check_real, shown
 from .._version import __version__
 from ..errors import DrumstrokeError, TrajectoryError
 from ..robot.validate import validate
-from .performer import Chunk, ManualClock, SystemClock
+from .performer import ROWS, Chunk, ManualClock, SystemClock
 
 SPIN = 2e-4
 """s before a setpoint's time when the loop stops sleeping and spins (sleep wakes up to ~0.1 ms late)."""
@@ -49,10 +53,17 @@ for a planning thread to let it run."""
 QUEUE = 10_000
 """Requests waiting to be planned at most; more are dropped, each with its line."""
 
-PROBLEMS = 100_000
+PROBLEMS = 10_000
 """Problem lines kept in the record at most (then counted only)."""
 
-_CLOSE = object()
+LINE = 300
+"""Characters of a problem line kept at most (a longer one is cut, its length said)."""
+
+LINES = 20
+"""Problem lines told to ``report`` a second at most; the rest are counted, and said as one line when the next is."""
+
+JOIN = 0.5
+"""s the end of a run waits for the planning thread (a long buzz's design may still run: its note is refused)."""
 
 
 class LiveError(DrumstrokeError):
@@ -84,13 +95,17 @@ class Runtime:
         self.spin = check_real("spin", spin, low=0.0, high=0.01, unit="s")
         self.problems = []
         self.problem_count = 0
+        self.queue_full = 0  # notes dropped because QUEUE notes waited to be planned
         self._told = threading.Lock()  # problems come from the input, planner and loop threads
+        self._said = (0.0, 0)  # the second (monotonic s) lines were last told in, and how many
+        self._unsaid = 0  # lines counted, not told
+        self._rows_said = False
         self.failure = None
         self._requests = queue.Queue(QUEUE)
         self._scheduled = []
         self._sequence = 0
         self._closing = threading.Event()
-        self._close_sent = False
+        self._close_done = False
         self._aborted = threading.Event()
         self._lateness = np.zeros(10_001, dtype=np.int64)  # µs bins up to 10 ms, then one for later
         self._latest = 0.0
@@ -103,10 +118,17 @@ class Runtime:
     # --- notes in --------------------------------------------------------------------------------------------------
 
     def submit(self, request):
-        """Queue a request to be planned (any thread)."""
+        """Queue a request to be planned (any thread); one naming a stick the performer does not have is dropped here,
+        with its line (it takes no room in the queue or the record)."""
+        reason = self.performer.stick_refusal(request.stick)
+        if reason:
+            self.problem(f"{request.source}: dropped a note: {reason}")
+            return
         try:
             self._requests.put_nowait(request)
         except queue.Full:
+            with self._told:
+                self.queue_full += 1
             self.problem(f"{request.source}: dropped the note at {request.arrived:.6g} s: {QUEUE} notes wait to be "
                          "planned already")
 
@@ -118,13 +140,33 @@ class Runtime:
             self._sequence += 1
 
     def problem(self, line):
-        """Record a problem and tell ``report`` (any thread; one line at a time)."""
+        """Record a problem and tell ``report`` (any thread; one line at a time; see the module for the bounds)."""
+        if len(line) > LINE:
+            line = f"{line[:LINE]}... ({len(line)} characters)"
         with self._told:
             self.problem_count += 1
             if len(self.problems) < PROBLEMS:
                 self.problems.append(line)
-            if self._report is not None:
+            if self._report is None:
+                return
+            second, told = self._said
+            now = time.monotonic()
+            if now - second >= 1.0:
+                self._say_unsaid()
+                second, told = now, 0
+            if told < LINES:
                 self._report(line)
+                told += 1
+            else:
+                self._unsaid += 1
+            self._said = (second, told)
+
+    def _say_unsaid(self):
+        """Tell ``report`` how many problems it was not told (holding the lock)."""
+        if self._unsaid:
+            self._report(f"... and {self._unsaid} more problem(s) not shown (over {LINES} a second; the record's "
+                         f"problem_count counts every one)")
+            self._unsaid = 0
 
     def _plan(self, request):
         try:
@@ -142,6 +184,10 @@ class Runtime:
             where = "" if request.piece is None else f" ({shown(request.piece)})"
             self.problem(f"{request.source}: dropped the note at {outcome.note.at:.6g} s{where} on "
                          f"{shown(request.stick)}: {outcome.reason}")
+        if self.performer.unrecorded and not self._rows_said and self._report is not None:
+            self._rows_said = True  # said once, not a problem of its own: each note dropped is one already
+            with self._told:
+                self._report(f"the record holds {ROWS} notes: later dropped ones are counted (unrecorded), not kept")
 
     def _planner(self):
         while not self._aborted.is_set():
@@ -149,12 +195,6 @@ class Runtime:
                 request = self._requests.get(timeout=0.05)
             except queue.Empty:
                 continue
-            self._handle(request)
-
-    def _handle(self, request):
-        if request is _CLOSE:
-            self.performer.close()
-        else:
             self._plan(request)
 
     def _due(self, now):
@@ -171,12 +211,13 @@ class Runtime:
                     request = self._requests.get_nowait()
                 except queue.Empty:
                     break
-                self._handle(request)
+                self._plan(request)
 
     # --- the end ---------------------------------------------------------------------------------------------------
 
     def stop(self):
-        """Close the performer once the requests queued before are planned; the loop ends when the sticks rest.
+        """Close the performer (see the module: the stroke in progress finished, the notes not begun given up); the
+        loop ends when the sticks rest; requests still queued are dropped, each with its line.
 
         Safe from a signal handler: it only raises a flag, which the loop acts on.
         """
@@ -187,12 +228,13 @@ class Runtime:
         self._aborted.set()
 
     def _close(self):
-        """Act on :meth:`stop` (in the loop): the performer closes after the requests queued before."""
-        if not self._close_sent:
-            self._close_sent = True
+        """Act on :meth:`stop` (in the loop): the performer closes now."""
+        if not self._close_done:
+            self._close_done = True
+            done = self.performer.close()
             if self._report is not None:
-                self._report("stopping: the sticks finish what they play, then rest")
-            self._requests.put(_CLOSE)
+                self._report(f"stopping: each stick finishes the stroke in progress, then rests by {done:.6g} s; "
+                             f"{self.performer.given_up} planned note(s) not yet begun given up")
 
     # --- setpoints out ---------------------------------------------------------------------------------------------
 
@@ -252,9 +294,12 @@ class Runtime:
         finally:
             self._aborted.set()
             if planner is not None:
-                planner.join()
+                planner.join(JOIN)
                 sys.setswitchinterval(switch)
             gc.unfreeze()
+            if self._report is not None:
+                with self._told:
+                    self._say_unsaid()
 
     def _restart(self):
         """Start a system clock from 0 now, if nothing was stamped with it yet (the session starts warmed up)."""
@@ -318,8 +363,9 @@ class Runtime:
             **p.options(),
             "closed": p.closed, "done": p.done if p.closed is not None else None, "failure": self.failure,
             "sent": {"count": self.sent, "first": self.first, "last": self.last},
-            "notes": [o.to_dict() for o in list(p.log)],
-            "problems": self.problems, "problem_count": self.problem_count, "timing": self.timing()}
+            "given_up": p.given_up, "notes": [o.to_dict() for o in list(p.log)], "unrecorded": p.unrecorded,
+            "problems": list(self.problems), "problem_count": self.problem_count, "queue_full": self.queue_full,
+            "timing": self.timing()}
         record.update(extra)
         return record
 
@@ -392,7 +438,7 @@ def replay_session(session, *, until=None):
         setup = Setup(model=session["model"], cor=session["cor"], forces=ForceRange(forces["low"], forces["high"]),
                       limits=limits, moves=limits)
         options = {"setup": setup, "rate": session["rate"], "latency": session["latency"], "guard": session["guard"],
-                   "closest": session["closest"], "rest": session["rest"]}
+                   "closest": session["closest"], "rest": session["rest"], "horizon": session.get("horizon")}
         performer = Performer
         if "kit" in session:  # drumstroke live --kit's
             from ..kit.pieces import Kit
