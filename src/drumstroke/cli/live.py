@@ -119,7 +119,7 @@ def _live(args):
                              osc_out=args.osc_out, csv=sys.stdout if args.csv else None, robot=robot,
                              duration=args.duration, report=None if args.quiet else _say,
                              listening=lambda host, port: _say(f"listening for OSC notes on {host}:{port}"))
-    json.write_json(log, record)
+    json.write_json(log, record, indent=None)  # compact: a flood's record is written within the stop's second
     if record["failure"]:
         _say(f"drumstroke live: error: {record['failure']}")
     notes, timing = record["notes"], record["timing"]
