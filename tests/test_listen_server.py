@@ -187,7 +187,9 @@ def test_a_client_that_stops_reading_a_response_is_dropped(served):
     assert 0 < received < size / 2
 
 
-def test_connections_over_the_caps_are_answered_503_at_once(tmp_path):
+def test_over_the_per_client_cap_is_503_and_at_the_cap_the_longest_waiting_make_room(tmp_path):
+    """One connection over a client's cap is answered 503 at once; at the cap in all, each newcomer takes the
+    place of the connection that has waited longest without a whole request (503 if it had sent part of one)."""
     server, _, _ = start_test(tmp_path, pairs=1, token=TOKEN, seed=1, proxies=["127.0.0.9"],
                               limits="connections_per_client = 5\nconnections = 20\nhead_timeout = 10.0")
     host_port = address(server)
@@ -195,34 +197,69 @@ def test_connections_over_the_caps_are_answered_503_at_once(tmp_path):
     def connect(source):
         return socket.create_connection(host_port, source_address=(source, 0))
 
-    def answered(connection, wait=0.3):
-        """What the server said at once (within ``wait`` s), or None: held open, waiting for a request."""
-        connection.settimeout(wait)
-        try:
-            return connection.recv(4096)
-        except TimeoutError:
-            return None
-
     try:
+        assert server.connections == 20
         held = [connect("127.0.0.2") for _ in range(5)]
         sixth = connect("127.0.0.2")
-        reply = answered(sixth, wait=5.0)
+        reply = answered_at_once(sixth, wait=5.0)
         assert statuses(reply) == [503] and b"from your address" in reply
         assert headers_of(reply)["retry-after"] == "5" and headers_of(reply)["x-frame-options"] == "DENY"
         held += [connect("127.0.0.9") for _ in range(10)]  # a trusted proxy's are not counted per client
         held += [connect("127.0.0.3") for _ in range(5)]  # 20 open in all
-        reply = answered(connect("127.0.0.4"), wait=5.0)
-        assert statuses(reply) == [503] and b"too many connections are open: try again" in reply
-        assert all(answered(c, wait=0.01) is None for c in held)
-        held[7].setblocking(True)
-        held[7].sendall(b"GET / HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n")
-        assert statuses(held[7].recv(4096)) == [200]
-        for connection in held:
+        assert all(answered_at_once(c, wait=0.01) is None for c in held)
+        held[0].sendall(b"GET / HTTP/1.1\r\nHost: local")  # the first trickles: still waiting the longest
+        newcomers = [connect("127.0.0.4"), connect("127.0.0.4")]
+        reply = answered_at_once(held[0], wait=5.0)
+        assert statuses(reply) == [503] and b"this request had not arrived whole" in reply
+        assert answered_at_once(held[1], wait=5.0) == b""  # idle, the next longest: closed without a word
+        assert all(answered_at_once(c, wait=0.01) is None for c in held[2:] + newcomers)
+        for connection in (held[7], newcomers[1]):
+            connection.setblocking(True)
+            connection.sendall(b"GET / HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n")
+            assert statuses(connection.recv(4096)) == [200]
+        for connection in held + newcomers:
             connection.close()
         time.sleep(0.3)
         assert Client(server.url, source="127.0.0.4").get("/").status == 200  # room again
     finally:
         server.stop()
+
+
+def test_at_the_cap_with_no_connection_waiting_a_newcomer_is_answered_503(tmp_path):
+    """Connections whose whole requests are being answered are not dropped for room: the newcomer is refused."""
+    server, config, _ = start_test(tmp_path, pairs=1, token=TOKEN, seed=1, limits="connections = 3")
+    try:
+        participant, _ = ready(server)
+        for side in ("human", "robot"):  # responses far larger than the socket buffers, left unread
+            (tmp_path / f"{side}-0.wav").write_bytes(bytes(32 << 20))
+        time.sleep(0.3)  # the participant's connections have closed
+        busy = []
+        for _ in range(3):
+            connection = socket.socket()
+            connection.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
+            connection.connect(address(server))
+            connection.sendall(f"GET /p/{participant}/audio/0/A HTTP/1.1\r\nHost: localhost\r\n\r\n".encode())
+            busy.append(connection)
+        time.sleep(0.5)
+        reply = answered_at_once(socket.create_connection(address(server)), wait=5.0)
+        assert statuses(reply) == [503] and b"too many connections are open: try again" in reply
+        for connection in busy:
+            connection.close()
+        time.sleep(0.3)
+        assert Client(server.url).get("/").status == 200
+    finally:
+        server.stop()
+
+
+def answered_at_once(connection, wait=0.3):
+    """What the server said at once (within ``wait`` s; b"" if it closed), or None: held open, waiting."""
+    connection.settimeout(wait)
+    try:
+        return connection.recv(4096)
+    except TimeoutError:
+        return None
+    except ConnectionResetError:
+        return b""
 
 
 def test_a_thousand_trickling_connections_neither_stop_a_participant_nor_stay(tmp_path):
@@ -332,6 +369,11 @@ def test_a_host_the_server_does_not_serve_is_answered_400_and_starts_nothing(ser
         reply, _, closed = exchange(server, f"POST /start HTTP/1.1\r\nHost: {host}\r\nContent-Length: 0\r\n\r\n".encode())
         assert statuses(reply) == [400] and b"does not serve the host" in reply and closed, (host, reply)
         assert headers_of(reply)["x-content-type-options"] == "nosniff"
+    for host in (f"127.0.0.1:{port}@evil.example", f"localhost:{port}:{port}", "localhost:", "localhost:99999",
+                 f"localhost:{port}/x", "local host", "[::1]evil", "évil.example"):  # loopback names, but not exactly
+        reply, _, closed = exchange(server, f"POST /start HTTP/1.1\r\nHost: {host}\r\nContent-Length: 0\r\n\r\n"
+                                            .encode("latin-1"))
+        assert statuses(reply) == [400] and b"must be a host name" in reply and closed, (host, reply)
     reply, _, closed = exchange(server, b"GET / HTTP/1.0\r\n\r\n")  # no Host: HTTP/1.0 allows it
     assert statuses(reply) == [400] and b"in one Host header, got 0" in reply and closed, reply
     reply, _, closed = exchange(server, b"GET / HTTP/1.1\r\nHost: localhost\r\nHost: evil.example\r\n\r\n")
