@@ -394,3 +394,152 @@ def test_a_host_the_server_does_not_serve_is_answered_400_and_starts_nothing(ser
     (tmp_path / "bad").mkdir()
     with pytest.raises(ParameterError, match=r"allowed host 'study.example.org/x' is not a host name"):
         start_test(tmp_path / "bad", pairs=PAIRS, token=TOKEN, seed=3, hosts=["study.example.org/x"])
+
+
+# --- floods of trickling connections: the server holds many and still serves a visitor -----------------------------
+
+class Flood:
+    """Connections that trickle a request head from a thread: ``per_source`` from each of ``sources``.
+
+    Each sends the start of a head when it opens, then a byte every ``interval`` s. With ``reconnect``, each
+    connection the server closes is opened again at once, as an attacker keeping the server full would.
+
+    Attributes
+    ----------
+    opened : int
+        Connections opened so far.
+    closed : list of (str, bytes)
+        Each connection the server closed: its source and what the server said before.
+    """
+
+    HEAD = b"GET / HTTP/1.1\r\nHost: localhost\r\nX-Slow: "
+
+    def __init__(self, server, sources, per_source, *, interval=1.0, reconnect=False):
+        self.target, self.interval, self.reconnect = address(server), interval, reconnect
+        self.selector = selectors.DefaultSelector()
+        self.opened, self.closed = 0, []
+        self._stop = threading.Event()
+        for _ in range(per_source):
+            for source in sources:  # round robin: each source's connections spread over the opening
+                self._open(source)
+        self._thread = threading.Thread(target=self._run, daemon=True, name="flood")
+        self._thread.start()
+
+    @property
+    def open(self):
+        return len(self.selector.get_map())
+
+    def stop(self):
+        self._stop.set()
+        self._thread.join(timeout=30.0)
+        for key in list(self.selector.get_map().values()):
+            key.fileobj.close()
+
+    def _open(self, source):
+        connection = socket.create_connection(self.target, timeout=30.0, source_address=(source, 0))
+        connection.setblocking(False)
+        connection.send(self.HEAD)
+        self.selector.register(connection, selectors.EVENT_READ, [source, b""])
+        self.opened += 1
+
+    def _run(self):
+        next_byte = time.monotonic() + self.interval
+        while not self._stop.is_set():
+            for key, _ in self.selector.select(timeout=0.05):
+                try:
+                    data = key.fileobj.recv(4096)
+                except BlockingIOError:
+                    continue
+                except OSError:  # reset: what the server said may be lost with it
+                    data = b""
+                if data:
+                    key.data[1] += data
+                    continue
+                self.selector.unregister(key.fileobj)
+                key.fileobj.close()
+                self.closed.append(tuple(key.data))
+                if self.reconnect and not self._stop.is_set():
+                    self._open(key.data[0])
+            if time.monotonic() >= next_byte:
+                next_byte += self.interval
+                for key in list(self.selector.get_map().values()):
+                    try:
+                        key.fileobj.send(b"a")
+                    except OSError:
+                        pass
+
+
+def flood_size(sources, per_source):
+    """(sources, per_source) for a flood this process can hold both ends of: the open-file limit is raised to
+    its hard limit, and the flood made smaller (with a warning) if even that is too low."""
+    import resource
+    import warnings
+
+    soft, hard = resource.getrlimit(resource.RLIMIT_NOFILE)
+    if soft != hard:
+        resource.setrlimit(resource.RLIMIT_NOFILE, (hard, hard))
+    room = (hard - 1000) // 2  # both ends of each connection are in this process, and files besides
+    if hard != resource.RLIM_INFINITY and room < sources * per_source:
+        warnings.warn(f"the open-file hard limit is {hard}: the flood is {room // sources} connections from each "
+                      f"of {sources} addresses, not {per_source}")
+        per_source = room // sources
+    return [f"127.0.{2 + i // 200}.{2 + i % 200}" for i in range(sources)], per_source
+
+
+def test_five_thousand_trickling_connections_from_fifty_addresses_all_held_and_a_visitor_served(tmp_path):
+    """5,000 connections from 50 addresses (100 each, the cap per client) trickle a head, a byte a second each;
+    the server holds every one of them (far under its cap, sized from the open-file limit) while a visitor
+    from another address loads the first page and starts a session. The times are printed (``-s``); the
+    bound on the visitor's is generous, for a busy machine."""
+    sources, per_source = flood_size(50, 100)
+    server, _, store = start_test(tmp_path, pairs=PAIRS, token=TOKEN, seed=5, limits="head_timeout = 120.0")
+    flood = None
+    try:
+        began = time.monotonic()
+        flood = Flood(server, sources, per_source)
+        opening = time.monotonic() - began
+        time.sleep(2.5)  # every connection trickles: it has sent a byte or two more than its opening
+        visitor = Client(server.url, source="127.0.1.250")
+        began = time.monotonic()
+        first = visitor.get("/")
+        page = time.monotonic() - began
+        participant = visitor.start()
+        session = time.monotonic() - began
+        assert first.status == 200 and store.plan_of(participant) is not None
+        assert page < 10.0 and session < 10.0
+        assert flood.closed == [] and flood.open == flood.opened == len(sources) * per_source
+        assert server.connections > flood.opened
+        print(f"\n{flood.opened} connections opened in {opening:.2f} s; with all held, the visitor's first page "
+              f"in {page * 1e3:.1f} ms, page and session start in {session * 1e3:.1f} ms")
+    finally:
+        if flood is not None:
+            flood.stop()
+        server.stop()
+
+
+def test_reconnecting_trickles_at_the_cap_leave_every_visitor_served(tmp_path):
+    """1,000 trickling connections from 10 addresses against a cap of 500, each reconnected as soon as the
+    server drops it (the server stays full, as an attacker keeps it): each newcomer takes the place of the
+    longest-waiting trickle, so 20 visitors in a row, each sending a whole request, are all served."""
+    server, _, _ = start_test(tmp_path, pairs=1, token=TOKEN, seed=5, limits="connections = 500\nhead_timeout = 60.0")
+    flood = None
+    try:
+        flood = Flood(server, [f"127.0.0.{2 + i}" for i in range(10)], 100, interval=0.5, reconnect=True)
+        time.sleep(1.0)
+        dropped_before = len(flood.closed)
+        visits = []
+        for i in range(20):
+            began = time.monotonic()
+            visits.append((Client(server.url, source=f"127.0.1.{1 + i}").get("/").status, time.monotonic() - began))
+        assert [status for status, _ in visits] == [200] * 20
+        assert max(seconds for _, seconds in visits) < 10.0
+        dropped = flood.closed[:]
+        assert len(dropped) > dropped_before > 500  # the server is kept full: the churn goes on throughout
+        said = [reply for _, reply in dropped if reply]
+        assert said and all(statuses(r) == [503] and b"had not arrived whole" in r for r in said)
+        print(f"\n{flood.opened} trickling connections opened, {len(dropped)} dropped for room; 20 visits served in "
+              f"{min(s for _, s in visits) * 1e3:.1f} to {max(s for _, s in visits) * 1e3:.1f} ms")
+    finally:
+        if flood is not None:
+            flood.stop()
+        server.stop()
