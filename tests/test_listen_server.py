@@ -18,6 +18,8 @@ from _listen import Client, start_test
 from drumstroke.errors import ParameterError
 from drumstroke.evaluation.app import plan
 from drumstroke.evaluation.pages import SECURITY_HEADERS
+from drumstroke.evaluation.server import Server
+from drumstroke.evaluation.web import make_app
 
 TOKEN = "raw-socket-test-token-0123"
 PAIRS = 3
@@ -363,7 +365,7 @@ def trickle(held, deadline, interval=0.25):
 def test_a_host_the_server_does_not_serve_is_answered_400_and_starts_nothing(served, tmp_path):
     """DNS rebinding: a page elsewhere reaching a server on loopback through a name of its own is refused; the
     loopback names (any port) and, when named, the proxy's are served."""
-    server, _, store, _ = served
+    server, config, store, _ = served
     port = address(server)[1]
     for host in ("evil.example", "evil.example:80", "127.0.0.1.evil.example", "[::2]"):
         reply, _, closed = exchange(server, f"POST /start HTTP/1.1\r\nHost: {host}\r\nContent-Length: 0\r\n\r\n".encode())
@@ -391,6 +393,15 @@ def test_a_host_the_server_does_not_serve_is_answered_400_and_starts_nothing(ser
             assert statuses(reply) == [status], (host, reply[:300])
     finally:
         named.stop()
+    anywhere = Server(make_app(config, store, hosts=None), config.limits, host="127.0.0.1", port=0).start()
+    try:  # serving any name (as on a public address without --allowed-host): the syntax is still exact
+        for host, status in (("anything.example:8080", 200), ("[2001:db8::1]", 200), ("a.example:80@b.example", 400),
+                             ("a.example:80:80", 400)):
+            reply, _, _ = exchange(anywhere, f"GET / HTTP/1.1\r\nHost: {host}\r\nConnection: close\r\n\r\n".encode())
+            assert statuses(reply) == [status], (host, reply[:300])
+        assert statuses(exchange(anywhere, b"GET / HTTP/1.0\r\n\r\n")[0]) == [200]  # HTTP/1.0 may leave it out
+    finally:
+        anywhere.stop()
     (tmp_path / "bad").mkdir()
     with pytest.raises(ParameterError, match=r"allowed host 'study.example.org/x' is not a host name"):
         start_test(tmp_path / "bad", pairs=PAIRS, token=TOKEN, seed=3, hosts=["study.example.org/x"])
