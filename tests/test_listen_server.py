@@ -229,7 +229,7 @@ def test_over_the_per_client_cap_is_503_and_at_the_cap_the_longest_waiting_make_
 
 def test_at_the_cap_with_no_connection_waiting_a_newcomer_is_answered_503(tmp_path):
     """Connections whose whole requests are being answered are not dropped for room: the newcomer is refused."""
-    server, config, _ = start_test(tmp_path, pairs=1, token=TOKEN, seed=1, limits="connections = 3")
+    server, _, _ = start_test(tmp_path, pairs=1, token=TOKEN, seed=1, limits="connections = 3")
     try:
         participant, _ = ready(server)
         for side in ("human", "robot"):  # responses far larger than the socket buffers, left unread
