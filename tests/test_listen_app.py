@@ -308,12 +308,55 @@ def test_new_sessions_are_rate_limited_per_client_and_in_all(tmp_path):
         second.start()  # 5 in all
         reply = Client(server.url, source="127.0.0.4").post("/start", {"consent": "yes", "csrf": token})
         assert reply.status == 403  # the token is not this browser's: refused before counting
+        reply = second.post("/start", {"consent": "yes", "csrf": token_of(second.get("/").body)})
+        assert reply.status == 429 and int(reply.headers["Retry-After"]) >= 55  # 5 in all: its third waits
         third = Client(server.url, source="127.0.0.4")
+        third.start()  # a newcomer is admitted beyond the limit in all: no flood shuts the first session out
         reply = third.post("/start", {"consent": "yes", "csrf": token_of(third.get("/").body)})
-        assert reply.status == 429 and int(reply.headers["Retry-After"]) >= 55
-        assert store._read("SELECT COUNT(*) FROM participants") == [(5,)]
+        assert reply.status == 429 and int(reply.headers["Retry-After"]) >= 55  # its second waits
+        assert store._read("SELECT COUNT(*) FROM participants") == [(6,)]
     finally:
         server.stop()
+
+
+def test_the_admin_is_served_after_a_thousand_wrong_tokens_from_a_hundred_addresses(app):
+    """10 wrong tokens from each of 100 addresses lock each of them out (its 11th is 429), and only them: the
+    admin, from another address, is served, even after a wrong token of their own."""
+    server, _, _, _ = app
+    wrong = {"Authorization": "Bearer guess-guess-guess-guess"}
+    attackers = [Client(server.url, source=f"127.0.1.{1 + i}") for i in range(100)]
+    replies = [attacker.get("/admin/export.csv", headers=wrong).status for _ in range(10) for attacker in attackers]
+    assert replies == [401] * 1000
+    assert {attacker.get("/admin/export.csv", headers=wrong).status for attacker in attackers} == {429}
+    assert {export(attacker)[0] for attacker in attackers[:5]} == {429}  # a locked address stays locked
+    admin = Client(server.url, source="127.0.0.1")
+    assert admin.get("/admin/export.csv", headers=wrong).status == 401  # a typo
+    status, text = export(admin)
+    assert status == 200 and text.startswith("subject,pair,robot")
+
+
+def test_participants_are_served_while_a_thousand_sessions_are_attempted_from_a_hundred_addresses(app):
+    """1,000 new sessions from 100 addresses, 10 each in turn, with the default limits (10 a minute per client,
+    120 in all), and a newcomer after each 100: beyond 120 in all only clients with a session in the last minute
+    wait, so the 10 newcomers each start and answer, and the flood gets 119 sessions (the newcomers took one)."""
+    server, _, store, _ = app
+    attackers = []
+    for i in range(100):
+        attacker = Client(server.url, source=f"127.0.2.{1 + i}")
+        attackers.append((attacker, {"consent": "yes", "csrf": token_of(attacker.get("/").body)}))
+    admitted, newcomers = 0, []
+    for round_ in range(10):
+        for attacker, form in attackers:
+            reply = attacker.post("/start", form)
+            assert reply.status in (303, 429), reply
+            admitted += reply.status == 303
+        newcomer = Client(server.url, source=f"127.0.3.{1 + round_}")
+        participant = newcomer.start()
+        assert newcomer.play_and_answer(participant, 0, "A", 3, 4)[0].status == 303
+        newcomers.append(participant)
+    assert admitted == 119
+    assert [row[0] for row in store.rows()] == sorted(newcomers)
+    assert store._read("SELECT COUNT(*) FROM participants") == [(129,)]
 
 
 def test_the_window_admits_again_as_the_minute_passes():

@@ -18,6 +18,8 @@ from _listen import Client, start_test
 from drumstroke.errors import ParameterError
 from drumstroke.evaluation.app import plan
 from drumstroke.evaluation.pages import SECURITY_HEADERS
+from drumstroke.evaluation.server import Server
+from drumstroke.evaluation.web import make_app
 
 TOKEN = "raw-socket-test-token-0123"
 PAIRS = 3
@@ -187,7 +189,9 @@ def test_a_client_that_stops_reading_a_response_is_dropped(served):
     assert 0 < received < size / 2
 
 
-def test_connections_over_the_caps_are_answered_503_at_once(tmp_path):
+def test_over_the_per_client_cap_is_503_and_at_the_cap_the_longest_waiting_make_room(tmp_path):
+    """One connection over a client's cap is answered 503 at once; at the cap in all, each newcomer takes the
+    place of the connection that has waited longest without a whole request (503 if it had sent part of one)."""
     server, _, _ = start_test(tmp_path, pairs=1, token=TOKEN, seed=1, proxies=["127.0.0.9"],
                               limits="connections_per_client = 5\nconnections = 20\nhead_timeout = 10.0")
     host_port = address(server)
@@ -195,34 +199,69 @@ def test_connections_over_the_caps_are_answered_503_at_once(tmp_path):
     def connect(source):
         return socket.create_connection(host_port, source_address=(source, 0))
 
-    def answered(connection, wait=0.3):
-        """What the server said at once (within ``wait`` s), or None: held open, waiting for a request."""
-        connection.settimeout(wait)
-        try:
-            return connection.recv(4096)
-        except TimeoutError:
-            return None
-
     try:
+        assert server.connections == 20
         held = [connect("127.0.0.2") for _ in range(5)]
         sixth = connect("127.0.0.2")
-        reply = answered(sixth, wait=5.0)
+        reply = answered_at_once(sixth, wait=5.0)
         assert statuses(reply) == [503] and b"from your address" in reply
         assert headers_of(reply)["retry-after"] == "5" and headers_of(reply)["x-frame-options"] == "DENY"
         held += [connect("127.0.0.9") for _ in range(10)]  # a trusted proxy's are not counted per client
         held += [connect("127.0.0.3") for _ in range(5)]  # 20 open in all
-        reply = answered(connect("127.0.0.4"), wait=5.0)
-        assert statuses(reply) == [503] and b"too many connections are open: try again" in reply
-        assert all(answered(c, wait=0.01) is None for c in held)
-        held[7].setblocking(True)
-        held[7].sendall(b"GET / HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n")
-        assert statuses(held[7].recv(4096)) == [200]
-        for connection in held:
+        assert all(answered_at_once(c, wait=0.01) is None for c in held)
+        held[0].sendall(b"GET / HTTP/1.1\r\nHost: local")  # the first trickles: still waiting the longest
+        newcomers = [connect("127.0.0.4"), connect("127.0.0.4")]
+        reply = answered_at_once(held[0], wait=5.0)
+        assert statuses(reply) == [503] and b"this request had not arrived whole" in reply
+        assert answered_at_once(held[1], wait=5.0) == b""  # idle, the next longest: closed without a word
+        assert all(answered_at_once(c, wait=0.01) is None for c in held[2:] + newcomers)
+        for connection in (held[7], newcomers[1]):
+            connection.setblocking(True)
+            connection.sendall(b"GET / HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n")
+            assert statuses(connection.recv(4096)) == [200]
+        for connection in held + newcomers:
             connection.close()
         time.sleep(0.3)
         assert Client(server.url, source="127.0.0.4").get("/").status == 200  # room again
     finally:
         server.stop()
+
+
+def test_at_the_cap_with_no_connection_waiting_a_newcomer_is_answered_503(tmp_path):
+    """Connections whose whole requests are being answered are not dropped for room: the newcomer is refused."""
+    server, _, _ = start_test(tmp_path, pairs=1, token=TOKEN, seed=1, limits="connections = 3")
+    try:
+        participant, _ = ready(server)
+        for side in ("human", "robot"):  # responses far larger than the socket buffers, left unread
+            (tmp_path / f"{side}-0.wav").write_bytes(bytes(32 << 20))
+        time.sleep(0.3)  # the participant's connections have closed
+        busy = []
+        for _ in range(3):
+            connection = socket.socket()
+            connection.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
+            connection.connect(address(server))
+            connection.sendall(f"GET /p/{participant}/audio/0/A HTTP/1.1\r\nHost: localhost\r\n\r\n".encode())
+            busy.append(connection)
+        time.sleep(0.5)
+        reply = answered_at_once(socket.create_connection(address(server)), wait=5.0)
+        assert statuses(reply) == [503] and b"too many connections are open: try again" in reply
+        for connection in busy:
+            connection.close()
+        time.sleep(0.3)
+        assert Client(server.url).get("/").status == 200
+    finally:
+        server.stop()
+
+
+def answered_at_once(connection, wait=0.3):
+    """What the server said at once (within ``wait`` s; b"" if it closed), or None: held open, waiting."""
+    connection.settimeout(wait)
+    try:
+        return connection.recv(4096)
+    except TimeoutError:
+        return None
+    except ConnectionResetError:
+        return b""
 
 
 def test_a_thousand_trickling_connections_neither_stop_a_participant_nor_stay(tmp_path):
@@ -326,12 +365,17 @@ def trickle(held, deadline, interval=0.25):
 def test_a_host_the_server_does_not_serve_is_answered_400_and_starts_nothing(served, tmp_path):
     """DNS rebinding: a page elsewhere reaching a server on loopback through a name of its own is refused; the
     loopback names (any port) and, when named, the proxy's are served."""
-    server, _, store, _ = served
+    server, config, store, _ = served
     port = address(server)[1]
     for host in ("evil.example", "evil.example:80", "127.0.0.1.evil.example", "[::2]"):
         reply, _, closed = exchange(server, f"POST /start HTTP/1.1\r\nHost: {host}\r\nContent-Length: 0\r\n\r\n".encode())
         assert statuses(reply) == [400] and b"does not serve the host" in reply and closed, (host, reply)
         assert headers_of(reply)["x-content-type-options"] == "nosniff"
+    for host in (f"127.0.0.1:{port}@evil.example", f"localhost:{port}:{port}", "localhost:", "localhost:99999",
+                 f"localhost:{port}/x", "local host", "[::1]evil", "évil.example"):  # loopback names, but not exactly
+        reply, _, closed = exchange(server, f"POST /start HTTP/1.1\r\nHost: {host}\r\nContent-Length: 0\r\n\r\n"
+                                            .encode("latin-1"))
+        assert statuses(reply) == [400] and b"must be a host name" in reply and closed, (host, reply)
     reply, _, closed = exchange(server, b"GET / HTTP/1.0\r\n\r\n")  # no Host: HTTP/1.0 allows it
     assert statuses(reply) == [400] and b"in one Host header, got 0" in reply and closed, reply
     reply, _, closed = exchange(server, b"GET / HTTP/1.1\r\nHost: localhost\r\nHost: evil.example\r\n\r\n")
@@ -349,6 +393,164 @@ def test_a_host_the_server_does_not_serve_is_answered_400_and_starts_nothing(ser
             assert statuses(reply) == [status], (host, reply[:300])
     finally:
         named.stop()
+    anywhere = Server(make_app(config, store, hosts=None), config.limits, host="127.0.0.1", port=0).start()
+    try:  # serving any name (as on a public address without --allowed-host): the syntax is still exact
+        for host, status in (("anything.example:8080", 200), ("[2001:db8::1]", 200), ("a.example:80@b.example", 400),
+                             ("a.example:80:80", 400)):
+            reply, _, _ = exchange(anywhere, f"GET / HTTP/1.1\r\nHost: {host}\r\nConnection: close\r\n\r\n".encode())
+            assert statuses(reply) == [status], (host, reply[:300])
+        assert statuses(exchange(anywhere, b"GET / HTTP/1.0\r\n\r\n")[0]) == [200]  # HTTP/1.0 may leave it out
+    finally:
+        anywhere.stop()
     (tmp_path / "bad").mkdir()
     with pytest.raises(ParameterError, match=r"allowed host 'study.example.org/x' is not a host name"):
         start_test(tmp_path / "bad", pairs=PAIRS, token=TOKEN, seed=3, hosts=["study.example.org/x"])
+
+
+# --- floods of trickling connections: the server holds many and still serves a visitor -----------------------------
+
+class Flood:
+    """Connections that trickle a request head from a thread: ``per_source`` from each of ``sources``.
+
+    Each sends the start of a head when it opens, then a byte every ``interval`` s. With ``reconnect``, each
+    connection the server closes is opened again at once, as an attacker keeping the server full would.
+
+    Attributes
+    ----------
+    opened : int
+        Connections opened so far.
+    closed : list of (str, bytes)
+        Each connection the server closed: its source and what the server said before.
+    """
+
+    HEAD = b"GET / HTTP/1.1\r\nHost: localhost\r\nX-Slow: "
+
+    def __init__(self, server, sources, per_source, *, interval=1.0, reconnect=False):
+        self.target, self.interval, self.reconnect = address(server), interval, reconnect
+        self.selector = selectors.DefaultSelector()
+        self.opened, self.closed = 0, []
+        self._stop = threading.Event()
+        for _ in range(per_source):
+            for source in sources:  # round robin: each source's connections spread over the opening
+                self._open(source)
+        self._thread = threading.Thread(target=self._run, daemon=True, name="flood")
+        self._thread.start()
+
+    @property
+    def open(self):
+        return len(self.selector.get_map())
+
+    def stop(self):
+        self._stop.set()
+        self._thread.join(timeout=30.0)
+        for key in list(self.selector.get_map().values()):
+            key.fileobj.close()
+
+    def _open(self, source):
+        connection = socket.create_connection(self.target, timeout=30.0, source_address=(source, 0))
+        connection.setblocking(False)
+        connection.send(self.HEAD)
+        self.selector.register(connection, selectors.EVENT_READ, [source, b""])
+        self.opened += 1
+
+    def _run(self):
+        next_byte = time.monotonic() + self.interval
+        while not self._stop.is_set():
+            for key, _ in self.selector.select(timeout=0.05):
+                try:
+                    data = key.fileobj.recv(4096)
+                except BlockingIOError:
+                    continue
+                except OSError:  # reset: what the server said may be lost with it
+                    data = b""
+                if data:
+                    key.data[1] += data
+                    continue
+                self.selector.unregister(key.fileobj)
+                key.fileobj.close()
+                self.closed.append(tuple(key.data))
+                if self.reconnect and not self._stop.is_set():
+                    self._open(key.data[0])
+            if time.monotonic() >= next_byte:
+                next_byte += self.interval
+                for key in list(self.selector.get_map().values()):
+                    try:
+                        key.fileobj.send(b"a")
+                    except OSError:
+                        pass
+
+
+def flood_size(sources, per_source):
+    """(sources, per_source) for a flood this process can hold both ends of: the open-file limit is raised to
+    its hard limit, and the flood made smaller (with a warning) if even that is too low."""
+    import resource
+    import warnings
+
+    soft, hard = resource.getrlimit(resource.RLIMIT_NOFILE)
+    if soft != hard:
+        resource.setrlimit(resource.RLIMIT_NOFILE, (hard, hard))
+    room = (hard - 1000) // 2  # both ends of each connection are in this process, and files besides
+    if hard != resource.RLIM_INFINITY and room < sources * per_source:
+        warnings.warn(f"the open-file hard limit is {hard}: the flood is {room // sources} connections from each "
+                      f"of {sources} addresses, not {per_source}")
+        per_source = room // sources
+    return [f"127.0.{2 + i // 200}.{2 + i % 200}" for i in range(sources)], per_source
+
+
+def test_five_thousand_trickling_connections_from_fifty_addresses_all_held_and_a_visitor_served(tmp_path):
+    """5,000 connections from 50 addresses (100 each, the cap per client) trickle a head, a byte a second each;
+    the server holds every one of them (far under its cap, sized from the open-file limit) while a visitor
+    from another address loads the first page and starts a session. The times are printed (``-s``); the
+    bound on the visitor's is generous, for a busy machine."""
+    sources, per_source = flood_size(50, 100)
+    server, _, store = start_test(tmp_path, pairs=PAIRS, token=TOKEN, seed=5, limits="head_timeout = 120.0")
+    flood = None
+    try:
+        began = time.monotonic()
+        flood = Flood(server, sources, per_source)
+        opening = time.monotonic() - began
+        time.sleep(2.5)  # every connection trickles: it has sent a byte or two more than its opening
+        visitor = Client(server.url, source="127.0.1.250")
+        began = time.monotonic()
+        first = visitor.get("/")
+        page = time.monotonic() - began
+        participant = visitor.start()
+        session = time.monotonic() - began
+        assert first.status == 200 and store.plan_of(participant) is not None
+        assert page < 10.0 and session < 10.0
+        assert flood.closed == [] and flood.open == flood.opened == len(sources) * per_source
+        assert server.connections > flood.opened
+        print(f"\n{flood.opened} connections opened in {opening:.2f} s; with all held, the visitor's first page "
+              f"in {page * 1e3:.1f} ms, page and session start in {session * 1e3:.1f} ms")
+    finally:
+        if flood is not None:
+            flood.stop()
+        server.stop()
+
+
+def test_reconnecting_trickles_at_the_cap_leave_every_visitor_served(tmp_path):
+    """1,000 trickling connections from 10 addresses against a cap of 500, each reconnected as soon as the
+    server drops it (the server stays full, as an attacker keeps it): each newcomer takes the place of the
+    longest-waiting trickle, so 20 visitors in a row, each sending a whole request, are all served."""
+    server, _, _ = start_test(tmp_path, pairs=1, token=TOKEN, seed=5, limits="connections = 500\nhead_timeout = 60.0")
+    flood = None
+    try:
+        flood = Flood(server, [f"127.0.0.{2 + i}" for i in range(10)], 100, interval=0.5, reconnect=True)
+        time.sleep(1.0)
+        dropped_before = len(flood.closed)
+        visits = []
+        for i in range(20):
+            began = time.monotonic()
+            visits.append((Client(server.url, source=f"127.0.1.{1 + i}").get("/").status, time.monotonic() - began))
+        assert [status for status, _ in visits] == [200] * 20
+        assert max(seconds for _, seconds in visits) < 10.0
+        dropped = flood.closed[:]
+        assert len(dropped) > dropped_before > 500  # the server is kept full: the churn goes on throughout
+        said = [reply for _, reply in dropped if reply]
+        assert said and all(statuses(r) == [503] and b"had not arrived whole" in r for r in said)
+        print(f"\n{flood.opened} trickling connections opened, {len(dropped)} dropped for room; 20 visits served in "
+              f"{min(s for _, s in visits) * 1e3:.1f} to {max(s for _, s in visits) * 1e3:.1f} ms")
+    finally:
+        if flood is not None:
+            flood.stop()
+        server.stop()

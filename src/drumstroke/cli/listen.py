@@ -73,6 +73,7 @@ def _serve(args):
     new = not args.db.exists()
     store = Store(args.db)
     proxies = args.forwarded_allow_ips.split(",") if args.forwarded_allow_ips else ()
+    logging.basicConfig(level=logging.WARNING, format="%(asctime)s %(levelname)s %(name)s: %(message)s")
     try:
         server = make_server(config, store, host=args.host, port=args.port, forwarded_allow_ips=proxies,
                              allowed_hosts=args.allowed_host)
@@ -80,7 +81,6 @@ def _serve(args):
         if new:  # a refused --host, --port or proxy, or a missing extra, leaves no database behind
             args.db.unlink()
         raise
-    logging.basicConfig(level=logging.WARNING, format="%(asctime)s %(levelname)s %(name)s: %(message)s")
     print(f"serving {config.title!r} ({len(config.pairs)} pairs, seed {config.seed}) on {server.url} ; answers in "
           f"{args.db}; export: curl -H 'Authorization: Bearer TOKEN' {server.url}admin/export.csv; Ctrl-C stops",
           flush=True)

@@ -3,7 +3,8 @@
 :class:`Limits` is a config's ``[limits]`` table. A client is counted under :func:`client_key`: its
 IPv4 address, or its IPv6 /64 network (one host is usually given a whole /64, so counting single IPv6
 addresses would let it start sessions without end). :class:`Window` admits events (new sessions, wrong
-admin tokens) per client and in all within a sliding minute, in memory bounded by what it admits.
+admin tokens) per client within a sliding minute; its limit for all clients together holds back only
+clients that have had an event in the window, so no flood from some addresses shuts out a newcomer.
 """
 
 import ipaddress
@@ -29,12 +30,17 @@ class Limits:
     sessions_per_minute_per_client : int in [1, 100000]
         New sessions one client may start in any 60 s (default 10); more are answered 429 with ``Retry-After``.
     sessions_per_minute : int in [1, 100000]
-        New sessions all clients together may start in any 60 s (default 120).
+        New sessions all clients together may start in any 60 s (default 120) before only a client's first
+        of the minute is admitted: beyond it a client that has started one in the last 60 s is answered 429,
+        a client that has not is still admitted (a flood from many addresses never shuts out a newcomer).
     connections_per_client : int in [1, 100000]
         Open connections from one client (default 100; a trusted proxy's are not counted): one more is
         answered 503 and closed at once.
     connections : int in [1, 100000]
-        Open connections in all (default 2000).
+        Open connections in all (default 20000; fewer if the open-file limit, raised to its hard limit,
+        cannot hold them). At the cap a new connection takes the place of the one that has waited longest
+        without delivering a whole request (it is closed, with 503 if part of a request had come); only
+        when none is waiting is the new one answered 503 and closed.
     head_timeout : float in [0.1, 600] s
         A request's line and headers must arrive whole within this of the connection opening or of the
         previous response (default 10 s): else 408 and the connection is closed.
@@ -49,7 +55,7 @@ class Limits:
     sessions_per_minute_per_client: int = 10
     sessions_per_minute: int = 120
     connections_per_client: int = 100
-    connections: int = 2000
+    connections: int = 20000
     head_timeout: float = 10.0
     body_timeout: float = 10.0
     max_body: int = 4096
@@ -109,6 +115,7 @@ LOOPBACK_NAMES = frozenset({"localhost", "127.0.0.1", "[::1]"})
 """The names a browser on the server's own machine reaches it by."""
 
 _HOST_NAME = re.compile(r"(?:\[[0-9a-f:.]+\]|[a-z0-9](?:[a-z0-9.-]{0,251}[a-z0-9])?)")
+_HOST_PORT = re.compile(f"({_HOST_NAME.pattern})(?::([0-9]{{1,5}}))?")
 
 
 def served_hosts(listen, allowed):
@@ -141,41 +148,59 @@ def served_hosts(listen, allowed):
 
 
 def host_name(header):
-    """The name a ``Host`` header gives (lower case, its port taken off)."""
-    name = header.strip().lower()
-    if name.startswith("["):
-        return name.partition("]")[0] + "]"
-    return name.rpartition(":")[0] if ":" in name else name
+    """The name a ``Host`` header gives (lower case, its port taken off), or None if it is not exactly a name
+    and an optional port (a host name or a bracketed IPv6 address, then ``:`` and 1-5 digits up to 65535).
+
+    Examples
+    --------
+    >>> host_name("LocalHost:8765"), host_name("[::1]:80"), host_name("study.example.org")
+    ('localhost', '[::1]', 'study.example.org')
+    >>> [host_name(h) for h in ("127.0.0.1:80@evil.example", "localhost:", "localhost:99999", "a b", "[::1]x")]
+    [None, None, None, None, None]
+    """
+    match = _HOST_PORT.fullmatch(header.strip().lower())
+    if match is None or (match[2] is not None and int(match[2]) > 65535):
+        return None
+    return match[1]
 
 
 class Window:
-    """At most ``per_key`` events of one key, and ``overall`` of all keys, in any ``seconds``.
+    """At most ``per_key`` events of one key in any ``seconds``; beyond ``overall`` events of all keys in that
+    time, only a key that has had none is admitted.
 
-    Only admitted events are kept (at most ``overall``), so refused ones cost no memory.
+    The overall limit holds back the keys already counted, never a newcomer: a flood from many keys cannot
+    shut out one that comes for the first time. Only admitted events are kept, at most ``most`` (the
+    oldest are forgotten beyond it), so refused ones cost no memory.
 
     Parameters
     ----------
-    per_key, overall : int >= 1
+    per_key : int >= 1
+    overall : int >= 1 or None
+        None: no limit over all keys.
     seconds : float > 0 [s]
     clock : callable
         The time in seconds (default :func:`time.monotonic`).
+    most : int >= 1
+        The most events remembered (default 100,000).
 
     Examples
     --------
     >>> now = [0.0]
     >>> window = Window(2, 3, seconds=60.0, clock=lambda: now[0])
     >>> [window.admit("a"), window.admit("a"), window.admit("a"), window.admit("b"), window.admit("c")]
-    [0, 0, 60, 0, 60]
+    [0, 0, 60, 0, 0]
+    >>> window.admit("b"), window.admit("d")  # 4 in the window: b has had one, d none
+    (60, 0)
     >>> now[0] = 59.5
-    >>> window.wait("a"), window.wait("c")
+    >>> window.wait("a"), window.wait("b")
     (1, 1)
     >>> now[0] = 60.0
-    >>> window.admit("a")
-    0
+    >>> window.admit("a"), window.admit("b")
+    (0, 0)
     """
 
-    def __init__(self, per_key, overall, *, seconds=60.0, clock=time.monotonic):
-        self.per_key, self.overall, self.seconds, self.clock = per_key, overall, seconds, clock
+    def __init__(self, per_key, overall, *, seconds=60.0, clock=time.monotonic, most=100_000):
+        self.per_key, self.overall, self.seconds, self.clock, self.most = per_key, overall, seconds, clock, most
         self._all = deque()  # (time, key) of every admitted event, oldest first
         self._by_key = {}  # key -> deque of its admitted events' times, oldest first
 
@@ -183,18 +208,22 @@ class Window:
         """Whole seconds until an event of ``key`` would be admitted: 0 if now."""
         now = self.clock()
         self._expire(now)
-        oldest = []
-        if len(self._all) >= self.overall:
-            oldest.append(self._all[0][0])
         mine = self._by_key.get(key)
-        if mine is not None and len(mine) >= self.per_key:
-            oldest.append(mine[0])
+        if mine is None:
+            return 0
+        oldest = []
+        if self.overall is not None and len(self._all) >= self.overall:  # until fewer than overall remain
+            oldest.append(self._all[len(self._all) - self.overall][0])
+        if len(mine) >= self.per_key:
+            oldest.append(mine[len(mine) - self.per_key])
         return max(1, math.ceil(max(oldest) + self.seconds - now)) if oldest else 0
 
     def admit(self, key):
         """Admit an event of ``key`` if :meth:`wait` is 0 (it is then counted); return what :meth:`wait` said."""
         wait = self.wait(key)
         if not wait:
+            if len(self._all) >= self.most:
+                self._forget_oldest()
             now = self.clock()
             self._all.append((now, key))
             self._by_key.setdefault(key, deque()).append(now)
@@ -202,8 +231,11 @@ class Window:
 
     def _expire(self, now):
         while self._all and self._all[0][0] <= now - self.seconds:
-            _, key = self._all.popleft()
-            times = self._by_key[key]
-            times.popleft()  # the same event: both queues are in admission order
-            if not times:
-                del self._by_key[key]
+            self._forget_oldest()
+
+    def _forget_oldest(self):
+        _, key = self._all.popleft()
+        times = self._by_key[key]
+        times.popleft()  # the same event: both queues are in admission order
+        if not times:
+            del self._by_key[key]

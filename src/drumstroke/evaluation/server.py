@@ -13,11 +13,15 @@ that comes whole at once may be larger: the app answers it 431). But, as a socke
 - a response the client does not read is waited on for ever.
 
 So :class:`Server` runs uvicorn's h11 protocol with these added: a deadline for each request head
-(``head_timeout`` after the connection opens or after the previous response; then 408 and close),
-caps on open connections per client and in all (one more is answered 503 and closed at once), and a
-client that reads nothing of a response for ``body_timeout`` is dropped. Bodies are bounded and timed
-by the app (:mod:`drumstroke.evaluation.web`). Access logs are off (they would keep participants'
-addresses); uvicorn's errors go to the ``uvicorn.error`` logger.
+(``head_timeout`` after the connection opens or after the previous response; then 408 and close), a
+cap on open connections per client (one more is answered 503 and closed at once), and a cap in all
+sized from the open-file limit, raised to its hard limit. At that cap a new connection takes the place
+of the connection that has waited longest without delivering a whole request (its line, headers and
+body): trickling and idle connections go first, oldest first, and a visitor who sends a whole request
+at once is served; only when no connection is waiting is the new one refused (503). A client that reads
+nothing of a response for ``body_timeout`` is dropped. Bodies are bounded and timed by the app
+(:mod:`drumstroke.evaluation.web`). An idle connection costs about 5 KB. Access logs are off (they
+would keep participants' addresses); uvicorn's errors go to the ``uvicorn.error`` logger.
 """
 
 import ipaddress
@@ -25,6 +29,7 @@ import logging
 import socket
 import threading
 import time
+from collections import OrderedDict
 from http import HTTPStatus
 
 import uvicorn
@@ -44,6 +49,10 @@ GRACE = 5
 
 BACKLOG = 2048
 """Connections the kernel may queue before the server accepts them."""
+
+FD_RESERVE = 512
+"""Open files kept free of connections (the database, stimuli being sent, the threads' files): the cap on
+connections is the open-file limit less this (or half the limit, if that is more)."""
 
 
 class Server:
@@ -70,6 +79,9 @@ class Server:
     ----------
     url : str
         Where the server listens, e.g. ``http://127.0.0.1:8000/``.
+    connections : int
+        The most connections it holds open: ``limits.connections``, or fewer if the open-file limit (raised
+        to its hard limit) cannot hold them and :data:`FD_RESERVE` files more.
     """
 
     def __init__(self, app, limits, *, host, port, forwarded_allow_ips=()):
@@ -77,7 +89,8 @@ class Server:
         self.socket = _bind(host, port)
         bound, bound_port = self.socket.getsockname()[:2]
         self.url = f"http://{f'[{bound}]' if ':' in bound else bound}:{bound_port}/"
-        protocol = type("Protocol", (_Guarded,), {"limits": limits, "trusted": trusted, "per_client": {}})
+        self.connections = connection_cap(limits.connections)
+        protocol = type("Protocol", (_Guarded,), {"book": _Book(limits, trusted, self.connections)})
         config = uvicorn.Config(app, http=protocol, ws="none", lifespan="off", log_config=None, access_log=False,
                                 server_header=False, proxy_headers=bool(trusted),
                                 forwarded_allow_ips=[str(n) for n in trusted] or None, timeout_keep_alive=KEEP_ALIVE,
@@ -85,7 +98,6 @@ class Server:
                                 backlog=BACKLOG)
         self._server = uvicorn.Server(config)
         self._thread = None
-        _raise_open_file_limit(limits.connections)
 
     def serve(self):
         """Serve until Ctrl-C or SIGTERM; then let the requests under way finish (up to :data:`GRACE` s) and return."""
@@ -112,27 +124,52 @@ class Server:
         self._thread.join(timeout=GRACE + 5.0)
 
 
+class _Book:
+    """A server's open connections: how many per client, and which wait for a whole request, longest first."""
+
+    def __init__(self, limits, trusted, cap):
+        self.limits, self.trusted, self.cap = limits, trusted, cap
+        self.per_client = {}  # client key -> connections open
+        self.waiting = OrderedDict()  # connection -> the request it had when it began to wait; longest first
+        self.dropping = 0  # connections dropped for room, still in uvicorn's set until their close completes
+
+    def key_of(self, host):
+        """The client key ``host`` is counted under, or None for a trusted proxy (not counted)."""
+        try:
+            address = ipaddress.ip_address(host)
+        except ValueError:
+            return client_key(host)
+        return None if any(address in network for network in self.trusted) else client_key(host)
+
+    def make_room(self):
+        """Drop the open connection that has waited longest for a whole request; False if none is waiting."""
+        while self.waiting:
+            connection, _ = self.waiting.popitem(last=False)
+            if not connection.transport.is_closing():  # one closing already makes room by itself
+                connection.drop_for_room()
+                return True
+        return False
+
+
 class _Guarded(H11Protocol):
     """uvicorn's h11 protocol with a deadline on each request head, on reading responses, and connection caps."""
 
-    limits = None  # the server's Limits, set on the subclass a Server makes
-    trusted = ()  # the trusted proxies' networks
-    per_client = None  # client key -> connections open
+    book = None  # the server's _Book, set on the subclass a Server makes
 
     def connection_made(self, transport):
         super().connection_made(transport)
         self._head_deadline = self._write_deadline = self._counted = None
-        host = self.client[0] if self.client else None
-        key = None if self._is_trusted(host) else client_key(host)
-        full = len(self.connections) > self.limits.connections
-        if full or (key is not None and self.per_client.get(key, 0) >= self.limits.connections_per_client):
-            self.connections.discard(self)  # refused: it counts no more
-            transport.write(_raw(503, "too many connections are open" + ("" if full else " from your address") +
-                                 ": try again in a moment", ("Retry-After", "5")))
-            transport.close()
+        self._dropped = False
+        book, limits = self.book, self.book.limits
+        key = book.key_of(self.client[0] if self.client else None)
+        if key is not None and book.per_client.get(key, 0) >= limits.connections_per_client:
+            self._refuse(" from your address")
+            return
+        if len(self.connections) - book.dropping > book.cap and not book.make_room():
+            self._refuse("")
             return
         if key is not None:
-            self.per_client[key] = self.per_client.get(key, 0) + 1
+            book.per_client[key] = book.per_client.get(key, 0) + 1
             self._counted = key
         self._arm_head_deadline()
 
@@ -140,12 +177,16 @@ class _Guarded(H11Protocol):
         for handle in (self._head_deadline, self._write_deadline):
             if handle is not None:
                 handle.cancel()
+        book = self.book
+        book.waiting.pop(self, None)
+        if self._dropped:
+            book.dropping -= 1
         if self._counted is not None:
-            left = self.per_client[self._counted] - 1
+            left = book.per_client[self._counted] - 1
             if left:
-                self.per_client[self._counted] = left
+                book.per_client[self._counted] = left
             else:
-                del self.per_client[self._counted]
+                del book.per_client[self._counted]
             self._counted = None
         super().connection_lost(exc)
 
@@ -156,6 +197,9 @@ class _Guarded(H11Protocol):
         if self.cycle is not cycle and self._head_deadline is not None:  # a whole head: the app answers it now
             self._head_deadline.cancel()
             self._head_deadline = None
+        waited_after = self.book.waiting.get(self, cycle)
+        if self.cycle is not waited_after and not self.cycle.more_body:  # a whole request: it waits no more
+            self.book.waiting.pop(self, None)
 
     def on_response_complete(self):
         cycle = self.cycle
@@ -171,7 +215,7 @@ class _Guarded(H11Protocol):
     def pause_writing(self):
         super().pause_writing()
         if self._write_deadline is None:
-            self._write_deadline = self.loop.call_later(self.limits.body_timeout, self.transport.abort)
+            self._write_deadline = self.loop.call_later(self.book.limits.body_timeout, self.transport.abort)
 
     def resume_writing(self):
         super().resume_writing()
@@ -179,11 +223,28 @@ class _Guarded(H11Protocol):
             self._write_deadline.cancel()
             self._write_deadline = None
 
+    def drop_for_room(self):
+        """Close this connection, which has waited longest for a whole request, to make room for a new one."""
+        self.book.dropping += 1
+        self._dropped = True
+        if self._partial:  # part of a request came: say why it is dropped
+            self.transport.write(_raw(503, "the server is full, and this request had not arrived whole: try again",
+                                      ("Retry-After", "5")))
+        self.transport.close()
+
+    def _refuse(self, whose):
+        self.connections.discard(self)  # refused: it counts no more
+        self.transport.write(_raw(503, f"too many connections are open{whose}: try again in a moment",
+                                  ("Retry-After", "5")))
+        self.transport.close()
+
     def _arm_head_deadline(self):
         if self._head_deadline is not None:
             self._head_deadline.cancel()
         self._partial = bool(self.conn.trailing_data[0])  # bytes of the next request may have come already
-        self._head_deadline = self.loop.call_later(self.limits.head_timeout, self._head_timed_out)
+        self._head_deadline = self.loop.call_later(self.book.limits.head_timeout, self._head_timed_out)
+        self.book.waiting.pop(self, None)
+        self.book.waiting[self] = self.cycle  # waiting since now: the longest-waiting stay first
 
     def _head_timed_out(self):
         self._head_deadline = None
@@ -191,15 +252,8 @@ class _Guarded(H11Protocol):
             return
         if self._partial:  # part of a request came: say why it is dropped
             self.transport.write(_raw(408, f"the request's line and headers did not arrive within "
-                                           f"{self.limits.head_timeout:g} s"))
+                                           f"{self.book.limits.head_timeout:g} s"))
         self.transport.close()
-
-    def _is_trusted(self, host):
-        try:
-            address = ipaddress.ip_address(host)
-        except ValueError:
-            return False
-        return any(address in network for network in self.trusted)
 
 
 def _raw(status, message, *headers):
@@ -232,17 +286,29 @@ def _bind(host, port):
     return sock
 
 
-def _raise_open_file_limit(connections):
-    """Raise the process's open-file limit to hold ``connections`` sockets and some files, if the system lets it."""
+def connection_cap(connections):
+    """The most connections a server may hold: ``connections``, or fewer if the open-file limit cannot hold them.
+
+    The limit is raised to its hard limit first where the system lets it (to ``connections`` and
+    :data:`FD_RESERVE` more where the hard limit is infinite); the cap then leaves :data:`FD_RESERVE`
+    files free (or half the limit, if that is more), so that accepting never fails for want of a file.
+    """
     try:
         import resource
     except ImportError:  # not on POSIX: the system decides
-        return
-    need = connections + 256
+        return connections
     soft, hard = resource.getrlimit(resource.RLIMIT_NOFILE)
-    if soft != resource.RLIM_INFINITY and soft < need:
-        soft = need if hard == resource.RLIM_INFINITY else min(need, hard)
-        resource.setrlimit(resource.RLIMIT_NOFILE, (soft, hard))
-        if soft < need:
-            log.warning("the open-file limit is %d (ulimit -n): fewer than the %d connections of [limits] need; "
-                        "beyond it new connections wait", soft, connections)
+    want = connections + FD_RESERVE if hard == resource.RLIM_INFINITY else hard
+    if soft != resource.RLIM_INFINITY and soft < want:
+        try:
+            resource.setrlimit(resource.RLIMIT_NOFILE, (want, hard))
+            soft = want
+        except (ValueError, OSError):  # some systems refuse more than a kernel maximum below the hard limit
+            pass
+    if soft == resource.RLIM_INFINITY:
+        return connections
+    cap = max(soft // 2, soft - FD_RESERVE)
+    if cap < connections:
+        log.warning("the open-file limit is %d (ulimit -n): the server holds at most %d connections, fewer than "
+                    "the %d of [limits] connections", soft, cap, connections)
+    return min(connections, cap)

@@ -19,11 +19,15 @@ Imported when serving (:func:`drumstroke.evaluation.app.make_server`; Starlette 
   ``HttpOnly``, ``Secure`` over TLS) that the start must carry; a pair page's is derived from the
   participant (HMAC-SHA256 under a key derived from the admin token), so nothing is stored and a
   restarted server still accepts it.
-- **New sessions** are limited per client and in all (``[limits]``): one more is answered 429 with
-  ``Retry-After``.
+- **New sessions** are limited per client (``[limits]``): one more is answered 429 with ``Retry-After``.
+  Beyond the limit for all clients together, a client that has started one in the last minute is
+  refused, one that has not is still admitted: no flood shuts out a newcomer.
 - **The export** takes the admin token in an ``Authorization: Bearer`` header only, compared in constant
-  time; a URL with a query is refused (400, the token not echoed). After 10 wrong tokens in a minute
-  from a client (60 from all), the export answers 429 until the minute has passed.
+  time (as SHA-256 digests: its length is not told either); a URL with a query is refused (400, the token
+  not echoed). After 10 wrong tokens in a minute from a client, the export answers that client 429 until
+  the minute has passed; no count is kept over all clients, so others' wrong tokens never lock the admin out.
+- **Host**: exactly a name and an optional port (``127.0.0.1:80@evil.example`` is 400), and, when the
+  server names its hosts, one of them.
 - **Failures**: a stimulus that cannot be read is answered 500 with a message and its reason logged;
   any other error 500 with a message, its traceback logged by uvicorn.
 """
@@ -56,8 +60,8 @@ log = logging.getLogger(__name__)
 COOKIE = "drumstroke_csrf"
 """The cookie holding the consent page's token."""
 
-ADMIN_FAILURES = (10, 60)
-"""Wrong admin tokens allowed per minute: from one client, from all."""
+ADMIN_FAILURES = 10
+"""Wrong admin tokens allowed per minute from one client (none is counted over all clients)."""
 
 _CLOSE = {"Connection": "close"}
 _PARTICIPANT = re.compile(r"[0-9a-f]{32}")
@@ -97,7 +101,7 @@ class _Site:
         self.pairs = {p.id: p for p in config.pairs}
         self.tokens = _Tokens(config.admin_token)
         self.sessions = Window(self.limits.sessions_per_minute_per_client, self.limits.sessions_per_minute)
-        self.admin_failures = Window(*ADMIN_FAILURES)
+        self.admin_failures = Window(ADMIN_FAILURES, None)
         self.files = {name: pages.static(name) for name in pages.STATIC}
 
     # --- the participant's pages -------------------------------------------------------------------------------
@@ -212,7 +216,7 @@ class _Site:
             raise HTTPException(429, f"too many wrong admin tokens: try again in {wait} s",
                                 headers={"Retry-After": str(wait)})
         scheme, _, token = request.headers.get("authorization", "").partition(" ")
-        if scheme.lower() != "bearer" or not _same(token.strip(), self.config.admin_token):
+        if scheme.lower() != "bearer" or not _same_digest(token.strip(), self.config.admin_token):
             self.admin_failures.admit(client)
             raise HTTPException(401, "the export needs the admin token in a header: 'Authorization: Bearer TOKEN'",
                                 headers={"WWW-Authenticate": 'Bearer realm="drumstroke"'})
@@ -295,8 +299,8 @@ class _Tokens:
 
 
 class _Guard:
-    """The application behind a check of the head's size and its ``Host`` (one of ``hosts``, unless None), with
-    the security headers on every response.
+    """The application behind a check of the head's size and its ``Host`` (exactly a name and an optional port;
+    one of ``hosts``, unless None), with the security headers on every response.
 
     ``Cache-Control: no-store`` is added to a response that does not set its own (the static files do).
     """
@@ -313,15 +317,8 @@ class _Guard:
         app = self.app if size <= MAX_HEAD else PlainTextResponse(
             f"431 Request Header Fields Too Large: a request's line and headers may hold at most {MAX_HEAD} bytes\n",
             status_code=431, headers=_CLOSE)
-        if self.hosts is not None and app is self.app:
-            named = [host_name(v.decode("latin-1")) for k, v in scope["headers"] if k == b"host"]
-            if len(named) != 1:  # HTTP/1.0 may leave it out; a browser never does, nor sends two
-                app = PlainTextResponse(f"400 Bad Request: a request names the host it is for in one Host header, "
-                                        f"got {len(named)}\n", status_code=400, headers=_CLOSE)
-            elif named[0] not in self.hosts:  # a page elsewhere reaching this server by a name of its own
-                app = PlainTextResponse(f"400 Bad Request: this server does not serve the host "
-                                        f"{_shown(named[0], 128)} (listen serve --allowed-host names it)\n",
-                                        status_code=400, headers=_CLOSE)
+        if app is self.app:
+            app = self._host_refused(scope) or app
 
         async def guarded(message):
             if message["type"] == "http.response.start":
@@ -335,6 +332,22 @@ class _Guard:
             await send(message)
 
         return await app(scope, receive, guarded)
+
+    def _host_refused(self, scope):
+        """A 400 response if the request's ``Host`` is not exactly one name this server serves, else None."""
+        given = [v.decode("latin-1") for k, v in scope["headers"] if k == b"host"]
+        if not given and self.hosts is None:  # HTTP/1.0 may leave it out, and any name is served
+            return None
+        if len(given) != 1:  # a browser never leaves it out nor sends two
+            return _bad_request(f"a request names the host it is for in one Host header, got {len(given)}")
+        name = host_name(given[0])
+        if name is None:  # e.g. 127.0.0.1:80@evil.example, which a looser parse would take for 127.0.0.1
+            return _bad_request(f"the Host header must be a host name or a bracketed IPv6 address and an optional "
+                                f"port, got {_shown(given[0], 128)}")
+        if self.hosts is not None and name not in self.hosts:  # a page elsewhere reaching us by a name of its own
+            return _bad_request(f"this server does not serve the host {_shown(name, 128)} (listen serve "
+                                f"--allowed-host names it)")
+        return None
 
 
 class _Stimulus(Response):
@@ -358,6 +371,10 @@ class _Stimulus(Response):
                 await send({"type": "http.response.body", "body": b"", "more_body": False})
         finally:
             self.handle.close()
+
+
+def _bad_request(message):
+    return PlainTextResponse(f"400 Bad Request: {message}\n", status_code=400, headers=_CLOSE)
 
 
 def _open_regular(path):
@@ -437,6 +454,11 @@ def _next(participant, steps, answered):
 def _same(a, b):
     """Whether two texts are equal, compared in constant time."""
     return hmac.compare_digest(a.encode(), b.encode())
+
+
+def _same_digest(a, b):
+    """Whether two texts are equal, in a time that tells neither their bytes nor their lengths."""
+    return hmac.compare_digest(hashlib.sha256(a.encode()).digest(), hashlib.sha256(b.encode()).digest())
 
 
 def _shown(text, size=48):
