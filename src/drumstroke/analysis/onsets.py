@@ -1038,7 +1038,7 @@ def _fit_template(band, rate, candidates, config):
         while timed and queue and queue[0][0] < c + lag + gap:  # the same attack found twice
             queue.pop(0)
         new = _next_attack(remainder, head, c + lag + gap, min(following - gap, start + len(template)), pre, reach,
-                           config)
+                           rate, config)
         if new is not None:
             queue.insert(0, (new + offset, -1))
     times = np.array(times)
@@ -1098,10 +1098,15 @@ def _best_lag(x, template, start, reach):
     return low + k - start, float(dot[k] / energy), float(like[k])
 
 
-def _next_attack(x, head, low, high, pre, reach, config):
-    """The first sample in ``[low, high)`` where ``head`` (the template's start, ``pre`` samples before its attack)
-    correlates by ``template_likeness`` with ``x`` and scales ``threshold_db`` or more, moved to the best
-    correlation within ``reach`` samples after; None if there is none."""
+def _next_attack(x, head, low, high, pre, reach, rate, config):
+    """The first sample in ``[low, high)`` where ``x`` rises and looks like the template's start, or None.
+
+    There ``head`` (the template's start, ``pre`` samples before its attack) correlates by
+    ``template_likeness`` with ``x`` and scales ``threshold_db`` or more, and the RMS of ``x`` over
+    the next 1 ms is ``min_jump`` times that over the 4 ms before (not the ringing left of the earlier
+    attacks, which the template's start may look like too); moved to the best correlation within
+    ``reach`` samples after.
+    """
     from numpy.lib.stride_tricks import sliding_window_view
 
     high = min(high, len(x) - len(head) + pre)
@@ -1111,11 +1116,14 @@ def _next_attack(x, head, low, high, pre, reach, config):
     energy = head @ head
     dot = windows @ head
     like = dot / (np.sqrt(np.einsum("ij,ij->i", windows, windows) * energy) + 1e-300)
-    first = np.flatnonzero((like >= config.template_likeness) & (dot >= 10.0 ** (config.threshold_db / 20.0) * energy))
+    after, before, _ = _windows(x[max(0, low - 4 * round(1e-3 * rate)):high], rate)
+    after, before = after[-(high - low):], before[-(high - low):]
+    rises = after >= config.min_jump ** 2 * before
+    first = np.flatnonzero((like >= config.template_likeness) & (dot >= 10.0 ** (config.threshold_db / 20.0) * energy)
+                           & rises)
     if not len(first):
         return None
     return low + int(first[0]) + int(np.argmax(like[first[0]:first[0] + reach + 1]))
-
 
 def _out_of_decay(band, rate, candidates, amplitude, config):
     """Step 5's last part: a quiet attack that does not rise out of the sound before it is no attack.
