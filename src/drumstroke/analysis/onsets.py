@@ -525,7 +525,11 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        when an F-test passes (``after_f``, or ``after_weak_f`` with a start half like the signature)
        and its scale is ``after_ratio_low`` to ``after_ratio_high`` of the louder one's (a bouncing
        stick's next impact); again while it finds more (``after_rounds`` times at most).
-    5. :func:`_levels`. An onset's amplitude is the peak of its own sound in the drum's lowest
+    5. :func:`_fit_template`. The recording's clearest loud attack is a template of its attacks: fitted
+       to each in time order (``template_fit``, ``template_reach``) and taken off, it times those over
+       earlier sound where it correlates by ``template_likeness``, and finds new ones where its start
+       (``template_head``) correlates so with what is left and that rises ``min_jump`` times.
+       :func:`_levels`. An onset's amplitude is the peak of its own sound in the drum's lowest
        modes (the band up to ``level_ratio`` times its lowest strong mode, ≥ ``level_band`` Hz,
        decimated to 2.5 times that: a stick's speed sets their amplitude in proportion, while the
        higher modes grow faster with it, Hertz's contact being shorter): the band over the next
