@@ -1002,7 +1002,8 @@ def _fit_template(band, rate, candidates, config):
     clearest loud attack (:func:`_template`) is a template of them all. In time order, each attack's
     sound is that template scaled, taken off the band once fitted, so that a later attack is seen
     over what is left (the earlier attacks' sounds mostly gone). An attack over earlier sound (not
-    clear, as in :func:`_learned_lead_ins`) is timed where the template's first ``template_fit`` s
+    clear by ``lead_clear_db``, :func:`_clear`; or not by ``start_clear_db``, its first transient not sought,
+    and fitted by ``precise_likeness``) is timed where the template's first ``template_fit`` s
     (up to the next attack) correlates best with the band within ``template_reach`` s of where it was
     found, when that correlation is ``template_likeness`` or more: thresholds on its rise put it on
     the earlier sound, or late on its main rise. Between an attack and the next (``min_interval``
@@ -1030,7 +1031,10 @@ def _fit_template(band, rate, candidates, config):
                    len(template))
         lag, scale, like = _best_lag(remainder, template[:span], c - pre, reach)
         fitted = like >= config.template_likeness and scale > 0.0
-        timed = fitted and (i < 0 or not _clear(d, c, rate, config))
+        # clear by start_clear_db, its first transient was sought; clear by lead_clear_db only, it was not, and the
+        # template times it when the fit is precise (noise as loud as that sound before makes fits imprecise)
+        timed = fitted and (i < 0 or not _clear(d, c, rate, config.lead_clear_db) or (
+            like >= config.precise_likeness and not _clear(d, c, rate, config.start_clear_db)))
         times.append(c + lag + offset if timed else t)
         kinds.append(3 if timed else candidates.kinds[i])
         likeness.append(like if i < 0 else candidates.likeness[i])
@@ -1054,8 +1058,8 @@ def _fit_template(band, rate, candidates, config):
 def _template(band, rate, times, config):
     """The recording's own attack: ``band`` from 0.5 ms before its loudest clear attack, and that attack's offset.
 
-    The loudest attack (its first difference's peak over the 5 ms after it) that is clear (as in
-    :func:`_learned_lead_ins`) and 20 ms or more before the next, up to the next (less 0.5 ms) or
+    The loudest attack (its first difference's peak over the 5 ms after it) that is clear by ``lead_clear_db``
+    (:func:`_clear`) and 20 ms or more before the next, up to the next (less 0.5 ms) or
     ``tail`` s. Returns the samples and the attack's time less its whole sample, or ``(None, 0.0)``
     when there is no such attack.
     """
@@ -1066,7 +1070,7 @@ def _template(band, rate, times, config):
     for t, end in zip(times, ends):
         c = round(t)
         peak = d[c:c + after].max(initial=0.0)
-        if c >= pre and end - t >= 20e-3 * rate and peak > best and _clear(d, c, rate, config):
+        if c >= pre and end - t >= 20e-3 * rate and peak > best and _clear(d, c, rate, config.lead_clear_db):
             best, chosen = peak, (t, int(end))
     if chosen is None:
         return None, 0.0
@@ -1075,12 +1079,12 @@ def _template(band, rate, times, config):
     return band[c - pre:min(end - pre, c + round(config.tail * rate))].copy(), float(t - c)
 
 
-def _clear(d, c, rate, config):
+def _clear(d, c, rate, db):
     """Whether the attack at sample ``c`` is clear: ``d`` (the first difference's magnitude) over the 5 ms before
-    (up to 0.5 ms before) under ``lead_clear_db`` re its peak over the 5 ms after."""
+    (up to 0.5 ms before) under ``db`` re its peak over the 5 ms after."""
     span, gap = round(5e-3 * rate), round(0.5e-3 * rate)
     prior = d[max(0, c - span):max(1, c - gap)].max(initial=0.0)
-    return prior <= d[c:c + span].max(initial=0.0) * 10.0 ** (config.lead_clear_db / 20.0)
+    return prior <= d[c:c + span].max(initial=0.0) * 10.0 ** (db / 20.0)
 
 
 def _best_lag(x, template, start, reach):
