@@ -310,6 +310,15 @@ class OnsetConfig:
     lead_db : float in [0, 120]
         dB: how much louder than an attack one within ``start_reach`` after it must be for the
         earlier to be taken for its first transient, the two one attack (step 5).
+    template_likeness : float in [0, 1]
+        Correlation: the least correlation of an attack's sound with the recording's own attack
+        (its template) for it to be timed or found by fitting that template (step 5).
+    template_reach : float in [0, 0.01]
+        s: how far from where it was found an attack over earlier sound is timed by the template (step 5).
+    template_fit : float in [0.0005, 0.1]
+        s: how much of the template (or up to the next attack) an attack's fit covers (step 5).
+    template_head : float in [0.0005, 0.05]
+        s: how much of the template a new attack's start is matched with (step 5).
 
     Examples
     --------
@@ -368,6 +377,10 @@ class OnsetConfig:
     lead_rise: float = 0.7
     lead_clear_db: float = -20.0
     lead_db: float = 6.0
+    template_likeness: float = 0.8
+    template_reach: float = 2.5e-3
+    template_fit: float = 10e-3
+    template_head: float = 3e-3
 
     def __post_init__(self):
         for name, (low, high, unit) in _RANGES.items():
@@ -404,6 +417,8 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "decay_db": (-120.0, 0.0, "dB"), "decay_rise_db": (-60.0, 60.0, "dB"),
     "lead_rise": (0.01, 1.0, "(ratio)"), "lead_clear_db": (-120.0, 0.0, "dB"),
     "lead_db": (0.0, 120.0, "dB"),
+    "template_likeness": (0.0, 1.0, "(correlation)"), "template_reach": (0.0, 0.01, "s"),
+    "template_fit": (0.5e-3, 0.1, "s"), "template_head": (0.5e-3, 0.05, "s"),
 }
 
 
@@ -515,7 +530,11 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        when an F-test passes (``after_f``, or ``after_weak_f`` with a start half like the signature)
        and its scale is ``after_ratio_low`` to ``after_ratio_high`` of the louder one's (a bouncing
        stick's next impact); again while it finds more (``after_rounds`` times at most).
-    5. :func:`_levels`. An onset's amplitude is the peak of its own sound in the drum's lowest
+    5. :func:`_fit_template`. The recording's clearest loud attack is a template of its attacks: fitted
+       to each in time order (``template_fit``, ``template_reach``) and taken off, it times those over
+       earlier sound where it correlates by ``template_likeness``, and finds new ones where its start
+       (``template_head``) correlates so with what is left and that rises ``min_jump`` times.
+       :func:`_levels`. An onset's amplitude is the peak of its own sound in the drum's lowest
        modes (the band up to ``level_ratio`` times its lowest strong mode, ≥ ``level_band`` Hz,
        decimated to 2.5 times that: a stick's speed sets their amplitude in proportion, while the
        higher modes grow faster with it, Hertz's contact being shorter): the band over the next
@@ -597,7 +616,10 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
         candidates = _last_round(modes, candidates, rate, config)
     candidates = _search_after_louder(modes, candidates, rate, config)
     candidates = _first_transients(band, rate, candidates.take(candidates.attack), config)
-    amplitude, floor = _levels(band, rate, tonal.q, first, candidates, modes.reverberant, config)
+    found = candidates.times
+    candidates = _fit_template(band, rate, candidates, config)
+    amplitude, floor = _levels(band, rate, tonal.q, first, _measured_at(candidates, found, rate, config),
+                               modes.reverberant, config)
     candidates, amplitude = _one_attack_each(band, rate, candidates, amplitude, config)
     candidates = _out_of_decay(band, rate, candidates, amplitude, config)
     candidates = _learned_lead_ins(band, rate, candidates, config)
@@ -983,6 +1005,161 @@ def _first_transients(band, rate, candidates, config):
     return replace(candidates, times=times)
 
 
+def _fit_template(band, rate, candidates, config):
+    """Step 5: attacks over earlier sound timed, and attacks hidden in it found, by fitting the recording's own attack.
+
+    A drum struck again and again sounds each time much as before, only louder or quieter: its
+    clearest loud attack (:func:`_template`) is a template of them all. In time order, each attack's
+    sound is that template scaled, taken off the band once fitted, so that a later attack is seen
+    over what is left (the earlier attacks' sounds mostly gone). An attack over earlier sound (not
+    clear by ``lead_clear_db``, :func:`_clear`; or not by ``start_clear_db``, its first transient not sought,
+    and fitted by ``precise_likeness``) is timed where the template's first ``template_fit`` s
+    (up to the next attack) correlates best with the band within ``template_reach`` s of where it was
+    found, when that correlation is ``template_likeness`` or more: thresholds on its rise put it on
+    the earlier sound, or late on its main rise. Between an attack and the next (``min_interval``
+    from each), a new attack is where the template's first ``template_head`` s first correlates by
+    ``template_likeness`` with what is left (at the best correlation within ``template_reach`` s
+    after), scaled ``threshold_db`` or more re the template: a bouncing stick's impacts milliseconds
+    apart, a ghost note in an accent's ringing. The attacks so timed or found are of kind 3
+    (:func:`_learned_lead_ins` leaves them); the candidates are all attacks.
+    """
+    template, offset = _template(band, rate, candidates.times, config)
+    if template is None:
+        return candidates
+    pre = round(0.5e-3 * rate)
+    reach, gap = round(config.template_reach * rate), max(1, round(config.min_interval * rate))
+    head = template[:pre + round(config.template_head * rate)]
+    d = np.abs(np.diff(band, prepend=band[0]))
+    remainder = band.copy()
+    queue = [(t, i) for i, t in enumerate(candidates.times)]  # (time, index in candidates or -1 for a new one)
+    times, kinds, likeness = [], [], []
+    while queue:
+        t, i = queue.pop(0)
+        c = round(t)
+        following = next((round(u) for u, _ in queue if u > t + gap), len(remainder))
+        span = min(max(pre + round(1e-3 * rate), min(pre + round(config.template_fit * rate), following - c)),
+                   len(template))
+        lag, scale, like = _best_lag(remainder, template[:span], c - pre, reach)
+        fitted = like >= config.template_likeness and scale > 0.0
+        # clear by start_clear_db, its first transient was sought; clear by lead_clear_db only, it was not, and the
+        # template times it when the fit is precise (noise as loud as that sound before makes fits imprecise)
+        timed = fitted and (i < 0 or not _clear(d, c, rate, config.lead_clear_db) or (
+            like >= config.precise_likeness and not _clear(d, c, rate, config.start_clear_db)))
+        times.append(c + lag + offset if timed else t)
+        kinds.append(3 if timed else candidates.kinds[i])
+        likeness.append(like if i < 0 else candidates.likeness[i])
+        if not fitted:
+            continue
+        start = c + lag - pre
+        stop = min(len(remainder), start + len(template))
+        remainder[start:stop] -= scale * template[:stop - start]
+        while timed and queue and queue[0][0] < c + lag + gap:  # the same attack found twice
+            queue.pop(0)
+        new = _next_attack(remainder, head, c + lag + gap, min(following - gap, start + len(template)), pre, reach,
+                           rate, config)
+        if new is not None:
+            queue.insert(0, (new + offset, -1))
+    times = np.array(times)
+    if not np.all(np.diff(times) > 0):
+        return candidates
+    return _Candidates(times, np.array(kinds, dtype=np.int64), np.ones(len(times), dtype=bool), np.array(likeness))
+
+
+def _measured_at(candidates, found, rate, config):
+    """The candidates, each an attack the template retimed measured where it was found (levels, step 5).
+
+    The lowest modes' amplitude is read over the 5 ms after an onset, where that band is still
+    rising: a start moved by a fraction of a millisecond moves it by decibels. Retiming is for the
+    time; the level stays that of the detection (within ``template_reach`` s), a new attack's at its fit.
+    """
+    if not len(found) or not len(candidates):
+        return candidates
+    nearest = np.clip(np.searchsorted(found, candidates.times), 1, len(found)) - 1
+    nearer = np.where((nearest + 1 < len(found)) & (np.abs(found[np.minimum(nearest + 1, len(found) - 1)]
+                                                           - candidates.times)
+                                                    < np.abs(found[nearest] - candidates.times)), nearest + 1, nearest)
+    near = np.abs(found[nearer] - candidates.times) <= config.template_reach * rate
+    return replace(candidates, times=np.where(near, found[nearer], candidates.times))
+
+
+def _template(band, rate, times, config):
+    """The recording's own attack: ``band`` from 0.5 ms before its loudest clear attack, and that attack's offset.
+
+    The loudest attack (its first difference's peak over the 5 ms after it) that is clear by ``lead_clear_db``
+    (:func:`_clear`) and 20 ms or more before the next, up to the next (less 0.5 ms) or
+    ``tail`` s. Returns the samples and the attack's time less its whole sample, or ``(None, 0.0)``
+    when there is no such attack.
+    """
+    d = np.abs(np.diff(band, prepend=band[0]))
+    pre, after = round(0.5e-3 * rate), round(5e-3 * rate)
+    ends = np.append(times[1:], len(band))
+    best, chosen = 0.0, None
+    for t, end in zip(times, ends):
+        c = round(t)
+        peak = d[c:c + after].max(initial=0.0)
+        if c >= pre and end - t >= 20e-3 * rate and peak > best and _clear(d, c, rate, config.lead_clear_db):
+            best, chosen = peak, (t, int(end))
+    if chosen is None:
+        return None, 0.0
+    t, end = chosen
+    c = round(t)
+    return band[c - pre:min(end - pre, c + round(config.tail * rate))].copy(), float(t - c)
+
+
+def _clear(d, c, rate, db):
+    """Whether the attack at sample ``c`` is clear: ``d`` (the first difference's magnitude) over the 5 ms before
+    (up to 0.5 ms before) under ``db`` re its peak over the 5 ms after."""
+    span, gap = round(5e-3 * rate), round(0.5e-3 * rate)
+    prior = d[max(0, c - span):max(1, c - gap)].max(initial=0.0)
+    return prior <= d[c:c + span].max(initial=0.0) * 10.0 ** (db / 20.0)
+
+
+def _best_lag(x, template, start, reach):
+    """Where ``template`` correlates best with ``x`` from ``start`` (samples) within ``reach`` samples each way.
+
+    Returns the lag (samples), the template's least-squares scale there and the correlation (0 when
+    no window fits in ``x``).
+    """
+    from numpy.lib.stride_tricks import sliding_window_view
+
+    low, high = max(0, start - reach), min(len(x), start + reach + len(template))
+    if high - low < len(template):
+        return 0, 0.0, 0.0
+    windows = sliding_window_view(x[low:high], len(template))
+    energy = template @ template
+    dot = windows @ template
+    like = dot / (np.sqrt(np.einsum("ij,ij->i", windows, windows) * energy) + 1e-300)
+    k = int(np.argmax(like))
+    return low + k - start, float(dot[k] / energy), float(like[k])
+
+
+def _next_attack(x, head, low, high, pre, reach, rate, config):
+    """The first sample in ``[low, high)`` where ``x`` rises and looks like the template's start, or None.
+
+    There ``head`` (the template's start, ``pre`` samples before its attack) correlates by
+    ``template_likeness`` with ``x`` and scales ``threshold_db`` or more, and the RMS of ``x`` over
+    the next 1 ms is ``min_jump`` times that over the 4 ms before (not the ringing left of the earlier
+    attacks, which the template's start may look like too); moved to the best correlation within
+    ``reach`` samples after.
+    """
+    from numpy.lib.stride_tricks import sliding_window_view
+
+    high = min(high, len(x) - len(head) + pre)
+    if high <= low or low < pre:
+        return None
+    windows = sliding_window_view(x[low - pre:high - pre + len(head)], len(head))[:high - low]
+    energy = head @ head
+    dot = windows @ head
+    like = dot / (np.sqrt(np.einsum("ij,ij->i", windows, windows) * energy) + 1e-300)
+    after, before, _ = _windows(x[max(0, low - 4 * round(1e-3 * rate)):high], rate)
+    after, before = after[-(high - low):], before[-(high - low):]
+    rises = after >= config.min_jump ** 2 * before
+    first = np.flatnonzero((like >= config.template_likeness) & (dot >= 10.0 ** (config.threshold_db / 20.0) * energy)
+                           & rises)
+    if not len(first):
+        return None
+    return low + int(first[0]) + int(np.argmax(like[first[0]:first[0] + reach + 1]))
+
 def _out_of_decay(band, rate, candidates, amplitude, config):
     """Step 5's last part: a quiet attack that does not rise out of the sound before it is no attack.
 
@@ -1079,7 +1256,7 @@ def _learned_lead_ins(band, rate, candidates, config):
     shift = rise - lead - times[which]
     # under louder earlier sound the main rise found is that sound's, not the attack's; farther than
     # its lead-in (and a little) before where the stages before put it, it is not this attack's either
-    moved = ~clear & over & (shift >= -lead - 0.3e-3 * rate) & (shift <= 0.3e-3 * rate)
+    moved = ~clear & over & (shift >= -lead - 0.3e-3 * rate) & (shift <= 0.3e-3 * rate) & (candidates.kinds[which] != 3)
     times[which[moved]] += shift[moved]
     if not np.all(np.diff(times[which]) > 0):
         return candidates
