@@ -42,3 +42,113 @@ def waited(candidates, gap, first):
             count += 1
             last = n
     return kept[:count].copy()
+
+
+@jit
+def jump_at(x, positions, width):
+    """:func:`.onsets._jump_at`: the largest RMS jump (the next ``width`` samples over the 4 ``width`` before) within
+    half a window of each of ``positions`` (int), each over its own slice of ``x`` as the numpy code cut it."""
+    half = max(1, width // 2)
+    out = np.zeros(len(positions))
+    for n in range(len(positions)):
+        i = positions[n]
+        low, high = max(0, i - half - 4 * width), min(len(x), i + half + width + 1)
+        power = np.zeros(high - low + 1)  # the slice's cumulative power, summed in order from its start
+        for j in range(low, high):
+            power[j - low + 1] = power[j - low] + x[j] * x[j]
+        count = high - low
+        best = 0.0
+        for k in range(max(i - half, low) - low, min(i + half + 1, high) - low):
+            if k < min(4 * width, i):  # a full window before, or the signal's start
+                continue
+            after = (power[min(k + width, count)] - power[k]) / width
+            before = (power[k] - power[max(k - 4 * width, 0)]) / (4 * width)
+            jump = math.sqrt(after / max(before, 1e-300 + after * 1e-12))
+            if jump > best:
+                best = jump
+        out[n] = best
+    return out
+
+
+@jit
+def jump_profile(x, width):
+    """The RMS jump of ``x`` at each sample (:func:`.onsets._windows`' next ``width`` samples over the 4 ``width``
+    before, the power summed in order from ``x[0]``), 0 over the first 4 ``width``."""
+    count = len(x)
+    power = np.zeros(count + 1)
+    for j in range(count):
+        power[j + 1] = power[j] + x[j] * x[j]
+    out = np.zeros(count)
+    for k in range(4 * width, count):
+        after = (power[min(k + width, count)] - power[k]) / width
+        before = (power[k] - power[max(k - 4 * width, 0)]) / (4 * width)
+        out[k] = math.sqrt(after / max(before, 1e-300 + after * 1e-12))
+    return out
+
+
+@jit
+def peak_pick(x, gap):
+    """:func:`.onsets._peak_pick`: the samples that are the largest from ``gap`` before to ``gap - 1`` after, at
+    least their predecessor's and their mean, more than ``gap`` after the last kept (greedily)."""
+    count = len(x)
+    largest = np.empty(count)
+    window = np.empty(count, dtype=np.int64)  # a deque of indices, their values decreasing: the sliding maximum
+    head, tail = 0, 0
+    added = 0
+    for n in range(count):
+        while added < min(count, n + gap):  # x[n - gap:n + gap] (as scipy's maximum_filter1d of size 2 gap)
+            while tail > head and x[window[tail - 1]] <= x[added]:
+                tail -= 1
+            window[tail] = added
+            tail += 1
+            added += 1
+        while window[head] < n - gap:
+            head += 1
+        largest[n] = x[window[head]]
+    candidates = np.empty(count, dtype=np.int64)
+    found = 0
+    for n in range(1, count):
+        if x[n] == largest[n] and x[n] >= (x[n - 1] + x[n]) / 2.0:
+            candidates[found] = n
+            found += 1
+    first = True
+    for n in range(min(gap, count)):
+        if x[n] > x[0]:
+            first = False
+    return waited(candidates[:found], gap, first)
+
+
+@jit
+def burg(y, order):
+    """``librosa.lpc(y, order=order)`` for a 1-D ``y`` (Burg's method, as Marple): the same operations in the same
+    order, each order's update of the prediction errors done in place, one pass."""
+    tiny = np.finfo(np.float64).tiny
+    n = len(y)
+    f = y[1:].copy()  # f[i:] is the forward error at order i, b[:n - 1 - i] the backward one
+    b = y[:-1].copy()
+    a = np.zeros(order + 1)
+    a_prev = np.zeros(order + 1)
+    a[0] = a_prev[0] = 1.0
+    den = 0.0
+    for k in range(n - 1):
+        den += f[k] ** 2 + b[k] ** 2
+    dot = 0.0
+    for k in range(n - 1):
+        dot += b[k] * f[k]
+    for i in range(order):
+        m = n - 1 - i  # the errors' length at this order
+        reflect = dot * -2
+        reflect /= den + tiny
+        a_prev, a = a, a_prev
+        for j in range(1, i + 2):
+            a[j] = a_prev[j] + reflect * a_prev[i - j + 1]
+        dot = 0.0  # the next order's numerator: its b[k] (this one's new b[k]) times its f[k] (this one's new f[k + 1])
+        for k in range(m):
+            old = f[i + k]
+            f[i + k] = old + reflect * b[k]
+            b[k] = b[k] + reflect * old
+            if k > 0:
+                dot += b[k - 1] * f[i + k]
+        q = 1.0 - reflect ** 2
+        den = q * den - b[m - 1] ** 2 - f[i] ** 2
+    return a

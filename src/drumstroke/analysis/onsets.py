@@ -1138,11 +1138,12 @@ def _low_pass(corner, rate):
 
 def _innovation(x, order):
     """A linear predictor of ``x`` (Burg's method; its error filter's coefficients) and what it does not predict."""
-    import librosa
     from scipy.signal import lfilter
 
+    from ._kernels import burg
+
     order = min(order, max(1, len(x) // 8))
-    a = librosa.lpc(x, order=order)
+    a = burg(np.ascontiguousarray(x, dtype=float), order)  # librosa.lpc's operations, in one pass an order
     if not np.all(np.isfinite(a)):
         a = np.array([1.0, -1.0])
     return a, lfilter(a, [1.0], x)
@@ -1182,7 +1183,7 @@ def _jumps(x, rate, min_interval, least, samples=12):
     A long signal is taken in blocks of :data:`_BLOCK` samples (overlapping by more than the windows
     and ``min_interval``), so memory does not grow with its length.
     """
-    from ._kernels import aic
+    from ._kernels import aic, jump_profile
 
     width = max(samples, round(1e-3 * rate))
     gap = max(1, round(min_interval * rate))
@@ -1190,9 +1191,7 @@ def _jumps(x, rate, min_interval, least, samples=12):
     peaks = []
     for start in range(0, len(x), _BLOCK):
         low, high = max(0, start - margin), min(len(x), start + _BLOCK + margin)
-        after, before, _ = _windows(x[low:high], rate, samples)
-        jump = np.sqrt(after / np.maximum(before, 1e-300 + after * 1e-12))
-        jump[: 4 * width] = 0.0
+        jump = jump_profile(np.ascontiguousarray(x[low:high], dtype=float), width)  # 0 over the first 4 windows
         found = _peak_pick(jump, gap)
         found = found[(jump[found] >= least) & (low + found >= start) & (low + found < start + _BLOCK)]
         peaks += list(low + found)
@@ -1206,15 +1205,19 @@ def _peak_pick(x, gap):
     least its predecessor, and more than ``gap`` samples after the last peak (greedily, in order; the
     first sample is a peak when it is the largest of the first ``gap``).
     """
-    from scipy.ndimage import maximum_filter1d
+    from ._kernels import peak_pick
 
-    from ._kernels import waited
+    return peak_pick(np.ascontiguousarray(x, dtype=float), gap)
 
-    if not len(x):
-        return np.zeros(0, dtype=np.int64)
-    largest = maximum_filter1d(x, 2 * gap, mode="constant", cval=-np.inf)  # over x[n - gap:n + gap]
-    candidates = np.flatnonzero((x == largest) & (x >= (np.concatenate((x[:1], x[:-1])) + x) / 2.0))
-    return waited(candidates[candidates > 0], gap, bool(x[0] >= x[:gap].max()))
+
+def _frames(x, start, count, size):
+    """``count`` windows of ``size`` samples of ``x`` (contiguous) from ``start``, a sample apart: a view.
+
+    What ``sliding_window_view(x[start:start + count + size - 1], size)`` gives (the same strides: numpy
+    multiplies it by the same loops), without its checks' time.
+    """
+    return np.ndarray((count, size), dtype=x.dtype, buffer=x, offset=start * x.itemsize,
+                      strides=(x.itemsize, x.itemsize))
 
 
 def _windows(x, rate, least=12):
@@ -1231,17 +1234,12 @@ def _windows(x, rate, least=12):
 
 def _jump_at(x, positions, rate, samples=12):
     """The largest RMS jump of ``x`` (the next 1 ms over the 4 ms before) within half a window of each position."""
-    width = max(samples, round(1e-3 * rate))
-    half = max(1, width // 2)
-    out = np.zeros(len(positions))
-    for n, i in enumerate(np.round(np.asarray(positions, dtype=float)).astype(np.int64)):
-        low, high = max(0, i - half - 4 * width), min(len(x), i + half + width + 1)
-        after, before, _ = _windows(x[low:high], rate, samples)
-        k = np.arange(max(i - half, low), min(i + half + 1, high)) - low
-        valid = k >= min(4 * width, i)  # a full window before, or the signal's start
-        jump = np.sqrt(after[k] / np.maximum(before[k], 1e-300 + after[k] * 1e-12))
-        out[n] = jump[valid].max(initial=0.0)
-    return out
+    from ._kernels import jump_at
+
+    # each position's windows over the slice of x around it: from half a window and 4 windows before it
+    # (a full window before, or the signal's start) to half a window and a window after
+    return jump_at(np.ascontiguousarray(x, dtype=float), np.round(np.asarray(positions, dtype=float)).astype(np.int64),
+                   max(samples, round(1e-3 * rate)))
 
 
 def _merge(tonal, broadband, gap, deep=(), strong=None):
@@ -1293,8 +1291,6 @@ def _pursue(e, positions, rate, config, tail=None):
     past the signature is taken off too, scaled by the signature's fit. ``positions`` and ``rate``
     are in samples of ``e`` and Hz. Returns a :class:`_Pursuit`.
     """
-    from numpy.lib.stride_tricks import sliding_window_view
-
     length = max(4, round(config.signature * rate))
     peak = int(np.argmax(np.abs(e)))
     lead = min(2, peak)
@@ -1324,7 +1320,7 @@ def _pursue(e, positions, rate, config, tail=None):
         starts = starts[(starts >= 0) & (starts + size <= len(r))]
         if not len(starts):
             continue
-        block = sliding_window_view(r[starts[0]:starts[-1] + size], size)
+        block = _frames(r, starts[0], len(starts), size)
         heads = block[:, :len(head)]
         likeness[i] = float(np.max(np.abs(heads @ head) / (np.sqrt(np.einsum("ij,ij->i", heads, heads)) * head_norm + 1e-300)))
         weights = block @ solve.T
