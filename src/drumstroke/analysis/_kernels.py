@@ -46,27 +46,60 @@ def waited(candidates, gap, first):
 
 @jit
 def jump_at(x, positions, width):
-    """:func:`.onsets._jump_at`: the largest RMS jump (the next ``width`` samples over the 4 ``width`` before) within
-    half a window of each of ``positions`` (int), each over its own slice of ``x`` as the numpy code cut it."""
-    half = max(1, width // 2)
+    """:func:`.onsets._jump_at`: :func:`jump_near` each of ``positions`` (int)."""
     out = np.zeros(len(positions))
     for n in range(len(positions)):
-        i = positions[n]
-        low, high = max(0, i - half - 4 * width), min(len(x), i + half + width + 1)
-        power = np.zeros(high - low + 1)  # the slice's cumulative power, summed in order from its start
-        for j in range(low, high):
-            power[j - low + 1] = power[j - low] + x[j] * x[j]
-        count = high - low
-        best = 0.0
-        for k in range(max(i - half, low) - low, min(i + half + 1, high) - low):
-            if k < min(4 * width, i):  # a full window before, or the signal's start
-                continue
-            after = (power[min(k + width, count)] - power[k]) / width
-            before = (power[k] - power[max(k - 4 * width, 0)]) / (4 * width)
-            jump = math.sqrt(after / max(before, 1e-300 + after * 1e-12))
-            if jump > best:
-                best = jump
-        out[n] = best
+        out[n] = jump_near(x, positions[n], width)
+    return out
+
+
+@jit
+def jump_near(x, i, width):
+    """The largest RMS jump of ``x`` (the next ``width`` samples over the 4 ``width`` before) within half a window of
+    sample ``i``, over the slice of ``x`` the numpy code cut around it (the power summed in order from its start)."""
+    half = max(1, width // 2)
+    low, high = max(0, i - half - 4 * width), min(len(x), i + half + width + 1)
+    power = np.zeros(high - low + 1)
+    for j in range(low, high):
+        power[j - low + 1] = power[j - low] + x[j] * x[j]
+    count = high - low
+    best = 0.0
+    for k in range(max(i - half, low) - low, min(i + half + 1, high) - low):
+        if k < min(4 * width, i):  # a full window before, or the signal's start
+            continue
+        after = (power[min(k + width, count)] - power[k]) / width
+        before = (power[k] - power[max(k - 4 * width, 0)]) / (4 * width)
+        jump = math.sqrt(after / max(before, 1e-300 + after * 1e-12))
+        if jump > best:
+            best = jump
+    return best
+
+
+@jit
+def row_dots(a, b):
+    """``np.einsum("ij,ij->i", a, b)`` summed as numpy sums it (its loop for rows contiguous along j, in
+    the x86-64 baseline's 2-lane vectors): lane by lane, 4 vectors a step from the last, the lanes added at the end."""
+    out = np.empty(a.shape[0])
+    n = a.shape[1]
+    for i in range(a.shape[0]):
+        even, odd = 0.0, 0.0
+        j = 0
+        while n - j >= 8:
+            e = a[i, j + 6] * b[i, j + 6] + even
+            o = a[i, j + 7] * b[i, j + 7] + odd
+            e = a[i, j + 4] * b[i, j + 4] + e
+            o = a[i, j + 5] * b[i, j + 5] + o
+            e = a[i, j + 2] * b[i, j + 2] + e
+            o = a[i, j + 3] * b[i, j + 3] + o
+            even = a[i, j] * b[i, j] + e
+            odd = a[i, j + 1] * b[i, j + 1] + o
+            j += 8
+        while j < n:
+            even = a[i, j] * b[i, j] + even
+            if j + 1 < n:
+                odd = a[i, j + 1] * b[i, j + 1] + odd
+            j += 2
+        out[i] = even + odd
     return out
 
 
@@ -91,20 +124,20 @@ def peak_pick(x, gap):
     """:func:`.onsets._peak_pick`: the samples that are the largest from ``gap`` before to ``gap - 1`` after, at
     least their predecessor's and their mean, more than ``gap`` after the last kept (greedily)."""
     count = len(x)
+    size = 2 * gap  # x[n - gap:n + gap], -inf past the ends (as scipy's maximum_filter1d of that size)
+    padded = np.full(count + 2 * size, -np.inf)
+    padded[gap:gap + count] = x
+    prefix = padded.copy()  # the largest from each block's start of ``size`` samples, and to its end (van Herk)
+    suffix = padded.copy()
+    for start in range(0, len(padded), size):
+        stop = min(len(padded), start + size)
+        for j in range(start + 1, stop):
+            prefix[j] = max(prefix[j - 1], padded[j])
+        for j in range(stop - 2, start - 1, -1):
+            suffix[j] = max(suffix[j + 1], padded[j])
     largest = np.empty(count)
-    window = np.empty(count, dtype=np.int64)  # a deque of indices, their values decreasing: the sliding maximum
-    head, tail = 0, 0
-    added = 0
     for n in range(count):
-        while added < min(count, n + gap):  # x[n - gap:n + gap] (as scipy's maximum_filter1d of size 2 gap)
-            while tail > head and x[window[tail - 1]] <= x[added]:
-                tail -= 1
-            window[tail] = added
-            tail += 1
-            added += 1
-        while window[head] < n - gap:
-            head += 1
-        largest[n] = x[window[head]]
+        largest[n] = max(suffix[n], prefix[n + size - 1])
     candidates = np.empty(count, dtype=np.int64)
     found = 0
     for n in range(1, count):

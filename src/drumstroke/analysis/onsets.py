@@ -1291,6 +1291,8 @@ def _pursue(e, positions, rate, config, tail=None):
     past the signature is taken off too, scaled by the signature's fit. ``positions`` and ``rate``
     are in samples of ``e`` and Hz. Returns a :class:`_Pursuit`.
     """
+    from ._kernels import jump_near, row_dots
+
     length = max(4, round(config.signature * rate))
     peak = int(np.argmax(np.abs(e)))
     lead = min(2, peak)
@@ -1312,27 +1314,27 @@ def _pursue(e, positions, rate, config, tail=None):
     likeness = np.zeros(len(positions))
     where = positions.copy()
     at, amp = np.zeros(len(positions), dtype=np.int64), np.zeros(len(positions))
-    for i, c in enumerate(np.round(positions).astype(np.int64)):
+    for i, c in enumerate(np.round(positions).astype(np.int64).tolist()):
         # the jump: the next window's power over the 4 windows before, the largest within half a window
         low, high = max(0, c - half - 4 * width), min(len(r), c + half + width + 1)
-        jumps[i] = _jump_at(r[low:high], [c - low], rate, config.modes_width)[0] if high - low > width else 0.0
-        starts = c - lead + np.arange(-2, 3)
-        starts = starts[(starts >= 0) & (starts + size <= len(r))]
-        if not len(starts):
+        jumps[i] = jump_near(r, c, width) if high - low > width else 0.0
+        first, last = max(c - lead - 2, 0), min(c - lead + 2, len(r) - size)  # the five alignments that fit in r
+        if last < first:
             continue
-        block = _frames(r, starts[0], len(starts), size)
+        block = _frames(r, first, last - first + 1, size)
         heads = block[:, :len(head)]
-        likeness[i] = float(np.max(np.abs(heads @ head) / (np.sqrt(np.einsum("ij,ij->i", heads, heads)) * head_norm + 1e-300)))
+        likeness[i] = float(np.max(np.abs(heads @ head) / (np.sqrt(row_dots(heads, heads)) * head_norm + 1e-300)))
         weights = block @ solve.T
-        cost = np.einsum("ij,ij->i", block, block) - np.einsum("ij,ij->i", weights, weights @ gram)
+        cost = row_dots(block, block) - row_dots(weights, weights @ gram)
         k = int(np.argmin(cost))
-        r[starts[k]:starts[k] + size] -= basis @ weights[k]
+        s = first + k
+        r[s:s + size] -= basis @ weights[k]
         if tail is not None and len(tail) > size:
-            stop = min(len(r), starts[k] + len(tail))
-            r[starts[k] + size:stop] -= weights[k][0] * tail[size:stop - starts[k]]
-        at[i], amp[i] = starts[k], weights[k][0]
+            stop = min(len(r), s + len(tail))
+            r[s + size:stop] -= weights[k][0] * tail[size:stop - s]
+        at[i], amp[i] = s, weights[k][0]
         shift = -weights[k][1] / weights[k][0] if len(weights[k]) > 1 and weights[k][0] != 0.0 else 0.0
-        where[i] = starts[k] + lead + float(np.clip(shift, -1.0, 1.0))
+        where[i] = s + lead + min(max(shift, -1.0), 1.0)
     return _Pursuit(r, jumps, likeness, where, at, amp, template)
 
 
