@@ -185,3 +185,13 @@ def burg(y, order):
         q = 1.0 - reflect ** 2
         den = q * den - b[m - 1] ** 2 - f[i] ** 2
     return a
+
+
+@jit
+def weighted_lags(x, weight, start, stop, order):
+    """Rows ``x[n], x[n - 1], …, x[n - order]`` times ``weight[n]``, for ``n`` from ``start`` to ``stop`` (a new array)."""
+    rows = np.empty((stop - start, order + 1))
+    for n in range(start, stop):
+        for j in range(order + 1):
+            rows[n - start, j] = x[n - j] * weight[n]
+    return rows

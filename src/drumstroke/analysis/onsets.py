@@ -1099,7 +1099,7 @@ def _decimation(band, rate):
         return 1
     starts = np.unique(np.linspace(0, len(band) - size, min(_SPECTRA, (len(band) - size) // (size // 2) + 1))
                        .astype(np.int64))  # half-overlapping frames, or as many spread over a long file
-    frames = band[starts[:, None] + np.arange(size)] * np.hanning(size)
+    frames = _frames(band, 0, len(band) - size + 1, size)[starts] * np.hanning(size)
     power = np.abs(np.fft.rfft(frames, axis=1).T) ** 2
     frequencies = np.fft.rfftfreq(size, 1.0 / rate)
     energy = power.sum(axis=0)
@@ -1154,10 +1154,12 @@ def _robust_innovation(x, order):
 
     Returns its error filter's coefficients and what it does not predict (as :func:`_innovation`).
     """
-    from numpy.lib.stride_tricks import sliding_window_view
     from scipy.ndimage import uniform_filter1d
     from scipy.signal import lfilter
 
+    from ._kernels import weighted_lags
+
+    x = np.ascontiguousarray(x, dtype=float)
     order = min(order, max(1, len(x) // 8))
     burg, first = _innovation(x, order)
     power = np.maximum(uniform_filter1d(first * first, 9), 0.0)
@@ -1165,7 +1167,7 @@ def _robust_innovation(x, order):
     gram = np.zeros((order + 1, order + 1))
     for start in range(order, len(x), _BLOCK // 8):  # the normal equations block by block: memory stays bounded
         stop = min(len(x), start + _BLOCK // 8)
-        rows = sliding_window_view(x[start - order:stop], order + 1)[:, ::-1] * weight[start:stop, None]
+        rows = weighted_lags(x, weight, start, stop, order)
         gram += rows.T @ rows
     try:
         c, *_ = np.linalg.lstsq(gram[1:, 1:], -gram[1:, 0], rcond=None)
