@@ -1,4 +1,4 @@
-"""The onset detector's compiled loops (:mod:`.onsets`): each computes what the numpy code it replaced did, in the same order.
+"""The onset detector's compiled loops (:mod:`.onsets`): each computes what the numpy (or librosa) code it replaced did, in the same order.
 
 They are a module of their own so that importing :mod:`drumstroke.analysis` does not import numba
 (:mod:`drumstroke._jit`); :mod:`.onsets` imports them where it runs them.
@@ -69,9 +69,7 @@ def jump_near(x, i, width):
             continue
         after = (power[min(k + width, count)] - power[k]) / width
         before = (power[k] - power[max(k - 4 * width, 0)]) / (4 * width)
-        jump = math.sqrt(after / max(before, 1e-300 + after * 1e-12))
-        if jump > best:
-            best = jump
+        best = max(best, math.sqrt(after / max(before, 1e-300 + after * 1e-12)))
     return best
 
 
