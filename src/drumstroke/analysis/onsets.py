@@ -1318,7 +1318,7 @@ def _decimation(band, rate):
         return 1
     starts = np.unique(np.linspace(0, len(band) - size, min(_SPECTRA, (len(band) - size) // (size // 2) + 1))
                        .astype(np.int64))  # half-overlapping frames, or as many spread over a long file
-    frames = band[starts[:, None] + np.arange(size)] * np.hanning(size)
+    frames = _frames(band, 0, len(band) - size + 1, size)[starts] * np.hanning(size)
     power = np.abs(np.fft.rfft(frames, axis=1).T) ** 2
     frequencies = np.fft.rfftfreq(size, 1.0 / rate)
     energy = power.sum(axis=0)
@@ -1357,11 +1357,12 @@ def _low_pass(corner, rate):
 
 def _innovation(x, order):
     """A linear predictor of ``x`` (Burg's method; its error filter's coefficients) and what it does not predict."""
-    import librosa
     from scipy.signal import lfilter
 
+    from ._kernels import burg
+
     order = min(order, max(1, len(x) // 8))
-    a = librosa.lpc(x, order=order)
+    a = burg(np.ascontiguousarray(x, dtype=float), order)  # librosa.lpc's operations, in one pass an order
     if not np.all(np.isfinite(a)):
         a = np.array([1.0, -1.0])
     return a, lfilter(a, [1.0], x)
@@ -1372,10 +1373,12 @@ def _robust_innovation(x, order):
 
     Returns its error filter's coefficients and what it does not predict (as :func:`_innovation`).
     """
-    from numpy.lib.stride_tricks import sliding_window_view
     from scipy.ndimage import uniform_filter1d
     from scipy.signal import lfilter
 
+    from ._kernels import weighted_lags
+
+    x = np.ascontiguousarray(x, dtype=float)
     order = min(order, max(1, len(x) // 8))
     burg, first = _innovation(x, order)
     power = np.maximum(uniform_filter1d(first * first, 9), 0.0)
@@ -1383,7 +1386,7 @@ def _robust_innovation(x, order):
     gram = np.zeros((order + 1, order + 1))
     for start in range(order, len(x), _BLOCK // 8):  # the normal equations block by block: memory stays bounded
         stop = min(len(x), start + _BLOCK // 8)
-        rows = sliding_window_view(x[start - order:stop], order + 1)[:, ::-1] * weight[start:stop, None]
+        rows = weighted_lags(x, weight, start, stop, order)
         gram += rows.T @ rows
     try:
         c, *_ = np.linalg.lstsq(gram[1:, 1:], -gram[1:, 0], rcond=None)
@@ -1401,7 +1404,7 @@ def _jumps(x, rate, min_interval, least, samples=12):
     A long signal is taken in blocks of :data:`_BLOCK` samples (overlapping by more than the windows
     and ``min_interval``), so memory does not grow with its length.
     """
-    from ._kernels import aic
+    from ._kernels import aic, jump_profile
 
     width = max(samples, round(1e-3 * rate))
     gap = max(1, round(min_interval * rate))
@@ -1409,9 +1412,7 @@ def _jumps(x, rate, min_interval, least, samples=12):
     peaks = []
     for start in range(0, len(x), _BLOCK):
         low, high = max(0, start - margin), min(len(x), start + _BLOCK + margin)
-        after, before, _ = _windows(x[low:high], rate, samples)
-        jump = np.sqrt(after / np.maximum(before, 1e-300 + after * 1e-12))
-        jump[: 4 * width] = 0.0
+        jump = jump_profile(np.ascontiguousarray(x[low:high], dtype=float), width)  # 0 over the first 4 windows
         found = _peak_pick(jump, gap)
         found = found[(jump[found] >= least) & (low + found >= start) & (low + found < start + _BLOCK)]
         peaks += list(low + found)
@@ -1425,15 +1426,19 @@ def _peak_pick(x, gap):
     least its predecessor, and more than ``gap`` samples after the last peak (greedily, in order; the
     first sample is a peak when it is the largest of the first ``gap``).
     """
-    from scipy.ndimage import maximum_filter1d
+    from ._kernels import peak_pick
 
-    from ._kernels import waited
+    return peak_pick(np.ascontiguousarray(x, dtype=float), gap)
 
-    if not len(x):
-        return np.zeros(0, dtype=np.int64)
-    largest = maximum_filter1d(x, 2 * gap, mode="constant", cval=-np.inf)  # over x[n - gap:n + gap]
-    candidates = np.flatnonzero((x == largest) & (x >= (np.concatenate((x[:1], x[:-1])) + x) / 2.0))
-    return waited(candidates[candidates > 0], gap, bool(x[0] >= x[:gap].max()))
+
+def _frames(x, start, count, size):
+    """``count`` windows of ``size`` samples of ``x`` (contiguous) from ``start``, a sample apart: a view.
+
+    What ``sliding_window_view(x[start:start + count + size - 1], size)`` gives (the same strides: numpy
+    multiplies it by the same loops), without its checks' time.
+    """
+    return np.ndarray((count, size), dtype=x.dtype, buffer=x, offset=start * x.itemsize,
+                      strides=(x.itemsize, x.itemsize))
 
 
 def _windows(x, rate, least=12):
@@ -1450,17 +1455,12 @@ def _windows(x, rate, least=12):
 
 def _jump_at(x, positions, rate, samples=12):
     """The largest RMS jump of ``x`` (the next 1 ms over the 4 ms before) within half a window of each position."""
-    width = max(samples, round(1e-3 * rate))
-    half = max(1, width // 2)
-    out = np.zeros(len(positions))
-    for n, i in enumerate(np.round(np.asarray(positions, dtype=float)).astype(np.int64)):
-        low, high = max(0, i - half - 4 * width), min(len(x), i + half + width + 1)
-        after, before, _ = _windows(x[low:high], rate, samples)
-        k = np.arange(max(i - half, low), min(i + half + 1, high)) - low
-        valid = k >= min(4 * width, i)  # a full window before, or the signal's start
-        jump = np.sqrt(after[k] / np.maximum(before[k], 1e-300 + after[k] * 1e-12))
-        out[n] = jump[valid].max(initial=0.0)
-    return out
+    from ._kernels import jump_at
+
+    # each position's windows over the slice of x around it: from half a window and 4 windows before it
+    # (a full window before, or the signal's start) to half a window and a window after
+    return jump_at(np.ascontiguousarray(x, dtype=float), np.round(np.asarray(positions, dtype=float)).astype(np.int64),
+                   max(samples, round(1e-3 * rate)))
 
 
 def _merge(tonal, broadband, gap, deep=(), strong=None):
@@ -1512,7 +1512,7 @@ def _pursue(e, positions, rate, config, tail=None):
     past the signature is taken off too, scaled by the signature's fit. ``positions`` and ``rate``
     are in samples of ``e`` and Hz. Returns a :class:`_Pursuit`.
     """
-    from numpy.lib.stride_tricks import sliding_window_view
+    from ._kernels import jump_near, row_dots
 
     length = max(4, round(config.signature * rate))
     peak = int(np.argmax(np.abs(e)))
@@ -1535,27 +1535,27 @@ def _pursue(e, positions, rate, config, tail=None):
     likeness = np.zeros(len(positions))
     where = positions.copy()
     at, amp = np.zeros(len(positions), dtype=np.int64), np.zeros(len(positions))
-    for i, c in enumerate(np.round(positions).astype(np.int64)):
+    for i, c in enumerate(np.round(positions).astype(np.int64).tolist()):
         # the jump: the next window's power over the 4 windows before, the largest within half a window
         low, high = max(0, c - half - 4 * width), min(len(r), c + half + width + 1)
-        jumps[i] = _jump_at(r[low:high], [c - low], rate, config.modes_width)[0] if high - low > width else 0.0
-        starts = c - lead + np.arange(-2, 3)
-        starts = starts[(starts >= 0) & (starts + size <= len(r))]
-        if not len(starts):
+        jumps[i] = jump_near(r, c, width) if high - low > width else 0.0
+        first, last = max(c - lead - 2, 0), min(c - lead + 2, len(r) - size)  # the five alignments that fit in r
+        if last < first:
             continue
-        block = sliding_window_view(r[starts[0]:starts[-1] + size], size)
+        block = _frames(r, first, last - first + 1, size)
         heads = block[:, :len(head)]
-        likeness[i] = float(np.max(np.abs(heads @ head) / (np.sqrt(np.einsum("ij,ij->i", heads, heads)) * head_norm + 1e-300)))
+        likeness[i] = float(np.max(np.abs(heads @ head) / (np.sqrt(row_dots(heads, heads)) * head_norm + 1e-300)))
         weights = block @ solve.T
-        cost = np.einsum("ij,ij->i", block, block) - np.einsum("ij,ij->i", weights, weights @ gram)
+        cost = row_dots(block, block) - row_dots(weights, weights @ gram)
         k = int(np.argmin(cost))
-        r[starts[k]:starts[k] + size] -= basis @ weights[k]
+        s = first + k
+        r[s:s + size] -= basis @ weights[k]
         if tail is not None and len(tail) > size:
-            stop = min(len(r), starts[k] + len(tail))
-            r[starts[k] + size:stop] -= weights[k][0] * tail[size:stop - starts[k]]
-        at[i], amp[i] = starts[k], weights[k][0]
+            stop = min(len(r), s + len(tail))
+            r[s + size:stop] -= weights[k][0] * tail[size:stop - s]
+        at[i], amp[i] = s, weights[k][0]
         shift = -weights[k][1] / weights[k][0] if len(weights[k]) > 1 and weights[k][0] != 0.0 else 0.0
-        where[i] = starts[k] + lead + float(np.clip(shift, -1.0, 1.0))
+        where[i] = s + lead + min(max(shift, -1.0), 1.0)
     return _Pursuit(r, jumps, likeness, where, at, amp, template)
 
 
