@@ -568,9 +568,9 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        median over the clear attacks (≥ 3) of their main rise less their onset.
     6. :func:`_reported`. Its level is in dB re the loudest onset. The noise floor (the
        ``floor_quantile`` quantile of the level band's peaks over 5-ms frames) plus
-       ``floor_margin_db``, or ``threshold_db`` if higher, is the threshold used. Each onset's
-       broadband peak (:attr:`Onsets.peak_db`, dB re the loudest onset's) is read on the signal
-       itself by :func:`_peak_amplitudes`: the loudest sample over ``peak_window`` s after it (or
+       ``floor_margin_db``, or ``threshold_db`` if higher, is the threshold used. Each reported
+       onset's broadband peak (:attr:`Onsets.peak_db`, dB re the loudest onset's) is read on the
+       signal itself by :func:`_peak_amplitudes`: the loudest sample over ``peak_window`` s after it (or
        up to the next onset), after the earlier notes' sound is taken off (each fitted by the
        recording's clear notes as templates, ``peak_templates`` of them, followed ``peak_reach`` s).
 
@@ -639,13 +639,12 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
     candidates, amplitude = _one_attack_each(band, rate, candidates, amplitude, config)
     candidates = _out_of_decay(band, rate, candidates, amplitude, config)
     candidates = _learned_lead_ins(band, rate, candidates, config)
-    peaks = _peak_amplitudes(signal, candidates.times[candidates.attack], rate, config)
-    return _reported(candidates, amplitude, floor, {**info, "analysis_rate": tonal.rate}, source, rate, config,
-                     peaks)
+    onsets = _reported(candidates, amplitude, floor, {**info, "analysis_rate": tonal.rate}, source, rate, config)
+    return replace(onsets, peak_db=_peak_db(signal, onsets.t * rate, rate, config))
 
 
 def _no_onsets(reason, info, source, config):
-    return Onsets(np.empty(0), np.empty(0), threshold_db=config.threshold_db, source=source, peak_db=np.empty(0),
+    return Onsets(np.empty(0), np.empty(0), threshold_db=config.threshold_db, source=source,
                   info={**info, "found": f"no impacts found: {reason}", "floor_db": None})
 
 
@@ -1140,31 +1139,35 @@ def _levels(band, rate, q, first, candidates, reverberant, config):
     return amplitude, _noise_floor(lowest, lowest_rate, config.floor_quantile)
 
 
-def _reported(candidates, amplitude, floor, info, source, rate, config, peaks):
-    """Step 6: the attacks above the noise floor and the threshold, in s and dB re the loudest.
-
-    ``peaks`` are the attacks' broadband peaks (:func:`_peak_amplitudes`), one an attack.
-    """
+def _reported(candidates, amplitude, floor, info, source, rate, config):
+    """Step 6: the attacks above the noise floor and the threshold, in s and dB re the loudest."""
     found = (amplitude > floor * 10.0 ** (config.floor_margin_db / 20.0)) & candidates.attack
     if not np.any(found):
         return _no_onsets("no attack rises above the noise floor", info, source, config)
     times, amplitude = candidates.times[found], amplitude[found]
-    peaks = peaks[found[candidates.attack]]
     level = 20.0 * np.log10(amplitude / amplitude.max())
     # digital silence between the attacks leaves only the filters' decay (-1000 dB and less): no floor at all
     floor_db = float(20.0 * np.log10(floor / amplitude.max())) if floor > 1e-9 * amplitude.max() else -np.inf
     used = max(config.threshold_db, floor_db + config.floor_margin_db)
     keep = level >= used
     info = {**info, "floor_db": floor_db if np.isfinite(floor_db) else None}
-    peaks = np.maximum(peaks[keep], np.finfo(float).tiny)  # a peak of digital silence: as quiet as can be, not -inf
     return Onsets(np.maximum(times[keep] / rate, 0.0), level[keep], threshold_db=float(used), source=source,
-                  peak_db=20.0 * np.log10(peaks / peaks.max()), info=info)
+                  info=info)
+
+
+def _peak_db(signal, times, rate, config):
+    """Step 6's :attr:`Onsets.peak_db` of the onsets reported at ``times`` (full-rate samples): dB re the loudest's."""
+    if not len(times):
+        return np.empty(0)
+    peaks = np.maximum(_peak_amplitudes(signal, times, rate, config), np.finfo(float).tiny)  # never -inf dB
+    return 20.0 * np.log10(peaks / peaks.max())
 
 
 def _peak_amplitudes(signal, times, rate, config):
     """Each onset's broadband peak (full scale) on the signal itself, the earlier notes' sound taken off.
 
-    ``times`` (full-rate samples, increasing) are the attacks'. A recording's loudness of a note is its
+    ``times`` (full-rate samples, increasing) are the onsets reported (an attack refused there would have its
+    window, and take a whole note off, in a reported one's). A recording's loudness of a note is its
     loudest sample, but over a later note the earlier ones still sound (a drop's last bounces 4-12 ms
     apart, a ghost note over an accent's ringing): read as it is, the peak is theirs together. So each
     note in time order has its peak read over ``peak_window`` s (or up to the next onset) of the
