@@ -55,6 +55,70 @@ def test_an_empty_onsets_file_is_no_onsets(tmp_path):
     assert len(read_onsets(path)) == 0 and path.read_text() == "t,level_db\n"
 
 
+def test_onsets_with_peaks_round_trip_and_any_csv_reader_reads_the_column(tmp_path):
+    """peak_db as a third column, bit for bit back; pandas reads the three columns; the JSON says what each is."""
+    import pandas
+
+    rng = np.random.default_rng(2)
+    t = np.cumsum(rng.uniform(1e-3, 0.2, 20))
+    level, peak = -rng.uniform(0.0, 40.0, 20), -rng.uniform(0.0, 40.0, 20)
+    level, peak = level - level.max(), peak - peak.max()
+    path = tmp_path / "p.csv"
+    write_onsets(path, Onsets(t, level, threshold_db=-40.0, source="take.wav", peak_db=peak))
+    back = read_onsets(path)
+    assert np.array_equal(back.t, t) and np.array_equal(back.level_db, level) and np.array_equal(back.peak_db, peak)
+    table = pandas.read_csv(path)
+    assert list(table.columns) == ["t", "level_db", "peak_db"]
+    assert np.array_equal(table["peak_db"].to_numpy(), peak) and np.array_equal(table["t"].to_numpy(), t)
+    meta = json.loads(path.with_suffix(".json").read_text())["csv"]
+    assert meta["columns"] == ["t", "level_db", "peak_db"] and meta["units"]["peak_db"] == "dB re the loudest onset's peak"
+    assert set(meta["meanings"]) == {"t", "level_db", "peak_db"}
+
+
+def test_an_onsets_csv_without_peaks_still_reads(tmp_path):
+    """A file written before the column (t,level_db, with or without its JSON) reads as onsets without peaks."""
+    old = tmp_path / "old.csv"
+    old.write_text("t,level_db\n0.25,0\n0.5,-6\n")
+    back = read_onsets(old)
+    assert back.peak_db is None and back.level_db.tolist() == [0.0, -6.0]
+    write_onsets(old, back)  # written again as it was: two columns
+    assert old.read_text().splitlines()[0] == "t,level_db" and read_onsets(old).peak_db is None
+    mixed = tmp_path / "mixed.csv"
+    mixed.write_text("t,level_db,peak_db\n0.25,0,0\n0.5,-6\n")
+    with pytest.raises(ParameterError, match="line 3 must be 't,level_db,peak_db' with three finite numbers"):
+        read_onsets(mixed)
+
+
+@pytest.mark.parametrize(("peak", "message"), [
+    ([0.0], "as many as the times"), ([0.0, 1.0], "peak_db"), ([-1.0, -2.0], "re the loudest peak"),
+    ([0.0, math.nan], "peak_db"),
+])
+def test_onset_peaks_are_checked(peak, message):
+    with pytest.raises(ParameterError, match=message):
+        Onsets([0.1, 0.2], [0.0, -3.0], peak_db=peak)
+
+
+def test_a_note_over_an_earlier_ones_ringing_has_its_own_peak():
+    """Three notes of one waveform (a 2-ms rise, ringing modes and a noise burst), the last 12-30 ms after the
+    second: peak_db is each one's own scale (the earlier note's continuation taken off by the first, clear, note's
+    waveform), where the peak read as it is over the last one's 10 ms is 3-5 dB too loud."""
+    rng = np.random.default_rng(3)
+    t = np.arange(round(0.3 * RATE)) / RATE
+    note = np.exp(-t / 0.05) * (np.sin(2 * np.pi * 190 * t) + 0.6 * np.sin(2 * np.pi * 330 * t + 1.0)
+                                + 0.4 * rng.standard_normal(len(t)) * np.exp(-t / 0.01)) * np.minimum(1.0, t / 2e-3)
+    for gap, scale in [(0.012, 0.7), (0.02, 0.5), (0.03, 0.3)]:
+        signal = np.zeros(RATE)
+        for start, size in [(0.1, 1.0), (0.5, 0.9), (0.5 + gap, scale)]:
+            k = round(start * RATE)
+            signal[k:k + len(t)] += size * note[:len(signal) - k]
+        onsets = find_onsets(signal, RATE)
+        assert len(onsets) == 3
+        assert onsets.peak_db == pytest.approx(20.0 * np.log10([1.0, 0.9, scale]), abs=0.1)
+        first, k = round(0.1 * RATE), round((0.5 + gap) * RATE)
+        read_as_is = np.abs(signal[k:k + RATE // 100]).max() / np.abs(signal[first:first + RATE // 100]).max()
+        assert 20.0 * np.log10(read_as_is / scale) > 2.5
+
+
 @pytest.mark.parametrize(("text", "message"), [
     ("", "line 1 must be the header t,level_db"),
     ("time,level\n0,0\n", "line 1 must be the header t,level_db"),

@@ -112,7 +112,7 @@ def keep_drum(signal, rate, onsets, drum, **options):
     -------
     Onsets
         The kept onsets, their levels shifted so the loudest kept is 0 dB (the threshold and the noise floor
-        with them);
+        with them; their peaks, when they have them, so the loudest kept peak is 0 dB);
         ``info`` says which drum was kept, the shift (dB) and how many onsets there were.
     """
     if not isinstance(drum, str) or drum not in DRUM_BANDS:
@@ -123,8 +123,11 @@ def keep_drum(signal, rate, onsets, drum, **options):
     info = {**onsets.info, "drum": drum, "drum_level_shift_db": shift, "onsets_of_all_drums": len(onsets)}
     if info.get("floor_db") is not None:  # re the loudest onset, as the levels
         info["floor_db"] += shift
+    peak = None if onsets.peak_db is None else onsets.peak_db[kept]
+    if peak is not None and len(peak):
+        peak = peak - peak.max()  # re the loudest kept, as the levels
     return replace(onsets, t=onsets.t[kept], level_db=level + shift, threshold_db=onsets.threshold_db + shift,
-                   info=info)
+                   peak_db=peak, info=info)
 
 
 def _checked(signal, rate, onsets):

@@ -42,18 +42,26 @@ class Onsets:
     t : ndarray [shape=(n,)]
         Onset times (s from the recording's start), finite, ≥ 0, strictly increasing.
     level_db : ndarray [shape=(n,)]
-        Each onset's level (dB re the loudest onset: ≤ 0, finite; the loudest is 0).
+        Each onset's level (dB re the loudest onset: ≤ 0, finite; the loudest is 0): the amplitude of
+        the drum's lowest modes, in proportion to the stick's tip speed on a drum (what :mod:`.fit`
+        and :mod:`.drop` compare with the model).
     threshold_db : float
         The detection threshold used (dB re the loudest onset; onsets below it are not reported), or
         -inf when the onsets were given rather than detected.
     source : str
         What they came from (a file's name, or a description).
+    peak_db : ndarray [shape=(n,)] or None
+        Each onset's broadband peak (dB re the loudest onset's peak: ≤ 0, finite; the largest is 0): the
+        loudest sample of its own sound on the unfiltered signal, the earlier notes' continuation taken
+        off (:func:`find_onsets`); what a recording's loudness of each note is. None when the onsets
+        were given as times and levels.
     """
 
     t: np.ndarray
     level_db: np.ndarray
     threshold_db: float = -np.inf
     source: str = ""
+    peak_db: np.ndarray | None = None
     info: dict = field(default_factory=dict, compare=False)
 
     def __post_init__(self):
@@ -69,6 +77,15 @@ class Onsets:
                                  f"{level.max()!r} dB")
         object.__setattr__(self, "t", t)
         object.__setattr__(self, "level_db", level)
+        if self.peak_db is not None:
+            peak = check_vector("onset peaks peak_db", self.peak_db, high=0.0, unit="dB")
+            if len(peak) != len(t):
+                raise ParameterError(f"onset peaks peak_db must be as many as the times, got {len(peak)} peaks and "
+                                     f"{len(t)} times")
+            if len(peak) and peak.max() != 0.0:
+                raise ParameterError(f"onset peaks peak_db must be re the loudest peak (its peak 0 dB), got a largest "
+                                     f"of {peak.max()!r} dB")
+            object.__setattr__(self, "peak_db", peak)
 
     def __len__(self):
         return len(self.t)
@@ -112,7 +129,8 @@ class Onsets:
 
 
 def write_onsets(path, onsets, *, bundle=None):
-    """Write ``onsets`` to the onsets CSV at ``path`` (``t,level_db``) and the JSON beside it, atomically, together.
+    """Write ``onsets`` to the onsets CSV at ``path`` (``t,level_db``, and ``peak_db`` when they have it) and the JSON
+    beside it, atomically, together.
 
     The JSON holds the source, the detection threshold (dB re the loudest; null when the onsets
     were given) and ``info`` (how they were found).
@@ -127,7 +145,7 @@ def write_onsets(path, onsets, *, bundle=None):
     """
     if not isinstance(onsets, Onsets):
         raise ParameterError(f"onsets must be an Onsets, got {type(onsets).__name__}")
-    write_onsets_csv(path, onsets.t, onsets.level_db,
+    write_onsets_csv(path, onsets.t, onsets.level_db, peak_db=onsets.peak_db,
                      fields={"source": onsets.source, "threshold_db": onsets.threshold_db, "info": onsets.info},
                      bundle=bundle)
 
@@ -140,7 +158,7 @@ def read_onsets(path):
     Parameters
     ----------
     path : str or os.PathLike
-        An onsets CSV (``.csv``: ``t,level_db``); its source and threshold from the JSON beside it
+        An onsets CSV (``.csv``: ``t,level_db`` or ``t,level_db,peak_db``); its source and threshold from the JSON beside it
         when there is one, else the file's name and -inf.
 
     Returns
@@ -157,11 +175,12 @@ def read_onsets(path):
     if path.suffix.lower() != ".csv":
         raise ParameterError(f"read_onsets reads onsets CSVs (.csv) only, got {str(path)!r}: find a recording's "
                              "onsets with find_recording_onsets(path) (or find_onsets(signal, rate))")
-    t, level_db, meta = read_onsets_csv(path)
+    t, level_db, peak_db, meta = read_onsets_csv(path)
     info = meta.get("info")
     try:
         return Onsets(t, level_db, threshold_db=meta.get("threshold_db", -np.inf),
-                      source=str(meta.get("source") or path.name), info=info if isinstance(info, dict) else {})
+                      source=str(meta.get("source") or path.name), peak_db=peak_db,
+                      info=info if isinstance(info, dict) else {})
     except ParameterError as error:
         raise ParameterError(f"onsets file {str(path)!r}: {error}") from None
 
@@ -319,6 +338,15 @@ class OnsetConfig:
         s: how much of the template (or up to the next attack) an attack's fit covers (step 5).
     template_head : float in [0.0005, 0.05]
         s: how much of the template a new attack's start is matched with (step 5).
+    peak_window : float in [0.001, 0.1]
+        s: how long after an onset (or up to the next) its broadband peak is sought (step 6).
+    peak_reach : float in [0.01, 2]
+        s: the longest an earlier note's sound is followed and taken off under the later ones (step 6).
+    peak_templates : int in [0, 100]
+        How many of the recording's clear notes (the loudest) serve as templates of a note's sound (step 6;
+        0: none taken off).
+    peak_clear_db : float in [-120, 0]
+        dB re a note's peak: the loudest the 10 ms before it may be for it to be a template (step 6).
 
     Examples
     --------
@@ -381,6 +409,10 @@ class OnsetConfig:
     template_reach: float = 2.5e-3
     template_fit: float = 10e-3
     template_head: float = 3e-3
+    peak_window: float = 10e-3
+    peak_reach: float = 0.3
+    peak_templates: int = 6
+    peak_clear_db: float = -30.0
 
     def __post_init__(self):
         for name, (low, high, unit) in _RANGES.items():
@@ -419,6 +451,8 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "lead_db": (0.0, 120.0, "dB"),
     "template_likeness": (0.0, 1.0, "(correlation)"), "template_reach": (0.0, 0.01, "s"),
     "template_fit": (0.5e-3, 0.1, "s"), "template_head": (0.5e-3, 0.05, "s"),
+    "peak_window": (1e-3, 0.1, "s"), "peak_reach": (0.01, 2.0, "s"), "peak_templates": (0, 100, ""),
+    "peak_clear_db": (-120.0, 0.0, "dB"),
 }
 
 
@@ -553,7 +587,11 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        median over the clear attacks (≥ 3) of their main rise less their onset.
     6. :func:`_reported`. Its level is in dB re the loudest onset. The noise floor (the
        ``floor_quantile`` quantile of the level band's peaks over 5-ms frames) plus
-       ``floor_margin_db``, or ``threshold_db`` if higher, is the threshold used.
+       ``floor_margin_db``, or ``threshold_db`` if higher, is the threshold used. Each reported
+       onset's broadband peak (:attr:`Onsets.peak_db`, dB re the loudest onset's) is read on the
+       signal itself by :func:`_peak_amplitudes`: the loudest sample over ``peak_window`` s after it (or
+       up to the next onset), after the earlier notes' sound is taken off (each fitted by the
+       recording's clear notes as templates, ``peak_templates`` of them, followed ``peak_reach`` s).
 
     Parameters
     ----------
@@ -573,8 +611,8 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
     Returns
     -------
     Onsets
-        Its ``info`` says the rate, the analysis rate, the noise floor (dB re the loudest onset),
-        the threshold asked for, and ``"no impacts found: …"`` when none was.
+        With :attr:`Onsets.peak_db`. Its ``info`` says the rate, the analysis rate, the noise floor
+        (dB re the loudest onset), the threshold asked for, and ``"no impacts found: …"`` when none was.
 
     Examples
     --------
@@ -583,8 +621,8 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
     >>> t = np.arange(rate) / rate
     >>> hit = lambda t0, a: a * np.where(t >= t0, np.exp(-(t - t0) / 0.03) * np.sin(2 * np.pi * 400 * (t - t0)), 0.0)
     >>> onsets = find_onsets(hit(0.2, 0.8) + hit(0.55, 0.4), rate)
-    >>> np.round(onsets.t, 4).tolist(), np.round(onsets.level_db, 1).tolist()
-    ([0.2, 0.55], [0.0, -6.2])
+    >>> np.round(onsets.t, 4).tolist(), np.round(onsets.level_db, 1).tolist(), np.round(onsets.peak_db, 1).tolist()
+    ([0.2, 0.55], [0.0, -6.2], [0.0, -6.0])
     >>> len(find_onsets(hit(0.2, 0.8) + hit(0.55, 0.4), rate, config=OnsetConfig(threshold_db=-3.0)))
     1
     """
@@ -623,7 +661,8 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
     candidates, amplitude = _one_attack_each(band, rate, candidates, amplitude, config)
     candidates = _out_of_decay(band, rate, candidates, amplitude, config)
     candidates = _learned_lead_ins(band, rate, candidates, config)
-    return _reported(candidates, amplitude, floor, {**info, "analysis_rate": tonal.rate}, source, rate, config)
+    onsets = _reported(candidates, amplitude, floor, {**info, "analysis_rate": tonal.rate}, source, rate, config)
+    return replace(onsets, peak_db=_peak_db(signal, onsets.t * rate, rate, config))
 
 
 def _no_onsets(reason, info, source, config):
@@ -1291,6 +1330,93 @@ def _reported(candidates, amplitude, floor, info, source, rate, config):
     info = {**info, "floor_db": floor_db if np.isfinite(floor_db) else None}
     return Onsets(np.maximum(times[keep] / rate, 0.0), level[keep], threshold_db=float(used), source=source,
                   info=info)
+
+
+def _peak_db(signal, times, rate, config):
+    """Step 6's :attr:`Onsets.peak_db` of the onsets reported at ``times`` (full-rate samples): dB re the loudest's."""
+    if not len(times):
+        return np.empty(0)
+    peaks = np.maximum(_peak_amplitudes(signal, times, rate, config), np.finfo(float).tiny)  # never -inf dB
+    return 20.0 * np.log10(peaks / peaks.max())
+
+
+def _peak_amplitudes(signal, times, rate, config):
+    """Each onset's broadband peak (full scale) on the signal itself, the earlier notes' sound taken off.
+
+    ``times`` (full-rate samples, increasing) are the onsets reported (an attack refused there would have its
+    window, and take a whole note off, in a reported one's). A recording's loudness of a note is its
+    loudest sample, but over a later note the earlier ones still sound (a drop's last bounces 4-12 ms
+    apart, a ghost note over an accent's ringing): read as it is, the peak is theirs together. So each
+    note in time order has its peak read over ``peak_window`` s (or up to the next onset) of the
+    remainder, then its own sound is fitted there by the recording's clear notes as templates
+    (:func:`_peak_templates`: the one that fits best, scaled by least squares, a few samples either
+    way) and taken off for ``peak_reach`` s. A template is a whole waveform: where a recording repeats
+    a sample (a drum machine, a SoundFont) it cancels the earlier note; where each stroke differs, the
+    least-squares scale falls with the likeness, and less is taken off (never more than it explains).
+    A decay extrapolated from before the note (its envelope, or a linear predictor's free response)
+    cannot follow an earlier note still rising to its own peak (up to 9 ms after its start), and
+    subtracting envelopes in power leaves the two waveforms' beating: both measured 2-10 dB worse on
+    rolls and drops (docs/analysis.md). The signal is not high-passed (a 60 Hz high-pass moves a
+    sample's peak by up to 1.8 dB), only its mean taken off.
+    """
+    x = np.asarray(signal, dtype=float) - float(np.mean(signal))
+    starts = np.round(times).astype(np.int64).clip(0, len(x) - 1)
+    following = np.append(starts[1:], len(x))
+    ends = np.maximum(np.minimum(starts + round(config.peak_window * rate), following), starts + 1)
+    window, reach = round(config.peak_window * rate), round(config.peak_reach * rate)
+    shift = max(1, round(6e-5 * rate))  # the onsets are placed within a few samples
+    templates = _peak_templates(x, starts, following, ends, rate, config)
+    rest, peaks = x.copy(), np.empty(len(starts))
+    for i, (start, end) in enumerate(zip(starts, ends)):
+        peaks[i] = np.abs(rest[start:end]).max()
+        fitted = _best_template(rest, start, following[i], templates, min(following[i] - start + window, reach),
+                                shift)
+        if fitted is not None:
+            at, scale, template = fitted
+            rest[at:at + len(template)] -= scale * template[:len(rest) - at]
+    return peaks
+
+
+def _peak_templates(x, starts, following, ends, rate, config):
+    """The recording's clear notes' waveforms (``config.peak_templates`` of the loudest), each up to the next onset.
+
+    A clear note: quiet before (its 10 ms before under ``peak_clear_db`` re its peak), ``peak_window`` s at
+    least before the next onset; its waveform lasts to the next onset, ``peak_reach`` s at most.
+    """
+    window, before = round(config.peak_window * rate), round(10e-3 * rate)
+    peaks = np.array([np.abs(x[a:b]).max() for a, b in zip(starts, ends)])
+    quiet = 10.0 ** (config.peak_clear_db / 20.0)
+    clear = [i for i, a in enumerate(starts)
+             if following[i] - a >= window and np.abs(x[max(a - before, 0):a]).max(initial=0.0) <= quiet * peaks[i]]
+    chosen = sorted(clear, key=lambda i: -peaks[i])[:config.peak_templates]
+    return [x[starts[i]:min(following[i], starts[i] + round(config.peak_reach * rate))] for i in chosen]
+
+
+def _best_template(rest, start, following, templates, need, shift):
+    """The template that fits ``rest`` from ``start`` (± ``shift`` samples) to the next onset best, as its
+    start, least-squares scale and waveform; None without one.
+
+    Templates of ``need`` samples at least (to the end of the next onset's window) are preferred, else the longest.
+    """
+    usable = [t for t in templates if len(t) >= need] or sorted(templates, key=len)[-1:]
+    best = None
+    for template in usable:
+        length = min(len(template), following - start, len(rest) - start - shift)
+        low = max(start - shift, 0)
+        if length < 16:  # too short to tell a scale
+            continue
+        part, head = rest[low:start + shift + length], template[:length]
+        energy = head @ head
+        if not energy > 0.0:
+            continue
+        cross = np.correlate(part, head, "valid")
+        power = np.cumsum(np.concatenate([[0.0], part * part]))
+        own = power[length:] - power[:-length]
+        unexplained = (own - cross * cross / energy) / np.maximum(own, np.finfo(float).tiny)
+        k = int(np.argmin(unexplained))
+        if best is None or unexplained[k] < best[0]:
+            best = (unexplained[k], low + k, cross[k] / energy, template)
+    return None if best is None else best[1:]
 
 
 # ------------------------------------------------------------------------------------------ the stages' tools

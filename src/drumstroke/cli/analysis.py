@@ -16,17 +16,20 @@ def add_onsets(ons):
     from ..analysis.drums import DRUMS
 
     ons.description = ("Find the impacts in a recording (WAV, FLAC, OGG, ...; several channels are mixed down): their "
-                       "times to a fraction of a millisecond and their levels in dB re the loudest. The ringing of the "
-                       "drum and the room is predicted away (a linear predictor) and each attack placed on its change "
-                       "point. Prints them and the threshold used; writes them as an onsets CSV (t,level_db, its "
-                       "metadata in the JSON beside it).")
+                       "times to a fraction of a millisecond, their levels in dB re the loudest (the drum's lowest "
+                       "modes: in proportion to the stick's speed) and their peaks in dB re the loudest peak (each "
+                       "note's loudest sample, the earlier notes' sound taken off). The ringing of the drum and the "
+                       "room is predicted away (a linear predictor) and each attack placed on its change point. Prints "
+                       "them and the threshold used; writes them as an onsets CSV (t,level_db,peak_db, its metadata "
+                       "in the JSON beside it).")
     ons.add_argument("recording", type=existing_file, metavar="RECORDING", help="an audio file")
     _add_detection(ons)
     ons.add_argument("--drum", choices=("all", *DRUMS), default="all",
                      help="keep only the onsets whose attack is this drum's (its band's energy the loudest over "
                           "the first 30 ms; levels then re the loudest kept), e.g. a groove's snare (default all)")
     ons.add_argument("--out", action=Output, suffixes=onsets_csv.SUFFIXES, metavar="ONSETS",
-                     help="write the onsets as .csv (t in s, level_db in dB re the loudest), the JSON beside it")
+                     help="write the onsets as .csv (t in s, level_db in dB re the loudest, peak_db in dB re the "
+                          "loudest peak), the JSON beside it")
     ons.add_argument("--plot", action=Output, suffixes=plot.SUFFIXES, metavar="PATH",
                      help=f"draw the waveform with the onsets over their levels: {', '.join(plot.SUFFIXES)}")
     add_mkdir(ons)
@@ -101,9 +104,9 @@ def _onsets(args):
         print(onsets.info.get("found", "no impacts found"))
     else:
         print(f"{len(onsets)} onsets:")
-        print(f"{'#':>4} {'t (s)':>11} {'level (dB)':>11}")
-        for i, (t, level) in enumerate(zip(onsets.t, onsets.level_db)):
-            print(f"{i:>4} {t:>11.6f} {level:>11.2f}")
+        print(f"{'#':>4} {'t (s)':>11} {'level (dB)':>11} {'peak (dB)':>10}")
+        for i, (t, level, peak) in enumerate(zip(onsets.t, onsets.level_db, onsets.peak_db)):
+            print(f"{i:>4} {t:>11.6f} {level:>11.2f} {peak:>10.2f}")
     written = []
     with Bundle() as bundle:
         if args.out:

@@ -1,19 +1,23 @@
-"""A recording's onsets as CSV, both ways: ``t,level_db`` rows (the impacts found in a recording).
+"""A recording's onsets as CSV, both ways: ``t,level_db`` rows, or ``t,level_db,peak_db`` (the impacts found in a recording).
 
-A file starts with its header ``t,level_db``, then one row per onset at full precision (never
-``-0``), so any CSV reader reads it as it is::
+A file starts with its header ``t,level_db`` (onsets given as times and levels) or
+``t,level_db,peak_db`` (onsets found in a recording), then one row per onset at full precision
+(never ``-0``), so any CSV reader reads it as it is::
 
-    t,level_db
-    0.10003125,0.0
-    0.3125,-3.010299956639812
+    t,level_db,peak_db
+    0.10003125,0.0,0.0
+    0.3125,-3.010299956639812,-2.5
 
-``t`` is in s from the recording's start, ``level_db`` in dB re the loudest onset (≤ 0; the
-loudest is 0). What the header cannot say — the drumstroke version, the source, the detection
-threshold (dB re the loudest; ``null`` when the onsets were given, not detected), the units —
-is in the JSON beside the file (:mod:`.sidecar`).
+``t`` is in s from the recording's start; ``level_db`` in dB re the loudest onset (≤ 0; the
+loudest is 0): the drum's lowest modes' amplitude, in proportion to the stick's tip speed;
+``peak_db`` in dB re the loudest onset's peak (≤ 0): each onset's broadband peak, the earlier
+notes' sound taken off (:attr:`drumstroke.analysis.Onsets.peak_db`). What the header cannot say —
+the drumstroke version, the source, the detection threshold (dB re the loudest; ``null`` when
+the onsets were given, not detected), the units and what each column is — is in the JSON beside
+the file (:mod:`.sidecar`).
 
 Reading allows a byte-order mark (spreadsheets write one) and refuses, naming the file and the
-line, anything but the header and rows of two finite numbers; a file larger than
+line, anything but one of the two headers and rows of as many finite numbers; a file larger than
 :data:`MAX_BYTES` is refused unread. The onsets' own checks (times increasing, levels ≤ 0) are
 :class:`drumstroke.analysis.Onsets`'s.
 
@@ -26,11 +30,18 @@ Examples
 t,level_db
 0.1,0.0
 0.3125,-3.0
->>> t, level_db, meta = read_onsets_csv(path)
->>> t.tolist(), level_db.tolist(), meta["source"], meta["threshold_db"]
-([0.1, 0.3125], [0.0, -3.0], 'drop.wav', -40.0)
+>>> t, level_db, peak_db, meta = read_onsets_csv(path)
+>>> t.tolist(), level_db.tolist(), peak_db, meta["source"], meta["threshold_db"]
+([0.1, 0.3125], [0.0, -3.0], None, 'drop.wav', -40.0)
 >>> json.loads(path.with_suffix(".json").read_text())["csv"]["units"]
 {'t': 's', 'level_db': 'dB re the loudest onset'}
+>>> write_onsets_csv(path, [0.1, 0.3125], [0.0, -3.0], peak_db=[0.0, -2.5])
+>>> print(path.read_text(), end="")
+t,level_db,peak_db
+0.1,0.0,0.0
+0.3125,-3.0,-2.5
+>>> read_onsets_csv(path)[2].tolist()
+[0.0, -2.5]
 """
 
 import io
@@ -48,10 +59,18 @@ SUFFIXES = (".csv",)
 """The extension of the onset files written."""
 
 COLUMNS = ("t", "level_db")
-"""The header of an onsets CSV."""
+"""The header of an onsets CSV without peaks (onsets given as times and levels)."""
 
-UNITS = {"t": "s", "level_db": "dB re the loudest onset"}
+PEAK_COLUMNS = (*COLUMNS, "peak_db")
+"""The header of an onsets CSV with each onset's broadband peak (onsets found in a recording)."""
+
+UNITS = {"t": "s", "level_db": "dB re the loudest onset", "peak_db": "dB re the loudest onset's peak"}
 """The unit of each column."""
+
+MEANINGS = {"t": "the onset's time from the recording's start",
+            "level_db": "the amplitude of the drum's lowest modes (in proportion to the stick's tip speed)",
+            "peak_db": "the onset's broadband peak on the unfiltered signal, the earlier notes' sound taken off"}
+"""What each column is (written in the JSON beside the file)."""
 
 MAX_BYTES = 64 * 1024 * 1024
 """The largest onsets CSV read (bytes): ~2 million onsets, far more than any recording has."""
@@ -65,16 +84,18 @@ def check_onsets_path(path, *, name="out"):
     return path
 
 
-def onsets_text(t, level_db):
-    """CSV text: the header ``t,level_db``, then one row per onset at full precision (no ``-0``)."""
+def onsets_text(t, level_db, peak_db=None):
+    """CSV text: the header ``t,level_db`` (``t,level_db,peak_db`` with peaks), then one row per onset at full
+    precision (no ``-0``)."""
+    columns = (t, level_db) if peak_db is None else (t, level_db, peak_db)
     buffer = io.StringIO()
-    buffer.write(",".join(COLUMNS) + "\n")
-    for ti, li in zip(t, level_db):
-        buffer.write(f"{_number(ti)},{_number(li)}\n")
+    buffer.write(",".join(COLUMNS if peak_db is None else PEAK_COLUMNS) + "\n")
+    for row in zip(*columns):
+        buffer.write(",".join(_number(value) for value in row) + "\n")
     return buffer.getvalue()
 
 
-def write_onsets_csv(path, t, level_db, *, fields=None, bundle=None):
+def write_onsets_csv(path, t, level_db, *, peak_db=None, fields=None, bundle=None):
     """Write onsets to the CSV at ``path`` and their metadata to the JSON beside it, atomically, together.
 
     Parameters
@@ -85,6 +106,8 @@ def write_onsets_csv(path, t, level_db, *, fields=None, bundle=None):
         Onset times (s from the recording's start).
     level_db : array_like [shape=(n,)]
         Onset levels (dB re the loudest onset).
+    peak_db : array_like [shape=(n,)] or None
+        Onset peaks (dB re the loudest onset's peak), written as a third column; None: no such column.
     fields : dict or None
         What else the JSON beside it says, in order (``source``, ``threshold_db`` in dB re the
         loudest — a non-finite one is written as null —, how they were found).
@@ -99,19 +122,23 @@ def write_onsets_csv(path, t, level_db, *, fields=None, bundle=None):
     """
     path = check_onsets_path(path, name="path")
     side = sidecar_for(path, name="path")
-    fields = {key: _plain(value) for key, value in (fields or {}).items()}
+    columns = COLUMNS if peak_db is None else PEAK_COLUMNS
+    fields = {**{key: _plain(value) for key, value in (fields or {}).items()},
+              "meanings": {column: MEANINGS[column] for column in columns}}
     with bundled(bundle) as files:
-        write_atomic(path, onsets_text(t, level_db), bundle=files)
-        write_sidecar(side, describe(path, COLUMNS, UNITS, fields), bundle=files)
+        write_atomic(path, onsets_text(t, level_db, peak_db), bundle=files)
+        write_sidecar(side, describe(path, columns, UNITS, fields), bundle=files)
 
 
 def read_onsets_csv(path):
-    """The onset times (s), levels (dB re the loudest) and metadata of the onsets CSV at ``path``.
+    """The onset times (s), levels (dB re the loudest), peaks (dB re the loudest peak) and metadata of the onsets CSV at ``path``.
 
     Returns
     -------
     t : ndarray [shape=(n,)]
     level_db : ndarray [shape=(n,)]
+    peak_db : ndarray [shape=(n,)] or None
+        None for a file without the column (``t,level_db``).
     metadata : dict
         The ``"csv"`` block of the JSON beside it (:mod:`.sidecar`), ``{}`` when there is none;
         its ``threshold_db`` is a float (``-inf`` for null).
@@ -120,40 +147,42 @@ def read_onsets_csv(path):
     ------
     ParameterError
         Naming the file (and the line): missing, not a regular file, larger than
-        :data:`MAX_BYTES`, not UTF-8 text, no ``t,level_db`` header first, a row that is not two
-        finite numbers; or metadata beside it that describes other columns.
+        :data:`MAX_BYTES`, not UTF-8 text, no ``t,level_db`` or ``t,level_db,peak_db`` header first, a
+        row that is not as many finite numbers; or metadata beside it that describes other columns.
     """
     where = f"onsets file {str(path)!r}"
     path = Path(path)
     lines = read_csv_rows(path, "onsets file", limit=MAX_BYTES, rows_of=" of 't,level_db' rows")
-    if not lines or tuple(cell.strip() for cell in lines[0]) != COLUMNS:
+    header = tuple(cell.strip() for cell in lines[0]) if lines else ()
+    if header not in (COLUMNS, PEAK_COLUMNS):
         first = ",".join(lines[0]) if lines else "(an empty file)"
-        raise ParameterError(f"{where} line 1 must be the header {','.join(COLUMNS)}, got {first[:80]!r}")
+        raise ParameterError(f"{where} line 1 must be the header {','.join(COLUMNS)} (or {','.join(PEAK_COLUMNS)}), "
+                             f"got {first[:80]!r}")
     rows = []
     for number, row in enumerate(lines[1:], start=2):
         if not row:
             continue
         try:
-            if len(row) != 2:
+            if len(row) != len(header):
                 raise ValueError
-            values = (float(row[0]), float(row[1]))
+            values = tuple(float(cell) for cell in row)
             if not all(math.isfinite(v) for v in values):
                 raise ValueError
         except ValueError:
-            raise ParameterError(f"{where} line {number} must be 't,level_db' with two finite numbers, got "
-                                 f"{','.join(row)[:80]!r}") from None
+            raise ParameterError(f"{where} line {number} must be '{','.join(header)}' with "
+                                 f"{'two' if len(header) == 2 else 'three'} finite numbers, got {','.join(row)[:80]!r}") from None
         rows.append(values)
-    data = np.array(rows, dtype=float).reshape(-1, 2)
-    return data[:, 0], data[:, 1], _metadata(path)
+    data = np.array(rows, dtype=float).reshape(-1, len(header))
+    return data[:, 0], data[:, 1], data[:, 2] if len(header) == 3 else None, _metadata(path, header)
 
 
-def _metadata(path):
+def _metadata(path, columns):
     block = read_sidecar(path)
     if block is None or block.get("file") != path.name:
         return {}
-    if block.get("columns") != list(COLUMNS):
+    if block.get("columns") != list(columns):
         raise ParameterError(f"metadata {str(path.with_suffix('.json'))!r} describes the columns "
-                             f"{block.get('columns')!r}, but the CSV beside it has {list(COLUMNS)!r}; remove or "
+                             f"{block.get('columns')!r}, but the CSV beside it has {list(columns)!r}; remove or "
                              "rewrite the JSON")
     block = dict(block)
     threshold = block.get("threshold_db")
