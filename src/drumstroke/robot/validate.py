@@ -244,7 +244,8 @@ def validate_file(path, *, stick=None, rate=None, head=None, limits=None, start=
     Parameters
     ----------
     path : str or Path
-        A CSV with the columns ``t,theta,omega`` (or ``theta_<stick>,omega_<stick>``).
+        A CSV with the columns ``t,theta,omega`` (or ``theta_<stick>,omega_<stick>``); the impacts the JSON
+        beside it records, if it does, are the trajectory's (see :func:`impact_steps`).
     stick : str or None
         Which stick of a composition with several (its column suffix).
     rate : float or None
@@ -258,7 +259,7 @@ def validate_file(path, *, stick=None, rate=None, head=None, limits=None, start=
     -------
     Checked
     """
-    t, theta, omega, _, info = read_stick(path, stick=stick)
+    t, theta, omega, _, info, impacts = read_stick(path, stick=stick)
     where = f"trajectory file {str(path)!r}"
     stated = info["rate"] if info["rate_from"] != "its t column" else None
     if rate is not None:
@@ -273,7 +274,7 @@ def validate_file(path, *, stick=None, rate=None, head=None, limits=None, start=
                               f"the rate {stated:g} Hz of its {info['rate_from']}")
     try:
         return validate(t, theta, omega, rate=stated if stated is not None else rate, head=head, limits=limits,
-                        start=start)
+                        start=start, impacts=impacts)
     except TrajectoryError as error:
         raise TrajectoryError(f"{where}: {error}") from None
 
