@@ -12,7 +12,7 @@ import pytest
 
 from _cli import run
 from drumstroke.errors import TrajectoryError
-from drumstroke.formats.trajectory_csv import read_columns
+from drumstroke.formats.trajectory_csv import read_columns, read_stick
 from drumstroke.model import Stick
 from drumstroke.palette.motion import Limits
 from drumstroke.robot.validate import validate, validate_kit
@@ -72,11 +72,12 @@ def test_a_composition_at_any_rate_validates_and_exports(rate, tmp_path):
 @pytest.mark.parametrize("name", ["superhuman-press", "press-roll"])
 def test_a_library_stroke_at_any_rate_validates_and_exports(name, rate, tmp_path):
     known, found = tmp_path / "known.csv", tmp_path / "found.csv"  # with its impacts beside it, without
-    assert run("simulate", name, "--rate", rate, "--csv", known, "--json", tmp_path / "known-impacts.json").returncode == 0
+    assert run("simulate", name, "--rate", rate, "--csv", known, "--json", tmp_path / "known.json").returncode == 0
     assert run("simulate", name, "--rate", rate, "--csv", found).returncode == 0
+    assert len(read_stick(known)[5]) > 10 and read_stick(found)[5] is None
     for path in (known, found):
         assert_valid_and_exported(path, tmp_path)
-    if rate >= 2000.0:
+    if rate == RATES[-1]:
         assert strikes_exceed_the_limits(read_columns(found)[1]["omega"], rate)
 
 
