@@ -57,8 +57,15 @@ from ..formats.toml import read_toml
 from ..formats.trajectory_csv import KitSamples, range_only, read_kit, read_stick
 from ..kit.play import THETA
 from ..palette.motion import Limits
-from ..trajectory import (DEFAULT_RATE, THETA_TOP, TIME_TOLERANCE, Trajectory, check_grid, check_samples,
-                          reversals_on_head)
+from ..trajectory import (
+    DEFAULT_RATE,
+    THETA_TOP,
+    TIME_TOLERANCE,
+    Trajectory,
+    check_grid,
+    check_samples,
+    reversals_on_head,
+)
 
 ANGLE_TOLERANCE = 1e-9
 """rad a kit's joint may pass its range by in :func:`validate_kit`: round-off (a pedal's beater, held at rest by
