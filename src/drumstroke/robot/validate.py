@@ -110,7 +110,7 @@ class Checked:
     peak_speed : float
         max |ω| (rad/s).
     peak_acceleration : float
-        max |α| (rad/s²), over the steps that span no impact when validated with impacts (:func:`validate_kit`).
+        max |α| (rad/s²), over the steps that span no impact (:func:`impact_steps`).
     peak_jerk : float
         max |j| (rad/s³), likewise; 0 for two samples.
     """
@@ -335,8 +335,8 @@ def validate_kit(source, *, limits=None, tolerance=ANGLE_TOLERANCE):
     surface its hand plays; a pedal's beater for its range alone (no motor drives it: its spring and
     the foot do). The surface a stick or beater strikes reverses it within one control period, so
     the finite-difference acceleration and jerk across an impact are the strike's, not the joint's,
-    and grow with the rate without bound: the steps that span one of the limb's hits are not
-    bounded, and the rest are, at any rate.
+    and grow with the rate without bound: the steps that span one of the limb's hits (or a reversal
+    on its lowest surface, :func:`impact_steps`) are not bounded, and the rest are, at any rate.
 
     Parameters
     ----------
