@@ -864,10 +864,21 @@ def find_impacts(t, theta, omega, *, theta_max, tip_distance):
     """
     t, theta, omega = (np.asarray(a, dtype=float) for a in (t, theta, omega))
     dt = np.diff(t)
-    near = theta[:-1] - theta_max <= 2.0 * np.abs(omega[:-1]) * dt + 1e-9
-    k = np.flatnonzero((omega[:-1] < 0.0) & (omega[1:] > 0.0) & near)
+    k = np.flatnonzero(reversals_on_head(t, theta, omega, theta_max))
     when = t[k] + np.clip((theta[k] - theta_max) / -omega[k], 0.0, dt[k])
     return Impacts(when, omega[k].copy(), tip_distance), omega[k + 1].copy()
+
+
+def reversals_on_head(t, theta, omega, theta_max):
+    """True for each step from sample k to k+1 where the stick strikes the head [shape=(n-1,)]: ω turns from down to
+    up within it, θ[k] within twice a period's travel of the head θ_max (rad; the stick speeds up on its way).
+
+    >>> reversals_on_head(np.arange(4) * 1e-3, [0.011, 0.001, 0.009, 0.5], [-10.0, -10.0, 8.0, 8.0], 0.0)
+    array([False,  True, False])
+    """
+    t, theta, omega = (np.asarray(a, dtype=float) for a in (t, theta, omega))
+    near = theta[:-1] - theta_max <= 2.0 * np.abs(omega[:-1]) * np.diff(t) + 1e-9
+    return (omega[:-1] < 0.0) & (omega[1:] > 0.0) & near
 
 
 def _omega_after(t, omega, impact_t):

@@ -260,12 +260,18 @@ def sticks_in(columns):
 
 
 def read_stick(path, *, stick=None):
-    """t (s), θ (rad), ω (rad/s), α (rad/s², or None) and the :func:`file_metadata` of one stick of a trajectory CSV.
+    """t (s), θ (rad), ω (rad/s), α (rad/s², or None), the :func:`file_metadata` of one stick of a trajectory CSV,
+    and the times (s) of its impacts that the JSON beside it records (:func:`recorded_impacts`), or None.
 
     A file with several sticks has ``theta_<stick>`` columns: name the ``stick`` to read.
     """
     comment, columns = read_columns(path)
-    return (*stick_of(columns, stick, path), file_metadata(path, comment, columns))
+    samples = stick_of(columns, stick, path)
+    recorded = recorded_impacts(path, columns) or {}
+    if not sticks_in(columns) and len(recorded) == 1:  # a stroke's, or a one-stick piece's under its stick's name
+        recorded = {stick: next(iter(recorded.values()))}
+    impacts = recorded.get(stick)
+    return (*samples, file_metadata(path, comment, columns), None if impacts is None else impacts[0])
 
 
 def stick_of(columns, stick, path):

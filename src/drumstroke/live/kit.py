@@ -144,6 +144,13 @@ class KitPerformer(Performer):
         return tuple(f"{limb}.{joint}" for limb in self.sticks
                      for joint in (self._joints[limb] + (THETA,) if limb in self._joints else (THETA,)))
 
+    def _strikes(self, motions, t):
+        """A limb's impacts are its θ's; its positioning joints strike nothing."""
+        limbs = dict(zip(self.sticks, super()._strikes(motions, t)))
+        none = np.empty(0)
+        return tuple(limbs[limb] if joint == THETA else none
+                     for limb, _, joint in (column.partition(".") for column in self.columns))
+
     def checks(self):
         """Each column's (head, Limits): a positioning joint's the kit's; a hand's θ the lowest surface it plays; a
         beater's its head and the pedal's loudest note, twice (the speed; the acceleration and jerk of its impact

@@ -177,6 +177,10 @@ class Chunk:
         rad, rad/s, rad/s² (α is the flight acceleration dω/dt, impacts excluded).
     sticks : tuple of str
         The columns' names: the sticks', or on a kit every joint's, ``LIMB.JOINT`` (``right.yaw``).
+    impacts : tuple of ndarray
+        Each column's impact times (s) in the steps up to its setpoints, from the one before the first (a
+        positioning joint's: none); the validation leaves the steps across them unbounded in acceleration
+        and jerk (:func:`drumstroke.robot.validate.impact_steps`).
     """
 
     t: np.ndarray
@@ -184,6 +188,7 @@ class Chunk:
     omega: np.ndarray
     alpha: np.ndarray
     sticks: tuple
+    impacts: tuple = ()
 
     def __len__(self):
         return len(self.t)
@@ -538,7 +543,14 @@ class Performer:
         t = k / self.rate
         columns = [motion.evaluate(t) for motion in snapshot]  # a kit's hand gives every joint of it at once
         return Chunk(t, *(np.column_stack([c[i] for c in columns]) if len(t) else np.empty((0, len(self.columns)))
-                          for i in range(3)), self.columns)
+                          for i in range(3)), self.columns, self._strikes(snapshot, t))
+
+    def _strikes(self, motions, t):
+        """Each column's impact times (s) from one period before ``t[0]`` to ``t[-1]``: here a stick's, its motion's."""
+        if not len(t):
+            return tuple(np.empty(0) for _ in self.columns)
+        low, high = t[0] - 1.0 / self.rate, t[-1]
+        return tuple(times[(times >= low) & (times <= high)] for times in (motion.impacts for motion in motions))
 
     @property
     def columns(self):

@@ -310,18 +310,15 @@ class Runtime:
 
     def _validate(self, fresh):
         """Check a chunk for each stick, with the two setpoints before it; raise LiveError if it fails."""
-        performer, before = self.performer, self._tail
-        self._tail = _join(before, fresh, keep=2) if before is not None else _part(fresh, max(len(fresh) - 2, 0),
-                                                                                   len(fresh))
+        performer = self.performer
+        checked = fresh if self._tail is None else _join(self._tail, fresh)
+        self._tail = _part(checked, max(len(checked) - 2, 0), len(checked))
+        if len(checked) < 2:
+            return
         for j, (stick, (head, limits)) in enumerate(zip(performer.columns, performer.checks())):
-            t, theta, omega = fresh.t, fresh.theta[:, j], fresh.omega[:, j]
-            if before is not None:
-                t, theta, omega = (np.concatenate((a, b)) for a, b in (
-                    (before.t, t), (before.theta[:, j], theta), (before.omega[:, j], omega)))
-            if len(t) < 2:
-                continue
             try:
-                validate(t, theta, omega, rate=performer.rate, head=head, limits=limits)
+                validate(checked.t, checked.theta[:, j], checked.omega[:, j], rate=performer.rate, head=head,
+                         limits=limits, impacts=checked.impacts[j] if checked.impacts else None)
             except TrajectoryError as error:
                 what = "stick" if stick in performer.sticks else "joint"
                 self.failure = f"the {stick} {what}'s setpoints from {fresh.t[0]:.6g} s failed validation: {error}"
@@ -377,14 +374,17 @@ def _stats(values):
 
 
 def _part(chunk, first, last):
+    """Setpoints first to last (excluded), with the impacts in their steps and the one into the first."""
+    low = chunk.t[first - 1] if first > 0 else -np.inf
+    high = chunk.t[last - 1] if last > first else -np.inf
     return Chunk(chunk.t[first:last], chunk.theta[first:last], chunk.omega[first:last], chunk.alpha[first:last],
-                 chunk.sticks)
+                 chunk.sticks, tuple(times[(times >= low) & (times <= high)] for times in chunk.impacts))
 
 
-def _join(a, b, keep=None):
-    joined = Chunk(*(np.concatenate((getattr(a, name), getattr(b, name))) for name in ("t", "theta", "omega", "alpha")),
-                   a.sticks)
-    return joined if keep is None else _part(joined, max(len(joined) - keep, 0), len(joined))
+def _join(a, b):
+    impacts = tuple(np.concatenate(pair) for pair in zip(a.impacts, b.impacts))
+    return Chunk(*(np.concatenate((getattr(a, name), getattr(b, name))) for name in ("t", "theta", "omega", "alpha")),
+                 a.sticks, impacts)
 
 
 def _sleep_until(clock, t, spin):

@@ -44,17 +44,24 @@ from ..trajectory import THETA_TOP, Impacts, Trajectory
 class Limits:
     """What a robot joint may do: its speed, acceleration and jerk limits, its range, and how near it a start must be.
 
-    The defaults are those of a strong joint that can play the shipped palette
-    at 1 kHz, composed at any velocity. Impacts are velocity reversals within
-    one control period, so the finite-difference acceleration and jerk at an
-    impact are about (1 + c)·|ω|·rate and that times the rate; the defaults are
-    set at least twice the largest values measured at 1 kHz: the shipped
-    library reaches 12.12 rad/s, 22 544 rad/s² and 2.283e7 rad/s³
-    (``superhuman-press``), compositions at velocity 127 (a 4 m/s tip speed)
-    14.81 rad/s, 27 458 rad/s² and 2.756e7 rad/s³. At another rate r the
-    impacts' acceleration scales with r/1000 and their jerk with (r/1000)².
-    Moves between strokes are planned within their speed and acceleration
-    (:data:`RETURN_LIMITS` by default).
+    What is bounded where: the angle and the speed at every sample; the
+    acceleration and the jerk (finite differences at the control rate) at every
+    step but those that span an impact (:func:`drumstroke.robot.validate.impact_steps`).
+    An impact reverses the stick within one control period, so the finite-difference
+    acceleration across it is about (1 + c)·|ω|·rate and the jerk beside it that
+    times the rate: the strike's, not the joint's, growing without bound with the
+    rate r (by r/1000 and (r/1000)² from their values at 1 kHz). Those steps being
+    left out, one motion passes or fails alike at every rate; the jerk where a force
+    switches at once (a stroke's pulses) is still the step of α times the rate.
+
+    The defaults are those of a strong joint, at least twice the largest values the
+    shipped palette and compositions at any velocity reach at 1 kHz, impacts
+    included: the shipped library reaches 12.12 rad/s, 22 544 rad/s² and
+    2.283e7 rad/s³ (``superhuman-press``), compositions at velocity 127 (a 4 m/s
+    tip speed) 14.81 rad/s, 27 458 rad/s² and 2.756e7 rad/s³. Away from impacts
+    the library reaches some 300 rad/s² at any rate, and 2.6e4 rad/s³ at 1 kHz
+    (``finger-pulses``, 2.6e6 at 100 kHz). Moves between strokes are planned
+    within their speed and acceleration (:data:`RETURN_LIMITS` by default).
 
     Parameters
     ----------

@@ -280,11 +280,12 @@ def _joints(trajectory, theta, omega, rate, model, name, joint_names, head, limi
     if isinstance(trajectory, Trajectory):
         sticks = trajectory.sticks
         names = check_joint_names(joint_names, sticks=sticks)
-        t, thetas, omegas = trajectory.t, [], []
+        t, thetas, omegas, impacts = trajectory.t, [], [], []
         for stick in sticks:
             part = trajectory.stick(stick)
             thetas.append(part.theta)
             omegas.append(part.omega)
+            impacts.append(part.impacts.t)
         starts = [start] if len(sticks) == 1 else (list(start) if start is not None else [None] * len(sticks))
         rate = trajectory.rate if rate is None else rate
     else:
@@ -292,10 +293,12 @@ def _joints(trajectory, theta, omega, rate, model, name, joint_names, head, limi
         names = check_joint_names(joint_names)
         sticks = (None,) * len(names)
         thetas, omegas, starts = _joint_columns(theta, omega, start, len(names))
+        impacts = [None] * len(names)
     checked = []
-    for joint, theta_j, omega_j, start_j in zip(names, thetas, omegas, starts):
+    for joint, theta_j, omega_j, start_j, impacts_j in zip(names, thetas, omegas, starts, impacts):
         try:
-            checked.append(validate(t, theta_j, omega_j, rate=rate, head=head, limits=limits, start=start_j))
+            checked.append(validate(t, theta_j, omega_j, rate=rate, head=head, limits=limits, start=start_j,
+                                    impacts=impacts_j))
         except TrajectoryError as error:
             raise TrajectoryError(f"joint {joint!r}: {error}") from None
     return tuple(checked), names, sticks, model, name

@@ -9,8 +9,9 @@ when, in this order,
    1e-9·max(1, |t[k]|) s (a repeated time, a gap and a wrong rate are told apart);
 3. θ never goes below the drumhead nor outside the joint's range
    [theta_low, theta_high];
-4. the speed |ω|, the acceleration α_k = (ω[k+1] − ω[k])·rate and the jerk
-   j_k = (α[k+1] − α[k])·rate stay within the joint's limits;
+4. the speed |ω| stays within the joint's limit at every sample, and the acceleration
+   α_k = (ω[k+1] − ω[k])·rate and the jerk j_k = (α[k+1] − α[k])·rate within theirs at
+   every step whose finite difference spans no impact (see below);
 5. it starts where the joint is (when the joint's state is given).
 
 The first failure raises :class:`TrajectoryError` naming the sample, the
@@ -18,9 +19,17 @@ quantity, its value and the limit, e.g. ``sample 1203: speed 41.2 rad/s exceeds
 max_speed 40 rad/s``. Acceleration and jerk are forward differences: the
 acceleration of sample k is the step from sample k to k + 1.
 
+An impact reverses the stick within one control period: the finite-difference acceleration
+across it is about (1 + c)·|ω|·rate and the jerk beside it that times the rate, the strike's
+and not the joint's, growing without bound with the rate. So the steps that span an impact
+(:func:`impact_steps`: one of the trajectory's impacts falls in the step, or the stick turns
+from down to up in it on the head) are bounded in angle and speed only, and every other step in
+acceleration and jerk too: the same trajectory passes or fails alike at every rate. A
+trajectory given as arrays has its impacts found on the head; a
+:class:`~drumstroke.trajectory.Trajectory` brings its own too.
+
 :func:`validate_kit` checks every joint of a kit's trajectory (a song on the kit) the same
-way, each against its own limits, leaving unbounded the steps across an impact, where the
-surface struck reverses a stick or a beater within one control period.
+way, each against its own limits, a limb's hits as its impacts.
 
 Examples
 --------
@@ -42,13 +51,21 @@ from pathlib import Path
 
 import numpy as np
 
-from .._checks import as_vector, check_keys, check_real
+from .._checks import as_vector, check_keys, check_real, shown
 from ..errors import ParameterError, TrajectoryError
 from ..formats.toml import read_toml
 from ..formats.trajectory_csv import KitSamples, range_only, read_kit, read_stick
 from ..kit.play import THETA
 from ..palette.motion import Limits
-from ..trajectory import DEFAULT_RATE, THETA_TOP, TIME_TOLERANCE, Trajectory, check_grid, check_samples
+from ..trajectory import (
+    DEFAULT_RATE,
+    THETA_TOP,
+    TIME_TOLERANCE,
+    Trajectory,
+    check_grid,
+    check_samples,
+    reversals_on_head,
+)
 
 ANGLE_TOLERANCE = 1e-9
 """rad a kit's joint may pass its range by in :func:`validate_kit`: round-off (a pedal's beater, held at rest by
@@ -93,7 +110,7 @@ class Checked:
     peak_speed : float
         max |ω| (rad/s).
     peak_acceleration : float
-        max |α| (rad/s²), over the steps that span no impact when validated with impacts (:func:`validate_kit`).
+        max |α| (rad/s²), over the steps that span no impact (:func:`impact_steps`).
     peak_jerk : float
         max |j| (rad/s³), likewise; 0 for two samples.
     """
@@ -123,7 +140,8 @@ class Checked:
                 "peak_jerk": self.peak_jerk}
 
 
-def validate(trajectory, theta=None, omega=None, *, rate=None, head=None, limits=None, start=None, stick=None):
+def validate(trajectory, theta=None, omega=None, *, rate=None, head=None, limits=None, start=None, stick=None,
+             impacts=None):
     """Check a joint trajectory before it goes to hardware; return it as :class:`Checked`.
 
     Parameters
@@ -145,6 +163,9 @@ def validate(trajectory, theta=None, omega=None, *, rate=None, head=None, limits
         there, within the limits' start tolerances.
     stick : str or None
         The stick to check of a trajectory with several.
+    impacts : ndarray or None
+        The times (s) of the impacts in the samples [shape=(m,)], beside the reversals found on the
+        head (:func:`impact_steps`); default a Trajectory's own, none for arrays.
 
     Returns
     -------
@@ -163,28 +184,25 @@ def validate(trajectory, theta=None, omega=None, *, rate=None, head=None, limits
     head = limits.theta_low if head is None else check_real("head", head, low=-THETA_TOP, high=THETA_TOP, unit="rad")
     if start is not None:
         start = _check_start(start)
-    t, theta, omega, own_rate = _columns(trajectory, theta, omega, rate, stick)
+    t, theta, omega, own_rate, own_impacts = _columns(trajectory, theta, omega, rate, stick)
+    impacts = own_impacts if impacts is None else _check_impacts(impacts)
     rate = own_rate if rate is None else rate
     if rate != own_rate:
         check_grid(t, rate)
-    return _checked(t, theta, omega, rate, head, limits, start)
+    return _checked(t, theta, omega, rate, head, limits, start, impacts=impacts)
 
 
 def _checked(t, theta, omega, rate, head, limits, start=None, *, impacts=None, dynamics=True, tolerance=0.0):
     """Checks 3 to 5 of samples on the grid (new arrays, made read-only), as :class:`Checked`.
 
-    The accelerations and jerks that span one of ``impacts`` (times, s) are not bounded (see
-    :func:`validate_kit`); without ``dynamics`` only the angles are; they may pass their bounds by ``tolerance``
-    (rad).
+    The accelerations and jerks whose steps span an impact (:func:`impact_steps`) are not bounded; without
+    ``dynamics`` only the angles are; they may pass their bounds by ``tolerance`` (rad).
     """
     _check_angles(theta, head, limits, tolerance)
     alpha = np.diff(omega) * rate
     jerk = np.diff(alpha) * rate
-    if impacts is None or not len(impacts):
-        steady_alpha, steady_jerk = np.abs(alpha), np.abs(jerk)
-    else:
-        steady = _between_impacts(t, impacts)
-        steady_alpha, steady_jerk = np.abs(alpha) * steady, np.abs(jerk) * (steady[:-1] & steady[1:])
+    struck = impact_steps(t, theta, omega, head, impacts)
+    steady_alpha, steady_jerk = np.abs(alpha) * ~struck, np.abs(jerk) * ~(struck[:-1] | struck[1:])
     if dynamics:
         _check_bound(np.abs(omega), omega, "speed", "max_speed", limits.max_speed, "rad/s")
         _check_bound(steady_alpha, alpha, "acceleration", "max_acceleration", limits.max_acceleration, "rad/s²")
@@ -200,18 +218,27 @@ def _checked(t, theta, omega, rate, head, limits, start=None, *, impacts=None, d
 
 
 def _columns(trajectory, theta, omega, rate, stick):
-    """One stick's t, θ, ω (new arrays) and the rate they are sampled at, from a Trajectory or from arrays
-    (checked: finite, on the time grid; no Trajectory is built for arrays: a live stream validates each chunk)."""
+    """One stick's t, θ, ω (new arrays), the rate they are sampled at and its impacts' times (s; None for arrays),
+    from a Trajectory or from arrays (checked: finite, on the time grid; no Trajectory is built for arrays: a
+    live stream validates each chunk)."""
     if isinstance(trajectory, Trajectory):
         if theta is not None or omega is not None:
             raise ParameterError("give a Trajectory, or the arrays t, theta and omega, not both")
         one = trajectory if stick is None and len(trajectory.sticks) == 1 else trajectory.stick(
             stick if stick is not None else _one_stick(trajectory))
-        return (*(np.array(a) for a in one.columns()), one.rate)
+        return (*(np.array(a) for a in one.columns()), one.rate, one.impacts.t)
     t, theta, omega = (as_vector(name, values) for name, values in (("t", trajectory), ("theta", theta),
                                                                    ("omega", omega)))
     t, theta, omega, _, rate = check_samples(t, theta, omega, None, DEFAULT_RATE if rate is None else rate)
-    return t, theta[:, 0], omega[:, 0], rate
+    return t, theta[:, 0], omega[:, 0], rate, None
+
+
+def _check_impacts(impacts):
+    times = as_vector("impacts", impacts)
+    if not np.isfinite(times).all():
+        raise ParameterError(f"impacts must be finite times (s), got {shown(impacts)}", parameter="impacts",
+                             value=impacts, allowed="finite times (s)")
+    return times
 
 
 def _one_stick(trajectory):
@@ -224,7 +251,8 @@ def validate_file(path, *, stick=None, rate=None, head=None, limits=None, start=
     Parameters
     ----------
     path : str or Path
-        A CSV with the columns ``t,theta,omega`` (or ``theta_<stick>,omega_<stick>``).
+        A CSV with the columns ``t,theta,omega`` (or ``theta_<stick>,omega_<stick>``); the impacts the JSON
+        beside it records, if it does, are the trajectory's (see :func:`impact_steps`).
     stick : str or None
         Which stick of a composition with several (its column suffix).
     rate : float or None
@@ -238,7 +266,7 @@ def validate_file(path, *, stick=None, rate=None, head=None, limits=None, start=
     -------
     Checked
     """
-    t, theta, omega, _, info = read_stick(path, stick=stick)
+    t, theta, omega, _, info, impacts = read_stick(path, stick=stick)
     where = f"trajectory file {str(path)!r}"
     stated = info["rate"] if info["rate_from"] != "its t column" else None
     if rate is not None:
@@ -253,25 +281,49 @@ def validate_file(path, *, stick=None, rate=None, head=None, limits=None, start=
                               f"the rate {stated:g} Hz of its {info['rate_from']}")
     try:
         return validate(t, theta, omega, rate=stated if stated is not None else rate, head=head, limits=limits,
-                        start=start)
+                        start=start, impacts=impacts)
     except TrajectoryError as error:
         raise TrajectoryError(f"{where}: {error}") from None
 
 
-def _between_impacts(t, impacts):
-    """True for each step from t[k] to t[k + 1] that no impact falls in [shape=(n-1,)].
+def impact_steps(t, theta, omega, head, impacts=None):
+    """True for each step from sample k to k+1 that spans an impact [shape=(n-1,)].
 
-    An impact at a sample's time (within the time grid's tolerance) may fall on either side of it, so
-    both steps beside that sample are taken as spanning it.
+    A step spans an impact when one of ``impacts`` falls in it, or when the stick turns from down to
+    up in it on the head (:func:`~drumstroke.trajectory.reversals_on_head`): samples alone show
+    where a stick struck. An impact at a sample's time (within the time grid's tolerance) may fall on
+    either side of it, so both steps beside that sample are taken as spanning it. The acceleration
+    of a step that spans an impact, and the jerks beside it, are the strike's; :func:`validate` and
+    :func:`validate_kit` bound only those of the other steps.
+
+    Parameters
+    ----------
+    t, theta, omega : ndarray [shape=(n,)]
+        Samples on a time grid: s, rad, rad/s.
+    head : float or None
+        The angle (rad) the stick strikes; None: a joint that strikes nothing (a hand's positioning joint).
+    impacts : ndarray or None
+        The impacts' times (s) [shape=(m,)], known beside the samples.
+
+    Examples
+    --------
+    >>> t = np.arange(5) * 1e-3
+    >>> impact_steps(t, [0.03, 0.02, 0.01, 0.005, 0.02], [-10.0, -10.0, -10.0, 10.0, 10.0], 0.0)
+    array([False, False,  True, False])
+    >>> impact_steps(t, [0.5] * 5, [0.0] * 5, 0.0, impacts=[0.002])
+    array([False,  True,  True, False])
     """
-    steady = np.ones(len(t) - 1, dtype=bool)
-    tolerance = TIME_TOLERANCE * np.maximum(1.0, np.abs(impacts))
-    first = np.clip(np.searchsorted(t, impacts - tolerance) - 1, 0, len(steady))
-    last = np.clip(np.searchsorted(t, impacts + tolerance) - 1, -1, len(steady) - 1)
-    marks = np.zeros(len(steady) + 1, dtype=int)
-    np.add.at(marks, first, 1)
-    np.add.at(marks, last + 1, -1)
-    return np.cumsum(marks[:-1]) <= 0
+    struck = np.zeros(len(t) - 1, dtype=bool) if head is None else reversals_on_head(t, theta, omega, head)
+    if impacts is not None and len(impacts):
+        impacts = np.asarray(impacts, dtype=float)
+        tolerance = TIME_TOLERANCE * np.maximum(1.0, np.abs(impacts))
+        first = np.clip(np.searchsorted(t, impacts - tolerance) - 1, 0, len(struck))
+        last = np.clip(np.searchsorted(t, impacts + tolerance) - 1, -1, len(struck) - 1)
+        marks = np.zeros(len(struck) + 1, dtype=int)
+        np.add.at(marks, first, 1)
+        np.add.at(marks, last + 1, -1)
+        struck |= np.cumsum(marks[:-1]) > 0
+    return struck
 
 
 def validate_kit(source, *, limits=None, tolerance=ANGLE_TOLERANCE):
@@ -283,8 +335,8 @@ def validate_kit(source, *, limits=None, tolerance=ANGLE_TOLERANCE):
     surface its hand plays; a pedal's beater for its range alone (no motor drives it: its spring and
     the foot do). The surface a stick or beater strikes reverses it within one control period, so
     the finite-difference acceleration and jerk across an impact are the strike's, not the joint's,
-    and grow with the rate without bound: the steps that span one of the limb's hits are not
-    bounded, and the rest are, at any rate.
+    and grow with the rate without bound: the steps that span one of the limb's hits (or a reversal
+    on its lowest surface, :func:`impact_steps`) are not bounded, and the rest are, at any rate.
 
     Parameters
     ----------
