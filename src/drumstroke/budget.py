@@ -120,6 +120,52 @@ def values_bytes(count):
     return float(count) * VALUE_BYTES
 
 
+# --- what each kind of input asks for ------------------------------------------------------------------------------
+
+BREAK_VALUES = 3
+"""Numbers held a breakpoint of a profile while its pieces are made: the parts', their concatenation, the sorted."""
+
+SAMPLE_VALUES = 4
+"""Numbers held a stick a sample of a trajectory (θ and ω, and the copies that put the sticks side by side)."""
+
+CSV_SECONDS_PER_VALUE = 1.5e-6
+"""Time to sample and write one number of a trajectory CSV (s; measured: some 1 µs to format, 0.5 to sample)."""
+
+SWEEP_BYTES_PER_POINT = 8000
+"""Memory one point of a sweep holds until its table is written (bytes; measured some 7 kB: its values, recipe, row)."""
+
+SWEEP_SECONDS_PER_POINT = 2e-4
+"""Time to simulate one point of a sweep (s; its strokes vary, some 0.2 ms on one core)."""
+
+DROP_SECONDS_PER_TRIPLE = 2e-4
+"""Time measure-cor spends on one candidate triple of onsets (s; matched to every onset of its sequence)."""
+
+
+def audio_bytes(frames, channels, working):
+    """Memory (bytes) of an audio file's ``frames`` × ``channels`` samples as float64, and ``working`` copies of one channel."""
+    return values_bytes(frames * (channels + working))
+
+
+def samples_bytes(rows, sticks):
+    """Memory (bytes) of ``rows`` samples of a trajectory of ``sticks`` sticks: the times, and each stick's."""
+    return values_bytes(rows * (1 + SAMPLE_VALUES * sticks))
+
+
+def csv_seconds(rows, columns):
+    """Time (s) to sample and write a trajectory CSV of ``rows`` rows of ``columns`` numbers."""
+    return rows * columns * CSV_SECONDS_PER_VALUE
+
+
+def drop_seconds(triples):
+    """Time (s) measure-cor takes over ``triples`` candidate triples of onsets."""
+    return triples * DROP_SECONDS_PER_TRIPLE
+
+
+def sweep_cost(points):
+    """Memory (bytes) and time (s) of a sweep of ``points`` points."""
+    return points * SWEEP_BYTES_PER_POINT, points * SWEEP_SECONDS_PER_POINT
+
+
 def _gb(size):
     return f"{size / 1e9:.2g} GB" if size < 1e10 else f"{size / 1e9:.3g} GB"
 

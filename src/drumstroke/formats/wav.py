@@ -20,7 +20,7 @@ import io
 from pathlib import Path
 
 from .._atomic import write_atomic
-from ..budget import check_memory, values_bytes
+from ..budget import audio_bytes, check_memory
 from .._checks import check_int, check_vector
 from ..errors import ParameterError
 from .reading import MIB, read_bytes
@@ -112,7 +112,7 @@ def read_audio(path, *, max_seconds=None, working=0):
         if max_seconds is not None and info.frames > max_seconds * info.samplerate:
             raise ParameterError(f"{where} lasts {info.frames / info.samplerate:.6g} s; at most {max_seconds:g} s "
                                  "are read: cut it into parts")
-        check_memory(where, values_bytes(info.frames * (info.channels + working)),
+        check_memory(where, audio_bytes(info.frames, info.channels, working),
                      f"{info.frames} frames of {info.channels} channel{'s' * (info.channels != 1)} at "
                      f"{info.samplerate} Hz as its header counts them, and {working} working copies")
         signal, rate = soundfile.read(str(path), dtype="float64", always_2d=True)
