@@ -256,12 +256,9 @@ class Profile:
     def pieces(self, t_end):
         """The profile on [0, t_end] as :class:`Pieces`.
 
-        The breakpoints are counted before they are made (:meth:`_break_count`): a profile of
-        more than the memory budget's worth (:mod:`drumstroke.budget`) is refused at once.
+        The breakpoints are counted before they are made (:meth:`check_budget`).
         """
-        count = self._break_count(t_end)
-        check_memory(f"{self.kind} profile", values_bytes(BREAK_VALUES * count),
-                     f"{count:.0f} breakpoints before t_end = {t_end:g} s")
+        self.check_budget(t_end)
         edges = merge_edges(self._breaks(t_end), t_end)
         if len(edges) - 1 > MAX_PIECES:
             raise ParameterError(
@@ -270,6 +267,16 @@ class Profile:
             )
         values, slopes = self._start_and_slope(edges[:-1], merge_tolerance(t_end))
         return Pieces(edges, np.asarray(values, dtype=float), np.asarray(slopes, dtype=float))
+
+    def check_budget(self, t_end, *, what=None):
+        """Refuse the profile when its breakpoints before ``t_end`` (s) are more than the memory budget's worth.
+
+        They are counted without being made (:mod:`drumstroke.budget`); ``what`` names the profile
+        in the message (default ``KIND profile``).
+        """
+        count = self._break_count(t_end)
+        check_memory(what or f"{self.kind} profile", values_bytes(BREAK_VALUES * count),
+                     f"{count:.0f} breakpoints before t_end = {t_end:g} s")
 
     def to_dict(self):
         """The profile as a plain dict, in the form a recipe's table takes: ``kind``, then each parameter."""

@@ -68,7 +68,7 @@ THETA_TOP = math.pi / 2
 MAX_SAMPLES = 50_000_000
 """Most samples one trajectory may hold."""
 
-_CSV_CHUNK = 1 << 22  # numbers sampled and formatted at a time when a CSV is written: bounds the memory, not a tuning
+_CSV_CHUNK = 1 << 20  # numbers sampled and formatted at a time when a CSV is written: bounds the memory, not a tuning
 
 DEFAULT_STICK = "stick"
 """The name of a lone stick (a stroke's): a composition names its sticks (``right``, ``left``, …)."""

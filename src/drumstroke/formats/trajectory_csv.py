@@ -95,11 +95,12 @@ def metadata(path, names, *, model, name, rate, sticks, extra=None):
 
 def columns_text(names, columns):
     """CSV text: the header of ``names`` (none if None), then the columns (1-D arrays of one length) at full precision."""
-    buffer = io.StringIO()
     # Adding 0 turns -0.0 into 0.0, which other tools would otherwise read as a distinct "-0".
-    np.savetxt(buffer, np.column_stack(columns) + 0.0, delimiter=",", header=",".join(names or ()), comments="",
-               fmt="%.17g")
-    return buffer.getvalue()
+    table = np.column_stack(columns) + 0.0
+    header = "" if names is None else ",".join(names) + "\n"
+    # One format of the whole table (numpy's savetxt, a row at a time into a StringIO, left the process some
+    # 100 bytes a row larger each call: a long trajectory streamed in chunks grew without bound).
+    return header + (",".join(["%.17g"] * table.shape[1]) + "\n") * len(table) % tuple(table.ravel().tolist())
 
 
 def write_columns(path, names, columns, *, bundle=None):
