@@ -69,12 +69,13 @@ class Budget:
                                                        unit="min"))
 
 
-_CURRENT = ContextVar("drumstroke_budget", default=Budget())
+_DEFAULT = Budget()
+_CURRENT = ContextVar("drumstroke_budget", default=None)  # None: the default budget
 
 
 def current():
     """The budget in force (:class:`Budget`): the default, or the one :func:`allowing` set for this block."""
-    return _CURRENT.get()
+    return _CURRENT.get() or _DEFAULT
 
 
 @contextlib.contextmanager

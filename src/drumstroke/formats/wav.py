@@ -20,8 +20,8 @@ import io
 from pathlib import Path
 
 from .._atomic import write_atomic
-from ..budget import audio_bytes, check_memory
 from .._checks import check_int, check_vector
+from ..budget import audio_bytes, check_memory
 from ..errors import ParameterError
 from .reading import MIB, read_bytes
 
