@@ -383,7 +383,9 @@ class Trajectory:
     def write_csv(self, path, *, alpha=False, metadata=None, sidecar=True, bundle=None):
         """Write the samples as a trajectory CSV, header first, atomically; its metadata in the JSON beside it.
 
-        The two files are put in place together (a :class:`drumstroke._atomic.Bundle`).
+        The two files are put in place together (a :class:`drumstroke._atomic.Bundle`). A long
+        trajectory is sampled and written a chunk at a time, in bounded memory; the time its CSV
+        takes is estimated first and refused beyond the budget (:mod:`drumstroke.budget`).
 
         Parameters
         ----------
