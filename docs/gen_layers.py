@@ -40,6 +40,7 @@ SHORT = {
     "model": "the stick; the paper and geometry models",
     "formats": "every file format, one module each, both directions, plain data",
     "dynamics": "level <-> MIDI velocity",
+    "budget": "resource budgets: what an input asks for",
     "_checks": "input checks",
     "_atomic": "atomic writes",
     "_jit": "compiled kernels, loaded from numba's cache",

@@ -31,7 +31,8 @@ _TEMPORARY = re.compile(r"\.(?P<name>.*)\.drumstroke-(?P<pid>\d+)-[0-9a-f]{8}\.(
 
 
 def write_atomic(path, data, *, mode=None, bundle=None):
-    """Write ``data`` (str or bytes) to ``path`` through a temporary file and a rename.
+    """Write ``data`` (str or bytes, or an iterable of their chunks, streamed) to ``path`` through a temporary file
+    and a rename.
 
     The file gets ``mode`` (permission bits, e.g. 0o600 for a secret; it has them from its
     creation, never the umask's first), else the old file's, else what the umask gives. With
@@ -309,12 +310,16 @@ def temporary_folder(path):
 
 
 def write_new(path, data, *, mode=0o666):
-    """Create the file ``path`` (it must not exist) holding ``data`` (bytes), synced to the disk."""
+    """Create the file ``path`` (it must not exist) holding ``data``, synced to the disk.
+
+    ``data`` is bytes, or an iterable of str or bytes chunks written as they come (a long output streamed).
+    """
     fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_CLOEXEC", 0), 0o600)
     try:
         with os.fdopen(fd, "wb") as handle:
             os.chmod(path, mode)
-            handle.write(data)
+            for chunk in (data,) if isinstance(data, bytes) else data:
+                handle.write(chunk.encode() if isinstance(chunk, str) else chunk)
             handle.flush()
             os.fsync(handle.fileno())
     except BaseException:

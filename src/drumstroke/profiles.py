@@ -101,6 +101,7 @@ from pathlib import Path
 import numpy as np
 
 from ._checks import check_keys, check_real, shown
+from .budget import BREAK_VALUES, check_memory, values_bytes
 from .errors import ParameterError
 from .formats.signal_csv import read_signal
 
@@ -253,7 +254,11 @@ class Profile:
         raise NotImplementedError
 
     def pieces(self, t_end):
-        """The profile on [0, t_end] as :class:`Pieces`."""
+        """The profile on [0, t_end] as :class:`Pieces`.
+
+        The breakpoints are counted before they are made (:meth:`check_budget`).
+        """
+        self.check_budget(t_end)
         edges = merge_edges(self._breaks(t_end), t_end)
         if len(edges) - 1 > MAX_PIECES:
             raise ParameterError(
@@ -263,6 +268,16 @@ class Profile:
         values, slopes = self._start_and_slope(edges[:-1], merge_tolerance(t_end))
         return Pieces(edges, np.asarray(values, dtype=float), np.asarray(slopes, dtype=float))
 
+    def check_budget(self, t_end, *, what=None):
+        """Refuse the profile when its breakpoints before ``t_end`` (s) are more than the memory budget's worth.
+
+        They are counted without being made (:mod:`drumstroke.budget`); ``what`` names the profile
+        in the message (default ``KIND profile``).
+        """
+        count = self._break_count(t_end)
+        check_memory(what or f"{self.kind} profile", values_bytes(BREAK_VALUES * count),
+                     f"{count:.0f} breakpoints before t_end = {t_end:g} s")
+
     def to_dict(self):
         """The profile as a plain dict, in the form a recipe's table takes: ``kind``, then each parameter."""
         return {"kind": self.kind, **{p.name: getattr(self, p.name) for p in self.parameters}}
@@ -270,6 +285,10 @@ class Profile:
     def _breaks(self, t_end):
         """Times in [0, t_end] (s) where the profile jumps or bends [shape=(n,)], in any order."""
         raise NotImplementedError
+
+    def _break_count(self, t_end):
+        """How many times :meth:`_breaks` gives, found without making them where they may be many (an upper bound)."""
+        return len(self._breaks(t_end))
 
     def _start_and_slope(self, left, tol):
         """Value just after each time in ``left`` (s) and the slope that follows it, as (values, slopes).
@@ -452,6 +471,9 @@ class Pulses(Profile):
         rises = self.phase + k * self.period
         return np.concatenate((rises, rises + self.duty * self.period))
 
+    def _break_count(self, t_end):
+        return 2 * (math.floor(max(t_end - self.phase, 0.0) / self.period) + 1)
+
     def _start_and_slope(self, left, tol):
         return self(left + tol), np.zeros(len(left))
 
@@ -539,6 +561,9 @@ class Sum(Profile):
 
     def _breaks(self, t_end):
         return np.concatenate([part._breaks(t_end) for part in self.parts])
+
+    def _break_count(self, t_end):
+        return sum(part._break_count(t_end) for part in self.parts)
 
     @classmethod
     def from_table(cls, table, *, name, base_dir):

@@ -163,9 +163,17 @@ class Recipe:
 
     @classmethod
     def from_toml(cls, path):
-        """Read a recipe file; ``samples`` files are found relative to it."""
+        """Read a recipe file; ``samples`` files are found relative to it.
+
+        A profile whose breakpoints are more than the memory budget's worth is refused naming the
+        file (:meth:`drumstroke.profiles.Profile.check_budget`).
+        """
         path = Path(path)
-        return cls.from_dict(read_toml(path, "recipe"), name=path.stem, base_dir=path.parent)
+        recipe = cls.from_dict(read_toml(path, "recipe"), name=path.stem, base_dir=path.parent)
+        for name in ("force", "gravity"):
+            profile = getattr(recipe, name)
+            profile.check_budget(recipe.t_end, what=f"recipe {str(path)!r}: {name} ({profile.kind})")
+        return recipe
 
     def to_toml(self, path, *, bundle=None):
         """Write the recipe as TOML, atomically (a crash leaves any old file whole).

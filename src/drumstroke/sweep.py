@@ -33,12 +33,13 @@ Examples
 import itertools
 import json
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
 
 from ._checks import check_choice, check_keys, check_real
+from .budget import check_memory, check_time, sweep_cost
 from .errors import ParameterError, SimulationError
 from .formats.toml import read_toml
 from .recipe import Recipe
@@ -90,6 +91,8 @@ class Grid:
         The random generator's seed (random mode).
     audible_db : float in (0, 200]
         dB below a stroke's loudest impact that still count as audible.
+    source : str
+        The file the sweep was read from, for messages ("" when made otherwise).
     """
 
     base: Recipe
@@ -98,6 +101,7 @@ class Grid:
     samples: int = 0
     seed: int = 0
     audible_db: float = 40.0
+    source: str = ""
 
     def __post_init__(self):
         check_choice("mode", self.mode, MODES)
@@ -107,7 +111,7 @@ class Grid:
             raise ParameterError(f"parameters must be a table naming at least one parameter, got {self.parameters!r}")
         for name, spec in self.parameters.items():
             _check_name(name)
-            _values(name, spec, self.mode)  # validates the spec
+            _values(name, spec, self.mode, count=True)  # validates the spec
         if self.mode == "random":
             for key, value, low in (("samples", self.samples, 1), ("seed", self.seed, 0)):
                 if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= 2**63 - 1:
@@ -118,7 +122,7 @@ class Grid:
     def __len__(self):
         if self.mode == "random":
             return self.samples
-        return math.prod(len(_values(name, spec, "grid")) for name, spec in self.parameters.items())
+        return math.prod(_values(name, spec, "grid", count=True) for name, spec in self.parameters.items())
 
     @classmethod
     def from_dict(cls, data, *, base_dir=None):
@@ -138,7 +142,7 @@ class Grid:
     def from_toml(cls, path):
         """Read a sweep file."""
         path = Path(path)
-        return cls.from_dict(read_toml(path, "sweep"), base_dir=path.parent)
+        return replace(cls.from_dict(read_toml(path, "sweep"), base_dir=path.parent), source=str(path))
 
     def points(self):
         """Each point as a dict of parameter name → value, in the table's order."""
@@ -234,6 +238,10 @@ def run_sweep(grid, *, scheduler=None, progress=None):
         Columns: ``point``, each parameter, ``model``, the :data:`FEATURES`, and
         ``error`` (empty, or why that point could not be simulated).
     """
+    what = f"sweep {grid.source!r}" if grid.source else "the sweep"
+    memory, seconds = sweep_cost(len(grid))
+    check_memory(what, memory, f"{len(grid)} points")
+    check_time(what, seconds, f"{len(grid)} points")
     points = grid.points()
     recipes = grid.recipes(points)
     # Here, chunks small enough for a smooth progress bar (a hundred steps); on Dask, big enough
@@ -345,13 +353,13 @@ def _check_name(name):
         )
 
 
-def _values(name, spec, mode):
-    """The list of values of a grid parameter, or (random mode) the spec checked."""
+def _values(name, spec, mode, *, count=False):
+    """The list of values of a grid parameter (with ``count``, how many: none made), or (random mode) the spec checked."""
     where = f"parameters.{name}"
     if isinstance(spec, list):
         if not spec:
             raise ParameterError(f"{where} must list at least one value, got []")
-        return spec
+        return len(spec) if count and mode == "grid" else spec
     if not isinstance(spec, dict):
         raise ParameterError(f"{where} must be a list of values or a table, got {spec!r}")
     if mode == "grid":
@@ -361,7 +369,7 @@ def _values(name, spec, mode):
         num = spec["num"]
         if isinstance(num, bool) or not isinstance(num, int) or not 1 <= num <= MAX_POINTS:
             raise ParameterError(f"{where}.num must be an integer in [1, {MAX_POINTS}], got {num!r}")
-        return [float(v) for v in np.linspace(start, stop, num)]
+        return num if count else [float(v) for v in np.linspace(start, stop, num)]
     if not {"low", "high"} <= set(spec) <= {"low", "high", "log"}:
         raise ParameterError(f"{where} in a random sweep must be a list or {{low, high[, log]}}, got {spec!r}")
     low, high = check_real(f"{where}.low", spec["low"]), check_real(f"{where}.high", spec["high"])

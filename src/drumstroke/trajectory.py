@@ -48,6 +48,7 @@ import numpy as np
 from ._atomic import bundled
 from ._checks import as_vector, check_real
 from ._version import __version__
+from .budget import check_memory, check_time, csv_seconds, samples_bytes
 from .curve import Curve, Segment
 from .errors import ParameterError, SampledImpactsWarning, TrajectoryError
 from .formats import trajectory_csv
@@ -66,6 +67,8 @@ THETA_TOP = math.pi / 2
 
 MAX_SAMPLES = 50_000_000
 """Most samples one trajectory may hold."""
+
+_CSV_CHUNK = 1 << 20  # numbers sampled and formatted at a time when a CSV is written: bounds the memory, not a tuning
 
 DEFAULT_STICK = "stick"
 """The name of a lone stick (a stroke's): a composition names its sticks (``right``, ``left``, …)."""
@@ -380,7 +383,9 @@ class Trajectory:
     def write_csv(self, path, *, alpha=False, metadata=None, sidecar=True, bundle=None):
         """Write the samples as a trajectory CSV, header first, atomically; its metadata in the JSON beside it.
 
-        The two files are put in place together (a :class:`drumstroke._atomic.Bundle`).
+        The two files are put in place together (a :class:`drumstroke._atomic.Bundle`). A long
+        trajectory is sampled and written a chunk at a time, in bounded memory; the time its CSV
+        takes is estimated first and refused beyond the budget (:mod:`drumstroke.budget`).
 
         Parameters
         ----------
@@ -408,14 +413,26 @@ class Trajectory:
             is not this CSV's metadata (:func:`drumstroke.formats.sidecar.sidecar_for`).
         """
         side = sidecar_for(path) if sidecar else None
-        t, theta, omega, acceleration = self.samples() if alpha else (*self._all, None)
-        names, columns = trajectory_csv.stick_columns(self.sticks, theta, omega, acceleration)
+        names = trajectory_csv.column_names(self.sticks, alpha=alpha)
+        rows = len(self)
+        check_time(f"the CSV {str(path)!r}", csv_seconds(rows, len(names)),
+                   f"{rows} rows of {len(names)} numbers at rate = {self.rate:g} Hz")
+        step = max(1, _CSV_CHUNK // len(names))
+        chunks = (self._csv_columns(first, min(first + step, rows), alpha) for first in range(0, rows, step))
         block = self.csv_metadata(path, alpha=alpha, metadata=metadata)
         with bundled(bundle) as files:
-            trajectory_csv.write_columns(path, ("t", *names), (t, *columns), bundle=files)
+            trajectory_csv.write_column_chunks(path, names, chunks, bundle=files)
             if side is not None:
                 write_sidecar(side, block, bundle=files)
         return block
+
+    def _csv_columns(self, first, stop, alpha):
+        """The columns of a CSV's rows ``first`` to ``stop`` − 1: t, then each stick's θ, ω (and α)."""
+        if first == 0 and stop == len(self):  # the whole: as every reader of the samples sees them
+            t, theta, omega, acceleration = self.samples() if alpha else (*self._all, None)
+        else:
+            t, theta, omega, acceleration = self.samples(first, stop) if alpha else (*self._positions(first, stop), None)
+        return (t, *trajectory_csv.stick_columns(self.sticks, theta, omega, acceleration)[1])
 
     def csv_metadata(self, path, *, alpha=False, metadata=None):
         """The metadata of this trajectory written as the CSV ``path`` (see :meth:`write_csv`), as a dict."""
@@ -474,6 +491,9 @@ class Trajectory:
         if self.stored is not None:
             stored = self.stored
             return stored.t[first:stop], self._shaped(stored.theta[first:stop]), self._shaped(stored.omega[first:stop])
+        sticks = len(self.motions)
+        check_memory(f"sampling {self.t_end - self.start:g} s of {sticks} stick{'s' * (sticks > 1)} at rate = "
+                     f"{self.rate:g} Hz", samples_bytes(stop - first, sticks), f"{stop - first} samples")
         t = np.arange(first, stop, dtype=float)
         t /= self.rate
         if self.start:

@@ -55,6 +55,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._checks import check_choice, check_real
+from ..budget import check_time, drop_seconds
 from ..errors import ParameterError
 from ..model import MODELS, Stick, coefficients
 from .onsets import Onsets
@@ -260,6 +261,9 @@ def _choose(onsets, flights, tolerance):
     if not isinstance(onsets, Onsets):
         raise ParameterError(f"onsets must be an Onsets, got {type(onsets).__name__}")
     t = onsets.t
+    triples = triple_count(t)
+    check_time(f"onsets of {onsets.source!r}" if onsets.source else "the onsets",
+               drop_seconds(triples), f"{triples} triples of {len(t)} onsets to try as a drop's impacts")
     few = np.arange(min(len(t), 2))
     candidates = {(): _Choice(few, few, np.empty(0, dtype=np.int64), few)}
     for a, b, c in _triples(t):
@@ -304,6 +308,23 @@ def _triples(t):
             for c in range(b + 1, min(b + 1 + NEIGHBOURS, len(t))):
                 if MIN_FLIGHT <= t[c] - t[b] < t[b] - t[a]:
                     yield a, b, c
+
+
+def triple_count(t):
+    """How many triples of onsets at times ``t`` (s, increasing) a drop's impacts are sought from (counted, none made).
+
+    >>> t = np.array([0.0, 0.3, 0.5, 0.51, 0.65])
+    >>> triple_count(t) == len(list(_triples(t)))
+    True
+    """
+    total = 0
+    for b in range(1, NEIGHBOURS + 1):  # b - a
+        first = t[b:] - t[:-b]
+        for c in range(1, min(NEIGHBOURS, len(t) - b - 1) + 1):  # c - b, with c < len(t)
+            second = t[b + c:] - t[b:len(t) - c]
+            total += int(np.count_nonzero((first[:len(second)] >= MIN_FLIGHT) & (second >= MIN_FLIGHT)
+                                          & (second < first[:len(second)])))
+    return total
 
 
 def _match(onsets, flights, time, omega, cor, tolerance):

@@ -192,6 +192,11 @@ MIN_RATE = 8000
 MAX_SECONDS = 600.0
 """The longest recording analysed (s); a longer file is refused before it is read."""
 
+WORKING_COPIES = 3
+"""Signals as long as the recording that reading and the detector hold besides the file's samples (measured on a
+mono file: some 33 bytes a sample in all), for the memory a recording is estimated to ask for
+(:mod:`drumstroke.budget`)."""
+
 CLIP_LEVEL = 0.999
 """Samples at or above this magnitude (full scale) count as clipped."""
 
@@ -464,7 +469,8 @@ def read_recording(path, *, max_seconds=MAX_SECONDS):
     path : str or os.PathLike
         An audio file soundfile reads (WAV, FLAC, OGG, AIFF, …), any channel count.
     max_seconds : float
-        The longest file read (s); checked from the file's header before reading.
+        The longest file read (s); checked from the file's header before reading, as is the memory
+        its samples and the detector's :data:`WORKING_COPIES` of them ask for (:mod:`drumstroke.budget`).
 
     Returns
     -------
@@ -478,9 +484,9 @@ def read_recording(path, *, max_seconds=MAX_SECONDS):
     """
     from ..formats.wav import read_audio
 
-    samples, rate = read_audio(path, max_seconds=max_seconds)
+    samples, rate = read_audio(path, max_seconds=max_seconds, working=WORKING_COPIES)
     channels = samples.shape[1]
-    clipped = int(np.count_nonzero(np.abs(samples) >= CLIP_LEVEL))
+    clipped = int(np.count_nonzero(samples >= CLIP_LEVEL) + np.count_nonzero(samples <= -CLIP_LEVEL))  # no copy
     signal = samples[:, 0] if channels == 1 else samples.mean(axis=1)
     return signal, rate, {"channels": channels, "mixed_down": channels > 1, "clipped": clipped}
 

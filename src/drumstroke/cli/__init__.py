@@ -75,10 +75,11 @@ def main(argv=None):
         if not hasattr(args, "run"):
             parser.print_help()
             return 2
-        from ._options import check_outputs
+        from ..budget import allowing
+        from ._options import budget_of, check_outputs
 
         check_outputs(args)
-        with warnings.catch_warnings():
+        with warnings.catch_warnings(), allowing(budget_of(args)):
             warnings.simplefilter("ignore", SampledImpactsWarning)  # the commands read a CSV for its samples
             return args.run(args) or 0
     except SystemExit as stop:  # --help, --version, or a bad option: argparse has said so
@@ -187,6 +188,9 @@ def _parser(built):
     for name, (module, line) in COMMANDS.items():
         command = commands.add_parser(name, help=line)
         if name in built:
+            from ._options import add_budget
+
             add = getattr(import_module(f".{module}", __name__), f"add_{name.replace('-', '_')}")
             add(command)
+            add_budget(command)
     return parser

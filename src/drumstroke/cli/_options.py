@@ -92,6 +92,31 @@ def add_mkdir(parser):
                         help="create the missing folders of the output paths (default: a missing folder is an error)")
 
 
+def add_budget(parser):
+    """``--budget-gb`` and ``--budget-minutes`` on ``parser``, or on every command under it when it has sub-commands."""
+    from ..budget import DEFAULT_MEMORY_GB, DEFAULT_MINUTES
+
+    commands = [action for action in parser._actions if isinstance(action, argparse._SubParsersAction)]
+    for sub in (commands[0].choices.values() if commands else ()):
+        add_budget(sub)
+    if commands:
+        return
+    group = parser.add_argument_group("resource budget (what an input may ask for, estimated before the work)")
+    group.add_argument("--budget-gb", type=number(low=0.0, low_open=True, unit="GB"), default=DEFAULT_MEMORY_GB,
+                       metavar="GB", help=f"memory an input may ask for, GB of arrays (default {DEFAULT_MEMORY_GB:g})")
+    group.add_argument("--budget-minutes", type=number(low=0.0, low_open=True, unit="min"), default=DEFAULT_MINUTES,
+                       metavar="MIN", help=f"work an input may ask for, minutes as estimated (default "
+                                           f"{DEFAULT_MINUTES:g})")
+
+
+def budget_of(args):
+    """The :class:`~drumstroke.budget.Budget` the options of ``args`` give, its refusals naming the options."""
+    from ..budget import DEFAULT_MEMORY_GB, DEFAULT_MINUTES, Budget
+
+    return Budget(getattr(args, "budget_gb", DEFAULT_MEMORY_GB), getattr(args, "budget_minutes", DEFAULT_MINUTES),
+                  memory_option="--budget-gb", minutes_option="--budget-minutes")
+
+
 def check_outputs(args):
     """Check every output's folder before the work; then, if ``args.mkdir``, create the missing ones.
 

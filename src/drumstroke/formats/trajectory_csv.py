@@ -94,17 +94,32 @@ def metadata(path, names, *, model, name, rate, sticks, extra=None):
 
 
 def columns_text(names, columns):
-    """CSV text: the header of ``names``, then the columns (1-D arrays of one length) at full precision."""
-    buffer = io.StringIO()
+    """CSV text: the header of ``names`` (none if None), then the columns (1-D arrays of one length) at full precision."""
     # Adding 0 turns -0.0 into 0.0, which other tools would otherwise read as a distinct "-0".
-    np.savetxt(buffer, np.column_stack(columns) + 0.0, delimiter=",", header=",".join(names), comments="",
-               fmt="%.17g")
-    return buffer.getvalue()
+    table = np.column_stack(columns) + 0.0
+    header = "" if names is None else ",".join(names) + "\n"
+    # One format of the whole table (numpy's savetxt, a row at a time into a StringIO, left the process some
+    # 100 bytes a row larger each call: a long trajectory streamed in chunks grew without bound).
+    return header + (",".join(["%.17g"] * table.shape[1]) + "\n") * len(table) % tuple(table.ravel().tolist())
 
 
 def write_columns(path, names, columns, *, bundle=None):
     """Write columns (1-D arrays of one length) under the header ``names``, atomically (in ``bundle``, if given)."""
     write_atomic(path, columns_text(names, columns), bundle=bundle)
+
+
+def write_column_chunks(path, names, chunks, *, bundle=None):
+    """Write the rows of ``chunks`` (each columns as :func:`write_columns` takes them), each written as it comes.
+
+    The file is the one :func:`write_columns` writes of the chunks put end to end, and is put in
+    place as atomically; only one chunk is held at a time, so a long trajectory streams to its file.
+    """
+    def text():
+        yield ",".join(names) + "\n"
+        for columns in chunks:
+            yield columns_text(None, columns)
+
+    write_atomic(path, text(), bundle=bundle)
 
 
 def stick_columns(sticks, theta, omega, alpha=None):

@@ -21,6 +21,7 @@ from pathlib import Path
 
 from .._atomic import write_atomic
 from .._checks import check_int, check_vector
+from ..budget import audio_bytes, check_memory
 from ..errors import ParameterError
 from .reading import MIB, read_bytes
 
@@ -76,23 +77,30 @@ def read_wav(path):
     return signal[:, 0], int(rate)
 
 
-def read_audio(path, *, max_seconds=None):
+def read_audio(path, *, max_seconds=None, working=0):
     """The samples (full scale, float64) [shape=(n, channels)] and the rate (Hz) of the audio file at ``path``.
 
     Any channel count and any format soundfile reads (WAV, FLAC, OGG, AIFF, …). The length is
-    checked from the header before any sample is read, so a file too long is refused at once.
+    checked from the header before any sample is read, so a file too long is refused at once; so
+    is a file whose samples, as the header counts them (libsndfile counts no more frames than an
+    uncompressed file's size holds), are more than the memory budget (:mod:`drumstroke.budget`):
+    a sparse file of a few kilobytes on disk claiming gigabytes of 8-channel audio is refused in
+    milliseconds.
 
     Parameters
     ----------
     path : str or os.PathLike
     max_seconds : float or None
         The longest file read (s); None reads any.
+    working : int >= 0
+        Values a frame the caller goes on to hold besides the file's samples (its working
+        copies), counted in the memory estimate.
 
     Raises
     ------
     ParameterError
-        Naming the file: missing, not a regular file, not audio soundfile reads, or longer than
-        ``max_seconds``.
+        Naming the file: missing, not a regular file, not audio soundfile reads, longer than
+        ``max_seconds``, or beyond the memory budget.
     """
     soundfile = _soundfile()
     where = f"audio file {str(path)!r}"
@@ -104,6 +112,9 @@ def read_audio(path, *, max_seconds=None):
         if max_seconds is not None and info.frames > max_seconds * info.samplerate:
             raise ParameterError(f"{where} lasts {info.frames / info.samplerate:.6g} s; at most {max_seconds:g} s "
                                  "are read: cut it into parts")
+        check_memory(where, audio_bytes(info.frames, info.channels, working),
+                     f"{info.frames} frames of {info.channels} channel{'s' * (info.channels != 1)} at "
+                     f"{info.samplerate} Hz as its header counts them, and {working} working copies")
         signal, rate = soundfile.read(str(path), dtype="float64", always_2d=True)
     except (OSError, RuntimeError, soundfile.LibsndfileError) as error:
         raise ParameterError(f"{where} cannot be read as audio: {error}") from None
