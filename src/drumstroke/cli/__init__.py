@@ -29,7 +29,7 @@ from importlib import import_module
 
 from .. import __version__
 from ..errors import DrumstrokeError, ParameterError, SampledImpactsWarning
-from ._parser import Parser, named_option
+from ._parser import Parser, named_option, shortened
 
 COMMANDS = {
     "simulate": ("simulate", "simulate one stroke: a preset, a palette stroke or a recipe file"),
@@ -118,10 +118,10 @@ def _failed(error, name, args):
         return 1
     reason = _input_error(error, args)
     if reason is None:
-        print(f"{name}: internal error: {type(error).__name__}: {_one_line(error)}; this is a bug in drumstroke: "
-              f"please report it to {REPORT}, {_logged(error, name)}", file=sys.stderr)
+        print(f"{name}: internal error: {type(error).__name__}: {shortened(_one_line(error))}; this is a bug in "
+              f"drumstroke: please report it to {REPORT}, {_logged(error, name)}", file=sys.stderr)
         return 1
-    print(f"{name}: error: {reason}", file=sys.stderr)
+    print(f"{name}: error: {shortened(reason)}", file=sys.stderr)
     return 2
 
 

@@ -4,6 +4,7 @@
 """
 
 import argparse
+import re
 
 OPTIONS = {"mapping": "--mapping", "channels": "--channel", "tracks": "--track", "rudiment": "NAME"}
 """The option of each library parameter the command line passes on under another name: what errors and reports
@@ -20,6 +21,28 @@ def named_option(error):
     return error.renamed(option, allowed=ALLOWED.get(error.parameter)) if option else error
 
 
+MOST = 80
+"""The most characters of one value an error line shows; a longer one is cut, with its length said."""
+
+_LONG = re.compile(r"\S{%d,}" % (MOST + 1))
+
+
+def shortened(message, *, most=MOST):
+    """``message`` on one line, each long value cut to ``most`` characters followed by its length, and the whole
+    to ten times that: no input makes a long error line.
+
+    >>> shortened("velocity must be an integer, got " + "x" * 10_000_000)
+    'velocity must be an integer, got xxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxx... (10000000 characters)'
+    >>> shortened("a " * 10_000)[-40:]
+    'a a a a a a ... (19999 characters in all)'
+    
+    """
+    line = re.sub(r"\s*\n\s*", " ", message.strip())
+    line = _LONG.sub(lambda long: f"{long.group()[:most - 3]}... ({len(long.group())} characters)", line)
+    whole = 10 * most
+    return line if len(line) <= whole else f"{line[:whole].rstrip()} ... ({len(line)} characters in all)"
+
+
 class Parser(argparse.ArgumentParser):
     """An argument parser whose errors are one line and exit status 2, without the usage text.
 
@@ -31,4 +54,4 @@ class Parser(argparse.ArgumentParser):
         super().__init__(*args, **{"allow_abbrev": False, **kwargs})
 
     def error(self, message):
-        self.exit(2, f"{self.prog}: error: {message}\n")
+        self.exit(2, f"{self.prog}: error: {shortened(message)}\n")
