@@ -34,7 +34,7 @@ def shortened(message, *, most=MOST):
     >>> shortened("velocity must be an integer, got " + "x" * 10_000_000)
     'velocity must be an integer, got xxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxx... (10000000 characters)'
     >>> shortened("a " * 10_000)[-40:]
-    'a a a a a a ... (19999 characters in all)'
+    ' a a a a a ... (19999 characters in all)'
     
     """
     line = re.sub(r"\s*\n\s*", " ", message.strip())
