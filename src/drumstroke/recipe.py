@@ -32,7 +32,7 @@ from pathlib import Path
 
 from ._checks import check_choice, check_keys, check_real
 from .errors import ParameterError
-from .formats.toml import read_toml, write_toml
+from .formats.toml import reading_toml, write_toml
 from .model import MODELS, Stick, coefficients
 from .profiles import Constant, Profile, Samples, profile_from_dict
 
@@ -165,7 +165,8 @@ class Recipe:
     def from_toml(cls, path):
         """Read a recipe file; ``samples`` files are found relative to it."""
         path = Path(path)
-        return cls.from_dict(read_toml(path, "recipe"), name=path.stem, base_dir=path.parent)
+        with reading_toml(path, "recipe") as data:
+            return cls.from_dict(data, name=path.stem, base_dir=path.parent)
 
     def to_toml(self, path, *, bundle=None):
         """Write the recipe as TOML, atomically (a crash leaves any old file whole).
@@ -186,9 +187,9 @@ class Recipe:
 
 def _relocate_samples(data, profile, folder):
     if isinstance(profile, Samples):
-        source = Path(profile.file).resolve()
+        source = os.path.realpath(profile.file)
         try:
-            data["file"] = os.path.relpath(source, Path(folder).resolve())
+            data["file"] = os.path.relpath(source, os.path.realpath(folder))
         except ValueError:  # another drive
             data["file"] = str(source)
     elif data.get("kind") == "sum":

@@ -63,7 +63,8 @@ class Onsets:
             raise ParameterError(f"onset times and levels must be as many, got {len(t)} times and {len(level)} levels")
         if len(t) > 1 and not np.all(np.diff(t) > 0.0):
             i = int(np.flatnonzero(np.diff(t) <= 0.0)[0]) + 1
-            raise ParameterError(f"onset times t must be strictly increasing, got t[{i}] = {t[i]!r} after {t[i - 1]!r} s")
+            raise ParameterError(f"onset times t must be strictly increasing, got t[{i}] = {float(t[i])!r} after "
+                                 f"{float(t[i - 1])!r} s")
         if len(level) and level.max() != 0.0:
             raise ParameterError(f"onset levels level_db must be re the loudest (its level 0 dB), got a largest of "
                                  f"{level.max()!r} dB")

@@ -24,7 +24,7 @@ def named_option(error):
 MOST = 80
 """The most characters of one value an error line shows; a longer one is cut, with its length said."""
 
-_LONG = re.compile(r"\S{%d,}" % (MOST + 1))
+_LONG = re.compile(rf"\S{{{MOST + 1},}}")
 
 
 def shortened(message, *, most=MOST):

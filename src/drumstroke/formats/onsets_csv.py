@@ -121,7 +121,8 @@ def read_onsets_csv(path):
     ParameterError
         Naming the file (and the line): missing, not a regular file, larger than
         :data:`MAX_BYTES`, not UTF-8 text, no ``t,level_db`` header first, a row that is not two
-        finite numbers; or metadata beside it that describes other columns.
+        finite numbers or whose time does not follow the row before's; or metadata beside it that
+        describes other columns.
     """
     where = f"onsets file {str(path)!r}"
     path = Path(path)
@@ -142,6 +143,9 @@ def read_onsets_csv(path):
         except ValueError:
             raise ParameterError(f"{where} line {number} must be 't,level_db' with two finite numbers, got "
                                  f"{','.join(row)[:80]!r}") from None
+        if rows and values[0] <= rows[-1][0]:
+            raise ParameterError(f"{where} line {number}: t = {values[0]!r} s must come after the row before's "
+                                 f"{rows[-1][0]!r} s (times increase strictly)")
         rows.append(values)
     data = np.array(rows, dtype=float).reshape(-1, 2)
     return data[:, 0], data[:, 1], _metadata(path)

@@ -27,6 +27,7 @@ Examples
 'paper'
 """
 
+import os
 from pathlib import Path
 
 from .._version import __version__
@@ -132,4 +133,4 @@ def _block(side):
 
 
 def _same(a, b):
-    return Path(a).resolve() == Path(b).resolve()
+    return os.path.realpath(a) == os.path.realpath(b)  # not resolve(): it raises on a link loop

@@ -19,6 +19,8 @@ Examples
 import io
 from pathlib import Path
 
+import numpy as np
+
 from .._atomic import write_atomic
 from .._checks import check_int, check_vector
 from ..errors import ParameterError
@@ -91,8 +93,8 @@ def read_audio(path, *, max_seconds=None):
     Raises
     ------
     ParameterError
-        Naming the file: missing, not a regular file, not audio soundfile reads, or longer than
-        ``max_seconds``.
+        Naming the file: missing, not a regular file, not audio soundfile reads, longer than
+        ``max_seconds``, or holding a sample that is not finite (a float file's NaN or infinity).
     """
     soundfile = _soundfile()
     where = f"audio file {str(path)!r}"
@@ -107,6 +109,11 @@ def read_audio(path, *, max_seconds=None):
         signal, rate = soundfile.read(str(path), dtype="float64", always_2d=True)
     except (OSError, RuntimeError, soundfile.LibsndfileError) as error:
         raise ParameterError(f"{where} cannot be read as audio: {error}") from None
+    bad = np.argwhere(~np.isfinite(signal))  # a float file can hold NaN or infinities; what reads it must not see them
+    if len(bad):
+        frame, channel = (int(i) for i in bad[0])
+        raise ParameterError(f"{where}: sample {frame} (channel {channel + 1}) is {float(signal[frame, channel])!r}; "
+                             f"audio samples must be finite ({len(bad)} are not)")
     return signal, int(rate)
 
 
