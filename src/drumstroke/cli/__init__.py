@@ -75,10 +75,11 @@ def main(argv=None):
         if not hasattr(args, "run"):
             parser.print_help()
             return 2
+        from .._atomic import guarding_inputs
         from ._options import check_outputs
 
-        check_outputs(args)
-        with warnings.catch_warnings():
+        with guarding_inputs(), warnings.catch_warnings():  # no output written over an input of the run
+            check_outputs(args)
             warnings.simplefilter("ignore", SampledImpactsWarning)  # the commands read a CSV for its samples
             return args.run(args) or 0
     except SystemExit as stop:  # --help, --version, or a bad option: argparse has said so

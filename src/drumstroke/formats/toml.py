@@ -41,12 +41,12 @@ _LONG_INTEGER = re.compile(r"[+-]?[0-9][0-9_]{4000,}")
 def read_toml(path, what):
     """The TOML file at ``path`` as a dict, read within bounds (:mod:`.reading`).
 
-    A byte-order mark before the text (a Windows editor's) is dropped. A file that cannot be read, is not valid TOML, nests deeper than
-    :data:`~drumstroke.formats.reading.MAX_DEPTH` or holds an integer beyond a float is a
-    ParameterError naming the ``what`` and the path (and the line or key).
+    A byte-order mark before the text (a Windows editor's) is dropped. A file that cannot be read,
+    is not valid TOML, nests deeper than :data:`~drumstroke.formats.reading.MAX_DEPTH` or holds an
+    integer beyond a float is a ParameterError naming the ``what`` and the path (and the line or key).
     """
     where = f"{what} {str(path)!r}"
-    text = read_text(path, what, limit=MAX_BYTES, encoding="utf-8-sig")
+    text = read_text(path, what, limit=MAX_BYTES)
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as error:

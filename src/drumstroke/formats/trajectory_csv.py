@@ -418,7 +418,7 @@ def write_kit(path, samples, *, accelerations=None, extra=None, sidecar=True, bu
 def is_kit_file(path):
     """Whether the CSV at ``path`` is a kit's trajectory: its header (first line) names ``LIMB.JOINT`` columns."""
     try:
-        with open(path, encoding="utf-8", errors="replace") as file:
+        with open(path, encoding="utf-8-sig", errors="replace") as file:
             header = file.readline(1 << 16)
     except OSError:
         return False  # the reader says why

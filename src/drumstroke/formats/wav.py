@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .._atomic import write_atomic
+from .._atomic import note_input, write_atomic
 from .._checks import check_int, check_vector
 from ..errors import ParameterError
 from .reading import MIB, read_bytes
@@ -107,6 +107,7 @@ def read_audio(path, *, max_seconds=None):
             raise ParameterError(f"{where} lasts {info.frames / info.samplerate:.6g} s; at most {max_seconds:g} s "
                                  "are read: cut it into parts")
         signal, rate = soundfile.read(str(path), dtype="float64", always_2d=True)
+        note_input(path)
     except (OSError, RuntimeError, soundfile.LibsndfileError) as error:
         raise ParameterError(f"{where} cannot be read as audio: {error}") from None
     bad = np.argwhere(~np.isfinite(signal))  # a float file can hold NaN or infinities; what reads it must not see them
