@@ -9,7 +9,8 @@
   listing them is written in each folder the bundle writes to, the files are renamed into
   place and the records removed. The last record written is the commit point: killed before
   it, the bundle leaves the old files; after it, the records say the new files are being put
-  in place, and the next write to one of those folders finishes that.
+  in place, and the next write to one of those folders finishes that. Until then the files a
+  record lists are not read (:func:`unfinished_bundle`): some may be new, some old.
 - **A write never replaces what is not a regular file** (a FIFO, a device, a socket: the path is
   refused, not turned into a file), nor, inside :func:`guarding_inputs` (a command's run), a
   file the run read: ``compose s.mid --midi s.mid`` is refused before anything is written over.
@@ -123,6 +124,17 @@ def guarding_inputs():
     """
     global _inputs
     saved, _inputs = _inputs, {}
+    try:
+        yield
+    finally:
+        _inputs = saved
+
+
+@contextlib.contextmanager
+def not_an_input():
+    """Inside, what is read is not noted as an input of the run: a file read to see whether it may be written over."""
+    global _inputs
+    saved, _inputs = _inputs, None
     try:
         yield
     finally:
@@ -261,6 +273,28 @@ def _read_record(record):
             return data
     except (OSError, UnicodeDecodeError, ValueError, KeyError, TypeError, RecursionError):
         pass
+    return None
+
+
+def unfinished_bundle(path):
+    """The record of a committed bundle that lists ``path`` and whose files are not all in place yet, or None.
+
+    A reader refuses such a file: the bundle's other files may still be the old ones.
+    """
+    target = os.path.abspath(path)
+    folder = os.path.dirname(target)
+    try:
+        names = os.listdir(folder)
+    except OSError:
+        return None
+    for name in names:
+        match = _TEMPORARY.fullmatch(name)
+        if match is None or match["kind"] != "bundle":
+            continue
+        data = _read_record(Path(folder) / name)
+        if data is not None and any(os.path.abspath(p) == target for p, _ in data["files"]) and all(
+                _read_record(Path(r)) == data for r in data["records"]):  # committed: every record written
+            return Path(folder) / name
     return None
 
 

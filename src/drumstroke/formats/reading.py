@@ -40,7 +40,7 @@ import re
 import stat
 import sys
 
-from .._atomic import note_input
+from .._atomic import note_input, unfinished_bundle
 from .._checks import digits
 from ..errors import ParameterError
 
@@ -69,8 +69,9 @@ def read_bytes(path, what, *, limit):
     ------
     ParameterError
         ``WHAT 'PATH' cannot be read: REASON``: the system's reason (no such file, permission
-        denied, …), not a regular file (named: a FIFO, a directory, a device, a socket), or
-        larger than ``limit``.
+        denied, …), not a regular file (named: a FIFO, a directory, a device, a socket), larger
+        than ``limit``, or one of the files of a bundle whose publication did not finish
+        (:func:`drumstroke._atomic.unfinished_bundle`).
     """
     _refuse_special(path, what)
     try:
@@ -82,6 +83,11 @@ def read_bytes(path, what, *, limit):
             status = os.fstat(descriptor)
             _refuse(status.st_mode, path, what)  # what was opened: the path may have changed since
             note_input(path, status)
+            record = unfinished_bundle(path)
+            if record is not None:
+                raise _unreadable(path, what, f"its publication did not finish ({record.name} beside it lists it: the "
+                                              "run writing it was stopped; run it again, or any write in the folder "
+                                              "finishes it)")
             if status.st_size <= limit:
                 data = handle.read(limit + 1)  # a file whose size the system does not know (/proc) stops here too
         except OSError as error:

@@ -30,6 +30,7 @@ Examples
 import os
 from pathlib import Path
 
+from .._atomic import not_an_input, remove_stale
 from .._version import __version__
 from ..errors import ParameterError
 from .json import read_json, write_json
@@ -117,8 +118,14 @@ def read_sidecar(csv):
 
 
 def _describes(side, csv):
-    """Whether the JSON ``side`` holds the metadata of the CSV ``csv`` (so writing that CSV may rewrite it)."""
-    block = _block(side)
+    """Whether the JSON ``side`` holds the metadata of the CSV ``csv`` (so writing that CSV may rewrite it).
+
+    It is read as an output about to be written, not as an input of the run; a killed writer's
+    bundle that lists it is finished first, as the write would.
+    """
+    remove_stale(side.parent, side.name)
+    with not_an_input():
+        block = _block(side)
     return block is not None and block.get("file") == csv.name
 
 
