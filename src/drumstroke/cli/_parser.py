@@ -24,23 +24,33 @@ def named_option(error):
 MOST = 80
 """The most characters of one value an error line shows; a longer one is cut, with its length said."""
 
+PATH_MAX = 4096
+"""The longest path a system takes (characters): a path in an error line is shown whole, up to this."""
+
 _LONG = re.compile(rf"\S{{{MOST + 1},}}")
 
 
 def shortened(message, *, most=MOST):
-    """``message`` on one line, each long value cut to ``most`` characters followed by its length, and the whole
-    to ten times that: no input makes a long error line.
+    """``message`` on one line, each long value cut to ``most`` characters followed by its length (a path, which
+    names the file at fault, up to :data:`PATH_MAX`), and the whole to :data:`PATH_MAX`: no input makes a long
+    error line.
 
     >>> shortened("velocity must be an integer, got " + "x" * 10_000_000)
-    'velocity must be an integer, got xxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxx... (10000000 characters)'
+    'velocity must be an integer, got xxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxx... (10000000 characters)'
+    >>> shortened("recipe '/tmp/" + "a" * 100 + "/r.toml' is missing")[-30:]
+    "aaaaaaaaaaa/r.toml' is missing"
     >>> shortened("a " * 10_000)[-40:]
     ' a a a a a ... (19999 characters in all)'
-    
     """
     line = re.sub(r"\s*\n\s*", " ", message.strip())
-    line = _LONG.sub(lambda long: f"{long.group()[:most - 3]}... ({len(long.group())} characters)", line)
-    whole = 10 * most
-    return line if len(line) <= whole else f"{line[:whole].rstrip()} ... ({len(line)} characters in all)"
+    line = _LONG.sub(lambda long: _cut(long.group(), most), line)
+    return line if len(line) <= PATH_MAX else f"{line[:PATH_MAX].rstrip()} ... ({len(line)} characters in all)"
+
+
+def _cut(value, most):
+    if "/" in value and len(value) <= PATH_MAX:
+        return value
+    return f"{value[:most - 3]}... ({len(value)} characters)"
 
 
 class Parser(argparse.ArgumentParser):

@@ -144,8 +144,8 @@ def read_onsets_csv(path):
             raise ParameterError(f"{where} line {number} must be 't,level_db' with two finite numbers, got "
                                  f"{','.join(row)[:80]!r}") from None
         if rows and values[0] <= rows[-1][0]:
-            raise ParameterError(f"{where} line {number}: t = {values[0]!r} s must come after the row before's "
-                                 f"{rows[-1][0]!r} s (times increase strictly)")
+            raise ParameterError(f"{where} line {number}: t = {values[0]!r} s comes after {rows[-1][0]!r} s on the "
+                                 "line before; times must be strictly increasing")
         rows.append(values)
     data = np.array(rows, dtype=float).reshape(-1, 2)
     return data[:, 0], data[:, 1], _metadata(path)
