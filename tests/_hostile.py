@@ -54,7 +54,7 @@ class Case:
                 path.write_bytes(content)
             else:
                 path.write_text(content)
-        fill = lambda text: text.format(d=folder)  # noqa: E731
+        fill = lambda text: text.format(d=folder)
         return [fill(a) for a in self.argv], [fill(n) for n in self.needles]
 
 

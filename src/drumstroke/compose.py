@@ -31,6 +31,7 @@ Examples
 ()
 """
 
+import itertools
 import math
 from dataclasses import dataclass, field, replace
 
@@ -372,7 +373,7 @@ class _Span:
 
 def _check_apart(wanted):
     """Refuse a stick's planned notes closer than the planner takes, naming the notes (a score's file and line)."""
-    for before, note in zip(wanted, wanted[1:]):
+    for before, note in itertools.pairwise(wanted):
         if note.time - before.time < MIN_GAP:
             raise ParameterError(f"{note.source or 'note'}: a planned note {1e3 * (note.time - before.time):g} ms after "
                                  f"{before.source or 'the note before'} on the same stick; the planner's notes on a "

@@ -31,7 +31,7 @@ def whole(*, low, high=None, unit=""):
 
 def existing_file(text):
     """An argparse type: the path of a regular file that exists (a directory, a FIFO or a device is refused by name)."""
-    if not os.path.exists(text):
+    if not os.path.lexists(text):  # a link that leads nowhere, or in a loop, is said so below
         raise argparse.ArgumentTypeError(f"file {text!r} does not exist")
     try:
         check_regular(text, "file")
