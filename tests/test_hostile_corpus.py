@@ -327,8 +327,8 @@ def _cases():
         ("stroke-not-array", 'stroke = "single"\n', "stroke"),
         ("name-bad", '[[stroke]]\nname = "A B"\nrecipe = "free-bounce"\n', "name"),
         ("recipe-missing-file", '[[stroke]]\nname = "a"\nrecipe = "none.toml"\n', "none.toml"),
-        ("recipe-inline-bad", '[[stroke]]\nname = "a"\n[stroke.recipe]\ncor = 3\n[stroke.recipe.force]\n'
-                              'kind = "constant"\nvalue = 1.0\n', "cor"),
+        ("recipe-inline-bad", ('[[stroke]]\nname = "a"\n[stroke.recipe]\ncor = 3\n[stroke.recipe.force]\n'
+                               'kind = "constant"\nvalue = 1.0\n'), "cor"),
         ("name-twice", '[[stroke]]\nname = "a"\nrecipe = "free-bounce"\n[[stroke]]\nname = "a"\nrecipe = "free-bounce"\n',
          "twice"),
     )]
@@ -465,11 +465,13 @@ def test_one_line_naming_the_input_exit_2(outcomes, id):
 
 def test_the_campaign_figures(outcomes, capsys):
     """The figures docs/testing.md gives (printed with -s): the cases, the peak memory, the longest times."""
-    peak = max(outcomes.values(), key=lambda o: o.peak_mib)
-    slowest = max(outcomes.values(), key=lambda o: o.wall_seconds)
+    def most(measure):
+        id = max(outcomes, key=lambda id: getattr(outcomes[id], measure))
+        return f"{getattr(outcomes[id], measure):.2f} ({id})"
+
     with capsys.disabled():
-        print(f"\n{len(outcomes)} hostile cases: peak memory {peak.peak_mib:.0f} MiB, most CPU "
-              f"{max(o.cpu_seconds for o in outcomes.values()):.2f} s, longest wall {slowest.wall_seconds:.2f} s")
+        print(f"\n{len(outcomes)} hostile cases: peak memory {most('peak_mib')} MiB, most CPU {most('cpu_seconds')} s, "
+              f"longest wall {most('wall_seconds')} s")
     assert len(outcomes) == len(CASES)
 
 

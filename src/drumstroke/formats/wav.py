@@ -17,6 +17,7 @@ Examples
 """
 
 import io
+import os
 from pathlib import Path
 
 import numpy as np
@@ -24,7 +25,7 @@ import numpy as np
 from .._atomic import note_input, write_atomic
 from .._checks import check_int, check_vector
 from ..errors import ParameterError
-from .reading import MIB, read_bytes
+from .reading import MIB, check_regular, read_bytes
 
 MAX_BYTES = 1024 * MIB
 """The largest audio file read (bytes): some two hours of 48 kHz 24-bit mono."""
@@ -100,6 +101,8 @@ def read_audio(path, *, max_seconds=None):
     where = f"audio file {str(path)!r}"
     if not Path(path).is_file():
         reason = "is not a regular file" if Path(path).exists() else "is missing"
+        if os.path.lexists(path) and not Path(path).exists():  # a link that leads nowhere, or in a loop: say which
+            check_regular(path, "audio file")
         raise ParameterError(f"{where} {reason}")
     try:
         info = soundfile.info(str(path))
