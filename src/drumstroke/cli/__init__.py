@@ -12,9 +12,11 @@ and what is allowed, and nothing written.
 :func:`main` is the one error path: whatever a command meets from a user's input (a
 ParameterError, an OSError naming the user's path, text that is not UTF-8, a number, a nesting
 or a file too large, a file that is not a database) ends in one line on stderr and exit status
-2; anything else is a bug, reported in one line that says where to report it and names the
-log file holding its traceback, with exit status 1. ``drumstroke --debug COMMAND ...`` prints
-the traceback of any error as well.
+2, a value in it longer than 80 characters cut and its length said (:func:`._parser.shortened`);
+anything else is a bug, reported in one line that says where to report it and names the log
+file holding its traceback, with exit status 1. ``drumstroke --debug COMMAND ...`` prints the
+traceback of any error as well. A command runs with its inputs guarded: no output is written
+over a file it read (:func:`drumstroke._atomic.guarding_inputs`).
 """
 
 import gc
