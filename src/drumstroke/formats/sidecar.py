@@ -117,22 +117,32 @@ def read_sidecar(csv):
     return _block(sidecar_path(csv))
 
 
+def read_sidecar_document(csv):
+    """The whole JSON beside the CSV at ``csv``, read as :func:`read_sidecar` reads it (errors raised here)."""
+    return _document(sidecar_path(csv))
+
+
+def _document(side):
+    """The JSON at ``side``: it describes its CSV, which is the input, and a command may write over it (``robot
+    export p.csv --out p.json``), so it is not noted as an input of the run (:func:`drumstroke._atomic.note_input`)."""
+    with not_an_input():
+        return read_json(side, "metadata")
+
+
 def _describes(side, csv):
     """Whether the JSON ``side`` holds the metadata of the CSV ``csv`` (so writing that CSV may rewrite it).
 
-    It is read as an output about to be written, not as an input of the run; a killed writer's
-    bundle that lists it is finished first, as the write would.
+    A killed writer's bundle that lists it is finished first, as the write would.
     """
     remove_stale(side.parent, side.name)
-    with not_an_input():
-        block = _block(side)
+    block = _block(side)
     return block is not None and block.get("file") == csv.name
 
 
 def _block(side):
     """The ``"csv"`` table of the JSON at ``side``, or None (no such file, not readable JSON, no such table)."""
     try:
-        data = read_json(side, "metadata")
+        data = _document(side)
     except ParameterError:
         return None
     block = data.get(KEY) if isinstance(data, dict) else None

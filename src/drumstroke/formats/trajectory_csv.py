@@ -48,9 +48,9 @@ import numpy as np
 
 from .._atomic import bundled, write_atomic
 from ..errors import ParameterError
-from .json import impact_columns, read_json
+from .json import impact_columns
 from .reading import MIB, read_text
-from .sidecar import describe, read_sidecar, sidecar_for, sidecar_path, write_sidecar
+from .sidecar import describe, read_sidecar, read_sidecar_document, sidecar_for, sidecar_path, write_sidecar
 
 MAX_BYTES = 1024 * MIB
 """The largest trajectory file read (bytes): an hour of four sticks at 1 kHz is some 700 MB."""
@@ -230,7 +230,7 @@ def recorded_impacts(path, columns):
     side = sidecar_path(path)
     if read_sidecar(path) is None:  # no JSON beside the CSV, or not this kind
         return None
-    data = read_json(side, "metadata")
+    data = read_sidecar_document(path)
     rows = data.get("impacts")
     start, end = float(columns["t"][0]), float(columns["t"][-1])
     where = f"metadata {str(side)!r}"
