@@ -311,3 +311,87 @@ def test_a_writer_killed_at_any_call_leaves_old_or_new_whole_and_the_next_write_
         assert listing(one) + listing(two) == sorted(p.name for p in paths if p.parent == one) + sorted(
             p.name for p in paths if p.parent == two), k
     assert outcomes == ({"old", "new"} if layout == "one file" else {"old", "new", "finished"})
+
+
+# --- what a write never replaces, and what a reader refuses ----------------------------------------------------------
+
+
+def test_a_fifo_a_device_or_a_socket_is_never_replaced_by_a_file(tmp_path):
+    import socket
+
+    from drumstroke.formats.json import write_json
+
+    os.mkfifo(tmp_path / "pipe.json")
+    os.symlink("/dev/null", tmp_path / "null.json")
+    with socket.socket(socket.AF_UNIX) as server:
+        server.bind(str(tmp_path / "sock.json"))
+    for name, kind in (("pipe.json", "a FIFO"), ("null.json", "a character device"), ("sock.json", "a socket")):
+        with pytest.raises(FileExistsError, match=f"is {kind}.*not a regular file") as error:
+            write_json(tmp_path / name, {"a": 1})
+        assert error.value.filename == str(tmp_path / name)
+        with pytest.raises(FileExistsError, match=kind), Bundle() as bundle:
+            write_atomic(tmp_path / "ok.txt", "x", bundle=bundle)
+            write_atomic(tmp_path / name, "x", bundle=bundle)
+    assert os.path.islink(tmp_path / "null.json") and Path("/dev/null").is_char_device()
+    assert stat_kinds(tmp_path) == {"null.json": "link", "pipe.json": "fifo", "sock.json": "socket"}  # nothing new
+
+
+def stat_kinds(folder):
+    import stat
+
+    kinds = {}
+    for name in os.listdir(folder):
+        mode = os.lstat(folder / name).st_mode
+        kinds[name] = ("link" if stat.S_ISLNK(mode) else "fifo" if stat.S_ISFIFO(mode) else
+                       "socket" if stat.S_ISSOCK(mode) else "file")
+    return kinds
+
+
+def test_inside_a_guarded_run_no_file_read_is_written_over(tmp_path):
+    from drumstroke._atomic import guarding_inputs
+    from drumstroke.formats.pattern import read_pattern_file
+
+    score = tmp_path / "s.pattern"
+    score.write_text("tempo 120\n0 single 100\n")
+    read_pattern_file(score)
+    write_atomic(score, "tempo 90\n0 single 100\n")  # outside a run, a program may write over what it read
+    os.link(score, tmp_path / "hard.pattern")
+    with guarding_inputs():
+        read_pattern_file(score)
+        for path in (score, tmp_path / "hard.pattern", tmp_path / "." / "s.pattern"):
+            with pytest.raises(FileExistsError, match="an input of this run") as error:
+                write_atomic(path, "tempo 60\n")
+            assert error.value.filename == str(path)
+        write_atomic(tmp_path / "other.pattern", "x")
+    assert score.read_text() == "tempo 90\n0 single 100\n"
+    write_atomic(score, "tempo 60\n")  # the run over, the guard is gone
+    assert score.read_text() == "tempo 60\n"
+
+
+def test_the_files_of_a_bundle_killed_while_renaming_are_refused_until_it_is_finished(tmp_path):
+    from drumstroke.errors import ParameterError
+    from drumstroke.formats.reading import read_text
+
+    paths = [tmp_path / "a.csv", tmp_path / "c.json"]
+    for path in paths:
+        path.write_text(f"old {path.name}")
+    assert write_in_process("new", paths, kill=("replace", str(tmp_path), 2)) == -signal.SIGKILL  # after a.csv
+    for path in paths:  # the new a.csv and the old c.json: neither is read
+        with pytest.raises(ParameterError, match=rf"^x '{re.escape(str(path))}' cannot be read: its publication did "
+                                                 r"not finish \(\.files\.drumstroke-\d+-[0-9a-f]{8}\.bundle beside it"):
+            read_text(path, "x", limit=100)
+    write_atomic(tmp_path / "other.txt", "x")  # the next write in the folder finishes it
+    assert [read_text(p, "x", limit=100) for p in paths] == ["new a.csv", "new c.json"]
+
+
+def test_the_files_of_a_bundle_killed_before_it_committed_are_read_as_they_were(tmp_path):
+    from drumstroke.formats.reading import read_text
+
+    one, two = tmp_path / "one", tmp_path / "two"
+    one.mkdir(), two.mkdir()
+    paths = [one / "a.csv", two / "b.wav"]
+    for path in paths:
+        path.write_text(f"old {path.name}")
+    assert write_in_process("new", paths, kill=("open", ".files.drumstroke-", 2)) == -signal.SIGKILL
+    assert records(one)  # a record, but not all of them: not committed, the old files stand
+    assert [read_text(p, "x", limit=100) for p in paths] == ["old a.csv", "old b.wav"]

@@ -492,17 +492,17 @@ GOOD = '[[stroke]]\nname = "a"\nrecipe = "free-bounce"\n'
 
 
 @pytest.mark.parametrize("text, message", [
-    (GOOD + GOOD, r"^stroke\[1\]\.name 'a' appears twice"),
-    ('[[stroke]]\nname = "Big A"\nrecipe = "free-bounce"\n', r"^stroke\[0\]\.name must be 1-64 of"),
-    (GOOD + '[[stroke]]\nname = "b/c"\nrecipe = "free-bounce"\n', r"^stroke\[1\]\.name must be"),
+    (GOOD + GOOD, r"^palette '[^']*palette.toml': stroke\[1\]\.name 'a' appears twice"),
+    ('[[stroke]]\nname = "Big A"\nrecipe = "free-bounce"\n', r"^palette '[^']*palette.toml': stroke\[0\]\.name must be 1-64 of"),
+    (GOOD + '[[stroke]]\nname = "b/c"\nrecipe = "free-bounce"\n', r"^palette '[^']*palette.toml': stroke\[1\]\.name must be"),
     (GOOD + '[[stroke]]\nname = "b"\nrecipe = "free-bounce"\ncolour = "red"\n',
-     r"^stroke\[1\] has unknown key 'colour'"),
-    ('[[stroke]]\nname = "a"\nrecipe = 42\n', r"^stroke\[0\]\.recipe must be a preset name"),
-    ('[[stroke]]\nname = "a"\nrecipe = "no-such-preset"\n', r"^stroke\[0\]\.recipe must be a preset name"),
+     r"^palette '[^']*palette.toml': stroke\[1\] has unknown key 'colour'"),
+    ('[[stroke]]\nname = "a"\nrecipe = 42\n', r"^palette '[^']*palette.toml': stroke\[0\]\.recipe must be a preset name"),
+    ('[[stroke]]\nname = "a"\nrecipe = "no-such-preset"\n', r"^palette '[^']*palette.toml': stroke\[0\]\.recipe must be a preset name"),
     ('[[stroke]]\nname = "a"\nrecipe = "free-bounce"\ndescription = "two\\nlines"\n',
-     r"^stroke\[0\]\.description must be one line"),
+     r"^palette '[^']*palette.toml': stroke\[0\]\.description must be one line"),
     ('[[stroke]]\nname = "a"\nrecipe = "free-bounce"\ntransforms = { reverse = true }\n',
-     r"^stroke\[0\]\.transforms must be a list"),
+     r"^palette '[^']*palette.toml': stroke\[0\]\.transforms must be a list"),
 ])
 def test_a_bad_palette_is_refused_naming_the_stroke_and_key(tmp_path, text, message):
     with pytest.raises(ParameterError, match=message):

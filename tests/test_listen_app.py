@@ -509,7 +509,7 @@ def test_serve_and_analyze_check_their_options_before_starting(tmp_path, capsys)
          "entry 'proxy' is not an IP address"),
         (["listen", "serve", config, "--db", tmp_path / "notes.sqlite"],
          f"database '{tmp_path / 'notes.sqlite'}' cannot be used as SQLite: file is not a database"),
-        (["listen", "serve", config, "--db", tmp_path / "fifo.sqlite"], "fifo.sqlite' cannot be read: it is a FIFO (named pipe), not a regular file"),
+        (["listen", "serve", config, "--db", tmp_path / "fifo.sqlite"], "fifo.sqlite': it exists and is a FIFO (named pipe), not a regular file"),
         (["listen", "serve", config, "--db", other], "holds other tables (songs)"),
         (["listen", "analyze", "--db", tmp_path / "notes.sqlite"], "notes.sqlite' cannot be used as SQLite"),
         (["listen", "analyze", "--db", other], "is not a listening-test database"),

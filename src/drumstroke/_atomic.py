@@ -9,7 +9,11 @@
   listing them is written in each folder the bundle writes to, the files are renamed into
   place and the records removed. The last record written is the commit point: killed before
   it, the bundle leaves the old files; after it, the records say the new files are being put
-  in place, and the next write to one of those folders finishes that.
+  in place, and the next write to one of those folders finishes that. Until then the files a
+  record lists are not read (:func:`unfinished_bundle`): some may be new, some old.
+- **A write never replaces what is not a regular file** (a FIFO, a device, a socket: the path is
+  refused, not turned into a file), nor, inside :func:`guarding_inputs` (a command's run), a
+  file the run read: ``compose s.mid --midi s.mid`` is refused before anything is written over.
 - **Temporaries name their writer**, ``.NAME.drumstroke-PID-NONCE.tmp`` (a record ``….bundle``).
   Before a file is written, what killed writers left for it is cleared: their bundles in its
   folder are finished and their temporaries of that file removed. A writer is taken for killed
@@ -23,6 +27,7 @@ import os
 import re
 import secrets
 import shutil
+import stat
 from pathlib import Path
 
 from .errors import ParameterError
@@ -59,9 +64,8 @@ def write_atomic(path, data, *, mode=None, bundle=None):
 
 def _stage(path, data, mode):
     """Clear what killed writers left for ``path``, then write ``data`` to a new temporary file beside it."""
+    check_target(path)
     remove_stale(path.parent, path.name)
-    if path.is_dir():
-        raise IsADirectoryError(errno.EISDIR, os.strerror(errno.EISDIR))
     temporary = temporary_path(path)
     write_new(temporary, data.encode() if isinstance(data, str) else data,
               mode=_mode_for(path) if mode is None else mode)
@@ -76,6 +80,77 @@ def _mode_for(path):
         umask = os.umask(0)
         os.umask(umask)
         return 0o666 & ~umask
+
+
+_KINDS = ((stat.S_ISFIFO, "a FIFO (named pipe)"), (stat.S_ISCHR, "a character device"),
+          (stat.S_ISBLK, "a block device"), (stat.S_ISSOCK, "a socket"))
+
+_inputs = None
+"""The files read in the run :func:`guarding_inputs` marks, {(device, inode): path}; None outside one."""
+
+
+def check_target(path):
+    """Refuse to write ``path`` if it is a directory, not a regular file, or a file this run read.
+
+    An ``OSError`` naming ``path``, as a failed write's: replaced by a new file, a FIFO or a
+    device would no longer be what it was, and an input written over would be lost.
+
+    >>> check_target("/dev/null")
+    Traceback (most recent call last):
+    ...
+    FileExistsError: [Errno 17] it exists and is a character device, not a regular file: it is not written over: '/dev/null'
+    """
+    try:
+        status = os.stat(path)
+    except (OSError, ValueError):  # missing (the usual case), or unreadable: the write says why
+        return
+    if stat.S_ISDIR(status.st_mode):
+        raise IsADirectoryError(errno.EISDIR, os.strerror(errno.EISDIR), str(path))
+    kind = next((kind for test, kind in _KINDS if test(status.st_mode)), None)
+    if kind is not None or not stat.S_ISREG(status.st_mode):
+        raise FileExistsError(errno.EEXIST, f"it exists and is {kind or 'not a regular file'}, not a regular file: it is "
+                                            "not written over", str(path))
+    read = _inputs.get((status.st_dev, status.st_ino)) if _inputs is not None else None
+    if read is not None:
+        same = "" if os.path.abspath(read) == os.path.abspath(path) else f" (as {str(read)!r})"
+        raise FileExistsError(errno.EEXIST, f"it is an input of this run{same}: an output is never written over an "
+                                            "input", str(path))
+
+
+@contextlib.contextmanager
+def guarding_inputs():
+    """Inside, a file read (:func:`note_input`) is never written over by :func:`write_atomic` or a :class:`Bundle`.
+
+    The command line runs each command inside it; outside, a program may write over what it read.
+    """
+    global _inputs
+    saved, _inputs = _inputs, {}
+    try:
+        yield
+    finally:
+        _inputs = saved
+
+
+@contextlib.contextmanager
+def not_an_input():
+    """Inside, what is read is not noted as an input of the run: a file read to see whether it may be written over."""
+    global _inputs
+    saved, _inputs = _inputs, None
+    try:
+        yield
+    finally:
+        _inputs = saved
+
+
+def note_input(path, status=None):
+    """Record that the run read the file ``path`` (its ``os.stat`` result, if at hand), for :func:`check_target`."""
+    if _inputs is None:
+        return
+    try:
+        status = os.stat(path) if status is None else status
+    except (OSError, ValueError):
+        return
+    _inputs[(status.st_dev, status.st_ino)] = path
 
 
 @contextlib.contextmanager
@@ -199,6 +274,28 @@ def _read_record(record):
             return data
     except (OSError, UnicodeDecodeError, ValueError, KeyError, TypeError, RecursionError):
         pass
+    return None
+
+
+def unfinished_bundle(path):
+    """The record of a committed bundle that lists ``path`` and whose files are not all in place yet, or None.
+
+    A reader refuses such a file: the bundle's other files may still be the old ones.
+    """
+    target = os.path.abspath(path)
+    folder = os.path.dirname(target)
+    try:
+        names = os.listdir(folder)
+    except OSError:
+        return None
+    for name in names:
+        match = _TEMPORARY.fullmatch(name)
+        if match is None or match["kind"] != "bundle":
+            continue
+        data = _read_record(Path(folder) / name)
+        if data is not None and any(os.path.abspath(p) == target for p, _ in data["files"]) and all(
+                _read_record(Path(r)) == data for r in data["records"]):  # committed: every record written
+            return Path(folder) / name
     return None
 
 

@@ -31,6 +31,7 @@ Examples
 ()
 """
 
+import itertools
 import math
 from dataclasses import dataclass, field, replace
 
@@ -38,6 +39,7 @@ import numpy as np
 
 from ._checks import check_real
 from .design import Setup, Target, assign_sticks, plan_stick
+from .design.chain import MIN_GAP
 from .dynamics import level_to_velocity, velocity_to_level
 from .errors import ParameterError
 from .formats.midi import TempoMap
@@ -369,6 +371,15 @@ class _Span:
                 else Placement(note, False, factor=1.0) for note in self.notes]
 
 
+def _check_apart(wanted):
+    """Refuse a stick's planned notes closer than the planner takes, naming the notes (a score's file and line)."""
+    for before, note in itertools.pairwise(wanted):
+        if note.time - before.time < MIN_GAP:
+            raise ParameterError(f"{note.source or 'note'}: a planned note {1e3 * (note.time - before.time):g} ms after "
+                                 f"{before.source or 'the note before'} on the same stick; the planner's notes on a "
+                                 f"stick must be at least {1e3 * MIN_GAP:g} ms apart")
+
+
 def _spans(notes, variants, setup, rate, step):
     """A stick's candidate spans in time order: library strokes and the planner's designs of its other notes.
 
@@ -381,6 +392,7 @@ def _spans(notes, variants, setup, rate, step):
                                cuts=variant.cuts, factor=variant.factor))
             step(1)
     wanted = [n for n in notes if n.stroke in PLANNED]
+    _check_apart(wanted)
     if wanted:
         targets = [Target.from_velocity(n.time, n.velocity, kind=n.stroke, duration=n.duration, key=k)
                    for k, n in enumerate(wanted)]

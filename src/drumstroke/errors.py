@@ -1,5 +1,7 @@
 """The one exception root of drumstroke and its two branches, and the one warning drumstroke gives."""
 
+import contextlib
+
 
 class DrumstrokeError(Exception):
     """Root of every error drumstroke raises on purpose."""
@@ -47,6 +49,29 @@ class ParameterError(DrumstrokeError, ValueError):
             message = message.replace(self.allowed, allowed)
         return type(self)(message, parameter=parameter, value=self.value,
                           allowed=self.allowed if allowed is None else allowed)
+
+    def located(self, where):
+        """The same error said to come from ``where`` (a file, a line of it), unless its message says so already.
+
+        >>> str(ParameterError("tempi[0] tempo must be finite").located("pattern 'p.txt' line 1"))
+        "pattern 'p.txt' line 1: tempi[0] tempo must be finite"
+        """
+        if where in str(self):
+            return self
+        return type(self)(f"{where}: {self}")  # about no one parameter now: the message starts with where
+
+
+@contextlib.contextmanager
+def located(where):
+    """Inside, a :class:`ParameterError` is said to come from ``where`` (:meth:`ParameterError.located`).
+
+    The readers wrap what they build from a file in it, so that an error found later (by a
+    constructor that knows nothing of files) names the file and line it came from.
+    """
+    try:
+        yield
+    except ParameterError as error:
+        raise error.located(where) from None
 
 
 class SimulationError(DrumstrokeError):

@@ -94,6 +94,7 @@ Constant(value=9.8)
 """
 
 import math
+import os
 from contextlib import contextmanager
 from dataclasses import KW_ONLY, dataclass, field
 from pathlib import Path
@@ -499,7 +500,7 @@ class Samples(PiecewiseLinear):
     )
 
     def __init__(self, file):
-        object.__setattr__(self, "file", str(Path(file).resolve()))
+        object.__setattr__(self, "file", os.path.realpath(file))  # not resolve(): it raises on a link loop
         object.__setattr__(self, "points", _read_samples(Path(file)))
         self.__post_init__()
 

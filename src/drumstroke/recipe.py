@@ -32,7 +32,7 @@ from pathlib import Path
 
 from ._checks import check_choice, check_keys, check_real
 from .errors import ParameterError
-from .formats.toml import read_toml, write_toml
+from .formats.toml import reading_toml, write_toml
 from .model import MODELS, Stick, coefficients
 from .profiles import Constant, Profile, Samples, profile_from_dict
 
@@ -169,7 +169,8 @@ class Recipe:
         file (:meth:`drumstroke.profiles.Profile.check_budget`).
         """
         path = Path(path)
-        recipe = cls.from_dict(read_toml(path, "recipe"), name=path.stem, base_dir=path.parent)
+        with reading_toml(path, "recipe") as data:
+            recipe = cls.from_dict(data, name=path.stem, base_dir=path.parent)
         for name in ("force", "gravity"):
             profile = getattr(recipe, name)
             profile.check_budget(recipe.t_end, what=f"recipe {str(path)!r}: {name} ({profile.kind})")
@@ -194,9 +195,9 @@ class Recipe:
 
 def _relocate_samples(data, profile, folder):
     if isinstance(profile, Samples):
-        source = Path(profile.file).resolve()
+        source = os.path.realpath(profile.file)
         try:
-            data["file"] = os.path.relpath(source, Path(folder).resolve())
+            data["file"] = os.path.relpath(source, os.path.realpath(folder))
         except ValueError:  # another drive
             data["file"] = str(source)
     elif data.get("kind") == "sum":

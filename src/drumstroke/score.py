@@ -54,7 +54,7 @@ from .errors import ParameterError
 from .formats.midi import GM_PERCUSSION, PERCUSSION_CHANNEL, TempoMap
 from .formats.pattern import parse_pattern as pattern_rows
 from .formats.pattern import read_pattern_file
-from .formats.toml import read_toml
+from .formats.toml import reading_toml
 
 DEFAULT_STICK = "right"
 _STICK = re.compile(r"^[a-z0-9_-]{1,32}$")
@@ -352,29 +352,29 @@ def default_mapping(stroke_names, *, percussion=False):
 
 def read_mapping(path):
     """A note mapping file: ``{midi note: (stroke, stick)}``."""
-    data = read_toml(path, "mapping")
-    check_keys("mapping", data, ("notes",))
-    table = data.get("notes")
-    if not isinstance(table, dict) or not table:
-        raise ParameterError(f"mapping {str(path)!r} needs a [notes] table such as 38 = \"single\"")
-    mapping = {}
-    for key, value in table.items():
-        if not re.fullmatch(r"\d{1,3}", key) or int(key) > 127:
-            raise ParameterError(f"mapping notes: key must be a MIDI note number 0-127, got {shown(key)}")
-        if isinstance(value, str):
-            value = {"stroke": value}
-        if not isinstance(value, dict):
-            raise ParameterError(f"mapping notes.{key} must be a stroke name or a table, got {value!r}")
-        check_keys(f"mapping notes.{key}", value, ("stroke", "stick"))
-        stroke = value.get("stroke")
-        stick = value.get("stick", AUTO_STICK if stroke in PLANNED else DEFAULT_STICK)
-        if not isinstance(stroke, str) or not stroke:
-            raise ParameterError(f"mapping notes.{key}.stroke must be a stroke name, auto or buzz, got {stroke!r}")
-        if not isinstance(stick, str) or not _STICK.match(stick):
-            raise ParameterError(f"mapping notes.{key}.stick must be 1-32 of a-z, 0-9, '_', '-', or auto, got "
-                                 f"{stick!r}")
-        mapping[int(key)] = (stroke, _stick(stick))
-    return mapping
+    with reading_toml(path, "mapping") as data:
+        check_keys("mapping", data, ("notes",))
+        table = data.get("notes")
+        if not isinstance(table, dict) or not table:
+            raise ParameterError(f"mapping {str(path)!r} needs a [notes] table such as 38 = \"single\"")
+        mapping = {}
+        for key, value in table.items():
+            if not re.fullmatch(r"\d{1,3}", key) or int(key) > 127:
+                raise ParameterError(f"mapping notes: key must be a MIDI note number 0-127, got {shown(key)}")
+            if isinstance(value, str):
+                value = {"stroke": value}
+            if not isinstance(value, dict):
+                raise ParameterError(f"mapping notes.{key} must be a stroke name or a table, got {value!r}")
+            check_keys(f"mapping notes.{key}", value, ("stroke", "stick"))
+            stroke = value.get("stroke")
+            stick = value.get("stick", AUTO_STICK if stroke in PLANNED else DEFAULT_STICK)
+            if not isinstance(stroke, str) or not stroke:
+                raise ParameterError(f"mapping notes.{key}.stroke must be a stroke name, auto or buzz, got {stroke!r}")
+            if not isinstance(stick, str) or not _STICK.match(stick):
+                raise ParameterError(f"mapping notes.{key}.stick must be 1-32 of a-z, 0-9, '_', '-', or auto, got "
+                                     f"{stick!r}")
+            mapping[int(key)] = (stroke, _stick(stick))
+        return mapping
 
 
 def read_score(path, *, mapping=None, stroke_names=None, channels=None, tracks=None, kit=None):

@@ -41,7 +41,7 @@ import numpy as np
 from ._checks import check_choice, check_keys, check_real
 from .budget import check_memory, check_time, sweep_cost
 from .errors import ParameterError, SimulationError
-from .formats.toml import read_toml
+from .formats.toml import reading_toml
 from .recipe import Recipe
 from .stroke import resolve, simulate, simulate_many
 
@@ -142,7 +142,8 @@ class Grid:
     def from_toml(cls, path):
         """Read a sweep file."""
         path = Path(path)
-        return replace(cls.from_dict(read_toml(path, "sweep"), base_dir=path.parent), source=str(path))
+        with reading_toml(path, "sweep") as data:
+            return replace(cls.from_dict(data, base_dir=path.parent), source=str(path))
 
     def points(self):
         """Each point as a dict of parameter name → value, in the table's order."""

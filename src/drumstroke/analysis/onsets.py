@@ -20,6 +20,7 @@ Onsets(2 over [0.1, 0.35] s, levels -4.5 to 0 dB; drop.wav)
 -40.0
 """
 
+import itertools
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
@@ -71,7 +72,8 @@ class Onsets:
             raise ParameterError(f"onset times and levels must be as many, got {len(t)} times and {len(level)} levels")
         if len(t) > 1 and not np.all(np.diff(t) > 0.0):
             i = int(np.flatnonzero(np.diff(t) <= 0.0)[0]) + 1
-            raise ParameterError(f"onset times t must be strictly increasing, got t[{i}] = {t[i]!r} after {t[i - 1]!r} s")
+            raise ParameterError(f"onset times t must be strictly increasing, got t[{i}] = {float(t[i])!r} after "
+                                 f"{float(t[i - 1])!r} s")
         if len(level) and level.max() != 0.0:
             raise ParameterError(f"onset levels level_db must be re the loudest (its level 0 dB), got a largest of "
                                  f"{level.max()!r} dB")
@@ -1248,7 +1250,7 @@ def _one_attack_each(band, rate, candidates, amplitude, config):
     d = np.abs(np.diff(band, prepend=band[0]))
     width, reach = max(1, round(0.25e-3 * rate)), round(config.start_reach * rate)
     keep, amplitude = np.ones(len(candidates), dtype=bool), amplitude.copy()
-    for i, j in zip(which[:-1], which[1:]):
+    for i, j in itertools.pairwise(which):
         a, b = round(candidates.times[i]), round(candidates.times[j])
         if not keep[i] or b - a > reach or amplitude[j] < amplitude[i] * 10.0 ** (config.lead_db / 20.0):
             continue

@@ -12,9 +12,11 @@ and what is allowed, and nothing written.
 :func:`main` is the one error path: whatever a command meets from a user's input (a
 ParameterError, an OSError naming the user's path, text that is not UTF-8, a number, a nesting
 or a file too large, a file that is not a database) ends in one line on stderr and exit status
-2; anything else is a bug, reported in one line that says where to report it and names the
-log file holding its traceback, with exit status 1. ``drumstroke --debug COMMAND ...`` prints
-the traceback of any error as well.
+2, a value in it longer than 80 characters cut and its length said (:func:`._parser.shortened`);
+anything else is a bug, reported in one line that says where to report it and names the log
+file holding its traceback, with exit status 1. ``drumstroke --debug COMMAND ...`` prints the
+traceback of any error as well. A command runs with its inputs guarded: no output is written
+over a file it read (:func:`drumstroke._atomic.guarding_inputs`).
 """
 
 import gc
@@ -29,7 +31,7 @@ from importlib import import_module
 
 from .. import __version__
 from ..errors import DrumstrokeError, ParameterError, SampledImpactsWarning
-from ._parser import Parser, named_option
+from ._parser import Parser, named_option, shortened
 
 COMMANDS = {
     "simulate": ("simulate", "simulate one stroke: a preset, a palette stroke or a recipe file"),
@@ -75,11 +77,12 @@ def main(argv=None):
         if not hasattr(args, "run"):
             parser.print_help()
             return 2
+        from .._atomic import guarding_inputs
         from ..budget import allowing
         from ._options import budget_of, check_outputs
 
-        check_outputs(args)
-        with warnings.catch_warnings(), allowing(budget_of(args)):
+        with guarding_inputs(), warnings.catch_warnings(), allowing(budget_of(args)):  # no output over an input
+            check_outputs(args)
             warnings.simplefilter("ignore", SampledImpactsWarning)  # the commands read a CSV for its samples
             return args.run(args) or 0
     except SystemExit as stop:  # --help, --version, or a bad option: argparse has said so
@@ -119,10 +122,10 @@ def _failed(error, name, args):
         return 1
     reason = _input_error(error, args)
     if reason is None:
-        print(f"{name}: internal error: {type(error).__name__}: {_one_line(error)}; this is a bug in drumstroke: "
-              f"please report it to {REPORT}, {_logged(error, name)}", file=sys.stderr)
+        print(f"{name}: internal error: {type(error).__name__}: {shortened(_one_line(error))}; this is a bug in "
+              f"drumstroke: please report it to {REPORT}, {_logged(error, name)}", file=sys.stderr)
         return 1
-    print(f"{name}: error: {reason}", file=sys.stderr)
+    print(f"{name}: error: {shortened(reason)}", file=sys.stderr)
     return 2
 
 

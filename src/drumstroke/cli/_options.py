@@ -12,6 +12,7 @@ import os
 import stat
 from pathlib import Path
 
+from .._atomic import check_target, note_input
 from .._checks import check_int, check_real
 from ..errors import ParameterError
 from ..formats.reading import check_regular
@@ -30,7 +31,7 @@ def whole(*, low, high=None, unit=""):
 
 def existing_file(text):
     """An argparse type: the path of a regular file that exists (a directory, a FIFO or a device is refused by name)."""
-    if not os.path.exists(text):
+    if not os.path.lexists(text):  # a link that leads nowhere, or in a loop, is said so below
         raise argparse.ArgumentTypeError(f"file {text!r} does not exist")
     try:
         check_regular(text, "file")
@@ -121,15 +122,24 @@ def check_outputs(args):
     """Check every output's folder before the work; then, if ``args.mkdir``, create the missing ones.
 
     A file's folder must exist (or is created with ``--mkdir``) and be writable, and the file must
-    not be a directory; a folder output must be a directory or not exist yet (the command creates
-    it, in a folder that must exist or is created with ``--mkdir``).
+    not be a directory, a FIFO or a device, nor one of the command's input files
+    (:func:`drumstroke._atomic.check_target`: the inputs the command line names are noted first); a
+    folder output must be a directory or not exist yet (the command creates it, in a folder that
+    must exist or is created with ``--mkdir``).
     """
+    outputs = getattr(args, "outputs", {})
+    for dest, value in vars(args).items():
+        for item in value if isinstance(value, list | tuple) else (value,):
+            if isinstance(item, Path) and dest not in outputs:
+                note_input(item)
     missing = []
-    for option, path, is_folder in getattr(args, "outputs", {}).values():
+    for option, path, is_folder in outputs.values():
         if is_folder and path.exists() and not path.is_dir():
             raise ParameterError(f"{option}: {str(path)!r} is a file, not a directory")
         if not is_folder and path.is_dir():
             raise ParameterError(f"{option}: {str(path)!r} is a directory, not a file")
+        if not is_folder:
+            check_target(path)
         folder = path if is_folder and path.is_dir() else path.parent
         if not folder.is_dir():
             if folder.exists():
@@ -145,8 +155,9 @@ def check_outputs(args):
 
 def output_option(args, filename):
     """The option whose output ``filename`` (a file written, or one inside a folder output) is, or None."""
-    written = Path(filename)
+    written = Path(os.path.abspath(filename))  # a bundle names its files by their absolute paths
     for option, path, folder in getattr(args, "outputs", {}).values():
+        path = Path(os.path.abspath(path))
         if written == path or (folder and path in written.parents):
             return option
     return None

@@ -4,6 +4,7 @@
 """
 
 import argparse
+import re
 
 OPTIONS = {"mapping": "--mapping", "channels": "--channel", "tracks": "--track", "rudiment": "NAME"}
 """The option of each library parameter the command line passes on under another name: what errors and reports
@@ -20,6 +21,38 @@ def named_option(error):
     return error.renamed(option, allowed=ALLOWED.get(error.parameter)) if option else error
 
 
+MOST = 80
+"""The most characters of one value an error line shows; a longer one is cut, with its length said."""
+
+PATH_MAX = 4096
+"""The longest path a system takes (characters): a path in an error line is shown whole, up to this."""
+
+_LONG = re.compile(rf"\S{{{MOST + 1},}}")
+
+
+def shortened(message, *, most=MOST):
+    """``message`` on one line, each long value cut to ``most`` characters followed by its length (a path, which
+    names the file at fault, up to :data:`PATH_MAX`), and the whole to :data:`PATH_MAX`: no input makes a long
+    error line.
+
+    >>> shortened("velocity must be an integer, got " + "x" * 10_000_000)
+    'velocity must be an integer, got xxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxx... (10000000 characters)'
+    >>> shortened("recipe '/tmp/" + "a" * 100 + "/r.toml' is missing")[-30:]
+    "aaaaaaaaaaa/r.toml' is missing"
+    >>> shortened("a " * 10_000)[-40:]
+    ' a a a a a ... (19999 characters in all)'
+    """
+    line = re.sub(r"\s*\n\s*", " ", message.strip())
+    line = _LONG.sub(lambda long: _cut(long.group(), most), line)
+    return line if len(line) <= PATH_MAX else f"{line[:PATH_MAX].rstrip()} ... ({len(line)} characters in all)"
+
+
+def _cut(value, most):
+    if "/" in value and len(value) <= PATH_MAX:
+        return value
+    return f"{value[:most - 3]}... ({len(value)} characters)"
+
+
 class Parser(argparse.ArgumentParser):
     """An argument parser whose errors are one line and exit status 2, without the usage text.
 
@@ -31,4 +64,4 @@ class Parser(argparse.ArgumentParser):
         super().__init__(*args, **{"allow_abbrev": False, **kwargs})
 
     def error(self, message):
-        self.exit(2, f"{self.prog}: error: {message}\n")
+        self.exit(2, f"{self.prog}: error: {shortened(message)}\n")

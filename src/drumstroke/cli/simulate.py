@@ -131,6 +131,7 @@ def _figures(args):
 
 
 def _sweep(args):
+    from ..errors import located
     from ..formats.sidecar import sidecar_for
     from ..formats.table import write_table
     from ..sweep import Grid, run_sweep, table_metadata
@@ -142,7 +143,7 @@ def _sweep(args):
     where = f"on {args.scheduler}" if args.scheduler else "here"
     print(f"sweep {args.grid}: {len(grid)} points ({grid.mode}), {where}")
     started = time.monotonic()
-    with Bar("sweeping") as bar:
+    with Bar("sweeping") as bar, located(f"sweep {str(args.grid)!r}"):  # a point's recipe is checked as it is made
         rows = run_sweep(grid, scheduler=args.scheduler, progress=bar.update)
     units, fields = table_metadata(grid, rows)
     write_table(rows, args.out, units=units, fields=fields)  # the table with the JSON beside it, together

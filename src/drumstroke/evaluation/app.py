@@ -33,6 +33,7 @@ when called.
 
 import hashlib
 import json
+import os
 import random
 import re
 import sqlite3
@@ -46,7 +47,7 @@ from .._checks import check_int, check_keys
 from ..errors import ParameterError
 from ..formats.reading import check_regular
 from ..formats.responses_csv import responses_text
-from ..formats.toml import read_toml
+from ..formats.toml import reading_toml
 from .limits import Limits, served_hosts
 
 QUESTIONS = ("answer", "confidence", "similarity")
@@ -121,37 +122,37 @@ class Config:
     def from_toml(cls, path):
         """Read and check a config file; stimulus paths are relative to it and must exist."""
         path = Path(path)
-        data = read_toml(path, "listening-test config")
-        check_keys("config", data, ("title", "admin_token", "seed", "pair", "limits"))
-        limits = data.get("limits", {})
-        if not isinstance(limits, dict):
-            raise ParameterError("config limits must be a [limits] table")
-        check_keys("config [limits]", limits, tuple(Limits.__dataclass_fields__))
-        tables = data.get("pair")
-        if not isinstance(tables, list) or not tables:
-            raise ParameterError("config needs at least one [[pair]] table with id, human and robot")
-        pairs, seen = [], set()
-        for i, table in enumerate(tables):
-            where = f"pair[{i}]"
-            if not isinstance(table, dict):
-                raise ParameterError(f"{where} must be a table")
-            check_keys(where, table, ("id", "human", "robot"))
-            pid = table.get("id")
-            if not isinstance(pid, str) or not _ID.fullmatch(pid) or pid in seen:
-                raise ParameterError(f"{where}.id must be a unique name of 1-64 letters, digits, '.', '_', '-', "
-                                     f"got {pid!r}")
-            seen.add(pid)
-            files = {}
-            for side in ("human", "robot"):
-                name = table.get(side)
-                if not isinstance(name, str):
-                    raise ParameterError(f"{where}.{side} must be a file path, got {name!r}")
-                file = (path.parent / name).resolve()
-                check_regular(file, f"{where}.{side}")  # a FIFO or a device would block or never end when served
-                files[side] = file
-            pairs.append(Pair(pid, files["human"], files["robot"]))
-        return cls(data.get("title", "Robot or human?"), data.get("admin_token"), data.get("seed"), tuple(pairs),
-                   Limits(**limits))
+        with reading_toml(path, "listening-test config") as data:
+            check_keys("config", data, ("title", "admin_token", "seed", "pair", "limits"))
+            limits = data.get("limits", {})
+            if not isinstance(limits, dict):
+                raise ParameterError("config limits must be a [limits] table")
+            check_keys("config [limits]", limits, tuple(Limits.__dataclass_fields__))
+            tables = data.get("pair")
+            if not isinstance(tables, list) or not tables:
+                raise ParameterError("config needs at least one [[pair]] table with id, human and robot")
+            pairs, seen = [], set()
+            for i, table in enumerate(tables):
+                where = f"pair[{i}]"
+                if not isinstance(table, dict):
+                    raise ParameterError(f"{where} must be a table")
+                check_keys(where, table, ("id", "human", "robot"))
+                pid = table.get("id")
+                if not isinstance(pid, str) or not _ID.fullmatch(pid) or pid in seen:
+                    raise ParameterError(f"{where}.id must be a unique name of 1-64 letters, digits, '.', '_', '-', "
+                                         f"got {pid!r}")
+                seen.add(pid)
+                files = {}
+                for side in ("human", "robot"):
+                    name = table.get(side)
+                    if not isinstance(name, str):
+                        raise ParameterError(f"{where}.{side} must be a file path, got {name!r}")
+                    file = Path(os.path.realpath(path.parent / name))
+                    check_regular(file, f"{where}.{side}")  # a FIFO or a device would block or never end when served
+                    files[side] = file
+                pairs.append(Pair(pid, files["human"], files["robot"]))
+            return cls(data.get("title", "Robot or human?"), data.get("admin_token"), data.get("seed"), tuple(pairs),
+                       Limits(**limits))
 
 
 def plan(config, participant):
@@ -182,7 +183,7 @@ class Store:
 
     def __init__(self, path, *, create=True):
         self.path = str(path)
-        self._uri = None if create else f"file:{quote(str(Path(path).resolve()))}?mode=ro"
+        self._uri = None if create else f"file:{quote(os.path.realpath(path))}?mode=ro"
         where = f"database {self.path!r}"
         if Path(path).exists():
             check_regular(path, "database")

@@ -148,7 +148,8 @@ def read_onsets_csv(path):
     ParameterError
         Naming the file (and the line): missing, not a regular file, larger than
         :data:`MAX_BYTES`, not UTF-8 text, no ``t,level_db`` or ``t,level_db,peak_db`` header first, a
-        row that is not as many finite numbers; or metadata beside it that describes other columns.
+        row that is not as many finite numbers or whose time does not follow the row before's; or
+        metadata beside it that describes other columns.
     """
     where = f"onsets file {str(path)!r}"
     path = Path(path)
@@ -171,6 +172,9 @@ def read_onsets_csv(path):
         except ValueError:
             raise ParameterError(f"{where} line {number} must be '{','.join(header)}' with "
                                  f"{'two' if len(header) == 2 else 'three'} finite numbers, got {','.join(row)[:80]!r}") from None
+        if rows and values[0] <= rows[-1][0]:
+            raise ParameterError(f"{where} line {number}: t = {values[0]!r} s comes after {rows[-1][0]!r} s on the "
+                                 "line before; times must be strictly increasing")
         rows.append(values)
     data = np.array(rows, dtype=float).reshape(-1, len(header))
     return data[:, 0], data[:, 1], data[:, 2] if len(header) == 3 else None, _metadata(path, header)

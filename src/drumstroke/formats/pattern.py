@@ -15,6 +15,7 @@ meter 3/4
 0.5 tap 40 left
 """
 
+import math
 import re
 from typing import NamedTuple
 
@@ -116,6 +117,9 @@ def parse_pattern(text, *, name="pattern"):
                 raise ParameterError(f"{where}: the first line must be 'tempo BPM', got {line.strip()!r}")
             tempo = check_real(f"{where}: tempo", _number(fields[1], where, "tempo"), low=0.0, high=1000.0,
                                low_open=True, unit="beats per minute")
+            if not math.isfinite(60e6 / tempo):  # a beat longer than any number of µs: no tempo map holds it
+                raise ParameterError(f"{where}: tempo {tempo!r} beats per minute is too slow: a beat of 60e6/tempo µs "
+                                     "must be a finite number")
             continue
         if fields[0] == "meter":
             if rows or len(fields) != 2:

@@ -2,7 +2,8 @@
 
 A file is read only if it is a regular file (a FIFO, a device such as ``/dev/zero``, a directory
 or a socket is refused by name, at once: it is opened without blocking and checked before a byte
-is read) and no larger than its format's limit; text must be UTF-8. A document read from TOML or
+is read) and no larger than its format's limit; text must be UTF-8, and a byte-order mark before it (a
+Windows editor's) is dropped, whatever the format. A document read from TOML or
 JSON is then walked once (:func:`check_document`): tables and arrays nested deeper than
 :data:`MAX_DEPTH`, and integers beyond any float (more than 308 digits), are refused naming the
 key. Every refusal is a :class:`~drumstroke.errors.ParameterError` naming what the file is, its
@@ -39,6 +40,7 @@ import re
 import stat
 import sys
 
+from .._atomic import note_input, unfinished_bundle
 from .._checks import digits
 from ..errors import ParameterError
 
@@ -67,8 +69,9 @@ def read_bytes(path, what, *, limit):
     ------
     ParameterError
         ``WHAT 'PATH' cannot be read: REASON``: the system's reason (no such file, permission
-        denied, …), not a regular file (named: a FIFO, a directory, a device, a socket), or
-        larger than ``limit``.
+        denied, …), not a regular file (named: a FIFO, a directory, a device, a socket), larger
+        than ``limit``, or one of the files of a bundle whose publication did not finish
+        (:func:`drumstroke._atomic.unfinished_bundle`).
     """
     _refuse_special(path, what)
     try:
@@ -79,6 +82,12 @@ def read_bytes(path, what, *, limit):
         try:
             status = os.fstat(descriptor)
             _refuse(status.st_mode, path, what)  # what was opened: the path may have changed since
+            note_input(path, status)
+            record = unfinished_bundle(path)
+            if record is not None:
+                raise _unreadable(path, what, f"its publication did not finish ({record.name} beside it lists it: the "
+                                              "run writing it was stopped; run it again, or any write in the folder "
+                                              "finishes it)")
             if status.st_size <= limit:
                 data = handle.read(limit + 1)  # a file whose size the system does not know (/proc) stops here too
         except OSError as error:
@@ -89,15 +98,15 @@ def read_bytes(path, what, *, limit):
     return data
 
 
-def read_text(path, what, *, limit, encoding="utf-8"):
+def read_text(path, what, *, limit):
     """The text of the regular file at ``path`` (UTF-8, at most ``limit`` bytes), as :func:`read_bytes` reads it.
 
-    ``encoding`` may be ``"utf-8-sig"`` to drop a byte-order mark. Text that is not UTF-8 is
-    refused naming the line and column of the first bad byte.
+    A byte-order mark before the text is dropped. Text that is not UTF-8 is refused naming the
+    line and column of the first bad byte.
     """
     data = read_bytes(path, what, limit=limit)
     try:
-        return data.decode(encoding)
+        return data.decode("utf-8-sig")
     except UnicodeDecodeError as error:
         line = data.count(b"\n", 0, error.start) + 1
         column = error.start - (data.rfind(b"\n", 0, error.start) + 1) + 1
@@ -106,12 +115,12 @@ def read_text(path, what, *, limit, encoding="utf-8"):
 
 
 def read_csv_rows(path, what, *, limit, rows_of=""):
-    """The rows (lists of text cells) of the CSV file at ``path``, read by :func:`read_text` (a byte-order mark is fine).
+    """The rows (lists of text cells) of the CSV file at ``path``, read by :func:`read_text`.
 
     ``rows_of`` says what the rows should be (e.g. ``" of 't,value' rows"``), for the message when
     the text is not CSV.
     """
-    text = read_text(path, what, limit=limit, encoding="utf-8-sig")
+    text = read_text(path, what, limit=limit)
     try:
         return list(csv.reader(io.StringIO(text, newline="")))
     except csv.Error as error:

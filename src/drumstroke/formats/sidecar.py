@@ -27,8 +27,10 @@ Examples
 'paper'
 """
 
+import os
 from pathlib import Path
 
+from .._atomic import not_an_input, remove_stale
 from .._version import __version__
 from ..errors import ParameterError
 from .json import read_json, write_json
@@ -115,8 +117,24 @@ def read_sidecar(csv):
     return _block(sidecar_path(csv))
 
 
+def read_sidecar_document(csv):
+    """The whole JSON beside the CSV at ``csv``, read as :func:`read_sidecar` reads it (errors raised here)."""
+    return _document(sidecar_path(csv))
+
+
+def _document(side):
+    """The JSON at ``side``: it describes its CSV, which is the input, and a command may write over it (``robot
+    export p.csv --out p.json``), so it is not noted as an input of the run (:func:`drumstroke._atomic.note_input`)."""
+    with not_an_input():
+        return read_json(side, "metadata")
+
+
 def _describes(side, csv):
-    """Whether the JSON ``side`` holds the metadata of the CSV ``csv`` (so writing that CSV may rewrite it)."""
+    """Whether the JSON ``side`` holds the metadata of the CSV ``csv`` (so writing that CSV may rewrite it).
+
+    A killed writer's bundle that lists it is finished first, as the write would.
+    """
+    remove_stale(side.parent, side.name)
     block = _block(side)
     return block is not None and block.get("file") == csv.name
 
@@ -124,7 +142,7 @@ def _describes(side, csv):
 def _block(side):
     """The ``"csv"`` table of the JSON at ``side``, or None (no such file, not readable JSON, no such table)."""
     try:
-        data = read_json(side, "metadata")
+        data = _document(side)
     except ParameterError:
         return None
     block = data.get(KEY) if isinstance(data, dict) else None
@@ -132,4 +150,4 @@ def _block(side):
 
 
 def _same(a, b):
-    return Path(a).resolve() == Path(b).resolve()
+    return os.path.realpath(a) == os.path.realpath(b)  # not resolve(): it raises on a link loop

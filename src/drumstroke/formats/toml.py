@@ -20,12 +20,13 @@ value = 100.0
 {'cor': 0.86, 'force': {'kind': 'constant', 'value': 100.0}}
 """
 
+import contextlib
 import re
 import sys
 import tomllib
 
 from .._atomic import write_atomic
-from ..errors import ParameterError
+from ..errors import ParameterError, located
 from .reading import MAX_DEPTH, MIB, check_document, read_text
 
 SUFFIXES = (".toml",)
@@ -40,12 +41,12 @@ _LONG_INTEGER = re.compile(r"[+-]?[0-9][0-9_]{4000,}")
 def read_toml(path, what):
     """The TOML file at ``path`` as a dict, read within bounds (:mod:`.reading`).
 
-    A byte-order mark before the text (a Windows editor's) is dropped. A file that cannot be read, is not valid TOML, nests deeper than
-    :data:`~drumstroke.formats.reading.MAX_DEPTH` or holds an integer beyond a float is a
-    ParameterError naming the ``what`` and the path (and the line or key).
+    A byte-order mark before the text (a Windows editor's) is dropped. A file that cannot be read,
+    is not valid TOML, nests deeper than :data:`~drumstroke.formats.reading.MAX_DEPTH` or holds an
+    integer beyond a float is a ParameterError naming the ``what`` and the path (and the line or key).
     """
     where = f"{what} {str(path)!r}"
-    text = read_text(path, what, limit=MAX_BYTES, encoding="utf-8-sig")
+    text = read_text(path, what, limit=MAX_BYTES)
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as error:
@@ -57,6 +58,26 @@ def read_toml(path, what):
         raise ParameterError(f"{where} cannot be read: {_long_integer(text) or error}") from None
     check_document(data, where)
     return data
+
+
+@contextlib.contextmanager
+def reading_toml(path, what):
+    """``with reading_toml(path, what) as data:``, the TOML file at ``path`` as :func:`read_toml` reads it; an error
+    raised inside, by whatever builds something of ``data``, names the file (``recipe 'r.toml': cor must be …``).
+
+    >>> import pathlib, tempfile
+    >>> from drumstroke._checks import check_real
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "r.toml"
+    >>> write_toml(path, {"cor": 1.5})
+    >>> with reading_toml(path, "recipe") as data:
+    ...     check_real("cor", data["cor"], low=0.0, high=1.0)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    drumstroke.errors.ParameterError: recipe '.../r.toml': cor must be in [0, 1], got 1.5
+    """
+    data = read_toml(path, what)
+    with located(f"{what} {str(path)!r}"):
+        yield data
 
 
 def write_toml(path, data, *, mode=None, bundle=None):

@@ -48,9 +48,9 @@ import numpy as np
 
 from .._atomic import bundled, write_atomic
 from ..errors import ParameterError
-from .json import impact_columns, read_json
+from .json import impact_columns
 from .reading import MIB, read_text
-from .sidecar import describe, read_sidecar, sidecar_for, sidecar_path, write_sidecar
+from .sidecar import describe, read_sidecar, read_sidecar_document, sidecar_for, sidecar_path, write_sidecar
 
 MAX_BYTES = 1024 * MIB
 """The largest trajectory file read (bytes): an hour of four sticks at 1 kHz is some 700 MB."""
@@ -245,7 +245,7 @@ def recorded_impacts(path, columns):
     side = sidecar_path(path)
     if read_sidecar(path) is None:  # no JSON beside the CSV, or not this kind
         return None
-    data = read_json(side, "metadata")
+    data = read_sidecar_document(path)
     rows = data.get("impacts")
     start, end = float(columns["t"][0]), float(columns["t"][-1])
     where = f"metadata {str(side)!r}"
@@ -439,7 +439,7 @@ def write_kit(path, samples, *, accelerations=None, extra=None, sidecar=True, bu
 def is_kit_file(path):
     """Whether the CSV at ``path`` is a kit's trajectory: its header (first line) names ``LIMB.JOINT`` columns."""
     try:
-        with open(path, encoding="utf-8", errors="replace") as file:
+        with open(path, encoding="utf-8-sig", errors="replace") as file:
             header = file.readline(1 << 16)
     except OSError:
         return False  # the reader says why

@@ -17,13 +17,16 @@ Examples
 """
 
 import io
+import os
 from pathlib import Path
 
-from .._atomic import write_atomic
+import numpy as np
+
+from .._atomic import note_input, write_atomic
 from .._checks import check_int, check_vector
 from ..budget import audio_bytes, check_memory
 from ..errors import ParameterError
-from .reading import MIB, read_bytes
+from .reading import MIB, check_regular, read_bytes
 
 MAX_BYTES = 1024 * MIB
 """The largest audio file read (bytes): some two hours of 48 kHz 24-bit mono."""
@@ -100,12 +103,15 @@ def read_audio(path, *, max_seconds=None, working=0):
     ------
     ParameterError
         Naming the file: missing, not a regular file, not audio soundfile reads, longer than
-        ``max_seconds``, or beyond the memory budget.
+        ``max_seconds``, beyond the memory budget, or holding a sample that is not finite (a float file's
+        NaN or infinity).
     """
     soundfile = _soundfile()
     where = f"audio file {str(path)!r}"
     if not Path(path).is_file():
         reason = "is not a regular file" if Path(path).exists() else "is missing"
+        if os.path.lexists(path) and not Path(path).exists():  # a link that leads nowhere, or in a loop: say which
+            check_regular(path, "audio file")
         raise ParameterError(f"{where} {reason}")
     try:
         info = soundfile.info(str(path))
@@ -116,8 +122,14 @@ def read_audio(path, *, max_seconds=None, working=0):
                      f"{info.frames} frames of {info.channels} channel{'s' * (info.channels != 1)} at "
                      f"{info.samplerate} Hz as its header counts them, and {working} working copies")
         signal, rate = soundfile.read(str(path), dtype="float64", always_2d=True)
+        note_input(path)
     except (OSError, RuntimeError, soundfile.LibsndfileError) as error:
         raise ParameterError(f"{where} cannot be read as audio: {error}") from None
+    bad = np.argwhere(~np.isfinite(signal))  # a float file can hold NaN or infinities; what reads it must not see them
+    if len(bad):
+        frame, channel = (int(i) for i in bad[0])
+        raise ParameterError(f"{where}: sample {frame} (channel {channel + 1}) is {float(signal[frame, channel])!r}; "
+                             f"audio samples must be finite ({len(bad)} are not)")
     return signal, int(rate)
 
 

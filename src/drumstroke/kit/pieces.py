@@ -50,7 +50,7 @@ from typing import NamedTuple
 from .._checks import check_choice, check_keys, check_real, shown
 from ..design.setup import Setup
 from ..errors import ParameterError
-from ..formats.toml import read_toml, write_toml
+from ..formats.toml import reading_toml, write_toml
 from ..model import Stick
 from ..palette.motion import Limits
 
@@ -506,11 +506,8 @@ class Kit:
 def read_kit(path):
     """The kit in the TOML file at ``path`` (:meth:`Kit.from_dict`'s tables); an error names the file,
     the piece (or limb) and the field."""
-    data = read_toml(path, "kit")
-    try:
+    with reading_toml(path, "kit") as data:
         return Kit.from_dict(data)
-    except ParameterError as error:
-        raise ParameterError(f"kit {str(path)!r}: {error}") from None
 
 
 def write_kit(path, kit):

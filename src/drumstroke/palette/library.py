@@ -32,7 +32,7 @@ from ..formats import trajectory_csv
 from ..formats.json import json_text
 from ..formats.library import Staging, diagnose
 from ..formats.sidecar import KEY
-from ..formats.toml import read_toml, toml_text
+from ..formats.toml import reading_toml, toml_text
 from ..presets import PRESETS
 from ..recipe import Recipe
 from ..stroke import simulate
@@ -97,34 +97,34 @@ def read_palette(path=None):
     (relative to the palette file) or inline tables.
     """
     path = Path(path) if path is not None else DEFAULT_PALETTE
-    data = read_toml(path, "palette")
-    check_keys("palette", data, ("stroke",))
-    tables = data.get("stroke")
-    if not isinstance(tables, list) or not tables:
-        raise ParameterError(f"palette {str(path)!r} needs at least one [[stroke]] table")
-    entries, seen = [], set()
-    for i, table in enumerate(tables):
-        where = f"stroke[{i}]"
-        if not isinstance(table, dict):
-            raise ParameterError(f"{where} must be a table, got {table!r}")
-        check_keys(where, table, _ENTRY_KEYS)
-        name = table.get("name")
-        if not isinstance(name, str) or not _NAME.match(name):
-            raise ParameterError(f"{where}.name must be 1-64 of a-z, 0-9, '.', '_', '-' (starting with a letter "
-                                 f"or digit), got {name!r}")
-        if name in seen:
-            raise ParameterError(f"{where}.name {name!r} appears twice in the palette")
-        seen.add(name)
-        texts = {key: table.get(key, "") for key in ("category", "description")}
-        for key, text in texts.items():
-            if not isinstance(text, str) or "\n" in text:
-                raise ParameterError(f"{where}.{key} must be one line of text, got {text!r}")
-        transforms = table.get("transforms", [])
-        if not isinstance(transforms, list):
-            raise ParameterError(f"{where}.transforms must be a list of one-key tables, got {transforms!r}")
-        recipe = _entry_recipe(table.get("recipe"), name, path.parent, where)
-        entries.append(Entry(name, texts["category"], texts["description"], recipe, tuple(transforms)))
-    return entries
+    with reading_toml(path, "palette") as data:
+        check_keys("palette", data, ("stroke",))
+        tables = data.get("stroke")
+        if not isinstance(tables, list) or not tables:
+            raise ParameterError(f"palette {str(path)!r} needs at least one [[stroke]] table")
+        entries, seen = [], set()
+        for i, table in enumerate(tables):
+            where = f"stroke[{i}]"
+            if not isinstance(table, dict):
+                raise ParameterError(f"{where} must be a table, got {table!r}")
+            check_keys(where, table, _ENTRY_KEYS)
+            name = table.get("name")
+            if not isinstance(name, str) or not _NAME.match(name):
+                raise ParameterError(f"{where}.name must be 1-64 of a-z, 0-9, '.', '_', '-' (starting with a letter "
+                                     f"or digit), got {name!r}")
+            if name in seen:
+                raise ParameterError(f"{where}.name {name!r} appears twice in the palette")
+            seen.add(name)
+            texts = {key: table.get(key, "") for key in ("category", "description")}
+            for key, text in texts.items():
+                if not isinstance(text, str) or "\n" in text:
+                    raise ParameterError(f"{where}.{key} must be one line of text, got {text!r}")
+            transforms = table.get("transforms", [])
+            if not isinstance(transforms, list):
+                raise ParameterError(f"{where}.transforms must be a list of one-key tables, got {transforms!r}")
+            recipe = _entry_recipe(table.get("recipe"), name, path.parent, where)
+            entries.append(Entry(name, texts["category"], texts["description"], recipe, tuple(transforms)))
+        return entries
 
 
 def _entry_recipe(spec, name, folder, where):

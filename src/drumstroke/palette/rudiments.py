@@ -44,7 +44,7 @@ from typing import NamedTuple
 
 from .._checks import check_choice, check_int, check_keys, check_real, did_you_mean, shown
 from ..errors import ParameterError
-from ..formats.toml import read_toml
+from ..formats.toml import reading_toml
 
 RUDIMENTS_FILE = Path(__file__).with_name("rudiments.toml")
 """The shipped data: the 40 PAS rudiments in PAS order."""
@@ -327,22 +327,22 @@ def read_rudiments(path=None):
         Naming the rudiment and the field at fault.
     """
     path = Path(path) if path is not None else RUDIMENTS_FILE
-    data = read_toml(path, "rudiments file")
-    check_keys(f"rudiments file {str(path)!r}", data, ("rudiment",))
-    tables = data.get("rudiment")
-    if not isinstance(tables, list) or not tables:
-        raise ParameterError(f"rudiments file {str(path)!r} needs at least one [[rudiment]] table")
-    found, names = [], set()
-    for i, table in enumerate(tables):
-        rudiment = _rudiment_from_table(table, f"rudiment[{i}]")
-        if found and rudiment.number <= found[-1].number:
-            raise ParameterError(f"rudiment {rudiment.number} ({rudiment.name}): numbers must increase through the "
-                                 f"file, but it follows rudiment {found[-1].number}")
-        if rudiment.name in names:
-            raise ParameterError(f"rudiment {rudiment.number}: name {rudiment.name!r} appears twice")
-        names.add(rudiment.name)
-        found.append(rudiment)
-    return tuple(found)
+    with reading_toml(path, "rudiments file") as data:
+        check_keys(f"rudiments file {str(path)!r}", data, ("rudiment",))
+        tables = data.get("rudiment")
+        if not isinstance(tables, list) or not tables:
+            raise ParameterError(f"rudiments file {str(path)!r} needs at least one [[rudiment]] table")
+        found, names = [], set()
+        for i, table in enumerate(tables):
+            rudiment = _rudiment_from_table(table, f"rudiment[{i}]")
+            if found and rudiment.number <= found[-1].number:
+                raise ParameterError(f"rudiment {rudiment.number} ({rudiment.name}): numbers must increase through the "
+                                     f"file, but it follows rudiment {found[-1].number}")
+            if rudiment.name in names:
+                raise ParameterError(f"rudiment {rudiment.number}: name {rudiment.name!r} appears twice")
+            names.add(rudiment.name)
+            found.append(rudiment)
+        return tuple(found)
 
 
 @cache

@@ -29,7 +29,7 @@ from types import MappingProxyType
 
 from .._checks import check_keys
 from ..errors import ParameterError
-from ..formats.toml import read_toml
+from ..formats.toml import reading_toml
 from ..palette.motion import Limits
 from .controllers import CONTROLLERS, controller_from_dict, to_dict
 from .plant import Plant
@@ -98,7 +98,8 @@ class RobotConfig:
     @classmethod
     def from_toml(cls, path):
         """A config from the TOML file at ``path`` (see :meth:`from_dict`)."""
-        return cls.from_dict(read_toml(path, "robot config"))
+        with reading_toml(path, "robot config") as data:
+            return cls.from_dict(data)
 
     def to_dict(self):
         """The config as plain data, tables as in a config file (:meth:`from_dict` reads it back)."""

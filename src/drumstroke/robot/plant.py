@@ -36,7 +36,7 @@ import numpy as np
 
 from .._checks import check_int, check_keys, check_real
 from ..errors import ParameterError
-from ..formats.toml import read_toml
+from ..formats.toml import reading_toml
 from ..model import Stick, inertia_ratio
 from ..recipe import STANDARD_GRAVITY
 from .kernel import advance_joint
@@ -137,7 +137,8 @@ class Plant:
     @classmethod
     def from_toml(cls, path):
         """A plant from the ``[plant]`` table of a TOML file (other tables are left for their readers)."""
-        return cls.from_dict(read_toml(path, "robot config").get("plant", {}))
+        with reading_toml(path, "robot config") as data:
+            return cls.from_dict(data.get("plant", {}))
 
     def to_dict(self):
         """The parameters as plain data (a ``[plant]`` table)."""

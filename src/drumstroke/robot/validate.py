@@ -53,7 +53,7 @@ import numpy as np
 
 from .._checks import as_vector, check_keys, check_real, shown
 from ..errors import ParameterError, TrajectoryError
-from ..formats.toml import read_toml
+from ..formats.toml import reading_toml
 from ..formats.trajectory_csv import KitSamples, range_only, read_kit, read_stick
 from ..kit.play import THETA
 from ..palette.motion import Limits
@@ -74,16 +74,12 @@ its closed-form swing, lies 1.5e-13 rad past it)."""
 
 def read_limits(path):
     """The :class:`~drumstroke.palette.motion.Limits` of the ``[limits]`` table of the TOML file at ``path``."""
-    data = read_toml(path, "limits file")
     where = f"limits file {str(path)!r}"
-    try:
+    with reading_toml(path, "limits file") as data:
         check_keys(where, data, ("limits",))
         if "limits" not in data:
             raise ParameterError(f"{where} needs a [limits] table")
         return Limits.from_dict(data["limits"])
-    except ParameterError as error:
-        text = str(error)
-        raise ParameterError(text if where in text else f"{where}: {text}") from None
 
 
 @dataclass(frozen=True, eq=False, repr=False)
