@@ -32,6 +32,14 @@ class _Cache(FunctionCache):
         with self._guard_against_spurious_io_errors():
             return self._load_overload(sig, target_context)
 
+    def save_overload(self, sig, data):
+        # a cache that cannot be written (a full disk, a file-size limit) leaves the kernel compiled, not the command
+        # failed with an error that names no file of the user's
+        try:
+            super().save_overload(sig, data)
+        except OSError:
+            pass
+
 
 def jit(function=None, *, inline="never", parallel=False):
     """``numba.njit(cache=True)``: ``function`` compiled on its first call (or loaded from the cache on disk).
