@@ -538,10 +538,11 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        :func:`_out_of_decay`: an attack quieter than ``decay_db`` re the loudest is none when
        its first difference does not rise ``decay_rise_db`` over the sound before it (a sample's
        own decay, a room's tail), and so is one within ``echo_reach`` s after the attack before it
-       that does not pass ``echo_rise_db`` (a sample's second burst). :func:`_learned_lead_ins`: an attack over loud earlier sound
-       (over ``lead_clear_db`` re its peak) is placed its recording's lead-in before its main rise
-       (its first difference's first sample over ``lead_rise`` of its peak), that lead-in being the
-       median over the clear attacks (≥ 3) of their main rise less their onset.
+       that does not pass ``echo_rise_db`` (a sample's second burst). :func:`_learned_lead_ins`: an
+       attack over loud earlier sound (over ``lead_clear_db`` re its peak) is placed its recording's
+       lead-in before its main rise (its first difference's first sample over ``lead_rise`` of its
+       peak), that lead-in being the median over the clear attacks (≥ 3) of their main rise less
+       their onset.
     6. :func:`_reported`. Its level is in dB re the loudest onset. The noise floor (the
        ``floor_quantile`` quantile of the level band's peaks over 5-ms frames) plus
        ``floor_margin_db``, or ``threshold_db`` if higher, is the threshold used.
