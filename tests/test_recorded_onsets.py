@@ -90,6 +90,25 @@ def test_swells_in_a_reverberant_tail_are_not_attacks():
     assert kept["correct_5ms"] / kept["found"] >= 0.75
 
 
+@pytest.mark.parametrize("condition, least_precision, found_1ms, found_5ms", [
+    ("dry", 0.95, 18, 25), ("reverb", 0.88, 16, 25),
+])
+def test_a_samples_second_burst_is_not_a_note(condition, least_precision, found_1ms, found_5ms):
+    """FluidR3's electric snare (key 40) bursts again 4-6 ms into its sample, in its lowest modes as loud as its
+    note: in a roll (dry, and with FluidSynth's reverb) those bursts after the ghost notes are refused, as
+    attacks that do not rise out of the note just before them; no loud note found is lost.
+
+    Precision within 5 ms: 0.781 dry, 0.758 with reverb before (6 and 5 such bursts taken for notes), 0.962 and
+    0.893 now; the loud notes found within 1 and 5 ms (18 and 25 dry, 16 and 25 with reverb of 29) as before.
+    """
+    recording = _corpus_recording("FluidR3 40 roll", condition)
+    kept = score(recording, find_onsets(recording.signal, RATE).t)
+    every = score(recording, find_onsets(recording.signal, RATE, config=OnsetConfig(echo_reach=0.0)).t)
+    assert kept["correct_5ms"] / kept["found"] >= least_precision
+    assert kept["within_1ms"] >= found_1ms and kept["within_5ms"] >= found_5ms
+    assert every["found"] - every["correct_5ms"] >= kept["found"] - kept["correct_5ms"] + 4
+
+
 def test_a_roll_over_its_own_ringing_is_timed_by_the_learned_lead_in():
     """TimGM6mb's snare 40 in a roll: notes over the ringing (their click hidden, ~1.3 ms before the main rise) within 1 ms."""
     recording = _corpus_recording("TimGM6mb 40 roll", "dry")

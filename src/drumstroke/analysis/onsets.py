@@ -328,6 +328,12 @@ class OnsetConfig:
     decay_rise_db : float in [-60, 60]
         dB: how far such a quiet attack's first difference must rise over the 2 ms after it above
         its peak over the 5 ms before (step 5).
+    echo_reach : float in [0, 0.05]
+        s: an attack this close after the one before it must rise out of that one's sound too (a
+        recorded sample's second burst; step 5).
+    echo_rise_db : float in [-60, 60]
+        dB: how far such a close attack's first difference must rise over the 2 ms after it above
+        its peak over the 5 ms before (step 5).
     lead_rise : float in [0.01, 1]
         Ratio to an attack's peak first difference: where its main rise is (step 5).
     lead_clear_db : float in [-120, 0]
@@ -409,6 +415,8 @@ class OnsetConfig:
     start_clear_db: float = -30.0
     decay_db: float = -32.0
     decay_rise_db: float = 6.0
+    echo_reach: float = 8e-3
+    echo_rise_db: float = -3.5
     lead_rise: float = 0.7
     lead_clear_db: float = -20.0
     lead_db: float = 6.0
@@ -454,6 +462,7 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "level_band": (50.0, 4000.0, "Hz"), "start_db": (-120.0, 0.0, "dB"), "start_over": (1.0, 100.0, "(ratio)"),
     "start_reach": (0.0, 0.02, "s"), "start_clear_db": (-120.0, 0.0, "dB"),
     "decay_db": (-120.0, 0.0, "dB"), "decay_rise_db": (-60.0, 60.0, "dB"),
+    "echo_reach": (0.0, 0.05, "s"), "echo_rise_db": (-60.0, 60.0, "dB"),
     "lead_rise": (0.01, 1.0, "(ratio)"), "lead_clear_db": (-120.0, 0.0, "dB"),
     "lead_db": (0.0, 120.0, "dB"),
     "template_likeness": (0.0, 1.0, "(correlation)"), "template_reach": (0.0, 0.01, "s"),
@@ -589,10 +598,12 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        louder, standing out and rising on into it, is that one's first transient (one attack).
        :func:`_out_of_decay`: an attack quieter than ``decay_db`` re the loudest is none when
        its first difference does not rise ``decay_rise_db`` over the sound before it (a sample's
-       own decay, a room's tail). :func:`_learned_lead_ins`: an attack over loud earlier sound
-       (over ``lead_clear_db`` re its peak) is placed its recording's lead-in before its main rise
-       (its first difference's first sample over ``lead_rise`` of its peak), that lead-in being the
-       median over the clear attacks (≥ 3) of their main rise less their onset.
+       own decay, a room's tail), and so is one within ``echo_reach`` s after the attack before it
+       that does not pass ``echo_rise_db`` (a sample's second burst). :func:`_learned_lead_ins`: an
+       attack over loud earlier sound (over ``lead_clear_db`` re its peak) is placed its recording's
+       lead-in before its main rise (its first difference's first sample over ``lead_rise`` of its
+       peak), that lead-in being the median over the clear attacks (≥ 3) of their main rise less
+       their onset.
     6. :func:`_reported`. Its level is in dB re the loudest onset. The noise floor (the
        ``floor_quantile`` quantile of the level band's peaks over 5-ms frames) plus
        ``floor_margin_db``, or ``threshold_db`` if higher, is the threshold used. Each reported
@@ -1208,27 +1219,33 @@ def _next_attack(x, head, low, high, pre, reach, rate, config):
     return low + int(first[0]) + int(np.argmax(like[first[0]:first[0] + reach + 1]))
 
 def _out_of_decay(band, rate, candidates, amplitude, config):
-    """Step 5's last part: a quiet attack that does not rise out of the sound before it is no attack.
+    """Step 5's last part: a quiet or a close attack that does not rise out of the sound before it is no attack.
 
     A recorded sample's own decay and a room's tail beat and flutter: the stages before take some
     of their swells, quiet and milliseconds to a quarter second after a note, for attacks. A
     stick's impact adds a click to whatever rings: the first difference of ``band`` over the 2 ms
     after an attack quieter than ``decay_db`` re the loudest must pass its peak over the 5 ms
-    before (up to 0.5 ms before the attack) by ``decay_rise_db``.
+    before (up to 0.5 ms before the attack) by ``decay_rise_db``. A sample may also burst again a
+    few milliseconds into itself (FluidR3's electric snare, 4-6 ms in, as loud as its note in the
+    drum's lowest modes): an attack within ``echo_reach`` s after the one before it must pass that
+    earlier peak by ``echo_rise_db`` (its first difference falls there: the earlier note goes on).
     """
     attack = candidates.attack
     if not np.any(attack):
         return candidates
+    which = np.flatnonzero(attack)
     loudest = amplitude[attack].max()
-    quiet = attack & (amplitude < loudest * 10.0 ** (config.decay_db / 20.0))
+    quiet = amplitude[which] < loudest * 10.0 ** (config.decay_db / 20.0)
+    close = np.diff(candidates.times[which], prepend=-np.inf) <= config.echo_reach * rate
+    least = np.where(quiet, config.decay_rise_db, config.echo_rise_db)
     d = np.abs(np.diff(band, prepend=band[0]))
     after, before, gap = round(2e-3 * rate), round(5e-3 * rate), round(0.5e-3 * rate)
     keep = attack.copy()
-    for i in np.flatnonzero(quiet):
+    for i, rise_db in zip(which[quiet | close], least[quiet | close]):
         c = round(candidates.times[i])
         rise = d[c:c + after].max(initial=0.0)
         prior = d[max(0, c - before):max(1, c - gap)].max(initial=0.0)
-        keep[i] = rise > prior * 10.0 ** (config.decay_rise_db / 20.0)
+        keep[i] = rise > prior * 10.0 ** (rise_db / 20.0)
     return replace(candidates, attack=keep)
 
 
