@@ -939,7 +939,7 @@ class _Edits:
     measure: tuple  # which of the onsets' levels are played, and why: (name, why)
 
     @classmethod
-    def made(cls, onsets, drop, merge, suspects, *, apply, measure):
+    def made(cls, onsets, drop, merge, suspects, *, apply, measure=("modes", "given")):
         """Drop ``drop``, merge each i of ``merge`` with i + 1, and (``apply``) act on the suspects."""
         level = onsets.level_db.copy()
         removed = {i: "dropped by hand" for i in drop}
