@@ -127,3 +127,23 @@ def test_drop_rendered_through_fluidsynth(drop):
     assert kept.within and not kept.beyond_human
     assert kept.played.sum() >= 3
     assert not np.any(far & kept.played)
+
+
+def test_levels_played_are_chosen_and_said(drop, tmp_path):
+    """--levels: the peak levels played when asked for, the modes' when the onsets have no peaks (and peak refused)."""
+    t, level, _ = drop
+    peak = level * 0.5  # another measure of the same onsets: half the fall
+    write_onsets(tmp_path / "both.csv", Onsets(t, level, peak_db=peak))
+    write_onsets(tmp_path / "modes.csv", Onsets(t, level))
+    result = run("fit", tmp_path / "both.csv", "--levels", "peak", "--out", tmp_path / "p.toml", "--json",
+                 tmp_path / "p.json")
+    assert result.returncode == 0, result.stderr
+    assert "levels played: the onsets' peak (given)" in result.stdout
+    data = json.loads((tmp_path / "p.json").read_text())
+    assert data["levels"] == "peak" and data["onsets"]["level_db"] == pytest.approx(peak.tolist())
+    result = run("fit", tmp_path / "modes.csv", "--out", tmp_path / "m.toml")
+    assert "levels played: the onsets' modes (the onsets have no peak levels)" in result.stdout
+    with pytest.raises(ParameterError, match="levels 'peak' needs the onsets' peak levels"):
+        fit_stroke(Onsets(t, level), levels="peak")
+    with pytest.raises(ParameterError, match="levels must be one of"):
+        fit_stroke(Onsets(t, level), levels="loud")

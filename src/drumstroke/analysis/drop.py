@@ -241,7 +241,34 @@ class _Choice:
 
 def drop_impacts(onsets, *, model="paper", stick=None, gravity=9.8, tolerance=TOLERANCE):
     """The indices of a drop's impacts among ``onsets`` (see the module's docstring), in time order."""
-    return _choose(onsets, _Flights(*_checked(model, stick, gravity)), _check_tolerance(tolerance)).used
+    return drop_chain(onsets, model=model, stick=stick, gravity=gravity, tolerance=tolerance)[0]
+
+
+def drop_chain(onsets, *, model="paper", stick=None, gravity=9.8, tolerance=TOLERANCE):
+    """A drop's impacts among ``onsets``, numbered, and the onsets among them that are not impacts.
+
+    The choice of the module's docstring (RANSAC over triples on the model's geometric sequence of flights);
+    :func:`measure_cor` and :func:`drumstroke.analysis.fit.find_suspects` both number a stroke's bounces so.
+
+    Returns
+    -------
+    used : ndarray of int
+        The impacts' indices among the onsets, in time order.
+    bounces : ndarray of int [shape=used.shape]
+        Each impact's number in the drop (0 the first used; a missed bounce's number is skipped).
+    extra : ndarray of int
+        The onsets between the first and the last impact that are not impacts.
+
+    Examples
+    --------
+    >>> from drumstroke.stroke import simulate
+    >>> t = simulate(theta0=0.5, cor=0.8, t_end=3.0).impacts.t[:10]
+    >>> used, bounces, extra = drop_chain(Onsets(np.delete(np.insert(t, 3, t[2] + 0.02), 6), np.zeros(9)))
+    >>> used.tolist(), bounces.tolist(), extra.tolist()   # an extra onset (3) and a missed bounce (5)
+    ([0, 1, 2, 4, 5, 6, 7, 8], [0, 1, 2, 3, 4, 6, 7, 8], [3])
+    """
+    choice = _choose(onsets, _Flights(*_checked(model, stick, gravity)), _check_tolerance(tolerance))
+    return choice.used, choice.bounces, choice.extra
 
 
 def _checked(model, stick, gravity):

@@ -51,7 +51,7 @@ Examples
 """
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from scipy.optimize import minimize_scalar
@@ -65,6 +65,8 @@ from ..model import MODELS, Stick, coefficients
 from ..recipe import COR_RANGE, DEFAULT_COR, STANDARD_GRAVITY
 from ..robot.metrics import WIDE_WINDOW, match_onsets
 from ..trajectory import LEVEL_REFERENCE
+from .drop import TOLERANCE as DROP_TOLERANCE
+from .drop import drop_chain
 from .onsets import Onsets
 
 TOLERANCE = (2e-3, 1.0)
@@ -95,14 +97,19 @@ SUSPECT_LEVEL = 3.0
 """dB: a bounce further than this from its stroke's trend of levels is a suspect (a drum's levels are rougher than its
 times: the velocity a sample is played at, the detector's reading)."""
 
-_WINDOW = 0.35
-"""Of the expected flight: the onset nearest a bounce's expected time, and within this of it, is that bounce."""
+CHAIN_TOLERANCE = DROP_TOLERANCE
+"""s: how far an onset may be from the sequence of bounces and still be numbered one (then judged at the time
+tolerance): a bounce heard a few ms late is replaced by the trend's, not dropped with its bounce filled."""
+
+LEVELS = ("auto", "peak", "modes")
+"""The onsets' levels a fit plays (:func:`choose_levels`): their broadband ``peak`` (:attr:`Onsets.peak_db`), the
+drum's lowest ``modes`` (:attr:`Onsets.level_db`), or ``auto``: the one nearer its trend over the bounces."""
 
 _MOST_SUSPECT = 1.0 / 3.0
-"""The largest share of suspects among the onsets: with more, the onsets follow no one constant force's trend."""
+"""The largest share of onsets off the sequence in time: with more, the onsets follow no one constant force's trend."""
 
-_MOST_MISSED = 3
-"""Bounces missed in a row after which the trend is not followed further (the onsets after are not judged)."""
+_CURVED = 8
+"""The fewest bounces whose levels' trend is a quadratic in the bounce's number (a line below)."""
 
 _GRID = 2.0
 """dB between the offsets tried first; the best is then refined to :data:`_XTOL`."""
@@ -157,6 +164,10 @@ class Fit:
     filled_t, filled_level : ndarray [shape=(k,)]
         Bounces the fit played where a missed onset was suspected (s, dB re the loudest onset): notes of
         the trend, not of the recording.
+    levels : {"peak", "modes"}
+        Which of the recording's levels the onsets' ``level_db`` are, and were played (:func:`choose_levels`).
+    levels_why : str
+        Why: "given", or how they were chosen.
     """
 
     recipe: object
@@ -177,6 +188,8 @@ class Fit:
     dropped: tuple = ()
     filled_t: np.ndarray = field(default_factory=lambda: np.empty(0))
     filled_level: np.ndarray = field(default_factory=lambda: np.empty(0))
+    levels: str = "modes"
+    levels_why: str = ""
 
     def __repr__(self):
         played = len(self.onsets) - len(self.unmatched) - len(self.dropped)
@@ -239,6 +252,7 @@ class Fit:
                 "suspects": [suspect.to_dict() for suspect in self.suspects],
                 "dropped": [{"onset": i, "reason": reason} for i, reason in self.dropped],
                 "filled": {"t": self.filled_t.tolist(), "level_db": self.filled_level.tolist()},
+                "levels": self.levels, "levels_why": self.levels_why,
                 "recipe": self.recipe.to_dict()}
 
 
@@ -282,32 +296,33 @@ class Suspect:
 
 
 def find_suspects(onsets, *, model="paper", stick=None, time_tolerance=SUSPECT_TIME, level_tolerance=SUSPECT_LEVEL):
-    """The onsets that do not fit one stick's bounces under a constant force: extra, missed, shifted, too loud.
+    """The onsets that do not fit one stick's bounces under a constant force: extra, missed, shifted, off the levels.
 
-    Under a constant force (a drop: gravity alone) every flight lands as fast as it left, so bounce m's
-    level is the first's plus 20·m·log10 c dB and its flight is the exact pendulum arc of a launch at
-    c^m times the first flight's (:func:`drumstroke.solver.elliptic.flight_time`). The check:
+    Under a constant force (a drop: gravity alone) every flight lands as fast as it left: each flight is
+    the exact pendulum arc of a launch at c times the one before's, a geometric sequence of flights for
+    small ones (:func:`drumstroke.solver.elliptic.flight_time`). The check, by time first:
 
-    1. the trend of the flights: flight after an onset against the onset's time, a line by Theil–Sen's
-       median of slopes (under a constant force and small flights, a flight is (1 − c)·(t∞ − t), exactly;
-       median slopes let a quarter of the flights be wrong);
-    2. a walk along it numbering the bounces: the onset nearest the next bounce's expected time, within
-       :data:`_WINDOW` of its flight, is that bounce; onsets before it are extra (merged into their
-       neighbour within :data:`MATCH_WINDOW`, a double detection; else dropped: closer than the flight the
-       trend allows there), and a bounce without one is missed (filled at the trend);
-    3. the exact model (the first time, first launch speed, the torque rate C and c) fitted to the numbered
-       bounces by a robust least squares (soft L1 at ``time_tolerance``): a bounce further from it than
-       ``time_tolerance`` is dropped (shifted), and so is one whose level is further than ``level_tolerance``
-       from the levels' trend (the first's plus 20·m·log10 c, the first taken as the median).
+    1. the bounces numbered on that sequence: :func:`drumstroke.analysis.drop.drop_chain`, the RANSAC over
+       triples of onsets that :func:`~drumstroke.analysis.drop.measure_cor` chooses a drop's impacts by
+       (within the larger of ``time_tolerance`` and :data:`CHAIN_TOLERANCE`): onsets off the sequence are
+       *extra* (merged into a bounce within :data:`MATCH_WINDOW`, a double detection; else dropped), and a
+       bounce of the sequence without an onset is *missed* (filled at the trend);
+    2. the exact trend (the first bounce's time, its launch speed, the torque rate C and c) fitted to the
+       numbered bounces by a robust least squares (soft L1 at ``time_tolerance``): a bounce further from it
+       than ``time_tolerance`` is replaced by the trend's;
+    3. the levels judged against their own trend over the bounces (:class:`_LevelTrend`: a robust quadratic
+       in the bounce's number; a drum's level is not always in proportion to the speed, a sample player's
+       peak is not): a bounce further than ``level_tolerance`` from it is replaced by the trend's.
 
     The check assumes one constant force: a stroke whose force changes on purpose (a low→high stroke)
     has flights off one trend that are not errors. When more than a third of the onsets are off the
-    trend in time (extra, missed or shifted), none is named: the onsets follow no one constant force.
-    The levels are judged only against times that follow it, however many are off.
+    sequence in time (outside its run of bounces, missed or shifted), none is named: the onsets follow no
+    one constant force. The levels are judged only against times that follow it.
 
     Parameters
     ----------
     onsets : Onsets
+        Their ``level_db`` judged (give a fit's levels: :func:`choose_levels`).
     model : {"paper", "geometry"}
     stick : Stick, optional
     time_tolerance : float in (0, 0.05]
@@ -330,62 +345,119 @@ def find_suspects(onsets, *, model="paper", stick=None, time_tolerance=SUSPECT_T
     >>> [(s.onset, s.action) for s in find_suspects(Onsets(t, level))]
     [(5, 'replace')]
     """
+    stick = _checked_stick(onsets, model, stick)
+    time_tolerance = check_real("time_tolerance", time_tolerance, low=0.0, high=0.05, low_open=True, unit="s")
+    level_tolerance = check_real("level_tolerance", level_tolerance, low=0.0, high=LEVEL_SPAN, low_open=True, unit="dB")
+    bounces = _Bounces.numbered(onsets, model, stick, time_tolerance)
+    if bounces is None:
+        return ()
+    suspects = _extra_suspects(onsets, bounces, time_tolerance) + _missed_suspects(onsets, bounces, level_tolerance)
+    shifted = _shifted(onsets, bounces, time_tolerance)
+    outside = sum(1 for s in suspects if s.action != "fill" and not bounces.inside(s.onset))
+    if outside + len(bounces.missed) + len(shifted) > _MOST_SUSPECT * len(onsets):
+        return ()  # the times follow no one trend; the levels, rougher, are judged only against times that do
+    suspects += _off_trend(onsets, bounces, suspects, shifted, level_tolerance)
+    return tuple(sorted(suspects, key=lambda s: (s.onset, s.t)))
+
+
+def choose_levels(onsets, levels="auto", *, model="paper", stick=None, level_tolerance=SUSPECT_LEVEL):
+    """Which of the onsets' two levels a fit plays (:attr:`Onsets.level_db`, the drum's lowest modes, or
+    :attr:`Onsets.peak_db`, the broadband peak), and why.
+
+    ``"auto"`` takes the one whose bounces lie nearer their trend (the median distance from
+    :class:`_LevelTrend` over the bounces :func:`find_suspects` numbers by time): the modes' level follows the
+    stick's speed on a drum like drumstroke's, a sample player's peak follows its velocity curve, and either
+    is read wrong where notes overlap; the one read more consistently is the one to play.
+
+    Parameters
+    ----------
+    onsets : Onsets
+    levels : {"auto", "peak", "modes"}
+    model, stick
+        As :func:`find_suspects`.
+    level_tolerance : float in (0, 48]
+        dB: the scale of the robust trend's fit.
+
+    Returns
+    -------
+    onsets : Onsets
+        The onsets with the levels chosen as ``level_db``.
+    name : {"peak", "modes"}
+    why : str
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> onsets = Onsets(np.arange(6) * 0.1, np.zeros(6), peak_db=np.array([0.0, -1, -2, -3, -4, -5]))
+    >>> choose_levels(onsets, "peak")[0].level_db.tolist(), choose_levels(onsets, "modes")[1]
+    ([0.0, -1.0, -2.0, -3.0, -4.0, -5.0], 'modes')
+    """
+    stick = _checked_stick(onsets, model, stick)
+    check_choice("levels", levels, LEVELS)
+    level_tolerance = check_real("level_tolerance", level_tolerance, low=0.0, high=LEVEL_SPAN, low_open=True, unit="dB")
+    peak = onsets.peak_db
+    if levels == "peak" and peak is None:
+        raise ParameterError("levels 'peak' needs the onsets' peak levels (peak_db): these have none (given as times "
+                             "and levels, or an onsets CSV without the peak_db column); use 'modes'")
+    if levels == "modes" or peak is None:
+        return onsets, "modes", "given" if levels == "modes" else "the onsets have no peak levels"
+    if levels == "peak":
+        return replace(onsets, level_db=peak), "peak", "given"
+    bounces = _Bounces.numbered(onsets, model, stick, SUSPECT_TIME)
+    if bounces is None:
+        return onsets, "modes", "no trend of bounces to compare the two levels on"
+    off = {name: bounces.level_spread(values, level_tolerance)
+           for name, values in (("modes", onsets.level_db), ("peak", peak))}
+    name = "peak" if off["peak"] < off["modes"] else "modes"
+    why = (f"chosen: nearer their trend over the {len(bounces.used)} bounces, {off[name]:.2g} dB (median) against "
+           f"{off['modes' if name == 'peak' else 'peak']:.2g} dB for the {'modes' if name == 'peak' else 'peak'}'")
+    return (replace(onsets, level_db=peak) if name == "peak" else onsets), name, why
+
+
+def _checked_stick(onsets, model, stick):
     if not isinstance(onsets, Onsets):
         raise ParameterError(f"onsets must be a drumstroke.analysis.Onsets, got {type(onsets).__name__}")
     check_choice("model", model, MODELS)
     stick = Stick() if stick is None else stick
     if not isinstance(stick, Stick):
         raise ParameterError(f"stick must be a drumstroke.Stick, got {stick!r}")
-    time_tolerance = check_real("time_tolerance", time_tolerance, low=0.0, high=0.05, low_open=True, unit="s")
-    level_tolerance = check_real("level_tolerance", level_tolerance, low=0.0, high=LEVEL_SPAN, low_open=True, unit="dB")
-    if len(onsets) < 5:
-        return ()
-    from scipy.stats import theilslopes
-
-    t, coeffs = onsets.t, coefficients(model, stick)
-    slope, intercept = theilslopes(np.diff(t), t[:-1])[:2]
-    bounces, extra, missed = _walk(t, lambda at: intercept + slope * at)
-    if missed and sum(m < missed[0][0] for _, m in bounces) >= 4:  # the line drifts: trust it up to its first miss
-        bounces = [(k, m) for k, m in bounces if m < missed[0][0]]
-    for _ in range(2):  # the line of flights numbers the first bounces; the exact trend, all of them
-        if len(bounces) < 4:
-            return ()
-        trend = _Trend.fitted(t[[k for k, _ in bounces]], np.array([m for _, m in bounces]), coeffs, time_tolerance)
-        bounces, extra, missed = _walk(t, trend.flight_after(t[-1]))
-    suspects = _extra_suspects(onsets, trend, bounces, extra) + _missed_suspects(onsets, trend, bounces, missed)
-    merged = {s.onset for s in suspects if s.action == "merge"}
-    off = [s for s in _off_trend(onsets, trend, bounces, time_tolerance, level_tolerance) if s.onset not in merged]
-    if len(suspects) + sum("ms " in s.reason for s in off) > _MOST_SUSPECT * len(onsets):
-        return ()  # the times follow no one trend; the levels, rougher, are judged only against times that do
-    suspects += off
-    return tuple(sorted(suspects, key=lambda s: (s.onset, s.t)))
+    return stick
 
 
-def _walk(t, flight_after):
-    """Number the bounces along a trend, ``flight_after(t)`` the flight (s) after a bounce at t (s): a list of
-    (onset, bounce number), the extra onsets, and the missed bounces [(bounce number, the onset after)]."""
-    bounces, extra, missed = [(0, 0)], [], []
-    anchor, m, k, misses = t[0], 0, 1, 0
-    while k < len(t) and misses <= _MOST_MISSED:
-        flight = flight_after(anchor)
-        if not flight > MIN_GAP:
-            break  # the trend's end: later onsets are not judged
-        off = np.abs(t[k:] - anchor - flight)
-        near = np.flatnonzero(off <= _WINDOW * flight)
-        if len(near):
-            best = k + int(near[np.argmin(off[near])])
-            extra += range(k, best)
-            bounces.append((best, m + 1))
-            anchor, k, misses = t[best], best + 1, 0
-        elif t[k] < anchor + flight:
-            extra.append(k)
-            k += 1
-            continue
-        else:
-            missed.append((m + 1, k))
-            anchor, misses = anchor + flight, misses + 1
-        m += 1
-    return bounces, extra, [(bounce, k) for bounce, k in missed if bounce < bounces[-1][1]]
+@dataclass(frozen=True)
+class _Bounces:
+    """The onsets numbered as one stick's bounces (:func:`~drumstroke.analysis.drop.drop_chain`) and their trend."""
+
+    used: np.ndarray  # the bounces' onsets
+    numbers: np.ndarray  # their numbers, 0 the first
+    extra: np.ndarray  # the onsets off the sequence: between its bounces, before or after them
+    missed: tuple  # (bounce number, the onset after it)
+    trend: "_Trend"
+
+    @classmethod
+    def numbered(cls, onsets, model, stick, tolerance):
+        """The bounces, or None when fewer than 4 of at least 5 onsets follow one sequence."""
+        if len(onsets) < 5:
+            return None
+        used, numbers, _ = drop_chain(onsets, model=model, stick=stick, tolerance=max(CHAIN_TOLERANCE, tolerance))
+        if len(used) < 4:
+            return None
+        extra = np.setdiff1d(np.arange(len(onsets)), used)
+        missed = tuple((m, int(used[np.searchsorted(numbers, m)])) for m in np.setdiff1d(np.arange(numbers[-1]), numbers))
+        trend = _Trend.fitted(onsets.t[used], numbers, coefficients(model, stick), tolerance)
+        return cls(used, numbers, extra, missed, trend)
+
+    def inside(self, onset):
+        """Whether ``onset`` lies between the first bounce and the last."""
+        return bool(self.used[0] <= onset <= self.used[-1])
+
+    def level_trend(self, levels, tolerance):
+        return _LevelTrend.fitted(self.numbers, np.asarray(levels)[self.used], tolerance)
+
+    def level_spread(self, levels, tolerance):
+        """dB: the bounces' median distance from the trend of ``levels``."""
+        trend = self.level_trend(levels, tolerance)
+        return float(np.median(np.abs(np.asarray(levels)[self.used] - trend(self.numbers))))
 
 
 @dataclass(frozen=True)
@@ -422,15 +494,17 @@ class _Trend:
             fit = least_squares(residuals, fit.x, x_scale=scale, xtol=1e-12, ftol=1e-12)
         return cls(float(fit.x[0]), *map(float, np.exp(fit.x[1:])), sin_head)
 
-    def flight_after(self, until):
-        """The flight (s) after a bounce at t (s), the trend's bounce nearest t, up to the first after ``until``."""
+    def times(self, until):
+        """The trend's bounces (s) from the first to the first after ``until`` (or to its flights' end)."""
         from ..solver.elliptic import flight_time
 
         times = [self.start]
         while times[-1] <= until and len(times) < 2 * MAX_ONSETS:
-            times.append(times[-1] + flight_time(self.launch * self.cor ** (len(times) - 1), self.rate, self.sin_head)[0])
-        times = np.array(times)
-        return lambda at: float(np.diff(times)[min(int(np.argmin(np.abs(times[:-1] - at))), len(times) - 2)])
+            flight = flight_time(self.launch * self.cor ** (len(times) - 1), self.rate, self.sin_head)[0]
+            if not flight > MIN_GAP:
+                break
+            times.append(times[-1] + flight)
+        return np.array(times)
 
     def at(self, numbers):
         """The times (s) of bounces ``numbers`` (0 the first)."""
@@ -441,74 +515,104 @@ class _Trend:
         return self.start + np.concatenate(([0.0], np.cumsum(flights)))[np.asarray(numbers)]
 
 
-def _extra_suspects(onsets, trend, bounces, extra):
-    """Extra onsets: merged into a bounce within :data:`MATCH_WINDOW` (the nearer the trend keeps its time), else dropped."""
+@dataclass(frozen=True)
+class _LevelTrend:
+    """The bounces' levels (dB) on their numbers: a quadratic (a line below :data:`_CURVED` bounces), fitted
+    robustly (soft L1 at the tolerance, then least squares on the bounces within it), evaluated by calling it."""
+
+    coefficients: tuple
+
+    @classmethod
+    def fitted(cls, numbers, levels, tolerance):
+        from scipy.optimize import least_squares
+
+        x = numbers.astype(float)
+        degree = 2 if len(x) >= _CURVED else 1
+        start = np.polyfit(x, levels, degree)
+        robust = least_squares(lambda p: np.polyval(p, x) - levels, start, loss="soft_l1", f_scale=tolerance)
+        inside = np.abs(robust.fun) <= tolerance
+        p = np.polyfit(x[inside], levels[inside], degree) if inside.sum() > degree + 2 else robust.x
+        return cls(tuple(map(float, p)))
+
+    def __call__(self, number):
+        return np.polyval(self.coefficients, number)
+
+
+def _extra_suspects(onsets, bounces, tolerance):
+    """Onsets off the sequence: merged into a bounce within :data:`MATCH_WINDOW` (the nearer the trend keeps its
+    time), else dropped."""
     t, level = onsets.t, onsets.level_db
-    index = np.array([i for i, _ in bounces])
-    number = dict(bounces)
+    index, trend = bounces.used, bounces.trend
+    number = dict(zip(index.tolist(), bounces.numbers.tolist()))
+    expected = trend.times(t[-1])
     suspects = []
-    for j in extra:
+    for j in bounces.extra:
         k = int(index[np.argmin(np.abs(t[index] - t[j]))])
         gap = t[j] - t[k]
         if abs(gap) <= MATCH_WINDOW:
-            expected = float(trend.at([number[k]])[0])
-            kept, merged = (k, j) if abs(t[k] - expected) <= abs(t[j] - expected) else (j, k)
-            suspects.append(Suspect(merged, "merge", f"{abs(gap) * 1e3:.3g} ms {'after' if gap > 0 else 'before'} onset "
-                                    f"{k}, one impact heard twice: merged into onset {kept} (the nearer the trend's "
-                                    "time; the louder level)", float(t[merged]), float(level[merged]), kept))
+            at = float(trend.at([number[k]])[0])
+            kept, merged = (k, j) if abs(t[k] - at) <= abs(t[j] - at) else (j, k)
+            suspects.append(Suspect(int(merged), "merge", f"{abs(gap) * 1e3:.3g} ms {'after' if gap > 0 else 'before'} "
+                                    f"onset {k}, one impact heard twice: merged into onset {kept} (the nearer the "
+                                    "trend's time; the louder level)", float(t[merged]), float(level[merged]), int(kept)))
         else:
-            before = int(index[index < j].max()) if np.any(index < j) else k
-            flight = np.diff(trend.at([number[before], number[before] + 1]))[0]
-            suspects.append(Suspect(j, "drop", f"{(t[j] - t[before]) * 1e3:.4g} ms after onset {before}, closer than "
-                                    f"the {flight * 1e3:.4g}-ms flight the trend allows there: an extra onset",
-                                    float(t[j]), float(level[j])))
+            off = float(np.min(np.abs(expected - t[j])))
+            where = (f"{(t[j] - t[k]) * 1e3:.4g} ms {'after' if gap > 0 else 'before'} onset {k}, "
+                     f"{off * 1e3:.3g} ms from the trend's nearest bounce")
+            suspects.append(Suspect(int(j), "drop", f"{where}: off the sequence of bounces by more than "
+                                    f"{tolerance * 1e3:g} ms, an extra onset", float(t[j]), float(level[j])))
     return suspects
 
 
-def _missed_suspects(onsets, trend, bounces, missed):
+def _missed_suspects(onsets, bounces, tolerance):
     """Bounces the trend has between two onsets and the onsets do not: filled at the trend's time and level."""
-    levels = _level_trend(onsets, trend, bounces)
+    levels = bounces.level_trend(onsets.level_db, tolerance)
     suspects = []
-    for bounce, k in missed:
-        when = float(trend.at([bounce])[0])
-        suspects.append(Suspect(k, "fill", f"no onset at the trend's bounce {when:.4f} s ({levels(bounce):.1f} dB) "
-                                f"between onsets {k - 1} and {k}: a missed onset", when, levels(bounce),
-                                filled=(when, levels(bounce))))
+    for bounce, k in bounces.missed:
+        when, loud = float(bounces.trend.at([bounce])[0]), float(levels(bounce))
+        suspects.append(Suspect(k, "fill", f"no onset at the trend's bounce {when:.4f} s ({loud:.1f} dB) between "
+                                f"onsets {k - 1} and {k}: a missed onset", when, loud, filled=(when, loud)))
     return suspects
 
 
-def _off_trend(onsets, trend, bounces, time_tolerance, level_tolerance):
-    """Bounces further from the trend than the tolerances: replaced by the trend's, with how far."""
-    t, level = onsets.t, onsets.level_db
-    index, numbers = np.array([i for i, _ in bounces]), np.array([m for _, m in bounces])
-    times, levels = trend.at(numbers), _level_trend(onsets, trend, bounces)
-    suspects = []
-    for k, m, expected in zip(index, numbers, times):
-        why = []
-        if abs(t[k] - expected) > time_tolerance:
-            why.append(f"{abs(t[k] - expected) * 1e3:.3g} ms {'late' if t[k] > expected else 'early'} against the "
-                       f"trend's bounce (more than {time_tolerance * 1e3:g} ms)")
-        off = level[k] - levels(m)
-        if abs(off) > level_tolerance:
-            rise = " (a rise: a constant force's bounces only fall)" if k and level[k] > level[k - 1] else ""
-            why.append(f"{abs(off):.3g} dB {'louder' if off > 0 else 'quieter'} than the trend's level, which falls "
-                       f"{-20.0 * math.log10(trend.cor):.3g} dB a bounce{rise}")
+def _shifted(onsets, bounces, tolerance):
+    """{bounce's onset: why} of the bounces further than ``tolerance`` (s) from the trend's time."""
+    off = onsets.t[bounces.used] - bounces.trend.at(bounces.numbers)
+    return {int(k): f"{abs(d) * 1e3:.3g} ms {'late' if d > 0 else 'early'} against the trend's bounce (more than "
+                    f"{tolerance * 1e3:g} ms)" for k, d in zip(bounces.used, off) if abs(d) > tolerance}
+
+
+def _off_trend(onsets, bounces, suspects, shifted, tolerance):
+    """Bounces off the trend in time (``shifted``) or further than ``tolerance`` (dB) from the levels' trend, their
+    level the louder of a merge: replaced by the trend's bounce."""
+    level = onsets.level_db.copy()
+    merged = set()
+    for s in suspects:
+        if s.action == "merge":
+            level[s.into] = max(level[s.into], level[s.onset])
+            merged.add(s.onset)
+    trend = bounces.level_trend(level, tolerance)
+    times = bounces.trend.at(bounces.numbers)
+    cor_db = -20.0 * math.log10(bounces.trend.cor)
+    replaced = []
+    for k, m, expected in zip(bounces.used.tolist(), bounces.numbers.tolist(), times):
+        if k in merged:
+            continue
+        why = [shifted[k]] if k in shifted else []
+        off = level[k] - float(trend(m))
+        if abs(off) > tolerance:
+            why.append(f"{abs(off):.3g} dB {'louder' if off > 0 else 'quieter'} than the levels' trend (more than "
+                       f"{tolerance:g} dB; the times' c falls {cor_db:.3g} dB a bounce)")
         if why:
-            suspects.append(Suspect(int(k), "replace", "; ".join(why) + ": replaced by the trend's bounce", float(t[k]),
-                                    float(level[k]), filled=(float(expected), levels(m))))
-    return suspects
-
-
-def _level_trend(onsets, trend, bounces):
-    """Bounce number → its level on the trend (dB re the loudest onset): 20·log10 c a bounce, the median's start."""
-    step = 20.0 * math.log10(trend.cor)
-    first = float(np.median([onsets.level_db[k] - step * m for k, m in bounces]))
-    return lambda m: float(first + step * m)
+            replaced.append(Suspect(k, "replace", "; ".join(why) + ": replaced by the trend's bounce",
+                                    float(onsets.t[k]), float(onsets.level_db[k]),
+                                    filled=(float(expected), float(trend(m)))))
+    return replaced
 
 
 def fit_stroke(onsets, *, model="paper", cor=DEFAULT_COR, fit_cor=False, offset=None, stick=None, forces=None,
                highest=None, drop=(), merge=(), drop_suspects=False, suspect_time=SUSPECT_TIME,
-               suspect_level=SUSPECT_LEVEL, progress=None):
+               suspect_level=SUSPECT_LEVEL, levels="auto", progress=None):
     """Fit the start, c (optionally) and the force profile whose impacts match the recorded onsets.
 
     Parameters
@@ -540,6 +644,9 @@ def fit_stroke(onsets, *, model="paper", cor=DEFAULT_COR, fit_cor=False, offset=
         s: how far from the trend's time a bounce is a suspect.
     suspect_level : float in (0, 48]
         dB: how far from the trend's level a bounce is a suspect.
+    levels : {"auto", "peak", "modes"}
+        Which of the onsets' levels to play (:func:`choose_levels`): the broadband peak, the drum's lowest modes,
+        or the one nearer its trend over the bounces.
     progress : callable, optional
         Called with the fraction done, in [0, 1].
 
@@ -554,9 +661,7 @@ def fit_stroke(onsets, *, model="paper", cor=DEFAULT_COR, fit_cor=False, offset=
     ParameterError
         Bad parameters, fewer than two onsets (or fewer than two that one stroke can play), too many.
     """
-    if not isinstance(onsets, Onsets):
-        raise ParameterError(f"onsets must be a drumstroke.analysis.Onsets, got {type(onsets).__name__}")
-    check_choice("model", model, MODELS)
+    stick = _checked_stick(onsets, model, stick)
     cor = check_real("cor", cor, low=0.0, high=1.0, high_open=True)
     if offset is not None:
         offset = check_real("offset", offset, low=FLOOR_DB, high=CEILING_DB, unit="dB re 1 m/s")
@@ -566,10 +671,10 @@ def fit_stroke(onsets, *, model="paper", cor=DEFAULT_COR, fit_cor=False, offset=
     drop = _indices("drop", drop, len(onsets))
     merge = _indices("merge", merge, len(onsets) - 1)
     check_choice("drop_suspects", drop_suspects, (True, False))
-    stick = Stick() if stick is None else stick
+    onsets, measure, why = choose_levels(onsets, levels, model=model, stick=stick, level_tolerance=suspect_level)
     suspects = find_suspects(onsets, model=model, stick=stick, time_tolerance=suspect_time,
                              level_tolerance=suspect_level)
-    edits = _Edits.made(onsets, drop, merge, suspects, apply=drop_suspects)
+    edits = _Edits.made(onsets, drop, merge, suspects, apply=drop_suspects, measure=(measure, why))
     if offset is not None:
         offset -= edits.shift
     onsets = edits.fitted
@@ -818,7 +923,7 @@ class _Search:
                    given, cor, float(offset + shift), float(made.release), time_residual, level_residual,
                    tuple(sorted(left_out.items())), played_t[extra], played_level[extra] - shift,
                    self.change(offset, cor)[0], bool(fit_cor), made, edits.suspects, edits.dropped,
-                   onsets.t[filled], onsets.level_db[filled] - shift)
+                   onsets.t[filled], onsets.level_db[filled] - shift, *edits.measure)
 
 
 @dataclass(frozen=True)
@@ -831,9 +936,10 @@ class _Edits:
     shift: float  # dB: a level fitted (re the loudest fitted) is the level given plus this
     dropped: tuple  # (index given, why)
     suspects: tuple
+    measure: tuple  # which of the onsets' levels are played, and why: (name, why)
 
     @classmethod
-    def made(cls, onsets, drop, merge, suspects, *, apply):
+    def made(cls, onsets, drop, merge, suspects, *, apply, measure=("modes", "given")):
         """Drop ``drop``, merge each i of ``merge`` with i + 1, and (``apply``) act on the suspects."""
         level = onsets.level_db.copy()
         removed = {i: "dropped by hand" for i in drop}
@@ -855,7 +961,7 @@ class _Edits:
         shift = -float(levels.max()) if len(levels) else 0.0
         fitted = onsets if not removed and not filled else Onsets(
             t[order], levels[order] + shift, threshold_db=onsets.threshold_db + shift, source=onsets.source)
-        return cls(onsets, fitted, origin[order], shift, tuple(sorted(removed.items())), tuple(suspects))
+        return cls(onsets, fitted, origin[order], shift, tuple(sorted(removed.items())), tuple(suspects), measure)
 
 
 def _indices(name, values, count):

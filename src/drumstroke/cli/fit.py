@@ -10,6 +10,9 @@ from ..render import plot
 from ._common import Bar, add_cor, add_model, add_sound_options, print_recording_notes, print_written
 from ._options import Output, add_mkdir, existing_file, number, whole
 
+LEVELS = ("auto", "peak", "modes")
+"""``--levels``' choices: :data:`drumstroke.analysis.fit.LEVELS` (not imported here: scipy.optimize is slow to load)."""
+
 
 def add_fit(fit):
     """Give ``fit``'s parser ``fit`` its description and options."""
@@ -25,6 +28,9 @@ def add_fit(fit):
     cor.add_argument("--fit-cor", action="store_true", help=f"fit c too, in [{COR_RANGE[0]:g}, {COR_RANGE[1]:g}]")
     fit.add_argument("--level", type=number(low=FLOOR_DB, high=CEILING_DB, unit="dB re 1 m/s"), metavar="DB",
                      help="the loudest onset's level, dB re 1 m/s tip speed, when known (default: fitted)")
+    fit.add_argument("--levels", choices=LEVELS, default="auto",
+                     help="which of the onsets' levels to play: their broadband peak, the drum's lowest modes, or "
+                          "(auto, the default) the one nearer its trend over the bounces; printed")
     edits = fit.add_argument_group("onsets to leave out (the indices printed, from 0)")
     edits.add_argument("--drop", type=whole(low=0), nargs="+", default=[], metavar="I",
                        help="leave these onsets out (or edit the onsets' CSV and fit that)")
@@ -32,11 +38,12 @@ def add_fit(fit):
                        help="merge onset I with onset I+1 (one impact heard twice): I's time, the louder level")
     edits.add_argument("--drop-suspects", action="store_true",
                        help="fit without the suspects (the onsets off one constant force's trend of bounces, always "
-                            "listed): drop extra onsets, merge doubles, play missed or misplaced bounces on the trend")
+                            "listed): drop extra onsets, merge doubles, play missed or misplaced bounces on the trend; "
+                            "the way to fit a recorded drum")
     edits.add_argument("--suspect-ms", type=number(low=0.0, high=50.0, low_open=True, unit="ms"), default=2.0,
                        metavar="MS", help="a bounce further than this from the trend's time is a suspect (default 2)")
     edits.add_argument("--suspect-db", type=number(low=0.0, high=48.0, low_open=True, unit="dB"), default=3.0,
-                       metavar="DB", help="a bounce further than this from the trend's level is a suspect (default 3)")
+                       metavar="DB", help="a bounce further than this from its levels' trend is a suspect (default 3)")
     fit.add_argument("--out", action=Output, suffixes=toml.SUFFIXES, metavar="RECIPE", required=True,
                      help="write the fitted recipe as .toml (its t = 0 is the release, printed)")
     fit.add_argument("--json", action=Output, suffixes=json.SUFFIXES, metavar="PATH",
@@ -60,11 +67,13 @@ def _fit(args):
     with Bar("fitting", delay=0.5) as bar:
         fitted = fit_stroke(onsets, model=args.model, cor=args.cor, fit_cor=args.fit_cor, offset=args.level,
                             drop=args.drop, merge=args.merge, drop_suspects=args.drop_suspects,
-                            suspect_time=args.suspect_ms * 1e-3, suspect_level=args.suspect_db, progress=bar.update)
+                            suspect_time=args.suspect_ms * 1e-3, suspect_level=args.suspect_db, levels=args.levels,
+                            progress=bar.update)
     threshold = "given" if math.isinf(onsets.threshold_db) else f"{onsets.threshold_db:g} dB"
     print(f"fitted {len(onsets)} onsets of {onsets.source} (threshold {threshold}) on the {fitted.model} model: "
           f"c = {fitted.cor:.4f}{' (fitted)' if fitted.fitted_cor else ''}, loudest onset at {fitted.offset:.2f} dB "
           f"re 1 m/s (offset), released at {fitted.release:.6f} s")
+    print(f"levels played: the onsets' {fitted.levels} ({fitted.levels_why})")
     human = f"{'beyond' if fitted.beyond_human else 'within'} the human thumb (0-{HUMAN_FORCE:g} m/s^2)"
     print(f"forces {fitted.design.min_force:.4g} to {fitted.design.max_force:.4g} m/s^2, {human}; relative change "
           f"{fitted.change:.4g}; ends {fitted.design.end}")
