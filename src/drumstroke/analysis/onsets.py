@@ -412,7 +412,7 @@ class OnsetConfig:
     after_ratio_high: float = 1.5
     after_rounds: int = 3
     spike_db: float = 6.0
-    spike_clear: float = 25e-3
+    spike_clear: float = 35e-3
     level_order: int = 24
     level_ratio: float = 2.1
     level_band: float = 400.0
