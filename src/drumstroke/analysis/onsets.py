@@ -589,6 +589,9 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        when an F-test passes (``after_f``, or ``after_weak_f`` with a start half like the signature)
        and its scale is ``after_ratio_low`` to ``after_ratio_high`` of the louder one's (a bouncing
        stick's next impact); again while it finds more (``after_rounds`` times at most).
+       :func:`_impulsive`: an attack found in the modes' band alone, ``spike_clear`` s or more after
+       the attack before it, is none unless the innovation spikes there ``spike_db`` over its RMS
+       before (a stick's impact is a burst; a decay's or a room's swell is not).
     5. :func:`_fit_template`. The recording's clearest loud attack is a template of its attacks: fitted
        to each in time order (``template_fit``, ``template_reach``) and taken off, it times those over
        earlier sound where it correlates by ``template_likeness``, and finds new ones where its start
