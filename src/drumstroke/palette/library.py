@@ -243,7 +243,7 @@ def planned_duration(source, steps=()):
     float or None
         None for a stroke of the shipped palette, or when a step (trim, catch) ends it where its motion says.
 
-    >>> planned_duration("rimshot", [("stretch", 2.0), ("reverse", True)]) == 2 * PRESETS["rimshot"].recipe.t_end
+    >>> planned_duration("low-high", [("stretch", 2.0), ("reverse", True)]) == 2 * PRESETS["low-high"].recipe.t_end
     True
     """
     if isinstance(source, str) and source not in PRESETS and not source.endswith(".toml") and not Path(source).exists():
