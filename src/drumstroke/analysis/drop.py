@@ -262,7 +262,7 @@ def _choose(onsets, flights, tolerance):
         raise ParameterError(f"onsets must be an Onsets, got {type(onsets).__name__}")
     t = onsets.t
     triples = triple_count(t)
-    check_time(f"onsets of {onsets.source!r}" if onsets.source else "the onsets",
+    check_time(f"measuring c from {onsets.source!r}" if onsets.source else "measuring c",
                drop_seconds(triples), f"{triples} triples of {len(t)} onsets to try as a drop's impacts")
     few = np.arange(min(len(t), 2))
     candidates = {(): _Choice(few, few, np.empty(0, dtype=np.int64), few)}
