@@ -110,7 +110,7 @@ def composition_figure(composition, *, title="composition", rate=1000.0, accent=
     bars = bar_times(notes, composition.tempo_map)
     parts = composition.sticks
     names = [*(n for n in LETTERS if n in parts), *(n for n in parts if n not in LETTERS)]  # right, left, others
-    check_points(f"the picture of {title!r}", composition.t_end, rate, len(names))
+    check_points(f"drawing {title!r}", composition.t_end, rate, len(names))
     sticks = {name: parts[name].sample(rate) for name in names}
     figure = new_figure(figsize=(11.0, 1.8 + 2.6 * len(sticks)), layout="constrained")
     axes = figure.subplots(len(sticks), 1, sharex=True, sharey=True, squeeze=False)[:, 0]
