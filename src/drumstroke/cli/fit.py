@@ -8,8 +8,7 @@ from ..errors import located
 from ..formats import json, toml
 from ..recipe import COR_RANGE
 from ..render import plot
-from ._common import (Bar, add_cor, add_model, add_sound_options, print_recording_notes, print_written,
-                      recording_name)
+from ._common import Bar, add_cor, add_model, add_sound_options, print_recording_notes, print_written, recording_name
 from ._options import Output, add_mkdir, existing_file, number, whole
 
 

@@ -80,8 +80,18 @@ from .._checks import check_int, check_real, check_vector, shown
 from ..errors import ParameterError, located
 from ..formats.wav import audio_format, write_wav
 from ..kit.pieces import Kit, default_kit
-from .audio import (GAIN, SAMPLE_RATE, SNARE_BAND, TAIL_DECAYS, Drum, check_synthesis, contact_time, half_sine_spectrum,
-                    limit_peak, ring)
+from .audio import (
+    GAIN,
+    SAMPLE_RATE,
+    SNARE_BAND,
+    TAIL_DECAYS,
+    Drum,
+    check_synthesis,
+    contact_time,
+    half_sine_spectrum,
+    limit_peak,
+    ring,
+)
 
 INCH = 0.0254
 """One inch (m): drums and cymbals are sold by their diameter in inches."""

@@ -74,9 +74,9 @@ from . import ENGINES
 from .controllers import CONTROLLERS, Controller
 from .controllers import controller as named_controller
 from .kernel import estimate_speed, limit_torque, quantize
-from .track import check_tracking
 from .metrics import AUDIBLE_SPEED, WINDOW, OnsetScores, match_onsets, pool
 from .plant import GRAVITY, Plant, SimpleJoint, contact_gains
+from .track import check_tracking
 
 AT_PLACE = 5e-3
 """rad: an arm is at a piece's place when every positioning joint is this near it (half the kit's default
