@@ -1,7 +1,7 @@
 """Resource budgets (:mod:`drumstroke.budget`): small inputs that ask for a lot are refused before the work.
 
 Each case runs the console script in a process of its own and reads that process's own peak memory
-(``os.wait4``): exit status 2, one line on stderr naming the input (the file or the option) and
+(:mod:`_measured`: from a small process that started it): exit status 2, one line on stderr naming the input (the file or the option) and
 the option that raises the budget, nothing written, and a peak far below what the input asks for
 (under 1 GB). Then the budget's option letting a larger input through, a long CSV streamed in
 bounded memory, and the estimates against what they estimate.
@@ -9,14 +9,12 @@ bounded memory, and the estimates against what they estimate.
 
 import os
 import struct
-import subprocess
-import tempfile
-import threading
 
 import numpy as np
 import pytest
 
 from _cli import COMMAND
+from _measured import measured
 from drumstroke import budget
 from drumstroke.analysis.drop import _triples, triple_count
 from drumstroke.errors import ParameterError
@@ -29,19 +27,8 @@ LIMIT = 30.0  # s: a hang guard, far above the second or two a refusal takes
 
 def run_measured(*args, cwd):
     """Run ``drumstroke ARGS`` in a process of its own; return (status, stdout, stderr, its peak memory in bytes)."""
-    with tempfile.TemporaryFile() as out, tempfile.TemporaryFile() as err:
-        child = subprocess.Popen([*COMMAND, *map(str, args)], stdout=out, stderr=err, stdin=subprocess.DEVNULL,
-                                 cwd=cwd)
-        guard = threading.Timer(LIMIT, child.kill)
-        guard.start()
-        try:
-            _, status, usage = os.wait4(child.pid, 0)  # this child's own rusage, not every child's so far
-        finally:
-            guard.cancel()
-        child.returncode = os.waitstatus_to_exitcode(status)
-        out.seek(0)
-        err.seek(0)
-        return child.returncode, out.read().decode(), err.read().decode(), usage.ru_maxrss * 1024
+    status, stdout, stderr, peak, _, _, _ = measured([*COMMAND, *args], cwd=cwd, timeout=LIMIT)
+    return status, stdout, stderr, peak
 
 
 def refused(folder, *args, needles):
