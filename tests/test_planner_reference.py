@@ -23,27 +23,8 @@ from drumstroke.design import Setup, Target, assign_sticks, plan_stick
 
 HERE = Path(__file__).resolve().parent
 REFERENCE = HERE / "data" / "planner_reference.npz"
-
-
-def piece(notes=1000, seed=20261124):
-    """benchmarks/design.py's piece: sixteenths at 120 bpm, accents, taps, diddles, flams, buzzes (seeded)."""
-    rng = np.random.default_rng(seed)
-    out, beat = [], 0.0
-    while len(out) < notes:
-        figure = rng.choice(["sixteenths", "accents", "diddles", "flam", "buzz", "rest"], p=[.3, .2, .2, .1, .1, .1])
-        t = 0.5 + beat * 0.5
-        if figure == "sixteenths":
-            out += [(t + k * 0.125, beat + k / 4, 90, "auto") for k in range(4)]
-        elif figure == "accents":
-            out += [(t + k * 0.125, beat + k / 4, 120 if k == 0 else 50, "auto") for k in range(4)]
-        elif figure == "diddles":
-            out += [(t + k * 0.0625, beat + k / 8, 96, "auto") for k in range(8)]
-        elif figure == "flam":
-            out += [(t - 0.03, beat - 0.06, 50, "auto"), (t, beat, 115, "auto")]
-        elif figure == "buzz":
-            out += [(t + k * 0.125, beat + k / 4, 90, "buzz") for k in range(4)]
-        beat += 1.0
-    return out[:notes]
+sys.path.insert(0, str(HERE.parent / "benchmarks"))
+from design import piece  # the benchmark's own piece: the one its figures are of
 
 
 def outputs(model):
