@@ -1309,10 +1309,10 @@ def _new_sound(band, rate, candidates, config):
     repeats its notes' waveforms (a sample player; a drum struck alike), the earlier attacks' sound,
     fitted by the recording's clear notes and taken off as for :attr:`Onsets.peak_db`
     (:func:`_own_peaks`), leaves little of such a swell: over the corpus of recorded drums, its own
-    peak over ``peak_window`` s stood 20-73 dB under the sound's peak there at a quarter of the
-    false detections, 20 dB or less under it at every note (ghost notes over an accent's ringing
-    down to 17.5 dB). Where the earlier sound is not so explained, little is taken off and nothing
-    refused.
+    peak over ``peak_window`` s stood 20-73 dB under the sound's peak there at 20 of the 103 false
+    detections, at most 17.5 dB under it at the notes (a ghost note over an accent's ringing). Where
+    the earlier sound is not so explained (each stroke's sound its own), little is taken off and
+    nothing refused.
     """
     which = np.flatnonzero(candidates.attack)
     if len(which) < 2:
