@@ -31,7 +31,7 @@ Examples
 """
 
 import math
-from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -150,18 +150,19 @@ def force_to_reach(speed, rise):
 
 
 
+@jit
 def orbit_time(s, w, c):
     """Time (s) between the state (sin θ = ``s``, |ω| = ``w``) and the apex of its orbit under ``c`` (a libration)."""
     return time_from_apex(s, abs(w), c, parameter(s, w, c))
 
 
-@dataclass(frozen=True)
-class Flight:
+class Flight(NamedTuple):
     """A flight from the head to the head with its forces (torque rates, s⁻²) and switch times (s from its start).
 
     ``rise`` acts from ``t_rise`` (0, or the end of a short first part under ``first``) to the apex at
     ``t_apex``; ``fall`` from the apex to ``t_last`` (the flight's end, or the start of a short last part
-    under ``last``).
+    under ``last``). A named tuple: a design solves dozens (each flight again until its neighbours' forces
+    settle), and a frozen dataclass costs more to make than the flight to solve.
     """
 
     apex: float
@@ -186,17 +187,26 @@ def solve_flight(duration, *, u, v, sh, top, first=None, last=None):
     """
     s0, w0, t0 = _near_head(first, u, sh)
     s1, w1, t1 = _near_head(last, v, sh)
-    if w0 == 0.0 or w1 == 0.0:
-        return None
-    span = duration - t0 - t1
-    if span <= 0.0:
-        return None
-    apex = _solve_apex(span, w0, w1, s0, s1, top)
+    apex, rise, fall, t_apex = _flight(duration, s0, w0, t0, s1, w1, t1, top)
     if math.isnan(apex):
         return None
+    return Flight(apex, rise, fall, t0, t_apex, duration - t1, duration, None if first is None else first[0],
+                  None if last is None else last[0])
+
+
+@jit
+def _flight(duration, s0, w0, t0, s1, w1, t1, top):
+    """:func:`solve_flight`'s apex (sin θ), its two torque rates (s⁻²) and the apex time (s), NaN for none."""
+    if w0 == 0.0 or w1 == 0.0:
+        return math.nan, math.nan, math.nan, math.nan
+    span = duration - t0 - t1
+    if span <= 0.0:
+        return math.nan, math.nan, math.nan, math.nan
+    apex = _solve_apex(span, w0, w1, s0, s1, top)
+    if math.isnan(apex):
+        return math.nan, math.nan, math.nan, math.nan
     t_apex = t0 + height_time(apex, s0) / w0
-    return Flight(apex, force_to_reach(w0, apex - s0), force_to_reach(w1, apex - s1), t0, t_apex, duration - t1,
-                  duration, None if first is None else first[0], None if last is None else last[0])
+    return apex, w0 * w0 / (2.0 * (apex - s0)), w1 * w1 / (2.0 * (apex - s1)), t_apex
 
 
 def _near_head(part, speed, sh):
@@ -209,8 +219,22 @@ def _near_head(part, speed, sh):
     if part is None:
         return sh, speed, 0.0
     rate, height = part
+    w, duration = _part(sh, speed, height, rate)
+    if math.isnan(duration):  # a rotation orbit: by quadrature
+        duration = part_time(sh, speed, height, w, rate)
+    return height, w, duration
+
+
+@jit
+def _part(sh, speed, height, rate):
+    """|ω| (rad/s) where a part under ``rate`` from the head at ``speed`` reaches ``height``, and its duration (s) on a
+    libration orbit (:func:`part_time`'s first case; 0 if it does not get there; NaN on a rotation orbit)."""
     w = math.sqrt(max(speed * speed - 2.0 * rate * (height - sh), 0.0))
-    return height, w, (part_time(sh, speed, height, w, rate) if w > 0.0 else 0.0)
+    if w <= 0.0:
+        return w, 0.0
+    if parameter(sh, speed, rate) < 1.0:
+        return w, orbit_time(sh, speed, rate) - orbit_time(height, w, rate)
+    return w, math.nan
 
 
 _NODES, _WEIGHTS = np.polynomial.legendre.leggauss(24)
