@@ -50,7 +50,8 @@ from ..profiles import Constant, PiecewiseLinear
 from ..recipe import STANDARD_GRAVITY, Recipe
 from ..stroke import simulate
 from ..trajectory import LEVEL_REFERENCE, Impacts
-from .flight import apex_for_fall, flight_time, force_to_reach, height_time, solve_apex, solve_flight
+from .flight import (apex_for_fall, flight_time, force_to_reach, height_time, settled_flights, solve_apex,
+                     solve_flight)
 from .setup import FORCE_LIMIT, ForceRange, Setup  # noqa: F401 (FORCE_LIMIT and ForceRange: also drumstroke.design.chain's)
 
 HUMAN_FORCE = 250.0
@@ -537,6 +538,17 @@ class _Plan:
         n = len(self.times)
         if n < 2:
             return []
+        settled = settled_flights(self.times, self.speeds, cor=self.recipe.cor, sh=self.head, top=self.top,
+                                  rates=self.rates, theta_max=self.recipe.theta_max,
+                                  max_acceleration=self.limits.max_acceleration, switch=_SWITCH,
+                                  rounds=_SETTLE_ROUNDS)
+        # a flight fails (or needs a quadrature): the same rounds one flight at a time, which say where and why
+        return settled if settled is not None else self.flights_one_by_one()
+
+    def flights_one_by_one(self):
+        """:meth:`flights` in Python, each flight checked as it is solved: raises :class:`Unreachable` at the first
+        that fails."""
+        n = len(self.times)
         plain = [self.bounce(i) for i in range(n - 1)]
         # each change happens in the flight it is part of, near its end or its start
         heights = [self.head + _SWITCH * (flight.apex - self.head) for flight in plain]

@@ -237,6 +237,96 @@ def _part(sh, speed, height, rate):
     return w, math.nan
 
 
+def settled_flights(times, speeds, *, cor, sh, top, rates, theta_max, max_acceleration, switch, rounds):
+    """The flights of a chain of notes, each with its neighbours' forces next to the head, settled; or None.
+
+    :meth:`drumstroke.design.chain._Plan.flights`'s rounds, compiled: the flights solved as if the force
+    changed at the impacts, then again with the short parts (at ``switch`` of each flight's height) until
+    the forces settle. None when a flight of any round fails a check of the plan's (no apex, a force
+    outside ``rates`` ± 1e-9 relative, an acceleration over ``max_acceleration``) or needs a part on a
+    rotation orbit: the plan then solves them one by one, and says which note fails and why.
+
+    Returns
+    -------
+    list of Flight or None
+    """
+    table = _settle(np.asarray(times, dtype=float), np.asarray(speeds, dtype=float), cor, sh, top, rates[0],
+                    rates[1], math.cos(theta_max), max_acceleration, switch, rounds)
+    if table is None:
+        return None
+    return [Flight(*row[:7].tolist(), None if math.isnan(row[7]) else float(row[7]),
+                   None if math.isnan(row[8]) else float(row[8])) for row in table]
+
+
+@jit
+def _settle(times, speeds, cor, sh, top, low, high, head_cos, max_acceleration, switch, rounds):
+    """:func:`settled_flights`'s rounds: a row per flight (its Flight's fields, NaN for no part), or None."""
+    n = len(times) - 1
+    plain = np.empty((n, 9))
+    for i in range(n):
+        if not _bounce(plain, i, times, speeds, cor, sh, top, low, high, head_cos, max_acceleration, False, 0.0,
+                       False, 0.0, 0.0):
+            return None
+    heights = np.empty(n)
+    for i in range(n):
+        heights[i] = sh + switch * (plain[i, 0] - sh)
+    before = np.zeros(n, dtype=np.bool_)
+    for i in range(1, n):
+        before[i] = plain[i, 1] < plain[i - 1, 2]
+    flights = plain
+    for _ in range(rounds):
+        settled = np.empty((n, 9))
+        for i in range(n):
+            has_first = i > 0 and not before[i]
+            has_last = i + 1 < n and before[i + 1]
+            if not _bounce(settled, i, times, speeds, cor, sh, top, low, high, head_cos, max_acceleration, has_first,
+                           flights[i - 1, 2] if has_first else 0.0, has_last, flights[i + 1, 1] if has_last else 0.0,
+                           heights[i]):
+                return None
+        change = -math.inf
+        largest = -math.inf
+        for i in range(n):
+            change = max(change, abs(settled[i, 2] - flights[i, 2]) + abs(settled[i, 1] - flights[i, 1]))
+            largest = max(largest, settled[i, 2])
+        flights = settled
+        if change <= 1e-13 * largest:
+            break
+    return flights
+
+
+@jit
+def _bounce(out, i, times, speeds, cor, sh, top, low, high, head_cos, max_acceleration, has_first, first, has_last,
+            last, height):
+    """Row i of ``out``: the flight from note i to note i + 1 (:func:`solve_flight`); False if it fails a check."""
+    u, v = cor * speeds[i], speeds[i + 1]
+    duration = times[i + 1] - times[i]
+    s0, w0, t0 = sh, u, 0.0
+    if has_first:
+        w0, t0 = _part(sh, u, height, first)
+        s0 = height
+    s1, w1, t1 = sh, v, 0.0
+    if has_last:
+        w1, t1 = _part(sh, v, height, last)
+        s1 = height
+    if math.isnan(t0) or math.isnan(t1):  # a rotation orbit: its part by quadrature, in Python
+        return False
+    apex, rise, fall, t_apex = _flight(duration, s0, w0, t0, s1, w1, t1, top)
+    if math.isnan(apex):
+        return False
+    slack = 1e-9 * max(abs(low), abs(high))
+    for rate in (rise, fall):
+        if not (low - slack <= rate <= high + slack):
+            return False
+    lowest_cos = max(head_cos, math.sqrt(max(0.0, 1.0 - apex * apex)))
+    if max(rise, fall) * (1.0 if apex >= 0.0 else lowest_cos) > max_acceleration:
+        return False
+    out[i, 0], out[i, 1], out[i, 2], out[i, 3], out[i, 4] = apex, rise, fall, t0, t_apex
+    out[i, 5], out[i, 6] = duration - t1, duration
+    out[i, 7] = first if has_first else math.nan
+    out[i, 8] = last if has_last else math.nan
+    return True
+
+
 _NODES, _WEIGHTS = np.polynomial.legendre.leggauss(24)
 
 
