@@ -267,8 +267,9 @@ def test_the_audible_impacts_of_any_stroke_are_designed_back(force, model, theta
 def test_the_compiled_rounds_of_a_chains_flights_are_the_rounds_one_flight_at_a_time_to_the_bit(model, rng):
     """A chain's flights settled in one compiled call equal the same rounds solved and checked flight by flight
     (the code they replace, kept for the chains that fail); where one fails a check, the compiled rounds give
-    way (None) and the flight-by-flight rounds raise."""
-    from drumstroke.design.chain import _SETTLE_ROUNDS, _SWITCH, _Plan
+    way (None) and the flight-by-flight rounds raise. The planner's quick test of each flight alone
+    (:func:`flights_within`, compiled too) is whether that flight, solved and checked alone, raises."""
+    from drumstroke.design.chain import _SETTLE_ROUNDS, _SWITCH, _Plan, flights_within
     from drumstroke.design.flight import settled_flights
 
     setup = Setup(model=model)
@@ -282,6 +283,7 @@ def test_the_compiled_rounds_of_a_chains_flights_are_the_rounds_one_flight_at_a_
                                    rates=plan.rates, theta_max=plan.recipe.theta_max,
                                    max_acceleration=plan.limits.max_acceleration, switch=_SWITCH,
                                    rounds=_SETTLE_ROUNDS)
+        assert flights_within(times, levels, setup=setup) == [_passes(plan.bounce, i) for i in range(n - 1)]
         try:
             expected = plan.flights_one_by_one()
         except Unreachable:
@@ -291,3 +293,11 @@ def test_the_compiled_rounds_of_a_chains_flights_are_the_rounds_one_flight_at_a_
         assert compiled == expected  # every field, exactly
         solved += 1
     assert solved >= 10 and failed >= 10
+
+
+def _passes(bounce, i):
+    try:
+        bounce(i)
+    except Unreachable:
+        return False
+    return True

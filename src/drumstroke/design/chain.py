@@ -39,6 +39,7 @@ import functools
 import itertools
 import math
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 
@@ -50,8 +51,8 @@ from ..profiles import Constant, PiecewiseLinear
 from ..recipe import STANDARD_GRAVITY, Recipe
 from ..stroke import simulate
 from ..trajectory import LEVEL_REFERENCE, Impacts
-from .flight import (apex_for_fall, flight_time, force_to_reach, height_time, settled_flights, solve_apex,
-                     solve_flight)
+from .flight import (apex_for_fall, flight_time, force_to_reach, height_time, possible_flights, settled_flights,
+                     solve_apex, solve_flight)
 from .setup import FORCE_LIMIT, ForceRange, Setup  # noqa: F401 (FORCE_LIMIT and ForceRange: also drumstroke.design.chain's)
 
 HUMAN_FORCE = 250.0
@@ -171,9 +172,9 @@ class Unreachable(ParameterError):
                                     else "; nothing near it is reachable")
 
 
-@dataclass(frozen=True)
-class Piece:
-    """One constant force of a design.
+class Piece(NamedTuple):
+    """One constant force of a design (a named tuple: a design makes several, and a frozen dataclass costs more to
+    make than the force to work out).
 
     Attributes
     ----------
@@ -775,15 +776,8 @@ def flights_within(times, levels, *, setup=None):
     list of bool [len(times) − 1]
     """
     plan = _Plan.of(times, levels, None, start=None, end="catch", setup=setup, lead=LEAD, tail=None)
-    within = []
-    for i in range(len(plan.times) - 1):
-        try:
-            plan.bounce(i)
-        except Unreachable:
-            within.append(False)
-        else:
-            within.append(True)
-    return within
+    return possible_flights(plan.times, plan.speeds, cor=plan.recipe.cor, sh=plan.head, top=plan.top, rates=plan.rates,
+                            theta_max=plan.recipe.theta_max, max_acceleration=plan.limits.max_acceleration)
 
 
 def catch_height(last, following, gap, *, setup=None, lead=LEAD):

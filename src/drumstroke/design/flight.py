@@ -258,6 +258,24 @@ def settled_flights(times, speeds, *, cor, sh, top, rates, theta_max, max_accele
                    None if math.isnan(row[8]) else float(row[8])) for row in table]
 
 
+def possible_flights(times, speeds, *, cor, sh, top, rates, theta_max, max_acceleration):
+    """For each pair of consecutive notes, whether the flight between them (its force changed at the impacts)
+    passes the plan's checks (:func:`settled_flights`'): list of bool [len(times) − 1]."""
+    return _possible(np.asarray(times, dtype=float), np.asarray(speeds, dtype=float), cor, sh, top, rates[0], rates[1],
+                     math.cos(theta_max), max_acceleration).tolist()
+
+
+@jit
+def _possible(times, speeds, cor, sh, top, low, high, head_cos, max_acceleration):
+    n = len(times) - 1
+    row = np.empty((n, 9))
+    within = np.empty(n, dtype=np.bool_)
+    for i in range(n):
+        within[i] = _bounce(row, i, times, speeds, cor, sh, top, low, high, head_cos, max_acceleration, False, 0.0,
+                            False, 0.0, 0.0)
+    return within
+
+
 @jit
 def _settle(times, speeds, cor, sh, top, low, high, head_cos, max_acceleration, switch, rounds):
     """:func:`settled_flights`'s rounds: a row per flight (its Flight's fields, NaN for no part), or None."""
