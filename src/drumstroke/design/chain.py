@@ -503,8 +503,13 @@ class _Plan:
 
     def build(self, drift):
         pieces, release, hold, theta0 = self.pieces()
-        recipe = self.recipe.replace(force=_profile(pieces), t_end=pieces[-1].end, theta0=theta0,
-                                     omega0=self.start.omega if self.start is not None else 0.0, name="designed")
+        base = self.recipe
+        recipe = Recipe(force=_profile(pieces), model=base.model, t_end=pieces[-1].end, theta0=theta0,
+                        omega0=self.start.omega if self.start is not None else 0.0, cor=base.cor, stick=base.stick,
+                        gravity=base.gravity, name="designed")
+        # the base's coefficients (the same model and stick), not worked out again for every design: as the
+        # recipe's cached property keeps them
+        recipe.__dict__["coefficients"] = self.coefficients
         stroke = simulate(recipe)
         errors = self.check(stroke, release, drift)
         return Design(recipe, release, self.times, self.levels, self.end, tuple(pieces), stroke, hold, errors)
