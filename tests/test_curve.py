@@ -175,3 +175,21 @@ def test_a_curve_cut_and_joined_without_checks_equals_one_checked_from_its_segme
     later = joined.since(0.75)
     assert later.segments == joined.segments[1:]
     np.testing.assert_array_equal(later(t[t >= 0.75])[0], checked(t[t >= 0.75])[0])
+
+
+def test_evenly_spaced_samples_carry_the_solvers_arcs_and_leave_other_paths_alone():
+    """With ``spacing`` the arcs' runs are carried by the addition theorem (within round-off of each sample
+    afresh, the closed form); a closure's values are the same to the bit, and so are times clamped to a span."""
+    from drumstroke import simulate
+
+    stroke = simulate("free-bounce", t_end=1.0)
+    still, rising = (0.4, _parabola(3.0, 0.2, 1.0))
+    curve = Curve((Segment.hold(still, 0.0, 0.3), Segment(0.3, 1.3, stroke.arcs.evaluate, 0.3, stroke.impacts.t),
+                   Segment(1.3, 2.0, rising, 1.3)))
+    t = np.minimum(np.arange(2101) / 1000.0, 2.05)
+    fresh, carried = curve(t), curve(t, spacing=1e-3)
+    inside = (t > 0.3) & (t < 1.3)
+    for a, b in zip(fresh, carried):
+        np.testing.assert_array_equal(a[~inside], b[~inside])
+        np.testing.assert_allclose(b[inside], a[inside], rtol=0, atol=1e-12)
+    assert np.any(fresh[0][inside] != carried[0][inside])  # carried indeed: not each sample afresh

@@ -261,3 +261,43 @@ def test_the_audible_impacts_of_any_stroke_are_designed_back(force, model, theta
     assert designed.impacts.level_db[:n] == pytest.approx(targets, abs=0.5)
     assert designed.time_error < 1e-6 and designed.level_error < 1e-3  # what a design guarantees (chain.DRIFT)
     assert len(designed.impacts) == n  # caught: no other impact, before or after
+
+
+@pytest.mark.parametrize("model", drumstroke.MODELS)
+def test_the_compiled_rounds_of_a_chains_flights_are_the_rounds_one_flight_at_a_time_to_the_bit(model, rng):
+    """A chain's flights settled in one compiled call equal the same rounds solved and checked flight by flight
+    (the code they replace, kept for the chains that fail); where one fails a check, the compiled rounds give
+    way (None) and the flight-by-flight rounds raise. The planner's quick test of each flight alone
+    (:func:`flights_within`, compiled too) is whether that flight, solved and checked alone, raises."""
+    from drumstroke.design.chain import _SETTLE_ROUNDS, _SWITCH, _Plan, flights_within
+    from drumstroke.design.flight import settled_flights
+
+    setup = Setup(model=model)
+    solved = failed = 0
+    for _ in range(200):
+        n = int(rng.integers(2, 10))
+        times = np.cumsum(rng.uniform(0.05, 0.15, n))
+        levels = rng.uniform(-12.0, 4.0, n)
+        plan = _Plan.of(times, levels, None, start=None, end="catch", setup=setup, lead=0.1, tail=None)
+        compiled = settled_flights(plan.times, plan.speeds, cor=plan.recipe.cor, sh=plan.head, top=plan.top,
+                                   rates=plan.rates, theta_max=plan.recipe.theta_max,
+                                   max_acceleration=plan.limits.max_acceleration, switch=_SWITCH,
+                                   rounds=_SETTLE_ROUNDS)
+        assert flights_within(times, levels, setup=setup) == [_passes(plan.bounce, i) for i in range(n - 1)]
+        try:
+            expected = plan.flights_one_by_one()
+        except Unreachable:
+            assert compiled is None
+            failed += 1
+            continue
+        assert compiled == expected  # every field, exactly
+        solved += 1
+    assert solved >= 10 and failed >= 10
+
+
+def _passes(bounce, i):
+    try:
+        bounce(i)
+    except Unreachable:
+        return False
+    return True

@@ -75,3 +75,28 @@ def test_a_subnormal_forcing_simulates_without_warnings():
     # g and a cancel to within one subnormal: the stick floats; no overflow warning (pytest errors on them)
     stroke = drumstroke.simulate(force=0.0, gravity=5e-324, theta0=0.1, t_end=1.0)
     assert len(stroke.impacts) == 0
+
+
+def test_a_few_breakpoints_are_cut_into_the_same_pieces_as_by_numpy_to_the_bit(rng, monkeypatch):
+    """A short profile's pieces, worked in plain Python, equal those of the numpy code kept for long ones: edges
+    (duplicates and clusters closer than the merging tolerance merged into their first), values and slopes."""
+    from drumstroke import profiles
+
+    cases = []
+    for _ in range(300):
+        n = int(rng.integers(1, 40))
+        t = np.cumsum(rng.choice([1.5e-9, 3e-9, 1e-3, 0.05, 0.3], n)) + rng.choice([0.0, 0.01])
+        points = [(float(a), float(b)) for a, b in zip(t, rng.uniform(-3000.0, 3000.0, n))]
+        t_end = float(rng.choice([t[-1], t[-1] + 0.2, t[n // 2], t[0] + 5e-13]))
+        cases.append((PiecewiseLinear(points), max(t_end, 1e-6)))
+    few = [profile.pieces(t_end) for profile, t_end in cases]
+    extra = rng.uniform(0.0, 1.0, 30).tolist()
+    edges = [np.array(extra[:k] + extra[:k // 2] + [x + 1e-13 for x in extra[k // 2:k]]) for k in range(1, 30)]
+    merged = [profiles.merge_edges(e, 0.7) for e in edges]
+    monkeypatch.setattr(profiles, "_FEW", 0)
+    for (profile, t_end), pieces in zip(cases, few):
+        expected = profile.pieces(t_end)
+        for name in ("edges", "values", "slopes"):
+            np.testing.assert_array_equal(getattr(pieces, name), getattr(expected, name), err_msg=name)
+    for e, made in zip(edges, merged):
+        np.testing.assert_array_equal(made, profiles.merge_edges(e, 0.7))

@@ -27,6 +27,7 @@ Examples
 
 import bisect
 import functools
+import inspect
 import itertools
 import math
 from collections.abc import Callable
@@ -191,8 +192,16 @@ class Curve:
         """The last segment whose source is a ``kind`` (a class), or None."""
         return next((s for s in reversed(self.segments) if isinstance(s.source, kind)), None)
 
-    def __call__(self, t):
-        """θ (rad) and ω (rad/s) at times ``t`` (s), each from the segment that holds it."""
+    def __call__(self, t, *, spacing=0.0):
+        """θ (rad) and ω (rad/s) at times ``t`` (s), each from the segment that holds it.
+
+        ``spacing`` > 0 (s) promises increasing times that far apart (but perhaps the last): a path
+        that takes a ``spacing`` of its own (the solver's arcs, which then carry sn, cn, dn from one
+        sample to the next) is given it for each run of times within its span.
+        """
+        if spacing > 0.0:
+            return self._each(t, lambda segment, local: segment.path(local), 2, spaced=lambda segment, local: (
+                segment.path(local, spacing=spacing) if _takes_spacing(segment.path) else segment.path(local)))
         return self._each(t, lambda segment, local: segment.path(local), 2)
 
     def state(self, t):
@@ -227,11 +236,12 @@ class Curve:
 
         return self._each(t, all_three, 3)
 
-    def _each(self, t, evaluate, count):
+    def _each(self, t, evaluate, count, spaced=None):
         """``evaluate(segment, local times)`` of every group of times ``t`` one segment holds, put back in t's order.
 
         A chunk of setpoints is short: numpy's methods rather than its functions (whose wrappers cost
-        more than the work), and increasing times (samples) taken as contiguous runs.
+        more than the work), and increasing times (samples) taken as contiguous runs; ``spaced``, if
+        given, evaluates such a run instead when it lies within its segment's span (no time clamped).
         """
         t = np.asarray(t, dtype=float)
         flat = t.ravel()
@@ -252,10 +262,9 @@ class Curve:
             segment = self.segments[which[chosen.start if sliced else chosen[0]]]
             times = flat[chosen]
             if sliced and segment.start <= times[0] and times[-1] <= segment.end:  # increasing, within the span
-                local = times - segment.offset  # the clamp would change nothing
+                values = (spaced or evaluate)(segment, times - segment.offset)  # the clamp would change nothing
             else:
-                local = segment.local(times)
-            values = evaluate(segment, local)
+                values = evaluate(segment, segment.local(times))
             if out is None:
                 out = tuple(np.empty(flat.shape + np.shape(v)[1:]) for v in values)
             for array, value in zip(out, values):
@@ -266,6 +275,18 @@ class Curve:
 
     def __repr__(self):
         return f"Curve({len(self.segments)} segments over [{self.start:.6g}, {self.end:.6g}] s)"
+
+
+@functools.lru_cache(maxsize=64)
+def _method_takes_spacing(function):
+    return "spacing" in inspect.signature(function).parameters
+
+
+def _takes_spacing(path):
+    """Whether ``path`` is a method that takes ``spacing`` (s) (the solver's arcs); a closure never is (it is not
+    cached: a curve has many)."""
+    function = getattr(path, "__func__", None)
+    return function is not None and _method_takes_spacing(function)
 
 
 def _shaped(arrays, shape):

@@ -93,6 +93,7 @@ Constant(value=9.8)
 ('constant', 'piecewise-linear', 'pulses', 'samples', 'sum')
 """
 
+import bisect
 import math
 import os
 from contextlib import contextmanager
@@ -158,6 +159,8 @@ def merge_edges(edges, t_end):
     """Sorted edges in [0, t_end], 0 and t_end included, with near-duplicates merged into the first."""
     if len(edges) == 0:
         return np.array([0.0, t_end])
+    if len(edges) <= _FEW:
+        return np.array(_merged(np.asarray(edges, dtype=float).tolist(), t_end))
     # np.unique's work (sort, keep the first of equals) without its wrappers: this runs at every simulation
     edges = np.concatenate(([0.0, t_end], edges))
     edges.sort()
@@ -171,6 +174,28 @@ def merge_edges(edges, t_end):
         edges = np.array(kept)
     edges[-1] = t_end
     return edges
+
+
+_FEW = 64
+"""Breakpoints up to this many are worked in plain Python: numpy's cost per call is more than the work (a designed
+stroke's profile has a few dozen, and each design is simulated)."""
+
+
+def _merged(edges, t_end):
+    """:func:`merge_edges` of a short list of floats, in plain Python (the same arithmetic, the same edges)."""
+    kept = []
+    for edge in sorted([0.0, t_end, *edges]):
+        if 0.0 <= edge <= t_end and (not kept or edge != kept[-1]):
+            kept.append(edge)
+    tol = merge_tolerance(t_end)
+    if any(b - a <= tol for a, b in zip(kept, kept[1:])):  # rare: merge each cluster into its first edge
+        clusters = [kept[0]]
+        for edge in kept[1:]:
+            if edge - clusters[-1] > tol:
+                clusters.append(edge)
+        kept = clusters
+    kept[-1] = t_end
+    return kept
 
 
 @dataclass(frozen=True)
@@ -401,12 +426,29 @@ class PiecewiseLinear(Profile):
         t, v = self._t, self._v
         if len(t) == 1:
             return np.full(len(left), v[0]), np.zeros(len(left))
+        if len(t) <= _FEW and len(left) <= _FEW:
+            return self._start_and_slope_few(left.tolist(), tol)
         k = np.searchsorted(t, left + tol, side="right") - 1  # the segment each piece lies on
         inside = (k >= 0) & (k < len(t) - 1)
         k = k.clip(0, len(t) - 2)
         slopes = np.where(inside, (v[k + 1] - v[k]) / (t[k + 1] - t[k]), 0.0)
         values = np.where(inside, v[k] + slopes * (left - t[k]), np.where(left < t[0], v[0], v[-1]))
         return values, slopes
+
+    def _start_and_slope_few(self, left, tol):
+        """:meth:`_start_and_slope` in plain Python, for a few points and pieces (the same arithmetic, to the bit)."""
+        t, v = self._t.tolist(), self._v.tolist()
+        values, slopes = [], []
+        for x in left:
+            k = bisect.bisect_right(t, x + tol) - 1  # the segment the piece lies on
+            if 0 <= k < len(t) - 1:
+                slope = (v[k + 1] - v[k]) / (t[k + 1] - t[k])
+                values.append(v[k] + slope * (x - t[k]))
+                slopes.append(slope)
+            else:
+                values.append(v[0] if x < t[0] else v[-1])
+                slopes.append(0.0)
+        return np.array(values), np.array(slopes)
 
     def to_dict(self):
         return {"kind": self.kind, "points": [list(p) for p in self.points]}
@@ -658,6 +700,8 @@ def _check_points(name, points):
                              allowed=pairs) from None
     if not rows or any(len(row) != 2 for row in rows):
         raise ParameterError(f"{name} must be {pairs}, got {points!r}", parameter=name, value=points, allowed=pairs)
+    if _plain(rows):  # every designed stroke's profile comes here: its usual case checked without numpy's costs
+        return np.array([row[0] for row in rows], dtype=float), np.array([row[1] for row in rows], dtype=float)
     for i, (ti, vi) in enumerate(rows):
         check_real(f"{name}[{i}] time", ti, low=0.0, high=3600.0, unit="s")
         _check_level(f"{name}[{i}] value", vi)
@@ -672,6 +716,21 @@ def _check_points(name, points):
             f"t = {float(t[i])!r} s after t = {float(t[i - 1])!r} s (allowed: t >= {least!r})",
             parameter=name, value=points, allowed=f"t >= {least!r} for point {i}")
     return t.copy(), v.copy()
+
+
+_FLOATS = (float, np.float64)
+
+
+def _plain(rows):
+    """Whether ``rows`` are floats that pass :func:`_check_points` (times in [0, 3600] s, MIN_SPACING apart; values
+    within the acceleration limit), found in plain Python: False sends them through the checks that name the fault."""
+    last = -math.inf
+    for t, v in rows:
+        if not (type(t) in _FLOATS and type(v) in _FLOATS and 0.0 <= t <= 3600.0 and t - last >= MIN_SPACING
+                and -ACCELERATION_LIMIT <= v <= ACCELERATION_LIMIT):  # NaN fails every comparison
+            return False
+        last = t
+    return True
 
 
 def _read_samples(path):

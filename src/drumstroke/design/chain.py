@@ -39,10 +39,11 @@ import functools
 import itertools
 import math
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 
-from .._checks import check_choice, check_real, shown
+from .._checks import as_vector, check_choice, check_real, check_vector, shown
 from ..dynamics import CEILING_DB, FLOOR_DB, velocity_to_level
 from ..errors import ParameterError, SimulationError
 from ..palette.motion import Limits
@@ -50,7 +51,8 @@ from ..profiles import Constant, PiecewiseLinear
 from ..recipe import STANDARD_GRAVITY, Recipe
 from ..stroke import simulate
 from ..trajectory import LEVEL_REFERENCE, Impacts
-from .flight import apex_for_fall, flight_time, force_to_reach, height_time, solve_apex, solve_flight
+from .flight import (apex_for_fall, flight_time, force_to_reach, height_time, possible_flights, settled_flights,
+                     solve_apex, solve_flight)
 from .setup import FORCE_LIMIT, ForceRange, Setup  # noqa: F401 (FORCE_LIMIT and ForceRange: also drumstroke.design.chain's)
 
 HUMAN_FORCE = 250.0
@@ -170,9 +172,9 @@ class Unreachable(ParameterError):
                                     else "; nothing near it is reachable")
 
 
-@dataclass(frozen=True)
-class Piece:
-    """One constant force of a design.
+class Piece(NamedTuple):
+    """One constant force of a design (a named tuple: a design makes several, and a frozen dataclass costs more to
+    make than the force to work out).
 
     Attributes
     ----------
@@ -324,9 +326,9 @@ def design(times, levels=None, *, velocities=None, start=None, end="catch", setu
         A note cannot be played within the limits; it names the note, the need, the limit and
         the nearest reachable time and level.
     """
-    if not isinstance(drift, (tuple, list)) or len(drift) != 2:
+    if drift is not DRIFT and (not isinstance(drift, (tuple, list)) or len(drift) != 2):
         raise ParameterError(f"drift must be (seconds, dB), two numbers > 0, got {shown(drift)}")
-    drift = tuple(check_real(f"drift[{i}]", x, low=0.0, low_open=True, unit=unit)
+    drift = DRIFT if drift is DRIFT else tuple(check_real(f"drift[{i}]", x, low=0.0, low_open=True, unit=unit)
                   for i, (x, unit) in enumerate(zip(drift, ("s", "dB"))))
     plan = _Plan.of(times, levels, velocities, start=start, end=end, setup=setup, lead=lead, tail=tail,
                     catch_at=catch_at, highest=highest)
@@ -421,6 +423,18 @@ def _base_recipe(setup):
     return Recipe(force=Constant(0.0), model=setup.model, cor=setup.cor, stick=setup.stick)
 
 
+@functools.lru_cache(maxsize=64)
+def _bounds(setup, highest):
+    """sin θ at the head and at the highest a design may go, and the force range's torque rates (s⁻²).
+
+    Asked for at every flight and check of every design: worked out once per setup.
+    """
+    recipe = _base_recipe(setup)
+    rate = recipe.coefficients.torque_rate
+    return (math.sin(recipe.theta_max), math.sin(min(setup.limits.theta_high, highest)),
+            (rate(STANDARD_GRAVITY, setup.forces.low), rate(STANDARD_GRAVITY, setup.forces.high)))
+
+
 @dataclass
 class _Plan:
     """What a design is worked out from, in the solver's units (sin θ, rad/s, torque rates C)."""
@@ -430,6 +444,7 @@ class _Plan:
     speeds: np.ndarray
     start: Start | None
     end: str
+    setup: Setup
     recipe: Recipe
     forces: ForceRange
     limits: Limits
@@ -457,9 +472,8 @@ class _Plan:
             raise ParameterError(f"start.theta must be at or above the head, theta_max = {stick.theta_max:.6g} rad, "
                                  f"got {start.theta!r}")
         speeds = 10.0 ** (levels / 20.0) * LEVEL_REFERENCE / stick.pivot_to_tip
-        too_fast = speeds > limits.max_speed
-        if too_fast.any():
-            i = int(np.argmax(too_fast))
+        if max(speeds.tolist()) > limits.max_speed:
+            i = int(np.argmax(speeds > limits.max_speed))
             loudest = 20.0 * math.log10(limits.max_speed * stick.pivot_to_tip / LEVEL_REFERENCE)
             raise Unreachable(f"note {i} ({levels[i]:.2f} dB) needs the stick at {speeds[i]:.4g} rad/s, over the "
                               f"joint's max_speed {limits.max_speed:g} rad/s; the loudest reachable is {loudest:.2f} dB",
@@ -472,26 +486,30 @@ class _Plan:
                 raise ParameterError(f"catch_at is for end='catch', got end={end!r}")
             catch_at = check_real("catch_at", catch_at, low=stick.theta_max, high=min(limits.theta_high, highest),
                                   low_open=True, unit="rad")
-        return cls(times, levels, speeds, start, end, recipe, forces, limits, lead, tail, catch_at, highest)
+        return cls(times, levels, speeds, start, end, setup, recipe, forces, limits, lead, tail, catch_at, highest)
 
     # The model in torque rates: C = (k·g + k′·a)/D presses the stick toward the head.
     def rate_of(self, force):
-        return self.recipe.coefficients.torque_rate(STANDARD_GRAVITY, force)
+        return self.coefficients.torque_rate(STANDARD_GRAVITY, force)
 
     def force_of(self, rate):
-        co = self.recipe.coefficients
+        co = self.coefficients
         return (rate * co.inertia_ratio - co.k * STANDARD_GRAVITY) / co.k_thumb
 
     def __post_init__(self):
-        # asked for at every flight and check: worked out once (a plan's fields are not changed)
-        self.head = math.sin(self.recipe.theta_max)
-        self.top = math.sin(min(self.limits.theta_high, self.highest))
-        self.rates = (self.rate_of(self.forces.low), self.rate_of(self.forces.high))  # torque rates, s⁻²
+        # sin θ at the head and the top, the force range's torque rates (s⁻²): a plan's fields are not changed
+        self.head, self.top, self.rates = _bounds(self.setup, self.highest)
+        self.coefficients = self.recipe.coefficients
 
     def build(self, drift):
         pieces, release, hold, theta0 = self.pieces()
-        recipe = self.recipe.replace(force=_profile(pieces), t_end=pieces[-1].end, theta0=theta0,
-                                     omega0=self.start.omega if self.start is not None else 0.0, name="designed")
+        base = self.recipe
+        recipe = Recipe(force=_profile(pieces), model=base.model, t_end=pieces[-1].end, theta0=theta0,
+                        omega0=self.start.omega if self.start is not None else 0.0, cor=base.cor, stick=base.stick,
+                        gravity=base.gravity, name="designed")
+        # the base's coefficients (the same model and stick), not worked out again for every design: as the
+        # recipe's cached property keeps them
+        recipe.__dict__["coefficients"] = self.coefficients
         stroke = simulate(recipe)
         errors = self.check(stroke, release, drift)
         return Design(recipe, release, self.times, self.levels, self.end, tuple(pieces), stroke, hold, errors)
@@ -526,6 +544,17 @@ class _Plan:
         n = len(self.times)
         if n < 2:
             return []
+        settled = settled_flights(self.times, self.speeds, cor=self.recipe.cor, sh=self.head, top=self.top,
+                                  rates=self.rates, theta_max=self.recipe.theta_max,
+                                  max_acceleration=self.limits.max_acceleration, switch=_SWITCH,
+                                  rounds=_SETTLE_ROUNDS)
+        # a flight fails (or needs a quadrature): the same rounds one flight at a time, which say where and why
+        return settled if settled is not None else self.flights_one_by_one()
+
+    def flights_one_by_one(self):
+        """:meth:`flights` in Python, each flight checked as it is solved: raises :class:`Unreachable` at the first
+        that fails."""
+        n = len(self.times)
         plain = [self.bounce(i) for i in range(n - 1)]
         # each change happens in the flight it is part of, near its end or its start
         heights = [self.head + _SWITCH * (flight.apex - self.head) for flight in plain]
@@ -601,7 +630,7 @@ class _Plan:
     def throw(self, v):
         """The torque rate and rest height (sin θ) of the default approach onto a note at speed ``v``."""
         head, top = self.head, self.top
-        low, high = self.rate_of(self.forces.low), self.rate_of(self.forces.high)
+        low, high = self.rates
         height = apex_for_fall(self.lead, v=v, sh=head, top=top)
         rate = force_to_reach(v, (top if height is None else height) - head)
         if rate > high:
@@ -636,7 +665,7 @@ class _Plan:
         mirrors its throw; only if that would carry the stick above the joint's range is it held harder.
         """
         head, top, last = self.head, self.top, len(self.times) - 1
-        low, high = self.rate_of(self.forces.low), self.rate_of(self.forces.high)
+        low, high = self.rates
         if self.end == "catch" and self.catch_at is not None:
             apex = math.sin(self.catch_at)
             rate = force_to_reach(u, apex - head) if apex > head else math.inf
@@ -728,14 +757,17 @@ class _Plan:
             raise SimulationError(f"the designed stroke made {len(impacts)} impacts for {n} notes (a bug: please "
                                   "report it with the notes)")
         time_errors = np.abs(impacts.t[:n] + release - self.times)
-        level_errors = np.abs(impacts.level_db[:n] - self.levels)
-        off = (time_errors > drift[0]) | (level_errors > drift[1])
-        if off.any():
+        # Impacts.level_db of the notes' impacts, without its error state (a listed impact's ω is never 0)
+        level_errors = np.abs(20.0 * np.log10(np.abs(impacts.omega[:n]) * impacts.tip_distance / LEVEL_REFERENCE)
+                              - self.levels)
+        worst = max(time_errors.tolist()), max(level_errors.tolist())
+        if worst[0] > drift[0] or worst[1] > drift[1]:
+            off = (time_errors > drift[0]) | (level_errors > drift[1])
             k = int(np.argmax(off))
             raise Unreachable(f"note {k} (t = {self.times[k]:.6g} s): the bounces before it drift, {time_errors[k]:.3g} s "
                               f"and {level_errors[k]:.3g} dB off by the solver (a long chain of flights that enlarges "
                               "small errors); play it as a new stroke", note=k, drift=True)
-        return float(time_errors.max()), float(level_errors.max())
+        return worst
 
 
 def flights_within(times, levels, *, setup=None):
@@ -749,15 +781,8 @@ def flights_within(times, levels, *, setup=None):
     list of bool [len(times) − 1]
     """
     plan = _Plan.of(times, levels, None, start=None, end="catch", setup=setup, lead=LEAD, tail=None)
-    within = []
-    for i in range(len(plan.times) - 1):
-        try:
-            plan.bounce(i)
-        except Unreachable:
-            within.append(False)
-        else:
-            within.append(True)
-    return within
+    return possible_flights(plan.times, plan.speeds, cor=plan.recipe.cor, sh=plan.head, top=plan.top, rates=plan.rates,
+                            theta_max=plan.recipe.theta_max, max_acceleration=plan.limits.max_acceleration)
 
 
 def catch_height(last, following, gap, *, setup=None, lead=LEAD):
@@ -849,9 +874,7 @@ def ready_height(level, *, setup=None, lead=LEAD):
 
 def check_notes(times, levels, velocities):
     """The notes' times (s) and levels (dB) as arrays, checked (see :func:`design`)."""
-    from .._checks import check_vector
-
-    times = check_vector("times", times, low=-1e6, high=1e6, unit="s")
+    times = _vector("times", times, low=-1e6, high=1e6, unit="s")
     if len(times) == 0:
         raise ParameterError("times must hold at least one note, got none")
     if (levels is None) == (velocities is None):
@@ -861,16 +884,26 @@ def check_notes(times, levels, velocities):
         levels = np.array([velocity_to_level(float(v)) for v in velocities])
     else:
         # the map's ends to round-off: velocity_to_level(127) lands a rounding above CEILING_DB
-        levels = check_vector("levels", levels, low=FLOOR_DB - 1e-9, high=CEILING_DB + 1e-9, unit="dB re 1 m/s")
+        levels = _vector("levels", levels, low=FLOOR_DB - 1e-9, high=CEILING_DB + 1e-9, unit="dB re 1 m/s")
     if len(levels) != len(times):
         raise ParameterError(f"levels must give one level per note: {len(times)} times, {len(levels)} levels")
-    gaps = times[1:] - times[:-1]  # np.diff's arithmetic without its wrapper (at every design)
-    close = gaps < MIN_GAP
-    if close.any():
-        i = int(np.argmax(close)) + 1
-        raise ParameterError(f"times must increase by at least {MIN_GAP:g} s from note to note; note {i} at "
-                             f"{float(times[i])!r} s follows {float(times[i - 1])!r} s")
+    listed = times.tolist()
+    for i in range(1, len(listed)):
+        if listed[i] - listed[i - 1] < MIN_GAP:
+            raise ParameterError(f"times must increase by at least {MIN_GAP:g} s from note to note; note {i} at "
+                                 f"{listed[i]!r} s follows {listed[i - 1]!r} s")
     return times, levels
+
+
+def _vector(name, values, *, low, high, unit):
+    """:func:`~drumstroke._checks.check_vector`'s array, its usual case (every entry in range) checked in plain Python.
+
+    At every design: numpy's reductions cost more than the check on a few notes.
+    """
+    vector = as_vector(name, values)
+    if all(low <= x <= high for x in vector.tolist()):  # NaN fails every comparison
+        return vector
+    return check_vector(name, values, low=low, high=high, unit=unit)
 
 
 def _accumulation(u, rate, head, cor):

@@ -31,7 +31,7 @@ Examples
 """
 
 import math
-from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -150,18 +150,19 @@ def force_to_reach(speed, rise):
 
 
 
+@jit
 def orbit_time(s, w, c):
     """Time (s) between the state (sin θ = ``s``, |ω| = ``w``) and the apex of its orbit under ``c`` (a libration)."""
     return time_from_apex(s, abs(w), c, parameter(s, w, c))
 
 
-@dataclass(frozen=True)
-class Flight:
+class Flight(NamedTuple):
     """A flight from the head to the head with its forces (torque rates, s⁻²) and switch times (s from its start).
 
     ``rise`` acts from ``t_rise`` (0, or the end of a short first part under ``first``) to the apex at
     ``t_apex``; ``fall`` from the apex to ``t_last`` (the flight's end, or the start of a short last part
-    under ``last``).
+    under ``last``). A named tuple: a design solves dozens (each flight again until its neighbours' forces
+    settle), and a frozen dataclass costs more to make than the flight to solve.
     """
 
     apex: float
@@ -186,17 +187,26 @@ def solve_flight(duration, *, u, v, sh, top, first=None, last=None):
     """
     s0, w0, t0 = _near_head(first, u, sh)
     s1, w1, t1 = _near_head(last, v, sh)
-    if w0 == 0.0 or w1 == 0.0:
-        return None
-    span = duration - t0 - t1
-    if span <= 0.0:
-        return None
-    apex = _solve_apex(span, w0, w1, s0, s1, top)
+    apex, rise, fall, t_apex = _flight(duration, s0, w0, t0, s1, w1, t1, top)
     if math.isnan(apex):
         return None
+    return Flight(apex, rise, fall, t0, t_apex, duration - t1, duration, None if first is None else first[0],
+                  None if last is None else last[0])
+
+
+@jit
+def _flight(duration, s0, w0, t0, s1, w1, t1, top):
+    """:func:`solve_flight`'s apex (sin θ), its two torque rates (s⁻²) and the apex time (s), NaN for none."""
+    if w0 == 0.0 or w1 == 0.0:
+        return math.nan, math.nan, math.nan, math.nan
+    span = duration - t0 - t1
+    if span <= 0.0:
+        return math.nan, math.nan, math.nan, math.nan
+    apex = _solve_apex(span, w0, w1, s0, s1, top)
+    if math.isnan(apex):
+        return math.nan, math.nan, math.nan, math.nan
     t_apex = t0 + height_time(apex, s0) / w0
-    return Flight(apex, force_to_reach(w0, apex - s0), force_to_reach(w1, apex - s1), t0, t_apex, duration - t1,
-                  duration, None if first is None else first[0], None if last is None else last[0])
+    return apex, w0 * w0 / (2.0 * (apex - s0)), w1 * w1 / (2.0 * (apex - s1)), t_apex
 
 
 def _near_head(part, speed, sh):
@@ -209,8 +219,130 @@ def _near_head(part, speed, sh):
     if part is None:
         return sh, speed, 0.0
     rate, height = part
+    w, duration = _part(sh, speed, height, rate)
+    if math.isnan(duration):  # a rotation orbit: by quadrature
+        duration = part_time(sh, speed, height, w, rate)
+    return height, w, duration
+
+
+@jit
+def _part(sh, speed, height, rate):
+    """|ω| (rad/s) where a part under ``rate`` from the head at ``speed`` reaches ``height``, and its duration (s) on a
+    libration orbit (:func:`part_time`'s first case; 0 if it does not get there; NaN on a rotation orbit)."""
     w = math.sqrt(max(speed * speed - 2.0 * rate * (height - sh), 0.0))
-    return height, w, (part_time(sh, speed, height, w, rate) if w > 0.0 else 0.0)
+    if w <= 0.0:
+        return w, 0.0
+    if parameter(sh, speed, rate) < 1.0:
+        return w, orbit_time(sh, speed, rate) - orbit_time(height, w, rate)
+    return w, math.nan
+
+
+def settled_flights(times, speeds, *, cor, sh, top, rates, theta_max, max_acceleration, switch, rounds):
+    """The flights of a chain of notes, each with its neighbours' forces next to the head, settled; or None.
+
+    :meth:`drumstroke.design.chain._Plan.flights`'s rounds, compiled: the flights solved as if the force
+    changed at the impacts, then again with the short parts (at ``switch`` of each flight's height) until
+    the forces settle. None when a flight of any round fails a check of the plan's (no apex, a force
+    outside ``rates`` ± 1e-9 relative, an acceleration over ``max_acceleration``) or needs a part on a
+    rotation orbit: the plan then solves them one by one, and says which note fails and why.
+
+    Returns
+    -------
+    list of Flight or None
+    """
+    table = _settle(np.asarray(times, dtype=float), np.asarray(speeds, dtype=float), cor, sh, top, rates[0],
+                    rates[1], math.cos(theta_max), max_acceleration, switch, rounds)
+    if table is None:
+        return None
+    return [Flight(*row[:7].tolist(), None if math.isnan(row[7]) else float(row[7]),
+                   None if math.isnan(row[8]) else float(row[8])) for row in table]
+
+
+def possible_flights(times, speeds, *, cor, sh, top, rates, theta_max, max_acceleration):
+    """For each pair of consecutive notes, whether the flight between them (its force changed at the impacts)
+    passes the plan's checks (:func:`settled_flights`'): list of bool [len(times) − 1]."""
+    return _possible(np.asarray(times, dtype=float), np.asarray(speeds, dtype=float), cor, sh, top, rates[0], rates[1],
+                     math.cos(theta_max), max_acceleration).tolist()
+
+
+@jit
+def _possible(times, speeds, cor, sh, top, low, high, head_cos, max_acceleration):
+    n = len(times) - 1
+    row = np.empty((n, 9))
+    within = np.empty(n, dtype=np.bool_)
+    for i in range(n):
+        within[i] = _bounce(row, i, times, speeds, cor, sh, top, low, high, head_cos, max_acceleration, False, 0.0,
+                            False, 0.0, 0.0)
+    return within
+
+
+@jit
+def _settle(times, speeds, cor, sh, top, low, high, head_cos, max_acceleration, switch, rounds):
+    """:func:`settled_flights`'s rounds: a row per flight (its Flight's fields, NaN for no part), or None."""
+    n = len(times) - 1
+    plain = np.empty((n, 9))
+    for i in range(n):
+        if not _bounce(plain, i, times, speeds, cor, sh, top, low, high, head_cos, max_acceleration, False, 0.0,
+                       False, 0.0, 0.0):
+            return None
+    heights = np.empty(n)
+    for i in range(n):
+        heights[i] = sh + switch * (plain[i, 0] - sh)
+    before = np.zeros(n, dtype=np.bool_)
+    for i in range(1, n):
+        before[i] = plain[i, 1] < plain[i - 1, 2]
+    flights = plain
+    for _ in range(rounds):
+        settled = np.empty((n, 9))
+        for i in range(n):
+            has_first = i > 0 and not before[i]
+            has_last = i + 1 < n and before[i + 1]
+            if not _bounce(settled, i, times, speeds, cor, sh, top, low, high, head_cos, max_acceleration, has_first,
+                           flights[i - 1, 2] if has_first else 0.0, has_last, flights[i + 1, 1] if has_last else 0.0,
+                           heights[i]):
+                return None
+        change = -math.inf
+        largest = -math.inf
+        for i in range(n):
+            change = max(change, abs(settled[i, 2] - flights[i, 2]) + abs(settled[i, 1] - flights[i, 1]))
+            largest = max(largest, settled[i, 2])
+        flights = settled
+        if change <= 1e-13 * largest:
+            break
+    return flights
+
+
+@jit
+def _bounce(out, i, times, speeds, cor, sh, top, low, high, head_cos, max_acceleration, has_first, first, has_last,
+            last, height):
+    """Row i of ``out``: the flight from note i to note i + 1 (:func:`solve_flight`); False if it fails a check."""
+    u, v = cor * speeds[i], speeds[i + 1]
+    duration = times[i + 1] - times[i]
+    s0, w0, t0 = sh, u, 0.0
+    if has_first:
+        w0, t0 = _part(sh, u, height, first)
+        s0 = height
+    s1, w1, t1 = sh, v, 0.0
+    if has_last:
+        w1, t1 = _part(sh, v, height, last)
+        s1 = height
+    if math.isnan(t0) or math.isnan(t1):  # a rotation orbit: its part by quadrature, in Python
+        return False
+    apex, rise, fall, t_apex = _flight(duration, s0, w0, t0, s1, w1, t1, top)
+    if math.isnan(apex):
+        return False
+    slack = 1e-9 * max(abs(low), abs(high))
+    for rate in (rise, fall):
+        if not (low - slack <= rate <= high + slack):
+            return False
+    lowest_cos = max(head_cos, math.sqrt(max(0.0, 1.0 - apex * apex)))
+    if max(rise, fall) * (1.0 if apex >= 0.0 else lowest_cos) > max_acceleration:
+        return False
+    out[i, 0], out[i, 1], out[i, 2], out[i, 3], out[i, 4] = apex, rise, fall, t0, t_apex
+    out[i, 5], out[i, 6] = duration - t1, duration
+    out[i, 7] = first if has_first else math.nan
+    out[i, 8] = last if has_last else math.nan
+    return True
 
 
 _NODES, _WEIGHTS = np.polynomial.legendre.leggauss(24)

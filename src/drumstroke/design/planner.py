@@ -35,7 +35,8 @@ from ..errors import ParameterError
 from ..palette.motion import Limits, assemble, plan_return, return_time
 from ..trajectory import DEFAULT_RATE
 from .buzz import DENSITY, buzz_times
-from .chain import LEAD, Start, Unreachable, catch_height, design, flights_within, ready_height, standard_throw
+from .chain import (LEAD, Start, Unreachable, catch_height, design, design_pieces, flights_within, ready_height,
+                    standard_throw)
 from .setup import Setup
 
 KINDS = ("auto", "buzz")
@@ -345,8 +346,8 @@ class _Planner:
         height = self.ending(last, following)[1]
         if height is None:
             return False
-        try:
-            design([following.t], [following.level], start=Start(last.t + 1e-9, height), setup=self.setup)
+        try:  # its forces and its timing decide it, in closed form: the stroke itself is designed later
+            design_pieces([following.t], [following.level], start=Start(last.t + 1e-9, height), setup=self.setup)
         except Unreachable:
             return False
         return True

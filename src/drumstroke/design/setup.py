@@ -53,6 +53,12 @@ class ForceRange:
         object.__setattr__(self, "high", high)
 
 
+@functools.cache
+def _default(kind):
+    """The default of a frozen parameter type, made once and shared: a caller may make a setup at every design."""
+    return kind()
+
+
 @dataclass(frozen=True)
 class Setup:
     """The context of every design and plan of one stick.
@@ -78,9 +84,9 @@ class Setup:
 
     model: str = "paper"
     cor: float = DEFAULT_COR
-    stick: Stick = field(default_factory=Stick)
-    forces: ForceRange = field(default_factory=ForceRange)
-    limits: Limits = field(default_factory=Limits)
+    stick: Stick = field(default_factory=functools.partial(_default, Stick))
+    forces: ForceRange = field(default_factory=functools.partial(_default, ForceRange))
+    limits: Limits = field(default_factory=functools.partial(_default, Limits))
     moves: Limits | None = None
 
     def __post_init__(self):
