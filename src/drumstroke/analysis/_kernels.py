@@ -75,30 +75,194 @@ def jump_near(x, i, width):
 
 @jit
 def row_dots(a, b):
-    """``np.einsum("ij,ij->i", a, b)`` summed as numpy sums it (its loop for rows contiguous along j, in
-    the x86-64 baseline's 2-lane vectors): lane by lane, 4 vectors a step from the last, the lanes added at the end."""
+    """``np.einsum("ij,ij->i", a, b)``, each row summed as :func:`pair_dot` sums it."""
     out = np.empty(a.shape[0])
-    n = a.shape[1]
     for i in range(a.shape[0]):
-        even, odd = 0.0, 0.0
-        j = 0
-        while n - j >= 8:
-            e = a[i, j + 6] * b[i, j + 6] + even
-            o = a[i, j + 7] * b[i, j + 7] + odd
-            e = a[i, j + 4] * b[i, j + 4] + e
-            o = a[i, j + 5] * b[i, j + 5] + o
-            e = a[i, j + 2] * b[i, j + 2] + e
-            o = a[i, j + 3] * b[i, j + 3] + o
-            even = a[i, j] * b[i, j] + e
-            odd = a[i, j + 1] * b[i, j + 1] + o
-            j += 8
-        while j < n:
-            even = a[i, j] * b[i, j] + even
-            if j + 1 < n:
-                odd = a[i, j + 1] * b[i, j + 1] + odd
-            j += 2
-        out[i] = even + odd
+        out[i] = pair_dot(a[i], b[i])
     return out
+
+
+@jit
+def pair_dot(a, b):
+    """``np.einsum("i,i->", a, b)`` of two vectors as numpy sums it (its loop for contiguous rows, in the x86-64
+    baseline's 2-lane vectors): lane by lane, 4 vectors a step from the last, the lanes added at the end."""
+    n = len(a)
+    even, odd = 0.0, 0.0
+    j = 0
+    while n - j >= 8:
+        e = a[j + 6] * b[j + 6] + even
+        o = a[j + 7] * b[j + 7] + odd
+        e = a[j + 4] * b[j + 4] + e
+        o = a[j + 5] * b[j + 5] + o
+        e = a[j + 2] * b[j + 2] + e
+        o = a[j + 3] * b[j + 3] + o
+        even = a[j] * b[j] + e
+        odd = a[j + 1] * b[j + 1] + o
+        j += 8
+    while j < n:
+        even = a[j] * b[j] + even
+        if j + 1 < n:
+            odd = a[j + 1] * b[j + 1] + odd
+        j += 2
+    return even + odd
+
+
+@jit
+def window_dot(x, start, t):
+    """``x[start:start + len(t)] @ t`` as numpy's matmul sums a row of a sliding window (not a BLAS call): in order."""
+    total = 0.0
+    for j in range(len(t)):
+        total += x[start + j] * t[j]
+    return total
+
+
+@jit
+def likeness_at(x, start, t, energy):
+    """The correlation of ``x`` from ``start`` with ``t`` (whose energy is ``energy``) and their dot product, as
+    :func:`.onsets._best_lag` computes them."""
+    dot = window_dot(x, start, t)
+    own = pair_dot(x[start:start + len(t)], x[start:start + len(t)])
+    return dot / (math.sqrt(own * energy) + 1e-300), dot
+
+
+@jit
+def best_lag(x, template, low, count, energy):
+    """:func:`.onsets._best_lag` over the ``count`` windows of ``x`` from ``low``: the best window, its dot product
+    with ``template`` and its correlation (the first of the largest)."""
+    best, at, at_dot = -np.inf, 0, 0.0
+    for k in range(count):
+        like, dot = likeness_at(x, low + k, template, energy)
+        if like > best:
+            best, at, at_dot = like, k, dot
+    return at, at_dot, best
+
+
+@jit
+def next_attack(x, head, low, high, pre, reach, base, width, energy, rise, likeness, least):
+    """:func:`.onsets._next_attack` once its bounds are checked: the sample, or -1.
+
+    The window from each sample ``n`` in ``[low, high)`` is ``x[n - pre:n - pre + len(head)]``; its jump is
+    :func:`.onsets._windows`' (``width``) over ``x[base:high]``, the power summed in order from ``x[base]``.
+    Correlations are computed only where the window rises ``rise`` (power ratio) times, in order, until one passes.
+    """
+    count = high - base
+    power = np.zeros(count + 1)
+    for j in range(count):
+        power[j + 1] = power[j] + x[base + j] * x[base + j]
+    for i in range(high - low):
+        n = i + low - base
+        after = (power[min(n + width, count)] - power[n]) / width
+        before = (power[n] - power[max(n - 4 * width, 0)]) / (4 * width)
+        if not after >= rise * before:
+            continue
+        like, dot = likeness_at(x, low - pre + i, head, energy)
+        if like >= likeness and dot >= least * energy:
+            best, at = like, i
+            for k in range(i + 1, min(i + reach + 1, high - low)):
+                like, _ = likeness_at(x, low - pre + k, head, energy)
+                if like > best:
+                    best, at = like, k
+            return low + at
+    return -1
+
+
+@jit
+def pursue(r, positions, centres, basis, gram, solve, head, head_norm, lead, width, tail):
+    """:func:`.onsets._pursue`'s loop: ``r`` (the innovation, changed in place) less each onset's fitted signature.
+
+    ``basis`` holds the signature (and its derivative) as columns, ``gram`` its normal equations and ``solve``
+    their solution for it; ``centres`` are the rounded ``positions``. Returns the jumps, likenesses, where each
+    fits, where each fitted signature starts and its scale.
+    """
+    count, n = len(centres), len(r)
+    size, m = basis.shape
+    half = max(1, width // 2)
+    jumps, likeness = np.zeros(count), np.zeros(count)
+    where = positions.copy()
+    at, amp = np.zeros(count, dtype=np.int64), np.zeros(count)
+    weights, fitted = np.empty((5, m)), np.empty(m)  # each alignment's weights, and one's times gram
+    cost = np.empty(5)
+    for i in range(count):
+        c = centres[i]
+        low, high = max(0, c - half - 4 * width), min(n, c + half + width + 1)
+        jumps[i] = jump_near(r, c, width) if high - low > width else 0.0
+        first, last = max(c - lead - 2, 0), min(c - lead + 2, n - size)  # the five alignments that fit in r
+        if last < first:
+            continue
+        like = -np.inf
+        for k in range(last - first + 1):
+            s = first + k
+            dot = window_dot(r, s, head)
+            like = max(like, abs(dot) / (math.sqrt(pair_dot(r[s:s + len(head)], r[s:s + len(head)])) * head_norm
+                                         + 1e-300))
+            for q in range(m):
+                weights[k, q] = window_dot(r, s, solve[q])
+            fitted[:] = 0.0
+            for q in range(m):
+                for p in range(m):
+                    fitted[q] += weights[k, p] * gram[p, q]
+            cost[k] = pair_dot(r[s:s + size], r[s:s + size]) - pair_dot(weights[k], fitted)
+        likeness[i] = like
+        k = int(np.argmin(cost[:last - first + 1]))
+        s = first + k
+        for j in range(size):
+            fit = 0.0
+            for q in range(m):
+                fit += basis[j, q] * weights[k, q]
+            r[s + j] -= fit
+        if len(tail) > size:
+            for j in range(s + size, min(n, s + len(tail))):
+                r[j] -= weights[k, 0] * tail[j - s]
+        at[i], amp[i] = s, weights[k, 0]
+        shift = -weights[k, 1] / weights[k, 0] if m > 1 and weights[k, 0] != 0.0 else 0.0
+        where[i] = s + lead + min(max(shift, -1.0), 1.0)
+    return jumps, likeness, where, at, amp
+
+
+@jit
+def best_trial(y, basis, grams, lags, total):
+    """:func:`.onsets._best_trial`: the index in ``lags`` of the best trial (-1 for none), its weights and F statistic.
+
+    Each trial's 2-by-2 normal equations (ridged by 1e-12 of the first's trace) are solved by Gaussian elimination
+    with partial pivoting, as LAPACK's ``gesv`` solves them.
+    """
+    size = len(y)
+    ridge = 1e-12 * (grams[size - lags[0] - 1, 0, 0] + grams[size - lags[0] - 1, 1, 1])
+    best, at = -np.inf, -1
+    chosen = np.zeros(2)
+    for k in range(len(lags)):
+        lag = lags[k]
+        b0, b1 = 0.0, 0.0  # the window from the lag on (zeros past) times each column, in order
+        for j in range(size - lag):
+            b0 += y[lag + j] * basis[j, 0]
+            b1 += y[lag + j] * basis[j, 1]
+        g = grams[size - lag - 1]
+        w0, w1 = solve_2x2(g[0, 0] + ridge, g[0, 1], g[1, 0], g[1, 1] + ridge, b0, b1)
+        if not (np.isfinite(w0) and np.isfinite(w1)):
+            return -1, chosen, 0.0
+        drop = w0 * b0 + w1 * b1 if w0 > 0.0 else -np.inf  # what the trial's fit takes off the window
+        if drop > best:
+            best, at = drop, k
+            chosen[0], chosen[1] = w0, w1
+    if at < 0 or not np.isfinite(best):
+        return -1, chosen, 0.0
+    return at, chosen, (best / 2.0) / max(total - best, 1e-300) * (size - 4)
+
+
+@jit
+def solve_2x2(a00, a01, a10, a11, b0, b1):
+    """The solution of ``[[a00, a01], [a10, a11]] w = [b0, b1]`` by Gaussian elimination with partial pivoting (as
+    LAPACK's ``gesv``); NaN where the matrix is singular."""
+    if abs(a10) > abs(a00):
+        a00, a01, a10, a11, b0, b1 = a10, a11, a00, a01, b1, b0
+    if a00 == 0.0:
+        return np.nan, np.nan
+    ratio = a10 / a00
+    pivot = a11 - ratio * a01
+    if pivot == 0.0:
+        return np.nan, np.nan
+    w1 = (b1 - ratio * b0) / pivot
+    return (b0 - a01 * w1) / a00, w1
 
 
 @jit

@@ -1225,17 +1225,15 @@ def _best_lag(x, template, start, reach):
     Returns the lag (samples), the template's least-squares scale there and the correlation (0 when
     no window fits in ``x``).
     """
-    from numpy.lib.stride_tricks import sliding_window_view
+    from ._kernels import best_lag
 
     low, high = max(0, start - reach), min(len(x), start + reach + len(template))
     if high - low < len(template):
         return 0, 0.0, 0.0
-    windows = sliding_window_view(x[low:high], len(template))
+    template = np.ascontiguousarray(template, dtype=float)
     energy = template @ template
-    dot = windows @ template
-    like = dot / (np.sqrt(np.einsum("ij,ij->i", windows, windows) * energy) + 1e-300)
-    k = int(np.argmax(like))
-    return low + k - start, float(dot[k] / energy), float(like[k])
+    k, dot, like = best_lag(x, template, low, high - low - len(template) + 1, energy)
+    return low + k - start, float(dot / energy), float(like)
 
 
 def _next_attack(x, head, low, high, pre, reach, rate, config):
@@ -1247,23 +1245,17 @@ def _next_attack(x, head, low, high, pre, reach, rate, config):
     attacks, which the template's start may look like too); moved to the best correlation within
     ``reach`` samples after.
     """
-    from numpy.lib.stride_tricks import sliding_window_view
+    from ._kernels import next_attack
 
     high = min(high, len(x) - len(head) + pre)
     if high <= low or low < pre:
         return None
-    windows = sliding_window_view(x[low - pre:high - pre + len(head)], len(head))[:high - low]
-    energy = head @ head
-    dot = windows @ head
-    like = dot / (np.sqrt(np.einsum("ij,ij->i", windows, windows) * energy) + 1e-300)
-    after, before, _ = _windows(x[max(0, low - 4 * round(1e-3 * rate)):high], rate)
-    after, before = after[-(high - low):], before[-(high - low):]
-    rises = after >= config.min_jump ** 2 * before
-    first = np.flatnonzero((like >= config.template_likeness) & (dot >= 10.0 ** (config.threshold_db / 20.0) * energy)
-                           & rises)
-    if not len(first):
-        return None
-    return low + int(first[0]) + int(np.argmax(like[first[0]:first[0] + reach + 1]))
+    head = np.ascontiguousarray(head, dtype=float)
+    found = next_attack(x, head, low, high, pre, reach, max(0, low - 4 * round(1e-3 * rate)), max(12, round(1e-3 * rate)),
+                        head @ head, config.min_jump ** 2, config.template_likeness,
+                        10.0 ** (config.threshold_db / 20.0))
+    return None if found < 0 else int(found)
+
 
 def _out_of_decay(band, rate, candidates, amplitude, config):
     """Step 5's last part: a quiet or a close attack that does not rise out of the sound before it is no attack.
@@ -1710,7 +1702,7 @@ def _pursue(e, positions, rate, config, tail=None):
     past the signature is taken off too, scaled by the signature's fit. ``positions`` and ``rate``
     are in samples of ``e`` and Hz. Returns a :class:`_Pursuit`.
     """
-    from ._kernels import jump_near, row_dots
+    from ._kernels import pursue
 
     length = max(4, round(config.signature * rate))
     peak = int(np.argmax(np.abs(e)))
@@ -1723,37 +1715,13 @@ def _pursue(e, positions, rate, config, tail=None):
     if not np.all(np.isfinite(gram)) or np.linalg.cond(gram) > 1e12:  # no signature to fit: nothing taken off
         return _Pursuit(e.copy(), _jump_at(e, positions, rate, config.modes_width), np.ones(len(positions)),
                         positions.copy(), np.round(positions).astype(np.int64), np.zeros(len(positions)), template)
-    solve = np.linalg.solve(gram, basis.T)
+    solve = np.ascontiguousarray(np.linalg.solve(gram, basis.T))
     head = template[:lead + config.head]
-    head_norm = float(np.sqrt(head @ head))
-    width = max(config.modes_width, round(1e-3 * rate))
-    half = max(1, width // 2)
     r = e.copy()
-    jumps = np.zeros(len(positions))
-    likeness = np.zeros(len(positions))
-    where = positions.copy()
-    at, amp = np.zeros(len(positions), dtype=np.int64), np.zeros(len(positions))
-    for i, c in enumerate(np.round(positions).astype(np.int64).tolist()):
-        # the jump: the next window's power over the 4 windows before, the largest within half a window
-        low, high = max(0, c - half - 4 * width), min(len(r), c + half + width + 1)
-        jumps[i] = jump_near(r, c, width) if high - low > width else 0.0
-        first, last = max(c - lead - 2, 0), min(c - lead + 2, len(r) - size)  # the five alignments that fit in r
-        if last < first:
-            continue
-        block = _frames(r, first, last - first + 1, size)
-        heads = block[:, :len(head)]
-        likeness[i] = float(np.max(np.abs(heads @ head) / (np.sqrt(row_dots(heads, heads)) * head_norm + 1e-300)))
-        weights = block @ solve.T
-        cost = row_dots(block, block) - row_dots(weights, weights @ gram)
-        k = int(np.argmin(cost))
-        s = first + k
-        r[s:s + size] -= basis @ weights[k]
-        if tail is not None and len(tail) > size:
-            stop = min(len(r), s + len(tail))
-            r[s + size:stop] -= weights[k][0] * tail[size:stop - s]
-        at[i], amp[i] = s, weights[k][0]
-        shift = -weights[k][1] / weights[k][0] if len(weights[k]) > 1 and weights[k][0] != 0.0 else 0.0
-        where[i] = s + lead + min(max(shift, -1.0), 1.0)
+    jumps, likeness, where, at, amp = pursue(
+        r, positions, np.round(positions).astype(np.int64), np.ascontiguousarray(basis), gram, solve, head,
+        float(np.sqrt(head @ head)), lead, max(config.modes_width, round(1e-3 * rate)),
+        np.empty(0) if tail is None else np.ascontiguousarray(tail, dtype=float))
     return _Pursuit(r, jumps, likeness, where, at, amp, template)
 
 
@@ -1806,23 +1774,12 @@ def _best_trial(y, basis, grams, lags):
     parameters against what is left of ``y`` (``len(y) - 4`` degrees of freedom: the window's own
     attack's two parameters too), or ``(None, None, None)`` when no trial has a positive scale.
     """
-    from numpy.lib.stride_tricks import sliding_window_view
+    from ._kernels import best_trial
 
-    size = len(y)
-    total = float(y @ y)
-    windows = sliding_window_view(np.concatenate((y, np.zeros(size))), size)[lags]  # from each trial on; zeros past
-    rhs = np.stack([windows @ basis[:, 0], windows @ basis[:, 1]], axis=1)
-    gram = grams[size - lags - 1]
-    try:
-        weights = np.linalg.solve(gram + 1e-12 * np.trace(gram[0]) * np.eye(2), rhs[:, :, None])[:, :, 0]
-    except np.linalg.LinAlgError:
-        return None, None, None
-    drop = np.einsum("ij,ij->i", weights, rhs)  # what each trial's fit takes off the window
-    drop[weights[:, 0] <= 0.0] = -np.inf
-    k = int(np.argmax(drop))
-    if not np.isfinite(drop[k]):
-        return None, None, None
-    return k, weights[k], (drop[k] / 2.0) / max(total - drop[k], 1e-300) * (size - 4)
+    y = np.ascontiguousarray(y, dtype=float)
+    k, weights, f = best_trial(y, np.ascontiguousarray(basis, dtype=float), grams, np.asarray(lags, dtype=np.int64),
+                               float(y @ y))
+    return (None, None, None) if k < 0 else (int(k), weights, float(f))
 
 
 def _level_corner(band, rate, onsets, config):
