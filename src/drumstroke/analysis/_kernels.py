@@ -30,6 +30,35 @@ def aic(x):
 
 
 @jit
+def change_points(x, peaks, width):
+    """:func:`aic` of ``x`` from ``4 width`` before each of ``peaks`` to ``2 width`` after: the change points (samples of ``x``)."""
+    out = np.empty(len(peaks), dtype=np.int64)
+    for i in range(len(peaks)):
+        low = max(0, peaks[i] - 4 * width)
+        out[i] = low + aic(x[low:peaks[i] + 2 * width])
+    return out
+
+
+@jit
+def unpredicted(x, coefficients, start, stop):
+    """``x[start:stop]`` less its prediction by the error filter ``coefficients`` from the samples before ``start``
+    (each predicted sample predicting the next); as it is when ``start`` is within the filter's order."""
+    order = len(coefficients) - 1
+    out = x[start:stop].copy()
+    if start < order:
+        return out
+    past = np.zeros(order + stop - start)
+    past[:order] = x[start - order:start]
+    for j in range(stop - start):
+        total = 0.0  # the taps, oldest first, times the past
+        for k in range(order):
+            total += -coefficients[order - k] * past[j + k]
+        past[order + j] = total
+        out[j] -= total
+    return out
+
+
+@jit
 def waited(candidates, gap, first):
     """The ``candidates`` (sorted) each more than ``gap`` after the last kept, greedily; sample 0 first when ``first``."""
     kept = np.empty(len(candidates) + 1, dtype=np.int64)
@@ -200,8 +229,11 @@ def next_attack(x, head, low, high, pre, reach, base, width, energy, rise, liken
         before = (power[n] - power[max(n - 4 * width, 0)]) / (4 * width)
         if not after >= rise * before:
             continue
+        dot = window_dot(x, low - pre + i, head)
+        if not dot >= least * energy:  # (the correlation only where the scale passes)
+            continue
         like, dot = likeness_at(x, low - pre + i, head, energy)
-        if like >= likeness and dot >= least * energy:
+        if like >= likeness:
             best, at = like, i
             for k in range(i + 1, min(i + reach + 1, high - low)):
                 like, _ = likeness_at(x, low - pre + k, head, energy)

@@ -1594,7 +1594,7 @@ def _jumps(x, rate, min_interval, least, samples=12):
     A long signal is taken in blocks of :data:`_BLOCK` samples (overlapping by more than the windows
     and ``min_interval``), so memory does not grow with its length.
     """
-    from ._kernels import aic, jump_profile
+    from ._kernels import change_points, jump_profile
 
     width = max(samples, round(1e-3 * rate))
     gap = max(1, round(min_interval * rate))
@@ -1606,7 +1606,8 @@ def _jumps(x, rate, min_interval, least, samples=12):
         found = _peak_pick(jump, gap)
         found = found[(jump[found] >= least) & (low + found >= start) & (low + found < start + _BLOCK)]
         peaks += list(low + found)
-    return [max(0, p - 4 * width) + aic(x[max(0, p - 4 * width):p + 2 * width]) for p in peaks]
+    x = np.ascontiguousarray(x, dtype=float)
+    return change_points(x, np.array(peaks, dtype=np.int64), width).tolist()
 
 
 def _peak_pick(x, gap):
@@ -1855,16 +1856,11 @@ def _residual_peak(x, coefficients, start, stop, interpolator=None):
 
     With ``interpolator`` (a 4-times upsampling low-pass FIR), the peak between samples.
     """
-    order = len(coefficients) - 1
+    from ._kernels import unpredicted
+
     if stop <= start:
         return 0.0
-    actual = x[start:stop]
-    if start >= order:
-        past = np.concatenate((x[start - order:start], np.zeros(stop - start)))
-        taps = -coefficients[:0:-1]  # oldest first
-        for j in range(stop - start):
-            past[order + j] = taps @ past[j:order + j]
-        actual = actual - past[order:]
+    actual = unpredicted(x, np.ascontiguousarray(coefficients, dtype=float), start, stop)
     if interpolator is None or len(actual) < 2:
         return float(np.abs(actual).max())
     from scipy.signal import upfirdn
