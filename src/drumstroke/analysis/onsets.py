@@ -1488,9 +1488,9 @@ def _best_template(rest, start, following, templates, need, shift):
 
 def _high_pass(signal, rate, corner):
     """``signal`` less its rumble and DC: a 2nd-order Butterworth high-pass at ``corner`` Hz."""
-    from scipy.signal import sosfilt
+    from ._kernels import second_order
 
-    return sosfilt(_high_pass_sections(corner, rate).copy(), signal)  # (a copy: the design is shared)
+    return second_order(_high_pass_sections(corner, rate), np.ascontiguousarray(signal, dtype=float))
 
 
 @cache
@@ -1526,11 +1526,11 @@ def _decimate(band, rate, q, corner=None):
     """
     if q == 1 and corner is None:
         return band, rate, 0.0
-    from scipy.signal import sosfilt
+    from ._kernels import low_pass_every
 
     corner = 0.8 * rate / q / 2.0 if corner is None else min(corner, 0.8 * rate / q / 2.0)
     sos, delay = _low_pass(corner, rate)
-    return sosfilt(sos.copy(), band)[::q].copy(), rate / q, delay  # (a copy: the design is shared)
+    return low_pass_every(sos, np.ascontiguousarray(band, dtype=float), q), rate / q, delay
 
 
 @cache
