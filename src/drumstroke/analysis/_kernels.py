@@ -109,6 +109,19 @@ def low_pass_every(sos, x, q):
 
 
 @jit
+def upsampled_peak(h, x):
+    """``np.abs(scipy.signal.upfirdn(h, x, 4)).max()``: the largest magnitude of ``x`` upsampled 4 times by the FIR ``h``
+    (summed in another order: the same to rounding)."""
+    best = 0.0
+    for n in range((len(x) - 1) * 4 + len(h)):
+        total = 0.0
+        for m in range(max(0, (n - len(h)) // 4 + 1), min(len(x), n // 4 + 1)):
+            total += x[m] * h[n - 4 * m]
+        best = max(best, abs(total))
+    return best
+
+
+@jit
 def waited(candidates, gap, first):
     """The ``candidates`` (sorted) each more than ``gap`` after the last kept, greedily; sample 0 first when ``first``."""
     kept = np.empty(len(candidates) + 1, dtype=np.int64)

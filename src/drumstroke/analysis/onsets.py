@@ -1509,11 +1509,17 @@ def _decimation(band, rate):
     starts = np.unique(np.linspace(0, len(band) - size, min(_SPECTRA, (len(band) - size) // (size // 2) + 1))
                        .astype(np.int64))  # half-overlapping frames, or as many spread over a long file
     frames = _frames(band, 0, len(band) - size + 1, size)[starts] * np.hanning(size)
-    power = np.abs(np.fft.rfft(frames, axis=1).T) ** 2
+    # each frame's energy over its spectrum's bins (Parseval's, the half spectrum's end bins once): only the
+    # quietest and the loudest tenths are transformed
+    alternate = np.where(np.arange(size) % 2 == 0, 1.0, -1.0)
+    energy = (size * np.einsum("ij,ij->i", frames, frames) + frames.sum(axis=1) ** 2 + (frames @ alternate) ** 2) / 2.0
     frequencies = np.fft.rfftfreq(size, 1.0 / rate)
-    energy = power.sum(axis=0)
-    noise = power[:, energy <= np.quantile(energy, 0.1)].mean(axis=1)
-    loud = power[:, energy >= np.quantile(energy, 0.9)].mean(axis=1)
+
+    def mean_power(which):
+        return np.ascontiguousarray(np.abs(np.fft.rfft(frames[which], axis=1).T) ** 2).mean(axis=1)
+
+    noise = mean_power(energy <= np.quantile(energy, 0.1))
+    loud = mean_power(energy >= np.quantile(energy, 0.9))
     good = np.flatnonzero(loud > 100.0 * noise)
     top = frequencies[good[-1]] if len(good) else frequencies[-1]
     return int(max(1, min(rate // (2.5 * max(top, 1.0)), rate // 2000)))
@@ -1685,12 +1691,15 @@ def _merge(tonal, broadband, gap, deep=(), strong=None):
 
 def _away(candidates, known, gap):
     """The ``candidates`` farther than ``gap`` from their nearest neighbours in ``known`` (sorted), in order."""
-    kept = []
-    for s in candidates:
-        near = np.searchsorted(known, s)
-        if all(abs(known[j] - s) > gap for j in (near - 1, near) if 0 <= j < len(known)):
-            kept.append(s)
-    return kept
+    known = np.asarray(known, dtype=float)
+    if not len(known):
+        return list(candidates)
+    at = np.asarray(candidates, dtype=float)
+    near = np.searchsorted(known, at)
+    before = np.abs(known[np.maximum(near - 1, 0)] - at) > gap
+    after = np.abs(known[np.minimum(near, len(known) - 1)] - at) > gap
+    far = (before | (near == 0)) & (after | (near == len(known)))
+    return [s for s, keep in zip(candidates, far.tolist()) if keep]
 
 
 def _pursue(e, positions, rate, config, tail=None):
@@ -1820,10 +1829,12 @@ def _attack_amplitudes(low, coefficients, positions, rate, *, tail=0, sure=None,
     onsets. ``sure`` (booleans, one per onset): the onsets so measured and whose tails are taken off;
     ``ridge``: the tail's fit's (:func:`_room_tail`).
     """
-    from scipy.signal import firwin, lfilter, upfirdn
+    from scipy.signal import lfilter
+
+    from ._kernels import upsampled_peak
 
     horizon = max(2, round(5e-3 * rate))
-    interpolator = 4.0 * firwin(81, 0.25, window=("kaiser", 5.0))  # as scipy's resample_poly(x, 4, 1)
+    interpolator = _interpolator()
     starts = np.clip(np.round(positions).astype(np.int64), 0, len(low))
     stops = [min(len(low), k + horizon, starts[i + 1] if i + 1 < len(starts) else len(low))
              for i, k in enumerate(starts)]
@@ -1847,8 +1858,16 @@ def _attack_amplitudes(low, coefficients, positions, rate, *, tail=0, sure=None,
                 part = h[lag:lag + stop - k]
                 own[:len(part)] -= amplitude[j] * part
         own = lfilter([1.0], coefficients, own)  # the predictor's response: the sound less its extrapolation
-        out[i] = float(np.abs(upfirdn(interpolator, np.concatenate((np.zeros(4), own, np.zeros(4))), 4)).max())
+        out[i] = upsampled_peak(interpolator, np.concatenate((np.zeros(4), own, np.zeros(4))))
     return out
+
+
+@cache
+def _interpolator():
+    """A 4-times upsampling low-pass FIR, as scipy's ``resample_poly(x, 4, 1)`` designs it."""
+    from scipy.signal import firwin
+
+    return 4.0 * firwin(81, 0.25, window=("kaiser", 5.0))
 
 
 def _residual_peak(x, coefficients, start, stop, interpolator=None):
@@ -1856,17 +1875,15 @@ def _residual_peak(x, coefficients, start, stop, interpolator=None):
 
     With ``interpolator`` (a 4-times upsampling low-pass FIR), the peak between samples.
     """
-    from ._kernels import unpredicted
+    from ._kernels import unpredicted, upsampled_peak
 
     if stop <= start:
         return 0.0
     actual = unpredicted(x, np.ascontiguousarray(coefficients, dtype=float), start, stop)
     if interpolator is None or len(actual) < 2:
         return float(np.abs(actual).max())
-    from scipy.signal import upfirdn
-
     padded = np.concatenate((np.zeros(4), actual, np.zeros(4)))  # the new sound starts from nothing
-    return float(np.abs(upfirdn(interpolator, padded, 4)).max())
+    return upsampled_peak(interpolator, padded)
 
 
 def _noise_floor(x, rate, quantile):
