@@ -427,25 +427,31 @@ def peak_pick(x, gap):
     least their predecessor's and their mean, more than ``gap`` after the last kept (greedily)."""
     count = len(x)
     size = 2 * gap  # x[n - gap:n + gap], -inf past the ends (as scipy's maximum_filter1d of that size)
-    padded = np.full(count + 2 * size, -np.inf)
-    padded[gap:gap + count] = x
-    prefix = padded.copy()  # the largest from each block's start of ``size`` samples, and to its end (van Herk)
-    suffix = padded.copy()
-    for start in range(0, len(padded), size):
-        stop = min(len(padded), start + size)
-        for j in range(start + 1, stop):
-            prefix[j] = max(prefix[j - 1], padded[j])
-        for j in range(stop - 2, start - 1, -1):
-            suffix[j] = max(suffix[j + 1], padded[j])
-    largest = np.empty(count)
-    for n in range(count):
-        largest[n] = max(suffix[n], prefix[n + size - 1])
+    total = count + 2 * size
+    # van Herk's sliding maximum over x padded with ``gap`` -inf before (padded[j] = x[j - gap]), in blocks of
+    # ``size`` from the padded start: the largest of x[n - gap:n + gap] is the larger of the largest from n's padded
+    # place to its block's end (suffix) and the largest from the next block's start to n + size - 1 (prefix);
+    # one block's of each at a time
+    suffix, prefix = np.empty(size), np.empty(size)
     candidates = np.empty(count, dtype=np.int64)
     found = 0
-    for n in range(1, count):
-        if x[n] == largest[n] and x[n] >= (x[n - 1] + x[n]) / 2.0:
-            candidates[found] = n
-            found += 1
+    for start in range(0, count, size):
+        stop = min(total, start + size)
+        largest = -np.inf
+        for j in range(stop - 1, start - 1, -1):
+            if gap <= j < gap + count:
+                largest = max(largest, x[j - gap])
+            suffix[j - start] = largest
+        largest = -np.inf
+        for j in range(stop, min(total, stop + size)):
+            if gap <= j < gap + count:
+                largest = max(largest, x[j - gap])
+            prefix[j - stop] = largest
+        for n in range(max(start, 1), min(stop, count)):
+            largest = suffix[0] if n == start else max(suffix[n - start], prefix[n - start - 1])
+            if x[n] == largest and x[n] >= (x[n - 1] + x[n]) / 2.0:
+                candidates[found] = n
+                found += 1
     first = True
     for n in range(min(gap, count)):
         if x[n] > x[0]:
