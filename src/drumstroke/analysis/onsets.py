@@ -727,16 +727,17 @@ class _Innovation:
 @dataclass(frozen=True)
 class _Modes(_Innovation):
     """The drum's modes' band of step 4: its innovation, the room's ``tail`` once fitted, whether the
-    recording is ``reverberant``, and the ``offset`` (full-rate samples) of the times fitted there from
-    the precise times (:func:`_retime`)."""
+    recording is ``reverberant``, the ``offset`` (full-rate samples) of the times fitted there from
+    the precise times (:func:`_retime`), and the ``signature`` :func:`_pursue` fits (:func:`_signature`, once)."""
 
     tail: np.ndarray | None = None
     reverberant: bool = False
     offset: float = 0.0
+    signature: "_Signature | None" = field(default=None, compare=False)
 
     def pursue(self, samples, config):
         """:func:`_pursue` of the onsets at full-rate ``samples``, the room's tail taken off with each."""
-        return _pursue(self.e, self.at(samples), self.rate, config, tail=self.tail)
+        return _pursue(self.e, self.at(samples), self.rate, config, tail=self.tail, signature=self.signature)
 
     def jumps(self, residual, config):
         """Where ``residual`` (in the band) jumps ``config.min_jump`` times, as a list of full-rate samples."""
@@ -868,7 +869,8 @@ def _modes_band(band, rate, q, first, config):
     """
     q2 = max(q, rate // config.modes_rate)
     modes_band, modes_rate, modes_delay = _decimate(band, rate, q2)
-    modes = _Modes(_robust_innovation(modes_band, config.modes_order)[1], q2, modes_delay, modes_rate)
+    e = _robust_innovation(modes_band, config.modes_order)[1]
+    modes = _Modes(e, q2, modes_delay, modes_rate, signature=_signature(e, modes_rate, config))  # fitted once
     pursuit = modes.pursue(first, config)
     tail = _room_tail(modes.e, pursuit.at, pursuit.amplitude, round(config.tail * modes.rate), config.tail_ridge)
     if tail is None:
@@ -1702,7 +1704,36 @@ def _away(candidates, known, gap):
     return [s for s, keep in zip(candidates, far.tolist()) if keep]
 
 
-def _pursue(e, positions, rate, config, tail=None):
+@dataclass(frozen=True)
+class _Signature:
+    """The signature :func:`_pursue` fits: the loudest attack's innovation from ``lead`` samples before its largest
+    spike, its least-squares ``basis`` (the signature and its derivative, as columns), their normal equations
+    ``gram`` and ``solve`` (the least-squares weights of a window are ``solve @ window``; None when the basis is too
+    ill-conditioned to fit), and its start ``head`` (the spike and ``config.head`` samples)."""
+
+    template: np.ndarray
+    basis: np.ndarray
+    gram: np.ndarray
+    solve: np.ndarray | None
+    head: np.ndarray
+    lead: int
+
+
+def _signature(e, rate, config):
+    """The :class:`_Signature` of the innovation ``e`` (at ``rate`` Hz)."""
+    length = max(4, round(config.signature * rate))
+    peak = int(np.argmax(np.abs(e)))
+    lead = min(2, peak)
+    template = e[peak - lead:peak + length].copy()
+    basis = np.column_stack([template, np.gradient(template)]) if len(template) > 1 else template[:, None].copy()
+    gram = basis.T @ basis
+    solve = None
+    if np.all(np.isfinite(gram)) and np.linalg.cond(gram) <= 1e12:
+        solve = np.ascontiguousarray(np.linalg.solve(gram, basis.T))
+    return _Signature(template, basis, gram, solve, template[:lead + config.head], lead)
+
+
+def _pursue(e, positions, rate, config, tail=None, signature=None):
     """``e`` less each onset's signature, the onsets taken in time order; how each onset rises over what went before.
 
     The signature is the innovation of the loudest attack (its largest spike and the
@@ -1710,29 +1741,24 @@ def _pursue(e, positions, rate, config, tail=None):
     fraction of a sample's shift) at the best of five alignments and taken off before the next.
     With ``tail`` (a longer response, from the signature's start: :func:`_room_tail`), its part
     past the signature is taken off too, scaled by the signature's fit. ``positions`` and ``rate``
-    are in samples of ``e`` and Hz. Returns a :class:`_Pursuit`.
+    are in samples of ``e`` and Hz; ``signature`` is :func:`_signature`'s of ``e`` when it is known.
+    Returns a :class:`_Pursuit`.
     """
     from ._kernels import pursue
 
-    length = max(4, round(config.signature * rate))
-    peak = int(np.argmax(np.abs(e)))
-    lead = min(2, peak)
-    template = e[peak - lead:peak + length].copy()
-    size = len(template)
-    basis = np.column_stack([template, np.gradient(template)]) if size > 1 else template[:, None]
-    gram = basis.T @ basis
+    signature = _signature(e, rate, config) if signature is None else signature
     positions = np.asarray(positions, dtype=float)
-    if not np.all(np.isfinite(gram)) or np.linalg.cond(gram) > 1e12:  # no signature to fit: nothing taken off
+    if signature.solve is None:  # no signature to fit: nothing taken off
         return _Pursuit(e.copy(), _jump_at(e, positions, rate, config.modes_width), np.ones(len(positions)),
-                        positions.copy(), np.round(positions).astype(np.int64), np.zeros(len(positions)), template)
-    solve = np.ascontiguousarray(np.linalg.solve(gram, basis.T))
-    head = template[:lead + config.head]
+                        positions.copy(), np.round(positions).astype(np.int64), np.zeros(len(positions)),
+                        signature.template)
+    head = signature.head
     r = e.copy()
     jumps, likeness, where, at, amp = pursue(
-        r, positions, np.round(positions).astype(np.int64), np.ascontiguousarray(basis), gram, solve, head,
-        float(np.sqrt(head @ head)), lead, max(config.modes_width, round(1e-3 * rate)),
+        r, positions, np.round(positions).astype(np.int64), signature.basis, signature.gram, signature.solve, head,
+        float(np.sqrt(head @ head)), signature.lead, max(config.modes_width, round(1e-3 * rate)),
         np.empty(0) if tail is None else np.ascontiguousarray(tail, dtype=float))
-    return _Pursuit(r, jumps, likeness, where, at, amp, template)
+    return _Pursuit(r, jumps, likeness, where, at, amp, signature.template)
 
 
 def _room_tail(e, at, amp, length, ridge):
