@@ -122,6 +122,23 @@ def upsampled_peak(h, x):
 
 
 @jit
+def frame_energies(x, starts, window):
+    """The energy over the bins of ``numpy.fft.rfft`` of each frame ``x[s:s + len(window)] * window`` (``s`` in
+    ``starts``), by Parseval's theorem: the half spectrum counts its first and last bins once."""
+    size = len(window)
+    out = np.empty(len(starts))
+    for i in range(len(starts)):
+        power, total, alternate = 0.0, 0.0, 0.0
+        for j in range(size):
+            v = x[starts[i] + j] * window[j]
+            power += v * v
+            total += v
+            alternate += v if j % 2 == 0 else -v
+        out[i] = (size * power + total * total + alternate * alternate) / 2.0
+    return out
+
+
+@jit
 def waited(candidates, gap, first):
     """The ``candidates`` (sorted) each more than ``gap`` after the last kept, greedily; sample 0 first when ``first``."""
     kept = np.empty(len(candidates) + 1, dtype=np.int64)

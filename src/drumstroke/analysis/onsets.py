@@ -1505,20 +1505,21 @@ def _high_pass_sections(corner, rate):
 
 def _decimation(band, rate):
     """How far to decimate: to ≥ 2.5 times the top of the band 20 dB over the noise floor, ≥ 2 kHz."""
+    from ._kernels import frame_energies
+
     size = 1 << int(np.ceil(np.log2(rate * 0.02)))
     if len(band) < 4 * size:
         return 1
     starts = np.unique(np.linspace(0, len(band) - size, min(_SPECTRA, (len(band) - size) // (size // 2) + 1))
                        .astype(np.int64))  # half-overlapping frames, or as many spread over a long file
-    frames = _frames(band, 0, len(band) - size + 1, size)[starts] * np.hanning(size)
-    # each frame's energy over its spectrum's bins (Parseval's, the half spectrum's end bins once): only the
-    # quietest and the loudest tenths are transformed
-    alternate = np.where(np.arange(size) % 2 == 0, 1.0, -1.0)
-    energy = (size * np.einsum("ij,ij->i", frames, frames) + frames.sum(axis=1) ** 2 + (frames @ alternate) ** 2) / 2.0
+    window = np.hanning(size)
+    # each frame's energy over its spectrum's bins (Parseval's): only the quietest and the loudest tenths are transformed
+    energy = frame_energies(np.ascontiguousarray(band, dtype=float), starts, window)
     frequencies = np.fft.rfftfreq(size, 1.0 / rate)
 
     def mean_power(which):
-        return np.ascontiguousarray(np.abs(np.fft.rfft(frames[which], axis=1).T) ** 2).mean(axis=1)
+        frames = _frames(band, 0, len(band) - size + 1, size)[starts[which]] * window
+        return np.ascontiguousarray(np.abs(np.fft.rfft(frames, axis=1).T) ** 2).mean(axis=1)
 
     noise = mean_power(energy <= np.quantile(energy, 0.1))
     loud = mean_power(energy >= np.quantile(energy, 0.9))
