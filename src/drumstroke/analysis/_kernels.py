@@ -139,6 +139,23 @@ def frame_energies(x, starts, window):
 
 
 @jit
+def residual_peaks(x, coefficients, starts, stops, h):
+    """The peak of each ``x[starts[i]:stops[i]]`` less its linear prediction from the samples before (:func:`unpredicted`),
+    between samples (:func:`upsampled_peak`, ``h`` the 4-times upsampling FIR; 0 where the span is empty)."""
+    out = np.zeros(len(starts))
+    pad = np.zeros(4)
+    for i in range(len(starts)):
+        if stops[i] <= starts[i]:
+            continue
+        actual = unpredicted(x, coefficients, starts[i], stops[i])
+        if len(actual) < 2:
+            out[i] = np.abs(actual).max()
+        else:
+            out[i] = upsampled_peak(h, np.concatenate((pad, actual, pad)))  # the new sound starts from nothing
+    return out
+
+
+@jit
 def waited(candidates, gap, first):
     """The ``candidates`` (sorted) each more than ``gap`` after the last kept, greedily; sample 0 first when ``first``."""
     kept = np.empty(len(candidates) + 1, dtype=np.int64)

@@ -1858,14 +1858,15 @@ def _attack_amplitudes(low, coefficients, positions, rate, *, tail=0, sure=None,
     """
     from scipy.signal import lfilter
 
-    from ._kernels import upsampled_peak
+    from ._kernels import residual_peaks, upsampled_peak
 
     horizon = max(2, round(5e-3 * rate))
     interpolator = _interpolator()
     starts = np.clip(np.round(positions).astype(np.int64), 0, len(low))
     stops = [min(len(low), k + horizon, starts[i + 1] if i + 1 < len(starts) else len(low))
              for i, k in enumerate(starts)]
-    amplitude = np.array([_residual_peak(low, coefficients, k, stop, interpolator) for k, stop in zip(starts, stops)])
+    amplitude = residual_peaks(np.ascontiguousarray(low, dtype=float), np.ascontiguousarray(coefficients, dtype=float),
+                               starts, np.array(stops, dtype=np.int64), interpolator)
     inside = starts < len(low)
     if tail <= 0 or not np.any(inside):
         return amplitude
@@ -1895,22 +1896,6 @@ def _interpolator():
     from scipy.signal import firwin
 
     return 4.0 * firwin(81, 0.25, window=("kaiser", 5.0))
-
-
-def _residual_peak(x, coefficients, start, stop, interpolator=None):
-    """The peak of ``x[start:stop]`` less its linear prediction from the samples before ``start``.
-
-    With ``interpolator`` (a 4-times upsampling low-pass FIR), the peak between samples.
-    """
-    from ._kernels import unpredicted, upsampled_peak
-
-    if stop <= start:
-        return 0.0
-    actual = unpredicted(x, np.ascontiguousarray(coefficients, dtype=float), start, stop)
-    if interpolator is None or len(actual) < 2:
-        return float(np.abs(actual).max())
-    padded = np.concatenate((np.zeros(4), actual, np.zeros(4)))  # the new sound starts from nothing
-    return upsampled_peak(interpolator, padded)
 
 
 def _noise_floor(x, rate, quantile):
