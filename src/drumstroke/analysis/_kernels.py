@@ -254,58 +254,52 @@ def likeness_at(x, start, t, energy):
 @jit
 def best_lag(x, template, low, count, energy):
     """:func:`.onsets._best_lag` over the ``count`` windows of ``x`` from ``low``: the best window, its dot product
-    with ``template`` and its correlation (the first of the largest).
+    with ``template`` and its correlation (the first of the largest), each as :func:`likeness_at` computes it.
 
-    Four windows at a time, each summed as :func:`likeness_at` sums it: four chains of additions the processor
-    runs side by side.
+    The dot products are summed four windows at a time (four chains of additions side by side). A window's
+    energy is first bounded from running sums (their rounding bounded, whatever the windows' levels), which
+    bounds its correlation; only the windows whose bound reaches the best lower bound have it summed as
+    :func:`likeness_at` sums it, and the best of those is the best of all.
     """
-    best, at, at_dot = -np.inf, 0, 0.0
-    likes, dots = np.empty(4), np.empty(4)
-    for k in range(0, count, 4):
-        if count - k < 4:
-            for j in range(count - k):
-                likes[j], dots[j] = likeness_at(x, low + k + j, template, energy)
-        else:
-            four_likenesses(x, low + k, template, energy, likes, dots)
-        for j in range(min(4, count - k)):
-            if likes[j] > best:
-                best, at, at_dot = likes[j], k + j, dots[j]
-    return at, at_dot, best
+    size = len(template)
+    span = count + size - 1
+    power = np.zeros(span + 1)
+    for j in range(span):
+        power[j + 1] = power[j] + x[low + j] * x[low + j]
+    slack = 4.0 * (span + 2) * 2.220446049250313e-16 * power[span]  # more than either sum's rounding
+    dots = np.empty(count)
+    for k in range(0, count - 3, 4):
+        four_dots(x, low + k, template, dots, k)
+    for k in range(count - count % 4, count):
+        dots[k] = window_dot(x, low + k, template)
+    upper = np.empty(count)
+    floor = -np.inf  # the best lower bound
+    for k in range(count):
+        own = power[k + size] - power[k]
+        a = dots[k] / (math.sqrt(max(own - slack, 0.0) * energy) + 1e-300)
+        b = dots[k] / (math.sqrt((own + slack) * energy) + 1e-300)
+        upper[k] = max(a, b)
+        floor = max(floor, min(a, b))
+    best, at = -np.inf, 0
+    for k in range(count):
+        if upper[k] >= floor:
+            own = pair_dot(x[low + k:low + k + size], x[low + k:low + k + size])
+            like = dots[k] / (math.sqrt(own * energy) + 1e-300)
+            if like > best:
+                best, at = like, k
+    return at, dots[at], best
 
 
 @jit
-def four_likenesses(x, start, t, energy, likes, dots):
-    """:func:`likeness_at` of the four windows from ``start``, into ``likes`` and ``dots``."""
-    n = len(t)
+def four_dots(x, start, t, out, at):
+    """:func:`window_dot` of the four windows from ``start``, into ``out[at:at + 4]``."""
     d0, d1, d2, d3 = 0.0, 0.0, 0.0, 0.0
-    for j in range(n):
+    for j in range(len(t)):
         d0 += x[start + j] * t[j]
         d1 += x[start + 1 + j] * t[j]
         d2 += x[start + 2 + j] * t[j]
         d3 += x[start + 3 + j] * t[j]
-    e0, e1, e2, e3 = 0.0, 0.0, 0.0, 0.0  # pair_dot's even and odd lanes of each window
-    o0, o1, o2, o3 = 0.0, 0.0, 0.0, 0.0
-    j = 0
-    while n - j >= 8:
-        for step in range(6, -1, -2):
-            p = start + j + step
-            a, b, c, d, f = x[p], x[p + 1], x[p + 2], x[p + 3], x[p + 4]
-            e0, e1, e2, e3 = a * a + e0, b * b + e1, c * c + e2, d * d + e3
-            o0, o1, o2, o3 = b * b + o0, c * c + o1, d * d + o2, f * f + o3
-        j += 8
-    while j < n:
-        p = start + j
-        a, b, c, d = x[p], x[p + 1], x[p + 2], x[p + 3]
-        e0, e1, e2, e3 = a * a + e0, b * b + e1, c * c + e2, d * d + e3
-        if j + 1 < n:
-            f = x[p + 4]
-            o0, o1, o2, o3 = b * b + o0, c * c + o1, d * d + o2, f * f + o3
-        j += 2
-    own = (e0 + o0, e1 + o1, e2 + o2, e3 + o3)
-    dot = (d0, d1, d2, d3)
-    for w in range(4):
-        dots[w] = dot[w]
-        likes[w] = dot[w] / (math.sqrt(own[w] * energy) + 1e-300)
+    out[at], out[at + 1], out[at + 2], out[at + 3] = d0, d1, d2, d3
 
 
 @jit
