@@ -855,9 +855,11 @@ def _heard_jumps(band, rate, tonal, config):
     broadband = [k - 0.5 for k in _jumps(np.diff(band, prepend=band[0]), rate, config.min_interval,
                                          config.broadband_jump)]  # the difference is centred ½ sample early
 
+    # each tonal onset's rise, once (the merges ask for it again and again)
+    rises = dict(zip(tonal_onsets, _jump_at(tonal.e, tonal.at(np.array(tonal_onsets, dtype=float)), tonal.rate)))
+
     def strong(tonal_at, broadband_at):  # a sharp attack's change point, and a broadband jump of its beating apart
-        return abs(tonal_at - broadband_at) > config.disagreement * rate and _jump_at(
-            tonal.e, [tonal.at(tonal_at)], tonal.rate)[0] >= config.strong_rise
+        return abs(tonal_at - broadband_at) > config.disagreement * rate and rises[tonal_at] >= config.strong_rise
 
     return _Heard(tonal_onsets, broadband, strong, config.min_interval * rate)
 
