@@ -44,11 +44,14 @@ def unpredicted(x, coefficients, start, stop):
     """``x[start:stop]`` less its prediction by the error filter ``coefficients`` from the samples before ``start``
     (each predicted sample predicting the next); as it is when ``start`` is within the filter's order."""
     order = len(coefficients) - 1
-    out = x[start:stop].copy()
+    out = np.empty(stop - start)
+    for j in range(stop - start):
+        out[j] = x[start + j]
     if start < order:
         return out
-    past = np.zeros(order + stop - start)
-    past[:order] = x[start - order:start]
+    past = np.empty(order + stop - start)
+    for j in range(order):
+        past[j] = x[start - order + j]
     for j in range(stop - start):
         total = 0.0  # the taps, oldest first, times the past
         for k in range(order):
@@ -143,15 +146,17 @@ def residual_peaks(x, coefficients, starts, stops, h):
     """The peak of each ``x[starts[i]:stops[i]]`` less its linear prediction from the samples before (:func:`unpredicted`),
     between samples (:func:`upsampled_peak`, ``h`` the 4-times upsampling FIR; 0 where the span is empty)."""
     out = np.zeros(len(starts))
-    pad = np.zeros(4)
     for i in range(len(starts)):
         if stops[i] <= starts[i]:
             continue
         actual = unpredicted(x, coefficients, starts[i], stops[i])
         if len(actual) < 2:
-            out[i] = np.abs(actual).max()
-        else:
-            out[i] = upsampled_peak(h, np.concatenate((pad, actual, pad)))  # the new sound starts from nothing
+            out[i] = abs(actual[0])
+            continue
+        padded = np.zeros(len(actual) + 8)  # the new sound starts from nothing
+        for j in range(len(actual)):
+            padded[4 + j] = actual[j]
+        out[i] = upsampled_peak(h, padded)
     return out
 
 
@@ -371,7 +376,10 @@ def pursue(r, positions, centres, basis, gram, solve, head, head_norm, lead, wid
                     fitted[q] += weights[k, p] * gram[p, q]
             cost[k] = pair_dot(r[s:s + size], r[s:s + size]) - pair_dot(weights[k], fitted)
         likeness[i] = like
-        k = int(np.argmin(cost[:last - first + 1]))
+        k = 0  # the first of the least costs
+        for j in range(1, last - first + 1):
+            if cost[j] < cost[k]:
+                k = j
         s = first + k
         for j in range(size):
             fit = 0.0
