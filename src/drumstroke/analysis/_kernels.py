@@ -1,4 +1,6 @@
-"""The onset detector's compiled loops (:mod:`.onsets`): each computes what the numpy (or librosa) code it replaced did, in the same order.
+"""The onset detector's compiled loops (:mod:`.onsets`): each computes what the numpy, scipy (or librosa) code it
+replaced did, in the same order, except where its docstring says otherwise (a product numpy gave to BLAS, a
+solve to LAPACK, a filter to scipy's C: added in order here, the same to rounding).
 
 They are a module of their own so that importing :mod:`drumstroke.analysis` does not import numba
 (:mod:`drumstroke._jit`); :mod:`.onsets` imports them where it runs them.
@@ -345,7 +347,9 @@ def pursue(r, positions, centres, basis, gram, solve, head, head_norm, lead, wid
 
     ``basis`` holds the signature (and its derivative) as columns, ``gram`` its normal equations and ``solve``
     their solution for it; ``centres`` are the rounded ``positions``. Returns the jumps, likenesses, where each
-    fits, where each fitted signature starts and its scale.
+    fits, where each fitted signature starts and its scale. The windows' products are summed as numpy's matmul
+    sums a sliding window's rows (in order), their row sums as its einsum; the fit taken off (``basis`` times the
+    weights, numpy's BLAS call) in order.
     """
     count, n = len(centres), len(r)
     size, m = basis.shape
