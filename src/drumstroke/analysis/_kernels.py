@@ -1,4 +1,6 @@
-"""The onset detector's compiled loops (:mod:`.onsets`): each computes what the numpy (or librosa) code it replaced did, in the same order.
+"""The onset detector's compiled loops (:mod:`.onsets`): each computes what the numpy, scipy (or librosa) code it
+replaced did, in the same order, except where its docstring says otherwise (a product numpy gave to BLAS, a
+solve to LAPACK, a filter to scipy's C: added in order here, the same to rounding).
 
 They are a module of their own so that importing :mod:`drumstroke.analysis` does not import numba
 (:mod:`drumstroke._jit`); :mod:`.onsets` imports them where it runs them.
@@ -27,6 +29,137 @@ def aic(x):
         if aic < best:
             best, at = aic, k - 1
     return at + 1
+
+
+@jit
+def change_points(x, peaks, width):
+    """:func:`aic` of ``x`` from ``4 width`` before each of ``peaks`` to ``2 width`` after: the change points (samples of ``x``)."""
+    out = np.empty(len(peaks), dtype=np.int64)
+    for i in range(len(peaks)):
+        low = max(0, peaks[i] - 4 * width)
+        out[i] = low + aic(x[low:peaks[i] + 2 * width])
+    return out
+
+
+@jit
+def unpredicted(x, coefficients, start, stop):
+    """``x[start:stop]`` less its prediction by the error filter ``coefficients`` from the samples before ``start``
+    (each predicted sample predicting the next); as it is when ``start`` is within the filter's order."""
+    order = len(coefficients) - 1
+    out = np.empty(stop - start)
+    for j in range(stop - start):
+        out[j] = x[start + j]
+    if start < order:
+        return out
+    past = np.empty(order + stop - start)
+    for j in range(order):
+        past[j] = x[start - order + j]
+    for j in range(stop - start):
+        total = 0.0  # the taps, oldest first, times the past
+        for k in range(order):
+            total += -coefficients[order - k] * past[j + k]
+        past[order + j] = total
+        out[j] -= total
+    return out
+
+
+@jit
+def second_order(sos, x):
+    """``scipy.signal.sosfilt(sos, x)`` for one second-order section: the same operations."""
+    b0, b1, b2, a1, a2 = sos[0, 0], sos[0, 1], sos[0, 2], sos[0, 4], sos[0, 5]
+    z0 = z1 = 0.0
+    out = np.empty(len(x))
+    for i in range(len(x)):
+        v = x[i]
+        y = b0 * v + z0
+        z0 = b1 * v - a1 * y + z1
+        z1 = b2 * v - a2 * y
+        out[i] = y
+    return out
+
+
+@jit
+def low_pass_every(sos, x, q):
+    """``scipy.signal.sosfilt(sos, x)[::q]`` for 4 second-order sections (an 8th-order filter): the same
+    operations, each section's state in registers, only the samples kept stored."""
+    b00, b01, b02, a01, a02 = sos[0, 0], sos[0, 1], sos[0, 2], sos[0, 4], sos[0, 5]
+    b10, b11, b12, a11, a12 = sos[1, 0], sos[1, 1], sos[1, 2], sos[1, 4], sos[1, 5]
+    b20, b21, b22, a21, a22 = sos[2, 0], sos[2, 1], sos[2, 2], sos[2, 4], sos[2, 5]
+    b30, b31, b32, a31, a32 = sos[3, 0], sos[3, 1], sos[3, 2], sos[3, 4], sos[3, 5]
+    z00 = z01 = z10 = z11 = z20 = z21 = z30 = z31 = 0.0
+    out = np.empty((len(x) + q - 1) // q)
+    skip = 0
+    for i in range(len(x)):
+        v = x[i]
+        y = b00 * v + z00
+        z00 = b01 * v - a01 * y + z01
+        z01 = b02 * v - a02 * y
+        v = y
+        y = b10 * v + z10
+        z10 = b11 * v - a11 * y + z11
+        z11 = b12 * v - a12 * y
+        v = y
+        y = b20 * v + z20
+        z20 = b21 * v - a21 * y + z21
+        z21 = b22 * v - a22 * y
+        v = y
+        y = b30 * v + z30
+        z30 = b31 * v - a31 * y + z31
+        z31 = b32 * v - a32 * y
+        if skip == 0:
+            out[i // q] = y
+            skip = q
+        skip -= 1
+    return out
+
+
+@jit
+def upsampled_peak(h, x):
+    """``np.abs(scipy.signal.upfirdn(h, x, 4)).max()``: the largest magnitude of ``x`` upsampled 4 times by the FIR ``h``
+    (summed in another order: the same to rounding)."""
+    best = 0.0
+    for n in range((len(x) - 1) * 4 + len(h)):
+        total = 0.0
+        for m in range(max(0, (n - len(h)) // 4 + 1), min(len(x), n // 4 + 1)):
+            total += x[m] * h[n - 4 * m]
+        best = max(best, abs(total))
+    return best
+
+
+@jit
+def frame_energies(x, starts, window):
+    """The energy over the bins of ``numpy.fft.rfft`` of each frame ``x[s:s + len(window)] * window`` (``s`` in
+    ``starts``), by Parseval's theorem: the half spectrum counts its first and last bins once."""
+    size = len(window)
+    out = np.empty(len(starts))
+    for i in range(len(starts)):
+        power, total, alternate = 0.0, 0.0, 0.0
+        for j in range(size):
+            v = x[starts[i] + j] * window[j]
+            power += v * v
+            total += v
+            alternate += v if j % 2 == 0 else -v
+        out[i] = (size * power + total * total + alternate * alternate) / 2.0
+    return out
+
+
+@jit
+def residual_peaks(x, coefficients, starts, stops, h):
+    """The peak of each ``x[starts[i]:stops[i]]`` less its linear prediction from the samples before (:func:`unpredicted`),
+    between samples (:func:`upsampled_peak`, ``h`` the 4-times upsampling FIR; 0 where the span is empty)."""
+    out = np.zeros(len(starts))
+    for i in range(len(starts)):
+        if stops[i] <= starts[i]:
+            continue
+        actual = unpredicted(x, coefficients, starts[i], stops[i])
+        if len(actual) < 2:
+            out[i] = abs(actual[0])
+            continue
+        padded = np.zeros(len(actual) + 8)  # the new sound starts from nothing
+        for j in range(len(actual)):
+            padded[4 + j] = actual[j]
+        out[i] = upsampled_peak(h, padded)
+    return out
 
 
 @jit
@@ -75,30 +208,241 @@ def jump_near(x, i, width):
 
 @jit
 def row_dots(a, b):
-    """``np.einsum("ij,ij->i", a, b)`` summed as numpy sums it (its loop for rows contiguous along j, in
-    the x86-64 baseline's 2-lane vectors): lane by lane, 4 vectors a step from the last, the lanes added at the end."""
+    """``np.einsum("ij,ij->i", a, b)``, each row summed as :func:`pair_dot` sums it."""
     out = np.empty(a.shape[0])
-    n = a.shape[1]
     for i in range(a.shape[0]):
-        even, odd = 0.0, 0.0
-        j = 0
-        while n - j >= 8:
-            e = a[i, j + 6] * b[i, j + 6] + even
-            o = a[i, j + 7] * b[i, j + 7] + odd
-            e = a[i, j + 4] * b[i, j + 4] + e
-            o = a[i, j + 5] * b[i, j + 5] + o
-            e = a[i, j + 2] * b[i, j + 2] + e
-            o = a[i, j + 3] * b[i, j + 3] + o
-            even = a[i, j] * b[i, j] + e
-            odd = a[i, j + 1] * b[i, j + 1] + o
-            j += 8
-        while j < n:
-            even = a[i, j] * b[i, j] + even
-            if j + 1 < n:
-                odd = a[i, j + 1] * b[i, j + 1] + odd
-            j += 2
-        out[i] = even + odd
+        out[i] = pair_dot(a[i], b[i])
     return out
+
+
+@jit
+def pair_dot(a, b):
+    """``np.einsum("i,i->", a, b)`` of two vectors as numpy sums it (its loop for contiguous rows, in the x86-64
+    baseline's 2-lane vectors): lane by lane, 4 vectors a step from the last, the lanes added at the end."""
+    n = len(a)
+    even, odd = 0.0, 0.0
+    j = 0
+    while n - j >= 8:
+        e = a[j + 6] * b[j + 6] + even
+        o = a[j + 7] * b[j + 7] + odd
+        e = a[j + 4] * b[j + 4] + e
+        o = a[j + 5] * b[j + 5] + o
+        e = a[j + 2] * b[j + 2] + e
+        o = a[j + 3] * b[j + 3] + o
+        even = a[j] * b[j] + e
+        odd = a[j + 1] * b[j + 1] + o
+        j += 8
+    while j < n:
+        even = a[j] * b[j] + even
+        if j + 1 < n:
+            odd = a[j + 1] * b[j + 1] + odd
+        j += 2
+    return even + odd
+
+
+@jit
+def window_dot(x, start, t):
+    """``x[start:start + len(t)] @ t`` as numpy's matmul sums a row of a sliding window (not a BLAS call): in order."""
+    total = 0.0
+    for j in range(len(t)):
+        total += x[start + j] * t[j]
+    return total
+
+
+@jit
+def likeness_at(x, start, t, energy):
+    """The correlation of ``x`` from ``start`` with ``t`` (whose energy is ``energy``) and their dot product, as
+    :func:`.onsets._best_lag` computes them."""
+    dot = window_dot(x, start, t)
+    own = pair_dot(x[start:start + len(t)], x[start:start + len(t)])
+    return dot / (math.sqrt(own * energy) + 1e-300), dot
+
+
+@jit
+def best_lag(x, template, low, count, energy):
+    """:func:`.onsets._best_lag` over the ``count`` windows of ``x`` from ``low``: the best window, its dot product
+    with ``template`` and its correlation (the first of the largest), each as :func:`likeness_at` computes it.
+
+    The dot products are summed four windows at a time (four chains of additions side by side). A window's
+    energy is first bounded from running sums (their rounding bounded, whatever the windows' levels), which
+    bounds its correlation; only the windows whose bound reaches the best lower bound have it summed as
+    :func:`likeness_at` sums it, and the best of those is the best of all.
+    """
+    size = len(template)
+    span = count + size - 1
+    power = np.zeros(span + 1)
+    for j in range(span):
+        power[j + 1] = power[j] + x[low + j] * x[low + j]
+    slack = 4.0 * (span + 2) * 2.220446049250313e-16 * power[span]  # more than either sum's rounding
+    dots = np.empty(count)
+    for k in range(0, count - 3, 4):
+        four_dots(x, low + k, template, dots, k)
+    for k in range(count - count % 4, count):
+        dots[k] = window_dot(x, low + k, template)
+    upper = np.empty(count)
+    floor = -np.inf  # the best lower bound
+    for k in range(count):
+        own = power[k + size] - power[k]
+        a = dots[k] / (math.sqrt(max(own - slack, 0.0) * energy) + 1e-300)
+        b = dots[k] / (math.sqrt((own + slack) * energy) + 1e-300)
+        upper[k] = max(a, b)
+        floor = max(floor, min(a, b))
+    best, at = -np.inf, 0
+    for k in range(count):
+        if upper[k] >= floor:
+            own = pair_dot(x[low + k:low + k + size], x[low + k:low + k + size])
+            like = dots[k] / (math.sqrt(own * energy) + 1e-300)
+            if like > best:
+                best, at = like, k
+    return at, dots[at], best
+
+
+@jit
+def four_dots(x, start, t, out, at):
+    """:func:`window_dot` of the four windows from ``start``, into ``out[at:at + 4]``."""
+    d0, d1, d2, d3 = 0.0, 0.0, 0.0, 0.0
+    for j in range(len(t)):
+        d0 += x[start + j] * t[j]
+        d1 += x[start + 1 + j] * t[j]
+        d2 += x[start + 2 + j] * t[j]
+        d3 += x[start + 3 + j] * t[j]
+    out[at], out[at + 1], out[at + 2], out[at + 3] = d0, d1, d2, d3
+
+
+@jit
+def next_attack(x, head, low, high, pre, reach, base, width, energy, rise, likeness, least):
+    """:func:`.onsets._next_attack` once its bounds are checked: the sample, or -1.
+
+    The window from each sample ``n`` in ``[low, high)`` is ``x[n - pre:n - pre + len(head)]``; its jump is
+    :func:`.onsets._windows`' (``width``) over ``x[base:high]``, the power summed in order from ``x[base]``.
+    Correlations are computed only where the window rises ``rise`` (power ratio) times, in order, until one passes.
+    """
+    count = high - base
+    power = np.zeros(count + 1)
+    for j in range(count):
+        power[j + 1] = power[j] + x[base + j] * x[base + j]
+    for i in range(high - low):
+        n = i + low - base
+        after = (power[min(n + width, count)] - power[n]) / width
+        before = (power[n] - power[max(n - 4 * width, 0)]) / (4 * width)
+        if not after >= rise * before:
+            continue
+        dot = window_dot(x, low - pre + i, head)
+        if not dot >= least * energy:  # (the correlation only where the scale passes)
+            continue
+        like, dot = likeness_at(x, low - pre + i, head, energy)
+        if like >= likeness:
+            best, at = like, i
+            for k in range(i + 1, min(i + reach + 1, high - low)):
+                like, _ = likeness_at(x, low - pre + k, head, energy)
+                if like > best:
+                    best, at = like, k
+            return low + at
+    return -1
+
+
+@jit
+def pursue(r, positions, centres, basis, gram, solve, head, head_norm, lead, width, tail):
+    """:func:`.onsets._pursue`'s loop: ``r`` (the innovation, changed in place) less each onset's fitted signature.
+
+    ``basis`` holds the signature (and its derivative) as columns, ``gram`` its normal equations and ``solve``
+    their solution for it; ``centres`` are the rounded ``positions``. Returns the jumps, likenesses, where each
+    fits, where each fitted signature starts and its scale. The windows' products are summed as numpy's matmul
+    sums a sliding window's rows (in order), their row sums as its einsum; the fit taken off (``basis`` times the
+    weights, numpy's BLAS call) in order.
+    """
+    count, n = len(centres), len(r)
+    size, m = basis.shape
+    half = max(1, width // 2)
+    jumps, likeness = np.zeros(count), np.zeros(count)
+    where = positions.copy()
+    at, amp = np.zeros(count, dtype=np.int64), np.zeros(count)
+    weights, fitted = np.empty((5, m)), np.empty(m)  # each alignment's weights, and one's times gram
+    cost = np.empty(5)
+    for i in range(count):
+        c = centres[i]
+        low, high = max(0, c - half - 4 * width), min(n, c + half + width + 1)
+        jumps[i] = jump_near(r, c, width) if high - low > width else 0.0
+        first, last = max(c - lead - 2, 0), min(c - lead + 2, n - size)  # the five alignments that fit in r
+        if last < first:
+            continue
+        like = -np.inf
+        for k in range(last - first + 1):
+            s = first + k
+            dot = window_dot(r, s, head)
+            like = max(like, abs(dot) / (math.sqrt(pair_dot(r[s:s + len(head)], r[s:s + len(head)])) * head_norm
+                                         + 1e-300))
+            for q in range(m):
+                weights[k, q] = window_dot(r, s, solve[q])
+            fitted[:] = 0.0
+            for q in range(m):
+                for p in range(m):
+                    fitted[q] += weights[k, p] * gram[p, q]
+            cost[k] = pair_dot(r[s:s + size], r[s:s + size]) - pair_dot(weights[k], fitted)
+        likeness[i] = like
+        k = 0  # the first of the least costs
+        for j in range(1, last - first + 1):
+            if cost[j] < cost[k]:
+                k = j
+        s = first + k
+        for j in range(size):
+            fit = 0.0
+            for q in range(m):
+                fit += basis[j, q] * weights[k, q]
+            r[s + j] -= fit
+        if len(tail) > size:
+            for j in range(s + size, min(n, s + len(tail))):
+                r[j] -= weights[k, 0] * tail[j - s]
+        at[i], amp[i] = s, weights[k, 0]
+        shift = -weights[k, 1] / weights[k, 0] if m > 1 and weights[k, 0] != 0.0 else 0.0
+        where[i] = s + lead + min(max(shift, -1.0), 1.0)
+    return jumps, likeness, where, at, amp
+
+
+@jit
+def best_trial(y, basis, grams, lags, total):
+    """:func:`.onsets._best_trial`: the index in ``lags`` of the best trial (-1 for none), its weights and F statistic.
+
+    Each trial's 2-by-2 normal equations (ridged by 1e-12 of the first's trace) are solved by Gaussian elimination
+    with partial pivoting, as LAPACK's ``gesv`` solves them.
+    """
+    size = len(y)
+    ridge = 1e-12 * (grams[size - lags[0] - 1, 0, 0] + grams[size - lags[0] - 1, 1, 1])
+    best, at = -np.inf, -1
+    chosen = np.zeros(2)
+    for k in range(len(lags)):
+        lag = lags[k]
+        b0, b1 = 0.0, 0.0  # the window from the lag on (zeros past) times each column, in order
+        for j in range(size - lag):
+            b0 += y[lag + j] * basis[j, 0]
+            b1 += y[lag + j] * basis[j, 1]
+        g = grams[size - lag - 1]
+        w0, w1 = solve_2x2(g[0, 0] + ridge, g[0, 1], g[1, 0], g[1, 1] + ridge, b0, b1)
+        if not (np.isfinite(w0) and np.isfinite(w1)):
+            return -1, chosen, 0.0
+        drop = w0 * b0 + w1 * b1 if w0 > 0.0 else -np.inf  # what the trial's fit takes off the window
+        if drop > best:
+            best, at = drop, k
+            chosen[0], chosen[1] = w0, w1
+    if at < 0 or not np.isfinite(best):
+        return -1, chosen, 0.0
+    return at, chosen, (best / 2.0) / max(total - best, 1e-300) * (size - 4)
+
+
+@jit
+def solve_2x2(a00, a01, a10, a11, b0, b1):
+    """The solution of ``[[a00, a01], [a10, a11]] w = [b0, b1]`` by Gaussian elimination with partial pivoting (as
+    LAPACK's ``gesv``); NaN where the matrix is singular."""
+    if abs(a10) > abs(a00):
+        a00, a01, a10, a11, b0, b1 = a10, a11, a00, a01, b1, b0
+    if a00 == 0.0:
+        return np.nan, np.nan
+    ratio = a10 / a00
+    pivot = a11 - ratio * a01
+    if pivot == 0.0:
+        return np.nan, np.nan
+    w1 = (b1 - ratio * b0) / pivot
+    return (b0 - a01 * w1) / a00, w1
 
 
 @jit
@@ -123,25 +467,31 @@ def peak_pick(x, gap):
     least their predecessor's and their mean, more than ``gap`` after the last kept (greedily)."""
     count = len(x)
     size = 2 * gap  # x[n - gap:n + gap], -inf past the ends (as scipy's maximum_filter1d of that size)
-    padded = np.full(count + 2 * size, -np.inf)
-    padded[gap:gap + count] = x
-    prefix = padded.copy()  # the largest from each block's start of ``size`` samples, and to its end (van Herk)
-    suffix = padded.copy()
-    for start in range(0, len(padded), size):
-        stop = min(len(padded), start + size)
-        for j in range(start + 1, stop):
-            prefix[j] = max(prefix[j - 1], padded[j])
-        for j in range(stop - 2, start - 1, -1):
-            suffix[j] = max(suffix[j + 1], padded[j])
-    largest = np.empty(count)
-    for n in range(count):
-        largest[n] = max(suffix[n], prefix[n + size - 1])
+    total = count + 2 * size
+    # van Herk's sliding maximum over x padded with ``gap`` -inf before (padded[j] = x[j - gap]), in blocks of
+    # ``size`` from the padded start: the largest of x[n - gap:n + gap] is the larger of the largest from n's padded
+    # place to its block's end (suffix) and the largest from the next block's start to n + size - 1 (prefix);
+    # one block's of each at a time
+    suffix, prefix = np.empty(size), np.empty(size)
     candidates = np.empty(count, dtype=np.int64)
     found = 0
-    for n in range(1, count):
-        if x[n] == largest[n] and x[n] >= (x[n - 1] + x[n]) / 2.0:
-            candidates[found] = n
-            found += 1
+    for start in range(0, count, size):
+        stop = min(total, start + size)
+        largest = -np.inf
+        for j in range(stop - 1, start - 1, -1):
+            if gap <= j < gap + count:
+                largest = max(largest, x[j - gap])
+            suffix[j - start] = largest
+        largest = -np.inf
+        for j in range(stop, min(total, stop + size)):
+            if gap <= j < gap + count:
+                largest = max(largest, x[j - gap])
+            prefix[j - stop] = largest
+        for n in range(max(start, 1), min(stop, count)):
+            largest = suffix[0] if n == start else max(suffix[n - start], prefix[n - start - 1])
+            if x[n] == largest and x[n] >= (x[n - 1] + x[n]) / 2.0:
+                candidates[found] = n
+                found += 1
     first = True
     for n in range(min(gap, count)):
         if x[n] > x[0]:

@@ -731,16 +731,17 @@ class _Innovation:
 @dataclass(frozen=True)
 class _Modes(_Innovation):
     """The drum's modes' band of step 4: its innovation, the room's ``tail`` once fitted, whether the
-    recording is ``reverberant``, and the ``offset`` (full-rate samples) of the times fitted there from
-    the precise times (:func:`_retime`)."""
+    recording is ``reverberant``, the ``offset`` (full-rate samples) of the times fitted there from
+    the precise times (:func:`_retime`), and the ``signature`` :func:`_pursue` fits (:func:`_signature`, once)."""
 
     tail: np.ndarray | None = None
     reverberant: bool = False
     offset: float = 0.0
+    signature: "_Signature | None" = field(default=None, compare=False)
 
     def pursue(self, samples, config):
         """:func:`_pursue` of the onsets at full-rate ``samples``, the room's tail taken off with each."""
-        return _pursue(self.e, self.at(samples), self.rate, config, tail=self.tail)
+        return _pursue(self.e, self.at(samples), self.rate, config, tail=self.tail, signature=self.signature)
 
     def jumps(self, residual, config):
         """Where ``residual`` (in the band) jumps ``config.min_jump`` times, as a list of full-rate samples."""
@@ -858,9 +859,11 @@ def _heard_jumps(band, rate, tonal, config):
     broadband = [k - 0.5 for k in _jumps(np.diff(band, prepend=band[0]), rate, config.min_interval,
                                          config.broadband_jump)]  # the difference is centred ½ sample early
 
+    # each tonal onset's rise, once (the merges ask for it again and again)
+    rises = dict(zip(tonal_onsets, _jump_at(tonal.e, tonal.at(np.array(tonal_onsets, dtype=float)), tonal.rate)))
+
     def strong(tonal_at, broadband_at):  # a sharp attack's change point, and a broadband jump of its beating apart
-        return abs(tonal_at - broadband_at) > config.disagreement * rate and _jump_at(
-            tonal.e, [tonal.at(tonal_at)], tonal.rate)[0] >= config.strong_rise
+        return abs(tonal_at - broadband_at) > config.disagreement * rate and rises[tonal_at] >= config.strong_rise
 
     return _Heard(tonal_onsets, broadband, strong, config.min_interval * rate)
 
@@ -872,7 +875,8 @@ def _modes_band(band, rate, q, first, config):
     """
     q2 = max(q, rate // config.modes_rate)
     modes_band, modes_rate, modes_delay = _decimate(band, rate, q2)
-    modes = _Modes(_robust_innovation(modes_band, config.modes_order)[1], q2, modes_delay, modes_rate)
+    e = _robust_innovation(modes_band, config.modes_order)[1]
+    modes = _Modes(e, q2, modes_delay, modes_rate, signature=_signature(e, modes_rate, config))  # fitted once
     pursuit = modes.pursue(first, config)
     tail = _room_tail(modes.e, pursuit.at, pursuit.amplitude, round(config.tail * modes.rate), config.tail_ridge)
     if tail is None:
@@ -1229,17 +1233,15 @@ def _best_lag(x, template, start, reach):
     Returns the lag (samples), the template's least-squares scale there and the correlation (0 when
     no window fits in ``x``).
     """
-    from numpy.lib.stride_tricks import sliding_window_view
+    from ._kernels import best_lag
 
     low, high = max(0, start - reach), min(len(x), start + reach + len(template))
     if high - low < len(template):
         return 0, 0.0, 0.0
-    windows = sliding_window_view(x[low:high], len(template))
+    template = np.ascontiguousarray(template, dtype=float)
     energy = template @ template
-    dot = windows @ template
-    like = dot / (np.sqrt(np.einsum("ij,ij->i", windows, windows) * energy) + 1e-300)
-    k = int(np.argmax(like))
-    return low + k - start, float(dot[k] / energy), float(like[k])
+    k, dot, like = best_lag(x, template, low, high - low - len(template) + 1, energy)
+    return low + k - start, float(dot / energy), float(like)
 
 
 def _next_attack(x, head, low, high, pre, reach, rate, config):
@@ -1251,23 +1253,17 @@ def _next_attack(x, head, low, high, pre, reach, rate, config):
     attacks, which the template's start may look like too); moved to the best correlation within
     ``reach`` samples after.
     """
-    from numpy.lib.stride_tricks import sliding_window_view
+    from ._kernels import next_attack
 
     high = min(high, len(x) - len(head) + pre)
     if high <= low or low < pre:
         return None
-    windows = sliding_window_view(x[low - pre:high - pre + len(head)], len(head))[:high - low]
-    energy = head @ head
-    dot = windows @ head
-    like = dot / (np.sqrt(np.einsum("ij,ij->i", windows, windows) * energy) + 1e-300)
-    after, before, _ = _windows(x[max(0, low - 4 * round(1e-3 * rate)):high], rate)
-    after, before = after[-(high - low):], before[-(high - low):]
-    rises = after >= config.min_jump ** 2 * before
-    first = np.flatnonzero((like >= config.template_likeness) & (dot >= 10.0 ** (config.threshold_db / 20.0) * energy)
-                           & rises)
-    if not len(first):
-        return None
-    return low + int(first[0]) + int(np.argmax(like[first[0]:first[0] + reach + 1]))
+    head = np.ascontiguousarray(head, dtype=float)
+    found = next_attack(x, head, low, high, pre, reach, max(0, low - 4 * round(1e-3 * rate)), max(12, round(1e-3 * rate)),
+                        head @ head, config.min_jump ** 2, config.template_likeness,
+                        10.0 ** (config.threshold_db / 20.0))
+    return None if found < 0 else int(found)
+
 
 def _out_of_decay(band, rate, candidates, amplitude, config):
     """Step 5's last part: a quiet or a close attack that does not rise out of the sound before it is no attack.
@@ -1533,9 +1529,9 @@ def _best_template(rest, start, following, templates, need, shift):
 
 def _high_pass(signal, rate, corner):
     """``signal`` less its rumble and DC: a 2nd-order Butterworth high-pass at ``corner`` Hz."""
-    from scipy.signal import sosfilt
+    from ._kernels import second_order
 
-    return sosfilt(_high_pass_sections(corner, rate).copy(), signal)  # (a copy: the design is shared)
+    return second_order(_high_pass_sections(corner, rate), np.ascontiguousarray(signal, dtype=float))
 
 
 @cache
@@ -1548,17 +1544,24 @@ def _high_pass_sections(corner, rate):
 
 def _decimation(band, rate):
     """How far to decimate: to ≥ 2.5 times the top of the band 20 dB over the noise floor, ≥ 2 kHz."""
+    from ._kernels import frame_energies
+
     size = 1 << int(np.ceil(np.log2(rate * 0.02)))
     if len(band) < 4 * size:
         return 1
     starts = np.unique(np.linspace(0, len(band) - size, min(_SPECTRA, (len(band) - size) // (size // 2) + 1))
                        .astype(np.int64))  # half-overlapping frames, or as many spread over a long file
-    frames = _frames(band, 0, len(band) - size + 1, size)[starts] * np.hanning(size)
-    power = np.abs(np.fft.rfft(frames, axis=1).T) ** 2
+    window = np.hanning(size)
+    # each frame's energy over its spectrum's bins (Parseval's): only the quietest and the loudest tenths are transformed
+    energy = frame_energies(np.ascontiguousarray(band, dtype=float), starts, window)
     frequencies = np.fft.rfftfreq(size, 1.0 / rate)
-    energy = power.sum(axis=0)
-    noise = power[:, energy <= np.quantile(energy, 0.1)].mean(axis=1)
-    loud = power[:, energy >= np.quantile(energy, 0.9)].mean(axis=1)
+
+    def mean_power(which):
+        frames = _frames(band, 0, len(band) - size + 1, size)[starts[which]] * window
+        return np.ascontiguousarray(np.abs(np.fft.rfft(frames, axis=1).T) ** 2).mean(axis=1)
+
+    noise = mean_power(energy <= np.quantile(energy, 0.1))
+    loud = mean_power(energy >= np.quantile(energy, 0.9))
     good = np.flatnonzero(loud > 100.0 * noise)
     top = frequencies[good[-1]] if len(good) else frequencies[-1]
     return int(max(1, min(rate // (2.5 * max(top, 1.0)), rate // 2000)))
@@ -1571,11 +1574,11 @@ def _decimate(band, rate, q, corner=None):
     """
     if q == 1 and corner is None:
         return band, rate, 0.0
-    from scipy.signal import sosfilt
+    from ._kernels import low_pass_every
 
     corner = 0.8 * rate / q / 2.0 if corner is None else min(corner, 0.8 * rate / q / 2.0)
     sos, delay = _low_pass(corner, rate)
-    return sosfilt(sos.copy(), band)[::q].copy(), rate / q, delay  # (a copy: the design is shared)
+    return low_pass_every(sos, np.ascontiguousarray(band, dtype=float), q), rate / q, delay
 
 
 @cache
@@ -1639,7 +1642,7 @@ def _jumps(x, rate, min_interval, least, samples=12):
     A long signal is taken in blocks of :data:`_BLOCK` samples (overlapping by more than the windows
     and ``min_interval``), so memory does not grow with its length.
     """
-    from ._kernels import aic, jump_profile
+    from ._kernels import change_points, jump_profile
 
     width = max(samples, round(1e-3 * rate))
     gap = max(1, round(min_interval * rate))
@@ -1651,7 +1654,8 @@ def _jumps(x, rate, min_interval, least, samples=12):
         found = _peak_pick(jump, gap)
         found = found[(jump[found] >= least) & (low + found >= start) & (low + found < start + _BLOCK)]
         peaks += list(low + found)
-    return [max(0, p - 4 * width) + aic(x[max(0, p - 4 * width):p + 2 * width]) for p in peaks]
+    x = np.ascontiguousarray(x, dtype=float)
+    return change_points(x, np.array(peaks, dtype=np.int64), width).tolist()
 
 
 def _peak_pick(x, gap):
@@ -1729,15 +1733,47 @@ def _merge(tonal, broadband, gap, deep=(), strong=None):
 
 def _away(candidates, known, gap):
     """The ``candidates`` farther than ``gap`` from their nearest neighbours in ``known`` (sorted), in order."""
-    kept = []
-    for s in candidates:
-        near = np.searchsorted(known, s)
-        if all(abs(known[j] - s) > gap for j in (near - 1, near) if 0 <= j < len(known)):
-            kept.append(s)
-    return kept
+    known = np.asarray(known, dtype=float)
+    if not len(known):
+        return list(candidates)
+    at = np.asarray(candidates, dtype=float)
+    near = np.searchsorted(known, at)
+    before = np.abs(known[np.maximum(near - 1, 0)] - at) > gap
+    after = np.abs(known[np.minimum(near, len(known) - 1)] - at) > gap
+    far = (before | (near == 0)) & (after | (near == len(known)))
+    return [s for s, keep in zip(candidates, far.tolist()) if keep]
 
 
-def _pursue(e, positions, rate, config, tail=None):
+@dataclass(frozen=True)
+class _Signature:
+    """The signature :func:`_pursue` fits: the loudest attack's innovation from ``lead`` samples before its largest
+    spike, its least-squares ``basis`` (the signature and its derivative, as columns), their normal equations
+    ``gram`` and ``solve`` (the least-squares weights of a window are ``solve @ window``; None when the basis is too
+    ill-conditioned to fit), and its start ``head`` (the spike and ``config.head`` samples)."""
+
+    template: np.ndarray
+    basis: np.ndarray
+    gram: np.ndarray
+    solve: np.ndarray | None
+    head: np.ndarray
+    lead: int
+
+
+def _signature(e, rate, config):
+    """The :class:`_Signature` of the innovation ``e`` (at ``rate`` Hz)."""
+    length = max(4, round(config.signature * rate))
+    peak = int(np.argmax(np.abs(e)))
+    lead = min(2, peak)
+    template = e[peak - lead:peak + length].copy()
+    basis = np.column_stack([template, np.gradient(template)]) if len(template) > 1 else template[:, None].copy()
+    gram = basis.T @ basis
+    solve = None
+    if np.all(np.isfinite(gram)) and np.linalg.cond(gram) <= 1e12:
+        solve = np.ascontiguousarray(np.linalg.solve(gram, basis.T))
+    return _Signature(template, basis, gram, solve, template[:lead + config.head], lead)
+
+
+def _pursue(e, positions, rate, config, tail=None, signature=None):
     """``e`` less each onset's signature, the onsets taken in time order; how each onset rises over what went before.
 
     The signature is the innovation of the loudest attack (its largest spike and the
@@ -1745,53 +1781,24 @@ def _pursue(e, positions, rate, config, tail=None):
     fraction of a sample's shift) at the best of five alignments and taken off before the next.
     With ``tail`` (a longer response, from the signature's start: :func:`_room_tail`), its part
     past the signature is taken off too, scaled by the signature's fit. ``positions`` and ``rate``
-    are in samples of ``e`` and Hz. Returns a :class:`_Pursuit`.
+    are in samples of ``e`` and Hz; ``signature`` is :func:`_signature`'s of ``e`` when it is known.
+    Returns a :class:`_Pursuit`.
     """
-    from ._kernels import jump_near, row_dots
+    from ._kernels import pursue
 
-    length = max(4, round(config.signature * rate))
-    peak = int(np.argmax(np.abs(e)))
-    lead = min(2, peak)
-    template = e[peak - lead:peak + length].copy()
-    size = len(template)
-    basis = np.column_stack([template, np.gradient(template)]) if size > 1 else template[:, None]
-    gram = basis.T @ basis
+    signature = _signature(e, rate, config) if signature is None else signature
     positions = np.asarray(positions, dtype=float)
-    if not np.all(np.isfinite(gram)) or np.linalg.cond(gram) > 1e12:  # no signature to fit: nothing taken off
+    if signature.solve is None:  # no signature to fit: nothing taken off
         return _Pursuit(e.copy(), _jump_at(e, positions, rate, config.modes_width), np.ones(len(positions)),
-                        positions.copy(), np.round(positions).astype(np.int64), np.zeros(len(positions)), template)
-    solve = np.linalg.solve(gram, basis.T)
-    head = template[:lead + config.head]
-    head_norm = float(np.sqrt(head @ head))
-    width = max(config.modes_width, round(1e-3 * rate))
-    half = max(1, width // 2)
+                        positions.copy(), np.round(positions).astype(np.int64), np.zeros(len(positions)),
+                        signature.template)
+    head = signature.head
     r = e.copy()
-    jumps = np.zeros(len(positions))
-    likeness = np.zeros(len(positions))
-    where = positions.copy()
-    at, amp = np.zeros(len(positions), dtype=np.int64), np.zeros(len(positions))
-    for i, c in enumerate(np.round(positions).astype(np.int64).tolist()):
-        # the jump: the next window's power over the 4 windows before, the largest within half a window
-        low, high = max(0, c - half - 4 * width), min(len(r), c + half + width + 1)
-        jumps[i] = jump_near(r, c, width) if high - low > width else 0.0
-        first, last = max(c - lead - 2, 0), min(c - lead + 2, len(r) - size)  # the five alignments that fit in r
-        if last < first:
-            continue
-        block = _frames(r, first, last - first + 1, size)
-        heads = block[:, :len(head)]
-        likeness[i] = float(np.max(np.abs(heads @ head) / (np.sqrt(row_dots(heads, heads)) * head_norm + 1e-300)))
-        weights = block @ solve.T
-        cost = row_dots(block, block) - row_dots(weights, weights @ gram)
-        k = int(np.argmin(cost))
-        s = first + k
-        r[s:s + size] -= basis @ weights[k]
-        if tail is not None and len(tail) > size:
-            stop = min(len(r), s + len(tail))
-            r[s + size:stop] -= weights[k][0] * tail[size:stop - s]
-        at[i], amp[i] = s, weights[k][0]
-        shift = -weights[k][1] / weights[k][0] if len(weights[k]) > 1 and weights[k][0] != 0.0 else 0.0
-        where[i] = s + lead + min(max(shift, -1.0), 1.0)
-    return _Pursuit(r, jumps, likeness, where, at, amp, template)
+    jumps, likeness, where, at, amp = pursue(
+        r, positions, np.round(positions).astype(np.int64), signature.basis, signature.gram, signature.solve, head,
+        float(np.sqrt(head @ head)), signature.lead, max(config.modes_width, round(1e-3 * rate)),
+        np.empty(0) if tail is None else np.ascontiguousarray(tail, dtype=float))
+    return _Pursuit(r, jumps, likeness, where, at, amp, signature.template)
 
 
 def _room_tail(e, at, amp, length, ridge):
@@ -1843,23 +1850,12 @@ def _best_trial(y, basis, grams, lags):
     parameters against what is left of ``y`` (``len(y) - 4`` degrees of freedom: the window's own
     attack's two parameters too), or ``(None, None, None)`` when no trial has a positive scale.
     """
-    from numpy.lib.stride_tricks import sliding_window_view
+    from ._kernels import best_trial
 
-    size = len(y)
-    total = float(y @ y)
-    windows = sliding_window_view(np.concatenate((y, np.zeros(size))), size)[lags]  # from each trial on; zeros past
-    rhs = np.stack([windows @ basis[:, 0], windows @ basis[:, 1]], axis=1)
-    gram = grams[size - lags - 1]
-    try:
-        weights = np.linalg.solve(gram + 1e-12 * np.trace(gram[0]) * np.eye(2), rhs[:, :, None])[:, :, 0]
-    except np.linalg.LinAlgError:
-        return None, None, None
-    drop = np.einsum("ij,ij->i", weights, rhs)  # what each trial's fit takes off the window
-    drop[weights[:, 0] <= 0.0] = -np.inf
-    k = int(np.argmax(drop))
-    if not np.isfinite(drop[k]):
-        return None, None, None
-    return k, weights[k], (drop[k] / 2.0) / max(total - drop[k], 1e-300) * (size - 4)
+    y = np.ascontiguousarray(y, dtype=float)
+    k, weights, f = best_trial(y, np.ascontiguousarray(basis, dtype=float), grams, np.asarray(lags, dtype=np.int64),
+                               float(y @ y))
+    return (None, None, None) if k < 0 else (int(k), weights, float(f))
 
 
 def _level_corner(band, rate, onsets, config):
@@ -1899,14 +1895,17 @@ def _attack_amplitudes(low, coefficients, positions, rate, *, tail=0, sure=None,
     onsets. ``sure`` (booleans, one per onset): the onsets so measured and whose tails are taken off;
     ``ridge``: the tail's fit's (:func:`_room_tail`).
     """
-    from scipy.signal import firwin, lfilter, upfirdn
+    from scipy.signal import lfilter
+
+    from ._kernels import residual_peaks, upsampled_peak
 
     horizon = max(2, round(5e-3 * rate))
-    interpolator = 4.0 * firwin(81, 0.25, window=("kaiser", 5.0))  # as scipy's resample_poly(x, 4, 1)
+    interpolator = _interpolator()
     starts = np.clip(np.round(positions).astype(np.int64), 0, len(low))
     stops = [min(len(low), k + horizon, starts[i + 1] if i + 1 < len(starts) else len(low))
              for i, k in enumerate(starts)]
-    amplitude = np.array([_residual_peak(low, coefficients, k, stop, interpolator) for k, stop in zip(starts, stops)])
+    amplitude = residual_peaks(np.ascontiguousarray(low, dtype=float), np.ascontiguousarray(coefficients, dtype=float),
+                               starts, np.array(stops, dtype=np.int64), interpolator)
     inside = starts < len(low)
     if tail <= 0 or not np.any(inside):
         return amplitude
@@ -1926,31 +1925,16 @@ def _attack_amplitudes(low, coefficients, positions, rate, *, tail=0, sure=None,
                 part = h[lag:lag + stop - k]
                 own[:len(part)] -= amplitude[j] * part
         own = lfilter([1.0], coefficients, own)  # the predictor's response: the sound less its extrapolation
-        out[i] = float(np.abs(upfirdn(interpolator, np.concatenate((np.zeros(4), own, np.zeros(4))), 4)).max())
+        out[i] = upsampled_peak(interpolator, np.concatenate((np.zeros(4), own, np.zeros(4))))
     return out
 
 
-def _residual_peak(x, coefficients, start, stop, interpolator=None):
-    """The peak of ``x[start:stop]`` less its linear prediction from the samples before ``start``.
+@cache
+def _interpolator():
+    """A 4-times upsampling low-pass FIR, as scipy's ``resample_poly(x, 4, 1)`` designs it."""
+    from scipy.signal import firwin
 
-    With ``interpolator`` (a 4-times upsampling low-pass FIR), the peak between samples.
-    """
-    order = len(coefficients) - 1
-    if stop <= start:
-        return 0.0
-    actual = x[start:stop]
-    if start >= order:
-        past = np.concatenate((x[start - order:start], np.zeros(stop - start)))
-        taps = -coefficients[:0:-1]  # oldest first
-        for j in range(stop - start):
-            past[order + j] = taps @ past[j:order + j]
-        actual = actual - past[order:]
-    if interpolator is None or len(actual) < 2:
-        return float(np.abs(actual).max())
-    from scipy.signal import upfirdn
-
-    padded = np.concatenate((np.zeros(4), actual, np.zeros(4)))  # the new sound starts from nothing
-    return float(np.abs(upfirdn(interpolator, padded, 4)).max())
+    return 4.0 * firwin(81, 0.25, window=("kaiser", 5.0))
 
 
 def _noise_floor(x, rate, quantile):

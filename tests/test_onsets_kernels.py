@@ -1,0 +1,84 @@
+"""The onset detector's compiled kernels against the numpy and scipy code they stand for (drumstroke.analysis._kernels).
+
+Filters and sliding correlations must agree to the bit (the same operations in the same order); sums
+the kernels add in another order (the upsampled peak, the 2-by-2 solves, Parseval's energies) to 1e-12
+relative. Signals are seeded, with silences and 60-dB level changes where the bounds of a kernel rely on them.
+"""
+
+import numpy as np
+import pytest
+from numpy.lib.stride_tricks import sliding_window_view
+from scipy.signal import butter, sosfilt, upfirdn
+
+from drumstroke.analysis import _kernels
+from drumstroke.analysis.onsets import _interpolator, _low_pass
+
+
+@pytest.fixture
+def rng():
+    return np.random.default_rng(20261127)
+
+
+def _uneven(rng, n):
+    """Noise whose level wanders over some 60 dB, with a stretch of digital silence."""
+    x = rng.standard_normal(n) * np.exp(3.0 * rng.standard_normal(n))
+    start = int(rng.integers(0, n))
+    x[start:start + n // 5] = 0.0
+    return x
+
+
+@pytest.mark.parametrize("q", [1, 3, 8, 24, 45])
+def test_decimating_low_pass_is_scipys_sosfilt(rng, q):
+    x = _uneven(rng, 20001)
+    sos, _ = _low_pass(0.8 * 48000 / max(q, 2) / 2.0, 48000)
+    np.testing.assert_array_equal(_kernels.low_pass_every(sos, x, q), sosfilt(sos, x)[::q])
+
+
+def test_high_pass_section_is_scipys_sosfilt(rng):
+    x = _uneven(rng, 20001)
+    sos = butter(2, 60.0, btype="highpass", fs=48000, output="sos")
+    np.testing.assert_array_equal(_kernels.second_order(sos, x), sosfilt(sos, x))
+
+
+def test_best_lag_is_the_sliding_correlations_argmax(rng):
+    for _ in range(300):
+        size, count = int(rng.integers(2, 300)), int(rng.integers(2, 200))
+        x, low = _uneven(rng, count + size + 10), int(rng.integers(0, 10))
+        template = x[low + 3:low + 3 + size].copy() if rng.random() < 0.3 else rng.standard_normal(size)
+        windows = sliding_window_view(x[low:low + count + size - 1], size)
+        energy = template @ template
+        dot = windows @ template
+        like = dot / (np.sqrt(np.einsum("ij,ij->i", windows, windows) * energy) + 1e-300)
+        k = int(np.argmax(like))
+        assert _kernels.best_lag(x, template, low, count, energy) == (k, dot[k], like[k])
+
+
+def test_upsampled_peak_is_upfirdns(rng):
+    h = _interpolator()
+    for n in (2, 3, 10, 241):
+        x = rng.standard_normal(n)
+        assert _kernels.upsampled_peak(h, x) == pytest.approx(np.abs(upfirdn(h, x, 4)).max(), rel=1e-12)
+
+
+def test_frame_energies_are_the_half_spectrums(rng):
+    x, window = _uneven(rng, 9000), np.hanning(1024)
+    starts = np.arange(0, 9000 - 1024, 512, dtype=np.int64)
+    frames = sliding_window_view(x, 1024)[starts] * window
+    power = np.abs(np.fft.rfft(frames, axis=1)) ** 2
+    np.testing.assert_allclose(_kernels.frame_energies(x, starts, window), power.sum(axis=1), rtol=1e-12, atol=0.0)
+
+
+def test_two_by_two_solve_is_numpys(rng):
+    for _ in range(200):
+        a = rng.standard_normal((2, 2))
+        b = rng.standard_normal(2)
+        np.testing.assert_allclose(_kernels.solve_2x2(a[0, 0], a[0, 1], a[1, 0], a[1, 1], b[0], b[1]),
+                                   np.linalg.solve(a, b), rtol=1e-9, atol=1e-12)
+    assert np.all(np.isnan(_kernels.solve_2x2(1.0, 2.0, 2.0, 4.0, 1.0, 1.0)))  # singular
+
+
+def test_change_points_are_each_peaks_aic(rng):
+    x = _uneven(rng, 5000)
+    peaks = np.array([10, 300, 2500, 4990], dtype=np.int64)
+    want = [max(0, p - 48) + _kernels.aic(x[max(0, p - 48):p + 24]) for p in peaks]
+    np.testing.assert_array_equal(_kernels.change_points(x, peaks, 12), want)
