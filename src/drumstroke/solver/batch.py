@@ -8,6 +8,10 @@ C ≤ 0, or a flight toward the vertical) are flagged for the general solver.
 Two passes: the first bounds each stroke's impact count (one closed-form
 flight per stroke), the second fills one flat array at those offsets.
 
+Each flight from the head is read from the head's table (:mod:`.flight_table`,
+built once per head angle) unless ``exact`` asks for Carlson's R_F at every
+impact, the table's reference.
+
 tests/test_batch.py holds it equal to :mod:`.kernel`, stroke by stroke.
 """
 
@@ -18,6 +22,7 @@ from numba import prange
 
 from .._jit import jit
 from .constants import NEARLY_VERTICAL
+from . import flight_table
 from .elliptic import flight_time, parameter, to_head
 from .taylor import zeno_floor
 
@@ -44,7 +49,7 @@ def _first_impact(theta, omega, c, theta_max):
 
 
 @jit
-def _run(theta0, omega0, cor, c, theta_max, t_end, out_t, out_w, start, capacity):
+def _run(theta0, omega0, cor, c, theta_max, t_end, out_t, out_w, start, capacity, table, exact):
     """One stroke: fills out_t/out_w from ``start``; returns (status, count, rest time or NaN)."""
     if not c > 0.0:
         return UNSUPPORTED, 0, math.nan
@@ -74,7 +79,10 @@ def _run(theta0, omega0, cor, c, theta_max, t_end, out_t, out_w, start, capacity
         if launch < floor:
             rest = t + 2.0 * launch / (a * (1.0 - cor)) if cor < 1.0 else t
             return OK, n, rest if rest <= t_end else math.nan
-        flight, m = flight_time(launch, c, sin_head)
+        if exact:
+            flight, m = flight_time(launch, c, sin_head)
+        else:
+            flight, m = flight_table.flight_time(launch, c, table)
         if m >= 1.0 - NEARLY_VERTICAL:
             return UNSUPPORTED, 0, math.nan
         end = t + flight
@@ -115,16 +123,20 @@ def _capacities(theta0, omega0, cor, c, theta_max, t_end, max_impacts):
 
 
 @jit(parallel=True)
-def _fill(theta0, omega0, cor, c, theta_max, t_end, offsets, out_t, out_w, status, count, rest):
+def _fill(theta0, omega0, cor, c, theta_max, t_end, offsets, out_t, out_w, status, count, rest, tables, head,
+          exact):
     for i in prange(len(theta0)):
         capacity = offsets[i + 1] - offsets[i]
         status[i], count[i], rest[i] = _run(
-            theta0[i], omega0[i], cor[i], c[i], theta_max[i], t_end[i], out_t, out_w, offsets[i], capacity
+            theta0[i], omega0[i], cor[i], c[i], theta_max[i], t_end[i], out_t, out_w, offsets[i], capacity,
+            tables[head[i]], exact
         )
 
 
-def constant_batch(theta0, omega0, cor, c, theta_max, t_end, *, max_impacts):
+def constant_batch(theta0, omega0, cor, c, theta_max, t_end, *, max_impacts, exact=False):
     """Impacts of many strokes under constant forcing C (s⁻²), all arrays of one length.
+
+    ``exact`` evaluates each flight by R_F instead of the head's table (the reference).
 
     Returns
     -------
@@ -147,5 +159,7 @@ def constant_batch(theta0, omega0, cor, c, theta_max, t_end, *, max_impacts):
     status = np.zeros(n, dtype=np.int64)
     count = np.zeros(n, dtype=np.int64)
     rest = np.full(n, np.nan)
-    _fill(*arrays, offsets, out_t, out_w, status, count, rest)
+    heads, head = np.unique(arrays[4], return_inverse=True)
+    tables = np.stack([flight_table.table_for(float(h)) for h in heads]) if len(heads) else np.zeros((1, 1, 1))
+    _fill(*arrays, offsets, out_t, out_w, status, count, rest, tables, head.astype(np.int64), bool(exact))
     return status, offsets, count, out_t, out_w, rest

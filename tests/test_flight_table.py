@@ -1,0 +1,142 @@
+"""The flight-time table against Carlson's R_F and against a 40-digit mpmath oracle.
+
+* g(u) = √C·T/u from the table against :func:`scaled_flight` (R_F) at 40 points of every
+  piece, both ends included, for heads across the human range and beyond;
+* the same against docs/model.md's closed form 2[K(m) − F(ψ|m)] in mpmath at 60 digits
+  (40 kept after the cancellation at small launches), on every piece and at the table's ends;
+* flight_time from the table against :func:`.elliptic.flight_time` for launches from 1e-8 rad/s to
+  near the vertical under C of both models; a head the table cannot serve keeps R_F, bit for bit;
+* the batch with the table against the batch with R_F at every impact, impacts within 1e-12 s.
+"""
+
+import math
+
+import mpmath as mp
+import numpy as np
+import pytest
+
+import drumstroke
+from drumstroke.model import coefficients
+from drumstroke.solver import elliptic
+from drumstroke.solver.batch import OK, constant_batch
+from drumstroke.solver.flight_table import PIECES, _piece_bounds, build, evaluate, flight_time, scaled_flight
+
+TABLE_RTOL = 1e-14  # relative, g from the table against R_F and against mpmath [2.9e-15 against R_F]
+HEADS = [-0.001, -0.1, -math.asin(0.07 / 0.27), -0.5, -0.8, -0.9]  # rad; Table 1's stick is −0.2623
+IMPACT_TOL = 1e-12  # s, the batch with the table against the batch with R_F
+
+
+def _mp_scaled_flight(d, sin_head):
+    """g = 2[K(m) − F(ψ|m)]/u (docs/model.md) with u = 1 − d, e = u²·L, sin θ_a = sin θ_max + e, exact inputs."""
+    with mp.workdps(60):
+        s, u = mp.mpf(sin_head), 1 - mp.mpf(d)
+        sin_apex = s + u * u * (1 - s)
+        m = (1 + sin_apex) / 2
+        psi = mp.asin(mp.sqrt((1 + s) / (1 + sin_apex)))
+        return 2 * (mp.ellipk(m) - mp.ellipf(psi, m)) / u
+
+
+@pytest.mark.parametrize("head", HEADS)
+def test_table_matches_rf_on_every_piece(head):
+    sin_head = math.sin(head)
+    table = build(sin_head)
+    worst = 0.0
+    for k in range(PIECES):
+        low, high = _piece_bounds(k)
+        for d in np.linspace(low, high, 40):
+            exact = scaled_flight(d, sin_head)
+            worst = max(worst, abs(evaluate(table, d) - exact) / exact)
+    print(f"head {head:.4f}: table vs R_F worst relative {worst:.3g}")
+    assert worst <= TABLE_RTOL
+
+
+@pytest.mark.parametrize("head", [HEADS[0], HEADS[2], HEADS[-1]])
+def test_table_matches_mpmath(head, rng):
+    sin_head = math.sin(head)
+    table = build(sin_head)
+    points = [1.0 - 1e-12, 1.0 - 1e-6, 2.0**-32 * 1.0000001]  # the smallest launches and the table's last piece
+    for k in range(PIECES):
+        low, high = _piece_bounds(k)
+        points += [low, float(rng.uniform(low, high))]
+    worst = 0.0
+    for d in points:
+        exact = _mp_scaled_flight(d, sin_head)
+        worst = max(worst, abs(float((evaluate(table, d) - exact) / exact)))
+    print(f"head {head:.4f}: table vs mpmath worst relative {worst:.3g} on {len(points)} points")
+    assert worst <= TABLE_RTOL
+
+
+@pytest.mark.parametrize("model", ["paper", "geometry"])
+def test_flight_time_matches_the_closed_form(model, rng):
+    """Under C of the model from no force to 3000 m/s²: the same m, the time to the closed form's conditioning.
+
+    Near the vertical both round 1 − m from the launch (differently); the time's relative sensitivity to
+    that is ~ε/(2(1 − m)·K), so the bound grows as 1 − m shrinks: 1e-13 plus 4ε/(1 − m).
+    """
+    stick = drumstroke.Stick()
+    sin_head = math.sin(stick.theta_max)
+    table = build(sin_head)
+    worst = 0.0
+    for force in (0.0, 30.0, 250.0, 3000.0):
+        c = float(coefficients(model, stick).torque_rate(9.8, force))
+        top = math.sqrt(2.0 * c * (1.0 - sin_head))  # reaches the vertical
+        launches = np.concatenate([10.0 ** rng.uniform(-8.0, math.log10(top), 300),
+                                   top * (1.0 - 10.0 ** rng.uniform(-10.0, -1.0, 100)), [1e-6, 1e-8]])
+        for launch in launches:
+            reference, m = elliptic.flight_time(launch, c, sin_head)
+            duration, m_table = flight_time(launch, c, table)
+            assert m_table == m
+            if m >= 1.0 - 1e-9:
+                continue
+            error = abs(duration - reference) / reference
+            assert error <= 1e-13 + 4 * 2.0**-52 / (1.0 - m), (launch, c, m, duration, reference)
+            if 1.0 - m > 1e-4:
+                worst = max(worst, error)
+    print(f"{model}: flight_time table vs R_F worst relative {worst:.3g} (1 − m > 1e-4)")
+    assert worst <= 1e-14
+
+
+def test_a_head_the_table_cannot_serve_keeps_rf():
+    sin_head = math.sin(-1.2)  # the orbit m = 0 is near the smallest launches
+    table = build(sin_head)
+    assert math.isnan(evaluate(table, 0.9))
+    for launch in (1e-6, 0.1, 3.0):
+        assert flight_time(launch, 40.0, table) == elliptic.flight_time(launch, 40.0, sin_head)
+
+
+def test_beyond_the_last_piece_is_rf():
+    sin_head = math.sin(HEADS[2])
+    table = build(sin_head)
+    c = 40.0
+    launch = math.sqrt(2.0 * c * (1.0 - sin_head)) * (1.0 - 1e-11)  # 1 − m below the last piece's
+    assert flight_time(launch, c, table) == elliptic.flight_time(launch, c, sin_head)
+
+
+def test_batch_with_the_table_equals_the_batch_with_rf(rng):
+    n = 3000
+    stick = drumstroke.Stick()
+    theta_max = np.where(rng.uniform(size=n) < 0.8, stick.theta_max, rng.uniform(-1.3, -0.01, n))
+    model = rng.choice(["paper", "geometry"], n)
+    force = rng.choice([0.0, 100.0, 2000.0], n) * rng.uniform(size=n)
+    c = np.array([float(coefficients(m, stick).torque_rate(9.8, f)) for m, f in zip(model, force)])
+    theta0 = theta_max + rng.uniform(0.0, 0.6, n)
+    omega0 = rng.uniform(-5.0, 5.0, n)
+    cor = np.where(rng.uniform(size=n) < 0.5, rng.uniform(0.0, 1.0, n), rng.uniform(0.9, 0.99, n))
+    t_end = rng.uniform(0.5, 10.0, n)
+    columns = (theta0, omega0, cor, c, theta_max, t_end)
+    fast = constant_batch(*columns, max_impacts=100_000)
+    exact = constant_batch(*columns, max_impacts=100_000, exact=True)
+    status, offsets, count, t, _, rest = fast
+    assert np.array_equal(status, exact[0]) and np.array_equal(count, exact[2])
+    ok = status == OK
+    assert np.count_nonzero(ok) > 0.9 * n and count.sum() > 50 * n
+    worst = 0.0
+    for i in np.flatnonzero(ok):
+        ours, theirs = slice(offsets[i], offsets[i] + count[i]), slice(exact[1][i], exact[1][i] + count[i])
+        if count[i]:
+            worst = max(worst, float(np.max(np.abs(t[ours] - exact[3][theirs]))))
+        assert np.isnan(rest[i]) == np.isnan(exact[5][i])
+        if not np.isnan(rest[i]):
+            assert abs(rest[i] - exact[5][i]) <= IMPACT_TOL
+    print(f"batch: table vs R_F worst impact-time difference {worst:.3g} s over {count[ok].sum()} impacts")
+    assert worst <= IMPACT_TOL
