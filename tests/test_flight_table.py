@@ -6,7 +6,8 @@
   (40 kept after the cancellation at small launches), on every piece and at the table's ends;
 * flight_time from the table against :func:`.elliptic.flight_time` for launches from 1e-8 rad/s to
   near the vertical under C of both models; a head the table cannot serve keeps R_F, bit for bit;
-* the batch with the table against the batch with R_F at every impact, impacts within 1e-12 s.
+* the batch and the solver with the table against themselves with R_F at every flight, impacts and
+  rests within 1e-12 s.
 """
 
 import math
@@ -139,4 +140,31 @@ def test_batch_with_the_table_equals_the_batch_with_rf(rng):
         if not np.isnan(rest[i]):
             assert abs(rest[i] - exact[5][i]) <= IMPACT_TOL
     print(f"batch: table vs R_F worst impact-time difference {worst:.3g} s over {count[ok].sum()} impacts")
+    assert worst <= IMPACT_TOL
+
+
+@pytest.mark.parametrize("model", ["paper", "geometry"])
+def test_solver_with_the_table_equals_the_solver_with_rf(model, rng):
+    """simulate's solver, flights by the table and by R_F: impacts and rests within 1e-12 s."""
+    from drumstroke.solver import solve
+
+    worst, impacts = 0.0, 0
+    for preset in ("free-bounce", "low-high", "high-low", "finger-pulses"):
+        for _ in range(10):
+            recipe = drumstroke.preset(preset).replace(
+                model=model, cor=float(rng.uniform(0.3, 0.98)), omega0=float(rng.uniform(-5.0, 5.0)))
+            kwargs = dict(theta0=recipe.theta0, omega0=recipe.omega0, cor=recipe.cor, t_end=recipe.t_end)
+            try:
+                fast = solve(recipe.coefficients, recipe.force, recipe.gravity, **kwargs)
+            except drumstroke.SimulationError:  # (to the vertical) then so with R_F
+                with pytest.raises(drumstroke.SimulationError, match="vertical"):
+                    solve(recipe.coefficients, recipe.force, recipe.gravity, **kwargs, tabled=False)
+                continue
+            exact = solve(recipe.coefficients, recipe.force, recipe.gravity, **kwargs, tabled=False)
+            assert len(fast.impact_t) == len(exact.impact_t)
+            if len(fast.impact_t):
+                worst = max(worst, float(np.max(np.abs(fast.impact_t - exact.impact_t))))
+            np.testing.assert_allclose(fast.rests, exact.rests, rtol=0.0, atol=IMPACT_TOL)
+            impacts += len(fast.impact_t)
+    print(f"{model}: solver table vs R_F worst impact-time difference {worst:.3g} s over {impacts} impacts")
     assert worst <= IMPACT_TOL

@@ -76,7 +76,7 @@ class Solution:
     rests: np.ndarray
 
 
-def solve(coefficients, force, gravity, *, theta0, omega0, cor, t_end, method="auto", progress=None):
+def solve(coefficients, force, gravity, *, theta0, omega0, cor, t_end, method="auto", progress=None, tabled=True):
     """Simulate the stick from (θ₀, ω₀) at t = 0 to ``t_end``.
 
     Parameters
@@ -97,24 +97,28 @@ def solve(coefficients, force, gravity, *, theta0, omega0, cor, t_end, method="a
         closed forms); "auto" uses the closed forms wherever they apply.
     progress : callable or None
         Called now and then with the fraction of ``t_end`` done.
+    tabled : bool
+        Flights from the head by the head's table (:mod:`.flight_table`); False evaluates
+        R_F at every flight (the table's reference, for checks and benchmarks).
 
     Returns
     -------
     Solution
     """
-    from . import kernel  # compiled on first use; `import drumstroke` stays light
+    from . import flight_table, kernel  # compiled on first use; `import drumstroke` stays light
 
     edges, c0, c1 = _forcing(coefficients, force, gravity, t_end)
     theta_max = coefficients.theta_max
     state = kernel.initial_state(theta0, omega0)
     closed_forms = method == "auto"
+    table = flight_table.table_for(theta_max) if closed_forms and tabled else np.empty((0, 0))
     chunk = len(c0) if progress is None else max(1, -(-len(c0) // _PROGRESS_CHUNKS))
     parts = []
     last_report = time.monotonic()
     for first in range(0, len(c0), chunk):
         last = min(first + chunk, len(c0))
         parts.append(_checked(kernel.run(
-            edges[first:last + 1], c0[first:last], c1[first:last], theta_max, cor, closed_forms, _MAX_STEP,
+            edges[first:last + 1], c0[first:last], c1[first:last], theta_max, table, cor, closed_forms, _MAX_STEP,
             MAX_IMPACTS, last == len(c0), state,
         ), cor))
         if progress is not None and time.monotonic() - last_report > 0.1:
