@@ -20,7 +20,15 @@ import drumstroke
 from drumstroke.model import coefficients
 from drumstroke.solver import elliptic
 from drumstroke.solver.batch import OK, constant_batch
-from drumstroke.solver.flight_table import PIECES, _piece_bounds, build, evaluate, flight_time, scaled_flight
+from drumstroke.solver.flight_table import (
+    PIECES,
+    _piece_bounds,
+    build,
+    evaluate,
+    flight_time,
+    scaled_flight,
+    table_for,
+)
 
 TABLE_RTOL = 1e-14  # relative, g from the table against R_F and against mpmath [2.9e-15 against R_F]
 HEADS = [-0.001, -0.1, -math.asin(0.07 / 0.27), -0.5, -0.8, -0.9]  # rad; Table 1's stick is −0.2623
@@ -168,3 +176,10 @@ def test_solver_with_the_table_equals_the_solver_with_rf(model, rng):
             impacts += len(fast.impact_t)
     print(f"{model}: solver table vs R_F worst impact-time difference {worst:.3g} s over {impacts} impacts")
     assert worst <= IMPACT_TOL
+
+
+def test_a_head_has_one_table():
+    theta_max = -0.123456789
+    table = table_for(theta_max)
+    assert table is table_for(theta_max)
+    np.testing.assert_array_equal(table, build(math.sin(theta_max)))

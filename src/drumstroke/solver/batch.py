@@ -123,14 +123,21 @@ def _capacities(theta0, omega0, cor, c, theta_max, t_end, max_impacts):
 
 
 @jit(parallel=True)
-def _fill(theta0, omega0, cor, c, theta_max, t_end, offsets, out_t, out_w, status, count, rest, tables, head,
-          exact):
+def _fill(theta0, omega0, cor, c, theta_max, t_end, offsets, out_t, out_w, status, count, rest, tables, head):
     for i in prange(len(theta0)):
         capacity = offsets[i + 1] - offsets[i]
         status[i], count[i], rest[i] = _run(
             theta0[i], omega0[i], cor[i], c[i], theta_max[i], t_end[i], out_t, out_w, offsets[i], capacity,
-            tables[head[i]], exact
+            tables[max(head[i], 0)], head[i] < 0
         )
+
+
+def _tables(theta_max, exact):
+    """The heads' tables stacked, and each stroke's row in them (−1 everywhere if ``exact``: R_F)."""
+    heads, head = np.unique(theta_max, return_inverse=True)
+    if exact or not len(heads):
+        return np.zeros((1, 1, 1)), np.full(len(theta_max), -1, dtype=np.int64)
+    return np.stack([flight_table.table_for(float(h)) for h in heads]), np.ascontiguousarray(head, dtype=np.int64)
 
 
 def constant_batch(theta0, omega0, cor, c, theta_max, t_end, *, max_impacts, exact=False):
@@ -159,7 +166,6 @@ def constant_batch(theta0, omega0, cor, c, theta_max, t_end, *, max_impacts, exa
     status = np.zeros(n, dtype=np.int64)
     count = np.zeros(n, dtype=np.int64)
     rest = np.full(n, np.nan)
-    heads, head = np.unique(arrays[4], return_inverse=True)
-    tables = np.stack([flight_table.table_for(float(h)) for h in heads]) if len(heads) else np.zeros((1, 1, 1))
-    _fill(*arrays, offsets, out_t, out_w, status, count, rest, tables, head.astype(np.int64), bool(exact))
+    tables, head = _tables(arrays[4], exact)
+    _fill(*arrays, offsets, out_t, out_w, status, count, rest, tables, head)
     return status, offsets, count, out_t, out_w, rest

@@ -99,15 +99,19 @@ def build(sin_head):
     table = np.zeros((PIECES + 1, _COLUMNS))
     values = np.empty(n)
     series = np.empty(n)
+    cosines = np.empty((n, n))  # cos(jπ(i + ½)/n): row 1 the nodes, all rows the transform
+    for j in range(n):
+        for i in range(n):
+            cosines[j, i] = math.cos(math.pi * j * (i + 0.5) / n)
     for k in range(PIECES):
         low, high = _piece_bounds(k)
         centre, half = 0.5 * (low + high), 0.5 * (high - low)
         for i in range(n):
-            values[i] = scaled_flight(centre + half * math.cos(math.pi * (i + 0.5) / n), sin_head)
+            values[i] = scaled_flight(centre + half * cosines[1, i], sin_head)
         for j in range(n):
             total = 0.0
             for i in range(n):
-                total += values[i] * math.cos(math.pi * j * (i + 0.5) / n)
+                total += values[i] * cosines[j, i]
             series[j] = (1.0 if j else 0.5) * 2.0 / n * total
         table[k, _CENTRE], table[k, _SCALE] = centre, 1.0 / half
         table[k, _FIRST:] = _chebyshev_to_powers(series)
@@ -186,13 +190,22 @@ def flight_time(launch_speed, c, table):
     return u * g * per_root_c, m
 
 
+KEPT = 256
+"""Tables kept, the most recently built (some 27 kB each)."""
+
 _TABLES = {}
 
 
 def table_for(theta_max):
-    """The table of the head θ_max (rad), built on first use (some 0.1 ms) and kept."""
+    """The table of the head θ_max (rad): built on first use (under 1 ms), then kept (the last KEPT).
+
+    Every flight from a head is read from its table, whatever ran before: a result never depends on
+    which heads a process has seen.
+    """
     sin_head = math.sin(theta_max)
     table = _TABLES.get(sin_head)
     if table is None:
+        if len(_TABLES) >= KEPT:
+            del _TABLES[next(iter(_TABLES))]
         table = _TABLES[sin_head] = build(sin_head)
     return table
