@@ -1,4 +1,4 @@
-"""The flight-time table against Carlson's R_F and against a 40-digit mpmath oracle.
+"""The flight-time table against Carlson's R_F and against an mpmath oracle (60 digits).
 
 * g(u) = √C·T/u from the table against :func:`scaled_flight` (R_F) at 40 points of every
   piece, both ends included, for heads across the human range and beyond;

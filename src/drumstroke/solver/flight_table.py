@@ -19,10 +19,10 @@ rule: ten multiply-adds, no square root beyond √C, no loop of unknown length.
 
 The table's values come from R_F at its nodes with d computed exactly, so it is
 exact to the series' truncation and R_F's round-off; tests/test_flight_table.py
-holds it to R_F and to 40-digit mpmath over dense grids, both ends included.
-It covers orbits up to m = 1 − :data:`.constants.NEARLY_VERTICAL` for any head
-below the pivot; beyond its last piece :func:`flight_time` falls back to
-:func:`.elliptic.flight_time`.
+holds it to R_F and to mpmath (60 digits) over dense grids, both ends included.
+It covers orbits up to m = 1 − :data:`.constants.NEARLY_VERTICAL`. Past its last
+piece, and on a head whose table fails the check made when it is built (heads
+steeper than about −0.95 rad), :func:`flight_time` is :func:`.elliptic.flight_time`.
 """
 
 import math
