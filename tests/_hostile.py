@@ -4,22 +4,18 @@ A :class:`Case` makes its files in a folder of its own and names the command lin
 and the texts its one error line must hold (the file or the option). :func:`run_cases` runs the
 ``drumstroke`` console script once per case, a few at a time (each a subprocess: threads only
 wait), and gives each its :class:`Outcome`: exit status, stdout, stderr, the child's peak
-resident memory and CPU time (from ``os.wait4``, the kernel's account of that process and the
-children it waited for: what ``/usr/bin/time -v`` reports) and the wall time. A case that runs
+resident memory and CPU time (the kernel's account of that process, taken from a small process that
+started it: :mod:`_measured`) and the wall time. A case that runs
 past ``timeout`` is killed (its whole process group) and marked so.
 """
 
 import os
-import signal
-import subprocess
-import tempfile
-import threading
-import time
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from _cli import COMMAND
+from _measured import measured
 
 FIFO, LOOP, FOLDER = object(), object(), object()
 """File contents that are not contents: a FIFO, a symlink to itself, a directory."""
@@ -77,29 +73,10 @@ class Outcome:
 
 
 def run(argv, cwd, *, timeout=60.0):
-    """Run ``drumstroke ARGV`` in ``cwd`` (stdin empty); its :class:`Outcome`, measured by ``os.wait4``."""
-    with tempfile.TemporaryFile() as out, tempfile.TemporaryFile() as err:
-        started = time.monotonic()
-        process = subprocess.Popen([*COMMAND, *argv], cwd=cwd, stdin=subprocess.DEVNULL, stdout=out, stderr=err,
-                                   start_new_session=True, env={**os.environ, "COLUMNS": "80"})
-        killed = threading.Event()
-
-        def kill():
-            killed.set()
-            os.killpg(process.pid, signal.SIGKILL)
-
-        timer = threading.Timer(timeout, kill)
-        timer.start()
-        try:
-            _, status, usage = os.wait4(process.pid, 0)
-        finally:
-            timer.cancel()
-        process.returncode = os.waitstatus_to_exitcode(status)  # reaped here: Popen must not wait for it again
-        wall = time.monotonic() - started
-        out.seek(0)
-        err.seek(0)
-        return Outcome(process.returncode, out.read().decode(errors="replace"), err.read().decode(errors="replace"),
-                       usage.ru_maxrss / 1024.0, usage.ru_utime + usage.ru_stime, wall, killed.is_set())
+    """Run ``drumstroke ARGV`` in ``cwd`` (stdin empty); its :class:`Outcome`, measured by :mod:`_measured`."""
+    status, stdout, stderr, peak, cpu, wall, killed = measured([*COMMAND, *argv], cwd=cwd, timeout=timeout,
+                                                               env={**os.environ, "COLUMNS": "80"})
+    return Outcome(status, stdout, stderr, peak / 2**20, cpu, wall, killed)
 
 
 def run_cases(cases, folder, *, workers=2, timeout=60.0):

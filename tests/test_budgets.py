@@ -1,7 +1,7 @@
 """Resource budgets (:mod:`drumstroke.budget`): small inputs that ask for a lot are refused before the work.
 
 Each case runs the console script in a process of its own and reads that process's own peak memory
-(``os.wait4``): exit status 2, one line on stderr naming the input (the file or the option) and
+(:mod:`_measured`: from a small process that started it): exit status 2, one line on stderr naming the input (the file or the option) and
 the option that raises the budget, nothing written, and a peak far below what the input asks for
 (under 1 GB). Then the budget's option letting a larger input through, a long CSV streamed in
 bounded memory, and the estimates against what they estimate.
@@ -9,14 +9,12 @@ bounded memory, and the estimates against what they estimate.
 
 import os
 import struct
-import subprocess
-import tempfile
-import threading
 
 import numpy as np
 import pytest
 
 from _cli import COMMAND
+from _measured import measured
 from drumstroke import budget
 from drumstroke.analysis.drop import _triples, triple_count
 from drumstroke.errors import ParameterError
@@ -29,19 +27,8 @@ LIMIT = 30.0  # s: a hang guard, far above the second or two a refusal takes
 
 def run_measured(*args, cwd):
     """Run ``drumstroke ARGS`` in a process of its own; return (status, stdout, stderr, its peak memory in bytes)."""
-    with tempfile.TemporaryFile() as out, tempfile.TemporaryFile() as err:
-        child = subprocess.Popen([*COMMAND, *map(str, args)], stdout=out, stderr=err, stdin=subprocess.DEVNULL,
-                                 cwd=cwd)
-        guard = threading.Timer(LIMIT, child.kill)
-        guard.start()
-        try:
-            _, status, usage = os.wait4(child.pid, 0)  # this child's own rusage, not every child's so far
-        finally:
-            guard.cancel()
-        child.returncode = os.waitstatus_to_exitcode(status)
-        out.seek(0)
-        err.seek(0)
-        return child.returncode, out.read().decode(), err.read().decode(), usage.ru_maxrss * 1024
+    status, stdout, stderr, peak, _, _, _ = measured([*COMMAND, *args], cwd=cwd, timeout=LIMIT)
+    return status, stdout, stderr, peak
 
 
 def refused(folder, *args, needles):
@@ -164,6 +151,133 @@ def test_a_long_csv_streams_in_bounded_memory(tmp_path):
     assert written.shape == (2_000_001, 3)
     np.testing.assert_array_equal(written[:, 0], expected.t)
     np.testing.assert_allclose(written[:, 1:], np.column_stack([expected.theta, expected.omega]), rtol=0, atol=1e-12)
+
+
+def _recipe(folder, name, t_end):
+    (folder / name).write_text(f't_end = {t_end}\ncor = 0.5\n[force]\nkind = "constant"\nvalue = 20.0\n')
+
+
+def test_a_megahertz_rate_on_a_minute_is_refused_before_the_simulation(tmp_path):
+    """60 s at 1 MHz: 60,000,001 samples, over the 50 million a trajectory may hold, refused naming --rate (a
+    stretch counted: 1 s stretched 60 times likewise); a minute that fits (40 s) is not refused."""
+    _recipe(tmp_path, "r.toml", 60.0)
+    _recipe(tmp_path, "one.toml", 1.0)
+    refused(tmp_path, "simulate", "r.toml", "--rate", "1e6", "--csv", "out.csv",
+            needles=("--rate = 1e+06 Hz over 60 s", "60000001 samples", "at most 50000000"))
+    refused(tmp_path, "simulate", "one.toml", "--stretch", "60", "--rate", "1e6", "--csv", "out.csv",
+            needles=("--rate = 1e+06 Hz over 60 s", "60000001 samples"))
+    line = refused(tmp_path, "simulate", "r.toml", "--rate", "1e6", "--csv", "out.csv", "--budget-minutes", "1",
+                   needles=("--rate",))
+    assert "50000000" in line  # the count before the time: the limit that no budget raises
+
+
+def test_the_csv_time_a_rate_asks_for_is_refused_before_the_simulation(tmp_path):
+    """30 s at 1 MHz: 30,000,001 rows of 3 numbers, some 2.3 min at 1.5 µs a number, over a 1-minute budget."""
+    _recipe(tmp_path, "r.toml", 30.0)
+    line = refused(tmp_path, "simulate", "r.toml", "--rate", "1e6", "--csv", "out.csv", "--budget-minutes", "1",
+                   needles=("--rate asks for about 2.3 min of work", "30000001 rows of 3 numbers", "--budget-minutes"))
+    assert line.startswith("drumstroke simulate: error: --rate")
+
+
+def test_compose_refuses_a_rate_before_composing(tmp_path):
+    (tmp_path / "hour.pattern").write_text("tempo 60\n0 single 100 right\n3600 single 100 right\n")
+    refused(tmp_path, "compose", "hour.pattern", "--rate", "1e5", "--csv", "out.csv",
+            needles=("--rate = 100000 Hz over 3600 s", "360000001 samples"))
+
+
+@pytest.fixture(scope="module")
+def long_part(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("long")
+    (folder / "long.pattern").write_text("tempo 60\n0 single 100 right\n3000 single 100 right\n")
+    return folder / "long.pattern"
+
+
+@pytest.mark.parametrize("options, needles", [
+    (("--audio", "out.wav"), ("audio file 'out.wav'", "of audio asks for about 6.9 GB", "--budget-gb")),
+    (("--kit", "--audio", "out.wav"), ("audio file 'out.wav'", "of audio asks for about 6.9 GB", "--budget-gb")),
+    (("--kit", "--plot", "out.png"), ("picture 'out.png'", "10 curves of 3000.", "--budget-gb")),
+    (("--kit", "--rate", "1e4", "--csv", "out.csv"), ("the kit's 5 joints at rate = 10000 Hz", "--budget-gb")),
+])
+def test_a_long_part_s_sound_picture_and_kit_csv_are_refused(tmp_path, long_part, options, needles):
+    """50 minutes: 144 million samples of audio (some 40 bytes each to synthesize), 30 million points of the kit's
+    joints drawn, the kit's 5 joints at 10 kHz sampled whole: each over 1 GB, refused naming its file or option."""
+    refused(tmp_path, "compose", long_part, *options, needles=needles)
+
+
+@pytest.mark.parametrize("source, options, needles", [
+    ("r.toml", (), ("--rate asks for about 1.1 GB", "6000001 control periods of 1 joint, 3 runs", "--budget-gb")),
+    ("r.toml", ("--controller", "pi", "--budget-minutes", "0.5"),
+     ("--rate asks for about 1 min of work", "6000001 control periods of 1 joint, 1 run", "--budget-minutes")),
+    ("long.pattern", ("--kit", "--plant", "simple"), ("--rate", "control periods of 5 joints, 3 runs")),
+])
+def test_robot_track_refuses_the_periods_a_rate_asks_for(tmp_path, long_part, source, options, needles):
+    """60 s at 100 kHz with three controllers holds some 1.1 GB (measured 1.13 GB at its peak before this check); with
+    one, some 1 min of control periods; the kit's long part at 10 kHz far more: each refused before the run."""
+    _recipe(tmp_path, "r.toml", 60.0)
+    (tmp_path / "long.pattern").write_text(long_part.read_text())
+    rate = "1e4" if "--kit" in options else "1e5"
+    refused(tmp_path, "robot", "track", source, "--rate", rate, *options, needles=needles)
+
+
+def test_measure_cor_on_a_million_onsets_reads_them_at_once(tmp_path):
+    """A million rows: read as one array (the same numbers as row by row), refused for its triples' time."""
+    t = np.cumsum(np.full(1_000_000, 0.01))
+    np.savetxt(tmp_path / "many.csv", np.column_stack([t, -1e-5 * np.arange(len(t))]), delimiter=",",
+               header="t,level_db", comments="", fmt="%.6f")
+    refused(tmp_path, "measure-cor", "many.csv", needles=("onsets file 'many.csv'", "1000000 onsets", "--budget-minutes"))
+    from drumstroke.formats.onsets_csv import read_onsets_csv
+
+    times, levels, peaks, _ = read_onsets_csv(tmp_path / "many.csv")
+    expected = np.loadtxt(tmp_path / "many.csv", delimiter=",", skiprows=1)
+    assert peaks is None
+    np.testing.assert_array_equal(np.column_stack([times, levels]), expected)
+
+
+@pytest.mark.parametrize("text, needle", [
+    ("t,level_db\n0.1,0\n0.2,-1\n0.15,-2\n", "line 4: t = 0.15 s comes after 0.2 s"),
+    ('t,level_db\n0.1,0\n"0.2",-1\n0.3,nan\n', "line 4 must be 't,level_db' with two finite numbers"),
+    ("t,level_db\r\n0.1,0\r\n0.2\r\n", "line 3 must be 't,level_db' with two finite numbers"),
+    ("t,level_db\n0.1,0,3\n", "line 2 must be 't,level_db' with two finite numbers"),
+])
+def test_an_onsets_csv_at_fault_is_named_by_its_line_however_it_is_read(tmp_path, text, needle):
+    from drumstroke.formats.onsets_csv import read_onsets_csv
+
+    (tmp_path / "on.csv").write_bytes(text.encode())
+    with pytest.raises(ParameterError, match=needle):
+        read_onsets_csv(tmp_path / "on.csv")
+
+
+@pytest.mark.parametrize("command, name", [
+    (("measure-cor", "sub/one.csv"), "onsets file 'sub/one.csv'"),
+    (("measure-cor", "sub/silent.wav"), "recording 'sub/silent.wav'"),
+    (("fit", "sub/one.csv", "--out", "f.toml"), "onsets file 'sub/one.csv'"),
+    (("fit", "sub/silent.wav", "--out", "f.toml"), "recording 'sub/silent.wav'"),
+])
+def test_an_analysis_names_the_file_by_the_path_given(tmp_path, command, name):
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "sub" / "one.csv").write_text("t,level_db\n0.1,0\n")
+    write_wav(tmp_path / "sub" / "silent.wav", np.zeros(48000), rate=48000)
+    refused(tmp_path, *command, needles=(name,))
+
+
+def test_a_live_record_plans_no_note_past_its_size_and_stays_replayable(monkeypatch):
+    """Past RECORD_BYTES of rows a note is dropped saying the record is full; the record replays what was sent."""
+    from drumstroke.live import ManualClock, Performer, Runtime, replay_session
+    from drumstroke.live import performer as performer_module
+    from drumstroke.live.inputs import Request
+
+    monkeypatch.setattr(performer_module, "RECORD_BYTES", 1500)  # some five rows
+    performer = Performer(clock=ManualClock())
+    runtime = Runtime(performer)
+    runtime.schedule([Request(0.1 + 0.1 * i, ("right", "left")[i % 2], 100, source="test") for i in range(12)])
+    theta = np.concatenate([chunk.theta for chunk in runtime.chunks(duration=2.0)])
+    record = runtime.session()
+    planned = [row for row in record["notes"] if row["planned"]]
+    full = [row for row in record["notes"] if not row["planned"]]
+    assert 1500 <= performer.recorded and 4 <= len(planned) < 12 and len(planned) + len(full) == 12
+    assert all(row["reason"].startswith("the record is full") for row in full)
+    assert all(a["at"] < b["at"] for a, b in zip(planned, full[:1]))  # the first notes played, the later dropped
+    np.testing.assert_array_equal(replay_session(record).theta, theta)
 
 
 # --- the estimates ---------------------------------------------------------------------------------------------------

@@ -308,7 +308,7 @@ def _cases():
         ("level-inf", "t,level_db\n0,0\n0.1,inf\n", "line 3"),
         ("time-text", "t,level_db\n0,0\nsoon,-3\n", "line 3"),
         ("bom-then-nan", BOM + "t,level_db\n0,0\n0.1,nan\n", "line 3"),
-        ("header-only", "t,level_db\n", "on.csv: none"),
+        ("header-only", "t,level_db\n", "{d}/on.csv': none"),
         ("level-positive", "t,level_db\n0,6\n0.1,0\n", "on.csv"),
     )]
     cases += [

@@ -21,9 +21,15 @@ import numpy as np
 
 from .errors import ParameterError
 
+_FLOATS = (float, np.float64)
+
 
 def check_real(name, value, *, low=-math.inf, high=math.inf, low_open=False, high_open=False, unit=""):
     """Return ``value`` as a finite float within [low, high] (ends open on request)."""
+    # a float within range (the call on every hot path) passes without the slower checks of numbers.Real
+    if (type(value) in _FLOATS and -math.inf < value < math.inf and (low < value if low_open else low <= value)
+            and (value < high if high_open else value <= high)):
+        return float(value)
     limits = (low, high, low_open, high_open, unit)
     if isinstance(value, bool) or not isinstance(value, Real):
         raise _refused(name, value, "must be a number in", shown(value), limits)
@@ -49,9 +55,9 @@ def _refused(name, value, must, got, limits):
 def check_vector(name, values, *, low=-math.inf, high=math.inf, unit=""):
     """Return ``values`` as a 1-D float array of finite numbers in [low, high]; a bad entry is named by index."""
     vector = as_vector(name, values)
-    bad = np.flatnonzero(~(np.isfinite(vector) & (vector >= low) & (vector <= high)))
-    if len(bad):
-        i = int(bad[0])
+    bad = ~(np.isfinite(vector) & (vector >= low) & (vector <= high))
+    if bad.any():
+        i = int(np.argmax(bad))
         allowed = _range_text(low, high, False, False, unit)
         raise ParameterError(f"{name}[{i}] must be a finite number in {allowed}, got {float(vector[i])!r}",
                              parameter=name, value=values, allowed=allowed)

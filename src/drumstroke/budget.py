@@ -142,6 +142,35 @@ DROP_SECONDS_PER_TRIPLE = 2e-4
 """Time measure-cor spends on one candidate triple of onsets (s; matched to every onset of its sequence)."""
 
 
+AUDIO_VALUES = 6
+"""Numbers held a sample of audio while it is synthesized (a drive and its ring, complex, and the mix; measured some
+40 bytes a sample at 48 kHz, a drum's or a kit's)."""
+
+TRACK_VALUES = 6
+"""Numbers a controller's run holds a control period of each joint: the angle, the speed, the torque and the loop's
+working copies (measured: 60 s at 100 kHz with three controllers peaked at 1.13 GB, some 190 bytes a period)."""
+
+TRACK_SECONDS_PER_STEP = 1e-5
+"""Time to simulate one control period of one joint on the simple plant (s; measured 8 to 14 µs)."""
+
+
+PLOT_BYTES_PER_POINT = 100
+"""Memory a point of a curve drawn holds until the picture is written (bytes; its samples and the plotting library's
+copies: measured 30 to 100)."""
+
+
+def synthesis_bytes(samples):
+    """Memory (bytes) of synthesizing ``samples`` samples of audio."""
+    return values_bytes(samples * AUDIO_VALUES)
+
+
+def track_cost(periods, *, joints=1, controllers=1):
+    """Memory (bytes) and time (s) of playing ``periods`` control periods of ``joints`` joints with each of
+    ``controllers`` controllers: the reference's samples, and each run's angles, speeds, torques and steps."""
+    memory = samples_bytes(periods, joints) + values_bytes(periods * joints * controllers * TRACK_VALUES)
+    return memory, periods * joints * controllers * TRACK_SECONDS_PER_STEP
+
+
 def audio_bytes(frames, channels, working):
     """Memory (bytes) of an audio file's ``frames`` × ``channels`` samples as float64, and ``working`` copies of one channel."""
     return values_bytes(frames * (channels + working))

@@ -38,6 +38,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ._checks import check_real
+from .budget import check_memory, check_time, csv_seconds, values_bytes
 from .design import Setup, Target, assign_sticks, plan_stick
 from .design.chain import MIN_GAP
 from .dynamics import level_to_velocity, velocity_to_level
@@ -602,7 +603,11 @@ class KitComposition:
     def sample(self, rate=None):
         """Times (s, from 0 to :attr:`t_end` at ``rate`` Hz, default the composition's) and ``{column: values}``."""
         rate = self.rate if rate is None else check_real("rate", rate, low=1.0, high=1e5, unit="Hz")
-        t = np.arange(math.floor(self.t_end * rate + 1e-9) + 1) / rate
+        rows = self._rows(rate)
+        # the columns, and the copies samples() and the CSV's text make of them
+        check_memory(f"sampling {self.t_end:g} s of the kit's {len(self.columns) // 2} joints at rate = {rate:g} Hz",
+                     2 * values_bytes(rows * (1 + len(self.columns))), f"{rows} samples")
+        t = np.arange(rows) / rate
         positions, velocities = [], []
         for joints, curve in self.performance.motions.values():
             q, v = curve(t)
@@ -647,7 +652,14 @@ class KitComposition:
         trajectory CSV does (``sidecar=False``: returned only)."""
         from .formats.trajectory_csv import write_kit
 
+        rows, columns = self._rows(self.rate), 1 + len(self.columns)
+        check_time(f"the CSV {str(path)!r}", csv_seconds(rows, columns),
+                   f"{rows} rows of {columns} numbers at rate = {self.rate:g} Hz")
         return write_kit(path, self.samples(), sidecar=sidecar, bundle=bundle)
+
+    def _rows(self, rate):
+        """Samples from 0 to :attr:`t_end` at ``rate`` Hz."""
+        return math.floor(self.t_end * rate + 1e-9) + 1
 
 
 def compose_kit(notes, kit=None, *, setup=None, rate=None, pieces=None, lead="right", open_handed=False,

@@ -158,10 +158,12 @@ def merge_edges(edges, t_end):
     """Sorted edges in [0, t_end], 0 and t_end included, with near-duplicates merged into the first."""
     if len(edges) == 0:
         return np.array([0.0, t_end])
-    edges = np.unique(np.concatenate(([0.0, t_end], edges)))
-    edges = edges[(edges >= 0.0) & (edges <= t_end)]
+    # np.unique's work (sort, keep the first of equals) without its wrappers: this runs at every simulation
+    edges = np.concatenate(([0.0, t_end], edges))
+    edges.sort()
+    edges = edges[np.concatenate(([True], edges[1:] != edges[:-1])) & (edges >= 0.0) & (edges <= t_end)]
     tol = merge_tolerance(t_end)
-    if np.any(np.diff(edges) <= tol):  # rare: merge each cluster into its first edge
+    if (edges[1:] - edges[:-1] <= tol).any():  # rare: merge each cluster into its first edge
         kept = [edges[0]]
         for edge in edges[1:]:
             if edge - kept[-1] > tol:
@@ -401,7 +403,7 @@ class PiecewiseLinear(Profile):
             return np.full(len(left), v[0]), np.zeros(len(left))
         k = np.searchsorted(t, left + tol, side="right") - 1  # the segment each piece lies on
         inside = (k >= 0) & (k < len(t) - 1)
-        k = np.clip(k, 0, len(t) - 2)
+        k = k.clip(0, len(t) - 2)
         slopes = np.where(inside, (v[k + 1] - v[k]) / (t[k + 1] - t[k]), 0.0)
         values = np.where(inside, v[k] + slopes * (left - t[k]), np.where(left < t[0], v[0], v[-1]))
         return values, slopes
@@ -661,8 +663,8 @@ def _check_points(name, points):
         _check_level(f"{name}[{i}] value", vi)
     array = np.array(rows, dtype=float)
     t, v = array[:, 0], array[:, 1]
-    steps = np.diff(t)
-    if np.any(steps < MIN_SPACING):
+    steps = t[1:] - t[:-1]  # np.diff's arithmetic without its wrapper: every designed stroke's profile comes here
+    if (steps < MIN_SPACING).any():
         i = int(np.argmax(steps < MIN_SPACING)) + 1
         least = float(t[i - 1]) + MIN_SPACING
         raise ParameterError(

@@ -929,6 +929,26 @@ def _columns(name, values, n):
     return array
 
 
+def check_sampling(duration, rate, columns, *, name="rate"):
+    """Refuse ``rate`` (Hz) over ``duration`` (s) before anything is simulated or sampled.
+
+    Refused: more than :data:`MAX_SAMPLES` samples, or a CSV of ``columns`` numbers a row that the
+    budget's time does not allow (:func:`drumstroke.budget.csv_seconds`). ``name`` is the input as
+    the message names it (``"--rate"`` on the command line).
+
+    >>> check_sampling(60.0, 1e6, 3, name="--rate")
+    Traceback (most recent call last):
+    ...
+    drumstroke.errors.ParameterError: --rate = 1e+06 Hz over 60 s asks for 60000001 samples; at most 50000000 are allowed (--rate must be at most 833333 Hz here)
+    """
+    samples = math.floor(duration * rate * (1.0 + 1e-12)) + 1
+    if samples > MAX_SAMPLES:
+        raise ParameterError(f"{name} = {rate:g} Hz over {duration:g} s asks for {samples} samples; at most "
+                             f"{MAX_SAMPLES} are allowed ({name} must be at most {MAX_SAMPLES / duration:g} Hz here)")
+    check_time(name, csv_seconds(samples, columns), f"a CSV of {samples} rows of {columns} numbers: {duration:g} s at "
+                                                    f"{rate:g} Hz")
+
+
 def check_samples(t, theta, omega, alpha=None, rate=None):
     """Samples as float arrays (t 1-D; the others 2-D) on one time grid, checked in the validator's words.
 

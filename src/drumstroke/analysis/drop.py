@@ -289,7 +289,7 @@ def _choose(onsets, flights, tolerance):
         raise ParameterError(f"onsets must be an Onsets, got {type(onsets).__name__}")
     t = onsets.t
     triples = triple_count(t)
-    check_time(f"onsets of {onsets.source!r}" if onsets.source else "the onsets",
+    check_time(f"measuring c from {onsets.source!r}" if onsets.source else "measuring c",
                drop_seconds(triples), f"{triples} triples of {len(t)} onsets to try as a drop's impacts")
     few = np.arange(min(len(t), 2))
     candidates = {(): _Choice(few, few, np.empty(0, dtype=np.int64), few)}
@@ -439,12 +439,12 @@ def measure_cor(onsets, *, model="paper", stick=None, gravity=9.8, confidence=CO
     ParameterError
         When fewer than :data:`MIN_FLIGHTS` flights are found (naming how many impacts were).
     """
-    from scipy import stats
-    from scipy.optimize import least_squares
-
     flights = _Flights(*_checked(model, stick, gravity))
     confidence = check_real("confidence", confidence, low=0.0, high=1.0, low_open=True, high_open=True)
     choice = _choose(onsets, flights, _check_tolerance(tolerance))
+    from scipy import stats  # after the budget's check: a refusal does not wait for scipy to load
+    from scipy.optimize import least_squares
+
     times = onsets.t[choice.used]
     if len(times) < MIN_FLIGHTS + 1:
         raise ParameterError(f"a drop needs at least {MIN_FLIGHTS} flights ({MIN_FLIGHTS + 1} impacts) to measure c "

@@ -70,6 +70,11 @@ def print_recording_notes(onsets):
               "levels read low", file=sys.stderr)
 
 
+def recording_name(path):
+    """A recording or an onsets CSV as errors name it: its kind and its path as the user gave it."""
+    return f"{'onsets file' if Path(path).suffix.lower() == '.csv' else 'recording'} {str(path)!r}"
+
+
 def add_sound_options(parser):
     """--audio (alias --wav), --no-snares and --midi, for the commands that write a stroke's or a composition's sound."""
     parser.add_argument("--audio", "--wav", action=Output, suffixes=tuple(wav.FORMATS), metavar="PATH",

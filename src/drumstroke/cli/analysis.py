@@ -4,10 +4,10 @@ import sys
 from dataclasses import replace
 
 from .._atomic import Bundle
-from ..errors import ParameterError
+from ..errors import ParameterError, located
 from ..formats import json, onsets_csv
 from ..render import plot
-from ._common import add_model, print_recording_notes, print_written
+from ._common import add_model, print_recording_notes, print_written, recording_name
 from ._options import Output, add_mkdir, existing_file, number
 
 
@@ -123,10 +123,12 @@ def _onsets(args):
 def _measure_cor(args):
     from ..analysis.drop import measure_cor
 
+    where = recording_name(args.drop)
     onsets, _ = _read(args, args.drop)
     if not len(onsets):
-        raise ParameterError(f"no impacts found in {args.drop.name}: {onsets.info.get('found', 'none')}")
-    drop = measure_cor(onsets, model=args.model, confidence=args.confidence, tolerance=args.tolerance)
+        raise ParameterError(f"no impacts found in {where}: {onsets.info.get('found', 'none')}")
+    with located(where):
+        drop = measure_cor(onsets, model=args.model, confidence=args.confidence, tolerance=args.tolerance)
     low, high = drop.interval
     print(f"c = {drop.cor:.4f} ({drop.confidence:.0%} interval {low:.4f} to {high:.4f}) from {drop.flights} flights "
           f"({drop.flights + 1} impacts, {drop.times[0]:.4f} to {drop.times[-1]:.4f} s) on the {drop.model} model's "

@@ -109,6 +109,7 @@ def _compose(args):
     from ..palette.library import load_library, palette_library
     from ..render.outputs import write_composition_outputs
     from ..score import read_score
+    from ..trajectory import check_sampling
 
     say = (lambda *a, **k: None) if args.quiet else print
     rate = args.rate
@@ -123,6 +124,8 @@ def _compose(args):
     if not score.notes:
         raise ParameterError(f"{args.score} has no notes to play on the channels and tracks chosen; choose others "
                              "with --channel, --track or --mapping (--verbose lists every note skipped)")
+    if args.csv and args.rate:  # the last note's time at least: a rate the CSV cannot hold is refused before composing
+        check_sampling(max(note.time for note in score.notes), args.rate, 3, name="--rate")
     bar = None if args.quiet else Bar("composing", delay=1.0)
     setup = Setup(model=args.model, limits=robot_config(args.config).limits)
     piece = compose(score, library, rate=rate, progress=bar.update if bar else None, setup=setup, sticks=args.sticks)
@@ -134,6 +137,8 @@ def _compose(args):
         f"{_strokes_from(score, args)}): {piece.t_end:.3f} s at {piece.rate:g} Hz, score time 0 at {piece.offset:g} s; "
         f"sticks: {sticks}")
     _warn(piece, played, args, say)
+    if args.csv and args.rate:
+        check_sampling(piece.t_end, piece.rate, 1 + 2 * len(piece.sticks), name="--rate")
     written = write_composition_outputs(piece, title=args.score.stem, csv=args.csv, json=args.json, plot=args.plot,
                                         audio=args.audio, midi=args.midi, snares=not args.no_snares)
     if not args.quiet:

@@ -4,10 +4,11 @@ import math
 
 from .._atomic import Bundle
 from ..dynamics import CEILING_DB, FLOOR_DB
+from ..errors import located
 from ..formats import json, toml
 from ..recipe import COR_RANGE
 from ..render import plot
-from ._common import Bar, add_cor, add_model, add_sound_options, print_recording_notes, print_written
+from ._common import Bar, add_cor, add_model, add_sound_options, print_recording_notes, print_written, recording_name
 from ._options import Output, add_mkdir, existing_file, number, whole
 
 LEVELS = ("auto", "peak", "modes")
@@ -64,7 +65,7 @@ def _fit(args):
     csv = args.recording.suffix.lower() == ".csv"
     onsets = read_onsets(args.recording) if csv else find_recording_onsets(args.recording)
     print_recording_notes(onsets)
-    with Bar("fitting", delay=0.5) as bar:
+    with Bar("fitting", delay=0.5) as bar, located(recording_name(args.recording)):
         fitted = fit_stroke(onsets, model=args.model, cor=args.cor, fit_cor=args.fit_cor, offset=args.level,
                             drop=args.drop, merge=args.merge, drop_suspects=args.drop_suspects,
                             suspect_time=args.suspect_ms * 1e-3, suspect_level=args.suspect_db, levels=args.levels,

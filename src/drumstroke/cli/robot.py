@@ -51,7 +51,8 @@ def add_robot(robot):
 def _track(args):
     from ..robot.config import load_source
     from ..robot.metrics import metrics
-    from ..robot.track import reference, track
+    from ..robot.track import check_tracking, reference, track
+    from ..stroke import as_trajectory
 
     check_kit_track(args)
     config = robot_config(args.config)
@@ -64,6 +65,8 @@ def _track(args):
         return track_kit_command(args, config, names)
     rate = args.rate
     source = load_source(args.source, library=args.library, stick=args.stick, plant=config.plant)
+    span = as_trajectory(source)
+    check_tracking(span.t_end - span.start, rate, controllers=len(names), name="--rate")
     ref = reference(source, rate)
     bar = Bar(f"playing {ref.name}", delay=1.0)
     played = [track(ref, controllers[name], config.plant, engine=args.plant,

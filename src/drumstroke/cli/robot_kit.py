@@ -46,6 +46,7 @@ def track_kit_command(args, config, names):
     from ..compose import compose_kit
     from ..kit.pieces import default_kit, read_kit
     from ..robot.kit import first_seconds, kit_scores, track_kit
+    from ..robot.track import check_tracking
     from ..score import read_score
     from ._common import Bar, print_written
 
@@ -58,6 +59,8 @@ def track_kit_command(args, config, names):
     if args.seconds is not None:
         score = first_seconds(score, args.seconds)
     piece = compose_kit(score, kit, rate=args.rate)
+    check_tracking(piece.t_end if args.seconds is None else min(args.seconds, piece.t_end), args.rate,
+                   joints=len(piece.columns) // 2, controllers=len(names), name="--rate")
     span = "all of its drum part" if args.seconds is None else f"the first {args.seconds:g} s of its drum part"
     print(f"{args.source}, {span} on {'kit ' + args.kit if args.kit else 'the shipped kit'}: {piece.summary()}")
     plant = config.plant if args.config else None

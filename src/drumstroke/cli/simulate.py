@@ -87,12 +87,17 @@ def add_sweep(swp):
 
 
 def _simulate(args):
-    from ..palette.library import make_stroke
+    from ..palette.library import make_stroke, planned_duration
     from ..palette.transforms import apply_step
+    from ..render.data import as_trajectory
     from ..render.outputs import write_stroke_outputs
+    from ..trajectory import check_sampling
 
     if args.library and args.model:
         raise ParameterError("--model cannot be used with --library: a library's strokes are stored as built")
+    duration = planned_duration(args.stroke, args.steps) if args.csv and not args.library else None
+    if duration is not None:  # before the simulation: a rate the CSV cannot hold is refused at once
+        check_sampling(duration, args.rate or DEFAULT_RATE, 3, name="--rate")
     with Bar("simulating", delay=1.0) as bar:
         stroke = make_stroke(args.stroke, library=args.library, model=args.model, progress=bar.update)
     for op, value in args.steps:
@@ -100,6 +105,9 @@ def _simulate(args):
             stroke = apply_step(stroke, op, value)
         except DrumstrokeError as error:
             raise type(error)(f"--{op}: {error}") from None
+    if args.csv:  # the stroke as the CSV samples it, after the steps
+        sampled = as_trajectory(stroke)
+        check_sampling(sampled.t_end - sampled.start, args.rate or sampled.rate, 3, name="--rate")
     print_summary(stroke)
     print_written(write_stroke_outputs(stroke, json=args.json, csv=args.csv, plot=args.plot, audio=args.audio,
                                        midi=args.midi, rate=args.rate, snares=not args.no_snares))

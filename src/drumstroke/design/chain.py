@@ -415,6 +415,12 @@ def _throw_plan(setup, lead):
     return _Plan.of([0.0], [0.0], None, start=None, end="catch", setup=setup, lead=lead, tail=None)
 
 
+@functools.lru_cache(maxsize=64)
+def _base_recipe(setup):
+    """The recipe every design with ``setup`` is made from: made once, its coefficients worked out once."""
+    return Recipe(force=Constant(0.0), model=setup.model, cor=setup.cor, stick=setup.stick)
+
+
 @dataclass
 class _Plan:
     """What a design is worked out from, in the solver's units (sin θ, rad/s, torque rates C)."""
@@ -451,14 +457,14 @@ class _Plan:
             raise ParameterError(f"start.theta must be at or above the head, theta_max = {stick.theta_max:.6g} rad, "
                                  f"got {start.theta!r}")
         speeds = 10.0 ** (levels / 20.0) * LEVEL_REFERENCE / stick.pivot_to_tip
-        too_fast = np.flatnonzero(speeds > limits.max_speed)
-        if len(too_fast):
-            i = int(too_fast[0])
+        too_fast = speeds > limits.max_speed
+        if too_fast.any():
+            i = int(np.argmax(too_fast))
             loudest = 20.0 * math.log10(limits.max_speed * stick.pivot_to_tip / LEVEL_REFERENCE)
             raise Unreachable(f"note {i} ({levels[i]:.2f} dB) needs the stick at {speeds[i]:.4g} rad/s, over the "
                               f"joint's max_speed {limits.max_speed:g} rad/s; the loudest reachable is {loudest:.2f} dB",
                               note=i, nearest_level=loudest)
-        recipe = Recipe(force=Constant(0.0), model=setup.model, cor=setup.cor, stick=stick)
+        recipe = _base_recipe(setup)
         highest = check_real("highest", highest, low=stick.theta_max, high=math.pi / 2, low_open=True,
                              high_open=True, unit="rad")
         if catch_at is not None:
@@ -476,13 +482,11 @@ class _Plan:
         co = self.recipe.coefficients
         return (rate * co.inertia_ratio - co.k * STANDARD_GRAVITY) / co.k_thumb
 
-    @property
-    def head(self):
-        return math.sin(self.recipe.theta_max)
-
-    @property
-    def top(self):
-        return math.sin(min(self.limits.theta_high, self.highest))
+    def __post_init__(self):
+        # asked for at every flight and check: worked out once (a plan's fields are not changed)
+        self.head = math.sin(self.recipe.theta_max)
+        self.top = math.sin(min(self.limits.theta_high, self.highest))
+        self.rates = (self.rate_of(self.forces.low), self.rate_of(self.forces.high))  # torque rates, s⁻²
 
     def build(self, drift):
         pieces, release, hold, theta0 = self.pieces()
@@ -658,7 +662,7 @@ class _Plan:
 
     def within(self, rate):
         """Whether the torque rate is within the force range (to round-off: designs land on its ends exactly)."""
-        low, high = self.rate_of(self.forces.low), self.rate_of(self.forces.high)
+        low, high = self.rates
         slack = 1e-9 * max(abs(low), abs(high))
         return low - slack <= rate <= high + slack
 
@@ -725,9 +729,9 @@ class _Plan:
                                   "report it with the notes)")
         time_errors = np.abs(impacts.t[:n] + release - self.times)
         level_errors = np.abs(impacts.level_db[:n] - self.levels)
-        off = np.flatnonzero((time_errors > drift[0]) | (level_errors > drift[1]))
-        if len(off):
-            k = int(off[0])
+        off = (time_errors > drift[0]) | (level_errors > drift[1])
+        if off.any():
+            k = int(np.argmax(off))
             raise Unreachable(f"note {k} (t = {self.times[k]:.6g} s): the bounces before it drift, {time_errors[k]:.3g} s "
                               f"and {level_errors[k]:.3g} dB off by the solver (a long chain of flights that enlarges "
                               "small errors); play it as a new stroke", note=k, drift=True)
@@ -779,6 +783,16 @@ def catch_height(last, following, gap, *, setup=None, lead=LEAD):
     float or None
         rad; None when even the strongest force cannot catch the stick below the joint's highest angle.
     """
+    setup = Setup() if setup is None else setup
+    try:
+        return _catch_height(setup, last, following, gap, lead)
+    except TypeError:  # an argument that cannot be a cache's key: checked (and refused) uncached
+        return _catch_height.__wrapped__(setup, last, following, gap, lead)
+
+
+@functools.lru_cache(maxsize=4096)
+def _catch_height(setup, last, following, gap, lead):
+    """:func:`catch_height`, cached: a planner asks for the same few levels and gaps again and again."""
     plan = _Plan.of([0.0, max(gap, 2 * MIN_GAP)], [last, following], None, start=None, end="catch", setup=setup,
                     lead=lead, tail=None)
     head, top = plan.head, plan.top
@@ -850,10 +864,10 @@ def check_notes(times, levels, velocities):
         levels = check_vector("levels", levels, low=FLOOR_DB - 1e-9, high=CEILING_DB + 1e-9, unit="dB re 1 m/s")
     if len(levels) != len(times):
         raise ParameterError(f"levels must give one level per note: {len(times)} times, {len(levels)} levels")
-    gaps = np.diff(times)
-    close = np.flatnonzero(gaps < MIN_GAP)
-    if len(close):
-        i = int(close[0]) + 1
+    gaps = times[1:] - times[:-1]  # np.diff's arithmetic without its wrapper (at every design)
+    close = gaps < MIN_GAP
+    if close.any():
+        i = int(np.argmax(close)) + 1
         raise ParameterError(f"times must increase by at least {MIN_GAP:g} s from note to note; note {i} at "
                              f"{float(times[i])!r} s follows {float(times[i - 1])!r} s")
     return times, levels

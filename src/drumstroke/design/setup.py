@@ -17,6 +17,7 @@ Traceback (most recent call last):
 drumstroke.errors.ParameterError: cor must be in [0, 1), got 1.0
 """
 
+import functools
 from dataclasses import dataclass, field, replace
 
 from .._checks import check_choice, check_real
@@ -92,7 +93,7 @@ class Setup:
             if not isinstance(getattr(self, name), kind) and not (name == "moves" and self.moves is None):
                 raise ParameterError(f"{name} must be a {where}, got {getattr(self, name)!r}")
         if self.moves is None:
-            object.__setattr__(self, "moves", RETURN_LIMITS.within(self.limits))
+            object.__setattr__(self, "moves", _default_moves(self.limits))
         # asked for at every design and looked up in the planner's caches: worked out once
         object.__setattr__(self, "_head", self.stick.theta_max)
         # of numbers only (the model by its index): the same in every process, so a pickled setup keeps it right
@@ -109,6 +110,12 @@ class Setup:
 
     def replace(self, **changes):
         """The same setup with ``changes`` (validated again); new ``limits`` narrow the default moves anew."""
-        if "limits" in changes and "moves" not in changes and self.moves == RETURN_LIMITS.within(self.limits):
+        if "limits" in changes and "moves" not in changes and self.moves == _default_moves(self.limits):
             changes["moves"] = None
         return replace(self, **changes)
+
+
+@functools.lru_cache(maxsize=64)
+def _default_moves(limits):
+    """The default moves' budget within the joint's ``limits``: worked out once for each (every design makes a setup)."""
+    return RETURN_LIMITS.within(limits)

@@ -52,7 +52,7 @@ import numpy as np
 
 from .._atomic import bundled, write_atomic
 from ..errors import ParameterError
-from .reading import read_csv_rows
+from .reading import csv_rows, read_text
 from .sidecar import describe, read_sidecar, sidecar_for, write_sidecar
 
 SUFFIXES = (".csv",)
@@ -153,7 +153,12 @@ def read_onsets_csv(path):
     """
     where = f"onsets file {str(path)!r}"
     path = Path(path)
-    lines = read_csv_rows(path, "onsets file", limit=MAX_BYTES, rows_of=" of 't,level_db' rows")
+    text = read_text(path, "onsets file", limit=MAX_BYTES)
+    plain = _plain_rows(text)
+    if plain is not None:
+        header, data = plain
+        return data[:, 0], data[:, 1], data[:, 2] if len(header) == 3 else None, _metadata(path, header)
+    lines = csv_rows(text, path, "onsets file", rows_of=" of 't,level_db' rows")
     header = tuple(cell.strip() for cell in lines[0]) if lines else ()
     if header not in (COLUMNS, PEAK_COLUMNS):
         first = ",".join(lines[0]) if lines else "(an empty file)"
@@ -178,6 +183,30 @@ def read_onsets_csv(path):
         rows.append(values)
     data = np.array(rows, dtype=float).reshape(-1, len(header))
     return data[:, 0], data[:, 1], data[:, 2] if len(header) == 3 else None, _metadata(path, header)
+
+
+def _plain_rows(text):
+    """The header and the rows (an array) of an onsets CSV that holds nothing but finite numbers, increasing in time,
+    one row a line ending in a newline alone; None for any other text, read row by row to name the line at fault.
+
+    Reads a million rows in a fraction of the time the row-by-row reading takes: the numbers are
+    converted all at once, as ``float`` converts each.
+    """
+    if '"' in text or "\r" in text or "\0" in text:  # quoted cells and other line ends: the csv module reads them
+        return None
+    lines = text.split("\n")
+    header = tuple(cell.strip() for cell in lines[0].split(","))
+    body = [line for line in lines[1:] if line]
+    commas = len(header) - 1
+    if header not in (COLUMNS, PEAK_COLUMNS) or not body or any(line.count(",") != commas for line in body):
+        return None
+    try:
+        data = np.array(",".join(body).split(","), dtype=float).reshape(-1, len(header))
+    except ValueError:
+        return None
+    if not np.isfinite(data).all() or (np.diff(data[:, 0]) <= 0.0).any():
+        return None
+    return header, data
 
 
 def _metadata(path, columns):

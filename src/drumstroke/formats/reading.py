@@ -120,7 +120,12 @@ def read_csv_rows(path, what, *, limit, rows_of=""):
     ``rows_of`` says what the rows should be (e.g. ``" of 't,value' rows"``), for the message when
     the text is not CSV.
     """
-    text = read_text(path, what, limit=limit)
+    return csv_rows(read_text(path, what, limit=limit), path, what, rows_of=rows_of)
+
+
+def csv_rows(text, path, what, *, rows_of=""):
+    """The rows (lists of text cells) of the CSV ``text``, read from the file ``path`` (for the message, as
+    :func:`read_csv_rows`)."""
     try:
         return list(csv.reader(io.StringIO(text, newline="")))
     except csv.Error as error:

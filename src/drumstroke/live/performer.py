@@ -46,6 +46,7 @@ from ..design import Design, Setup, Start, Unreachable, next_stroke
 from ..design.buzz import DENSITY, buzz_times
 from ..dynamics import velocity_to_level
 from ..errors import ParameterError
+from ..formats.json import json_text
 from ..palette.motion import Limits, plan_return, return_time
 from ..trajectory import DEFAULT_RATE
 
@@ -67,6 +68,14 @@ ROWS = 20_000
 """The rows of a performer's log from which it keeps no dropped note (it counts them, :attr:`Performer.unrecorded`);
 planned notes are always kept, as a replay needs them (a stick plays at most one note every ``closest`` s). A full
 log is a record of about 6-8 MB, written in about a second when a session ends."""
+
+RECORD_BYTES = 40 * 2**20
+"""The bytes of the notes' rows of a performer's log (as the record's JSON writes them) from which it plans no more
+notes: each later note is dropped, saying the record is full. Planned notes must all be kept for a replay, and with
+the dropped notes' :data:`ROWS` and the problems the record stays within the 64 MiB a JSON file may be to be read
+again (:func:`drumstroke.live.replay_session`): some 130,000 notes of some 320 bytes (a buzz's row, with its many
+impacts, more), half an hour of two sticks each playing as fast as they may (a note every 30 ms), hours of a
+dense part."""
 
 STILL = 1e-5
 """rad/s: the largest speed at which a stick is still enough to be held where it is when the performer closes."""
@@ -266,6 +275,7 @@ class Performer:
         self.clock = clock or SystemClock()
         self.log = []
         self.unrecorded = 0  # dropped notes past the log's ROWS
+        self.recorded = 0  # bytes of the log's rows, as the record's JSON writes them
         self.given_up = 0  # planned notes not yet begun when the performer closed
         self.closed = None
         self._sticks = {name: _Stick(Curve.hold(self.rest)) for name in sticks}
@@ -334,6 +344,7 @@ class Performer:
         with self._lock:
             if outcome.planned or len(self.log) < ROWS:
                 self.log.append(replace(outcome, design=None))
+                self.recorded += len(json_text(self.log[-1].to_dict()))
             else:
                 self.unrecorded += 1
         return outcome
@@ -351,6 +362,9 @@ class Performer:
         note = replace(note, velocity=float(velocity), at=float(note.at))
         if self.closed is not None:
             return Outcome(note, False, f"the performer closed at {self.closed:.6g} s")
+        if self.recorded >= RECORD_BYTES:
+            return Outcome(note, False, f"the record is full: its notes take {RECORD_BYTES / 2**20:g} MiB, the most a "
+                                        "session keeps (start another session to play on)")
         failure = None
         for name in self._choices(note):
             outcome = self._note_on(replace(note, stick=name))

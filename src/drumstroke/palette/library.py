@@ -35,7 +35,7 @@ from ..formats.sidecar import KEY
 from ..formats.toml import reading_toml, toml_text
 from ..presets import PRESETS
 from ..recipe import Recipe
-from ..stroke import simulate
+from ..stroke import resolve, simulate
 from ..trajectory import DEFAULT_RATE, Impacts, Trajectory
 from .transforms import apply_steps, trim
 
@@ -223,6 +223,38 @@ def make_stroke(source, *, library=None, model=None, progress=None):
                                  f"{', '.join(PRESETS)}; palette strokes: {', '.join(n for n in entries if n not in PRESETS)}")
         return entries[source].make(model=model, progress=progress)
     return simulate(source, model=model, progress=progress)
+
+
+def planned_duration(source, steps=()):
+    """The duration (s) of :func:`make_stroke`'s stroke after ``steps``, known before anything is simulated.
+
+    A recipe's (a :class:`Recipe`, a preset, a recipe file) ``t_end`` times its stretches: what a
+    sampling rate asks for is refused before the simulation (:func:`drumstroke.trajectory.check_sampling`).
+
+    Parameters
+    ----------
+    source : Recipe, str or Path
+        As :func:`make_stroke` takes it, without a library.
+    steps : sequence of (str, value)
+        The transforms to apply after, in order (``("stretch", 2.0)``).
+
+    Returns
+    -------
+    float or None
+        None for a stroke of the shipped palette, or when a step (trim, catch) ends it where its motion says.
+
+    >>> planned_duration("low-high", [("stretch", 2.0), ("reverse", True)]) == 2 * PRESETS["low-high"].recipe.t_end
+    True
+    """
+    if isinstance(source, str) and source not in PRESETS and not source.endswith(".toml") and not Path(source).exists():
+        return None
+    duration = resolve(source).t_end
+    for op, value in steps:
+        if op == "stretch":
+            duration *= value
+        elif op not in ("compress", "reverse"):
+            return None
+    return duration
 
 
 def build_library(directory, *, rate=DEFAULT_RATE, palette=None, progress=None):

@@ -63,7 +63,8 @@ from scipy.signal import butter, lfilter, sosfilt
 from scipy.special import jn_zeros, jv
 
 from .._checks import check_int, check_real, check_vector
-from ..errors import ParameterError
+from ..budget import check_memory, synthesis_bytes
+from ..errors import ParameterError, located
 from ..formats.wav import audio_format, write_wav
 from ..trajectory import LEVEL_REFERENCE
 
@@ -234,8 +235,14 @@ def synthesize(times, tip_speeds, *, duration=None, drum=Drum(), rate=SAMPLE_RAT
     if duration is None:
         duration = last + TAIL_DECAYS * drum.decay
     duration = check_real("duration", duration, low=last, unit="s")
-
+    check_synthesis(duration, rate)
     return limit_peak(ring(times, tip_speeds, drum, rate=rate, size=round(duration * rate)))
+
+
+def check_synthesis(duration, rate):
+    """Refuse ``duration`` s of audio at ``rate`` Hz when synthesizing it asks for more memory than the budget's."""
+    size = round(duration * rate)
+    check_memory(f"synthesizing {duration:g} s of audio", synthesis_bytes(size), f"{size} samples at {rate:g} Hz")
 
 
 def ring(times, tip_speeds, drum, *, rate, size):
@@ -299,7 +306,8 @@ def render_wav(path, times, tip_speeds, *, duration=None, drum=Drum(), rate=SAMP
     (9600, 28844)
     """
     audio_format(path)  # before the work, not after it
-    signal = synthesize(times, tip_speeds, duration=duration, drum=drum, rate=rate)
+    with located(f"audio file {str(path)!r}"):
+        signal = synthesize(times, tip_speeds, duration=duration, drum=drum, rate=rate)
     write_wav(path, signal, rate=rate, bundle=bundle)
     return signal
 

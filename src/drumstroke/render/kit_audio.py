@@ -77,10 +77,21 @@ from numba import njit
 from scipy.special import jn_zeros
 
 from .._checks import check_int, check_real, check_vector, shown
-from ..errors import ParameterError
+from ..errors import ParameterError, located
 from ..formats.wav import audio_format, write_wav
 from ..kit.pieces import Kit, default_kit
-from .audio import GAIN, SAMPLE_RATE, SNARE_BAND, TAIL_DECAYS, Drum, contact_time, half_sine_spectrum, limit_peak, ring
+from .audio import (
+    GAIN,
+    SAMPLE_RATE,
+    SNARE_BAND,
+    TAIL_DECAYS,
+    Drum,
+    check_synthesis,
+    contact_time,
+    half_sine_spectrum,
+    limit_peak,
+    ring,
+)
 
 INCH = 0.0254
 """One inch (m): drums and cymbals are sold by their diameter in inches."""
@@ -334,7 +345,7 @@ def synthesize_kit(hits, *, kit=None, duration=None, rate=SAMPLE_RATE):
         rings = [_ring_time(voice) for voice in voices] + [p.ring_time for _, plates in hihats.values() for p in plates]
         duration = last + TAIL_DECAYS * max(rings, default=0.0)
     duration = check_real("duration", duration, low=last, unit="s")
-
+    check_synthesis(duration, rate)
     size = round(duration * rate)
     signal = np.zeros(size)
     for voice, chosen in voices.items():
@@ -376,7 +387,8 @@ def render_kit_wav(path, hits, *, kit=None, duration=None, rate=SAMPLE_RATE, bun
     24000
     """
     audio_format(path)  # before the work, not after it
-    signal = synthesize_kit(hits, kit=kit, duration=duration, rate=rate)
+    with located(f"audio file {str(path)!r}"):
+        signal = synthesize_kit(hits, kit=kit, duration=duration, rate=rate)
     write_wav(path, signal, rate=rate, bundle=bundle)
     return signal
 

@@ -19,7 +19,7 @@ from ..dynamics import FLOOR_DB, FOOT_CEILING_DB
 from ..errors import ParameterError
 from ..kit.pieces import FEET, PEDAL_STATE
 from .page import plural
-from .plot import draw_bars, new_figure, tempo_text
+from .plot import check_points, draw_bars, new_figure, tempo_text
 from .sticking import bar_times
 
 LIMB_STYLES = {"right": ("C0", "o"), "left": ("C1", "s"), "right-foot": ("C2", "v"), "left-foot": ("C4", "^")}
@@ -77,6 +77,7 @@ def kit_figure(composition, *, title="kit", window=None, rate=1000.0, sizes=(2.0
     outcomes = composition.performance.outcomes
     shift = composition.offset  # the timeline's time of the score's 0
     lanes = [p.name for p in composition.kit.pieces if any(o.piece == p.name for o in outcomes)]
+    check_points(f"drawing {title!r} on the kit", composition.t_end, rate, len(composition.columns))
     t, columns = composition.sample(rate)
     kinds = _kinds(columns)
     heights = [max(_KEY_HEIGHT, 0.45 + 0.3 * len(lanes))] + [1.25] * len(kinds)  # in

@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from .._atomic import bundled
+from ..errors import located
 from ..formats.sidecar import sidecar_for
 from ..score import BOUNCE_NOTE, FIRST_IMPACT_NOTE
 from ..trajectory import DEFAULT_RATE
@@ -143,7 +144,9 @@ def write_composition_outputs(piece, *, title, csv=None, json=None, plot=None, a
         if plot:
             from .plot import composition_figure, save_figure
 
-            save_figure(composition_figure(piece, title=title), plot, bundle=files)
+            with located(f"picture {str(plot)!r}"):
+                figure = composition_figure(piece, title=title)
+            save_figure(figure, plot, bundle=files)
             written.append(Path(plot))
         if audio:
             times, speeds, _ = piece.impacts()
@@ -215,7 +218,9 @@ def write_kit_outputs(piece, *, title="kit", csv=None, json=None, plot=None, win
             from .kit_plot import kit_figure
             from .plot import save_figure
 
-            save_figure(kit_figure(piece, title=title, window=window), plot, bundle=files)
+            with located(f"picture {str(plot)!r}"):
+                figure = kit_figure(piece, title=title, window=window)
+            save_figure(figure, plot, bundle=files)
             written.append(Path(plot))
         if midi or audio:
             from .kit_audio import KitHits, render_kit_wav

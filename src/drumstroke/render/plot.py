@@ -7,12 +7,14 @@ follows its extension (:data:`SUFFIXES`); matplotlib is imported when a figure i
 """
 
 import io
+import math
 from itertools import pairwise
 from pathlib import Path
 
 import numpy as np
 
 from .._atomic import write_atomic
+from ..budget import PLOT_BYTES_PER_POINT, check_memory
 from ..errors import ParameterError
 from ..model import inertia_ratio
 from ..score import PLANNED
@@ -108,6 +110,7 @@ def composition_figure(composition, *, title="composition", rate=1000.0, accent=
     bars = bar_times(notes, composition.tempo_map)
     parts = composition.sticks
     names = [*(n for n in LETTERS if n in parts), *(n for n in parts if n not in LETTERS)]  # right, left, others
+    check_points(f"drawing {title!r}", composition.t_end, rate, len(names))
     sticks = {name: parts[name].sample(rate) for name in names}
     figure = new_figure(figsize=(11.0, 1.8 + 2.6 * len(sticks)), layout="constrained")
     axes = figure.subplots(len(sticks), 1, sharex=True, sharey=True, squeeze=False)[:, 0]
@@ -425,6 +428,13 @@ def picture_format(path):
     if suffix not in SUFFIXES:
         raise ParameterError(f"path must end in one of {', '.join(SUFFIXES)} (the pictures written), got {str(path)!r}")
     return suffix[1:]
+
+
+def check_points(what, duration, rate, curves):
+    """Refuse a picture (``what``) of ``curves`` curves over ``duration`` s drawn at ``rate`` Hz beyond the memory budget."""
+    points = (math.floor(duration * rate) + 1) * curves
+    check_memory(what, points * PLOT_BYTES_PER_POINT, f"{points} points: {curves} curves of {duration:g} s at "
+                                                      f"{rate:g} Hz")
 
 
 def new_figure(**options):

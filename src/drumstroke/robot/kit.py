@@ -76,6 +76,7 @@ from .controllers import controller as named_controller
 from .kernel import estimate_speed, limit_torque, quantize
 from .metrics import AUDIBLE_SPEED, WINDOW, OnsetScores, match_onsets, pool
 from .plant import GRAVITY, Plant, SimpleJoint, contact_gains
+from .track import check_tracking
 
 AT_PLACE = 5e-3
 """rad: an arm is at a piece's place when every positioning joint is this near it (half the kit's default
@@ -894,9 +895,12 @@ def track_kit(composition, controller="impedance", engine="mujoco", seconds=None
     performance = composition.performance
     pedals = {m.pedal: m.design.stroke.pedal for m in performance.feet.values() if m.design is not None}
     robot = kit_robot(composition.kit, plant=plant, arm=arm, pedals=pedals, rate=composition.rate)
+    if seconds is not None:
+        last = math.floor(composition.t_end * robot.rate + 1e-9) / robot.rate  # the last sample's time
+        seconds = check_real("seconds", seconds, low=0.0, high=last, low_open=True, unit="s")
+    check_tracking(composition.t_end if seconds is None else seconds, robot.rate, joints=len(robot.joints))
     t, columns = composition.sample()
     if seconds is not None:
-        seconds = check_real("seconds", seconds, low=0.0, high=t[-1], low_open=True, unit="s")
         t = t[:math.floor(seconds * robot.rate + 1e-9) + 1]
     reference = _reference(robot, composition, law, t, columns)
     start = {j: (float(reference[j][0][0]), float(reference[j][1][0])) for j in robot.joints}

@@ -14,11 +14,13 @@ Examples
 ('impedance', 5001, True)
 """
 
+import math
 from dataclasses import dataclass, replace
 
 import numpy as np
 
 from .._checks import check_real
+from ..budget import check_memory, check_time, track_cost
 from ..errors import ParameterError
 from ..recipe import DEFAULT_COR
 from ..stroke import as_trajectory
@@ -46,6 +48,26 @@ def reference(source, rate=DEFAULT_RATE):
     rate = check_real("rate", rate, low=10.0, high=1e5, unit="Hz")
     trajectory = as_trajectory(source, rate=rate)
     return trajectory if not trajectory.carry else replace(trajectory, carry=False)  # each sample afresh
+
+
+def check_tracking(duration, rate, *, joints=1, controllers=1, name="rate"):
+    """Refuse playing ``duration`` s at ``rate`` Hz (``joints`` joints, ``controllers`` runs) beyond the budget.
+
+    The memory of the reference's samples and of each run's angles, speeds and torques, and the time
+    of its control periods (:func:`drumstroke.budget.track_cost`); ``name`` is the input as the
+    message names it (``"--rate"`` on the command line).
+
+    >>> check_tracking(3600.0, 1e5, name="--rate")
+    Traceback (most recent call last):
+    ...
+    drumstroke.errors.ParameterError: --rate asks for about 31.7 GB of memory (360000001 control periods of 1 joint, 1 run: 3600 s at 100000 Hz), over the budget of 1 GB (raise it with memory_gb)
+    """
+    periods = math.floor(duration * rate * (1.0 + 1e-12)) + 1
+    memory, seconds = track_cost(periods, joints=joints, controllers=controllers)
+    detail = (f"{periods} control periods of {joints} joint{'s' * (joints > 1)}, {controllers} "
+              f"run{'s' * (controllers > 1)}: {duration:g} s at {rate:g} Hz")
+    check_memory(name, memory, detail)
+    check_time(name, seconds, detail)
 
 
 @dataclass(frozen=True, repr=False)
@@ -144,6 +166,7 @@ def track(reference, controller, plant=None, *, engine="simple", cor=None, progr
     if engine not in ENGINES:
         raise ParameterError(f"engine must be one of {', '.join(ENGINES)}, got {engine!r}")
     rate = check_real("reference.rate", reference.rate, low=10.0, high=1e5, unit="Hz")
+    check_tracking(reference.t_end - reference.start, rate, name="reference.rate")
     if abs(plant.head - reference.theta_max) > 1e-9:
         raise ParameterError(f"the reference's head ({reference.theta_max:.6g} rad) is not the plant's "
                              f"({plant.head:.6g} rad); give the plant the stick the reference was made with")
