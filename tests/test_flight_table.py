@@ -1,11 +1,13 @@
 """The flight-time table against Carlson's R_F and against an mpmath oracle (60 digits).
 
-* g(u) = √C·T/u from the table against :func:`scaled_flight` (R_F) at 40 points of every
-  piece, both ends included, for heads across the human range and beyond;
+* g(u, v) = √C·T/u from the table against :func:`scaled_flight` (R_F) at 20 points of every piece
+  in d, both ends included, for heads at every head piece's ends and middle and at random;
 * the same against docs/model.md's closed form 2[K(m) − F(ψ|m)] in mpmath at 60 digits
   (40 kept after the cancellation at small launches), on every piece and at the table's ends;
 * flight_time from the table against :func:`.elliptic.flight_time` for launches from 1e-8 rad/s to
-  near the vertical under C of both models; a head the table cannot serve keeps R_F, bit for bit;
+  near the vertical under C of both models; a head the table does not cover keeps R_F, bit for bit;
+* a flight's time does not depend on what ran before: the same in a fresh chain as after any other
+  flights, a batch the same stroke by stroke whatever its order or split, the table the same rebuilt;
 * the batch and the solver with the table against themselves with R_F at every flight, impacts and
   rests within 1e-12 s.
 """
@@ -20,15 +22,7 @@ import drumstroke
 from drumstroke.model import coefficients
 from drumstroke.solver import elliptic
 from drumstroke.solver.batch import OK, constant_batch
-from drumstroke.solver.flight_table import (
-    PIECES,
-    _piece_bounds,
-    build,
-    evaluate,
-    flight_time,
-    scaled_flight,
-    table_for,
-)
+from drumstroke.solver import flight_table as ft
 
 TABLE_RTOL = 1e-14  # relative, g from the table against R_F and against mpmath [2.9e-15 against R_F]
 HEADS = [-0.001, -0.1, -math.asin(0.07 / 0.27), -0.5, -0.8, -0.9]  # rad; Table 1's stick is −0.2623
@@ -45,34 +39,62 @@ def _mp_scaled_flight(d, sin_head):
         return 2 * (mp.ellipk(m) - mp.ellipf(psi, m)) / u
 
 
-@pytest.mark.parametrize("head", HEADS)
-def test_table_matches_rf_on_every_piece(head):
-    sin_head = math.sin(head)
-    table = build(sin_head)
-    worst = 0.0
-    for k in range(PIECES):
-        low, high = _piece_bounds(k)
-        for d in np.linspace(low, high, 40):
-            exact = scaled_flight(d, sin_head)
-            worst = max(worst, abs(evaluate(table, d) - exact) / exact)
-    print(f"head {head:.4f}: table vs R_F worst relative {worst:.3g}")
+def _sin_head(v):
+    """sin θ_max with 1 + sin θ_max = v, rounded up to the table's range at its low end."""
+    sin_head = v - 1.0
+    return sin_head if 1.0 + sin_head >= ft.V_LOW else float(np.nextafter(sin_head, 0.0))
+
+
+def _worse(worst, error):
+    """The larger, NaN if either is (max() would drop a NaN error)."""
+    return error if not error <= worst else worst
+
+
+def _sin_heads(rng):
+    """sin θ_max at every head piece's ends and middle, at the covered range's ends, and at random (with HEADS)."""
+    sins = [math.sin(h) for h in HEADS] + [_sin_head(ft.V_LOW), -1e-15] + list(rng.uniform(ft.V_LOW, 1.0, 12) - 1.0)
+    for j in range(ft.HEAD_PIECES):
+        low, high = ft._head_bounds(j)
+        sins += [_sin_head(low), _sin_head(0.5 * (low + high))]
+    return sins
+
+
+def test_table_matches_rf_on_every_cell(rng):
+    table, worst = ft.table(), 0.0
+    for sin_head in _sin_heads(rng):
+        chain = ft.head(table, sin_head)
+        for k in range(ft.PIECES):
+            low, high = ft._piece_bounds(k)
+            for d in np.linspace(low, high, 20):
+                exact = ft.scaled_flight(d, sin_head)
+                worst = _worse(worst, abs(ft.evaluate(table, chain, d) - exact) / exact)
+    print(f"table vs R_F worst relative {worst:.3g}")
     assert worst <= TABLE_RTOL
 
 
-@pytest.mark.parametrize("head", [HEADS[0], HEADS[2], HEADS[-1]])
-def test_table_matches_mpmath(head, rng):
-    sin_head = math.sin(head)
-    table = build(sin_head)
+@pytest.mark.parametrize("sin_head", [math.sin(HEADS[0]), math.sin(HEADS[2]), math.sin(HEADS[-1]), _sin_head(ft.V_LOW)])
+def test_table_matches_mpmath(sin_head, rng):
+    table = ft.table()
+    chain = ft.head(table, sin_head)
     points = [1.0 - 1e-12, 1.0 - 1e-6, 2.0**-32 * 1.0000001]  # the smallest launches and the table's last piece
-    for k in range(PIECES):
-        low, high = _piece_bounds(k)
+    for k in range(ft.PIECES):
+        low, high = ft._piece_bounds(k)
         points += [low, float(rng.uniform(low, high))]
     worst = 0.0
     for d in points:
         exact = _mp_scaled_flight(d, sin_head)
-        worst = max(worst, abs(float((evaluate(table, d) - exact) / exact)))
-    print(f"head {head:.4f}: table vs mpmath worst relative {worst:.3g} on {len(points)} points")
+        worst = _worse(worst, abs(float((ft.evaluate(table, chain, d) - exact) / exact)))
+    print(f"sin θ_max {sin_head:.4f}: table vs mpmath worst relative {worst:.3g} on {len(points)} points")
     assert worst <= TABLE_RTOL
+
+
+def _flight(table, chain, launch, c):
+    """A flight as the solver's chains take it: from the head's last cell, else its cell summed first."""
+    duration, m = ft.flight_time(launch, c, chain)
+    if math.isnan(duration):
+        ft.fill(table, chain, launch, c)
+        duration, m = ft.flight_time(launch, c, chain)
+    return duration, m
 
 
 @pytest.mark.parametrize("model", ["paper", "geometry"])
@@ -84,7 +106,8 @@ def test_flight_time_matches_the_closed_form(model, rng):
     """
     stick = drumstroke.Stick()
     sin_head = math.sin(stick.theta_max)
-    table = build(sin_head)
+    table = ft.table()
+    chain = ft.head(table, sin_head)
     worst = 0.0
     for force in (0.0, 30.0, 250.0, 3000.0):
         c = float(coefficients(model, stick).torque_rate(9.8, force))
@@ -93,7 +116,7 @@ def test_flight_time_matches_the_closed_form(model, rng):
                                    top * (1.0 - 10.0 ** rng.uniform(-10.0, -1.0, 100)), [1e-6, 1e-8]])
         for launch in launches:
             reference, m = elliptic.flight_time(launch, c, sin_head)
-            duration, m_table = flight_time(launch, c, table)
+            duration, m_table = _flight(table, chain, launch, c)
             assert m_table == m
             if m >= 1.0 - 1e-9:
                 continue
@@ -105,24 +128,42 @@ def test_flight_time_matches_the_closed_form(model, rng):
     assert worst <= 1e-14
 
 
-def test_a_head_the_table_cannot_serve_keeps_rf():
-    sin_head = math.sin(-1.2)  # the orbit m = 0 is near the smallest launches
-    table = build(sin_head)
-    assert math.isnan(evaluate(table, 0.9))
+@pytest.mark.parametrize("sin_head", [math.sin(-1.2), ft.V_LOW - 1.0 - 1e-12])  # (below the table's range)
+def test_a_head_the_table_does_not_cover_keeps_rf(sin_head):
+    table = ft.table()
+    for chain in (ft.head(table, sin_head), ft.head(np.empty((0, 0)), math.sin(-0.2))):
+        assert math.isnan(ft.evaluate(table, chain, 0.9))
     for launch in (1e-6, 0.1, 3.0):
-        assert flight_time(launch, 40.0, table) == elliptic.flight_time(launch, 40.0, sin_head)
+        assert ft.flight_time(launch, 40.0, ft.head(table, sin_head)) == elliptic.flight_time(launch, 40.0, sin_head)
+        empty = ft.head(np.empty((0, 0)), math.sin(-0.2))  # (the reference: R_F at every flight)
+        assert ft.flight_time(launch, 40.0, empty) == elliptic.flight_time(launch, 40.0, math.sin(-0.2))
 
 
 def test_beyond_the_last_piece_is_rf():
     sin_head = math.sin(HEADS[2])
-    table = build(sin_head)
     c = 40.0
     launch = math.sqrt(2.0 * c * (1.0 - sin_head)) * (1.0 - 1e-11)  # 1 − m below the last piece's
-    assert flight_time(launch, c, table) == elliptic.flight_time(launch, c, sin_head)
+    assert ft.flight_time(launch, c, ft.head(ft.table(), sin_head)) == elliptic.flight_time(launch, c, sin_head)
 
 
-def test_batch_with_the_table_equals_the_batch_with_rf(rng):
-    n = 3000
+def test_a_flight_does_not_depend_on_the_flights_before(rng):
+    """The same launch from a fresh head and from one that has served other cells: the same time, bit for bit."""
+    table = ft.table()
+    for sin_head in rng.uniform(ft.V_LOW, 1.0, 20) - 1.0:
+        c = float(rng.uniform(20.0, 500.0))
+        top = math.sqrt(2.0 * c * (1.0 - sin_head))
+        launches = top * np.concatenate([rng.uniform(0.0, 1.0, 30), 1.0 - 10.0 ** rng.uniform(-9.0, -1.0, 10)])
+        chain = ft.head(table, sin_head)
+        for launch in rng.permutation(np.repeat(launches, 2)):
+            assert _flight(table, chain, launch, c) == _flight(table, ft.head(table, sin_head), launch, c)
+
+
+def test_the_table_is_the_same_rebuilt():
+    """Built in parallel, cell by cell: the same bits whatever the order the cells were built in."""
+    np.testing.assert_array_equal(ft.build(), ft.table())
+
+
+def _batch_columns(rng, n):
     stick = drumstroke.Stick()
     theta_max = np.where(rng.uniform(size=n) < 0.8, stick.theta_max, rng.uniform(-1.3, -0.01, n))
     model = rng.choice(["paper", "geometry"], n)
@@ -132,7 +173,31 @@ def test_batch_with_the_table_equals_the_batch_with_rf(rng):
     omega0 = rng.uniform(-5.0, 5.0, n)
     cor = np.where(rng.uniform(size=n) < 0.5, rng.uniform(0.0, 1.0, n), rng.uniform(0.9, 0.99, n))
     t_end = rng.uniform(0.5, 10.0, n)
-    columns = (theta0, omega0, cor, c, theta_max, t_end)
+    return theta0, omega0, cor, c, theta_max, t_end
+
+
+def _strokes(result):
+    """Each stroke's (status, impact times, ω, rest) from constant_batch's arrays."""
+    status, offsets, count, t, omega, rest = result
+    return [(status[i], t[offsets[i]:offsets[i] + count[i]], omega[offsets[i]:offsets[i] + count[i]], rest[i])
+            for i in range(len(status))]
+
+
+def test_a_batch_does_not_depend_on_its_order_or_split(rng):
+    """A sweep split over workers equals the one run at once, stroke by stroke, bit for bit."""
+    columns = _batch_columns(rng, 600)
+    whole = _strokes(constant_batch(*columns, max_impacts=100_000))
+    order = rng.permutation(600)
+    parts = [_strokes(constant_batch(*(x[part] for x in columns), max_impacts=100_000))
+             for part in np.array_split(order, 7)]
+    for i, stroke in zip(order, [s for part in parts for s in part]):
+        assert stroke[0] == whole[i][0] and np.array_equal(stroke[1], whole[i][1])
+        assert np.array_equal(stroke[2], whole[i][2]) and np.array_equal(stroke[3], whole[i][3], equal_nan=True)
+
+
+def test_batch_with_the_table_equals_the_batch_with_rf(rng):
+    n = 3000
+    columns = _batch_columns(rng, n)
     fast = constant_batch(*columns, max_impacts=100_000)
     exact = constant_batch(*columns, max_impacts=100_000, exact=True)
     status, offsets, count, t, _, rest = fast
@@ -176,10 +241,3 @@ def test_solver_with_the_table_equals_the_solver_with_rf(model, rng):
             impacts += len(fast.impact_t)
     print(f"{model}: solver table vs R_F worst impact-time difference {worst:.3g} s over {impacts} impacts")
     assert worst <= IMPACT_TOL
-
-
-def test_a_head_has_one_table():
-    theta_max = -0.123456789
-    table = table_for(theta_max)
-    assert table is table_for(theta_max)
-    np.testing.assert_array_equal(table, build(math.sin(theta_max)))

@@ -8,9 +8,9 @@ C ≤ 0, or a flight toward the vertical) are flagged for the general solver.
 Two passes: the first bounds each stroke's impact count (one closed-form
 flight per stroke), the second fills one flat array at those offsets.
 
-Each flight from the head is read from the head's table (:mod:`.flight_table`,
-built once per head angle) unless ``exact`` asks for Carlson's R_F at every
-impact, the table's reference.
+Each flight from the head is read from the flight-time table (:mod:`.flight_table`,
+one for every head, built once per process) unless ``exact`` asks for Carlson's
+R_F at every impact, the table's reference.
 
 tests/test_batch.py holds it equal to :mod:`.kernel`, stroke by stroke.
 """
@@ -49,7 +49,7 @@ def _first_impact(theta, omega, c, theta_max):
 
 
 @jit
-def _run(theta0, omega0, cor, c, theta_max, t_end, out_t, out_w, start, capacity, table, exact):
+def _run(theta0, omega0, cor, c, theta_max, t_end, out_t, out_w, start, capacity, table):
     """One stroke: fills out_t/out_w from ``start``; returns (status, count, rest time or NaN)."""
     if not c > 0.0:
         return UNSUPPORTED, 0, math.nan
@@ -73,16 +73,17 @@ def _run(theta0, omega0, cor, c, theta_max, t_end, out_t, out_w, start, capacity
         out_w[start] = -speed
         n = 1
         launch = cor * speed
+    head = flight_table.head(table, sin_head)
     while True:
         if launch == 0.0:
             return OK, n, t
         if launch < floor:
             rest = t + 2.0 * launch / (a * (1.0 - cor)) if cor < 1.0 else t
             return OK, n, rest if rest <= t_end else math.nan
-        if exact:
-            flight, m = flight_time(launch, c, sin_head)
-        else:
-            flight, m = flight_table.flight_time(launch, c, table)
+        flight, m = flight_table.flight_time(launch, c, head)
+        if math.isnan(flight):  # the first flight in a cell of the table: its polynomial for the head
+            flight_table.fill(table, head, launch, c)
+            flight, m = flight_table.flight_time(launch, c, head)
         if m >= 1.0 - NEARLY_VERTICAL:
             return UNSUPPORTED, 0, math.nan
         end = t + flight
@@ -123,27 +124,18 @@ def _capacities(theta0, omega0, cor, c, theta_max, t_end, max_impacts):
 
 
 @jit(parallel=True)
-def _fill(theta0, omega0, cor, c, theta_max, t_end, offsets, out_t, out_w, status, count, rest, tables, head):
+def _fill(theta0, omega0, cor, c, theta_max, t_end, offsets, out_t, out_w, status, count, rest, table):
     for i in prange(len(theta0)):
         capacity = offsets[i + 1] - offsets[i]
         status[i], count[i], rest[i] = _run(
-            theta0[i], omega0[i], cor[i], c[i], theta_max[i], t_end[i], out_t, out_w, offsets[i], capacity,
-            tables[max(head[i], 0)], head[i] < 0
+            theta0[i], omega0[i], cor[i], c[i], theta_max[i], t_end[i], out_t, out_w, offsets[i], capacity, table
         )
-
-
-def _tables(theta_max, exact):
-    """The heads' tables stacked, and each stroke's row in them (−1 everywhere if ``exact``: R_F)."""
-    heads, head = np.unique(theta_max, return_inverse=True)
-    if exact or not len(heads):
-        return np.zeros((1, 1, 1)), np.full(len(theta_max), -1, dtype=np.int64)
-    return np.stack([flight_table.table_for(float(h)) for h in heads]), np.ascontiguousarray(head, dtype=np.int64)
 
 
 def constant_batch(theta0, omega0, cor, c, theta_max, t_end, *, max_impacts, exact=False):
     """Impacts of many strokes under constant forcing C (s⁻²), all arrays of one length.
 
-    ``exact`` evaluates each flight by R_F instead of the head's table (the reference).
+    ``exact`` evaluates each flight by R_F instead of the flight-time table (the reference).
 
     Returns
     -------
@@ -166,6 +158,6 @@ def constant_batch(theta0, omega0, cor, c, theta_max, t_end, *, max_impacts, exa
     status = np.zeros(n, dtype=np.int64)
     count = np.zeros(n, dtype=np.int64)
     rest = np.full(n, np.nan)
-    tables, head = _tables(arrays[4], exact)
-    _fill(*arrays, offsets, out_t, out_w, status, count, rest, tables, head)
+    table = np.empty((0, 0)) if exact else flight_table.table()
+    _fill(*arrays, offsets, out_t, out_w, status, count, rest, table)
     return status, offsets, count, out_t, out_w, rest

@@ -1,4 +1,4 @@
-"""Flight times from the head by a table: piecewise Chebyshev series of one function, compiled.
+"""Flight times from the head by one table for every head: piecewise polynomials in two variables, compiled.
 
 A flight launched upward from the head θ_max at speed w under constant C lasts
 T = 2·F(χ|m)/√C (:func:`.elliptic.flight_time`). Its time scaled by √C depends
@@ -6,50 +6,72 @@ on the launch only through the dimensionless energy e = w²/(2C), and for a
 given head only through u = √(e/L) in [0, 1), where L = 1 − sin θ_max is the
 energy that reaches the vertical (u = 1, m = 1). Written out,
 
-    √C·T = u·g(u),   g(u) = 2/√m · R_F(q, q + (1 − m)·u²/m, 1),
-    1 − m = L·d(2 − d)/2,   q = d(2 − d)(1 + sin θ_max)/(2m),   d = 1 − u,
+    √C·T = u·g(u, v),   g = 2/√m · R_F(q, q + (1 − m)·u²/m, 1),
+    1 − m = L·d(2 − d)/2,   q = d(2 − d)·v/(2m),   d = 1 − u,   v = 1 + sin θ_max = 2 − L,
 
-and g is analytic on [0, 1) with a logarithmic singularity at u = 1 (the
-orbit that stops at the vertical). The table holds g as a Chebyshev series on
-pieces graded toward that singularity: piece k covers d⁸ in [2^−(k+1), 2^−k]
-(piece 0 all d⁸ ≥ 1/2), so each piece lies as far from the singularity, in
-its own half-widths, as every other, and one degree serves all of them.
-A piece is found from the exponent of d⁸ (``frexp``) and evaluated by Horner's
-rule: ten multiply-adds, no square root beyond √C, no loop of unknown length.
+and g is analytic in both variables except at u = 1 (the orbit that stops at
+the vertical: a logarithmic singularity) and at v ≤ 0 (heads straight below
+the pivot). The table holds g as a polynomial on each cell of a grid graded
+toward both: in d, piece k covers d⁸ in [2^−(k+1), 2^−k] (piece 0 all
+d⁸ ≥ 1/2); in v, piece j covers v in [V_LOW·r^j, V_LOW·r^(j+1)] with
+r = (1/V_LOW)^(1/HEAD_PIECES). Each cell lies as far from the singularities,
+in its own half-widths, as every other, so one pair of degrees serves them all.
 
-The table's values come from R_F at its nodes with d computed exactly, so it is
-exact to the series' truncation and R_F's round-off; tests/test_flight_table.py
-holds it to R_F and to mpmath (60 digits) over dense grids, both ends included.
-It covers orbits up to m = 1 − :data:`.constants.NEARLY_VERTICAL`. Past its last
-piece, and on a head whose table fails the check made when it is built (heads
-steeper than about −0.95 rad), :func:`flight_time` is :func:`.elliptic.flight_time`.
+A flight's cell is found from the exponent of d⁸ (``frexp``) and the head's
+piece (once per head). The polynomial in v is summed once for the head and the
+cell (a chain of bounces from one head stays in a few cells, and :func:`head`
+keeps the last), then Horner's rule in d: ten multiply-adds per flight.
+
+The table's values come from R_F at its nodes; tests/test_flight_table.py holds
+it to R_F and to mpmath (60 digits) over dense grids, every cell and both ends
+included. It covers heads with v ≥ V_LOW (θ_max ≥ −asin(1 − V_LOW), about
+−0.93 rad: the stick's pivot at up to 0.8 of its tip's reach above the head)
+and orbits up to 1 − m = L·2^−32 (past the solver's 1 − m = 1e-9). Beyond it,
+and in a cell that fails the check made when the table is built, a flight is
+:func:`.elliptic.flight_time`. Which applies depends on the flight alone, and
+the table is the same in every process: a flight's time never depends on what a
+process ran before (a sweep split over workers equals the one run locally, bit for bit).
 """
 
+import functools
 import math
 
 import numpy as np
+from numba import prange
 
 from .._jit import jit
 from .carlson import rf
 from .elliptic import flight_time as exact_flight_time
 
 DEGREE = 10
-"""Degree of each piece's polynomial (its Chebyshev series' next term is below 1e-17 relative)."""
+"""Degree in d of each cell's polynomial (its Chebyshev series' next term is below 1e-17 relative)."""
 
 GRADING = 8
 """Pieces per halving of d: piece k covers d⁸ in [2^−(k+1), 2^−k]."""
 
 PIECES = 32 * GRADING
-"""Pieces down to d = 2^−32 (1 − m ≈ 2.3e-10·L), past the solver's 1 − m = 1e-9 for any head."""
+"""Pieces in d down to d = 2^−32 (1 − m ≈ 2.3e-10·L), past the solver's 1 − m = 1e-9 for any head."""
 
-# a row of the table: d at the piece's centre, 1/half-width, then the DEGREE + 1 coefficients
-_CENTRE, _SCALE, _FIRST = 0, 1, 2
-_COLUMNS = DEGREE + 3
-# row PIECES holds the head's constants: sin θ_max, 1/√(2L), 1/L, and 1 if the table passed its check
-_HEAD = PIECES
+HEAD_DEGREE = 10
+"""Degree in v = 1 + sin θ_max of each cell's polynomial."""
+
+V_LOW = 0.2
+"""The smallest v = 1 + sin θ_max covered (θ_max ≈ −0.927 rad); steeper heads keep R_F."""
+
+HEAD_PIECES = 12
+"""Pieces in v, graded geometrically from V_LOW to 1."""
 
 CHECK_RTOL = 1e-14
-"""The table is used only if it is within this of R_F (relative) at every piece's ends and midpoint."""
+"""A cell is used only if it is within this of R_F (relative) at its corners, edges' midpoints and centre."""
+
+# a row of the table, one per cell (row k·HEAD_PIECES + j): d at the piece's centre, 1/half-width,
+# then the coefficients of t_d^p·t_v^q at _FIRST + p·(HEAD_DEGREE + 1) + q
+_CENTRE, _SCALE, _FIRST = 0, 1, 2
+_COLUMNS = _FIRST + (DEGREE + 1) * (HEAD_DEGREE + 1)
+
+# a head (from :func:`head`): its constants, then the last cell's polynomial in d summed for it (k in _CACHED)
+_SIN, _PER_ROOT_2L, _PER_L, _ROW, _T_V, _CACHED, _CACHED_CENTRE, _CACHED_SCALE, _CACHED_FIRST = range(9)
+HEAD_SIZE = _CACHED_FIRST + DEGREE + 1
 
 
 @jit
@@ -71,6 +93,22 @@ def _piece_bounds(k):
 
 
 @jit
+def _head_bounds(j):
+    """v at the ends of head piece j."""
+    high = 1.0 if j == HEAD_PIECES - 1 else V_LOW ** (1.0 - (j + 1) / HEAD_PIECES)
+    return V_LOW ** (1.0 - j / HEAD_PIECES), high
+
+
+@jit
+def _head_piece(v):
+    """The head piece holding v, −1 below V_LOW."""
+    if not v >= V_LOW:
+        return -1
+    j = int(HEAD_PIECES * (1.0 - math.log(v) / math.log(V_LOW)))
+    return min(max(j, 0), HEAD_PIECES - 1)
+
+
+@jit
 def _chebyshev_powers(n):
     """Row j: the coefficients of T_j in powers of t, for j < n (T_{j+1} = 2t·T_j − T_{j−1})."""
     powers = np.zeros((n, n))
@@ -85,90 +123,175 @@ def _chebyshev_powers(n):
 
 
 @jit
-def build(sin_head):
-    """The table for the head sin θ_max = ``sin_head`` [shape=(PIECES + 1, DEGREE + 3)].
-
-    Each piece is interpolated at the DEGREE + 1 Chebyshev nodes, then written in powers of
-    its local t in [−1, 1] for Horner's rule: the series converges so fast on these pieces
-    (each coefficient some 50 times below the last) that the powers' coefficients fall as fast
-    and the sum is as stable as Clenshaw's.
-    """
-    n = DEGREE + 1
-    table = np.zeros((PIECES + 1, _COLUMNS))
-    values = np.empty(n)
-    series = np.empty(n)
-    cosines = np.empty((n, n))  # cos(jπ(i + ½)/n): row 1 the nodes, all rows the transform
-    powers = _chebyshev_powers(n)
+def _cosines(n):
+    """cos(jπ(i + ½)/n): row 1 the Chebyshev nodes, all rows the transform."""
+    cosines = np.empty((n, n))
     for j in range(n):
         for i in range(n):
             cosines[j, i] = math.cos(math.pi * j * (i + 0.5) / n)
-    for k in range(PIECES):
-        low, high = _piece_bounds(k)
-        centre, half = 0.5 * (low + high), 0.5 * (high - low)
-        for i in range(n):
-            values[i] = scaled_flight(centre + half * cosines[1, i], sin_head)
-        for j in range(n):
-            total = 0.0
-            for i in range(n):
-                total += values[i] * cosines[j, i]
-            series[j] = (1.0 if j else 0.5) * 2.0 / n * total
-        table[k, _CENTRE], table[k, _SCALE] = centre, 1.0 / half
-        for p in range(n):
-            total = 0.0
-            for j in range(p, n):
-                total += series[j] * powers[j, p]
-            table[k, _FIRST + p] = total
-    big = 1.0 - sin_head
-    table[_HEAD, 0], table[_HEAD, 1], table[_HEAD, 2] = sin_head, 1.0 / math.sqrt(2.0 * big), 1.0 / big
-    table[_HEAD, 3] = 1.0 if _checked(table, sin_head) else 0.0
+    return cosines
+
+
+@jit(parallel=True)
+def build():
+    """The table for every head [shape=(PIECES·HEAD_PIECES, _COLUMNS)].
+
+    Each cell is interpolated at the tensor product of DEGREE + 1 and HEAD_DEGREE + 1
+    Chebyshev nodes, then written in powers of its local (t_d, t_v) in [−1, 1]²: the series
+    converges so fast on these cells (each coefficient some 50 times below the last, in
+    either variable) that the powers' coefficients fall as fast and the sums are as stable
+    as Clenshaw's. Each cell depends only on its indices, so the table is the same whatever
+    the order the cells are built in.
+    """
+    n, nv = DEGREE + 1, HEAD_DEGREE + 1
+    table = np.empty((PIECES * HEAD_PIECES, _COLUMNS))
+    cos_d, cos_v = _cosines(n), _cosines(nv)
+    powers_d, powers_v = _chebyshev_powers(n), _chebyshev_powers(nv)
+    for cell in prange(PIECES * HEAD_PIECES):
+        _build_cell(table, cell, cos_d, cos_v, powers_d, powers_v)
     return table
 
 
 @jit
-def _checked(table, sin_head):
-    """Whether every piece is within CHECK_RTOL of R_F at its ends and midpoint.
+def _build_cell(table, cell, cos_d, cos_v, powers_d, powers_v):
+    n, nv = DEGREE + 1, HEAD_DEGREE + 1
+    k, j = cell // HEAD_PIECES, cell % HEAD_PIECES
+    low, high = _piece_bounds(k)
+    centre, half = 0.5 * (low + high), 0.5 * (high - low)
+    v_low, v_high = _head_bounds(j)
+    v_centre, v_half = 0.5 * (v_low + v_high), 0.5 * (v_high - v_low)
+    values = np.empty((n, nv))
+    for i in range(n):
+        for l in range(nv):
+            values[i, l] = scaled_flight(centre + half * cos_d[1, i], v_centre + v_half * cos_v[1, l] - 1.0)
+    # the Chebyshev series, one variable at a time
+    along_d = np.empty((n, nv))
+    for a in range(n):
+        for l in range(nv):
+            total = 0.0
+            for i in range(n):
+                total += values[i, l] * cos_d[a, i]
+            along_d[a, l] = (1.0 if a else 0.5) * 2.0 / n * total
+    series = np.empty((n, nv))
+    for a in range(n):
+        for b in range(nv):
+            total = 0.0
+            for l in range(nv):
+                total += along_d[a, l] * cos_v[b, l]
+            series[a, b] = (1.0 if b else 0.5) * 2.0 / nv * total
+    # then in powers, one variable at a time
+    in_d = np.zeros((n, nv))
+    for p in range(n):
+        for b in range(nv):
+            total = 0.0
+            for a in range(p, n):
+                total += series[a, b] * powers_d[a, p]
+            in_d[p, b] = total
+    table[cell, _CENTRE], table[cell, _SCALE] = centre, 1.0 / half
+    for p in range(n):
+        for q in range(nv):
+            total = 0.0
+            for b in range(q, nv):
+                total += in_d[p, b] * powers_v[b, q]
+            table[cell, _FIRST + p * nv + q] = total
+    if not _cell_checked(table, cell, low, high, v_low, v_high):
+        table[cell, _FIRST:] = math.nan  # (a flight in it then keeps R_F)
 
-    On a head close to straight below the pivot (θ_max → −π/2) the orbit m = 0 comes near
-    the smallest launches and the first pieces would need a higher degree: such a table fails
-    this check and its head keeps R_F.
-    """
-    for k in range(PIECES):
-        low, high = _piece_bounds(k)
+
+@jit
+def _cell_checked(table, cell, low, high, v_low, v_high):
+    """Whether the cell is within CHECK_RTOL of R_F at its corners, edges' midpoints and centre."""
+    probe = np.empty(HEAD_SIZE)
+    for v in (v_low, 0.5 * (v_low + v_high), v_high):
+        _set_head(probe, table, v - 1.0, cell % HEAD_PIECES)
+        _sum_cell(table, probe, cell // HEAD_PIECES)  # (the ends belong to the neighbours' pieces too)
         for d in (low, 0.5 * (low + high), high):
-            exact = scaled_flight(d, sin_head)
-            if not abs(_horner(table, k, d) - exact) <= CHECK_RTOL * exact:
+            exact = scaled_flight(d, v - 1.0)
+            if not abs(_horner(probe, d) - exact) <= CHECK_RTOL * exact:
                 return False
     return True
 
 
 @jit
-def evaluate(table, d):
-    """g at d = 1 − u from the table; NaN beyond its pieces (d ≤ 0 or d < 2^−32) or if it failed its check."""
-    if not d > 0.0:
-        return math.nan
-    d2 = d * d
-    d4 = d2 * d2
-    k = max(-math.frexp(d4 * d4)[1], 0)
-    if k >= PIECES or table[_HEAD, 3] == 0.0:
-        return math.nan
-    return _horner(table, k, d)
+def head(table, sin_head):
+    """What a chain of flights from the head sin θ_max needs of ``table`` [shape=(HEAD_SIZE,)].
+
+    With an empty ``table``, or a head it does not cover, every flight is R_F's.
+    """
+    out = np.empty(HEAD_SIZE)
+    set_head(out, table, sin_head)
+    return out
+
+
+@jit
+def set_head(out, table, sin_head):
+    """:func:`head` into ``out`` [shape=(HEAD_SIZE,)]."""
+    _set_head(out, table, sin_head, _head_piece(1.0 + sin_head) if len(table) else -1)
+
+
+@jit
+def _set_head(out, table, sin_head, j):
+    big = 1.0 - sin_head
+    out[_SIN], out[_PER_ROOT_2L], out[_PER_L] = sin_head, 1.0 / math.sqrt(2.0 * big), 1.0 / big
+    out[_ROW], out[_CACHED], out[_T_V] = j, -1.0, 0.0
+    if j >= 0:
+        v_low, v_high = _head_bounds(j)
+        out[_T_V] = ((1.0 + sin_head) - 0.5 * (v_low + v_high)) / (0.5 * (v_high - v_low))
 
 
 @jit(inline="always")
-def _horner(table, k, d):
-    t = (d - table[k, _CENTRE]) * table[k, _SCALE]
-    total = table[k, _FIRST + DEGREE]
-    for j in range(_FIRST + DEGREE - 1, _FIRST - 1, -1):
-        total = total * t + table[k, j]
+def _horner(head, d):
+    """The head's last cell's polynomial in d, at d."""
+    t = (d - head[_CACHED_CENTRE]) * head[_CACHED_SCALE]
+    total = head[_CACHED_FIRST + DEGREE]
+    for p in range(DEGREE - 1, -1, -1):
+        total = total * t + head[_CACHED_FIRST + p]
     return total
 
 
-@jit(inline="always")
-def flight_time(launch_speed, c, table):
-    """:func:`.elliptic.flight_time` from the table of the head: (duration (s), m).
+@jit
+def _sum_cell(table, head, k):
+    """The polynomial in d of the cell (k, the head's piece) at the head's v, into ``head``."""
+    row = k * HEAD_PIECES + int(head[_ROW])
+    t_v = head[_T_V]
+    for p in range(DEGREE + 1):
+        first = _FIRST + p * (HEAD_DEGREE + 1)
+        total = table[row, first + HEAD_DEGREE]
+        for q in range(HEAD_DEGREE - 1, -1, -1):
+            total = total * t_v + table[row, first + q]
+        head[_CACHED_FIRST + p] = total
+    head[_CACHED_CENTRE], head[_CACHED_SCALE], head[_CACHED] = table[row, _CENTRE], table[row, _SCALE], k
 
-    Compiled into its callers, so that in a chain of bounces under one C the square root and
-    reciprocal of C are computed once.
+
+@jit(inline="always")
+def _piece(d):
+    """The piece in d holding d, PIECES past the last (or for d ≤ 0)."""
+    if not d > 0.0:
+        return PIECES
+    d2 = d * d
+    d4 = d2 * d2
+    return min(max(-math.frexp(d4 * d4)[1], 0), PIECES)
+
+
+@jit
+def evaluate(table, head, d):
+    """g at d = 1 − u for the head from the table; NaN where the table does not serve."""
+    k = _piece(d)
+    if k >= PIECES or head[_ROW] < 0.0:
+        return math.nan
+    if head[_CACHED] != k:
+        _sum_cell(table, head, k)
+    return _horner(head, d)
+
+
+@jit(inline="always")
+def flight_time(launch_speed, c, head):
+    """:func:`.elliptic.flight_time` from the table: (duration (s), m), or (NaN, m) for a cell new to the head.
+
+    On NaN, call :func:`fill` and this again. The two steps are the caller's, in its own code: numba
+    counts references to the arrays at every call of a function compiled into a kernel that passes
+    them on to another call, and that made a flight four times slower. Where the table does not
+    serve (a head below V_LOW, or past the last piece, or in a cell that failed its check), R_F.
 
     Parameters
     ----------
@@ -176,39 +299,42 @@ def flight_time(launch_speed, c, table):
         ω just after the impact (rad/s).
     c : float > 0
         C (s⁻²).
-    table : ndarray
-        From :func:`build` for the head.
+    head : ndarray
+        From :func:`head` for the table and the head; holds the last cell's polynomial in d.
     """
-    sin_head = table[_HEAD, 0]
-    energy = launch_speed * launch_speed / (2.0 * c)
-    m = 0.5 * (1.0 + sin_head + energy)  # (as parameter computes it)
-    per_root_c = 1.0 / math.sqrt(c)
-    u = launch_speed * table[_HEAD, 1] * per_root_c
-    # Near the vertical d = 1 − u would lose the relative accuracy of 1 − m that the closed form
-    # keeps: there d = (1 − u²)/(1 + u) with 1 − u² = (L − e)/L.
-    d = 1.0 - u if u < 0.5 else ((1.0 - sin_head) - energy) * table[_HEAD, 2] / (1.0 + u)
-    g = evaluate(table, d)
-    if math.isnan(g):
-        return exact_flight_time(launch_speed, c, sin_head)
+    m, u, d, per_root_c = _launch(launch_speed, c, head)
+    k = _piece(d)
+    if k >= PIECES or head[_ROW] < 0.0:
+        return exact_flight_time(launch_speed, c, head[_SIN])
+    if k != head[_CACHED]:
+        return math.nan, m
+    g = _horner(head, d)
+    if math.isnan(g):  # (a cell that failed its check)
+        return exact_flight_time(launch_speed, c, head[_SIN])
     return u * g * per_root_c, m
 
 
-KEPT = 256
-"""Tables kept, the most recently built (some 27 kB each)."""
+@jit(inline="always")
+def _launch(launch_speed, c, head):
+    """m, u, d = 1 − u and 1/√C of a flight launched from the head."""
+    sin_head = head[_SIN]
+    energy = launch_speed * launch_speed / (2.0 * c)
+    m = 0.5 * (1.0 + sin_head + energy)  # (as parameter computes it)
+    per_root_c = 1.0 / math.sqrt(c)
+    u = launch_speed * head[_PER_ROOT_2L] * per_root_c
+    # Near the vertical d = 1 − u would lose the relative accuracy of 1 − m that the closed form
+    # keeps: there d = (1 − u²)/(1 + u) with 1 − u² = (L − e)/L.
+    d = 1.0 - u if u < 0.5 else ((1.0 - sin_head) - energy) * head[_PER_L] / (1.0 + u)
+    return m, u, d, per_root_c
 
-_TABLES = {}
+
+@jit
+def fill(table, head, launch_speed, c):
+    """Sum into ``head`` the polynomial in d of the cell of a flight launched at ``launch_speed`` under ``c``."""
+    _sum_cell(table, head, _piece(_launch(launch_speed, c, head)[2]))
 
 
-def table_for(theta_max):
-    """The table of the head θ_max (rad): built on first use (about 0.3 ms), then kept (the last KEPT).
-
-    Every flight from a head is read from its table, whatever ran before: a result never depends on
-    which heads a process has seen.
-    """
-    sin_head = math.sin(theta_max)
-    table = _TABLES.get(sin_head)
-    if table is None:
-        if len(_TABLES) >= KEPT:
-            del _TABLES[next(iter(_TABLES))]
-        table = _TABLES[sin_head] = build(sin_head)
-    return table
+@functools.cache
+def table():
+    """The table, built on first use in a process (the same in every process)."""
+    return build()

@@ -98,7 +98,7 @@ def solve(coefficients, force, gravity, *, theta0, omega0, cor, t_end, method="a
     progress : callable or None
         Called now and then with the fraction of ``t_end`` done.
     tabled : bool
-        Flights from the head by the head's table (:mod:`.flight_table`); False evaluates
+        Flights from the head by the flight-time table (:mod:`.flight_table`); False evaluates
         R_F at every flight (the table's reference, for checks and benchmarks).
 
     Returns
@@ -111,7 +111,7 @@ def solve(coefficients, force, gravity, *, theta0, omega0, cor, t_end, method="a
     theta_max = coefficients.theta_max
     state = kernel.initial_state(theta0, omega0)
     closed_forms = method == "auto"
-    table = flight_table.table_for(theta_max) if closed_forms and tabled else np.empty((0, 0))
+    table = flight_table.table() if closed_forms and tabled else np.empty((0, 0))
     chunk = len(c0) if progress is None else max(1, -(-len(c0) // _PROGRESS_CHUNKS))
     parts = []
     last_report = time.monotonic()

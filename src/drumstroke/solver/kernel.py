@@ -94,8 +94,8 @@ def run(edges, c0, c1, theta_max, table, cor, closed_forms, max_step, max_impact
     theta_max : float
         The head (rad).
     table : ndarray
-        The head's flight-time table (:mod:`.flight_table`) for the flights from the head;
-        with no rows, R_F at every flight (the table's reference).
+        The flight-time table (:func:`.flight_table.table`) for the flights from the head;
+        empty, R_F at every flight (the table's reference).
     cor : float in [0, 1]
     closed_forms : bool
         False integrates every flight with Taylor steps (a cross-check).
@@ -124,6 +124,7 @@ def run(edges, c0, c1, theta_max, table, cor, closed_forms, max_step, max_impact
         t_end if ``finish``); one still going is in ``state``.
     """
     sin_head, cos_head = math.sin(theta_max), math.cos(theta_max)
+    head = flight_table.head(table, sin_head)
     t, theta, omega = state[T], state[THETA], state[OMEGA]
     resting, lifting = state[RESTING] != 0.0, state[LIFTING] != 0.0
     tail_c, rest_start = state[TAIL_C], state[REST_START]
@@ -191,10 +192,10 @@ def run(edges, c0, c1, theta_max, table, cor, closed_forms, max_step, max_impact
                     if launch < floor:  # (launch = 0 included)
                         settle = launch
                         break
-                    if len(table):
-                        flight, m = flight_table.flight_time(launch, a, table)
-                    else:
-                        flight, m = elliptic.flight_time(launch, a, sin_head)
+                    flight, m = flight_table.flight_time(launch, a, head)
+                    if math.isnan(flight):  # the first flight in a cell of the table: its polynomial for the head
+                        flight_table.fill(table, head, launch, a)
+                        flight, m = flight_table.flight_time(launch, a, head)
                     if m >= 1.0 - NEARLY_VERTICAL:  # toward the vertical: the Taylor steps take it
                         theta, omega = theta_max, launch
                         break
