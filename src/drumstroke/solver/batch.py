@@ -49,8 +49,11 @@ def _first_impact(theta, omega, c, theta_max):
 
 
 @jit
-def _run(theta0, omega0, cor, c, theta_max, t_end, out_t, out_w, start, capacity, table):
-    """One stroke: fills out_t/out_w from ``start``; returns (status, count, rest time or NaN)."""
+def _run(theta0, omega0, cor, c, theta_max, t_end, out_t, out_w, start, capacity, table, head):
+    """One stroke: fills out_t/out_w from ``start``; returns (status, count, rest time or NaN).
+
+    ``head`` is room for :func:`.flight_table.set_head` (the stroke's own: strokes run in parallel).
+    """
     if not c > 0.0:
         return UNSUPPORTED, 0, math.nan
     a = c * math.cos(theta_max)
@@ -73,7 +76,7 @@ def _run(theta0, omega0, cor, c, theta_max, t_end, out_t, out_w, start, capacity
         out_w[start] = -speed
         n = 1
         launch = cor * speed
-    head = flight_table.head(table, sin_head)
+    flight_table.set_head(head, table, sin_head)
     while True:
         if launch == 0.0:
             return OK, n, t
@@ -124,11 +127,12 @@ def _capacities(theta0, omega0, cor, c, theta_max, t_end, max_impacts):
 
 
 @jit(parallel=True)
-def _fill(theta0, omega0, cor, c, theta_max, t_end, offsets, out_t, out_w, status, count, rest, table):
+def _fill(theta0, omega0, cor, c, theta_max, t_end, offsets, out_t, out_w, status, count, rest, table, heads):
     for i in prange(len(theta0)):
         capacity = offsets[i + 1] - offsets[i]
         status[i], count[i], rest[i] = _run(
-            theta0[i], omega0[i], cor[i], c[i], theta_max[i], t_end[i], out_t, out_w, offsets[i], capacity, table
+            theta0[i], omega0[i], cor[i], c[i], theta_max[i], t_end[i], out_t, out_w, offsets[i], capacity, table,
+            heads[i]
         )
 
 
@@ -159,5 +163,6 @@ def constant_batch(theta0, omega0, cor, c, theta_max, t_end, *, max_impacts, exa
     count = np.zeros(n, dtype=np.int64)
     rest = np.full(n, np.nan)
     table = np.empty((0, 0)) if exact else flight_table.table()
-    _fill(*arrays, offsets, out_t, out_w, status, count, rest, table)
+    heads = np.empty((n, flight_table.HEAD_SIZE))  # (one allocation, not one a stroke)
+    _fill(*arrays, offsets, out_t, out_w, status, count, rest, table, heads)
     return status, offsets, count, out_t, out_w, rest

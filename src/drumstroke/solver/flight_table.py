@@ -92,20 +92,25 @@ def _piece_bounds(k):
     return 2.0 ** (-(k + 1) / GRADING), high
 
 
-@jit
+_HEAD_EDGES = tuple(V_LOW ** (1.0 - j / HEAD_PIECES) for j in range(HEAD_PIECES)) + (1.0,)
+"""v at the head pieces' ends (computed once, so a head's piece costs a few comparisons)."""
+
+
+@jit(inline="always")
 def _head_bounds(j):
     """v at the ends of head piece j."""
-    high = 1.0 if j == HEAD_PIECES - 1 else V_LOW ** (1.0 - (j + 1) / HEAD_PIECES)
-    return V_LOW ** (1.0 - j / HEAD_PIECES), high
+    return _HEAD_EDGES[j], _HEAD_EDGES[j + 1]
 
 
-@jit
+@jit(inline="always")
 def _head_piece(v):
     """The head piece holding v, −1 below V_LOW."""
     if not v >= V_LOW:
         return -1
-    j = int(HEAD_PIECES * (1.0 - math.log(v) / math.log(V_LOW)))
-    return min(max(j, 0), HEAD_PIECES - 1)
+    j = HEAD_PIECES - 1
+    while v < _HEAD_EDGES[j]:
+        j -= 1
+    return j
 
 
 @jit
@@ -203,7 +208,7 @@ def _cell_checked(table, cell, low, high, v_low, v_high):
     """Whether the cell is within CHECK_RTOL of R_F at its corners, edges' midpoints and centre."""
     probe = np.empty(HEAD_SIZE)
     for v in (v_low, 0.5 * (v_low + v_high), v_high):
-        _set_head(probe, table, v - 1.0, cell % HEAD_PIECES)
+        _set_head(probe, v - 1.0, cell % HEAD_PIECES)
         _sum_cell(table, probe, cell // HEAD_PIECES)  # (the ends belong to the neighbours' pieces too)
         for d in (low, 0.5 * (low + high), high):
             exact = scaled_flight(d, v - 1.0)
@@ -226,11 +231,11 @@ def head(table, sin_head):
 @jit
 def set_head(out, table, sin_head):
     """:func:`head` into ``out`` [shape=(HEAD_SIZE,)]."""
-    _set_head(out, table, sin_head, _head_piece(1.0 + sin_head) if len(table) else -1)
+    _set_head(out, sin_head, _head_piece(1.0 + sin_head) if len(table) else -1)
 
 
-@jit
-def _set_head(out, table, sin_head, j):
+@jit(inline="always")
+def _set_head(out, sin_head, j):
     big = 1.0 - sin_head
     out[_SIN], out[_PER_ROOT_2L], out[_PER_L] = sin_head, 1.0 / math.sqrt(2.0 * big), 1.0 / big
     out[_ROW], out[_CACHED], out[_T_V] = j, -1.0, 0.0
@@ -249,7 +254,7 @@ def _horner(head, d):
     return total
 
 
-@jit
+@jit(inline="always")
 def _sum_cell(table, head, k):
     """The polynomial in d of the cell (k, the head's piece) at the head's v, into ``head``."""
     row = k * HEAD_PIECES + int(head[_ROW])
