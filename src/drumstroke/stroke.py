@@ -183,18 +183,19 @@ def simulate(
     """
     check_choice("method", method, ("auto", "taylor"))
     base = resolve(recipe)
-    changes = {
-        "force": _as_profile("force", force),
-        "gravity": _as_profile("gravity", gravity),
-        "model": model,
-        "t_end": t_end,
-        "theta0": theta0,
-        "omega0": omega0,
-        "cor": cor,
-        "stick": stick,
-    }
-    changes = {key: value for key, value in changes.items() if value is not None}
-    recipe = base.replace(**changes) if changes else base
+    recipe = base
+    if any(value is not None for value in (force, gravity, model, t_end, theta0, omega0, cor, stick)):
+        changes = {
+            "force": _as_profile("force", force),
+            "gravity": _as_profile("gravity", gravity),
+            "model": model,
+            "t_end": t_end,
+            "theta0": theta0,
+            "omega0": omega0,
+            "cor": cor,
+            "stick": stick,
+        }
+        recipe = base.replace(**{key: value for key, value in changes.items() if value is not None})
     solution = solve(
         recipe.coefficients,
         recipe.force,
