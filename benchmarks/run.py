@@ -40,6 +40,7 @@ MIN_REPEAT_TIME = 0.05  # s: a repeat of a fast case loops at least this long
 REPEATS = 7
 BATCH_SIZE = 20_000
 BATCH_CHECKED = 200  # strokes checked against the oracle
+HEADS_SIZE = 2_000  # strokes, each with a head of its own, in the before/after of the table over heads
 BATCH_REFERENCE_SIZE = 10
 BATCH_SEED = 20260101
 
@@ -285,6 +286,36 @@ def run_kernel_pair(name):
                        recipes=recipes[:BATCH_CHECKED])
 
 
+def run_heads_pair(name):
+    """The batch kernel on HEADS_SIZE strokes each with a head of its own: flights by the table, then by R_F.
+
+    The sweep a planner or a palette search makes when it varies the stick: the table holds every head,
+    so no stroke pays for a head new to the process.
+    """
+    from drumstroke.solver.batch import constant_batch
+
+    rng = np.random.default_rng(BATCH_SEED)
+    recipes = []
+    for recipe in batch_recipes()[0][:HEADS_SIZE]:
+        stick = drumstroke.Stick(pivot_height=float(rng.uniform(0.01, 0.2)))  # a head from −0.04 to −0.83 rad
+        recipes.append(recipe.replace(stick=stick, theta0=max(recipe.theta0, stick.theta_max)))
+    coefs = [coefficients("paper", r.stick) for r in recipes]
+    columns = ([np.array([getattr(r, key) for r in recipes]) for key in ("theta0", "omega0", "cor")]
+               + [np.array([float(k.torque_rate(9.8, r.force.value)) for k, r in zip(coefs, recipes)]),
+                  np.array([k.theta_max for k in coefs]), np.array([r.t_end for r in recipes])])
+    after = constant_batch(*columns, max_impacts=100_000)
+    before = constant_batch(*columns, max_impacts=100_000, exact=True)
+
+    def impacts(result, i):
+        offsets, count, t = result[1], result[2], result[3]
+        return t[offsets[i]:offsets[i] + count[i]]
+
+    return _paired_row(name, "strokes/s", lambda: constant_batch(*columns, max_impacts=100_000),
+                       lambda: constant_batch(*columns, max_impacts=100_000, exact=True), per_call=len(recipes),
+                       after_t=lambda i: impacts(after, i), before_t=lambda i: impacts(before, i),
+                       recipes=recipes[:BATCH_CHECKED])
+
+
 def run_batch_pair(name):
     """simulate_many on the batch's strokes, against what it did before: R_F at every flight, every Impacts built."""
     from drumstroke.solver.batch import constant_batch
@@ -444,7 +475,7 @@ def main(argv=None):
     cases = [(name, drumstroke.preset(p), RATE, oracle) for name, p, oracle in figure_cases]
     cases.append(("free-bounce impacts only", drumstroke.preset("free-bounce"), None, True))
     cases.append(("finger-pulses 60 s", drumstroke.preset("finger-pulses").replace(t_end=60.0), None, False))
-    total = len(cases) + 5
+    total = len(cases) + 6
     rows = []
     for i, (name, recipe, rate, oracle) in enumerate(cases, start=1):
         progress(f"[{i}/{total}] {name}")
@@ -452,6 +483,7 @@ def main(argv=None):
     # before/after of the flight-time table, in this one process: the new path and R_F at every flight, alternately
     pairs = [("free-bounce impacts, solver only: after vs before", run_solver_pair),
              ("batch kernel strokes/s: after vs before", run_kernel_pair),
+             (f"batch kernel, {HEADS_SIZE:,} heads, strokes/s: after vs before", run_heads_pair),
              ("simulate_many strokes/s: after vs before", run_batch_pair)]
     for i, (name, case) in enumerate(pairs, start=len(cases) + 1):
         progress(f"[{i}/{total}] {name}")
@@ -481,9 +513,10 @@ def main(argv=None):
         (
             "Rows 'after vs before': 'ours' is the new path, 'reference' the old one, timed alternately in this run, "
             "ratio = before/after; 'ref err' is the old path's error against the oracle. After: flights from the "
-            "head by the head's table (drumstroke.solver.flight_table); before: Carlson's R_F at every flight. The "
-            "solver alone (solve, no Stroke built) on free-bounce; the batch kernel alone (constant_batch) on the "
-            "batch's strokes; simulate_many on them, before also building every stroke's Impacts up front as it did."
+            "head by the table of every head (drumstroke.solver.flight_table); before: Carlson's R_F at every flight. "
+            "The solver alone (solve, no Stroke built) on free-bounce; the batch kernel alone (constant_batch) on the "
+            f"batch's strokes, and on {HEADS_SIZE:,} of them each given a stick of its own (its own head angle); "
+            "simulate_many on the batch's strokes, before also building every stroke's Impacts up front as it did."
         ),
         f"The process case runs `{rows[-1]['timing']['command']}` {PROCESS_REPEATS} times after one warm-up run "
         "(the numba cache on disk, as after a first use); the median wall time.",

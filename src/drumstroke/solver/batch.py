@@ -49,10 +49,11 @@ def _first_impact(theta, omega, c, theta_max):
 
 
 @jit
-def _run(theta0, omega0, cor, c, theta_max, t_end, out_t, out_w, start, capacity, table, head):
+def _run(theta0, omega0, cor, c, theta_max, t_end, out_t, out_w, start, capacity, table, head, cells):
     """One stroke: fills out_t/out_w from ``start``; returns (status, count, rest time or NaN).
 
-    ``head`` is room for :func:`.flight_table.set_head` (the stroke's own: strokes run in parallel).
+    ``head`` is room for :func:`.flight_table.set_head` (the stroke's own: strokes run in parallel);
+    ``cells`` the head's :func:`.flight_table.head_cells` or empty.
     """
     if not c > 0.0:
         return UNSUPPORTED, 0, math.nan
@@ -85,7 +86,7 @@ def _run(theta0, omega0, cor, c, theta_max, t_end, out_t, out_w, start, capacity
             return OK, n, rest if rest <= t_end else math.nan
         flight, m = flight_table.flight_time(launch, c, head)
         if math.isnan(flight):  # the first flight in a cell of the table: its polynomial for the head
-            flight_table.fill(table, head, launch, c)
+            flight_table.fill(table, head, launch, c, cells)
             flight, m = flight_table.flight_time(launch, c, head)
         if m >= 1.0 - NEARLY_VERTICAL:
             return UNSUPPORTED, 0, math.nan
@@ -127,13 +128,43 @@ def _capacities(theta0, omega0, cor, c, theta_max, t_end, max_impacts):
 
 
 @jit(parallel=True)
-def _fill(theta0, omega0, cor, c, theta_max, t_end, offsets, out_t, out_w, status, count, rest, table, heads):
+def _fill(theta0, omega0, cor, c, theta_max, t_end, offsets, out_t, out_w, status, count, rest, table, heads, cells,
+          shared):
+    no_cells = np.empty((0, cells.shape[2]))
     for i in prange(len(theta0)):
         capacity = offsets[i + 1] - offsets[i]
         status[i], count[i], rest[i] = _run(
             theta0[i], omega0[i], cor[i], c[i], theta_max[i], t_end[i], out_t, out_w, offsets[i], capacity, table,
-            heads[i]
+            heads[i], cells[shared[i]] if shared[i] >= 0 else no_cells
         )
+
+
+SHARED = 64
+"""Strokes sharing a head from which the batch sums all its cells at once (some 12 µs) for them to read."""
+
+
+def _shared_cells(theta_max, table):
+    """The cells of each head at least SHARED strokes share, and each stroke's row in them (−1: none).
+
+    Only a matter of speed: a stroke's flights are the same whether its chain reads these or sums its cells.
+    """
+    heads, inverse, counts = np.unique(theta_max, return_inverse=True, return_counts=True)
+    row = np.full(len(heads), -1, dtype=np.int64)
+    cells = []
+    for j in np.flatnonzero(counts >= SHARED) if len(table) else ():
+        head_cells = _head_cells(table, heads[j])
+        if len(head_cells):  # (a head the table covers)
+            row[j] = len(cells)
+            cells.append(head_cells)
+    if not cells:
+        return np.empty((1, 0, flight_table.CELL_SIZE)), row[inverse.ravel()]
+    return np.stack(cells), row[inverse.ravel()]
+
+
+@jit
+def _head_cells(table, theta_max):
+    """:func:`.flight_table.head_cells` of the head θ_max, with its sine as :func:`_run` takes it."""
+    return flight_table.head_cells(table, math.sin(theta_max))
 
 
 def constant_batch(theta0, omega0, cor, c, theta_max, t_end, *, max_impacts, exact=False):
@@ -164,5 +195,5 @@ def constant_batch(theta0, omega0, cor, c, theta_max, t_end, *, max_impacts, exa
     rest = np.full(n, np.nan)
     table = np.empty((0, 0)) if exact else flight_table.table()
     heads = np.empty((n, flight_table.HEAD_SIZE))  # (one allocation, not one a stroke)
-    _fill(*arrays, offsets, out_t, out_w, status, count, rest, table, heads)
+    _fill(*arrays, offsets, out_t, out_w, status, count, rest, table, heads, *_shared_cells(arrays[4], table))
     return status, offsets, count, out_t, out_w, rest

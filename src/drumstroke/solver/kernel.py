@@ -125,6 +125,7 @@ def run(edges, c0, c1, theta_max, table, cor, closed_forms, max_step, max_impact
     """
     sin_head, cos_head = math.sin(theta_max), math.cos(theta_max)
     head = flight_table.head(table, sin_head)
+    no_cells = np.empty((0, flight_table.CELL_SIZE))  # (a chain sums the cells it meets)
     t, theta, omega = state[T], state[THETA], state[OMEGA]
     resting, lifting = state[RESTING] != 0.0, state[LIFTING] != 0.0
     tail_c, rest_start = state[TAIL_C], state[REST_START]
@@ -194,7 +195,7 @@ def run(edges, c0, c1, theta_max, table, cor, closed_forms, max_step, max_impact
                         break
                     flight, m = flight_table.flight_time(launch, a, head)
                     if math.isnan(flight):  # the first flight in a cell of the table: its polynomial for the head
-                        flight_table.fill(table, head, launch, a)
+                        flight_table.fill(table, head, launch, a, no_cells)
                         flight, m = flight_table.flight_time(launch, a, head)
                     if m >= 1.0 - NEARLY_VERTICAL:  # toward the vertical: the Taylor steps take it
                         theta, omega = theta_max, launch
