@@ -20,7 +20,8 @@ in its own half-widths, as every other, so one pair of degrees serves them all.
 A flight's cell is found from the exponent of d⁸ (``frexp``) and the head's
 piece (once per head). The polynomial in v is summed once for the head and the
 cell (a chain of bounces from one head stays in a few cells, and :func:`head`
-keeps the last), then Horner's rule in d: ten multiply-adds per flight.
+keeps the last; :func:`head_cells` sums them all for a head many strokes share,
+to the same numbers), then Horner's rule in d: ten multiply-adds per flight.
 
 The table's values come from R_F at its nodes; tests/test_flight_table.py holds
 it to R_F and to mpmath (60 digits) over dense grids, every cell and both ends
