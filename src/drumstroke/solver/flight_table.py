@@ -65,8 +65,8 @@ HEAD_PIECES = 12
 CHECK_RTOL = 1e-14
 """A cell is used only if it is within this of R_F (relative) at its corners, edges' midpoints and centre."""
 
-# a row of the table, one per cell (row k·HEAD_PIECES + j): d at the piece's centre, 1/half-width,
-# then the coefficients of t_d^p·t_v^q at _FIRST + p·(HEAD_DEGREE + 1) + q
+# a row of the table, one per cell (row j·PIECES + k: a head piece's cells one after another, as a chain
+# reads them): d at the piece's centre, 1/half-width, then the coefficients of t_d^p·t_v^q at _FIRST + p·(HEAD_DEGREE + 1) + q
 _CENTRE, _SCALE, _FIRST = 0, 1, 2
 _COLUMNS = _FIRST + (DEGREE + 1) * (HEAD_DEGREE + 1)
 
@@ -162,7 +162,7 @@ def build():
 @jit
 def _build_cell(table, cell, cos_d, cos_v, powers_d, powers_v):
     n, nv = DEGREE + 1, HEAD_DEGREE + 1
-    k, j = cell // HEAD_PIECES, cell % HEAD_PIECES
+    j, k = cell // PIECES, cell % PIECES
     low, high = _piece_bounds(k)
     centre, half = 0.5 * (low + high), 0.5 * (high - low)
     v_low, v_high = _head_bounds(j)
@@ -210,8 +210,8 @@ def _cell_checked(table, cell, low, high, v_low, v_high):
     """Whether the cell is within CHECK_RTOL of R_F at its corners, edges' midpoints and centre."""
     probe = np.empty(HEAD_SIZE)
     for v in (v_low, 0.5 * (v_low + v_high), v_high):
-        _set_head(probe, v - 1.0, cell % HEAD_PIECES)
-        _sum_cell(table, probe, cell // HEAD_PIECES)  # (the ends belong to the neighbours' pieces too)
+        _set_head(probe, v - 1.0, cell // PIECES)
+        _sum_cell(table, probe, cell % PIECES)  # (the ends belong to the neighbours' pieces too)
         for d in (low, 0.5 * (low + high), high):
             exact = scaled_flight(d, v - 1.0)
             if not abs(_horner(probe, d) - exact) <= CHECK_RTOL * exact:
@@ -259,7 +259,7 @@ def _horner(head, d):
 @jit(inline="always")
 def _sum_cell(table, head, k):
     """The polynomial in d of the cell (k, the head's piece) at the head's v, into ``head``."""
-    row = k * HEAD_PIECES + int(head[_ROW])
+    row = int(head[_ROW]) * PIECES + k
     t_v = head[_T_V]
     for p in range(DEGREE + 1):
         first = _FIRST + p * (HEAD_DEGREE + 1)
