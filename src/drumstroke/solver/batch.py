@@ -21,8 +21,8 @@ import numpy as np
 from numba import prange
 
 from .._jit import jit
-from .constants import NEARLY_VERTICAL
 from . import flight_table
+from .constants import NEARLY_VERTICAL
 from .elliptic import flight_time, parameter, to_head
 from .taylor import zeno_floor
 

@@ -66,7 +66,8 @@ CHECK_RTOL = 1e-14
 """A cell is used only if it is within this of R_F (relative) at its corners, edges' midpoints and centre."""
 
 # a row of the table, one per cell (row j·PIECES + k: a head piece's cells one after another, as a chain
-# reads them): d at the piece's centre, 1/half-width, then the coefficients of t_d^p·t_v^q at _FIRST + p·(HEAD_DEGREE + 1) + q
+# reads them): d at the piece's centre, 1/half-width, then the coefficients of t_d^p·t_v^q at
+# _FIRST + p·(HEAD_DEGREE + 1) + q
 _CENTRE, _SCALE, _FIRST = 0, 1, 2
 _COLUMNS = _FIRST + (DEGREE + 1) * (HEAD_DEGREE + 1)
 
