@@ -40,13 +40,14 @@ MIN_REPEAT_TIME = 0.05  # s: a repeat of a fast case loops at least this long
 REPEATS = 7
 BATCH_SIZE = 20_000
 BATCH_CHECKED = 200  # strokes checked against the oracle
+HEADS_SIZE = 2_000  # strokes, each with a head of its own, in the before/after of the table over heads
 BATCH_REFERENCE_SIZE = 10
 BATCH_SEED = 20260101
 
 TARGETS = {
     "fig4 free-bounce (5 s, 1 kHz)": ("ratio", ">=", 300.0, "x faster than the reference"),
-    "free-bounce impacts only": ("ours", "<=", 20e-6, "s per stroke"),
-    "batch constant-force strokes/s": ("ours", ">=", 100_000.0, "strokes/s"),
+    "free-bounce impacts only": ("ours", "<=", 5e-6, "s per stroke"),
+    "batch constant-force strokes/s": ("ours", ">=", 1_000_000.0, "strokes/s"),
     "`drumstroke simulate free-bounce` (process)": ("ours", "<=", 1.5, "s, warm cache"),
 }
 PROCESS_REPEATS = 5
@@ -224,6 +225,119 @@ def run_batch_case(name):
     }
 
 
+def _kernel_columns(recipes):
+    """The batch kernel's input arrays for constant-force recipes (what simulate_many passes it)."""
+    coef = coefficients("paper", drumstroke.Stick())
+    c = np.array([float(coef.torque_rate(9.8, r.force.value)) for r in recipes])
+    return ([np.array([getattr(r, key) for r in recipes]) for key in ("theta0", "omega0", "cor")]
+            + [c, np.full(len(c), coef.theta_max), np.array([r.t_end for r in recipes])])
+
+
+def _paired_row(name, unit, after_fn, before_fn, *, per_call, after_t, before_t, recipes):
+    """A before/after row: the new path as "ours", the old (R_F at every flight) as "reference", timed alternately."""
+    progress("  timing after and before, alternately ...")
+    after, before, ratio, detail = timed_pair(after_fn, before_fn, per_call=per_call, ref_per_call=per_call)
+    progress(f"  after {after:.4g}, before {before:.4g} s per item")
+    errors = [0.0, 0.0]
+    agree = True
+    for i, recipe in enumerate(recipes):
+        exact_t, _, _ = oracle_for(recipe)
+        for k, times in enumerate((after_t(i), before_t(i))):
+            e, same = max_error(times, exact_t)
+            errors[k], agree = max(errors[k], e), agree and same
+    per_second = unit == "strokes/s"
+    return {"case": name, "unit": unit, "ours": 1.0 / after if per_second else after,
+            "reference": 1.0 / before if per_second else before, "ratio": ratio, "error_ours": errors[0],
+            "error_ours_vs": "oracle", "error_reference": errors[1], "counts_agree": agree, "timing": detail,
+            "before_after": True}
+
+
+def run_solver_pair(name):
+    """free-bounce's impacts by the solver alone (no Stroke built): flights by the table, then by R_F."""
+    from drumstroke.solver import solve
+
+    recipe = drumstroke.preset("free-bounce")
+    kwargs = dict(theta0=recipe.theta0, omega0=recipe.omega0, cor=recipe.cor, t_end=recipe.t_end)
+
+    def run(tabled):
+        return solve(recipe.coefficients, recipe.force, recipe.gravity, **kwargs, tabled=tabled)
+
+    return _paired_row(name, "s", lambda: run(True), lambda: run(False), per_call=1,
+                       after_t=lambda i: run(True).impact_t, before_t=lambda i: run(False).impact_t,
+                       recipes=[recipe])
+
+
+def run_kernel_pair(name):
+    """The batch kernel alone (constant_batch) on the batch's strokes: flights by the table, then by R_F."""
+    from drumstroke.solver.batch import constant_batch
+
+    recipes, _ = batch_recipes()
+    columns = _kernel_columns(recipes)
+    after = constant_batch(*columns, max_impacts=100_000)
+    before = constant_batch(*columns, max_impacts=100_000, exact=True)
+
+    def impacts(result, i):
+        offsets, count, t = result[1], result[2], result[3]
+        return t[offsets[i]:offsets[i] + count[i]]
+
+    return _paired_row(name, "strokes/s", lambda: constant_batch(*columns, max_impacts=100_000),
+                       lambda: constant_batch(*columns, max_impacts=100_000, exact=True), per_call=len(recipes),
+                       after_t=lambda i: impacts(after, i), before_t=lambda i: impacts(before, i),
+                       recipes=recipes[:BATCH_CHECKED])
+
+
+def run_heads_pair(name):
+    """The batch kernel on HEADS_SIZE strokes each with a head of its own: flights by the table, then by R_F.
+
+    The sweep a planner or a palette search makes when it varies the stick: the table holds every head,
+    so no stroke pays for a head new to the process.
+    """
+    from drumstroke.solver.batch import constant_batch
+
+    rng = np.random.default_rng(BATCH_SEED)
+    recipes = []
+    for recipe in batch_recipes()[0][:HEADS_SIZE]:
+        stick = drumstroke.Stick(pivot_height=float(rng.uniform(0.01, 0.2)))  # a head from −0.04 to −0.83 rad
+        recipes.append(recipe.replace(stick=stick, theta0=max(recipe.theta0, stick.theta_max)))
+    coefs = [coefficients("paper", r.stick) for r in recipes]
+    columns = ([np.array([getattr(r, key) for r in recipes]) for key in ("theta0", "omega0", "cor")]
+               + [np.array([float(k.torque_rate(9.8, r.force.value)) for k, r in zip(coefs, recipes)]),
+                  np.array([k.theta_max for k in coefs]), np.array([r.t_end for r in recipes])])
+    after = constant_batch(*columns, max_impacts=100_000)
+    before = constant_batch(*columns, max_impacts=100_000, exact=True)
+
+    def impacts(result, i):
+        offsets, count, t = result[1], result[2], result[3]
+        return t[offsets[i]:offsets[i] + count[i]]
+
+    return _paired_row(name, "strokes/s", lambda: constant_batch(*columns, max_impacts=100_000),
+                       lambda: constant_batch(*columns, max_impacts=100_000, exact=True), per_call=len(recipes),
+                       after_t=lambda i: impacts(after, i), before_t=lambda i: impacts(before, i),
+                       recipes=recipes[:BATCH_CHECKED])
+
+
+def run_batch_pair(name):
+    """simulate_many on the batch's strokes, against what it did before: R_F at every flight, every Impacts built."""
+    from drumstroke.solver.batch import constant_batch
+    from drumstroke.trajectory import Impacts
+
+    recipes, _ = batch_recipes()
+    arrays = {key: np.array([getattr(r, key) for r in recipes]) for key in ("theta0", "omega0", "cor")}
+    arrays["force"] = np.array([r.force.value for r in recipes])
+    columns = _kernel_columns(recipes)
+    tip = drumstroke.Stick().pivot_to_tip
+
+    def before_fn():
+        _, offsets, count, t, omega, _ = constant_batch(*columns, max_impacts=100_000, exact=True)
+        starts, ends = offsets[:-1].tolist(), (offsets[:-1] + count).tolist()
+        return [Impacts(t[a:b], omega[a:b], tip) for a, b in zip(starts, ends)]
+
+    after, before = drumstroke.simulate_many(**arrays), before_fn()
+    return _paired_row(name, "strokes/s", lambda: drumstroke.simulate_many(**arrays), before_fn,
+                       per_call=len(recipes), after_t=lambda i: after.impacts[i].t, before_t=lambda i: before[i].t,
+                       recipes=recipes[:BATCH_CHECKED])
+
+
 def run_process_case(name):
     """The whole command as a user runs it: interpreter start, imports, the cached kernel, the summary."""
     command = [shutil.which("drumstroke") or sys.executable, "simulate", "free-bounce"]
@@ -361,11 +475,19 @@ def main(argv=None):
     cases = [(name, drumstroke.preset(p), RATE, oracle) for name, p, oracle in figure_cases]
     cases.append(("free-bounce impacts only", drumstroke.preset("free-bounce"), None, True))
     cases.append(("finger-pulses 60 s", drumstroke.preset("finger-pulses").replace(t_end=60.0), None, False))
-    total = len(cases) + 2
+    total = len(cases) + 6
     rows = []
     for i, (name, recipe, rate, oracle) in enumerate(cases, start=1):
         progress(f"[{i}/{total}] {name}")
         rows.append(run_stroke_case(name, recipe, rate=rate, oracle=oracle))
+    # before/after of the flight-time table, in this one process: the new path and R_F at every flight, alternately
+    pairs = [("free-bounce impacts, solver only: after vs before", run_solver_pair),
+             ("batch kernel strokes/s: after vs before", run_kernel_pair),
+             (f"batch kernel, {HEADS_SIZE:,} heads, strokes/s: after vs before", run_heads_pair),
+             ("simulate_many strokes/s: after vs before", run_batch_pair)]
+    for i, (name, case) in enumerate(pairs, start=len(cases) + 1):
+        progress(f"[{i}/{total}] {name}")
+        rows.append(case(name))
     progress(f"[{total - 1}/{total}] batch constant-force strokes/s")
     rows.append(run_batch_case("batch constant-force strokes/s"))
     progress(f"[{total}/{total}] the command as a whole process")
@@ -387,7 +509,15 @@ def main(argv=None):
             f"Reference: scipy.integrate.solve_ivp DOP853, rtol={RTOL:g}, atol={ATOL:g}, events and a restart at "
             "each impact, integrated piece by piece (benchmarks/reference.py)."
         ),
-        rows[-2]["note"],
+        next(row for row in rows if row["case"] == "batch constant-force strokes/s")["note"],
+        (
+            "Rows 'after vs before': 'ours' is the new path, 'reference' the old one, timed alternately in this run, "
+            "ratio = before/after; 'ref err' is the old path's error against the oracle. After: flights from the "
+            "head by the table of every head (drumstroke.solver.flight_table); before: Carlson's R_F at every flight. "
+            "The solver alone (solve, no Stroke built) on free-bounce; the batch kernel alone (constant_batch) on the "
+            f"batch's strokes, and on {HEADS_SIZE:,} of them each given a stick of its own (its own head angle); "
+            "simulate_many on the batch's strokes, before also building every stroke's Impacts up front as it did."
+        ),
         f"The process case runs `{rows[-1]['timing']['command']}` {PROCESS_REPEATS} times after one warm-up run "
         "(the numba cache on disk, as after a first use); the median wall time.",
     ]

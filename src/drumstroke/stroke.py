@@ -183,18 +183,19 @@ def simulate(
     """
     check_choice("method", method, ("auto", "taylor"))
     base = resolve(recipe)
-    changes = {
-        "force": _as_profile("force", force),
-        "gravity": _as_profile("gravity", gravity),
-        "model": model,
-        "t_end": t_end,
-        "theta0": theta0,
-        "omega0": omega0,
-        "cor": cor,
-        "stick": stick,
-    }
-    changes = {key: value for key, value in changes.items() if value is not None}
-    recipe = base.replace(**changes) if changes else base
+    recipe = base
+    if any(value is not None for value in (force, gravity, model, t_end, theta0, omega0, cor, stick)):
+        changes = {
+            "force": _as_profile("force", force),
+            "gravity": _as_profile("gravity", gravity),
+            "model": model,
+            "t_end": t_end,
+            "theta0": theta0,
+            "omega0": omega0,
+            "cor": cor,
+            "stick": stick,
+        }
+        recipe = base.replace(**{key: value for key, value in changes.items() if value is not None})
     solution = solve(
         recipe.coefficients,
         recipe.force,
@@ -266,7 +267,8 @@ class Batch:
     ----------
     recipes : sequence of Recipe
         What made each stroke. From parameter arrays each is built when read.
-    impacts : tuple of Impacts
+    impacts : sequence of Impacts
+        Each stroke's, built when read (views into the batch's arrays).
     rest_time : ndarray [shape=(n,)]
         When each stroke comes to rest for good (s); NaN where it is still moving at t_end.
     trajectories : tuple of (t, theta, omega) or None
@@ -274,7 +276,7 @@ class Batch:
     """
 
     recipes: Sequence
-    impacts: tuple
+    impacts: Sequence
     rest_time: np.ndarray
     trajectories: tuple | None
 
@@ -285,6 +287,29 @@ class Batch:
         sampled = f"sampled at {self.trajectories[0].rate:g} Hz" if self.trajectories else "not sampled"
         return (f"Batch({len(self)} strokes, {sum(len(i) for i in self.impacts)} impacts, "
                 f"{int(np.sum(~np.isnan(self.rest_time)))} at rest by t_end; {sampled})")
+
+
+class _BatchImpacts(Sequence):
+    """Each stroke's Impacts, built when read: views into the compiled batch's flat arrays.
+
+    Stroke i's are ``t[start[i]:end[i]]`` and ``omega[start[i]:end[i]]``, or ``others[i]`` for
+    a stroke simulated on its own.
+    """
+
+    def __init__(self, t, omega, start, end, tips, others):
+        self._t, self._omega, self._start, self._end, self._tips, self._others = t, omega, start, end, tips, others
+
+    def __len__(self):
+        return len(self._start)
+
+    def __getitem__(self, i):
+        if isinstance(i, slice):
+            return tuple(self[j] for j in range(*i.indices(len(self))))
+        i = range(len(self))[i]  # (negative indices; IndexError past the end)
+        if i in self._others:
+            return self._others[i]
+        start, end = self._start[i], self._end[i]
+        return Impacts(self._t[start:end], self._omega[start:end], self._tips[i])
 
 
 class _Recipes(Sequence):
@@ -424,8 +449,11 @@ def _constant_batch(recipes, constant, columns, tips):
     from .solver.batch import OK, TOO_MANY, constant_batch
 
     index = np.flatnonzero(constant)
-    impacts = [None] * len(recipes)
     rest = np.full(len(recipes), np.nan)
+    start, end = np.zeros(len(recipes), dtype=np.int64), np.zeros(len(recipes), dtype=np.int64)
+    tip = np.zeros(len(recipes))
+    t = omega = np.empty(0)
+    done = np.zeros(len(recipes), dtype=bool)
     if len(index):
         status, offsets, count, t, omega, rests = constant_batch(*columns, max_impacts=MAX_IMPACTS)
         if np.any(status == TOO_MANY):
@@ -433,19 +461,18 @@ def _constant_batch(recipes, constant, columns, tips):
             raise SimulationError(
                 f"stroke {i} has more than {MAX_IMPACTS} impacts; shorten t_end or lower cor (now {recipes[i].cor:g})"
             )
-        done = status == OK
-        rest[index[done]] = rests[done]
-        starts, ends = offsets[:-1].tolist(), (offsets[:-1] + count).tolist()
-        for j in np.flatnonzero(done).tolist():  # views into the kernel's arrays, one per stroke
-            impacts[index[j]] = Impacts(t[starts[j]:ends[j]], omega[starts[j]:ends[j]], tips[j])
-    for i in range(len(recipes)):
-        if impacts[i] is None:  # not constant forcing, or outside the kernel's reach
-            try:
-                stroke = simulate(recipes[i])
-            except SimulationError as error:
-                raise SimulationError(f"stroke {i}: {error}") from None
-            impacts[i], rest[i] = stroke.impacts, _rest_or_nan(stroke)
-    return Batch(recipes, tuple(impacts), rest, None)
+        ok = status == OK
+        done[index[ok]] = True
+        rest[index[ok]] = rests[ok]
+        start[index], end[index], tip[index] = offsets[:-1], offsets[:-1] + count, tips
+    others = {}
+    for i in np.flatnonzero(~done).tolist():  # not constant forcing, or outside the kernel's reach
+        try:
+            stroke = simulate(recipes[i])
+        except SimulationError as error:
+            raise SimulationError(f"stroke {i}: {error}") from None
+        others[i], rest[i] = stroke.impacts, _rest_or_nan(stroke)
+    return Batch(recipes, _BatchImpacts(t, omega, start.tolist(), end.tolist(), tip.tolist(), others), rest, None)
 
 
 def _rest_or_nan(stroke):

@@ -8,6 +8,10 @@ C ≤ 0, or a flight toward the vertical) are flagged for the general solver.
 Two passes: the first bounds each stroke's impact count (one closed-form
 flight per stroke), the second fills one flat array at those offsets.
 
+Each flight from the head is read from the flight-time table (:mod:`.flight_table`,
+one for every head, built once per process) unless ``exact`` asks for Carlson's
+R_F at every impact, the table's reference.
+
 tests/test_batch.py holds it equal to :mod:`.kernel`, stroke by stroke.
 """
 
@@ -17,6 +21,7 @@ import numpy as np
 from numba import prange
 
 from .._jit import jit
+from . import flight_table
 from .constants import NEARLY_VERTICAL
 from .elliptic import flight_time, parameter, to_head
 from .taylor import zeno_floor
@@ -44,8 +49,12 @@ def _first_impact(theta, omega, c, theta_max):
 
 
 @jit
-def _run(theta0, omega0, cor, c, theta_max, t_end, out_t, out_w, start, capacity):
-    """One stroke: fills out_t/out_w from ``start``; returns (status, count, rest time or NaN)."""
+def _run(theta0, omega0, cor, c, theta_max, t_end, out_t, out_w, start, capacity, table, head, cells):
+    """One stroke: fills out_t/out_w from ``start``; returns (status, count, rest time or NaN).
+
+    ``head`` is room for :func:`.flight_table.set_head` (the stroke's own: strokes run in parallel);
+    ``cells`` the head's :func:`.flight_table.head_cells` or empty.
+    """
     if not c > 0.0:
         return UNSUPPORTED, 0, math.nan
     a = c * math.cos(theta_max)
@@ -68,13 +77,17 @@ def _run(theta0, omega0, cor, c, theta_max, t_end, out_t, out_w, start, capacity
         out_w[start] = -speed
         n = 1
         launch = cor * speed
+    flight_table.set_head(head, table, sin_head)
     while True:
         if launch == 0.0:
             return OK, n, t
         if launch < floor:
             rest = t + 2.0 * launch / (a * (1.0 - cor)) if cor < 1.0 else t
             return OK, n, rest if rest <= t_end else math.nan
-        flight, m = flight_time(launch, c, sin_head)
+        flight, m = flight_table.flight_time(launch, c, head)
+        if math.isnan(flight):  # the first flight in a cell of the table: its polynomial for the head
+            flight_table.fill(table, head, launch, c, cells)
+            flight, m = flight_table.flight_time(launch, c, head)
         if m >= 1.0 - NEARLY_VERTICAL:
             return UNSUPPORTED, 0, math.nan
         end = t + flight
@@ -115,16 +128,49 @@ def _capacities(theta0, omega0, cor, c, theta_max, t_end, max_impacts):
 
 
 @jit(parallel=True)
-def _fill(theta0, omega0, cor, c, theta_max, t_end, offsets, out_t, out_w, status, count, rest):
+def _fill(theta0, omega0, cor, c, theta_max, t_end, offsets, out_t, out_w, status, count, rest, table, heads, cells,
+          shared):
+    no_cells = np.empty((0, cells.shape[2]))
     for i in prange(len(theta0)):
         capacity = offsets[i + 1] - offsets[i]
         status[i], count[i], rest[i] = _run(
-            theta0[i], omega0[i], cor[i], c[i], theta_max[i], t_end[i], out_t, out_w, offsets[i], capacity
+            theta0[i], omega0[i], cor[i], c[i], theta_max[i], t_end[i], out_t, out_w, offsets[i], capacity, table,
+            heads[i], cells[shared[i]] if shared[i] >= 0 else no_cells
         )
 
 
-def constant_batch(theta0, omega0, cor, c, theta_max, t_end, *, max_impacts):
+SHARED = 64
+"""Strokes sharing a head from which the batch sums all its cells at once (some 12 µs) for them to read."""
+
+
+def _shared_cells(theta_max, table):
+    """The cells of each head at least SHARED strokes share, and each stroke's row in them (−1: none).
+
+    Only a matter of speed: a stroke's flights are the same whether its chain reads these or sums its cells.
+    """
+    heads, inverse, counts = np.unique(theta_max, return_inverse=True, return_counts=True)
+    row = np.full(len(heads), -1, dtype=np.int64)
+    cells = []
+    for j in np.flatnonzero(counts >= SHARED) if len(table) else ():
+        head_cells = _head_cells(table, heads[j])
+        if len(head_cells):  # (a head the table covers)
+            row[j] = len(cells)
+            cells.append(head_cells)
+    if not cells:
+        return np.empty((1, 0, flight_table.CELL_SIZE)), row[inverse.ravel()]
+    return np.stack(cells), row[inverse.ravel()]
+
+
+@jit
+def _head_cells(table, theta_max):
+    """:func:`.flight_table.head_cells` of the head θ_max, with its sine as :func:`_run` takes it."""
+    return flight_table.head_cells(table, math.sin(theta_max))
+
+
+def constant_batch(theta0, omega0, cor, c, theta_max, t_end, *, max_impacts, exact=False):
     """Impacts of many strokes under constant forcing C (s⁻²), all arrays of one length.
+
+    ``exact`` evaluates each flight by R_F instead of the flight-time table (the reference).
 
     Returns
     -------
@@ -147,5 +193,7 @@ def constant_batch(theta0, omega0, cor, c, theta_max, t_end, *, max_impacts):
     status = np.zeros(n, dtype=np.int64)
     count = np.zeros(n, dtype=np.int64)
     rest = np.full(n, np.nan)
-    _fill(*arrays, offsets, out_t, out_w, status, count, rest)
+    table = np.empty((0, 0)) if exact else flight_table.table()
+    heads = np.empty((n, flight_table.HEAD_SIZE))  # (one allocation, not one a stroke)
+    _fill(*arrays, offsets, out_t, out_w, status, count, rest, table, heads, *_shared_cells(arrays[4], table))
     return status, offsets, count, out_t, out_w, rest

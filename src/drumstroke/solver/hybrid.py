@@ -38,6 +38,7 @@ vertical raises :class:`~drumstroke.errors.SimulationError`, and so does a
 stroke with more than :data:`MAX_IMPACTS` impacts.
 """
 
+import functools
 import time
 from dataclasses import dataclass
 
@@ -76,7 +77,7 @@ class Solution:
     rests: np.ndarray
 
 
-def solve(coefficients, force, gravity, *, theta0, omega0, cor, t_end, method="auto", progress=None):
+def solve(coefficients, force, gravity, *, theta0, omega0, cor, t_end, method="auto", progress=None, tabled=True):
     """Simulate the stick from (θ₀, ω₀) at t = 0 to ``t_end``.
 
     Parameters
@@ -97,26 +98,29 @@ def solve(coefficients, force, gravity, *, theta0, omega0, cor, t_end, method="a
         closed forms); "auto" uses the closed forms wherever they apply.
     progress : callable or None
         Called now and then with the fraction of ``t_end`` done.
+    tabled : bool
+        Flights from the head by the flight-time table (:mod:`.flight_table`); False evaluates
+        R_F at every flight (the table's reference, for checks and benchmarks).
 
     Returns
     -------
     Solution
     """
-    from . import kernel  # compiled on first use; `import drumstroke` stays light
-
+    flight_table, kernel = _compiled()
     edges, c0, c1 = _forcing(coefficients, force, gravity, t_end)
     theta_max = coefficients.theta_max
     state = kernel.initial_state(theta0, omega0)
     closed_forms = method == "auto"
+    table = flight_table.table() if closed_forms and tabled else np.empty((0, 0))
     chunk = len(c0) if progress is None else max(1, -(-len(c0) // _PROGRESS_CHUNKS))
     parts = []
-    last_report = time.monotonic()
+    last_report = time.monotonic() if progress is not None else 0.0
     for first in range(0, len(c0), chunk):
         last = min(first + chunk, len(c0))
+        pieces = (edges, c0, c1) if chunk == len(c0) else (edges[first:last + 1], c0[first:last], c1[first:last])
         parts.append(_checked(kernel.run(
-            edges[first:last + 1], c0[first:last], c1[first:last], theta_max, cor, closed_forms, _MAX_STEP,
-            MAX_IMPACTS, last == len(c0), state,
-        ), cor))
+            *pieces, theta_max, table, cor, closed_forms, _MAX_STEP, MAX_IMPACTS, last == len(c0), state,
+        ), cor, kernel))
         if progress is not None and time.monotonic() - last_report > 0.1:
             progress(edges[last] / t_end)
             last_report = time.monotonic()
@@ -126,17 +130,25 @@ def solve(coefficients, force, gravity, *, theta0, omega0, cor, t_end, method="a
     return Solution(arcs=Arcs(arcs, steps, theta_max), impact_t=impacts[:, 0], impact_omega=impacts[:, 1], rests=rests)
 
 
-def _checked(result, cor):
-    """The kernel's arrays, or the error it ran into."""
-    from .kernel import TOO_MANY, VERTICAL
+@functools.cache
+def _compiled():
+    """The modules of compiled code, imported on first use (`import drumstroke` stays light)."""
+    from . import flight_table, kernel
 
+    return flight_table, kernel
+
+
+def _checked(result, cor, kernel):
+    """The kernel's arrays, or the error it ran into."""
     outcome, extra, *arrays = result
-    if outcome == VERTICAL:
+    if outcome == kernel.DONE:
+        return arrays
+    if outcome == kernel.VERTICAL:
         raise SimulationError(
             f"the stick reaches the vertical (theta = pi/2 rad) at t = {extra:.6g} s; the model covers "
             f"theta in [theta_max, pi/2): lower omega0 or the upward forcing (negative force or gravity)"
         )
-    if outcome == TOO_MANY:
+    if outcome == kernel.TOO_MANY:
         raise SimulationError(
             f"the stroke has more than {MAX_IMPACTS} impacts by t = {extra:.6g} s; shorten t_end or lower cor "
             f"(now {cor:g})"

@@ -17,7 +17,7 @@ import math
 import numpy as np
 
 from .._jit import jit
-from . import elliptic
+from . import elliptic, flight_table
 from .constants import ARC_COLUMNS, ELLIPTIC, NEARLY_VERTICAL, REST, TAYLOR, TAYLOR_ORDER
 from .taylor import DONE as _TAYLOR_DONE
 from .taylor import SETTLE as _TAYLOR_SETTLE
@@ -82,7 +82,7 @@ def _impact(impacts, n, t, omega):
 
 
 @jit
-def run(edges, c0, c1, theta_max, cor, closed_forms, max_step, max_impacts, finish, state):
+def run(edges, c0, c1, theta_max, table, cor, closed_forms, max_step, max_impacts, finish, state):
     """Carry the stick through the pieces [edges[i], edges[i+1]) where C = c0[i] + c1[i]·(t − edges[i]).
 
     Parameters
@@ -93,6 +93,9 @@ def run(edges, c0, c1, theta_max, cor, closed_forms, max_step, max_impacts, fini
         C at the start of each piece (s⁻²) and its slope (s⁻³).
     theta_max : float
         The head (rad).
+    table : ndarray
+        The flight-time table (:func:`.flight_table.table`) for the flights from the head;
+        empty, R_F at every flight (the table's reference).
     cor : float in [0, 1]
     closed_forms : bool
         False integrates every flight with Taylor steps (a cross-check).
@@ -121,6 +124,8 @@ def run(edges, c0, c1, theta_max, cor, closed_forms, max_step, max_impacts, fini
         t_end if ``finish``); one still going is in ``state``.
     """
     sin_head, cos_head = math.sin(theta_max), math.cos(theta_max)
+    head = flight_table.head(table, sin_head)
+    no_cells = np.empty((0, flight_table.CELL_SIZE))  # (a chain sums the cells it meets)
     t, theta, omega = state[T], state[THETA], state[OMEGA]
     resting, lifting = state[RESTING] != 0.0, state[LIFTING] != 0.0
     tail_c, rest_start = state[TAIL_C], state[REST_START]
@@ -188,7 +193,10 @@ def run(edges, c0, c1, theta_max, cor, closed_forms, max_step, max_impacts, fini
                     if launch < floor:  # (launch = 0 included)
                         settle = launch
                         break
-                    flight, m = elliptic.flight_time(launch, a, sin_head)
+                    flight, m = flight_table.flight_time(launch, a, head)
+                    if math.isnan(flight):  # the first flight in a cell of the table: its polynomial for the head
+                        flight_table.fill(table, head, launch, a, no_cells)
+                        flight, m = flight_table.flight_time(launch, a, head)
                     if m >= 1.0 - NEARLY_VERTICAL:  # toward the vertical: the Taylor steps take it
                         theta, omega = theta_max, launch
                         break
