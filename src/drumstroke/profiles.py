@@ -94,6 +94,7 @@ Constant(value=9.8)
 """
 
 import bisect
+import itertools
 import math
 import os
 from contextlib import contextmanager
@@ -188,7 +189,7 @@ def _merged(edges, t_end):
         if 0.0 <= edge <= t_end and (not kept or edge != kept[-1]):
             kept.append(edge)
     tol = merge_tolerance(t_end)
-    if any(b - a <= tol for a, b in zip(kept, kept[1:])):  # rare: merge each cluster into its first edge
+    if any(b - a <= tol for a, b in itertools.pairwise(kept)):  # rare: merge each cluster into its first edge
         clusters = [kept[0]]
         for edge in kept[1:]:
             if edge - clusters[-1] > tol:
