@@ -1331,8 +1331,11 @@ def _one_attack_each(band, rate, candidates, amplitude, config):
     stick's impact is not a quiet one followed so closely by a much louder one. The earlier is the
     later's first transient, kept at its time with the later's amplitude, when the first
     difference's peak over its 0.25 ms passes ``start_over`` times that over the ``start_reach`` s
-    before it and ``start_db`` re the later's (over ``start_reach`` s), and the sound rises on from
-    it (that peak over every 0.25 ms up to the later stays over half of it). Else, when the later is
+    before it and ``start_db`` re the later's (over ``start_reach`` s), and either the sound rises on
+    from it (that peak over every 0.25 ms up to the later stays over half of it) or it rises out of
+    silence (the peak over the ``start_reach`` s before it under ``start_clear_db`` re the later's:
+    no earlier sound to swell there; TimGM6mb's electric snare clicks, dips 20 dB, then rises 1.1 ms
+    later). Else, when the later is
     ``lead_db`` louder in its first difference too (its peak over ``start_reach`` s against the
     earlier's up to it), the earlier is no attack (a swell of the decay before a note, noise): the
     later stays alone. Else both stay (a quiet note and its sample's second burst, louder in the
@@ -1354,7 +1357,9 @@ def _one_attack_each(band, rate, candidates, amplitude, config):
         dip = (np.lib.stride_tricks.sliding_window_view(between, width).max(axis=1).min()
                if len(between) >= width else click)
         louder = d[b:b + reach].max(initial=0.0)
-        if click > config.start_over * prior and dip >= 0.5 * click and click >= louder * 10.0 ** (config.start_db / 20.0):
+        # out of silence (the sound before it under start_clear_db re the later), nothing earlier can swell there
+        onward = dip >= 0.5 * click or prior <= louder * 10.0 ** (config.start_clear_db / 20.0)
+        if click > config.start_over * prior and onward and click >= louder * 10.0 ** (config.start_db / 20.0):
             keep[j] = False
             amplitude[i] = amplitude[j]
         elif louder >= d[a:max(a + 1, b)].max() * 10.0 ** (config.lead_db / 20.0):
