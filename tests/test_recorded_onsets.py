@@ -244,3 +244,31 @@ def test_a_first_click_out_of_silence_is_the_note_even_where_its_sound_dips_afte
         onsets = find_onsets(recording.signal, RATE)
         assert len(onsets) == len(recording.t)
         assert np.abs(onsets.t - recording.t).max() < 1e-3
+
+
+def test_a_softer_strokes_attack_is_its_signature_smoothed_by_a_longer_contact():
+    """The signature smoothed by a half-sine contact, placed in silence, is found alike (correlation 1) by the soft
+    likeness at each contact up to ``soft_contact``, while the signature alone (``soft_contact=0``) likens it less."""
+    from drumstroke.analysis.onsets import _soft_likeness
+
+    rng = np.random.default_rng(3)
+    rate = 2000.0
+    template = rng.standard_normal(100) * np.exp(-np.arange(100) / 10.0)
+    template[2] = 6.0  # the spike, two samples in (as the modes' band's signature is cut)
+    for width in (2, 4, 6):
+        pulse = np.sin(np.pi * (np.arange(width) + 0.5) / width)
+        e = np.zeros(400)
+        e[148:148 + 100 + width - 1] = np.convolve(template, pulse / pulse.sum())  # its onset at sample 150
+        assert _soft_likeness(e, template, 150, rate, OnsetConfig()) == pytest.approx(1.0, abs=1e-9)
+        assert _soft_likeness(e, template, 150, rate, OnsetConfig(soft_contact=0.0)) < 0.95
+
+
+def test_ghost_notes_of_a_softer_sample_are_found():
+    """TimGM6mb's snare 38 in a roll at -72 dBFS noise: its ghost notes (low-passed by the SoundFont's velocity filter)
+    start unlike the accent's signature; 25 of the 30 loud notes within 1 ms, all the detections right, where
+    without the softer strokes' likeness (``soft_jump=100``) 23."""
+    recording = _corpus_recording("TimGM6mb 38 roll", "noise72")
+    figures = score(recording, find_onsets(recording.signal, RATE).t)
+    off = score(recording, find_onsets(recording.signal, RATE, config=OnsetConfig(soft_jump=100.0)).t)
+    assert figures["within_1ms"] >= 25 and figures["correct_5ms"] == figures["found"]
+    assert off["within_1ms"] <= 23
