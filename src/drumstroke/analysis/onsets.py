@@ -1236,6 +1236,8 @@ def _measured_at(candidates, found, rate, config):
     The lowest modes' amplitude is read over the 5 ms after an onset, where that band is still
     rising: a start moved by a fraction of a millisecond moves it by decibels. Retiming is for the
     time; the level stays that of the detection (within ``template_reach`` s), a new attack's at its fit.
+    A detection still a candidate of its own is not another's: the template found a new attack just
+    before it (measured there, both would read one window, the earlier's empty: 0, refused as quiet).
     """
     if not len(found) or not len(candidates):
         return candidates
@@ -1244,6 +1246,7 @@ def _measured_at(candidates, found, rate, config):
                                                            - candidates.times)
                                                     < np.abs(found[nearest] - candidates.times)), nearest + 1, nearest)
     near = np.abs(found[nearer] - candidates.times) <= config.template_reach * rate
+    near &= (found[nearer] == candidates.times) | ~np.isin(found[nearer], candidates.times)
     return replace(candidates, times=np.where(near, found[nearer], candidates.times))
 
 
@@ -1395,7 +1398,11 @@ def _one_attack_each(band, rate, candidates, amplitude, config):
     ``lead_db`` louder in its first difference too (its peak over ``start_reach`` s against the
     earlier's up to it), the earlier is no attack (a swell of the decay before a note, noise): the
     later stays alone. Else both stay (a quiet note and its sample's second burst, louder in the
-    lowest modes only: :func:`_out_of_decay` tells them). Returns the candidates and their amplitudes.
+    lowest modes only: :func:`_out_of_decay` tells them). First, an attack the template timed or found
+    (kind 3, :func:`_fit_template`) followed within ``template_reach`` s by one it did not is that
+    one's start: the template found the attack's start, the detection is its late time (up to the
+    reach the template seeks an attack over); one attack, at the earlier time, with the later's
+    level (:func:`_measured_at`). Returns the candidates and their amplitudes.
     """
     which = np.flatnonzero(candidates.attack)
     if len(which) < 2:
@@ -1405,6 +1412,10 @@ def _one_attack_each(band, rate, candidates, amplitude, config):
     keep, amplitude = np.ones(len(candidates), dtype=bool), amplitude.copy()
     for i, j in itertools.pairwise(which):
         a, b = round(candidates.times[i]), round(candidates.times[j])
+        if keep[i] and candidates.kinds[i] == 3 != candidates.kinds[j] and b - a <= config.template_reach * rate:
+            keep[j] = False  # the template's fit of the detection just after it: one attack, the detection's level
+            amplitude[i] = amplitude[j]
+            continue
         if not keep[i] or b - a > reach or amplitude[j] < amplitude[i] * 10.0 ** (config.lead_db / 20.0):
             continue
         click = d[a:a + width].max(initial=0.0)
