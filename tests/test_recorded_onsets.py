@@ -157,14 +157,16 @@ def test_attacks_over_ringing_are_timed_and_found_by_the_recordings_own_attack(n
 
 @pytest.mark.parametrize("set_name, condition, most_95, most_median", [
     ("singles", "dry", 0.1, 0.05), ("singles", "noise60", 0.5, 0.1), ("roll", "dry", 5.0, 0.1),
-    ("roll", "noise60", 2.5, 0.2), ("flams", "dry", 1.5, 0.6), ("flams", "noise60", 1.0, 0.3),
+    ("roll", "noise60", 2.8, 0.2), ("flams", "dry", 1.5, 0.6), ("flams", "noise60", 1.0, 0.3),
 ])
 def test_peaks_of_loud_notes_found(detected, set_name, condition, most_95, most_median):
     """peak_db (each onset's broadband peak, the earlier notes' sound taken off, dB re the loudest onset's) less the
     truth (each note's own peak alone, dB re the loudest's), on the loud notes found within 5 ms: its 95th
     percentile and median (absolute), the figures reached a little over.
 
-    Measured (both SoundFonts' snare 38 pooled): 95th percentile 0.01, 0.21, 4.85, 2.21, 1.28, 0.83 dB; median
+    Measured (both SoundFonts' snare 38 pooled): 95th percentile 0.01, 0.21, 4.85, 2.63, 1.28, 0.83 dB (rolls at
+    -60 dBFS: 2.18 over 49 notes before the softer strokes' attacks were found, 2.63 over 54 now: the 5 ghost notes
+    gained read 2.0-2.9 dB high, the accent's sound not all taken off them); median
     0.00-0.48 dB (level_db, the lowest modes' amplitude: 1.9-22.9 dB at the 95th percentile). The issue's 1 dB is
     reached on singles and flams with noise; in rolls a ghost note 100 ms after an accent is 2-26 dB off where a
     template holds a ghost note the detector missed (taken off the later ghost at the same distance), and
