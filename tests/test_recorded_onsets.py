@@ -157,14 +157,16 @@ def test_attacks_over_ringing_are_timed_and_found_by_the_recordings_own_attack(n
 
 @pytest.mark.parametrize("set_name, condition, most_95, most_median", [
     ("singles", "dry", 0.1, 0.05), ("singles", "noise60", 0.5, 0.1), ("roll", "dry", 5.0, 0.1),
-    ("roll", "noise60", 2.5, 0.2), ("flams", "dry", 1.5, 0.6), ("flams", "noise60", 1.0, 0.3),
+    ("roll", "noise60", 2.8, 0.2), ("flams", "dry", 1.5, 0.6), ("flams", "noise60", 1.0, 0.3),
 ])
 def test_peaks_of_loud_notes_found(detected, set_name, condition, most_95, most_median):
     """peak_db (each onset's broadband peak, the earlier notes' sound taken off, dB re the loudest onset's) less the
     truth (each note's own peak alone, dB re the loudest's), on the loud notes found within 5 ms: its 95th
     percentile and median (absolute), the figures reached a little over.
 
-    Measured (both SoundFonts' snare 38 pooled): 95th percentile 0.01, 0.21, 4.85, 2.21, 1.28, 0.83 dB; median
+    Measured (both SoundFonts' snare 38 pooled): 95th percentile 0.01, 0.21, 4.85, 2.63, 1.28, 0.83 dB (rolls at
+    -60 dBFS: 2.18 over 49 notes before the softer strokes' attacks were found, 2.63 over 54 now: the 5 ghost notes
+    gained read 2.0-2.9 dB high, the accent's sound not all taken off them); median
     0.00-0.48 dB (level_db, the lowest modes' amplitude: 1.9-22.9 dB at the 95th percentile). The issue's 1 dB is
     reached on singles and flams with noise; in rolls a ghost note 100 ms after an accent is 2-26 dB off where a
     template holds a ghost note the detector missed (taken off the later ghost at the same distance), and
@@ -230,3 +232,45 @@ def test_a_quiet_attack_just_before_a_much_louder_one_is_none():
     every = score(recording, find_onsets(recording.signal, RATE, config=OnsetConfig(lead_db=120.0)).t)
     assert kept["correct_5ms"] == kept["found"] and every["found"] - every["correct_5ms"] >= 3
     assert (kept["within_1ms"], kept["within_5ms"]) == (every["within_1ms"], every["within_5ms"])
+
+
+def test_a_first_click_out_of_silence_is_the_note_even_where_its_sound_dips_after_it():
+    """TimGM6mb's singles (snares 38 and 40, dry): every note within 1 ms of its truth, at its first click.
+
+    Its electric snare (key 40) clicks out of digital silence, dips 20 dB, and rises 1.1 ms later: the click was
+    refused as no attack of its own before (a swell before a louder one), the note put on the main rise (8 of the
+    12 notes within 1 ms, all 12 within 5 ms); nothing sounds before the click, so it is the note's first transient.
+    """
+    for key in (38, 40):
+        recording = _corpus_recording(f"TimGM6mb {key} singles", "dry")
+        onsets = find_onsets(recording.signal, RATE)
+        assert len(onsets) == len(recording.t)
+        assert np.abs(onsets.t - recording.t).max() < 1e-3
+
+
+def test_a_softer_strokes_attack_is_its_signature_smoothed_by_a_longer_contact():
+    """The signature smoothed by a half-sine contact, placed in silence, is found alike (correlation 1) by the soft
+    likeness at each contact up to ``soft_contact``, while the signature alone (``soft_contact=0``) likens it less."""
+    from drumstroke.analysis.onsets import _soft_likeness
+
+    rng = np.random.default_rng(3)
+    rate = 2000.0
+    template = rng.standard_normal(100) * np.exp(-np.arange(100) / 10.0)
+    template[2] = 6.0  # the spike, two samples in (as the modes' band's signature is cut)
+    for width in (2, 4, 6):
+        pulse = np.sin(np.pi * (np.arange(width) + 0.5) / width)
+        e = np.zeros(400)
+        e[148:148 + 100 + width - 1] = np.convolve(template, pulse / pulse.sum())  # its onset at sample 150
+        assert _soft_likeness(e, template, 150, rate, OnsetConfig()) == pytest.approx(1.0, abs=1e-9)
+        assert _soft_likeness(e, template, 150, rate, OnsetConfig(soft_contact=0.0)) < 0.95
+
+
+def test_ghost_notes_of_a_softer_sample_are_found():
+    """TimGM6mb's snare 38 in a roll at -72 dBFS noise: its ghost notes (low-passed by the SoundFont's velocity filter)
+    start unlike the accent's signature; 25 of the 30 loud notes within 1 ms, all the detections right, where
+    without the softer strokes' likeness (``soft_jump=100``) 23."""
+    recording = _corpus_recording("TimGM6mb 38 roll", "noise72")
+    figures = score(recording, find_onsets(recording.signal, RATE).t)
+    off = score(recording, find_onsets(recording.signal, RATE, config=OnsetConfig(soft_jump=100.0)).t)
+    assert figures["within_1ms"] >= 25 and figures["correct_5ms"] == figures["found"]
+    assert off["within_1ms"] <= 23

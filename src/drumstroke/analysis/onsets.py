@@ -366,6 +366,12 @@ class OnsetConfig:
         0: none taken off).
     peak_clear_db : float in [-120, 0]
         dB re a note's peak: the loudest the 10 ms before it may be for it to be a template (step 6).
+    soft_jump : float in [1, 100]
+        RMS ratio: the least jump of the remainder at a refused onset that starts like a softer stroke's
+        signature (step 4).
+    soft_contact : float in [0, 0.02]
+        s: the longest contact (a half sine) the signature is smoothed by to look like a softer stroke's
+        (step 4; 0: only the signature itself).
     new_sound_db : float in [-120, 0]
         dB re the sound at an attack: the least its own sound (the earlier attacks' taken off as in
         step 6, over ``peak_window`` s) may be for it to be an attack (step 5; -120: every one is).
@@ -440,6 +446,8 @@ class OnsetConfig:
     peak_templates: int = 6
     peak_clear_db: float = -30.0
     new_sound_db: float = -20.0
+    soft_jump: float = 3.0
+    soft_contact: float = 3e-3
 
     def __post_init__(self):
         for name, (low, high, unit) in _RANGES.items():
@@ -482,6 +490,7 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "template_fit": (0.5e-3, 0.1, "s"), "template_head": (0.5e-3, 0.05, "s"),
     "peak_window": (1e-3, 0.1, "s"), "peak_reach": (0.01, 2.0, "s"), "peak_templates": (0, 100, ""),
     "peak_clear_db": (-120.0, 0.0, "dB"), "new_sound_db": (-120.0, 0.0, "dB"),
+    "soft_jump": (1.0, 100.0, "(RMS ratio)"), "soft_contact": (0.0, 0.02, "s"),
 }
 
 
@@ -917,7 +926,54 @@ def _judged(band, rate, tonal, modes, merged, config):
     weak = (likeness >= config.weak_likeness) & (tonal_jump >= config.weak_rise)  # half like it, rising a little
     attack = (pursuit.jumps >= config.min_jump) & ((likeness >= config.likeness) | rises | weak)
     attack |= (pursuit.jumps >= config.sure_jump) & (likeness >= config.sure_likeness)
+    attack = _softer_attacks(modes, times, attack, pursuit, rate, config)
     return _Candidates(times, kinds, attack, likeness), replace(modes, offset=offset)
+
+
+def _softer_attacks(modes, times, attack, pursuit, rate, config):
+    """Step 4: a refused onset that jumps ``soft_jump`` times and starts like a softer stroke's signature is an attack.
+
+    A softer stroke stays longer on the head (Hertz's contact: the quieter, the longer), which
+    low-passes its attack; a sample player does the same to a quiet note (a SoundFont's velocity
+    lowers its filter's corner). Its innovation in the modes' band is then a slower burst than the
+    loudest attack's spike, and its start does not look like the signature (TimGM6mb's ghost notes,
+    16-27 dB under the accent: likeness 0.2-0.5). A refused onset ``signature`` s or more after the
+    attack before it (whose signature is over: the innovation there is the onset's own) is an
+    attack when the remainder jumps ``soft_jump`` times at it and its start looks like the
+    signature smoothed by a contact (a half sine) of up to ``soft_contact`` s, by ``likeness``
+    (:func:`_soft_likeness`). Returns the new ``attack`` (booleans).
+    """
+    clear = round(config.signature * rate)
+    out = attack.copy()
+    last = -np.inf
+    for i in range(len(times)):
+        if out[i]:
+            last = times[i]
+        elif pursuit.jumps[i] >= config.soft_jump and times[i] - last >= clear:
+            k = round(modes.at(times[i]))
+            out[i] = _soft_likeness(modes.e, pursuit.template, k, modes.rate, config) >= config.likeness
+            if out[i]:
+                last = times[i]
+    return out
+
+
+def _soft_likeness(e, template, k, rate, config):
+    """The largest correlation (magnitude) of ``e`` at sample ``k`` with the signature's start smoothed by a contact.
+
+    The contacts are half sines of 1 to ``soft_contact`` s (at ``rate`` Hz, 1 sample: no smoothing);
+    each smoothed start (its spike and ``head`` samples, and the contact's length) is tried from two
+    samples before its alignment with ``k`` to two and half the contact after (it peaks later).
+    """
+    spike = int(np.argmax(np.abs(template)))
+    best = 0.0
+    for width in range(1, max(1, round(config.soft_contact * rate)) + 1):
+        pulse = np.sin(np.pi * (np.arange(width) + 0.5) / width)
+        head = np.convolve(template, pulse / pulse.sum())[:spike + config.head + width]
+        norm = float(np.sqrt(head @ head))
+        for s in range(max(0, k - spike - 2), min(len(e) - len(head), k - spike + 2 + width // 2) + 1):
+            part = e[s:s + len(head)]
+            best = max(best, abs(float(part @ head)) / (float(np.sqrt(part @ part)) * norm + 1e-300))
+    return best
 
 
 def _try_later(modes, candidates, residual, rate, config):
@@ -1184,6 +1240,8 @@ def _measured_at(candidates, found, rate, config):
     The lowest modes' amplitude is read over the 5 ms after an onset, where that band is still
     rising: a start moved by a fraction of a millisecond moves it by decibels. Retiming is for the
     time; the level stays that of the detection (within ``template_reach`` s), a new attack's at its fit.
+    A detection still a candidate of its own is not another's: the template found a new attack just
+    before it (measured there, both would read one window, the earlier's empty: 0, refused as quiet).
     """
     if not len(found) or not len(candidates):
         return candidates
@@ -1192,6 +1250,7 @@ def _measured_at(candidates, found, rate, config):
                                                            - candidates.times)
                                                     < np.abs(found[nearest] - candidates.times)), nearest + 1, nearest)
     near = np.abs(found[nearer] - candidates.times) <= config.template_reach * rate
+    near &= (found[nearer] == candidates.times) | ~np.isin(found[nearer], candidates.times)
     return replace(candidates, times=np.where(near, found[nearer], candidates.times))
 
 
@@ -1327,12 +1386,19 @@ def _one_attack_each(band, rate, candidates, amplitude, config):
     stick's impact is not a quiet one followed so closely by a much louder one. The earlier is the
     later's first transient, kept at its time with the later's amplitude, when the first
     difference's peak over its 0.25 ms passes ``start_over`` times that over the ``start_reach`` s
-    before it and ``start_db`` re the later's (over ``start_reach`` s), and the sound rises on from
-    it (that peak over every 0.25 ms up to the later stays over half of it). Else, when the later is
+    before it and ``start_db`` re the later's (over ``start_reach`` s), and either the sound rises on
+    from it (that peak over every 0.25 ms up to the later stays over half of it) or it rises out of
+    silence (the peak over the ``start_reach`` s before it under ``start_clear_db`` re the later's:
+    no earlier sound to swell there; TimGM6mb's electric snare clicks, dips 20 dB, then rises 1.1 ms
+    later). Else, when the later is
     ``lead_db`` louder in its first difference too (its peak over ``start_reach`` s against the
     earlier's up to it), the earlier is no attack (a swell of the decay before a note, noise): the
     later stays alone. Else both stay (a quiet note and its sample's second burst, louder in the
-    lowest modes only: :func:`_out_of_decay` tells them). Returns the candidates and their amplitudes.
+    lowest modes only: :func:`_out_of_decay` tells them). First, an attack the template timed or found
+    (kind 3, :func:`_fit_template`) followed within ``template_reach`` s by one it did not is that
+    one's start: the template found the attack's start, the detection is its late time (up to the
+    reach the template seeks an attack over); one attack, at the earlier time, with the later's
+    level (:func:`_measured_at`). Returns the candidates and their amplitudes.
     """
     which = np.flatnonzero(candidates.attack)
     if len(which) < 2:
@@ -1342,6 +1408,10 @@ def _one_attack_each(band, rate, candidates, amplitude, config):
     keep, amplitude = np.ones(len(candidates), dtype=bool), amplitude.copy()
     for i, j in itertools.pairwise(which):
         a, b = round(candidates.times[i]), round(candidates.times[j])
+        if keep[i] and candidates.kinds[i] == 3 != candidates.kinds[j] and b - a <= config.template_reach * rate:
+            keep[j] = False  # the template's fit of the detection just after it: one attack, the detection's level
+            amplitude[i] = amplitude[j]
+            continue
         if not keep[i] or b - a > reach or amplitude[j] < amplitude[i] * 10.0 ** (config.lead_db / 20.0):
             continue
         click = d[a:a + width].max(initial=0.0)
@@ -1350,7 +1420,9 @@ def _one_attack_each(band, rate, candidates, amplitude, config):
         dip = (np.lib.stride_tricks.sliding_window_view(between, width).max(axis=1).min()
                if len(between) >= width else click)
         louder = d[b:b + reach].max(initial=0.0)
-        if click > config.start_over * prior and dip >= 0.5 * click and click >= louder * 10.0 ** (config.start_db / 20.0):
+        # out of silence (the sound before it under start_clear_db re the later), nothing earlier can swell there
+        onward = dip >= 0.5 * click or prior <= louder * 10.0 ** (config.start_clear_db / 20.0)
+        if click > config.start_over * prior and onward and click >= louder * 10.0 ** (config.start_db / 20.0):
             keep[j] = False
             amplitude[i] = amplitude[j]
         elif louder >= d[a:max(a + 1, b)].max() * 10.0 ** (config.lead_db / 20.0):
