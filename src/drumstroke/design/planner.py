@@ -152,7 +152,7 @@ class StickPlan:
 
         pieces = [Trajectory.from_stroke(d.stroke, rate=rate, name=f"designed {len(d.times)}") for d in self.designs]
         return assemble(pieces, np.array([d.release for d in self.designs]), limits=self.limits, name=name,
-                        end=max(t_end, self.designs[-1].t_end), home=False)
+                        end=max(t_end, self.designs[-1].t_end), home=False, ends=[d.ends for d in self.designs])
 
 
 def plan_stick(targets, *, setup=None, gap=0.25, lead=LEAD):
@@ -377,7 +377,7 @@ class _Planner:
         previous = self.designs[-1] if self.designs else None
         if previous is None:
             return design(times, levels, end=end, catch_at=catch_at, setup=self.setup, lead=self.lead)
-        theta = float(previous.state(previous.t_end)[0])  # caught at its last rebound's apex: at rest
+        theta = previous.ends[1][0]  # caught at its last rebound's apex: at rest
         return next_stroke(times, levels, self.setup, free=previous.t_end, theta=theta, end=end,
                            catch_at=catch_at)[0]
 

@@ -174,7 +174,7 @@ def concat(strokes, gaps=0.0, *, limits=None, name="concat"):
     return assemble(pieces, starts, limits=limits or RETURN_LIMITS, name=name)
 
 
-def assemble(pieces, starts, *, limits, name, end=None, home=True):
+def assemble(pieces, starts, *, limits, name, end=None, home=True, ends=None):
     """Place trajectories at ``starts`` (s) on one timeline, with smooth returns between them.
 
     Before the first piece the stick holds its start angle (and winds up into
@@ -183,14 +183,20 @@ def assemble(pieces, starts, *, limits, name, end=None, home=True):
     rest (not ``home``), and holds there until ``end``. Raises
     ParameterError naming ``gaps[i]`` when a return
     does not fit.
+
+    ``ends``, when the caller knows them (a planner's designs), are each piece's states at its start
+    and at its ``t_end``, ((θ rad, ω rad/s), (θ rad, ω rad/s)) as the piece's path gives them: the
+    pieces are then not evaluated for them.
     """
     head = pieces[0].theta_max
     for i, p in enumerate(pieces):
         if abs(p.theta_max - head) > 1e-12 or p.impacts.tip_distance != pieces[0].impacts.tip_distance:
             raise ParameterError(f"strokes[{i}] is for a different stick (theta_max {p.theta_max:.6g} rad, "
                                  f"strokes[0] has {head:.6g} rad); concatenate strokes of one stick")
+    if ends is None:
+        ends = [_ends(piece) for piece in pieces]
     segments = []
-    first = _start_state(pieces[0])
+    first = ends[0][0]
     if starts[0] > 0.0:
         plan = plan_return((first[0], 0.0), first, starts[0], head, limits)
         if plan is None:
@@ -201,10 +207,10 @@ def assemble(pieces, starts, *, limits, name, end=None, home=True):
         after = starts[i] + piece.t_end
         if i + 1 < len(pieces):
             window = starts[i + 1] - after
-            plan = plan_return(_end_state(piece), _start_state(pieces[i + 1]), window, head, limits)
+            plan = plan_return(ends[i][1], ends[i + 1][0], window, head, limits)
             if plan is None:
                 label = f"gaps[{i}]"
-                need = return_time(_end_state(piece), _start_state(pieces[i + 1]), head, limits)
+                need = return_time(ends[i][1], ends[i + 1][0], head, limits)
                 needed = f"at least {need:.4g} s" if math.isfinite(need) else "a different end or start state"
                 raise ParameterError(
                     f"{label} = {window:.6g} s is too short for the stick to return from {piece.name!r} to "
@@ -214,8 +220,8 @@ def assemble(pieces, starts, *, limits, name, end=None, home=True):
     t_end = starts[-1] + pieces[-1].t_end
     if end is not None and end > t_end:
         last = pieces[-1]
-        target = (_start_state(last)[0] if home else _end_state(last)[0], 0.0)
-        plan = plan_return(_end_state(last), target, end - t_end, head, limits)
+        target = (ends[-1][0][0] if home else ends[-1][1][0], 0.0)
+        plan = plan_return(ends[-1][1], target, end - t_end, head, limits)
         if plan is None:
             raise ParameterError(f"the last stroke {last.name!r} cannot return home by {end:g} s")
         segments += placed(plan, t_end)
@@ -489,11 +495,7 @@ def _hold(theta, duration):
     return duration, Segment.hold(theta, 0.0).path
 
 
-def _start_state(s):
-    theta, omega = s.path(np.array([0.0]))
-    return float(theta[0]), float(omega[0])
-
-
-def _end_state(s):
-    theta, omega = s.path(np.array([s.t_end]))
-    return float(theta[0]), float(omega[0])
+def _ends(piece):
+    """A trajectory's states at its start and at its end: ((θ rad, ω rad/s), (θ rad, ω rad/s)), in one evaluation."""
+    theta, omega = piece.path(np.array([0.0, piece.t_end]))
+    return (float(theta[0]), float(omega[0])), (float(theta[1]), float(omega[1]))
