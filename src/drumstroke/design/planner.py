@@ -235,7 +235,7 @@ def next_stroke(times, levels, setup, *, free, theta, omega=0.0, running=None, e
         except Unreachable as error:
             if error.note > 0:
                 raise
-            failure = error
+            failure = _kept(error)
         else:
             if made.release >= running.t - 1e-9:
                 return made, []
@@ -246,7 +246,7 @@ def next_stroke(times, levels, setup, *, free, theta, omega=0.0, running=None, e
         except Unreachable as error:
             if error.note > 0:
                 raise
-            failure = failure or error
+            failure = failure or _kept(error)
     for lead in LEADS:
         try:  # where the throw starts, in closed form: a stroke is designed and simulated only if the move fits
             release, height = standard_throw(times[0], levels[0], setup=setup, lead=lead)
@@ -266,13 +266,22 @@ def next_stroke(times, levels, setup, *, free, theta, omega=0.0, running=None, e
         except Unreachable as error:
             if error.note > 0:
                 raise
-            failure = failure or error
+            failure = failure or _kept(error)
             continue
         moves = plan_return((theta, omega), (float(made.recipe.theta0), 0.0), made.release - free, setup.head,
                             setup.moves)
         if moves is not None:
             return made, moves
-    raise failure
+    try:
+        raise failure
+    finally:
+        failure = None  # the error's traceback holds this frame: no reference cycle through it
+
+
+def _kept(error):
+    """A caught error kept to be raised later, without its traceback: the traceback holds the frame that keeps
+    the error, a reference cycle that only the garbage collector frees (a live note's planning pauses for it)."""
+    return error.with_traceback(None)
 
 
 @dataclass(frozen=True)

@@ -33,6 +33,8 @@ True
 ((201,), (201, 2))
 """
 
+import gc
+import json
 import math
 import threading
 import time
@@ -46,7 +48,7 @@ from ..design import Design, Setup, Start, Unreachable, next_stroke
 from ..design.buzz import DENSITY, buzz_times
 from ..dynamics import velocity_to_level
 from ..errors import ParameterError
-from ..formats.json import json_text
+from ..formats.json import _plain
 from ..palette.motion import Limits, plan_return, return_time
 from ..trajectory import DEFAULT_RATE
 
@@ -286,8 +288,14 @@ class Performer:
         """Plan a short phrase on a scratch performer with these options: compiled code loaded, caches filled.
 
         The first stroke a process designs loads the compiled solver (most of a second); a live host
-        does this before its clock starts. Done once per process and model.
+        does this before its clock starts. The phrase is played once per process and model; then the
+        process's objects are settled out of the garbage collector's way (:func:`settle`).
         """
+        self._rehearse()
+        settle()
+
+    def _rehearse(self):
+        """The scratch phrase of :meth:`warm_up`, once per process and model."""
         if self.model in _WARM:
             return
         scratch = Performer(sticks=self.sticks[:1], setup=self.setup, rate=self.rate, latency=self.latency,
@@ -344,7 +352,7 @@ class Performer:
         with self._lock:
             if outcome.planned or len(self.log) < ROWS:
                 self.log.append(replace(outcome, design=None))
-                self.recorded += len(json_text(self.log[-1].to_dict()))
+                self.recorded += _json_bytes(self.log[-1].to_dict())
             else:
                 self.unrecorded += 1
         return outcome
@@ -611,6 +619,44 @@ class Performer:
         if closed is not None:
             performer.close(closed)
         return performer.setpoints(until)
+
+
+def _json_bytes(row):
+    """``len(json_text(row))``, the bytes of a log's row as the record's JSON writes it, from json's compiled encoder.
+
+    ``json_text`` indents, which json does in Python only, with closures that refer to each other: some 30
+    objects a note that only the garbage collector frees. The indentation is counted instead.
+    """
+    return len(json.dumps(row, separators=(",", ": "), default=_plain)) + 1 + _indents(row, 1)
+
+
+def _indents(value, depth):
+    """The characters one-space indentation puts in ``value``'s JSON at ``depth``: a newline and ``depth`` spaces
+    before each member of a non-empty list or object, a newline and ``depth`` − 1 spaces before its close."""
+    if not isinstance(value, (dict, list, tuple, str, int, float, type(None))) and hasattr(value, "tolist"):
+        value = value.tolist()  # numpy's values, as json_text writes them
+    if isinstance(value, dict):
+        members = list(value.values())
+    elif isinstance(value, (list, tuple)):
+        members = value
+    else:
+        return 0
+    if not members:
+        return 0
+    return len(members) * (1 + depth) + depth + sum(_indents(member, depth + 1) for member in members)
+
+
+def settle():
+    """Collect the process's garbage, then freeze every object left out of later collections (``gc.freeze``).
+
+    A full collection scans every object of the process: with numba's and numpy's loaded, 35-50 ms, which
+    falls in whichever note it interrupts. Frozen before a performance, those objects are never scanned
+    again; the collector's pauses are then those of the objects the performance makes. A live host calls
+    it (through :meth:`Performer.warm_up`, and :class:`~drumstroke.live.Runtime` as it starts) before its
+    clock starts.
+    """
+    gc.collect()
+    gc.freeze()
 
 
 def _still_from(motion, cut):
