@@ -348,11 +348,14 @@ class Performer:
         if outcome.design is not None:
             made, n = outcome.design, len(outcome.design.times)
             impacts = tuple(zip(made.impacts.t[:n].tolist(), made.impacts.level_db[:n].tolist()))
-        outcome = replace(outcome, compute=time.perf_counter() - started, impacts=impacts)
+        # made directly, not by dataclasses.replace, which costs a few times as much, at every note
+        compute = time.perf_counter() - started
+        logged = Outcome(outcome.note, outcome.planned, outcome.reason, None, compute, impacts, outcome.move)
+        outcome = Outcome(outcome.note, outcome.planned, outcome.reason, outcome.design, compute, impacts, outcome.move)
         with self._lock:
             if outcome.planned or len(self.log) < ROWS:
-                self.log.append(replace(outcome, design=None))
-                self.recorded += _json_bytes(self.log[-1].to_dict())
+                self.log.append(logged)
+                self.recorded += _json_bytes(logged.to_dict())
             else:
                 self.unrecorded += 1
         return outcome
@@ -367,7 +370,7 @@ class Performer:
         reason = self._refusal(note)
         if reason:
             return Outcome(note, False, reason)
-        note = replace(note, velocity=float(velocity), at=float(note.at))
+        note = LiveNote(arrived, named, float(velocity), float(note.at), stroke, duration, cut, piece, key)
         if self.closed is not None:
             return Outcome(note, False, f"the performer closed at {self.closed:.6g} s")
         if self.recorded >= RECORD_BYTES:
@@ -375,7 +378,7 @@ class Performer:
                                         "session keeps (start another session to play on)")
         failure = None
         for name in self._choices(note):
-            outcome = self._note_on(replace(note, stick=name))
+            outcome = self._note_on(note if name == note.stick else replace(note, stick=name))
             if outcome.planned:
                 return outcome
             failure = failure or outcome
@@ -627,23 +630,31 @@ def _json_bytes(row):
     ``json_text`` indents, which json does in Python only, with closures that refer to each other: some 30
     objects a note that only the garbage collector frees. The indentation is counted instead.
     """
-    return len(json.dumps(row, separators=(",", ": "), default=_plain)) + 1 + _indents(row, 1)
+    return len(_COMPACT.encode(row)) + 1 + _indents(row, 1)
+
+
+_COMPACT = json.JSONEncoder(separators=(",", ": "), default=_plain)
+"""json's compiled encoder writing json_text's tokens without its indentation."""
 
 
 def _indents(value, depth):
     """The characters one-space indentation puts in ``value``'s JSON at ``depth``: a newline and ``depth`` spaces
     before each member of a non-empty list or object, a newline and ``depth`` − 1 spaces before its close."""
-    if not isinstance(value, (dict, list, tuple, str, int, float, type(None))) and hasattr(value, "tolist"):
-        value = value.tolist()  # numpy's values, as json_text writes them
     if isinstance(value, dict):
-        members = list(value.values())
+        members = value.values()
     elif isinstance(value, (list, tuple)):
         members = value
-    else:
+    elif isinstance(value, _SCALARS) or not hasattr(value, "tolist"):
         return 0
+    else:  # numpy's values, as json_text writes them
+        return _indents(value.tolist(), depth)
     if not members:
         return 0
-    return len(members) * (1 + depth) + depth + sum(_indents(member, depth + 1) for member in members)
+    return len(members) * (1 + depth) + depth + sum(_indents(member, depth + 1) for member in members
+                                                    if not isinstance(member, _SCALARS))
+
+
+_SCALARS = (str, int, float, type(None))
 
 
 def settle():

@@ -33,7 +33,7 @@ from dataclasses import dataclass, field, fields, replace
 import numpy as np
 
 from .._checks import check_keys, check_real
-from ..curve import Curve, Segment, placed
+from ..curve import Curve, Segment, placed, still
 from ..errors import ParameterError
 from ..model import Stick
 from ..stroke import Stroke, as_trajectory
@@ -195,6 +195,7 @@ def assemble(pieces, starts, *, limits, name, end=None, home=True, ends=None):
                                  f"strokes[0] has {head:.6g} rad); concatenate strokes of one stick")
     if ends is None:
         ends = [_ends(piece) for piece in pieces]
+    starts = [float(start) for start in starts]  # Python's floats: numpy's scalars cost more at each operation
     segments = []
     first = ends[0][0]
     if starts[0] > 0.0:
@@ -430,12 +431,9 @@ def _ruckig(start, target, minimum, limits):
 def _ruckig_joints(starts, targets, minimum, limits):
     """ruckig's move of several joints together, from ``starts`` to ``targets`` ((θ, ω) each, at zero acceleration),
     synchronised in time (every joint arrives at once), lasting at least ``minimum`` s; None when ruckig finds none."""
-    try:
-        from ruckig import InputParameter, Result, Ruckig, RuckigError, Synchronization, Trajectory
-    except ImportError:
-        raise ImportError("moving the stick between strokes needs ruckig: pip install ruckig") from None
+    ruckig = _ruckig_module()
     n = len(starts)
-    parameters = InputParameter(n)
+    parameters = ruckig.InputParameter(n)
     parameters.current_position = [float(s[0]) for s in starts]
     parameters.current_velocity = [float(s[1]) for s in starts]
     parameters.current_acceleration = [0.0] * n
@@ -445,15 +443,25 @@ def _ruckig_joints(starts, targets, minimum, limits):
     parameters.max_velocity = [_MARGIN * joint.max_speed for joint in limits]
     parameters.max_acceleration = [_MARGIN * joint.max_acceleration for joint in limits]
     parameters.max_jerk = [_MARGIN * joint.max_jerk for joint in limits]
-    parameters.synchronization = Synchronization.Time
+    parameters.synchronization = ruckig.Synchronization.Time
     if minimum > 0.0:
         parameters.minimum_duration = minimum
-    trajectory = Trajectory(n)
+    trajectory = ruckig.Trajectory(n)
     try:
-        result = Ruckig(n).calculate(parameters, trajectory)
-    except RuckigError:  # no profile found (ruckig says why in its message)
+        result = ruckig.Ruckig(n).calculate(parameters, trajectory)
+    except ruckig.RuckigError:  # no profile found (ruckig says why in its message)
         return None
-    return trajectory if result in (Result.Working, Result.Finished) else None
+    return trajectory if result in (ruckig.Result.Working, ruckig.Result.Finished) else None
+
+
+@functools.cache
+def _ruckig_module():
+    """ruckig, imported at the first move (an import statement at every move costs about a microsecond)."""
+    try:
+        import ruckig
+    except ImportError:
+        raise ImportError("moving the stick between strokes needs ruckig: pip install ruckig") from None
+    return ruckig
 
 
 _MARGIN = 0.98  # moves plan a little inside the limits, so sampled round-off never crosses them
@@ -492,7 +500,7 @@ def _path_of(trajectory, joint=0):
 
 def _hold(theta, duration):
     """A plan's hold: (duration s, path) of the stick still at ``theta`` (rad)."""
-    return duration, Segment.hold(theta, 0.0).path
+    return duration, still(theta)
 
 
 def _ends(piece):
