@@ -202,3 +202,11 @@ def test_warming_up_freezes_the_process_objects_out_of_the_collections():
         assert gc.get_freeze_count() > 0
     finally:
         gc.unfreeze()
+
+
+def test_an_outcome_names_the_impacts_of_its_design_on_its_notes():
+    performer, _, outcomes = perform(GROOVE, until=2.0)
+    buzz = performer.note("right", 90, stroke="buzz", duration=0.2)
+    for outcome in [o for o in outcomes if o.planned] + [buzz]:
+        made, n = outcome.design, len(outcome.design.times)
+        assert outcome.impacts == tuple(zip(made.impacts.t[:n].tolist(), made.impacts.level_db[:n].tolist()))

@@ -50,7 +50,7 @@ from ..dynamics import velocity_to_level
 from ..errors import ParameterError
 from ..formats.json import _plain
 from ..palette.motion import Limits, plan_return, return_time
-from ..trajectory import DEFAULT_RATE
+from ..trajectory import DEFAULT_RATE, LEVEL_REFERENCE
 
 LATENCY = 0.05
 """Default lookahead (s): a note arriving now is heard this much later."""
@@ -344,10 +344,7 @@ class Performer:
         if cut is not None:
             cut = check_real("cut", cut, low=-1e9, high=1e9, unit="s")
         outcome = self._note(arrived, stick, velocity, at, stroke, duration, cut, piece, key)
-        impacts = ()
-        if outcome.design is not None:
-            made, n = outcome.design, len(outcome.design.times)
-            impacts = tuple(zip(made.impacts.t[:n].tolist(), made.impacts.level_db[:n].tolist()))
+        impacts = () if outcome.design is None else _heard(outcome.design)
         # made directly, not by dataclasses.replace, which costs a few times as much, at every note
         compute = time.perf_counter() - started
         logged = Outcome(outcome.note, outcome.planned, outcome.reason, None, compute, impacts, outcome.move)
@@ -622,6 +619,17 @@ class Performer:
         if closed is not None:
             performer.close(closed)
         return performer.setpoints(until)
+
+
+def _heard(made):
+    """The impacts of a design on its notes: (t s, level dB) each, as ``made.impacts`` gives them.
+
+    Worked from the stroke's own impacts: ``made.impacts`` makes them afresh at each use, and their
+    ``level_db`` guards against an impact at rest, which a note's never is."""
+    impacts, n = made.stroke.impacts, len(made.times)
+    times = impacts.t[:n] + made.release
+    levels = 20.0 * np.log10(np.abs(impacts.omega[:n]) * impacts.tip_distance / LEVEL_REFERENCE)
+    return tuple(zip(times.tolist(), levels.tolist()))
 
 
 def _json_bytes(row):
