@@ -50,7 +50,7 @@ from ..dynamics import velocity_to_level
 from ..errors import ParameterError
 from ..formats.json import _plain
 from ..palette.motion import Limits, plan_return, return_time
-from ..trajectory import DEFAULT_RATE, LEVEL_REFERENCE
+from ..trajectory import DEFAULT_RATE
 
 LATENCY = 0.05
 """Default lookahead (s): a note arriving now is heard this much later."""
@@ -622,14 +622,10 @@ class Performer:
 
 
 def _heard(made):
-    """The impacts of a design on its notes: (t s, level dB) each, as ``made.impacts`` gives them.
-
-    Worked from the stroke's own impacts: ``made.impacts`` makes them afresh at each use, and their
-    ``level_db`` guards against an impact at rest, which a note's never is."""
-    impacts, n = made.stroke.impacts, len(made.times)
-    times = impacts.t[:n] + made.release
-    levels = 20.0 * np.log10(np.abs(impacts.omega[:n]) * impacts.tip_distance / LEVEL_REFERENCE)
-    return tuple(zip(times.tolist(), levels.tolist()))
+    """The impacts of a design (a stroke's, a kit's press) on its notes: (t s, level dB) each (its ``impacts``
+    made once: a design makes them afresh at each use)."""
+    impacts, n = made.impacts, len(made.times)
+    return tuple(zip(impacts.t[:n].tolist(), impacts.level_db[:n].tolist()))
 
 
 def _json_bytes(row):
