@@ -158,7 +158,7 @@ def test_the_log_counts_each_rows_bytes_as_the_records_json_writes_them():
     from drumstroke.formats.json import json_text
     from drumstroke.live.performer import _json_bytes
 
-    performer, _, outcomes = perform(GROOVE + [(1.4, "left", 90)], until=2.0)
+    performer, _, _ = perform(GROOVE + [(1.4, "left", 90)], until=2.0)
     performer.note("right", 90, stroke="buzz", duration=0.2)
     performer.note("left", 300)  # dropped: no velocity
     rows = [o.to_dict() for o in performer.log]
