@@ -150,3 +150,63 @@ def test_a_setup_whose_moves_are_gentler_than_its_joint_is_refused_live():
     with pytest.raises(drumstroke.ParameterError, match="setup.moves must be setup.limits live"):
         Performer(setup=Setup())
     assert Performer(setup=Setup(model="geometry", moves=Limits())).model == "geometry"
+
+
+def test_the_log_counts_each_rows_bytes_as_the_records_json_writes_them():
+    """The count without json's indenting encoder equals the length of the text json_text writes (planned and dropped
+    rows, a buzz's many impacts, nested lists and objects, numpy values, empty containers)."""
+    from drumstroke.formats.json import json_text
+    from drumstroke.live.performer import _json_bytes
+
+    performer, _, _ = perform(GROOVE + [(1.4, "left", 90)], until=2.0)
+    performer.note("right", 90, stroke="buzz", duration=0.2)
+    performer.note("left", 300)  # dropped: no velocity
+    rows = [o.to_dict() for o in performer.log]
+    assert any(row["planned"] for row in rows) and any(not row["planned"] for row in rows)
+    rows += [{"move": {"from": "hihat", "to": "snare", "joints": {"right.yaw": [0.5, -0.25]}}, "empty": [], "none": {},
+              "array": np.array([[1.0, 2.5], [3.0, 4.0]]), "scalar": np.float64(0.1), "count": np.int64(3),
+              "nested": [[[]], [{"a": [1, None, True]}]], "text": "a \"quoted\" é"}]
+    for row in rows:
+        assert _json_bytes(row) == len(json_text(row)), row
+    assert performer.recorded == sum(len(json_text(row)) for row in rows[:-1])
+
+
+def test_a_live_note_leaves_no_garbage_for_the_collector():
+    """Planning a note (its designs tried and refused, its moves, its log row) makes no reference cycle: whatever it
+    drops is freed at once, so the garbage collector's pauses stay those of the objects kept."""
+    import gc
+
+    clock = ManualClock()
+    performer = Performer(clock=clock)
+    performer.warm_up()
+    gc.collect()
+    gc.disable()
+    try:
+        for k, (t, stick, velocity) in enumerate(GROOVE * 4):
+            clock.set(k * 0.11)
+            performer.setpoints(clock.now())
+            performer.note(stick, velocity)
+        clock.set(clock.now() + 1.0)
+        late = performer.note("left", 127, at=clock.now() + performer.guard + 0.004)  # no throw fits: Unreachable
+        assert not late.planned and late.reason
+        assert gc.collect() == 0
+    finally:
+        gc.enable()
+
+
+def test_warming_up_freezes_the_process_objects_out_of_the_collections():
+    import gc
+
+    Performer(clock=ManualClock()).warm_up()
+    try:
+        assert gc.get_freeze_count() > 0
+    finally:
+        gc.unfreeze()
+
+
+def test_an_outcome_names_the_impacts_of_its_design_on_its_notes():
+    performer, _, outcomes = perform(GROOVE, until=2.0)
+    buzz = performer.note("right", 90, stroke="buzz", duration=0.2)
+    for outcome in [o for o in outcomes if o.planned] + [buzz]:
+        made, n = outcome.design, len(outcome.design.times)
+        assert outcome.impacts == tuple(zip(made.impacts.t[:n].tolist(), made.impacts.level_db[:n].tolist()))

@@ -82,14 +82,7 @@ class Segment:
     @classmethod
     def hold(cls, theta, start, end=math.inf):
         """The stick (or the joints) held still at ``theta`` (rad) on [``start``, ``end``] s."""
-        value = np.asarray(theta, dtype=float)
-
-        def hold(t):
-            shape = np.shape(t) + value.shape
-            return (np.full(shape, float(value)) if not value.shape else np.broadcast_to(value, shape).copy(),
-                    np.zeros(shape))
-
-        return cls(float(start), float(end), hold, float(start), still=True)
+        return cls(float(start), float(end), still(theta), float(start), still=True)
 
     def local(self, t):
         """Local times of curve times ``t`` (s), clamped to the segment's span."""
@@ -294,6 +287,18 @@ def _shaped(arrays, shape):
     if len(shape) == 1:  # times already flat: nothing to reshape
         return tuple(arrays)
     return tuple(np.reshape(a, shape + np.shape(a)[1:]) for a in arrays)
+
+
+def still(theta):
+    """The path of the stick (or the joints) held still at ``theta`` (rad): ``path(t) -> (theta, omega)``."""
+    value = np.asarray(theta, dtype=float)
+
+    def hold(t):
+        shape = np.shape(t) + value.shape
+        return (np.full(shape, float(value)) if not value.shape else np.broadcast_to(value, shape).copy(),
+                np.zeros(shape))
+
+    return hold
 
 
 def placed(pieces, start=0.0):

@@ -152,7 +152,7 @@ class StickPlan:
 
         pieces = [Trajectory.from_stroke(d.stroke, rate=rate, name=f"designed {len(d.times)}") for d in self.designs]
         return assemble(pieces, np.array([d.release for d in self.designs]), limits=self.limits, name=name,
-                        end=max(t_end, self.designs[-1].t_end), home=False)
+                        end=max(t_end, self.designs[-1].t_end), home=False, ends=[d.ends for d in self.designs])
 
 
 def plan_stick(targets, *, setup=None, gap=0.25, lead=LEAD):
@@ -235,7 +235,7 @@ def next_stroke(times, levels, setup, *, free, theta, omega=0.0, running=None, e
         except Unreachable as error:
             if error.note > 0:
                 raise
-            failure = error
+            failure = _kept(error)
         else:
             if made.release >= running.t - 1e-9:
                 return made, []
@@ -246,7 +246,7 @@ def next_stroke(times, levels, setup, *, free, theta, omega=0.0, running=None, e
         except Unreachable as error:
             if error.note > 0:
                 raise
-            failure = failure or error
+            failure = failure or _kept(error)
     for lead in LEADS:
         try:  # where the throw starts, in closed form: a stroke is designed and simulated only if the move fits
             release, height = standard_throw(times[0], levels[0], setup=setup, lead=lead)
@@ -266,13 +266,22 @@ def next_stroke(times, levels, setup, *, free, theta, omega=0.0, running=None, e
         except Unreachable as error:
             if error.note > 0:
                 raise
-            failure = failure or error
+            failure = failure or _kept(error)
             continue
         moves = plan_return((theta, omega), (float(made.recipe.theta0), 0.0), made.release - free, setup.head,
                             setup.moves)
         if moves is not None:
             return made, moves
-    raise failure
+    try:
+        raise failure
+    finally:
+        failure = None  # the error's traceback holds this frame: no reference cycle through it
+
+
+def _kept(error):
+    """A caught error kept to be raised later, without its traceback: the traceback holds the frame that keeps
+    the error, a reference cycle that only the garbage collector frees (a live note's planning pauses for it)."""
+    return error.with_traceback(None)
 
 
 @dataclass(frozen=True)
@@ -377,7 +386,7 @@ class _Planner:
         previous = self.designs[-1] if self.designs else None
         if previous is None:
             return design(times, levels, end=end, catch_at=catch_at, setup=self.setup, lead=self.lead)
-        theta = float(previous.state(previous.t_end)[0])  # caught at its last rebound's apex: at rest
+        theta = previous.ends[1][0]  # caught at its last rebound's apex: at rest
         return next_stroke(times, levels, self.setup, free=previous.t_end, theta=theta, end=end,
                            catch_at=catch_at)[0]
 

@@ -122,9 +122,9 @@ class KitPerformer(Performer):
         mine = [p for p in self.kit.pieces if hand in p.hands]
         return next((p.name for p in mine if p.role == role), mine[0].name)
 
-    def warm_up(self):
-        """As :meth:`Performer.warm_up`, and a move and a press planned: ruckig and the pedal's code loaded."""
-        super().warm_up()
+    def _rehearse(self):
+        """As :meth:`Performer.warm_up`'s, and a move and a press planned: ruckig and the pedal's code loaded."""
+        super()._rehearse()
         if ("kit", self.model) in _WARM:
             return
         scratch = KitPerformer(self.kit, lead=self.lead, setup=self.setup, rate=self.rate, latency=self.latency,
@@ -263,7 +263,7 @@ class KitPerformer(Performer):
             except Unreachable as error:
                 if error.note > 0:
                     raise
-                failure = failure or error
+                failure = failure or error.with_traceback(None)  # its frames would hold it: a reference cycle
                 continue
             if need > release - free:  # the shortest throw's, the most time, is the one reported
                 slow = self._too_slow(hand, here, note.piece, need, release - free, free)
@@ -274,7 +274,10 @@ class KitPerformer(Performer):
             move = {"from": here, "to": note.piece, "start": free, "end": free + need,
                     "joints": {name: [float(a), float(b)] for name, a, b in zip(joints, start, held)}}
             return curve, made, move
-        raise Unreachable(slow, note=0) if slow else failure
+        try:
+            raise Unreachable(slow, note=0) if slow else failure
+        finally:
+            failure = None  # the error's traceback holds this frame: no reference cycle through it
 
     def _crossing(self, hand, start, target):
         """The moves from ``start`` to ``target`` (every joint's angle, at rest) that keep the stick clear

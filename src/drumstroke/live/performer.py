@@ -33,6 +33,8 @@ True
 ((201,), (201, 2))
 """
 
+import gc
+import json
 import math
 import threading
 import time
@@ -46,7 +48,7 @@ from ..design import Design, Setup, Start, Unreachable, next_stroke
 from ..design.buzz import DENSITY, buzz_times
 from ..dynamics import velocity_to_level
 from ..errors import ParameterError
-from ..formats.json import json_text
+from ..formats.json import _plain
 from ..palette.motion import Limits, plan_return, return_time
 from ..trajectory import DEFAULT_RATE
 
@@ -286,8 +288,14 @@ class Performer:
         """Plan a short phrase on a scratch performer with these options: compiled code loaded, caches filled.
 
         The first stroke a process designs loads the compiled solver (most of a second); a live host
-        does this before its clock starts. Done once per process and model.
+        does this before its clock starts. The phrase is played once per process and model; then the
+        process's objects are settled out of the garbage collector's way (:func:`settle`).
         """
+        self._rehearse()
+        settle()
+
+    def _rehearse(self):
+        """The scratch phrase of :meth:`warm_up`, once per process and model."""
         if self.model in _WARM:
             return
         scratch = Performer(sticks=self.sticks[:1], setup=self.setup, rate=self.rate, latency=self.latency,
@@ -336,15 +344,15 @@ class Performer:
         if cut is not None:
             cut = check_real("cut", cut, low=-1e9, high=1e9, unit="s")
         outcome = self._note(arrived, stick, velocity, at, stroke, duration, cut, piece, key)
-        impacts = ()
-        if outcome.design is not None:
-            made, n = outcome.design, len(outcome.design.times)
-            impacts = tuple(zip(made.impacts.t[:n].tolist(), made.impacts.level_db[:n].tolist()))
-        outcome = replace(outcome, compute=time.perf_counter() - started, impacts=impacts)
+        impacts = () if outcome.design is None else _heard(outcome.design)
+        # made directly, not by dataclasses.replace, which costs a few times as much, at every note
+        compute = time.perf_counter() - started
+        logged = Outcome(outcome.note, outcome.planned, outcome.reason, None, compute, impacts, outcome.move)
+        outcome = Outcome(outcome.note, outcome.planned, outcome.reason, outcome.design, compute, impacts, outcome.move)
         with self._lock:
             if outcome.planned or len(self.log) < ROWS:
-                self.log.append(replace(outcome, design=None))
-                self.recorded += len(json_text(self.log[-1].to_dict()))
+                self.log.append(logged)
+                self.recorded += _json_bytes(logged.to_dict())
             else:
                 self.unrecorded += 1
         return outcome
@@ -359,7 +367,7 @@ class Performer:
         reason = self._refusal(note)
         if reason:
             return Outcome(note, False, reason)
-        note = replace(note, velocity=float(velocity), at=float(note.at))
+        note = LiveNote(arrived, named, float(velocity), float(note.at), stroke, duration, cut, piece, key)
         if self.closed is not None:
             return Outcome(note, False, f"the performer closed at {self.closed:.6g} s")
         if self.recorded >= RECORD_BYTES:
@@ -367,7 +375,7 @@ class Performer:
                                         "session keeps (start another session to play on)")
         failure = None
         for name in self._choices(note):
-            outcome = self._note_on(replace(note, stick=name))
+            outcome = self._note_on(note if name == note.stick else replace(note, stick=name))
             if outcome.planned:
                 return outcome
             failure = failure or outcome
@@ -613,6 +621,59 @@ class Performer:
         return performer.setpoints(until)
 
 
+def _heard(made):
+    """The impacts of a design (a stroke's, a kit's press) on its notes: (t s, level dB) each (its ``impacts``
+    made once: a design makes them afresh at each use)."""
+    impacts, n = made.impacts, len(made.times)
+    return tuple(zip(impacts.t[:n].tolist(), impacts.level_db[:n].tolist()))
+
+
+def _json_bytes(row):
+    """``len(json_text(row))``, the bytes of a log's row as the record's JSON writes it, from json's compiled encoder.
+
+    ``json_text`` indents, which json does in Python only, with closures that refer to each other: some 30
+    objects a note that only the garbage collector frees. The indentation is counted instead.
+    """
+    return len(_COMPACT.encode(row)) + 1 + _indents(row, 1)
+
+
+_COMPACT = json.JSONEncoder(separators=(",", ": "), default=_plain)
+"""json's compiled encoder writing json_text's tokens without its indentation."""
+
+
+def _indents(value, depth):
+    """The characters one-space indentation puts in ``value``'s JSON at ``depth``: a newline and ``depth`` spaces
+    before each member of a non-empty list or object, a newline and ``depth`` − 1 spaces before its close."""
+    if isinstance(value, dict):
+        members = value.values()
+    elif isinstance(value, (list, tuple)):
+        members = value
+    elif isinstance(value, _SCALARS) or not hasattr(value, "tolist"):
+        return 0
+    else:  # numpy's values, as json_text writes them
+        return _indents(value.tolist(), depth)
+    if not members:
+        return 0
+    return len(members) * (1 + depth) + depth + sum(_indents(member, depth + 1) for member in members
+                                                    if not isinstance(member, _SCALARS))
+
+
+_SCALARS = (str, int, float, type(None))
+
+
+def settle():
+    """Collect the process's garbage, then freeze every object left out of later collections (``gc.freeze``).
+
+    A full collection scans every object of the process: with numba's and numpy's loaded, 35-50 ms, which
+    falls in whichever note it interrupts. Frozen before a performance, those objects are never scanned
+    again; the collector's pauses are then those of the objects the performance makes. A live host calls
+    it (through :meth:`Performer.warm_up`, and :class:`~drumstroke.live.Runtime` as it starts) before its
+    clock starts.
+    """
+    gc.collect()
+    gc.freeze()
+
+
 def _still_from(motion, cut):
     """The first time (s) from ``cut`` at which ``motion`` may be held where it is, found where it can be still (ω
     within :data:`STILL` of 0): at the cut, at each apex of a designed stroke's rebounds, where a segment ends (a move
@@ -638,4 +699,4 @@ def _played(made, start, moves):
     lead_in = placed(moves, start) if moves else (
         (Segment.hold(float(made.recipe.theta0), start, made.release),) if made.release > start else ())
     played = Segment(made.release, made.t_end, stroke.arcs.evaluate, made.release, stroke.impacts.t, made)
-    return Curve((*lead_in, played, Segment.hold(float(made.state(made.t_end)[0]), made.t_end)))
+    return Curve((*lead_in, played, Segment.hold(made.ends[1][0], made.t_end)))

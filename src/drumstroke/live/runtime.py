@@ -35,7 +35,7 @@ from .._checks import check_real, shown
 from .._version import __version__
 from ..errors import DrumstrokeError, TrajectoryError
 from ..robot.validate import validate
-from .performer import ROWS, Chunk, ManualClock, SystemClock
+from .performer import ROWS, Chunk, ManualClock, SystemClock, settle
 
 SPIN = 2e-4
 """s before a setpoint's time when the loop stops sleeping and spins (sleep wakes up to ~0.1 ms late)."""
@@ -254,8 +254,7 @@ class Runtime:
         period = 1.0 / performer.rate
         ahead = max(min(AHEAD, performer.guard - period), 0.0)
         switch = sys.getswitchinterval()
-        gc.collect()
-        gc.freeze()  # what exists now is never scanned again: the collector's pauses stay short while it runs
+        settle()  # what exists now is never scanned again: the collector's pauses stay short while it runs
         planner = None
         if self.threaded:
             sys.setswitchinterval(SWITCH)

@@ -33,7 +33,7 @@ from dataclasses import dataclass, field, fields, replace
 import numpy as np
 
 from .._checks import check_keys, check_real
-from ..curve import Curve, Segment, placed
+from ..curve import Curve, Segment, placed, still
 from ..errors import ParameterError
 from ..model import Stick
 from ..stroke import Stroke, as_trajectory
@@ -174,7 +174,7 @@ def concat(strokes, gaps=0.0, *, limits=None, name="concat"):
     return assemble(pieces, starts, limits=limits or RETURN_LIMITS, name=name)
 
 
-def assemble(pieces, starts, *, limits, name, end=None, home=True):
+def assemble(pieces, starts, *, limits, name, end=None, home=True, ends=None):
     """Place trajectories at ``starts`` (s) on one timeline, with smooth returns between them.
 
     Before the first piece the stick holds its start angle (and winds up into
@@ -183,14 +183,21 @@ def assemble(pieces, starts, *, limits, name, end=None, home=True):
     rest (not ``home``), and holds there until ``end``. Raises
     ParameterError naming ``gaps[i]`` when a return
     does not fit.
+
+    ``ends``, when the caller knows them (a planner's designs), are each piece's states at its start
+    and at its ``t_end``, ((θ rad, ω rad/s), (θ rad, ω rad/s)) as the piece's path gives them: the
+    pieces are then not evaluated for them.
     """
     head = pieces[0].theta_max
     for i, p in enumerate(pieces):
         if abs(p.theta_max - head) > 1e-12 or p.impacts.tip_distance != pieces[0].impacts.tip_distance:
             raise ParameterError(f"strokes[{i}] is for a different stick (theta_max {p.theta_max:.6g} rad, "
                                  f"strokes[0] has {head:.6g} rad); concatenate strokes of one stick")
+    if ends is None:
+        ends = [_ends(piece) for piece in pieces]
+    starts = [float(start) for start in starts]  # Python's floats: numpy's scalars cost more at each operation
     segments = []
-    first = _start_state(pieces[0])
+    first = ends[0][0]
     if starts[0] > 0.0:
         plan = plan_return((first[0], 0.0), first, starts[0], head, limits)
         if plan is None:
@@ -201,10 +208,10 @@ def assemble(pieces, starts, *, limits, name, end=None, home=True):
         after = starts[i] + piece.t_end
         if i + 1 < len(pieces):
             window = starts[i + 1] - after
-            plan = plan_return(_end_state(piece), _start_state(pieces[i + 1]), window, head, limits)
+            plan = plan_return(ends[i][1], ends[i + 1][0], window, head, limits)
             if plan is None:
                 label = f"gaps[{i}]"
-                need = return_time(_end_state(piece), _start_state(pieces[i + 1]), head, limits)
+                need = return_time(ends[i][1], ends[i + 1][0], head, limits)
                 needed = f"at least {need:.4g} s" if math.isfinite(need) else "a different end or start state"
                 raise ParameterError(
                     f"{label} = {window:.6g} s is too short for the stick to return from {piece.name!r} to "
@@ -214,8 +221,8 @@ def assemble(pieces, starts, *, limits, name, end=None, home=True):
     t_end = starts[-1] + pieces[-1].t_end
     if end is not None and end > t_end:
         last = pieces[-1]
-        target = (_start_state(last)[0] if home else _end_state(last)[0], 0.0)
-        plan = plan_return(_end_state(last), target, end - t_end, head, limits)
+        target = (ends[-1][0][0] if home else ends[-1][1][0], 0.0)
+        plan = plan_return(ends[-1][1], target, end - t_end, head, limits)
         if plan is None:
             raise ParameterError(f"the last stroke {last.name!r} cannot return home by {end:g} s")
         segments += placed(plan, t_end)
@@ -424,12 +431,9 @@ def _ruckig(start, target, minimum, limits):
 def _ruckig_joints(starts, targets, minimum, limits):
     """ruckig's move of several joints together, from ``starts`` to ``targets`` ((θ, ω) each, at zero acceleration),
     synchronised in time (every joint arrives at once), lasting at least ``minimum`` s; None when ruckig finds none."""
-    try:
-        from ruckig import InputParameter, Result, Ruckig, RuckigError, Synchronization, Trajectory
-    except ImportError:
-        raise ImportError("moving the stick between strokes needs ruckig: pip install ruckig") from None
+    ruckig = _ruckig_module()
     n = len(starts)
-    parameters = InputParameter(n)
+    parameters = ruckig.InputParameter(n)
     parameters.current_position = [float(s[0]) for s in starts]
     parameters.current_velocity = [float(s[1]) for s in starts]
     parameters.current_acceleration = [0.0] * n
@@ -439,15 +443,25 @@ def _ruckig_joints(starts, targets, minimum, limits):
     parameters.max_velocity = [_MARGIN * joint.max_speed for joint in limits]
     parameters.max_acceleration = [_MARGIN * joint.max_acceleration for joint in limits]
     parameters.max_jerk = [_MARGIN * joint.max_jerk for joint in limits]
-    parameters.synchronization = Synchronization.Time
+    parameters.synchronization = ruckig.Synchronization.Time
     if minimum > 0.0:
         parameters.minimum_duration = minimum
-    trajectory = Trajectory(n)
+    trajectory = ruckig.Trajectory(n)
     try:
-        result = Ruckig(n).calculate(parameters, trajectory)
-    except RuckigError:  # no profile found (ruckig says why in its message)
+        result = ruckig.Ruckig(n).calculate(parameters, trajectory)
+    except ruckig.RuckigError:  # no profile found (ruckig says why in its message)
         return None
-    return trajectory if result in (Result.Working, Result.Finished) else None
+    return trajectory if result in (ruckig.Result.Working, ruckig.Result.Finished) else None
+
+
+@functools.cache
+def _ruckig_module():
+    """ruckig, imported at the first move (an import statement at every move costs about a microsecond)."""
+    try:
+        import ruckig
+    except ImportError:
+        raise ImportError("moving the stick between strokes needs ruckig: pip install ruckig") from None
+    return ruckig
 
 
 _MARGIN = 0.98  # moves plan a little inside the limits, so sampled round-off never crosses them
@@ -486,14 +500,10 @@ def _path_of(trajectory, joint=0):
 
 def _hold(theta, duration):
     """A plan's hold: (duration s, path) of the stick still at ``theta`` (rad)."""
-    return duration, Segment.hold(theta, 0.0).path
+    return duration, still(theta)
 
 
-def _start_state(s):
-    theta, omega = s.path(np.array([0.0]))
-    return float(theta[0]), float(omega[0])
-
-
-def _end_state(s):
-    theta, omega = s.path(np.array([s.t_end]))
-    return float(theta[0]), float(omega[0])
+def _ends(piece):
+    """A trajectory's states at its start and at its end: ((θ rad, ω rad/s), (θ rad, ω rad/s)), in one evaluation."""
+    theta, omega = piece.path(np.array([0.0, piece.t_end]))
+    return (float(theta[0]), float(omega[0])), (float(theta[1]), float(omega[1]))
