@@ -51,8 +51,16 @@ from ..profiles import Constant, PiecewiseLinear
 from ..recipe import STANDARD_GRAVITY, Recipe
 from ..stroke import simulate
 from ..trajectory import LEVEL_REFERENCE, Impacts
-from .flight import (apex_for_fall, flight_time, force_to_reach, height_time, possible_flights, settled_flights,
-                     solve_apex, solve_flight)
+from .flight import (
+    apex_for_fall,
+    flight_time,
+    force_to_reach,
+    height_time,
+    possible_flights,
+    settled_flights,
+    solve_apex,
+    solve_flight,
+)
 from .setup import FORCE_LIMIT, ForceRange, Setup  # noqa: F401 (FORCE_LIMIT and ForceRange: also drumstroke.design.chain's)
 
 HUMAN_FORCE = 250.0

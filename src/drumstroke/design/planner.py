@@ -35,8 +35,17 @@ from ..errors import ParameterError
 from ..palette.motion import Limits, assemble, plan_return, return_time
 from ..trajectory import DEFAULT_RATE
 from .buzz import DENSITY, buzz_times
-from .chain import (LEAD, Start, Unreachable, catch_height, design, design_pieces, flights_within, ready_height,
-                    standard_throw)
+from .chain import (
+    LEAD,
+    Start,
+    Unreachable,
+    catch_height,
+    design,
+    design_pieces,
+    flights_within,
+    ready_height,
+    standard_throw,
+)
 from .setup import Setup
 
 KINDS = ("auto", "buzz")
