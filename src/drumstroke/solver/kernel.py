@@ -45,12 +45,25 @@ STEADY = 1000.0
 near the vertical, where dn falls to √(1 − m); orbits that close are computed afresh."""
 
 
+@jit
 def initial_state(theta0, omega0):
     """The state vector at t = 0: in flight at (θ₀, ω₀)."""
     state = np.zeros(STATE_SIZE)
     state[THETA], state[OMEGA] = theta0, omega0
     state[TAIL_C] = state[REST_START] = math.nan
     return state
+
+
+@jit
+def run_constant(c, t_end, theta0, omega0, theta_max, table, cor, closed_forms, max_step, max_impacts):
+    """:func:`run` from (θ₀, ω₀) at t = 0 to ``t_end`` (s) under the constant C = ``c`` (s⁻²), the whole stroke.
+
+    The commonest stroke, with nothing to build in Python first (its arrays cost more than its bounces).
+    """
+    edges, c0, c1 = np.empty(2), np.empty(1), np.zeros(1)
+    edges[0], edges[1], c0[0] = 0.0, t_end, c
+    return run(edges, c0, c1, theta_max, table, cor, closed_forms, max_step, max_impacts, True,
+               initial_state(theta0, omega0))
 
 
 @jit
@@ -79,6 +92,70 @@ def _impact(impacts, n, t, omega):
     impacts = grow(impacts, n)
     impacts[n, 0], impacts[n, 1] = t, omega
     return impacts, n + 1
+
+
+# how a chain of bounces ends (_bounces)
+_FLOOR, _STEEP, _PAST, _LIMIT, _ROOM, _NONE = range(6)  # (_NONE: no chain)
+_MIN_ROOM = 64
+
+
+@jit(inline="always")
+def _room(array, n):
+    """``array``, or a copy twice as long, so that _MIN_ROOM rows from row ``n`` on exist."""
+    return grow(array, n + _MIN_ROOM - 1)
+
+
+@jit
+def _bounces(arcs, n_arcs, impacts, n_impacts, room, impacts_left, t, te, launch, c, cor, floor, theta_max, table,
+             head, no_cells):
+    """Flights from the head at ``t`` (s), launched at ``launch``, c·launch, … (rad/s) under C = ``c`` until ``te``.
+
+    Writes their arcs and impacts from rows ``n_arcs`` and ``n_impacts`` on, at most ``room`` of each
+    (the buffers never change here: a kernel that may swap a buffer counts references to it at every
+    write, which cost twice a flight).
+
+    Returns
+    -------
+    end : int
+        _FLOOR (the launch is below ``floor``), _STEEP (the flight nears the vertical; not written),
+        _PAST (the flight written ends after ``te``), _LIMIT (more than ``impacts_left`` impacts)
+        or _ROOM (``room`` flights written).
+    n_arcs, n_impacts : int
+    t : float
+        The last flight's start (_PAST) or the last impact (s).
+    launch : float
+        The next launch (rad/s).
+    flight, m : float
+        The last flight's duration (s) and parameter.
+    """
+    flight = m = math.nan
+    stop = n_arcs + room
+    while n_impacts <= impacts_left:
+        if launch < floor:  # (launch = 0 included)
+            return _FLOOR, n_arcs, n_impacts, t, launch, flight, m
+        if n_arcs == stop:
+            return _ROOM, n_arcs, n_impacts, t, launch, flight, m
+        flight, m = flight_table.flight_time(launch, c, head)
+        if math.isnan(flight):  # the first flight in a cell of the table: its polynomial for the head
+            flight_table.fill(table, head, launch, c, no_cells)
+            flight, m = flight_table.flight_time(launch, c, head)
+        if m >= 1.0 - NEARLY_VERTICAL:
+            return _STEEP, n_arcs, n_impacts, t, launch, flight, m
+        _put_arc(arcs, n_arcs, t, ELLIPTIC, t + 0.5 * flight, c, m, theta_max, launch)
+        n_arcs += 1
+        if t + flight > te:
+            return _PAST, n_arcs, n_impacts, t, launch, flight, m
+        t += flight
+        impacts[n_impacts, 0], impacts[n_impacts, 1] = t, -launch
+        n_impacts += 1
+        launch *= cor
+    return _LIMIT, n_arcs, n_impacts, t, launch, flight, m
+
+
+@jit(inline="always")
+def _put_arc(arcs, n, start, kind, apex, c, m, theta, omega):
+    arcs[n, 0], arcs[n, 1], arcs[n, 2], arcs[n, 3], arcs[n, 4] = start, kind, apex, c, m
+    arcs[n, 5], arcs[n, 6] = theta, omega
 
 
 @jit
@@ -189,28 +266,22 @@ def run(edges, c0, c1, theta_max, table, cor, closed_forms, max_step, max_impact
                         impacts, n_impacts = _impact(impacts, n_impacts, t, -speed)
                         launch = cor * speed
                 # After an impact at speed w the launches are c·w, c²·w, …: one closed-form flight each.
-                while launch >= 0.0 and n_before + n_impacts <= max_impacts:
-                    if launch < floor:  # (launch = 0 included)
-                        settle = launch
-                        break
-                    flight, m = flight_table.flight_time(launch, a, head)
-                    if math.isnan(flight):  # the first flight in a cell of the table: its polynomial for the head
-                        flight_table.fill(table, head, launch, a, no_cells)
-                        flight, m = flight_table.flight_time(launch, a, head)
-                    if m >= 1.0 - NEARLY_VERTICAL:  # toward the vertical: the Taylor steps take it
+                chain = _ROOM if launch >= 0.0 else _NONE
+                while chain == _ROOM:
+                    arcs, impacts = _room(arcs, n_arcs), _room(impacts, n_impacts)
+                    chain, n_arcs, n_impacts, t, launch, flight, m = _bounces(
+                        arcs, n_arcs, impacts, n_impacts, min(len(arcs) - n_arcs, len(impacts) - n_impacts),
+                        max_impacts - n_before, t, te, launch, a, cor, floor, theta_max, table, head, no_cells)
+                if chain == _FLOOR:
+                    settle = launch
+                elif chain == _STEEP:  # toward the vertical: the Taylor steps take it
+                    theta, omega = theta_max, launch
+                elif chain == _PAST:
+                    if t == te:
                         theta, omega = theta_max, launch
-                        break
-                    arcs, n_arcs = _arc(arcs, n_arcs, t, ELLIPTIC, t + 0.5 * flight, a, m, theta_max, launch)
-                    if t + flight > te:
-                        if t == te:
-                            theta, omega = theta_max, launch
-                        else:
-                            theta, omega = elliptic.state(te - (t + 0.5 * flight), a, m)
-                            t, theta = te, max(theta, theta_max)
-                        break
-                    t += flight
-                    impacts, n_impacts = _impact(impacts, n_impacts, t, -launch)
-                    launch *= cor
+                    else:
+                        theta, omega = elliptic.state(te - (t + 0.5 * flight), a, m)
+                        t, theta = te, max(theta, theta_max)
                 if n_before + n_impacts > max_impacts:
                     outcome, extra = TOO_MANY, t
                     break
