@@ -120,10 +120,11 @@ def solved(coefficients, force, gravity, *, theta0, omega0, cor, t_end, method="
         # the commonest strokes in one call, their forcing's arrays made in compiled code
         result = kernel.run_constant(coefficients.torque_rate(gravity.value, force.value), t_end, theta0, omega0,
                                      theta_max, table, cor, closed_forms, _MAX_STEP, MAX_IMPACTS)
-        arcs, steps, impacts, rests = _checked(result, cor, kernel)
-    else:
-        arcs, steps, impacts, rests = _pieces(kernel, coefficients, force, gravity, theta0, omega0, cor, t_end,
-                                              closed_forms, table, progress)
+        rows, n_arcs, n_through_impacts, steps = _checked(result, cor, kernel)
+        return (Arcs(rows[:n_arcs], steps, theta_max), rows[n_arcs:n_through_impacts, 0],
+                rows[n_arcs:n_through_impacts, 1], rows[n_through_impacts:, :2])
+    arcs, steps, impacts, rests = _pieces(kernel, coefficients, force, gravity, theta0, omega0, cor, t_end,
+                                          closed_forms, table, progress)
     if len(impacts) and impacts[-1, 0] > t_end:
         impacts = impacts[impacts[:, 0] <= t_end]
     return Arcs(arcs, steps, theta_max), impacts[:, 0], impacts[:, 1], rests

@@ -58,12 +58,33 @@ def initial_state(theta0, omega0):
 def run_constant(c, t_end, theta0, omega0, theta_max, table, cor, closed_forms, max_step, max_impacts):
     """:func:`run` from (θ₀, ω₀) at t = 0 to ``t_end`` (s) under the constant C = ``c`` (s⁻²), the whole stroke.
 
-    The commonest stroke, with nothing to build in Python first (its arrays cost more than its bounces).
+    The commonest stroke, with nothing to build in Python first and one array handed back (making
+    the forcing's arrays in Python, and handing back four, cost more than its bounces).
+
+    Returns
+    -------
+    outcome : int
+    extra : float
+        As :func:`run`'s.
+    rows : ndarray [shape=(n_arcs + n_impacts + n_rests, ARC_COLUMNS)]
+        :func:`run`'s arcs, then its impacts up to ``t_end`` and its rests in the first two columns.
+    n_arcs, n_through_impacts : int
+        Where the impacts' rows and the rests' rows start.
+    steps : ndarray
+        As :func:`run`'s.
     """
     edges, c0, c1 = np.empty(2), np.empty(1), np.zeros(1)
     edges[0], edges[1], c0[0] = 0.0, t_end, c
-    return run(edges, c0, c1, theta_max, table, cor, closed_forms, max_step, max_impacts, True,
-               initial_state(theta0, omega0))
+    outcome, extra, arcs, steps, impacts, rests = run(edges, c0, c1, theta_max, table, cor, closed_forms, max_step,
+                                                      max_impacts, True, initial_state(theta0, omega0))
+    n_arcs, n_impacts = len(arcs), len(impacts)
+    while n_impacts and impacts[n_impacts - 1, 0] > t_end:  # (found by a Taylor step that ends past t_end)
+        n_impacts -= 1
+    rows = np.empty((n_arcs + n_impacts + len(rests), ARC_COLUMNS))
+    rows[:n_arcs] = arcs
+    rows[n_arcs:n_arcs + n_impacts, :2] = impacts[:n_impacts]
+    rows[n_arcs + n_impacts:, :2] = rests
+    return outcome, extra, rows, n_arcs, n_arcs + n_impacts, steps
 
 
 @jit
