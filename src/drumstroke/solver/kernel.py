@@ -366,18 +366,19 @@ def evaluate(table, steps, theta_max, t, spacing):
     Returns
     -------
     value : ndarray [shape=(n,)]
-        θ (rad), except in flight, where it is sin((θ + π/2)/2) = √m·cd(v | m):
-        :meth:`.arcs.Arcs.evaluate` finishes θ = 2·asin(value) − π/2 with numpy,
-        whose vectorised asin is some ten times quicker than one call at a time here.
+        In flight sin((θ + π/2)/2) = √m·cd(v | m), elsewhere NaN: :meth:`.arcs.Arcs.evaluate`
+        takes its asin with numpy, whose vectorised asin is some ten times quicker than one
+        call at a time here, and :func:`finish` makes θ of it.
     omega : ndarray [shape=(n,)]
         rad/s.
-    flying : ndarray of bool [shape=(n,)]
+    theta : ndarray [shape=(n,)]
+        θ (rad), but NaN in flight.
     """
     n = len(t)
     start = table[:, 0]
     value = np.empty(n)
     omega = np.empty(n)
-    flying = np.zeros(n, dtype=np.bool_)
+    theta = np.empty(n)
     j = 0
     current = -1  # the flight whose sn, cn, dn are being carried, or −1
     age = carry = 0
@@ -392,7 +393,7 @@ def evaluate(table, steps, theta_max, t, spacing):
         if t[k] == start[j]:
             # The state the arc starts from, as given (the recipe's θ₀, ω₀) or as the solver made it (the
             # launch after an impact): a flight's closed form would return it to round-off only.
-            value[k], omega[k] = table[j, 5], table[j, 6]
+            value[k], omega[k], theta[k] = math.nan, table[j, 6], table[j, 5]
         elif kind == ELLIPTIC:
             apex, c, m = table[j, 2], table[j, 3], table[j, 4]
             if j == current and age < carry and k < n - 1:
@@ -409,12 +410,27 @@ def evaluate(table, steps, theta_max, t, spacing):
                         carry = int(min(REANCHOR, REACH / step, STEADY * math.sqrt(1.0 - m)))
                         current = j
             inverse = 1.0 / dn
-            value[k], omega[k], flying[k] = root_m * cn * inverse, -speed * sn * inverse, True
+            value[k], omega[k], theta[k] = root_m * cn * inverse, -speed * sn * inverse, math.nan
         elif kind == TAYLOR:
             current = -1
             row = int(table[j, 2])
-            value[k], omega[k] = polynomial(steps[row, 1:], t[k] - steps[row, 0])
+            theta[k], omega[k] = polynomial(steps[row, 1:], t[k] - steps[row, 0])
+            value[k] = math.nan
         else:
             current = -1
-            value[k], omega[k] = theta_max, 0.0
-    return value, omega, flying
+            value[k], omega[k], theta[k] = math.nan, 0.0, theta_max
+    return value, omega, theta
+
+
+@jit
+def finish(theta, arcsin, theta_max):
+    """θ (rad) into ``theta`` where it is NaN (in flight), from the asin of :func:`evaluate`'s value there.
+
+    θ = 2·asin(value) − π/2 in flight; then θ never below the head, where round-off can put a
+    flight a few ulps under it.
+    """
+    for k in range(len(theta)):
+        value = theta[k]
+        if math.isnan(value):
+            value = 2.0 * arcsin[k] - 0.5 * math.pi
+        theta[k] = theta_max if value < theta_max else value
