@@ -375,51 +375,84 @@ def evaluate(table, steps, theta_max, t, spacing):
         θ (rad), but NaN in flight.
     """
     n = len(t)
-    start = table[:, 0]
     value = np.empty(n)
     omega = np.empty(n)
     theta = np.empty(n)
-    j = 0
-    current = -1  # the flight whose sn, cn, dn are being carried, or −1
-    age = carry = 0
-    sn = cn = dn = sn_h = cn_h = dn_h = root_m = speed = 0.0
-    for k in range(n):
-        if spacing > 0.0:
-            while j + 1 < len(start) and start[j + 1] <= t[k]:
-                j += 1
-        else:
-            j = max(np.searchsorted(start, t[k], side="right") - 1, 0)
-        kind = table[j, 1]
-        if t[k] == start[j]:
-            # The state the arc starts from, as given (the recipe's θ₀, ω₀) or as the solver made it (the
-            # launch after an impact): a flight's closed form would return it to round-off only.
-            value[k], omega[k], theta[k] = math.nan, table[j, 6], table[j, 5]
-        elif kind == ELLIPTIC:
-            apex, c, m = table[j, 2], table[j, 3], table[j, 4]
-            if j == current and age < carry and k < n - 1:
-                sn, cn, dn = elliptic.shift(sn, cn, dn, sn_h, cn_h, dn_h, m)
-                age += 1
+    # Two runs of samples side by side, split where an arc starts (a sample computed afresh either way,
+    # so each sample is computed as in one run, to the bit): a carried sample waits for the one before
+    # it, and the other run's fills that wait.
+    half = _split(table, t) if spacing > 0.0 else n
+    # each run's arc, the flight it carries (or −1), the samples carried since one computed afresh, the
+    # most it may carry; then the carried sn, cn, dn, those of the spacing, √m and 2√(m(1 − m)C)
+    ints = np.zeros((2, 4), dtype=np.int64)
+    ints[:, 1] = -1
+    floats = np.zeros((2, 8))
+    agm = elliptic.agm_scratch()  # (the AGM of the last flight's m, shared by its samples computed afresh)
+    for i in range(max(half, n - half)):
+        for r in range(2):
+            k = i + r * half
+            if k >= (half if r == 0 else n):
+                continue
+            j, current = ints[r, 0], ints[r, 1]
+            if spacing > 0.0:
+                while j + 1 < len(table) and table[j + 1, 0] <= t[k]:
+                    j += 1
             else:
-                sn, cn, dn = elliptic.jacobi(math.sqrt(c) * (t[k] - apex), m)
-                age = 0
-                if j != current:
-                    root_m, speed = math.sqrt(m), 2.0 * math.sqrt(m * (1.0 - m) * c)
-                    if spacing > 0.0:
-                        step = math.sqrt(c) * spacing
-                        sn_h, cn_h, dn_h = elliptic.jacobi(step, m)
-                        carry = int(min(REANCHOR, REACH / step, STEADY * math.sqrt(1.0 - m)))
-                        current = j
-            inverse = 1.0 / dn
-            value[k], omega[k], theta[k] = root_m * cn * inverse, -speed * sn * inverse, math.nan
-        elif kind == TAYLOR:
-            current = -1
-            row = int(table[j, 2])
-            theta[k], omega[k] = polynomial(steps[row, 1:], t[k] - steps[row, 0])
-            value[k] = math.nan
-        else:
-            current = -1
-            value[k], omega[k], theta[k] = math.nan, 0.0, theta_max
+                j = max(np.searchsorted(table[:, 0], t[k], side="right") - 1, 0)
+            ints[r, 0] = j
+            kind = table[j, 1]
+            if t[k] == table[j, 0]:
+                # The state the arc starts from, as given (the recipe's θ₀, ω₀) or as the solver made it (the
+                # launch after an impact): a flight's closed form would return it to round-off only.
+                value[k], omega[k], theta[k] = math.nan, table[j, 6], table[j, 5]
+            elif kind == ELLIPTIC:
+                apex, c, m = table[j, 2], table[j, 3], table[j, 4]
+                if j == current and ints[r, 2] < ints[r, 3] and k < n - 1:
+                    sn, cn, dn = elliptic.shift(floats[r, 0], floats[r, 1], floats[r, 2], floats[r, 3], floats[r, 4],
+                                                floats[r, 5], m)
+                    ints[r, 2] += 1
+                else:
+                    sn, cn, dn = elliptic.jacobi_with(math.sqrt(c) * (t[k] - apex), m, agm)
+                    ints[r, 2] = 0
+                    if j != current:
+                        floats[r, 6], floats[r, 7] = math.sqrt(m), 2.0 * math.sqrt(m * (1.0 - m) * c)
+                        if spacing > 0.0:
+                            step = math.sqrt(c) * spacing
+                            floats[r, 3], floats[r, 4], floats[r, 5] = elliptic.jacobi_with(step, m, agm)
+                            ints[r, 3] = int(min(REANCHOR, REACH / step, STEADY * math.sqrt(1.0 - m)))
+                            ints[r, 1] = j
+                floats[r, 0], floats[r, 1], floats[r, 2] = sn, cn, dn
+                inverse = 1.0 / dn
+                value[k], omega[k], theta[k] = floats[r, 6] * cn * inverse, -floats[r, 7] * sn * inverse, math.nan
+            elif kind == TAYLOR:
+                ints[r, 1] = -1
+                row = int(table[j, 2])
+                theta[k], omega[k] = polynomial(steps[row, 1:], t[k] - steps[row, 0])
+                value[k] = math.nan
+            else:
+                ints[r, 1] = -1
+                value[k], omega[k], theta[k] = math.nan, 0.0, theta_max
     return value, omega, theta
+
+
+@jit
+def _split(table, t):
+    """The first sample of the arc that halves the flights' time within ``t`` (increasing), or len(t).
+
+    (Samples in flight are the costly ones.) That sample is never carried from the one before it.
+    """
+    n = len(t)
+    if n < 2:
+        return n
+    flying = np.zeros(len(table) + 1)  # flight time (s) within [t[0], t[-1]] before each arc
+    for j in range(len(table)):
+        low, high = max(table[j, 0], t[0]), t[n - 1] if j + 1 == len(table) else min(table[j + 1, 0], t[n - 1])
+        flying[j + 1] = flying[j] + (max(high - low, 0.0) if table[j, 1] == ELLIPTIC else 0.0)
+    j = np.searchsorted(flying, 0.5 * flying[-1]) - 1
+    if j < 1:
+        return n
+    k = np.searchsorted(t, table[j, 0])
+    return k if 0 < k < n else n
 
 
 @jit
