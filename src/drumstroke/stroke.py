@@ -52,6 +52,15 @@ class Stroke:
     rests: np.ndarray
     arcs: Arcs
 
+    @classmethod
+    def _of(cls, recipe, impacts, rests, arcs):
+        """The Stroke of these fields, made without the frozen dataclass's ``__init__`` (which sets each field by
+        ``object.__setattr__``: 0.2 µs of a 5-µs stroke); the same object."""
+        stroke = object.__new__(cls)
+        fields = stroke.__dict__
+        fields["recipe"], fields["impacts"], fields["rests"], fields["arcs"] = recipe, impacts, rests, arcs
+        return stroke
+
     @property
     def model(self):
         """The model that made the stroke, ``"paper"`` or ``"geometry"``."""
@@ -201,7 +210,7 @@ def simulate(
     arcs, impact_t, impact_omega, rests = solved(recipe.coefficients, recipe.force, recipe.gravity,
                                                  theta0=recipe.theta0, omega0=recipe.omega0, cor=recipe.cor,
                                                  t_end=recipe.t_end, method=method, progress=progress)
-    return Stroke(recipe, Impacts(impact_t, impact_omega, recipe.stick.pivot_to_tip), rests, arcs)
+    return Stroke._of(recipe, Impacts(impact_t, impact_omega, recipe.stick.pivot_to_tip), rests, arcs)
 
 
 def as_trajectory(source, *, rate=None):

@@ -42,6 +42,15 @@ class Arcs:
     taylor: np.ndarray
     theta_max: float
 
+    @classmethod
+    def _of(cls, table, taylor, theta_max):
+        """The Arcs of these fields, made without the frozen dataclass's ``__init__`` (which sets each field by
+        ``object.__setattr__``); the same object."""
+        arcs = object.__new__(cls)
+        fields = arcs.__dict__
+        fields["table"], fields["taylor"], fields["theta_max"] = table, taylor, theta_max
+        return arcs
+
     @property
     def start(self):
         """Start time of each arc (s) [shape=(n,)]."""

@@ -121,7 +121,7 @@ def solved(coefficients, force, gravity, *, theta0, omega0, cor, t_end, method="
         result = kernel.run_constant(coefficients.torque_rate(gravity.value, force.value), t_end, theta0, omega0,
                                      theta_max, table, cor, closed_forms, _MAX_STEP, MAX_IMPACTS)
         rows, n_arcs, n_through_impacts, steps = _checked(result, cor, kernel)
-        return (Arcs(rows[:n_arcs], steps, theta_max), rows[n_arcs:n_through_impacts, 0],
+        return (Arcs._of(rows[:n_arcs], steps, theta_max), rows[n_arcs:n_through_impacts, 0],
                 rows[n_arcs:n_through_impacts, 1], rows[n_through_impacts:, :2])
     arcs, steps, impacts, rests = _pieces(kernel, coefficients, force, gravity, theta0, omega0, cor, t_end,
                                           closed_forms, table, progress)

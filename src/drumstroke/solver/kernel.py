@@ -466,4 +466,4 @@ def finish(theta, arcsin, theta_max):
         value = theta[k]
         if math.isnan(value):
             value = 2.0 * arcsin[k] - 0.5 * math.pi
-        theta[k] = theta_max if value < theta_max else value
+        theta[k] = max(value, theta_max)
