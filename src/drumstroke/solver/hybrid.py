@@ -161,10 +161,10 @@ def _compiled():
 
 
 def _checked(result, cor, kernel):
-    """The kernel's arrays, or the error it ran into."""
-    outcome, extra, *arrays = result
+    """The kernel's arrays (and counts), or the error it ran into."""
+    outcome, extra = result[0], result[1]
     if outcome == kernel.DONE:
-        return arrays
+        return result[2:]
     if outcome == kernel.VERTICAL:
         raise SimulationError(
             f"the stick reaches the vertical (theta = pi/2 rad) at t = {extra:.6g} s; the model covers "
@@ -175,7 +175,7 @@ def _checked(result, cor, kernel):
             f"the stroke has more than {MAX_IMPACTS} impacts by t = {extra:.6g} s; shorten t_end or lower cor "
             f"(now {cor:g})"
         )
-    return arrays
+    return result[2:]
 
 
 def _forcing(coefficients, force, gravity, t_end):
