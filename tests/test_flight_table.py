@@ -246,3 +246,18 @@ def test_solver_with_the_table_equals_the_solver_with_rf(model, rng):
             impacts += len(fast.impact_t)
     print(f"{model}: solver table vs R_F worst impact-time difference {worst:.3g} s over {impacts} impacts")
     assert worst <= IMPACT_TOL
+
+
+def test_the_piece_is_frexps(rng):
+    """A flight's piece, read from the bits of d⁸, is the one math.frexp's exponent gives, at every edge."""
+    from numba import njit
+
+    piece = njit(ft._piece.py_func)
+    edges = 2.0 ** (-np.arange(ft.PIECES + 2) / ft.GRADING)
+    d = np.concatenate([edges, np.nextafter(edges, 0.0), np.nextafter(edges, 2.0), rng.uniform(0.0, 1.0, 10_000),
+                        10.0 ** rng.uniform(-45.0, 0.0, 10_000), [1.0, 5e-324, 1e-200, 1e-40, 2e-39, 0.0, -1.0]])
+    for x in d:
+        d4 = (x * x) * (x * x)
+        d8 = d4 * d4  # (as _piece rounds it)
+        expected = ft.PIECES if not x > 0.0 else min(max(-math.frexp(d8)[1], 0), ft.PIECES)
+        assert piece(x) == expected, x

@@ -27,7 +27,8 @@ from .model import MODELS, Stick, coefficients
 from .presets import PRESETS, preset
 from .profiles import ACCELERATION_LIMIT, Constant, Profile, named
 from .recipe import DEFAULT_COR, OMEGA_LIMIT, STANDARD_GRAVITY, T_END_LIMIT, Recipe
-from .solver import MAX_IMPACTS, Arcs, solve
+from .solver import MAX_IMPACTS, Arcs
+from .solver.hybrid import solved
 from .trajectory import DEFAULT_RATE, LEVEL_REFERENCE, Impacts, Trajectory
 
 
@@ -50,6 +51,15 @@ class Stroke:
     impacts: Impacts
     rests: np.ndarray
     arcs: Arcs
+
+    @classmethod
+    def _of(cls, recipe, impacts, rests, arcs):
+        """The Stroke of these fields, made without the frozen dataclass's ``__init__`` (which sets each field by
+        ``object.__setattr__``: 0.2 µs of a 5-µs stroke); the same object."""
+        stroke = object.__new__(cls)
+        fields = stroke.__dict__
+        fields["recipe"], fields["impacts"], fields["rests"], fields["arcs"] = recipe, impacts, rests, arcs
+        return stroke
 
     @property
     def model(self):
@@ -184,7 +194,8 @@ def simulate(
     check_choice("method", method, ("auto", "taylor"))
     base = resolve(recipe)
     recipe = base
-    if any(value is not None for value in (force, gravity, model, t_end, theta0, omega0, cor, stick)):
+    if not (force is None and gravity is None and model is None and t_end is None and theta0 is None
+            and omega0 is None and cor is None and stick is None):  # (a generator over them cost 0.4 µs a stroke)
         changes = {
             "force": _as_profile("force", force),
             "gravity": _as_profile("gravity", gravity),
@@ -196,19 +207,10 @@ def simulate(
             "stick": stick,
         }
         recipe = base.replace(**{key: value for key, value in changes.items() if value is not None})
-    solution = solve(
-        recipe.coefficients,
-        recipe.force,
-        recipe.gravity,
-        theta0=recipe.theta0,
-        omega0=recipe.omega0,
-        cor=recipe.cor,
-        t_end=recipe.t_end,
-        method=method,
-        progress=progress,
-    )
-    impacts = Impacts(solution.impact_t, solution.impact_omega, recipe.stick.pivot_to_tip)
-    return Stroke(recipe=recipe, impacts=impacts, rests=solution.rests, arcs=solution.arcs)
+    arcs, impact_t, impact_omega, rests = solved(recipe.coefficients, recipe.force, recipe.gravity,
+                                                 theta0=recipe.theta0, omega0=recipe.omega0, cor=recipe.cor,
+                                                 t_end=recipe.t_end, method=method, progress=progress)
+    return Stroke._of(recipe, Impacts(impact_t, impact_omega, recipe.stick.pivot_to_tip), rests, arcs)
 
 
 def as_trajectory(source, *, rate=None):

@@ -42,6 +42,15 @@ class Arcs:
     taylor: np.ndarray
     theta_max: float
 
+    @classmethod
+    def _of(cls, table, taylor, theta_max):
+        """The Arcs of these fields, made without the frozen dataclass's ``__init__`` (which sets each field by
+        ``object.__setattr__``); the same object."""
+        arcs = object.__new__(cls)
+        fields = arcs.__dict__
+        fields["table"], fields["taylor"], fields["theta_max"] = table, taylor, theta_max
+        return arcs
+
     @property
     def start(self):
         """Start time of each arc (s) [shape=(n,)]."""
@@ -59,14 +68,11 @@ class Arcs:
         θ is never below the head. ``spacing`` > 0 (s) promises increasing
         times that far apart (but perhaps the last), which is faster.
         """
-        from .kernel import evaluate  # compiled on first use
+        from .kernel import evaluate, finish  # compiled on first use
 
         t = np.asarray(t, dtype=float)
-        theta, omega, flying = evaluate(self.table, self.taylor, self.theta_max, t.ravel(), float(spacing))
-        # In flight the kernel leaves θ's last step, θ = 2·asin(value) − π/2, to numpy's vectorised asin.
-        np.arcsin(theta, out=theta, where=flying)
-        np.multiply(theta, 2.0, out=theta, where=flying)
-        np.subtract(theta, 0.5 * np.pi, out=theta, where=flying)
-        # Round-off can put a flight a few ulps under the head; the stick is never there.
-        np.maximum(theta, self.theta_max, out=theta)
+        value, omega, theta = evaluate(self.table, self.taylor, self.theta_max, t.ravel(), float(spacing))
+        # In flight the kernel leaves θ's last step, θ = 2·asin(value) − π/2, to numpy's vectorised asin
+        # (value is NaN elsewhere, whose asin is NaN without a warning).
+        finish(theta, np.arcsin(value, out=value), self.theta_max)
         return theta.reshape(t.shape), omega.reshape(t.shape)

@@ -108,26 +108,49 @@ def jacobi(u, m):
     The algorithm of Abramowitz & Stegun 16.4 (as in Cephes' ``ellpj``, which
     scipy wraps), accurate to a few units of round-off.
     """
+    return jacobi_with(u, m, agm_scratch())
+
+
+AGM_SIZE = 23
+"""An AGM kept for :func:`jacobi_with`: m, its steps i, 2^i, then a_0…a_9 and c_0…c_9."""
+_A, _C = 3, 13
+
+
+@jit
+def agm_scratch():
+    """Room for :func:`jacobi_with`'s AGM, holding none yet [shape=(AGM_SIZE,)]."""
+    agm = np.empty(AGM_SIZE)
+    agm[0] = math.nan
+    return agm
+
+
+@jit
+def jacobi_with(u, m, agm):
+    """:func:`jacobi`, the AGM of m (which ``u`` does not change) kept in ``agm`` for the next call with this m.
+
+    ``agm`` is from :func:`agm_scratch`. The numbers are :func:`jacobi`'s whatever it held.
+    """
     if m < 1e-9:
         s, c = math.sin(u), math.cos(u)
         ai = 0.25 * m * (u - s * c)
         return s - ai * c, c + ai * s, 1.0 - 0.5 * m * s * s
-    a = np.empty(10)  # the AGM's a_i and c_i, at most 9 steps for m < 1 − 1e-16
-    cs = np.empty(10)
-    a[0], cs[0] = 1.0, math.sqrt(m)
-    b = math.sqrt(1.0 - m)
-    twon = 1.0
-    i = 0
-    while abs(cs[i] / a[i]) > _EPS and i < 9:
-        cs[i + 1] = 0.5 * (a[i] - b)
-        a[i + 1], b = 0.5 * (a[i] + b), math.sqrt(a[i] * b)
-        twon *= 2.0
-        i += 1
-    phi = twon * a[i] * u
+    if agm[0] != m:  # the AGM's a_i and c_i, at most 9 steps for m < 1 − 1e-16
+        agm[_A], agm[_C] = 1.0, math.sqrt(m)
+        b = math.sqrt(1.0 - m)
+        twon = 1.0
+        i = 0
+        while abs(agm[_C + i] / agm[_A + i]) > _EPS and i < 9:
+            agm[_C + i + 1] = 0.5 * (agm[_A + i] - b)
+            agm[_A + i + 1], b = 0.5 * (agm[_A + i] + b), math.sqrt(agm[_A + i] * b)
+            twon *= 2.0
+            i += 1
+        agm[0], agm[1], agm[2] = m, i, twon
+    i = int(agm[1])
+    phi = agm[2] * agm[_A + i] * u
     previous = phi
     while i > 0:
         previous = phi
-        phi = 0.5 * (math.asin(cs[i] * math.sin(phi) / a[i]) + phi)
+        phi = 0.5 * (math.asin(agm[_C + i] * math.sin(phi) / agm[_A + i]) + phi)
         i -= 1
     sn, cn = math.sin(phi), math.cos(phi)
     dn_factor = math.cos(phi - previous)

@@ -17,7 +17,7 @@ d⁸ ≥ 1/2); in v, piece j covers v in [V_LOW·r^j, V_LOW·r^(j+1)] with
 r = (1/V_LOW)^(1/HEAD_PIECES). Each cell lies as far from the singularities,
 in its own half-widths, as every other, so one pair of degrees serves them all.
 
-A flight's cell is found from the exponent of d⁸ (``frexp``) and the head's
+A flight's cell is found from the exponent of d⁸ (its bits) and the head's
 piece (once per head). The polynomial in v is summed once for the head and the
 cell (a chain of bounces from one head stays in a few cells, and :func:`head`
 keeps the last; :func:`head_cells` sums them all for a head many strokes share,
@@ -37,8 +37,10 @@ process ran before (a sweep split over workers equals the one run locally, bit f
 import functools
 import math
 
+import llvmlite.ir
 import numpy as np
-from numba import prange
+from numba import prange, types
+from numba.extending import intrinsic
 
 from .._jit import jit
 from .carlson import rf
@@ -271,6 +273,16 @@ def _sum_cell(table, head, k):
     head[_CACHED_CENTRE], head[_CACHED_SCALE], head[_CACHED] = table[row, _CENTRE], table[row, _SCALE], k
 
 
+@intrinsic
+def _bits(typingctx, x):
+    """The bits of the float64 ``x`` as an int64 (compiled to no instruction)."""
+
+    def codegen(context, builder, signature, args):
+        return builder.bitcast(args[0], llvmlite.ir.IntType(64))
+
+    return types.int64(types.float64), codegen
+
+
 @jit(inline="always")
 def _piece(d):
     """The piece in d holding d, PIECES past the last (or for d ≤ 0)."""
@@ -278,7 +290,12 @@ def _piece(d):
         return PIECES
     d2 = d * d
     d4 = d2 * d2
-    return min(max(-math.frexp(d4 * d4)[1], 0), PIECES)
+    d8 = d4 * d4
+    # −frexp(d⁸)'s exponent, read from the bits (frexp is a call, a fifth of a flight's time)
+    biased = (_bits(d8) >> 52) & 0x7FF
+    if biased == 0:  # zero (frexp's exponent 0) or subnormal (frexp's −1022 or below)
+        return 0 if d8 == 0.0 else PIECES
+    return min(max(1022 - biased, 0), PIECES)
 
 
 @jit

@@ -106,12 +106,37 @@ def solve(coefficients, force, gravity, *, theta0, omega0, cor, t_end, method="a
     -------
     Solution
     """
+    return Solution(*solved(coefficients, force, gravity, theta0=theta0, omega0=omega0, cor=cor, t_end=t_end,
+                            method=method, progress=progress, tabled=tabled))
+
+
+def solved(coefficients, force, gravity, *, theta0, omega0, cor, t_end, method="auto", progress=None, tabled=True):
+    """:func:`solve`'s :class:`Solution` as the tuple of its fields (what :func:`drumstroke.simulate` reads)."""
     flight_table, kernel = _compiled()
-    edges, c0, c1 = _forcing(coefficients, force, gravity, t_end)
     theta_max = coefficients.theta_max
-    state = kernel.initial_state(theta0, omega0)
     closed_forms = method == "auto"
-    table = flight_table.table() if closed_forms and tabled else np.empty((0, 0))
+    table = flight_table.table() if closed_forms and tabled else _NO_TABLE
+    if progress is None and type(force) is Constant and type(gravity) is Constant:
+        # the commonest strokes in one call, their forcing's arrays made in compiled code
+        result = kernel.run_constant(coefficients.torque_rate(gravity.value, force.value), t_end, theta0, omega0,
+                                     theta_max, table, cor, closed_forms, _MAX_STEP, MAX_IMPACTS)
+        rows, n_arcs, n_through_impacts, steps = _checked(result, cor, kernel)
+        return (Arcs._of(rows[:n_arcs], steps, theta_max), rows[n_arcs:n_through_impacts, 0],
+                rows[n_arcs:n_through_impacts, 1], rows[n_through_impacts:, :2])
+    arcs, steps, impacts, rests = _pieces(kernel, coefficients, force, gravity, theta0, omega0, cor, t_end,
+                                          closed_forms, table, progress)
+    if len(impacts) and impacts[-1, 0] > t_end:
+        impacts = impacts[impacts[:, 0] <= t_end]
+    return Arcs(arcs, steps, theta_max), impacts[:, 0], impacts[:, 1], rests
+
+
+_NO_TABLE = np.empty((0, 0))
+
+
+def _pieces(kernel, coefficients, force, gravity, theta0, omega0, cor, t_end, closed_forms, table, progress):
+    """The kernel's arrays over the forcing's pieces, in chunks when ``progress`` is reported."""
+    edges, c0, c1 = _forcing(coefficients, force, gravity, t_end)
+    state = kernel.initial_state(theta0, omega0)
     chunk = len(c0) if progress is None else max(1, -(-len(c0) // _PROGRESS_CHUNKS))
     parts = []
     last_report = time.monotonic() if progress is not None else 0.0
@@ -119,15 +144,12 @@ def solve(coefficients, force, gravity, *, theta0, omega0, cor, t_end, method="a
         last = min(first + chunk, len(c0))
         pieces = (edges, c0, c1) if chunk == len(c0) else (edges[first:last + 1], c0[first:last], c1[first:last])
         parts.append(_checked(kernel.run(
-            *pieces, theta_max, table, cor, closed_forms, _MAX_STEP, MAX_IMPACTS, last == len(c0), state,
+            *pieces, coefficients.theta_max, table, cor, closed_forms, _MAX_STEP, MAX_IMPACTS, last == len(c0), state,
         ), cor, kernel))
         if progress is not None and time.monotonic() - last_report > 0.1:
             progress(edges[last] / t_end)
             last_report = time.monotonic()
-    arcs, steps, impacts, rests = parts[0] if len(parts) == 1 else (np.concatenate(c) for c in zip(*parts))
-    if len(impacts) and impacts[-1, 0] > t_end:
-        impacts = impacts[impacts[:, 0] <= t_end]
-    return Solution(arcs=Arcs(arcs, steps, theta_max), impact_t=impacts[:, 0], impact_omega=impacts[:, 1], rests=rests)
+    return parts[0] if len(parts) == 1 else (np.concatenate(c) for c in zip(*parts))
 
 
 @functools.cache
@@ -139,10 +161,10 @@ def _compiled():
 
 
 def _checked(result, cor, kernel):
-    """The kernel's arrays, or the error it ran into."""
-    outcome, extra, *arrays = result
+    """The kernel's arrays (and counts), or the error it ran into."""
+    outcome, extra = result[0], result[1]
     if outcome == kernel.DONE:
-        return arrays
+        return result[2:]
     if outcome == kernel.VERTICAL:
         raise SimulationError(
             f"the stick reaches the vertical (theta = pi/2 rad) at t = {extra:.6g} s; the model covers "
@@ -153,7 +175,7 @@ def _checked(result, cor, kernel):
             f"the stroke has more than {MAX_IMPACTS} impacts by t = {extra:.6g} s; shorten t_end or lower cor "
             f"(now {cor:g})"
         )
-    return arrays
+    return result[2:]
 
 
 def _forcing(coefficients, force, gravity, t_end):

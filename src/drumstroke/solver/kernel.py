@@ -45,12 +45,46 @@ STEADY = 1000.0
 near the vertical, where dn falls to √(1 − m); orbits that close are computed afresh."""
 
 
+@jit
 def initial_state(theta0, omega0):
     """The state vector at t = 0: in flight at (θ₀, ω₀)."""
     state = np.zeros(STATE_SIZE)
     state[THETA], state[OMEGA] = theta0, omega0
     state[TAIL_C] = state[REST_START] = math.nan
     return state
+
+
+@jit
+def run_constant(c, t_end, theta0, omega0, theta_max, table, cor, closed_forms, max_step, max_impacts):
+    """:func:`run` from (θ₀, ω₀) at t = 0 to ``t_end`` (s) under the constant C = ``c`` (s⁻²), the whole stroke.
+
+    The commonest stroke, with nothing to build in Python first and one array handed back (making
+    the forcing's arrays in Python, and handing back four, cost more than its bounces).
+
+    Returns
+    -------
+    outcome : int
+    extra : float
+        As :func:`run`'s.
+    rows : ndarray [shape=(n_arcs + n_impacts + n_rests, ARC_COLUMNS)]
+        :func:`run`'s arcs, then its impacts up to ``t_end`` and its rests in the first two columns.
+    n_arcs, n_through_impacts : int
+        Where the impacts' rows and the rests' rows start.
+    steps : ndarray
+        As :func:`run`'s.
+    """
+    edges, c0, c1 = np.empty(2), np.empty(1), np.zeros(1)
+    edges[0], edges[1], c0[0] = 0.0, t_end, c
+    outcome, extra, arcs, steps, impacts, rests = run(edges, c0, c1, theta_max, table, cor, closed_forms, max_step,
+                                                      max_impacts, True, initial_state(theta0, omega0))
+    n_arcs, n_impacts = len(arcs), len(impacts)
+    while n_impacts and impacts[n_impacts - 1, 0] > t_end:  # (found by a Taylor step that ends past t_end)
+        n_impacts -= 1
+    rows = np.empty((n_arcs + n_impacts + len(rests), ARC_COLUMNS))
+    rows[:n_arcs] = arcs
+    rows[n_arcs:n_arcs + n_impacts, :2] = impacts[:n_impacts]
+    rows[n_arcs + n_impacts:, :2] = rests
+    return outcome, extra, rows, n_arcs, n_arcs + n_impacts, steps
 
 
 @jit
@@ -79,6 +113,70 @@ def _impact(impacts, n, t, omega):
     impacts = grow(impacts, n)
     impacts[n, 0], impacts[n, 1] = t, omega
     return impacts, n + 1
+
+
+# how a chain of bounces ends (_bounces)
+_FLOOR, _STEEP, _PAST, _LIMIT, _ROOM, _NONE = range(6)  # (_NONE: no chain)
+_MIN_ROOM = 64
+
+
+@jit(inline="always")
+def _room(array, n):
+    """``array``, or a copy twice as long, so that _MIN_ROOM rows from row ``n`` on exist."""
+    return grow(array, n + _MIN_ROOM - 1)
+
+
+@jit
+def _bounces(arcs, n_arcs, impacts, n_impacts, room, impacts_left, t, te, launch, c, cor, floor, theta_max, table,
+             head, no_cells):
+    """Flights from the head at ``t`` (s), launched at ``launch``, c·launch, … (rad/s) under C = ``c`` until ``te``.
+
+    Writes their arcs and impacts from rows ``n_arcs`` and ``n_impacts`` on, at most ``room`` of each
+    (the buffers never change here: a kernel that may swap a buffer counts references to it at every
+    write, which cost twice a flight).
+
+    Returns
+    -------
+    end : int
+        _FLOOR (the launch is below ``floor``), _STEEP (the flight nears the vertical; not written),
+        _PAST (the flight written ends after ``te``), _LIMIT (more than ``impacts_left`` impacts)
+        or _ROOM (``room`` flights written).
+    n_arcs, n_impacts : int
+    t : float
+        The last flight's start (_PAST) or the last impact (s).
+    launch : float
+        The next launch (rad/s).
+    flight, m : float
+        The last flight's duration (s) and parameter.
+    """
+    flight = m = math.nan
+    stop = n_arcs + room
+    while n_impacts <= impacts_left:
+        if launch < floor:  # (launch = 0 included)
+            return _FLOOR, n_arcs, n_impacts, t, launch, flight, m
+        if n_arcs == stop:
+            return _ROOM, n_arcs, n_impacts, t, launch, flight, m
+        flight, m = flight_table.flight_time(launch, c, head)
+        if math.isnan(flight):  # the first flight in a cell of the table: its polynomial for the head
+            flight_table.fill(table, head, launch, c, no_cells)
+            flight, m = flight_table.flight_time(launch, c, head)
+        if m >= 1.0 - NEARLY_VERTICAL:
+            return _STEEP, n_arcs, n_impacts, t, launch, flight, m
+        _put_arc(arcs, n_arcs, t, ELLIPTIC, t + 0.5 * flight, c, m, theta_max, launch)
+        n_arcs += 1
+        if t + flight > te:
+            return _PAST, n_arcs, n_impacts, t, launch, flight, m
+        t += flight
+        impacts[n_impacts, 0], impacts[n_impacts, 1] = t, -launch
+        n_impacts += 1
+        launch *= cor
+    return _LIMIT, n_arcs, n_impacts, t, launch, flight, m
+
+
+@jit(inline="always")
+def _put_arc(arcs, n, start, kind, apex, c, m, theta, omega):
+    arcs[n, 0], arcs[n, 1], arcs[n, 2], arcs[n, 3], arcs[n, 4] = start, kind, apex, c, m
+    arcs[n, 5], arcs[n, 6] = theta, omega
 
 
 @jit
@@ -189,28 +287,22 @@ def run(edges, c0, c1, theta_max, table, cor, closed_forms, max_step, max_impact
                         impacts, n_impacts = _impact(impacts, n_impacts, t, -speed)
                         launch = cor * speed
                 # After an impact at speed w the launches are c·w, c²·w, …: one closed-form flight each.
-                while launch >= 0.0 and n_before + n_impacts <= max_impacts:
-                    if launch < floor:  # (launch = 0 included)
-                        settle = launch
-                        break
-                    flight, m = flight_table.flight_time(launch, a, head)
-                    if math.isnan(flight):  # the first flight in a cell of the table: its polynomial for the head
-                        flight_table.fill(table, head, launch, a, no_cells)
-                        flight, m = flight_table.flight_time(launch, a, head)
-                    if m >= 1.0 - NEARLY_VERTICAL:  # toward the vertical: the Taylor steps take it
+                chain = _ROOM if launch >= 0.0 else _NONE
+                while chain == _ROOM:
+                    arcs, impacts = _room(arcs, n_arcs), _room(impacts, n_impacts)
+                    chain, n_arcs, n_impacts, t, launch, flight, m = _bounces(
+                        arcs, n_arcs, impacts, n_impacts, min(len(arcs) - n_arcs, len(impacts) - n_impacts),
+                        max_impacts - n_before, t, te, launch, a, cor, floor, theta_max, table, head, no_cells)
+                if chain == _FLOOR:
+                    settle = launch
+                elif chain == _STEEP:  # toward the vertical: the Taylor steps take it
+                    theta, omega = theta_max, launch
+                elif chain == _PAST:
+                    if t == te:
                         theta, omega = theta_max, launch
-                        break
-                    arcs, n_arcs = _arc(arcs, n_arcs, t, ELLIPTIC, t + 0.5 * flight, a, m, theta_max, launch)
-                    if t + flight > te:
-                        if t == te:
-                            theta, omega = theta_max, launch
-                        else:
-                            theta, omega = elliptic.state(te - (t + 0.5 * flight), a, m)
-                            t, theta = te, max(theta, theta_max)
-                        break
-                    t += flight
-                    impacts, n_impacts = _impact(impacts, n_impacts, t, -launch)
-                    launch *= cor
+                    else:
+                        theta, omega = elliptic.state(te - (t + 0.5 * flight), a, m)
+                        t, theta = te, max(theta, theta_max)
                 if n_before + n_impacts > max_impacts:
                     outcome, extra = TOO_MANY, t
                     break
@@ -274,55 +366,104 @@ def evaluate(table, steps, theta_max, t, spacing):
     Returns
     -------
     value : ndarray [shape=(n,)]
-        θ (rad), except in flight, where it is sin((θ + π/2)/2) = √m·cd(v | m):
-        :meth:`.arcs.Arcs.evaluate` finishes θ = 2·asin(value) − π/2 with numpy,
-        whose vectorised asin is some ten times quicker than one call at a time here.
+        In flight sin((θ + π/2)/2) = √m·cd(v | m), elsewhere NaN: :meth:`.arcs.Arcs.evaluate`
+        takes its asin with numpy, whose vectorised asin is some ten times quicker than one
+        call at a time here, and :func:`finish` makes θ of it.
     omega : ndarray [shape=(n,)]
         rad/s.
-    flying : ndarray of bool [shape=(n,)]
+    theta : ndarray [shape=(n,)]
+        θ (rad), but NaN in flight.
     """
     n = len(t)
-    start = table[:, 0]
     value = np.empty(n)
     omega = np.empty(n)
-    flying = np.zeros(n, dtype=np.bool_)
-    j = 0
-    current = -1  # the flight whose sn, cn, dn are being carried, or −1
-    age = carry = 0
-    sn = cn = dn = sn_h = cn_h = dn_h = root_m = speed = 0.0
-    for k in range(n):
-        if spacing > 0.0:
-            while j + 1 < len(start) and start[j + 1] <= t[k]:
-                j += 1
-        else:
-            j = max(np.searchsorted(start, t[k], side="right") - 1, 0)
-        kind = table[j, 1]
-        if t[k] == start[j]:
-            # The state the arc starts from, as given (the recipe's θ₀, ω₀) or as the solver made it (the
-            # launch after an impact): a flight's closed form would return it to round-off only.
-            value[k], omega[k] = table[j, 5], table[j, 6]
-        elif kind == ELLIPTIC:
-            apex, c, m = table[j, 2], table[j, 3], table[j, 4]
-            if j == current and age < carry and k < n - 1:
-                sn, cn, dn = elliptic.shift(sn, cn, dn, sn_h, cn_h, dn_h, m)
-                age += 1
+    theta = np.empty(n)
+    # Two runs of samples side by side, split where an arc starts (a sample computed afresh either way,
+    # so each sample is computed as in one run, to the bit): a carried sample waits for the one before
+    # it, and the other run's fills that wait.
+    half = _split(table, t) if spacing > 0.0 else n
+    # each run's arc, the flight it carries (or −1), the samples carried since one computed afresh, the
+    # most it may carry; then the carried sn, cn, dn, those of the spacing, √m and 2√(m(1 − m)C)
+    ints = np.zeros((2, 4), dtype=np.int64)
+    ints[:, 1] = -1
+    floats = np.zeros((2, 8))
+    agm = elliptic.agm_scratch()  # (the AGM of the last flight's m, shared by its samples computed afresh)
+    for i in range(max(half, n - half)):
+        for r in range(2):
+            k = i + r * half
+            if k >= (half if r == 0 else n):
+                continue
+            j, current = ints[r, 0], ints[r, 1]
+            if spacing > 0.0:
+                while j + 1 < len(table) and table[j + 1, 0] <= t[k]:
+                    j += 1
             else:
-                sn, cn, dn = elliptic.jacobi(math.sqrt(c) * (t[k] - apex), m)
-                age = 0
-                if j != current:
-                    root_m, speed = math.sqrt(m), 2.0 * math.sqrt(m * (1.0 - m) * c)
-                    if spacing > 0.0:
-                        step = math.sqrt(c) * spacing
-                        sn_h, cn_h, dn_h = elliptic.jacobi(step, m)
-                        carry = int(min(REANCHOR, REACH / step, STEADY * math.sqrt(1.0 - m)))
-                        current = j
-            inverse = 1.0 / dn
-            value[k], omega[k], flying[k] = root_m * cn * inverse, -speed * sn * inverse, True
-        elif kind == TAYLOR:
-            current = -1
-            row = int(table[j, 2])
-            value[k], omega[k] = polynomial(steps[row, 1:], t[k] - steps[row, 0])
-        else:
-            current = -1
-            value[k], omega[k] = theta_max, 0.0
-    return value, omega, flying
+                j = max(np.searchsorted(table[:, 0], t[k], side="right") - 1, 0)
+            ints[r, 0] = j
+            kind = table[j, 1]
+            if t[k] == table[j, 0]:
+                # The state the arc starts from, as given (the recipe's θ₀, ω₀) or as the solver made it (the
+                # launch after an impact): a flight's closed form would return it to round-off only.
+                value[k], omega[k], theta[k] = math.nan, table[j, 6], table[j, 5]
+            elif kind == ELLIPTIC:
+                apex, c, m = table[j, 2], table[j, 3], table[j, 4]
+                if j == current and ints[r, 2] < ints[r, 3] and k < n - 1:
+                    sn, cn, dn = elliptic.shift(floats[r, 0], floats[r, 1], floats[r, 2], floats[r, 3], floats[r, 4],
+                                                floats[r, 5], m)
+                    ints[r, 2] += 1
+                else:
+                    sn, cn, dn = elliptic.jacobi_with(math.sqrt(c) * (t[k] - apex), m, agm)
+                    ints[r, 2] = 0
+                    if j != current:
+                        floats[r, 6], floats[r, 7] = math.sqrt(m), 2.0 * math.sqrt(m * (1.0 - m) * c)
+                        if spacing > 0.0:
+                            step = math.sqrt(c) * spacing
+                            floats[r, 3], floats[r, 4], floats[r, 5] = elliptic.jacobi_with(step, m, agm)
+                            ints[r, 3] = int(min(REANCHOR, REACH / step, STEADY * math.sqrt(1.0 - m)))
+                            ints[r, 1] = j
+                floats[r, 0], floats[r, 1], floats[r, 2] = sn, cn, dn
+                inverse = 1.0 / dn
+                value[k], omega[k], theta[k] = floats[r, 6] * cn * inverse, -floats[r, 7] * sn * inverse, math.nan
+            elif kind == TAYLOR:
+                ints[r, 1] = -1
+                row = int(table[j, 2])
+                theta[k], omega[k] = polynomial(steps[row, 1:], t[k] - steps[row, 0])
+                value[k] = math.nan
+            else:
+                ints[r, 1] = -1
+                value[k], omega[k], theta[k] = math.nan, 0.0, theta_max
+    return value, omega, theta
+
+
+@jit
+def _split(table, t):
+    """The first sample of the arc that halves the flights' time within ``t`` (increasing), or len(t).
+
+    (Samples in flight are the costly ones.) That sample is never carried from the one before it.
+    """
+    n = len(t)
+    if n < 2:
+        return n
+    flying = np.zeros(len(table) + 1)  # flight time (s) within [t[0], t[-1]] before each arc
+    for j in range(len(table)):
+        low, high = max(table[j, 0], t[0]), t[n - 1] if j + 1 == len(table) else min(table[j + 1, 0], t[n - 1])
+        flying[j + 1] = flying[j] + (max(high - low, 0.0) if table[j, 1] == ELLIPTIC else 0.0)
+    j = np.searchsorted(flying, 0.5 * flying[-1]) - 1
+    if j < 1:
+        return n
+    k = np.searchsorted(t, table[j, 0])
+    return k if 0 < k < n else n
+
+
+@jit
+def finish(theta, arcsin, theta_max):
+    """θ (rad) into ``theta`` where it is NaN (in flight), from the asin of :func:`evaluate`'s value there.
+
+    θ = 2·asin(value) − π/2 in flight; then θ never below the head, where round-off can put a
+    flight a few ulps under it.
+    """
+    for k in range(len(theta)):
+        value = theta[k]
+        if math.isnan(value):
+            value = 2.0 * arcsin[k] - 0.5 * math.pi
+        theta[k] = max(value, theta_max)
