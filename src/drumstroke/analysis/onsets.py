@@ -704,8 +704,14 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
     amplitude, floor = _levels(band, rate, tonal.q, first, _measured_at(candidates, found, rate, config),
                                modes.reverberant, config)
     candidates, amplitude = _one_attack_each(band, rate, candidates, amplitude, config)
-    candidates = _out_of_decay(band, rate, candidates, amplitude, config)
-    candidates = _learned_lead_ins(band, rate, candidates, config)
+    decided = _out_of_decay(band, rate, candidates, amplitude, config)
+    # an attack measured on a window cut at the next detection, refused here, is measured again without it
+    cut = np.flatnonzero(decided.attack[:-1] & candidates.attack[1:] & ~decided.attack[1:])
+    if len(cut):
+        kept = decided.take(decided.attack)
+        again, _ = _levels(band, rate, tonal.q, first, _measured_at(kept, found, rate, config), modes.reverberant, config)
+        amplitude[cut] = again[np.searchsorted(kept.times, decided.times[cut])]
+    candidates = _learned_lead_ins(band, rate, decided, config)
     onsets = _reported(candidates, amplitude, floor, {**info, "analysis_rate": tonal.rate}, source, rate, config)
     return replace(onsets, peak_db=_peak_db(signal, onsets.t * rate, rate, config))
 
