@@ -1195,7 +1195,9 @@ def _fit_template(band, rate, candidates, config):
     from each), a new attack is where the template's first ``template_head`` s first correlates by
     ``template_likeness`` with what is left (at the best correlation within ``template_reach`` s
     after), scaled ``threshold_db`` or more re the template: a bouncing stick's impacts milliseconds
-    apart, a ghost note in an accent's ringing. The attacks so timed or found are of kind 3
+    apart, a ghost note in an accent's ringing. A detection less than ``min_interval`` after an attack
+    so timed (and ``template_reach`` s more after one so found) is that attack again, the later found
+    where the sound rose on (as :func:`_one_attack_each` merges them). The attacks so timed or found are of kind 3
     (:func:`_learned_lead_ins` leaves them); the candidates are all attacks.
     """
     template, offset = _template(band, rate, candidates.times, config)
@@ -1228,7 +1230,9 @@ def _fit_template(band, rate, candidates, config):
         start = c + lag - pre
         stop = min(len(remainder), start + len(template))
         remainder[start:stop] -= scale * template[:stop - start]
-        while timed and queue and queue[0][0] < c + lag + gap:  # the same attack found twice
+        # the same attack found twice; a detection after an attack only the template found is its late time
+        # up to the reach the template seeks over (as in _one_attack_each), the gap after it
+        while timed and queue and queue[0][0] < c + lag + gap + (reach if i < 0 else 0):
             queue.pop(0)
         new = _next_attack(remainder, head, c + lag + gap, min(following - gap, start + len(template)), pre, reach,
                            rate, config)
