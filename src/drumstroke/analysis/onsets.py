@@ -1249,7 +1249,9 @@ def _measured_at(candidates, found, rate, config):
 
     The lowest modes' amplitude is read over the 5 ms after an onset, where that band is still
     rising: a start moved by a fraction of a millisecond moves it by decibels. Retiming is for the
-    time; the level stays that of the detection (within ``template_reach`` s), a new attack's at its fit.
+    time; the level stays that of the detection (within ``template_reach`` s after it), a new attack's at its fit.
+    A detection before the attack's fit is not its measuring point: it was on earlier sound or noise,
+    where the lowest modes, not yet rising, read decibels low (a FluidR3 flam's grace note 16 dB).
     A detection still a candidate of its own is not another's: the template found a new attack just
     before it (measured there, both would read one window, the earlier's empty: 0, refused as quiet).
     """
@@ -1259,7 +1261,7 @@ def _measured_at(candidates, found, rate, config):
     nearer = np.where((nearest + 1 < len(found)) & (np.abs(found[np.minimum(nearest + 1, len(found) - 1)]
                                                            - candidates.times)
                                                     < np.abs(found[nearest] - candidates.times)), nearest + 1, nearest)
-    near = np.abs(found[nearer] - candidates.times) <= config.template_reach * rate
+    near = (found[nearer] >= candidates.times) & (found[nearer] - candidates.times <= config.template_reach * rate)
     near &= (found[nearer] == candidates.times) | ~np.isin(found[nearer], candidates.times)
     return replace(candidates, times=np.where(near, found[nearer], candidates.times))
 
