@@ -704,8 +704,14 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
     amplitude, floor = _levels(band, rate, tonal.q, first, _measured_at(candidates, found, rate, config),
                                modes.reverberant, config)
     candidates, amplitude = _one_attack_each(band, rate, candidates, amplitude, config)
-    candidates = _out_of_decay(band, rate, candidates, amplitude, config)
-    candidates = _learned_lead_ins(band, rate, candidates, config)
+    decided = _out_of_decay(band, rate, candidates, amplitude, config)
+    # an attack measured on a window cut at the next detection, refused here, is measured again without it
+    cut = np.flatnonzero(decided.attack[:-1] & candidates.attack[1:] & ~decided.attack[1:])
+    if len(cut):
+        kept = decided.take(decided.attack)
+        again, _ = _levels(band, rate, tonal.q, first, _measured_at(kept, found, rate, config), modes.reverberant, config)
+        amplitude[cut] = again[np.searchsorted(kept.times, decided.times[cut])]
+    candidates = _learned_lead_ins(band, rate, decided, config)
     onsets = _reported(candidates, amplitude, floor, {**info, "analysis_rate": tonal.rate}, source, rate, config)
     return replace(onsets, peak_db=_peak_db(signal, onsets.t * rate, rate, config))
 
@@ -1189,7 +1195,9 @@ def _fit_template(band, rate, candidates, config):
     from each), a new attack is where the template's first ``template_head`` s first correlates by
     ``template_likeness`` with what is left (at the best correlation within ``template_reach`` s
     after), scaled ``threshold_db`` or more re the template: a bouncing stick's impacts milliseconds
-    apart, a ghost note in an accent's ringing. The attacks so timed or found are of kind 3
+    apart, a ghost note in an accent's ringing. A detection less than ``min_interval`` after an attack
+    so timed (and ``template_reach`` s more after one so found) is that attack again, the later found
+    where the sound rose on (as :func:`_one_attack_each` merges them). The attacks so timed or found are of kind 3
     (:func:`_learned_lead_ins` leaves them); the candidates are all attacks.
     """
     template, offset = _template(band, rate, candidates.times, config)
@@ -1222,7 +1230,9 @@ def _fit_template(band, rate, candidates, config):
         start = c + lag - pre
         stop = min(len(remainder), start + len(template))
         remainder[start:stop] -= scale * template[:stop - start]
-        while timed and queue and queue[0][0] < c + lag + gap:  # the same attack found twice
+        # the same attack found twice; a detection after an attack only the template found is its late time
+        # up to the reach the template seeks over (as in _one_attack_each), the gap after it
+        while timed and queue and queue[0][0] < c + lag + gap + (reach if i < 0 else 0):
             queue.pop(0)
         new = _next_attack(remainder, head, c + lag + gap, min(following - gap, start + len(template)), pre, reach,
                            rate, config)
@@ -1239,7 +1249,9 @@ def _measured_at(candidates, found, rate, config):
 
     The lowest modes' amplitude is read over the 5 ms after an onset, where that band is still
     rising: a start moved by a fraction of a millisecond moves it by decibels. Retiming is for the
-    time; the level stays that of the detection (within ``template_reach`` s), a new attack's at its fit.
+    time; the level stays that of the detection (within ``template_reach`` s after it), a new attack's at its fit.
+    A detection before the attack's fit is not its measuring point: it was on earlier sound or noise,
+    where the lowest modes, not yet rising, read decibels low (a FluidR3 flam's grace note 16 dB).
     A detection still a candidate of its own is not another's: the template found a new attack just
     before it (measured there, both would read one window, the earlier's empty: 0, refused as quiet).
     """
@@ -1249,7 +1261,7 @@ def _measured_at(candidates, found, rate, config):
     nearer = np.where((nearest + 1 < len(found)) & (np.abs(found[np.minimum(nearest + 1, len(found) - 1)]
                                                            - candidates.times)
                                                     < np.abs(found[nearest] - candidates.times)), nearest + 1, nearest)
-    near = np.abs(found[nearer] - candidates.times) <= config.template_reach * rate
+    near = (found[nearer] >= candidates.times) & (found[nearer] - candidates.times <= config.template_reach * rate)
     near &= (found[nearer] == candidates.times) | ~np.isin(found[nearer], candidates.times)
     return replace(candidates, times=np.where(near, found[nearer], candidates.times))
 
