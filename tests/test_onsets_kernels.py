@@ -82,3 +82,14 @@ def test_change_points_are_each_peaks_aic(rng):
     peaks = np.array([10, 300, 2500, 4990], dtype=np.int64)
     want = [max(0, p - 48) + _kernels.aic(x[max(0, p - 48):p + 24]) for p in peaks]
     np.testing.assert_array_equal(_kernels.change_points(x, peaks, 12), want)
+
+
+@pytest.mark.parametrize("n", [30, 241, 20001])
+def test_jump_profile_is_the_windows_rms_jump(rng, n):
+    from drumstroke.analysis.onsets import _windows
+
+    x = _uneven(rng, n)
+    after, before, width = _windows(x, 48000)
+    jump = np.sqrt(after / np.maximum(before, 1e-300 + after * 1e-12))
+    jump[:4 * width] = 0.0
+    np.testing.assert_array_equal(_kernels.jump_profile(x, width), jump)

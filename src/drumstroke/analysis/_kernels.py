@@ -445,7 +445,7 @@ def solve_2x2(a00, a01, a10, a11, b0, b1):
     return (b0 - a01 * w1) / a00, w1
 
 
-@jit
+@jit(error_model="numpy")
 def jump_profile(x, width):
     """The RMS jump of ``x`` at each sample (:func:`.onsets._windows`' next ``width`` samples over the 4 ``width``
     before, the power summed in order from ``x[0]``), 0 over the first 4 ``width``."""
@@ -454,7 +454,13 @@ def jump_profile(x, width):
     for j in range(count):
         power[j + 1] = power[j] + x[j] * x[j]
     out = np.zeros(count)
-    for k in range(4 * width, count):
+    # the samples whose windows are within x first, with no bounds to clip: that loop runs in vector instructions
+    inner = max(4 * width, count - width)
+    for k in range(4 * width, inner):
+        after = (power[k + width] - power[k]) / width
+        before = (power[k] - power[k - 4 * width]) / (4 * width)
+        out[k] = math.sqrt(after / max(before, 1e-300 + after * 1e-12))
+    for k in range(inner, count):
         after = (power[min(k + width, count)] - power[k]) / width
         before = (power[k] - power[max(k - 4 * width, 0)]) / (4 * width)
         out[k] = math.sqrt(after / max(before, 1e-300 + after * 1e-12))

@@ -687,23 +687,24 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
     if not peak > 1e-9:  # −180 dB full scale: digital silence
         return _no_onsets("the signal is silent", info, source, config)
     band = band / peak
+    rise = np.diff(band, prepend=band[0])  # the first difference, centred ½ sample early: several stages read it
     tonal = _tonal_innovation(band, rate, config)
-    heard = _heard_jumps(band, rate, tonal, config)
+    heard = _heard_jumps(rise, rate, tonal, config)
     first, _ = heard.merge()
     modes, residual = _modes_band(band, rate, tonal.q, first, config)
     deep, residual = _quiet_jumps(modes, first, residual, rate, config)
-    candidates, modes = _judged(band, rate, tonal, modes, heard.merge(deep), config)
+    candidates, modes = _judged(rise, rate, tonal, modes, heard.merge(deep), config)
     if modes.reverberant:
         candidates = _try_later(modes, candidates, residual, rate, config)
         candidates = _last_round(modes, candidates, rate, config)
     candidates = _search_after_louder(modes, candidates, rate, config)
     candidates = _impulsive(modes, candidates, rate, config)
-    candidates = _first_transients(band, rate, candidates.take(candidates.attack), config)
+    candidates = _first_transients(np.abs(rise), rate, candidates.take(candidates.attack), config)
     found = candidates.times
     candidates = _fit_template(band, rate, candidates, config)
     amplitude, floor = _levels(band, rate, tonal.q, first, _measured_at(candidates, found, rate, config),
                                modes.reverberant, config)
-    candidates, amplitude = _one_attack_each(band, rate, candidates, amplitude, config)
+    candidates, amplitude = _one_attack_each(np.abs(rise), rate, candidates, amplitude, config)
     candidates = _out_of_decay(band, rate, candidates, amplitude, config)
     candidates = _learned_lead_ins(band, rate, candidates, config)
     onsets = _reported(candidates, amplitude, floor, {**info, "analysis_rate": tonal.rate}, source, rate, config)
@@ -862,10 +863,10 @@ def _tonal_innovation(band, rate, config):
     return _Innovation(innovation, q, delay, low_rate)
 
 
-def _heard_jumps(band, rate, tonal, config):
-    """Steps 2 and 3: the jumps of the decimated innovation (``tonal``) and of the first difference at full rate."""
+def _heard_jumps(rise, rate, tonal, config):
+    """Steps 2 and 3: the jumps of the decimated innovation (``tonal``) and of the first difference at full rate (``rise``)."""
     tonal_onsets = [tonal.samples(k) for k in _jumps(tonal.e, tonal.rate, config.min_interval, config.min_jump)]
-    broadband = [k - 0.5 for k in _jumps(np.diff(band, prepend=band[0]), rate, config.min_interval,
+    broadband = [k - 0.5 for k in _jumps(rise, rate, config.min_interval,
                                          config.broadband_jump)]  # the difference is centred ½ sample early
 
     # each tonal onset's rise, once (the merges ask for it again and again)
@@ -910,8 +911,9 @@ def _quiet_jumps(modes, first, residual, rate, config):
     return deep, residual
 
 
-def _judged(band, rate, tonal, modes, merged, config):
-    """Step 4's judgement of the ``merged`` onsets (times, kinds): their times, whether each is an attack.
+def _judged(rise, rate, tonal, modes, merged, config):
+    """Step 4's judgement of the ``merged`` onsets (times, kinds): their times, whether each is an attack (``rise``:
+    the band's first difference).
 
     Returns the :class:`_Candidates` and ``modes`` with the offset of its fitted times (:func:`_retime`).
     """
@@ -920,7 +922,7 @@ def _judged(band, rate, tonal, modes, merged, config):
     likeness = pursuit.likeness
     times, offset = _retime(times, kinds, modes.samples(pursuit.where), likeness, config.precise_likeness)
     tonal_jump = _jump_at(tonal.e, tonal.at(times), tonal.rate)
-    broadband_jump = _jump_at(np.diff(band, prepend=band[0]), times + 0.5, rate)
+    broadband_jump = _jump_at(rise, times + 0.5, rate)
     rises = (tonal_jump >= config.min_jump) | ((broadband_jump >= config.broadband_jump)
                                               & (tonal_jump >= config.tonal_support))
     weak = (likeness >= config.weak_likeness) & (tonal_jump >= config.weak_rise)  # half like it, rising a little
@@ -1137,13 +1139,13 @@ def _impulsive(modes, candidates, rate, config):
     return replace(candidates, attack=attack)
 
 
-def _first_transients(band, rate, candidates, config):
+def _first_transients(d, rate, candidates, config):
     """Step 5's first part: each attack moved to its first transient, the first sample its sound stands out at.
 
     The stages before place an onset on its sound's main rise, which a recorded sample may reach
     1-2 ms after its first transient (a click), or on a faint lead-in milliseconds before it out of
     digital silence. Within ``start_reach`` s of it (and half way to its neighbours), the onset is the
-    first sample where the first difference of ``band`` passes ``start_db`` re its peak over the 5 ms
+    first sample where ``d`` (the magnitude of the band's first difference) passes ``start_db`` re its peak over the 5 ms
     after where it was found and ``start_over`` times its own peak over the ``start_reach`` s before
     (the earlier sound, the noise), that earlier peak being under ``start_clear_db`` re the peak (else
     the first transient is hidden under it). It stays where it was when no sample is such.
@@ -1153,7 +1155,6 @@ def _first_transients(band, rate, candidates, config):
     reach = round(config.start_reach * rate)
     if reach < 1:
         return candidates
-    d = np.abs(np.diff(band, prepend=band[0]))
     horizon = max(1, round(5e-3 * rate))
     times = candidates.times.copy()
     for i in range(len(times)):
@@ -1378,7 +1379,7 @@ def _new_sound(band, rate, candidates, config):
     return replace(candidates, attack=attack)
 
 
-def _one_attack_each(band, rate, candidates, amplitude, config):
+def _one_attack_each(d, rate, candidates, amplitude, config):
     """Step 5: an attack followed within ``start_reach`` s by one ``lead_db`` louder is one attack with it.
 
     A recorded sample's first click can be found as an attack of its own, about 1-3 ms before its
@@ -1398,12 +1399,12 @@ def _one_attack_each(band, rate, candidates, amplitude, config):
     (kind 3, :func:`_fit_template`) followed within ``template_reach`` s by one it did not is that
     one's start: the template found the attack's start, the detection is its late time (up to the
     reach the template seeks an attack over); one attack, at the earlier time, with the later's
-    level (:func:`_measured_at`). Returns the candidates and their amplitudes.
+    level (:func:`_measured_at`). ``d`` is the magnitude of the band's first difference. Returns the candidates
+    and their amplitudes.
     """
     which = np.flatnonzero(candidates.attack)
     if len(which) < 2:
         return candidates, amplitude
-    d = np.abs(np.diff(band, prepend=band[0]))
     width, reach = max(1, round(0.25e-3 * rate)), round(config.start_reach * rate)
     keep, amplitude = np.ones(len(candidates), dtype=bool), amplitude.copy()
     for i, j in itertools.pairwise(which):
