@@ -93,3 +93,17 @@ def test_jump_profile_is_the_windows_rms_jump(rng, n):
     jump = np.sqrt(after / np.maximum(before, 1e-300 + after * 1e-12))
     jump[:4 * width] = 0.0
     np.testing.assert_array_equal(_kernels.jump_profile(x, width), jump)
+
+
+def test_least_unexplained_is_numpys_argmin(rng):
+    for _ in range(300):
+        length, count = int(rng.integers(16, 400)), int(rng.integers(1, 30))
+        part = _uneven(rng, length + count - 1)
+        head = part[3:3 + length].copy() if rng.random() < 0.3 and count > 3 else rng.standard_normal(length)
+        energy = head @ head
+        cross = np.correlate(part, head, "valid")
+        power = np.cumsum(np.concatenate([[0.0], part * part]))
+        own = power[length:] - power[:-length]
+        unexplained = (own - cross * cross / energy) / np.maximum(own, np.finfo(float).tiny)
+        k = int(np.argmin(unexplained))
+        assert _kernels.least_unexplained(part, cross, energy, length) == (k, unexplained[k])

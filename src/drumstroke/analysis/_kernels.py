@@ -445,6 +445,28 @@ def solve_2x2(a00, a01, a10, a11, b0, b1):
     return (b0 - a01 * w1) / a00, w1
 
 
+@jit
+def least_unexplained(part, cross, energy, length):
+    """Where a template of ``energy`` leaves the least of ``part``'s windows of ``length`` unexplained, given their
+    ``cross`` products with it: ``k`` and the fraction ``(own - cross² / energy) / own`` (``own``: the window's
+    energy by running sums from ``part[0]``), as :func:`.onsets._best_template` computed it with numpy (the first
+    least, or the first nan)."""
+    power = np.empty(len(part) + 1)
+    power[0] = 0.0
+    for j in range(len(part)):
+        power[j + 1] = power[j] + part[j] * part[j]
+    tiny = np.finfo(np.float64).tiny
+    best, at = np.inf, 0
+    for k in range(len(cross)):
+        own = power[k + length] - power[k]
+        unexplained = (own - cross[k] * cross[k] / energy) / max(own, tiny)
+        if math.isnan(unexplained):
+            return k, unexplained
+        if unexplained < best or k == 0:
+            best, at = unexplained, k
+    return at, best
+
+
 @jit(error_model="numpy")
 def jump_profile(x, width):
     """The RMS jump of ``x`` at each sample (:func:`.onsets._windows`' next ``width`` samples over the 4 ``width``

@@ -1576,6 +1576,8 @@ def _best_template(rest, start, following, templates, need, shift):
 
     Templates of ``need`` samples at least (to the end of the next onset's window) are preferred, else the longest.
     """
+    from ._kernels import least_unexplained
+
     usable = [t for t in templates if len(t) >= need] or sorted(templates, key=len)[-1:]
     best = None
     for template in usable:
@@ -1588,12 +1590,9 @@ def _best_template(rest, start, following, templates, need, shift):
         if not energy > 0.0:
             continue
         cross = np.correlate(part, head, "valid")
-        power = np.cumsum(np.concatenate([[0.0], part * part]))
-        own = power[length:] - power[:-length]
-        unexplained = (own - cross * cross / energy) / np.maximum(own, np.finfo(float).tiny)
-        k = int(np.argmin(unexplained))
-        if best is None or unexplained[k] < best[0]:
-            best = (unexplained[k], low + k, cross[k] / energy, template)
+        k, unexplained = least_unexplained(part, cross, energy, length)
+        if best is None or unexplained < best[0]:
+            best = (unexplained, low + k, cross[k] / energy, template)
     return None if best is None else best[1:]
 
 
