@@ -107,3 +107,34 @@ def test_least_unexplained_is_numpys_argmin(rng):
         unexplained = (own - cross * cross / energy) / np.maximum(own, np.finfo(float).tiny)
         k = int(np.argmin(unexplained))
         assert _kernels.least_unexplained(part, cross, energy, length) == (k, unexplained[k])
+
+
+def _first_transients_numpy(d, times, reach, horizon, least, over, clear):
+    """The numpy and scipy loop first_transients stands for."""
+    from scipy.ndimage import maximum_filter1d
+
+    times = times.copy()
+    for i in range(len(times)):
+        c = round(times[i])
+        low = max(reach, c - reach, int(np.ceil((times[i - 1] + c) / 2)) if i else 0)
+        high = min(len(d), c + reach, int((times[i + 1] + c) / 2) if i + 1 < len(times) else len(d))
+        peak = d[c:min(len(d), c + horizon)].max(initial=0.0)
+        if high - low < 2 or not peak > 0.0:
+            continue
+        prior = maximum_filter1d(d[low - reach:high - 1], reach, origin=-(reach // 2))[:high - low]
+        above = np.flatnonzero((d[low:high] > peak * least) & (d[low:high] > over * prior) & (prior <= peak * clear))
+        if len(above):
+            times[i] = low + above[0] - 0.5
+    return times
+
+
+def test_first_transients_are_the_numpy_loops(rng):
+    for _ in range(200):
+        n = int(rng.integers(200, 5000))
+        d = np.abs(_uneven(rng, n))
+        count = int(rng.integers(1, 12))
+        times = np.sort(rng.choice(n, count, replace=False)) + rng.choice([0.0, 0.5, -0.5], count)
+        reach, horizon = int(rng.integers(1, 150)), int(rng.integers(1, 240))
+        least, over, clear = 10.0 ** (rng.uniform(-40, 0) / 20.0), rng.uniform(1.0, 4.0), 10.0 ** (rng.uniform(-40, 0) / 20.0)
+        np.testing.assert_array_equal(_kernels.first_transients(d, times, reach, horizon, least, over, clear),
+                                      _first_transients_numpy(d, times, reach, horizon, least, over, clear))

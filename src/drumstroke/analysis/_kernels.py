@@ -467,6 +467,39 @@ def least_unexplained(part, cross, energy, length):
     return at, best
 
 
+@jit
+def first_transients(d, times, reach, horizon, least, over, clear):
+    """:func:`.onsets._first_transients`' times (a new array): each of ``times`` (increasing, full-rate samples) moved
+    to the first sample within ``reach`` of it (and half way to its neighbours, the earlier one as moved) where ``d``
+    passes ``least`` times its peak over the ``horizon`` after it and ``over`` times its own peak over the ``reach``
+    before (scipy's maximum_filter1d there), that earlier peak ``clear`` times the peak at most; less half a sample."""
+    out = times.copy()
+    queue = np.empty(len(d) + 1, dtype=np.int64)  # a window's candidates for its maximum, their values decreasing
+    for i in range(len(out)):
+        c = int(np.rint(out[i]))
+        low = max(reach, c - reach, math.ceil((out[i - 1] + c) / 2) if i else 0)
+        high = min(len(d), c + reach, int((out[i + 1] + c) / 2) if i + 1 < len(out) else len(d))
+        peak = 0.0
+        for j in range(c, min(len(d), c + horizon)):
+            peak = max(peak, d[j])
+        if high - low < 2 or not peak > 0.0:
+            continue
+        first, last = 0, 0
+        for j in range(low - reach, high):
+            if j >= low:  # the window of the reach before j: d[j - reach:j]
+                while queue[first] < j - reach:
+                    first += 1
+                prior = d[queue[first]]
+                if d[j] > peak * least and d[j] > over * prior and prior <= peak * clear:
+                    out[i] = j - 0.5
+                    break
+            while last > first and d[queue[last - 1]] <= d[j]:
+                last -= 1
+            queue[last] = j
+            last += 1
+    return out
+
+
 @jit(error_model="numpy")
 def jump_profile(x, width):
     """The RMS jump of ``x`` at each sample (:func:`.onsets._windows`' next ``width`` samples over the 4 ``width``

@@ -947,31 +947,43 @@ def _softer_attacks(modes, times, attack, pursuit, rate, config):
     """
     clear = round(config.signature * rate)
     out = attack.copy()
-    last = -np.inf
+    last, heads = -np.inf, None
     for i in range(len(times)):
         if out[i]:
             last = times[i]
         elif pursuit.jumps[i] >= config.soft_jump and times[i] - last >= clear:
             k = round(modes.at(times[i]))
-            out[i] = _soft_likeness(modes.e, pursuit.template, k, modes.rate, config) >= config.likeness
+            heads = heads or _soft_heads(pursuit.template, modes.rate, config)  # smoothed once, where one is tried
+            out[i] = _soft_likeness(modes.e, heads, k) >= config.likeness
             if out[i]:
                 last = times[i]
     return out
 
 
-def _soft_likeness(e, template, k, rate, config):
-    """The largest correlation (magnitude) of ``e`` at sample ``k`` with the signature's start smoothed by a contact.
+def _soft_heads(template, rate, config):
+    """The signature's start (``template``: its spike and ``head`` samples) smoothed by each contact: half sines of 1 to
+    ``soft_contact`` s (at ``rate`` Hz; 1 sample: no smoothing), each head with the contact's length more.
 
-    The contacts are half sines of 1 to ``soft_contact`` s (at ``rate`` Hz, 1 sample: no smoothing);
-    each smoothed start (its spike and ``head`` samples, and the contact's length) is tried from two
-    samples before its alignment with ``k`` to two and half the contact after (it peaks later).
+    Returns the spike's sample and, for each contact, its length (samples), the smoothed head and its norm.
     """
     spike = int(np.argmax(np.abs(template)))
-    best = 0.0
+    heads = []
     for width in range(1, max(1, round(config.soft_contact * rate)) + 1):
         pulse = np.sin(np.pi * (np.arange(width) + 0.5) / width)
         head = np.convolve(template, pulse / pulse.sum())[:spike + config.head + width]
-        norm = float(np.sqrt(head @ head))
+        heads.append((width, head, float(np.sqrt(head @ head))))
+    return spike, heads
+
+
+def _soft_likeness(e, heads, k):
+    """The largest correlation (magnitude) of ``e`` at sample ``k`` with the signature's start smoothed by a contact.
+
+    Each smoothed start (:func:`_soft_heads`) is tried from two samples before its alignment with ``k``
+    to two and half the contact after (it peaks later).
+    """
+    spike, heads = heads
+    best = 0.0
+    for width, head, norm in heads:
         for s in range(max(0, k - spike - 2), min(len(e) - len(head), k - spike + 2 + width // 2) + 1):
             part = e[s:s + len(head)]
             best = max(best, abs(float(part @ head)) / (float(np.sqrt(part @ part)) * norm + 1e-300))
@@ -1150,26 +1162,14 @@ def _first_transients(d, rate, candidates, config):
     (the earlier sound, the noise), that earlier peak being under ``start_clear_db`` re the peak (else
     the first transient is hidden under it). It stays where it was when no sample is such.
     """
-    from scipy.ndimage import maximum_filter1d
+    from ._kernels import first_transients
 
     reach = round(config.start_reach * rate)
     if reach < 1:
         return candidates
-    horizon = max(1, round(5e-3 * rate))
-    times = candidates.times.copy()
-    for i in range(len(times)):
-        c = round(times[i])
-        low = max(reach, c - reach, int(np.ceil((times[i - 1] + c) / 2)) if i else 0)
-        high = min(len(d), c + reach, int((times[i + 1] + c) / 2) if i + 1 < len(times) else len(d))
-        peak = d[c:min(len(d), c + horizon)].max(initial=0.0)
-        if high - low < 2 or not peak > 0.0:
-            continue
-        prior = maximum_filter1d(d[low - reach:high - 1], reach, origin=-(reach // 2))[:high - low]  # the reach before each
-        stands = ((d[low:high] > peak * 10.0 ** (config.start_db / 20.0)) & (d[low:high] > config.start_over * prior)
-                  & (prior <= peak * 10.0 ** (config.start_clear_db / 20.0)))
-        above = np.flatnonzero(stands)
-        if len(above):
-            times[i] = low + above[0] - 0.5  # the difference is centred half a sample early
+    times = first_transients(np.ascontiguousarray(d), np.ascontiguousarray(candidates.times, dtype=float), reach,
+                             max(1, round(5e-3 * rate)), 10.0 ** (config.start_db / 20.0), config.start_over,
+                             10.0 ** (config.start_clear_db / 20.0))
     if not np.all(np.diff(times) > 0):
         return candidates
     return replace(candidates, times=times)
