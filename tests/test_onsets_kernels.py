@@ -138,3 +138,21 @@ def test_first_transients_are_the_numpy_loops(rng):
         least, over, clear = 10.0 ** (rng.uniform(-40, 0) / 20.0), rng.uniform(1.0, 4.0), 10.0 ** (rng.uniform(-40, 0) / 20.0)
         np.testing.assert_array_equal(_kernels.first_transients(d, times, reach, horizon, least, over, clear),
                                       _first_transients_numpy(d, times, reach, horizon, least, over, clear))
+
+
+def test_peaks_around_are_the_slices_maxima(rng):
+    d = np.abs(_uneven(rng, 3000))
+    centres = np.concatenate(([0, 1, 5, 2999], rng.integers(0, 3000, 200)))
+    for after, before, gap in [(96, 240, 24), (1, 1, 0), (500, 10, 10), (10, 500, 600)]:
+        ahead, prior = _kernels.peaks_around(d, centres, after, before, gap)
+        np.testing.assert_array_equal(ahead, [d[c:c + after].max(initial=0.0) for c in centres])
+        np.testing.assert_array_equal(prior, [d[max(0, c - before):max(1, c - gap)].max(initial=0.0) for c in centres])
+
+
+def test_first_at_least_is_the_first_nonzero(rng):
+    d = np.abs(_uneven(rng, 3000))
+    lows = rng.integers(0, 3000, 300)
+    highs = lows + rng.integers(0, 400, 300)
+    levels = rng.uniform(0.0, 3.0, 300) * np.median(d)
+    expected = [np.append(np.flatnonzero(d[a:b] >= v), -1)[0] for a, b, v in zip(lows, highs, levels)]
+    np.testing.assert_array_equal(_kernels.first_at_least(d, lows, highs, levels), expected)

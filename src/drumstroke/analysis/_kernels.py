@@ -500,6 +500,33 @@ def first_transients(d, times, reach, horizon, least, over, clear):
     return out
 
 
+@jit
+def peaks_around(d, centres, after, before, gap):
+    """For each of ``centres`` (samples of ``d``), ``d[c:c + after].max(initial=0.0)`` and
+    ``d[max(0, c - before):max(1, c - gap)].max(initial=0.0)``: the peak over the ``after`` samples from it and over
+    the ``before`` samples before it, less the ``gap`` samples just before."""
+    ahead, prior = np.zeros(len(centres)), np.zeros(len(centres))
+    for i in range(len(centres)):
+        c = centres[i]
+        for j in range(c, min(len(d), c + after)):
+            ahead[i] = max(ahead[i], d[j])
+        for j in range(max(0, c - before), min(len(d), max(1, c - gap))):
+            prior[i] = max(prior[i], d[j])
+    return ahead, prior
+
+
+@jit
+def first_at_least(d, lows, highs, levels):
+    """For each ``i``, the first sample of ``d[lows[i]:highs[i]]`` at least ``levels[i]`` (from ``lows[i]``), or -1."""
+    out = np.full(len(lows), -1, dtype=np.int64)
+    for i in range(len(lows)):
+        for j in range(lows[i], min(len(d), highs[i])):
+            if d[j] >= levels[i]:
+                out[i] = j - lows[i]
+                break
+    return out
+
+
 @jit(error_model="numpy")
 def jump_profile(x, width):
     """The RMS jump of ``x`` at each sample (:func:`.onsets._windows`' next ``width`` samples over the 4 ``width``

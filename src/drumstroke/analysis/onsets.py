@@ -1338,6 +1338,8 @@ def _out_of_decay(band, rate, candidates, amplitude, config):
     earlier peak by ``echo_rise_db`` (its first difference falls there: the earlier note goes on).
     Last, an attack must bring a sound of its own (:func:`_new_sound`).
     """
+    from ._kernels import peaks_around
+
     attack = candidates.attack
     if not np.any(attack):
         return candidates
@@ -1347,13 +1349,11 @@ def _out_of_decay(band, rate, candidates, amplitude, config):
     close = np.diff(candidates.times[which], prepend=-np.inf) <= config.echo_reach * rate
     least = np.where(quiet, config.decay_rise_db, config.echo_rise_db)
     d = np.abs(np.diff(band, prepend=band[0]))
-    after, before, gap = round(2e-3 * rate), round(5e-3 * rate), round(0.5e-3 * rate)
+    tried = which[quiet | close]
+    rise, prior = peaks_around(d, np.rint(candidates.times[tried]).astype(np.int64), round(2e-3 * rate),
+                               round(5e-3 * rate), round(0.5e-3 * rate))
     keep = attack.copy()
-    for i, rise_db in zip(which[quiet | close], least[quiet | close]):
-        c = round(candidates.times[i])
-        rise = d[c:c + after].max(initial=0.0)
-        prior = d[max(0, c - before):max(1, c - gap)].max(initial=0.0)
-        keep[i] = rise > prior * 10.0 ** (rise_db / 20.0)
+    keep[tried] = rise > prior * np.array([10.0 ** (rise_db / 20.0) for rise_db in least[quiet | close]])
     return _new_sound(band, rate, replace(candidates, attack=keep), config)
 
 
@@ -1445,19 +1445,16 @@ def _learned_lead_ins(band, rate, candidates, config):
     moves with fewer than 3 clear attacks, a lead-in under 0.25 ms or spread over more than 0.2 ms
     (interquartile: not a sample's own), or when the attacks would not stay in time order.
     """
+    from ._kernels import first_at_least, peaks_around
+
     which = np.flatnonzero(candidates.attack)
     d = np.abs(np.diff(band, prepend=band[0]))
-    after, before, gap = round(5e-3 * rate), round(5e-3 * rate), round(0.5e-3 * rate)
-    early, late = round(2e-3 * rate), round(3e-3 * rate)
-    rise, clear, over = np.zeros(len(which)), np.zeros(len(which), dtype=bool), np.zeros(len(which), dtype=bool)
-    for k, i in enumerate(which):
-        c = round(candidates.times[i])
-        peak = d[c:c + after].max(initial=0.0)
-        prior = d[max(0, c - before):max(1, c - gap)].max(initial=0.0)
-        clear[k], over[k] = prior <= peak * 10.0 ** (config.lead_clear_db / 20.0), prior < peak
-        low = max(0, c - early)
-        above = np.flatnonzero(d[low:c + late] >= config.lead_rise * peak)
-        rise[k] = low + above[0] if len(above) and peak > 0.0 else candidates.times[i]
+    centres = np.rint(candidates.times[which]).astype(np.int64)
+    peak, prior = peaks_around(d, centres, round(5e-3 * rate), round(5e-3 * rate), round(0.5e-3 * rate))
+    clear, over = prior <= peak * 10.0 ** (config.lead_clear_db / 20.0), prior < peak
+    low = np.maximum(0, centres - round(2e-3 * rate))
+    above = first_at_least(d, low, centres + round(3e-3 * rate), config.lead_rise * peak)
+    rise = np.where((above >= 0) & (peak > 0.0), low + above, candidates.times[which])
     if clear.sum() < 3:
         return candidates
     leads = rise[clear] - candidates.times[which[clear]]
