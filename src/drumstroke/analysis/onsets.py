@@ -1988,11 +1988,12 @@ def _attack_amplitudes(low, coefficients, positions, rate, *, tail=0, sure=None,
         if k < len(coefficients) - 1 or stop <= k or not sure[i]:
             continue
         own = e[k:stop].copy()
-        for j in np.flatnonzero(sure[:i]):  # the earlier onsets' tails over this onset's window
-            lag = k - starts[j]
-            if horizon <= lag < len(h):
-                part = h[lag:lag + stop - k]
-                own[:len(part)] -= amplitude[j] * part
+        earlier = np.flatnonzero(sure[:i])
+        lags = k - starts[earlier]
+        within = (lags >= horizon) & (lags < len(h))
+        for j, lag in zip(earlier[within], lags[within]):  # the earlier onsets' tails over this onset's window, in order
+            part = h[lag:lag + stop - k]
+            own[:len(part)] -= amplitude[j] * part
         own = lfilter([1.0], coefficients, own)  # the predictor's response: the sound less its extrapolation
         out[i] = upsampled_peak(interpolator, np.concatenate((np.zeros(4), own, np.zeros(4))))
     return out
