@@ -82,3 +82,77 @@ def test_change_points_are_each_peaks_aic(rng):
     peaks = np.array([10, 300, 2500, 4990], dtype=np.int64)
     want = [max(0, p - 48) + _kernels.aic(x[max(0, p - 48):p + 24]) for p in peaks]
     np.testing.assert_array_equal(_kernels.change_points(x, peaks, 12), want)
+
+
+@pytest.mark.parametrize("n", [30, 241, 20001])
+def test_jump_profile_is_the_windows_rms_jump(rng, n):
+    from drumstroke.analysis.onsets import _windows
+
+    x = _uneven(rng, n)
+    after, before, width = _windows(x, 48000)
+    jump = np.sqrt(after / np.maximum(before, 1e-300 + after * 1e-12))
+    jump[:4 * width] = 0.0
+    np.testing.assert_array_equal(_kernels.jump_profile(x, width), jump)
+
+
+def test_least_unexplained_is_numpys_argmin(rng):
+    for _ in range(300):
+        length, count = int(rng.integers(16, 400)), int(rng.integers(1, 30))
+        part = _uneven(rng, length + count - 1)
+        head = part[3:3 + length].copy() if rng.random() < 0.3 and count > 3 else rng.standard_normal(length)
+        energy = head @ head
+        cross = np.correlate(part, head, "valid")
+        power = np.cumsum(np.concatenate([[0.0], part * part]))
+        own = power[length:] - power[:-length]
+        unexplained = (own - cross * cross / energy) / np.maximum(own, np.finfo(float).tiny)
+        k = int(np.argmin(unexplained))
+        assert _kernels.least_unexplained(part, cross, energy, length) == (k, unexplained[k])
+
+
+def _first_transients_numpy(d, times, reach, horizon, least, over, clear):
+    """The numpy and scipy loop first_transients stands for."""
+    from scipy.ndimage import maximum_filter1d
+
+    times = times.copy()
+    for i in range(len(times)):
+        c = round(times[i])
+        low = max(reach, c - reach, int(np.ceil((times[i - 1] + c) / 2)) if i else 0)
+        high = min(len(d), c + reach, int((times[i + 1] + c) / 2) if i + 1 < len(times) else len(d))
+        peak = d[c:min(len(d), c + horizon)].max(initial=0.0)
+        if high - low < 2 or not peak > 0.0:
+            continue
+        prior = maximum_filter1d(d[low - reach:high - 1], reach, origin=-(reach // 2))[:high - low]
+        above = np.flatnonzero((d[low:high] > peak * least) & (d[low:high] > over * prior) & (prior <= peak * clear))
+        if len(above):
+            times[i] = low + above[0] - 0.5
+    return times
+
+
+def test_first_transients_are_the_numpy_loops(rng):
+    for _ in range(200):
+        n = int(rng.integers(200, 5000))
+        d = np.abs(_uneven(rng, n))
+        count = int(rng.integers(1, 12))
+        times = np.sort(rng.choice(n, count, replace=False)) + rng.choice([0.0, 0.5, -0.5], count)
+        reach, horizon = int(rng.integers(1, 150)), int(rng.integers(1, 240))
+        least, over, clear = 10.0 ** (rng.uniform(-40, 0) / 20.0), rng.uniform(1.0, 4.0), 10.0 ** (rng.uniform(-40, 0) / 20.0)
+        np.testing.assert_array_equal(_kernels.first_transients(d, times, reach, horizon, least, over, clear),
+                                      _first_transients_numpy(d, times, reach, horizon, least, over, clear))
+
+
+def test_peaks_around_are_the_slices_maxima(rng):
+    d = np.abs(_uneven(rng, 3000))
+    centres = np.concatenate(([0, 1, 5, 2999], rng.integers(0, 3000, 200)))
+    for after, before, gap in [(96, 240, 24), (1, 1, 0), (500, 10, 10), (10, 500, 600)]:
+        ahead, prior = _kernels.peaks_around(d, centres, after, before, gap)
+        np.testing.assert_array_equal(ahead, [d[c:c + after].max(initial=0.0) for c in centres])
+        np.testing.assert_array_equal(prior, [d[max(0, c - before):max(1, c - gap)].max(initial=0.0) for c in centres])
+
+
+def test_first_at_least_is_the_first_nonzero(rng):
+    d = np.abs(_uneven(rng, 3000))
+    lows = rng.integers(0, 3000, 300)
+    highs = lows + rng.integers(0, 400, 300)
+    levels = rng.uniform(0.0, 3.0, 300) * np.median(d)
+    expected = [np.append(np.flatnonzero(d[a:b] >= v), -1)[0] for a, b, v in zip(lows, highs, levels)]
+    np.testing.assert_array_equal(_kernels.first_at_least(d, lows, highs, levels), expected)

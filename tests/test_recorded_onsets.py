@@ -251,7 +251,7 @@ def test_a_first_click_out_of_silence_is_the_note_even_where_its_sound_dips_afte
 def test_a_softer_strokes_attack_is_its_signature_smoothed_by_a_longer_contact():
     """The signature smoothed by a half-sine contact, placed in silence, is found alike (correlation 1) by the soft
     likeness at each contact up to ``soft_contact``, while the signature alone (``soft_contact=0``) likens it less."""
-    from drumstroke.analysis.onsets import _soft_likeness
+    from drumstroke.analysis.onsets import _soft_heads, _soft_likeness
 
     rng = np.random.default_rng(3)
     rate = 2000.0
@@ -261,8 +261,8 @@ def test_a_softer_strokes_attack_is_its_signature_smoothed_by_a_longer_contact()
         pulse = np.sin(np.pi * (np.arange(width) + 0.5) / width)
         e = np.zeros(400)
         e[148:148 + 100 + width - 1] = np.convolve(template, pulse / pulse.sum())  # its onset at sample 150
-        assert _soft_likeness(e, template, 150, rate, OnsetConfig()) == pytest.approx(1.0, abs=1e-9)
-        assert _soft_likeness(e, template, 150, rate, OnsetConfig(soft_contact=0.0)) < 0.95
+        assert _soft_likeness(e, _soft_heads(template, rate, OnsetConfig()), 150) == pytest.approx(1.0, abs=1e-9)
+        assert _soft_likeness(e, _soft_heads(template, rate, OnsetConfig(soft_contact=0.0)), 150) < 0.95
 
 
 def test_ghost_notes_of_a_softer_sample_are_found():

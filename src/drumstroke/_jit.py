@@ -41,7 +41,7 @@ class _Cache(FunctionCache):
             pass
 
 
-def jit(function=None, *, inline="never", parallel=False):
+def jit(function=None, *, inline="never", parallel=False, error_model="python"):
     """``numba.njit(cache=True)``: ``function`` compiled on its first call (or loaded from the cache on disk).
 
     Parameters
@@ -52,14 +52,17 @@ def jit(function=None, *, inline="never", parallel=False):
         numba's ``inline``: "always" compiles the function into each kernel that calls it.
     parallel : bool
         numba's ``parallel``: ``prange`` loops run on every core.
+    error_model : {"python", "numpy"}
+        numba's ``error_model``: "numpy" divides by zero as numpy does (inf, nan) instead of raising, so that a
+        loop of divisions needs no check per division and may run in vector instructions (the same results).
 
     Returns
     -------
     numba's dispatcher of ``function``, with a cache that loads without the compiler.
     """
     if function is None:
-        return partial(jit, inline=inline, parallel=parallel)
-    dispatcher = njit(inline=inline, parallel=parallel)(function)
+        return partial(jit, inline=inline, parallel=parallel, error_model=error_model)
+    dispatcher = njit(inline=inline, parallel=parallel, error_model=error_model)(function)
     if dispatcher is not function:  # (NUMBA_DISABLE_JIT=1 gives the function back)
         dispatcher._cache = _Cache(function)  # what cache=True does (numba's enable_caching), with this cache
     return dispatcher

@@ -446,6 +446,88 @@ def solve_2x2(a00, a01, a10, a11, b0, b1):
 
 
 @jit
+def least_unexplained(part, cross, energy, length):
+    """Where a template of ``energy`` leaves the least of ``part``'s windows of ``length`` unexplained, given their
+    ``cross`` products with it: ``k`` and the fraction ``(own - cross² / energy) / own`` (``own``: the window's
+    energy by running sums from ``part[0]``), as :func:`.onsets._best_template` computed it with numpy (the first
+    least, or the first nan)."""
+    power = np.empty(len(part) + 1)
+    power[0] = 0.0
+    for j in range(len(part)):
+        power[j + 1] = power[j] + part[j] * part[j]
+    tiny = np.finfo(np.float64).tiny
+    best, at = np.inf, 0
+    for k in range(len(cross)):
+        own = power[k + length] - power[k]
+        unexplained = (own - cross[k] * cross[k] / energy) / max(own, tiny)
+        if math.isnan(unexplained):
+            return k, unexplained
+        if unexplained < best or k == 0:
+            best, at = unexplained, k
+    return at, best
+
+
+@jit
+def first_transients(d, times, reach, horizon, least, over, clear):
+    """:func:`.onsets._first_transients`' times (a new array): each of ``times`` (increasing, full-rate samples) moved
+    to the first sample within ``reach`` of it (and half way to its neighbours, the earlier one as moved) where ``d``
+    passes ``least`` times its peak over the ``horizon`` after it and ``over`` times its own peak over the ``reach``
+    before (scipy's maximum_filter1d there), that earlier peak ``clear`` times the peak at most; less half a sample."""
+    out = times.copy()
+    queue = np.empty(len(d) + 1, dtype=np.int64)  # a window's candidates for its maximum, their values decreasing
+    for i in range(len(out)):
+        c = int(np.rint(out[i]))
+        low = max(reach, c - reach, math.ceil((out[i - 1] + c) / 2) if i else 0)
+        high = min(len(d), c + reach, int((out[i + 1] + c) / 2) if i + 1 < len(out) else len(d))
+        peak = 0.0
+        for j in range(c, min(len(d), c + horizon)):
+            peak = max(peak, d[j])
+        if high - low < 2 or not peak > 0.0:
+            continue
+        first, last = 0, 0
+        for j in range(low - reach, high):
+            if j >= low:  # the window of the reach before j: d[j - reach:j]
+                while queue[first] < j - reach:
+                    first += 1
+                prior = d[queue[first]]
+                if d[j] > peak * least and d[j] > over * prior and prior <= peak * clear:
+                    out[i] = j - 0.5
+                    break
+            while last > first and d[queue[last - 1]] <= d[j]:
+                last -= 1
+            queue[last] = j
+            last += 1
+    return out
+
+
+@jit
+def peaks_around(d, centres, after, before, gap):
+    """For each of ``centres`` (samples of ``d``), ``d[c:c + after].max(initial=0.0)`` and
+    ``d[max(0, c - before):max(1, c - gap)].max(initial=0.0)``: the peak over the ``after`` samples from it and over
+    the ``before`` samples before it, less the ``gap`` samples just before."""
+    ahead, prior = np.zeros(len(centres)), np.zeros(len(centres))
+    for i in range(len(centres)):
+        c = centres[i]
+        for j in range(c, min(len(d), c + after)):
+            ahead[i] = max(ahead[i], d[j])
+        for j in range(max(0, c - before), min(len(d), max(1, c - gap))):
+            prior[i] = max(prior[i], d[j])
+    return ahead, prior
+
+
+@jit
+def first_at_least(d, lows, highs, levels):
+    """For each ``i``, the first sample of ``d[lows[i]:highs[i]]`` at least ``levels[i]`` (from ``lows[i]``), or -1."""
+    out = np.full(len(lows), -1, dtype=np.int64)
+    for i in range(len(lows)):
+        for j in range(lows[i], min(len(d), highs[i])):
+            if d[j] >= levels[i]:
+                out[i] = j - lows[i]
+                break
+    return out
+
+
+@jit(error_model="numpy")
 def jump_profile(x, width):
     """The RMS jump of ``x`` at each sample (:func:`.onsets._windows`' next ``width`` samples over the 4 ``width``
     before, the power summed in order from ``x[0]``), 0 over the first 4 ``width``."""
@@ -454,7 +536,13 @@ def jump_profile(x, width):
     for j in range(count):
         power[j + 1] = power[j] + x[j] * x[j]
     out = np.zeros(count)
-    for k in range(4 * width, count):
+    # the samples whose windows are within x first, with no bounds to clip: that loop runs in vector instructions
+    inner = max(4 * width, count - width)
+    for k in range(4 * width, inner):
+        after = (power[k + width] - power[k]) / width
+        before = (power[k] - power[k - 4 * width]) / (4 * width)
+        out[k] = math.sqrt(after / max(before, 1e-300 + after * 1e-12))
+    for k in range(inner, count):
         after = (power[min(k + width, count)] - power[k]) / width
         before = (power[k] - power[max(k - 4 * width, 0)]) / (4 * width)
         out[k] = math.sqrt(after / max(before, 1e-300 + after * 1e-12))

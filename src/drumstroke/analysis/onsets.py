@@ -687,23 +687,24 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
     if not peak > 1e-9:  # −180 dB full scale: digital silence
         return _no_onsets("the signal is silent", info, source, config)
     band = band / peak
+    rise = np.diff(band, prepend=band[0])  # the first difference, centred ½ sample early: several stages read it
     tonal = _tonal_innovation(band, rate, config)
-    heard = _heard_jumps(band, rate, tonal, config)
+    heard = _heard_jumps(rise, rate, tonal, config)
     first, _ = heard.merge()
     modes, residual = _modes_band(band, rate, tonal.q, first, config)
     deep, residual = _quiet_jumps(modes, first, residual, rate, config)
-    candidates, modes = _judged(band, rate, tonal, modes, heard.merge(deep), config)
+    candidates, modes = _judged(rise, rate, tonal, modes, heard.merge(deep), config)
     if modes.reverberant:
         candidates = _try_later(modes, candidates, residual, rate, config)
         candidates = _last_round(modes, candidates, rate, config)
     candidates = _search_after_louder(modes, candidates, rate, config)
     candidates = _impulsive(modes, candidates, rate, config)
-    candidates = _first_transients(band, rate, candidates.take(candidates.attack), config)
+    candidates = _first_transients(np.abs(rise), rate, candidates.take(candidates.attack), config)
     found = candidates.times
     candidates = _fit_template(band, rate, candidates, config)
     amplitude, floor = _levels(band, rate, tonal.q, first, _measured_at(candidates, found, rate, config),
                                modes.reverberant, config)
-    candidates, amplitude = _one_attack_each(band, rate, candidates, amplitude, config)
+    candidates, amplitude = _one_attack_each(np.abs(rise), rate, candidates, amplitude, config)
     decided = _out_of_decay(band, rate, candidates, amplitude, config)
     # an attack measured on a window cut at the next detection, refused here, is measured again without it
     cut = np.flatnonzero(decided.attack[:-1] & candidates.attack[1:] & ~decided.attack[1:])
@@ -868,10 +869,10 @@ def _tonal_innovation(band, rate, config):
     return _Innovation(innovation, q, delay, low_rate)
 
 
-def _heard_jumps(band, rate, tonal, config):
-    """Steps 2 and 3: the jumps of the decimated innovation (``tonal``) and of the first difference at full rate."""
+def _heard_jumps(rise, rate, tonal, config):
+    """Steps 2 and 3: the jumps of the decimated innovation (``tonal``) and of the first difference at full rate (``rise``)."""
     tonal_onsets = [tonal.samples(k) for k in _jumps(tonal.e, tonal.rate, config.min_interval, config.min_jump)]
-    broadband = [k - 0.5 for k in _jumps(np.diff(band, prepend=band[0]), rate, config.min_interval,
+    broadband = [k - 0.5 for k in _jumps(rise, rate, config.min_interval,
                                          config.broadband_jump)]  # the difference is centred ½ sample early
 
     # each tonal onset's rise, once (the merges ask for it again and again)
@@ -916,8 +917,9 @@ def _quiet_jumps(modes, first, residual, rate, config):
     return deep, residual
 
 
-def _judged(band, rate, tonal, modes, merged, config):
-    """Step 4's judgement of the ``merged`` onsets (times, kinds): their times, whether each is an attack.
+def _judged(rise, rate, tonal, modes, merged, config):
+    """Step 4's judgement of the ``merged`` onsets (times, kinds): their times, whether each is an attack (``rise``:
+    the band's first difference).
 
     Returns the :class:`_Candidates` and ``modes`` with the offset of its fitted times (:func:`_retime`).
     """
@@ -926,7 +928,7 @@ def _judged(band, rate, tonal, modes, merged, config):
     likeness = pursuit.likeness
     times, offset = _retime(times, kinds, modes.samples(pursuit.where), likeness, config.precise_likeness)
     tonal_jump = _jump_at(tonal.e, tonal.at(times), tonal.rate)
-    broadband_jump = _jump_at(np.diff(band, prepend=band[0]), times + 0.5, rate)
+    broadband_jump = _jump_at(rise, times + 0.5, rate)
     rises = (tonal_jump >= config.min_jump) | ((broadband_jump >= config.broadband_jump)
                                               & (tonal_jump >= config.tonal_support))
     weak = (likeness >= config.weak_likeness) & (tonal_jump >= config.weak_rise)  # half like it, rising a little
@@ -951,31 +953,43 @@ def _softer_attacks(modes, times, attack, pursuit, rate, config):
     """
     clear = round(config.signature * rate)
     out = attack.copy()
-    last = -np.inf
+    last, heads = -np.inf, None
     for i in range(len(times)):
         if out[i]:
             last = times[i]
         elif pursuit.jumps[i] >= config.soft_jump and times[i] - last >= clear:
             k = round(modes.at(times[i]))
-            out[i] = _soft_likeness(modes.e, pursuit.template, k, modes.rate, config) >= config.likeness
+            heads = heads or _soft_heads(pursuit.template, modes.rate, config)  # smoothed once, where one is tried
+            out[i] = _soft_likeness(modes.e, heads, k) >= config.likeness
             if out[i]:
                 last = times[i]
     return out
 
 
-def _soft_likeness(e, template, k, rate, config):
-    """The largest correlation (magnitude) of ``e`` at sample ``k`` with the signature's start smoothed by a contact.
+def _soft_heads(template, rate, config):
+    """The signature's start (``template``: its spike and ``head`` samples) smoothed by each contact: half sines of 1 to
+    ``soft_contact`` s (at ``rate`` Hz; 1 sample: no smoothing), each head with the contact's length more.
 
-    The contacts are half sines of 1 to ``soft_contact`` s (at ``rate`` Hz, 1 sample: no smoothing);
-    each smoothed start (its spike and ``head`` samples, and the contact's length) is tried from two
-    samples before its alignment with ``k`` to two and half the contact after (it peaks later).
+    Returns the spike's sample and, for each contact, its length (samples), the smoothed head and its norm.
     """
     spike = int(np.argmax(np.abs(template)))
-    best = 0.0
+    heads = []
     for width in range(1, max(1, round(config.soft_contact * rate)) + 1):
         pulse = np.sin(np.pi * (np.arange(width) + 0.5) / width)
         head = np.convolve(template, pulse / pulse.sum())[:spike + config.head + width]
-        norm = float(np.sqrt(head @ head))
+        heads.append((width, head, float(np.sqrt(head @ head))))
+    return spike, heads
+
+
+def _soft_likeness(e, heads, k):
+    """The largest correlation (magnitude) of ``e`` at sample ``k`` with the signature's start smoothed by a contact.
+
+    Each smoothed start (:func:`_soft_heads`) is tried from two samples before its alignment with ``k``
+    to two and half the contact after (it peaks later).
+    """
+    spike, heads = heads
+    best = 0.0
+    for width, head, norm in heads:
         for s in range(max(0, k - spike - 2), min(len(e) - len(head), k - spike + 2 + width // 2) + 1):
             part = e[s:s + len(head)]
             best = max(best, abs(float(part @ head)) / (float(np.sqrt(part @ part)) * norm + 1e-300))
@@ -1143,38 +1157,25 @@ def _impulsive(modes, candidates, rate, config):
     return replace(candidates, attack=attack)
 
 
-def _first_transients(band, rate, candidates, config):
+def _first_transients(d, rate, candidates, config):
     """Step 5's first part: each attack moved to its first transient, the first sample its sound stands out at.
 
     The stages before place an onset on its sound's main rise, which a recorded sample may reach
     1-2 ms after its first transient (a click), or on a faint lead-in milliseconds before it out of
     digital silence. Within ``start_reach`` s of it (and half way to its neighbours), the onset is the
-    first sample where the first difference of ``band`` passes ``start_db`` re its peak over the 5 ms
+    first sample where ``d`` (the magnitude of the band's first difference) passes ``start_db`` re its peak over the 5 ms
     after where it was found and ``start_over`` times its own peak over the ``start_reach`` s before
     (the earlier sound, the noise), that earlier peak being under ``start_clear_db`` re the peak (else
     the first transient is hidden under it). It stays where it was when no sample is such.
     """
-    from scipy.ndimage import maximum_filter1d
+    from ._kernels import first_transients
 
     reach = round(config.start_reach * rate)
     if reach < 1:
         return candidates
-    d = np.abs(np.diff(band, prepend=band[0]))
-    horizon = max(1, round(5e-3 * rate))
-    times = candidates.times.copy()
-    for i in range(len(times)):
-        c = round(times[i])
-        low = max(reach, c - reach, int(np.ceil((times[i - 1] + c) / 2)) if i else 0)
-        high = min(len(d), c + reach, int((times[i + 1] + c) / 2) if i + 1 < len(times) else len(d))
-        peak = d[c:min(len(d), c + horizon)].max(initial=0.0)
-        if high - low < 2 or not peak > 0.0:
-            continue
-        prior = maximum_filter1d(d[low - reach:high - 1], reach, origin=-(reach // 2))[:high - low]  # the reach before each
-        stands = ((d[low:high] > peak * 10.0 ** (config.start_db / 20.0)) & (d[low:high] > config.start_over * prior)
-                  & (prior <= peak * 10.0 ** (config.start_clear_db / 20.0)))
-        above = np.flatnonzero(stands)
-        if len(above):
-            times[i] = low + above[0] - 0.5  # the difference is centred half a sample early
+    times = first_transients(np.ascontiguousarray(d), np.ascontiguousarray(candidates.times, dtype=float), reach,
+                             max(1, round(5e-3 * rate)), 10.0 ** (config.start_db / 20.0), config.start_over,
+                             10.0 ** (config.start_clear_db / 20.0))
     if not np.all(np.diff(times) > 0):
         return candidates
     return replace(candidates, times=times)
@@ -1349,6 +1350,8 @@ def _out_of_decay(band, rate, candidates, amplitude, config):
     earlier peak by ``echo_rise_db`` (its first difference falls there: the earlier note goes on).
     Last, an attack must bring a sound of its own (:func:`_new_sound`).
     """
+    from ._kernels import peaks_around
+
     attack = candidates.attack
     if not np.any(attack):
         return candidates
@@ -1358,13 +1361,11 @@ def _out_of_decay(band, rate, candidates, amplitude, config):
     close = np.diff(candidates.times[which], prepend=-np.inf) <= config.echo_reach * rate
     least = np.where(quiet, config.decay_rise_db, config.echo_rise_db)
     d = np.abs(np.diff(band, prepend=band[0]))
-    after, before, gap = round(2e-3 * rate), round(5e-3 * rate), round(0.5e-3 * rate)
+    tried = which[quiet | close]
+    rise, prior = peaks_around(d, np.rint(candidates.times[tried]).astype(np.int64), round(2e-3 * rate),
+                               round(5e-3 * rate), round(0.5e-3 * rate))
     keep = attack.copy()
-    for i, rise_db in zip(which[quiet | close], least[quiet | close]):
-        c = round(candidates.times[i])
-        rise = d[c:c + after].max(initial=0.0)
-        prior = d[max(0, c - before):max(1, c - gap)].max(initial=0.0)
-        keep[i] = rise > prior * 10.0 ** (rise_db / 20.0)
+    keep[tried] = rise > prior * np.array([10.0 ** (rise_db / 20.0) for rise_db in least[quiet | close]])
     return _new_sound(band, rate, replace(candidates, attack=keep), config)
 
 
@@ -1390,7 +1391,7 @@ def _new_sound(band, rate, candidates, config):
     return replace(candidates, attack=attack)
 
 
-def _one_attack_each(band, rate, candidates, amplitude, config):
+def _one_attack_each(d, rate, candidates, amplitude, config):
     """Step 5: an attack followed within ``start_reach`` s by one ``lead_db`` louder is one attack with it.
 
     A recorded sample's first click can be found as an attack of its own, about 1-3 ms before its
@@ -1410,12 +1411,12 @@ def _one_attack_each(band, rate, candidates, amplitude, config):
     (kind 3, :func:`_fit_template`) followed within ``template_reach`` s by one it did not is that
     one's start: the template found the attack's start, the detection is its late time (up to the
     reach the template seeks an attack over); one attack, at the earlier time, with the later's
-    level (:func:`_measured_at`). Returns the candidates and their amplitudes.
+    level (:func:`_measured_at`). ``d`` is the magnitude of the band's first difference. Returns the candidates
+    and their amplitudes.
     """
     which = np.flatnonzero(candidates.attack)
     if len(which) < 2:
         return candidates, amplitude
-    d = np.abs(np.diff(band, prepend=band[0]))
     width, reach = max(1, round(0.25e-3 * rate)), round(config.start_reach * rate)
     keep, amplitude = np.ones(len(candidates), dtype=bool), amplitude.copy()
     for i, j in itertools.pairwise(which):
@@ -1456,19 +1457,16 @@ def _learned_lead_ins(band, rate, candidates, config):
     moves with fewer than 3 clear attacks, a lead-in under 0.25 ms or spread over more than 0.2 ms
     (interquartile: not a sample's own), or when the attacks would not stay in time order.
     """
+    from ._kernels import first_at_least, peaks_around
+
     which = np.flatnonzero(candidates.attack)
     d = np.abs(np.diff(band, prepend=band[0]))
-    after, before, gap = round(5e-3 * rate), round(5e-3 * rate), round(0.5e-3 * rate)
-    early, late = round(2e-3 * rate), round(3e-3 * rate)
-    rise, clear, over = np.zeros(len(which)), np.zeros(len(which), dtype=bool), np.zeros(len(which), dtype=bool)
-    for k, i in enumerate(which):
-        c = round(candidates.times[i])
-        peak = d[c:c + after].max(initial=0.0)
-        prior = d[max(0, c - before):max(1, c - gap)].max(initial=0.0)
-        clear[k], over[k] = prior <= peak * 10.0 ** (config.lead_clear_db / 20.0), prior < peak
-        low = max(0, c - early)
-        above = np.flatnonzero(d[low:c + late] >= config.lead_rise * peak)
-        rise[k] = low + above[0] if len(above) and peak > 0.0 else candidates.times[i]
+    centres = np.rint(candidates.times[which]).astype(np.int64)
+    peak, prior = peaks_around(d, centres, round(5e-3 * rate), round(5e-3 * rate), round(0.5e-3 * rate))
+    clear, over = prior <= peak * 10.0 ** (config.lead_clear_db / 20.0), prior < peak
+    low = np.maximum(0, centres - round(2e-3 * rate))
+    above = first_at_least(d, low, centres + round(3e-3 * rate), config.lead_rise * peak)
+    rise = np.where((above >= 0) & (peak > 0.0), low + above, candidates.times[which])
     if clear.sum() < 3:
         return candidates
     leads = rise[clear] - candidates.times[which[clear]]
@@ -1587,6 +1585,8 @@ def _best_template(rest, start, following, templates, need, shift):
 
     Templates of ``need`` samples at least (to the end of the next onset's window) are preferred, else the longest.
     """
+    from ._kernels import least_unexplained
+
     usable = [t for t in templates if len(t) >= need] or sorted(templates, key=len)[-1:]
     best = None
     for template in usable:
@@ -1599,12 +1599,9 @@ def _best_template(rest, start, following, templates, need, shift):
         if not energy > 0.0:
             continue
         cross = np.correlate(part, head, "valid")
-        power = np.cumsum(np.concatenate([[0.0], part * part]))
-        own = power[length:] - power[:-length]
-        unexplained = (own - cross * cross / energy) / np.maximum(own, np.finfo(float).tiny)
-        k = int(np.argmin(unexplained))
-        if best is None or unexplained[k] < best[0]:
-            best = (unexplained[k], low + k, cross[k] / energy, template)
+        k, unexplained = least_unexplained(part, cross, energy, length)
+        if best is None or unexplained < best[0]:
+            best = (unexplained, low + k, cross[k] / energy, template)
     return None if best is None else best[1:]
 
 
@@ -2003,11 +2000,12 @@ def _attack_amplitudes(low, coefficients, positions, rate, *, tail=0, sure=None,
         if k < len(coefficients) - 1 or stop <= k or not sure[i]:
             continue
         own = e[k:stop].copy()
-        for j in np.flatnonzero(sure[:i]):  # the earlier onsets' tails over this onset's window
-            lag = k - starts[j]
-            if horizon <= lag < len(h):
-                part = h[lag:lag + stop - k]
-                own[:len(part)] -= amplitude[j] * part
+        earlier = np.flatnonzero(sure[:i])
+        lags = k - starts[earlier]
+        within = (lags >= horizon) & (lags < len(h))
+        for j, lag in zip(earlier[within], lags[within]):  # the earlier onsets' tails over this onset's window, in order
+            part = h[lag:lag + stop - k]
+            own[:len(part)] -= amplitude[j] * part
         own = lfilter([1.0], coefficients, own)  # the predictor's response: the sound less its extrapolation
         out[i] = upsampled_peak(interpolator, np.concatenate((np.zeros(4), own, np.zeros(4))))
     return out
