@@ -241,7 +241,7 @@ def work(monkeypatch):
             raise AssertionError(f"{name} was called")
         return call
 
-    for module, name in [(drumstroke.stroke, "solve"), (drumstroke.palette.library, "build_library"),
+    for module, name in [(drumstroke.stroke, "solved"), (drumstroke.palette.library, "build_library"),
                          (drumstroke.sweep, "run_sweep"), (drumstroke.compose, "compose"),
                          (drumstroke.robot.track, "track"), (drumstroke.evaluation.stimuli, "make_stimuli"),
                          (drumstroke.evaluation.stimuli, "fit_stimuli"),
