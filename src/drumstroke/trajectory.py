@@ -40,6 +40,7 @@ import math
 import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
+import functools
 from functools import cached_property
 from pathlib import Path
 
@@ -496,11 +497,7 @@ class Trajectory:
         sticks = len(self.motions)
         check_memory(f"sampling {self.t_end - self.start:g} s of {sticks} stick{'s' * (sticks > 1)} at rate = "
                      f"{self.rate:g} Hz", samples_bytes(stop - first, sticks), f"{stop - first} samples")
-        t = np.arange(first, stop, dtype=float)
-        t /= self.rate
-        if self.start:
-            t += self.start
-        np.minimum(t, self.t_end, out=t)
+        t = _sample_times()(first, stop, self.rate, self.start, self.t_end)
         if len(self.motions) == 1:
             return (t, *self._evaluate(0, t))
         pairs = [self._evaluate(j, t) for j in range(len(self.motions))]
@@ -1067,6 +1064,14 @@ def _check_chunk(stream, t, theta, omega):
         raise TrajectoryError(f"sample {n}: theta of {stream.base.sticks[j]!r} jumps by {float(jump[j]):.6g} rad "
                               f"from the last sample, more than one period's travel at its speeds "
                               f"({float(reach[j]):.6g} rad): a chunk must continue the motion")
+
+
+@functools.cache
+def _sample_times():
+    """The compiled grid of sample times, imported on first use (reading a CSV needs no compiled code)."""
+    from .solver.kernel import sample_times
+
+    return sample_times
 
 
 def _identity(t):
