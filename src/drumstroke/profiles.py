@@ -541,9 +541,9 @@ class Pulses(Profile):
 @functools.cache
 def _pulse_kernel():
     """The pulse train's compiled pieces, imported on first use (`import drumstroke` stays light)."""
-    from .solver import pulses
+    from . import _pulses
 
-    return pulses
+    return _pulses
 
 
 @dataclass(frozen=True, eq=True)

@@ -1,14 +1,14 @@
 """A pulse train's pieces, compiled (numba, cached on disk): :class:`drumstroke.profiles.Pulses` cut at its edges.
 
-The same operations in the same order as the profile's numpy code (its ``_breaks``, :func:`drumstroke.profiles.
-merge_edges` and its ``__call__`` just after each edge), so the same edges and values to the bit, in one call
-instead of some forty numpy calls of a microsecond each on a few dozen numbers (every simulation of a pulsed stroke
-cuts its forcing into pieces).
+The same operations in the same order as the profile's numpy code (its breaks, their merging by
+:func:`drumstroke.profiles.merge_edges`, its value just after each edge), so the same edges and values to the bit,
+in one call instead of some forty numpy calls of a microsecond each on a few dozen numbers: every simulation of a
+pulsed stroke cuts its forcing into pieces.
 """
 
 import numpy as np
 
-from .._jit import jit
+from ._jit import jit
 
 
 @jit
