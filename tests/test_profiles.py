@@ -100,3 +100,26 @@ def test_a_few_breakpoints_are_cut_into_the_same_pieces_as_by_numpy_to_the_bit(r
             np.testing.assert_array_equal(getattr(pieces, name), getattr(expected, name), err_msg=name)
     for e, made in zip(edges, merged):
         np.testing.assert_array_equal(made, profiles.merge_edges(e, 0.7))
+
+
+def test_a_pulse_trains_compiled_pieces_equal_the_numpy_codes_to_the_bit(rng):
+    """Pulses' pieces (one compiled call) against the base class's steps in numpy: its breaks merged by
+    merge_edges (clusters closer than the tolerance into their first edge, long trains by numpy's branch) and its
+    __call__ just after each edge; a sum's values against the sum of its parts' __call__."""
+    from drumstroke import profiles
+
+    for _ in range(400):
+        period = float(rng.choice([1e-3, 0.013, 0.1, 0.4, 2.0]) * rng.uniform(1.0, 1.5))
+        duty = float(rng.choice([1e-13, 1e-9, 0.05, rng.uniform(0.0, 1.0), 1.0 - 1e-13]))
+        pulse = Pulses(amplitude=float(rng.uniform(-500.0, 500.0)), period=period, duty=max(duty, 1e-15),
+                       phase=float(rng.choice([0.0, rng.uniform(0.0, 3.0)])), base=float(rng.uniform(-50.0, 50.0)))
+        t_end = float(rng.choice([1e-6, 0.3, 1.0, 5.0, 12.0, pulse.phase + 3 * period]))
+        pieces = pulse.pieces(t_end)
+        edges = profiles.merge_edges(pulse._breaks(t_end), t_end)
+        np.testing.assert_array_equal(pieces.edges, edges)
+        np.testing.assert_array_equal(pieces.values, pulse(edges[:-1] + profiles.merge_tolerance(t_end)))
+        np.testing.assert_array_equal(pieces.slopes, np.zeros(len(edges) - 1))
+        both = Sum([pulse, Pulses(amplitude=3.0, period=0.25, duty=0.5, phase=0.01)])
+        summed = both.pieces(t_end)
+        left = summed.edges[:-1] + profiles.merge_tolerance(t_end)
+        np.testing.assert_array_equal(summed.values, 0 + pulse(left) + both.parts[1](left))

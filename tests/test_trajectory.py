@@ -263,3 +263,18 @@ def _read_sampled(path, **options):
     it says so."""
     with pytest.warns(SampledImpactsWarning, match="found again in its samples"):
         return Trajectory.read_csv(path, **options)
+
+
+def test_sample_times_are_numpys_grid_to_the_bit():
+    """The sample times (made in one compiled pass) are start + k/rate as numpy makes them, none past t_end, for
+    a stroke's trajectory and for samples that start late read at another rate, whole and in chunks."""
+    stroke = drumstroke.simulate("free-bounce", t_end=1.3)
+    t = np.linspace(0.25, 0.75, 51)
+    late = Trajectory.from_samples(t, 0.2 + 0.1 * np.sin(t), 0.1 * np.cos(t), rate=100.0)
+    for trajectory in [stroke.sample(rate) for rate in (1000.0, 977.0, 44100.0, 3.3)] + [
+            late.sample(rate) for rate in (977.0, 333.0, 1e4)]:
+        k = np.arange(len(trajectory), dtype=float)
+        expected = np.minimum(k / trajectory.rate + trajectory.start, trajectory.t_end)
+        np.testing.assert_array_equal(trajectory.t, expected)
+        middle = len(trajectory) // 3
+        np.testing.assert_array_equal(trajectory.samples(middle, len(trajectory))[0], expected[middle:])

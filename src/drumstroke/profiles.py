@@ -94,6 +94,7 @@ Constant(value=9.8)
 """
 
 import bisect
+import functools
 import itertools
 import math
 import os
@@ -289,13 +290,17 @@ class Profile:
         """
         self.check_budget(t_end)
         edges = merge_edges(self._breaks(t_end), t_end)
-        if len(edges) - 1 > MAX_PIECES:
-            raise ParameterError(
-                f"{self.kind} profile has {len(edges) - 1} pieces before t_end = {t_end:g} s; "
-                f"at most {MAX_PIECES} are allowed (shorten t_end or lengthen the period)"
-            )
+        self._check_pieces(len(edges) - 1, t_end)
         values, slopes = self._start_and_slope(edges[:-1], merge_tolerance(t_end))
         return Pieces(edges, np.asarray(values, dtype=float), np.asarray(slopes, dtype=float))
+
+    def _check_pieces(self, count, t_end):
+        """Refuse ``count`` pieces before ``t_end`` (s) when they are more than :data:`MAX_PIECES`."""
+        if count > MAX_PIECES:
+            raise ParameterError(
+                f"{self.kind} profile has {count} pieces before t_end = {t_end:g} s; "
+                f"at most {MAX_PIECES} are allowed (shorten t_end or lengthen the period)"
+            )
 
     def check_budget(self, t_end, *, what=None):
         """Refuse the profile when its breakpoints before ``t_end`` (s) are more than the memory budget's worth.
@@ -512,6 +517,14 @@ class Pulses(Profile):
         on = (t >= self.phase) & (t < start + self.duty * self.period)
         return np.where(on, self.base + self.amplitude, self.base)
 
+    def pieces(self, t_end):
+        # the base class's steps in one compiled call (every simulation of a pulsed stroke makes them)
+        self.check_budget(t_end)
+        edges, values = _pulse_kernel().pieces(self.amplitude, self.period, self.phase, self.duty, self.base, t_end,
+                                               self._break_count(t_end) // 2, merge_tolerance(t_end))
+        self._check_pieces(len(values), t_end)
+        return Pieces(edges, values, np.zeros(len(values)))
+
     def _breaks(self, t_end):
         k = np.arange(0, math.floor(max(t_end - self.phase, 0.0) / self.period) + 1)
         rises = self.phase + k * self.period
@@ -521,7 +534,16 @@ class Pulses(Profile):
         return 2 * (math.floor(max(t_end - self.phase, 0.0) / self.period) + 1)
 
     def _start_and_slope(self, left, tol):
-        return self(left + tol), np.zeros(len(left))
+        return _pulse_kernel().values(left + tol, self.amplitude, self.period, self.phase, self.duty,
+                                      self.base), np.zeros(len(left))
+
+
+@functools.cache
+def _pulse_kernel():
+    """The pulse train's compiled pieces, imported on first use (`import drumstroke` stays light)."""
+    from . import _pulses
+
+    return _pulses
 
 
 @dataclass(frozen=True, eq=True)

@@ -210,7 +210,7 @@ def simulate(
     arcs, impact_t, impact_omega, rests = solved(recipe.coefficients, recipe.force, recipe.gravity,
                                                  theta0=recipe.theta0, omega0=recipe.omega0, cor=recipe.cor,
                                                  t_end=recipe.t_end, method=method, progress=progress)
-    return Stroke._of(recipe, Impacts(impact_t, impact_omega, recipe.stick.pivot_to_tip), rests, arcs)
+    return Stroke._of(recipe, Impacts._of(impact_t, impact_omega, recipe.stick.pivot_to_tip), rests, arcs)
 
 
 def as_trajectory(source, *, rate=None):

@@ -40,6 +40,7 @@ import math
 import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
+import functools
 from functools import cached_property
 from pathlib import Path
 
@@ -93,6 +94,15 @@ class Impacts:
     t: np.ndarray
     omega: np.ndarray
     tip_distance: float
+
+    @classmethod
+    def _of(cls, t, omega, tip_distance):
+        """The Impacts of these fields, made without the frozen dataclass's ``__init__`` (which sets each field by
+        ``object.__setattr__``); the same object."""
+        impacts = object.__new__(cls)
+        fields = impacts.__dict__
+        fields["t"], fields["omega"], fields["tip_distance"] = t, omega, tip_distance
+        return impacts
 
     def __len__(self):
         return len(self.t)
@@ -227,9 +237,17 @@ class Trajectory:
         recipe = stroke.recipe
         rate = _check_rate(rate)
         label = recipe.name or "custom"
-        motion = Motion(stroke.arcs.evaluate, stroke.impacts, -recipe.cor * stroke.impacts.omega, recipe.theta_max)
-        return cls((motion,), (DEFAULT_STICK,), recipe.t_end, rate, name or label, recipe.model, recipe,
-                   (f"simulate {label} (model {recipe.model})",), _identity)
+        # made without the frozen dataclasses' __init__ (which sets each field by object.__setattr__: 1.6 µs of a
+        # stroke's sampling); the same objects
+        motion = object.__new__(Motion)
+        motion.__dict__.update(path=stroke.arcs.evaluate, impacts=stroke.impacts,
+                               omega_after=-recipe.cor * stroke.impacts.omega, theta_max=recipe.theta_max)
+        trajectory = object.__new__(cls)
+        trajectory.__dict__.update(motions=(motion,), sticks=(DEFAULT_STICK,), t_end=recipe.t_end, rate=rate,
+                                   name=name or label, model=recipe.model, recipe=recipe,
+                                   history=(f"simulate {label} (model {recipe.model})",), recipe_time=_identity,
+                                   start=0.0, carry=True, stored=None)
+        return trajectory
 
     @classmethod
     def from_samples(cls, t, theta, omega, impacts=None, omega_after=None, *, theta_max=None, tip_distance=None,
@@ -496,11 +514,7 @@ class Trajectory:
         sticks = len(self.motions)
         check_memory(f"sampling {self.t_end - self.start:g} s of {sticks} stick{'s' * (sticks > 1)} at rate = "
                      f"{self.rate:g} Hz", samples_bytes(stop - first, sticks), f"{stop - first} samples")
-        t = np.arange(first, stop, dtype=float)
-        t /= self.rate
-        if self.start:
-            t += self.start
-        np.minimum(t, self.t_end, out=t)
+        t = _sample_times()(first, stop, self.rate, self.start, self.t_end)
         if len(self.motions) == 1:
             return (t, *self._evaluate(0, t))
         pairs = [self._evaluate(j, t) for j in range(len(self.motions))]
@@ -1067,6 +1081,14 @@ def _check_chunk(stream, t, theta, omega):
         raise TrajectoryError(f"sample {n}: theta of {stream.base.sticks[j]!r} jumps by {float(jump[j]):.6g} rad "
                               f"from the last sample, more than one period's travel at its speeds "
                               f"({float(reach[j]):.6g} rad): a chunk must continue the motion")
+
+
+@functools.cache
+def _sample_times():
+    """The compiled grid of sample times, imported on first use (reading a CSV needs no compiled code)."""
+    from .solver.kernel import sample_times
+
+    return sample_times
 
 
 def _identity(t):

@@ -436,6 +436,22 @@ def evaluate(table, steps, theta_max, t, spacing):
 
 
 @jit
+def sample_times(first, stop, rate, start, t_end):
+    """The sample times ``start`` + k/``rate`` (s) for k = ``first``, …, ``stop`` − 1, none past ``t_end``.
+
+    numpy's ``np.arange(first, stop, dtype=float) / rate (+ start)``, clipped to t_end, in one pass: the same
+    operations in the same order, so the same times to the bit.
+    """
+    t = np.empty(stop - first)
+    for k in range(stop - first):
+        value = float(first + k) / rate
+        if start != 0.0:
+            value += start
+        t[k] = min(value, t_end)
+    return t
+
+
+@jit
 def _split(table, t):
     """The first sample of the arc that halves the flights' time within ``t`` (increasing), or len(t).
 
