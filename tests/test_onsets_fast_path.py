@@ -131,7 +131,7 @@ def test_kernels_sum_as_numpy_and_librosa_sum():
             low, high = max(0, i - half - 4 * width), min(n, i + half + width + 1)
             k = np.arange(max(i - half, low), min(i + half + 1, high)) - low
             near = jump(x[low:high], width)[k]
-            assert jump_at(x, np.array([i]), width)[0] == near[k >= min(4 * width, i)].max(initial=0.0)
+            assert jump_at(x, np.array([i]), width, 0.0)[0] == near[k >= min(4 * width, i)].max(initial=0.0)
         size, rows = int(rng.integers(1, 130)), int(rng.integers(1, 6))
         block = np.lib.stride_tricks.sliding_window_view(x[:rows + size - 1], size) if rows + size - 1 <= n else x[None, :size]
         np.testing.assert_array_equal(row_dots(block, block), np.einsum("ij,ij->i", block, block))

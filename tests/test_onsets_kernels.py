@@ -156,3 +156,22 @@ def test_first_at_least_is_the_first_nonzero(rng):
     levels = rng.uniform(0.0, 3.0, 300) * np.median(d)
     expected = [np.append(np.flatnonzero(d[a:b] >= v), -1)[0] for a, b, v in zip(lows, highs, levels)]
     np.testing.assert_array_equal(_kernels.first_at_least(d, lows, highs, levels), expected)
+
+
+def test_a_remainder_at_rounding_level_makes_no_jump():
+    """A note fitted and taken off to its last bits leaves zeros, then a few ulps: no jump under the floor.
+
+    Without the floor the ratio of a few ulps after to exact zeros before is the cap (1e6); with it, a
+    mean power 240 dB under the signal's peak counts as the floor, so the jump is 1 at most; a real sound
+    (here 60 dB under the peak) still jumps as before."""
+    from drumstroke.analysis._kernels import jump_at
+    from drumstroke.analysis.onsets import _rounding_floor
+
+    x = np.zeros(4000)
+    x[0] = 1.0  # the signal's peak, long before
+    x[2000:] = 1e-17 * np.random.default_rng(3).standard_normal(2000)  # rounding of a note taken off
+    floor = _rounding_floor(x)
+    assert jump_at(x, np.array([2000]), 12, 0.0)[0] == pytest.approx(1e6)
+    assert jump_at(x, np.array([2000]), 12, floor)[0] <= 1.0
+    x[2000:2012] += 1e-3
+    assert jump_at(x, np.array([2000]), 12, floor)[0] == jump_at(x, np.array([2000]), 12, 0.0)[0] > 100.0

@@ -178,18 +178,21 @@ def waited(candidates, gap, first):
 
 
 @jit
-def jump_at(x, positions, width):
+def jump_at(x, positions, width, floor):
     """:func:`.onsets._jump_at`: :func:`jump_near` each of ``positions`` (int)."""
     out = np.zeros(len(positions))
     for n in range(len(positions)):
-        out[n] = jump_near(x, positions[n], width)
+        out[n] = jump_near(x, positions[n], width, floor)
     return out
 
 
 @jit
-def jump_near(x, i, width):
+def jump_near(x, i, width, floor):
     """The largest RMS jump of ``x`` (the next ``width`` samples over the 4 ``width`` before) within half a window of
-    sample ``i``, over the slice of ``x`` the numpy code cut around it (the power summed in order from its start)."""
+    sample ``i``, over the slice of ``x`` the numpy code cut around it (the power summed in order from its start).
+
+    A mean power under ``floor`` counts as ``floor``: where a fit took a note off to its last bits, what is
+    left is rounding, and its "jump" (0 before, a few ulps after) is none."""
     half = max(1, width // 2)
     low, high = max(0, i - half - 4 * width), min(len(x), i + half + width + 1)
     power = np.zeros(high - low + 1)
@@ -202,7 +205,7 @@ def jump_near(x, i, width):
             continue
         after = (power[min(k + width, count)] - power[k]) / width
         before = (power[k] - power[max(k - 4 * width, 0)]) / (4 * width)
-        best = max(best, math.sqrt(after / max(before, 1e-300 + after * 1e-12)))
+        best = max(best, math.sqrt(max(after, floor) / max(before, floor, 1e-300 + after * 1e-12)))
     return best
 
 
@@ -342,7 +345,7 @@ def next_attack(x, head, low, high, pre, reach, base, width, energy, rise, liken
 
 
 @jit
-def pursue(r, positions, centres, basis, gram, solve, head, head_norm, lead, width, tail):
+def pursue(r, positions, centres, basis, gram, solve, head, head_norm, lead, width, tail, floor):
     """:func:`.onsets._pursue`'s loop: ``r`` (the innovation, changed in place) less each onset's fitted signature.
 
     ``basis`` holds the signature (and its derivative) as columns, ``gram`` its normal equations and ``solve``
@@ -362,7 +365,7 @@ def pursue(r, positions, centres, basis, gram, solve, head, head_norm, lead, wid
     for i in range(count):
         c = centres[i]
         low, high = max(0, c - half - 4 * width), min(n, c + half + width + 1)
-        jumps[i] = jump_near(r, c, width) if high - low > width else 0.0
+        jumps[i] = jump_near(r, c, width, floor) if high - low > width else 0.0
         first, last = max(c - lead - 2, 0), min(c - lead + 2, n - size)  # the five alignments that fit in r
         if last < first:
             continue
