@@ -268,12 +268,10 @@ def run_solver_pair(name):
                        recipes=[recipe])
 
 
-def run_kernel_pair(name):
-    """The batch kernel alone (constant_batch) on the batch's strokes: flights by the table, then by R_F."""
+def _kernel_row(name, recipes, columns):
+    """The batch kernel on ``columns`` (``recipes``' parameters): flights by the table, then by R_F, paired."""
     from drumstroke.solver.batch import constant_batch
 
-    recipes, _ = batch_recipes()
-    columns = _kernel_columns(recipes)
     after = constant_batch(*columns, max_impacts=100_000)
     before = constant_batch(*columns, max_impacts=100_000, exact=True)
 
@@ -287,14 +285,19 @@ def run_kernel_pair(name):
                        recipes=recipes[:BATCH_CHECKED])
 
 
+def run_kernel_pair(name):
+    """The batch kernel alone (constant_batch) on the batch's strokes: flights by the table, then by R_F."""
+    recipes, _ = batch_recipes()
+    columns = _kernel_columns(recipes)
+    return _kernel_row(name, recipes, columns)
+
+
 def run_heads_pair(name):
     """The batch kernel on HEADS_SIZE strokes each with a head of its own: flights by the table, then by R_F.
 
     The sweep a planner or a palette search makes when it varies the stick: the table holds every head,
     so no stroke pays for a head new to the process.
     """
-    from drumstroke.solver.batch import constant_batch
-
     rng = np.random.default_rng(BATCH_SEED)
     recipes = []
     for recipe in batch_recipes()[0][:HEADS_SIZE]:
@@ -304,17 +307,7 @@ def run_heads_pair(name):
     columns = ([np.array([getattr(r, key) for r in recipes]) for key in ("theta0", "omega0", "cor")]
                + [np.array([float(k.torque_rate(9.8, r.force.value)) for k, r in zip(coefs, recipes)]),
                   np.array([k.theta_max for k in coefs]), np.array([r.t_end for r in recipes])])
-    after = constant_batch(*columns, max_impacts=100_000)
-    before = constant_batch(*columns, max_impacts=100_000, exact=True)
-
-    def impacts(result, i):
-        offsets, count, t = result[1], result[2], result[3]
-        return t[offsets[i]:offsets[i] + count[i]]
-
-    return _paired_row(name, "strokes/s", lambda: constant_batch(*columns, max_impacts=100_000),
-                       lambda: constant_batch(*columns, max_impacts=100_000, exact=True), per_call=len(recipes),
-                       after_t=lambda i: impacts(after, i), before_t=lambda i: impacts(before, i),
-                       recipes=recipes[:BATCH_CHECKED])
+    return _kernel_row(name, recipes, columns)
 
 
 def run_batch_pair(name):
