@@ -3,7 +3,7 @@
 One module per command group gives its commands their options and runs them: :mod:`.simulate`
 (``simulate``, ``presets``, ``figures``, ``sweep``), :mod:`.library`, :mod:`.compose`, :mod:`.design` (``design``, ``rudiment``), :mod:`.stats`,
 :mod:`.listen`, :mod:`.live`, :mod:`.robot`, :mod:`.analysis` (``onsets``, ``measure-cor``), :mod:`.fit`,
-:mod:`.compare` and :mod:`.demo`. A command's module is imported only when it runs (or its help is
+:mod:`.compare`, :mod:`.demo` and :mod:`.studio`. A command's module is imported only when it runs (or its help is
 asked for): ``drumstroke --version`` and ``--help`` import none, and each module imports what its
 commands compute with only inside them. Every option is checked before any work
 (:mod:`._options`): bad input ends with exit status 2 and one line naming the option, the value
@@ -51,6 +51,7 @@ COMMANDS = {
     "fit": ("fit", "fit a recipe to a recorded stroke: start, c and force profile whose impacts match it"),
     "compare": ("compare", "compare two strokes: bounces, intervals, how the volume fades, bounce rate"),
     "demo": ("demo", "build the library, render every stroke, compose a groove, write index.html"),
+    "studio": ("studio", "design, hear and see strokes and parts in the browser (a local web app)"),
 }
 """Each command, in the order ``drumstroke --help`` lists them: the module whose ``add_NAME(parser)`` gives it its
 options (NAME with ``_`` for ``-``), and its line in that list."""

@@ -90,7 +90,7 @@ def make_app(config, store, *, hosts=None):
         Route("/admin/export.csv", site.export),
         Route("/static/{name}", site.static),
     ]
-    return _Guard(Starlette(routes=routes, exception_handlers={HTTPException: _refused, Exception: _failed}), hosts)
+    return Guard(Starlette(routes=routes, exception_handlers={HTTPException: _refused, Exception: _failed}), hosts)
 
 
 class _Site:
@@ -244,33 +244,15 @@ class _Site:
     async def _form(self, request, fields):
         """The request's form as {field: value}, after the cross-site, size, time and syntax checks."""
         headers = request.headers
-        reason = _cross_site(request)
+        reason = cross_site(request)
         if reason:
             raise HTTPException(403, reason, headers=_CLOSE)
         if "transfer-encoding" in headers and "content-length" in headers:
             raise HTTPException(400, "a request cannot have both Content-Length and Transfer-Encoding", headers=_CLOSE)
         if headers.get("content-type", "").partition(";")[0].strip().lower() != "application/x-www-form-urlencoded":
             raise HTTPException(415, "a form must be sent as application/x-www-form-urlencoded", headers=_CLOSE)
-        limit, length = self.limits.max_body, headers.get("content-length", "0")
-        if not length.isascii() or not length.isdigit() or len(length) > 9 or int(length) > limit:
-            raise HTTPException(413, f"a form may hold at most {limit} bytes; this one's Content-Length is "
-                                     f"{_shown(length)}", headers=_CLOSE)
-        body = bytearray()
-        try:
-            with anyio.fail_after(self.limits.body_timeout):
-                more = True
-                while more:
-                    message = await request.receive()
-                    if message["type"] == "http.disconnect":
-                        raise HTTPException(400, "the connection closed before the form arrived", headers=_CLOSE)
-                    body += message.get("body", b"")
-                    more = message.get("more_body", False)
-                    if len(body) > limit:
-                        raise HTTPException(413, f"a form may hold at most {limit} bytes", headers=_CLOSE)
-        except TimeoutError:
-            raise HTTPException(408, f"the form did not arrive whole within {self.limits.body_timeout:g} s",
-                                headers=_CLOSE) from None
-        return _fields(bytes(body), fields)
+        body = await read_body(request, self.limits.max_body, self.limits.body_timeout, "a form")
+        return _fields(body, fields)
 
 
 class _Tokens:
@@ -298,7 +280,7 @@ class _Tokens:
         return self._mac("session:" + participant)
 
 
-class _Guard:
+class Guard:
     """The application behind a check of the head's size and its ``Host`` (exactly a name and an optional port;
     one of ``hosts``, unless None), with the security headers on every response.
 
@@ -345,8 +327,8 @@ class _Guard:
             return _bad_request(f"the Host header must be a host name or a bracketed IPv6 address and an optional "
                                 f"port, got {_shown(given[0], 128)}")
         if self.hosts is not None and name not in self.hosts:  # a page elsewhere reaching us by a name of its own
-            return _bad_request(f"this server does not serve the host {_shown(name, 128)} (listen serve "
-                                f"--allowed-host names it)")
+            return _bad_request(f"this server does not serve the host {_shown(name, 128)} (the command's "
+                                f"--allowed-host names the hosts served)")
         return None
 
 
@@ -387,7 +369,7 @@ def _open_regular(path):
     return os.fdopen(fd, "rb"), info.st_size
 
 
-def _cross_site(request):
+def cross_site(request):
     """Why a state-changing request counts as cross-site, or None.
 
     ``Sec-Fetch-Site``, which no page can set, must say same-origin when a browser sends it. ``Origin``
@@ -402,6 +384,30 @@ def _cross_site(request):
     if origin is not None and origin != "null" and origin.lower() != own.lower():
         return "a request from another origin cannot change anything here (Origin)"
     return None
+
+
+async def read_body(request, limit, timeout, what):
+    """The request's body (bytes): at most ``limit`` bytes, refused with 413 by its ``Content-Length`` before it
+    is read, whole within ``timeout`` s of its head (else 408); ``what`` names it in the messages ("a form")."""
+    length = request.headers.get("content-length", "0")
+    if not length.isascii() or not length.isdigit() or len(length) > 9 or int(length) > limit:
+        raise HTTPException(413, f"{what} may hold at most {limit} bytes; this one's Content-Length is "
+                                 f"{_shown(length)}", headers=_CLOSE)
+    body = bytearray()
+    try:
+        with anyio.fail_after(timeout):
+            more = True
+            while more:
+                message = await request.receive()
+                if message["type"] == "http.disconnect":
+                    raise HTTPException(400, f"the connection closed before {what} arrived", headers=_CLOSE)
+                body += message.get("body", b"")
+                more = message.get("more_body", False)
+                if len(body) > limit:
+                    raise HTTPException(413, f"{what} may hold at most {limit} bytes", headers=_CLOSE)
+    except TimeoutError:
+        raise HTTPException(408, f"{what} did not arrive whole within {timeout:g} s", headers=_CLOSE) from None
+    return bytes(body)
 
 
 def _fields(body, allowed):
