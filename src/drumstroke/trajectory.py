@@ -36,11 +36,11 @@ True
 True
 """
 
+import functools
 import math
 import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
-import functools
 from functools import cached_property
 from pathlib import Path
 

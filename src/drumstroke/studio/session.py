@@ -2,9 +2,9 @@
 and the checks of a request's JSON fields (each error names the field, the value and what is allowed)."""
 
 import math
-from itertools import pairwise
 import threading
 from dataclasses import dataclass, field
+from itertools import pairwise
 from pathlib import Path
 
 from .._checks import shown
