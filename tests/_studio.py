@@ -1,0 +1,47 @@
+"""A studio served for the tests, and a client that asks it as the page does: real HTTP/1.1 over a socket."""
+
+import http.client
+import json
+import urllib.parse
+from collections import namedtuple
+
+Reply = namedtuple("Reply", "status headers body")
+
+
+class Client:
+    """Requests to a studio at ``url``, a new connection each; ``ask`` sends JSON as the page's ``fetch`` does
+    (``Origin`` and ``Sec-Fetch-Site: same-origin``)."""
+
+    def __init__(self, url):
+        parts = urllib.parse.urlsplit(url)
+        self.host, self.port, self.origin = parts.hostname, parts.port, f"http://{parts.netloc}"
+
+    def request(self, method, path, body=None, headers=None):
+        connection = http.client.HTTPConnection(self.host, self.port, timeout=60)
+        try:
+            connection.request(method, path, body=body, headers=headers or {})
+            response = connection.getresponse()
+            return Reply(response.status, response.headers, response.read())
+        finally:
+            connection.close()
+
+    def ask(self, operation, data=None, *, raw=None, headers=None):
+        """POST /api/OPERATION with ``data`` as JSON (or the bytes ``raw``); the Reply."""
+        body = raw if raw is not None else json.dumps(data if data is not None else {}).encode()
+        sent = {"Content-Type": "application/json", "Origin": self.origin, "Sec-Fetch-Site": "same-origin"}
+        sent.update(headers or {})
+        return self.request("POST", f"/api/{operation}", body, sent)
+
+    def answer(self, operation, data=None):
+        """The JSON answer of a request that must succeed."""
+        reply = self.ask(operation, data)
+        assert reply.status == 200, (reply.status, reply.body[:300])
+        return json.loads(reply.body)
+
+    def error(self, operation, data=None, *, status=400, **options):
+        """The one-line error of a request that must be refused with ``status``."""
+        reply = self.ask(operation, data, **options)
+        assert reply.status == status, (reply.status, reply.body[:300])
+        message = json.loads(reply.body)["error"]
+        assert "\n" not in message
+        return message
