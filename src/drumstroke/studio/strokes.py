@@ -13,8 +13,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..design import Setup, Unreachable, design as design_notes
-from ..design.chain import DRIFT, ENDS, ForceRange
+from ..design import ENDS, ForceRange, Setup, Unreachable
+from ..design import design as design_notes
+from ..design.chain import DRIFT
 from ..dynamics import CEILING_DB, FLOOR_DB
 from ..errors import ParameterError
 from ..formats.toml import toml_text
@@ -54,8 +55,7 @@ def studio_recipe(data, key="recipe"):
     """
     if not isinstance(data, dict):
         raise ParameterError(f"{key} must be a recipe's table (a JSON object), got {type(data).__name__}")
-    t_end = data.get("t_end", 5.0)
-    number({f"{key}.t_end": t_end}, f"{key}.t_end", low=1e-6, high=MAX_DURATION, unit="s")
+    t_end = number({f"{key}.t_end": data.get("t_end", 5.0)}, f"{key}.t_end", low=1e-6, high=MAX_DURATION, unit="s")
     size = 0
     for name in ("force", "gravity"):
         size += _profile_size(data.get(name), f"{key}.{name}", t_end)
@@ -88,9 +88,9 @@ def _profile_size(spec, where, t_end):
         if kind == "sum" and isinstance(table.get("parts"), list):
             tables.extend((part, f"{place}.parts[{i}]") for i, part in enumerate(table["parts"]))
         period = table.get("period")
-        if kind == "pulses" and isinstance(period, (int, float)) and not isinstance(period, bool) and period > 0:
-            if isinstance(t_end, (int, float)) and t_end / period > MAX_PULSES:
-                raise ParameterError(f"{place}.period must give at most {MAX_PULSES} pulses before t_end = "
+        if (kind == "pulses" and isinstance(period, (int, float)) and not isinstance(period, bool) and period > 0
+                and t_end / period > MAX_PULSES):
+            raise ParameterError(f"{place}.period must give at most {MAX_PULSES} pulses before t_end = "
                                      f"{t_end:g} s, got {period!r} s")
     return size
 
