@@ -91,13 +91,14 @@ def transform(studio, request):
     sampled = trajectory.sample(rate)
     t, theta, _ = sampled
     force = [None] * len(t)
-    if trajectory.recipe is not None and trajectory.recipe_time is not None:
+    if len(request["parts"]) == 1 and trajectory.recipe is not None and trajectory.recipe_time is not None:
         values = np.asarray(trajectory.recipe.force(np.nan_to_num(trajectory.recipe_time(t), nan=-1.0)), dtype=float)
         inside = np.isfinite(np.asarray(trajectory.recipe_time(t), dtype=float))
         force = [float(v) if ok else None for v, ok in zip(values, inside)]
+    joined = len(request["parts"]) > 1  # its recipe is its first part's only
     return {"t": t, "theta": theta, "force": force, "impacts": _impacts(trajectory), "t_end": trajectory.t_end,
             "theta_max": trajectory.theta_max, "history": list(trajectory.history),
-            "recipe": None if trajectory.recipe is None else trajectory.recipe.to_dict()}
+            "recipe": None if joined or trajectory.recipe is None else trajectory.recipe.to_dict()}
 
 
 def _made(studio, request):
@@ -179,6 +180,9 @@ def save(studio, request):
     replacing = request.get("replace", False)
     if not isinstance(replacing, bool):
         raise ParameterError(f"replace must be true or false, got {replacing!r}")
+    if isinstance(request["parts"], list) and len(request["parts"]) > 1:
+        raise ParameterError(f"parts must be one stroke to save, got {len(request['parts'])} joined: a library keeps "
+                             "each stroke's recipe, and a joined stroke has several; save each part")
     trajectory = _made(studio, request)
     with studio.lock:
         library = save_stroke(studio.library, name, trajectory, category=category, description=description,

@@ -424,7 +424,7 @@ function drawTheta() {
     if (at < 0 || at > timeRange()[1]) return;
     addNote(+at.toFixed(3), Number($.noteLevel.value));
   });
-  $.impacts.replaceChildren(...impacts.t.map((x, i) => el("tr", {"data-t": String(x + offset)},
+  $.impacts.replaceChildren(...impacts.t.map((x, i) => el("tr", {"data-t": String(x + offset), "data-level": String(impacts.level_db[i])},
     el("td", {}, String(i + 1)), el("td", {}, (x + offset).toFixed(6)), el("td", {}, impacts.level_db[i].toFixed(2)),
     el("td", {}, impacts.tip_speed[i].toFixed(4)))));
   $.summary.textContent = `${impacts.t.length} impacts; the stroke ends at ${fmt(offset + stroke.t_end)} s` +
@@ -516,6 +516,7 @@ async function designNotes() {
   if (![...times, ...levels].every(Number.isFinite)) return status("every note needs a time and a level", {error: true});
   $.problem.textContent = "";
   nearest = null;
+  delete document.body.dataset.designed;
   try {
     const answer = await api("design", {times, levels, end: $.end.value, model: recipe.model ?? "paper",
                                         cor: Math.min(recipe.cor ?? 0.86, 0.99), stick: recipe.stick ?? {}});
@@ -527,6 +528,7 @@ async function designNotes() {
       $.problem.append(" ", el("button", {id: "designer-use-nearest", onclick: () => useNearest()}, "Use the nearest"));
       status("the notes cannot be played as asked; the nearest reachable is on the chart", {error: true});
       drawTheta();
+      document.body.dataset.designed = "unreachable";
       return;
     }
     const made = answer.design;
