@@ -551,8 +551,9 @@ async function designNotes() {
 function useNearest() {
   const note = notes[nearest.note];
   if (!note) return;
-  if (nearest.nearest_time != null) note.t = +nearest.nearest_time.toFixed(6);
-  else if (nearest.nearest_level != null) note.level = +nearest.nearest_level.toFixed(3);
+  // rounded away from the unreachable side: the nearest time is the earliest playable, the nearest level the loudest
+  if (nearest.nearest_time != null) note.t = Math.ceil(nearest.nearest_time * 1e6) / 1e6;
+  else if (nearest.nearest_level != null) note.level = Math.floor(nearest.nearest_level * 1e3) / 1e3;
   nearest = null;
   $.problem.textContent = "";
   drawNotes();

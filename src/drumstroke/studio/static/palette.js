@@ -210,12 +210,13 @@ function playPreview() {
 
 async function save() {
   if (!parts.length) return status("nothing to save: pick a card's “Post-process”", {error: true});
+  delete document.body.dataset.saved;
   try {
     const saved = await api("save", {...request(), name: $.name.value.trim(), category: $.category.value,
                                      description: $.description.value, replace: $.replace.checked});
+    await reload();
     status(`saved ${saved.saved} into ${saved.library} (${saved.strokes.length} strokes)`);
     document.body.dataset.saved = saved.saved;
-    await reload();
   } catch (error) {
     status(error.message, {error: true});
   }
