@@ -14,6 +14,7 @@ let notes = [];             // the notes wanted: {t, level} (s on the timeline, 
 let nearest = null;         // the last unreachable answer
 let cursor = null;          // the playing time (s) or null
 let dragging = false;
+let changedAt = 0;          // performance.now() of the last change: the time to its drawn stroke is the latency
 let built = null;           // resolves once the view is built (a recipe may be sent from the palette before)
 const run = latest();
 const $ = {};               // the view's elements by name
@@ -249,6 +250,7 @@ function removePoint(term, k) {
 // --- simulating and drawing ---------------------------------------------------------------------------------------
 
 function changed() {
+  changedAt = performance.now();
   document.body.dataset.designerState = "pending";
   drawForce();
   run(simulateNow);
@@ -263,6 +265,7 @@ async function simulateNow() {
     drawForce();
     drawTheta();
     document.body.dataset.designerState = "drawn";  // the drawn stroke is the recipe's as it stands
+    document.body.dataset.designerLatency = (performance.now() - changedAt).toFixed(1);
     status(`simulated: ${stroke.impacts.t.length} impacts${stroke.rest_time != null ? `, at rest from ${fmt(stroke.rest_time)} s` : ""}`);
   } catch (error) {
     status(error.message, {error: true});
