@@ -472,11 +472,13 @@ async function fetchFile(format) {
 function notesPanel() {
   $.noteLevel = el("input", {...NUMBER, id: "designer-note-level", value: -6});
   $.end = el("select", {id: "designer-end"}, ...["catch", "press", "bounce"].map((e) => el("option", {value: e}, e)));
+  $.forceMax = el("input", {...NUMBER, id: "designer-force-max", value: 3000});
   $.notes = el("tbody", {id: "designer-notes"});
   $.problem = el("p", {id: "designer-problem", class: "problem", role: "alert"});
   return el("div", {class: "notes"},
     el("h2", {}, "Notes wanted (the inverse)"),
-    el("div", {class: "row"}, el("label", {}, "new note level (dB) ", $.noteLevel), el("label", {}, "end ", $.end)),
+    el("div", {class: "row"}, el("label", {}, "new note level (dB) ", $.noteLevel), el("label", {}, "end ", $.end),
+       el("label", {}, "strongest force (m/s²) ", $.forceMax)),
     el("table", {}, el("thead", {}, el("tr", {}, el("th", {}, "t (s)"), el("th", {}, "level (dB)"), el("th"))), $.notes),
     el("div", {class: "row"},
        el("button", {id: "designer-add-note", onclick: () => {
@@ -522,7 +524,8 @@ async function designNotes() {
   delete document.body.dataset.designed;
   try {
     const answer = await api("design", {times, levels, end: $.end.value, model: recipe.model ?? "paper",
-                                        cor: Math.min(recipe.cor ?? 0.86, 0.99), stick: recipe.stick ?? {}});
+                                        cor: Math.min(recipe.cor ?? 0.86, 0.99), stick: recipe.stick ?? {},
+                                        force_max: Number($.forceMax.value) || 3000});
     if (answer.unreachable) {
       nearest = answer.unreachable;
       const near = [nearest.nearest_time != null ? `t = ${fmt(nearest.nearest_time)} s` : null,
