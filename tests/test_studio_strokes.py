@@ -196,7 +196,7 @@ BAD = [
     ("design", {"times": [-0.5], "levels": [0]}, "times"),
     ("design", {"times": [0.5], "levels": [0], "cor": 1.5}, "cor"),
     ("design", {"times": [0.5], "levels": [0], "end": "drop"}, "end"),
-    ("design", {"times": [0.5], "levels": [0], "stick": {"length": "long"}}, "length"),
+    ("design", {"times": [0.5], "levels": [0], "stick": {"length": "long"}}, "stick.length"),
     ("design", {"times": [0.5], "levels": [0], "stick": {"colour": 1}}, "colour"),
     ("design", {"times": list(np.arange(300) * 0.01 + 0.1), "levels": [0] * 300}, "times"),
     ("design", {"times": [0.5], "levels": [0], "tempo": 90}, "tempo"),

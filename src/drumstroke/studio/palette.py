@@ -92,8 +92,9 @@ def transform(studio, request):
     t, theta, _ = sampled
     force = [None] * len(t)
     if len(request["parts"]) == 1 and trajectory.recipe is not None and trajectory.recipe_time is not None:
-        values = np.asarray(trajectory.recipe.force(np.nan_to_num(trajectory.recipe_time(t), nan=-1.0)), dtype=float)
-        inside = np.isfinite(np.asarray(trajectory.recipe_time(t), dtype=float))
+        played = np.asarray(trajectory.recipe_time(t), dtype=float)  # NaN where no recipe time plays
+        inside = np.isfinite(played)
+        values = np.asarray(trajectory.recipe.force(np.where(inside, played, 0.0)), dtype=float)
         force = [float(v) if ok else None for v, ok in zip(values, inside)]
     joined = len(request["parts"]) > 1  # its recipe is its first part's only
     return {"t": t, "theta": theta, "force": force, "impacts": _impacts(trajectory), "t_end": trajectory.t_end,

@@ -184,7 +184,8 @@ def _stick(table):
         raise ParameterError(f"stick must be a recipe's [stick] table (a JSON object), got {type(table).__name__}")
     known = list(Stick().to_dict())
     fields(table, (), known, what="stick")
-    return Stick(**{key: number(table, key, low=-1e3, high=1e3) for key in table})
+    return Stick(**{key: number({f"stick.{key}": value}, f"stick.{key}", low=-1e3, high=1e3)
+                    for key, value in table.items()})
 
 
 def _finite(value):
