@@ -196,17 +196,18 @@ def stroke_audio(studio, request):
     """``{"times": [s], "tip_speeds": [m/s], "duration": s}`` -> the impacts heard on the synthesized snare drum, a
     48 kHz WAV (``audio/wav``).
 
-    ``times`` in [0, 60] s and ``tip_speeds`` in [0, 50] m/s, as many (at most :data:`MAX_IMPACTS`);
-    ``duration`` (default: the last impact and the drum's ring) in [the last time, 65] s.
+    ``times`` in [0, 120] s (a palette's stroke may be stretched or joined past :data:`MAX_DURATION`) and
+    ``tip_speeds`` in [0, 50] m/s, as many (at most :data:`MAX_IMPACTS`); ``duration`` (default: the last impact
+    and the drum's ring) in [the last time, 125] s.
     """
     fields(request, ("times", "tip_speeds"), ("duration",))
-    times = numbers(request, "times", low=0.0, high=MAX_DURATION, unit="s", most=MAX_IMPACTS)
+    times = numbers(request, "times", low=0.0, high=2 * MAX_DURATION, unit="s", most=MAX_IMPACTS)
     speeds = numbers(request, "tip_speeds", low=0.0, high=50.0, unit="m/s", most=MAX_IMPACTS)
     if len(speeds) != len(times):
         raise ParameterError(f"tip_speeds must give one speed for each of the {len(times)} times, got {len(speeds)}")
     duration = None
     if "duration" in request:
-        duration = number(request, "duration", low=max(times, default=0.0), high=MAX_DURATION + 5.0, unit="s")
+        duration = number(request, "duration", low=max(times, default=0.0), high=2 * MAX_DURATION + 5.0, unit="s")
     from ..render.audio import render_wav
 
     with tempfile.TemporaryDirectory() as folder:

@@ -290,6 +290,7 @@ function drawForce() {
   forceView = {chart: c, total: c.layer(), lines: c.layer(), handles: c.layer()};
   drawLines();
   c.svg.addEventListener("dblclick", (event) => {
+    if (event.target.classList.contains("handle")) return;
     const term = terms().find((x) => x.kind === "piecewise-linear");
     if (!term) return status("add a breakpoints term first", {error: true});
     const p = svgPoint(c.svg, event);
@@ -322,8 +323,9 @@ function drawHandles() {
     if (term.kind !== "piecewise-linear") return;
     term.points.forEach(([t, a], k) => {
       const handle = svgEl("circle", {cx: c.x(t + offset), cy: c.y(a), r: 7, class: "handle", tabindex: 0,
-                                      role: "slider", "data-term": i, "data-point": k,
-                                      "aria-label": `breakpoint ${k + 1}: t ${fmt(t)} s, a ${fmt(a)} m/s²`});
+                                      role: "slider", "data-term": i, "data-point": k, "aria-valuenow": t,
+                                      "aria-label": `breakpoint ${k + 1} of term ${i + 1}`,
+                                      "aria-valuetext": `t ${fmt(t)} s, a ${fmt(a)} m/s²`});
       handle.addEventListener("pointerdown", (event) => startDrag(event, term, k, handle));
       handle.addEventListener("keydown", (event) => keyMove(event, term, k));
       handles.append(handle);
