@@ -19,6 +19,7 @@ async function make(section) {
   $.parts = el("ol", {id: "palette-parts"});
   $.gap = el("input", {type: "number", step: "any", id: "palette-gap", value: 0.2, min: 0, onchange: () => refresh()});
   $.plot = el("div", {id: "palette-preview"});
+  $.force = el("div", {id: "palette-force"});
   $.info = el("p", {id: "palette-info"});
   $.name = el("input", {type: "text", id: "palette-name", placeholder: "kebab-case-name", maxlength: 64});
   $.category = el("input", {type: "text", id: "palette-category", placeholder: "category", maxlength: 200});
@@ -32,7 +33,7 @@ async function make(section) {
     $.parts,
     el("div", {class: "steps"}, ...stepControls(),
        el("label", {}, "gap between joined strokes (s) ", $.gap)),
-    $.plot, $.info,
+    $.plot, $.force, $.info,
     el("div", {class: "row"},
        el("button", {id: "palette-play", onclick: () => playPreview()}, "▶ Play"),
        el("button", {onclick: () => stop()}, "■ Stop"),
@@ -162,6 +163,7 @@ async function refresh() {
   if (!parts.length) {
     preview = null;
     $.plot.replaceChildren();
+    $.force.replaceChildren();
     $.info.textContent = "";
     return;
   }
@@ -172,7 +174,7 @@ async function refresh() {
     return status(error.message, {error: true});
   }
   const p = preview;
-  const c = chart($.plot, {width: 1000, height: 200, xRange: [0, p.t_end], xLabel: "t (s)", yLabel: "θ (rad)",
+  const c = chart($.plot, {width: 1000, height: 150, xRange: [0, p.t_end], xLabel: "t (s)", yLabel: "θ (rad)",
                            yRange: [p.theta_max - 0.05, Math.max(...p.theta, p.theta_max + 0.1) + 0.05],
                            title: "the post-processed stroke (not saved yet)"});
   c.line([0, p.t_end], [p.theta_max, p.theta_max], "head");
@@ -181,11 +183,30 @@ async function refresh() {
   $.cursor = svgEl("line", {class: "cursor", y1: c.margins.top, y2: c.height - c.margins.bottom, visibility: "hidden"});
   c.svg.append($.cursor);
   $.chart = c;
+  drawForce(p);
   $.info.textContent = `${p.impacts.t.length} impacts, ${fmt(p.t_end)} s; made by ${p.history.join(", ")}` +
     (p.recipe ? "" : " (joined strokes keep no recipe: the library cannot store them; save the parts)");
   $.info.dataset.impacts = JSON.stringify(p.impacts.t);
   document.body.dataset.previewed = "yes";
   status("previewed: play it, then save it");
+}
+
+// The force a(t) where the recipe's force plays (a trimmed or caught stroke's part of it; none for joined strokes).
+function drawForce(p) {
+  const known = p.force.map((a, i) => (a == null ? null : i)).filter((i) => i != null);
+  if (!known.length) return $.force.replaceChildren();
+  const values = known.map((i) => p.force[i]);
+  const low = Math.min(0, ...values), high = Math.max(10, ...values);
+  const c = chart($.force, {width: 1000, height: 80, xRange: [0, p.t_end], yRange: [low, high + 0.05 * (high - low)],
+                            yLabel: "a (m/s²)", title: "the force a(t) it plays"});
+  let run = [];
+  for (const i of [...known, -1]) {  // one line per stretch of samples the recipe plays
+    if (run.length && (i < 0 || i !== run[run.length - 1] + 1)) {
+      c.line(run.map((k) => p.t[k]), run.map((k) => p.force[k]), "force");
+      run = [];
+    }
+    if (i >= 0) run.push(i);
+  }
 }
 
 async function hear(impacts, onTime) {
