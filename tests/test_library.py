@@ -725,3 +725,39 @@ def test_a_build_switches_the_library_only_when_no_reader_holds_it(palette, libr
     assert build.wait(timeout=60) == 0
     assert list(load_library(folder)) == ["tap", "free-bounce"]
     assert sorted(p.name for p in folder.iterdir()) == ["manifest.json", manifest_of(folder)["folder"]]
+
+
+# --- one stroke saved into a library -----------------------------------------------------------------------------
+
+
+def test_a_saved_stroke_joins_the_library_and_leaves_the_others_bit_for_bit(small, tmp_path):
+    _, folder, entries = small
+    copy = tmp_path / "copy"
+    shutil.copytree(folder, copy)
+    before = {name: [Path(p).read_bytes() for p in stroke_files(copy, name)] for name in SMALL}
+    stretched = drumstroke.palette.stretch(entries[1].make(), 1.5)
+    library = library_module.save_stroke(copy, "slow-double", stretched, category="double stroke",
+                                         description="slower")
+    assert list(library) == [*SMALL, "slow-double"]
+    assert check_library(copy).problems == ()
+    assert {name: [Path(p).read_bytes() for p in stroke_files(copy, name)] for name in SMALL} == before
+    loaded = load_library(copy)["slow-double"]
+    assert (loaded.category, loaded.description) == ("double stroke", "slower")
+    assert loaded.trajectory.history[-1] == "stretch 1.5"
+    np.testing.assert_allclose(loaded.trajectory.impacts.t, stretched.impacts.t, rtol=0, atol=1e-12)
+
+
+def test_a_saved_stroke_makes_an_empty_folder_a_library_and_is_refused_twice_unless_replacing(palette, tmp_path):
+    single = palette["single"].make()
+    library_module.save_stroke(tmp_path, "one", single)
+    assert list(load_library(tmp_path)) == ["one"] and load_library(tmp_path).rate == 1000.0
+    with pytest.raises(ParameterError, match="'one' is a stroke of the library"):
+        library_module.save_stroke(tmp_path, "one", single)
+    library_module.save_stroke(tmp_path, "one", drumstroke.palette.reverse(single), replace_stroke=True)
+    assert load_library(tmp_path)["one"].trajectory.history[-1] == "reverse"
+    for name in ("../up", "a/b", "Upper", ""):
+        with pytest.raises(ParameterError, match="name must be"):
+            library_module.save_stroke(tmp_path, name, single)
+    with pytest.raises(ParameterError, match="description must be one line"):
+        library_module.save_stroke(tmp_path, "two", single, description="a\nb")
+    assert list(load_library(tmp_path)) == ["one"]

@@ -30,12 +30,12 @@ from .._checks import check_keys, check_real, did_you_mean
 from ..errors import ParameterError
 from ..formats import trajectory_csv
 from ..formats.json import json_text
-from ..formats.library import Staging, diagnose
+from ..formats.library import MANIFEST, Staging, diagnose
 from ..formats.sidecar import KEY
 from ..formats.toml import reading_toml, toml_text
 from ..presets import PRESETS
 from ..recipe import Recipe
-from ..stroke import resolve, simulate
+from ..stroke import as_trajectory, resolve, simulate
 from ..trajectory import DEFAULT_RATE, Impacts, Trajectory
 from .transforms import apply_steps, trim
 
@@ -287,6 +287,67 @@ def build_library(directory, *, rate=DEFAULT_RATE, palette=None, progress=None):
         staging.discard()
         raise
     return Library(staging.directory, rate, strokes)
+
+
+def save_stroke(directory, name, trajectory, *, category="", description="", replace_stroke=False):
+    """Add one stroke to a library folder, written as :func:`build_library` writes its strokes; return the
+    :class:`Library`.
+
+    The library's other strokes are written again as they are (at its rate) and the library is switched to
+    the new set atomically; a folder that holds no library yet becomes one at :data:`DEFAULT_RATE`.
+
+    Parameters
+    ----------
+    directory : str or Path
+        A library folder (``build_library``'s) or a folder that holds none yet.
+    name : str
+        1-64 of a-z, 0-9, '.', '_', '-', starting with a letter or digit (it names files).
+    trajectory : Trajectory or Stroke
+        One stick's stroke with the recipe it was simulated from (its transforms in its history).
+    category, description : str
+        One line each.
+    replace_stroke : bool
+        Whether a stroke of that name already there is replaced (else refused).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from drumstroke.palette import stretch
+    >>> folder = tempfile.mkdtemp()
+    >>> library = save_stroke(folder, "soft-double", stretch(make_stroke("double"), 1.5))
+    >>> list(load_library(folder)), load_library(folder)["soft-double"].trajectory.history[-1]
+    (['soft-double'], 'stretch 1.5')
+    """
+    directory = Path(directory)
+    if not isinstance(name, str) or not _NAME.match(name):
+        raise ParameterError(f"name must be 1-64 of a-z, 0-9, '.', '_', '-' (starting with a letter or digit), "
+                             f"got {name!r}")
+    for key, text in (("category", category), ("description", description)):
+        if not isinstance(text, str) or "\n" in text:
+            raise ParameterError(f"{key} must be one line of text, got {text!r}")
+    trajectory = as_trajectory(trajectory)
+    if trajectory.recipe is None:
+        raise ParameterError(f"stroke {name!r} has no recipe (a joined or recorded motion): a library keeps each "
+                             "stroke's recipe; save the strokes it joins instead")
+    library = load_library(directory) if (directory / MANIFEST).exists() else Library(directory, DEFAULT_RATE, [])
+    if name in library and not replace_stroke:
+        raise ParameterError(f"name {name!r} is a stroke of the library {str(directory)!r} already: choose "
+                             "another name or ask to replace it")
+    rate = library.rate
+    stroke = LibraryStroke(name, category, description, _on_grid(replace(trajectory, name=name).sample(rate), rate))
+    strokes = [stroke if old.name == name else old for old in library.values()]
+    if name not in library:
+        strokes.append(stroke)
+    staging = Staging(directory)
+    try:
+        for kept in strokes:
+            entry = Entry(kept.name, kept.category, kept.description, kept.trajectory.recipe)
+            _write_stroke(staging, entry, kept.trajectory, rate)
+        staging.commit(rate)
+    except BaseException:
+        staging.discard()
+        raise
+    return Library(directory, rate, strokes)
 
 
 def palette_library(palette=None, *, rate=DEFAULT_RATE):

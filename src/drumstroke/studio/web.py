@@ -34,7 +34,7 @@ from ..errors import ParameterError
 from ..evaluation.web import Guard, cross_site, read_body
 from ..formats.json import loads
 from ..formats.reading import check_document
-from . import parts, strokes
+from . import palette, parts, strokes
 from .session import File
 
 log = logging.getLogger(__name__)
@@ -51,7 +51,7 @@ STATIC = {
 }
 """The page's files (in the package's ``static`` folder) and their media types."""
 
-OPERATIONS = {**strokes.OPERATIONS, **parts.OPERATIONS}
+OPERATIONS = {**strokes.OPERATIONS, **palette.OPERATIONS, **parts.OPERATIONS}
 """Every operation the page may ask for: name -> function(studio, request object) -> dict or File."""
 
 WORKERS = 2
