@@ -75,6 +75,14 @@ def rudiments(studio, request):
                           for r in all_rudiments()]}
 
 
+def part_options(studio, request):
+    """``{}`` -> ``{"strokes", "models", "controllers", "downloads"}``: the palette's stroke names a note may name,
+    the models a part is planned with, the robot's controllers and the kinds of file ``download`` writes."""
+    fields(request)
+    return {"strokes": list(palette_library()), "models": list(MODELS),
+            "controllers": list(RobotConfig().controllers), "downloads": list(DOWNLOADS)}
+
+
 def plan(studio, request):
     """A part -> what the planner made of it, for the lanes.
 
@@ -322,5 +330,5 @@ def _written(piece, kind, title="part"):
         return File(path.read_bytes(), media_type, path.name)
 
 
-OPERATIONS = {"rudiments": rudiments, "plan": plan, "audio": audio, "download": download, "robot": robot}
+OPERATIONS = {"rudiments": rudiments, "part_options": part_options, "plan": plan, "audio": audio, "download": download, "robot": robot}
 """This module's operations by name."""
