@@ -131,6 +131,8 @@ export function build(section) {
     el("p", {class: "note"}, "Click a cell (or Enter, Space; arrow keys move): off → normal → accent > → ghost ( ) → off. " +
        "A note takes the stroke of new notes when it is set."),
     table,
+    el("div", {class: "row"}, el("button", {id: "part-clear", onclick: () => { grid.cells.clear(); edited(); }},
+                                 "Clear the grid")),
     el("details", {open: true}, el("summary", {}, "Text pattern (edit it: the grid follows when it fits)"), text, fits),
     el("div", {class: "row"}, playButton, el("button", {id: "part-stop", onclick: () => stop()}, "■ Stop"), downloads),
     sticking, lanes, problems);
