@@ -55,8 +55,9 @@ def test_a_groove_clicked_on_the_grid_is_planned_heard_and_its_csv_is_compose_s(
     assert page.inner_text("#part-sticking") == "Sticking: R L R> L R L R> L | R L R> L R L R> L"
     assert page.locator(".lane").count() == 2 and page.locator("#part-problems li").count() == 0
     page.click("#part-play")
-    page.wait_for_selector("body[data-played]", timeout=15000)
+    page.wait_for_selector("body[data-playing] .lane line.cursor", state="attached", timeout=15000)  # a cursor follows the sound
     page.screenshot(path=str(IMAGES / "studio-part.png"))
+    page.wait_for_selector("body[data-played]", timeout=15000)
     with page.expect_download() as waiting:
         page.click("#part-download-csv")
     got = pd.read_csv(waiting.value.path())

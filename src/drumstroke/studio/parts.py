@@ -330,5 +330,6 @@ def _written(piece, kind, title="part"):
         return File(path.read_bytes(), media_type, path.name)
 
 
-OPERATIONS = {"rudiments": rudiments, "part_options": part_options, "plan": plan, "audio": audio, "download": download, "robot": robot}
+OPERATIONS = {"rudiments": rudiments, "part_options": part_options, "plan": plan, "audio": audio, "download": download,
+              "robot": robot}
 """This module's operations by name."""

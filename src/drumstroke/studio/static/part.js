@@ -125,17 +125,17 @@ export function build(section) {
     el("div", {class: "row"}, el("label", {}, "Tempo (bpm) ", tempo), el("label", {}, "Meter ", meter),
        el("label", {}, "Bars ", bars), el("label", {}, "Steps ", steps), el("label", {}, "Stroke of new notes ", penSelect),
        el("label", {}, "Model ", modelSelect)),
-    el("div", {class: "row"}, el("label", {}, "Start from a rudiment ", rudiment), rudimentTempo,
+    el("div", {class: "row"}, el("label", {}, "Start from a rudiment ", rudiment), el("label", {}, "at ", rudimentTempo, " bpm"),
        el("button", {id: "part-rudiment-load", onclick: () => loadRudiment()}, "Load"),
        el("label", {}, "or a MIDI file (drop it on the grid) ", midi)),
     el("p", {class: "note"}, "Click a cell (or Enter, Space; arrow keys move): off → normal → accent > → ghost ( ) → off. " +
        "A note takes the stroke of new notes when it is set."),
     table,
-    el("div", {class: "row"}, el("button", {id: "part-clear", onclick: () => { grid.cells.clear(); edited(); }},
-                                 "Clear the grid")),
-    el("details", {open: true}, el("summary", {}, "Text pattern (edit it: the grid follows when it fits)"), text, fits),
-    el("div", {class: "row"}, playButton, el("button", {id: "part-stop", onclick: () => stop()}, "■ Stop"), downloads),
-    sticking, lanes, problems);
+    el("div", {class: "row"},
+       el("button", {id: "part-clear", onclick: () => { grid.cells.clear(); edited(); }}, "Clear the grid"),
+       playButton, el("button", {id: "part-stop", onclick: () => stop()}, "■ Stop"), downloads),
+    sticking, lanes, problems,
+    el("details", {open: true}, el("summary", {}, "Text pattern (edit it: the grid follows when it fits)"), text, fits));
   meter.value = grid.meter; bars.value = grid.bars; steps.value = grid.steps;
   tempo.addEventListener("change", () => { grid.tempo = +tempo.value; edited(); });
   meter.addEventListener("change", () => { grid.meter = meter.value; trim(); edited(); });
@@ -232,7 +232,7 @@ function edited() {
   source = {pattern: gridText()};
   view.text.value = source.pattern;
   view.fits.textContent = "";
-  replan(150);
+  replan(0);
 }
 
 // The text changed: the grid follows when the text fits it.
@@ -319,7 +319,7 @@ function draw(answer) {
     const lane = answer.sticks[name], box = el("div", {class: "lane", "data-stick": name});
     view.lanes.append(box);
     const label = name === "right" ? "R, the right stick" : name === "left" ? "L, the left stick" : name;
-    const c = chart(box, {width: 1300, height: 170, xRange, yRange, yLabel: "θ (rad)", xLabel: "time (s) from bar 1",
+    const c = chart(box, {width: 1300, height: 150, xRange, yRange, yLabel: "θ (rad)", xLabel: "time (s) from bar 1",
                           title: `${label}: bars 1–${Math.max(1, answer.bars.length - 1)} at ${+answer.tempo.toFixed(2)} bpm in ${answer.meter.join("/")}`});
     const g = c.layer("bars");
     answer.bars.forEach((b, k) => {
@@ -335,7 +335,7 @@ function draw(answer) {
       }
     });
     c.line(xRange, [answer.head, answer.head], "head");
-    c.line(lane.t, lane.theta, "theta");
+    c.line(lane.t, lane.theta, `theta stick-${name}`);
     c.dots(lane.impacts.t, lane.impacts.t.map(() => answer.head),
            lane.impacts.level_db.map((l) => Math.max(1.5, 3 + l / 4)), "impact");
     const marks = c.layer("marks");
