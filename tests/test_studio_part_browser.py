@@ -128,3 +128,22 @@ def test_the_robot_tracks_the_part_and_shows_the_onsets_kept_and_missed(page):
         missed_any |= int(kept) < int(total)
     assert missed_any  # the PI controller, without feedforward, misses some (the paper's finding)
     page.screenshot(path=str(IMAGES / "studio-robot.png"))
+
+
+def test_a_midi_file_chosen_is_planned_and_its_notes_shown_as_text(page, tmp_path):
+    import mido
+
+    track = mido.MidiTrack([mido.MetaMessage("set_tempo", tempo=600_000)])  # 100 bpm
+    for k in range(8):  # 8ths on the acoustic snare, every other one accented
+        track += [mido.Message("note_on", channel=9, note=38, velocity=116 if k % 2 else 100, time=0 if k == 0 else 240),
+                  mido.Message("note_off", channel=9, note=38, velocity=0, time=0)]
+    song = mido.MidiFile(ticks_per_beat=480)
+    song.tracks.append(track)
+    song.save(tmp_path / "song.mid")
+    page.set_input_files("#part-midi", str(tmp_path / "song.mid"))
+    planned(page, 8)
+    lines = page.input_value("#part-text").splitlines()
+    assert lines[0] == "tempo 100"
+    assert [line.split()[:3] for line in lines[1:]] == [[f"{k / 2:g}", "auto", str(116 if k % 2 else 100)]
+                                                         for k in range(8)]
+    assert page.locator(".lane text.mark").count() == 8

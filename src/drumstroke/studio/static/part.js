@@ -170,22 +170,28 @@ function cellText(note, row) {
   return note.level === "ghost" ? `(${letter}${word})` : `${letter}${note.level === "accent" ? ">" : ""}${word}`;
 }
 
+// Steps a beat of the meter's note value (6/8 counts eighths), or a quarter note's when a beat is no whole step.
+function beatSteps() {
+  const per = STEPS[grid.steps], unit = per * 4 / +grid.meter.split("/")[1];
+  return Number.isInteger(unit) && unit >= 1 ? unit : per;
+}
+
 function drawGrid() {
-  const per = STEPS[grid.steps], inBar = Math.round(barBeats() * per), count = stepCount();
-  const rows = [el("div", {class: "gridrow head", role: "row"}, el("span", {class: "rowname", role: "columnheader"}, ""),
-                   ...Array.from({length: count}, (_, s) => el("span", {
-                     class: `step${s % inBar === 0 ? " bar" : ""}`, role: "columnheader"},
-                   s % per === 0 ? `${Math.floor(s / inBar) + 1}.${(s % inBar) / per + 1}` : "")))];
+  const beat = beatSteps(), inBar = Math.round(barBeats() * STEPS[grid.steps]), count = stepCount();
+  const count1 = (s) => `${Math.floor(s / inBar) + 1}.${+((s % inBar) / beat + 1).toFixed(3)}`;  // bar.beat
+  const head = Array.from({length: count}, (_, s) => el("span", {class: `step${s % inBar === 0 ? " bar" : ""}`,
+                                                                 role: "columnheader"}, s % beat === 0 ? count1(s) : ""));
+  const rows = [el("div", {class: "gridrow head", role: "row"},
+                   el("span", {class: "rowname", role: "columnheader"}, ""), ...head)];
   ROWS.forEach(([row, name], r) => {
     const cells = [el("span", {class: "rowname", role: "rowheader"}, name)];
     for (let step = 0; step < count; step++) {
       const note = grid.cells.get(`${row}:${step}`);
-      const bar = Math.floor(step / inBar) + 1, beat = (step % inBar) / per + 1;
+      const look = `${note ? ` on ${note.level}` : ""}${step % inBar === 0 ? " bar" : ""}${step % beat === 0 ? " beat" : ""}`;
       cells.push(el("button", {
-        class: `cell${note ? ` on ${note.level}` : ""}${step % inBar === 0 ? " bar" : ""}${step % per === 0 ? " beat" : ""}`,
-        role: "gridcell", "data-row": row, "data-step": step, tabindex: r === 0 && step === 0 ? 0 : -1,
-        "aria-label": `${name} bar ${bar} beat ${+beat.toFixed(3)}: ${note ? `${note.level} ${note.stroke}` : "off"}`,
-        title: note ? `${note.level}, ${note.stroke}` : "",
+        class: `cell${look}`, role: "gridcell", "data-row": row, "data-step": step,
+        tabindex: r === 0 && step === 0 ? 0 : -1, title: note ? `${note.level}, ${note.stroke}` : "",
+        "aria-label": `${name} at ${count1(step)}: ${note ? `${note.level} ${note.stroke}` : "off"}`,
         onclick: () => cycle(row, step), onkeydown: (event) => move(event, r, step),
       }, cellText(note, row)));
     }
@@ -232,6 +238,14 @@ function edited() {
   source = {pattern: gridText()};
   view.text.value = source.pattern;
   view.fits.textContent = "";
+  if (!grid.cells.size) {  // nothing to plan: said, not asked
+    planned = null;
+    view.lanes.replaceChildren();
+    view.problems.replaceChildren();
+    view.sticking.textContent = "";
+    status("the grid is empty: click a cell to add a note");
+    return;
+  }
   replan(0);
 }
 
