@@ -265,7 +265,7 @@ function readText() {
 }
 
 async function loadRudiment() {
-  source = {rudiment: view.rudiment.value, tempo: +view.rudimentTempo.value, bars: 2};
+  source = {rudiment: view.rudiment.value, tempo: +view.rudimentTempo.value, bars: grid.bars};
   await replan();
 }
 
