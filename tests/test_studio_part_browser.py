@@ -55,7 +55,8 @@ def test_a_groove_clicked_on_the_grid_is_planned_heard_and_its_csv_is_compose_s(
     assert page.inner_text("#part-sticking") == "Sticking: R L R> L R L R> L | R L R> L R L R> L"
     assert page.locator(".lane").count() == 2 and page.locator("#part-problems li").count() == 0
     page.click("#part-play")
-    page.wait_for_selector("body[data-playing] .lane line.cursor", state="attached", timeout=15000)  # a cursor follows the sound
+    # a cursor follows the sound over the lanes
+    page.wait_for_selector("body[data-playing] .lane line.cursor", state="attached", timeout=15000)
     page.screenshot(path=str(IMAGES / "studio-part.png"))
     page.wait_for_selector("body[data-played]", timeout=15000)
     with page.expect_download() as waiting:
@@ -135,7 +136,8 @@ def test_a_midi_file_chosen_is_planned_and_its_notes_shown_as_text(page, tmp_pat
 
     track = mido.MidiTrack([mido.MetaMessage("set_tempo", tempo=600_000)])  # 100 bpm
     for k in range(8):  # 8ths on the acoustic snare, every other one accented
-        track += [mido.Message("note_on", channel=9, note=38, velocity=116 if k % 2 else 100, time=0 if k == 0 else 240),
+        velocity, time = (116 if k % 2 else 100), (0 if k == 0 else 240)
+        track += [mido.Message("note_on", channel=9, note=38, velocity=velocity, time=time),
                   mido.Message("note_off", channel=9, note=38, velocity=0, time=0)]
     song = mido.MidiFile(ticks_per_beat=480)
     song.tracks.append(track)

@@ -93,7 +93,8 @@ def test_each_download_is_what_compose_writes(server, tmp_path, kind):
     elif kind == "midi":
         got, expected = mido.MidiFile(file=io.BytesIO(data)), mido.MidiFile(tmp_path / "cli.mid")
         notes = [[(m.note, m.velocity, m.time) for m in track if m.type == "note_on"] for track in got.tracks]
-        assert notes == [[(m.note, m.velocity, m.time) for m in track if m.type == "note_on"] for track in expected.tracks]
+        assert notes == [[(m.note, m.velocity, m.time) for m in track if m.type == "note_on"]
+                         for track in expected.tracks]
         assert sum(map(len, notes)) >= 16
     elif kind == "wav":
         with wave.open(io.BytesIO(data)) as got, wave.open(str(tmp_path / "cli.wav")) as expected:

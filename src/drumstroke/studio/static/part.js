@@ -72,7 +72,8 @@ function textGrid(text) {
   if (bars > 8) return null;
   const steps = Object.keys(STEPS).find((name) => notes.every((note) => {
     const k = note.beat * STEPS[name];
-    return Math.abs(k - Math.round(k)) < 1e-9 && Math.abs(Math.round(length * STEPS[name]) - length * STEPS[name]) < 1e-9;
+    const bar = length * STEPS[name];
+    return Math.abs(k - Math.round(k)) < 1e-9 && Math.abs(bar - Math.round(bar)) < 1e-9;
   }));
   if (!steps) return null;
   const cells = new Map();
@@ -123,19 +124,21 @@ export function build(section) {
   section.append(
     el("h2", {}, "Part editor"),
     el("div", {class: "row"}, el("label", {}, "Tempo (bpm) ", tempo), el("label", {}, "Meter ", meter),
-       el("label", {}, "Bars ", bars), el("label", {}, "Steps ", steps), el("label", {}, "Stroke of new notes ", penSelect),
-       el("label", {}, "Model ", modelSelect)),
-    el("div", {class: "row"}, el("label", {}, "Start from a rudiment ", rudiment), el("label", {}, "at ", rudimentTempo, " bpm"),
+       el("label", {}, "Bars ", bars), el("label", {}, "Steps ", steps),
+       el("label", {}, "Stroke of new notes ", penSelect), el("label", {}, "Model ", modelSelect)),
+    el("div", {class: "row"}, el("label", {}, "Start from a rudiment ", rudiment),
+       el("label", {}, "at ", rudimentTempo, " bpm"),
        el("button", {id: "part-rudiment-load", onclick: () => loadRudiment()}, "Load"),
        el("label", {}, "or a MIDI file (drop it on the grid) ", midi)),
-    el("p", {class: "note"}, "Click a cell (or Enter, Space; arrow keys move): off → normal → accent > → ghost ( ) → off. " +
-       "A note takes the stroke of new notes when it is set."),
+    el("p", {class: "note"}, "Click a cell (or Enter, Space; arrow keys move): off → normal → accent > → " +
+       "ghost ( ) → off. A note takes the stroke of new notes when it is set."),
     table,
     el("div", {class: "row"},
        el("button", {id: "part-clear", onclick: () => { grid.cells.clear(); edited(); }}, "Clear the grid"),
        playButton, el("button", {id: "part-stop", onclick: () => stop()}, "■ Stop"), downloads),
     sticking, lanes, problems,
-    el("details", {open: true}, el("summary", {}, "Text pattern (edit it: the grid follows when it fits)"), text, fits));
+    el("details", {open: true}, el("summary", {}, "Text pattern (edit it: the grid follows when it fits)"),
+       text, fits));
   meter.value = grid.meter; bars.value = grid.bars; steps.value = grid.steps;
   tempo.addEventListener("change", () => { grid.tempo = +tempo.value; edited(); });
   meter.addEventListener("change", () => { grid.meter = meter.value; trim(); edited(); });
@@ -179,15 +182,16 @@ function beatSteps() {
 function drawGrid() {
   const beat = beatSteps(), inBar = Math.round(barBeats() * STEPS[grid.steps]), count = stepCount();
   const count1 = (s) => `${Math.floor(s / inBar) + 1}.${+((s % inBar) / beat + 1).toFixed(3)}`;  // bar.beat
-  const head = Array.from({length: count}, (_, s) => el("span", {class: `step${s % inBar === 0 ? " bar" : ""}`,
-                                                                 role: "columnheader"}, s % beat === 0 ? count1(s) : ""));
+  const head = Array.from({length: count}, (_, s) => el(
+    "span", {class: `step${s % inBar === 0 ? " bar" : ""}`, role: "columnheader"}, s % beat === 0 ? count1(s) : ""));
   const rows = [el("div", {class: "gridrow head", role: "row"},
                    el("span", {class: "rowname", role: "columnheader"}, ""), ...head)];
   ROWS.forEach(([row, name], r) => {
     const cells = [el("span", {class: "rowname", role: "rowheader"}, name)];
     for (let step = 0; step < count; step++) {
       const note = grid.cells.get(`${row}:${step}`);
-      const look = `${note ? ` on ${note.level}` : ""}${step % inBar === 0 ? " bar" : ""}${step % beat === 0 ? " beat" : ""}`;
+      const look = (note ? ` on ${note.level}` : "") + (step % inBar === 0 ? " bar" : "") +
+                   (step % beat === 0 ? " beat" : "");
       cells.push(el("button", {
         class: `cell${look}`, role: "gridcell", "data-row": row, "data-step": step,
         tabindex: r === 0 && step === 0 ? 0 : -1, title: note ? `${note.level}, ${note.stroke}` : "",
@@ -214,8 +218,12 @@ function move(event, r, step) {
   if (!d) return;
   event.preventDefault();
   const row = ROWS[Math.min(ROWS.length - 1, Math.max(0, r + d[0]))][0];
-  const next = view.table.querySelector(`[data-row="${row}"][data-step="${Math.min(stepCount() - 1, Math.max(0, step + d[1]))}"]`);
-  if (next) { view.table.querySelectorAll(".cell").forEach((c) => { c.tabIndex = -1; }); next.tabIndex = 0; next.focus(); }
+  const to = Math.min(stepCount() - 1, Math.max(0, step + d[1]));
+  const next = view.table.querySelector(`[data-row="${row}"][data-step="${to}"]`);
+  if (!next) return;
+  view.table.querySelectorAll(".cell").forEach((cell) => { cell.tabIndex = -1; });  // one cell in the tab order
+  next.tabIndex = 0;
+  next.focus();
 }
 
 function trim() {  // notes past the grid's end are dropped with it
@@ -253,12 +261,13 @@ function edited() {
 function readText() {
   const read = textGrid(view.text.value);
   if (!read) {
-    view.fits.textContent = "The text does not fit the grid (steps, sticks or levels it has not): the text is what plays.";
+    view.fits.textContent = "The text does not fit the grid (steps, sticks or levels it has not): the text is " +
+                            "what plays; a click on the grid replaces it with the grid's notes.";
     view.table.classList.add("stale");
     return;
   }
   Object.assign(grid, read);
-  view.tempo.value = grid.tempo; view.meter.value = grid.meter; view.bars.value = grid.bars; view.steps.value = grid.steps;
+  for (const key of ["tempo", "meter", "bars", "steps"]) view[key].value = grid[key];
   view.table.classList.remove("stale");
   view.fits.textContent = "";
   drawGrid();
@@ -320,34 +329,50 @@ function where(t, answer) {
   return `bar ${k + 1}, beat ${+beat.toFixed(2)}`;
 }
 
+// The sticks in a drummer's order (right, left, then any other by name), and each one's lane title.
+export function stickOrder(sticks) {
+  const rank = (name) => (name === "right" ? "0" : name === "left" ? "1" : `2${name}`);
+  return Object.keys(sticks).sort((a, b) => (rank(a) < rank(b) ? -1 : 1));
+}
+
+export function stickLabel(name) {
+  return name === "right" ? "R, the right stick" : name === "left" ? "L, the left stick" : name;
+}
+
+// A vertical line across chart c at time t.
+export function across(c, t, cls) {
+  return svgEl("line", {x1: c.x(t), x2: c.x(t), y1: c.margins.top, y2: c.height - c.margins.bottom, class: cls});
+}
+
+// The bar lines of chart c, labelled "bar 1", "bar 2", ..., and (beats > 1) the beats between them, dotted.
+export function barLines(c, bars, beats = 1) {
+  const g = c.layer("bars");
+  bars.forEach((b, k) => {
+    g.append(across(c, b, "barline"));
+    if (k === bars.length - 1) return;
+    for (let i = 1; i < beats; i++) g.append(across(c, b + (bars[k + 1] - b) * i / beats, "beatline"));
+    const text = svgEl("text", {x: c.x(b) + 3, y: c.height - c.margins.bottom - 4, class: "barlabel"});
+    text.textContent = `bar ${k + 1}`;
+    g.append(text);
+  });
+}
+
 function draw(answer) {
-  const names = Object.keys(answer.sticks).sort((a, b) => (a === "right" ? -1 : b === "right" ? 1 : a < b ? -1 : 1));
-  let low = answer.head, high = answer.head;
-  for (const name of names) for (const v of answer.sticks[name].theta) { low = Math.min(low, v); high = Math.max(high, v); }
+  const names = stickOrder(answer.sticks);
+  const thetas = names.flatMap((name) => answer.sticks[name].theta);
+  const low = Math.min(answer.head, ...thetas), high = Math.max(answer.head, ...thetas);
   const pad = 0.08 * (high - low || 1), yRange = [low - pad, high + 3 * pad];  // one scale for every stick
   const t0 = Math.min(0, ...names.map((n) => answer.sticks[n].t[0])), xRange = [t0, answer.t_end];
-  const beatsPerBar = answer.meter[0];
+  const bars = `bars 1–${Math.max(1, answer.bars.length - 1)} at ${+answer.tempo.toFixed(2)} bpm in ` +
+               answer.meter.join("/");
   view.lanes.replaceChildren();
   const cursors = [];
   for (const name of names) {
     const lane = answer.sticks[name], box = el("div", {class: "lane", "data-stick": name});
     view.lanes.append(box);
-    const label = name === "right" ? "R, the right stick" : name === "left" ? "L, the left stick" : name;
     const c = chart(box, {width: 1300, height: 150, xRange, yRange, yLabel: "θ (rad)", xLabel: "time (s) from bar 1",
-                          title: `${label}: bars 1–${Math.max(1, answer.bars.length - 1)} at ${+answer.tempo.toFixed(2)} bpm in ${answer.meter.join("/")}`});
-    const g = c.layer("bars");
-    answer.bars.forEach((b, k) => {
-      g.append(svgEl("line", {x1: c.x(b), x2: c.x(b), y1: c.margins.top, y2: c.height - c.margins.bottom, class: "barline"}));
-      if (k < answer.bars.length - 1) {
-        for (let i = 1; i < beatsPerBar; i++) {
-          const x = c.x(b + (answer.bars[k + 1] - b) * i / beatsPerBar);
-          g.append(svgEl("line", {x1: x, x2: x, y1: c.margins.top, y2: c.height - c.margins.bottom, class: "beatline"}));
-        }
-        const text = svgEl("text", {x: c.x(b) + 3, y: c.height - c.margins.bottom - 4, class: "barlabel"});
-        text.textContent = `bar ${k + 1}`;
-        g.append(text);
-      }
-    });
+                          title: `${stickLabel(name)}: ${bars}`});
+    barLines(c, answer.bars, answer.meter[0]);
     c.line(xRange, [answer.head, answer.head], "head");
     c.line(lane.t, lane.theta, `theta stick-${name}`);
     c.dots(lane.impacts.t, lane.impacts.t.map(() => answer.head),
@@ -403,8 +428,7 @@ function shortReason(reason) {  // the reason without its note's name (drawn bes
 function cursorAt(t) {
   for (const [c, layer] of view.cursors || []) {
     layer.replaceChildren();
-    if (t !== null) layer.append(svgEl("line", {x1: c.x(t), x2: c.x(t), y1: c.margins.top, y2: c.height - c.margins.bottom,
-                                                 class: "cursor"}));
+    if (t !== null) layer.append(across(c, t, "cursor"));
   }
 }
 

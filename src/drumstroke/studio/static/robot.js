@@ -1,7 +1,7 @@
 // The robot view: the part editor's part played on the simulated joint by a controller chosen (as 'drumstroke robot
 // track' plays a stroke), each stick drawn: the reference and the played angle, the onsets kept and missed.
 import {api, chart, el, status, svgEl} from "./common.js";
-import {currentPart} from "./part.js";
+import {barLines, currentPart, stickLabel, stickOrder} from "./part.js";
 
 let view = null;
 
@@ -12,8 +12,9 @@ export function build(section) {
   view = {controller, summary, lanes};
   section.append(
     el("h2", {}, "Robot"),
-    el("p", {class: "note"}, "The part of the part editor, each stick played on the simulated joint (the simple plant, " +
-       "1 kHz). An onset is kept when the joint touches the head within ±2 ms of the reference's audible impact."),
+    el("p", {class: "note"}, "The part of the part editor, each stick played on the simulated joint (the simple " +
+       "plant, 1 kHz). An onset is kept when the joint touches the head within ±2 ms of the reference's audible " +
+       "impact."),
     el("div", {class: "row"}, el("label", {}, "Controller ", controller),
        el("button", {id: "robot-track", onclick: () => run()}, "Track the part")),
     summary, lanes);
@@ -40,32 +41,21 @@ async function run() {
 }
 
 function draw(answer) {
-  const names = Object.keys(answer.sticks).sort((a, b) => (a === "right" ? -1 : b === "right" ? 1 : a < b ? -1 : 1));
-  let low = answer.head, high = answer.head, t0 = 0, t1 = 0;
-  for (const name of names) {
-    const s = answer.sticks[name];
-    for (const v of [...s.reference, ...s.played]) { low = Math.min(low, v); high = Math.max(high, v); }
-    t0 = Math.min(t0, s.t[0]); t1 = Math.max(t1, s.t[s.t.length - 1]);
-  }
+  const names = stickOrder(answer.sticks);
+  const thetas = names.flatMap((name) => [...answer.sticks[name].reference, ...answer.sticks[name].played]);
+  const low = Math.min(answer.head, ...thetas), high = Math.max(answer.head, ...thetas);
+  const t0 = Math.min(0, ...names.map((name) => answer.sticks[name].t[0]));
+  const t1 = Math.max(...names.map((name) => answer.sticks[name].t.at(-1)));
   const pad = 0.08 * (high - low || 1), yRange = [low - pad, high + pad];  // one scale for every stick
   view.lanes.replaceChildren();
   view.summary.replaceChildren();
   for (const name of names) {
-    const s = answer.sticks[name], box = el("div", {class: "lane", "data-stick": name});
+    const s = answer.sticks[name], box = el("div", {class: "lane", "data-stick": name}), label = stickLabel(name);
     view.lanes.append(box);
-    const label = name === "right" ? "R, the right stick" : name === "left" ? "L, the left stick" : name;
     const c = chart(box, {width: 1300, height: 220, xRange: [t0, t1], yRange, yLabel: "θ (rad)",
                           xLabel: "time (s) from bar 1", title: `${label} played by ${answer.controller}: reference ` +
-                          `(dashed) and played angle; onsets kept ● and missed ✕`});
-    const g = c.layer("bars");
-    answer.bars.forEach((b, k) => {
-      g.append(svgEl("line", {x1: c.x(b), x2: c.x(b), y1: c.margins.top, y2: c.height - c.margins.bottom, class: "barline"}));
-      if (k < answer.bars.length - 1) {
-        const text = svgEl("text", {x: c.x(b) + 3, y: c.margins.top + 12, class: "barlabel"});
-        text.textContent = `bar ${k + 1}`;
-        g.append(text);
-      }
-    });
+                          "(dashed) and played angle; onsets kept ● and missed ✕"});
+    barLines(c, answer.bars);
     c.line([t0, t1], [answer.head, answer.head], "head");
     c.line(s.t, s.reference, "reference");
     c.line(s.t, s.played, "played");
@@ -73,7 +63,8 @@ function draw(answer) {
     c.dots(kept, kept.map(() => answer.head), 4, "kept onset-kept");
     const marks = c.layer("missed");
     for (const t of missed) {
-      const text = svgEl("text", {x: c.x(t), y: c.y(answer.head) + 4, "text-anchor": "middle", class: "problemtext onset-missed"});
+      const text = svgEl("text", {x: c.x(t), y: c.y(answer.head) + 4, "text-anchor": "middle",
+                                  class: "problemtext onset-missed"});
       text.textContent = "✕";
       marks.append(text);
     }
