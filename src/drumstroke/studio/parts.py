@@ -87,7 +87,7 @@ def plan(studio, request):
     """A part -> what the planner made of it, for the lanes.
 
     ``{part fields, "samples"?}`` -> ``{"title", "pattern", "tempo", "meter", "offset", "t_end", "head", "bars",
-    "sticks": {name: {"t", "theta", "impacts": {"t", "level_db", "first"}}}, "notes": [...], "problems": [...],
+    "sticks": {name: {"t", "theta", "impacts": {"t", "level_db"}}}, "notes": [...], "problems": [...],
     "sticking"}``: times on the score's time (s from its time 0; the composition's is ``t + offset``); each note
     with its stick, its mark as a drummer writes it (``R``, ``L>``, ``(L)``), its impact (time, level dB) or
     None; each problem with the index of its note, its reason, and the nearest time (s) and level (dB) the
@@ -133,13 +133,14 @@ def download(studio, request):
     csv, json, midi and wav are :func:`~drumstroke.render.outputs.write_composition_outputs`' (the CSV without
     the JSON of its metadata beside it), ros the ROS 2 ``JointTrajectory`` of both sticks
     (:func:`~drumstroke.robot.export.export_ros_json`, validated against the joint's limits), pattern the part's
-    text pattern.
+    text pattern (a pattern as it was given).
     """
     fields(request, required=("kind",), optional=PART_FIELDS)
     kind = choice(request, "kind", tuple(DOWNLOADS))
     piece, score, title, _ = _part(request)
-    if kind == "pattern":
-        return File(_text(score).encode("utf-8"), DOWNLOADS[kind][0], f"{title}.pattern")
+    if kind == "pattern":  # a pattern as it was written (its comments too); a rudiment or a MIDI file as text
+        written = request["pattern"] if "pattern" in request else _text(score)
+        return File(written.encode("utf-8"), DOWNLOADS[kind][0], f"{title}.pattern")
     return _written(piece, kind, title)
 
 
@@ -160,8 +161,9 @@ def robot(studio, request):
     samples = int(number(request, "samples", low=100, high=5000, default=SAMPLES))
     piece, score, _, _ = _part(request)
     if piece.t_end > MAX_ROBOT_SECONDS:
-        raise ParameterError(f"the part lasts {piece.t_end:.3g} s; the robot plays at most {MAX_ROBOT_SECONDS:g} s "
-                             "(give fewer bars)")
+        given = next(key for key in ("pattern", "midi", "rudiment") if key in request)
+        raise ParameterError(f"{given}: the part lasts {piece.t_end:.3g} s; the robot plays at most "
+                             f"{MAX_ROBOT_SECONDS:g} s (give fewer bars)")
     sticks = {}
     for stick, trajectory in piece.sticks.items():
         played = track(reference(trajectory, piece.rate), config.controllers[name], config.plant)
