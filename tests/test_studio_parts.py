@@ -145,6 +145,20 @@ def test_the_command_lines_warnings_are_the_problems(server, tmp_path, capsys):
     assert warned == [p["reason"].removeprefix("pattern") for p in planned["problems"]]
 
 
+@pytest.mark.parametrize(("pattern", "note", "says"), [
+    ("tempo 100\n0 high-drop 127\n1 tap 127 left\n", 0, "past upright; played at velocity"),  # out of reach
+    ("tempo 100\n0 double 127\n0.25 single 100\n", 1, "too soon after 'double'"),  # a library stroke too soon
+])
+def test_library_strokes_problems_sit_beside_their_notes(server, tmp_path, capsys, pattern, note, says):
+    planned = answer(server, "plan", {"pattern": pattern})
+    (problem,) = planned["problems"]
+    assert problem["note"] == note and says in problem["reason"]
+    path = cli(tmp_path, pattern)
+    capsys.readouterr()
+    main(["compose", str(path), "--verbose"])
+    assert capsys.readouterr().err.strip() == f"warning: {path}" + problem["reason"].removeprefix("pattern")
+
+
 def test_a_rudiment_is_planned_as_drumstroke_rudiment_plays_it(server, tmp_path):
     planned = answer(server, "plan", {"rudiment": "flam-tap", "tempo": 90, "bars": 2})
     assert main(["rudiment", "flam-tap", "--tempo", "90", "--bars", "2", "--json", str(tmp_path / "r.json")]) == 0
