@@ -301,7 +301,7 @@ async function planNow() {
   try {
     const answer = await api("plan", currentPart());
     if (asked !== source) return;  // the part changed while it was planned: the next plan draws
-    planned = answer;
+    planned = {...answer, source: asked};
     if (!("pattern" in asked)) {  // a rudiment or a MIDI file: its text shown, the grid following if it fits
       view.text.value = answer.pattern;
       readText();
@@ -434,7 +434,8 @@ function cursorAt(t) {
 
 async function hear() {
   try {
-    if (!planned) await replan();
+    if (!planned || planned.source !== source) await planNow();  // the cursor needs this part's offset
+    if (!planned || planned.source !== source) return;  // it could not be planned: the status line says why
     const file = await api("audio", currentPart());
     const offset = planned.offset;
     await play(file.blob, {onTime: (t) => cursorAt(t === null ? null : t - offset)});
