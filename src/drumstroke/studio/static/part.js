@@ -16,6 +16,19 @@ let planned = null, model = "paper", pen = "auto";
 const queue = latest();
 let view = null;  // the DOM of the view once built
 
+// api(), asked again (up to 3 times, a moment later) while the studio is busy with other requests (503): the
+// studio runs two at once, and a view may ask for its lists and its plan together.
+export async function ask(name, body = {}) {
+  for (let attempt = 1; ; attempt++) {
+    try {
+      return await api(name, body);
+    } catch (error) {
+      if (attempt > 3 || !error.message.startsWith("the studio is busy")) throw error;
+      await new Promise((resolve) => setTimeout(resolve, 300 * attempt));
+    }
+  }
+}
+
 // The part the robot view and the requests use: the source and the model.
 export function currentPart() {
   return {...source, model};
@@ -154,10 +167,10 @@ export function build(section) {
     const file = event.dataTransfer.files[0];
     if (file) loadMidi(file);
   });
-  api("part_options").then((options) => {
+  ask("part_options").then((options) => {
     for (const name of options.strokes) penSelect.append(el("option", {value: name}, name));
   }).catch((error) => status(error.message, {error: true}));
-  api("rudiments").then(({rudiments}) => {
+  ask("rudiments").then(({rudiments}) => {
     for (const r of rudiments) rudiment.append(el("option", {value: r.name}, `${r.number}. ${r.title}`));
   }).catch((error) => status(error.message, {error: true}));
   drawGrid();
@@ -299,7 +312,7 @@ async function planNow() {
   const asked = source, started = performance.now();
   delete document.body.dataset.planned;
   try {
-    const answer = await api("plan", currentPart());
+    const answer = await ask("plan", currentPart());
     if (asked !== source) return;  // the part changed while it was planned: the next plan draws
     planned = {...answer, source: asked};
     if (!("pattern" in asked)) {  // a rudiment or a MIDI file: its text shown, the grid following if it fits
@@ -363,8 +376,8 @@ function draw(answer) {
   const low = Math.min(answer.head, ...thetas), high = Math.max(answer.head, ...thetas);
   const pad = 0.08 * (high - low || 1), yRange = [low - pad, high + 3 * pad];  // one scale for every stick
   const t0 = Math.min(0, ...names.map((n) => answer.sticks[n].t[0])), xRange = [t0, answer.t_end];
-  const bars = `bars 1–${Math.max(1, answer.bars.length - 1)} at ${+answer.tempo.toFixed(2)} bpm in ` +
-               answer.meter.join("/");
+  const count = Math.max(1, answer.bars.length - 1), meter = answer.meter.join("/");
+  const bars = `${count > 1 ? `bars 1–${count}` : "bar 1"} at ${+answer.tempo.toFixed(2)} bpm in ${meter}`;
   view.lanes.replaceChildren();
   const cursors = [];
   for (const name of names) {
@@ -390,14 +403,16 @@ function draw(answer) {
       text.append(tip);
       marks.append(text);
     });
+    let shown = 0;  // the problems of a lane in rows, so that near ones do not overlap
     answer.problems.forEach((problem, k) => {
       const note = answer.notes[problem.note];
       if (!note || note.stick !== name) return;
-      const x = c.x(note.time), y = c.y(answer.head);
+      const x = c.x(note.time), y = c.y(answer.head) - 6 - 13 * (shown++ % 4), left = x > 0.6 * c.width;
       const gp = svgEl("g", {class: "problem-mark", "data-note": problem.note, "data-problem": k});
-      gp.append(svgEl("line", {x1: x, x2: x, y1: c.margins.top + 18, y2: y, class: "problemline"}));
-      const text = svgEl("text", {x: x + 4, y: y - 6, class: "problemtext"});
-      text.textContent = `✕ ${note.mark} ${shortReason(problem.reason)}`;
+      gp.append(svgEl("line", {x1: x, x2: x, y1: c.margins.top + 18, y2: c.y(answer.head), class: "problemline"}));
+      const text = svgEl("text", {x: left ? x - 4 : x + 4, y, "text-anchor": left ? "end" : "start",
+                                  class: "problemtext"});
+      text.textContent = `✕ ${note.mark} ${shortReason(problem.reason, note)}`;
       const tip = svgEl("title");
       tip.textContent = problem.reason;
       text.append(tip);
@@ -408,7 +423,9 @@ function draw(answer) {
   }
   view.cursors = cursors;
   view.sticking.textContent = `Sticking: ${answer.sticking}`;
-  view.problems.replaceChildren(...answer.problems.map((problem, k) => {
+  const time = (problem) => (problem.note === null ? Infinity : answer.notes[problem.note].time);
+  const order = answer.problems.map((problem, k) => [problem, k]).sort(([a], [b]) => time(a) - time(b));
+  view.problems.replaceChildren(...order.map(([problem, k]) => {
     const note = answer.notes[problem.note];
     const near = [problem.nearest_time !== null ? `nearest playable time ${where(problem.nearest_time, answer)} ` +
                   `(${problem.nearest_time.toFixed(4)} s)` : "",
@@ -420,8 +437,8 @@ function draw(answer) {
   }));
 }
 
-function shortReason(reason) {  // the reason without its note's name (drawn beside the note already)
-  const text = reason.replace(/^[^:]*line \d+: |^[^:]*note \d+ \([a-z]+\): /, "");
+function shortReason(reason, note) {  // the reason without its note's name (drawn beside the note already)
+  const text = reason.startsWith(`${note.source}: `) ? reason.slice(note.source.length + 2) : reason;
   return text.length > 90 ? `${text.slice(0, 88)}…` : text;
 }
 
@@ -436,7 +453,7 @@ async function hear() {
   try {
     if (!planned || planned.source !== source) await planNow();  // the cursor needs this part's offset
     if (!planned || planned.source !== source) return;  // it could not be planned: the status line says why
-    const file = await api("audio", currentPart());
+    const file = await ask("audio", currentPart());
     const offset = planned.offset;
     await play(file.blob, {onTime: (t) => cursorAt(t === null ? null : t - offset)});
     status("playing the part");
@@ -447,7 +464,7 @@ async function hear() {
 
 async function take(kind) {
   try {
-    const file = await api("download", {...currentPart(), kind});
+    const file = await ask("download", {...currentPart(), kind});
     download(file);
     status(`downloaded ${file.filename}`);
   } catch (error) {
