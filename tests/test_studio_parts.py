@@ -15,6 +15,7 @@ import pytest
 
 from drumstroke.cli import main
 from drumstroke.design import Setup, Target, plan_stick
+from drumstroke.dynamics import velocity_to_level
 from drumstroke.formats.ros_json import read_ros_json
 from drumstroke.studio.app import make_studio
 
@@ -157,6 +158,13 @@ def test_library_strokes_problems_sit_beside_their_notes(server, tmp_path, capsy
     capsys.readouterr()
     main(["compose", str(path), "--verbose"])
     assert capsys.readouterr().err.strip() == f"warning: {path}" + problem["reason"].removeprefix("pattern")
+    if "played at velocity" in says:  # the nearest level: the loudest it played, the velocity the reason names
+        loudest = int(problem["reason"].split("played at velocity ")[1].split(",")[0])
+        assert problem["nearest_level"] == planned["notes"][note]["impact"]["level_db"]
+        assert abs(problem["nearest_level"] - velocity_to_level(loudest)) <= 0.5 * (
+            velocity_to_level(loudest + 1) - velocity_to_level(loudest))
+    else:
+        assert problem["nearest_level"] is None
 
 
 def test_a_rudiment_is_planned_as_drumstroke_rudiment_plays_it(server, tmp_path):

@@ -26,6 +26,7 @@ import numpy as np
 
 from ..compose import compose, rudiment_score
 from ..design import Setup, Target, plan_stick
+from ..dynamics import velocity_to_level
 from ..errors import ParameterError
 from ..formats.midi import TempoMap
 from ..formats.pattern import parse_pattern as pattern_rows
@@ -53,6 +54,9 @@ MAX_ROBOT_SECONDS = 20.0
 
 MAX_MIDI_BYTES = 512 * 1024
 """The largest MIDI file (bytes; its base64 is a third longer, within the studio's 1 MiB request)."""
+
+LEVEL_TOLERANCE = 1e-3
+"""dB: a note played further than this from its velocity's level was played at another (the loudest it could)."""
 
 SAMPLES = 1500
 """θ(t) samples sent per stick by default (the impacts are added to them, so each touch of the head shows)."""
@@ -116,7 +120,7 @@ def plan(studio, request):
         "t_end": piece.t_end - piece.offset, "head": head,
         "bars": bar_times(notes, score.tempo_map).tolist(),
         "sticks": {name: _lane(stick, piece.offset, samples) for name, stick in piece.sticks.items()},
-        "notes": answer_notes, "problems": _problems(piece, model),
+        "notes": answer_notes, "problems": _problems(piece, model, answer_notes),
         "sticking": sticking(notes, score.tempo_map),
     }
 
@@ -290,15 +294,19 @@ def _lane(stick, offset, samples):
             "impacts": {"t": impacts.t - offset, "level_db": impacts.level_db}}
 
 
-def _problems(piece, model):
-    """Each problem with its note's index and, for a note the planner left out, the nearest time and level it
-    could play (:class:`~drumstroke.design.planner.Problem`: the composition's problems keep only its reason)."""
-    notes = [p.note for p in piece.placements]
+def _problems(piece, model, notes):
+    """Each problem with its note's index and the nearest time and level it could be played at: the planner's for a
+    note it left out (:class:`~drumstroke.design.planner.Problem`: the composition's problems keep only its
+    reason), the level it was played at for a note played at another level than its velocity's (a velocity out of
+    reach); None where there is none. ``notes``: the answer's notes, each with its impact."""
     nearest = _nearest(piece, model) if piece.problems else {}
     answer = []
     for problem in piece.problems:
-        index = next((k for k, n in enumerate(notes) if n.source and problem.startswith(n.source + ":")), None)
-        near_time, near_level = nearest.get(notes[index].source, (None, None)) if index is not None else (None, None)
+        index = next((k for k, n in enumerate(notes) if problem.startswith(n["source"] + ":")), None)
+        near_time, near_level = nearest.get(notes[index]["source"], (None, None)) if index is not None else (None, None)
+        impact = notes[index]["impact"] if index is not None else None
+        if impact and abs(impact["level_db"] - velocity_to_level(notes[index]["velocity"])) > LEVEL_TOLERANCE:
+            near_level = impact["level_db"]
         answer.append({"note": index, "reason": problem, "nearest_time": near_time, "nearest_level": near_level})
     return answer
 
