@@ -83,7 +83,8 @@ function textGrid(text) {
   const last = Math.max(0, ...notes.map((note) => note.beat));
   const bars = Math.max(1, Math.floor(last / length) + 1);
   if (bars > 8) return null;
-  const steps = Object.keys(STEPS).find((name) => notes.every((note) => {
+  const choices = [grid.steps, ...Object.keys(STEPS).filter((name) => name !== grid.steps)];  // the grid's first
+  const steps = choices.find((name) => notes.every((note) => {
     const k = note.beat * STEPS[name];
     const bar = length * STEPS[name];
     return Math.abs(k - Math.round(k)) < 1e-9 && Math.abs(bar - Math.round(bar)) < 1e-9;
