@@ -384,7 +384,7 @@ function draw(answer) {
   for (const name of names) {
     const lane = answer.sticks[name], box = el("div", {class: "lane", "data-stick": name});
     view.lanes.append(box);
-    const c = chart(box, {width: 1300, height: 150, xRange, yRange, yLabel: "θ (rad)", xLabel: "time (s) from bar 1",
+    const c = chart(box, {width: 1300, height: 150, xRange, yRange, yLabel: "θ (rad)", xLabel: "time (s)",
                           title: `${stickLabel(name)}: ${bars}`});
     barLines(c, answer.bars, answer.meter[0]);
     c.line(xRange, [answer.head, answer.head], "head");

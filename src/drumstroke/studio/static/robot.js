@@ -53,7 +53,7 @@ function draw(answer) {
     const s = answer.sticks[name], box = el("div", {class: "lane", "data-stick": name}), label = stickLabel(name);
     view.lanes.append(box);
     const c = chart(box, {width: 1300, height: 220, xRange: [t0, t1], yRange, yLabel: "θ (rad)",
-                          xLabel: "time (s) from bar 1", title: `${label} played by ${answer.controller}: reference ` +
+                          xLabel: "time (s)", title: `${label} played by ${answer.controller}: reference ` +
                           "(dashed) and played angle; onsets kept ● and missed ✕"});
     barLines(c, answer.bars);
     c.line([t0, t1], [answer.head, answer.head], "head");
