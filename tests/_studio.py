@@ -45,3 +45,20 @@ class Client:
         message = json.loads(reply.body)["error"]
         assert "\n" not in message
         return message
+
+
+def screenshot(page, name, tmp_path):
+    """Save the page as PNG ``name``: into the folder ``$DRUMSTROKE_SCREENSHOTS`` names (the docs' pictures are
+    taken with ``DRUMSTROKE_SCREENSHOTS=docs/images``), else into ``tmp_path``, so a test run changes no file of
+    the repository. Returns the path, checked to be a PNG of the page's viewport."""
+    import os
+    import struct
+    from pathlib import Path
+
+    folder = Path(os.environ.get("DRUMSTROKE_SCREENSHOTS") or tmp_path)
+    path = folder / name
+    page.screenshot(path=str(path))
+    data = path.read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n"
+    assert struct.unpack(">II", data[16:24]) == (page.viewport_size["width"], page.viewport_size["height"])
+    return path

@@ -5,19 +5,18 @@ simulate` finds for the downloaded recipe), a post-processed stroke saved and li
 import contextlib
 import io
 import json
-from pathlib import Path
 
 import numpy as np
 import pytest
 from playwright.sync_api import sync_playwright
 
+from _studio import screenshot
 from drumstroke.cli import main
 from drumstroke.design.chain import DRIFT
 from drumstroke.palette.library import load_library
 from drumstroke.studio.app import make_studio
 
 CHROMIUM = "/usr/bin/chromium"
-IMAGES = Path(__file__).resolve().parents[1] / "docs" / "images"
 WAIT = 20000  # ms: the longest a page state is waited for (a first simulation compiles the solver)
 
 
@@ -67,7 +66,7 @@ def drawn(page):
     page.wait_for_selector("body[data-designer-state=drawn]", timeout=WAIT)
 
 
-def test_a_diddle_designed_by_its_notes_plays_them_and_is_heard(page):
+def test_a_diddle_designed_by_its_notes_plays_them_and_is_heard(page, tmp_path):
     box = page.locator("#designer-theta svg").bounding_box()
     for fraction in (0.3, 0.4):  # two notes clicked on the theta chart, then their times and levels typed exactly
         page.mouse.click(box["x"] + box["width"] * fraction, box["y"] + box["height"] * 0.5)
@@ -85,7 +84,7 @@ def test_a_diddle_designed_by_its_notes_plays_them_and_is_heard(page):
     assert page.locator("#designer-theta circle.note").count() == 2
     page.click("#designer-play")
     page.wait_for_selector("body[data-played=yes]", timeout=WAIT)
-    page.screenshot(path=str(IMAGES / "studio-designer.png"))
+    screenshot(page, "studio-designer.png", tmp_path)
 
     # the second note too soon and too loud: its reason and the nearest reachable time, which then plays
     page.locator(".note-t").nth(1).fill("0.52")
@@ -151,7 +150,7 @@ def test_a_post_processed_stroke_saved_from_the_palette_is_listed_by_drumstroke_
     page.fill("#palette-name", "slow-double")
     page.fill("#palette-category", "double stroke")
     page.fill("#palette-description", "the diddle, half as slow again")
-    page.screenshot(path=str(IMAGES / "studio-palette.png"))
+    screenshot(page, "studio-palette.png", tmp_path)
     page.click("#palette-save")
     page.wait_for_selector("body[data-saved=slow-double]", timeout=WAIT)
     listing = cli("library", "list", str(library))

@@ -2,18 +2,17 @@
 a groove built on the grid by clicks, planned, heard and downloaded (its CSV the command line's); a note out of
 reach shown beside itself with its reason; a rudiment loaded and planned; the part tracked by the robot."""
 
-from pathlib import Path
 
 import numpy as np
 import pandas as pd
 import pytest
 from playwright.sync_api import sync_playwright
 
+from _studio import screenshot
 from drumstroke.cli import main
 from drumstroke.studio.app import make_studio
 
 CHROMIUM = "/usr/bin/chromium"
-IMAGES = Path(__file__).resolve().parent.parent / "docs" / "images"
 GROOVE = "".join(["tempo 160\n"] + [f"{k / 2:g} auto {116 if k % 4 == 2 else 100} {'right' if k % 2 == 0 else 'left'}\n"
                                     for k in range(16)])  # what the clicks below build: 2 bars of 8ths, accents on 2, 4
 
@@ -57,7 +56,7 @@ def test_a_groove_clicked_on_the_grid_is_planned_heard_and_its_csv_is_compose_s(
     page.click("#part-play")
     # a cursor follows the sound over the lanes
     page.wait_for_selector("body[data-playing] .lane line.cursor", state="attached", timeout=15000)
-    page.screenshot(path=str(IMAGES / "studio-part.png"))
+    screenshot(page, "studio-part.png", tmp_path)
     page.wait_for_selector("body[data-played]", timeout=15000)
     with page.expect_download() as waiting:
         page.click("#part-download-csv")
@@ -111,7 +110,7 @@ def test_a_rudiment_is_loaded_and_planned(page, tmp_path):
                                rtol=0, atol=1e-12)
 
 
-def test_the_robot_tracks_the_part_and_shows_the_onsets_kept_and_missed(page):
+def test_the_robot_tracks_the_part_and_shows_the_onsets_kept_and_missed(page, tmp_path):
     page.click("#tab-robot")
     page.wait_for_selector("#robot-controller option[value='pi']", state="attached")
     page.select_option("#robot-controller", "pi")
@@ -128,7 +127,7 @@ def test_the_robot_tracks_the_part_and_shows_the_onsets_kept_and_missed(page):
         assert lane.locator(".onset-missed").count() == int(total) - int(kept)
         missed_any |= int(kept) < int(total)
     assert missed_any  # the PI controller, without feedforward, misses some (the paper's finding)
-    page.screenshot(path=str(IMAGES / "studio-robot.png"))
+    screenshot(page, "studio-robot.png", tmp_path)
 
 
 def test_a_midi_file_chosen_is_planned_and_its_notes_shown_as_text(page, tmp_path):

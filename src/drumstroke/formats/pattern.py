@@ -19,6 +19,8 @@ import math
 import re
 from typing import NamedTuple
 
+import numpy as np
+
 from .._atomic import write_atomic
 from .._checks import check_real
 from ..errors import ParameterError
@@ -162,17 +164,23 @@ def _beats_and_piece(fields, where, line):
 def pattern_text(tempo, rows, meter=(4, 4)):
     """The text of a pattern: the tempo line, the meter if not 4/4, then one line per row (beat, stroke, velocity[,
     stick[, a buzz's beats]])."""
-    lines = [f"tempo {tempo:g}"] + ([f"meter {meter[0]}/{meter[1]}"] if tuple(meter) != (4, 4) else [])
+    lines = [f"tempo {_shortest(tempo)}"] + ([f"meter {meter[0]}/{meter[1]}"] if tuple(meter) != (4, 4) else [])
     for row in rows:
         beat, stroke, velocity, stick = row[:4]
         beats = row[5] if len(row) > 5 else None
         piece = row[6] if len(row) > 6 else None
         state = row[7] if len(row) > 7 else None
         named = stick or beats is not None or piece
-        line = f"{beat:.17g} {stroke} {int(velocity)}" + (f" {stick or 'right'}" if named else "")
-        lines.append(line + (f" {beats:.17g}" if beats is not None else "") + (f" {piece}" if piece else "")
+        line = f"{_shortest(beat)} {stroke} {int(velocity)}" + (f" {stick or 'right'}" if named else "")
+        lines.append(line + (f" {_shortest(beats)}" if beats is not None else "") + (f" {piece}" if piece else "")
                      + (f":{state}" if piece and state else ""))
     return "\n".join(lines) + "\n"
+
+
+def _shortest(number):
+    """``number`` as the fewest digits that read back as the same float, never in exponent form (0.955, not
+    0.95499999999999996; 120, not 120.0)."""
+    return np.format_float_positional(float(number), trim="-")
 
 
 def write_pattern(path, tempo, rows, meter=(4, 4)):

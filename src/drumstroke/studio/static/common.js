@@ -4,10 +4,16 @@ const SVG = "http://www.w3.org/2000/svg";
 
 // Ask the server for an operation: POST /api/NAME with a JSON object. Resolves to the answer's JSON, or to a
 // {blob, filename} for a file; rejects with an Error whose message is the server's one-line reason.
+// A request the studio is too busy for (503 with Retry-After: two run at once) is asked again, up to 3 times.
 export async function api(name, body = {}) {
-  const response = await fetch(`/api/${name}`, {
-    method: "POST", headers: {"Content-Type": "application/json"}, body: JSON.stringify(body),
-  });
+  let response;
+  for (let attempt = 1; ; attempt++) {
+    response = await fetch(`/api/${name}`, {
+      method: "POST", headers: {"Content-Type": "application/json"}, body: JSON.stringify(body),
+    });
+    if (response.status !== 503 || !response.headers.get("Retry-After") || attempt > 3) break;
+    await new Promise((resolve) => setTimeout(resolve, 300 * attempt));
+  }
   const type = response.headers.get("Content-Type") || "";
   if (!response.ok) {
     let reason = `${response.status} ${response.statusText}`;

@@ -16,19 +16,6 @@ let planned = null, model = "paper", pen = "auto";
 const queue = latest();
 let view = null;  // the DOM of the view once built
 
-// api(), asked again (up to 3 times, a moment later) while the studio is busy with other requests (503): the
-// studio runs two at once, and a view may ask for its lists and its plan together.
-export async function ask(name, body = {}) {
-  for (let attempt = 1; ; attempt++) {
-    try {
-      return await api(name, body);
-    } catch (error) {
-      if (attempt > 3 || !error.message.startsWith("the studio is busy")) throw error;
-      await new Promise((resolve) => setTimeout(resolve, 300 * attempt));
-    }
-  }
-}
-
 // The part the robot view and the requests use: the source and the model.
 export function currentPart() {
   return {...source, model};
@@ -168,10 +155,10 @@ export function build(section) {
     const file = event.dataTransfer.files[0];
     if (file) loadMidi(file);
   });
-  ask("part_options").then((options) => {
+  api("part_options").then((options) => {
     for (const name of options.strokes) penSelect.append(el("option", {value: name}, name));
   }).catch((error) => status(error.message, {error: true}));
-  ask("rudiments").then(({rudiments}) => {
+  api("rudiments").then(({rudiments}) => {
     for (const r of rudiments) rudiment.append(el("option", {value: r.name}, `${r.number}. ${r.title}`));
   }).catch((error) => status(error.message, {error: true}));
   drawGrid();
@@ -301,8 +288,9 @@ async function loadMidi(file) {
   await replan();
 }
 
-let timer = null;
+let timer = null, changedAt = 0;  // performance.now() of the last change: the time to its drawn lanes is the latency
 function replan(delay = 0) {
+  changedAt = performance.now();
   clearTimeout(timer);
   return new Promise((resolve) => {
     timer = setTimeout(() => queue(async () => { await planNow(); resolve(); }), delay);
@@ -313,7 +301,7 @@ async function planNow() {
   const asked = source, started = performance.now();
   delete document.body.dataset.planned;
   try {
-    const answer = await ask("plan", currentPart());
+    const answer = await api("plan", currentPart());
     if (asked !== source) return;  // the part changed while it was planned: the next plan draws
     planned = {...answer, source: asked};
     if (!("pattern" in asked)) {  // a rudiment or a MIDI file: its text shown, the grid following if it fits
@@ -326,6 +314,7 @@ async function planNow() {
            (answer.problems.length ? `; ${answer.problems.length} problem(s), below` : ""),
            {error: answer.problems.length > 0});
     document.body.dataset.planned = String(answer.notes.length);
+    document.body.dataset.partLatency = (performance.now() - changedAt).toFixed(1);
   } catch (error) {
     status(error.message, {error: true});
     document.body.dataset.planned = "error";
@@ -454,7 +443,7 @@ async function hear() {
   try {
     if (!planned || planned.source !== source) await planNow();  // the cursor needs this part's offset
     if (!planned || planned.source !== source) return;  // it could not be planned: the status line says why
-    const file = await ask("audio", currentPart());
+    const file = await api("audio", currentPart());
     const offset = planned.offset;
     await play(file.blob, {onTime: (t) => cursorAt(t === null ? null : t - offset)});
     status("playing the part");
@@ -465,7 +454,7 @@ async function hear() {
 
 async function take(kind) {
   try {
-    const file = await ask("download", {...currentPart(), kind});
+    const file = await api("download", {...currentPart(), kind});
     download(file);
     status(`downloaded ${file.filename}`);
   } catch (error) {

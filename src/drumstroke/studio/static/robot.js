@@ -1,7 +1,7 @@
 // The robot view: the part editor's part played on the simulated joint by a controller chosen (as 'drumstroke robot
 // track' plays a stroke), each stick drawn: the reference and the played angle, the onsets kept and missed.
-import {chart, el, status, svgEl} from "./common.js";
-import {ask, barLines, currentPart, stickLabel, stickOrder} from "./part.js";
+import {api, chart, el, status, svgEl} from "./common.js";
+import {barLines, currentPart, stickLabel, stickOrder} from "./part.js";
 
 let view = null;
 
@@ -18,7 +18,7 @@ export function build(section) {
     el("div", {class: "row"}, el("label", {}, "Controller ", controller),
        el("button", {id: "robot-track", onclick: () => run()}, "Track the part")),
     summary, lanes);
-  ask("part_options").then((options) => {
+  api("part_options").then((options) => {
     for (const name of options.controllers) controller.append(el("option", {value: name}, name));
     controller.value = options.controllers.includes("impedance") ? "impedance" : options.controllers[0];
   }).catch((error) => status(error.message, {error: true}));
@@ -28,7 +28,7 @@ async function run() {
   delete document.body.dataset.tracked;
   status("the robot is playing the part…");
   try {
-    const answer = await ask("robot", {...currentPart(), controller: view.controller.value || "impedance"});
+    const answer = await api("robot", {...currentPart(), controller: view.controller.value || "impedance"});
     draw(answer);
     const kept = Object.values(answer.sticks).reduce((s, v) => s + v.kept, 0);
     const total = Object.values(answer.sticks).reduce((s, v) => s + v.total, 0);
