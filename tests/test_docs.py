@@ -5,8 +5,8 @@ files): a page's ```python blocks in order in one namespace, and each `drumstrok
 no Python warning and no warning or problem in what it prints (tests/_cli.py's `problem_lines`), interleaved in page order (a command may use a file an earlier block wrote). A plain command runs in this process
 through `drumstroke.cli.main` (what the console script runs: it saves each one the interpreter's start); a
 command with shell syntax (a redirection, a wildcard) and `drumstroke live` (a real-time runtime) run in a shell. The README's set-up
-section is left out: CI runs those two commands itself. `drumstroke listen serve` serves forever, so
-it is started in the background, checked to answer HTTP on its port, and stopped. And no file of the repository cites
+section is left out: CI runs those two commands itself. `drumstroke listen serve` and `drumstroke studio` serve forever, so
+each is started in the background, checked to answer HTTP on its port, and stopped. And no file of the repository cites
 what its users do not have: the team's internal notes or a path outside the repository.
 """
 
@@ -136,7 +136,7 @@ def test_every_example_on_the_page_runs(page, tmp_path, monkeypatch, capsys):
             _exec(code, f"{page.name}, block {number}", namespace)
             continue
         for command in commands(code):
-            if command.startswith("drumstroke listen serve"):
+            if command.startswith(("drumstroke listen serve", "drumstroke studio")):
                 _serve(command, tmp_path, env)
             else:
                 _run(command, tmp_path, env, capsys)
