@@ -1,11 +1,25 @@
-"""A studio served for the tests, and a client that asks it as the page does: real HTTP/1.1 over a socket."""
+"""A studio served for the tests, a client that asks it as the page does (real HTTP/1.1 over a socket), the command
+line run as a user runs it, and the screenshots."""
 
+import contextlib
 import http.client
+import io
 import json
 import urllib.parse
 from collections import namedtuple
 
 Reply = namedtuple("Reply", "status headers body")
+
+
+def cli(*argv):
+    """Run ``drumstroke ARGV`` in this process, as the console script runs it; what it printed (it must succeed)."""
+    from drumstroke.cli import main
+
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        code = main(list(argv))
+    assert code in (0, None), out.getvalue()
+    return out.getvalue()
 
 
 class Client:

@@ -2,16 +2,13 @@
 studio: a diddle designed by its notes and heard, a breakpoint dragged (the impacts shown are those `drumstroke
 simulate` finds for the downloaded recipe), a post-processed stroke saved and listed by `drumstroke library list`."""
 
-import contextlib
-import io
 import json
 
 import numpy as np
 import pytest
 from playwright.sync_api import sync_playwright
 
-from _studio import screenshot
-from drumstroke.cli import main
+from _studio import cli, screenshot
 from drumstroke.design.chain import DRIFT
 from drumstroke.palette.library import load_library
 from drumstroke.studio.app import make_studio
@@ -46,13 +43,6 @@ def page(studio):
         browser.close()
     assert refused == []
 
-
-def cli(*argv):
-    out = io.StringIO()
-    with contextlib.redirect_stdout(out):
-        code = main(list(argv))
-    assert code in (0, None), out.getvalue()
-    return out.getvalue()
 
 
 def shown_impacts(page):

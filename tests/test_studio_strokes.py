@@ -1,7 +1,6 @@
 """The studio's stroke and palette operations over real HTTP (http.client against a served studio), each answer
 checked against the command line run on the same input, and every bad input answered 400 naming its field."""
 
-import contextlib
 import http.client
 import io
 import json
@@ -12,7 +11,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from drumstroke.cli import main
+from _studio import cli
 from drumstroke.design.chain import DRIFT
 from drumstroke.palette.library import load_library
 from drumstroke.presets import PRESETS
@@ -59,13 +58,6 @@ def ok(server, name, body):
     assert status == 200, answer
     return answer
 
-
-def cli(*argv):
-    out = io.StringIO()
-    with contextlib.redirect_stdout(out):
-        code = main(list(argv))
-    assert code in (0, None), out.getvalue()
-    return out.getvalue()
 
 
 def impact_times(path):

@@ -243,15 +243,7 @@ class _Site:
 
     async def _form(self, request, fields):
         """The request's form as {field: value}, after the cross-site, size, time and syntax checks."""
-        headers = request.headers
-        reason = cross_site(request)
-        if reason:
-            raise HTTPException(403, reason, headers=_CLOSE)
-        if "transfer-encoding" in headers and "content-length" in headers:
-            raise HTTPException(400, "a request cannot have both Content-Length and Transfer-Encoding", headers=_CLOSE)
-        if headers.get("content-type", "").partition(";")[0].strip().lower() != "application/x-www-form-urlencoded":
-            raise HTTPException(415, "a form must be sent as application/x-www-form-urlencoded", headers=_CLOSE)
-        body = await read_body(request, self.limits.max_body, self.limits.body_timeout, "a form")
+        body = await changing_body(request, "application/x-www-form-urlencoded", self.limits, "a form")
         return _fields(body, fields)
 
 
@@ -384,6 +376,21 @@ def cross_site(request):
     if origin is not None and origin != "null" and origin.lower() != own.lower():
         return "a request from another origin cannot change anything here (Origin)"
     return None
+
+
+async def changing_body(request, media_type, limits, what):
+    """The body of a request that changes something: refused (403) when cross-site (:func:`cross_site`), (400)
+    with both ``Content-Length`` and ``Transfer-Encoding``, (415) when not of ``media_type``; then read within
+    ``limits.max_body`` bytes and ``limits.body_timeout`` s (:func:`read_body`). ``what`` names it ("a form")."""
+    headers = request.headers
+    reason = cross_site(request)
+    if reason:
+        raise HTTPException(403, reason, headers=_CLOSE)
+    if "transfer-encoding" in headers and "content-length" in headers:
+        raise HTTPException(400, "a request cannot have both Content-Length and Transfer-Encoding", headers=_CLOSE)
+    if headers.get("content-type", "").partition(";")[0].strip().lower() != media_type:
+        raise HTTPException(415, f"{what} must be sent as {media_type}", headers=_CLOSE)
+    return await read_body(request, limits.max_body, limits.body_timeout, what)
 
 
 async def read_body(request, limit, timeout, what):

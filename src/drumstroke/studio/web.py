@@ -31,7 +31,7 @@ from starlette.responses import JSONResponse, Response
 from starlette.routing import Route
 
 from ..errors import ParameterError
-from ..evaluation.web import Guard, cross_site, read_body
+from ..evaluation.web import Guard, changing_body
 from ..formats.json import loads
 from ..formats.reading import check_document
 from . import palette, parts, strokes
@@ -56,8 +56,6 @@ OPERATIONS = {**strokes.OPERATIONS, **palette.OPERATIONS, **parts.OPERATIONS}
 
 WORKERS = 2
 """Operations run at once (the studio is one person's: the page asks one thing at a time per view)."""
-
-_CLOSE = {"Connection": "close"}
 
 
 def make_app(studio, limits, *, hosts=None, work_timeout=30.0):
@@ -104,15 +102,7 @@ class _Site:
                         media_type="application/json")
 
     async def _json(self, request):
-        headers = request.headers
-        reason = cross_site(request)
-        if reason:
-            raise HTTPException(403, reason, headers=_CLOSE)
-        if "transfer-encoding" in headers and "content-length" in headers:
-            raise HTTPException(400, "a request cannot have both Content-Length and Transfer-Encoding", headers=_CLOSE)
-        if headers.get("content-type", "").partition(";")[0].strip().lower() != "application/json":
-            raise HTTPException(415, "a request must be sent as application/json", headers=_CLOSE)
-        body = await read_body(request, self.limits.max_body, self.limits.body_timeout, "a request")
+        body = await changing_body(request, "application/json", self.limits, "a request")
         try:
             text = body.decode("utf-8")
         except UnicodeDecodeError:
