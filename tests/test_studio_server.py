@@ -9,7 +9,7 @@ import pytest
 
 import drumstroke
 from _studio import Client
-from drumstroke.errors import ParameterError
+from drumstroke.errors import ParameterError, SimulationError
 from drumstroke.evaluation.limits import Limits
 from drumstroke.evaluation.server import Server
 from drumstroke.studio import web
@@ -101,6 +101,15 @@ def test_an_operation_checks_its_fields_and_names_the_one_at_fault(studio):
     assert "rate" in client.error("simulate", {"recipe": RECIPE, "rate": "fast"})
     assert "no operation" in client.error("launch", {}, status=404)
     assert client.request("GET", "/api/simulate").status == 405
+
+
+def test_motion_the_model_does_not_cover_is_said_as_the_command_line_says_it(studio):
+    _, client = studio
+    upward = {"t_end": 5.0, "force": {"kind": "constant", "value": -3000.0}}  # the thumb lifts it past the vertical
+    message = client.error("simulate", {"recipe": upward})
+    with pytest.raises(SimulationError) as raised:
+        drumstroke.simulate(drumstroke.Recipe.from_dict(upward))
+    assert message == str(raised.value) and "vertical" in message
 
 
 def test_a_simulation_asked_over_http_is_the_library_s_stroke(studio):

@@ -15,8 +15,9 @@ names, the security headers on every response):
   with ``Retry-After``), and is answered within ``work_timeout`` s or with 503 (what it was doing finishes
   unseen; its inputs are bounded so that none runs long).
 - **Answers**: a JSON object, or a file (audio, CSV, MIDI, ...) with its name; an input the operation refuses
-  is 400 with ``{"error": "one line naming the field, the value and what is allowed"}``; a failure of the
-  studio itself 500, its traceback logged.
+  is 400 with ``{"error": "one line naming the field, the value and what is allowed"}``, and so is a recipe
+  whose motion the model does not cover (:class:`~drumstroke.errors.SimulationError`: the stick past the
+  vertical); a failure of the studio itself 500, its traceback logged.
 """
 
 import json
@@ -30,7 +31,7 @@ from starlette.exceptions import HTTPException
 from starlette.responses import JSONResponse, Response
 from starlette.routing import Route
 
-from ..errors import ParameterError
+from ..errors import DrumstrokeError, ParameterError
 from ..evaluation.web import Guard, changing_body
 from ..formats.json import loads
 from ..formats.reading import check_document
@@ -133,7 +134,7 @@ class _Site:
         except TimeoutError:
             raise HTTPException(503, f"the request took longer than {self.work_timeout:g} s; ask for less "
                                      "(a shorter stroke or part)") from None
-        except ParameterError as error:
+        except DrumstrokeError as error:  # an input refused, or motion the model does not cover (SimulationError)
             raise HTTPException(400, str(error)) from None
 
 
