@@ -33,7 +33,7 @@ from dataclasses import dataclass, field, fields, replace
 import numpy as np
 
 from .._checks import check_keys, check_real
-from ..curve import Curve, Segment, placed, still
+from ..curve import Cubic, Curve, Segment, placed, still
 from ..errors import ParameterError
 from ..model import Stick
 from ..stroke import Stroke, as_trajectory
@@ -484,18 +484,11 @@ def _path_of(trajectory, joint=0):
             return (np.array([s[0][joint] for s in states]).reshape(t.shape),
                     np.array([s[1][joint] for s in states]).reshape(t.shape))
         return path
-    edges = np.concatenate(([0.0], np.cumsum(profile.t)))
-    jerk, acceleration = np.array(profile.j), np.array(profile.a)
-    speed, position = np.array(profile.v), np.array(profile.p)
-
-    def path(t):
-        t = np.asarray(t, dtype=float)
-        k = np.clip(np.searchsorted(edges, t, side="right") - 1, 0, len(jerk) - 1)
-        dt = np.clip(t - edges[k], 0.0, None)
-        theta = position[k] + dt * (speed[k] + dt * (acceleration[k] / 2.0 + dt * jerk[k] / 6.0))
-        return theta, speed[k] + dt * (acceleration[k] + dt * jerk[k] / 2.0)
-
-    return path
+    jerk = profile.j
+    phases = len(jerk)
+    starts = np.cumsum(profile.t)  # numpy's sums, as the phases' starts were always summed
+    return Cubic(np.column_stack((np.concatenate(([0.0], starts[:phases - 1])), jerk, profile.a[:phases],
+                                  profile.v[:phases], profile.p[:phases])))
 
 
 def _hold(theta, duration):

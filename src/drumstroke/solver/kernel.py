@@ -435,6 +435,76 @@ def evaluate(table, steps, theta_max, t, spacing):
     return value, omega, theta
 
 
+# the kinds of segment :func:`evaluate_runs` evaluates (a curve's other segments: in Python, by their paths)
+PATH, ARCS, HOLD, CUBIC = range(4)
+
+
+@jit
+def evaluate_runs(t, first, segment, kinds, rows, places, tables, steps, phases, spacing):
+    """A curve's segments at the increasing times ``t`` (s), run by run, in one call.
+
+    Run r is ``t[first[r]:first[r + 1]]``, held by segment ``segment[r]``. Segment s is of kind ``kinds[s]``:
+    ARCS, a stroke's arcs (rows ``rows[s, 0]:rows[s, 1]`` of ``tables``, its Taylor steps ``rows[s, 2]:rows[s, 3]``
+    of ``steps``), evaluated as :func:`evaluate` evaluates them, with ``spacing`` when the run lies within the
+    segment's span; HOLD, still at θ = ``places[s, 3]``; CUBIC, a jerk-limited move (its phases, rows
+    ``rows[s, 0]:rows[s, 1]`` of ``phases``: start, jerk, acceleration, speed, position); PATH, left as it is
+    (the caller evaluates it). ``places[s, :3]`` are the segment's start, end and offset (s): each run's local
+    times are t − offset, clamped to the span first when the run is not within it, as a curve clamps them.
+    Each run is computed by the same operations as its path alone, so the same values to the bit.
+
+    Returns
+    -------
+    value, omega, theta : ndarray [shape=(n,)]
+        As :func:`evaluate`'s on the arcs' runs (:func:`finish_runs` makes θ there); elsewhere θ and ω, and
+        value NaN.
+    """
+    n = len(t)
+    value, omega, theta = np.full(n, math.nan), np.empty(n), np.empty(n)
+    for r in range(len(first) - 1):
+        a, b, s = first[r], first[r + 1], segment[r]
+        kind = kinds[s]
+        if kind == PATH:
+            continue
+        start, end, offset = places[s, 0], places[s, 1], places[s, 2]
+        within = start <= t[a] and t[b - 1] <= end
+        local = np.empty(b - a)
+        for k in range(b - a):
+            local[k] = t[a + k] - offset if within else min(max(t[a + k], start), end) - offset
+        if kind == ARCS:
+            v, w, th = evaluate(tables[rows[s, 0]:rows[s, 1]], steps[rows[s, 2]:rows[s, 3]], places[s, 3], local,
+                                spacing if within else 0.0)
+            value[a:b], omega[a:b], theta[a:b] = v, w, th
+        elif kind == HOLD:
+            omega[a:b], theta[a:b] = 0.0, places[s, 3]
+        else:
+            _cubic(phases[rows[s, 0]:rows[s, 1]], local, omega[a:b], theta[a:b])
+    return value, omega, theta
+
+
+@jit(inline="always")
+def _cubic(phases, local, omega, theta):
+    """θ and ω of a jerk-limited move at ``local`` times: :class:`drumstroke.curve.Cubic`'s arithmetic."""
+    last = len(phases) - 1
+    for k in range(len(local)):
+        x = local[k]
+        j = 0
+        while j < last and phases[j + 1, 0] <= x:
+            j += 1
+        dt = max(x - phases[j, 0], 0.0)
+        jerk, acceleration, speed, position = phases[j, 1], phases[j, 2], phases[j, 3], phases[j, 4]
+        theta[k] = position + dt * (speed + dt * (acceleration / 2.0 + dt * jerk / 6.0))
+        omega[k] = speed + dt * (acceleration + dt * jerk / 2.0)
+
+
+@jit
+def finish_runs(theta, arcsin, first, segment, kinds, places):
+    """:func:`finish` on the runs of :func:`evaluate_runs` that arcs hold (the head at ``places[s, 3]``)."""
+    for r in range(len(first) - 1):
+        s = segment[r]
+        if kinds[s] == ARCS:
+            finish(theta[first[r]:first[r + 1]], arcsin[first[r]:first[r + 1]], places[s, 3])
+
+
 @jit
 def sample_times(first, stop, rate, start, t_end):
     """The sample times ``start`` + k/``rate`` (s) for k = ``first``, …, ``stop`` − 1, none past ``t_end``.
