@@ -45,7 +45,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import SimulationError
-from ..profiles import Constant, merge_edges
+from ..profiles import MAX_PIECES, Constant, PiecewiseLinear, merge_edges, merge_tolerance
 from .arcs import Arcs
 
 MAX_IMPACTS = 5_000_000
@@ -116,10 +116,19 @@ def solved(coefficients, force, gravity, *, theta0, omega0, cor, t_end, method="
     theta_max = coefficients.theta_max
     closed_forms = method == "auto"
     table = flight_table.table() if closed_forms and tabled else _NO_TABLE
-    if progress is None and type(force) is Constant and type(gravity) is Constant:
-        # the commonest strokes in one call, their forcing's arrays made in compiled code
-        result = kernel.run_constant(coefficients.torque_rate(gravity.value, force.value), t_end, theta0, omega0,
-                                     theta_max, table, cor, closed_forms, _MAX_STEP, MAX_IMPACTS)
+    if progress is None and type(gravity) is Constant and (type(force) is Constant or (
+            type(force) is PiecewiseLinear and len(force.points) < MAX_PIECES)):
+        # the commonest strokes, and every designed one, in one call, their forcing's arrays made in compiled code (a
+        # profile of fewer points than MAX_PIECES has fewer pieces: PiecewiseLinear.pieces's count never refuses it)
+        if type(force) is Constant:
+            result = kernel.run_constant(coefficients.torque_rate(gravity.value, force.value), t_end, theta0, omega0,
+                                         theta_max, table, cor, closed_forms, _MAX_STEP, MAX_IMPACTS)
+        else:
+            force.check_budget(t_end)
+            co = coefficients
+            result = kernel.run_linear(force._t, force._v, merge_tolerance(t_end),
+                                       np.array((co.k, co.k_thumb, co.inertia_ratio, gravity.value)), t_end, theta0,
+                                       omega0, theta_max, table, cor, closed_forms, _MAX_STEP, MAX_IMPACTS)
         rows, n_arcs, n_through_impacts, steps = _checked(result, cor, kernel)
         return (Arcs._of(rows[:n_arcs], steps, theta_max), rows[n_arcs:n_through_impacts, 0],
                 rows[n_arcs:n_through_impacts, 1], rows[n_through_impacts:, :2])

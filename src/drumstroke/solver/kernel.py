@@ -77,6 +77,57 @@ def run_constant(c, t_end, theta0, omega0, theta_max, table, cor, closed_forms, 
     edges[0], edges[1], c0[0] = 0.0, t_end, c
     outcome, extra, arcs, steps, impacts, rests = run(edges, c0, c1, theta_max, table, cor, closed_forms, max_step,
                                                       max_impacts, True, initial_state(theta0, omega0))
+    return _packed(outcome, extra, arcs, steps, impacts, rests, t_end)
+
+
+@jit
+def run_linear(points, values, tol, rates, t_end, theta0, omega0, theta_max, table, cor, closed_forms, max_step,
+               max_impacts):
+    """:func:`run` from (θ₀, ω₀) at t = 0 to ``t_end`` (s) under a piecewise-linear a(t) through a few points, the
+    whole stroke (a designed stroke's forcing).
+
+    The profile's pieces as :class:`drumstroke.profiles.PiecewiseLinear` cuts them in Python (its few points'
+    edges merged within ``tol`` s, :func:`drumstroke.profiles.merge_edges`; its value and slope after each), and
+    C = (k·g + k′·a)/D of them with ``rates`` = (k, k′, D, g): the same operations in the same order, so the same
+    forcing to the bit. Returns as :func:`run_constant`.
+    """
+    edges, c0, c1 = _linear_forcing(points, values, tol, rates, t_end)
+    outcome, extra, arcs, steps, impacts, rests = run(edges, c0, c1, theta_max, table, cor, closed_forms, max_step,
+                                                      max_impacts, True, initial_state(theta0, omega0))
+    return _packed(outcome, extra, arcs, steps, impacts, rests, t_end)
+
+
+@jit
+def _linear_forcing(points, values, tol, rates, t_end):
+    """Edges (s) [shape=(n + 1,)], C at the start of each piece (s⁻²) and its slope (s⁻³) of a piecewise-linear a(t)
+    through ``points`` (s) and ``values`` (m/s²), under constant gravity (see :func:`run_linear`)."""
+    ordered = np.sort(np.concatenate((np.array([0.0, t_end]), points)))
+    kept = np.empty(len(ordered))
+    n = 0
+    for edge in ordered:  # in [0, t_end], each once, and a cluster within tol merged into its first edge
+        if 0.0 <= edge <= t_end and (n == 0 or (edge != kept[n - 1] and edge - kept[n - 1] > tol)):
+            kept[n] = edge
+            n += 1
+    kept[n - 1] = t_end
+    k, k_thumb, inertia_ratio, gravity = rates[0], rates[1], rates[2], rates[3]
+    c0, c1 = np.empty(n - 1), np.empty(n - 1)
+    last = len(points) - 1
+    for i in range(n - 1):
+        x = kept[i]
+        j = np.searchsorted(points, x + tol, side="right") - 1  # the segment the piece lies on
+        if 0 <= j < last:
+            slope = (values[j + 1] - values[j]) / (points[j + 1] - points[j])
+            value = values[j] + slope * (x - points[j])
+        else:
+            slope, value = 0.0, values[0] if x < points[0] else values[last]
+        c0[i] = (k * gravity + k_thumb * value) / inertia_ratio
+        c1[i] = (k * 0.0 + k_thumb * slope) / inertia_ratio
+    return kept[:n], c0, c1
+
+
+@jit
+def _packed(outcome, extra, arcs, steps, impacts, rests, t_end):
+    """:func:`run`'s results as :func:`run_constant` returns them: one array of rows, and where its parts start."""
     n_arcs, n_impacts = len(arcs), len(impacts)
     while n_impacts and impacts[n_impacts - 1, 0] > t_end:  # (found by a Taylor step that ends past t_end)
         n_impacts -= 1
