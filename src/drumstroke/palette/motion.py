@@ -28,6 +28,7 @@ Examples
 
 import functools
 import math
+import threading
 from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
@@ -448,10 +449,22 @@ def _ruckig_joints(starts, targets, minimum, limits):
         parameters.minimum_duration = minimum
     trajectory = ruckig.Trajectory(n)
     try:
-        result = ruckig.Ruckig(n).calculate(parameters, trajectory)
+        result = _calculator(ruckig, n).calculate(parameters, trajectory)
     except ruckig.RuckigError:  # no profile found (ruckig says why in its message)
         return None
     return trajectory if result in (ruckig.Result.Working, ruckig.Result.Finished) else None
+
+
+def _calculator(ruckig, joints):
+    """ruckig's calculator for ``joints`` joints, made once a thread: making one costs ten times a move's calculation."""
+    calculators = _local.__dict__.setdefault("calculators", {})
+    calculator = calculators.get(joints)
+    if calculator is None:
+        calculator = calculators[joints] = ruckig.Ruckig(joints)
+    return calculator
+
+
+_local = threading.local()
 
 
 @functools.cache
@@ -484,11 +497,11 @@ def _path_of(trajectory, joint=0):
             return (np.array([s[0][joint] for s in states]).reshape(t.shape),
                     np.array([s[1][joint] for s in states]).reshape(t.shape))
         return path
-    jerk = profile.j
-    phases = len(jerk)
-    starts = np.cumsum(profile.t)  # numpy's sums, as the phases' starts were always summed
-    return Cubic(np.column_stack((np.concatenate(([0.0], starts[:phases - 1])), jerk, profile.a[:phases],
-                                  profile.v[:phases], profile.p[:phases])))
+    starts, total = [0.0], 0.0
+    for duration in profile.t[:-1]:  # summed in order, as numpy's cumsum sums them
+        total += duration
+        starts.append(total)
+    return Cubic(np.array(list(zip(starts, profile.j, profile.a, profile.v, profile.p))))
 
 
 def _hold(theta, duration):
