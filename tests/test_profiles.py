@@ -149,13 +149,16 @@ def test_a_piecewise_linear_forcing_made_in_the_compiled_call_equals_its_pieces_
         np.testing.assert_array_equal(c1, co.torque_rate(0.0, pieces.slopes))
 
 
-def test_a_piecewise_linear_stroke_in_one_call_equals_it_simulated_piece_by_piece():
-    """simulate's one compiled call for a piecewise-linear a(t) against the pieces cut in Python and run one call
-    at a time (what a progress report makes it do): the same impacts and arcs to the bit."""
+@pytest.mark.parametrize("force", [
+    PiecewiseLinear([(0.0, 40.0), (0.1, 40.0), (0.1 + 2e-9, 120.0), (0.4, 0.0), (0.9, 60.0)]),
+    Pulses(amplitude=189.0, period=0.4, duty=0.05, phase=0.1, base=10.0),
+])
+def test_a_designed_or_pulsed_stroke_in_one_call_equals_it_simulated_piece_by_piece(force):
+    """simulate's one compiled call for a piecewise-linear or pulsed a(t) against the pieces cut in Python and run
+    one call at a time (what a progress report makes it do): the same impacts and arcs to the bit."""
     from drumstroke import Recipe, simulate
 
-    recipe = Recipe(PiecewiseLinear([(0.0, 40.0), (0.1, 40.0), (0.1 + 2e-9, 120.0), (0.4, 0.0), (0.9, 60.0)]),
-                    t_end=1.5, theta0=0.4)
+    recipe = Recipe(force, t_end=1.5, theta0=0.4)
     one, chunked = simulate(recipe), simulate(recipe, progress=lambda done: None)
     assert len(one.impacts) >= 3
     np.testing.assert_array_equal(one.impacts.t, chunked.impacts.t)

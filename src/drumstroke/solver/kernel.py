@@ -16,6 +16,7 @@ import math
 
 import numpy as np
 
+from .. import _pulses
 from .._jit import jit
 from . import elliptic, flight_table
 from .constants import ARC_COLUMNS, ELLIPTIC, NEARLY_VERTICAL, REST, TAYLOR, TAYLOR_ORDER
@@ -92,6 +93,27 @@ def run_linear(points, values, tol, rates, t_end, theta0, omega0, theta_max, tab
     forcing to the bit. Returns as :func:`run_constant`.
     """
     edges, c0, c1 = _linear_forcing(points, values, tol, rates, t_end)
+    outcome, extra, arcs, steps, impacts, rests = run(edges, c0, c1, theta_max, table, cor, closed_forms, max_step,
+                                                      max_impacts, True, initial_state(theta0, omega0))
+    return _packed(outcome, extra, arcs, steps, impacts, rests, t_end)
+
+
+@jit
+def run_pulses(train, count, tol, rates, t_end, theta0, omega0, theta_max, table, cor, closed_forms, max_step,
+               max_impacts):
+    """:func:`run` from (θ₀, ω₀) at t = 0 to ``t_end`` (s) under a pulse train a(t), the whole stroke.
+
+    ``train`` = (amplitude, period, phase, duty, base) of :class:`drumstroke.profiles.Pulses`, cut as it cuts
+    itself (:func:`drumstroke._pulses.pieces`, ``count`` pulses, edges merged within ``tol`` s); C = (k·g + k′·a)/D
+    on each piece and its slope 0 with ``rates`` = (k, k′, D, g), as the solver's Python makes them. Returns as
+    :func:`run_constant`.
+    """
+    edges, values = _pulses.pieces(train[0], train[1], train[2], train[3], train[4], t_end, count, tol)
+    k, k_thumb, inertia_ratio, gravity = rates[0], rates[1], rates[2], rates[3]
+    c0, c1 = np.empty(len(values)), np.empty(len(values))
+    for i in range(len(values)):
+        c0[i] = (k * gravity + k_thumb * values[i]) / inertia_ratio
+        c1[i] = (k * 0.0 + k_thumb * 0.0) / inertia_ratio
     outcome, extra, arcs, steps, impacts, rests = run(edges, c0, c1, theta_max, table, cor, closed_forms, max_step,
                                                       max_impacts, True, initial_state(theta0, omega0))
     return _packed(outcome, extra, arcs, steps, impacts, rests, t_end)
