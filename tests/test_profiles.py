@@ -1,5 +1,7 @@
 """Profiles: values, pieces (the solver's step boundaries), sums and sample files."""
 
+import math
+
 import numpy as np
 import pytest
 
@@ -165,3 +167,25 @@ def test_a_designed_or_pulsed_stroke_in_one_call_equals_it_simulated_piece_by_pi
     np.testing.assert_array_equal(one.impacts.omega, chunked.impacts.omega)
     np.testing.assert_array_equal(one.arcs.table, chunked.arcs.table)
     np.testing.assert_array_equal(one.rests, chunked.rests)
+
+
+def test_a_profile_made_of_two_lists_is_the_one_made_of_their_pairs(rng):
+    """PiecewiseLinear._of (a designed stroke's steps) makes what PiecewiseLinear of the pairs makes: the same points
+    (Python floats), arrays and pieces; pairs that fail the checks fail with the same error."""
+    for _ in range(100):
+        n = int(rng.integers(1, 30))
+        times = np.cumsum(rng.choice([1.5e-9, 1e-3, 0.05], n)).tolist()
+        values = [np.float64(x) for x in rng.uniform(-3000.0, 3000.0, n)]  # a design's forces may be numpy's
+        made, expected = PiecewiseLinear._of(times, values), PiecewiseLinear(list(zip(times, values)))
+        assert made == expected and made.points == expected.points
+        assert all(type(x) is float for point in made.points for x in point)
+        np.testing.assert_array_equal(made._t, expected._t)
+        np.testing.assert_array_equal(made._v, expected._v)
+        for name in ("edges", "values", "slopes"):
+            np.testing.assert_array_equal(getattr(made.pieces(1.0), name), getattr(expected.pieces(1.0), name))
+    for times, values in (([0.0, 0.0], [1.0, 2.0]), ([0.0, 1.0], [1.0, math.nan]), ([-1.0], [1.0])):
+        with pytest.raises(ParameterError) as made:
+            PiecewiseLinear._of(times, values)
+        with pytest.raises(ParameterError) as expected:
+            PiecewiseLinear(list(zip(times, values)))
+        assert str(made.value) == str(expected.value)
