@@ -240,3 +240,19 @@ def test_a_stick_curves_strokes_holds_and_moves_sampled_in_one_call_equal_each_s
     local = np.linspace(0.0, 0.4, 41)
     expected = np.array([trajectory.at_time(float(x))[:2] for x in local])[:, :, 0]
     np.testing.assert_allclose(np.column_stack(move(local)), expected, rtol=0, atol=1e-12)
+
+
+def test_the_runs_of_increasing_times_are_numpys_search_of_the_segments_starts(rng):
+    """kernel.runs_of (one pass over sorted times) finds the runs numpy's searchsorted finds: each time's segment the
+    last starting at or before it (the first before the start), times on a start in the later segment."""
+    from drumstroke.solver.kernel import runs_of
+
+    for _ in range(200):
+        starts = np.cumsum(rng.choice([0.0, 1e-3, 0.05, 0.3], int(rng.integers(1, 40))))
+        t = np.sort(np.concatenate((rng.uniform(-0.1, starts[-1] + 0.1, int(rng.integers(1, 300))),
+                                    rng.choice(starts, 5))))
+        which = np.maximum(starts.searchsorted(t, side="right") - 1, 0)
+        first = np.concatenate(([0], (which[1:] != which[:-1]).nonzero()[0] + 1, [t.size]))
+        made_first, made_segment = runs_of(starts, t)
+        np.testing.assert_array_equal(made_first, first)
+        np.testing.assert_array_equal(made_segment, which[first[:-1]])

@@ -240,13 +240,10 @@ class Curve:
     def _compiled(self, flat, spacing, spaced):
         """θ and ω at increasing times ``flat`` (s): the strokes, holds and moves in one compiled call, the other
         segments by their paths (each run of times as :meth:`_each` evaluates it, so the same values to the bit)."""
-        from .solver.kernel import PATH, evaluate_runs, finish_runs
+        from .solver.kernel import PATH, evaluate_runs, finish_runs, runs_of
 
         kinds, rows, places, tables, steps, phases = self._layout
-        which = self._starts.searchsorted(flat, side="right") - 1
-        np.maximum(which, 0, out=which)
-        first = np.concatenate(([0], (which[1:] != which[:-1]).nonzero()[0] + 1, [flat.size]))
-        segment = which[first[:-1]]
+        first, segment = runs_of(self._starts, flat)
         value, omega, theta = evaluate_runs(flat, first, segment, kinds, rows, places, tables, steps, phases,
                                             float(spacing))
         # θ's last step in flight by numpy's vectorised asin, as a stroke's arcs take it (Arcs.evaluate)

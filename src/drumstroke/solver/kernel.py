@@ -554,6 +554,23 @@ def evaluate_runs(t, first, segment, kinds, rows, places, tables, steps, phases,
     return value, omega, theta
 
 
+@jit
+def runs_of(starts, t):
+    """The runs of the increasing times ``t`` (s) that one segment holds, a segment starting at each of ``starts`` (s,
+    increasing): the first time of each run and its end [shape=(r + 1,)], and each run's segment [shape=(r,)], the
+    last that starts at or before its times (the first for times before it), as a curve finds it."""
+    first, segment = np.empty(len(t) + 1, dtype=np.int64), np.empty(len(t), dtype=np.int64)
+    runs, j = 0, 0
+    for k in range(len(t)):
+        while j + 1 < len(starts) and starts[j + 1] <= t[k]:
+            j += 1
+        if k == 0 or j != segment[runs - 1]:
+            first[runs], segment[runs] = k, j
+            runs += 1
+    first[runs] = len(t)
+    return first[:runs + 1], segment[:runs]
+
+
 @jit(inline="always")
 def _cubic(phases, local, omega, theta):
     """θ and ω of a jerk-limited move at ``local`` times: :class:`drumstroke.curve.Cubic`'s arithmetic."""
