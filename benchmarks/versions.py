@@ -7,9 +7,9 @@ alternate, OLD then NEW, round after round, so both see the same machine state, 
 round's figure is the median of several timed calls after a warm-up call (numba's cache,
 imports). The table gives each version's median over the rounds and the median of the paired
 ratios NEW/OLD: below 1 means NEW is faster. The workloads use the public API that both
-versions have: a stroke simulated and sampled, a part planned and composed, live notes
-planned into the running motion and their setpoints, onsets found in a recording, the library
-written, and the command's start-up.
+versions have: a stroke simulated and sampled, a part planned and composed, design.py's 1,000-note
+piece planned and sampled, live notes planned into the running motion and their setpoints, onsets
+found in a recording, the library written, and the command's start-up.
 
 Writes the table with the machine and the two revisions to benchmarks/versions_results.json.
 """
@@ -61,6 +61,18 @@ WORKLOADS = {
         "from drumstroke.compose import compose, rudiment_score\n"
         "score, _ = rudiment_score('single-paradiddle', 120.0, bars=8)",
         "    compose(score).trajectory.theta", 5),
+    "the 1,000-note two-stick piece of design.py planned and sampled at 1 kHz": (
+        "import sys\n"
+        "sys.path.insert(0, 'benchmarks')\n"
+        "import numpy as np\n"
+        "from design import piece\n"
+        "from drumstroke.design import Setup, Target, assign_sticks, plan_stick\n"
+        "notes = piece(); onsets = np.array([n[0] for n in notes]); beats = np.array([n[1] for n in notes])",
+        "    sticks = assign_sticks(onsets, beats=beats)\n"
+        "    for hand in ('right', 'left'):\n"
+        "        chosen = [Target.from_velocity(t, v, kind=kind, duration=0.0625 if kind == 'buzz' else None, key=k)\n"
+        "                  for k, ((t, _, v, kind), s) in enumerate(zip(notes, sticks)) if s == hand]\n"
+        "        plan_stick(chosen, setup=Setup()).trajectory(t_end=onsets[-1] + 1.0).theta", 5),
     "live: 200 notes planned, 10 s of setpoints at 1 kHz": (
         "import numpy as np\n"
         "from drumstroke.live import ManualClock, Performer",

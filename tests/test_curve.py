@@ -193,3 +193,66 @@ def test_evenly_spaced_samples_carry_the_solvers_arcs_and_leave_other_paths_alon
         np.testing.assert_array_equal(a[~inside], b[~inside])
         np.testing.assert_allclose(b[inside], a[inside], rtol=0, atol=1e-12)
     assert np.any(fresh[0][inside] != carried[0][inside])  # carried indeed: not each sample afresh
+
+
+def test_a_stick_curves_strokes_holds_and_moves_sampled_in_one_call_equal_each_segment_alone_to_the_bit():
+    """A curve with the solver's arcs evaluates its runs of samples in one compiled call: each run the same to the
+    bit as its segment's own path on it (the arcs carried over the run), a closure's run by the closure, a run past
+    the curve's end clamped; a jerk-limited move's path is ruckig's own motion (to round-off)."""
+    from drumstroke import simulate
+    from drumstroke.palette.motion import Limits, plan_move
+
+    first, second = simulate("free-bounce", t_end=0.7), simulate("free-bounce", t_end=0.5, theta0=0.3)
+    end = first.arcs.evaluate(np.array([0.7]))[0][0]
+    duration, move = plan_move((end, 0.0), (0.3, 0.0), 0.4, theta_max=first.recipe.theta_max, limits=Limits())
+    segments = (Segment.hold(0.3, 0.0, 0.25), Segment(0.25, 0.95, first.arcs.evaluate, 0.25, first.impacts.t),
+                Segment(0.95, 1.35, move, 0.95), Segment.hold(0.3, 1.35, 1.5),
+                Segment(1.5, 2.0, second.arcs.evaluate, 1.5, second.impacts.t),
+                Segment(2.0, 2.2, _parabola(3.0, 0.2, 1.0), 2.0))
+    curve = Curve(segments)
+    t = np.minimum(np.arange(2301) / 1000.0, 2.25)  # the last samples past the end: clamped
+    theta, omega = curve(t, spacing=1e-3)
+    which = np.maximum(np.searchsorted([s.start for s in segments], t, side="right") - 1, 0)
+    for k, segment in enumerate(segments):
+        run = t[which == k]
+        inside = segment.start <= run[0] and run[-1] <= segment.end
+        local = (run if inside else np.minimum(np.maximum(run, segment.start), segment.end)) - segment.offset
+        spaced = inside and getattr(segment.path, "__self__", None) is not None
+        alone = segment.path(local, spacing=1e-3) if spaced else segment.path(local)
+        np.testing.assert_array_equal(theta[which == k], alone[0], err_msg=f"segment {k}")
+        np.testing.assert_array_equal(omega[which == k], alone[1], err_msg=f"segment {k}")
+    from drumstroke.solver.kernel import ARCS, CUBIC, HOLD, PATH
+
+    assert curve._layout[0].tolist() == [HOLD, ARCS, CUBIC, HOLD, ARCS, PATH]  # the call this test is about
+    import ruckig
+
+    parameters = ruckig.InputParameter(1)
+    parameters.current_position, parameters.target_position = [end], [0.3]
+    parameters.current_velocity = parameters.current_acceleration = [0.0]
+    parameters.target_velocity = parameters.target_acceleration = [0.0]
+    limits = Limits()
+    parameters.max_velocity = [0.98 * limits.max_speed]
+    parameters.max_acceleration = [0.98 * limits.max_acceleration]
+    parameters.max_jerk = [0.98 * limits.max_jerk]
+    parameters.minimum_duration = 0.4
+    trajectory = ruckig.Trajectory(1)
+    ruckig.Ruckig(1).calculate(parameters, trajectory)
+    local = np.linspace(0.0, 0.4, 41)
+    expected = np.array([trajectory.at_time(float(x))[:2] for x in local])[:, :, 0]
+    np.testing.assert_allclose(np.column_stack(move(local)), expected, rtol=0, atol=1e-12)
+
+
+def test_the_runs_of_increasing_times_are_numpys_search_of_the_segments_starts(rng):
+    """kernel.runs_of (one pass over sorted times) finds the runs numpy's searchsorted finds: each time's segment the
+    last starting at or before it (the first before the start), times on a start in the later segment."""
+    from drumstroke.solver.kernel import runs_of
+
+    for _ in range(200):
+        starts = np.cumsum(rng.choice([0.0, 1e-3, 0.05, 0.3], int(rng.integers(1, 40))))
+        t = np.sort(np.concatenate((rng.uniform(-0.1, starts[-1] + 0.1, int(rng.integers(1, 300))),
+                                    rng.choice(starts, 5))))
+        which = np.maximum(starts.searchsorted(t, side="right") - 1, 0)
+        first = np.concatenate(([0], (which[1:] != which[:-1]).nonzero()[0] + 1, [t.size]))
+        made_first, made_segment = runs_of(starts, t)
+        np.testing.assert_array_equal(made_first, first)
+        np.testing.assert_array_equal(made_segment, which[first[:-1]])

@@ -1,5 +1,7 @@
 """Profiles: values, pieces (the solver's step boundaries), sums and sample files."""
 
+import math
+
 import numpy as np
 import pytest
 
@@ -123,3 +125,67 @@ def test_a_pulse_trains_compiled_pieces_equal_the_numpy_codes_to_the_bit(rng):
         summed = both.pieces(t_end)
         left = summed.edges[:-1] + profiles.merge_tolerance(t_end)
         np.testing.assert_array_equal(summed.values, 0 + pulse(left) + both.parts[1](left))
+
+
+def test_a_piecewise_linear_forcing_made_in_the_compiled_call_equals_its_pieces_to_the_bit(rng):
+    """The solver's one call for a piecewise-linear a(t) (a designed stroke's) cuts it as PiecewiseLinear.pieces does
+    (its edges merged within the tolerance, few points or many) and makes C = (k·g + k′·a)/D of them as
+    Coefficients.torque_rate does: the same edges, C and slopes to the bit."""
+    from drumstroke import Stick
+    from drumstroke.model import coefficients
+    from drumstroke.profiles import merge_tolerance
+    from drumstroke.solver.kernel import _linear_forcing
+
+    co = coefficients("paper", Stick())
+    for _ in range(300):
+        n = int(rng.integers(1, 150))
+        t = np.cumsum(rng.choice([1.5e-9, 3e-9, 1e-3, 0.05, 0.3], n)) + rng.choice([0.0, 0.01])
+        profile = PiecewiseLinear([(float(a), float(b)) for a, b in zip(t, rng.uniform(-3000.0, 3000.0, n))])
+        t_end = max(float(rng.choice([t[-1], t[-1] + 0.2, t[n // 2], t[0] + 5e-13])), 1e-6)
+        gravity = float(rng.uniform(0.0, 20.0))
+        pieces = profile.pieces(t_end)
+        edges, c0, c1 = _linear_forcing(profile._t, profile._v, merge_tolerance(t_end),
+                                        np.array((co.k, co.k_thumb, co.inertia_ratio, gravity)), t_end)
+        np.testing.assert_array_equal(edges, pieces.edges)
+        np.testing.assert_array_equal(c0, co.torque_rate(gravity, pieces.values))
+        np.testing.assert_array_equal(c1, co.torque_rate(0.0, pieces.slopes))
+
+
+@pytest.mark.parametrize("force", [
+    PiecewiseLinear([(0.0, 40.0), (0.1, 40.0), (0.1 + 2e-9, 120.0), (0.4, 0.0), (0.9, 60.0)]),
+    Pulses(amplitude=189.0, period=0.4, duty=0.05, phase=0.1, base=10.0),
+])
+def test_a_designed_or_pulsed_stroke_in_one_call_equals_it_simulated_piece_by_piece(force):
+    """simulate's one compiled call for a piecewise-linear or pulsed a(t) against the pieces cut in Python and run
+    one call at a time (what a progress report makes it do): the same impacts and arcs to the bit."""
+    from drumstroke import Recipe, simulate
+
+    recipe = Recipe(force, t_end=1.5, theta0=0.4)
+    one, chunked = simulate(recipe), simulate(recipe, progress=lambda done: None)
+    assert len(one.impacts) >= 3
+    np.testing.assert_array_equal(one.impacts.t, chunked.impacts.t)
+    np.testing.assert_array_equal(one.impacts.omega, chunked.impacts.omega)
+    np.testing.assert_array_equal(one.arcs.table, chunked.arcs.table)
+    np.testing.assert_array_equal(one.rests, chunked.rests)
+
+
+def test_a_profile_made_of_two_lists_is_the_one_made_of_their_pairs(rng):
+    """PiecewiseLinear._of (a designed stroke's steps) makes what PiecewiseLinear of the pairs makes: the same points
+    (Python floats), arrays and pieces; pairs that fail the checks fail with the same error."""
+    for _ in range(100):
+        n = int(rng.integers(1, 30))
+        times = np.cumsum(rng.choice([1.5e-9, 1e-3, 0.05], n)).tolist()
+        values = [np.float64(x) for x in rng.uniform(-3000.0, 3000.0, n)]  # a design's forces may be numpy's
+        made, expected = PiecewiseLinear._of(times, values), PiecewiseLinear(list(zip(times, values)))
+        assert made == expected and made.points == expected.points
+        assert all(type(x) is float for point in made.points for x in point)
+        np.testing.assert_array_equal(made._t, expected._t)
+        np.testing.assert_array_equal(made._v, expected._v)
+        for name in ("edges", "values", "slopes"):
+            np.testing.assert_array_equal(getattr(made.pieces(1.0), name), getattr(expected.pieces(1.0), name))
+    for times, values in (([0.0, 0.0], [1.0, 2.0]), ([0.0, 1.0], [1.0, math.nan]), ([-1.0], [1.0])):
+        with pytest.raises(ParameterError) as made:
+            PiecewiseLinear._of(times, values)
+        with pytest.raises(ParameterError) as expected:
+            PiecewiseLinear(list(zip(times, values)))
+        assert str(made.value) == str(expected.value)

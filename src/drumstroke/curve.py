@@ -193,9 +193,69 @@ class Curve:
         sample to the next) is given it for each run of times within its span.
         """
         if spacing > 0.0:
-            return self._each(t, lambda segment, local: segment.path(local), 2, spaced=lambda segment, local: (
-                segment.path(local, spacing=spacing) if _takes_spacing(segment.path) else segment.path(local)))
+            spaced = lambda segment, local: (  # noqa: E731
+                segment.path(local, spacing=spacing) if _takes_spacing(segment.path) else segment.path(local))
+            t = np.asarray(t, dtype=float)
+            flat = t.ravel()
+            if self._layout is not None and flat.size > 1 and (flat[1:] >= flat[:-1]).all():
+                return _shaped(self._compiled(flat, spacing, spaced), t.shape)
+            return self._each(t, lambda segment, local: segment.path(local), 2, spaced=spaced)
         return self._each(t, lambda segment, local: segment.path(local), 2)
+
+    @functools.cached_property
+    def _layout(self):
+        """The segments as :func:`~drumstroke.solver.kernel.evaluate_runs` reads them, or None for a curve with no
+        stroke's arcs (a curve of one stick has them; one of several joints never)."""
+        from .solver.arcs import Arcs
+        from .solver.kernel import ARCS, CUBIC, HOLD, PATH
+
+        kinds, rows, places, tables, steps, phases = [], [], [], [], [], []
+        counts = [0, 0, 0]  # rows of tables, steps and phases so far
+        for segment in self.segments:
+            path, row, head = segment.path, (0, 0, 0, 0), 0.0
+            owner = getattr(path, "__self__", None)
+            if type(owner) is Arcs and path.__func__ is Arcs.evaluate:
+                kind, head = ARCS, owner.theta_max
+                row = (counts[0], counts[0] + len(owner.table), counts[1], counts[1] + len(owner.taylor))
+                tables.append(owner.table)
+                steps.append(owner.taylor)
+                counts[0], counts[1] = row[1], row[3]
+            elif type(path) is Still and not path.value.shape:
+                kind, head = HOLD, float(path.value)
+            elif type(path) is Cubic:
+                kind, row = CUBIC, (counts[2], counts[2] + len(path.phases), 0, 0)
+                phases.append(path.phases)
+                counts[2] = row[1]
+            else:
+                kind = PATH
+            kinds.append(kind)
+            rows.append(row)
+            places.append((segment.start, segment.end, segment.offset, head))
+        if not tables:
+            return None
+        return (np.array(kinds, dtype=np.int64), np.array(rows, dtype=np.int64), np.array(places),
+                np.concatenate(tables), np.concatenate(steps),
+                np.concatenate(phases) if phases else np.empty((0, 5)))
+
+    def _compiled(self, flat, spacing, spaced):
+        """θ and ω at increasing times ``flat`` (s): the strokes, holds and moves in one compiled call, the other
+        segments by their paths (each run of times as :meth:`_each` evaluates it, so the same values to the bit)."""
+        from .solver.kernel import PATH, evaluate_runs, finish_runs, runs_of
+
+        kinds, rows, places, tables, steps, phases = self._layout
+        first, segment = runs_of(self._starts, flat)
+        value, omega, theta = evaluate_runs(flat, first, segment, kinds, rows, places, tables, steps, phases,
+                                            float(spacing))
+        # θ's last step in flight by numpy's vectorised asin, as a stroke's arcs take it (Arcs.evaluate)
+        finish_runs(theta, np.arcsin(value, out=value), first, segment, kinds, places)
+        for r in (kinds[segment] == PATH).nonzero()[0].tolist():
+            chosen, s = slice(first[r], first[r + 1]), self.segments[segment[r]]
+            times = flat[chosen]
+            if s.start <= times[0] and times[-1] <= s.end:
+                theta[chosen], omega[chosen] = spaced(s, times - s.offset)
+            else:
+                theta[chosen], omega[chosen] = s.path(s.local(times))
+        return theta, omega
 
     def state(self, t):
         """θ (rad) and ω (rad/s) at one time ``t`` (s), as floats (one joint) or arrays (several)."""
@@ -291,14 +351,51 @@ def _shaped(arrays, shape):
 
 def still(theta):
     """The path of the stick (or the joints) held still at ``theta`` (rad): ``path(t) -> (theta, omega)``."""
-    value = np.asarray(theta, dtype=float)
+    return Still(np.asarray(theta, dtype=float))
 
-    def hold(t):
+
+class Still:
+    """The path of the stick (or the joints) held still at ``value`` (rad) [shape=() or (joints,)].
+
+    A class, not a closure: a curve of one stick evaluates its holds with its strokes in one compiled call.
+    """
+
+    __slots__ = ("value",)
+
+    def __init__(self, value):
+        self.value = value
+
+    def __call__(self, t):
+        value = self.value
         shape = np.shape(t) + value.shape
         return (np.full(shape, float(value)) if not value.shape else np.broadcast_to(value, shape).copy(),
                 np.zeros(shape))
 
-    return hold
+
+class Cubic:
+    """The path of one joint through phases of constant jerk (a jerk-limited move): θ and ω cubic in time.
+
+    Parameters
+    ----------
+    phases : ndarray [shape=(k, 5)]
+        Each phase's start (s, from 0, increasing; the first 0), its jerk (rad/s³), and the acceleration
+        (rad/s²), speed (rad/s) and angle (rad) it starts from. The last phase holds on past its end, and
+        the first before 0 (from 0).
+    """
+
+    __slots__ = ("phases",)
+
+    def __init__(self, phases):
+        self.phases = phases
+
+    def __call__(self, t):
+        t = np.asarray(t, dtype=float)
+        phases = self.phases
+        k = np.clip(phases[:, 0].searchsorted(t, side="right") - 1, 0, len(phases) - 1)
+        dt = np.clip(t - phases[k, 0], 0.0, None)
+        jerk, acceleration, speed, position = phases[k, 1], phases[k, 2], phases[k, 3], phases[k, 4]
+        theta = position + dt * (speed + dt * (acceleration / 2.0 + dt * jerk / 6.0))
+        return theta, speed + dt * (acceleration + dt * jerk / 2.0)
 
 
 def placed(pieces, start=0.0):

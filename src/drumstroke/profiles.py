@@ -422,6 +422,19 @@ class PiecewiseLinear(Profile):
         object.__setattr__(self, "_t", t)
         object.__setattr__(self, "_v", v)
 
+    @classmethod
+    def _of(cls, times, values):
+        """The profile through ``times`` (s) and ``values`` (m/s²), two lists of numbers (a designed stroke's steps):
+        the same profile as ``PiecewiseLinear(list(zip(times, values)))``, its usual case made without the pairs'
+        checks of their shape and the frozen dataclass's ``__init__``."""
+        if not _plain(zip(times, values)):  # the checks that name the fault
+            return cls(list(zip(times, values)))
+        profile = object.__new__(cls)
+        fields = profile.__dict__
+        fields["_t"], fields["_v"] = t, v = np.array(times, dtype=float), np.array(values, dtype=float)
+        fields["points"] = tuple(zip(t.tolist(), v.tolist()))
+        return profile
+
     def __call__(self, t):
         return np.interp(np.asarray(t, dtype=float), self._t, self._v)
 

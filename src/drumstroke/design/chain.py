@@ -944,8 +944,9 @@ def _profile(pieces):
     forces = [piece.force for piece in pieces]
     if all(force == forces[0] for force in forces):
         return Constant(forces[0])
-    points = [(0.0, forces[0])]
+    times, values = [0.0], [forces[0]]
     for before, after in itertools.pairwise(pieces):
         if after.force != before.force:
-            points += [(after.start - _RAMP, before.force), (after.start + _RAMP, after.force)]
-    return PiecewiseLinear(points)
+            times += (after.start - _RAMP, after.start + _RAMP)
+            values += (before.force, after.force)
+    return PiecewiseLinear._of(times, values)

@@ -28,12 +28,13 @@ Examples
 
 import functools
 import math
+import threading
 from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 
 from .._checks import check_keys, check_real
-from ..curve import Curve, Segment, placed, still
+from ..curve import Cubic, Curve, Segment, placed, still
 from ..errors import ParameterError
 from ..model import Stick
 from ..stroke import Stroke, as_trajectory
@@ -448,10 +449,22 @@ def _ruckig_joints(starts, targets, minimum, limits):
         parameters.minimum_duration = minimum
     trajectory = ruckig.Trajectory(n)
     try:
-        result = ruckig.Ruckig(n).calculate(parameters, trajectory)
+        result = _calculator(ruckig, n).calculate(parameters, trajectory)
     except ruckig.RuckigError:  # no profile found (ruckig says why in its message)
         return None
     return trajectory if result in (ruckig.Result.Working, ruckig.Result.Finished) else None
+
+
+def _calculator(ruckig, joints):
+    """ruckig's calculator for ``joints`` joints, made once a thread: making one costs ten times a move's calculation."""
+    calculators = _local.__dict__.setdefault("calculators", {})
+    calculator = calculators.get(joints)
+    if calculator is None:
+        calculator = calculators[joints] = ruckig.Ruckig(joints)
+    return calculator
+
+
+_local = threading.local()
 
 
 @functools.cache
@@ -484,18 +497,11 @@ def _path_of(trajectory, joint=0):
             return (np.array([s[0][joint] for s in states]).reshape(t.shape),
                     np.array([s[1][joint] for s in states]).reshape(t.shape))
         return path
-    edges = np.concatenate(([0.0], np.cumsum(profile.t)))
-    jerk, acceleration = np.array(profile.j), np.array(profile.a)
-    speed, position = np.array(profile.v), np.array(profile.p)
-
-    def path(t):
-        t = np.asarray(t, dtype=float)
-        k = np.clip(np.searchsorted(edges, t, side="right") - 1, 0, len(jerk) - 1)
-        dt = np.clip(t - edges[k], 0.0, None)
-        theta = position[k] + dt * (speed[k] + dt * (acceleration[k] / 2.0 + dt * jerk[k] / 6.0))
-        return theta, speed[k] + dt * (acceleration[k] + dt * jerk[k] / 2.0)
-
-    return path
+    starts, total = [0.0], 0.0
+    for duration in profile.t[:-1]:  # summed in order, as numpy's cumsum sums them
+        total += duration
+        starts.append(total)
+    return Cubic(np.array(list(zip(starts, profile.j, profile.a, profile.v, profile.p))))
 
 
 def _hold(theta, duration):

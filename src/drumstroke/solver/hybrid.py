@@ -45,7 +45,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import SimulationError
-from ..profiles import Constant, merge_edges
+from ..profiles import MAX_PIECES, Constant, PiecewiseLinear, Pulses, merge_edges, merge_tolerance
 from .arcs import Arcs
 
 MAX_IMPACTS = 5_000_000
@@ -116,10 +116,9 @@ def solved(coefficients, force, gravity, *, theta0, omega0, cor, t_end, method="
     theta_max = coefficients.theta_max
     closed_forms = method == "auto"
     table = flight_table.table() if closed_forms and tabled else _NO_TABLE
-    if progress is None and type(force) is Constant and type(gravity) is Constant:
-        # the commonest strokes in one call, their forcing's arrays made in compiled code
-        result = kernel.run_constant(coefficients.torque_rate(gravity.value, force.value), t_end, theta0, omega0,
-                                     theta_max, table, cor, closed_forms, _MAX_STEP, MAX_IMPACTS)
+    result = None if progress is not None or type(gravity) is not Constant else _whole(
+        kernel, coefficients, force, gravity.value, theta0, omega0, cor, t_end, closed_forms, table)
+    if result is not None:
         rows, n_arcs, n_through_impacts, steps = _checked(result, cor, kernel)
         return (Arcs._of(rows[:n_arcs], steps, theta_max), rows[n_arcs:n_through_impacts, 0],
                 rows[n_arcs:n_through_impacts, 1], rows[n_through_impacts:, :2])
@@ -131,6 +130,33 @@ def solved(coefficients, force, gravity, *, theta0, omega0, cor, t_end, method="
 
 
 _NO_TABLE = np.empty((0, 0))
+
+
+def _whole(kernel, coefficients, force, gravity, theta0, omega0, cor, t_end, closed_forms, table):
+    """The kernel's result for the commonest strokes in one call, their forcing's pieces made in compiled code (the
+    same operations as the profiles' own), or None for another kind of a(t).
+
+    A constant a(t); a piecewise-linear one (every designed stroke's) of fewer points than MAX_PIECES, and a pulse
+    train of fewer pulses than half of it, so that their count of pieces is never refused (``Profile.pieces``).
+    """
+    theta_max = coefficients.theta_max
+    kind = type(force)
+    if kind is Constant:
+        return kernel.run_constant(coefficients.torque_rate(gravity, force.value), t_end, theta0, omega0, theta_max,
+                                   table, cor, closed_forms, _MAX_STEP, MAX_IMPACTS)
+    if kind is not PiecewiseLinear and kind is not Pulses:
+        return None
+    count = len(force.points) if kind is PiecewiseLinear else force._break_count(t_end) // 2  # (pulses)
+    if (count if kind is PiecewiseLinear else 2 * count + 1) >= MAX_PIECES:  # (pieces: at most points + 1)
+        return None
+    force.check_budget(t_end)
+    rates = np.array((coefficients.k, coefficients.k_thumb, coefficients.inertia_ratio, gravity))
+    if kind is PiecewiseLinear:
+        return kernel.run_linear(force._t, force._v, merge_tolerance(t_end), rates, t_end, theta0, omega0, theta_max,
+                                 table, cor, closed_forms, _MAX_STEP, MAX_IMPACTS)
+    train = np.array((force.amplitude, force.period, force.phase, force.duty, force.base))
+    return kernel.run_pulses(train, count, merge_tolerance(t_end), rates, t_end, theta0, omega0, theta_max, table,
+                             cor, closed_forms, _MAX_STEP, MAX_IMPACTS)
 
 
 def _pieces(kernel, coefficients, force, gravity, theta0, omega0, cor, t_end, closed_forms, table, progress):

@@ -16,6 +16,7 @@ import math
 
 import numpy as np
 
+from .. import _pulses
 from .._jit import jit
 from . import elliptic, flight_table
 from .constants import ARC_COLUMNS, ELLIPTIC, NEARLY_VERTICAL, REST, TAYLOR, TAYLOR_ORDER
@@ -77,6 +78,78 @@ def run_constant(c, t_end, theta0, omega0, theta_max, table, cor, closed_forms, 
     edges[0], edges[1], c0[0] = 0.0, t_end, c
     outcome, extra, arcs, steps, impacts, rests = run(edges, c0, c1, theta_max, table, cor, closed_forms, max_step,
                                                       max_impacts, True, initial_state(theta0, omega0))
+    return _packed(outcome, extra, arcs, steps, impacts, rests, t_end)
+
+
+@jit
+def run_linear(points, values, tol, rates, t_end, theta0, omega0, theta_max, table, cor, closed_forms, max_step,
+               max_impacts):
+    """:func:`run` from (θ₀, ω₀) at t = 0 to ``t_end`` (s) under a piecewise-linear a(t) through a few points, the
+    whole stroke (a designed stroke's forcing).
+
+    The profile's pieces as :class:`drumstroke.profiles.PiecewiseLinear` cuts them in Python (its few points'
+    edges merged within ``tol`` s, :func:`drumstroke.profiles.merge_edges`; its value and slope after each), and
+    C = (k·g + k′·a)/D of them with ``rates`` = (k, k′, D, g): the same operations in the same order, so the same
+    forcing to the bit. Returns as :func:`run_constant`.
+    """
+    edges, c0, c1 = _linear_forcing(points, values, tol, rates, t_end)
+    outcome, extra, arcs, steps, impacts, rests = run(edges, c0, c1, theta_max, table, cor, closed_forms, max_step,
+                                                      max_impacts, True, initial_state(theta0, omega0))
+    return _packed(outcome, extra, arcs, steps, impacts, rests, t_end)
+
+
+@jit
+def run_pulses(train, count, tol, rates, t_end, theta0, omega0, theta_max, table, cor, closed_forms, max_step,
+               max_impacts):
+    """:func:`run` from (θ₀, ω₀) at t = 0 to ``t_end`` (s) under a pulse train a(t), the whole stroke.
+
+    ``train`` = (amplitude, period, phase, duty, base) of :class:`drumstroke.profiles.Pulses`, cut as it cuts
+    itself (:func:`drumstroke._pulses.pieces`, ``count`` pulses, edges merged within ``tol`` s); C = (k·g + k′·a)/D
+    on each piece and its slope 0 with ``rates`` = (k, k′, D, g), as the solver's Python makes them. Returns as
+    :func:`run_constant`.
+    """
+    edges, values = _pulses.pieces(train[0], train[1], train[2], train[3], train[4], t_end, count, tol)
+    k, k_thumb, inertia_ratio, gravity = rates[0], rates[1], rates[2], rates[3]
+    c0, c1 = np.empty(len(values)), np.empty(len(values))
+    for i in range(len(values)):
+        c0[i] = (k * gravity + k_thumb * values[i]) / inertia_ratio
+        c1[i] = (k * 0.0 + k_thumb * 0.0) / inertia_ratio
+    outcome, extra, arcs, steps, impacts, rests = run(edges, c0, c1, theta_max, table, cor, closed_forms, max_step,
+                                                      max_impacts, True, initial_state(theta0, omega0))
+    return _packed(outcome, extra, arcs, steps, impacts, rests, t_end)
+
+
+@jit
+def _linear_forcing(points, values, tol, rates, t_end):
+    """Edges (s) [shape=(n + 1,)], C at the start of each piece (s⁻²) and its slope (s⁻³) of a piecewise-linear a(t)
+    through ``points`` (s) and ``values`` (m/s²), under constant gravity (see :func:`run_linear`)."""
+    ordered = np.sort(np.concatenate((np.array([0.0, t_end]), points)))
+    kept = np.empty(len(ordered))
+    n = 0
+    for edge in ordered:  # in [0, t_end], each once, and a cluster within tol merged into its first edge
+        if 0.0 <= edge <= t_end and (n == 0 or (edge != kept[n - 1] and edge - kept[n - 1] > tol)):
+            kept[n] = edge
+            n += 1
+    kept[n - 1] = t_end
+    k, k_thumb, inertia_ratio, gravity = rates[0], rates[1], rates[2], rates[3]
+    c0, c1 = np.empty(n - 1), np.empty(n - 1)
+    last = len(points) - 1
+    for i in range(n - 1):
+        x = kept[i]
+        j = np.searchsorted(points, x + tol, side="right") - 1  # the segment the piece lies on
+        if 0 <= j < last:
+            slope = (values[j + 1] - values[j]) / (points[j + 1] - points[j])
+            value = values[j] + slope * (x - points[j])
+        else:
+            slope, value = 0.0, values[0] if x < points[0] else values[last]
+        c0[i] = (k * gravity + k_thumb * value) / inertia_ratio
+        c1[i] = (k * 0.0 + k_thumb * slope) / inertia_ratio
+    return kept[:n], c0, c1
+
+
+@jit
+def _packed(outcome, extra, arcs, steps, impacts, rests, t_end):
+    """:func:`run`'s results as :func:`run_constant` returns them: one array of rows, and where its parts start."""
     n_arcs, n_impacts = len(arcs), len(impacts)
     while n_impacts and impacts[n_impacts - 1, 0] > t_end:  # (found by a Taylor step that ends past t_end)
         n_impacts -= 1
@@ -433,6 +506,93 @@ def evaluate(table, steps, theta_max, t, spacing):
                 ints[r, 1] = -1
                 value[k], omega[k], theta[k] = math.nan, 0.0, theta_max
     return value, omega, theta
+
+
+# the kinds of segment :func:`evaluate_runs` evaluates (a curve's other segments: in Python, by their paths)
+PATH, ARCS, HOLD, CUBIC = range(4)
+
+
+@jit
+def evaluate_runs(t, first, segment, kinds, rows, places, tables, steps, phases, spacing):
+    """A curve's segments at the increasing times ``t`` (s), run by run, in one call.
+
+    Run r is ``t[first[r]:first[r + 1]]``, held by segment ``segment[r]``. Segment s is of kind ``kinds[s]``:
+    ARCS, a stroke's arcs (rows ``rows[s, 0]:rows[s, 1]`` of ``tables``, its Taylor steps ``rows[s, 2]:rows[s, 3]``
+    of ``steps``), evaluated as :func:`evaluate` evaluates them, with ``spacing`` when the run lies within the
+    segment's span; HOLD, still at θ = ``places[s, 3]``; CUBIC, a jerk-limited move (its phases, rows
+    ``rows[s, 0]:rows[s, 1]`` of ``phases``: start, jerk, acceleration, speed, position); PATH, left as it is
+    (the caller evaluates it). ``places[s, :3]`` are the segment's start, end and offset (s): each run's local
+    times are t − offset, clamped to the span first when the run is not within it, as a curve clamps them.
+    Each run is computed by the same operations as its path alone, so the same values to the bit.
+
+    Returns
+    -------
+    value, omega, theta : ndarray [shape=(n,)]
+        As :func:`evaluate`'s on the arcs' runs (:func:`finish_runs` makes θ there); elsewhere θ and ω, and
+        value NaN.
+    """
+    n = len(t)
+    value, omega, theta = np.full(n, math.nan), np.empty(n), np.empty(n)
+    for r in range(len(first) - 1):
+        a, b, s = first[r], first[r + 1], segment[r]
+        kind = kinds[s]
+        if kind == PATH:
+            continue
+        start, end, offset = places[s, 0], places[s, 1], places[s, 2]
+        within = start <= t[a] and t[b - 1] <= end
+        local = np.empty(b - a)
+        for k in range(b - a):
+            local[k] = t[a + k] - offset if within else min(max(t[a + k], start), end) - offset
+        if kind == ARCS:
+            v, w, th = evaluate(tables[rows[s, 0]:rows[s, 1]], steps[rows[s, 2]:rows[s, 3]], places[s, 3], local,
+                                spacing if within else 0.0)
+            value[a:b], omega[a:b], theta[a:b] = v, w, th
+        elif kind == HOLD:
+            omega[a:b], theta[a:b] = 0.0, places[s, 3]
+        else:
+            _cubic(phases[rows[s, 0]:rows[s, 1]], local, omega[a:b], theta[a:b])
+    return value, omega, theta
+
+
+@jit
+def runs_of(starts, t):
+    """The runs of the increasing times ``t`` (s) that one segment holds, a segment starting at each of ``starts`` (s,
+    increasing): the first time of each run and its end [shape=(r + 1,)], and each run's segment [shape=(r,)], the
+    last that starts at or before its times (the first for times before it), as a curve finds it."""
+    first, segment = np.empty(len(t) + 1, dtype=np.int64), np.empty(len(t), dtype=np.int64)
+    runs, j = 0, 0
+    for k in range(len(t)):
+        while j + 1 < len(starts) and starts[j + 1] <= t[k]:
+            j += 1
+        if k == 0 or j != segment[runs - 1]:
+            first[runs], segment[runs] = k, j
+            runs += 1
+    first[runs] = len(t)
+    return first[:runs + 1], segment[:runs]
+
+
+@jit(inline="always")
+def _cubic(phases, local, omega, theta):
+    """θ and ω of a jerk-limited move at ``local`` times: :class:`drumstroke.curve.Cubic`'s arithmetic."""
+    last = len(phases) - 1
+    for k in range(len(local)):
+        x = local[k]
+        j = 0
+        while j < last and phases[j + 1, 0] <= x:
+            j += 1
+        dt = max(x - phases[j, 0], 0.0)
+        jerk, acceleration, speed, position = phases[j, 1], phases[j, 2], phases[j, 3], phases[j, 4]
+        theta[k] = position + dt * (speed + dt * (acceleration / 2.0 + dt * jerk / 6.0))
+        omega[k] = speed + dt * (acceleration + dt * jerk / 2.0)
+
+
+@jit
+def finish_runs(theta, arcsin, first, segment, kinds, places):
+    """:func:`finish` on the runs of :func:`evaluate_runs` that arcs hold (the head at ``places[s, 3]``)."""
+    for r in range(len(first) - 1):
+        s = segment[r]
+        if kinds[s] == ARCS:
+            finish(theta[first[r]:first[r + 1]], arcsin[first[r]:first[r + 1]], places[s, 3])
 
 
 @jit
