@@ -13,6 +13,8 @@ import mido
 import numpy as np
 import pandas as pd
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from _studio import Client
 from drumstroke.cli import main
@@ -227,6 +229,8 @@ BAD = [
     ("plan", {"pattern": GROOVE, "kit": True, "open_handed": "no"}, "open_handed"),
     ("plan", {"pattern": "tempo 100\n0 auto 100 auto cowbell\n", "kit": True}, "piece"),
     ("plan", {"pattern": "tempo 100\n0 auto 100 auto hihat:wide\n", "kit": True}, "state"),
+    ("plan", {"pattern": "tempo 100\n0 auto 100 auto snare\n1 auto 100 left-foot crash\n", "kit": True},
+     "pattern line 3: limb must be a limb that plays 'crash' (right, left), got 'left-foot'"),
     ("plan", {"pattern": "tempo 100\n0 auto 100 auto kick\n200 auto 100 auto kick\n", "kit": True}, "pattern"),
     ("plan", {"pattern": "tempo 1000\n" + "".join(f"{k / 4:g} auto 90 auto hihat\n" for k in range(2001)),
               "kit": True}, "pattern"),
@@ -242,3 +246,21 @@ BAD = [
 @pytest.mark.parametrize(("operation", "body", "named"), BAD, ids=[f"{o}-{n}-{k}" for k, (o, _, n) in enumerate(BAD)])
 def test_bad_kit_inputs_are_refused_naming_the_field(client, operation, body, named):
     assert named in client.error(operation, body)
+
+
+KIT_LINES = st.tuples(st.floats(-1, 12, allow_nan=False), st.sampled_from(["auto", "buzz", "double"]),
+                      st.integers(-5, 200), st.sampled_from(["auto", "right", "left", "right-foot", "left-foot", "elbow"]),
+                      st.sampled_from(["", "kick", "snare", "hihat", "hihat:open", "hihat:pedal", "hihat:half", "crash",
+                                       "ride", "ride-bell", "tom1", "tom2", "floor-tom", "kick:open", "cowbell"])).map(
+    lambda row: f"{row[0]:g} {row[1]} {row[2]} {row[3]} {row[4]}".strip())
+KIT_PATTERNS = st.builds(lambda tempo, lines: f"tempo {tempo:g}\n" + "\n".join(lines) + "\n",
+                         st.floats(20, 300, allow_nan=False), st.lists(KIT_LINES, min_size=1, max_size=24))
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(KIT_PATTERNS, st.sampled_from(["plan", "audio"]))
+def test_any_kit_pattern_is_played_or_refused_in_one_line(client, pattern, operation):
+    reply = client.ask(operation, {"pattern": pattern, "kit": True})
+    assert reply.status in (200, 400), (reply.status, pattern, reply.body[:300])
+    if reply.status == 400:
+        assert "\n" not in json.loads(reply.body)["error"]

@@ -297,7 +297,13 @@ def composed_kit(source, model, lead="right", open_handed=False):
     kit = default_kit()
     score, title = _score(source, kit)
     setup = Setup(model=model)  # compose --kit's: the hands' joints are the kit's, θ the setup's default limits
-    return compose_kit(score, kit, setup=setup, lead=lead, open_handed=open_handed), score, title
+    try:
+        return compose_kit(score, kit, setup=setup, lead=lead, open_handed=open_handed), score, title
+    except ParameterError as error:  # a limb the note's piece is not played by: said at its line, not its index
+        given = re.fullmatch(r"given\[(\d+)\] (.*)", str(error))
+        if given is None:
+            raise
+        raise ParameterError(f"{score.notes[int(given[1])].source}: limb {given[2]}") from None
 
 
 def _score(source, kit=None):
