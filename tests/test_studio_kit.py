@@ -20,7 +20,7 @@ from _studio import Client
 from drumstroke.cli import main
 from drumstroke.studio.app import make_studio
 
-GROOVE = "".join(["tempo 110\n"] + [f"{k / 2:g} auto {116 if k % 4 == 0 else 90} auto hihat{':open' if k == 7 else ''}\n"
+GROOVE = "".join(["tempo 110\n"] + [f"{k / 2:g} auto {116 if k % 4 == 0 else 90} auto hihat{':open' * (k == 7)}\n"
                                     for k in range(8)]
                  + ["0 auto 100 auto kick\n", "2 auto 100 auto kick\n", "2.5 auto 90 auto kick\n",
                     "1 auto 116 auto snare\n", "3 auto 116 auto snare\n", "3.75 auto 40 auto snare\n"])
@@ -249,7 +249,8 @@ def test_bad_kit_inputs_are_refused_naming_the_field(client, operation, body, na
 
 
 KIT_LINES = st.tuples(st.floats(-1, 12, allow_nan=False), st.sampled_from(["auto", "buzz", "double"]),
-                      st.integers(-5, 200), st.sampled_from(["auto", "right", "left", "right-foot", "left-foot", "elbow"]),
+                      st.integers(-5, 200),
+                      st.sampled_from(["auto", "right", "left", "right-foot", "left-foot", "elbow"]),
                       st.sampled_from(["", "kick", "snare", "hihat", "hihat:open", "hihat:pedal", "hihat:half", "crash",
                                        "ride", "ride-bell", "tom1", "tom2", "floor-tom", "kick:open", "cowbell"])).map(
     lambda row: f"{row[0]:g} {row[1]} {row[2]} {row[3]} {row[4]}".strip())

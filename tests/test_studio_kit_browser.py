@@ -86,7 +86,8 @@ def test_a_groove_clicked_on_the_kit_grid_is_planned_heard_drawn_and_its_csv_is_
     letters = {"right": "R", "left": "L", "right-foot": "RF", "left-foot": "LF"}
     velocities = [int(line.split()[2]) for line in text.splitlines()[1:]]  # the accents: 116, past 108
     for piece in ("hihat", "snare", "kick"):
-        marks = page.locator(f".kit-lane[data-piece='{piece}'] text.mark").evaluate_all("marks => marks.map((m) => m.firstChild.nodeValue)")  # without its tooltip
+        marks = page.locator(f".kit-lane[data-piece='{piece}'] text.mark").evaluate_all(
+            "marks => marks.map((m) => m.firstChild.nodeValue)")  # without its tooltip
         expected = [letters[n["limb"]] + (">" if velocity >= 108 else "")
                     for n, velocity in zip(written["notes"], velocities, strict=True) if n["piece"] == piece]
         assert marks == expected
@@ -109,7 +110,7 @@ def test_a_groove_clicked_on_the_kit_grid_is_planned_heard_drawn_and_its_csv_is_
 
 def test_a_note_no_limb_plays_shows_compose_kits_reason_beside_it(page, tmp_path, capsys):
     page.check("#part-kit")
-    planned(page, 16 + 4 + 4)  # the kit's groove first: 2 bars of the hi-hat's 8ths, the snare on 2 and 4, the kick on 1, 3
+    planned(page, 16 + 4 + 4)  # the kit's groove first: 2 bars of the hi-hat's 8ths, the snare on 2, 4, the kick 1, 3
     text = "tempo 120\n0 auto 100 auto kick\n0.02 auto 100 auto kick\n1 auto 116 auto snare\n"
     page.fill("#part-text", text)
     planned(page, 3)

@@ -35,9 +35,9 @@ from ..design import Setup, Target, plan_stick
 from ..dynamics import velocity_to_level
 from ..errors import ParameterError
 from ..formats.midi import TempoMap
-from ..kit.pieces import default_kit
 from ..formats.pattern import parse_pattern as pattern_rows
 from ..formats.pattern import pattern_text
+from ..kit.pieces import default_kit
 from ..model import MODELS
 from ..palette.library import palette_library
 from ..palette.rudiments import rudiments as all_rudiments

@@ -515,9 +515,9 @@ function drawKit(answer) {
     const hits = c.layer("hits");
     lane.t.forEach((t, k) => {
       const limb = lane.limb[k], open = lane.state[k] === "open" || lane.state[k] === "half";
+      const look = `hit limb-${limb}${open ? " open" : ""}${lane.note[k] < 0 ? " bounce" : ""}`;
       const dot = svgEl("circle", {cx: c.x(t), cy: c.y(lane.level_db[k]),
-                                   r: Math.max(1.5, 3 + (lane.level_db[k] - low) / 10),
-                                   class: `hit limb-${limb}${open ? " open" : ""}${lane.note[k] < 0 ? " bounce" : ""}`});
+                                   r: Math.max(1.5, 3 + (lane.level_db[k] - low) / 10), class: look});
       const tip = svgEl("title");
       tip.textContent = `${where(t, answer)}: ${LIMBS[limb] || limb}, ${lane.level_db[k].toFixed(1)} dB` +
                         (lane.state[k] ? `, ${lane.state[k]}` : "") + (lane.note[k] < 0 ? " (a bounce)" : "");
@@ -546,8 +546,9 @@ function drawKit(answer) {
   const thetas = limbs.flatMap((limb) => answer.limbs[limb].joints.theta);
   const c = chart(box, {width: 1300, height: 170, xRange,
                         yRange: [Math.min(...thetas) - 0.05, Math.max(...thetas) + 0.05], yLabel: "θ (rad)",
-                        xLabel: "time (s)", title: "each limb's θ: the sticks' angle to the horizontal, the beaters' " +
-                                                   "back from the vertical (one scale)"});
+                        xLabel: "time (s)",
+                        title: "each limb's θ: the sticks' angle to the horizontal, the beaters' back from the " +
+                               "vertical (one scale)"});
   barLines(c, answer.bars, answer.meter[0]);
   limbs.forEach((limb, k) => {
     c.line(answer.limbs[limb].t, answer.limbs[limb].joints.theta, `theta limb-${limb}`);
