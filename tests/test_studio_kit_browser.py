@@ -94,6 +94,11 @@ def test_a_groove_clicked_on_the_kit_grid_is_planned_heard_drawn_and_its_csv_is_
         hits = [h for h in written["hits"] if h["piece"] == piece]
         assert page.locator(f".kit-lane[data-piece='{piece}'] circle.hit").count() == len(hits)
     assert page.locator("#part-problems li").count() == 0
+    # the grid's cells written as the planner plays them: the kick's right foot, the backbeat's accented hand
+    steps = {(n["piece"], round(n["time"] * 100 / 60 * 4)): n["limb"] for n in written["notes"]}
+    assert page.inner_text(cell("kick", 0)) == letters[steps[("kick", 0)]] == "RF"
+    assert page.inner_text(cell("snare", 4)) == letters[steps[("snare", 4)]] + ">"
+    assert page.inner_text(cell("hihat", 2)) == letters[steps[("hihat", 2)]]
     thetas = [c for c in pd.read_csv(tmp_path / "cli.csv").columns if c.endswith(".theta")]  # every limb's, the
     assert page.locator(".kit-limbs path.theta").count() == len(thetas) == 4  # idle left foot's too
     page.click("#part-play")

@@ -566,6 +566,26 @@ function drawKit(answer) {
   }).filter(Boolean);
   view.sticking.textContent = `Limbs: ${counts.join(" · ")}`;
   listProblems(answer);
+  markCells(answer);
+}
+
+// Each kit cell of a planned note written as the planner plays it: its limb with its accent or ghost (R>, (L), RF),
+// when the grid is what was planned (its text is the part).
+function markCells(answer) {
+  if (view.table.classList.contains("stale")) return;
+  const per = STEPS[grid.steps];
+  for (const note of answer.notes) {
+    const step = Math.round(note.beat * per);
+    const row = kitRows.find((r) => r.piece === note.piece && (r.state === note.state || r.state === null));
+    if (!row || note.beat === null || Math.abs(note.beat * per - step) > 1e-6) continue;
+    const cell = view.table.querySelector(`[data-row="${CSS.escape(row.name)}"][data-step="${step}"]`);
+    if (cell && cell.classList.contains("on")) {
+      cell.textContent = note.mark.replace(/ .*/, "");  // the hi-hat's state is its row
+      cell.title = `${note.piece}${note.state ? ` ${note.state}` : ""}: ${note.mark}` +
+                   (note.played ? "" : ", not played");
+      cell.classList.toggle("missed", !note.played);
+    }
+  }
 }
 
 // The problems of the notes of a lane (belongs(note)) drawn beside them in chart c's layer marks: a line down to
