@@ -12,6 +12,11 @@ A part is given in one of three ways, the fields of :data:`PART_FIELDS`:
 
 It is composed as ``drumstroke compose`` composes it (:func:`composed`): the shipped palette, the joint's default
 limits, ``model`` (paper or geometry), both sticks; a pattern's CSV is the command's to the bit.
+
+With ``"kit": true`` it is played on the whole kit as ``drumstroke compose --kit`` plays it (:func:`composed_kit`:
+the shipped kit, each note on the piece its pattern line names, a MIDI file's every key the kit answers; ``lead``
+and ``open_handed`` as the command's ``--lead`` and ``--open-handed``), and answered a lane per piece
+(:mod:`drumstroke.studio.kit`).
 """
 
 import base64
@@ -24,13 +29,15 @@ from pathlib import Path
 
 import numpy as np
 
-from ..compose import compose, rudiment_score
+from .._checks import shown
+from ..compose import compose, compose_kit, rudiment_score
 from ..design import Setup, Target, plan_stick
 from ..dynamics import velocity_to_level
 from ..errors import ParameterError
 from ..formats.midi import TempoMap
 from ..formats.pattern import parse_pattern as pattern_rows
 from ..formats.pattern import pattern_text
+from ..kit.pieces import default_kit
 from ..model import MODELS
 from ..palette.library import palette_library
 from ..palette.rudiments import rudiments as all_rudiments
@@ -38,10 +45,15 @@ from ..render.sticking import bar_times, mark, sticking
 from ..robot.config import RobotConfig
 from ..score import PLANNED, Score, ScoreReport, read_score
 from ..score import parse_pattern as pattern_notes
+from .kit import KIT_DOWNLOADS, kit_answer, kit_file, kit_rows
 from .session import File, choice, fields, number, text
 
-PART_FIELDS = ("pattern", "midi", "name", "rudiment", "tempo", "bars", "model")
-"""The fields that give a part (one of pattern, midi, rudiment) and the model it is planned with."""
+PART_FIELDS = ("pattern", "midi", "name", "rudiment", "tempo", "bars", "model", "kit", "lead", "open_handed")
+"""The fields that give a part (one of pattern, midi, rudiment), the model it is planned with, and whether it is
+played on the kit (``kit``, and with it ``lead`` and ``open_handed``)."""
+
+KIT_FIELDS = ("lead", "open_handed")
+"""The fields that go with ``"kit": true``: the hands' options of ``compose --kit``."""
 
 MAX_NOTES = 2000
 """The most notes a part may have."""
@@ -80,11 +92,14 @@ def rudiments(studio, request):
 
 
 def part_options(studio, request):
-    """``{}`` -> ``{"strokes", "models", "controllers", "downloads"}``: the palette's stroke names a note may name,
-    the models a part is planned with, the robot's controllers and the kinds of file ``download`` writes."""
+    """``{}`` -> ``{"strokes", "models", "controllers", "downloads", "kit_rows", "kit_downloads"}``: the palette's
+    stroke names a note may name, the models a part is planned with, the robot's controllers, the kinds of file
+    ``download`` writes, and on the kit: the grid's rows (:func:`~drumstroke.studio.kit.kit_rows` of the shipped
+    kit) and the kinds of file ``download`` writes of a kit part."""
     fields(request)
     return {"strokes": list(palette_library()), "models": list(MODELS),
-            "controllers": list(RobotConfig().controllers), "downloads": list(DOWNLOADS)}
+            "controllers": list(RobotConfig().controllers), "downloads": list(DOWNLOADS),
+            "kit_rows": kit_rows(default_kit()), "kit_downloads": [*KIT_DOWNLOADS, "pattern"]}
 
 
 def plan(studio, request):
@@ -96,10 +111,17 @@ def plan(studio, request):
     with its stick, its mark as a drummer writes it (``R``, ``L>``, ``(L)``), its impact (time, level dB) or
     None; each problem with the index of its note, its reason, and the nearest time (s) and level (dB) the
     planner found playable (None when it names none).
+
+    On the kit: ``{"title", "pattern", "tempo", "meter", "model"}`` and
+    :func:`~drumstroke.studio.kit.kit_answer`'s lane per piece, notes, problems and limbs.
     """
     fields(request, optional=(*PART_FIELDS, "samples"))
     samples = int(number(request, "samples", low=100, high=5000, default=SAMPLES))
     piece, score, title, model = _part(request)
+    if _on_kit(request):
+        return {"title": title, "pattern": _text(score, piece.kit), "tempo": 60e6 / score.tempo_map.tempi[0][1],
+                "meter": list(score.tempo_map.meters[0][1:]), "model": model,
+                **kit_answer(piece, score, samples=samples)}
     head = float(next(iter(piece.sticks.values())).theta_max)
     notes = [p.note for p in piece.placements]
     firsts = {name: (t[first], level[first]) for name, (t, level, first) in piece.stick_impacts().items()}
@@ -126,8 +148,11 @@ def plan(studio, request):
 
 
 def audio(studio, request):
-    """A part -> its sound as a WAV file (48 kHz), on the composition's time (the score's time 0 at ``offset``)."""
+    """A part -> its sound as a WAV file (48 kHz), on the composition's time (the score's time 0 at ``offset``); on
+    the kit, the kit's sound as ``compose --kit --audio`` renders it."""
     fields(request, optional=PART_FIELDS)
+    if _on_kit(request):
+        return File(*kit_file(_part(request)[0], "wav", "part"))
     return _written(_part(request)[0], "wav")
 
 
@@ -138,13 +163,19 @@ def download(studio, request):
     the JSON of its metadata beside it), ros the ROS 2 ``JointTrajectory`` of both sticks
     (:func:`~drumstroke.robot.export.export_ros_json`, validated against the joint's limits), pattern the part's
     text pattern (a pattern as it was given).
+
+    On the kit, ``kind`` one of :data:`~drumstroke.studio.kit.KIT_DOWNLOADS` or pattern: what ``compose --kit``
+    writes with ``--csv``, ``--json``, ``--midi``, ``--audio`` and ``--plot`` (PNG).
     """
     fields(request, required=("kind",), optional=PART_FIELDS)
-    kind = choice(request, "kind", tuple(DOWNLOADS))
+    on_kit = _on_kit(request)
+    kind = choice(request, "kind", (*KIT_DOWNLOADS, "pattern") if on_kit else tuple(DOWNLOADS))
     piece, score, title, _ = _part(request)
     if kind == "pattern":  # a pattern as it was written (its comments too); a rudiment or a MIDI file as text
-        written = request["pattern"] if "pattern" in request else _text(score)
+        written = request["pattern"] if "pattern" in request else _text(score, piece.kit if on_kit else None)
         return File(written.encode("utf-8"), DOWNLOADS[kind][0], f"{title}.pattern")
+    if on_kit:
+        return File(*kit_file(piece, kind, title))
     return _written(piece, kind, title)
 
 
@@ -160,6 +191,9 @@ def robot(studio, request):
     from ..robot.track import reference, track
 
     fields(request, required=("controller",), optional=(*PART_FIELDS, "samples"))
+    if _on_kit(request):
+        raise ParameterError("kit: the robot tracks a part's two sticks on the snare, not the kit; switch the part "
+                             "editor's Kit off")
     config = RobotConfig()
     name = choice(request, "controller", tuple(config.controllers))
     samples = int(number(request, "samples", low=100, high=5000, default=SAMPLES))
@@ -187,8 +221,20 @@ def robot(studio, request):
             "bars": bar_times([p.note for p in piece.placements], score.tempo_map).tolist(), "sticks": sticks}
 
 
+def _on_kit(request):
+    """Whether the request's part is played on the kit (``kit``: true or false, default false); ``lead`` and
+    ``open_handed`` are refused without it."""
+    on_kit = request.get("kit", False)
+    if not isinstance(on_kit, bool):
+        raise ParameterError(f"kit must be true or false, got {shown(on_kit)}")
+    for key in KIT_FIELDS:
+        if key in request and not on_kit:
+            raise ParameterError(f"{key} goes with kit: true (the hands on the kit)")
+    return on_kit
+
+
 def _part(request):
-    """The part a request gives, composed: (Composition, Score, title, model)."""
+    """The part a request gives, composed: (Composition or KitComposition, Score, title, model)."""
     model = choice(request, "model", MODELS, default="paper")
     given = [key for key in ("pattern", "midi", "rudiment") if key in request]
     if len(given) != 1:
@@ -208,7 +254,14 @@ def _part(request):
         source = ("rudiment", text(request, "rudiment", most=64),
                   number(request, "tempo", low=20.0, high=400.0, unit="bpm", default=100.0),
                   int(number(request, "bars", low=1, high=8, default=2)))
-    piece, score, title = composed(source, model)
+    if _on_kit(request):
+        lead = choice(request, "lead", ("right", "left"), default="right")
+        open_handed = request.get("open_handed", False)
+        if not isinstance(open_handed, bool):
+            raise ParameterError(f"open_handed must be true or false, got {shown(open_handed)}")
+        piece, score, title = composed_kit(source, model, lead, open_handed)
+    else:
+        piece, score, title = composed(source, model)
     return piece, score, title, model
 
 
@@ -222,16 +275,49 @@ def composed(source, model):
         ``("pattern", text)``, ``("midi", base64, file name)`` or ``("rudiment", name, tempo bpm, bars)``.
     model : {"paper", "geometry"}
     """
+    score, title = _score(source)
+    setup = Setup(model=model, limits=RobotConfig().limits)  # compose's: the default robot config's limits
+    return compose(score, palette_library(), setup=setup), score, title
+
+
+@functools.lru_cache(maxsize=8)
+def composed_kit(source, model, lead="right", open_handed=False):
+    """A part played on the shipped kit as ``drumstroke compose --kit`` plays it: (KitComposition, Score, title).
+
+    Parameters
+    ----------
+    source : tuple
+        As :func:`composed` takes it; a MIDI file's notes are every key the kit answers.
+    model : {"paper", "geometry"}
+    lead : {"right", "left"}
+        The hand that keeps time (``--lead``).
+    open_handed : bool
+        Whether the hand on the hi-hat's side keeps time (``--open-handed``).
+    """
+    kit = default_kit()
+    score, title = _score(source, kit)
+    setup = Setup(model=model)  # compose --kit's: the hands' joints are the kit's, θ the setup's default limits
+    try:
+        return compose_kit(score, kit, setup=setup, lead=lead, open_handed=open_handed), score, title
+    except ParameterError as error:  # a limb the note's piece is not played by: said at its line, not its index
+        given = re.fullmatch(r"given\[(\d+)\] (.*)", str(error))
+        if given is None:
+            raise
+        raise ParameterError(f"{score.notes[int(given[1])].source}: limb {given[2]}") from None
+
+
+def _score(source, kit=None):
+    """The score a part's source gives (a MIDI file read with ``kit``, when given), checked for size: (Score,
+    title)."""
     kind = source[0]
     if kind == "pattern":
         score, title = _pattern_score(source[1]), "part"
     elif kind == "midi":
-        score, title = _midi_score(*source[1:]), Path(source[2]).stem or "part"
+        score, title = _midi_score(*source[1:], kit=kit), Path(source[2]).stem or "part"
     else:
         score, title = rudiment_score(source[1], source[2], bars=source[3])[0], source[1]
     _check_size(score, kind)
-    setup = Setup(model=model, limits=RobotConfig().limits)  # compose's: the default robot config's limits
-    return compose(score, palette_library(), setup=setup), score, title
+    return score, title
 
 
 def _pattern_score(pattern):
@@ -246,7 +332,7 @@ def _pattern_score(pattern):
                  ScoreReport("pattern", {("played", None): len(notes)}))
 
 
-def _midi_score(data, name):
+def _midi_score(data, name, *, kit=None):
     try:
         raw = base64.b64decode(data, validate=True)
     except (binascii.Error, ValueError):
@@ -258,12 +344,13 @@ def _midi_score(data, name):
         path = Path(folder) / "part.mid"
         path.write_bytes(raw)
         try:
-            score = read_score(path, stroke_names=list(palette_library()))
+            score = (read_score(path, stroke_names=list(palette_library())) if kit is None
+                     else read_score(path, kit=kit))
         except ParameterError as error:
             raise ParameterError(f"midi {name!r}: {str(error).replace(str(path), name)}") from None
     if not score.notes:
-        raise ParameterError(f"midi {name!r} has no notes on channel 10 the drum map plays (snares 37, 38, 40): "
-                             f"{score.report.summary()}")
+        played = "the kit answers" if kit else "the drum map plays (snares 37, 38, 40)"
+        raise ParameterError(f"midi {name!r} has no notes on channel 10 {played}: {score.report.summary()}")
     notes = tuple(replace(n, source=n.source.replace(str(path), name)) for n in score.notes)
     return replace(score, notes=notes)
 
@@ -276,13 +363,22 @@ def _check_size(score, field):
         raise ParameterError(f"{field}'s last note is at {last:.6g} s; a part lasts at most {MAX_SECONDS:g} s")
 
 
-def _text(score):
-    """The score as a text pattern: beats at its first tempo (exact for a pattern or a rudiment, one tempo)."""
+def _text(score, kit=None):
+    """The score as a text pattern: beats at its first tempo (exact for a pattern or a rudiment, one tempo); played
+    on ``kit``, each note's piece and state (its key's) in the piece column."""
     tempo_map = score.tempo_map
     beats = tempo_map.beats(np.array([n.time for n in score.notes]))
     rows = [(round(float(beat), 9), n.stroke, n.velocity, n.stick or "auto", "", None if n.duration is None
-             else round(n.duration * 60e6 / tempo_map.tempi[0][1] / 60.0, 9)) for beat, n in zip(beats, score.notes)]
+             else round(n.duration * 60e6 / tempo_map.tempi[0][1] / 60.0, 9), *_piece_column(n, kit))
+            for beat, n in zip(beats, score.notes)]
     return pattern_text(60e6 / tempo_map.tempi[0][1], rows, tempo_map.meters[0][1:])
+
+
+def _piece_column(note, kit):
+    """(piece, state) of ``note`` on ``kit`` for the pattern's piece column; () without a kit."""
+    if kit is None or note.piece is None:
+        return ()
+    return note.piece, note.state or (None if note.key is None else kit.piece(note.piece).state(note.key))
 
 
 def _lane(stick, offset, samples):
