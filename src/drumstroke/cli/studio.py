@@ -32,7 +32,7 @@ def _studio(args):
     logging.basicConfig(level=logging.WARNING, format="%(asctime)s %(levelname)s %(name)s: %(message)s")
     server = make_studio(library=args.library, host=args.host, port=args.port, allowed_hosts=args.allowed_host,
                          work_timeout=args.work_timeout)
-    where = f"library {args.library}" if args.library else "the shipped palette (give --library DIR to save strokes)"
-    print(f"the studio is at {server.url} ({where}); Ctrl-C stops it", flush=True)
+    where = f"strokes saved into {args.library}" if args.library else "the shipped palette; --library DIR saves strokes"
+    print(f"the studio is at {server.url} ({where}); open it in a browser; Ctrl-C stops it", flush=True)
     server.serve()
     print("stopped")
