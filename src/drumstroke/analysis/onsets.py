@@ -610,7 +610,7 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        to each in time order (``template_fit``, ``template_reach``) and taken off, it times those over
        earlier sound where it correlates by ``template_likeness``, and finds new ones where its start
        (``template_head``) correlates so with what is left and that rises ``min_jump`` times.
-       :func:`_levels`. An onset's amplitude is the peak of its own sound in the drum's lowest
+       :func:`_level_band`. An onset's amplitude is the peak of its own sound in the drum's lowest
        modes (the band up to ``level_ratio`` times its lowest strong mode, ≥ ``level_band`` Hz,
        decimated to 2.5 times that: a stick's speed sets their amplitude in proportion, while the
        higher modes grow faster with it, Hertz's contact being shorter): the band over the next
@@ -688,6 +688,7 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
         return _no_onsets("the signal is silent", info, source, config)
     band = band / peak
     rise = np.diff(band, prepend=band[0])  # the first difference, centred ½ sample early: several stages read it
+    d = np.abs(rise)  # its magnitude, which as many do
     tonal = _tonal_innovation(band, rate, config)
     heard = _heard_jumps(rise, rate, tonal, config)
     first, _ = heard.merge()
@@ -699,21 +700,21 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
         candidates = _last_round(modes, candidates, rate, config)
     candidates = _search_after_louder(modes, candidates, rate, config)
     candidates = _impulsive(modes, candidates, rate, config)
-    candidates = _first_transients(np.abs(rise), rate, candidates.take(candidates.attack), config)
+    candidates = _first_transients(d, rate, candidates.take(candidates.attack), config)
     found = candidates.times
-    candidates = _fit_template(band, rate, candidates, config)
-    amplitude, floor = _levels(band, rate, tonal.q, first, _measured_at(candidates, found, rate, config),
-                               modes.reverberant, config)
-    candidates, amplitude = _one_attack_each(np.abs(rise), rate, candidates, amplitude, config)
-    decided = _out_of_decay(band, rate, candidates, amplitude, config)
+    candidates = _fit_template(band, d, rate, candidates, config)
+    levels = _level_band(band, rate, tonal.q, first, config)
+    amplitude = levels.amplitudes(_measured_at(candidates, found, rate, config), modes.reverberant, config)
+    candidates, amplitude = _one_attack_each(d, rate, candidates, amplitude, config)
+    decided = _out_of_decay(band, d, rate, candidates, amplitude, config)
     # an attack measured on a window cut at the next detection, refused here, is measured again without it
     cut = np.flatnonzero(decided.attack[:-1] & candidates.attack[1:] & ~decided.attack[1:])
     if len(cut):
         kept = decided.take(decided.attack)
-        again, _ = _levels(band, rate, tonal.q, first, _measured_at(kept, found, rate, config), modes.reverberant, config)
+        again = levels.amplitudes(_measured_at(kept, found, rate, config), modes.reverberant, config)
         amplitude[cut] = again[np.searchsorted(kept.times, decided.times[cut])]
-    candidates = _learned_lead_ins(band, rate, decided, config)
-    onsets = _reported(candidates, amplitude, floor, {**info, "analysis_rate": tonal.rate}, source, rate, config)
+    candidates = _learned_lead_ins(d, rate, decided, config)
+    onsets = _reported(candidates, amplitude, levels.floor, {**info, "analysis_rate": tonal.rate}, source, rate, config)
     return replace(onsets, peak_db=_peak_db(signal, onsets.t * rate, rate, config))
 
 
@@ -1181,7 +1182,7 @@ def _first_transients(d, rate, candidates, config):
     return replace(candidates, times=times)
 
 
-def _fit_template(band, rate, candidates, config):
+def _fit_template(band, d, rate, candidates, config):
     """Step 5: attacks over earlier sound timed, and attacks hidden in it found, by fitting the recording's own attack.
 
     A drum struck again and again sounds each time much as before, only louder or quieter: its
@@ -1199,15 +1200,15 @@ def _fit_template(band, rate, candidates, config):
     apart, a ghost note in an accent's ringing. A detection less than ``min_interval`` after an attack
     so timed (and ``template_reach`` s more after one so found) is that attack again, the later found
     where the sound rose on (as :func:`_one_attack_each` merges them). The attacks so timed or found are of kind 3
-    (:func:`_learned_lead_ins` leaves them); the candidates are all attacks.
+    (:func:`_learned_lead_ins` leaves them); the candidates are all attacks. ``d`` is the magnitude of ``band``'s
+    first difference.
     """
-    template, offset = _template(band, rate, candidates.times, config)
+    template, offset = _template(band, d, rate, candidates.times, config)
     if template is None:
         return candidates
     pre = round(0.5e-3 * rate)
     reach, gap = round(config.template_reach * rate), max(1, round(config.min_interval * rate))
     head = template[:pre + round(config.template_head * rate)]
-    d = np.abs(np.diff(band, prepend=band[0]))
     remainder = band.copy()
     queue = [(t, i) for i, t in enumerate(candidates.times)]  # (time, index in candidates or -1 for a new one)
     times, kinds, likeness = [], [], []
@@ -1267,15 +1268,14 @@ def _measured_at(candidates, found, rate, config):
     return replace(candidates, times=np.where(near, found[nearer], candidates.times))
 
 
-def _template(band, rate, times, config):
+def _template(band, d, rate, times, config):
     """The recording's own attack: ``band`` from 0.5 ms before its loudest clear attack, and that attack's offset.
 
     The loudest attack (its first difference's peak over the 5 ms after it) that is clear by ``lead_clear_db``
     (:func:`_clear`) and 20 ms or more before the next, up to the next (less 0.5 ms) or
-    ``tail`` s. Returns the samples and the attack's time less its whole sample, or ``(None, 0.0)``
-    when there is no such attack.
+    ``tail`` s (``d``: the magnitude of ``band``'s first difference). Returns the samples and the attack's time less
+    its whole sample, or ``(None, 0.0)`` when there is no such attack.
     """
-    d = np.abs(np.diff(band, prepend=band[0]))
     pre, after = round(0.5e-3 * rate), round(5e-3 * rate)
     ends = np.append(times[1:], len(band))
     best, chosen = 0.0, None
@@ -1337,7 +1337,7 @@ def _next_attack(x, head, low, high, pre, reach, rate, config):
     return None if found < 0 else int(found)
 
 
-def _out_of_decay(band, rate, candidates, amplitude, config):
+def _out_of_decay(band, d, rate, candidates, amplitude, config):
     """Step 5's last part: a quiet or a close attack that does not rise out of the sound before it is no attack.
 
     A recorded sample's own decay and a room's tail beat and flutter: the stages before take some
@@ -1348,7 +1348,8 @@ def _out_of_decay(band, rate, candidates, amplitude, config):
     few milliseconds into itself (FluidR3's electric snare, 4-6 ms in, as loud as its note in the
     drum's lowest modes): an attack within ``echo_reach`` s after the one before it must pass that
     earlier peak by ``echo_rise_db`` (its first difference falls there: the earlier note goes on).
-    Last, an attack must bring a sound of its own (:func:`_new_sound`).
+    Last, an attack must bring a sound of its own (:func:`_new_sound`). ``d`` is the magnitude of ``band``'s first
+    difference.
     """
     from ._kernels import peaks_around
 
@@ -1360,7 +1361,6 @@ def _out_of_decay(band, rate, candidates, amplitude, config):
     quiet = amplitude[which] < loudest * 10.0 ** (config.decay_db / 20.0)
     close = np.diff(candidates.times[which], prepend=-np.inf) <= config.echo_reach * rate
     least = np.where(quiet, config.decay_rise_db, config.echo_rise_db)
-    d = np.abs(np.diff(band, prepend=band[0]))
     tried = which[quiet | close]
     rise, prior = peaks_around(d, np.rint(candidates.times[tried]).astype(np.int64), round(2e-3 * rate),
                                round(5e-3 * rate), round(0.5e-3 * rate))
@@ -1443,7 +1443,7 @@ def _one_attack_each(d, rate, candidates, amplitude, config):
     return candidates.take(keep), amplitude[keep]
 
 
-def _learned_lead_ins(band, rate, candidates, config):
+def _learned_lead_ins(d, rate, candidates, config):
     """Step 5's last part: an attack whose first transient is hidden by earlier sound is put its lead-in before its main rise.
 
     A recorded sample restarted over its own ringing hides its first click; the stages before then
@@ -1455,12 +1455,12 @@ def _learned_lead_ins(band, rate, candidates, config):
     that long before their own main rise, when that earlier sound is quieter than they and the move
     is no more than the lead-in and 0.3 ms earlier (or 0.3 ms later) than where they were. Nothing
     moves with fewer than 3 clear attacks, a lead-in under 0.25 ms or spread over more than 0.2 ms
-    (interquartile: not a sample's own), or when the attacks would not stay in time order.
+    (interquartile: not a sample's own), or when the attacks would not stay in time order. ``d`` is the magnitude
+    of the band's first difference.
     """
     from ._kernels import first_at_least, peaks_around
 
     which = np.flatnonzero(candidates.attack)
-    d = np.abs(np.diff(band, prepend=band[0]))
     centres = np.rint(candidates.times[which]).astype(np.int64)
     peak, prior = peaks_around(d, centres, round(5e-3 * rate), round(5e-3 * rate), round(0.5e-3 * rate))
     clear, over = prior <= peak * 10.0 ** (config.lead_clear_db / 20.0), prior < peak
@@ -1484,18 +1484,33 @@ def _learned_lead_ins(band, rate, candidates, config):
     return replace(candidates, times=times)
 
 
-def _levels(band, rate, q, first, candidates, reverberant, config):
-    """Step 5: each candidate's amplitude in the drum's lowest modes (full scale), and that band's noise floor.
+@dataclass(frozen=True)
+class _LevelBand:
+    """Step 5's band of the drum's lowest modes: ``x`` decimated ``q`` times (at ``rate`` Hz, its filter's delay
+    ``delay`` full-rate samples), its predictor's error filter ``coefficients`` and its noise ``floor`` (full scale)."""
 
-    The band's top comes from the ``first`` onsets (:func:`_level_corner`); ``q`` is step 1's decimation.
-    """
+    x: np.ndarray
+    q: int
+    delay: float
+    rate: float
+    coefficients: np.ndarray
+    floor: float
+
+    def amplitudes(self, candidates, reverberant, config):
+        """Each candidate's amplitude in the band (full scale): :func:`_attack_amplitudes`."""
+        return _attack_amplitudes(self.x, self.coefficients, (candidates.times + self.delay) / self.q, self.rate,
+                                  tail=round(config.tail * self.rate) if reverberant else 0,
+                                  sure=candidates.likeness >= config.likeness, ridge=config.tail_ridge)
+
+
+def _level_band(band, rate, q, first, config):
+    """Step 5: the :class:`_LevelBand` of ``band``, its top from the ``first`` onsets (:func:`_level_corner`); ``q`` is
+    step 1's decimation."""
     q3 = max(q, int(rate // (2.5 * _level_corner(band, rate, first, config))))
     lowest, lowest_rate, lowest_delay = _decimate(band, rate, q3)
-    level_coefficients, _ = _robust_innovation(lowest, config.level_order)
-    amplitude = _attack_amplitudes(lowest, level_coefficients, (candidates.times + lowest_delay) / q3, lowest_rate,
-                                   tail=round(config.tail * lowest_rate) if reverberant else 0,
-                                   sure=candidates.likeness >= config.likeness, ridge=config.tail_ridge)
-    return amplitude, _noise_floor(lowest, lowest_rate, config.floor_quantile)
+    coefficients, _ = _robust_innovation(lowest, config.level_order)
+    return _LevelBand(lowest, q3, lowest_delay, lowest_rate, coefficients,
+                      _noise_floor(lowest, lowest_rate, config.floor_quantile))
 
 
 def _reported(candidates, amplitude, floor, info, source, rate, config):
