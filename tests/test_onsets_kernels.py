@@ -1,14 +1,15 @@
 """The onset detector's compiled kernels against the numpy and scipy code they stand for (drumstroke.analysis._kernels).
 
 Filters and sliding correlations must agree to the bit (the same operations in the same order); sums
-the kernels add in another order (the upsampled peak, the 2-by-2 solves, Parseval's energies) to 1e-12
+the kernels add in another order (the upsampled peak, the 2-by-2 solves, Parseval's energies, the prediction
+error filter) to 1e-12
 relative. Signals are seeded, with silences and 60-dB level changes where the bounds of a kernel rely on them.
 """
 
 import numpy as np
 import pytest
 from numpy.lib.stride_tricks import sliding_window_view
-from scipy.signal import butter, sosfilt, upfirdn
+from scipy.signal import butter, lfilter, sosfilt, upfirdn
 
 from drumstroke.analysis import _kernels
 from drumstroke.analysis.onsets import _interpolator, _low_pass
@@ -58,6 +59,13 @@ def test_upsampled_peak_is_upfirdns(rng):
     for n in (2, 3, 10, 241):
         x = rng.standard_normal(n)
         assert _kernels.upsampled_peak(h, x) == pytest.approx(np.abs(upfirdn(h, x, 4)).max(), rel=1e-12)
+
+
+@pytest.mark.parametrize(("n", "taps"), [(1, 1), (5, 49), (600, 1), (1500, 2), (1500, 49), (3000, 25)])
+def test_prediction_error_is_scipys_lfilter(rng, n, taps):
+    x, a = _uneven(rng, n), rng.standard_normal(taps)
+    want = lfilter(a, [1.0], x)
+    np.testing.assert_allclose(_kernels.prediction_error(a, x), want, rtol=1e-12, atol=1e-12 * np.abs(want).max())
 
 
 def test_frame_energies_are_the_half_spectrums(rng):

@@ -1691,15 +1691,14 @@ def _low_pass(corner, rate):
 
 def _innovation(x, order):
     """A linear predictor of ``x`` (Burg's method; its error filter's coefficients) and what it does not predict."""
-    from scipy.signal import lfilter
+    from ._kernels import burg, prediction_error
 
-    from ._kernels import burg
-
+    x = np.ascontiguousarray(x, dtype=float)
     order = min(order, max(1, len(x) // 8))
-    a = burg(np.ascontiguousarray(x, dtype=float), order)  # librosa.lpc's operations, in one pass an order
+    a = burg(x, order)  # librosa.lpc's operations (its sums in four lanes), in one pass an order
     if not np.all(np.isfinite(a)):
         a = np.array([1.0, -1.0])
-    return a, lfilter(a, [1.0], x)
+    return a, prediction_error(a, x)
 
 
 def _robust_innovation(x, order):
@@ -1708,9 +1707,8 @@ def _robust_innovation(x, order):
     Returns its error filter's coefficients and what it does not predict (as :func:`_innovation`).
     """
     from scipy.ndimage import uniform_filter1d
-    from scipy.signal import lfilter
 
-    from ._kernels import weighted_lags
+    from ._kernels import prediction_error, weighted_lags
 
     x = np.ascontiguousarray(x, dtype=float)
     order = min(order, max(1, len(x) // 8))
@@ -1729,7 +1727,7 @@ def _robust_innovation(x, order):
         a = burg
     if not np.all(np.isfinite(a)):
         a = burg
-    return a, lfilter(a, [1.0], x)
+    return a, prediction_error(a, x)
 
 
 def _jumps(x, rate, min_interval, least, samples=12):
@@ -2003,7 +2001,7 @@ def _attack_amplitudes(low, coefficients, positions, rate, *, tail=0, sure=None,
     """
     from scipy.signal import lfilter
 
-    from ._kernels import residual_peaks, upsampled_peak
+    from ._kernels import prediction_error, residual_peaks, upsampled_peak
 
     horizon = max(2, round(5e-3 * rate))
     interpolator = _interpolator()
@@ -2015,7 +2013,7 @@ def _attack_amplitudes(low, coefficients, positions, rate, *, tail=0, sure=None,
     inside = starts < len(low)
     if tail <= 0 or not np.any(inside):
         return amplitude
-    e = lfilter(coefficients, [1.0], low)
+    e = prediction_error(np.ascontiguousarray(coefficients, dtype=float), np.ascontiguousarray(low, dtype=float))
     h = _room_tail(e, starts[inside], amplitude[inside], tail, ridge)
     if h is None:
         return amplitude
