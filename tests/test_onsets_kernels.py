@@ -2,8 +2,7 @@
 
 Filters and sliding correlations must agree to the bit (the same operations in the same order); sums
 the kernels add in another order (the upsampled peak, the 2-by-2 solves, Parseval's energies, the prediction
-error filter) to 1e-12
-relative. Signals are seeded, with silences and 60-dB level changes where the bounds of a kernel rely on them.
+error filter) to 1e-12 relative. Signals are seeded, with silences and 60-dB level changes where the bounds of a kernel rely on them.
 """
 
 import numpy as np
