@@ -23,6 +23,7 @@ Onsets(2 over [0.1, 0.35] s, levels -4.5 to 0 dB; drop.wav)
 import itertools
 import math
 from collections.abc import Callable
+from contextlib import nullcontext
 from dataclasses import dataclass, field, replace
 from functools import cache
 from pathlib import Path
@@ -682,6 +683,12 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
                       "matching pursuit of attack signatures in the modes' band"}
     if len(signal) < round(0.05 * rate):
         return _no_onsets("the signal is shorter than 50 ms", info, source, config)
+    with _one_blas_thread():
+        return _detected(signal, rate, config, source, info)
+
+
+def _detected(signal, rate, config, source, info):
+    """:func:`find_onsets`' pipeline, on a checked ``signal`` of 50 ms or more."""
     band = _high_pass(signal, rate, config.high_pass)
     peak = float(np.abs(band).max())
     if not peak > 1e-9:  # −180 dB full scale: digital silence
@@ -716,6 +723,31 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
     candidates = _learned_lead_ins(d, rate, decided, config)
     onsets = _reported(candidates, amplitude, levels.floor, {**info, "analysis_rate": tonal.rate}, source, rate, config)
     return replace(onsets, peak_db=_peak_db(signal, onsets.t * rate, rate, config))
+
+
+def _one_blas_thread():
+    """A context in which BLAS and LAPACK (numpy's and scipy's) run on one thread (threadpoolctl's limit, undone on exit).
+
+    The detector's products and solves are small (normal equations of 41 unknowns over some ten
+    thousand rows): threads cost more to start and join than they save, and on a busy machine they
+    made its time swing 20 times over. With one thread the onsets found do not depend on the machine's
+    thread count either. Without threadpoolctl (drumstroke's ``analysis`` extra), the libraries' own
+    settings are left.
+    """
+    controller = _blas_threads()
+    return nullcontext() if controller is None else controller.limit(limits=1, user_api="blas")
+
+
+@cache
+def _blas_threads():
+    """threadpoolctl's controller of the BLAS libraries loaded (numpy's and scipy's), found once; None without it."""
+    try:
+        from threadpoolctl import ThreadpoolController
+    except ImportError:
+        return None
+    import scipy.linalg  # noqa: F401  (scipy's own BLAS, loaded before the controller looks for the libraries)
+
+    return ThreadpoolController()
 
 
 def _no_onsets(reason, info, source, config):
