@@ -452,8 +452,7 @@ def solve_2x2(a00, a01, a10, a11, b0, b1):
 def least_unexplained(part, cross, energy, length):
     """Where a template of ``energy`` leaves the least of ``part``'s windows of ``length`` unexplained, given their
     ``cross`` products with it: ``k`` and the fraction ``(own - cross² / energy) / own`` (``own``: the window's
-    energy by running sums from ``part[0]``), as :func:`.onsets._best_template` computed it with numpy (the first
-    least, or the first nan)."""
+    energy by running sums from ``part[0]``), as numpy code computed it (the first least, or the first nan)."""
     power = np.empty(len(part) + 1)
     power[0] = 0.0
     for j in range(len(part)):
@@ -468,6 +467,59 @@ def least_unexplained(part, cross, energy, length):
         if unexplained < best or k == 0:
             best, at = unexplained, k
     return at, best
+
+
+@jit
+def own_peaks(x, starts, following, ends, bank, offsets, lengths, window, reach, shift):
+    """:func:`.onsets._own_peaks`' loop: each onset's peak of ``x`` less the earlier notes' fitted templates, and of ``x``.
+
+    The templates are ``bank[offsets[t]:offsets[t] + lengths[t]]``. At each onset the usable ones (those of
+    ``min(following - start + window, reach)`` samples or more, else the last longest) are each fitted from ``shift``
+    samples before the onset to ``shift`` after, over up to the next onset, where it leaves the least unexplained
+    (:func:`least_unexplained`; the products with the template, and its energy, summed in four lanes by
+    :func:`lanes_dot`, numpy's ``correlate`` and ``@`` the same to rounding); the best, scaled by least squares, is
+    taken off the remainder.
+    """
+    rest = x.copy()
+    count = len(starts)
+    peaks, heard = np.empty(count), np.empty(count)
+    longest = -1  # the last of the longest templates
+    for t in range(len(lengths)):
+        if longest < 0 or lengths[t] >= lengths[longest]:
+            longest = t
+    for i in range(count):
+        start = starts[i]
+        peaks[i], heard[i] = 0.0, 0.0
+        for j in range(start, ends[i]):
+            peaks[i] = max(peaks[i], abs(rest[j]))
+            heard[i] = max(heard[i], abs(x[j]))
+        need = min(following[i] - start + window, reach)
+        any_long = False
+        for t in range(len(lengths)):
+            any_long = any_long or lengths[t] >= need
+        best, at, scale, chosen = np.inf, 0, 0.0, -1
+        for t in range(len(lengths)):
+            if (any_long and lengths[t] < need) or (not any_long and t != longest):
+                continue
+            length = min(lengths[t], following[i] - start, len(rest) - start - shift)
+            low = max(start - shift, 0)
+            if length < 16:  # too short to tell a scale
+                continue
+            head = bank[offsets[t]:offsets[t] + length]
+            energy = np.dot(head, head)
+            if not energy > 0.0:
+                continue
+            part = rest[low:start + shift + length]
+            cross = np.empty(len(part) - length + 1)
+            for k in range(len(cross)):
+                cross[k] = np.dot(part[k:k + length], head)
+            k, unexplained = least_unexplained(part, cross, energy, length)
+            if chosen < 0 or unexplained < best:
+                best, at, scale, chosen = unexplained, low + k, cross[k] / energy, t
+        if chosen >= 0:
+            for j in range(min(lengths[chosen], len(rest) - at)):
+                rest[at + j] -= scale * bank[offsets[chosen] + j]
+    return peaks, heard
 
 
 @jit

@@ -1593,22 +1593,24 @@ def _peak_amplitudes(signal, times, rate, config):
 
 def _own_peaks(x, times, rate, config):
     """Each onset's own peak (:func:`_peak_amplitudes`: ``x`` less the earlier notes' sound) and the peak of ``x`` itself
-    over the same window (full scale) [each shape=(n,)]."""
+    over the same window (full scale) [each shape=(n,)].
+
+    In time order, each onset's peaks are read over its window, then the template that fits the remainder from it
+    to the next onset best (placed within 60 µs either way; those that last to the end of the next onset's window
+    preferred, else the longest) is taken off, scaled by least squares (compiled: :func:`._kernels.own_peaks`).
+    """
+    from ._kernels import own_peaks
+
     starts = np.round(times).astype(np.int64).clip(0, len(x) - 1)
     following = np.append(starts[1:], len(x))
     ends = np.maximum(np.minimum(starts + round(config.peak_window * rate), following), starts + 1)
     window, reach = round(config.peak_window * rate), round(config.peak_reach * rate)
     shift = max(1, round(6e-5 * rate))  # the onsets are placed within a few samples
     templates = _peak_templates(x, starts, following, ends, rate, config)
-    rest, peaks, heard = x.copy(), np.empty(len(starts)), np.empty(len(starts))
-    for i, (start, end) in enumerate(zip(starts, ends)):
-        peaks[i], heard[i] = np.abs(rest[start:end]).max(), np.abs(x[start:end]).max()
-        fitted = _best_template(rest, start, following[i], templates, min(following[i] - start + window, reach),
-                                shift)
-        if fitted is not None:
-            at, scale, template = fitted
-            rest[at:at + len(template)] -= scale * template[:len(rest) - at]
-    return peaks, heard
+    lengths = np.array([len(t) for t in templates], dtype=np.int64)
+    bank = np.concatenate(templates) if templates else np.empty(0)
+    return own_peaks(np.ascontiguousarray(x, dtype=float), starts, following, ends, bank,
+                     np.cumsum(lengths) - lengths, lengths, window, reach, shift)
 
 
 def _peak_templates(x, starts, following, ends, rate, config):
@@ -1624,32 +1626,6 @@ def _peak_templates(x, starts, following, ends, rate, config):
              if following[i] - a >= window and np.abs(x[max(a - before, 0):a]).max(initial=0.0) <= quiet * peaks[i]]
     chosen = sorted(clear, key=lambda i: -peaks[i])[:config.peak_templates]
     return [x[starts[i]:min(following[i], starts[i] + round(config.peak_reach * rate))] for i in chosen]
-
-
-def _best_template(rest, start, following, templates, need, shift):
-    """The template that fits ``rest`` from ``start`` (± ``shift`` samples) to the next onset best, as its
-    start, least-squares scale and waveform; None without one.
-
-    Templates of ``need`` samples at least (to the end of the next onset's window) are preferred, else the longest.
-    """
-    from ._kernels import least_unexplained
-
-    usable = [t for t in templates if len(t) >= need] or sorted(templates, key=len)[-1:]
-    best = None
-    for template in usable:
-        length = min(len(template), following - start, len(rest) - start - shift)
-        low = max(start - shift, 0)
-        if length < 16:  # too short to tell a scale
-            continue
-        part, head = rest[low:start + shift + length], template[:length]
-        energy = head @ head
-        if not energy > 0.0:
-            continue
-        cross = np.correlate(part, head, "valid")
-        k, unexplained = least_unexplained(part, cross, energy, length)
-        if best is None or unexplained < best[0]:
-            best = (unexplained, low + k, cross[k] / energy, template)
-    return None if best is None else best[1:]
 
 
 # ------------------------------------------------------------------------------------------ the stages' tools
