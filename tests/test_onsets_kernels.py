@@ -34,6 +34,15 @@ def test_decimating_low_pass_is_scipys_sosfilt(rng, q):
     np.testing.assert_array_equal(_kernels.low_pass_every(sos, x, q), sosfilt(sos, x)[::q])
 
 
+@pytest.mark.parametrize(("q", "q_other"), [(2, 2), (8, 24), (9, 45)])
+def test_two_decimating_low_passes_in_one_pass_are_each_scipys_sosfilt(rng, q, q_other):
+    x = _uneven(rng, 20001)
+    (sos, _), (other, _) = _low_pass(0.8 * 48000 / q / 2.0, 48000), _low_pass(0.8 * 48000 / q_other / 2.0, 48000)
+    low, low_other = _kernels.low_pass_every_two(sos, q, other, q_other, x)
+    np.testing.assert_array_equal(low, sosfilt(sos, x)[::q])
+    np.testing.assert_array_equal(low_other, sosfilt(other, x)[::q_other])
+
+
 def test_high_pass_section_is_scipys_sosfilt(rng):
     x = _uneven(rng, 20001)
     sos = butter(2, 60.0, btype="highpass", fs=48000, output="sos")

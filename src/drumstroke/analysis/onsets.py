@@ -696,10 +696,13 @@ def _detected(signal, rate, config, source, info):
     band = band / peak
     rise = np.diff(band, prepend=band[0])  # the first difference, centred ½ sample early: several stages read it
     d = np.abs(rise)  # its magnitude, which as many do
-    tonal = _tonal_innovation(band, rate, config)
+    q = max(_decimation(band, rate), rate // config.analysis_rate)
+    q2 = max(q, rate // config.modes_rate)
+    low, modes_low = _decimate_two(band, rate, q, q2)
+    tonal = _tonal_innovation(low, q, config)
     heard = _heard_jumps(rise, rate, tonal, config)
     first, _ = heard.merge()
-    modes, residual = _modes_band(band, rate, tonal.q, first, config)
+    modes, residual = _modes_band(modes_low, q2, first, config)
     deep, residual = _quiet_jumps(modes, first, residual, rate, config)
     candidates, modes = _judged(rise, rate, tonal, modes, heard.merge(deep), config)
     if modes.reverberant:
@@ -894,10 +897,10 @@ class _Pursuit:
     template: np.ndarray
 
 
-def _tonal_innovation(band, rate, config):
-    """Step 1: ``band`` (high-passed, normalised) decimated, and its innovation (Burg's predictor, ``config.order``)."""
-    q = max(_decimation(band, rate), rate // config.analysis_rate)
-    low, low_rate, delay = _decimate(band, rate, q)
+def _tonal_innovation(low, q, config):
+    """Step 1: the innovation (Burg's predictor, ``config.order``) of the band (high-passed, normalised) decimated ``q``
+    times, ``low`` (:func:`_decimate`'s samples, their rate and the filter's delay)."""
+    low, low_rate, delay = low
     _, innovation = _innovation(low, config.order)
     return _Innovation(innovation, q, delay, low_rate)
 
@@ -917,13 +920,13 @@ def _heard_jumps(rise, rate, tonal, config):
     return _Heard(tonal_onsets, broadband, strong, config.min_interval * rate)
 
 
-def _modes_band(band, rate, q, first, config):
+def _modes_band(modes_low, q2, first, config):
     """Step 4's band: its innovation, the room's tail fitted over the ``first`` onsets, whether it is reverberant.
 
+    ``modes_low`` is the band decimated ``q2`` times (:func:`_decimate`'s samples, their rate and the filter's delay).
     Returns the :class:`_Modes` and the innovation less the first onsets' signatures (and tails).
     """
-    q2 = max(q, rate // config.modes_rate)
-    modes_band, modes_rate, modes_delay = _decimate(band, rate, q2)
+    modes_band, modes_rate, modes_delay = modes_low
     e = _robust_innovation(modes_band, config.modes_order)[1]
     modes = _Modes(e, q2, modes_delay, modes_rate, signature=_signature(e, modes_rate, config))  # fitted once
     pursuit = modes.pursue(first, config)
@@ -1683,6 +1686,17 @@ def _decimate(band, rate, q, corner=None):
     corner = 0.8 * rate / q / 2.0 if corner is None else min(corner, 0.8 * rate / q / 2.0)
     sos, delay = _low_pass(corner, rate)
     return low_pass_every(sos, np.ascontiguousarray(band, dtype=float), q), rate / q, delay
+
+
+def _decimate_two(band, rate, q, q2):
+    """``(_decimate(band, rate, q), _decimate(band, rate, q2))``, the two filters run side by side in one pass."""
+    from ._kernels import low_pass_every_two
+
+    if q == 1 or q2 == 1:
+        return _decimate(band, rate, q), _decimate(band, rate, q2)
+    (sos, delay), (sos2, delay2) = _low_pass(0.8 * rate / q / 2.0, rate), _low_pass(0.8 * rate / q2 / 2.0, rate)
+    low, low2 = low_pass_every_two(sos, q, sos2, q2, np.ascontiguousarray(band, dtype=float))
+    return (low, rate / q, delay), (low2, rate / q2, delay2)
 
 
 @cache
