@@ -574,8 +574,10 @@ def own_peaks(x, starts, following, ends, bank, offsets, lengths, window, reach,
             if chosen < 0 or unexplained < best:
                 best, at, scale, chosen = unexplained, low + k, cross[k] / energy, t
         if chosen >= 0:
-            for j in range(min(lengths[chosen], len(rest) - at)):
-                rest[at + j] -= scale * bank[offsets[chosen] + j]
+            size = min(lengths[chosen], len(rest) - at)
+            fitted, template = rest[at:at + size], bank[offsets[chosen]:offsets[chosen] + size]  # slices: indices ≥ 0
+            for j in range(size):
+                fitted[j] -= scale * template[j]
     return peaks, heard
 
 
