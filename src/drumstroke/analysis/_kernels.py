@@ -461,7 +461,13 @@ def pursue(r, positions, centres, basis, gram, solve, head, head_norm, lead, wid
 
 @jit
 def best_trial(y, basis, grams, lags, total):
-    """:func:`.onsets._best_trial`: the index in ``lags`` of the best trial (-1 for none), its weights and F statistic.
+    """The trial signature that takes off the most of ``y`` (a window of the remainder, ``total`` its energy) with a
+    positive scale: its index in ``lags`` (-1 for none), its least-squares weights and the F statistic of its two
+    parameters against what is left of ``y`` (``len(y) - 4`` degrees of freedom: the window's own attack's two
+    parameters too).
+
+    Each trial is ``basis`` (the signature and its derivative, as columns) starting ``lags`` samples into the window,
+    truncated to it (``grams``: the normal equations of its first rows, cumulated).
 
     Each trial's 2-by-2 normal equations (ridged by 1e-12 of the first's trace) are solved by Gaussian elimination
     with partial pivoting, as LAPACK's ``gesv`` solves them.
@@ -487,6 +493,42 @@ def best_trial(y, basis, grams, lags, total):
     if at < 0 or not np.isfinite(best):
         return -1, chosen, 0.0
     return at, chosen, (best / 2.0) / max(total - best, 1e-300) * (size - 4)
+
+
+@jit
+def after_louder(residual, basis, grams, at, amplitude, positions, head, head_norm, gap, reach, spike, width, f_least,
+                 f_weak, like_weak, ratio_low, ratio_high):
+    """:func:`.onsets._after_louder`'s loop over the attacks: where a quiet attack is found in each one's signature.
+
+    ``at`` and ``amplitude`` are each attack's fitted signature's start and scale in ``residual``, ``positions`` its
+    sample there. Returns each found attack's place (samples of the band, to a fraction) and its start's likeness to
+    the signature's; the products as numpy's (BLAS's).
+    """
+    size = basis.shape[0]
+    found, likes = np.empty(len(at)), np.empty(len(at))
+    count = 0
+    for i in range(len(at)):
+        s, alpha = at[i], amplitude[i]
+        if alpha <= 0.0 or s + size > len(residual):
+            continue
+        stop = positions[i] + reach if i + 1 == len(at) else min(positions[i] + reach, positions[i + 1] - gap)
+        lags = np.arange(positions[i] + gap, stop + 1) - spike - s  # where each trial signature starts in the window
+        lags = lags[(lags > 0) & (lags < size - 2 * width)]  # two jump windows of it in the window
+        if not len(lags):
+            continue
+        y = residual[s:s + size]
+        k, weights, f = best_trial(y, basis, grams, lags, np.dot(y, y))
+        if k < 0:
+            continue
+        ratio = weights[0] / alpha
+        start = residual[s + lags[k]:s + lags[k] + len(head)]
+        like = abs(np.dot(start, head)) / (np.sqrt(np.dot(start, start)) * head_norm + 1e-300)
+        passes = f >= f_least or (f >= f_weak and like >= like_weak)
+        if passes and ratio_low <= ratio <= ratio_high:
+            found[count] = s + lags[k] + spike + min(max(-weights[1] / weights[0], -1.0), 1.0)
+            likes[count] = like
+            count += 1
+    return found[:count].copy(), likes[:count].copy()
 
 
 @jit

@@ -1116,6 +1116,8 @@ def _after_louder(modes, candidates, rate, config):
     attack again jointly with each trial changes the fit's gain by 0.1-4 % at the impacts missed,
     more at false trials: it is not done.)
     """
+    from ._kernels import after_louder
+
     sure = np.flatnonzero(candidates.attack)
     if not len(sure):
         return candidates
@@ -1131,29 +1133,12 @@ def _after_louder(modes, candidates, rate, config):
     head = template[:spike + config.head]
     head_norm = float(np.sqrt(head @ head))
     positions = np.round(modes.at(times[sure])).astype(np.int64)
-    new, likes = [], []
-    for i, (s, alpha) in enumerate(zip(pursuit.at, pursuit.amplitude)):
-        if alpha <= 0.0 or s + size > len(residual):
-            continue
-        stop = positions[i] + reach if i + 1 == len(sure) else min(positions[i] + reach, positions[i + 1] - gap)
-        lags = np.arange(positions[i] + gap, stop + 1) - spike - s  # where each trial signature starts in the window
-        lags = lags[(lags > 0) & (lags < size - 2 * config.modes_width)]  # two jump windows of it in the window
-        if not len(lags):
-            continue
-        k, weights, f = _best_trial(residual[s:s + size], basis, grams, lags)
-        if k is None:
-            continue
-        ratio = weights[0] / alpha
-        start = residual[s + lags[k]:s + lags[k] + len(head)]
-        like = abs(start @ head) / (np.sqrt(start @ start) * head_norm + 1e-300)
-        passes = f >= config.after_f or (f >= config.after_weak_f and like >= config.weak_likeness)
-        if passes and config.after_ratio_low <= ratio <= config.after_ratio_high:
-            shift = float(np.clip(-weights[1] / weights[0], -1.0, 1.0))
-            new.append(modes.fitted(s + lags[k] + spike + shift))
-            likes.append(like)
-    if not new:
+    found, likes = after_louder(residual, basis, grams, pursuit.at, pursuit.amplitude, positions, head, head_norm, gap,
+                                reach, spike, config.modes_width, config.after_f, config.after_weak_f,
+                                config.weak_likeness, config.after_ratio_low, config.after_ratio_high)
+    if not len(found):
         return candidates
-    new = np.array(new)
+    new = modes.fitted(found)
     near = np.abs(times[:, None] - new[None, :]).min(axis=1) < config.min_interval * rate
     refused = ~candidates.attack & near  # a refused onset where one is found now: the new one replaces it
     return candidates.take(~refused).insert(new, attack=True, likeness=likes)[0]
@@ -1965,23 +1950,6 @@ def _retime(times, kinds, fitted, likeness, precise):
     out[kinds == 2] = fitted[kinds == 2] + offset
     order = np.argsort(out, kind="stable")
     return (out[order] if np.all(np.diff(out[order]) > 0) else times), offset
-
-
-def _best_trial(y, basis, grams, lags):
-    """The trial signature that takes off the most of ``y`` (a window of the remainder) with a positive scale.
-
-    Each trial is ``basis`` (the signature and its derivative, as columns) starting ``lags`` samples
-    into the window, truncated to it (``grams``: the normal equations of its first rows, cumulated).
-    Returns the trial's index in ``lags``, its least-squares weights and the F statistic of its two
-    parameters against what is left of ``y`` (``len(y) - 4`` degrees of freedom: the window's own
-    attack's two parameters too), or ``(None, None, None)`` when no trial has a positive scale.
-    """
-    from ._kernels import best_trial
-
-    y = np.ascontiguousarray(y, dtype=float)
-    k, weights, f = best_trial(y, np.ascontiguousarray(basis, dtype=float), grams, np.asarray(lags, dtype=np.int64),
-                               float(y @ y))
-    return (None, None, None) if k < 0 else (int(k), weights, float(f))
 
 
 def _level_corner(band, rate, onsets, config):
