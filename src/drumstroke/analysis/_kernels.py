@@ -532,6 +532,22 @@ def after_louder(residual, basis, grams, at, amplitude, positions, head, head_no
 
 
 @jit
+def soft_likeness(e, spike, widths, bank, offsets, lengths, norms, k):
+    """:func:`.onsets._soft_likeness`: the largest correlation (magnitude) of ``e`` at sample ``k`` with each smoothed start
+    ``bank[offsets[h]:offsets[h] + lengths[h]]`` (of norm ``norms[h]``, by a contact of ``widths[h]`` samples), tried
+    from two samples before its alignment with ``k`` to two and half the contact after; the products as numpy's."""
+    best = 0.0
+    for h in range(len(widths)):
+        head = bank[offsets[h]:offsets[h] + lengths[h]]
+        for s in range(max(0, k - spike - 2), min(len(e) - lengths[h], k - spike + 2 + widths[h] // 2) + 1):
+            part = e[s:s + lengths[h]]
+            value = abs(np.dot(part, head)) / (np.sqrt(np.dot(part, part)) * norms[h] + 1e-300)
+            if value > best:
+                best = value
+    return best
+
+
+@jit
 def solve_2x2(a00, a01, a10, a11, b0, b1):
     """The solution of ``[[a00, a01], [a10, a11]] w = [b0, b1]`` by Gaussian elimination with partial pivoting (as
     LAPACK's ``gesv``); NaN where the matrix is singular."""

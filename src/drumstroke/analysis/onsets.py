@@ -1006,15 +1006,17 @@ def _soft_heads(template, rate, config):
     """The signature's start (``template``: its spike and ``head`` samples) smoothed by each contact: half sines of 1 to
     ``soft_contact`` s (at ``rate`` Hz; 1 sample: no smoothing), each head with the contact's length more.
 
-    Returns the spike's sample and, for each contact, its length (samples), the smoothed head and its norm.
+    Returns the spike's sample, each contact's length (samples), the smoothed heads one after the other, where each
+    starts and its length in them, and each one's norm.
     """
     spike = int(np.argmax(np.abs(template)))
-    heads = []
-    for width in range(1, max(1, round(config.soft_contact * rate)) + 1):
+    widths, heads = np.arange(1, max(1, round(config.soft_contact * rate)) + 1), []
+    for width in widths:
         pulse = np.sin(np.pi * (np.arange(width) + 0.5) / width)
-        head = np.convolve(template, pulse / pulse.sum())[:spike + config.head + width]
-        heads.append((width, head, float(np.sqrt(head @ head))))
-    return spike, heads
+        heads.append(np.convolve(template, pulse / pulse.sum())[:spike + config.head + width])
+    lengths = np.array([len(head) for head in heads], dtype=np.int64)
+    return (spike, widths, np.concatenate(heads), np.cumsum(lengths) - lengths, lengths,
+            np.array([np.sqrt(head @ head) for head in heads]))
 
 
 def _soft_likeness(e, heads, k):
@@ -1023,13 +1025,9 @@ def _soft_likeness(e, heads, k):
     Each smoothed start (:func:`_soft_heads`) is tried from two samples before its alignment with ``k``
     to two and half the contact after (it peaks later).
     """
-    spike, heads = heads
-    best = 0.0
-    for width, head, norm in heads:
-        for s in range(max(0, k - spike - 2), min(len(e) - len(head), k - spike + 2 + width // 2) + 1):
-            part = e[s:s + len(head)]
-            best = max(best, abs(float(part @ head)) / (float(np.sqrt(part @ part)) * norm + 1e-300))
-    return best
+    from ._kernels import soft_likeness
+
+    return soft_likeness(e, *heads, k)
 
 
 def _try_later(modes, candidates, residual, rate, config):
