@@ -323,7 +323,7 @@ def best_lag(x, template, low, count, energy):
     """:func:`.onsets._best_lag` over the ``count`` windows of ``x`` from ``low``: the best window, its dot product
     with ``template`` and its correlation (the first of the largest), each as :func:`likeness_at` computes it.
 
-    The dot products are summed four windows at a time (four chains of additions side by side). A window's
+    The dot products are summed all windows at a time (:func:`window_dots`). A window's
     energy is first bounded from running sums (their rounding bounded, whatever the windows' levels), which
     bounds its correlation; only the windows whose bound reaches the best lower bound have it summed as
     :func:`likeness_at` sums it, and the best of those is the best of all.
@@ -334,11 +334,7 @@ def best_lag(x, template, low, count, energy):
     for j in range(span):
         power[j + 1] = power[j] + x[low + j] * x[low + j]
     slack = 4.0 * (span + 2) * 2.220446049250313e-16 * power[span]  # more than either sum's rounding
-    dots = np.empty(count)
-    for k in range(0, count - 3, 4):
-        four_dots(x, low + k, template, dots, k)
-    for k in range(count - count % 4, count):
-        dots[k] = window_dot(x, low + k, template)
+    dots = window_dots(x, low, template, count)
     upper = np.empty(count)
     floor = -np.inf  # the best lower bound
     for k in range(count):
@@ -358,15 +354,15 @@ def best_lag(x, template, low, count, energy):
 
 
 @jit
-def four_dots(x, start, t, out, at):
-    """:func:`window_dot` of the four windows from ``start``, into ``out[at:at + 4]``."""
-    d0, d1, d2, d3 = 0.0, 0.0, 0.0, 0.0
+def window_dots(x, low, t, count):
+    """:func:`window_dot` of the ``count`` windows of ``x`` from ``low``: each window's products added in order, all the
+    windows a term at a time (a loop over the windows, in vector instructions)."""
+    dots = np.zeros(count)
     for j in range(len(t)):
-        d0 += x[start + j] * t[j]
-        d1 += x[start + 1 + j] * t[j]
-        d2 += x[start + 2 + j] * t[j]
-        d3 += x[start + 3 + j] * t[j]
-    out[at], out[at + 1], out[at + 2], out[at + 3] = d0, d1, d2, d3
+        v, shifted = t[j], x[low + j:low + j + count]  # a slice: indices the compiler sees are ≥ 0
+        for k in range(count):
+            dots[k] += shifted[k] * v
+    return dots
 
 
 @jit
