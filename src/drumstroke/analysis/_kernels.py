@@ -371,30 +371,59 @@ def next_attack(x, head, low, high, pre, reach, base, width, energy, rise, liken
 
     The window from each sample ``n`` in ``[low, high)`` is ``x[n - pre:n - pre + len(head)]``; its jump is
     :func:`.onsets._windows`' (``width``) over ``x[base:high]``, the power summed in order from ``x[base]``.
-    Correlations are computed only where the window rises ``rise`` (power ratio) times, in order, until one passes.
+    Correlations are computed only where the window rises ``rise`` (power ratio) times, in order, until one passes;
+    the products with ``head`` of eight such windows at a time (:func:`eight_dots`).
     """
     count = high - base
     power = np.zeros(count + 1)
     for j in range(count):
         power[j + 1] = power[j] + x[base + j] * x[base + j]
-    for i in range(high - low):
-        n = i + low - base
-        after = (power[min(n + width, count)] - power[n]) / width
-        before = (power[n] - power[max(n - 4 * width, 0)]) / (4 * width)
-        if not after >= rise * before:
-            continue
-        dot = window_dot(x, low - pre + i, head)
-        if not dot >= least * energy:  # (the correlation only where the scale passes)
-            continue
-        like, dot = likeness_at(x, low - pre + i, head, energy)
-        if like >= likeness:
-            best, at = like, i
-            for k in range(i + 1, min(i + reach + 1, high - low)):
-                like, _ = likeness_at(x, low - pre + k, head, energy)
-                if like > best:
-                    best, at = like, k
-            return low + at
+    rising, dots = np.empty(8, dtype=np.int64), np.empty(8)
+    i = 0
+    while i < high - low:
+        found = 0  # the next eight samples (or fewer) whose windows rise
+        while i < high - low and found < 8:
+            n = i + low - base
+            after = (power[min(n + width, count)] - power[n]) / width
+            before = (power[n] - power[max(n - 4 * width, 0)]) / (4 * width)
+            if after >= rise * before:
+                rising[found] = i
+                found += 1
+            i += 1
+        if found == 0:
+            break
+        rising[found:] = rising[found - 1]
+        eight_dots(x, low - pre + rising, head, dots)
+        for f in range(found):
+            if not dots[f] >= least * energy:  # (the correlation only where the scale passes)
+                continue
+            like, _ = likeness_at(x, low - pre + rising[f], head, energy)
+            if like >= likeness:
+                best, at = like, rising[f]
+                for k in range(rising[f] + 1, min(rising[f] + reach + 1, high - low)):
+                    like, _ = likeness_at(x, low - pre + k, head, energy)
+                    if like > best:
+                        best, at = like, k
+                return low + at
     return -1
+
+
+@jit
+def eight_dots(x, starts, t, out):
+    """:func:`window_dot` of the eight windows from ``starts``, into ``out``: eight chains of additions side by side."""
+    s0, s1, s2, s3, s4, s5, s6, s7 = starts[0], starts[1], starts[2], starts[3], starts[4], starts[5], starts[6], starts[7]
+    d0, d1, d2, d3, d4, d5, d6, d7 = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    for j in range(len(t)):
+        v = t[j]
+        d0 += x[s0 + j] * v
+        d1 += x[s1 + j] * v
+        d2 += x[s2 + j] * v
+        d3 += x[s3 + j] * v
+        d4 += x[s4 + j] * v
+        d5 += x[s5 + j] * v
+        d6 += x[s6 + j] * v
+        d7 += x[s7 + j] * v
+    out[0], out[1], out[2], out[3], out[4], out[5], out[6], out[7] = d0, d1, d2, d3, d4, d5, d6, d7
 
 
 @jit
