@@ -186,17 +186,29 @@ def upsampled_peak(h, x):
 @jit
 def frame_energies(x, starts, window):
     """The energy over the bins of ``numpy.fft.rfft`` of each frame ``x[s:s + len(window)] * window`` (``s`` in
-    ``starts``), by Parseval's theorem: the half spectrum counts its first and last bins once."""
+    ``starts``), by Parseval's theorem: the half spectrum counts its first and last bins once. Each sum is added in
+    four lanes (every fourth sample; two lanes of even samples, two of odd), the lanes summed at the end."""
     size = len(window)
     out = np.empty(len(starts))
     for i in range(len(starts)):
-        power, total, alternate = 0.0, 0.0, 0.0
-        for j in range(size):
-            v = x[starts[i] + j] * window[j]
-            power += v * v
-            total += v
-            alternate += v if j % 2 == 0 else -v
-        out[i] = (size * power + total * total + alternate * alternate) / 2.0
+        frame = x[starts[i]:starts[i] + size]
+        p0, p1, p2, p3, t0, t1, t2, t3 = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+        j = 0
+        while j + 4 <= size:
+            v0, v1 = frame[j] * window[j], frame[j + 1] * window[j + 1]
+            v2, v3 = frame[j + 2] * window[j + 2], frame[j + 3] * window[j + 3]
+            p0, p1, p2, p3 = p0 + v0 * v0, p1 + v1 * v1, p2 + v2 * v2, p3 + v3 * v3
+            t0, t1, t2, t3 = t0 + v0, t1 + v1, t2 + v2, t3 + v3
+            j += 4
+        while j < size:  # the last samples of a frame whose length is not a multiple of 4
+            v0 = frame[j] * window[j]
+            if j % 2 == 0:
+                p0, t0 = p0 + v0 * v0, t0 + v0
+            else:
+                p1, t1 = p1 + v0 * v0, t1 + v0
+            j += 1
+        power, even, odd = (p0 + p2) + (p1 + p3), t0 + t2, t1 + t3
+        out[i] = (size * power + (even + odd) ** 2 + (even - odd) ** 2) / 2.0
     return out
 
 
