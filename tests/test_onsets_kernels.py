@@ -165,6 +165,14 @@ def test_peaks_around_are_the_slices_maxima(rng):
         np.testing.assert_array_equal(prior, [d[max(0, c - before):max(1, c - gap)].max(initial=0.0) for c in centres])
 
 
+def test_window_peaks_are_the_slices_largest_magnitudes(rng):
+    x = _uneven(rng, 3000)
+    lows = rng.integers(0, 3000, 200)
+    highs = lows + rng.integers(-5, 400, 200)  # some empty, some past the end
+    want = [np.abs(x[low:high]).max(initial=0.0) for low, high in zip(lows, highs)]
+    np.testing.assert_array_equal(_kernels.window_peaks(x, lows, highs), want)
+
+
 def test_first_at_least_is_the_first_nonzero(rng):
     d = np.abs(_uneven(rng, 3000))
     lows = rng.integers(0, 3000, 300)

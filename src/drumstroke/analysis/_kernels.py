@@ -725,6 +725,16 @@ def peaks_around(d, centres, after, before, gap):
 
 
 @jit
+def window_peaks(x, lows, highs):
+    """``np.abs(x[lows[i]:highs[i]]).max(initial=0.0)`` for each ``i`` (``lows`` ≥ 0)."""
+    out = np.zeros(len(lows))
+    for i in range(len(lows)):
+        for j in range(lows[i], min(len(x), highs[i])):
+            out[i] = max(out[i], abs(x[j]))
+    return out
+
+
+@jit
 def first_at_least(d, lows, highs, levels):
     """For each ``i``, the first sample of ``d[lows[i]:highs[i]]`` at least ``levels[i]`` (from ``lows[i]``), or -1."""
     out = np.full(len(lows), -1, dtype=np.int64)

@@ -1294,13 +1294,16 @@ def _template(band, d, rate, times, config):
     ``tail`` s (``d``: the magnitude of ``band``'s first difference). Returns the samples and the attack's time less
     its whole sample, or ``(None, 0.0)`` when there is no such attack.
     """
+    from ._kernels import peaks_around
+
     pre, after = round(0.5e-3 * rate), round(5e-3 * rate)
     ends = np.append(times[1:], len(band))
+    centres = np.rint(times).astype(np.int64)
+    peaks, priors = peaks_around(d, centres, after, after, pre)  # as _clear reads them
+    clear = priors <= peaks * 10.0 ** (config.lead_clear_db / 20.0)
     best, chosen = 0.0, None
-    for t, end in zip(times, ends):
-        c = round(t)
-        peak = d[c:c + after].max(initial=0.0)
-        if c >= pre and end - t >= 20e-3 * rate and peak > best and _clear(d, c, rate, config.lead_clear_db):
+    for t, end, c, peak, is_clear in zip(times, ends, centres.tolist(), peaks.tolist(), clear.tolist()):
+        if c >= pre and end - t >= 20e-3 * rate and peak > best and is_clear:
             best, chosen = peak, (t, int(end))
     if chosen is None:
         return None, 0.0
@@ -1605,11 +1608,13 @@ def _peak_templates(x, starts, following, ends, rate, config):
     A clear note: quiet before (its 10 ms before under ``peak_clear_db`` re its peak), ``peak_window`` s at
     least before the next onset; its waveform lasts to the next onset, ``peak_reach`` s at most.
     """
+    from ._kernels import window_peaks
+
     window, before = round(config.peak_window * rate), round(10e-3 * rate)
-    peaks = np.array([np.abs(x[a:b]).max() for a, b in zip(starts, ends)])
+    peaks = window_peaks(x, starts, ends)
+    priors = window_peaks(x, np.maximum(starts - before, 0), starts)
     quiet = 10.0 ** (config.peak_clear_db / 20.0)
-    clear = [i for i, a in enumerate(starts)
-             if following[i] - a >= window and np.abs(x[max(a - before, 0):a]).max(initial=0.0) <= quiet * peaks[i]]
+    clear = [i for i, a in enumerate(starts) if following[i] - a >= window and priors[i] <= quiet * peaks[i]]
     chosen = sorted(clear, key=lambda i: -peaks[i])[:config.peak_templates]
     return [x[starts[i]:min(following[i], starts[i] + round(config.peak_reach * rate))] for i in chosen]
 
