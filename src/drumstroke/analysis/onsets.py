@@ -1228,6 +1228,7 @@ def _fit_template(band, d, rate, candidates, config):
     reach, gap = round(config.template_reach * rate), max(1, round(config.min_interval * rate))
     head = template[:pre + round(config.template_head * rate)]
     remainder = band.copy()
+    lead_clear, start_clear = _clear(d, candidates.times, rate, [config.lead_clear_db, config.start_clear_db])
     queue = [(t, i) for i, t in enumerate(candidates.times)]  # (time, index in candidates or -1 for a new one)
     times, kinds, likeness = [], [], []
     while queue:
@@ -1240,8 +1241,7 @@ def _fit_template(band, d, rate, candidates, config):
         fitted = like >= config.template_likeness and scale > 0.0
         # clear by start_clear_db, its first transient was sought; clear by lead_clear_db only, it was not, and the
         # template times it when the fit is precise (noise as loud as that sound before makes fits imprecise)
-        timed = fitted and (i < 0 or not _clear(d, c, rate, config.lead_clear_db) or (
-            like >= config.precise_likeness and not _clear(d, c, rate, config.start_clear_db)))
+        timed = fitted and (i < 0 or not lead_clear[i] or (like >= config.precise_likeness and not start_clear[i]))
         times.append(c + lag + offset if timed else t)
         kinds.append(3 if timed else candidates.kinds[i])
         likeness.append(like if i < 0 else candidates.likeness[i])
@@ -1299,8 +1299,8 @@ def _template(band, d, rate, times, config):
     pre, after = round(0.5e-3 * rate), round(5e-3 * rate)
     ends = np.append(times[1:], len(band))
     centres = np.rint(times).astype(np.int64)
-    peaks, priors = peaks_around(d, centres, after, after, pre)  # as _clear reads them
-    clear = priors <= peaks * 10.0 ** (config.lead_clear_db / 20.0)
+    peaks, _ = peaks_around(d, centres, after, after, pre)
+    clear, = _clear(d, times, rate, [config.lead_clear_db])
     best, chosen = 0.0, None
     for t, end, c, peak, is_clear in zip(times, ends, centres.tolist(), peaks.tolist(), clear.tolist()):
         if c >= pre and end - t >= 20e-3 * rate and peak > best and is_clear:
@@ -1312,12 +1312,17 @@ def _template(band, d, rate, times, config):
     return band[c - pre:min(end - pre, c + round(config.tail * rate))].copy(), float(t - c)
 
 
-def _clear(d, c, rate, db):
-    """Whether the attack at sample ``c`` is clear: ``d`` (the first difference's magnitude) over the 5 ms before
-    (up to 0.5 ms before) under ``db`` re its peak over the 5 ms after."""
+def _clear(d, times, rate, dbs):
+    """Whether each attack at ``times`` (full-rate samples, rounded) is clear by each of ``dbs``: ``d`` (the first
+    difference's magnitude) over the 5 ms before (up to 0.5 ms before) under ``db`` re its peak over the 5 ms after.
+
+    Returns an array of booleans [shape=(n,)] for each of ``dbs``.
+    """
+    from ._kernels import peaks_around
+
     span, gap = round(5e-3 * rate), round(0.5e-3 * rate)
-    prior = d[max(0, c - span):max(1, c - gap)].max(initial=0.0)
-    return prior <= d[c:c + span].max(initial=0.0) * 10.0 ** (db / 20.0)
+    peaks, priors = peaks_around(d, np.rint(times).astype(np.int64), span, span, gap)
+    return [priors <= peaks * 10.0 ** (db / 20.0) for db in dbs]
 
 
 def _best_lag(x, template, start, reach):
