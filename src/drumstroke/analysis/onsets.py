@@ -695,7 +695,7 @@ def _detected(signal, rate, config, source, info):
         return _no_onsets("the signal is silent", info, source, config)
     band = band / peak
     rise = np.diff(band, prepend=band[0])  # the first difference, centred ½ sample early: several stages read it
-    d = np.abs(rise)  # its magnitude, which as many do
+    d = np.abs(rise)  # its magnitude: as many stages read it
     q = max(_decimation(band, rate), rate // config.analysis_rate)
     q2 = max(q, rate // config.modes_rate)
     low, modes_low = _decimate_two(band, rate, q, q2)
@@ -713,7 +713,7 @@ def _detected(signal, rate, config, source, info):
     candidates = _first_transients(d, rate, candidates.take(candidates.attack), config)
     found = candidates.times
     candidates = _fit_template(band, d, rate, candidates, config)
-    levels = _level_band(band, rate, tonal.q, first, config)
+    levels = _level_band(band, rate, q, first, config)
     amplitude = levels.amplitudes(_measured_at(candidates, found, rate, config), modes.reverberant, config)
     candidates, amplitude = _one_attack_each(d, rate, candidates, amplitude, config)
     decided = _out_of_decay(band, d, rate, candidates, amplitude, config)
@@ -1228,7 +1228,7 @@ def _fit_template(band, d, rate, candidates, config):
     reach, gap = round(config.template_reach * rate), max(1, round(config.min_interval * rate))
     head = template[:pre + round(config.template_head * rate)]
     remainder = band.copy()
-    lead_clear, start_clear = _clear(d, candidates.times, rate, [config.lead_clear_db, config.start_clear_db])
+    _, (lead_clear, start_clear) = _clear(d, candidates.times, rate, [config.lead_clear_db, config.start_clear_db])
     queue = [(t, i) for i, t in enumerate(candidates.times)]  # (time, index in candidates or -1 for a new one)
     times, kinds, likeness = [], [], []
     while queue:
@@ -1294,15 +1294,12 @@ def _template(band, d, rate, times, config):
     ``tail`` s (``d``: the magnitude of ``band``'s first difference). Returns the samples and the attack's time less
     its whole sample, or ``(None, 0.0)`` when there is no such attack.
     """
-    from ._kernels import peaks_around
-
-    pre, after = round(0.5e-3 * rate), round(5e-3 * rate)
+    pre = round(0.5e-3 * rate)
     ends = np.append(times[1:], len(band))
-    centres = np.rint(times).astype(np.int64)
-    peaks, _ = peaks_around(d, centres, after, after, pre)
-    clear, = _clear(d, times, rate, [config.lead_clear_db])
+    peaks, (clear,) = _clear(d, times, rate, [config.lead_clear_db])
     best, chosen = 0.0, None
-    for t, end, c, peak, is_clear in zip(times, ends, centres.tolist(), peaks.tolist(), clear.tolist()):
+    for t, end, c, peak, is_clear in zip(times, ends, np.rint(times).astype(int).tolist(), peaks.tolist(),
+                                         clear.tolist()):
         if c >= pre and end - t >= 20e-3 * rate and peak > best and is_clear:
             best, chosen = peak, (t, int(end))
     if chosen is None:
@@ -1316,13 +1313,13 @@ def _clear(d, times, rate, dbs):
     """Whether each attack at ``times`` (full-rate samples, rounded) is clear by each of ``dbs``: ``d`` (the first
     difference's magnitude) over the 5 ms before (up to 0.5 ms before) under ``db`` re its peak over the 5 ms after.
 
-    Returns an array of booleans [shape=(n,)] for each of ``dbs``.
+    Returns those peaks [shape=(n,)] and, for each of ``dbs``, an array of booleans [shape=(n,)].
     """
     from ._kernels import peaks_around
 
     span, gap = round(5e-3 * rate), round(0.5e-3 * rate)
     peaks, priors = peaks_around(d, np.rint(times).astype(np.int64), span, span, gap)
-    return [priors <= peaks * 10.0 ** (db / 20.0) for db in dbs]
+    return peaks, [priors <= peaks * 10.0 ** (db / 20.0) for db in dbs]
 
 
 def _best_lag(x, template, start, reach):
