@@ -578,9 +578,7 @@ def soft_likeness(e, spike, widths, bank, offsets, lengths, norms, k):
         head = bank[offsets[h]:offsets[h] + lengths[h]]
         for s in range(max(0, k - spike - 2), min(len(e) - lengths[h], k - spike + 2 + widths[h] // 2) + 1):
             part = e[s:s + lengths[h]]
-            value = abs(np.dot(part, head)) / (np.sqrt(np.dot(part, part)) * norms[h] + 1e-300)
-            if value > best:
-                best = value
+            best = max(best, abs(np.dot(part, head)) / (np.sqrt(np.dot(part, part)) * norms[h] + 1e-300))
     return best
 
 

@@ -1122,7 +1122,6 @@ def _after_louder(modes, candidates, rate, config):
     times = candidates.times
     pursuit = modes.pursue(times[sure], config)
     residual, template = pursuit.residual, pursuit.template
-    size = len(template)
     basis = np.column_stack([template, np.gradient(template)])
     grams = np.cumsum(basis[:, :, None] * basis[:, None, :], axis=0)  # the truncated signatures' normal equations
     gap = max(1, round(config.min_interval * modes.rate))
