@@ -349,6 +349,33 @@ def test_the_threshold_rises_over_the_noise_floor():
     assert score(onsets, times, speeds)["found"] == 3
 
 
+def test_the_onsets_do_not_depend_on_blas_threads_which_run_one_while_they_are_found(strokes, room, monkeypatch):
+    """The same onsets (to the bit) whatever the BLAS libraries' thread count outside; one thread inside, the count
+    outside restored after (threadpoolctl reads it)."""
+    threadpoolctl = pytest.importorskip("threadpoolctl")
+    import drumstroke.analysis.onsets as onsets_module
+
+    times, speeds = strokes[0]
+    signal, _ = render(times, speeds, snares=True, snr=40, room=room, seed=0)  # reverberant: every fit and solve runs
+    seen = []
+    lstsq = np.linalg.lstsq
+
+    def counting(*args, **kwargs):  # the normal equations' solve: the BLAS threads it runs with
+        seen.append({info["num_threads"] for info in threadpoolctl.threadpool_info() if info["user_api"] == "blas"})
+        return lstsq(*args, **kwargs)
+
+    monkeypatch.setattr(onsets_module.np.linalg, "lstsq", counting)
+    found = {}
+    for threads in (1, 2):
+        with threadpoolctl.threadpool_limits(limits=threads, user_api="blas"):
+            found[threads] = find_onsets(signal, RATE)
+            after = {info["num_threads"] for info in threadpoolctl.threadpool_info() if info["user_api"] == "blas"}
+        assert after == {threads}
+    assert seen and all(counts == {1} for counts in seen)
+    assert np.array_equal(found[1].t, found[2].t) and np.array_equal(found[1].level_db, found[2].level_db)
+    assert np.array_equal(found[1].peak_db, found[2].peak_db) and len(found[1]) >= 10  # not an empty comparison
+
+
 # ------------------------------------------------------------------------------------------ the detector's config
 
 

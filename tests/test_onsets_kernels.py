@@ -1,14 +1,14 @@
 """The onset detector's compiled kernels against the numpy and scipy code they stand for (drumstroke.analysis._kernels).
 
 Filters and sliding correlations must agree to the bit (the same operations in the same order); sums
-the kernels add in another order (the upsampled peak, the 2-by-2 solves, Parseval's energies) to 1e-12
-relative. Signals are seeded, with silences and 60-dB level changes where the bounds of a kernel rely on them.
+the kernels add in another order (the upsampled peak, the 2-by-2 solves, Parseval's energies, the prediction
+error filter) to 1e-12 relative. Signals are seeded, with silences and 60-dB level changes where the bounds of a kernel rely on them.
 """
 
 import numpy as np
 import pytest
 from numpy.lib.stride_tricks import sliding_window_view
-from scipy.signal import butter, sosfilt, upfirdn
+from scipy.signal import butter, lfilter, sosfilt, upfirdn
 
 from drumstroke.analysis import _kernels
 from drumstroke.analysis.onsets import _interpolator, _low_pass
@@ -32,6 +32,15 @@ def test_decimating_low_pass_is_scipys_sosfilt(rng, q):
     x = _uneven(rng, 20001)
     sos, _ = _low_pass(0.8 * 48000 / max(q, 2) / 2.0, 48000)
     np.testing.assert_array_equal(_kernels.low_pass_every(sos, x, q), sosfilt(sos, x)[::q])
+
+
+@pytest.mark.parametrize(("q", "q_other"), [(2, 2), (8, 24), (9, 45)])
+def test_two_decimating_low_passes_in_one_pass_are_each_scipys_sosfilt(rng, q, q_other):
+    x = _uneven(rng, 20001)
+    (sos, _), (other, _) = _low_pass(0.8 * 48000 / q / 2.0, 48000), _low_pass(0.8 * 48000 / q_other / 2.0, 48000)
+    low, low_other = _kernels.low_pass_every_two(sos, q, other, q_other, x)
+    np.testing.assert_array_equal(low, sosfilt(sos, x)[::q])
+    np.testing.assert_array_equal(low_other, sosfilt(other, x)[::q_other])
 
 
 def test_high_pass_section_is_scipys_sosfilt(rng):
@@ -58,6 +67,13 @@ def test_upsampled_peak_is_upfirdns(rng):
     for n in (2, 3, 10, 241):
         x = rng.standard_normal(n)
         assert _kernels.upsampled_peak(h, x) == pytest.approx(np.abs(upfirdn(h, x, 4)).max(), rel=1e-12)
+
+
+@pytest.mark.parametrize(("n", "taps"), [(1, 1), (5, 49), (600, 1), (1500, 2), (1500, 49), (3000, 25)])
+def test_prediction_error_is_scipys_lfilter(rng, n, taps):
+    x, a = _uneven(rng, n), rng.standard_normal(taps)
+    want = lfilter(a, [1.0], x)
+    np.testing.assert_allclose(_kernels.prediction_error(a, x), want, rtol=1e-12, atol=1e-12 * np.abs(want).max())
 
 
 def test_frame_energies_are_the_half_spectrums(rng):
@@ -147,6 +163,14 @@ def test_peaks_around_are_the_slices_maxima(rng):
         ahead, prior = _kernels.peaks_around(d, centres, after, before, gap)
         np.testing.assert_array_equal(ahead, [d[c:c + after].max(initial=0.0) for c in centres])
         np.testing.assert_array_equal(prior, [d[max(0, c - before):max(1, c - gap)].max(initial=0.0) for c in centres])
+
+
+def test_window_peaks_are_the_slices_largest_magnitudes(rng):
+    x = _uneven(rng, 3000)
+    lows = rng.integers(0, 3000, 200)
+    highs = lows + rng.integers(-5, 400, 200)  # some empty, some past the end
+    want = [np.abs(x[low:high]).max(initial=0.0) for low, high in zip(lows, highs)]
+    np.testing.assert_array_equal(_kernels.window_peaks(x, lows, highs), want)
 
 
 def test_first_at_least_is_the_first_nonzero(rng):

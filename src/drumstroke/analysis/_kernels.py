@@ -114,6 +114,63 @@ def low_pass_every(sos, x, q):
 
 
 @jit
+def low_pass_every_two(sos, q, other, q_other, x):
+    """:func:`low_pass_every` of ``x`` by two filters (``sos`` kept every ``q`` samples, ``other`` every ``q_other``) in
+    one pass: the same operations for each (the two chains side by side keep the processor busier)."""
+    b00, b01, b02, a01, a02 = sos[0, 0], sos[0, 1], sos[0, 2], sos[0, 4], sos[0, 5]
+    b10, b11, b12, a11, a12 = sos[1, 0], sos[1, 1], sos[1, 2], sos[1, 4], sos[1, 5]
+    b20, b21, b22, a21, a22 = sos[2, 0], sos[2, 1], sos[2, 2], sos[2, 4], sos[2, 5]
+    b30, b31, b32, a31, a32 = sos[3, 0], sos[3, 1], sos[3, 2], sos[3, 4], sos[3, 5]
+    c00, c01, c02, d01, d02 = other[0, 0], other[0, 1], other[0, 2], other[0, 4], other[0, 5]
+    c10, c11, c12, d11, d12 = other[1, 0], other[1, 1], other[1, 2], other[1, 4], other[1, 5]
+    c20, c21, c22, d21, d22 = other[2, 0], other[2, 1], other[2, 2], other[2, 4], other[2, 5]
+    c30, c31, c32, d31, d32 = other[3, 0], other[3, 1], other[3, 2], other[3, 4], other[3, 5]
+    z00 = z01 = z10 = z11 = z20 = z21 = z30 = z31 = 0.0
+    w00 = w01 = w10 = w11 = w20 = w21 = w30 = w31 = 0.0
+    out = np.empty((len(x) + q - 1) // q)
+    out_other = np.empty((len(x) + q_other - 1) // q_other)
+    skip, skip_other = 0, 0
+    for i in range(len(x)):
+        v = u = x[i]
+        y = b00 * v + z00
+        z00 = b01 * v - a01 * y + z01
+        z01 = b02 * v - a02 * y
+        t = c00 * u + w00
+        w00 = c01 * u - d01 * t + w01
+        w01 = c02 * u - d02 * t
+        v, u = y, t
+        y = b10 * v + z10
+        z10 = b11 * v - a11 * y + z11
+        z11 = b12 * v - a12 * y
+        t = c10 * u + w10
+        w10 = c11 * u - d11 * t + w11
+        w11 = c12 * u - d12 * t
+        v, u = y, t
+        y = b20 * v + z20
+        z20 = b21 * v - a21 * y + z21
+        z21 = b22 * v - a22 * y
+        t = c20 * u + w20
+        w20 = c21 * u - d21 * t + w21
+        w21 = c22 * u - d22 * t
+        v, u = y, t
+        y = b30 * v + z30
+        z30 = b31 * v - a31 * y + z31
+        z31 = b32 * v - a32 * y
+        t = c30 * u + w30
+        w30 = c31 * u - d31 * t + w31
+        w31 = c32 * u - d32 * t
+        if skip == 0:
+            out[i // q] = y
+            skip = q
+        skip -= 1
+        if skip_other == 0:
+            out_other[i // q_other] = t
+            skip_other = q_other
+        skip_other -= 1
+    return out, out_other
+
+
+@jit
 def upsampled_peak(h, x):
     """``np.abs(scipy.signal.upfirdn(h, x, 4)).max()``: the largest magnitude of ``x`` upsampled 4 times by the FIR ``h``
     (summed in another order: the same to rounding)."""
@@ -129,17 +186,29 @@ def upsampled_peak(h, x):
 @jit
 def frame_energies(x, starts, window):
     """The energy over the bins of ``numpy.fft.rfft`` of each frame ``x[s:s + len(window)] * window`` (``s`` in
-    ``starts``), by Parseval's theorem: the half spectrum counts its first and last bins once."""
+    ``starts``), by Parseval's theorem: the half spectrum counts its first and last bins once. Each sum is added in
+    four lanes (every fourth sample; two lanes of even samples, two of odd), the lanes summed at the end."""
     size = len(window)
     out = np.empty(len(starts))
     for i in range(len(starts)):
-        power, total, alternate = 0.0, 0.0, 0.0
-        for j in range(size):
-            v = x[starts[i] + j] * window[j]
-            power += v * v
-            total += v
-            alternate += v if j % 2 == 0 else -v
-        out[i] = (size * power + total * total + alternate * alternate) / 2.0
+        frame = x[starts[i]:starts[i] + size]
+        p0, p1, p2, p3, t0, t1, t2, t3 = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+        j = 0
+        while j + 4 <= size:
+            v0, v1 = frame[j] * window[j], frame[j + 1] * window[j + 1]
+            v2, v3 = frame[j + 2] * window[j + 2], frame[j + 3] * window[j + 3]
+            p0, p1, p2, p3 = p0 + v0 * v0, p1 + v1 * v1, p2 + v2 * v2, p3 + v3 * v3
+            t0, t1, t2, t3 = t0 + v0, t1 + v1, t2 + v2, t3 + v3
+            j += 4
+        while j < size:  # the last samples of a frame whose length is not a multiple of 4
+            v0 = frame[j] * window[j]
+            if j % 2 == 0:
+                p0, t0 = p0 + v0 * v0, t0 + v0
+            else:
+                p1, t1 = p1 + v0 * v0, t1 + v0
+            j += 1
+        power, even, odd = (p0 + p2) + (p1 + p3), t0 + t2, t1 + t3
+        out[i] = (size * power + (even + odd) ** 2 + (even - odd) ** 2) / 2.0
     return out
 
 
@@ -266,7 +335,7 @@ def best_lag(x, template, low, count, energy):
     """:func:`.onsets._best_lag` over the ``count`` windows of ``x`` from ``low``: the best window, its dot product
     with ``template`` and its correlation (the first of the largest), each as :func:`likeness_at` computes it.
 
-    The dot products are summed four windows at a time (four chains of additions side by side). A window's
+    The dot products are summed all windows at a time (:func:`window_dots`). A window's
     energy is first bounded from running sums (their rounding bounded, whatever the windows' levels), which
     bounds its correlation; only the windows whose bound reaches the best lower bound have it summed as
     :func:`likeness_at` sums it, and the best of those is the best of all.
@@ -277,11 +346,7 @@ def best_lag(x, template, low, count, energy):
     for j in range(span):
         power[j + 1] = power[j] + x[low + j] * x[low + j]
     slack = 4.0 * (span + 2) * 2.220446049250313e-16 * power[span]  # more than either sum's rounding
-    dots = np.empty(count)
-    for k in range(0, count - 3, 4):
-        four_dots(x, low + k, template, dots, k)
-    for k in range(count - count % 4, count):
-        dots[k] = window_dot(x, low + k, template)
+    dots = window_dots(x, low, template, count)
     upper = np.empty(count)
     floor = -np.inf  # the best lower bound
     for k in range(count):
@@ -301,15 +366,15 @@ def best_lag(x, template, low, count, energy):
 
 
 @jit
-def four_dots(x, start, t, out, at):
-    """:func:`window_dot` of the four windows from ``start``, into ``out[at:at + 4]``."""
-    d0, d1, d2, d3 = 0.0, 0.0, 0.0, 0.0
+def window_dots(x, low, t, count):
+    """:func:`window_dot` of the ``count`` windows of ``x`` from ``low``: each window's products added in order, all the
+    windows a term at a time (a loop over the windows, in vector instructions)."""
+    dots = np.zeros(count)
     for j in range(len(t)):
-        d0 += x[start + j] * t[j]
-        d1 += x[start + 1 + j] * t[j]
-        d2 += x[start + 2 + j] * t[j]
-        d3 += x[start + 3 + j] * t[j]
-    out[at], out[at + 1], out[at + 2], out[at + 3] = d0, d1, d2, d3
+        v, shifted = t[j], x[low + j:low + j + count]  # a slice: indices the compiler sees are ≥ 0
+        for k in range(count):
+            dots[k] += shifted[k] * v
+    return dots
 
 
 @jit
@@ -318,30 +383,59 @@ def next_attack(x, head, low, high, pre, reach, base, width, energy, rise, liken
 
     The window from each sample ``n`` in ``[low, high)`` is ``x[n - pre:n - pre + len(head)]``; its jump is
     :func:`.onsets._windows`' (``width``) over ``x[base:high]``, the power summed in order from ``x[base]``.
-    Correlations are computed only where the window rises ``rise`` (power ratio) times, in order, until one passes.
+    Correlations are computed only where the window rises ``rise`` (power ratio) times, in order, until one passes;
+    the products with ``head`` of eight such windows at a time (:func:`eight_dots`).
     """
     count = high - base
     power = np.zeros(count + 1)
     for j in range(count):
         power[j + 1] = power[j] + x[base + j] * x[base + j]
-    for i in range(high - low):
-        n = i + low - base
-        after = (power[min(n + width, count)] - power[n]) / width
-        before = (power[n] - power[max(n - 4 * width, 0)]) / (4 * width)
-        if not after >= rise * before:
-            continue
-        dot = window_dot(x, low - pre + i, head)
-        if not dot >= least * energy:  # (the correlation only where the scale passes)
-            continue
-        like, dot = likeness_at(x, low - pre + i, head, energy)
-        if like >= likeness:
-            best, at = like, i
-            for k in range(i + 1, min(i + reach + 1, high - low)):
-                like, _ = likeness_at(x, low - pre + k, head, energy)
-                if like > best:
-                    best, at = like, k
-            return low + at
+    rising, dots = np.empty(8, dtype=np.int64), np.empty(8)
+    i = 0
+    while i < high - low:
+        found = 0  # the next eight samples (or fewer) whose windows rise
+        while i < high - low and found < 8:
+            n = i + low - base
+            after = (power[min(n + width, count)] - power[n]) / width
+            before = (power[n] - power[max(n - 4 * width, 0)]) / (4 * width)
+            if after >= rise * before:
+                rising[found] = i
+                found += 1
+            i += 1
+        if found == 0:
+            break
+        rising[found:] = rising[found - 1]
+        eight_dots(x, low - pre + rising, head, dots)
+        for f in range(found):
+            if not dots[f] >= least * energy:  # (the correlation only where the scale passes)
+                continue
+            like, _ = likeness_at(x, low - pre + rising[f], head, energy)
+            if like >= likeness:
+                best, at = like, rising[f]
+                for k in range(rising[f] + 1, min(rising[f] + reach + 1, high - low)):
+                    like, _ = likeness_at(x, low - pre + k, head, energy)
+                    if like > best:
+                        best, at = like, k
+                return low + at
     return -1
+
+
+@jit
+def eight_dots(x, starts, t, out):
+    """:func:`window_dot` of the eight windows from ``starts``, into ``out``: eight chains of additions side by side."""
+    s0, s1, s2, s3, s4, s5, s6, s7 = starts[0], starts[1], starts[2], starts[3], starts[4], starts[5], starts[6], starts[7]
+    d0, d1, d2, d3, d4, d5, d6, d7 = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    for j in range(len(t)):
+        v = t[j]
+        d0 += x[s0 + j] * v
+        d1 += x[s1 + j] * v
+        d2 += x[s2 + j] * v
+        d3 += x[s3 + j] * v
+        d4 += x[s4 + j] * v
+        d5 += x[s5 + j] * v
+        d6 += x[s6 + j] * v
+        d7 += x[s7 + j] * v
+    out[0], out[1], out[2], out[3], out[4], out[5], out[6], out[7] = d0, d1, d2, d3, d4, d5, d6, d7
 
 
 @jit
@@ -404,7 +498,13 @@ def pursue(r, positions, centres, basis, gram, solve, head, head_norm, lead, wid
 
 @jit
 def best_trial(y, basis, grams, lags, total):
-    """:func:`.onsets._best_trial`: the index in ``lags`` of the best trial (-1 for none), its weights and F statistic.
+    """The trial signature that takes off the most of ``y`` (a window of the remainder, ``total`` its energy) with a
+    positive scale: its index in ``lags`` (-1 for none), its least-squares weights and the F statistic of its two
+    parameters against what is left of ``y`` (``len(y) - 4`` degrees of freedom: the window's own attack's two
+    parameters too).
+
+    Each trial is ``basis`` (the signature and its derivative, as columns) starting ``lags`` samples into the window,
+    truncated to it (``grams``: the normal equations of its first rows, cumulated).
 
     Each trial's 2-by-2 normal equations (ridged by 1e-12 of the first's trace) are solved by Gaussian elimination
     with partial pivoting, as LAPACK's ``gesv`` solves them.
@@ -433,6 +533,56 @@ def best_trial(y, basis, grams, lags, total):
 
 
 @jit
+def after_louder(residual, basis, grams, at, amplitude, positions, head, head_norm, gap, reach, spike, width, f_least,
+                 f_weak, like_weak, ratio_low, ratio_high):
+    """:func:`.onsets._after_louder`'s loop over the attacks: where a quiet attack is found in each one's signature.
+
+    ``at`` and ``amplitude`` are each attack's fitted signature's start and scale in ``residual``, ``positions`` its
+    sample there. Returns each found attack's place (samples of the band, to a fraction) and its start's likeness to
+    the signature's; the products as numpy's (BLAS's).
+    """
+    size = basis.shape[0]
+    found, likes = np.empty(len(at)), np.empty(len(at))
+    count = 0
+    for i in range(len(at)):
+        s, alpha = at[i], amplitude[i]
+        if alpha <= 0.0 or s + size > len(residual):
+            continue
+        stop = positions[i] + reach if i + 1 == len(at) else min(positions[i] + reach, positions[i + 1] - gap)
+        lags = np.arange(positions[i] + gap, stop + 1) - spike - s  # where each trial signature starts in the window
+        lags = lags[(lags > 0) & (lags < size - 2 * width)]  # two jump windows of it in the window
+        if not len(lags):
+            continue
+        y = residual[s:s + size]
+        k, weights, f = best_trial(y, basis, grams, lags, np.dot(y, y))
+        if k < 0:
+            continue
+        ratio = weights[0] / alpha
+        start = residual[s + lags[k]:s + lags[k] + len(head)]
+        like = abs(np.dot(start, head)) / (np.sqrt(np.dot(start, start)) * head_norm + 1e-300)
+        passes = f >= f_least or (f >= f_weak and like >= like_weak)
+        if passes and ratio_low <= ratio <= ratio_high:
+            found[count] = s + lags[k] + spike + min(max(-weights[1] / weights[0], -1.0), 1.0)
+            likes[count] = like
+            count += 1
+    return found[:count].copy(), likes[:count].copy()
+
+
+@jit
+def soft_likeness(e, spike, widths, bank, offsets, lengths, norms, k):
+    """:func:`.onsets._soft_likeness`: the largest correlation (magnitude) of ``e`` at sample ``k`` with each smoothed start
+    ``bank[offsets[h]:offsets[h] + lengths[h]]`` (of norm ``norms[h]``, by a contact of ``widths[h]`` samples), tried
+    from two samples before its alignment with ``k`` to two and half the contact after; the products as numpy's."""
+    best = 0.0
+    for h in range(len(widths)):
+        head = bank[offsets[h]:offsets[h] + lengths[h]]
+        for s in range(max(0, k - spike - 2), min(len(e) - lengths[h], k - spike + 2 + widths[h] // 2) + 1):
+            part = e[s:s + lengths[h]]
+            best = max(best, abs(np.dot(part, head)) / (np.sqrt(np.dot(part, part)) * norms[h] + 1e-300))
+    return best
+
+
+@jit
 def solve_2x2(a00, a01, a10, a11, b0, b1):
     """The solution of ``[[a00, a01], [a10, a11]] w = [b0, b1]`` by Gaussian elimination with partial pivoting (as
     LAPACK's ``gesv``); NaN where the matrix is singular."""
@@ -452,8 +602,7 @@ def solve_2x2(a00, a01, a10, a11, b0, b1):
 def least_unexplained(part, cross, energy, length):
     """Where a template of ``energy`` leaves the least of ``part``'s windows of ``length`` unexplained, given their
     ``cross`` products with it: ``k`` and the fraction ``(own - cross² / energy) / own`` (``own``: the window's
-    energy by running sums from ``part[0]``), as :func:`.onsets._best_template` computed it with numpy (the first
-    least, or the first nan)."""
+    energy by running sums from ``part[0]``), as numpy code computed it (the first least, or the first nan)."""
     power = np.empty(len(part) + 1)
     power[0] = 0.0
     for j in range(len(part)):
@@ -468,6 +617,61 @@ def least_unexplained(part, cross, energy, length):
         if unexplained < best or k == 0:
             best, at = unexplained, k
     return at, best
+
+
+@jit
+def own_peaks(x, starts, following, ends, bank, offsets, lengths, window, reach, shift):
+    """:func:`.onsets._own_peaks`' loop: each onset's peak of ``x`` less the earlier notes' fitted templates, and of ``x``.
+
+    The templates are ``bank[offsets[t]:offsets[t] + lengths[t]]``. At each onset the usable ones (those of
+    ``min(following - start + window, reach)`` samples or more, else the last longest) are each fitted from ``shift``
+    samples before the onset to ``shift`` after, over up to the next onset, where it leaves the least unexplained
+    (:func:`least_unexplained`; the products with the template, and its energy, summed in four lanes by
+    :func:`lanes_dot`, numpy's ``correlate`` and ``@`` the same to rounding); the best, scaled by least squares, is
+    taken off the remainder.
+    """
+    rest = x.copy()
+    count = len(starts)
+    peaks, heard = np.empty(count), np.empty(count)
+    longest = -1  # the last of the longest templates
+    for t in range(len(lengths)):
+        if longest < 0 or lengths[t] >= lengths[longest]:
+            longest = t
+    for i in range(count):
+        start = starts[i]
+        peaks[i], heard[i] = 0.0, 0.0
+        for j in range(start, ends[i]):
+            peaks[i] = max(peaks[i], abs(rest[j]))
+            heard[i] = max(heard[i], abs(x[j]))
+        need = min(following[i] - start + window, reach)
+        any_long = False
+        for t in range(len(lengths)):
+            any_long = any_long or lengths[t] >= need
+        best, at, scale, chosen = np.inf, 0, 0.0, -1
+        for t in range(len(lengths)):
+            if (any_long and lengths[t] < need) or (not any_long and t != longest):
+                continue
+            length = min(lengths[t], following[i] - start, len(rest) - start - shift)
+            low = max(start - shift, 0)
+            if length < 16:  # too short to tell a scale
+                continue
+            head = bank[offsets[t]:offsets[t] + length]
+            energy = np.dot(head, head)
+            if not energy > 0.0:
+                continue
+            part = rest[low:start + shift + length]
+            cross = np.empty(len(part) - length + 1)
+            for k in range(len(cross)):
+                cross[k] = np.dot(part[k:k + length], head)
+            k, unexplained = least_unexplained(part, cross, energy, length)
+            if chosen < 0 or unexplained < best:
+                best, at, scale, chosen = unexplained, low + k, cross[k] / energy, t
+        if chosen >= 0:
+            size = min(lengths[chosen], len(rest) - at)
+            fitted, template = rest[at:at + size], bank[offsets[chosen]:offsets[chosen] + size]  # slices: indices ≥ 0
+            for j in range(size):
+                fitted[j] -= scale * template[j]
+    return peaks, heard
 
 
 @jit
@@ -516,6 +720,16 @@ def peaks_around(d, centres, after, before, gap):
         for j in range(max(0, c - before), min(len(d), max(1, c - gap))):
             prior[i] = max(prior[i], d[j])
     return ahead, prior
+
+
+@jit
+def window_peaks(x, lows, highs):
+    """``np.abs(x[lows[i]:highs[i]]).max(initial=0.0)`` for each ``i`` (``lows`` ≥ 0)."""
+    out = np.zeros(len(lows))
+    for i in range(len(lows)):
+        for j in range(lows[i], min(len(x), highs[i])):
+            out[i] = max(out[i], abs(x[j]))
+    return out
 
 
 @jit
@@ -592,8 +806,10 @@ def peak_pick(x, gap):
 
 @jit
 def burg(y, order):
-    """``librosa.lpc(y, order=order)`` for a 1-D ``y`` (Burg's method, as Marple): the same operations in the same
-    order, each order's update of the prediction errors done in place, one pass."""
+    """``librosa.lpc(y, order=order)`` for a 1-D ``y`` (Burg's method, as Marple): the same operations, except that
+    each sum of products is added in four lanes (every fourth term), the lanes summed at the end (the same to rounding:
+    one chain of additions a sample made the method wait on each addition), each order's update of the prediction
+    errors done in place, in one pass with the next order's numerator."""
     tiny = np.finfo(np.float64).tiny
     n = len(y)
     f = y[1:].copy()  # f[i:] is the forward error at order i, b[:n - 1 - i] the backward one
@@ -601,12 +817,8 @@ def burg(y, order):
     a = np.zeros(order + 1)
     a_prev = np.zeros(order + 1)
     a[0] = a_prev[0] = 1.0
-    den = 0.0
-    for k in range(n - 1):
-        den += f[k] ** 2 + b[k] ** 2
-    dot = 0.0
-    for k in range(n - 1):
-        dot += b[k] * f[k]
+    den = lanes_dot(f, 0, f, 0, n - 1) + lanes_dot(b, 0, b, 0, n - 1)
+    dot = lanes_dot(b, 0, f, 0, n - 1)
     for i in range(order):
         m = n - 1 - i  # the errors' length at this order
         reflect = dot * -2
@@ -614,16 +826,69 @@ def burg(y, order):
         a_prev, a = a, a_prev
         for j in range(1, i + 2):
             a[j] = a_prev[j] + reflect * a_prev[i - j + 1]
-        dot = 0.0  # the next order's numerator: its b[k] (this one's new b[k]) times its f[k] (this one's new f[k + 1])
-        for k in range(m):
+        old = f[i]
+        f[i] = old + reflect * b[0]
+        b[0] = b[0] + reflect * old
+        # the next order's numerator: its b[k] (this one's new b[k]) times its f[k] (this one's new f[k + 1])
+        s0 = s1 = s2 = s3 = 0.0
+        k = 1
+        while k + 4 <= m:
+            f0, f1, f2, f3 = f[i + k], f[i + k + 1], f[i + k + 2], f[i + k + 3]
+            b0, b1, b2, b3 = b[k], b[k + 1], b[k + 2], b[k + 3]
+            g0, g1, g2, g3 = f0 + reflect * b0, f1 + reflect * b1, f2 + reflect * b2, f3 + reflect * b3
+            h0, h1, h2, h3 = b0 + reflect * f0, b1 + reflect * f1, b2 + reflect * f2, b3 + reflect * f3
+            s0 += b[k - 1] * g0
+            s1 += h0 * g1
+            s2 += h1 * g2
+            s3 += h2 * g3
+            f[i + k], f[i + k + 1], f[i + k + 2], f[i + k + 3] = g0, g1, g2, g3
+            b[k], b[k + 1], b[k + 2], b[k + 3] = h0, h1, h2, h3
+            k += 4
+        while k < m:
             old = f[i + k]
             f[i + k] = old + reflect * b[k]
             b[k] = b[k] + reflect * old
-            if k > 0:
-                dot += b[k - 1] * f[i + k]
+            s0 += b[k - 1] * f[i + k]
+            k += 1
+        dot = (s0 + s1) + (s2 + s3)
         q = 1.0 - reflect ** 2
         den = q * den - b[m - 1] ** 2 - f[i] ** 2
     return a
+
+
+@jit
+def lanes_dot(x, x_start, y, y_start, n):
+    """``x[x_start:x_start + n] @ y[y_start:y_start + n]`` added in four lanes (every fourth term), summed at the end."""
+    s0 = s1 = s2 = s3 = 0.0
+    k = 0
+    while k + 4 <= n:
+        s0 += x[x_start + k] * y[y_start + k]
+        s1 += x[x_start + k + 1] * y[y_start + k + 1]
+        s2 += x[x_start + k + 2] * y[y_start + k + 2]
+        s3 += x[x_start + k + 3] * y[y_start + k + 3]
+        k += 4
+    while k < n:
+        s0 += x[x_start + k] * y[y_start + k]
+        k += 1
+    return (s0 + s1) + (s2 + s3)
+
+
+@jit
+def prediction_error(a, x):
+    """``scipy.signal.lfilter(a, [1.0], x)``: ``x`` through the FIR ``a`` (each output's taps added from the first, in
+    blocks of samples a tap at a time: the same to rounding, in vector instructions)."""
+    n, taps = len(x), len(a)
+    out = np.empty(n)
+    for start in range(0, n, 512):
+        stop = min(n, start + 512)
+        for j in range(start, stop):
+            out[j] = a[0] * x[j]
+        for k in range(1, min(taps, stop)):
+            low = max(start, k)
+            block, past, tap = out[low:stop], x[low - k:stop - k], a[k]  # slices: indices the compiler sees are ≥ 0
+            for j in range(stop - low):
+                block[j] += tap * past[j]
+    return out
 
 
 @jit

@@ -23,6 +23,7 @@ Onsets(2 over [0.1, 0.35] s, levels -4.5 to 0 dB; drop.wav)
 import itertools
 import math
 from collections.abc import Callable
+from contextlib import nullcontext
 from dataclasses import dataclass, field, replace
 from functools import cache
 from pathlib import Path
@@ -610,7 +611,7 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        to each in time order (``template_fit``, ``template_reach``) and taken off, it times those over
        earlier sound where it correlates by ``template_likeness``, and finds new ones where its start
        (``template_head``) correlates so with what is left and that rises ``min_jump`` times.
-       :func:`_levels`. An onset's amplitude is the peak of its own sound in the drum's lowest
+       :func:`_level_band`. An onset's amplitude is the peak of its own sound in the drum's lowest
        modes (the band up to ``level_ratio`` times its lowest strong mode, ≥ ``level_band`` Hz,
        decimated to 2.5 times that: a stick's speed sets their amplitude in proportion, while the
        higher modes grow faster with it, Hertz's contact being shorter): the band over the next
@@ -682,16 +683,26 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
                       "matching pursuit of attack signatures in the modes' band"}
     if len(signal) < round(0.05 * rate):
         return _no_onsets("the signal is shorter than 50 ms", info, source, config)
+    with _one_blas_thread():
+        return _detected(signal, rate, config, source, info)
+
+
+def _detected(signal, rate, config, source, info):
+    """:func:`find_onsets`' pipeline, on a checked ``signal`` of 50 ms or more."""
     band = _high_pass(signal, rate, config.high_pass)
     peak = float(np.abs(band).max())
     if not peak > 1e-9:  # −180 dB full scale: digital silence
         return _no_onsets("the signal is silent", info, source, config)
     band = band / peak
     rise = np.diff(band, prepend=band[0])  # the first difference, centred ½ sample early: several stages read it
-    tonal = _tonal_innovation(band, rate, config)
+    d = np.abs(rise)  # its magnitude: as many stages read it
+    q = max(_decimation(band, rate), rate // config.analysis_rate)
+    q2 = max(q, rate // config.modes_rate)
+    low, modes_low = _decimate_two(band, rate, q, q2)
+    tonal = _tonal_innovation(low, q, config)
     heard = _heard_jumps(rise, rate, tonal, config)
     first, _ = heard.merge()
-    modes, residual = _modes_band(band, rate, tonal.q, first, config)
+    modes, residual = _modes_band(modes_low, q2, first, config)
     deep, residual = _quiet_jumps(modes, first, residual, rate, config)
     candidates, modes = _judged(rise, rate, tonal, modes, heard.merge(deep), config)
     if modes.reverberant:
@@ -699,22 +710,47 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
         candidates = _last_round(modes, candidates, rate, config)
     candidates = _search_after_louder(modes, candidates, rate, config)
     candidates = _impulsive(modes, candidates, rate, config)
-    candidates = _first_transients(np.abs(rise), rate, candidates.take(candidates.attack), config)
+    candidates = _first_transients(d, rate, candidates.take(candidates.attack), config)
     found = candidates.times
-    candidates = _fit_template(band, rate, candidates, config)
-    amplitude, floor = _levels(band, rate, tonal.q, first, _measured_at(candidates, found, rate, config),
-                               modes.reverberant, config)
-    candidates, amplitude = _one_attack_each(np.abs(rise), rate, candidates, amplitude, config)
-    decided = _out_of_decay(band, rate, candidates, amplitude, config)
+    candidates = _fit_template(band, d, rate, candidates, config)
+    levels = _level_band(band, rate, q, first, config)
+    amplitude = levels.amplitudes(_measured_at(candidates, found, rate, config), modes.reverberant, config)
+    candidates, amplitude = _one_attack_each(d, rate, candidates, amplitude, config)
+    decided = _out_of_decay(band, d, rate, candidates, amplitude, config)
     # an attack measured on a window cut at the next detection, refused here, is measured again without it
     cut = np.flatnonzero(decided.attack[:-1] & candidates.attack[1:] & ~decided.attack[1:])
     if len(cut):
         kept = decided.take(decided.attack)
-        again, _ = _levels(band, rate, tonal.q, first, _measured_at(kept, found, rate, config), modes.reverberant, config)
+        again = levels.amplitudes(_measured_at(kept, found, rate, config), modes.reverberant, config)
         amplitude[cut] = again[np.searchsorted(kept.times, decided.times[cut])]
-    candidates = _learned_lead_ins(band, rate, decided, config)
-    onsets = _reported(candidates, amplitude, floor, {**info, "analysis_rate": tonal.rate}, source, rate, config)
+    candidates = _learned_lead_ins(d, rate, decided, config)
+    onsets = _reported(candidates, amplitude, levels.floor, {**info, "analysis_rate": tonal.rate}, source, rate, config)
     return replace(onsets, peak_db=_peak_db(signal, onsets.t * rate, rate, config))
+
+
+def _one_blas_thread():
+    """A context in which BLAS and LAPACK (numpy's and scipy's) run on one thread (threadpoolctl's limit, undone on exit).
+
+    The detector's products and solves are small (normal equations of 41 unknowns over some ten
+    thousand rows): threads cost more to start and join than they save, and on a busy machine they
+    made its time swing 20 times over. With one thread the onsets found do not depend on the machine's
+    thread count either. Without threadpoolctl (drumstroke's ``analysis`` extra), the libraries' own
+    settings are left.
+    """
+    controller = _blas_threads()
+    return nullcontext() if controller is None else controller.limit(limits=1, user_api="blas")
+
+
+@cache
+def _blas_threads():
+    """threadpoolctl's controller of the BLAS libraries loaded (numpy's and scipy's), found once; None without it."""
+    try:
+        from threadpoolctl import ThreadpoolController
+    except ImportError:
+        return None
+    import scipy.linalg  # noqa: F401  (scipy's own BLAS, loaded before the controller looks for the libraries)
+
+    return ThreadpoolController()
 
 
 def _no_onsets(reason, info, source, config):
@@ -861,10 +897,10 @@ class _Pursuit:
     template: np.ndarray
 
 
-def _tonal_innovation(band, rate, config):
-    """Step 1: ``band`` (high-passed, normalised) decimated, and its innovation (Burg's predictor, ``config.order``)."""
-    q = max(_decimation(band, rate), rate // config.analysis_rate)
-    low, low_rate, delay = _decimate(band, rate, q)
+def _tonal_innovation(low, q, config):
+    """Step 1: the innovation (Burg's predictor, ``config.order``) of the band (high-passed, normalised) decimated ``q``
+    times, ``low`` (:func:`_decimate`'s samples, their rate and the filter's delay)."""
+    low, low_rate, delay = low
     _, innovation = _innovation(low, config.order)
     return _Innovation(innovation, q, delay, low_rate)
 
@@ -884,13 +920,13 @@ def _heard_jumps(rise, rate, tonal, config):
     return _Heard(tonal_onsets, broadband, strong, config.min_interval * rate)
 
 
-def _modes_band(band, rate, q, first, config):
+def _modes_band(modes_low, q2, first, config):
     """Step 4's band: its innovation, the room's tail fitted over the ``first`` onsets, whether it is reverberant.
 
+    ``modes_low`` is the band decimated ``q2`` times (:func:`_decimate`'s samples, their rate and the filter's delay).
     Returns the :class:`_Modes` and the innovation less the first onsets' signatures (and tails).
     """
-    q2 = max(q, rate // config.modes_rate)
-    modes_band, modes_rate, modes_delay = _decimate(band, rate, q2)
+    modes_band, modes_rate, modes_delay = modes_low
     e = _robust_innovation(modes_band, config.modes_order)[1]
     modes = _Modes(e, q2, modes_delay, modes_rate, signature=_signature(e, modes_rate, config))  # fitted once
     pursuit = modes.pursue(first, config)
@@ -970,15 +1006,17 @@ def _soft_heads(template, rate, config):
     """The signature's start (``template``: its spike and ``head`` samples) smoothed by each contact: half sines of 1 to
     ``soft_contact`` s (at ``rate`` Hz; 1 sample: no smoothing), each head with the contact's length more.
 
-    Returns the spike's sample and, for each contact, its length (samples), the smoothed head and its norm.
+    Returns the spike's sample, each contact's length (samples), the smoothed heads one after the other, where each
+    starts and its length in them, and each one's norm.
     """
     spike = int(np.argmax(np.abs(template)))
-    heads = []
-    for width in range(1, max(1, round(config.soft_contact * rate)) + 1):
+    widths, heads = np.arange(1, max(1, round(config.soft_contact * rate)) + 1), []
+    for width in widths:
         pulse = np.sin(np.pi * (np.arange(width) + 0.5) / width)
-        head = np.convolve(template, pulse / pulse.sum())[:spike + config.head + width]
-        heads.append((width, head, float(np.sqrt(head @ head))))
-    return spike, heads
+        heads.append(np.convolve(template, pulse / pulse.sum())[:spike + config.head + width])
+    lengths = np.array([len(head) for head in heads], dtype=np.int64)
+    return (spike, widths, np.concatenate(heads), np.cumsum(lengths) - lengths, lengths,
+            np.array([np.sqrt(head @ head) for head in heads]))
 
 
 def _soft_likeness(e, heads, k):
@@ -987,13 +1025,9 @@ def _soft_likeness(e, heads, k):
     Each smoothed start (:func:`_soft_heads`) is tried from two samples before its alignment with ``k``
     to two and half the contact after (it peaks later).
     """
-    spike, heads = heads
-    best = 0.0
-    for width, head, norm in heads:
-        for s in range(max(0, k - spike - 2), min(len(e) - len(head), k - spike + 2 + width // 2) + 1):
-            part = e[s:s + len(head)]
-            best = max(best, abs(float(part @ head)) / (float(np.sqrt(part @ part)) * norm + 1e-300))
-    return best
+    from ._kernels import soft_likeness
+
+    return soft_likeness(e, *heads, k)
 
 
 def _try_later(modes, candidates, residual, rate, config):
@@ -1080,13 +1114,14 @@ def _after_louder(modes, candidates, rate, config):
     attack again jointly with each trial changes the fit's gain by 0.1-4 % at the impacts missed,
     more at false trials: it is not done.)
     """
+    from ._kernels import after_louder
+
     sure = np.flatnonzero(candidates.attack)
     if not len(sure):
         return candidates
     times = candidates.times
     pursuit = modes.pursue(times[sure], config)
     residual, template = pursuit.residual, pursuit.template
-    size = len(template)
     basis = np.column_stack([template, np.gradient(template)])
     grams = np.cumsum(basis[:, :, None] * basis[:, None, :], axis=0)  # the truncated signatures' normal equations
     gap = max(1, round(config.min_interval * modes.rate))
@@ -1095,29 +1130,12 @@ def _after_louder(modes, candidates, rate, config):
     head = template[:spike + config.head]
     head_norm = float(np.sqrt(head @ head))
     positions = np.round(modes.at(times[sure])).astype(np.int64)
-    new, likes = [], []
-    for i, (s, alpha) in enumerate(zip(pursuit.at, pursuit.amplitude)):
-        if alpha <= 0.0 or s + size > len(residual):
-            continue
-        stop = positions[i] + reach if i + 1 == len(sure) else min(positions[i] + reach, positions[i + 1] - gap)
-        lags = np.arange(positions[i] + gap, stop + 1) - spike - s  # where each trial signature starts in the window
-        lags = lags[(lags > 0) & (lags < size - 2 * config.modes_width)]  # two jump windows of it in the window
-        if not len(lags):
-            continue
-        k, weights, f = _best_trial(residual[s:s + size], basis, grams, lags)
-        if k is None:
-            continue
-        ratio = weights[0] / alpha
-        start = residual[s + lags[k]:s + lags[k] + len(head)]
-        like = abs(start @ head) / (np.sqrt(start @ start) * head_norm + 1e-300)
-        passes = f >= config.after_f or (f >= config.after_weak_f and like >= config.weak_likeness)
-        if passes and config.after_ratio_low <= ratio <= config.after_ratio_high:
-            shift = float(np.clip(-weights[1] / weights[0], -1.0, 1.0))
-            new.append(modes.fitted(s + lags[k] + spike + shift))
-            likes.append(like)
-    if not new:
+    found, likes = after_louder(residual, basis, grams, pursuit.at, pursuit.amplitude, positions, head, head_norm, gap,
+                                reach, spike, config.modes_width, config.after_f, config.after_weak_f,
+                                config.weak_likeness, config.after_ratio_low, config.after_ratio_high)
+    if not len(found):
         return candidates
-    new = np.array(new)
+    new = modes.fitted(found)
     near = np.abs(times[:, None] - new[None, :]).min(axis=1) < config.min_interval * rate
     refused = ~candidates.attack & near  # a refused onset where one is found now: the new one replaces it
     return candidates.take(~refused).insert(new, attack=True, likeness=likes)[0]
@@ -1181,7 +1199,7 @@ def _first_transients(d, rate, candidates, config):
     return replace(candidates, times=times)
 
 
-def _fit_template(band, rate, candidates, config):
+def _fit_template(band, d, rate, candidates, config):
     """Step 5: attacks over earlier sound timed, and attacks hidden in it found, by fitting the recording's own attack.
 
     A drum struck again and again sounds each time much as before, only louder or quieter: its
@@ -1199,16 +1217,17 @@ def _fit_template(band, rate, candidates, config):
     apart, a ghost note in an accent's ringing. A detection less than ``min_interval`` after an attack
     so timed (and ``template_reach`` s more after one so found) is that attack again, the later found
     where the sound rose on (as :func:`_one_attack_each` merges them). The attacks so timed or found are of kind 3
-    (:func:`_learned_lead_ins` leaves them); the candidates are all attacks.
+    (:func:`_learned_lead_ins` leaves them); the candidates are all attacks. ``d`` is the magnitude of ``band``'s
+    first difference.
     """
-    template, offset = _template(band, rate, candidates.times, config)
+    template, offset = _template(band, d, rate, candidates.times, config)
     if template is None:
         return candidates
     pre = round(0.5e-3 * rate)
     reach, gap = round(config.template_reach * rate), max(1, round(config.min_interval * rate))
     head = template[:pre + round(config.template_head * rate)]
-    d = np.abs(np.diff(band, prepend=band[0]))
     remainder = band.copy()
+    _, (lead_clear, start_clear) = _clear(d, candidates.times, rate, [config.lead_clear_db, config.start_clear_db])
     queue = [(t, i) for i, t in enumerate(candidates.times)]  # (time, index in candidates or -1 for a new one)
     times, kinds, likeness = [], [], []
     while queue:
@@ -1221,8 +1240,7 @@ def _fit_template(band, rate, candidates, config):
         fitted = like >= config.template_likeness and scale > 0.0
         # clear by start_clear_db, its first transient was sought; clear by lead_clear_db only, it was not, and the
         # template times it when the fit is precise (noise as loud as that sound before makes fits imprecise)
-        timed = fitted and (i < 0 or not _clear(d, c, rate, config.lead_clear_db) or (
-            like >= config.precise_likeness and not _clear(d, c, rate, config.start_clear_db)))
+        timed = fitted and (i < 0 or not lead_clear[i] or (like >= config.precise_likeness and not start_clear[i]))
         times.append(c + lag + offset if timed else t)
         kinds.append(3 if timed else candidates.kinds[i])
         likeness.append(like if i < 0 else candidates.likeness[i])
@@ -1267,22 +1285,21 @@ def _measured_at(candidates, found, rate, config):
     return replace(candidates, times=np.where(near, found[nearer], candidates.times))
 
 
-def _template(band, rate, times, config):
+def _template(band, d, rate, times, config):
     """The recording's own attack: ``band`` from 0.5 ms before its loudest clear attack, and that attack's offset.
 
     The loudest attack (its first difference's peak over the 5 ms after it) that is clear by ``lead_clear_db``
     (:func:`_clear`) and 20 ms or more before the next, up to the next (less 0.5 ms) or
-    ``tail`` s. Returns the samples and the attack's time less its whole sample, or ``(None, 0.0)``
-    when there is no such attack.
+    ``tail`` s (``d``: the magnitude of ``band``'s first difference). Returns the samples and the attack's time less
+    its whole sample, or ``(None, 0.0)`` when there is no such attack.
     """
-    d = np.abs(np.diff(band, prepend=band[0]))
-    pre, after = round(0.5e-3 * rate), round(5e-3 * rate)
+    pre = round(0.5e-3 * rate)
     ends = np.append(times[1:], len(band))
+    peaks, (clear,) = _clear(d, times, rate, [config.lead_clear_db])
     best, chosen = 0.0, None
-    for t, end in zip(times, ends):
-        c = round(t)
-        peak = d[c:c + after].max(initial=0.0)
-        if c >= pre and end - t >= 20e-3 * rate and peak > best and _clear(d, c, rate, config.lead_clear_db):
+    for t, end, c, peak, is_clear in zip(times, ends, np.rint(times).astype(int).tolist(), peaks.tolist(),
+                                         clear.tolist()):
+        if c >= pre and end - t >= 20e-3 * rate and peak > best and is_clear:
             best, chosen = peak, (t, int(end))
     if chosen is None:
         return None, 0.0
@@ -1291,12 +1308,17 @@ def _template(band, rate, times, config):
     return band[c - pre:min(end - pre, c + round(config.tail * rate))].copy(), float(t - c)
 
 
-def _clear(d, c, rate, db):
-    """Whether the attack at sample ``c`` is clear: ``d`` (the first difference's magnitude) over the 5 ms before
-    (up to 0.5 ms before) under ``db`` re its peak over the 5 ms after."""
+def _clear(d, times, rate, dbs):
+    """Whether each attack at ``times`` (full-rate samples, rounded) is clear by each of ``dbs``: ``d`` (the first
+    difference's magnitude) over the 5 ms before (up to 0.5 ms before) under ``db`` re its peak over the 5 ms after.
+
+    Returns those peaks [shape=(n,)] and, for each of ``dbs``, an array of booleans [shape=(n,)].
+    """
+    from ._kernels import peaks_around
+
     span, gap = round(5e-3 * rate), round(0.5e-3 * rate)
-    prior = d[max(0, c - span):max(1, c - gap)].max(initial=0.0)
-    return prior <= d[c:c + span].max(initial=0.0) * 10.0 ** (db / 20.0)
+    peaks, priors = peaks_around(d, np.rint(times).astype(np.int64), span, span, gap)
+    return peaks, [priors <= peaks * 10.0 ** (db / 20.0) for db in dbs]
 
 
 def _best_lag(x, template, start, reach):
@@ -1337,7 +1359,7 @@ def _next_attack(x, head, low, high, pre, reach, rate, config):
     return None if found < 0 else int(found)
 
 
-def _out_of_decay(band, rate, candidates, amplitude, config):
+def _out_of_decay(band, d, rate, candidates, amplitude, config):
     """Step 5's last part: a quiet or a close attack that does not rise out of the sound before it is no attack.
 
     A recorded sample's own decay and a room's tail beat and flutter: the stages before take some
@@ -1348,7 +1370,8 @@ def _out_of_decay(band, rate, candidates, amplitude, config):
     few milliseconds into itself (FluidR3's electric snare, 4-6 ms in, as loud as its note in the
     drum's lowest modes): an attack within ``echo_reach`` s after the one before it must pass that
     earlier peak by ``echo_rise_db`` (its first difference falls there: the earlier note goes on).
-    Last, an attack must bring a sound of its own (:func:`_new_sound`).
+    Last, an attack must bring a sound of its own (:func:`_new_sound`). ``d`` is the magnitude of ``band``'s first
+    difference.
     """
     from ._kernels import peaks_around
 
@@ -1360,7 +1383,6 @@ def _out_of_decay(band, rate, candidates, amplitude, config):
     quiet = amplitude[which] < loudest * 10.0 ** (config.decay_db / 20.0)
     close = np.diff(candidates.times[which], prepend=-np.inf) <= config.echo_reach * rate
     least = np.where(quiet, config.decay_rise_db, config.echo_rise_db)
-    d = np.abs(np.diff(band, prepend=band[0]))
     tried = which[quiet | close]
     rise, prior = peaks_around(d, np.rint(candidates.times[tried]).astype(np.int64), round(2e-3 * rate),
                                round(5e-3 * rate), round(0.5e-3 * rate))
@@ -1443,7 +1465,7 @@ def _one_attack_each(d, rate, candidates, amplitude, config):
     return candidates.take(keep), amplitude[keep]
 
 
-def _learned_lead_ins(band, rate, candidates, config):
+def _learned_lead_ins(d, rate, candidates, config):
     """Step 5's last part: an attack whose first transient is hidden by earlier sound is put its lead-in before its main rise.
 
     A recorded sample restarted over its own ringing hides its first click; the stages before then
@@ -1455,12 +1477,12 @@ def _learned_lead_ins(band, rate, candidates, config):
     that long before their own main rise, when that earlier sound is quieter than they and the move
     is no more than the lead-in and 0.3 ms earlier (or 0.3 ms later) than where they were. Nothing
     moves with fewer than 3 clear attacks, a lead-in under 0.25 ms or spread over more than 0.2 ms
-    (interquartile: not a sample's own), or when the attacks would not stay in time order.
+    (interquartile: not a sample's own), or when the attacks would not stay in time order. ``d`` is the magnitude
+    of the band's first difference.
     """
     from ._kernels import first_at_least, peaks_around
 
     which = np.flatnonzero(candidates.attack)
-    d = np.abs(np.diff(band, prepend=band[0]))
     centres = np.rint(candidates.times[which]).astype(np.int64)
     peak, prior = peaks_around(d, centres, round(5e-3 * rate), round(5e-3 * rate), round(0.5e-3 * rate))
     clear, over = prior <= peak * 10.0 ** (config.lead_clear_db / 20.0), prior < peak
@@ -1484,18 +1506,33 @@ def _learned_lead_ins(band, rate, candidates, config):
     return replace(candidates, times=times)
 
 
-def _levels(band, rate, q, first, candidates, reverberant, config):
-    """Step 5: each candidate's amplitude in the drum's lowest modes (full scale), and that band's noise floor.
+@dataclass(frozen=True)
+class _LevelBand:
+    """Step 5's band of the drum's lowest modes: ``x`` decimated ``q`` times (at ``rate`` Hz, its filter's delay
+    ``delay`` full-rate samples), its predictor's error filter ``coefficients`` and its noise ``floor`` (full scale)."""
 
-    The band's top comes from the ``first`` onsets (:func:`_level_corner`); ``q`` is step 1's decimation.
-    """
+    x: np.ndarray
+    q: int
+    delay: float
+    rate: float
+    coefficients: np.ndarray
+    floor: float
+
+    def amplitudes(self, candidates, reverberant, config):
+        """Each candidate's amplitude in the band (full scale): :func:`_attack_amplitudes`."""
+        return _attack_amplitudes(self.x, self.coefficients, (candidates.times + self.delay) / self.q, self.rate,
+                                  tail=round(config.tail * self.rate) if reverberant else 0,
+                                  sure=candidates.likeness >= config.likeness, ridge=config.tail_ridge)
+
+
+def _level_band(band, rate, q, first, config):
+    """Step 5: the :class:`_LevelBand` of ``band``, its top from the ``first`` onsets (:func:`_level_corner`); ``q`` is
+    step 1's decimation."""
     q3 = max(q, int(rate // (2.5 * _level_corner(band, rate, first, config))))
     lowest, lowest_rate, lowest_delay = _decimate(band, rate, q3)
-    level_coefficients, _ = _robust_innovation(lowest, config.level_order)
-    amplitude = _attack_amplitudes(lowest, level_coefficients, (candidates.times + lowest_delay) / q3, lowest_rate,
-                                   tail=round(config.tail * lowest_rate) if reverberant else 0,
-                                   sure=candidates.likeness >= config.likeness, ridge=config.tail_ridge)
-    return amplitude, _noise_floor(lowest, lowest_rate, config.floor_quantile)
+    coefficients, _ = _robust_innovation(lowest, config.level_order)
+    return _LevelBand(lowest, q3, lowest_delay, lowest_rate, coefficients,
+                      _noise_floor(lowest, lowest_rate, config.floor_quantile))
 
 
 def _reported(candidates, amplitude, floor, info, source, rate, config):
@@ -1546,22 +1583,24 @@ def _peak_amplitudes(signal, times, rate, config):
 
 def _own_peaks(x, times, rate, config):
     """Each onset's own peak (:func:`_peak_amplitudes`: ``x`` less the earlier notes' sound) and the peak of ``x`` itself
-    over the same window (full scale) [each shape=(n,)]."""
+    over the same window (full scale) [each shape=(n,)].
+
+    In time order, each onset's peaks are read over its window, then the template that fits the remainder from it
+    to the next onset best (placed within 60 µs either way; those that last to the end of the next onset's window
+    preferred, else the longest) is taken off, scaled by least squares (compiled: :func:`._kernels.own_peaks`).
+    """
+    from ._kernels import own_peaks
+
     starts = np.round(times).astype(np.int64).clip(0, len(x) - 1)
     following = np.append(starts[1:], len(x))
     ends = np.maximum(np.minimum(starts + round(config.peak_window * rate), following), starts + 1)
     window, reach = round(config.peak_window * rate), round(config.peak_reach * rate)
     shift = max(1, round(6e-5 * rate))  # the onsets are placed within a few samples
     templates = _peak_templates(x, starts, following, ends, rate, config)
-    rest, peaks, heard = x.copy(), np.empty(len(starts)), np.empty(len(starts))
-    for i, (start, end) in enumerate(zip(starts, ends)):
-        peaks[i], heard[i] = np.abs(rest[start:end]).max(), np.abs(x[start:end]).max()
-        fitted = _best_template(rest, start, following[i], templates, min(following[i] - start + window, reach),
-                                shift)
-        if fitted is not None:
-            at, scale, template = fitted
-            rest[at:at + len(template)] -= scale * template[:len(rest) - at]
-    return peaks, heard
+    lengths = np.array([len(t) for t in templates], dtype=np.int64)
+    bank = np.concatenate(templates) if templates else np.empty(0)
+    return own_peaks(np.ascontiguousarray(x, dtype=float), starts, following, ends, bank,
+                     np.cumsum(lengths) - lengths, lengths, window, reach, shift)
 
 
 def _peak_templates(x, starts, following, ends, rate, config):
@@ -1570,39 +1609,15 @@ def _peak_templates(x, starts, following, ends, rate, config):
     A clear note: quiet before (its 10 ms before under ``peak_clear_db`` re its peak), ``peak_window`` s at
     least before the next onset; its waveform lasts to the next onset, ``peak_reach`` s at most.
     """
+    from ._kernels import window_peaks
+
     window, before = round(config.peak_window * rate), round(10e-3 * rate)
-    peaks = np.array([np.abs(x[a:b]).max() for a, b in zip(starts, ends)])
+    peaks = window_peaks(x, starts, ends)
+    priors = window_peaks(x, np.maximum(starts - before, 0), starts)
     quiet = 10.0 ** (config.peak_clear_db / 20.0)
-    clear = [i for i, a in enumerate(starts)
-             if following[i] - a >= window and np.abs(x[max(a - before, 0):a]).max(initial=0.0) <= quiet * peaks[i]]
+    clear = [i for i, a in enumerate(starts) if following[i] - a >= window and priors[i] <= quiet * peaks[i]]
     chosen = sorted(clear, key=lambda i: -peaks[i])[:config.peak_templates]
     return [x[starts[i]:min(following[i], starts[i] + round(config.peak_reach * rate))] for i in chosen]
-
-
-def _best_template(rest, start, following, templates, need, shift):
-    """The template that fits ``rest`` from ``start`` (± ``shift`` samples) to the next onset best, as its
-    start, least-squares scale and waveform; None without one.
-
-    Templates of ``need`` samples at least (to the end of the next onset's window) are preferred, else the longest.
-    """
-    from ._kernels import least_unexplained
-
-    usable = [t for t in templates if len(t) >= need] or sorted(templates, key=len)[-1:]
-    best = None
-    for template in usable:
-        length = min(len(template), following - start, len(rest) - start - shift)
-        low = max(start - shift, 0)
-        if length < 16:  # too short to tell a scale
-            continue
-        part, head = rest[low:start + shift + length], template[:length]
-        energy = head @ head
-        if not energy > 0.0:
-            continue
-        cross = np.correlate(part, head, "valid")
-        k, unexplained = least_unexplained(part, cross, energy, length)
-        if best is None or unexplained < best[0]:
-            best = (unexplained, low + k, cross[k] / energy, template)
-    return None if best is None else best[1:]
 
 
 # ------------------------------------------------------------------------------------------ the stages' tools
@@ -1662,6 +1677,17 @@ def _decimate(band, rate, q, corner=None):
     return low_pass_every(sos, np.ascontiguousarray(band, dtype=float), q), rate / q, delay
 
 
+def _decimate_two(band, rate, q, q2):
+    """``(_decimate(band, rate, q), _decimate(band, rate, q2))``, the two filters run side by side in one pass."""
+    from ._kernels import low_pass_every_two
+
+    if q == 1 or q2 == 1:
+        return _decimate(band, rate, q), _decimate(band, rate, q2)
+    (sos, delay), (sos2, delay2) = _low_pass(0.8 * rate / q / 2.0, rate), _low_pass(0.8 * rate / q2 / 2.0, rate)
+    low, low2 = low_pass_every_two(sos, q, sos2, q2, np.ascontiguousarray(band, dtype=float))
+    return (low, rate / q, delay), (low2, rate / q2, delay2)
+
+
 @cache
 def _low_pass(corner, rate):
     """:func:`_decimate`'s filter (second-order sections) and its delay at low frequencies (samples), designed once a corner and rate."""
@@ -1676,15 +1702,14 @@ def _low_pass(corner, rate):
 
 def _innovation(x, order):
     """A linear predictor of ``x`` (Burg's method; its error filter's coefficients) and what it does not predict."""
-    from scipy.signal import lfilter
+    from ._kernels import burg, prediction_error
 
-    from ._kernels import burg
-
+    x = np.ascontiguousarray(x, dtype=float)
     order = min(order, max(1, len(x) // 8))
-    a = burg(np.ascontiguousarray(x, dtype=float), order)  # librosa.lpc's operations, in one pass an order
+    a = burg(x, order)  # librosa.lpc's operations (its sums in four lanes), in one pass an order
     if not np.all(np.isfinite(a)):
         a = np.array([1.0, -1.0])
-    return a, lfilter(a, [1.0], x)
+    return a, prediction_error(a, x)
 
 
 def _robust_innovation(x, order):
@@ -1693,9 +1718,8 @@ def _robust_innovation(x, order):
     Returns its error filter's coefficients and what it does not predict (as :func:`_innovation`).
     """
     from scipy.ndimage import uniform_filter1d
-    from scipy.signal import lfilter
 
-    from ._kernels import weighted_lags
+    from ._kernels import prediction_error, weighted_lags
 
     x = np.ascontiguousarray(x, dtype=float)
     order = min(order, max(1, len(x) // 8))
@@ -1714,7 +1738,7 @@ def _robust_innovation(x, order):
         a = burg
     if not np.all(np.isfinite(a)):
         a = burg
-    return a, lfilter(a, [1.0], x)
+    return a, prediction_error(a, x)
 
 
 def _jumps(x, rate, min_interval, least, samples=12):
@@ -1932,23 +1956,6 @@ def _retime(times, kinds, fitted, likeness, precise):
     return (out[order] if np.all(np.diff(out[order]) > 0) else times), offset
 
 
-def _best_trial(y, basis, grams, lags):
-    """The trial signature that takes off the most of ``y`` (a window of the remainder) with a positive scale.
-
-    Each trial is ``basis`` (the signature and its derivative, as columns) starting ``lags`` samples
-    into the window, truncated to it (``grams``: the normal equations of its first rows, cumulated).
-    Returns the trial's index in ``lags``, its least-squares weights and the F statistic of its two
-    parameters against what is left of ``y`` (``len(y) - 4`` degrees of freedom: the window's own
-    attack's two parameters too), or ``(None, None, None)`` when no trial has a positive scale.
-    """
-    from ._kernels import best_trial
-
-    y = np.ascontiguousarray(y, dtype=float)
-    k, weights, f = best_trial(y, np.ascontiguousarray(basis, dtype=float), grams, np.asarray(lags, dtype=np.int64),
-                               float(y @ y))
-    return (None, None, None) if k < 0 else (int(k), weights, float(f))
-
-
 def _level_corner(band, rate, onsets, config):
     """The top (Hz) of the band levels are measured in: ``config.level_ratio`` times its lowest strong mode, ≥
     ``config.level_band`` Hz.
@@ -1988,7 +1995,7 @@ def _attack_amplitudes(low, coefficients, positions, rate, *, tail=0, sure=None,
     """
     from scipy.signal import lfilter
 
-    from ._kernels import residual_peaks, upsampled_peak
+    from ._kernels import prediction_error, residual_peaks, upsampled_peak
 
     horizon = max(2, round(5e-3 * rate))
     interpolator = _interpolator()
@@ -2000,7 +2007,7 @@ def _attack_amplitudes(low, coefficients, positions, rate, *, tail=0, sure=None,
     inside = starts < len(low)
     if tail <= 0 or not np.any(inside):
         return amplitude
-    e = lfilter(coefficients, [1.0], low)
+    e = prediction_error(np.ascontiguousarray(coefficients, dtype=float), np.ascontiguousarray(low, dtype=float))
     h = _room_tail(e, starts[inside], amplitude[inside], tail, ridge)
     if h is None:
         return amplitude
