@@ -234,6 +234,7 @@ class Design:
     stroke: object
     hold: float = 0.0
     _errors: tuple = field(default=(0.0, 0.0), compare=False)
+    _heard: tuple | None = field(default=None, compare=False)
 
     def __repr__(self):
         return (f"Design({len(self.times)} notes {self.times[0]:.6g}-{self.times[-1]:.6g} s, model={self.model!r}, "
@@ -249,6 +250,14 @@ class Design:
         """Every impact of the stroke on the notes' timeline (the notes first, then what the end makes)."""
         impacts = self.stroke.impacts
         return Impacts(impacts.t + self.release, impacts.omega, impacts.tip_distance)
+
+    @property
+    def heard(self):
+        """The impacts on the notes: (t s, level dB) each, as floats (the check's own, kept: a live note logs them)."""
+        if self._heard is None:
+            impacts, n = self.impacts, len(self.times)
+            return tuple(zip(impacts.t[:n].tolist(), impacts.level_db[:n].tolist()))
+        return self._heard
 
     @property
     def t_end(self):
@@ -484,11 +493,7 @@ class _Plan:
         if tail is not None:
             tail = check_real("tail", tail, low=0.0, high=60.0, low_open=True, unit="s")
         times, levels = check_notes(times, levels, velocities)
-        if start is not None and not start.t < times[0]:
-            raise ParameterError(f"start.t must be before the first note at {times[0]!r} s, got {start.t!r}")
-        if start is not None and start.theta < stick.theta_max:
-            raise ParameterError(f"start.theta must be at or above the head, theta_max = {stick.theta_max:.6g} rad, "
-                                 f"got {start.theta!r}")
+        _check_placed(start, times, stick)
         speeds = 10.0 ** (levels / 20.0) * LEVEL_REFERENCE / stick.pivot_to_tip
         if max(speeds.tolist()) > limits.max_speed:
             i = int(np.argmax(speeds > limits.max_speed))
@@ -506,6 +511,16 @@ class _Plan:
                                   low_open=True, unit="rad")
         return cls(times, levels, speeds, start, end, setup, recipe, forces, limits, lead, tail, catch_at, highest)
 
+    def moved(self, start, lead):
+        """This plan's notes (checked) from another ``start`` and ``lead``, only those checked: :func:`next_stroke`
+        tries several starts for the same notes."""
+        if start is not None and not isinstance(start, Start):
+            raise ParameterError(f"start must be a drumstroke.design.Start or None, got {start!r}")
+        lead = check_real("lead", lead, low=0.0, high=10.0, low_open=True, unit="s")
+        _check_placed(start, self.times, self.setup.stick)
+        return _Plan(self.times, self.levels, self.speeds, start, self.end, self.setup, self.recipe, self.forces,
+                     self.limits, lead, self.tail, self.catch_at, self.highest)
+
     # The model in torque rates: C = (k·g + k′·a)/D presses the stick toward the head.
     def rate_of(self, force):
         return self.coefficients.torque_rate(STANDARD_GRAVITY, force)
@@ -522,15 +537,11 @@ class _Plan:
     def build(self, drift):
         pieces, release, hold, theta0 = self.pieces()
         base = self.recipe
-        recipe = Recipe(force=_profile(pieces), model=base.model, t_end=pieces[-1].end, theta0=theta0,
-                        omega0=self.start.omega if self.start is not None else 0.0, cor=base.cor, stick=base.stick,
-                        gravity=base.gravity, name="designed")
-        # the base's coefficients (the same model and stick), not worked out again for every design: as the
-        # recipe's cached property keeps them
-        recipe.__dict__["coefficients"] = self.coefficients
+        recipe = base._varied(_profile(pieces), pieces[-1].end, theta0,
+                              self.start.omega if self.start is not None else 0.0, "designed")
         stroke = simulate(recipe)
-        errors = self.check(stroke, release, drift)
-        return Design(recipe, release, self.times, self.levels, self.end, tuple(pieces), stroke, hold, errors)
+        errors, heard = self.check(stroke, release, drift)
+        return Design(recipe, release, self.times, self.levels, self.end, tuple(pieces), stroke, hold, errors, heard)
 
     def pieces(self):
         """The constant-force pieces on the recipe's clock, the release (notes' timeline), the hold (s) and θ₀."""
@@ -768,16 +779,18 @@ class _Plan:
         return 20.0 * math.log10(speed * self.recipe.stick.pivot_to_tip / LEVEL_REFERENCE)
 
     def check(self, stroke, release, drift):
-        """Hold the simulated stroke to the notes; return its largest time and level errors."""
+        """Hold the simulated stroke to the notes; return its largest time and level errors, and its impacts on the
+        notes ((t s, level dB) each: :attr:`Design.heard`)."""
         n = len(self.times)
         impacts = stroke.impacts
         if len(impacts) < n:
             raise SimulationError(f"the designed stroke made {len(impacts)} impacts for {n} notes (a bug: please "
                                   "report it with the notes)")
-        time_errors = np.abs(impacts.t[:n] + release - self.times)
+        heard_t = impacts.t[:n] + release
+        time_errors = np.abs(heard_t - self.times)
         # Impacts.level_db of the notes' impacts, without its error state (a listed impact's ω is never 0)
-        level_errors = np.abs(20.0 * np.log10(np.abs(impacts.omega[:n]) * impacts.tip_distance / LEVEL_REFERENCE)
-                              - self.levels)
+        heard_levels = 20.0 * np.log10(np.abs(impacts.omega[:n]) * impacts.tip_distance / LEVEL_REFERENCE)
+        level_errors = np.abs(heard_levels - self.levels)
         worst = max(time_errors.tolist()), max(level_errors.tolist())
         if worst[0] > drift[0] or worst[1] > drift[1]:
             off = (time_errors > drift[0]) | (level_errors > drift[1])
@@ -785,7 +798,7 @@ class _Plan:
             raise Unreachable(f"note {k} (t = {self.times[k]:.6g} s): the bounces before it drift, {time_errors[k]:.3g} s "
                               f"and {level_errors[k]:.3g} dB off by the solver (a long chain of flights that enlarges "
                               "small errors); play it as a new stroke", note=k, drift=True)
-        return worst
+        return worst, tuple(zip(heard_t.tolist(), heard_levels.tolist()))
 
 
 def flights_within(times, levels, *, setup=None):
@@ -911,6 +924,15 @@ def check_notes(times, levels, velocities):
             raise ParameterError(f"times must increase by at least {MIN_GAP:g} s from note to note; note {i} at "
                                  f"{listed[i]!r} s follows {listed[i - 1]!r} s")
     return times, levels
+
+
+def _check_placed(start, times, stick):
+    """Refuse a start (a Start or None) not before the first note or below the head."""
+    if start is not None and not start.t < times[0]:
+        raise ParameterError(f"start.t must be before the first note at {times[0]!r} s, got {start.t!r}")
+    if start is not None and start.theta < stick.theta_max:
+        raise ParameterError(f"start.theta must be at or above the head, theta_max = {stick.theta_max:.6g} rad, "
+                             f"got {start.theta!r}")
 
 
 def _vector(name, values, *, low, high, unit):

@@ -36,9 +36,11 @@ from ..palette.motion import Limits, assemble, plan_return, return_time
 from ..trajectory import DEFAULT_RATE
 from .buzz import DENSITY, buzz_times
 from .chain import (
+    DRIFT,
     LEAD,
     Start,
     Unreachable,
+    _Plan,
     catch_height,
     design,
     design_pieces,
@@ -236,11 +238,20 @@ def next_stroke(times, levels, setup, *, free, theta, omega=0.0, running=None, e
         The first note cannot be reached by any of them (the reason of the first that failed), or a
         later note cannot be chained (``note`` > 0: no other start helps; the chain splits there).
     """
-    options = {"end": end, "catch_at": catch_at, "setup": setup}
+    plan = None
+
+    def designed(start=None, lead=LEAD):
+        """:func:`~drumstroke.design.chain.design` of the notes from ``start`` or a throw of ``lead`` s: the notes
+        checked at the first design only, the later ones only their start."""
+        nonlocal plan
+        plan = (_Plan.of(times, levels, None, start=start, end=end, setup=setup, lead=lead, tail=None,
+                         catch_at=catch_at) if plan is None else plan.moved(start, lead))
+        return plan.build(DRIFT)
+
     failure = None
     if running is not None:
         try:
-            made = design(times, levels, start=running, **options)
+            made = designed(running)
         except Unreachable as error:
             if error.note > 0:
                 raise
@@ -251,7 +262,7 @@ def next_stroke(times, levels, setup, *, free, theta, omega=0.0, running=None, e
             failure = Unreachable("the stroke would start before the motion may change", note=0)
     if abs(omega) < 1e-6 and theta > setup.head + 1e-9 and free < times[0]:
         try:
-            return design(times, levels, start=Start(free, theta), **options), []
+            return designed(Start(free, theta)), []
         except Unreachable as error:
             if error.note > 0:
                 raise
@@ -271,7 +282,7 @@ def next_stroke(times, levels, setup, *, free, theta, omega=0.0, running=None, e
                     f"the stick, free at {free:.6g} s, needs {need:.4g} s to reach the height of its next throw, but "
                     f"only {window:.4g} s are left", note=0)
                 continue
-            made = design(times, levels, lead=lead, **options)
+            made = designed(lead=lead)
         except Unreachable as error:
             if error.note > 0:
                 raise

@@ -622,8 +622,10 @@ class Performer:
 
 
 def _heard(made):
-    """The impacts of a design (a stroke's, a kit's press) on its notes: (t s, level dB) each (its ``impacts``
-    made once: a design makes them afresh at each use)."""
+    """The impacts of a design (a stroke's, a kit's press) on its notes: (t s, level dB) each (a stroke's as its check
+    found them; a press's made once: a design makes them afresh at each use)."""
+    if type(made) is Design:
+        return made.heard
     impacts, n = made.impacts, len(made.times)
     return tuple(zip(impacts.t[:n].tolist(), impacts.level_db[:n].tolist()))
 
