@@ -261,6 +261,8 @@ class Curve:
         """θ (rad) and ω (rad/s) at one time ``t`` (s), as floats (one joint) or arrays (several)."""
         t = float(t)
         segment = self.segment_at(t)
+        if segment.still and type(segment.path) is Still and not segment.path.value.shape:  # a held stick: its angle
+            return float(segment.path.value), 0.0
         local = min(max(t, segment.start), segment.end) - segment.offset  # as local() does, on one float
         theta, omega = segment.path(np.array([local]))
         if np.ndim(theta) == 1:
