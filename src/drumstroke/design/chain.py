@@ -786,19 +786,19 @@ class _Plan:
         if len(impacts) < n:
             raise SimulationError(f"the designed stroke made {len(impacts)} impacts for {n} notes (a bug: please "
                                   "report it with the notes)")
-        heard_t = impacts.t[:n] + release
-        time_errors = np.abs(heard_t - self.times)
+        heard_t = (impacts.t[:n] + release).tolist()
         # Impacts.level_db of the notes' impacts, without its error state (a listed impact's ω is never 0)
-        heard_levels = 20.0 * np.log10(np.abs(impacts.omega[:n]) * impacts.tip_distance / LEVEL_REFERENCE)
-        level_errors = np.abs(heard_levels - self.levels)
-        worst = max(time_errors.tolist()), max(level_errors.tolist())
+        heard_levels = (20.0 * np.log10(np.abs(impacts.omega[:n]) * impacts.tip_distance / LEVEL_REFERENCE)).tolist()
+        # the errors of a few notes in plain Python (numpy's calls cost more than the arithmetic)
+        time_errors = [abs(t - note) for t, note in zip(heard_t, self.times.tolist())]
+        level_errors = [abs(level - note) for level, note in zip(heard_levels, self.levels.tolist())]
+        worst = max(time_errors), max(level_errors)
         if worst[0] > drift[0] or worst[1] > drift[1]:
-            off = (time_errors > drift[0]) | (level_errors > drift[1])
-            k = int(np.argmax(off))
+            k = next(k for k in range(n) if time_errors[k] > drift[0] or level_errors[k] > drift[1])
             raise Unreachable(f"note {k} (t = {self.times[k]:.6g} s): the bounces before it drift, {time_errors[k]:.3g} s "
                               f"and {level_errors[k]:.3g} dB off by the solver (a long chain of flights that enlarges "
                               "small errors); play it as a new stroke", note=k, drift=True)
-        return worst, tuple(zip(heard_t.tolist(), heard_levels.tolist()))
+        return worst, tuple(zip(heard_t, heard_levels))
 
 
 def flights_within(times, levels, *, setup=None):
