@@ -656,8 +656,11 @@ def _indents(value, depth):
         return _indents(value.tolist(), depth)
     if not members:
         return 0
-    return len(members) * (1 + depth) + depth + sum(_indents(member, depth + 1) for member in members
-                                                    if not isinstance(member, _SCALARS))
+    total = len(members) * (1 + depth) + depth
+    for member in members:  # a loop, not a generator: at every note
+        if not isinstance(member, _SCALARS):
+            total += _indents(member, depth + 1)
+    return total
 
 
 _SCALARS = (str, int, float, type(None))
