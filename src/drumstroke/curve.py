@@ -80,9 +80,20 @@ class Segment:
                                  f"end {self.end!r}")
 
     @classmethod
+    def _of(cls, start, end, path, offset, impacts=None, source=None, still=False):
+        """The Segment of these fields (``impacts`` None: none), checked, made without the frozen dataclass's
+        ``__init__`` (which sets each field by ``object.__setattr__``): a live note makes several; the same object."""
+        segment = object.__new__(cls)
+        segment.__dict__.update(start=start, end=end, path=path, offset=offset,
+                                impacts=_no_impacts() if impacts is None else impacts, source=source, still=still)
+        segment.__post_init__()
+        return segment
+
+    @classmethod
     def hold(cls, theta, start, end=math.inf):
         """The stick (or the joints) held still at ``theta`` (rad) on [``start``, ``end``] s."""
-        return cls(float(start), float(end), still(theta), float(start), still=True)
+        start = float(start)
+        return cls._of(start, float(end), still(theta), start, still=True)
 
     def local(self, t):
         """Local times of curve times ``t`` (s), clamped to the segment's span."""
@@ -405,7 +416,7 @@ def placed(pieces, start=0.0):
     time 0 at its start."""
     segments, t = [], float(start)
     for duration, path in pieces:
-        segments.append(Segment(t, t + duration, path, t))
+        segments.append(Segment._of(t, t + duration, path, t))
         t += duration
     return tuple(segments)
 

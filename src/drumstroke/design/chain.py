@@ -289,15 +289,19 @@ class Design:
         """Largest |impact level − note level| of the forward simulation (dB)."""
         return self._errors[1]
 
-    @functools.cached_property
+    @property
     def ends(self):
         """The stick's state at the release and at ``t_end``: ((θ rad, ω rad/s), (θ rad, ω rad/s)), as floats.
 
         Evaluated once, in one call of the solver's arcs: the planner asks where each stroke ends (the
         next is thrown from there), and the moves that join the strokes start and end at these states.
+        (Kept in the design's ``__dict__`` by hand: functools' cached property takes a lock at each first use.)
         """
-        theta, omega = self.stroke.arcs.evaluate(np.array([0.0, self.recipe.t_end]))
-        return (float(theta[0]), float(omega[0])), (float(theta[1]), float(omega[1]))
+        ends = self.__dict__.get("_ends")
+        if ends is None:
+            theta, omega = self.stroke.arcs.evaluate(np.array([0.0, self.recipe.t_end]))
+            ends = self.__dict__["_ends"] = (float(theta[0]), float(omega[0])), (float(theta[1]), float(omega[1]))
+        return ends
 
     def state(self, t):
         """θ (rad) and ω (rad/s) at times ``t`` (s, notes' timeline) within [release, t_end], exact."""

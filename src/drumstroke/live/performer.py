@@ -703,5 +703,5 @@ def _played(made, start, moves):
     stroke = made.stroke
     lead_in = placed(moves, start) if moves else (
         (Segment.hold(float(made.recipe.theta0), start, made.release),) if made.release > start else ())
-    played = Segment(made.release, made.t_end, stroke.arcs.evaluate, made.release, stroke.impacts.t, made)
+    played = Segment._of(made.release, made.t_end, stroke.arcs.evaluate, made.release, stroke.impacts.t, made)
     return Curve((*lead_in, played, Segment.hold(made.ends[1][0], made.t_end)))
