@@ -616,17 +616,10 @@ class _Plan:
             return [Piece(0.0, duration, self.force_of(rate), "approach", -1)], t1 - duration, 0.0, math.asin(height)
         s0 = math.sin(start.theta)
         if start.omega == 0.0:
-            if s0 <= head:
-                raise Unreachable("note 0: the start is at rest on the head; the stick must be lifted first (a move)",
-                                  note=0)
-            rate = force_to_reach(v, s0 - head)
-            self.check_rate(0, rate, "the throw from the start")
-            duration = height_time(s0, head) / v
-            release = t1 - duration
-            if release < start.t - 1e-9:  # a throw planned to fit exactly may land a rounding early
-                raise Unreachable(f"note 0 (t = {t1:.6g} s) needs a throw of {duration:.6g} s from the start at "
-                                  f"{start.theta:.4g} rad, but only {t1 - start.t:.6g} s are left; nearest reachable "
-                                  f"time {start.t + duration:.6g} s", note=0, nearest_time=start.t + duration)
+            thrown = self.held_throw()
+            if isinstance(thrown, Unreachable):
+                raise thrown
+            rate, duration, release = thrown
             return ([Piece(0.0, duration, self.force_of(rate), "approach", -1)], release, max(release - start.t, 0.0),
                     start.theta)
         duration = t1 - start.t
@@ -642,6 +635,25 @@ class _Plan:
         rise = height_time(apex, s0) / start.omega
         return ([Piece(0.0, rise, self.force_of(rise_rate), "approach", -1),
                  Piece(rise, duration, self.force_of(fall_rate), "approach", -1)], start.t, 0.0, start.theta)
+
+    def held_throw(self):
+        """The throw from a start held at rest: (torque rate s⁻², duration s, release s), or the :class:`Unreachable`
+        that refuses it, returned, not raised (:func:`next_stroke` tries this start first, and most are refused)."""
+        v, t1, head, start = self.speeds[0], self.times[0], self.head, self.start
+        s0 = math.sin(start.theta)
+        if s0 <= head:
+            return Unreachable("note 0: the start is at rest on the head; the stick must be lifted first (a move)",
+                               note=0)
+        rate = force_to_reach(v, s0 - head)
+        if not self.within(rate):
+            return self.rate_refusal(0, rate, "the throw from the start")
+        duration = height_time(s0, head) / v
+        release = t1 - duration
+        if release < start.t - 1e-9:  # a throw planned to fit exactly may land a rounding early
+            return Unreachable(f"note 0 (t = {t1:.6g} s) needs a throw of {duration:.6g} s from the start at "
+                               f"{start.theta:.4g} rad, but only {t1 - start.t:.6g} s are left; nearest reachable "
+                               f"time {start.t + duration:.6g} s", note=0, nearest_time=start.t + duration)
+        return rate, duration, release
 
     def falling_start(self, s0, v, duration):
         from ..solver.elliptic import parameter, to_head
@@ -730,10 +742,13 @@ class _Plan:
 
     def check_rate(self, note, rate, what):
         if not self.within(rate):
-            limit = self.forces.high if rate > self.rate_of(self.forces.high) else self.forces.low
-            raise Unreachable(f"note {note} ({self.times[note]:.6g} s, {self.levels[note]:.2f} dB): {what} needs "
-                              f"a = {self.force_of(rate):.5g} m/s^2, beyond the force limit {limit:g} m/s^2",
-                              note=note)
+            raise self.rate_refusal(note, rate, what)
+
+    def rate_refusal(self, note, rate, what):
+        """The :class:`Unreachable` of a torque rate out of the force range."""
+        limit = self.forces.high if rate > self.rate_of(self.forces.high) else self.forces.low
+        return Unreachable(f"note {note} ({self.times[note]:.6g} s, {self.levels[note]:.2f} dB): {what} needs "
+                           f"a = {self.force_of(rate):.5g} m/s^2, beyond the force limit {limit:g} m/s^2", note=note)
 
     def check_acceleration(self, note, rate, apex):
         # |dω/dt| = C·cos θ, largest where θ is nearest 0 along the flight

@@ -240,12 +240,17 @@ def next_stroke(times, levels, setup, *, free, theta, omega=0.0, running=None, e
     """
     plan = None
 
-    def designed(start=None, lead=LEAD):
+    def designed(start=None, lead=LEAD, *, held=False):
         """:func:`~drumstroke.design.chain.design` of the notes from ``start`` or a throw of ``lead`` s: the notes
-        checked at the first design only, the later ones only their start."""
+        checked at the first design only, the later ones only their start. A ``held`` start (at rest) whose throw
+        is refused gives its refusal back, the error its design would raise first, without a design begun."""
         nonlocal plan
         plan = (_Plan.of(times, levels, None, start=start, end=end, setup=setup, lead=lead, tail=None,
                          catch_at=catch_at) if plan is None else plan.moved(start, lead))
+        if held:
+            refusal = plan.held_throw()
+            if isinstance(refusal, Unreachable):
+                return refusal
         return plan.build(DRIFT)
 
     failure = None
@@ -262,11 +267,15 @@ def next_stroke(times, levels, setup, *, free, theta, omega=0.0, running=None, e
             failure = Unreachable("the stroke would start before the motion may change", note=0)
     if abs(omega) < 1e-6 and theta > setup.head + 1e-9 and free < times[0]:
         try:
-            return designed(Start(free, theta)), []
+            made = designed(Start(free, theta), held=True)
         except Unreachable as error:
             if error.note > 0:
                 raise
             failure = failure or _kept(error)
+        else:
+            if not isinstance(made, Unreachable):
+                return made, []
+            failure, made = failure or made, None  # this frame may raise it: no reference cycle through its traceback
     for lead in LEADS:
         try:  # where the throw starts, in closed form: a stroke is designed and simulated only if the move fits
             release, height = standard_throw(times[0], levels[0], setup=setup, lead=lead)
