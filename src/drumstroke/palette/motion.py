@@ -262,13 +262,15 @@ def plan_return(start, target, window, theta_max, limits):
     if _meet(start, target):  # the stick is where the next piece starts: it holds
         return [_hold(target[0], window)] if window > 0.0 else []
     rest = (target[0], 0.0)
+    still = target[1] == 0.0 and math.isfinite(target[0])  # at rest (a throw's height): no move to wind up into it
     move = _shortest(start, rest, theta_max, limits)
-    wind = _shortest(rest, target, theta_max, limits)
+    wind = 0.0 if still else _shortest(rest, target, theta_max, limits)
     for scale in (_COMFORT, 1.0):
         a, b = move * scale, wind * scale
         if a + b <= window + 1e-12:
-            parts = [_move(start, rest, a, theta_max, limits), _hold(target[0], window - a - b),
-                     _move(rest, target, b, theta_max, limits)]
+            parts = [_move(start, rest, a, theta_max, limits), _hold(target[0], window - a - b)]
+            if not still:
+                parts.append(_move(rest, target, b, theta_max, limits))
             if all(part is not None for part in parts):
                 return [part for part in parts if part[0] > 0.0]
     direct = _move(start, target, window, theta_max, limits)
@@ -280,6 +282,8 @@ def plan_return(start, target, window, theta_max, limits):
 def return_time(start, target, theta_max, limits):
     """The shortest window (s) :func:`plan_return` can use, or inf."""
     rest = (target[0], 0.0)
+    if target[1] == 0.0 and math.isfinite(target[0]):  # the target is its own rest: the two ways are one move
+        return _shortest(start, rest, theta_max, limits)
     total = _shortest(start, rest, theta_max, limits) + _shortest(rest, target, theta_max, limits)
     return min(total, _shortest(start, target, theta_max, limits))
 
