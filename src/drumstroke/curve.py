@@ -120,12 +120,18 @@ class Curve:
 
     def __post_init__(self):
         segments = tuple(self.segments)
-        if not segments or not all(isinstance(s, Segment) for s in segments):
+        refused = not segments
+        for segment in segments:  # (loops, not generators: a live note makes a curve)
+            refused = refused or not isinstance(segment, Segment)
+        if refused:
             raise ParameterError(f"segments must be a non-empty sequence of Segment, got {self.segments!r}")
+        end = segments[0].end
         for k in range(1, len(segments)):
-            if abs(segments[k].start - segments[k - 1].end) > 1e-9 * max(1.0, abs(segments[k].start)):
-                raise ParameterError(f"segments[{k}] starts at {segments[k].start!r} s, not where segments[{k - 1}] "
-                                     f"ends ({segments[k - 1].end!r} s): a curve's segments tile its span")
+            start = segments[k].start
+            if abs(start - end) > 1e-9 * max(1.0, abs(start)):
+                raise ParameterError(f"segments[{k}] starts at {start!r} s, not where segments[{k - 1}] "
+                                     f"ends ({end!r} s): a curve's segments tile its span")
+            end = segments[k].end
         object.__setattr__(self, "segments", segments)
 
     @classmethod
