@@ -425,6 +425,11 @@ def standard_throw(time, level, *, setup=None, lead=LEAD):
     speed = 10.0 ** (level / 20.0) * LEVEL_REFERENCE / setup.stick.pivot_to_tip
     if speed > setup.limits.max_speed:  # the full checks say why
         _Plan.of([time], [level], None, start=None, end="catch", setup=setup, lead=lead, tail=None)
+    return _standard_throw(setup, time, level, lead)
+
+
+def _standard_throw(setup, time, level, lead):
+    """:func:`standard_throw` of a time (s) and level (dB) it has checked: a planner tries several leads for one note."""
     duration, theta = _throw(setup, float(lead), level)
     return time - duration, theta
 

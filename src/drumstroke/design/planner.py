@@ -41,6 +41,7 @@ from .chain import (
     Start,
     Unreachable,
     _Plan,
+    _standard_throw,
     catch_height,
     design,
     design_pieces,
@@ -276,9 +277,14 @@ def next_stroke(times, levels, setup, *, free, theta, omega=0.0, running=None, e
             if not isinstance(made, Unreachable):
                 return made, []
             failure, made = failure or made, None  # this frame may raise it: no reference cycle through its traceback
+    first = None  # the first note's time (s) and level (dB), once standard_throw has checked them
     for lead in LEADS:
         try:  # where the throw starts, in closed form: a stroke is designed and simulated only if the move fits
-            release, height = standard_throw(times[0], levels[0], setup=setup, lead=lead)
+            if first is None:
+                release, height = standard_throw(times[0], levels[0], setup=setup, lead=lead)
+                first = float(times[0]), float(levels[0])
+            else:
+                release, height = _standard_throw(setup, *first, lead)
             window = release - free
             if window < 0.0:  # no move needs no time: the throw would start before the stick is free
                 failure = failure or Unreachable(

@@ -479,7 +479,8 @@ class Performer:
         """The stroke that plays ``note`` on ``setup``'s surface after the stroke segment ``last`` (or None), the
         stick's θ and ω at a time being ``state(t)``: (design, when its motion starts (s), the moves before it)."""
         times = self._times(note)
-        levels = np.full(len(times), velocity_to_level(note.velocity))
+        level = velocity_to_level(note.velocity)
+        levels = np.full(len(times), level) if len(times) > 1 else np.array([level])  # (np.full costs more)
         cut, running = note.cut, None
         if last is not None:
             made = last.source
