@@ -138,6 +138,20 @@ def test_next_stroke_bounces_on_from_a_running_motion():
     assert made.impacts.t[0] == pytest.approx(0.5, abs=1e-8)
 
 
+@pytest.mark.parametrize("free, theta, level", [(0.55, -0.25, 12.0),  # too loud a throw from this low
+                                                 (0.55, 0.0, -20.0),  # too soft a throw from this high
+                                                 (0.55, 0.2, 12.0)])  # too long a throw for the time left
+def test_next_stroke_refuses_a_throw_from_rest_as_its_design_does(free, theta, level):
+    """A start at rest is refused without its design begun (the planner tries it first): with no other start left
+    (no move fits in the time left), next_stroke raises the refusal design raises, message and note."""
+    setup = Setup()
+    with pytest.raises(drumstroke.design.Unreachable) as designed:
+        drumstroke.design.design([0.6], [level], start=Start(free, theta), setup=setup)
+    with pytest.raises(drumstroke.design.Unreachable) as planned:
+        next_stroke([0.6], [level], setup, free=free, theta=theta)
+    assert (str(planned.value), planned.value.note) == (str(designed.value), designed.value.note)
+
+
 def test_next_stroke_says_why_when_no_start_reaches_the_note():
     with pytest.raises(drumstroke.ParameterError, match=r"needs 0\.1\d+ s to reach the height of its next throw, "
                                                         r"but only 0\.02 s are left"):

@@ -80,9 +80,20 @@ class Segment:
                                  f"end {self.end!r}")
 
     @classmethod
+    def _of(cls, start, end, path, offset, impacts=None, source=None, still=False):
+        """The Segment of these fields (``impacts`` None: none), checked, made without the frozen dataclass's
+        ``__init__`` (which sets each field by ``object.__setattr__``): a live note makes several; the same object."""
+        segment = object.__new__(cls)
+        segment.__dict__.update(start=start, end=end, path=path, offset=offset,
+                                impacts=_no_impacts() if impacts is None else impacts, source=source, still=still)
+        segment.__post_init__()
+        return segment
+
+    @classmethod
     def hold(cls, theta, start, end=math.inf):
         """The stick (or the joints) held still at ``theta`` (rad) on [``start``, ``end``] s."""
-        return cls(float(start), float(end), still(theta), float(start), still=True)
+        start = float(start)
+        return cls._of(start, float(end), still(theta), start, still=True)
 
     def local(self, t):
         """Local times of curve times ``t`` (s), clamped to the segment's span."""
@@ -109,12 +120,18 @@ class Curve:
 
     def __post_init__(self):
         segments = tuple(self.segments)
-        if not segments or not all(isinstance(s, Segment) for s in segments):
+        refused = not segments
+        for segment in segments:  # (loops, not generators: a live note makes a curve)
+            refused = refused or not isinstance(segment, Segment)
+        if refused:
             raise ParameterError(f"segments must be a non-empty sequence of Segment, got {self.segments!r}")
+        end = segments[0].end
         for k in range(1, len(segments)):
-            if abs(segments[k].start - segments[k - 1].end) > 1e-9 * max(1.0, abs(segments[k].start)):
-                raise ParameterError(f"segments[{k}] starts at {segments[k].start!r} s, not where segments[{k - 1}] "
-                                     f"ends ({segments[k - 1].end!r} s): a curve's segments tile its span")
+            start = segments[k].start
+            if abs(start - end) > 1e-9 * max(1.0, abs(start)):
+                raise ParameterError(f"segments[{k}] starts at {start!r} s, not where segments[{k - 1}] "
+                                     f"ends ({end!r} s): a curve's segments tile its span")
+            end = segments[k].end
         object.__setattr__(self, "segments", segments)
 
     @classmethod
@@ -261,6 +278,8 @@ class Curve:
         """θ (rad) and ω (rad/s) at one time ``t`` (s), as floats (one joint) or arrays (several)."""
         t = float(t)
         segment = self.segment_at(t)
+        if segment.still and type(segment.path) is Still and not segment.path.value.shape:  # a held stick: its angle
+            return float(segment.path.value), 0.0
         local = min(max(t, segment.start), segment.end) - segment.offset  # as local() does, on one float
         theta, omega = segment.path(np.array([local]))
         if np.ndim(theta) == 1:
@@ -403,7 +422,7 @@ def placed(pieces, start=0.0):
     time 0 at its start."""
     segments, t = [], float(start)
     for duration, path in pieces:
-        segments.append(Segment(t, t + duration, path, t))
+        segments.append(Segment._of(t, t + duration, path, t))
         t += duration
     return tuple(segments)
 

@@ -112,6 +112,23 @@ class Recipe:
         for key, value in checked.items():
             object.__setattr__(self, key, value)
 
+    def _varied(self, force, t_end, theta0, omega0, name):
+        """This recipe with another a(t), duration, start and name, only those checked (a designer's recipe from its
+        base, which holds the model, stick, c and g(t) checked: made at every design). Its coefficients are the
+        base's (the same model and stick), not worked out again."""
+        theta_max = self.stick.theta_max
+        recipe = object.__new__(Recipe)
+        if not isinstance(force, Profile):
+            raise ParameterError(f"force must be a profile (e.g. drumstroke.Constant(9.8)), got {force!r}")
+        recipe.__dict__.update(
+            force=force, model=self.model,
+            t_end=check_real("t_end", t_end, low=1e-6, high=T_END_LIMIT, unit="s"),
+            theta0=check_real("theta0", theta0, low=theta_max, high=math.pi / 2, high_open=True,
+                              unit="rad (theta_max to pi/2)"),
+            omega0=check_real("omega0", omega0, low=-OMEGA_LIMIT, high=OMEGA_LIMIT, unit="rad/s"),
+            cor=self.cor, stick=self.stick, gravity=self.gravity, name=name, coefficients=self.coefficients)
+        return recipe
+
     @property
     def theta_max(self):
         """The drumhead angle of this recipe's stick (rad)."""

@@ -234,6 +234,7 @@ class Design:
     stroke: object
     hold: float = 0.0
     _errors: tuple = field(default=(0.0, 0.0), compare=False)
+    _heard: tuple | None = field(default=None, compare=False)
 
     def __repr__(self):
         return (f"Design({len(self.times)} notes {self.times[0]:.6g}-{self.times[-1]:.6g} s, model={self.model!r}, "
@@ -249,6 +250,14 @@ class Design:
         """Every impact of the stroke on the notes' timeline (the notes first, then what the end makes)."""
         impacts = self.stroke.impacts
         return Impacts(impacts.t + self.release, impacts.omega, impacts.tip_distance)
+
+    @property
+    def heard(self):
+        """The impacts on the notes: (t s, level dB) each, as floats (the check's own, kept: a live note logs them)."""
+        if self._heard is None:
+            impacts, n = self.impacts, len(self.times)
+            return tuple(zip(impacts.t[:n].tolist(), impacts.level_db[:n].tolist()))
+        return self._heard
 
     @property
     def t_end(self):
@@ -280,15 +289,19 @@ class Design:
         """Largest |impact level − note level| of the forward simulation (dB)."""
         return self._errors[1]
 
-    @functools.cached_property
+    @property
     def ends(self):
         """The stick's state at the release and at ``t_end``: ((θ rad, ω rad/s), (θ rad, ω rad/s)), as floats.
 
         Evaluated once, in one call of the solver's arcs: the planner asks where each stroke ends (the
         next is thrown from there), and the moves that join the strokes start and end at these states.
+        (Kept in the design's ``__dict__`` by hand: functools' cached property takes a lock at each first use.)
         """
-        theta, omega = self.stroke.arcs.evaluate(np.array([0.0, self.recipe.t_end]))
-        return (float(theta[0]), float(omega[0])), (float(theta[1]), float(omega[1]))
+        ends = self.__dict__.get("_ends")
+        if ends is None:
+            theta, omega = self.stroke.arcs.evaluate(np.array([0.0, self.recipe.t_end]))
+            ends = self.__dict__["_ends"] = (float(theta[0]), float(omega[0])), (float(theta[1]), float(omega[1]))
+        return ends
 
     def state(self, t):
         """θ (rad) and ω (rad/s) at times ``t`` (s, notes' timeline) within [release, t_end], exact."""
@@ -412,6 +425,11 @@ def standard_throw(time, level, *, setup=None, lead=LEAD):
     speed = 10.0 ** (level / 20.0) * LEVEL_REFERENCE / setup.stick.pivot_to_tip
     if speed > setup.limits.max_speed:  # the full checks say why
         _Plan.of([time], [level], None, start=None, end="catch", setup=setup, lead=lead, tail=None)
+    return _standard_throw(setup, time, level, lead)
+
+
+def _standard_throw(setup, time, level, lead):
+    """:func:`standard_throw` of a time (s) and level (dB) it has checked: a planner tries several leads for one note."""
     duration, theta = _throw(setup, float(lead), level)
     return time - duration, theta
 
@@ -484,11 +502,7 @@ class _Plan:
         if tail is not None:
             tail = check_real("tail", tail, low=0.0, high=60.0, low_open=True, unit="s")
         times, levels = check_notes(times, levels, velocities)
-        if start is not None and not start.t < times[0]:
-            raise ParameterError(f"start.t must be before the first note at {times[0]!r} s, got {start.t!r}")
-        if start is not None and start.theta < stick.theta_max:
-            raise ParameterError(f"start.theta must be at or above the head, theta_max = {stick.theta_max:.6g} rad, "
-                                 f"got {start.theta!r}")
+        _check_placed(start, times, stick)
         speeds = 10.0 ** (levels / 20.0) * LEVEL_REFERENCE / stick.pivot_to_tip
         if max(speeds.tolist()) > limits.max_speed:
             i = int(np.argmax(speeds > limits.max_speed))
@@ -506,6 +520,16 @@ class _Plan:
                                   low_open=True, unit="rad")
         return cls(times, levels, speeds, start, end, setup, recipe, forces, limits, lead, tail, catch_at, highest)
 
+    def moved(self, start, lead):
+        """This plan's notes (checked) from another ``start`` and ``lead``, only those checked: :func:`next_stroke`
+        tries several starts for the same notes."""
+        if start is not None and not isinstance(start, Start):
+            raise ParameterError(f"start must be a drumstroke.design.Start or None, got {start!r}")
+        lead = check_real("lead", lead, low=0.0, high=10.0, low_open=True, unit="s")
+        _check_placed(start, self.times, self.setup.stick)
+        return _Plan(self.times, self.levels, self.speeds, start, self.end, self.setup, self.recipe, self.forces,
+                     self.limits, lead, self.tail, self.catch_at, self.highest)
+
     # The model in torque rates: C = (k·g + k′·a)/D presses the stick toward the head.
     def rate_of(self, force):
         return self.coefficients.torque_rate(STANDARD_GRAVITY, force)
@@ -522,15 +546,11 @@ class _Plan:
     def build(self, drift):
         pieces, release, hold, theta0 = self.pieces()
         base = self.recipe
-        recipe = Recipe(force=_profile(pieces), model=base.model, t_end=pieces[-1].end, theta0=theta0,
-                        omega0=self.start.omega if self.start is not None else 0.0, cor=base.cor, stick=base.stick,
-                        gravity=base.gravity, name="designed")
-        # the base's coefficients (the same model and stick), not worked out again for every design: as the
-        # recipe's cached property keeps them
-        recipe.__dict__["coefficients"] = self.coefficients
+        recipe = base._varied(_profile(pieces), pieces[-1].end, theta0,
+                              self.start.omega if self.start is not None else 0.0, "designed")
         stroke = simulate(recipe)
-        errors = self.check(stroke, release, drift)
-        return Design(recipe, release, self.times, self.levels, self.end, tuple(pieces), stroke, hold, errors)
+        errors, heard = self.check(stroke, release, drift)
+        return Design(recipe, release, self.times, self.levels, self.end, tuple(pieces), stroke, hold, errors, heard)
 
     def pieces(self):
         """The constant-force pieces on the recipe's clock, the release (notes' timeline), the hold (s) and θ₀."""
@@ -601,17 +621,10 @@ class _Plan:
             return [Piece(0.0, duration, self.force_of(rate), "approach", -1)], t1 - duration, 0.0, math.asin(height)
         s0 = math.sin(start.theta)
         if start.omega == 0.0:
-            if s0 <= head:
-                raise Unreachable("note 0: the start is at rest on the head; the stick must be lifted first (a move)",
-                                  note=0)
-            rate = force_to_reach(v, s0 - head)
-            self.check_rate(0, rate, "the throw from the start")
-            duration = height_time(s0, head) / v
-            release = t1 - duration
-            if release < start.t - 1e-9:  # a throw planned to fit exactly may land a rounding early
-                raise Unreachable(f"note 0 (t = {t1:.6g} s) needs a throw of {duration:.6g} s from the start at "
-                                  f"{start.theta:.4g} rad, but only {t1 - start.t:.6g} s are left; nearest reachable "
-                                  f"time {start.t + duration:.6g} s", note=0, nearest_time=start.t + duration)
+            thrown = self.held_throw()
+            if isinstance(thrown, Unreachable):
+                raise thrown
+            rate, duration, release = thrown
             return ([Piece(0.0, duration, self.force_of(rate), "approach", -1)], release, max(release - start.t, 0.0),
                     start.theta)
         duration = t1 - start.t
@@ -627,6 +640,25 @@ class _Plan:
         rise = height_time(apex, s0) / start.omega
         return ([Piece(0.0, rise, self.force_of(rise_rate), "approach", -1),
                  Piece(rise, duration, self.force_of(fall_rate), "approach", -1)], start.t, 0.0, start.theta)
+
+    def held_throw(self):
+        """The throw from a start held at rest: (torque rate s⁻², duration s, release s), or the :class:`Unreachable`
+        that refuses it, returned, not raised (:func:`next_stroke` tries this start first, and most are refused)."""
+        v, t1, head, start = self.speeds[0], self.times[0], self.head, self.start
+        s0 = math.sin(start.theta)
+        if s0 <= head:
+            return Unreachable("note 0: the start is at rest on the head; the stick must be lifted first (a move)",
+                               note=0)
+        rate = force_to_reach(v, s0 - head)
+        if not self.within(rate):
+            return self.rate_refusal(0, rate, "the throw from the start")
+        duration = height_time(s0, head) / v
+        release = t1 - duration
+        if release < start.t - 1e-9:  # a throw planned to fit exactly may land a rounding early
+            return Unreachable(f"note 0 (t = {t1:.6g} s) needs a throw of {duration:.6g} s from the start at "
+                               f"{start.theta:.4g} rad, but only {t1 - start.t:.6g} s are left; nearest reachable "
+                               f"time {start.t + duration:.6g} s", note=0, nearest_time=start.t + duration)
+        return rate, duration, release
 
     def falling_start(self, s0, v, duration):
         from ..solver.elliptic import parameter, to_head
@@ -715,10 +747,13 @@ class _Plan:
 
     def check_rate(self, note, rate, what):
         if not self.within(rate):
-            limit = self.forces.high if rate > self.rate_of(self.forces.high) else self.forces.low
-            raise Unreachable(f"note {note} ({self.times[note]:.6g} s, {self.levels[note]:.2f} dB): {what} needs "
-                              f"a = {self.force_of(rate):.5g} m/s^2, beyond the force limit {limit:g} m/s^2",
-                              note=note)
+            raise self.rate_refusal(note, rate, what)
+
+    def rate_refusal(self, note, rate, what):
+        """The :class:`Unreachable` of a torque rate out of the force range."""
+        limit = self.forces.high if rate > self.rate_of(self.forces.high) else self.forces.low
+        return Unreachable(f"note {note} ({self.times[note]:.6g} s, {self.levels[note]:.2f} dB): {what} needs "
+                           f"a = {self.force_of(rate):.5g} m/s^2, beyond the force limit {limit:g} m/s^2", note=note)
 
     def check_acceleration(self, note, rate, apex):
         # |dω/dt| = C·cos θ, largest where θ is nearest 0 along the flight
@@ -768,24 +803,26 @@ class _Plan:
         return 20.0 * math.log10(speed * self.recipe.stick.pivot_to_tip / LEVEL_REFERENCE)
 
     def check(self, stroke, release, drift):
-        """Hold the simulated stroke to the notes; return its largest time and level errors."""
+        """Hold the simulated stroke to the notes; return its largest time and level errors, and its impacts on the
+        notes ((t s, level dB) each: :attr:`Design.heard`)."""
         n = len(self.times)
         impacts = stroke.impacts
         if len(impacts) < n:
             raise SimulationError(f"the designed stroke made {len(impacts)} impacts for {n} notes (a bug: please "
                                   "report it with the notes)")
-        time_errors = np.abs(impacts.t[:n] + release - self.times)
+        heard_t = (impacts.t[:n] + release).tolist()
         # Impacts.level_db of the notes' impacts, without its error state (a listed impact's ω is never 0)
-        level_errors = np.abs(20.0 * np.log10(np.abs(impacts.omega[:n]) * impacts.tip_distance / LEVEL_REFERENCE)
-                              - self.levels)
-        worst = max(time_errors.tolist()), max(level_errors.tolist())
+        heard_levels = (20.0 * np.log10(np.abs(impacts.omega[:n]) * impacts.tip_distance / LEVEL_REFERENCE)).tolist()
+        # the errors of a few notes in plain Python (numpy's calls cost more than the arithmetic)
+        time_errors = [abs(t - note) for t, note in zip(heard_t, self.times.tolist())]
+        level_errors = [abs(level - note) for level, note in zip(heard_levels, self.levels.tolist())]
+        worst = max(time_errors), max(level_errors)
         if worst[0] > drift[0] or worst[1] > drift[1]:
-            off = (time_errors > drift[0]) | (level_errors > drift[1])
-            k = int(np.argmax(off))
+            k = next(k for k in range(n) if time_errors[k] > drift[0] or level_errors[k] > drift[1])
             raise Unreachable(f"note {k} (t = {self.times[k]:.6g} s): the bounces before it drift, {time_errors[k]:.3g} s "
                               f"and {level_errors[k]:.3g} dB off by the solver (a long chain of flights that enlarges "
                               "small errors); play it as a new stroke", note=k, drift=True)
-        return worst
+        return worst, tuple(zip(heard_t, heard_levels))
 
 
 def flights_within(times, levels, *, setup=None):
@@ -911,6 +948,15 @@ def check_notes(times, levels, velocities):
             raise ParameterError(f"times must increase by at least {MIN_GAP:g} s from note to note; note {i} at "
                                  f"{listed[i]!r} s follows {listed[i - 1]!r} s")
     return times, levels
+
+
+def _check_placed(start, times, stick):
+    """Refuse a start (a Start or None) not before the first note or below the head."""
+    if start is not None and not start.t < times[0]:
+        raise ParameterError(f"start.t must be before the first note at {times[0]!r} s, got {start.t!r}")
+    if start is not None and start.theta < stick.theta_max:
+        raise ParameterError(f"start.theta must be at or above the head, theta_max = {stick.theta_max:.6g} rad, "
+                             f"got {start.theta!r}")
 
 
 def _vector(name, values, *, low, high, unit):

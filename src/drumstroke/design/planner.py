@@ -36,9 +36,12 @@ from ..palette.motion import Limits, assemble, plan_return, return_time
 from ..trajectory import DEFAULT_RATE
 from .buzz import DENSITY, buzz_times
 from .chain import (
+    DRIFT,
     LEAD,
     Start,
     Unreachable,
+    _Plan,
+    _standard_throw,
     catch_height,
     design,
     design_pieces,
@@ -236,11 +239,25 @@ def next_stroke(times, levels, setup, *, free, theta, omega=0.0, running=None, e
         The first note cannot be reached by any of them (the reason of the first that failed), or a
         later note cannot be chained (``note`` > 0: no other start helps; the chain splits there).
     """
-    options = {"end": end, "catch_at": catch_at, "setup": setup}
+    plan = None
+
+    def designed(start=None, lead=LEAD, *, held=False):
+        """:func:`~drumstroke.design.chain.design` of the notes from ``start`` or a throw of ``lead`` s: the notes
+        checked at the first design only, the later ones only their start. A ``held`` start (at rest) whose throw
+        is refused gives its refusal back, the error its design would raise first, without a design begun."""
+        nonlocal plan
+        plan = (_Plan.of(times, levels, None, start=start, end=end, setup=setup, lead=lead, tail=None,
+                         catch_at=catch_at) if plan is None else plan.moved(start, lead))
+        if held:
+            refusal = plan.held_throw()
+            if isinstance(refusal, Unreachable):
+                return refusal
+        return plan.build(DRIFT)
+
     failure = None
     if running is not None:
         try:
-            made = design(times, levels, start=running, **options)
+            made = designed(running)
         except Unreachable as error:
             if error.note > 0:
                 raise
@@ -251,14 +268,23 @@ def next_stroke(times, levels, setup, *, free, theta, omega=0.0, running=None, e
             failure = Unreachable("the stroke would start before the motion may change", note=0)
     if abs(omega) < 1e-6 and theta > setup.head + 1e-9 and free < times[0]:
         try:
-            return design(times, levels, start=Start(free, theta), **options), []
+            made = designed(Start(free, theta), held=True)
         except Unreachable as error:
             if error.note > 0:
                 raise
             failure = failure or _kept(error)
+        else:
+            if not isinstance(made, Unreachable):
+                return made, []
+            failure, made = failure or made, None  # this frame may raise it: no reference cycle through its traceback
+    first = None  # the first note's time (s) and level (dB), once standard_throw has checked them
     for lead in LEADS:
         try:  # where the throw starts, in closed form: a stroke is designed and simulated only if the move fits
-            release, height = standard_throw(times[0], levels[0], setup=setup, lead=lead)
+            if first is None:
+                release, height = standard_throw(times[0], levels[0], setup=setup, lead=lead)
+                first = float(times[0]), float(levels[0])
+            else:
+                release, height = _standard_throw(setup, *first, lead)
             window = release - free
             if window < 0.0:  # no move needs no time: the throw would start before the stick is free
                 failure = failure or Unreachable(
@@ -271,7 +297,7 @@ def next_stroke(times, levels, setup, *, free, theta, omega=0.0, running=None, e
                     f"the stick, free at {free:.6g} s, needs {need:.4g} s to reach the height of its next throw, but "
                     f"only {window:.4g} s are left", note=0)
                 continue
-            made = design(times, levels, lead=lead, **options)
+            made = designed(lead=lead)
         except Unreachable as error:
             if error.note > 0:
                 raise

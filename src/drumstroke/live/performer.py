@@ -479,7 +479,8 @@ class Performer:
         """The stroke that plays ``note`` on ``setup``'s surface after the stroke segment ``last`` (or None), the
         stick's θ and ω at a time being ``state(t)``: (design, when its motion starts (s), the moves before it)."""
         times = self._times(note)
-        levels = np.full(len(times), velocity_to_level(note.velocity))
+        level = velocity_to_level(note.velocity)
+        levels = np.full(len(times), level) if len(times) > 1 else np.array([level])  # (np.full costs more)
         cut, running = note.cut, None
         if last is not None:
             made = last.source
@@ -622,8 +623,10 @@ class Performer:
 
 
 def _heard(made):
-    """The impacts of a design (a stroke's, a kit's press) on its notes: (t s, level dB) each (its ``impacts``
-    made once: a design makes them afresh at each use)."""
+    """The impacts of a design (a stroke's, a kit's press) on its notes: (t s, level dB) each (a stroke's as its check
+    found them; a press's made once: a design makes them afresh at each use)."""
+    if type(made) is Design:
+        return made.heard
     impacts, n = made.impacts, len(made.times)
     return tuple(zip(impacts.t[:n].tolist(), impacts.level_db[:n].tolist()))
 
@@ -654,8 +657,11 @@ def _indents(value, depth):
         return _indents(value.tolist(), depth)
     if not members:
         return 0
-    return len(members) * (1 + depth) + depth + sum(_indents(member, depth + 1) for member in members
-                                                    if not isinstance(member, _SCALARS))
+    total = len(members) * (1 + depth) + depth
+    for member in members:  # a loop, not a generator: at every note
+        if not isinstance(member, _SCALARS):
+            total += _indents(member, depth + 1)
+    return total
 
 
 _SCALARS = (str, int, float, type(None))
@@ -698,5 +704,5 @@ def _played(made, start, moves):
     stroke = made.stroke
     lead_in = placed(moves, start) if moves else (
         (Segment.hold(float(made.recipe.theta0), start, made.release),) if made.release > start else ())
-    played = Segment(made.release, made.t_end, stroke.arcs.evaluate, made.release, stroke.impacts.t, made)
+    played = Segment._of(made.release, made.t_end, stroke.arcs.evaluate, made.release, stroke.impacts.t, made)
     return Curve((*lead_in, played, Segment.hold(made.ends[1][0], made.t_end)))

@@ -262,13 +262,15 @@ def plan_return(start, target, window, theta_max, limits):
     if _meet(start, target):  # the stick is where the next piece starts: it holds
         return [_hold(target[0], window)] if window > 0.0 else []
     rest = (target[0], 0.0)
+    still = target[1] == 0.0 and math.isfinite(target[0])  # at rest (a throw's height): no move to wind up into it
     move = _shortest(start, rest, theta_max, limits)
-    wind = _shortest(rest, target, theta_max, limits)
+    wind = 0.0 if still else _shortest(rest, target, theta_max, limits)
     for scale in (_COMFORT, 1.0):
         a, b = move * scale, wind * scale
         if a + b <= window + 1e-12:
-            parts = [_move(start, rest, a, theta_max, limits), _hold(target[0], window - a - b),
-                     _move(rest, target, b, theta_max, limits)]
+            parts = [_move(start, rest, a, theta_max, limits), _hold(target[0], window - a - b)]
+            if not still:
+                parts.append(_move(rest, target, b, theta_max, limits))
             if all(part is not None for part in parts):
                 return [part for part in parts if part[0] > 0.0]
     direct = _move(start, target, window, theta_max, limits)
@@ -280,6 +282,8 @@ def plan_return(start, target, window, theta_max, limits):
 def return_time(start, target, theta_max, limits):
     """The shortest window (s) :func:`plan_return` can use, or inf."""
     rest = (target[0], 0.0)
+    if target[1] == 0.0 and math.isfinite(target[0]):  # the target is its own rest: the two ways are one move
+        return _shortest(start, rest, theta_max, limits)
     total = _shortest(start, rest, theta_max, limits) + _shortest(rest, target, theta_max, limits)
     return min(total, _shortest(start, target, theta_max, limits))
 
@@ -434,34 +438,38 @@ def _ruckig_joints(starts, targets, minimum, limits):
     synchronised in time (every joint arrives at once), lasting at least ``minimum`` s; None when ruckig finds none."""
     ruckig = _ruckig_module()
     n = len(starts)
-    parameters = ruckig.InputParameter(n)
+    calculator, parameters = _calculator(ruckig, n, limits)
     parameters.current_position = [float(s[0]) for s in starts]
     parameters.current_velocity = [float(s[1]) for s in starts]
-    parameters.current_acceleration = [0.0] * n
     parameters.target_position = [float(s[0]) for s in targets]
     parameters.target_velocity = [float(s[1]) for s in targets]
-    parameters.target_acceleration = [0.0] * n
-    parameters.max_velocity = [_MARGIN * joint.max_speed for joint in limits]
-    parameters.max_acceleration = [_MARGIN * joint.max_acceleration for joint in limits]
-    parameters.max_jerk = [_MARGIN * joint.max_jerk for joint in limits]
-    parameters.synchronization = ruckig.Synchronization.Time
-    if minimum > 0.0:
-        parameters.minimum_duration = minimum
+    parameters.minimum_duration = minimum if minimum > 0.0 else None
     trajectory = ruckig.Trajectory(n)
     try:
-        result = _calculator(ruckig, n).calculate(parameters, trajectory)
+        result = calculator.calculate(parameters, trajectory)
     except ruckig.RuckigError:  # no profile found (ruckig says why in its message)
         return None
     return trajectory if result in (ruckig.Result.Working, ruckig.Result.Finished) else None
 
 
-def _calculator(ruckig, joints):
-    """ruckig's calculator for ``joints`` joints, made once a thread: making one costs ten times a move's calculation."""
+def _calculator(ruckig, joints, limits):
+    """ruckig's calculator for ``joints`` joints and its input, made once a thread (making a calculator costs ten
+    times a move's calculation), the input's limits set when they change: the caller sets the states."""
     calculators = _local.__dict__.setdefault("calculators", {})
-    calculator = calculators.get(joints)
-    if calculator is None:
-        calculator = calculators[joints] = ruckig.Ruckig(joints)
-    return calculator
+    made = calculators.get(joints)
+    if made is None:
+        parameters = ruckig.InputParameter(joints)
+        parameters.current_acceleration = [0.0] * joints
+        parameters.target_acceleration = [0.0] * joints
+        parameters.synchronization = ruckig.Synchronization.Time
+        made = calculators[joints] = [ruckig.Ruckig(joints), parameters, None]
+    calculator, parameters, known = made
+    if known != limits:  # (a list of Limits: equal when their values are)
+        parameters.max_velocity = [_MARGIN * joint.max_speed for joint in limits]
+        parameters.max_acceleration = [_MARGIN * joint.max_acceleration for joint in limits]
+        parameters.max_jerk = [_MARGIN * joint.max_jerk for joint in limits]
+        made[2] = list(limits)
+    return calculator, parameters
 
 
 _local = threading.local()
@@ -501,7 +509,10 @@ def _path_of(trajectory, joint=0):
     for duration in profile.t[:-1]:  # summed in order, as numpy's cumsum sums them
         total += duration
         starts.append(total)
-    return Cubic(np.array(list(zip(starts, profile.j, profile.a, profile.v, profile.p))))
+    # made column by column (a list of rows costs twice as much), then laid out row by row as the kernel reads it;
+    # a phase's start state: the states list the end of the last phase too
+    k = len(starts)
+    return Cubic(np.array((starts, profile.j[:k], profile.a[:k], profile.v[:k], profile.p[:k])).T.copy())
 
 
 def _hold(theta, duration):

@@ -75,4 +75,6 @@ class Arcs:
         # In flight the kernel leaves θ's last step, θ = 2·asin(value) − π/2, to numpy's vectorised asin
         # (value is NaN elsewhere, whose asin is NaN without a warning).
         finish(theta, np.arcsin(value, out=value), self.theta_max)
+        if t.ndim == 1:  # already of t's shape
+            return theta, omega
         return theta.reshape(t.shape), omega.reshape(t.shape)
