@@ -76,3 +76,27 @@ def screenshot(page, name, tmp_path):
     assert data[:8] == b"\x89PNG\r\n\x1a\n"
     assert struct.unpack(">II", data[16:24]) == (page.viewport_size["width"], page.viewport_size["height"])
     return path
+
+
+CHROMIUM = "/usr/bin/chromium"
+
+
+@contextlib.contextmanager
+def browser_tab(url):
+    """Debian's Chromium (through Playwright) on the studio page ``url`` at 1366 x 768, downloads accepted, sound
+    allowed without a gesture; the test fails if a script or style was blocked by the Content-Security-Policy or
+    a script raised."""
+    from playwright.sync_api import sync_playwright
+
+    refused = []
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=CHROMIUM, headless=True,
+                                    args=["--no-sandbox", "--autoplay-policy=no-user-gesture-required"])
+        tab = browser.new_page(viewport={"width": 1366, "height": 768}, accept_downloads=True)
+        tab.set_default_timeout(120000)  # a generous bound on every wait: a busy machine is slower, never wrong
+        tab.on("console", lambda message: refused.append(message.text) if "Content Security" in message.text else None)
+        tab.on("pageerror", lambda error: refused.append(str(error)))
+        tab.goto(url)
+        yield tab
+        browser.close()
+    assert refused == []

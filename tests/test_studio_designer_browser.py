@@ -6,15 +6,13 @@ import json
 
 import numpy as np
 import pytest
-from playwright.sync_api import sync_playwright
 
-from _studio import cli, screenshot
+from _studio import browser_tab, cli, screenshot
 from drumstroke.design.chain import DRIFT
 from drumstroke.palette.library import load_library
 from drumstroke.studio.app import make_studio
 
-CHROMIUM = "/usr/bin/chromium"
-WAIT = 20000  # ms: the longest a page state is waited for (a first simulation compiles the solver)
+WAIT = 120000  # ms: the longest a page state is waited for (a first simulation may compile the solver: a cold cache)
 
 
 @pytest.fixture()
@@ -30,19 +28,9 @@ def studio(tmp_path):
 @pytest.fixture()
 def page(studio):
     server, _ = studio
-    refused = []  # a script or style the Content-Security-Policy blocked, or a script's error
-    with sync_playwright() as p:
-        browser = p.chromium.launch(executable_path=CHROMIUM, headless=True,
-                                    args=["--no-sandbox", "--autoplay-policy=no-user-gesture-required"])
-        page = browser.new_page(viewport={"width": 1366, "height": 768}, accept_downloads=True)
-        page.on("console", lambda message: refused.append(message.text) if "Content Security" in message.text else None)
-        page.on("pageerror", lambda error: refused.append(str(error)))
-        page.goto(server.url)
-        page.wait_for_selector("body[data-designer-state=drawn]", timeout=WAIT)
-        yield page
-        browser.close()
-    assert refused == []
-
+    with browser_tab(server.url) as tab:
+        tab.wait_for_selector("body[data-designer-state=drawn]", timeout=WAIT)
+        yield tab
 
 
 def shown_impacts(page):

@@ -7,13 +7,10 @@ import json
 import numpy as np
 import pandas as pd
 import pytest
-from playwright.sync_api import sync_playwright
 
-from _studio import screenshot
+from _studio import browser_tab, screenshot
 from drumstroke.cli import main
 from drumstroke.studio.app import make_studio
-
-CHROMIUM = "/usr/bin/chromium"
 
 
 def groove_text():
@@ -28,29 +25,23 @@ def groove_text():
         if beat % 2 == 0:
             lines.append(f"{beat:g} auto 100 auto kick")
     return "\n".join(lines) + "\n"
+WAIT = 120000  # ms: the longest a page state is waited for (a cold cache compiles the planner on a busy machine)
 
 
 @pytest.fixture()
 def page():
     server = make_studio(port=0).start()
-    with sync_playwright() as p:
-        browser = p.chromium.launch(executable_path=CHROMIUM, headless=True,
-                                    args=["--no-sandbox", "--autoplay-policy=no-user-gesture-required"])
-        tab = browser.new_page(viewport={"width": 1366, "height": 768}, accept_downloads=True)
-        refused = []  # a script or style the Content-Security-Policy blocked, or a script's error
-        tab.on("console", lambda message: refused.append(message.text) if "Content Security" in message.text else None)
-        tab.on("pageerror", lambda error: refused.append(str(error)))
-        tab.goto(server.url.rstrip("/") + "/#part")
-        tab.wait_for_selector("body[data-planned]")
-        tab.wait_for_selector("#part-kit:not([disabled])")
-        yield tab
-        browser.close()
-    server.stop()
-    assert refused == []
+    try:
+        with browser_tab(server.url.rstrip("/") + "/#part") as tab:
+            tab.wait_for_selector("body[data-planned]")
+            tab.wait_for_selector("#part-kit:not([disabled])")
+            yield tab
+    finally:
+        server.stop()
 
 
 def planned(page, notes):
-    page.wait_for_selector(f"body[data-planned='{notes}']", timeout=15000)
+    page.wait_for_selector(f"body[data-planned='{notes}']", timeout=WAIT)
 
 
 def cell(row, step):
@@ -102,10 +93,10 @@ def test_a_groove_clicked_on_the_kit_grid_is_planned_heard_drawn_and_its_csv_is_
     thetas = [c for c in pd.read_csv(tmp_path / "cli.csv").columns if c.endswith(".theta")]  # every limb's, the
     assert page.locator(".kit-limbs path.theta").count() == len(thetas) == 4  # idle left foot's too
     page.click("#part-play")
-    page.wait_for_selector("body[data-playing] .kit-lane line.cursor", state="attached", timeout=15000)
+    page.wait_for_selector("body[data-playing] .kit-lane line.cursor", state="attached", timeout=WAIT)
     page.evaluate("window.scrollTo(0, document.querySelector('#part-grid').offsetTop - 56)")  # the grid, the lanes
     screenshot(page, "studio-kit.png", tmp_path)
-    page.wait_for_selector("body[data-played]", timeout=20000)
+    page.wait_for_selector("body[data-played]", timeout=WAIT)
     with page.expect_download() as waiting:
         page.click("#part-download-csv")
     got, expected = pd.read_csv(waiting.value.path()), pd.read_csv(tmp_path / "cli.csv")

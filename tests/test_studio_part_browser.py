@@ -6,37 +6,29 @@ reach shown beside itself with its reason; a rudiment loaded and planned; the pa
 import numpy as np
 import pandas as pd
 import pytest
-from playwright.sync_api import sync_playwright
 
-from _studio import screenshot
+from _studio import browser_tab, screenshot
 from drumstroke.cli import main
 from drumstroke.studio.app import make_studio
 
-CHROMIUM = "/usr/bin/chromium"
 GROOVE = "".join(["tempo 160\n"] + [f"{k / 2:g} auto {116 if k % 4 == 2 else 100} {'right' if k % 2 == 0 else 'left'}\n"
                                     for k in range(16)])  # what the clicks below build: 2 bars of 8ths, accents on 2, 4
+WAIT = 120000  # ms: the longest a page state is waited for (a cold cache compiles the planner on a busy machine)
 
 
 @pytest.fixture()
 def page():
     server = make_studio(port=0).start()
-    with sync_playwright() as p:
-        browser = p.chromium.launch(executable_path=CHROMIUM, headless=True,
-                                    args=["--no-sandbox", "--autoplay-policy=no-user-gesture-required"])
-        tab = browser.new_page(viewport={"width": 1366, "height": 768}, accept_downloads=True)
-        refused = []  # a script or style the Content-Security-Policy blocked, or a script's error
-        tab.on("console", lambda message: refused.append(message.text) if "Content Security" in message.text else None)
-        tab.on("pageerror", lambda error: refused.append(str(error)))
-        tab.goto(server.url.rstrip("/") + "/#part")
-        tab.wait_for_selector("body[data-planned]")
-        yield tab
-        browser.close()
-    server.stop()
-    assert refused == []
+    try:
+        with browser_tab(server.url.rstrip("/") + "/#part") as tab:
+            tab.wait_for_selector("body[data-planned]")
+            yield tab
+    finally:
+        server.stop()
 
 
 def planned(page, notes):
-    page.wait_for_selector(f"body[data-planned='{notes}']", timeout=15000)
+    page.wait_for_selector(f"body[data-planned='{notes}']", timeout=WAIT)
 
 
 def test_a_groove_clicked_on_the_grid_is_planned_heard_and_its_csv_is_compose_s(page, tmp_path):
@@ -55,9 +47,9 @@ def test_a_groove_clicked_on_the_grid_is_planned_heard_and_its_csv_is_compose_s(
     assert page.locator(".lane").count() == 2 and page.locator("#part-problems li").count() == 0
     page.click("#part-play")
     # a cursor follows the sound over the lanes
-    page.wait_for_selector("body[data-playing] .lane line.cursor", state="attached", timeout=15000)
+    page.wait_for_selector("body[data-playing] .lane line.cursor", state="attached", timeout=WAIT)
     screenshot(page, "studio-part.png", tmp_path)
-    page.wait_for_selector("body[data-played]", timeout=15000)
+    page.wait_for_selector("body[data-played]", timeout=WAIT)
     with page.expect_download() as waiting:
         page.click("#part-download-csv")
     got = pd.read_csv(waiting.value.path())
@@ -115,7 +107,7 @@ def test_the_robot_tracks_the_part_and_shows_the_onsets_kept_and_missed(page, tm
     page.wait_for_selector("#robot-controller option[value='pi']", state="attached")
     page.select_option("#robot-controller", "pi")
     page.click("#robot-track")
-    page.wait_for_selector("body[data-tracked]", timeout=15000)
+    page.wait_for_selector("body[data-tracked]", timeout=WAIT)
     sticks = page.locator("li.robot-stick")
     assert sticks.count() == 2
     missed_any = False

@@ -210,7 +210,7 @@ class Curve:
         sample to the next) is given it for each run of times within its span.
         """
         if spacing > 0.0:
-            spaced = lambda segment, local: (  # noqa: E731
+            spaced = lambda segment, local: (
                 segment.path(local, spacing=spacing) if _takes_spacing(segment.path) else segment.path(local))
             t = np.asarray(t, dtype=float)
             flat = t.ravel()
