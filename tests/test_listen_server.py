@@ -536,13 +536,21 @@ def test_reconnecting_trickles_at_the_cap_leave_every_visitor_served(tmp_path):
     flood = None
     try:
         flood = Flood(server, [f"127.0.0.{2 + i}" for i in range(10)], 100, interval=0.5, reconnect=True)
-        time.sleep(1.0)
+        deadline = time.monotonic() + 120.0  # the flood fills the cap and churns: at once on an idle machine
+        while len(flood.closed) <= 500:  # more than the cap dropped: the server has been full and stays so
+            assert time.monotonic() < deadline, f"only {len(flood.closed)} trickles dropped in 120 s"
+            time.sleep(0.05)
         dropped_before = len(flood.closed)
-        visits = []
+        visits, starved = [], 0
         for i in range(20):
             began = time.monotonic()
-            visits.append((Client(server.url, source=f"127.0.1.{1 + i}").get("/").status, time.monotonic() - began))
-        assert [status for status, _ in visits] == [200] * 20
+            try:
+                reply = Client(server.url, source=f"127.0.1.{1 + i}").get("/")
+            except ConnectionResetError:  # on a busy machine this thread may stall between connecting and sending
+                starved += 1  # its request: its connection then waits longest and makes room; it asks again
+                reply = Client(server.url, source=f"127.0.1.{1 + i}").get("/")
+            visits.append((reply.status, time.monotonic() - began))
+        assert [status for status, _ in visits] == [200] * 20 and starved <= 2
         assert max(seconds for _, seconds in visits) < 10.0
         dropped = flood.closed[:]
         assert len(dropped) > dropped_before > 500  # the server is kept full: the churn goes on throughout
