@@ -100,3 +100,28 @@ def browser_tab(url):
         yield tab
         browser.close()
     assert refused == []
+
+
+WAIT = 120000
+"""ms: the longest a browser test waits for a page state (a cold cache compiles the planner on a busy machine)."""
+
+
+@contextlib.contextmanager
+def part_editor():
+    """A studio served on a free port and Chromium on its part editor, once the editor's first plan is drawn and its
+    Kit switch can be used."""
+    from drumstroke.studio.app import make_studio
+
+    server = make_studio(port=0).start()
+    try:
+        with browser_tab(server.url.rstrip("/") + "/#part") as tab:
+            tab.wait_for_selector("body[data-planned]")
+            tab.wait_for_selector("#part-kit:not([disabled])")
+            yield tab
+    finally:
+        server.stop()
+
+
+def planned(page, notes):
+    """Wait until the part editor has drawn a plan of ``notes`` notes."""
+    page.wait_for_selector(f"body[data-planned='{notes}']", timeout=WAIT)

@@ -7,12 +7,10 @@ import json
 import numpy as np
 import pytest
 
-from _studio import browser_tab, cli, screenshot
+from _studio import WAIT, browser_tab, cli, screenshot
 from drumstroke.design.chain import DRIFT
 from drumstroke.palette.library import load_library
 from drumstroke.studio.app import make_studio
-
-WAIT = 120000  # ms: the longest a page state is waited for (a first simulation may compile the solver: a cold cache)
 
 
 @pytest.fixture()

@@ -8,9 +8,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from _studio import browser_tab, screenshot
+from _studio import WAIT, part_editor, planned, screenshot
 from drumstroke.cli import main
-from drumstroke.studio.app import make_studio
 
 
 def groove_text():
@@ -25,23 +24,12 @@ def groove_text():
         if beat % 2 == 0:
             lines.append(f"{beat:g} auto 100 auto kick")
     return "\n".join(lines) + "\n"
-WAIT = 120000  # ms: the longest a page state is waited for (a cold cache compiles the planner on a busy machine)
 
 
 @pytest.fixture()
 def page():
-    server = make_studio(port=0).start()
-    try:
-        with browser_tab(server.url.rstrip("/") + "/#part") as tab:
-            tab.wait_for_selector("body[data-planned]")
-            tab.wait_for_selector("#part-kit:not([disabled])")
-            yield tab
-    finally:
-        server.stop()
-
-
-def planned(page, notes):
-    page.wait_for_selector(f"body[data-planned='{notes}']", timeout=WAIT)
+    with part_editor() as tab:
+        yield tab
 
 
 def cell(row, step):

@@ -7,28 +7,15 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from _studio import browser_tab, screenshot
+from _studio import WAIT, part_editor, planned, screenshot
 from drumstroke.cli import main
-from drumstroke.studio.app import make_studio
 
 GROOVE = "".join(["tempo 160\n"] + [f"{k / 2:g} auto {116 if k % 4 == 2 else 100} {'right' if k % 2 == 0 else 'left'}\n"
                                     for k in range(16)])  # what the clicks below build: 2 bars of 8ths, accents on 2, 4
-WAIT = 120000  # ms: the longest a page state is waited for (a cold cache compiles the planner on a busy machine)
-
-
 @pytest.fixture()
 def page():
-    server = make_studio(port=0).start()
-    try:
-        with browser_tab(server.url.rstrip("/") + "/#part") as tab:
-            tab.wait_for_selector("body[data-planned]")
-            yield tab
-    finally:
-        server.stop()
-
-
-def planned(page, notes):
-    page.wait_for_selector(f"body[data-planned='{notes}']", timeout=WAIT)
+    with part_editor() as tab:
+        yield tab
 
 
 def test_a_groove_clicked_on_the_grid_is_planned_heard_and_its_csv_is_compose_s(page, tmp_path):
