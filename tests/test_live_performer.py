@@ -171,6 +171,44 @@ def test_the_log_counts_each_rows_bytes_as_the_records_json_writes_them():
     assert performer.recorded == sum(len(json_text(row)) for row in rows[:-1])
 
 
+def test_a_rows_bytes_counted_from_its_frame_equal_its_json_text():
+    """The log's count of a row's bytes from its frame and its values' reprs equals the length of the text json_text
+    writes of the row, over a random flow of notes on both models (planned and dropped, buzzes' many impacts, notes
+    dropped for values of every kind, a kit's rows with their piece and move)."""
+    from drumstroke.formats.json import json_text
+    from drumstroke.live import KitPerformer
+    from drumstroke.live.performer import _row_bytes
+
+    rng = np.random.default_rng(30)
+    outcomes = []
+    for model in ("paper", "geometry"):
+        clock = ManualClock()
+        performer = Performer(clock=clock, setup=Setup(model=model, moves=Limits()))
+        for t in np.cumsum(rng.uniform(0.02, 0.3, 150)):
+            clock.set(float(t))
+            performer.setpoints(clock.now())
+            outcomes.append(performer.note(str(rng.choice(["right", "left", "auto"])), int(rng.integers(1, 128)),
+                                           stroke=str(rng.choice(["auto", "auto", "buzz"]))))
+        now = clock.now()
+        for stick, velocity, options in (("left", 300, {}), ("right", 64, {}), ("right", True, {}),
+                                         ("drum\u00e9 \"stick\"", 90.0, {}), (3, 90, {}), ("left", float("nan"), {}),
+                                         ("left", 90, {"at": float("inf")}), ("left", 90, {"at": now + 10.0}),
+                                         ("right", 90, {"stroke": "roll"}), ("left", 90, {"duration": 0.1}),
+                                         ("left", 90, {"stroke": "buzz", "duration": 0.3}),
+                                         ("right", np.float64(70.0), {"at": np.float64(now + 0.5)})):
+            outcomes.append(performer.note(stick, velocity, **options))
+    clock = ManualClock()
+    kit = KitPerformer(clock=clock)
+    for k, piece in enumerate(["snare", "hihat", "snare", "crash", "kick"]):
+        clock.set(0.2 * k)
+        kit.setpoints(clock.now())
+        outcomes.append(kit.note("auto", 100, piece=piece))
+    assert sum(o.planned for o in outcomes) > 200 and sum(not o.planned for o in outcomes) > 20
+    assert any(len(o.impacts) > 3 for o in outcomes) and any(o.note.piece is not None for o in outcomes)
+    for outcome in outcomes:
+        assert _row_bytes(outcome) == len(json_text(outcome.to_dict())), outcome
+
+
 def test_a_live_note_leaves_no_garbage_for_the_collector():
     """Planning a note (its designs tried and refused, its moves, its log row) makes no reference cycle: whatever it
     drops is freed at once, so the garbage collector's pauses stay those of the objects kept."""

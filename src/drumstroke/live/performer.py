@@ -48,7 +48,7 @@ from ..design import Design, Setup, Start, Unreachable, next_stroke
 from ..design.buzz import DENSITY, buzz_times
 from ..dynamics import velocity_to_level
 from ..errors import ParameterError
-from ..formats.json import _plain
+from ..formats.json import _plain, json_text
 from ..palette.motion import Limits, plan_return, return_time
 from ..trajectory import DEFAULT_RATE
 
@@ -352,7 +352,7 @@ class Performer:
         with self._lock:
             if outcome.planned or len(self.log) < ROWS:
                 self.log.append(logged)
-                self.recorded += _json_bytes(logged.to_dict())
+                self.recorded += _row_bytes(logged)
             else:
                 self.unrecorded += 1
         return outcome
@@ -629,6 +629,66 @@ def _heard(made):
         return made.heard
     impacts, n = made.impacts, len(made.times)
     return tuple(zip(impacts.t[:n].tolist(), impacts.level_db[:n].tolist()))
+
+
+def _row_bytes(outcome):
+    """``_json_bytes(outcome.to_dict())``, the bytes of a log's row, from the row's frame and its values' text.
+
+    At every note: making the row's dict and encoding it cost several times the values' reprs. A row of plain values
+    (a snare's note whose fields are floats and strings, its impacts finite) is counted here: json writes a float as
+    its repr, a string as ``encode_basestring_ascii`` does, a top-level float that is not finite as null (the row's
+    own rule); any other row is made and encoded.
+    """
+    note, impacts = outcome.note, outcome.impacts
+    duration = note.duration
+    if note.piece is not None or type(note.stick) is not str or type(note.stroke) is not str \
+            or type(outcome.reason) is not str or type(note.arrived) is not float or type(note.velocity) is not float \
+            or type(note.at) is not float or type(note.cut) is not float or type(outcome.compute) is not float \
+            or (duration is not None and type(duration) is not float):
+        return _json_bytes(outcome.to_dict())
+    if outcome.planned:  # true, and the impacts' frame
+        n = len(impacts)
+        total = _FRAME + 4 + (_IMPACTS[0] if n == 0 else _IMPACTS[1] + _IMPACTS[2] * (n - 1))
+    else:  # false
+        total = _FRAME_DROPPED + 5
+    for value in (note.arrived, note.velocity, note.at, note.cut, outcome.compute, duration):
+        if value is None:
+            total += 4
+        else:
+            total += len(repr(value)) if value - value == 0.0 else 4  # not finite: null
+    total += len(_string(note.stick)) + len(_string(note.stroke)) + len(_string(outcome.reason))
+    if outcome.planned:
+        for impact in impacts:
+            if len(impact) != 2:
+                return _json_bytes(outcome.to_dict())
+            for value in impact:
+                if type(value) is not float or value - value != 0.0:  # json writes NaN, Infinity here
+                    return _json_bytes(outcome.to_dict())
+                total += len(repr(value))
+    return total
+
+
+_string = json.encoder.encode_basestring_ascii
+"""A string as json's encoder writes it (ASCII, escaped, quoted)."""
+
+_ROW = ("arrived", "stick", "velocity", "at", "stroke", "duration", "cut", "planned", "reason", "compute")
+"""A snare note's row's keys (:meth:`Outcome.to_dict`), in order; a planned one's impacts follow."""
+
+_FRAME = len(json_text(dict.fromkeys(_ROW + ("impacts",), 0))) - len(_ROW) - 1
+"""The characters of a planned row's text (json_text's) other than its values' (each 0 in the frame)."""
+
+_FRAME_DROPPED = len(json_text(dict.fromkeys(_ROW, 0))) - len(_ROW)
+"""The same of a dropped note's row, which has no impacts."""
+
+
+def _impacts_frame(n):
+    """The characters of the text of ``n`` impacts in a row (json_text's, nested at the row's depth) other than the
+    numbers' (each 0 in the frame)."""
+    return len(json_text({"impacts": [[0, 0]] * n})) - len(json_text({"impacts": 0})) + 1 - 2 * n
+
+
+_IMPACTS = _impacts_frame(0), _impacts_frame(1), _impacts_frame(2) - _impacts_frame(1)
+"""The frame of no impacts ("[]"), of one, and what each further one adds (the text grows by the same for each)."""
 
 
 def _json_bytes(row):
