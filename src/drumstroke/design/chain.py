@@ -542,6 +542,9 @@ class _Plan:
         # sin θ at the head and the top, the force range's torque rates (s⁻²): a plan's fields are not changed
         self.head, self.top, self.rates = _bounds(self.setup, self.highest)
         self.coefficients = self.recipe.coefficients
+        # the notes' times (s) and speeds (rad/s) as Python floats: a design's arithmetic on a few notes costs several
+        # times as much on numpy's scalars (the same operations on the same doubles)
+        self.note_times, self.note_speeds = self.times.tolist(), self.speeds.tolist()
 
     def build(self, drift):
         pieces, release, hold, theta0 = self.pieces()
@@ -555,7 +558,7 @@ class _Plan:
     def pieces(self):
         """The constant-force pieces on the recipe's clock, the release (notes' timeline), the hold (s) and θ₀."""
         pieces, release, hold, theta0 = self.approach()
-        times = self.times - release
+        times = [t - release for t in self.note_times]
         for i, flight in enumerate(self.flights()):
             t = times[i]
             if flight.first is not None:
@@ -564,7 +567,7 @@ class _Plan:
             pieces.append(Piece(t + flight.t_apex, t + flight.t_last, self.force_of(flight.fall), "fall", i))
             if flight.last is not None:
                 pieces.append(Piece(t + flight.t_last, times[i + 1], self.force_of(flight.last), "fall", i))
-        pieces.append(self.ending(self.recipe.cor * self.speeds[-1], times[-1], pieces))
+        pieces.append(self.ending(self.recipe.cor * self.note_speeds[-1], times[-1], pieces))
         return pieces, release, hold, theta0
 
     def flights(self):
@@ -613,7 +616,7 @@ class _Plan:
 
     def approach(self):
         """The pieces down to the first note, the release time, the hold and the start angle."""
-        v, t1, head = self.speeds[0], self.times[0], self.head
+        v, t1, head = self.note_speeds[0], self.note_times[0], self.head
         start = self.start
         if start is None:
             rate, height = self.throw(v)
@@ -644,7 +647,7 @@ class _Plan:
     def held_throw(self):
         """The throw from a start held at rest: (torque rate s⁻², duration s, release s), or the :class:`Unreachable`
         that refuses it, returned, not raised (:func:`next_stroke` tries this start first, and most are refused)."""
-        v, t1, head, start = self.speeds[0], self.times[0], self.head, self.start
+        v, t1, head, start = self.note_speeds[0], self.note_times[0], self.head, self.start
         s0 = math.sin(start.theta)
         if s0 <= head:
             return Unreachable("note 0: the start is at rest on the head; the stick must be lifted first (a move)",
@@ -695,8 +698,8 @@ class _Plan:
 
     def bounce(self, i, *, first=None, last=None):
         """The flight from note ``i`` to note ``i + 1`` (see :func:`~drumstroke.design.flight.solve_flight`)."""
-        u, v = self.recipe.cor * self.speeds[i], self.speeds[i + 1]
-        flight = solve_flight(self.times[i + 1] - self.times[i], u=u, v=v, sh=self.head, top=self.top, first=first,
+        u, v = self.recipe.cor * self.note_speeds[i], self.note_speeds[i + 1]
+        flight = solve_flight(self.note_times[i + 1] - self.note_times[i], u=u, v=v, sh=self.head, top=self.top, first=first,
                               last=last)
         if flight is None:
             self.unreachable(i + 1, u, "the bounce would rise above the joint's highest angle")
@@ -814,7 +817,7 @@ class _Plan:
         # Impacts.level_db of the notes' impacts, without its error state (a listed impact's ω is never 0)
         heard_levels = (20.0 * np.log10(np.abs(impacts.omega[:n]) * impacts.tip_distance / LEVEL_REFERENCE)).tolist()
         # the errors of a few notes in plain Python (numpy's calls cost more than the arithmetic)
-        time_errors = [abs(t - note) for t, note in zip(heard_t, self.times.tolist())]
+        time_errors = [abs(t - note) for t, note in zip(heard_t, self.note_times)]
         level_errors = [abs(level - note) for level, note in zip(heard_levels, self.levels.tolist())]
         worst = max(time_errors), max(level_errors)
         if worst[0] > drift[0] or worst[1] > drift[1]:
