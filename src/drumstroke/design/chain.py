@@ -813,9 +813,12 @@ class _Plan:
         if len(impacts) < n:
             raise SimulationError(f"the designed stroke made {len(impacts)} impacts for {n} notes (a bug: please "
                                   "report it with the notes)")
-        heard_t = (impacts.t[:n] + release).tolist()
-        # Impacts.level_db of the notes' impacts, without its error state (a listed impact's ω is never 0)
-        heard_levels = (20.0 * np.log10(np.abs(impacts.omega[:n]) * impacts.tip_distance / LEVEL_REFERENCE)).tolist()
+        # in plain Python but the logarithm, numpy's as before (numpy's calls on a note or two cost more than the
+        # arithmetic): Impacts.level_db of the notes' impacts, without its error state (a listed impact's ω is never 0)
+        heard_t = [t + release for t in impacts.t[:n].tolist()]
+        tip = impacts.tip_distance
+        heard_levels = [20.0 * x for x in np.log10([abs(w) * tip / LEVEL_REFERENCE
+                                                    for w in impacts.omega[:n].tolist()]).tolist()]
         # the errors of a few notes in plain Python (numpy's calls cost more than the arithmetic)
         time_errors = [abs(t - note) for t, note in zip(heard_t, self.note_times)]
         level_errors = [abs(level - note) for level, note in zip(heard_levels, self.levels.tolist())]

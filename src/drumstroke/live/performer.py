@@ -485,8 +485,11 @@ class Performer:
         if last is not None:
             made = last.source
             n = len(made.times)
-            if made.impacts.t[n - 1] >= cut:  # its last planned impact is still to come: bounce on from it
-                running = Start(float(made.impacts.t[n - 1]), setup.head, setup.cor * float(-made.impacts.omega[n - 1]))
+            # the design's impacts on the notes' timeline (Design.impacts makes them all afresh at each use)
+            impacts = made.stroke.impacts
+            heard = float(impacts.t[n - 1] + made.release)
+            if heard >= cut:  # its last planned impact is still to come: bounce on from it
+                running = Start(heard, setup.head, setup.cor * float(-impacts.omega[n - 1]))
             else:
                 theta, omega = state(cut)
                 if omega > 1e-9:  # its rebound still rises
@@ -764,5 +767,6 @@ def _played(made, start, moves):
     stroke = made.stroke
     lead_in = placed(moves, start) if moves else (
         (Segment.hold(float(made.recipe.theta0), start, made.release),) if made.release > start else ())
-    played = Segment._of(made.release, made.t_end, stroke.arcs.evaluate, made.release, stroke.impacts.t, made)
-    return Curve((*lead_in, played, Segment.hold(made.ends[1][0], made.t_end)))
+    t_end = made.t_end
+    played = Segment._of(made.release, t_end, stroke.arcs.evaluate, made.release, stroke.impacts.t, made)
+    return Curve((*lead_in, played, Segment.hold(made.ends[1][0], t_end)))
