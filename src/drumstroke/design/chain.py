@@ -62,6 +62,7 @@ from .flight import (
     solve_flight,
 )
 from .setup import FORCE_LIMIT, ForceRange, Setup  # noqa: F401 (FORCE_LIMIT and ForceRange: also drumstroke.design.chain's)
+from .throw import one_note
 
 HUMAN_FORCE = 250.0
 """The top of the human thumb's range of a(t) (m/s², paper §3.3: about 10 N on this stick)."""
@@ -557,6 +558,30 @@ class _Plan:
 
     def pieces(self):
         """The constant-force pieces on the recipe's clock, the release (notes' timeline), the hold (s) and θ₀."""
+        if len(self.note_times) == 1 and self.end == "catch" and (self.start is None or self.start.omega == 0.0):
+            thrown = self.one_note()
+            if thrown is not None:
+                return thrown
+        return self.pieces_in_python()
+
+    def one_note(self):
+        """:meth:`pieces` of one note thrown from rest and caught, in one compiled call (:mod:`.throw`); None where it
+        refuses them (the Python path says why)."""
+        start, co, (low, high) = self.start, self.coefficients, self.rates
+        held = start is not None
+        duration, force, release, height, t_last, end, caught = one_note(
+            self.note_speeds[0], self.note_times[0], held, math.sin(start.theta) if held else 0.0,
+            start.t if held else 0.0, math.nan if self.catch_at is None else math.sin(self.catch_at), self.lead,
+            self.recipe.cor, self.head, self.top, low, high, co.k, STANDARD_GRAVITY, co.k_thumb, co.inertia_ratio)
+        if math.isnan(duration):
+            return None
+        pieces = [Piece(0.0, duration, force, "approach", -1), Piece(t_last, end, caught, "end", 0)]
+        if held:
+            return pieces, release, max(release - start.t, 0.0), start.theta
+        return pieces, release, 0.0, math.asin(height)
+
+    def pieces_in_python(self):
+        """:meth:`pieces` step by step: any notes, starts and ends, and the refusals that say why."""
         pieces, release, hold, theta0 = self.approach()
         times = [t - release for t in self.note_times]
         for i, flight in enumerate(self.flights()):
