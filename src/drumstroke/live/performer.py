@@ -367,7 +367,8 @@ class Performer:
         reason = self._refusal(note)
         if reason:
             return Outcome(note, False, reason)
-        note = LiveNote(arrived, named, float(velocity), float(note.at), stroke, duration, cut, piece, key)
+        if type(velocity) is not float or type(note.at) is not float:  # (made again only to change them)
+            note = LiveNote(arrived, named, float(velocity), float(note.at), stroke, duration, cut, piece, key)
         if self.closed is not None:
             return Outcome(note, False, f"the performer closed at {self.closed:.6g} s")
         if self.recorded >= RECORD_BYTES:
@@ -440,13 +441,16 @@ class Performer:
         reason = self._piece_refusal(note)
         if reason:
             return reason
-        for name, value, low, high in (("velocity", note.velocity, 1.0, 127.0), ("at", note.at, -1e9, 1e9),
-                                       ("duration", note.duration, 0.0, 10.0)):
-            if value is None and name == "duration":
-                continue
-            if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) \
-                    or not low <= value <= high or (name == "duration" and value == 0.0):
-                return f"{name} must be a finite number in [{low:g}, {high:g}], got {value!r}"
+        velocity, at = note.velocity, note.at
+        if not ((type(velocity) is float or type(velocity) is int) and 1.0 <= velocity <= 127.0  # the usual note
+                and type(at) is float and -1e9 <= at <= 1e9 and note.duration is None):
+            for name, value, low, high in (("velocity", velocity, 1.0, 127.0), ("at", at, -1e9, 1e9),
+                                           ("duration", note.duration, 0.0, 10.0)):
+                if value is None and name == "duration":
+                    continue
+                if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) \
+                        or not low <= value <= high or (name == "duration" and value == 0.0):
+                    return f"{name} must be a finite number in [{low:g}, {high:g}], got {value!r}"
         if note.duration is not None and note.stroke != "buzz":
             return "only a buzz has a duration"
         if note.at > note.arrived + self.horizon:
