@@ -669,20 +669,23 @@ class _Plan:
         return ([Piece(0.0, rise, self.force_of(rise_rate), "approach", -1),
                  Piece(rise, duration, self.force_of(fall_rate), "approach", -1)], start.t, 0.0, start.theta)
 
-    def held_throw(self):
+    def held_throw(self, *, why=True):
         """The throw from a start held at rest: (torque rate s⁻², duration s, release s), or the :class:`Unreachable`
-        that refuses it, returned, not raised (:func:`next_stroke` tries this start first, and most are refused)."""
+        that refuses it, returned, not raised (:func:`next_stroke` tries this start first, and most are refused);
+        with ``why`` False, None instead (the caller asks again if it must say why: most never do)."""
         v, t1, head, start = self.note_speeds[0], self.note_times[0], self.head, self.start
         s0 = math.sin(start.theta)
         if s0 <= head:
             return Unreachable("note 0: the start is at rest on the head; the stick must be lifted first (a move)",
-                               note=0)
+                               note=0) if why else None
         rate = force_to_reach(v, s0 - head)
         if not self.within(rate):
-            return self.rate_refusal(0, rate, "the throw from the start")
+            return self.rate_refusal(0, rate, "the throw from the start") if why else None
         duration = height_time(s0, head) / v
         release = t1 - duration
         if release < start.t - 1e-9:  # a throw planned to fit exactly may land a rounding early
+            if not why:
+                return None
             return Unreachable(f"note 0 (t = {t1:.6g} s) needs a throw of {duration:.6g} s from the start at "
                                f"{start.theta:.4g} rad, but only {t1 - start.t:.6g} s are left; nearest reachable "
                                f"time {start.t + duration:.6g} s", note=0, nearest_time=start.t + duration)

@@ -244,14 +244,13 @@ def next_stroke(times, levels, setup, *, free, theta, omega=0.0, running=None, e
     def designed(start=None, lead=LEAD, *, held=False):
         """:func:`~drumstroke.design.chain.design` of the notes from ``start`` or a throw of ``lead`` s: the notes
         checked at the first design only, the later ones only their start. A ``held`` start (at rest) whose throw
-        is refused gives its refusal back, the error its design would raise first, without a design begun."""
+        is refused gives back its plan, which says why (the error its design would raise first) if asked, without a
+        design begun."""
         nonlocal plan
         plan = (_Plan.of(times, levels, None, start=start, end=end, setup=setup, lead=lead, tail=None,
                          catch_at=catch_at) if plan is None else plan.moved(start, lead))
-        if held:
-            refusal = plan.held_throw()
-            if isinstance(refusal, Unreachable):
-                return refusal
+        if held and plan.held_throw(why=False) is None:
+            return plan
         return plan.build(DRIFT)
 
     failure = None
@@ -274,9 +273,9 @@ def next_stroke(times, levels, setup, *, free, theta, omega=0.0, running=None, e
                 raise
             failure = failure or _kept(error)
         else:
-            if not isinstance(made, Unreachable):
+            if not isinstance(made, _Plan):
                 return made, []
-            failure, made = failure or made, None  # this frame may raise it: no reference cycle through its traceback
+            failure, made = failure or made, None  # its refusal, said if raised (most notes are thrown another way)
     first = None  # the first note's time (s) and level (dB), once standard_throw has checked them
     for lead in LEADS:
         try:  # where the throw starts, in closed form: a stroke is designed and simulated only if the move fits
@@ -307,6 +306,8 @@ def next_stroke(times, levels, setup, *, free, theta, omega=0.0, running=None, e
                             setup.moves)
         if moves is not None:
             return made, moves
+    if isinstance(failure, _Plan):  # the held throw's refusal, said now
+        failure = failure.held_throw()
     try:
         raise failure
     finally:
