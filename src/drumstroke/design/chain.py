@@ -996,12 +996,18 @@ def _check_placed(start, times, stick):
 def _vector(name, values, *, low, high, unit):
     """:func:`~drumstroke._checks.check_vector`'s array, its usual case (every entry in range) checked in plain Python.
 
-    At every design: numpy's reductions cost more than the check on a few notes.
+    At every design: numpy's reductions cost more than the check on a few notes. An array of doubles already (a
+    planner's notes) is taken as it is, as :func:`~drumstroke._checks.as_vector` would.
     """
-    vector = as_vector(name, values)
-    if all(low <= x <= high for x in vector.tolist()):  # NaN fails every comparison
-        return vector
-    return check_vector(name, values, low=low, high=high, unit=unit)
+    is_doubles = type(values) is np.ndarray and values.dtype is _DOUBLE and values.ndim == 1
+    vector = values if is_doubles else as_vector(name, values)
+    for x in vector.tolist():  # a loop, not a generator: at every design
+        if not low <= x <= high:  # NaN fails every comparison
+            return check_vector(name, values, low=low, high=high, unit=unit)
+    return vector
+
+
+_DOUBLE = np.dtype(float)
 
 
 def _accumulation(u, rate, head, cor):
