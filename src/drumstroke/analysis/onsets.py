@@ -373,6 +373,9 @@ class OnsetConfig:
     soft_contact : float in [0, 0.02]
         s: the longest contact (a half sine) the signature is smoothed by to look like a softer stroke's
         (step 4; 0: only the signature itself).
+    bounce_reach : float in [0, 0.5]
+        s: how far after an attack a quieter one is sought where the template's start fits what is
+        left, whatever it rises (step 5; 0: not at all).
     new_sound_db : float in [-120, 0]
         dB re the sound at an attack: the least its own sound (the earlier attacks' taken off as in
         step 6, over ``peak_window`` s) may be for it to be an attack (step 5; -120: every one is).
@@ -449,6 +452,7 @@ class OnsetConfig:
     new_sound_db: float = -20.0
     soft_jump: float = 3.0
     soft_contact: float = 3e-3
+    bounce_reach: float = 20e-3
 
     def __post_init__(self):
         for name, (low, high, unit) in _RANGES.items():
@@ -492,6 +496,7 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "peak_window": (1e-3, 0.1, "s"), "peak_reach": (0.01, 2.0, "s"), "peak_templates": (0, 100, ""),
     "peak_clear_db": (-120.0, 0.0, "dB"), "new_sound_db": (-120.0, 0.0, "dB"),
     "soft_jump": (1.0, 100.0, "(RMS ratio)"), "soft_contact": (0.0, 0.02, "s"),
+    "bounce_reach": (0.0, 0.5, "s"),
 }
 
 
@@ -611,6 +616,9 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        to each in time order (``template_fit``, ``template_reach``) and taken off, it times those over
        earlier sound where it correlates by ``template_likeness``, and finds new ones where its start
        (``template_head``) correlates so with what is left and that rises ``min_jump`` times.
+       :func:`_close_bounces`: up to ``bounce_reach`` s after each attack, a quieter one (a bouncing
+       stick's next impact, ``after_ratio_low`` to ``after_ratio_high`` times it) where the template's
+       start and its first ``template_fit`` s correlate so with what is left, however little it rises.
        :func:`_level_band`. An onset's amplitude is the peak of its own sound in the drum's lowest
        modes (the band up to ``level_ratio`` times its lowest strong mode, ≥ ``level_band`` Hz,
        decimated to 2.5 times that: a stick's speed sets their amplitude in proportion, while the
@@ -713,6 +721,7 @@ def _detected(signal, rate, config, source, info):
     candidates = _first_transients(d, rate, candidates.take(candidates.attack), config)
     found = candidates.times
     candidates = _fit_template(band, d, rate, candidates, config)
+    candidates = _close_bounces(band, d, rate, candidates, config)
     levels = _level_band(band, rate, q, first, config)
     amplitude = levels.amplitudes(_measured_at(candidates, found, rate, config), modes.reverberant, config)
     candidates, amplitude = _one_attack_each(d, rate, candidates, amplitude, config)
@@ -1261,6 +1270,90 @@ def _fit_template(band, d, rate, candidates, config):
     if not np.all(np.diff(times) > 0):
         return candidates
     return _Candidates(times, np.array(kinds, dtype=np.int64), np.ones(len(times), dtype=bool), np.array(likeness))
+
+
+def _close_bounces(band, d, rate, candidates, config):
+    """Step 5: a quieter attack up to ``bounce_reach`` s after an attack, found where the template's start fits what is left.
+
+    A dropped stick's last bounces come 4-17 ms apart, each a dB or two quieter than the one before,
+    while a recorded snare's sound peaks 1-9 ms after its start: a bounce starts under the earlier
+    one's sound still at its loudest, and what is left of that sound once the template is taken off
+    (:func:`_fit_template`) is as loud over a millisecond as the new bounce's lead-in. The remainder
+    does not rise there (:func:`_next_attack` asks it to), but its shape is the template's start. In
+    time order, each attack is fitted by the template (its scale by least squares over
+    ``template_fit`` s or up to the next attack, at its time) and taken off; between it and
+    ``bounce_reach`` s after it (``min_interval`` from it and from the next attack), the first sample
+    where the template's start (``template_head`` s) correlates by ``template_likeness`` with what is
+    left, scaled ``after_ratio_low`` to ``after_ratio_high`` times that attack (a bouncing stick's
+    next impact, not what is left of the earlier one), and the template over ``template_fit`` s (or
+    up to the next attack) correlates so too (a drum's beating modes left over often look like its
+    start alone: our synthetic drum without snares), is an attack (moved to the best correlation of
+    the start within ``template_reach`` s after), of kind 3, fitted and sought after in turn. ``d`` is
+    the magnitude of ``band``'s first difference.
+    """
+    if config.bounce_reach <= 0.0 or not len(candidates):
+        return candidates
+    template, offset = _template(band, d, rate, candidates.times, config)
+    if template is None:
+        return candidates
+    pre = round(0.5e-3 * rate)
+    gap = max(1, round(config.min_interval * rate))
+    head = template[:pre + round(config.template_head * rate)]
+    remainder = band.copy()
+    times, kinds, likeness = list(candidates.times), list(candidates.kinds), list(candidates.likeness)
+    count, k = len(times), 0
+    while k < len(times):
+        c = round(times[k])
+        following = round(times[k + 1]) if k + 1 < len(times) else len(remainder)
+        span = min(max(pre + round(1e-3 * rate), min(pre + round(config.template_fit * rate), following - c)),
+                   len(template), len(remainder) - c + pre)
+        k += 1
+        if c < pre or span <= pre:
+            continue
+        scale = float(remainder[c - pre:c - pre + span] @ template[:span] / (template[:span] @ template[:span]))
+        stop = min(len(remainder), c - pre + len(template))
+        remainder[c - pre:stop] -= scale * template[:stop - c + pre]
+        low = c + gap
+        high = min(following - gap, c + round(config.bounce_reach * rate), len(remainder) - len(head) + pre)
+        new = (_bounce_after(remainder, template, head, low, high, following, pre, scale, rate, config)
+               if scale > 0.0 else None)
+        if new is not None:
+            at, like = new
+            times.insert(k, at + offset)
+            kinds.insert(k, 3)
+            likeness.insert(k, like)
+    if len(times) == count:
+        return candidates
+    return _Candidates(np.array(times), np.array(kinds, dtype=np.int64), np.ones(len(times), dtype=bool),
+                       np.array(likeness))
+
+
+def _bounce_after(remainder, template, head, low, high, following, pre, scale, rate, config):
+    """:func:`_close_bounces`' search in ``[low, high)``: the first sample where ``head`` (``template``'s start) fits
+    ``remainder`` and the template over ``template_fit`` s (up to ``following``) does too, moved to the best
+    correlation within ``template_reach`` s after; and that correlation; or None.
+    """
+    if high <= low:
+        return None
+    window = remainder[low - pre:high - pre + len(head) - 1]
+    energy = float(head @ head)
+    dots = np.correlate(window, head, "valid")
+    power = np.concatenate(([0.0], np.cumsum(window * window)))
+    like = dots / np.sqrt(np.maximum((power[len(head):] - power[:-len(head)]) * energy, 1e-300))
+    ratio = dots / (energy * scale)
+    fits = np.flatnonzero((like >= config.template_likeness) & (ratio >= config.after_ratio_low)
+                          & (ratio <= config.after_ratio_high))
+    reach, least = round(config.template_reach * rate), max(1, round(1e-3 * rate))
+    for n in fits.tolist():  # the head's fit alone is often met in a drum's ringing (its modes beating) too
+        at = low + n
+        span = min(max(pre + least, min(pre + round(config.template_fit * rate), following - at)), len(template),
+                   len(remainder) - at + pre)
+        piece, whole = template[:span], remainder[at - pre:at - pre + span]
+        fitted = float(piece @ whole) / np.sqrt(max(float(piece @ piece) * float(whole @ whole), 1e-300))
+        if fitted >= config.template_likeness:
+            best = n + int(np.argmax(like[n:n + reach + 1]))
+            return low + best, float(like[best])
+    return None
 
 
 def _measured_at(candidates, found, rate, config):
