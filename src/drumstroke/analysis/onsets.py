@@ -1337,9 +1337,13 @@ def _bounce_after(remainder, template, head, low, high, following, pre, scale, r
         return None
     window = remainder[low - pre:high - pre + len(head) - 1]
     energy = float(head @ head)
-    dots = np.correlate(window, head, "valid")
     power = np.concatenate(([0.0], np.cumsum(window * window)))
-    like = dots / np.sqrt(np.maximum((power[len(head):] - power[:-len(head)]) * energy, 1e-300))
+    own = power[len(head):] - power[:-len(head)]
+    # a fit scaled after_ratio_low times the attack needs that much energy in the window (Cauchy-Schwarz)
+    if not own.max(initial=0.0) >= (config.after_ratio_low * scale) ** 2 * energy:
+        return None
+    dots = np.correlate(window, head, "valid")
+    like = dots / np.sqrt(np.maximum(own * energy, 1e-300))
     ratio = dots / (energy * scale)
     fits = np.flatnonzero((like >= config.template_likeness) & (ratio >= config.after_ratio_low)
                           & (ratio <= config.after_ratio_high))
