@@ -376,6 +376,10 @@ class OnsetConfig:
     bounce_reach : float in [0, 0.5]
         s: how far after an attack a quieter one is sought where the template's start fits what is
         left, whatever it rises (step 5; 0: not at all).
+    refused_likeness : float in [0, 1]
+        Correlation: the least of the template's fit (its first ``template_fit`` s and its start) at an
+        onset refused in step 4, ``signature`` s or more after the attack before it, for it to be an
+        attack after all (step 5; 1: none is).
     new_sound_db : float in [-120, 0]
         dB re the sound at an attack: the least its own sound (the earlier attacks' taken off as in
         step 6, over ``peak_window`` s) may be for it to be an attack (step 5; -120: every one is).
@@ -453,6 +457,7 @@ class OnsetConfig:
     soft_jump: float = 3.0
     soft_contact: float = 3e-3
     bounce_reach: float = 20e-3
+    refused_likeness: float = 0.8
 
     def __post_init__(self):
         for name, (low, high, unit) in _RANGES.items():
@@ -496,7 +501,7 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "peak_window": (1e-3, 0.1, "s"), "peak_reach": (0.01, 2.0, "s"), "peak_templates": (0, 100, ""),
     "peak_clear_db": (-120.0, 0.0, "dB"), "new_sound_db": (-120.0, 0.0, "dB"),
     "soft_jump": (1.0, 100.0, "(RMS ratio)"), "soft_contact": (0.0, 0.02, "s"),
-    "bounce_reach": (0.0, 0.5, "s"),
+    "bounce_reach": (0.0, 0.5, "s"), "refused_likeness": (0.0, 1.0, "(correlation)"),
 }
 
 
@@ -616,9 +621,11 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        to each in time order (``template_fit``, ``template_reach``) and taken off, it times those over
        earlier sound where it correlates by ``template_likeness``, and finds new ones where its start
        (``template_head``) correlates so with what is left and that rises ``min_jump`` times.
-       :func:`_close_bounces`: up to ``bounce_reach`` s after each attack, a quieter one (a bouncing
+       :func:`_template_search`: up to ``bounce_reach`` s after each attack, a quieter one (a bouncing
        stick's next impact, ``after_ratio_low`` to ``after_ratio_high`` times it) where the template's
-       start and its first ``template_fit`` s correlate so with what is left, however little it rises.
+       start and its first ``template_fit`` s correlate so with what is left, however little it rises;
+       else an onset step 4 refused, ``signature`` s or more after it, where both correlate by
+       ``refused_likeness``.
        :func:`_level_band`. An onset's amplitude is the peak of its own sound in the drum's lowest
        modes (the band up to ``level_ratio`` times its lowest strong mode, ≥ ``level_band`` Hz,
        decimated to 2.5 times that: a stick's speed sets their amplitude in proportion, while the
@@ -718,10 +725,11 @@ def _detected(signal, rate, config, source, info):
         candidates = _last_round(modes, candidates, rate, config)
     candidates = _search_after_louder(modes, candidates, rate, config)
     candidates = _impulsive(modes, candidates, rate, config)
+    refused = candidates.times[~candidates.attack]
     candidates = _first_transients(d, rate, candidates.take(candidates.attack), config)
     found = candidates.times
     candidates = _fit_template(band, d, rate, candidates, config)
-    candidates = _close_bounces(band, d, rate, candidates, config)
+    candidates = _template_search(band, d, rate, candidates, refused, config)
     levels = _level_band(band, rate, q, first, config)
     amplitude = levels.amplitudes(_measured_at(candidates, found, rate, config), modes.reverberant, config)
     candidates, amplitude = _one_attack_each(d, rate, candidates, amplitude, config)
@@ -1272,26 +1280,36 @@ def _fit_template(band, d, rate, candidates, config):
     return _Candidates(times, np.array(kinds, dtype=np.int64), np.ones(len(times), dtype=bool), np.array(likeness))
 
 
-def _close_bounces(band, d, rate, candidates, config):
-    """Step 5: a quieter attack up to ``bounce_reach`` s after an attack, found where the template's start fits what is left.
+def _template_search(band, d, rate, candidates, refused, config):
+    """Step 5: attacks the stages before missed, found by fitting the template where they did not look or look enough.
 
-    A dropped stick's last bounces come 4-17 ms apart, each a dB or two quieter than the one before,
-    while a recorded snare's sound peaks 1-9 ms after its start: a bounce starts under the earlier
-    one's sound still at its loudest, and what is left of that sound once the template is taken off
-    (:func:`_fit_template`) is as loud over a millisecond as the new bounce's lead-in. The remainder
-    does not rise there (:func:`_next_attack` asks it to), but its shape is the template's start. In
-    time order, each attack is fitted by the template (its scale by least squares over
-    ``template_fit`` s or up to the next attack, at its time) and taken off; between it and
-    ``bounce_reach`` s after it (``min_interval`` from it and from the next attack), the first sample
-    where the template's start (``template_head`` s) correlates by ``template_likeness`` with what is
-    left, scaled ``after_ratio_low`` to ``after_ratio_high`` times that attack (a bouncing stick's
-    next impact, not what is left of the earlier one), and the template over ``template_fit`` s (or
-    up to the next attack) correlates so too (a drum's beating modes left over often look like its
-    start alone: our synthetic drum without snares), is an attack (moved to the best correlation of
-    the start within ``template_reach`` s after), of kind 3, fitted and sought after in turn. ``d`` is
-    the magnitude of ``band``'s first difference.
+    *A quieter attack close after an attack.* A dropped stick's last bounces come 4-17 ms apart, each
+    a dB or two quieter than the one before, while a recorded snare's sound peaks 1-9 ms after its
+    start: a bounce starts under the earlier one's sound still at its loudest, and what is left of
+    that sound once the template is taken off (:func:`_fit_template`) is as loud over a millisecond
+    as the new bounce's lead-in. The remainder does not rise there (:func:`_next_attack` asks it to),
+    but its shape is the template's start. In time order, each attack is fitted by the template (its
+    scale by least squares over ``template_fit`` s or up to the next attack, at its time) and taken
+    off; between it and ``bounce_reach`` s after it (``min_interval`` from it and from the next
+    attack), the first sample where the template's start (``template_head`` s) correlates by
+    ``template_likeness`` with what is left, scaled ``after_ratio_low`` to ``after_ratio_high`` times
+    that attack (a bouncing stick's next impact, not what is left of the earlier one), and the
+    template over ``template_fit`` s (or up to the next attack) correlates so too (a drum's beating
+    modes left over often look like its start alone: our synthetic drum without snares), is an attack
+    (moved to the best correlation of the start within ``template_reach`` s after).
+
+    *An onset step 4 refused, a second opinion* (:func:`_refused_fit`). A ghost note 50-120 ms after
+    an accent, on a quieter velocity layer of a sample (TimGM6mb's snare: its velocity filter), leaves
+    the modes' band a signature unlike the accent's, and step 4 refuses it; at full rate, with the
+    earlier attacks taken off, the recording's own attack still fits it (0.83-0.97 over
+    ``template_fit`` s). Where no close bounce is found, the first ``refused`` onset (full-rate
+    samples) ``signature`` s or more after the attack (``min_interval`` before the next) where the
+    template fits by ``refused_likeness`` is an attack, at the template's lag.
+
+    Each attack found is of kind 3, fitted and sought after in turn. ``d`` is the magnitude of
+    ``band``'s first difference.
     """
-    if config.bounce_reach <= 0.0 or not len(candidates):
+    if not len(candidates):
         return candidates
     template, offset = _template(band, d, rate, candidates.times, config)
     if template is None:
@@ -1317,6 +1335,9 @@ def _close_bounces(band, d, rate, candidates, config):
         high = min(following - gap, c + round(config.bounce_reach * rate), len(remainder) - len(head) + pre)
         new = (_bounce_after(remainder, template, head, low, high, following, pre, scale, rate, config)
                if scale > 0.0 else None)
+        if new is None:
+            new = _refused_fit(remainder, template, head, refused, c + round(config.signature * rate),
+                               min(following - gap, len(remainder) - len(head) + pre), pre, rate, config)
         if new is not None:
             at, like = new
             times.insert(k, at + offset)
@@ -1328,8 +1349,37 @@ def _close_bounces(band, d, rate, candidates, config):
                        np.array(likeness))
 
 
+def _refused_fit(remainder, template, head, refused, low, high, pre, rate, config):
+    """:func:`_template_search`'s second opinion: the first of the ``refused`` onsets (full-rate samples) in
+    ``[low, high)`` where the template fits ``remainder``, at the lag of its best fit (and that fit's correlation);
+    or None.
+
+    The template's first ``template_fit`` s, at the lag of best correlation within ``template_reach`` s, must
+    correlate by ``refused_likeness`` and scale ``threshold_db`` or more re the template, and its start
+    (``template_head`` s) there by ``refused_likeness`` too (what is left of an earlier note's ringing, a room's
+    echo, fits the whole template less than a new note's start does: 0.77-0.79 and 0.6 at FluidSynth's reverb's
+    echoes 84 ms after a note).
+    """
+    span = min(pre + round(config.template_fit * rate), len(template))
+    reach, least = round(config.template_reach * rate), 10.0 ** (config.threshold_db / 20.0)
+    energy = float(head @ head)
+    for t in refused[(refused >= max(low, pre + reach)) & (refused < high - reach)].tolist():
+        c = round(t)
+        # the start's correlation at every lag first: it is cheaper, and it seldom passes where no note starts
+        window = remainder[c - pre - reach:c - pre + reach + len(head)]
+        power = np.concatenate(([0.0], np.cumsum(window * window)))
+        starts = np.correlate(window, head, "valid") / np.sqrt(
+            np.maximum((power[len(head):] - power[:-len(head)]) * energy, 1e-300))
+        if not starts.max() >= config.refused_likeness:
+            continue
+        lag, scale, like = _best_lag(remainder, template[:span], c - pre, reach)
+        if like >= config.refused_likeness and scale >= least and starts[lag + reach] >= config.refused_likeness:
+            return c + lag, like
+    return None
+
+
 def _bounce_after(remainder, template, head, low, high, following, pre, scale, rate, config):
-    """:func:`_close_bounces`' search in ``[low, high)``: the first sample where ``head`` (``template``'s start) fits
+    """:func:`_template_search`' search in ``[low, high)``: the first sample where ``head`` (``template``'s start) fits
     ``remainder`` and the template over ``template_fit`` s (up to ``following``) does too, moved to the best
     correlation within ``template_reach`` s after; and that correlation; or None.
     """
