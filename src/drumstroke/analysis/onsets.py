@@ -1309,105 +1309,26 @@ def _template_search(band, d, rate, candidates, refused, config):
     Each attack found is of kind 3, fitted and sought after in turn. ``d`` is the magnitude of
     ``band``'s first difference.
     """
+    from ._attacks import template_search
+
     if not len(candidates):
         return candidates
     template, offset = _template(band, d, rate, candidates.times, config)
     if template is None:
         return candidates
     pre = round(0.5e-3 * rate)
-    gap = max(1, round(config.min_interval * rate))
-    head = template[:pre + round(config.template_head * rate)]
-    remainder = band.copy()
-    times, kinds, likeness = list(candidates.times), list(candidates.kinds), list(candidates.likeness)
-    count, k = len(times), 0
-    while k < len(times):
-        c = round(times[k])
-        following = round(times[k + 1]) if k + 1 < len(times) else len(remainder)
-        span = min(max(pre + round(1e-3 * rate), min(pre + round(config.template_fit * rate), following - c)),
-                   len(template), len(remainder) - c + pre)
-        k += 1
-        if c < pre or span <= pre:
-            continue
-        scale = float(remainder[c - pre:c - pre + span] @ template[:span] / (template[:span] @ template[:span]))
-        stop = min(len(remainder), c - pre + len(template))
-        remainder[c - pre:stop] -= scale * template[:stop - c + pre]
-        low = c + gap
-        high = min(following - gap, c + round(config.bounce_reach * rate), len(remainder) - len(head) + pre)
-        new = (_bounce_after(remainder, template, head, low, high, following, pre, scale, rate, config)
-               if scale > 0.0 else None)
-        if new is None:
-            new = _refused_fit(remainder, template, head, refused, c + round(config.signature * rate),
-                               min(following - gap, len(remainder) - len(head) + pre), pre, rate, config)
-        if new is not None:
-            at, like = new
-            times.insert(k, at + offset)
-            kinds.insert(k, 3)
-            likeness.insert(k, like)
-    if len(times) == count:
+    found, likes = template_search(band.copy(), template, template[:pre + round(config.template_head * rate)],
+                                   np.ascontiguousarray(candidates.times, dtype=float),
+                                   np.ascontiguousarray(refused, dtype=float), offset, pre,
+                                   max(1, round(config.min_interval * rate)), round(1e-3 * rate),
+                                   round(config.template_fit * rate), round(config.bounce_reach * rate),
+                                   round(config.signature * rate), round(config.template_reach * rate),
+                                   config.template_likeness, config.refused_likeness, config.after_ratio_low,
+                                   config.after_ratio_high, 10.0 ** (config.threshold_db / 20.0))
+    if not len(found):
         return candidates
-    return _Candidates(np.array(times), np.array(kinds, dtype=np.int64), np.ones(len(times), dtype=bool),
-                       np.array(likeness))
-
-
-def _refused_fit(remainder, template, head, refused, low, high, pre, rate, config):
-    """:func:`_template_search`'s second opinion: the first of the ``refused`` onsets (full-rate samples) in
-    ``[low, high)`` where the template fits ``remainder``, at the lag of its best fit (and that fit's correlation);
-    or None.
-
-    The template's first ``template_fit`` s, at the lag of best correlation within ``template_reach`` s, must
-    correlate by ``refused_likeness`` and scale ``threshold_db`` or more re the template, and its start
-    (``template_head`` s) there by ``refused_likeness`` too (what is left of an earlier note's ringing, a room's
-    echo, fits the whole template less than a new note's start does: 0.77-0.79 and 0.6 at FluidSynth's reverb's
-    echoes 84 ms after a note).
-    """
-    span = min(pre + round(config.template_fit * rate), len(template))
-    reach, least = round(config.template_reach * rate), 10.0 ** (config.threshold_db / 20.0)
-    energy = float(head @ head)
-    for t in refused[(refused >= max(low, pre + reach)) & (refused < high - reach)].tolist():
-        c = round(t)
-        # the start's correlation at every lag first: it is cheaper, and it seldom passes where no note starts
-        window = remainder[c - pre - reach:c - pre + reach + len(head)]
-        power = np.concatenate(([0.0], np.cumsum(window * window)))
-        starts = np.correlate(window, head, "valid") / np.sqrt(
-            np.maximum((power[len(head):] - power[:-len(head)]) * energy, 1e-300))
-        if not starts.max() >= config.refused_likeness:
-            continue
-        lag, scale, like = _best_lag(remainder, template[:span], c - pre, reach)
-        if like >= config.refused_likeness and scale >= least and starts[lag + reach] >= config.refused_likeness:
-            return c + lag, like
-    return None
-
-
-def _bounce_after(remainder, template, head, low, high, following, pre, scale, rate, config):
-    """:func:`_template_search`' search in ``[low, high)``: the first sample where ``head`` (``template``'s start) fits
-    ``remainder`` and the template over ``template_fit`` s (up to ``following``) does too, moved to the best
-    correlation within ``template_reach`` s after; and that correlation; or None.
-    """
-    if high <= low:
-        return None
-    window = remainder[low - pre:high - pre + len(head) - 1]
-    energy = float(head @ head)
-    power = np.concatenate(([0.0], np.cumsum(window * window)))
-    own = power[len(head):] - power[:-len(head)]
-    # a fit scaled after_ratio_low times the attack needs that much energy in the window (Cauchy-Schwarz)
-    if not own.max(initial=0.0) >= (config.after_ratio_low * scale) ** 2 * energy:
-        return None
-    dots = np.correlate(window, head, "valid")
-    like = dots / np.sqrt(np.maximum(own * energy, 1e-300))
-    ratio = dots / (energy * scale)
-    fits = np.flatnonzero((like >= config.template_likeness) & (ratio >= config.after_ratio_low)
-                          & (ratio <= config.after_ratio_high))
-    reach, least = round(config.template_reach * rate), max(1, round(1e-3 * rate))
-    for n in fits.tolist():  # the head's fit alone is often met in a drum's ringing (its modes beating) too
-        at = low + n
-        span = min(max(pre + least, min(pre + round(config.template_fit * rate), following - at)), len(template),
-                   len(remainder) - at + pre)
-        piece, whole = template[:span], remainder[at - pre:at - pre + span]
-        fitted = float(piece @ whole) / np.sqrt(max(float(piece @ piece) * float(whole @ whole), 1e-300))
-        if fitted >= config.template_likeness:
-            best = n + int(np.argmax(like[n:n + reach + 1]))
-            return low + best, float(like[best])
-    return None
+    merged, fresh = candidates.insert(found, attack=True, likeness=likes)
+    return replace(merged, kinds=np.where(fresh, 3, merged.kinds))
 
 
 def _measured_at(candidates, found, rate, config):
