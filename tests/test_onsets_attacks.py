@@ -27,7 +27,7 @@ def _note(rng):
 
 def _search(signal, template, times, refused, bounce=960):
     return template_search(signal.copy(), template, template[:PRE + 144], np.asarray(times, dtype=float),
-                           np.asarray(refused, dtype=float), 0.0, PRE, 96, 48, 480, bounce, 2400, 120, 0.8, 0.8,
+                           np.zeros(len(times)), np.asarray(refused, dtype=float), 0.0, PRE, 96, 48, 480, bounce, 2400, 120, 0.8, 0.8,
                            0.35, 1.5, 0.01)
 
 

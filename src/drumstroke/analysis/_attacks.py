@@ -13,13 +13,14 @@ from .._jit import jit
 
 
 @jit(error_model="numpy")
-def template_search(remainder, template, head, times, refused, offset, pre, gap, shortest, fit, bounce, signature, reach,
-                    likeness, refused_likeness, ratio_low, ratio_high, least):
+def template_search(remainder, template, head, times, shifts, refused, offset, pre, gap, shortest, fit, bounce,
+                    signature, reach, likeness, refused_likeness, ratio_low, ratio_high, least):
     """:func:`.onsets._template_search`'s loop over the attacks at ``times`` (full-rate samples, in order).
 
     ``remainder`` (the band, changed in place) less each attack's fitted ``template`` (``pre`` samples before its
-    attack; ``head`` its start); ``refused`` the onsets step 4 refused (samples, in order); ``offset`` the template's
-    attack less its whole sample; ``gap``, ``shortest`` (the shortest fit), ``fit``, ``bounce``, ``signature`` and
+    attack; ``head`` its start), each at ``times`` less ``shifts`` (rounded: an attack the template timed at its
+    fit's sample, ``offset`` the template's attack less its whole sample); ``refused`` the onsets step 4 refused
+    (samples, in order); ``gap``, ``shortest`` (the shortest fit), ``fit``, ``bounce``, ``signature`` and
     ``reach`` in samples. Returns the attacks found (their times, in order) and each one's correlation.
     """
     n, size = len(remainder), len(template)
@@ -30,13 +31,12 @@ def template_search(remainder, template, head, times, refused, offset, pre, gap,
     i, pending = 0, -1.0
     while True:
         if pending >= 0.0:
-            t, pending = pending, -1.0
+            c, pending = int(np.rint(pending - offset)), -1.0  # where the template's attack fell
         elif i < len(times):
-            t, i = times[i], i + 1
+            c, i = int(np.rint(times[i] - shifts[i])), i + 1
         else:
             break
-        c = int(np.rint(t))
-        following = int(np.rint(times[i])) if i < len(times) else n
+        following = int(np.rint(times[i] - shifts[i])) if i < len(times) else n
         span = min(max(pre + shortest, min(pre + fit, following - c)), size, n - c + pre)
         if c < pre or span <= pre:
             continue

@@ -1323,6 +1323,7 @@ def _template_search(band, d, rate, candidates, refused, config):
     pre = round(0.5e-3 * rate)
     found, likes = template_search(band.copy(), template, template[:pre + round(config.template_head * rate)],
                                    np.ascontiguousarray(candidates.times, dtype=float),
+                                   np.where(candidates.kinds == 3, offset, 0.0),  # the template's timed, at its sample
                                    np.ascontiguousarray(refused, dtype=float), offset, pre,
                                    max(1, round(config.min_interval * rate)), round(1e-3 * rate),
                                    round(config.template_fit * rate), round(config.bounce_reach * rate),
