@@ -456,7 +456,7 @@ class OnsetConfig:
     new_sound_db: float = -20.0
     soft_jump: float = 3.0
     soft_contact: float = 3e-3
-    bounce_reach: float = 20e-3
+    bounce_reach: float = 25e-3
     refused_likeness: float = 0.8
 
     def __post_init__(self):
