@@ -27,7 +27,7 @@ def template_search(remainder, template, head, times, shifts, refused, offset, p
     head_energy = 0.0
     for j in range(len(head)):
         head_energy += head[j] * head[j]
-    found, likes = [], []
+    found, likes, count = np.empty(n // max(gap, 1) + 1), np.empty(n // max(gap, 1) + 1), 0  # each new one gap after
     i, pending = 0, -1.0
     while True:
         if pending >= 0.0:
@@ -54,9 +54,8 @@ def template_search(remainder, template, head, times, shifts, refused, offset, p
                                     least)
         if at >= 0:
             pending = at + offset
-            found.append(pending)
-            likes.append(like)
-    return np.array(found), np.array(likes)
+            found[count], likes[count], count = pending, like, count + 1
+    return found[:count].copy(), likes[:count].copy()
 
 
 @jit(error_model="numpy")
