@@ -157,7 +157,7 @@ def test_attacks_over_ringing_are_timed_and_found_by_the_recordings_own_attack(n
 
 @pytest.mark.parametrize("set_name, condition, most_95, most_median", [
     ("singles", "dry", 0.1, 0.05), ("singles", "noise60", 0.5, 0.1), ("roll", "dry", 5.0, 0.1),
-    ("roll", "noise60", 2.8, 0.2), ("flams", "dry", 1.5, 0.6), ("flams", "noise60", 1.0, 0.3),
+    ("roll", "noise60", 2.9, 0.2), ("flams", "dry", 1.5, 0.6), ("flams", "noise60", 1.0, 0.3),
 ])
 def test_peaks_of_loud_notes_found(detected, set_name, condition, most_95, most_median):
     """peak_db (each onset's broadband peak, the earlier notes' sound taken off, dB re the loudest onset's) less the
@@ -165,8 +165,9 @@ def test_peaks_of_loud_notes_found(detected, set_name, condition, most_95, most_
     percentile and median (absolute), the figures reached a little over.
 
     Measured (both SoundFonts' snare 38 pooled): 95th percentile 0.01, 0.21, 4.85, 2.63, 1.28, 0.83 dB (rolls at
-    -60 dBFS: 2.18 over 49 notes before the softer strokes' attacks were found, 2.63 over 54 now: the 5 ghost notes
-    gained read 2.0-2.9 dB high, the accent's sound not all taken off them); median
+    -60 dBFS: 2.18 over 49 notes before the softer strokes' attacks were found, 2.63 over 54 after: the 5 ghost notes
+    gained read 2.0-2.9 dB high, the accent's sound not all taken off them; 2.81 over 56 once the template's second
+    opinion on refused onsets found two more ghost notes, one of FluidR3's reading 6.0 dB high); median
     0.00-0.48 dB (level_db, the lowest modes' amplitude: 1.9-22.9 dB at the 95th percentile). The issue's 1 dB is
     reached on singles and flams with noise; in rolls a ghost note 100 ms after an accent is 2-26 dB off where a
     template holds a ghost note the detector missed (taken off the later ghost at the same distance), and
@@ -268,10 +269,12 @@ def test_a_softer_strokes_attack_is_its_signature_smoothed_by_a_longer_contact()
 def test_ghost_notes_of_a_softer_sample_are_found():
     """TimGM6mb's snare 38 in a roll at -72 dBFS noise: its ghost notes (low-passed by the SoundFont's velocity filter)
     start unlike the accent's signature; 25 of the 30 loud notes within 1 ms, all the detections right, where
-    without the softer strokes' likeness (``soft_jump=100``) 23."""
+    without the softer strokes' likeness (``soft_jump=100``) 23 (and without the template's second opinion on the
+    onsets refused, ``refused_likeness=1``, which finds them too)."""
     recording = _corpus_recording("TimGM6mb 38 roll", "noise72")
     figures = score(recording, find_onsets(recording.signal, RATE).t)
-    off = score(recording, find_onsets(recording.signal, RATE, config=OnsetConfig(soft_jump=100.0)).t)
+    off = score(recording, find_onsets(recording.signal, RATE,
+                                       config=OnsetConfig(soft_jump=100.0, refused_likeness=1.0)).t)
     assert figures["within_1ms"] >= 25 and figures["correct_5ms"] == figures["found"]
     assert off["within_1ms"] <= 23
 
@@ -313,3 +316,30 @@ def test_a_level_is_measured_again_where_its_window_was_cut_at_a_refused_detecti
         errors = [onsets.level_db[j] - recording.level_db[i] for i, j in match(recording.t, onsets.t, 1e-3) if loud[i]]
         assert len(errors) == loud.sum()
         assert np.max(np.abs(errors)) <= 1.0
+
+
+@pytest.mark.parametrize("name, condition, least_1ms, off_1ms", [
+    ("FluidR3 38 drop", "noise72", 46, 40),  # each drop's bounces 12-17 ms apart, -16 to -20 dB
+    ("TimGM6mb 38 drop", "noise72", 55, 49),  # every loud note (the last bounces 5-10 ms apart)
+])
+def test_a_drops_close_bounces_are_found_by_the_templates_whole_fit(name, condition, least_1ms, off_1ms):
+    """A dropped stick's last bounces start under the one before still at its loudest: what is left of it does not
+    rise, but the recording's own attack fits there (its start and its first 10 ms), with no false detection more;
+    without the search (``bounce_reach=0``) as few notes within 1 ms as measured before it."""
+    recording = _corpus_recording(name, condition)
+    figures = score(recording, find_onsets(recording.signal, RATE).t)
+    off = score(recording, find_onsets(recording.signal, RATE, config=OnsetConfig(bounce_reach=0.0)).t)
+    assert figures["within_1ms"] >= least_1ms and off["within_1ms"] <= off_1ms
+    assert figures["found"] - figures["correct_5ms"] <= off["found"] - off["correct_5ms"]
+
+
+@pytest.mark.parametrize("condition, least_1ms, off_1ms", [("dry", 27, 25), ("noise72", 28, 25)])
+def test_ghost_notes_step_4_refused_are_attacks_where_the_template_fits(condition, least_1ms, off_1ms):
+    """TimGM6mb's snare 38 in a roll: ghost notes 56-120 ms after an accent that step 4 refused (their signature in
+    the modes' band unlike the accent's) are found where the recording's own attack fits them at full rate, with no
+    false detection more; without that second opinion (``refused_likeness=1``) as few as measured before it."""
+    recording = _corpus_recording("TimGM6mb 38 roll", condition)
+    figures = score(recording, find_onsets(recording.signal, RATE).t)
+    off = score(recording, find_onsets(recording.signal, RATE, config=OnsetConfig(refused_likeness=1.0)).t)
+    assert figures["within_1ms"] >= least_1ms and off["within_1ms"] <= off_1ms
+    assert figures["found"] - figures["correct_5ms"] <= off["found"] - off["correct_5ms"]
