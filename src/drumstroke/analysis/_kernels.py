@@ -723,6 +723,15 @@ def peaks_around(d, centres, after, before, gap):
 
 
 @jit
+def largest_magnitude(x):
+    """``np.max(np.abs(x), initial=0.0)``, without the array of magnitudes."""
+    best = 0.0
+    for j in range(len(x)):
+        best = max(best, abs(x[j]))
+    return best
+
+
+@jit
 def window_peaks(x, lows, highs):
     """``np.abs(x[lows[i]:highs[i]]).max(initial=0.0)`` for each ``i`` (``lows`` ≥ 0)."""
     out = np.zeros(len(lows))
@@ -809,7 +818,7 @@ def burg(y, order):
     """``librosa.lpc(y, order=order)`` for a 1-D ``y`` (Burg's method, as Marple): the same operations, except that
     each sum of products is added in four lanes (every fourth term), the lanes summed at the end (the same to rounding:
     one chain of additions a sample made the method wait on each addition), each order's update of the prediction
-    errors done in place, in one pass with the next order's numerator."""
+    errors done in place (a loop of independent samples: in vector instructions), then the next order's numerator."""
     tiny = np.finfo(np.float64).tiny
     n = len(y)
     f = y[1:].copy()  # f[i:] is the forward error at order i, b[:n - 1 - i] the backward one
@@ -826,31 +835,12 @@ def burg(y, order):
         a_prev, a = a, a_prev
         for j in range(1, i + 2):
             a[j] = a_prev[j] + reflect * a_prev[i - j + 1]
-        old = f[i]
-        f[i] = old + reflect * b[0]
-        b[0] = b[0] + reflect * old
-        # the next order's numerator: its b[k] (this one's new b[k]) times its f[k] (this one's new f[k + 1])
-        s0 = s1 = s2 = s3 = 0.0
-        k = 1
-        while k + 4 <= m:
-            f0, f1, f2, f3 = f[i + k], f[i + k + 1], f[i + k + 2], f[i + k + 3]
-            b0, b1, b2, b3 = b[k], b[k + 1], b[k + 2], b[k + 3]
-            g0, g1, g2, g3 = f0 + reflect * b0, f1 + reflect * b1, f2 + reflect * b2, f3 + reflect * b3
-            h0, h1, h2, h3 = b0 + reflect * f0, b1 + reflect * f1, b2 + reflect * f2, b3 + reflect * f3
-            s0 += b[k - 1] * g0
-            s1 += h0 * g1
-            s2 += h1 * g2
-            s3 += h2 * g3
-            f[i + k], f[i + k + 1], f[i + k + 2], f[i + k + 3] = g0, g1, g2, g3
-            b[k], b[k + 1], b[k + 2], b[k + 3] = h0, h1, h2, h3
-            k += 4
-        while k < m:
-            old = f[i + k]
-            f[i + k] = old + reflect * b[k]
-            b[k] = b[k] + reflect * old
-            s0 += b[k - 1] * f[i + k]
-            k += 1
-        dot = (s0 + s1) + (s2 + s3)
+        forward, backward = f[i:i + m], b[:m]  # slices: indices the compiler sees are ≥ 0
+        for k in range(m):
+            old = forward[k]
+            forward[k] = old + reflect * backward[k]
+            backward[k] = backward[k] + reflect * old
+        dot = lanes_dot(b, 0, f, i + 1, m - 1)  # the next order's numerator: its b[k - 1] times its f[k]
         q = 1.0 - reflect ** 2
         den = q * den - b[m - 1] ** 2 - f[i] ** 2
     return a

@@ -1814,7 +1814,9 @@ def _rounding_floor(x):
     Far under any recording's noise (24-bit audio: −144 dB) and far over a double's rounding of it
     (about −310 dB): a note fitted and taken off to its last bits leaves no jump.
     """
-    return 1e-24 * float(np.max(np.abs(x), initial=0.0)) ** 2
+    from ._kernels import largest_magnitude
+
+    return 1e-24 * largest_magnitude(np.ascontiguousarray(x, dtype=float)) ** 2
 
 
 def _merge(tonal, broadband, gap, deep=(), strong=None):
@@ -1825,25 +1827,31 @@ def _merge(tonal, broadband, gap, deep=(), strong=None):
     time is trusted over the broadband one), a group's tonal time nearest its broadband time replaces it
     when ``strong`` says so.
     """
-    marked = sorted([(s, 1) for s in tonal] + [(s, 0) for s in broadband] + [(s, 2) for s in deep])
-    groups = []
-    for s, kind in marked:
-        if groups and s - groups[-1][0][0] < gap:
-            groups[-1].append((s, kind))
+    def floats(samples):  # Python's floats: the same values, sorted and compared faster than numpy's scalars
+        return np.asarray(samples, dtype=float).tolist()
+
+    marked = sorted([(s, 1) for s in floats(tonal)] + [(s, 0) for s in floats(broadband)] + [(s, 2) for s in floats(deep)])
+    times, kinds = [], []
+    start = 0
+    while start < len(marked):  # a group: the onsets closer than gap to its first
+        stop = start + 1
+        while stop < len(marked) and marked[stop][0] - marked[start][0] < gap:
+            stop += 1
+        s, kind = marked[start]
+        if stop > start + 1:  # a group's choice may fall on the next group's (its broadband time on that one's tonal)
+            group = marked[start:stop]
+            s, kind = min(group, key=lambda item: item[1])
+            near = min((t for t, k in group if k == 1), key=lambda t: abs(t - s), default=None)
+            if kind == 0 and near is not None and strong is not None and strong(near, s):
+                s, kind = near, 1
+        if times and s - times[-1] < gap / 4:
+            if kind < kinds[-1]:
+                times[-1], kinds[-1] = s, kind
         else:
-            groups.append([(s, kind)])
-    chosen = []
-    for group in groups:  # a group's choice may fall on the next group's (its broadband time on that one's tonal)
-        s, kind = min(group, key=lambda item: item[1])
-        near = min((t for t, k in group if k == 1), key=lambda t: abs(t - s), default=None)
-        if kind == 0 and near is not None and strong is not None and strong(near, s):
-            s, kind = near, 1
-        if chosen and s - chosen[-1][0] < gap / 4:
-            if kind < chosen[-1][1]:
-                chosen[-1] = (s, kind)
-        else:
-            chosen.append((s, kind))
-    return np.array([s for s, _ in chosen], dtype=float), np.array([k for _, k in chosen], dtype=np.int64)
+            times.append(s)
+            kinds.append(kind)
+        start = stop
+    return np.array(times, dtype=float), np.array(kinds, dtype=np.int64)
 
 
 def _away(candidates, known, gap):
@@ -1963,9 +1971,11 @@ def _level_corner(band, rate, onsets, config):
     The lowest strong mode is the lowest frequency within 20 dB of the strongest in the 50 ms
     after the loudest of ``onsets`` (full-rate samples; the signal's largest sample if none).
     """
+    from ._kernels import window_peaks
+
     if len(onsets):
         starts = np.clip(np.round(onsets).astype(np.int64), 0, len(band) - 1)
-        peaks = [np.abs(band[k:k + max(1, round(5e-3 * rate))]).max() for k in starts]
+        peaks = window_peaks(band, starts, starts + max(1, round(5e-3 * rate)))
         start = int(starts[int(np.argmax(peaks))])
     else:
         start = int(np.argmax(np.abs(band)))
