@@ -603,10 +603,23 @@ def least_unexplained(part, cross, energy, length):
     """Where a template of ``energy`` leaves the least of ``part``'s windows of ``length`` unexplained, given their
     ``cross`` products with it: ``k`` and the fraction ``(own - cross² / energy) / own`` (``own``: the window's
     energy by running sums from ``part[0]``), as numpy code computed it (the first least, or the first nan)."""
-    power = np.empty(len(part) + 1)
+    return least_unexplained_by(running_power(part, len(part)), cross, energy, length)
+
+
+@jit
+def running_power(x, count):
+    """The running sums of ``x * x`` over its first ``count`` samples, from 0, in order [shape=(count + 1,)]."""
+    power = np.empty(count + 1)
     power[0] = 0.0
-    for j in range(len(part)):
-        power[j + 1] = power[j] + part[j] * part[j]
+    for j in range(count):
+        power[j + 1] = power[j] + x[j] * x[j]
+    return power
+
+
+@jit
+def least_unexplained_by(power, cross, energy, length):
+    """:func:`least_unexplained` given the running sums ``power`` of the part's squares (:func:`running_power`, over as
+    many samples as its windows reach or more: the windows' energies are the same)."""
     tiny = np.finfo(np.float64).tiny
     best, at = np.inf, 0
     for k in range(len(cross)):
@@ -648,11 +661,19 @@ def own_peaks(x, starts, following, ends, bank, offsets, lengths, window, reach,
         for t in range(len(lengths)):
             any_long = any_long or lengths[t] >= need
         best, at, scale, chosen = np.inf, 0, 0.0, -1
+        low = max(start - shift, 0)
+        # the remainder's running power from low, once an onset over the longest part a usable template is fitted to
+        # (each template's windows' energies are the same sums)
+        reach_most = 0
+        for t in range(len(lengths)):
+            if not ((any_long and lengths[t] < need) or (not any_long and t != longest)):
+                reach_most = max(reach_most, start + shift + min(lengths[t], following[i] - start,
+                                                                  len(rest) - start - shift) - low)
+        power = running_power(rest[low:], max(reach_most, 0))
         for t in range(len(lengths)):
             if (any_long and lengths[t] < need) or (not any_long and t != longest):
                 continue
             length = min(lengths[t], following[i] - start, len(rest) - start - shift)
-            low = max(start - shift, 0)
             if length < 16:  # too short to tell a scale
                 continue
             head = bank[offsets[t]:offsets[t] + length]
@@ -663,7 +684,7 @@ def own_peaks(x, starts, following, ends, bank, offsets, lengths, window, reach,
             cross = np.empty(len(part) - length + 1)
             for k in range(len(cross)):
                 cross[k] = np.dot(part[k:k + length], head)
-            k, unexplained = least_unexplained(part, cross, energy, length)
+            k, unexplained = least_unexplained_by(power, cross, energy, length)
             if chosen < 0 or unexplained < best:
                 best, at, scale, chosen = unexplained, low + k, cross[k] / energy, t
         if chosen >= 0:
