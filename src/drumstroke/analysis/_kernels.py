@@ -745,11 +745,17 @@ def peaks_around(d, centres, after, before, gap):
 
 @jit
 def largest_magnitude(x):
-    """``np.max(np.abs(x), initial=0.0)``, without the array of magnitudes."""
-    best = 0.0
-    for j in range(len(x)):
-        best = max(best, abs(x[j]))
-    return best
+    """``np.max(np.abs(x), initial=0.0)``, without the array of magnitudes (in four lanes: the largest is the same)."""
+    m0 = m1 = m2 = m3 = 0.0
+    j = 0
+    while j + 4 <= len(x):
+        m0, m1 = max(m0, abs(x[j])), max(m1, abs(x[j + 1]))
+        m2, m3 = max(m2, abs(x[j + 2])), max(m3, abs(x[j + 3]))
+        j += 4
+    while j < len(x):
+        m0 = max(m0, abs(x[j]))
+        j += 1
+    return max(max(m0, m1), max(m2, m3))
 
 
 @jit
