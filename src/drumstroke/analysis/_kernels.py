@@ -455,7 +455,7 @@ def pursue(r, positions, centres, basis, gram, solve, head, head_norm, lead, wid
     where = positions.copy()
     at, amp = np.zeros(count, dtype=np.int64), np.zeros(count)
     weights, fitted = np.empty((5, m)), np.empty(m)  # each alignment's weights, and one's times gram
-    cost = np.empty(5)
+    cost, dots, heads, energies = np.empty(5), np.empty(5), np.empty(5), np.empty(5)
     for i in range(count):
         c = centres[i]
         low, high = max(0, c - half - 4 * width), min(n, c + half + width + 1)
@@ -464,18 +464,19 @@ def pursue(r, positions, centres, basis, gram, solve, head, head_norm, lead, wid
         if last < first:
             continue
         like = -np.inf
+        # each alignment's sums as window_dot and pair_dot add them, the five alignments' side by side
+        five_dots(r, first, last, head, dots)
+        five_squares(r, first, last, len(head), heads)
+        five_squares(r, first, last, size, energies)
+        for q in range(m):
+            five_dots(r, first, last, solve[q], weights[:, q])
         for k in range(last - first + 1):
-            s = first + k
-            dot = window_dot(r, s, head)
-            like = max(like, abs(dot) / (math.sqrt(pair_dot(r[s:s + len(head)], r[s:s + len(head)])) * head_norm
-                                         + 1e-300))
-            for q in range(m):
-                weights[k, q] = window_dot(r, s, solve[q])
+            like = max(like, abs(dots[k]) / (math.sqrt(heads[k]) * head_norm + 1e-300))
             fitted[:] = 0.0
             for q in range(m):
                 for p in range(m):
                     fitted[q] += weights[k, p] * gram[p, q]
-            cost[k] = pair_dot(r[s:s + size], r[s:s + size]) - pair_dot(weights[k], fitted)
+            cost[k] = energies[k] - pair_dot(weights[k], fitted)
         likeness[i] = like
         k = 0  # the first of the least costs
         for j in range(1, last - first + 1):
@@ -494,6 +495,53 @@ def pursue(r, positions, centres, basis, gram, solve, head, head_norm, lead, wid
         shift = -weights[k, 1] / weights[k, 0] if m > 1 and weights[k, 0] != 0.0 else 0.0
         where[i] = s + lead + min(max(shift, -1.0), 1.0)
     return jumps, likeness, where, at, amp
+
+
+@jit
+def five_dots(x, first, last, t, out):
+    """:func:`window_dot` of the windows of ``x`` from ``first`` to ``last`` (five at most) with ``t``, into ``out``:
+    five chains of additions side by side (a window past ``last`` is the last one again)."""
+    s0, s1, s2 = first, min(first + 1, last), min(first + 2, last)
+    s3, s4 = min(first + 3, last), min(first + 4, last)
+    d0, d1, d2, d3, d4 = 0.0, 0.0, 0.0, 0.0, 0.0
+    for j in range(len(t)):
+        v = t[j]
+        d0 += x[s0 + j] * v
+        d1 += x[s1 + j] * v
+        d2 += x[s2 + j] * v
+        d3 += x[s3 + j] * v
+        d4 += x[s4 + j] * v
+    out[0], out[1], out[2], out[3], out[4] = d0, d1, d2, d3, d4
+
+
+@jit
+def five_squares(x, first, last, size, out):
+    """:func:`pair_dot` of each window of ``size`` samples of ``x`` from ``first`` to ``last`` (five at most) with
+    itself, into ``out``: its two lanes' chains for the five windows side by side (a window past ``last`` is the last
+    one again)."""
+    s0, s1, s2 = first, min(first + 1, last), min(first + 2, last)
+    s3, s4 = min(first + 3, last), min(first + 4, last)
+    e0, e1, e2, e3, e4 = 0.0, 0.0, 0.0, 0.0, 0.0  # each window's even and odd lanes
+    o0, o1, o2, o3, o4 = 0.0, 0.0, 0.0, 0.0, 0.0
+    j = 0
+    while size - j >= 8:
+        for step in (6, 4, 2, 0):  # pair_dot's order: the vector's last pair first, into the lanes
+            a0, a1, a2 = x[s0 + j + step], x[s1 + j + step], x[s2 + j + step]
+            a3, a4 = x[s3 + j + step], x[s4 + j + step]
+            e0, e1, e2, e3, e4 = a0 * a0 + e0, a1 * a1 + e1, a2 * a2 + e2, a3 * a3 + e3, a4 * a4 + e4
+            a0, a1, a2 = x[s0 + j + step + 1], x[s1 + j + step + 1], x[s2 + j + step + 1]
+            a3, a4 = x[s3 + j + step + 1], x[s4 + j + step + 1]
+            o0, o1, o2, o3, o4 = a0 * a0 + o0, a1 * a1 + o1, a2 * a2 + o2, a3 * a3 + o3, a4 * a4 + o4
+        j += 8
+    while j < size:
+        a0, a1, a2, a3, a4 = x[s0 + j], x[s1 + j], x[s2 + j], x[s3 + j], x[s4 + j]
+        e0, e1, e2, e3, e4 = a0 * a0 + e0, a1 * a1 + e1, a2 * a2 + e2, a3 * a3 + e3, a4 * a4 + e4
+        if j + 1 < size:
+            a0, a1, a2 = x[s0 + j + 1], x[s1 + j + 1], x[s2 + j + 1]
+            a3, a4 = x[s3 + j + 1], x[s4 + j + 1]
+            o0, o1, o2, o3, o4 = a0 * a0 + o0, a1 * a1 + o1, a2 * a2 + o2, a3 * a3 + o3, a4 * a4 + o4
+        j += 2
+    out[0], out[1], out[2], out[3], out[4] = e0 + o0, e1 + o1, e2 + o2, e3 + o3, e4 + o4
 
 
 @jit
