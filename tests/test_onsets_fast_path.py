@@ -144,6 +144,26 @@ def test_kernels_sum_as_numpy_and_librosa_sum():
         np.testing.assert_array_equal(row_dots(pairs, pairs[::-1].copy()), np.einsum("ij,ij->i", pairs, pairs[::-1]))
 
 
+def test_all_pole_filters_as_scipy():
+    """The compiled all-pole filter gives scipy's ``lfilter([1.0], a, x)`` to the bit (the signs of zero too)."""
+    from scipy.signal import lfilter
+
+    from drumstroke.analysis._kernels import all_pole
+
+    rng = np.random.default_rng(13)
+    for trial in range(300):
+        a = np.concatenate(([1.0], 0.1 * rng.standard_normal(int(rng.integers(1, 50)))))
+        x = rng.standard_normal(int(rng.integers(1, 400)))
+        if trial % 3 == 0:
+            x[:len(x) // 2] = 0.0  # digital silence first
+        if trial % 5 == 0:
+            x = -np.abs(x)
+            x[::3] = -0.0
+        want, got = lfilter([1.0], a, x), all_pole(a, x)
+        np.testing.assert_array_equal(got, want)
+        np.testing.assert_array_equal(np.signbit(got), np.signbit(want))
+
+
 def _write():
     out = {}
     for i, (name, signal, rate) in enumerate(cases()):

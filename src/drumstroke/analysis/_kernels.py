@@ -184,6 +184,49 @@ def upsampled_peak(h, x):
 
 
 @jit
+def all_pole(a, x):
+    """``scipy.signal.lfilter([1.0], a, x)`` (``a[0]`` 1): its direct form II transposed, the same operations in the
+    same order (the numerator's zeros too: the same signs of zero)."""
+    order = len(a) - 1
+    b = np.zeros(order + 1)
+    b[0] = 1.0
+    z = np.zeros(max(order, 1))
+    y = np.empty(len(x))
+    for n in range(len(x)):
+        v = x[n]
+        out = z[0] + b[0] * v
+        for k in range(order - 1):
+            z[k] = z[k + 1] + v * b[k + 1] - out * a[k + 1]
+        z[order - 1] = v * b[order] - out * a[order]
+        y[n] = out
+    return y
+
+
+@jit
+def tail_free_peaks(e, coefficients, starts, stops, sure, amplitude, h, horizon, interpolator):
+    """:func:`.onsets._attack_amplitudes`' loop over the onsets when the room's tails are taken off: each ``sure``
+    onset's ``e[starts[i]:stops[i]]`` less the earlier sure onsets' tails ``amplitude[j] * h[lag:]`` (their lag from
+    ``horizon`` to ``len(h)``, in order), through the predictor's all-pole response (:func:`all_pole`), its peak
+    between samples (:func:`upsampled_peak`, padded by 4 zeros each side); the others' ``amplitude`` as it is."""
+    out = amplitude.copy()
+    for i in range(len(starts)):
+        k, stop = starts[i], stops[i]
+        if k < len(coefficients) - 1 or stop <= k or not sure[i]:
+            continue
+        own = e[k:stop].copy()
+        for j in range(i):
+            lag = k - starts[j]
+            if sure[j] and horizon <= lag < len(h):
+                part = h[lag:min(len(h), lag + stop - k)]
+                for m in range(len(part)):
+                    own[m] -= amplitude[j] * part[m]
+        padded = np.zeros(len(own) + 8)
+        padded[4:4 + len(own)] = all_pole(coefficients, own)
+        out[i] = upsampled_peak(interpolator, padded)
+    return out
+
+
+@jit
 def frame_energies(x, starts, window):
     """The energy over the bins of ``numpy.fft.rfft`` of each frame ``x[s:s + len(window)] * window`` (``s`` in
     ``starts``), by Parseval's theorem: the half spectrum counts its first and last bins once. Each sum is added in

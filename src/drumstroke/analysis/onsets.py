@@ -2003,9 +2003,7 @@ def _attack_amplitudes(low, coefficients, positions, rate, *, tail=0, sure=None,
     onsets. ``sure`` (booleans, one per onset): the onsets so measured and whose tails are taken off;
     ``ridge``: the tail's fit's (:func:`_room_tail`).
     """
-    from scipy.signal import lfilter
-
-    from ._kernels import prediction_error, residual_peaks, upsampled_peak
+    from ._kernels import prediction_error, residual_peaks, tail_free_peaks
 
     horizon = max(2, round(5e-3 * rate))
     interpolator = _interpolator()
@@ -2022,20 +2020,8 @@ def _attack_amplitudes(low, coefficients, positions, rate, *, tail=0, sure=None,
     if h is None:
         return amplitude
     sure = np.ones(len(starts), dtype=bool) if sure is None else np.asarray(sure, dtype=bool)
-    out = amplitude.copy()
-    for i, (k, stop) in enumerate(zip(starts, stops)):
-        if k < len(coefficients) - 1 or stop <= k or not sure[i]:
-            continue
-        own = e[k:stop].copy()
-        earlier = np.flatnonzero(sure[:i])
-        lags = k - starts[earlier]
-        within = (lags >= horizon) & (lags < len(h))
-        for j, lag in zip(earlier[within], lags[within]):  # the earlier onsets' tails over this onset's window, in order
-            part = h[lag:lag + stop - k]
-            own[:len(part)] -= amplitude[j] * part
-        own = lfilter([1.0], coefficients, own)  # the predictor's response: the sound less its extrapolation
-        out[i] = upsampled_peak(interpolator, np.concatenate((np.zeros(4), own, np.zeros(4))))
-    return out
+    return tail_free_peaks(e, np.ascontiguousarray(coefficients, dtype=float), starts, np.array(stops, dtype=np.int64),
+                           sure, amplitude, np.ascontiguousarray(h, dtype=float), horizon, interpolator)
 
 
 @cache
