@@ -433,14 +433,21 @@ def next_attack(x, head, low, high, pre, reach, base, width, energy, rise, liken
     power = np.zeros(count + 1)
     for j in range(count):
         power[j + 1] = power[j] + x[base + j] * x[base + j]
-    rising, dots = np.empty(8, dtype=np.int64), np.empty(8)
+    rising, dots, owns = np.empty(8, dtype=np.int64), np.empty(8), np.empty(8)
     i = 0
     while i < high - low:
         found = 0  # the next eight samples (or fewer) whose windows rise
         while i < high - low and found < 8:
             n = i + low - base
-            after = (power[min(n + width, count)] - power[n]) / width
-            before = (power[n] - power[max(n - 4 * width, 0)]) / (4 * width)
+            ahead, behind = power[min(n + width, count)] - power[n], power[n] - power[max(n - 4 * width, 0)]
+            # the divisions below only where the window may rise: the running sums never fall (both sums ≥ 0), so
+            # 4 ahead under (1 - 1e-9) rise behind is under rise behind by far more than the divisions' rounding
+            # (normal numbers: far from underflow)
+            if behind > 1e-280 and 4.0 * ahead < (1.0 - 1e-9) * rise * behind:
+                i += 1
+                continue
+            after = ahead / width
+            before = behind / (4 * width)
             if after >= rise * before:
                 rising[found] = i
                 found += 1
@@ -449,10 +456,16 @@ def next_attack(x, head, low, high, pre, reach, base, width, energy, rise, liken
             break
         rising[found:] = rising[found - 1]
         eight_dots(x, low - pre + rising, head, dots)
+        scaled = False
+        for f in range(found):
+            scaled = scaled or dots[f] >= least * energy
+        if not scaled:
+            continue
+        eight_squares(x, low - pre + rising, len(head), owns)  # each window's energy, as likeness_at sums it
         for f in range(found):
             if not dots[f] >= least * energy:  # (the correlation only where the scale passes)
                 continue
-            like, _ = likeness_at(x, low - pre + rising[f], head, energy)
+            like = dots[f] / (math.sqrt(owns[f] * energy) + 1e-300)  # likeness_at's, its sums side by side
             if like >= likeness:
                 best, at = like, rising[f]
                 for k in range(rising[f] + 1, min(rising[f] + reach + 1, high - low)):
@@ -479,6 +492,31 @@ def eight_dots(x, starts, t, out):
         d6 += x[s6 + j] * v
         d7 += x[s7 + j] * v
     out[0], out[1], out[2], out[3], out[4], out[5], out[6], out[7] = d0, d1, d2, d3, d4, d5, d6, d7
+
+
+@jit
+def eight_squares(x, starts, size, out):
+    """:func:`pair_dot` of each of the eight windows of ``size`` samples of ``x`` from ``starts`` with itself, into
+    ``out``: their two lanes' chains side by side, each added in pair_dot's order."""
+    even, odd = np.zeros(8), np.zeros(8)
+    j = 0
+    while size - j >= 8:
+        for step in (6, 4, 2, 0):  # pair_dot's order: the vector's last pair first, into the lanes
+            for w in range(8):
+                a, b = x[starts[w] + j + step], x[starts[w] + j + step + 1]
+                even[w] = a * a + even[w]
+                odd[w] = b * b + odd[w]
+        j += 8
+    while j < size:
+        for w in range(8):
+            a = x[starts[w] + j]
+            even[w] = a * a + even[w]
+            if j + 1 < size:
+                b = x[starts[w] + j + 1]
+                odd[w] = b * b + odd[w]
+        j += 2
+    for w in range(8):
+        out[w] = even[w] + odd[w]
 
 
 @jit
