@@ -1647,7 +1647,7 @@ def _decimation(band, rate):
         return 1
     starts = np.unique(np.linspace(0, len(band) - size, min(_SPECTRA, (len(band) - size) // (size // 2) + 1))
                        .astype(np.int64))  # half-overlapping frames, or as many spread over a long file
-    window = np.hanning(size)
+    window = _hann(size)
     # each frame's energy over its spectrum's bins (Parseval's): only the quietest and the loudest tenths are transformed
     energy = frame_energies(np.ascontiguousarray(band, dtype=float), starts, window)
     frequencies = np.fft.rfftfreq(size, 1.0 / rate)
@@ -1661,6 +1661,14 @@ def _decimation(band, rate):
     good = np.flatnonzero(loud > 100.0 * noise)
     top = frequencies[good[-1]] if len(good) else frequencies[-1]
     return int(max(1, min(rate // (2.5 * max(top, 1.0)), rate // 2000)))
+
+
+@cache
+def _hann(size):
+    """``np.hanning(size)``, computed once a size (read only)."""
+    window = np.hanning(size)
+    window.flags.writeable = False
+    return window
 
 
 def _decimate(band, rate, q, corner=None):
@@ -1983,7 +1991,7 @@ def _level_corner(band, rate, onsets, config):
     segment = band[start:start + size]
     if len(segment) < size // 4:
         return config.level_band
-    power = np.abs(np.fft.rfft(segment * np.hanning(len(segment)), size)) ** 2
+    power = np.abs(np.fft.rfft(segment * _hann(len(segment)), size)) ** 2
     frequencies = np.fft.rfftfreq(size, 1.0 / rate)
     strong = np.flatnonzero((power >= 0.01 * power.max()) & (frequencies >= config.high_pass))
     lowest = frequencies[strong[0]] if len(strong) else 190.0
