@@ -78,34 +78,56 @@ def second_order(sos, x):
     return out
 
 
+@jit(inline="always")
+def biquad(v, b0, b1, b2, a1, a2, z0, z1):
+    """``v`` through a second-order section as :func:`second_order` (scipy's ``sosfilt``) runs it: its output and states."""
+    y = b0 * v + z0
+    return y, b1 * v - a1 * y + z1, b2 * v - a2 * y
+
+
+@jit
+def unit_numerators(sos):
+    """Whether ``sos``'s sections after the first have the numerator (1, 2, 1) (a Butterworth low-pass's, its zeros at
+    Nyquist, as scipy designs them)."""
+    for s in range(1, len(sos)):
+        if sos[s, 0] != 1.0 or sos[s, 1] != 2.0 or sos[s, 2] != 1.0:
+            return False
+    return True
+
+
+@jit(inline="always")
+def numerators(sos, s, unit):
+    """Section ``s``'s numerator: the constants (1, 2, 1) when ``unit`` (compiled in: the products 1 v and 2 v are then
+    v and v + v, exactly as multiplied), else its coefficients."""
+    if unit:
+        return 1.0, 2.0, 1.0
+    return sos[s, 0], sos[s, 1], sos[s, 2]
+
+
 @jit
 def low_pass_every(sos, x, q):
     """``scipy.signal.sosfilt(sos, x)[::q]`` for 4 second-order sections (an 8th-order filter): the same
     operations, each section's state in registers, only the samples kept stored."""
+    if unit_numerators(sos):
+        return low_pass_loop(sos, x, q, True)
+    return low_pass_loop(sos, x, q, False)
+
+
+@jit(inline="always")
+def low_pass_loop(sos, x, q, unit):
+    """:func:`low_pass_every`'s loop (sections after the first of numerator (1, 2, 1) when ``unit``)."""
     b00, b01, b02, a01, a02 = sos[0, 0], sos[0, 1], sos[0, 2], sos[0, 4], sos[0, 5]
-    b10, b11, b12, a11, a12 = sos[1, 0], sos[1, 1], sos[1, 2], sos[1, 4], sos[1, 5]
-    b20, b21, b22, a21, a22 = sos[2, 0], sos[2, 1], sos[2, 2], sos[2, 4], sos[2, 5]
-    b30, b31, b32, a31, a32 = sos[3, 0], sos[3, 1], sos[3, 2], sos[3, 4], sos[3, 5]
+    (b10, b11, b12), (b20, b21, b22), (b30, b31, b32) = numerators(sos, 1, unit), numerators(sos, 2, unit), \
+        numerators(sos, 3, unit)
+    a11, a12, a21, a22, a31, a32 = sos[1, 4], sos[1, 5], sos[2, 4], sos[2, 5], sos[3, 4], sos[3, 5]
     z00 = z01 = z10 = z11 = z20 = z21 = z30 = z31 = 0.0
     out = np.empty((len(x) + q - 1) // q)
     skip = 0
     for i in range(len(x)):
-        v = x[i]
-        y = b00 * v + z00
-        z00 = b01 * v - a01 * y + z01
-        z01 = b02 * v - a02 * y
-        v = y
-        y = b10 * v + z10
-        z10 = b11 * v - a11 * y + z11
-        z11 = b12 * v - a12 * y
-        v = y
-        y = b20 * v + z20
-        z20 = b21 * v - a21 * y + z21
-        z21 = b22 * v - a22 * y
-        v = y
-        y = b30 * v + z30
-        z30 = b31 * v - a31 * y + z31
-        z31 = b32 * v - a32 * y
+        y, z00, z01 = biquad(x[i], b00, b01, b02, a01, a02, z00, z01)
+        y, z10, z11 = biquad(y, b10, b11, b12, a11, a12, z10, z11)
+        y, z20, z21 = biquad(y, b20, b21, b22, a21, a22, z20, z21)
+        y, z30, z31 = biquad(y, b30, b31, b32, a31, a32, z30, z31)
         if skip == 0:
             out[i // q] = y
             skip = q
@@ -117,48 +139,37 @@ def low_pass_every(sos, x, q):
 def low_pass_every_two(sos, q, other, q_other, x):
     """:func:`low_pass_every` of ``x`` by two filters (``sos`` kept every ``q`` samples, ``other`` every ``q_other``) in
     one pass: the same operations for each (the two chains side by side keep the processor busier)."""
+    if unit_numerators(sos) and unit_numerators(other):
+        return low_pass_two_loop(sos, q, other, q_other, x, True)
+    return low_pass_two_loop(sos, q, other, q_other, x, False)
+
+
+@jit(inline="always")
+def low_pass_two_loop(sos, q, other, q_other, x, unit):
+    """:func:`low_pass_every_two`'s loop (sections after the first of numerator (1, 2, 1) when ``unit``)."""
     b00, b01, b02, a01, a02 = sos[0, 0], sos[0, 1], sos[0, 2], sos[0, 4], sos[0, 5]
-    b10, b11, b12, a11, a12 = sos[1, 0], sos[1, 1], sos[1, 2], sos[1, 4], sos[1, 5]
-    b20, b21, b22, a21, a22 = sos[2, 0], sos[2, 1], sos[2, 2], sos[2, 4], sos[2, 5]
-    b30, b31, b32, a31, a32 = sos[3, 0], sos[3, 1], sos[3, 2], sos[3, 4], sos[3, 5]
+    (b10, b11, b12), (b20, b21, b22), (b30, b31, b32) = numerators(sos, 1, unit), numerators(sos, 2, unit), \
+        numerators(sos, 3, unit)
+    a11, a12, a21, a22, a31, a32 = sos[1, 4], sos[1, 5], sos[2, 4], sos[2, 5], sos[3, 4], sos[3, 5]
     c00, c01, c02, d01, d02 = other[0, 0], other[0, 1], other[0, 2], other[0, 4], other[0, 5]
-    c10, c11, c12, d11, d12 = other[1, 0], other[1, 1], other[1, 2], other[1, 4], other[1, 5]
-    c20, c21, c22, d21, d22 = other[2, 0], other[2, 1], other[2, 2], other[2, 4], other[2, 5]
-    c30, c31, c32, d31, d32 = other[3, 0], other[3, 1], other[3, 2], other[3, 4], other[3, 5]
+    (c10, c11, c12), (c20, c21, c22), (c30, c31, c32) = numerators(other, 1, unit), numerators(other, 2, unit), \
+        numerators(other, 3, unit)
+    d11, d12, d21, d22, d31, d32 = other[1, 4], other[1, 5], other[2, 4], other[2, 5], other[3, 4], other[3, 5]
     z00 = z01 = z10 = z11 = z20 = z21 = z30 = z31 = 0.0
     w00 = w01 = w10 = w11 = w20 = w21 = w30 = w31 = 0.0
     out = np.empty((len(x) + q - 1) // q)
     out_other = np.empty((len(x) + q_other - 1) // q_other)
     skip, skip_other = 0, 0
     for i in range(len(x)):
-        v = u = x[i]
-        y = b00 * v + z00
-        z00 = b01 * v - a01 * y + z01
-        z01 = b02 * v - a02 * y
-        t = c00 * u + w00
-        w00 = c01 * u - d01 * t + w01
-        w01 = c02 * u - d02 * t
-        v, u = y, t
-        y = b10 * v + z10
-        z10 = b11 * v - a11 * y + z11
-        z11 = b12 * v - a12 * y
-        t = c10 * u + w10
-        w10 = c11 * u - d11 * t + w11
-        w11 = c12 * u - d12 * t
-        v, u = y, t
-        y = b20 * v + z20
-        z20 = b21 * v - a21 * y + z21
-        z21 = b22 * v - a22 * y
-        t = c20 * u + w20
-        w20 = c21 * u - d21 * t + w21
-        w21 = c22 * u - d22 * t
-        v, u = y, t
-        y = b30 * v + z30
-        z30 = b31 * v - a31 * y + z31
-        z31 = b32 * v - a32 * y
-        t = c30 * u + w30
-        w30 = c31 * u - d31 * t + w31
-        w31 = c32 * u - d32 * t
+        v = x[i]
+        y, z00, z01 = biquad(v, b00, b01, b02, a01, a02, z00, z01)
+        t, w00, w01 = biquad(v, c00, c01, c02, d01, d02, w00, w01)
+        y, z10, z11 = biquad(y, b10, b11, b12, a11, a12, z10, z11)
+        t, w10, w11 = biquad(t, c10, c11, c12, d11, d12, w10, w11)
+        y, z20, z21 = biquad(y, b20, b21, b22, a21, a22, z20, z21)
+        t, w20, w21 = biquad(t, c20, c21, c22, d21, d22, w20, w21)
+        y, z30, z31 = biquad(y, b30, b31, b32, a31, a32, z30, z31)
+        t, w30, w31 = biquad(t, c30, c31, c32, d31, d32, w30, w31)
         if skip == 0:
             out[i // q] = y
             skip = q
