@@ -792,10 +792,11 @@ def own_peaks(x, starts, following, ends, bank, offsets, lengths, window, reach,
             longest = t
     for i in range(count):
         start = starts[i]
-        peaks[i], heard[i] = 0.0, 0.0
+        peak, loudest = 0.0, 0.0  # in registers: the largest is the same
         for j in range(start, ends[i]):
-            peaks[i] = max(peaks[i], abs(rest[j]))
-            heard[i] = max(heard[i], abs(x[j]))
+            peak = max(peak, abs(rest[j]))
+            loudest = max(loudest, abs(x[j]))
+        peaks[i], heard[i] = peak, loudest
         need = min(following[i] - start + window, reach)
         any_long = False
         for t in range(len(lengths)):
@@ -876,10 +877,13 @@ def peaks_around(d, centres, after, before, gap):
     ahead, prior = np.zeros(len(centres)), np.zeros(len(centres))
     for i in range(len(centres)):
         c = centres[i]
+        peak = 0.0  # in registers: the largest is the same
         for j in range(c, min(len(d), c + after)):
-            ahead[i] = max(ahead[i], d[j])
+            peak = max(peak, d[j])
+        ahead[i], peak = peak, 0.0
         for j in range(max(0, c - before), min(len(d), max(1, c - gap))):
-            prior[i] = max(prior[i], d[j])
+            peak = max(peak, d[j])
+        prior[i] = peak
     return ahead, prior
 
 
@@ -903,8 +907,10 @@ def window_peaks(x, lows, highs):
     """``np.abs(x[lows[i]:highs[i]]).max(initial=0.0)`` for each ``i`` (``lows`` ≥ 0)."""
     out = np.zeros(len(lows))
     for i in range(len(lows)):
+        peak = 0.0  # in registers: the largest is the same
         for j in range(lows[i], min(len(x), highs[i])):
-            out[i] = max(out[i], abs(x[j]))
+            peak = max(peak, abs(x[j]))
+        out[i] = peak
     return out
 
 
