@@ -80,7 +80,8 @@ def second_order(sos, x):
 
 @jit(inline="always")
 def biquad(v, b0, b1, b2, a1, a2, z0, z1):
-    """``v`` through a second-order section as :func:`second_order` (scipy's ``sosfilt``) runs it: its output and states."""
+    """``v`` through a second-order section as :func:`second_order` (scipy's ``sosfilt``) runs it: its output and
+    new states."""
     y = b0 * v + z0
     return y, b1 * v - a1 * y + z1, b2 * v - a2 * y
 

@@ -1838,7 +1838,8 @@ def _merge(tonal, broadband, gap, deep=(), strong=None):
     def floats(samples):  # Python's floats: the same values, sorted and compared faster than numpy's scalars
         return np.asarray(samples, dtype=float).tolist()
 
-    marked = sorted([(s, 1) for s in floats(tonal)] + [(s, 0) for s in floats(broadband)] + [(s, 2) for s in floats(deep)])
+    marked = sorted([(s, 1) for s in floats(tonal)] + [(s, 0) for s in floats(broadband)]
+                    + [(s, 2) for s in floats(deep)])
     times, kinds = [], []
     start = 0
     while start < len(marked):  # a group: the onsets closer than gap to its first
