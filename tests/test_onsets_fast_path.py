@@ -151,6 +151,48 @@ def test_kernels_sum_as_numpy_and_librosa_sum():
         np.testing.assert_array_equal(row_dots(pairs, pairs[::-1].copy()), np.einsum("ij,ij->i", pairs, pairs[::-1]))
 
 
+def test_windows_summed_side_by_side_as_one_by_one():
+    """The kernels that sum several windows' products side by side give each window's sums as the one-window kernels
+    add them (the matching pursuit's five alignments, the next attack's eight windows): to the bit."""
+    from drumstroke.analysis import _kernels as k
+
+    rng = np.random.default_rng(17)
+    for _ in range(300):
+        x = rng.standard_normal(int(rng.integers(40, 400))) * np.exp(rng.standard_normal())
+        size = int(rng.integers(1, 30))
+        first = int(rng.integers(0, len(x) - size - 4))
+        last = min(first + int(rng.integers(0, 5)), len(x) - size)  # five alignments or fewer
+        t, dots, squares = rng.standard_normal(size), np.empty(5), np.empty(5)
+        k.five_dots(x, first, last, t, dots)
+        k.five_squares(x, first, last, size, squares)
+        for i, s in enumerate(range(first, last + 1)):
+            assert dots[i] == k.window_dot(x, s, t) and squares[i] == k.pair_dot(x[s:s + size], x[s:s + size])
+        starts, owns = rng.integers(0, len(x) - size + 1, 8), np.empty(8)
+        k.eight_squares(x, starts, size, owns)
+        assert all(owns[w] == k.pair_dot(x[s:s + size], x[s:s + size]) for w, s in enumerate(starts))
+        assert k.largest_magnitude(x) == np.max(np.abs(x), initial=0.0)
+
+
+def test_all_pole_filters_as_scipy():
+    """The compiled all-pole filter gives scipy's ``lfilter([1.0], a, x)`` to the bit (the signs of zero too)."""
+    from scipy.signal import lfilter
+
+    from drumstroke.analysis._kernels import all_pole
+
+    rng = np.random.default_rng(13)
+    for trial in range(300):
+        a = np.concatenate(([1.0], 0.1 * rng.standard_normal(int(rng.integers(1, 50)))))
+        x = rng.standard_normal(int(rng.integers(1, 400)))
+        if trial % 3 == 0:
+            x[:len(x) // 2] = 0.0  # digital silence first
+        if trial % 5 == 0:
+            x = -np.abs(x)
+            x[::3] = -0.0
+        want, got = lfilter([1.0], a, x), all_pole(a, x)
+        np.testing.assert_array_equal(got, want)
+        np.testing.assert_array_equal(np.signbit(got), np.signbit(want))
+
+
 def _write():
     out = {}
     for i, (name, signal, rate) in enumerate(cases()):

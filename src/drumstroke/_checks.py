@@ -55,6 +55,10 @@ def _refused(name, value, must, got, limits):
 def check_vector(name, values, *, low=-math.inf, high=math.inf, unit=""):
     """Return ``values`` as a 1-D float array of finite numbers in [low, high]; a bad entry is named by index."""
     vector = as_vector(name, values)
+    if len(vector):  # the usual case in two reductions: the least and the largest finite and in range (NaN is neither)
+        least, largest = float(vector.min()), float(vector.max())
+        if math.isfinite(least) and math.isfinite(largest) and low <= least and largest <= high:
+            return vector
     bad = ~(np.isfinite(vector) & (vector >= low) & (vector <= high))
     if bad.any():
         i = int(np.argmax(bad))

@@ -78,34 +78,57 @@ def second_order(sos, x):
     return out
 
 
+@jit(inline="always")
+def biquad(v, b0, b1, b2, a1, a2, z0, z1):
+    """``v`` through a second-order section as :func:`second_order` (scipy's ``sosfilt``) runs it: its output and
+    new states."""
+    y = b0 * v + z0
+    return y, b1 * v - a1 * y + z1, b2 * v - a2 * y
+
+
+@jit
+def unit_numerators(sos):
+    """Whether ``sos``'s sections after the first have the numerator (1, 2, 1) (a Butterworth low-pass's, its zeros at
+    Nyquist, as scipy designs them)."""
+    for s in range(1, len(sos)):
+        if sos[s, 0] != 1.0 or sos[s, 1] != 2.0 or sos[s, 2] != 1.0:
+            return False
+    return True
+
+
+@jit(inline="always")
+def numerators(sos, s, unit):
+    """Section ``s``'s numerator: the constants (1, 2, 1) when ``unit`` (compiled in: the products 1 v and 2 v are then
+    v and v + v, exactly as multiplied), else its coefficients."""
+    if unit:
+        return 1.0, 2.0, 1.0
+    return sos[s, 0], sos[s, 1], sos[s, 2]
+
+
 @jit
 def low_pass_every(sos, x, q):
     """``scipy.signal.sosfilt(sos, x)[::q]`` for 4 second-order sections (an 8th-order filter): the same
     operations, each section's state in registers, only the samples kept stored."""
+    if unit_numerators(sos):
+        return low_pass_loop(sos, x, q, True)
+    return low_pass_loop(sos, x, q, False)
+
+
+@jit(inline="always")
+def low_pass_loop(sos, x, q, unit):
+    """:func:`low_pass_every`'s loop (sections after the first of numerator (1, 2, 1) when ``unit``)."""
     b00, b01, b02, a01, a02 = sos[0, 0], sos[0, 1], sos[0, 2], sos[0, 4], sos[0, 5]
-    b10, b11, b12, a11, a12 = sos[1, 0], sos[1, 1], sos[1, 2], sos[1, 4], sos[1, 5]
-    b20, b21, b22, a21, a22 = sos[2, 0], sos[2, 1], sos[2, 2], sos[2, 4], sos[2, 5]
-    b30, b31, b32, a31, a32 = sos[3, 0], sos[3, 1], sos[3, 2], sos[3, 4], sos[3, 5]
+    (b10, b11, b12), (b20, b21, b22), (b30, b31, b32) = numerators(sos, 1, unit), numerators(sos, 2, unit), \
+        numerators(sos, 3, unit)
+    a11, a12, a21, a22, a31, a32 = sos[1, 4], sos[1, 5], sos[2, 4], sos[2, 5], sos[3, 4], sos[3, 5]
     z00 = z01 = z10 = z11 = z20 = z21 = z30 = z31 = 0.0
     out = np.empty((len(x) + q - 1) // q)
     skip = 0
     for i in range(len(x)):
-        v = x[i]
-        y = b00 * v + z00
-        z00 = b01 * v - a01 * y + z01
-        z01 = b02 * v - a02 * y
-        v = y
-        y = b10 * v + z10
-        z10 = b11 * v - a11 * y + z11
-        z11 = b12 * v - a12 * y
-        v = y
-        y = b20 * v + z20
-        z20 = b21 * v - a21 * y + z21
-        z21 = b22 * v - a22 * y
-        v = y
-        y = b30 * v + z30
-        z30 = b31 * v - a31 * y + z31
-        z31 = b32 * v - a32 * y
+        y, z00, z01 = biquad(x[i], b00, b01, b02, a01, a02, z00, z01)
+        y, z10, z11 = biquad(y, b10, b11, b12, a11, a12, z10, z11)
+        y, z20, z21 = biquad(y, b20, b21, b22, a21, a22, z20, z21)
+        y, z30, z31 = biquad(y, b30, b31, b32, a31, a32, z30, z31)
         if skip == 0:
             out[i // q] = y
             skip = q
@@ -117,48 +140,37 @@ def low_pass_every(sos, x, q):
 def low_pass_every_two(sos, q, other, q_other, x):
     """:func:`low_pass_every` of ``x`` by two filters (``sos`` kept every ``q`` samples, ``other`` every ``q_other``) in
     one pass: the same operations for each (the two chains side by side keep the processor busier)."""
+    if unit_numerators(sos) and unit_numerators(other):
+        return low_pass_two_loop(sos, q, other, q_other, x, True)
+    return low_pass_two_loop(sos, q, other, q_other, x, False)
+
+
+@jit(inline="always")
+def low_pass_two_loop(sos, q, other, q_other, x, unit):
+    """:func:`low_pass_every_two`'s loop (sections after the first of numerator (1, 2, 1) when ``unit``)."""
     b00, b01, b02, a01, a02 = sos[0, 0], sos[0, 1], sos[0, 2], sos[0, 4], sos[0, 5]
-    b10, b11, b12, a11, a12 = sos[1, 0], sos[1, 1], sos[1, 2], sos[1, 4], sos[1, 5]
-    b20, b21, b22, a21, a22 = sos[2, 0], sos[2, 1], sos[2, 2], sos[2, 4], sos[2, 5]
-    b30, b31, b32, a31, a32 = sos[3, 0], sos[3, 1], sos[3, 2], sos[3, 4], sos[3, 5]
+    (b10, b11, b12), (b20, b21, b22), (b30, b31, b32) = numerators(sos, 1, unit), numerators(sos, 2, unit), \
+        numerators(sos, 3, unit)
+    a11, a12, a21, a22, a31, a32 = sos[1, 4], sos[1, 5], sos[2, 4], sos[2, 5], sos[3, 4], sos[3, 5]
     c00, c01, c02, d01, d02 = other[0, 0], other[0, 1], other[0, 2], other[0, 4], other[0, 5]
-    c10, c11, c12, d11, d12 = other[1, 0], other[1, 1], other[1, 2], other[1, 4], other[1, 5]
-    c20, c21, c22, d21, d22 = other[2, 0], other[2, 1], other[2, 2], other[2, 4], other[2, 5]
-    c30, c31, c32, d31, d32 = other[3, 0], other[3, 1], other[3, 2], other[3, 4], other[3, 5]
+    (c10, c11, c12), (c20, c21, c22), (c30, c31, c32) = numerators(other, 1, unit), numerators(other, 2, unit), \
+        numerators(other, 3, unit)
+    d11, d12, d21, d22, d31, d32 = other[1, 4], other[1, 5], other[2, 4], other[2, 5], other[3, 4], other[3, 5]
     z00 = z01 = z10 = z11 = z20 = z21 = z30 = z31 = 0.0
     w00 = w01 = w10 = w11 = w20 = w21 = w30 = w31 = 0.0
     out = np.empty((len(x) + q - 1) // q)
     out_other = np.empty((len(x) + q_other - 1) // q_other)
     skip, skip_other = 0, 0
     for i in range(len(x)):
-        v = u = x[i]
-        y = b00 * v + z00
-        z00 = b01 * v - a01 * y + z01
-        z01 = b02 * v - a02 * y
-        t = c00 * u + w00
-        w00 = c01 * u - d01 * t + w01
-        w01 = c02 * u - d02 * t
-        v, u = y, t
-        y = b10 * v + z10
-        z10 = b11 * v - a11 * y + z11
-        z11 = b12 * v - a12 * y
-        t = c10 * u + w10
-        w10 = c11 * u - d11 * t + w11
-        w11 = c12 * u - d12 * t
-        v, u = y, t
-        y = b20 * v + z20
-        z20 = b21 * v - a21 * y + z21
-        z21 = b22 * v - a22 * y
-        t = c20 * u + w20
-        w20 = c21 * u - d21 * t + w21
-        w21 = c22 * u - d22 * t
-        v, u = y, t
-        y = b30 * v + z30
-        z30 = b31 * v - a31 * y + z31
-        z31 = b32 * v - a32 * y
-        t = c30 * u + w30
-        w30 = c31 * u - d31 * t + w31
-        w31 = c32 * u - d32 * t
+        v = x[i]
+        y, z00, z01 = biquad(v, b00, b01, b02, a01, a02, z00, z01)
+        t, w00, w01 = biquad(v, c00, c01, c02, d01, d02, w00, w01)
+        y, z10, z11 = biquad(y, b10, b11, b12, a11, a12, z10, z11)
+        t, w10, w11 = biquad(t, c10, c11, c12, d11, d12, w10, w11)
+        y, z20, z21 = biquad(y, b20, b21, b22, a21, a22, z20, z21)
+        t, w20, w21 = biquad(t, c20, c21, c22, d21, d22, w20, w21)
+        y, z30, z31 = biquad(y, b30, b31, b32, a31, a32, z30, z31)
+        t, w30, w31 = biquad(t, c30, c31, c32, d31, d32, w30, w31)
         if skip == 0:
             out[i // q] = y
             skip = q
@@ -181,6 +193,49 @@ def upsampled_peak(h, x):
             total += x[m] * h[n - 4 * m]
         best = max(best, abs(total))
     return best
+
+
+@jit
+def all_pole(a, x):
+    """``scipy.signal.lfilter([1.0], a, x)`` (``a[0]`` 1): its direct form II transposed, the same operations in the
+    same order (the numerator's zeros too: the same signs of zero)."""
+    order = len(a) - 1
+    b = np.zeros(order + 1)
+    b[0] = 1.0
+    z = np.zeros(max(order, 1))
+    y = np.empty(len(x))
+    for n in range(len(x)):
+        v = x[n]
+        out = z[0] + b[0] * v
+        for k in range(order - 1):
+            z[k] = z[k + 1] + v * b[k + 1] - out * a[k + 1]
+        z[order - 1] = v * b[order] - out * a[order]
+        y[n] = out
+    return y
+
+
+@jit
+def tail_free_peaks(e, coefficients, starts, stops, sure, amplitude, h, horizon, interpolator):
+    """:func:`.onsets._attack_amplitudes`' loop over the onsets when the room's tails are taken off: each ``sure``
+    onset's ``e[starts[i]:stops[i]]`` less the earlier sure onsets' tails ``amplitude[j] * h[lag:]`` (their lag from
+    ``horizon`` to ``len(h)``, in order), through the predictor's all-pole response (:func:`all_pole`), its peak
+    between samples (:func:`upsampled_peak`, padded by 4 zeros each side); the others' ``amplitude`` as it is."""
+    out = amplitude.copy()
+    for i in range(len(starts)):
+        k, stop = starts[i], stops[i]
+        if k < len(coefficients) - 1 or stop <= k or not sure[i]:
+            continue
+        own = e[k:stop].copy()
+        for j in range(i):
+            lag = k - starts[j]
+            if sure[j] and horizon <= lag < len(h):
+                part = h[lag:min(len(h), lag + stop - k)]
+                for m in range(len(part)):
+                    own[m] -= amplitude[j] * part[m]
+        padded = np.zeros(len(own) + 8)
+        padded[4:4 + len(own)] = all_pole(coefficients, own)
+        out[i] = upsampled_peak(interpolator, padded)
+    return out
 
 
 @jit
@@ -390,14 +445,21 @@ def next_attack(x, head, low, high, pre, reach, base, width, energy, rise, liken
     power = np.zeros(count + 1)
     for j in range(count):
         power[j + 1] = power[j] + x[base + j] * x[base + j]
-    rising, dots = np.empty(8, dtype=np.int64), np.empty(8)
+    rising, dots, owns = np.empty(8, dtype=np.int64), np.empty(8), np.empty(8)
     i = 0
     while i < high - low:
         found = 0  # the next eight samples (or fewer) whose windows rise
         while i < high - low and found < 8:
             n = i + low - base
-            after = (power[min(n + width, count)] - power[n]) / width
-            before = (power[n] - power[max(n - 4 * width, 0)]) / (4 * width)
+            ahead, behind = power[min(n + width, count)] - power[n], power[n] - power[max(n - 4 * width, 0)]
+            # the divisions below only where the window may rise: the running sums never fall (both sums ≥ 0), so
+            # 4 ahead under (1 - 1e-9) rise behind is under rise behind by far more than the divisions' rounding
+            # (normal numbers: far from underflow)
+            if behind > 1e-280 and 4.0 * ahead < (1.0 - 1e-9) * rise * behind:
+                i += 1
+                continue
+            after = ahead / width
+            before = behind / (4 * width)
             if after >= rise * before:
                 rising[found] = i
                 found += 1
@@ -406,10 +468,16 @@ def next_attack(x, head, low, high, pre, reach, base, width, energy, rise, liken
             break
         rising[found:] = rising[found - 1]
         eight_dots(x, low - pre + rising, head, dots)
+        scaled = False
+        for f in range(found):
+            scaled = scaled or dots[f] >= least * energy
+        if not scaled:
+            continue
+        eight_squares(x, low - pre + rising, len(head), owns)  # each window's energy, as likeness_at sums it
         for f in range(found):
             if not dots[f] >= least * energy:  # (the correlation only where the scale passes)
                 continue
-            like, _ = likeness_at(x, low - pre + rising[f], head, energy)
+            like = dots[f] / (math.sqrt(owns[f] * energy) + 1e-300)  # likeness_at's, its sums side by side
             if like >= likeness:
                 best, at = like, rising[f]
                 for k in range(rising[f] + 1, min(rising[f] + reach + 1, high - low)):
@@ -439,6 +507,31 @@ def eight_dots(x, starts, t, out):
 
 
 @jit
+def eight_squares(x, starts, size, out):
+    """:func:`pair_dot` of each of the eight windows of ``size`` samples of ``x`` from ``starts`` with itself, into
+    ``out``: their two lanes' chains side by side, each added in pair_dot's order."""
+    even, odd = np.zeros(8), np.zeros(8)
+    j = 0
+    while size - j >= 8:
+        for step in (6, 4, 2, 0):  # pair_dot's order: the vector's last pair first, into the lanes
+            for w in range(8):
+                a, b = x[starts[w] + j + step], x[starts[w] + j + step + 1]
+                even[w] = a * a + even[w]
+                odd[w] = b * b + odd[w]
+        j += 8
+    while j < size:
+        for w in range(8):
+            a = x[starts[w] + j]
+            even[w] = a * a + even[w]
+            if j + 1 < size:
+                b = x[starts[w] + j + 1]
+                odd[w] = b * b + odd[w]
+        j += 2
+    for w in range(8):
+        out[w] = even[w] + odd[w]
+
+
+@jit
 def pursue(r, positions, centres, basis, gram, solve, head, head_norm, lead, width, tail, floor):
     """:func:`.onsets._pursue`'s loop: ``r`` (the innovation, changed in place) less each onset's fitted signature.
 
@@ -455,7 +548,7 @@ def pursue(r, positions, centres, basis, gram, solve, head, head_norm, lead, wid
     where = positions.copy()
     at, amp = np.zeros(count, dtype=np.int64), np.zeros(count)
     weights, fitted = np.empty((5, m)), np.empty(m)  # each alignment's weights, and one's times gram
-    cost = np.empty(5)
+    cost, dots, heads, energies = np.empty(5), np.empty(5), np.empty(5), np.empty(5)
     for i in range(count):
         c = centres[i]
         low, high = max(0, c - half - 4 * width), min(n, c + half + width + 1)
@@ -464,18 +557,19 @@ def pursue(r, positions, centres, basis, gram, solve, head, head_norm, lead, wid
         if last < first:
             continue
         like = -np.inf
+        # each alignment's sums as window_dot and pair_dot add them, the five alignments' side by side
+        five_dots(r, first, last, head, dots)
+        five_squares(r, first, last, len(head), heads)
+        five_squares(r, first, last, size, energies)
+        for q in range(m):
+            five_dots(r, first, last, solve[q], weights[:, q])
         for k in range(last - first + 1):
-            s = first + k
-            dot = window_dot(r, s, head)
-            like = max(like, abs(dot) / (math.sqrt(pair_dot(r[s:s + len(head)], r[s:s + len(head)])) * head_norm
-                                         + 1e-300))
-            for q in range(m):
-                weights[k, q] = window_dot(r, s, solve[q])
+            like = max(like, abs(dots[k]) / (math.sqrt(heads[k]) * head_norm + 1e-300))
             fitted[:] = 0.0
             for q in range(m):
                 for p in range(m):
                     fitted[q] += weights[k, p] * gram[p, q]
-            cost[k] = pair_dot(r[s:s + size], r[s:s + size]) - pair_dot(weights[k], fitted)
+            cost[k] = energies[k] - pair_dot(weights[k], fitted)
         likeness[i] = like
         k = 0  # the first of the least costs
         for j in range(1, last - first + 1):
@@ -494,6 +588,53 @@ def pursue(r, positions, centres, basis, gram, solve, head, head_norm, lead, wid
         shift = -weights[k, 1] / weights[k, 0] if m > 1 and weights[k, 0] != 0.0 else 0.0
         where[i] = s + lead + min(max(shift, -1.0), 1.0)
     return jumps, likeness, where, at, amp
+
+
+@jit
+def five_dots(x, first, last, t, out):
+    """:func:`window_dot` of the windows of ``x`` from ``first`` to ``last`` (five at most) with ``t``, into ``out``:
+    five chains of additions side by side (a window past ``last`` is the last one again)."""
+    s0, s1, s2 = first, min(first + 1, last), min(first + 2, last)
+    s3, s4 = min(first + 3, last), min(first + 4, last)
+    d0, d1, d2, d3, d4 = 0.0, 0.0, 0.0, 0.0, 0.0
+    for j in range(len(t)):
+        v = t[j]
+        d0 += x[s0 + j] * v
+        d1 += x[s1 + j] * v
+        d2 += x[s2 + j] * v
+        d3 += x[s3 + j] * v
+        d4 += x[s4 + j] * v
+    out[0], out[1], out[2], out[3], out[4] = d0, d1, d2, d3, d4
+
+
+@jit
+def five_squares(x, first, last, size, out):
+    """:func:`pair_dot` of each window of ``size`` samples of ``x`` from ``first`` to ``last`` (five at most) with
+    itself, into ``out``: its two lanes' chains for the five windows side by side (a window past ``last`` is the last
+    one again)."""
+    s0, s1, s2 = first, min(first + 1, last), min(first + 2, last)
+    s3, s4 = min(first + 3, last), min(first + 4, last)
+    e0, e1, e2, e3, e4 = 0.0, 0.0, 0.0, 0.0, 0.0  # each window's even and odd lanes
+    o0, o1, o2, o3, o4 = 0.0, 0.0, 0.0, 0.0, 0.0
+    j = 0
+    while size - j >= 8:
+        for step in (6, 4, 2, 0):  # pair_dot's order: the vector's last pair first, into the lanes
+            a0, a1, a2 = x[s0 + j + step], x[s1 + j + step], x[s2 + j + step]
+            a3, a4 = x[s3 + j + step], x[s4 + j + step]
+            e0, e1, e2, e3, e4 = a0 * a0 + e0, a1 * a1 + e1, a2 * a2 + e2, a3 * a3 + e3, a4 * a4 + e4
+            a0, a1, a2 = x[s0 + j + step + 1], x[s1 + j + step + 1], x[s2 + j + step + 1]
+            a3, a4 = x[s3 + j + step + 1], x[s4 + j + step + 1]
+            o0, o1, o2, o3, o4 = a0 * a0 + o0, a1 * a1 + o1, a2 * a2 + o2, a3 * a3 + o3, a4 * a4 + o4
+        j += 8
+    while j < size:
+        a0, a1, a2, a3, a4 = x[s0 + j], x[s1 + j], x[s2 + j], x[s3 + j], x[s4 + j]
+        e0, e1, e2, e3, e4 = a0 * a0 + e0, a1 * a1 + e1, a2 * a2 + e2, a3 * a3 + e3, a4 * a4 + e4
+        if j + 1 < size:
+            a0, a1, a2 = x[s0 + j + 1], x[s1 + j + 1], x[s2 + j + 1]
+            a3, a4 = x[s3 + j + 1], x[s4 + j + 1]
+            o0, o1, o2, o3, o4 = a0 * a0 + o0, a1 * a1 + o1, a2 * a2 + o2, a3 * a3 + o3, a4 * a4 + o4
+        j += 2
+    out[0], out[1], out[2], out[3], out[4] = e0 + o0, e1 + o1, e2 + o2, e3 + o3, e4 + o4
 
 
 @jit
@@ -603,10 +744,23 @@ def least_unexplained(part, cross, energy, length):
     """Where a template of ``energy`` leaves the least of ``part``'s windows of ``length`` unexplained, given their
     ``cross`` products with it: ``k`` and the fraction ``(own - cross² / energy) / own`` (``own``: the window's
     energy by running sums from ``part[0]``), as numpy code computed it (the first least, or the first nan)."""
-    power = np.empty(len(part) + 1)
+    return least_unexplained_by(running_power(part, len(part)), cross, energy, length)
+
+
+@jit
+def running_power(x, count):
+    """The running sums of ``x * x`` over its first ``count`` samples, from 0, in order [shape=(count + 1,)]."""
+    power = np.empty(count + 1)
     power[0] = 0.0
-    for j in range(len(part)):
-        power[j + 1] = power[j] + part[j] * part[j]
+    for j in range(count):
+        power[j + 1] = power[j] + x[j] * x[j]
+    return power
+
+
+@jit
+def least_unexplained_by(power, cross, energy, length):
+    """:func:`least_unexplained` given the running sums ``power`` of the part's squares (:func:`running_power`, over as
+    many samples as its windows reach or more: the windows' energies are the same)."""
     tiny = np.finfo(np.float64).tiny
     best, at = np.inf, 0
     for k in range(len(cross)):
@@ -639,20 +793,29 @@ def own_peaks(x, starts, following, ends, bank, offsets, lengths, window, reach,
             longest = t
     for i in range(count):
         start = starts[i]
-        peaks[i], heard[i] = 0.0, 0.0
+        peak, loudest = 0.0, 0.0  # in registers: the largest is the same
         for j in range(start, ends[i]):
-            peaks[i] = max(peaks[i], abs(rest[j]))
-            heard[i] = max(heard[i], abs(x[j]))
+            peak = max(peak, abs(rest[j]))
+            loudest = max(loudest, abs(x[j]))
+        peaks[i], heard[i] = peak, loudest
         need = min(following[i] - start + window, reach)
         any_long = False
         for t in range(len(lengths)):
             any_long = any_long or lengths[t] >= need
         best, at, scale, chosen = np.inf, 0, 0.0, -1
+        low = max(start - shift, 0)
+        # the remainder's running power from low, once an onset over the longest part a usable template is fitted to
+        # (each template's windows' energies are the same sums)
+        reach_most = 0
+        for t in range(len(lengths)):
+            if not ((any_long and lengths[t] < need) or (not any_long and t != longest)):
+                reach_most = max(reach_most, start + shift + min(lengths[t], following[i] - start,
+                                                                  len(rest) - start - shift) - low)
+        power = running_power(rest[low:], max(reach_most, 0))
         for t in range(len(lengths)):
             if (any_long and lengths[t] < need) or (not any_long and t != longest):
                 continue
             length = min(lengths[t], following[i] - start, len(rest) - start - shift)
-            low = max(start - shift, 0)
             if length < 16:  # too short to tell a scale
                 continue
             head = bank[offsets[t]:offsets[t] + length]
@@ -663,7 +826,7 @@ def own_peaks(x, starts, following, ends, bank, offsets, lengths, window, reach,
             cross = np.empty(len(part) - length + 1)
             for k in range(len(cross)):
                 cross[k] = np.dot(part[k:k + length], head)
-            k, unexplained = least_unexplained(part, cross, energy, length)
+            k, unexplained = least_unexplained_by(power, cross, energy, length)
             if chosen < 0 or unexplained < best:
                 best, at, scale, chosen = unexplained, low + k, cross[k] / energy, t
         if chosen >= 0:
@@ -715,11 +878,29 @@ def peaks_around(d, centres, after, before, gap):
     ahead, prior = np.zeros(len(centres)), np.zeros(len(centres))
     for i in range(len(centres)):
         c = centres[i]
+        peak = 0.0  # in registers: the largest is the same
         for j in range(c, min(len(d), c + after)):
-            ahead[i] = max(ahead[i], d[j])
+            peak = max(peak, d[j])
+        ahead[i], peak = peak, 0.0
         for j in range(max(0, c - before), min(len(d), max(1, c - gap))):
-            prior[i] = max(prior[i], d[j])
+            peak = max(peak, d[j])
+        prior[i] = peak
     return ahead, prior
+
+
+@jit
+def largest_magnitude(x):
+    """``np.max(np.abs(x), initial=0.0)``, without the array of magnitudes (in four lanes: the largest is the same)."""
+    m0 = m1 = m2 = m3 = 0.0
+    j = 0
+    while j + 4 <= len(x):
+        m0, m1 = max(m0, abs(x[j])), max(m1, abs(x[j + 1]))
+        m2, m3 = max(m2, abs(x[j + 2])), max(m3, abs(x[j + 3]))
+        j += 4
+    while j < len(x):
+        m0 = max(m0, abs(x[j]))
+        j += 1
+    return max(max(m0, m1), max(m2, m3))
 
 
 @jit
@@ -727,8 +908,10 @@ def window_peaks(x, lows, highs):
     """``np.abs(x[lows[i]:highs[i]]).max(initial=0.0)`` for each ``i`` (``lows`` ≥ 0)."""
     out = np.zeros(len(lows))
     for i in range(len(lows)):
+        peak = 0.0  # in registers: the largest is the same
         for j in range(lows[i], min(len(x), highs[i])):
-            out[i] = max(out[i], abs(x[j]))
+            peak = max(peak, abs(x[j]))
+        out[i] = peak
     return out
 
 
@@ -809,7 +992,7 @@ def burg(y, order):
     """``librosa.lpc(y, order=order)`` for a 1-D ``y`` (Burg's method, as Marple): the same operations, except that
     each sum of products is added in four lanes (every fourth term), the lanes summed at the end (the same to rounding:
     one chain of additions a sample made the method wait on each addition), each order's update of the prediction
-    errors done in place, in one pass with the next order's numerator."""
+    errors done in place (a loop of independent samples: in vector instructions), then the next order's numerator."""
     tiny = np.finfo(np.float64).tiny
     n = len(y)
     f = y[1:].copy()  # f[i:] is the forward error at order i, b[:n - 1 - i] the backward one
@@ -826,31 +1009,12 @@ def burg(y, order):
         a_prev, a = a, a_prev
         for j in range(1, i + 2):
             a[j] = a_prev[j] + reflect * a_prev[i - j + 1]
-        old = f[i]
-        f[i] = old + reflect * b[0]
-        b[0] = b[0] + reflect * old
-        # the next order's numerator: its b[k] (this one's new b[k]) times its f[k] (this one's new f[k + 1])
-        s0 = s1 = s2 = s3 = 0.0
-        k = 1
-        while k + 4 <= m:
-            f0, f1, f2, f3 = f[i + k], f[i + k + 1], f[i + k + 2], f[i + k + 3]
-            b0, b1, b2, b3 = b[k], b[k + 1], b[k + 2], b[k + 3]
-            g0, g1, g2, g3 = f0 + reflect * b0, f1 + reflect * b1, f2 + reflect * b2, f3 + reflect * b3
-            h0, h1, h2, h3 = b0 + reflect * f0, b1 + reflect * f1, b2 + reflect * f2, b3 + reflect * f3
-            s0 += b[k - 1] * g0
-            s1 += h0 * g1
-            s2 += h1 * g2
-            s3 += h2 * g3
-            f[i + k], f[i + k + 1], f[i + k + 2], f[i + k + 3] = g0, g1, g2, g3
-            b[k], b[k + 1], b[k + 2], b[k + 3] = h0, h1, h2, h3
-            k += 4
-        while k < m:
-            old = f[i + k]
-            f[i + k] = old + reflect * b[k]
-            b[k] = b[k] + reflect * old
-            s0 += b[k - 1] * f[i + k]
-            k += 1
-        dot = (s0 + s1) + (s2 + s3)
+        forward, backward = f[i:i + m], b[:m]  # slices: indices the compiler sees are ≥ 0
+        for k in range(m):
+            old = forward[k]
+            forward[k] = old + reflect * backward[k]
+            backward[k] = backward[k] + reflect * old
+        dot = lanes_dot(b, 0, f, i + 1, m - 1)  # the next order's numerator: its b[k - 1] times its f[k]
         q = 1.0 - reflect ** 2
         den = q * den - b[m - 1] ** 2 - f[i] ** 2
     return a

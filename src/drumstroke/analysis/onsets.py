@@ -1720,7 +1720,7 @@ def _decimation(band, rate):
         return 1
     starts = np.unique(np.linspace(0, len(band) - size, min(_SPECTRA, (len(band) - size) // (size // 2) + 1))
                        .astype(np.int64))  # half-overlapping frames, or as many spread over a long file
-    window = np.hanning(size)
+    window = _hann(size)
     # each frame's energy over its spectrum's bins (Parseval's): only the quietest and the loudest tenths are transformed
     energy = frame_energies(np.ascontiguousarray(band, dtype=float), starts, window)
     frequencies = np.fft.rfftfreq(size, 1.0 / rate)
@@ -1734,6 +1734,14 @@ def _decimation(band, rate):
     good = np.flatnonzero(loud > 100.0 * noise)
     top = frequencies[good[-1]] if len(good) else frequencies[-1]
     return int(max(1, min(rate // (2.5 * max(top, 1.0)), rate // 2000)))
+
+
+@cache
+def _hann(size):
+    """``np.hanning(size)``, computed once a size (read only)."""
+    window = np.hanning(size)
+    window.flags.writeable = False
+    return window
 
 
 def _decimate(band, rate, q, corner=None):
@@ -1887,7 +1895,9 @@ def _rounding_floor(x):
     Far under any recording's noise (24-bit audio: −144 dB) and far over a double's rounding of it
     (about −310 dB): a note fitted and taken off to its last bits leaves no jump.
     """
-    return 1e-24 * float(np.max(np.abs(x), initial=0.0)) ** 2
+    from ._kernels import largest_magnitude
+
+    return 1e-24 * largest_magnitude(np.ascontiguousarray(x, dtype=float)) ** 2
 
 
 def _merge(tonal, broadband, gap, deep=(), strong=None):
@@ -1898,25 +1908,32 @@ def _merge(tonal, broadband, gap, deep=(), strong=None):
     time is trusted over the broadband one), a group's tonal time nearest its broadband time replaces it
     when ``strong`` says so.
     """
-    marked = sorted([(s, 1) for s in tonal] + [(s, 0) for s in broadband] + [(s, 2) for s in deep])
-    groups = []
-    for s, kind in marked:
-        if groups and s - groups[-1][0][0] < gap:
-            groups[-1].append((s, kind))
+    def floats(samples):  # Python's floats: the same values, sorted and compared faster than numpy's scalars
+        return np.asarray(samples, dtype=float).tolist()
+
+    marked = sorted([(s, 1) for s in floats(tonal)] + [(s, 0) for s in floats(broadband)]
+                    + [(s, 2) for s in floats(deep)])
+    times, kinds = [], []
+    start = 0
+    while start < len(marked):  # a group: the onsets closer than gap to its first
+        stop = start + 1
+        while stop < len(marked) and marked[stop][0] - marked[start][0] < gap:
+            stop += 1
+        s, kind = marked[start]
+        if stop > start + 1:  # a group's choice may fall on the next group's (its broadband time on that one's tonal)
+            group = marked[start:stop]
+            s, kind = min(group, key=lambda item: item[1])
+            near = min((t for t, k in group if k == 1), key=lambda t: abs(t - s), default=None)
+            if kind == 0 and near is not None and strong is not None and strong(near, s):
+                s, kind = near, 1
+        if times and s - times[-1] < gap / 4:
+            if kind < kinds[-1]:
+                times[-1], kinds[-1] = s, kind
         else:
-            groups.append([(s, kind)])
-    chosen = []
-    for group in groups:  # a group's choice may fall on the next group's (its broadband time on that one's tonal)
-        s, kind = min(group, key=lambda item: item[1])
-        near = min((t for t, k in group if k == 1), key=lambda t: abs(t - s), default=None)
-        if kind == 0 and near is not None and strong is not None and strong(near, s):
-            s, kind = near, 1
-        if chosen and s - chosen[-1][0] < gap / 4:
-            if kind < chosen[-1][1]:
-                chosen[-1] = (s, kind)
-        else:
-            chosen.append((s, kind))
-    return np.array([s for s, _ in chosen], dtype=float), np.array([k for _, k in chosen], dtype=np.int64)
+            times.append(s)
+            kinds.append(kind)
+        start = stop
+    return np.array(times, dtype=float), np.array(kinds, dtype=np.int64)
 
 
 def _away(candidates, known, gap):
@@ -2036,9 +2053,11 @@ def _level_corner(band, rate, onsets, config):
     The lowest strong mode is the lowest frequency within 20 dB of the strongest in the 50 ms
     after the loudest of ``onsets`` (full-rate samples; the signal's largest sample if none).
     """
+    from ._kernels import window_peaks
+
     if len(onsets):
         starts = np.clip(np.round(onsets).astype(np.int64), 0, len(band) - 1)
-        peaks = [np.abs(band[k:k + max(1, round(5e-3 * rate))]).max() for k in starts]
+        peaks = window_peaks(band, starts, starts + max(1, round(5e-3 * rate)))
         start = int(starts[int(np.argmax(peaks))])
     else:
         start = int(np.argmax(np.abs(band)))
@@ -2046,7 +2065,7 @@ def _level_corner(band, rate, onsets, config):
     segment = band[start:start + size]
     if len(segment) < size // 4:
         return config.level_band
-    power = np.abs(np.fft.rfft(segment * np.hanning(len(segment)), size)) ** 2
+    power = np.abs(np.fft.rfft(segment * _hann(len(segment)), size)) ** 2
     frequencies = np.fft.rfftfreq(size, 1.0 / rate)
     strong = np.flatnonzero((power >= 0.01 * power.max()) & (frequencies >= config.high_pass))
     lowest = frequencies[strong[0]] if len(strong) else 190.0
@@ -2066,9 +2085,7 @@ def _attack_amplitudes(low, coefficients, positions, rate, *, tail=0, sure=None,
     onsets. ``sure`` (booleans, one per onset): the onsets so measured and whose tails are taken off;
     ``ridge``: the tail's fit's (:func:`_room_tail`).
     """
-    from scipy.signal import lfilter
-
-    from ._kernels import prediction_error, residual_peaks, upsampled_peak
+    from ._kernels import prediction_error, residual_peaks, tail_free_peaks
 
     horizon = max(2, round(5e-3 * rate))
     interpolator = _interpolator()
@@ -2085,20 +2102,8 @@ def _attack_amplitudes(low, coefficients, positions, rate, *, tail=0, sure=None,
     if h is None:
         return amplitude
     sure = np.ones(len(starts), dtype=bool) if sure is None else np.asarray(sure, dtype=bool)
-    out = amplitude.copy()
-    for i, (k, stop) in enumerate(zip(starts, stops)):
-        if k < len(coefficients) - 1 or stop <= k or not sure[i]:
-            continue
-        own = e[k:stop].copy()
-        earlier = np.flatnonzero(sure[:i])
-        lags = k - starts[earlier]
-        within = (lags >= horizon) & (lags < len(h))
-        for j, lag in zip(earlier[within], lags[within]):  # the earlier onsets' tails over this onset's window, in order
-            part = h[lag:lag + stop - k]
-            own[:len(part)] -= amplitude[j] * part
-        own = lfilter([1.0], coefficients, own)  # the predictor's response: the sound less its extrapolation
-        out[i] = upsampled_peak(interpolator, np.concatenate((np.zeros(4), own, np.zeros(4))))
-    return out
+    return tail_free_peaks(e, np.ascontiguousarray(coefficients, dtype=float), starts, np.array(stops, dtype=np.int64),
+                           sure, amplitude, np.ascontiguousarray(h, dtype=float), horizon, interpolator)
 
 
 @cache
