@@ -682,14 +682,14 @@ def fit_stroke(onsets, *, model="paper", cor=DEFAULT_COR, fit_cor=False, offset=
         raise ParameterError(f"a fit needs at least 2 onsets (a throw and a bounce), got {len(onsets)}"
                              + (" (no impacts found)" if not len(onsets) else ""))
     search = _Search(edits, model=model, stick=stick, forces=FORCES if forces is None else forces, highest=highest,
-                     progress=progress)
+                     drop_beyond=drop_suspects, progress=progress)
     return search.run(cor=cor, fit_cor=fit_cor, offset=offset)
 
 
 class _Search:
     """The notes tried, the onsets left out and why, and the criterion of a candidate (offset, c)."""
 
-    def __init__(self, edits, *, model, stick, forces, highest, progress):
+    def __init__(self, edits, *, model, stick, forces, highest, drop_beyond, progress):
         if not isinstance(forces, ForceRange):
             raise ParameterError(f"forces must be a drumstroke.design.ForceRange, got {forces!r}")
         self.edits, self.onsets, self.stick = edits, edits.fitted, stick
@@ -698,8 +698,10 @@ class _Search:
         self.coefficients = coefficients(model, stick)
         self.progress = progress or (lambda fraction: None)
         self.left_out = {}
+        self.drop_beyond = drop_beyond
+        self.beyond = {}  # onset fitted → why it alone makes the thumb press beyond the human (:meth:`beyond_press`)
         self.keep = self._playable()
-        self._changes = {}  # (onsets kept, offset, c) → the criterion: the search asks for some again
+        self._changes = {}  # (onsets kept, offset, c) → (criterion, failure, forces' range): asked for again
 
     def _playable(self):
         """The onsets the model can take at all: within its 48 dB, at least 1 ms apart."""
@@ -720,6 +722,13 @@ class _Search:
 
     def change(self, offset, cor):
         """The criterion at ``offset`` (dB) and ``cor``: (value, the Unreachable if the design fails)."""
+        return self._changed(offset, cor)[:2]
+
+    def forces(self, offset, cor):
+        """The least and the largest force (m/s²) of the design at ``offset`` and ``cor`` (NaN when it fails)."""
+        return self._changed(offset, cor)[2]
+
+    def _changed(self, offset, cor):
         key = (tuple(self.keep), float(offset), float(cor))
         if key not in self._changes:
             self._changes[key] = self._change(offset, cor)
@@ -732,15 +741,18 @@ class _Search:
             pieces, _ = design_pieces(self.onsets.t[keep], np.clip(levels, FLOOR_DB, CEILING_DB),
                                       setup=self.setup.replace(cor=cor), highest=self.highest)
         except Unreachable as error:
-            return math.inf, error
+            return math.inf, error, (math.nan, math.nan)
         flights = [p for p in pieces if p.phase in ("rise", "fall")]
         forces = np.array([p.force for p in flights])
         rates = self.coefficients.torque_rate(STANDARD_GRAVITY, forces)
         weights = np.array([p.end - p.start for p in flights])
         mean = abs(float(np.sum(rates * weights) / np.sum(weights)))
         value = float(np.abs(np.diff(rates)).sum()) / mean if mean > 0.0 else math.inf
-        beyond = max(forces.max() - HUMAN_FORCE, 0.0) + max(-forces.min(), 0.0)
-        return (value + _HUMAN_FIRST + beyond / HUMAN_FORCE if beyond > 0.0 else value), None
+        span = (float(forces.min()), float(forces.max()))
+        pull, press = max(-span[0], 0.0), max(span[1] - HUMAN_FORCE, 0.0)
+        if pull or press:  # a pull before a press beyond the thumb, each the less the better
+            value += _HUMAN_FIRST * (1 + (press > 0.0)) + (pull + press) / HUMAN_FORCE
+        return value, None, span
 
     def bounds(self):
         """The offsets (dB) that put every onset kept within the model's levels."""
@@ -804,6 +816,8 @@ class _Search:
             self.progress(0.9)
             if self.false_onset(cor, offset_at, fixed=offset is not None):
                 continue
+            if self.beyond_press(cor, offset_at, fixed=offset is not None):
+                continue
             try:
                 made = self.design(offset_at, cor)
             except Unreachable as error:
@@ -842,6 +856,50 @@ class _Search:
         _, k, why = best
         self.leave_out(k, f"{why}, and played only by a force beyond the human thumb: a false detection (an echo, "
                           "the snares, noise)?")
+        return True
+
+    def beyond_press(self, cor, offset, *, fixed):
+        """Name the onsets that alone make the thumb press beyond the human, and (``drop_beyond``) leave them out;
+        whether any were left out.
+
+        Where the design at the best offset presses harder than :data:`~drumstroke.design.HUMAN_FORCE` (no offset
+        plays the onsets kept without it: the criterion prefers a pull), the one onset whose leaving out brings
+        the press within it with the least criterion (the simplest force then) is named a suspect, with the
+        forces with it and without; failing one, the two successive onsets that do (two close bounces read
+        together, their levels a few dB off). Most often a level read a dB off or a time a sample off asks
+        two flights for opposite forces (the generalisation of :meth:`false_onset`, whatever the onset's level).
+        The first and the last onsets are not tried (the throw; the dying bounces), nor a filled bounce (not the
+        recording's); none is named when no such onset or pair does it, or only two onsets would be left.
+        """
+        if len(self.keep) < 4 or (self.beyond and not self.drop_beyond):
+            return False
+        low, high = self.forces(offset, cor)
+        if not high > HUMAN_FORCE:
+            return False
+        inner = [k for k in range(1, len(self.keep) - 1) if self.edits.origin[self.keep[k]] >= 0]
+        for tried in ([(k,) for k in inner], list(zip(inner, inner[1:]))):
+            best = None  # (criterion, positions left out, the forces without them)
+            for out in tried:
+                kept, self.keep = self.keep, [i for k, i in enumerate(self.keep) if k not in out]
+                value, at = (self.change(offset, cor)[0], offset) if fixed else self.best_offset(cor)
+                span = self.forces(at, cor) if math.isfinite(value) else None
+                self.keep = kept
+                if span is not None and span[1] <= HUMAN_FORCE and (best is None or value < best[0]):
+                    best = (value, out, span)
+            if best is not None:
+                break
+        else:
+            return False
+        _, out, span = best
+        names = " and ".join(str(int(self.edits.origin[self.keep[k]])) for k in out)
+        why = (f"the forces {low:.4g} to {high:.4g} m/s^2 with {'it' if len(out) == 1 else f'onsets {names}'}, "
+               f"{span[0]:.4g} to {span[1]:.4g} without: {'it alone makes' if len(out) == 1 else 'they make'} the "
+               f"thumb press beyond the human {HUMAN_FORCE:g} m/s^2 (a level or a time read off?)")
+        for k in out:
+            self.beyond[self.keep[k]] = why
+        if not self.drop_beyond:
+            return False
+        self.keep = [i for k, i in enumerate(self.keep) if k not in out]
         return True
 
     def best_cor(self, offset):
@@ -919,10 +977,14 @@ class _Search:
         extra[pairs[pairs >= 0]] = False
         extra &= played_level >= onsets.threshold_db
         filled = origin < 0
+        beyond = [Suspect(int(origin[i]), "drop", why, float(given.t[origin[i]]), float(given.level_db[origin[i]]))
+                  for i, why in self.beyond.items()]
+        suspects = tuple(sorted(edits.suspects + tuple(beyond), key=lambda s: (s.onset, s.t)))
+        dropped = edits.dropped + tuple((s.onset, f"a suspect: {s.reason}") for s in beyond if self.drop_beyond)
         return Fit(made.recipe.replace(name=f"fitted to {given.source}" if given.source else "fitted"), made.stroke,
                    given, cor, float(offset + shift), float(made.release), time_residual, level_residual,
                    tuple(sorted(left_out.items())), played_t[extra], played_level[extra] - shift,
-                   self.change(offset, cor)[0], bool(fit_cor), made, edits.suspects, edits.dropped,
+                   self.change(offset, cor)[0], bool(fit_cor), made, suspects, tuple(sorted(dropped)),
                    onsets.t[filled], onsets.level_db[filled] - shift, *edits.measure)
 
 
