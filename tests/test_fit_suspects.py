@@ -81,6 +81,29 @@ def test_drop_and_merge_by_hand(drop):
     assert dropped.within and np.isnan(dropped.time_residual[4]) and not dropped.beyond_human
 
 
+def test_an_onset_that_makes_the_thumb_press_beyond_the_human_is_named_and_dropped():
+    """A stroke under 240 m/s² (near the human 250) with one bounce's level read 1 dB high, its loudest level given:
+    playing that bounce needs a press beyond 250 m/s², and it alone does. It is named (kept without
+    --drop-suspects, dropped with it), and what is kept is played within 2 ms and 1 dB under the human press.
+    (The trend of levels cannot judge: its tolerance is opened to 48 dB.)"""
+    from drumstroke import Constant, Recipe
+
+    impacts = simulate(Recipe(force=Constant(240.0), theta0=0.5, cor=COR, t_end=3.0)).impacts
+    level = impacts.level_db[:16].copy()
+    spoiled_at = 8
+    level[spoiled_at] += 1.0
+    onsets = Onsets(impacts.t[:16], level - level.max(), source="pressed")
+    options = {"cor": COR, "offset": float(level.max()), "suspect_level": 48.0}
+    named = fit_stroke(onsets, **options)
+    pressing = [s for s in named.suspects if "press beyond the human" in s.reason]
+    assert [(s.onset, s.action) for s in pressing] == [(spoiled_at, "drop")]
+    assert named.played[spoiled_at] and named.design.max_force > HUMAN_FORCE
+    kept = fit_stroke(onsets, drop_suspects=True, **options)
+    assert (spoiled_at, f"a suspect: {pressing[0].reason}") in kept.dropped and not kept.played[spoiled_at]
+    assert kept.within and not kept.unmatched and kept.design.max_force <= HUMAN_FORCE
+    assert kept.played.sum() == len(onsets) - len(kept.dropped)
+
+
 @pytest.mark.parametrize("options, match", [
     ({"drop": [99]}, r"drop\[0\] must be an integer in \[0, 22\], got 99"),
     ({"merge": [22]}, r"merge\[0\] must be an integer in \[0, 21\], got 22"),

@@ -689,7 +689,7 @@ def fit_stroke(onsets, *, model="paper", cor=DEFAULT_COR, fit_cor=False, offset=
 class _Search:
     """The notes tried, the onsets left out and why, and the criterion of a candidate (offset, c)."""
 
-    def __init__(self, edits, *, model, stick, forces, highest, drop_beyond, progress):
+    def __init__(self, edits, *, model, stick, forces, highest, progress, drop_beyond=False):
         if not isinstance(forces, ForceRange):
             raise ParameterError(f"forces must be a drumstroke.design.ForceRange, got {forces!r}")
         self.edits, self.onsets, self.stick = edits, edits.fitted, stick

@@ -114,11 +114,13 @@ def _fit(args):
 
 
 def _print_suspects(suspects, *, acted):
-    """The onsets one constant force's trend doubts, and whether the fit acted on them."""
+    """The onsets one constant force's trend doubts, or that make the thumb press beyond the human, and whether the
+    fit acted on them."""
     if not suspects:
         return
     done = "acted on (--drop-suspects)" if acted else "kept: --drop-suspects fits without them"
-    print(f"{len(suspects)} suspect onsets against the trend of one constant force's bounces, {done}:")
+    print(f"{len(suspects)} suspect onsets (against the trend of one constant force's bounces, or making the thumb "
+          f"press beyond the human), {done}:")
     for suspect in suspects:
         into = f" into {suspect.into}" if suspect.into >= 0 else ""
         print(f"  {suspect.onset:>4} {suspect.action}{into}: {suspect.reason}")
