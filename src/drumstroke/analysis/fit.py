@@ -12,9 +12,10 @@ the recording does not say is chosen:
   variation of the torque rate C = (k·g + k′·a)/D over the flights' pieces, divided by its mean
   (time-weighted). A stroke played under one constant force is fitted at its own offset and c with
   a change of 0 (to round-off); a force that steps or ramps is fitted where its steps are least in
-  proportion. Offsets whose design stays within the human thumb (0–250 m/s²) come first; among the
-  others, the least beyond it (a slight pull, a < 0, only when no offset plays the onsets without
-  one: :data:`FORCES`). Without ``fit_cor``, c is given (default 0.86, the paper's).
+  proportion. Offsets whose design stays within the human thumb (0–250 m/s²) come first; then those
+  with a slight pull (a < 0: :data:`FORCES`), the least first; then those pressing beyond 250 m/s²,
+  the least beyond first (the thumb can pull; no thumb presses harder). Without ``fit_cor``, c is
+  given (default 0.86, the paper's).
 - **the start**: the stick held at rest at the height from which the first flight's rising force
   throws it onto the first onset (a stroke under one force starts where it was let go);
 - **the end**: after the last onset the stick bounces on under gravity alone (a Zeno tail whose
@@ -32,8 +33,10 @@ are at or above the detection threshold, not when below (the tail).
 
 Before fitting, the onsets are checked against one stick's bounces under a constant force
 (:func:`find_suspects`): extra onsets, missed bounces and bounces off the trend are listed as suspects,
-and ``drop_suspects`` fits without them (dropped, merged, or their bounces played on the trend);
-``drop`` and ``merge`` leave out onsets by hand. What is kept is played within :data:`TOLERANCE`.
+and ``drop_suspects`` fits without them (dropped, merged, or their bounces played on the trend). So
+is the onset (or two successive) that alone makes the thumb press beyond the human 250 m/s² in the
+fit, a level or a time read off (``_Search.beyond_press``). ``drop`` and ``merge`` leave out onsets by
+hand. What is kept is played within :data:`TOLERANCE`.
 
 Examples
 --------
@@ -158,7 +161,8 @@ class Fit:
     design : Design
         The inverse design behind the recipe (its notes are the onsets played, on the recording's clock).
     suspects : tuple of Suspect
-        The onsets the stroke's trend doubts (:func:`find_suspects`), whether dropped or not.
+        The onsets the stroke's trend doubts (:func:`find_suspects`), and those that alone make the thumb press
+        beyond the human (action ``"drop"``), whether dropped or not.
     dropped : tuple of (int, str)
         The onsets not fitted because they were dropped or merged (by hand, or as suspects): index, why.
     filled_t, filled_level : ndarray [shape=(k,)]
@@ -258,14 +262,15 @@ class Fit:
 
 @dataclass(frozen=True)
 class Suspect:
-    """An onset that one stick's trend of bounces doubts, and what to do with it (:func:`find_suspects`).
+    """An onset that one stick's trend of bounces doubts (:func:`find_suspects`), or that alone makes a fit's thumb
+    press beyond the human (:func:`fit_stroke`), and what to do with it.
 
     Attributes
     ----------
     onset : int
         The onset's index; for ``"fill"``, the index of the onset after the missed bounce.
     action : {"drop", "merge", "fill", "replace"}
-        Drop the onset (no bounce is near it); merge it into onset ``into`` (the same impact heard twice:
+        Drop the onset (no bounce is near it, or it makes the thumb press beyond the human); merge it into onset ``into`` (the same impact heard twice:
         that onset's time, the louder level); fill a bounce the onsets missed; or replace the onset by its
         bounce on the trend (a bounce heard off its time or level).
     reason : str
@@ -639,7 +644,9 @@ def fit_stroke(onsets, *, model="paper", cor=DEFAULT_COR, fit_cor=False, offset=
         Onsets i to merge with onset i + 1 (one impact heard twice): i's time, the louder level.
     drop_suspects : bool
         Fit without the suspects (:func:`find_suspects`): drop or merge them, and play a bounce where an
-        onset was missed (at the trend's time and level, reported in ``filled_t``).
+        onset was missed (at the trend's time and level, reported in ``filled_t``); and without the onset
+        (or two successive) that alone makes the thumb press beyond :data:`~drumstroke.design.HUMAN_FORCE`
+        (named among the suspects, with the forces with it and without, whether dropped or not).
     suspect_time : float in (0, 0.05]
         s: how far from the trend's time a bounce is a suspect.
     suspect_level : float in (0, 48]
