@@ -55,6 +55,7 @@ Examples
 
 import math
 from dataclasses import dataclass, field, replace
+from itertools import pairwise
 
 import numpy as np
 from scipy.optimize import minimize_scalar
@@ -884,7 +885,7 @@ class _Search:
         if not high > HUMAN_FORCE:
             return False
         inner = [k for k in range(1, len(self.keep) - 1) if self.edits.origin[self.keep[k]] >= 0]
-        for tried in ([(k,) for k in inner], list(zip(inner, inner[1:]))):
+        for tried in ([(k,) for k in inner], list(pairwise(inner))):
             best = None  # (criterion, positions left out, the forces without them)
             for out in tried:
                 kept, self.keep = self.keep, [i for k, i in enumerate(self.keep) if k not in out]
