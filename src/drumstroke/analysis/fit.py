@@ -271,9 +271,9 @@ class Suspect:
     onset : int
         The onset's index; for ``"fill"``, the index of the onset after the missed bounce.
     action : {"drop", "merge", "fill", "replace"}
-        Drop the onset (no bounce is near it, or it makes the thumb press beyond the human); merge it into onset ``into`` (the same impact heard twice:
-        that onset's time, the louder level); fill a bounce the onsets missed; or replace the onset by its
-        bounce on the trend (a bounce heard off its time or level).
+        Drop the onset (no bounce is near it, or it makes the thumb press beyond the human); merge it into
+        onset ``into`` (the same impact heard twice: that onset's time, the louder level); fill a bounce the
+        onsets missed; or replace the onset by its bounce on the trend (a bounce heard off its time or level).
     reason : str
         Why, in numbers.
     t : float
