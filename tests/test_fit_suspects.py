@@ -104,6 +104,17 @@ def test_an_onset_that_makes_the_thumb_press_beyond_the_human_is_named_and_dropp
     assert kept.played.sum() == len(onsets) - len(kept.dropped)
 
 
+def test_a_sequence_no_drop_makes_names_no_suspect():
+    """Onsets of pulsed strokes whose chain of bounces starts with a 0.69-s flight and then shrinks fast: gravity's
+    launch for such a first flight goes over the top, so no drop's trend holds — no suspect, and the fit runs (it
+    raised scipy's "Residuals are not finite")."""
+    t = np.array([0.4133, 1.1024, 1.5548, 1.9865, 2.2308, 2.3986, 2.6421, 2.9025, 2.9897, 3.0746, 3.1357, 3.177,
+                  3.1901, 3.1993])
+    level = np.array([0.0, -2.4, -4.1, -6.1, -11.4, -10.8, -8.7, -11.2, -20.1, -23.1, -25.9, -23.7, -26.7, -29.5])
+    assert find_suspects(Onsets(t, level)) == ()
+    assert not fit_stroke(Onsets(t, level), drop_suspects=True).suspects
+
+
 @pytest.mark.parametrize("options, match", [
     ({"drop": [99]}, r"drop\[0\] must be an integer in \[0, 22\], got 99"),
     ({"merge": [22]}, r"merge\[0\] must be an integer in \[0, 21\], got 22"),

@@ -442,7 +442,7 @@ class _Bounces:
 
     @classmethod
     def numbered(cls, onsets, model, stick, tolerance):
-        """The bounces, or None when fewer than 4 of at least 5 onsets follow one sequence."""
+        """The bounces, or None when fewer than 4 of at least 5 onsets follow one sequence (or one no drop makes)."""
         if len(onsets) < 5:
             return None
         used, numbers, _ = drop_chain(onsets, model=model, stick=stick, tolerance=max(CHAIN_TOLERANCE, tolerance))
@@ -451,7 +451,7 @@ class _Bounces:
         extra = np.setdiff1d(np.arange(len(onsets)), used)
         missed = tuple((m, int(used[np.searchsorted(numbers, m)])) for m in np.setdiff1d(np.arange(numbers[-1]), numbers))
         trend = _Trend.fitted(onsets.t[used], numbers, coefficients(model, stick), tolerance)
-        return cls(used, numbers, extra, missed, trend)
+        return None if trend is None else cls(used, numbers, extra, missed, trend)
 
     def inside(self, onset):
         """Whether ``onset`` lies between the first bounce and the last."""
@@ -478,7 +478,8 @@ class _Trend:
 
     @classmethod
     def fitted(cls, times, numbers, coeffs, tolerance):
-        """The trend through the bounces ``numbers`` at ``times`` (robust: soft L1 at ``tolerance`` s)."""
+        """The trend through the bounces ``numbers`` at ``times`` (robust: soft L1 at ``tolerance`` s); None when its
+        start is no drop (a first flight so long that gravity's launch for it goes over the top)."""
         from scipy.optimize import least_squares
 
         sin_head = math.sin(coeffs.theta_max)
@@ -491,6 +492,8 @@ class _Trend:
         def residuals(p):
             return cls(p[0], *np.exp(p[1:]), sin_head).at(numbers) - times
 
+        if not np.all(np.isfinite(residuals(start))):
+            return None
         scale = [tolerance, 0.1, 0.1, 0.01]
         fit = least_squares(residuals, start, x_scale=scale)  # near, then robust, then exact on the bounces near it
         fit = least_squares(residuals, fit.x, loss="soft_l1", f_scale=tolerance, x_scale=scale)
