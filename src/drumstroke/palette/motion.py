@@ -387,10 +387,17 @@ def _shortest_move(start, target, theta_max, limits):
     again and again."""
     if _meet(start, target):
         return 0.0
-    solved = _ruckig(start, target, 0.0, limits)
+    solved = _optimal(start, target, limits)
     if solved is None or not _above(solved, theta_max, limits):
         return math.inf
     return solved.duration
+
+
+@functools.lru_cache(maxsize=4096)
+def _optimal(start, target, limits):
+    """ruckig's time-optimal move from ``start`` to ``target``, or None, cached: a return asks for its duration first
+    (:func:`_shortest`), and for the move itself when ruckig cannot stretch it (:func:`_move`)."""
+    return _ruckig(start, target, 0.0, limits)
 
 
 def _meet(start, target):
@@ -415,7 +422,7 @@ def _move(start, target, duration, theta_max, limits):
         return duration, _path_of(solved)
     # ruckig cannot always stretch a move to a given duration (its synchronisation step fails for some short
     # ones): then the time-optimal move, and the target held for the rest, when the target is at rest
-    solved = _ruckig(start, target, 0.0, limits)
+    solved = _optimal(start, target, limits)
     if solved is None or solved.duration > duration + 1e-12 or target[1] != 0.0 or not _above(solved, theta_max, limits):
         return None
     moving, rest = _path_of(solved), solved.duration
@@ -430,46 +437,61 @@ def _move(start, target, duration, theta_max, limits):
 
 def _ruckig(start, target, minimum, limits):
     """ruckig's move (a one-joint jerk-limited trajectory) from ``start`` to ``target`` lasting at least ``minimum`` s."""
-    return _ruckig_joints([start], [target], minimum, [limits])
+    return _generator(1).solve([float(start[0])], [float(start[1])], [float(target[0])], [float(target[1])], minimum,
+                               (limits,))
 
 
 def _ruckig_joints(starts, targets, minimum, limits):
     """ruckig's move of several joints together, from ``starts`` to ``targets`` ((θ, ω) each, at zero acceleration),
     synchronised in time (every joint arrives at once), lasting at least ``minimum`` s; None when ruckig finds none."""
-    ruckig = _ruckig_module()
-    n = len(starts)
-    calculator, parameters = _calculator(ruckig, n, limits)
-    parameters.current_position = [float(s[0]) for s in starts]
-    parameters.current_velocity = [float(s[1]) for s in starts]
-    parameters.target_position = [float(s[0]) for s in targets]
-    parameters.target_velocity = [float(s[1]) for s in targets]
-    parameters.minimum_duration = minimum if minimum > 0.0 else None
-    trajectory = ruckig.Trajectory(n)
-    try:
-        result = calculator.calculate(parameters, trajectory)
-    except ruckig.RuckigError:  # no profile found (ruckig says why in its message)
-        return None
-    return trajectory if result in (ruckig.Result.Working, ruckig.Result.Finished) else None
+    return _generator(len(starts)).solve([float(s[0]) for s in starts], [float(s[1]) for s in starts],
+                                         [float(s[0]) for s in targets], [float(s[1]) for s in targets], minimum,
+                                         tuple(limits))
 
 
-def _calculator(ruckig, joints, limits):
-    """ruckig's calculator for ``joints`` joints and its input, made once a thread (making a calculator costs ten
-    times a move's calculation), the input's limits set when they change: the caller sets the states."""
-    calculators = _local.__dict__.setdefault("calculators", {})
-    made = calculators.get(joints)
+class _Generator:
+    """ruckig's calculator for some joints and its input, made once a thread (making a calculator costs ten times a
+    move's calculation), the input's limits set when they change: a move sets only its states."""
+
+    __slots__ = ("calculator", "joints", "limits", "parameters", "ruckig")
+
+    def __init__(self, joints):
+        ruckig = self.ruckig = _ruckig_module()
+        self.calculator, self.parameters = ruckig.Ruckig(joints), ruckig.InputParameter(joints)
+        self.parameters.current_acceleration = [0.0] * joints
+        self.parameters.target_acceleration = [0.0] * joints
+        self.parameters.synchronization = ruckig.Synchronization.Time
+        self.joints, self.limits = joints, None
+
+    def solve(self, position, velocity, target_position, target_velocity, minimum, limits):
+        """ruckig's trajectory from the joints' positions and velocities (rad, rad/s, lists) to the targets', at
+        least ``minimum`` s long, within ``limits`` (a tuple of Limits, one a joint), or None if ruckig finds none."""
+        ruckig, parameters = self.ruckig, self.parameters
+        if limits != self.limits:  # (Limits are equal when their values are; the same ones are the same object)
+            parameters.max_velocity = [_MARGIN * joint.max_speed for joint in limits]
+            parameters.max_acceleration = [_MARGIN * joint.max_acceleration for joint in limits]
+            parameters.max_jerk = [_MARGIN * joint.max_jerk for joint in limits]
+            self.limits = limits
+        parameters.current_position, parameters.current_velocity = position, velocity
+        parameters.target_position, parameters.target_velocity = target_position, target_velocity
+        parameters.minimum_duration = minimum if minimum > 0.0 else None
+        trajectory = ruckig.Trajectory(self.joints)
+        try:
+            result = self.calculator.calculate(parameters, trajectory)
+        except ruckig.RuckigError:  # no profile found (ruckig says why in its message)
+            return None
+        return trajectory if result is ruckig.Result.Working or result is ruckig.Result.Finished else None
+
+
+def _generator(joints):
+    """This thread's :class:`_Generator` for ``joints`` joints."""
+    generators = _local.__dict__.get("generators")
+    if generators is None:
+        generators = _local.generators = {}
+    made = generators.get(joints)
     if made is None:
-        parameters = ruckig.InputParameter(joints)
-        parameters.current_acceleration = [0.0] * joints
-        parameters.target_acceleration = [0.0] * joints
-        parameters.synchronization = ruckig.Synchronization.Time
-        made = calculators[joints] = [ruckig.Ruckig(joints), parameters, None]
-    calculator, parameters, known = made
-    if known != limits:  # (a list of Limits: equal when their values are)
-        parameters.max_velocity = [_MARGIN * joint.max_speed for joint in limits]
-        parameters.max_acceleration = [_MARGIN * joint.max_acceleration for joint in limits]
-        parameters.max_jerk = [_MARGIN * joint.max_jerk for joint in limits]
-        made[2] = list(limits)
-    return calculator, parameters
+        made = generators[joints] = _Generator(joints)
+    return made
 
 
 _local = threading.local()
