@@ -27,6 +27,7 @@ Examples
 """
 
 import functools
+import itertools
 import math
 import threading
 from dataclasses import dataclass, field, fields, replace
@@ -387,17 +388,10 @@ def _shortest_move(start, target, theta_max, limits):
     again and again."""
     if _meet(start, target):
         return 0.0
-    solved = _optimal(start, target, limits)
+    solved = _ruckig(start, target, 0.0, limits)
     if solved is None or not _above(solved, theta_max, limits):
         return math.inf
     return solved.duration
-
-
-@functools.lru_cache(maxsize=4096)
-def _optimal(start, target, limits):
-    """ruckig's time-optimal move from ``start`` to ``target``, or None, cached: a return asks for its duration first
-    (:func:`_shortest`), and for the move itself when ruckig cannot stretch it (:func:`_move`)."""
-    return _ruckig(start, target, 0.0, limits)
 
 
 def _meet(start, target):
@@ -422,7 +416,7 @@ def _move(start, target, duration, theta_max, limits):
         return duration, _path_of(solved)
     # ruckig cannot always stretch a move to a given duration (its synchronisation step fails for some short
     # ones): then the time-optimal move, and the target held for the rest, when the target is at rest
-    solved = _optimal(start, target, limits)
+    solved = _ruckig(start, target, 0.0, limits)
     if solved is None or solved.duration > duration + 1e-12 or target[1] != 0.0 or not _above(solved, theta_max, limits):
         return None
     moving, rest = _path_of(solved), solved.duration
@@ -527,14 +521,12 @@ def _path_of(trajectory, joint=0):
             return (np.array([s[0][joint] for s in states]).reshape(t.shape),
                     np.array([s[1][joint] for s in states]).reshape(t.shape))
         return path
-    starts, total = [0.0], 0.0
-    for duration in profile.t[:-1]:  # summed in order, as numpy's cumsum sums them
-        total += duration
-        starts.append(total)
-    # made column by column (a list of rows costs twice as much), then laid out row by row as the kernel reads it;
-    # a phase's start state: the states list the end of the last phase too
-    k = len(starts)
-    return Cubic(np.array((starts, profile.j[:k], profile.a[:k], profile.v[:k], profile.p[:k])).T.copy())
+    durations = profile.t
+    starts = [0.0, *itertools.accumulate(durations[:-1])]  # summed in order, as numpy's cumsum sums them
+    # row by row as the kernel reads them, straight from the values (no list of rows, no transposed copy); a phase's
+    # start state: the states list the end of the last phase too, which zip leaves out
+    rows = itertools.chain.from_iterable(zip(starts, profile.j, profile.a, profile.v, profile.p))
+    return Cubic(np.fromiter(rows, float, 5 * len(durations)).reshape(-1, 5))
 
 
 def _hold(theta, duration):
