@@ -27,6 +27,7 @@ Examples
 """
 
 import functools
+import itertools
 import math
 import threading
 from dataclasses import dataclass, field, fields, replace
@@ -430,46 +431,61 @@ def _move(start, target, duration, theta_max, limits):
 
 def _ruckig(start, target, minimum, limits):
     """ruckig's move (a one-joint jerk-limited trajectory) from ``start`` to ``target`` lasting at least ``minimum`` s."""
-    return _ruckig_joints([start], [target], minimum, [limits])
+    return _generator(1).solve([float(start[0])], [float(start[1])], [float(target[0])], [float(target[1])], minimum,
+                               (limits,))
 
 
 def _ruckig_joints(starts, targets, minimum, limits):
     """ruckig's move of several joints together, from ``starts`` to ``targets`` ((θ, ω) each, at zero acceleration),
     synchronised in time (every joint arrives at once), lasting at least ``minimum`` s; None when ruckig finds none."""
-    ruckig = _ruckig_module()
-    n = len(starts)
-    calculator, parameters = _calculator(ruckig, n, limits)
-    parameters.current_position = [float(s[0]) for s in starts]
-    parameters.current_velocity = [float(s[1]) for s in starts]
-    parameters.target_position = [float(s[0]) for s in targets]
-    parameters.target_velocity = [float(s[1]) for s in targets]
-    parameters.minimum_duration = minimum if minimum > 0.0 else None
-    trajectory = ruckig.Trajectory(n)
-    try:
-        result = calculator.calculate(parameters, trajectory)
-    except ruckig.RuckigError:  # no profile found (ruckig says why in its message)
-        return None
-    return trajectory if result in (ruckig.Result.Working, ruckig.Result.Finished) else None
+    return _generator(len(starts)).solve([float(s[0]) for s in starts], [float(s[1]) for s in starts],
+                                         [float(s[0]) for s in targets], [float(s[1]) for s in targets], minimum,
+                                         tuple(limits))
 
 
-def _calculator(ruckig, joints, limits):
-    """ruckig's calculator for ``joints`` joints and its input, made once a thread (making a calculator costs ten
-    times a move's calculation), the input's limits set when they change: the caller sets the states."""
-    calculators = _local.__dict__.setdefault("calculators", {})
-    made = calculators.get(joints)
+class _Generator:
+    """ruckig's calculator for some joints and its input, made once a thread (making a calculator costs ten times a
+    move's calculation), the input's limits set when they change: a move sets only its states."""
+
+    __slots__ = ("calculator", "joints", "limits", "parameters", "ruckig")
+
+    def __init__(self, joints):
+        ruckig = self.ruckig = _ruckig_module()
+        self.calculator, self.parameters = ruckig.Ruckig(joints), ruckig.InputParameter(joints)
+        self.parameters.current_acceleration = [0.0] * joints
+        self.parameters.target_acceleration = [0.0] * joints
+        self.parameters.synchronization = ruckig.Synchronization.Time
+        self.joints, self.limits = joints, None
+
+    def solve(self, position, velocity, target_position, target_velocity, minimum, limits):
+        """ruckig's trajectory from the joints' positions and velocities (rad, rad/s, lists) to the targets', at
+        least ``minimum`` s long, within ``limits`` (a tuple of Limits, one a joint), or None if ruckig finds none."""
+        ruckig, parameters = self.ruckig, self.parameters
+        if limits != self.limits:  # (Limits are equal when their values are; the same ones are the same object)
+            parameters.max_velocity = [_MARGIN * joint.max_speed for joint in limits]
+            parameters.max_acceleration = [_MARGIN * joint.max_acceleration for joint in limits]
+            parameters.max_jerk = [_MARGIN * joint.max_jerk for joint in limits]
+            self.limits = limits
+        parameters.current_position, parameters.current_velocity = position, velocity
+        parameters.target_position, parameters.target_velocity = target_position, target_velocity
+        parameters.minimum_duration = minimum if minimum > 0.0 else None
+        trajectory = ruckig.Trajectory(self.joints)
+        try:
+            result = self.calculator.calculate(parameters, trajectory)
+        except ruckig.RuckigError:  # no profile found (ruckig says why in its message)
+            return None
+        return trajectory if result is ruckig.Result.Working or result is ruckig.Result.Finished else None
+
+
+def _generator(joints):
+    """This thread's :class:`_Generator` for ``joints`` joints."""
+    generators = _local.__dict__.get("generators")
+    if generators is None:
+        generators = _local.generators = {}
+    made = generators.get(joints)
     if made is None:
-        parameters = ruckig.InputParameter(joints)
-        parameters.current_acceleration = [0.0] * joints
-        parameters.target_acceleration = [0.0] * joints
-        parameters.synchronization = ruckig.Synchronization.Time
-        made = calculators[joints] = [ruckig.Ruckig(joints), parameters, None]
-    calculator, parameters, known = made
-    if known != limits:  # (a list of Limits: equal when their values are)
-        parameters.max_velocity = [_MARGIN * joint.max_speed for joint in limits]
-        parameters.max_acceleration = [_MARGIN * joint.max_acceleration for joint in limits]
-        parameters.max_jerk = [_MARGIN * joint.max_jerk for joint in limits]
-        made[2] = list(limits)
-    return calculator, parameters
+        made = generators[joints] = _Generator(joints)
+    return made
 
 
 _local = threading.local()
@@ -505,14 +521,12 @@ def _path_of(trajectory, joint=0):
             return (np.array([s[0][joint] for s in states]).reshape(t.shape),
                     np.array([s[1][joint] for s in states]).reshape(t.shape))
         return path
-    starts, total = [0.0], 0.0
-    for duration in profile.t[:-1]:  # summed in order, as numpy's cumsum sums them
-        total += duration
-        starts.append(total)
-    # made column by column (a list of rows costs twice as much), then laid out row by row as the kernel reads it;
-    # a phase's start state: the states list the end of the last phase too
-    k = len(starts)
-    return Cubic(np.array((starts, profile.j[:k], profile.a[:k], profile.v[:k], profile.p[:k])).T.copy())
+    durations = profile.t
+    starts = [0.0, *itertools.accumulate(durations[:-1])]  # summed in order, as numpy's cumsum sums them
+    # row by row as the kernel reads them, straight from the values (no list of rows, no transposed copy); a phase's
+    # start state: the states list the end of the last phase too, which zip leaves out
+    rows = itertools.chain.from_iterable(zip(starts, profile.j, profile.a, profile.v, profile.p))
+    return Cubic(np.fromiter(rows, float, 5 * len(durations)).reshape(-1, 5))
 
 
 def _hold(theta, duration):
