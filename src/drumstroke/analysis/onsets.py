@@ -21,7 +21,7 @@ Onsets(2 over [0.1, 0.35] s, levels -4.5 to 0 dB; drop.wav)
 """
 
 import math
-from contextlib import nullcontext
+from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
 from functools import cache
 from pathlib import Path
@@ -746,29 +746,38 @@ def _detected(signal, rate, config, source, info):
     return replace(onsets, peak_db=_peak_db(signal, onsets.t * rate, rate, config))
 
 
+@contextmanager
 def _one_blas_thread():
-    """A context in which BLAS and LAPACK (numpy's and scipy's) run on one thread (threadpoolctl's limit, undone on exit).
+    """A context in which BLAS and LAPACK (numpy's and scipy's) run on one thread (set through threadpoolctl, undone on
+    exit).
 
     The detector's products and solves are small (normal equations of 41 unknowns over some ten
     thousand rows): threads cost more to start and join than they save, and on a busy machine they
     made its time swing 20 times over. With one thread the onsets found do not depend on the machine's
-    thread count either. Without threadpoolctl (drumstroke's ``analysis`` extra), the libraries' own
-    settings are left.
+    thread count either. A library on one thread already is left alone (setting it again costs some
+    70 µs after BLAS has run). Without threadpoolctl (drumstroke's ``analysis`` extra), the libraries'
+    own settings are left.
     """
-    controller = _blas_threads()
-    return nullcontext() if controller is None else controller.limit(limits=1, user_api="blas")
+    busy = [(library, library.num_threads) for library in _blas_threads() if library.num_threads != 1]
+    for library, _ in busy:
+        library.set_num_threads(1)
+    try:
+        yield
+    finally:
+        for library, threads in busy:
+            library.set_num_threads(threads)
 
 
 @cache
 def _blas_threads():
-    """threadpoolctl's controller of the BLAS libraries loaded (numpy's and scipy's), found once; None without it."""
+    """threadpoolctl's controllers of the BLAS libraries loaded (numpy's and scipy's), found once; none without it."""
     try:
         from threadpoolctl import ThreadpoolController
     except ImportError:
-        return None
+        return ()
     import scipy.linalg  # noqa: F401  (scipy's own BLAS, loaded before the controller looks for the libraries)
 
-    return ThreadpoolController()
+    return tuple(ThreadpoolController().select(user_api="blas").lib_controllers)
 
 
 def _no_onsets(reason, info, source, config):
