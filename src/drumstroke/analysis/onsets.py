@@ -824,8 +824,8 @@ class _Modes(_Innovation):
 
     def jumps(self, residual, config):
         """Where ``residual`` (in the band) jumps ``config.min_jump`` times, as a list of full-rate samples."""
-        return [self.samples(k) for k in _jumps(residual, self.rate, config.min_interval, config.min_jump,
-                                                config.modes_width)]
+        return self.samples(_jumps(residual, self.rate, config.min_interval, config.min_jump,
+                                   config.modes_width)).tolist()
 
     def fitted(self, where):
         """Full-rate times of signatures fitted at ``where`` (samples of the band): offset to the precise times."""
@@ -935,9 +935,9 @@ def _tonal_innovation(low, q, config):
 
 def _heard_jumps(rise, rate, tonal, config):
     """Steps 2 and 3: the jumps of the decimated innovation (``tonal``) and of the first difference at full rate (``rise``)."""
-    tonal_onsets = [tonal.samples(k) for k in _jumps(tonal.e, tonal.rate, config.min_interval, config.min_jump)]
-    broadband = [k - 0.5 for k in _jumps(rise, rate, config.min_interval,
-                                         config.broadband_jump)]  # the difference is centred ½ sample early
+    tonal_onsets = tonal.samples(_jumps(tonal.e, tonal.rate, config.min_interval, config.min_jump)).tolist()
+    broadband = (_jumps(rise, rate, config.min_interval,
+                        config.broadband_jump) - 0.5).tolist()  # the difference is centred ½ sample early
 
     # each tonal onset's rise, once (the merges ask for it again and again): a sharp attack's change point, and a
     # broadband jump of its beating apart
@@ -1807,7 +1807,8 @@ def _robust_innovation(x, order):
 
 
 def _jumps(x, rate, min_interval, least, samples=12):
-    """Samples of ``x`` where its RMS over the next 1 ms rises ``least`` times over the 4 ms before: the AIC's change points.
+    """Samples of ``x`` where its RMS over the next 1 ms rises ``least`` times over the 4 ms before: the AIC's change points
+    [int, shape=(n,)].
 
     A long signal is taken in blocks of :data:`_BLOCK` samples (overlapping by more than the windows
     and ``min_interval``), so memory does not grow with its length.
@@ -1823,9 +1824,9 @@ def _jumps(x, rate, min_interval, least, samples=12):
         jump = jump_profile(np.ascontiguousarray(x[low:high], dtype=float), width)  # 0 over the first 4 windows
         found = _peak_pick(jump, gap)
         found = found[(jump[found] >= least) & (low + found >= start) & (low + found < start + _BLOCK)]
-        peaks += list(low + found)
+        peaks.append(low + found)
     x = np.ascontiguousarray(x, dtype=float)
-    return change_points(x, np.array(peaks, dtype=np.int64), width).tolist()
+    return change_points(x, np.concatenate(peaks).astype(np.int64) if peaks else np.empty(0, dtype=np.int64), width)
 
 
 def _peak_pick(x, gap):
