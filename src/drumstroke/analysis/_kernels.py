@@ -844,7 +844,8 @@ def first_transients(d, times, reach, horizon, least, over, clear):
     passes ``least`` times its peak over the ``horizon`` after it and ``over`` times its own peak over the ``reach``
     before (scipy's maximum_filter1d there), that earlier peak ``clear`` times the peak at most; less half a sample."""
     out = times.copy()
-    queue = np.empty(len(d) + 1, dtype=np.int64)  # a window's candidates for its maximum, their values decreasing
+    # a window's candidates for its maximum, their values decreasing: at most the 3 reach samples an attack scans
+    queue = np.empty(3 * reach + 1, dtype=np.int64)
     for i in range(len(out)):
         c = int(np.rint(out[i]))
         low = max(reach, c - reach, math.ceil((out[i - 1] + c) / 2) if i else 0)
