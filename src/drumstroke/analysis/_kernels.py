@@ -844,7 +844,8 @@ def first_transients(d, times, reach, horizon, least, over, clear):
     passes ``least`` times its peak over the ``horizon`` after it and ``over`` times its own peak over the ``reach``
     before (scipy's maximum_filter1d there), that earlier peak ``clear`` times the peak at most; less half a sample."""
     out = times.copy()
-    queue = np.empty(len(d) + 1, dtype=np.int64)  # a window's candidates for its maximum, their values decreasing
+    # a window's candidates for its maximum, their values decreasing: at most the 3 reach samples an attack scans
+    queue = np.empty(3 * reach + 1, dtype=np.int64)
     for i in range(len(out)):
         c = int(np.rint(out[i]))
         low = max(reach, c - reach, math.ceil((out[i - 1] + c) / 2) if i else 0)
@@ -954,32 +955,35 @@ def peak_pick(x, gap):
     """:func:`.onsets._peak_pick`: the samples that are the largest from ``gap`` before to ``gap - 1`` after, at
     least their predecessor's and their mean, more than ``gap`` after the last kept (greedily)."""
     count = len(x)
-    size = 2 * gap  # x[n - gap:n + gap], -inf past the ends (as scipy's maximum_filter1d of that size)
-    total = count + 2 * size
-    # van Herk's sliding maximum over x padded with ``gap`` -inf before (padded[j] = x[j - gap]), in blocks of
-    # ``size`` from the padded start: the largest of x[n - gap:n + gap] is the larger of the largest from n's padded
-    # place to its block's end (suffix) and the largest from the next block's start to n + size - 1 (prefix);
-    # one block's of each at a time
-    suffix, prefix = np.empty(size), np.empty(size)
     candidates = np.empty(count, dtype=np.int64)
     found = 0
-    for start in range(0, count, size):
-        stop = min(total, start + size)
-        largest = -np.inf
-        for j in range(stop - 1, start - 1, -1):
-            if gap <= j < gap + count:
-                largest = max(largest, x[j - gap])
-            suffix[j - start] = largest
-        largest = -np.inf
-        for j in range(stop, min(total, stop + size)):
-            if gap <= j < gap + count:
-                largest = max(largest, x[j - gap])
-            prefix[j - stop] = largest
-        for n in range(max(start, 1), min(stop, count)):
-            largest = suffix[0] if n == start else max(suffix[n - start], prefix[n - start - 1])
-            if x[n] == largest and x[n] >= (x[n - 1] + x[n]) / 2.0:
-                candidates[found] = n
-                found += 1
+    # from each sample, the first larger one after it within its window: there is none there (each between is no
+    # larger than it, the larger one in its window); else it is the largest after it, and those after it up to its
+    # window's end are smaller (it is in their window: none) or equal (tried in turn, what is known of the equal run
+    # kept: how far after it all are no larger, the nearest larger before it)
+    n, tie, scanned, bigger = 1, False, 0, -count - gap - 1
+    while n < count:
+        v = x[n]
+        high = min(count, n + gap)
+        m = max(scanned, n + 1) if tie else n + 1
+        while m < high and x[m] <= v:
+            m += 1
+        if m < high:
+            n, tie = m, False
+            continue
+        if not tie:  # the nearest larger one within the window before it
+            bigger = -count - gap - 1
+            for j in range(n - 1, max(0, n - gap) - 1, -1):
+                if x[j] > v:
+                    bigger = j
+                    break
+        if bigger < n - gap and v >= (x[n - 1] + v) / 2.0:
+            candidates[found] = n
+            found += 1
+        scanned, m = high, n + 1
+        while m < high and x[m] != v:
+            m += 1
+        n, tie = m, m < high
     first = True
     for n in range(min(gap, count)):
         if x[n] > x[0]:

@@ -20,10 +20,8 @@ Onsets(2 over [0.1, 0.35] s, levels -4.5 to 0 dB; drop.wav)
 -40.0
 """
 
-import itertools
 import math
-from collections.abc import Callable
-from contextlib import nullcontext
+from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
 from functools import cache
 from pathlib import Path
@@ -704,13 +702,16 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
 
 def _detected(signal, rate, config, source, info):
     """:func:`find_onsets`' pipeline, on a checked ``signal`` of 50 ms or more."""
+    from ._detect import normalised
+    from ._kernels import largest_magnitude
+
     band = _high_pass(signal, rate, config.high_pass)
-    peak = float(np.abs(band).max())
+    peak = float(largest_magnitude(band))
     if not peak > 1e-9:  # −180 dB full scale: digital silence
         return _no_onsets("the signal is silent", info, source, config)
-    band = band / peak
-    rise = np.diff(band, prepend=band[0])  # the first difference, centred ½ sample early: several stages read it
-    d = np.abs(rise)  # its magnitude: as many stages read it
+    # the band over its peak, its first difference (centred ½ sample early: several stages read it) and that
+    # difference's magnitude (as many stages read it), in one pass
+    band, rise, d = normalised(band, peak)
     q = max(_decimation(band, rate), rate // config.analysis_rate)
     q2 = max(q, rate // config.modes_rate)
     low, modes_low = _decimate_two(band, rate, q, q2)
@@ -745,29 +746,38 @@ def _detected(signal, rate, config, source, info):
     return replace(onsets, peak_db=_peak_db(signal, onsets.t * rate, rate, config))
 
 
+@contextmanager
 def _one_blas_thread():
-    """A context in which BLAS and LAPACK (numpy's and scipy's) run on one thread (threadpoolctl's limit, undone on exit).
+    """A context in which BLAS and LAPACK (numpy's and scipy's) run on one thread (set through threadpoolctl, undone on
+    exit).
 
     The detector's products and solves are small (normal equations of 41 unknowns over some ten
     thousand rows): threads cost more to start and join than they save, and on a busy machine they
     made its time swing 20 times over. With one thread the onsets found do not depend on the machine's
-    thread count either. Without threadpoolctl (drumstroke's ``analysis`` extra), the libraries' own
-    settings are left.
+    thread count either. A library on one thread already is left alone (setting it again costs some
+    70 µs after BLAS has run). Without threadpoolctl (drumstroke's ``analysis`` extra), the libraries'
+    own settings are left.
     """
-    controller = _blas_threads()
-    return nullcontext() if controller is None else controller.limit(limits=1, user_api="blas")
+    busy = [(library, library.num_threads) for library in _blas_threads() if library.num_threads != 1]
+    for library, _ in busy:
+        library.set_num_threads(1)
+    try:
+        yield
+    finally:
+        for library, threads in busy:
+            library.set_num_threads(threads)
 
 
 @cache
 def _blas_threads():
-    """threadpoolctl's controller of the BLAS libraries loaded (numpy's and scipy's), found once; None without it."""
+    """threadpoolctl's controllers of the BLAS libraries loaded (numpy's and scipy's), found once; none without it."""
     try:
         from threadpoolctl import ThreadpoolController
     except ImportError:
-        return None
+        return ()
     import scipy.linalg  # noqa: F401  (scipy's own BLAS, loaded before the controller looks for the libraries)
 
-    return ThreadpoolController()
+    return tuple(ThreadpoolController().select(user_api="blas").lib_controllers)
 
 
 def _no_onsets(reason, info, source, config):
@@ -814,8 +824,8 @@ class _Modes(_Innovation):
 
     def jumps(self, residual, config):
         """Where ``residual`` (in the band) jumps ``config.min_jump`` times, as a list of full-rate samples."""
-        return [self.samples(k) for k in _jumps(residual, self.rate, config.min_interval, config.min_jump,
-                                                config.modes_width)]
+        return self.samples(_jumps(residual, self.rate, config.min_interval, config.min_jump,
+                                   config.modes_width)).tolist()
 
     def fitted(self, where):
         """Full-rate times of signatures fitted at ``where`` (samples of the band): offset to the precise times."""
@@ -868,11 +878,12 @@ class _Candidates:
 @dataclass(frozen=True)
 class _Heard:
     """Steps 2 and 3's onsets (full-rate samples): ``tonal`` ones, ``broadband`` ones, and ``strong``, which
-    says whether a group's tonal time is trusted over its broadband one; ``gap`` is ``min_interval`` in samples."""
+    says when a group's tonal time is trusted over its broadband one (:func:`_merge`'s); ``gap`` is ``min_interval``
+    in samples."""
 
     tonal: list
     broadband: list
-    strong: Callable[[float, float], bool]
+    strong: tuple
     gap: float
 
     def merge(self, deep=()):
@@ -924,17 +935,15 @@ def _tonal_innovation(low, q, config):
 
 def _heard_jumps(rise, rate, tonal, config):
     """Steps 2 and 3: the jumps of the decimated innovation (``tonal``) and of the first difference at full rate (``rise``)."""
-    tonal_onsets = [tonal.samples(k) for k in _jumps(tonal.e, tonal.rate, config.min_interval, config.min_jump)]
-    broadband = [k - 0.5 for k in _jumps(rise, rate, config.min_interval,
-                                         config.broadband_jump)]  # the difference is centred ½ sample early
+    tonal_onsets = tonal.samples(_jumps(tonal.e, tonal.rate, config.min_interval, config.min_jump)).tolist()
+    broadband = (_jumps(rise, rate, config.min_interval,
+                        config.broadband_jump) - 0.5).tolist()  # the difference is centred ½ sample early
 
-    # each tonal onset's rise, once (the merges ask for it again and again)
-    rises = dict(zip(tonal_onsets, _jump_at(tonal.e, tonal.at(np.array(tonal_onsets, dtype=float)), tonal.rate)))
-
-    def strong(tonal_at, broadband_at):  # a sharp attack's change point, and a broadband jump of its beating apart
-        return abs(tonal_at - broadband_at) > config.disagreement * rate and rises[tonal_at] >= config.strong_rise
-
-    return _Heard(tonal_onsets, broadband, strong, config.min_interval * rate)
+    # each tonal onset's rise, once (the merges ask for it again and again): a sharp attack's change point, and a
+    # broadband jump of its beating apart
+    rises = _jump_at(tonal.e, tonal.at(np.array(tonal_onsets, dtype=float)), tonal.rate)
+    return _Heard(tonal_onsets, broadband, (rises, config.disagreement * rate, config.strong_rise),
+                  config.min_interval * rate)
 
 
 def _modes_band(modes_low, q2, first, config):
@@ -1057,18 +1066,14 @@ def _try_later(modes, candidates, residual, rate, config):
     and taken there when the remainder jumps ``moved_jump`` times and its start looks like the
     signature (``likeness``), timed by its signature's fit (:meth:`_Modes.fitted`); else it stays as it was.
     """
+    from ._detect import later_peaks
+
     times, likeness = candidates.times, candidates.likeness
-    after, before, _ = _windows(residual, modes.rate, config.modes_width)
-    profile = np.sqrt(after / np.maximum(before, 1e-300 + after * 1e-12))
-    moved = times.copy()
-    for i in np.flatnonzero((likeness < config.likeness) & (candidates.kinds >= 1)):
-        end = min(times[i] + config.move_reach * config.min_interval * rate,
-                  times[i + 1] - config.min_interval * rate if i + 1 < len(times) else np.inf)
-        low, high = int(np.ceil(modes.at(times[i]))) + 1, min(int(modes.at(end)), len(profile))
-        if high > low:
-            k = low + int(np.argmax(profile[low:high]))
-            if profile[k] >= config.min_jump:
-                moved[i] = modes.samples(k)
+    # the remainder's jumps as _windows gives them (≥ modes_width samples), each onset's tried in a compiled loop
+    moved = later_peaks(np.ascontiguousarray(residual, dtype=float), float(modes.delay), modes.q, times,
+                        np.flatnonzero((likeness < config.likeness) & (candidates.kinds >= 1)),
+                        config.move_reach * config.min_interval * rate, config.min_interval * rate,
+                        max(config.modes_width, round(1e-3 * modes.rate)), config.min_jump)
     tried = moved != times
     if not np.any(tried):
         return candidates
@@ -1178,17 +1183,12 @@ def _impulsive(modes, candidates, rate, config):
     which = which[clear & (candidates.kinds[which] == 2)]
     if not len(which):
         return candidates
-    e = modes.e
+    from ._detect import spiking
+
     before, gap = max(1, round(10e-3 * modes.rate)), max(1, round(1e-3 * modes.rate))
-    power = np.concatenate(([0.0], np.cumsum(e * e)))
-    attack = candidates.attack.copy()
-    for i in which:
-        k = round(modes.at(candidates.times[i]))
-        near = np.arange(max(before + gap, k - round(2.5e-3 * modes.rate)), min(len(e), k + round(4.5e-3 * modes.rate)))
-        if not len(near):
-            continue
-        prior = np.sqrt((power[near - gap] - power[near - gap - before]) / before)
-        attack[i] = np.any(np.abs(e[near]) > prior * 10.0 ** (config.spike_db / 20.0))
+    attack = spiking(np.ascontiguousarray(modes.e, dtype=float), float(modes.delay), modes.q, candidates.times, which,
+                     candidates.attack, before, gap, round(2.5e-3 * modes.rate), round(4.5e-3 * modes.rate),
+                     10.0 ** (config.spike_db / 20.0))
     return replace(candidates, attack=attack)
 
 
@@ -1509,32 +1509,16 @@ def _one_attack_each(d, rate, candidates, amplitude, config):
     level (:func:`_measured_at`). ``d`` is the magnitude of the band's first difference. Returns the candidates
     and their amplitudes.
     """
+    from ._detect import one_attack_each
+
     which = np.flatnonzero(candidates.attack)
     if len(which) < 2:
         return candidates, amplitude
-    width, reach = max(1, round(0.25e-3 * rate)), round(config.start_reach * rate)
-    keep, amplitude = np.ones(len(candidates), dtype=bool), amplitude.copy()
-    for i, j in itertools.pairwise(which):
-        a, b = round(candidates.times[i]), round(candidates.times[j])
-        if keep[i] and candidates.kinds[i] == 3 != candidates.kinds[j] and b - a <= config.template_reach * rate:
-            keep[j] = False  # the template's fit of the detection just after it: one attack, the detection's level
-            amplitude[i] = amplitude[j]
-            continue
-        if not keep[i] or b - a > reach or amplitude[j] < amplitude[i] * 10.0 ** (config.lead_db / 20.0):
-            continue
-        click = d[a:a + width].max(initial=0.0)
-        prior = d[max(0, a - reach):max(1, a - width)].max(initial=0.0)
-        between = d[a + width:max(a + width, b - width // 2)]
-        dip = (np.lib.stride_tricks.sliding_window_view(between, width).max(axis=1).min()
-               if len(between) >= width else click)
-        louder = d[b:b + reach].max(initial=0.0)
-        # out of silence (the sound before it under start_clear_db re the later), nothing earlier can swell there
-        onward = dip >= 0.5 * click or prior <= louder * 10.0 ** (config.start_clear_db / 20.0)
-        if click > config.start_over * prior and onward and click >= louder * 10.0 ** (config.start_db / 20.0):
-            keep[j] = False
-            amplitude[i] = amplitude[j]
-        elif louder >= d[a:max(a + 1, b)].max() * 10.0 ** (config.lead_db / 20.0):
-            keep[i] = False
+    # out of silence (the sound before it under start_clear_db re the later), nothing earlier can swell there
+    keep, amplitude = one_attack_each(d, candidates.times, candidates.kinds, amplitude, which,
+                                      max(1, round(0.25e-3 * rate)), round(config.start_reach * rate),
+                                      config.template_reach * rate, 10.0 ** (config.lead_db / 20.0), config.start_over,
+                                      10.0 ** (config.start_db / 20.0), 10.0 ** (config.start_clear_db / 20.0))
     return candidates.take(keep), amplitude[keep]
 
 
@@ -1823,7 +1807,8 @@ def _robust_innovation(x, order):
 
 
 def _jumps(x, rate, min_interval, least, samples=12):
-    """Samples of ``x`` where its RMS over the next 1 ms rises ``least`` times over the 4 ms before: the AIC's change points.
+    """Samples of ``x`` where its RMS over the next 1 ms rises ``least`` times over the 4 ms before: the AIC's change points
+    [int, shape=(n,)].
 
     A long signal is taken in blocks of :data:`_BLOCK` samples (overlapping by more than the windows
     and ``min_interval``), so memory does not grow with its length.
@@ -1839,9 +1824,9 @@ def _jumps(x, rate, min_interval, least, samples=12):
         jump = jump_profile(np.ascontiguousarray(x[low:high], dtype=float), width)  # 0 over the first 4 windows
         found = _peak_pick(jump, gap)
         found = found[(jump[found] >= least) & (low + found >= start) & (low + found < start + _BLOCK)]
-        peaks += list(low + found)
+        peaks.append(low + found)
     x = np.ascontiguousarray(x, dtype=float)
-    return change_points(x, np.array(peaks, dtype=np.int64), width).tolist()
+    return change_points(x, np.concatenate(peaks).astype(np.int64) if peaks else np.empty(0, dtype=np.int64), width)
 
 
 def _peak_pick(x, gap):
@@ -1904,36 +1889,20 @@ def _merge(tonal, broadband, gap, deep=(), strong=None):
     """The onsets (samples), sorted, and how each was found (0 broadband, 1 tonal, 2 deep only).
 
     Onsets closer than ``gap`` are one (as are two groups' choices closer than a quarter of it), at the broadband
-    time if any, else the tonal one. With ``strong`` (``(tonal, broadband)`` samples → whether the tonal
-    time is trusted over the broadband one), a group's tonal time nearest its broadband time replaces it
-    when ``strong`` says so.
+    time if any, else the tonal one. With ``strong`` (each tonal onset's rise [shape=(len(tonal),)], a distance
+    (samples) and a rise), a group's tonal time nearest its broadband time replaces it when it is farther than
+    that distance from it and rises so much (a group's choice may so fall on the next group's: its broadband time
+    on that one's tonal). Compiled: :func:`._detect.merge`.
     """
-    def floats(samples):  # Python's floats: the same values, sorted and compared faster than numpy's scalars
-        return np.asarray(samples, dtype=float).tolist()
+    from ._detect import merge
 
-    marked = sorted([(s, 1) for s in floats(tonal)] + [(s, 0) for s in floats(broadband)]
-                    + [(s, 2) for s in floats(deep)])
-    times, kinds = [], []
-    start = 0
-    while start < len(marked):  # a group: the onsets closer than gap to its first
-        stop = start + 1
-        while stop < len(marked) and marked[stop][0] - marked[start][0] < gap:
-            stop += 1
-        s, kind = marked[start]
-        if stop > start + 1:  # a group's choice may fall on the next group's (its broadband time on that one's tonal)
-            group = marked[start:stop]
-            s, kind = min(group, key=lambda item: item[1])
-            near = min((t for t, k in group if k == 1), key=lambda t: abs(t - s), default=None)
-            if kind == 0 and near is not None and strong is not None and strong(near, s):
-                s, kind = near, 1
-        if times and s - times[-1] < gap / 4:
-            if kind < kinds[-1]:
-                times[-1], kinds[-1] = s, kind
-        else:
-            times.append(s)
-            kinds.append(kind)
-        start = stop
-    return np.array(times, dtype=float), np.array(kinds, dtype=np.int64)
+    parts = [np.asarray(samples, dtype=float).ravel() for samples in (broadband, tonal, deep)]
+    values = np.concatenate(parts)
+    kinds = np.repeat(np.arange(3, dtype=np.int64), [len(part) for part in parts])
+    rises, apart, least = (np.zeros(len(parts[1])), 0.0, 0.0) if strong is None else strong
+    rises = np.concatenate((np.zeros(len(parts[0])), np.asarray(rises, dtype=float), np.zeros(len(parts[2]))))
+    order = np.lexsort((kinds, values))  # by time, then kind
+    return merge(values[order], kinds[order], rises[order], float(gap), float(apart), float(least), strong is not None)
 
 
 def _away(candidates, known, gap):
