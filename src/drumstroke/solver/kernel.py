@@ -45,6 +45,10 @@ STEADY = 1000.0
 """...and at most STEADY·√(1 − m) of them: each carried step adds about ε/√(1 − m) to θ
 near the vertical, where dn falls to √(1 − m); orbits that close are computed afresh."""
 
+RUNS = 4
+"""Runs of samples :func:`evaluate` carries side by side (fewer where the flights are too few to split):
+a carried sample waits some 40 cycles for the one before it, and the other runs' samples fill the wait."""
+
 
 @jit
 def initial_state(theta0, omega0):
@@ -461,20 +465,34 @@ def evaluate(table, steps, theta_max, t, spacing):
     value = np.empty(n)
     omega = np.empty(n)
     theta = np.empty(n)
-    # Two runs of samples side by side, split where an arc starts (a sample computed afresh either way,
-    # so each sample is computed as in one run, to the bit): a carried sample waits for the one before
-    # it, and the other run's fills that wait.
-    half = _split(table, t) if spacing > 0.0 else n
+    # RUNS runs of samples side by side, split where arcs start (a sample computed afresh either way, so
+    # each sample is computed as in one run, to the bit).
+    first = _split(table, t) if spacing > 0.0 else np.array([0, n])
+    runs = len(first) - 1
     # each run's arc, the flight it carries (or −1), the samples carried since one computed afresh, the
-    # most it may carry; then the carried sn, cn, dn, those of the spacing, √m and 2√(m(1 − m)C)
-    ints = np.zeros((2, 4), dtype=np.int64)
+    # most it may carry; then the carried sn, cn, dn, those of the spacing, √m, 2√(m(1 − m)C), m, and
+    # when the next arc starts (s; −∞ when it carries none)
+    ints = np.zeros((runs, 4), dtype=np.int64)
     ints[:, 1] = -1
-    floats = np.zeros((2, 8))
+    floats = np.zeros((runs, 10))
+    floats[:, 9] = -math.inf
     agm = elliptic.agm_scratch()  # (the AGM of the last flight's m, shared by its samples computed afresh)
-    for i in range(max(half, n - half)):
-        for r in range(2):
-            k = i + r * half
-            if k >= (half if r == 0 else n):
+    longest = 0
+    for r in range(runs):
+        longest = max(longest, first[r + 1] - first[r])
+    for i in range(longest):
+        for r in range(runs):
+            k = first[r] + i
+            if k >= first[r + 1]:
+                continue
+            if t[k] < floats[r, 9] and ints[r, 2] < ints[r, 3] and k < n - 1:
+                # carried in the flight it carries (the commonest sample: no arc looked up)
+                sn, cn, dn = elliptic.shift(floats[r, 0], floats[r, 1], floats[r, 2], floats[r, 3], floats[r, 4],
+                                            floats[r, 5], floats[r, 8])
+                ints[r, 2] += 1
+                floats[r, 0], floats[r, 1], floats[r, 2] = sn, cn, dn
+                inverse = 1.0 / dn
+                value[k], omega[k], theta[k] = floats[r, 6] * cn * inverse, -floats[r, 7] * sn * inverse, math.nan
                 continue
             j, current = ints[r, 0], ints[r, 1]
             if spacing > 0.0:
@@ -504,16 +522,18 @@ def evaluate(table, steps, theta_max, t, spacing):
                             floats[r, 3], floats[r, 4], floats[r, 5] = elliptic.jacobi_with(step, m, agm)
                             ints[r, 3] = int(min(REANCHOR, REACH / step, STEADY * math.sqrt(1.0 - m)))
                             ints[r, 1] = j
+                            floats[r, 8] = m
+                            floats[r, 9] = table[j + 1, 0] if j + 1 < len(table) else math.inf
                 floats[r, 0], floats[r, 1], floats[r, 2] = sn, cn, dn
                 inverse = 1.0 / dn
                 value[k], omega[k], theta[k] = floats[r, 6] * cn * inverse, -floats[r, 7] * sn * inverse, math.nan
             elif kind == TAYLOR:
-                ints[r, 1] = -1
+                ints[r, 1], floats[r, 9] = -1, -math.inf
                 row = int(table[j, 2])
                 theta[k], omega[k] = polynomial(steps[row, 1:], t[k] - steps[row, 0])
                 value[k] = math.nan
             else:
-                ints[r, 1] = -1
+                ints[r, 1], floats[r, 9] = -1, -math.inf
                 value[k], omega[k], theta[k] = math.nan, 0.0, theta_max
     return value, omega, theta
 
@@ -623,22 +643,29 @@ def sample_times(first, stop, rate, start, t_end):
 
 @jit
 def _split(table, t):
-    """The first sample of the arc that halves the flights' time within ``t`` (increasing), or len(t).
+    """Where :func:`evaluate`'s runs start in ``t`` (increasing), and its end [shape=(runs + 1,)].
 
-    (Samples in flight are the costly ones.) That sample is never carried from the one before it.
+    Each run but the first starts at the first sample of the arc that holds a RUNS-th of the flights'
+    time within ``t`` (samples in flight are the costly ones): a sample never carried from the one before it.
     """
     n = len(t)
-    if n < 2:
-        return n
-    flying = np.zeros(len(table) + 1)  # flight time (s) within [t[0], t[-1]] before each arc
-    for j in range(len(table)):
-        low, high = max(table[j, 0], t[0]), t[n - 1] if j + 1 == len(table) else min(table[j + 1, 0], t[n - 1])
-        flying[j + 1] = flying[j] + (max(high - low, 0.0) if table[j, 1] == ELLIPTIC else 0.0)
-    j = np.searchsorted(flying, 0.5 * flying[-1]) - 1
-    if j < 1:
-        return n
-    k = np.searchsorted(t, table[j, 0])
-    return k if 0 < k < n else n
+    first = np.empty(RUNS + 1, dtype=np.int64)
+    first[0], runs = 0, 1
+    if n >= 2:
+        flying = np.zeros(len(table) + 1)  # flight time (s) within [t[0], t[-1]] before each arc
+        for j in range(len(table)):
+            low = max(table[j, 0], t[0])
+            high = t[n - 1] if j + 1 == len(table) else min(table[j + 1, 0], t[n - 1])
+            flying[j + 1] = flying[j] + (max(high - low, 0.0) if table[j, 1] == ELLIPTIC else 0.0)
+        for q in range(1, RUNS):
+            j = np.searchsorted(flying, q / RUNS * flying[-1]) - 1
+            if j >= 1:
+                k = np.searchsorted(t, table[j, 0])
+                if first[runs - 1] < k < n:
+                    first[runs] = k
+                    runs += 1
+    first[runs] = n
+    return first[:runs + 1]
 
 
 @jit
