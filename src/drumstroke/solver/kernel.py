@@ -512,18 +512,21 @@ def evaluate(table, steps, theta_max, t, spacing):
                     sn, cn, dn = elliptic.shift(floats[r, 0], floats[r, 1], floats[r, 2], floats[r, 3], floats[r, 4],
                                                 floats[r, 5], m)
                     ints[r, 2] += 1
+                elif j != current and spacing > 0.0:  # a flight's first sample, and the spacing's sn, cn, dn
+                    step = math.sqrt(c) * spacing
+                    sn, cn, dn, floats[r, 3], floats[r, 4], floats[r, 5] = elliptic.jacobi_pair(
+                        math.sqrt(c) * (t[k] - apex), step, m, agm)
+                    ints[r, 2] = 0
+                    floats[r, 6], floats[r, 7] = math.sqrt(m), 2.0 * math.sqrt(m * (1.0 - m) * c)
+                    ints[r, 3] = int(min(REANCHOR, REACH / step, STEADY * math.sqrt(1.0 - m)))
+                    ints[r, 1] = j
+                    floats[r, 8] = m
+                    floats[r, 9] = table[j + 1, 0] if j + 1 < len(table) else math.inf
                 else:
                     sn, cn, dn = elliptic.jacobi_with(math.sqrt(c) * (t[k] - apex), m, agm)
                     ints[r, 2] = 0
                     if j != current:
                         floats[r, 6], floats[r, 7] = math.sqrt(m), 2.0 * math.sqrt(m * (1.0 - m) * c)
-                        if spacing > 0.0:
-                            step = math.sqrt(c) * spacing
-                            floats[r, 3], floats[r, 4], floats[r, 5] = elliptic.jacobi_with(step, m, agm)
-                            ints[r, 3] = int(min(REANCHOR, REACH / step, STEADY * math.sqrt(1.0 - m)))
-                            ints[r, 1] = j
-                            floats[r, 8] = m
-                            floats[r, 9] = table[j + 1, 0] if j + 1 < len(table) else math.inf
                 floats[r, 0], floats[r, 1], floats[r, 2] = sn, cn, dn
                 inverse = 1.0 / dn
                 value[k], omega[k], theta[k] = floats[r, 6] * cn * inverse, -floats[r, 7] * sn * inverse, math.nan
