@@ -469,13 +469,12 @@ def evaluate(table, steps, theta_max, t, spacing):
     # each sample is computed as in one run, to the bit).
     first = _split(table, t) if spacing > 0.0 else np.array([0, n])
     runs = len(first) - 1
-    # each run's arc, the flight it carries (or −1), the samples carried since one computed afresh, the
-    # most it may carry; then the carried sn, cn, dn, those of the spacing, √m, 2√(m(1 − m)C), m, and
-    # when the next arc starts (s; −∞ when it carries none)
+    # each run's arc, the flight it carries (or −1), the samples it may still carry, the most it may carry
+    # from one computed afresh; then the carried sn, cn, dn, those of the spacing, √m, 2√(m(1 − m)C), m,
+    # and when the next arc starts (s)
     ints = np.zeros((runs, 4), dtype=np.int64)
     ints[:, 1] = -1
     floats = np.zeros((runs, 10))
-    floats[:, 9] = -math.inf
     agm = elliptic.agm_scratch()  # (the AGM of the last flight's m, shared by its samples computed afresh)
     longest = 0
     for r in range(runs):
@@ -485,11 +484,10 @@ def evaluate(table, steps, theta_max, t, spacing):
             k = first[r] + i
             if k >= first[r + 1]:
                 continue
-            if t[k] < floats[r, 9] and ints[r, 2] < ints[r, 3] and k < n - 1:
-                # carried in the flight it carries (the commonest sample: no arc looked up)
+            if ints[r, 2] > 0:  # carried in the flight it carries (the commonest sample: no arc looked up)
+                ints[r, 2] -= 1
                 sn, cn, dn = elliptic.shift(floats[r, 0], floats[r, 1], floats[r, 2], floats[r, 3], floats[r, 4],
                                             floats[r, 5], floats[r, 8])
-                ints[r, 2] += 1
                 floats[r, 0], floats[r, 1], floats[r, 2] = sn, cn, dn
                 inverse = 1.0 / dn
                 value[k], omega[k], theta[k] = floats[r, 6] * cn * inverse, -floats[r, 7] * sn * inverse, math.nan
@@ -508,37 +506,46 @@ def evaluate(table, steps, theta_max, t, spacing):
                 value[k], omega[k], theta[k] = math.nan, table[j, 6], table[j, 5]
             elif kind == ELLIPTIC:
                 apex, c, m = table[j, 2], table[j, 3], table[j, 4]
-                if j == current and ints[r, 2] < ints[r, 3] and k < n - 1:
-                    sn, cn, dn = elliptic.shift(floats[r, 0], floats[r, 1], floats[r, 2], floats[r, 3], floats[r, 4],
-                                                floats[r, 5], m)
-                    ints[r, 2] += 1
-                elif j != current and spacing > 0.0:  # a flight's first sample, and the spacing's sn, cn, dn
+                if j != current and spacing > 0.0:  # a flight's first sample, and the spacing's sn, cn, dn
                     step = math.sqrt(c) * spacing
                     sn, cn, dn, floats[r, 3], floats[r, 4], floats[r, 5] = elliptic.jacobi_pair(
                         math.sqrt(c) * (t[k] - apex), step, m, agm)
-                    ints[r, 2] = 0
                     floats[r, 6], floats[r, 7] = math.sqrt(m), 2.0 * math.sqrt(m * (1.0 - m) * c)
                     ints[r, 3] = int(min(REANCHOR, REACH / step, STEADY * math.sqrt(1.0 - m)))
                     ints[r, 1] = j
                     floats[r, 8] = m
                     floats[r, 9] = table[j + 1, 0] if j + 1 < len(table) else math.inf
-                else:
+                else:  # a sample computed afresh in the flight it carries, or any sample without a spacing
                     sn, cn, dn = elliptic.jacobi_with(math.sqrt(c) * (t[k] - apex), m, agm)
-                    ints[r, 2] = 0
                     if j != current:
                         floats[r, 6], floats[r, 7] = math.sqrt(m), 2.0 * math.sqrt(m * (1.0 - m) * c)
+                if spacing > 0.0:
+                    ints[r, 2] = _carried(t, k, floats[r, 9], spacing, ints[r, 3])
                 floats[r, 0], floats[r, 1], floats[r, 2] = sn, cn, dn
                 inverse = 1.0 / dn
                 value[k], omega[k], theta[k] = floats[r, 6] * cn * inverse, -floats[r, 7] * sn * inverse, math.nan
             elif kind == TAYLOR:
-                ints[r, 1], floats[r, 9] = -1, -math.inf
+                ints[r, 1] = -1
                 row = int(table[j, 2])
                 theta[k], omega[k] = polynomial(steps[row, 1:], t[k] - steps[row, 0])
                 value[k] = math.nan
             else:
-                ints[r, 1], floats[r, 9] = -1, -math.inf
+                ints[r, 1] = -1
                 value[k], omega[k], theta[k] = math.nan, 0.0, theta_max
     return value, omega, theta
+
+
+@jit(inline="always")
+def _carried(t, k, end, spacing, most):
+    """How many samples after ``t[k]`` (one computed afresh) :func:`evaluate` carries from it: those before ``end``
+    (s, where the next arc starts), at most ``most`` of them, and never the last of ``t`` (its spacing may differ)."""
+    limit = min(k + 1 + most, len(t) - 1)
+    q = min(k + 1 + int(min((end - t[k]) / spacing, float(most))), limit)  # (then exact: the times' round-off)
+    while q > k + 1 and t[q - 1] >= end:
+        q -= 1
+    while q < limit and t[q] < end:
+        q += 1
+    return max(q - (k + 1), 0)
 
 
 # the kinds of segment :func:`evaluate_runs` evaluates (a curve's other segments: in Python, by their paths)
