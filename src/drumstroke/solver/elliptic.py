@@ -215,5 +215,11 @@ def apex_form(sn, cn, dn, root_m, speed):
 @jit
 def state(tau, c, m):
     """θ (rad) and ω (rad/s) at time ``tau`` after the apex (s) on the orbit ``m``."""
-    sn, cn, dn = jacobi(math.sqrt(c) * tau, m)
+    return state_with(tau, c, m, agm_scratch())
+
+
+@jit
+def state_with(tau, c, m, agm):
+    """:func:`state`, its AGM kept in ``agm`` (from :func:`agm_scratch`) as :func:`jacobi_with` keeps it."""
+    sn, cn, dn = jacobi_with(math.sqrt(c) * tau, m, agm)
     return apex_form(sn, cn, dn, math.sqrt(m), 2.0 * math.sqrt(m * (1.0 - m) * c))

@@ -311,6 +311,7 @@ def run(edges, c0, c1, theta_max, table, cor, closed_forms, max_step, max_impact
     sin_head, cos_head = math.sin(theta_max), math.cos(theta_max)
     head = flight_table.head(table, sin_head)
     no_cells = np.empty((0, flight_table.CELL_SIZE))  # (a chain sums the cells it meets)
+    agm = elliptic.agm_scratch()  # (for the states at the pieces' ends)
     t, theta, omega = state[T], state[THETA], state[OMEGA]
     resting, lifting = state[RESTING] != 0.0, state[LIFTING] != 0.0
     tail_c, rest_start = state[TAIL_C], state[REST_START]
@@ -367,7 +368,7 @@ def run(edges, c0, c1, theta_max, table, cor, closed_forms, max_step, max_impact
                         hit = apex + apex_to_head
                         arcs, n_arcs = _arc(arcs, n_arcs, t, ELLIPTIC, apex, a, m, theta, omega)
                         if hit > te:
-                            theta, omega = elliptic.state(te - apex, a, m)
+                            theta, omega = elliptic.state_with(te - apex, a, m, agm)
                             t, theta = te, max(theta, theta_max)
                             continue
                         t = hit
@@ -388,7 +389,7 @@ def run(edges, c0, c1, theta_max, table, cor, closed_forms, max_step, max_impact
                     if t == te:
                         theta, omega = theta_max, launch
                     else:
-                        theta, omega = elliptic.state(te - (t + 0.5 * flight), a, m)
+                        theta, omega = elliptic.state_with(te - (t + 0.5 * flight), a, m, agm)
                         t, theta = te, max(theta, theta_max)
                 if n_before + n_impacts > max_impacts:
                     outcome, extra = TOO_MANY, t
