@@ -111,8 +111,9 @@ def solve(coefficients, force, gravity, *, theta0, omega0, cor, t_end, method="a
                             method=method, progress=progress, tabled=tabled))
 
 
-def solved(coefficients, force, gravity, *, theta0, omega0, cor, t_end, method="auto", progress=None, tabled=True):
-    """:func:`solve`'s :class:`Solution` as the tuple of its fields (what :func:`drumstroke.simulate` reads)."""
+def solved(coefficients, force, gravity, theta0, omega0, cor, t_end, method="auto", progress=None, tabled=True):
+    """:func:`solve`'s :class:`Solution` as the tuple of its fields (what :func:`drumstroke.simulate` reads; its
+    arguments by position, some 0.1 µs quicker than by name)."""
     kernel, table = _compiled()
     theta_max = coefficients.theta_max
     closed_forms = method == "auto"

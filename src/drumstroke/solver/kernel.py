@@ -165,12 +165,17 @@ def _packed(outcome, extra, arcs, steps, impacts, rests, t_end):
     width = TAYLOR_ORDER + 2
     flat = np.empty((n_rests_end + -(-len(steps) * width // ARC_COLUMNS)) * ARC_COLUMNS)
     rows = flat.reshape((-1, ARC_COLUMNS))
-    rows[:n_arcs] = arcs
-    rows[n_arcs:n_arcs + n_impacts, :2] = impacts[:n_impacts]
-    rows[n_arcs + n_impacts:n_rests_end, :2] = rests
+    for i in range(n_arcs):  # (loops, not slices: numba copies slices of these views element by element, slower)
+        for j in range(ARC_COLUMNS):
+            rows[i, j] = arcs[i, j]
+    for i in range(n_impacts):
+        rows[n_arcs + i, 0], rows[n_arcs + i, 1] = impacts[i, 0], impacts[i, 1]
+    for i in range(len(rests)):
+        rows[n_arcs + n_impacts + i, 0], rows[n_arcs + n_impacts + i, 1] = rests[i, 0], rests[i, 1]
     first = n_rests_end * ARC_COLUMNS
     for k in range(len(steps)):
-        flat[first + k * width:first + (k + 1) * width] = steps[k]
+        for j in range(width):
+            flat[first + k * width + j] = steps[k, j]
     return outcome, extra, rows, n_arcs, n_arcs + n_impacts, n_rests_end, len(steps)
 
 
