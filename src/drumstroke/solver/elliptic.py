@@ -194,7 +194,7 @@ def _finished(phi, previous, m):
     return sn, cn, cn / dn_factor
 
 
-@jit
+@jit(error_model="numpy")  # (its divisor, 1 − m·sn²·sn_h², is positive for m < 1: no check for zero)
 def shift(sn, cn, dn, sn_h, cn_h, dn_h, m):
     """sn, cn, dn of u + h from those of u and of h (the addition theorem, DLMF 22.8.1–3)."""
     d = 1.0 / (1.0 - m * sn * sn * sn_h * sn_h)

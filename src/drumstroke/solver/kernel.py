@@ -447,7 +447,7 @@ def run(edges, c0, c1, theta_max, table, cor, closed_forms, max_step, max_impact
     return outcome, extra, arcs[:n_arcs], steps[:n_steps], impacts[:n_impacts], rests[:n_rests]
 
 
-@jit
+@jit(error_model="numpy")  # (no divisor here is zero: dn ≥ √(1 − m) > 0, spacing > 0 where divided by)
 def evaluate(table, steps, theta_max, t, spacing):
     """The arcs (see :class:`.arcs.Arcs`) at the times ``t`` (s): all but the last step of θ, and ω.
 
@@ -477,7 +477,9 @@ def evaluate(table, steps, theta_max, t, spacing):
     ints = np.zeros((runs, 4), dtype=np.int64)
     ints[:, 1] = -1
     floats = np.zeros((runs, 10))
-    agm = elliptic.agm_scratch()  # (the AGM of the last flight's m, shared by its samples computed afresh)
+    # each run's AGM of its last flight's m, kept for the samples it computes afresh in that flight
+    agms = np.empty((runs, elliptic.AGM_SIZE))
+    agms[:, 0] = math.nan
     longest = 0
     for r in range(runs):
         longest = max(longest, first[r + 1] - first[r])
@@ -511,14 +513,14 @@ def evaluate(table, steps, theta_max, t, spacing):
                 if j != current and spacing > 0.0:  # a flight's first sample, and the spacing's sn, cn, dn
                     step = math.sqrt(c) * spacing
                     sn, cn, dn, floats[r, 3], floats[r, 4], floats[r, 5] = elliptic.jacobi_pair(
-                        math.sqrt(c) * (t[k] - apex), step, m, agm)
+                        math.sqrt(c) * (t[k] - apex), step, m, agms[r])
                     floats[r, 6], floats[r, 7] = math.sqrt(m), 2.0 * math.sqrt(m * (1.0 - m) * c)
                     ints[r, 3] = int(min(REANCHOR, REACH / step, STEADY * math.sqrt(1.0 - m)))
                     ints[r, 1] = j
                     floats[r, 8] = m
                     floats[r, 9] = table[j + 1, 0] if j + 1 < len(table) else math.inf
                 else:  # a sample computed afresh in the flight it carries, or any sample without a spacing
-                    sn, cn, dn = elliptic.jacobi_with(math.sqrt(c) * (t[k] - apex), m, agm)
+                    sn, cn, dn = elliptic.jacobi_with(math.sqrt(c) * (t[k] - apex), m, agms[r])
                     if j != current:
                         floats[r, 6], floats[r, 7] = math.sqrt(m), 2.0 * math.sqrt(m * (1.0 - m) * c)
                 if spacing > 0.0:
