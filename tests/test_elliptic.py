@@ -397,3 +397,16 @@ def test_state_matches_spec_theta_in_mpmath(rng):
         # at ±to_head the stick is at the head
         assert abs(state(to_head, c, m)[0] - HEAD) <= theta_tolerance(m) + 1e-13
     print(f"state vs the docs' θ(τ): worst θ {worst:.3g} rad, ω {worst_omega:.3g}·√C rad/s")
+
+
+def test_jacobi_pair_is_two_calls_of_jacobi_with_to_the_bit(rng):
+    """The sampler's two descents side by side give each one's numbers (m near 0, mid, near 1; u large and small)."""
+    from drumstroke.solver.elliptic import agm_scratch, jacobi_pair, jacobi_with
+
+    agm = agm_scratch()
+    for _ in range(2000):
+        m = float(rng.choice([rng.uniform(0.0, 1e-9), rng.uniform(0.0, 1.0), 1.0 - 10.0 ** rng.uniform(-9.0, -1.0)]))
+        u, w = rng.uniform(-12.0, 12.0), rng.uniform(-0.1, 0.1)
+        pair = jacobi_pair(u, w, m, agm)
+        alone = jacobi_with(u, m, agm_scratch()) + jacobi_with(w, m, agm_scratch())
+        assert np.array_equal(np.array(pair).view(np.uint64), np.array(alone).view(np.uint64)), (u, w, m)

@@ -207,9 +207,8 @@ def simulate(
             "stick": stick,
         }
         recipe = base.replace(**{key: value for key, value in changes.items() if value is not None})
-    arcs, impact_t, impact_omega, rests = solved(recipe.coefficients, recipe.force, recipe.gravity,
-                                                 theta0=recipe.theta0, omega0=recipe.omega0, cor=recipe.cor,
-                                                 t_end=recipe.t_end, method=method, progress=progress)
+    arcs, impact_t, impact_omega, rests = solved(recipe.coefficients, recipe.force, recipe.gravity, recipe.theta0,
+                                                 recipe.omega0, recipe.cor, recipe.t_end, method, progress)
     return Stroke._of(recipe, Impacts._of(impact_t, impact_omega, recipe.stick.pivot_to_tip), rests, arcs)
 
 

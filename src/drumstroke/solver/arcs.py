@@ -71,7 +71,7 @@ class Arcs:
         from .kernel import evaluate, finish  # compiled on first use
 
         t = np.asarray(t, dtype=float)
-        value, omega, theta = evaluate(self.table, self.taylor, self.theta_max, t.ravel(), float(spacing))
+        value, omega, theta = evaluate(self.table, self.taylor, self.theta_max, t.ravel(), float(spacing))  # its rows
         # In flight the kernel leaves θ's last step, θ = 2·asin(value) − π/2, to numpy's vectorised asin
         # (value is NaN elsewhere, whose asin is NaN without a warning).
         finish(theta, np.arcsin(value, out=value), self.theta_max)

@@ -131,10 +131,47 @@ def jacobi_with(u, m, agm):
     ``agm`` is from :func:`agm_scratch`. The numbers are :func:`jacobi`'s whatever it held.
     """
     if m < 1e-9:
-        s, c = math.sin(u), math.cos(u)
-        ai = 0.25 * m * (u - s * c)
-        return s - ai * c, c + ai * s, 1.0 - 0.5 * m * s * s
-    if agm[0] != m:  # the AGM's a_i and c_i, at most 9 steps for m < 1 − 1e-16
+        return _near_zero(u, m)
+    _agm(m, agm)
+    i = int(agm[1])
+    phi = agm[2] * agm[_A + i] * u
+    previous = phi
+    while i > 0:
+        previous = phi
+        phi = 0.5 * (math.asin(agm[_C + i] * math.sin(phi) / agm[_A + i]) + phi)
+        i -= 1
+    return _finished(phi, previous, m)
+
+
+@jit
+def jacobi_pair(u, w, m, agm):
+    """:func:`jacobi_with` of ``u`` and of ``w`` (sn, cn, dn of each), the same numbers, the two descents
+    side by side: each step waits for an asin and a sine of the last, and the other's step fills the wait."""
+    if m < 1e-9:
+        return _near_zero(u, m) + _near_zero(w, m)
+    _agm(m, agm)
+    i = int(agm[1])
+    phi, psi = agm[2] * agm[_A + i] * u, agm[2] * agm[_A + i] * w
+    previous, before = phi, psi
+    while i > 0:
+        previous, before = phi, psi
+        phi = 0.5 * (math.asin(agm[_C + i] * math.sin(phi) / agm[_A + i]) + phi)
+        psi = 0.5 * (math.asin(agm[_C + i] * math.sin(psi) / agm[_A + i]) + psi)
+        i -= 1
+    return _finished(phi, previous, m) + _finished(psi, before, m)
+
+
+@jit(inline="always")
+def _near_zero(u, m):
+    s, c = math.sin(u), math.cos(u)
+    ai = 0.25 * m * (u - s * c)
+    return s - ai * c, c + ai * s, 1.0 - 0.5 * m * s * s
+
+
+@jit(inline="always")
+def _agm(m, agm):
+    """The AGM's a_i and c_i of m into ``agm`` (at most 9 steps for m < 1 − 1e-16), unless it holds them."""
+    if agm[0] != m:
         agm[_A], agm[_C] = 1.0, math.sqrt(m)
         b = math.sqrt(1.0 - m)
         twon = 1.0
@@ -145,13 +182,11 @@ def jacobi_with(u, m, agm):
             twon *= 2.0
             i += 1
         agm[0], agm[1], agm[2] = m, i, twon
-    i = int(agm[1])
-    phi = agm[2] * agm[_A + i] * u
-    previous = phi
-    while i > 0:
-        previous = phi
-        phi = 0.5 * (math.asin(agm[_C + i] * math.sin(phi) / agm[_A + i]) + phi)
-        i -= 1
+
+
+@jit(inline="always")
+def _finished(phi, previous, m):
+    """sn, cn, dn from the descent's last two angles."""
     sn, cn = math.sin(phi), math.cos(phi)
     dn_factor = math.cos(phi - previous)
     if abs(dn_factor) < 0.1:  # the quotient cancels there (DLMF 22.20.5)
@@ -159,7 +194,7 @@ def jacobi_with(u, m, agm):
     return sn, cn, cn / dn_factor
 
 
-@jit
+@jit(error_model="numpy")  # (its divisor, 1 − m·sn²·sn_h², is positive for m < 1: no check for zero)
 def shift(sn, cn, dn, sn_h, cn_h, dn_h, m):
     """sn, cn, dn of u + h from those of u and of h (the addition theorem, DLMF 22.8.1–3)."""
     d = 1.0 / (1.0 - m * sn * sn * sn_h * sn_h)
@@ -180,5 +215,11 @@ def apex_form(sn, cn, dn, root_m, speed):
 @jit
 def state(tau, c, m):
     """θ (rad) and ω (rad/s) at time ``tau`` after the apex (s) on the orbit ``m``."""
-    sn, cn, dn = jacobi(math.sqrt(c) * tau, m)
+    return state_with(tau, c, m, agm_scratch())
+
+
+@jit
+def state_with(tau, c, m, agm):
+    """:func:`state`, its AGM kept in ``agm`` (from :func:`agm_scratch`) as :func:`jacobi_with` keeps it."""
+    sn, cn, dn = jacobi_with(math.sqrt(c) * tau, m, agm)
     return apex_form(sn, cn, dn, math.sqrt(m), 2.0 * math.sqrt(m * (1.0 - m) * c))

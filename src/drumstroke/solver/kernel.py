@@ -45,6 +45,10 @@ STEADY = 1000.0
 """...and at most STEADY·√(1 − m) of them: each carried step adds about ε/√(1 − m) to θ
 near the vertical, where dn falls to √(1 − m); orbits that close are computed afresh."""
 
+RUNS = 4
+"""Runs of samples :func:`evaluate` carries side by side (fewer where the flights are too few to split):
+a carried sample waits some 40 cycles for the one before it, and the other runs' samples fill the wait."""
+
 
 @jit
 def initial_state(theta0, omega0):
@@ -67,12 +71,13 @@ def run_constant(c, t_end, theta0, omega0, theta_max, table, cor, closed_forms, 
     outcome : int
     extra : float
         As :func:`run`'s.
-    rows : ndarray [shape=(n_arcs + n_impacts + n_rests, ARC_COLUMNS)]
-        :func:`run`'s arcs, then its impacts up to ``t_end`` and its rests in the first two columns.
-    n_arcs, n_through_impacts : int
-        Where the impacts' rows and the rests' rows start.
-    steps : ndarray
-        As :func:`run`'s.
+    rows : ndarray [shape=(n, ARC_COLUMNS)]
+        :func:`run`'s arcs, then its impacts up to ``t_end`` and its rests in the first two columns, then
+        its Taylor steps' numbers one after another (each step's TAYLOR_ORDER + 2 of them, row after row).
+    n_arcs, n_through_impacts, n_through_rests : int
+        Where the impacts', the rests' and the steps' rows start.
+    n_steps : int
+        How many Taylor steps :func:`run` took.
     """
     edges, c0, c1 = np.empty(2), np.empty(1), np.zeros(1)
     edges[0], edges[1], c0[0] = 0.0, t_end, c
@@ -149,15 +154,29 @@ def _linear_forcing(points, values, tol, rates, t_end):
 
 @jit
 def _packed(outcome, extra, arcs, steps, impacts, rests, t_end):
-    """:func:`run`'s results as :func:`run_constant` returns them: one array of rows, and where its parts start."""
+    """:func:`run`'s results as :func:`run_constant` returns them: one array of rows, and where its parts start.
+
+    One array, not several: handing an array back to Python costs some 0.3 µs, a tenth of a free bounce.
+    """
     n_arcs, n_impacts = len(arcs), len(impacts)
     while n_impacts and impacts[n_impacts - 1, 0] > t_end:  # (found by a Taylor step that ends past t_end)
         n_impacts -= 1
-    rows = np.empty((n_arcs + n_impacts + len(rests), ARC_COLUMNS))
-    rows[:n_arcs] = arcs
-    rows[n_arcs:n_arcs + n_impacts, :2] = impacts[:n_impacts]
-    rows[n_arcs + n_impacts:, :2] = rests
-    return outcome, extra, rows, n_arcs, n_arcs + n_impacts, steps
+    n_rests_end = n_arcs + n_impacts + len(rests)
+    width = TAYLOR_ORDER + 2
+    flat = np.empty((n_rests_end + -(-len(steps) * width // ARC_COLUMNS)) * ARC_COLUMNS)
+    rows = flat.reshape((-1, ARC_COLUMNS))
+    for i in range(n_arcs):  # (loops, not slices: numba copies slices of these views element by element, slower)
+        for j in range(ARC_COLUMNS):
+            rows[i, j] = arcs[i, j]
+    for i in range(n_impacts):
+        rows[n_arcs + i, 0], rows[n_arcs + i, 1] = impacts[i, 0], impacts[i, 1]
+    for i in range(len(rests)):
+        rows[n_arcs + n_impacts + i, 0], rows[n_arcs + n_impacts + i, 1] = rests[i, 0], rests[i, 1]
+    first = n_rests_end * ARC_COLUMNS
+    for k in range(len(steps)):
+        for j in range(width):
+            flat[first + k * width + j] = steps[k, j]
+    return outcome, extra, rows, n_arcs, n_arcs + n_impacts, n_rests_end, len(steps)
 
 
 @jit
@@ -297,6 +316,7 @@ def run(edges, c0, c1, theta_max, table, cor, closed_forms, max_step, max_impact
     sin_head, cos_head = math.sin(theta_max), math.cos(theta_max)
     head = flight_table.head(table, sin_head)
     no_cells = np.empty((0, flight_table.CELL_SIZE))  # (a chain sums the cells it meets)
+    agm = elliptic.agm_scratch()  # (for the states at the pieces' ends)
     t, theta, omega = state[T], state[THETA], state[OMEGA]
     resting, lifting = state[RESTING] != 0.0, state[LIFTING] != 0.0
     tail_c, rest_start = state[TAIL_C], state[REST_START]
@@ -353,7 +373,7 @@ def run(edges, c0, c1, theta_max, table, cor, closed_forms, max_step, max_impact
                         hit = apex + apex_to_head
                         arcs, n_arcs = _arc(arcs, n_arcs, t, ELLIPTIC, apex, a, m, theta, omega)
                         if hit > te:
-                            theta, omega = elliptic.state(te - apex, a, m)
+                            theta, omega = elliptic.state_with(te - apex, a, m, agm)
                             t, theta = te, max(theta, theta_max)
                             continue
                         t = hit
@@ -374,7 +394,7 @@ def run(edges, c0, c1, theta_max, table, cor, closed_forms, max_step, max_impact
                     if t == te:
                         theta, omega = theta_max, launch
                     else:
-                        theta, omega = elliptic.state(te - (t + 0.5 * flight), a, m)
+                        theta, omega = elliptic.state_with(te - (t + 0.5 * flight), a, m, agm)
                         t, theta = te, max(theta, theta_max)
                 if n_before + n_impacts > max_impacts:
                     outcome, extra = TOO_MANY, t
@@ -427,7 +447,7 @@ def run(edges, c0, c1, theta_max, table, cor, closed_forms, max_step, max_impact
     return outcome, extra, arcs[:n_arcs], steps[:n_steps], impacts[:n_impacts], rests[:n_rests]
 
 
-@jit
+@jit(error_model="numpy")  # (no divisor here is zero: dn ≥ √(1 − m) > 0, spacing > 0 where divided by)
 def evaluate(table, steps, theta_max, t, spacing):
     """The arcs (see :class:`.arcs.Arcs`) at the times ``t`` (s): all but the last step of θ, and ω.
 
@@ -438,33 +458,43 @@ def evaluate(table, steps, theta_max, t, spacing):
 
     Returns
     -------
-    value : ndarray [shape=(n,)]
-        In flight sin((θ + π/2)/2) = √m·cd(v | m), elsewhere NaN: :meth:`.arcs.Arcs.evaluate`
+    samples : ndarray [shape=(3, n)]
+        Rows value, ω and θ, one array (handing an array back to Python costs some 0.3 µs). value:
+        in flight sin((θ + π/2)/2) = √m·cd(v | m), elsewhere NaN: :meth:`.arcs.Arcs.evaluate`
         takes its asin with numpy, whose vectorised asin is some ten times quicker than one
-        call at a time here, and :func:`finish` makes θ of it.
-    omega : ndarray [shape=(n,)]
-        rad/s.
-    theta : ndarray [shape=(n,)]
-        θ (rad), but NaN in flight.
+        call at a time here, and :func:`finish` makes θ of it. ω (rad/s). θ (rad), but NaN in flight.
     """
     n = len(t)
-    value = np.empty(n)
-    omega = np.empty(n)
-    theta = np.empty(n)
-    # Two runs of samples side by side, split where an arc starts (a sample computed afresh either way,
-    # so each sample is computed as in one run, to the bit): a carried sample waits for the one before
-    # it, and the other run's fills that wait.
-    half = _split(table, t) if spacing > 0.0 else n
-    # each run's arc, the flight it carries (or −1), the samples carried since one computed afresh, the
-    # most it may carry; then the carried sn, cn, dn, those of the spacing, √m and 2√(m(1 − m)C)
-    ints = np.zeros((2, 4), dtype=np.int64)
+    samples = np.empty((3, n))
+    value, omega, theta = samples[0], samples[1], samples[2]
+    # RUNS runs of samples side by side, split where arcs start (a sample computed afresh either way, so
+    # each sample is computed as in one run, to the bit).
+    first = _split(table, t) if spacing > 0.0 else np.array([0, n])
+    runs = len(first) - 1
+    # each run's arc, the flight it carries (or −1), the samples it may still carry, the most it may carry
+    # from one computed afresh; then the carried sn, cn, dn, those of the spacing, √m, 2√(m(1 − m)C), m,
+    # and when the next arc starts (s)
+    ints = np.zeros((runs, 4), dtype=np.int64)
     ints[:, 1] = -1
-    floats = np.zeros((2, 8))
-    agm = elliptic.agm_scratch()  # (the AGM of the last flight's m, shared by its samples computed afresh)
-    for i in range(max(half, n - half)):
-        for r in range(2):
-            k = i + r * half
-            if k >= (half if r == 0 else n):
+    floats = np.zeros((runs, 10))
+    # each run's AGM of its last flight's m, kept for the samples it computes afresh in that flight
+    agms = np.empty((runs, elliptic.AGM_SIZE))
+    agms[:, 0] = math.nan
+    longest = 0
+    for r in range(runs):
+        longest = max(longest, first[r + 1] - first[r])
+    for i in range(longest):
+        for r in range(runs):
+            k = first[r] + i
+            if k >= first[r + 1]:
+                continue
+            if ints[r, 2] > 0:  # carried in the flight it carries (the commonest sample: no arc looked up)
+                ints[r, 2] -= 1
+                sn, cn, dn = elliptic.shift(floats[r, 0], floats[r, 1], floats[r, 2], floats[r, 3], floats[r, 4],
+                                            floats[r, 5], floats[r, 8])
+                floats[r, 0], floats[r, 1], floats[r, 2] = sn, cn, dn
+                inverse = 1.0 / dn
+                value[k], omega[k], theta[k] = floats[r, 6] * cn * inverse, -floats[r, 7] * sn * inverse, math.nan
                 continue
             j, current = ints[r, 0], ints[r, 1]
             if spacing > 0.0:
@@ -480,20 +510,21 @@ def evaluate(table, steps, theta_max, t, spacing):
                 value[k], omega[k], theta[k] = math.nan, table[j, 6], table[j, 5]
             elif kind == ELLIPTIC:
                 apex, c, m = table[j, 2], table[j, 3], table[j, 4]
-                if j == current and ints[r, 2] < ints[r, 3] and k < n - 1:
-                    sn, cn, dn = elliptic.shift(floats[r, 0], floats[r, 1], floats[r, 2], floats[r, 3], floats[r, 4],
-                                                floats[r, 5], m)
-                    ints[r, 2] += 1
-                else:
-                    sn, cn, dn = elliptic.jacobi_with(math.sqrt(c) * (t[k] - apex), m, agm)
-                    ints[r, 2] = 0
+                if j != current and spacing > 0.0:  # a flight's first sample, and the spacing's sn, cn, dn
+                    step = math.sqrt(c) * spacing
+                    sn, cn, dn, floats[r, 3], floats[r, 4], floats[r, 5] = elliptic.jacobi_pair(
+                        math.sqrt(c) * (t[k] - apex), step, m, agms[r])
+                    floats[r, 6], floats[r, 7] = math.sqrt(m), 2.0 * math.sqrt(m * (1.0 - m) * c)
+                    ints[r, 3] = int(min(REANCHOR, REACH / step, STEADY * math.sqrt(1.0 - m)))
+                    ints[r, 1] = j
+                    floats[r, 8] = m
+                    floats[r, 9] = table[j + 1, 0] if j + 1 < len(table) else math.inf
+                else:  # a sample computed afresh in the flight it carries, or any sample without a spacing
+                    sn, cn, dn = elliptic.jacobi_with(math.sqrt(c) * (t[k] - apex), m, agms[r])
                     if j != current:
                         floats[r, 6], floats[r, 7] = math.sqrt(m), 2.0 * math.sqrt(m * (1.0 - m) * c)
-                        if spacing > 0.0:
-                            step = math.sqrt(c) * spacing
-                            floats[r, 3], floats[r, 4], floats[r, 5] = elliptic.jacobi_with(step, m, agm)
-                            ints[r, 3] = int(min(REANCHOR, REACH / step, STEADY * math.sqrt(1.0 - m)))
-                            ints[r, 1] = j
+                if spacing > 0.0:
+                    ints[r, 2] = _carried(t, k, floats[r, 9], spacing, ints[r, 3])
                 floats[r, 0], floats[r, 1], floats[r, 2] = sn, cn, dn
                 inverse = 1.0 / dn
                 value[k], omega[k], theta[k] = floats[r, 6] * cn * inverse, -floats[r, 7] * sn * inverse, math.nan
@@ -505,7 +536,20 @@ def evaluate(table, steps, theta_max, t, spacing):
             else:
                 ints[r, 1] = -1
                 value[k], omega[k], theta[k] = math.nan, 0.0, theta_max
-    return value, omega, theta
+    return samples
+
+
+@jit(inline="always")
+def _carried(t, k, end, spacing, most):
+    """How many samples after ``t[k]`` (one computed afresh) :func:`evaluate` carries from it: those before ``end``
+    (s, where the next arc starts), at most ``most`` of them, and never the last of ``t`` (its spacing may differ)."""
+    limit = min(k + 1 + most, len(t) - 1)
+    q = min(k + 1 + int(min((end - t[k]) / spacing, float(most))), limit)  # (then exact: the times' round-off)
+    while q > k + 1 and t[q - 1] >= end:
+        q -= 1
+    while q < limit and t[q] < end:
+        q += 1
+    return max(q - (k + 1), 0)
 
 
 # the kinds of segment :func:`evaluate_runs` evaluates (a curve's other segments: in Python, by their paths)
@@ -544,9 +588,9 @@ def evaluate_runs(t, first, segment, kinds, rows, places, tables, steps, phases,
         for k in range(b - a):
             local[k] = t[a + k] - offset if within else min(max(t[a + k], start), end) - offset
         if kind == ARCS:
-            v, w, th = evaluate(tables[rows[s, 0]:rows[s, 1]], steps[rows[s, 2]:rows[s, 3]], places[s, 3], local,
-                                spacing if within else 0.0)
-            value[a:b], omega[a:b], theta[a:b] = v, w, th
+            samples = evaluate(tables[rows[s, 0]:rows[s, 1]], steps[rows[s, 2]:rows[s, 3]], places[s, 3], local,
+                               spacing if within else 0.0)
+            value[a:b], omega[a:b], theta[a:b] = samples[0], samples[1], samples[2]
         elif kind == HOLD:
             omega[a:b], theta[a:b] = 0.0, places[s, 3]
         else:
@@ -613,22 +657,29 @@ def sample_times(first, stop, rate, start, t_end):
 
 @jit
 def _split(table, t):
-    """The first sample of the arc that halves the flights' time within ``t`` (increasing), or len(t).
+    """Where :func:`evaluate`'s runs start in ``t`` (increasing), and its end [shape=(runs + 1,)].
 
-    (Samples in flight are the costly ones.) That sample is never carried from the one before it.
+    Each run but the first starts at the first sample of the arc that holds a RUNS-th of the flights'
+    time within ``t`` (samples in flight are the costly ones): a sample never carried from the one before it.
     """
     n = len(t)
-    if n < 2:
-        return n
-    flying = np.zeros(len(table) + 1)  # flight time (s) within [t[0], t[-1]] before each arc
-    for j in range(len(table)):
-        low, high = max(table[j, 0], t[0]), t[n - 1] if j + 1 == len(table) else min(table[j + 1, 0], t[n - 1])
-        flying[j + 1] = flying[j] + (max(high - low, 0.0) if table[j, 1] == ELLIPTIC else 0.0)
-    j = np.searchsorted(flying, 0.5 * flying[-1]) - 1
-    if j < 1:
-        return n
-    k = np.searchsorted(t, table[j, 0])
-    return k if 0 < k < n else n
+    first = np.empty(RUNS + 1, dtype=np.int64)
+    first[0], runs = 0, 1
+    if n >= 2:
+        flying = np.zeros(len(table) + 1)  # flight time (s) within [t[0], t[-1]] before each arc
+        for j in range(len(table)):
+            low = max(table[j, 0], t[0])
+            high = t[n - 1] if j + 1 == len(table) else min(table[j + 1, 0], t[n - 1])
+            flying[j + 1] = flying[j] + (max(high - low, 0.0) if table[j, 1] == ELLIPTIC else 0.0)
+        for q in range(1, RUNS):
+            j = np.searchsorted(flying, q / RUNS * flying[-1]) - 1
+            if j >= 1:
+                k = np.searchsorted(t, table[j, 0])
+                if first[runs - 1] < k < n:
+                    first[runs] = k
+                    runs += 1
+    first[runs] = n
+    return first[:runs + 1]
 
 
 @jit
