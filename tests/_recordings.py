@@ -112,3 +112,11 @@ def score(found, times, speeds, *, loudest_db=-30.0, window=1e-3):
     extra = len(found) - int(np.count_nonzero(every >= 0))
     return {"loud": int(loud.sum()), "found": int(matched.sum()), "errors": errors, "extra": extra,
             "level_errors": level_errors}
+
+
+def uneven_noise(rng, n):
+    """Noise whose level wanders over some 60 dB, with a stretch of digital silence (for compiled kernels' tests)."""
+    x = rng.standard_normal(n) * np.exp(3.0 * rng.standard_normal(n))
+    start = int(rng.integers(0, n))
+    x[start:start + n // 5] = 0.0
+    return x

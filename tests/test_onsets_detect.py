@@ -10,6 +10,7 @@ import itertools
 import numpy as np
 import pytest
 
+from _recordings import uneven_noise
 from drumstroke.analysis import _detect
 from drumstroke.analysis.onsets import _merge, _windows
 
@@ -17,14 +18,6 @@ from drumstroke.analysis.onsets import _merge, _windows
 @pytest.fixture
 def rng():
     return np.random.default_rng(20261127)
-
-
-def _uneven(rng, n):
-    """Noise whose level wanders over some 60 dB, with a stretch of digital silence."""
-    x = rng.standard_normal(n) * np.exp(3.0 * rng.standard_normal(n))
-    start = int(rng.integers(0, n))
-    x[start:start + n // 5] = 0.0
-    return x
 
 
 def _merge_in_python(tonal, broadband, gap, deep=(), strong=None):
@@ -87,7 +80,7 @@ def test_merge_is_the_python_merge(rng, trial):
 
 
 def test_normalised_is_numpys(rng):
-    band = _uneven(rng, 30001)
+    band = uneven_noise(rng, 30001)
     peak = float(np.abs(band).max())
     got = _detect.normalised(band, peak)
     scaled = band / peak
@@ -98,7 +91,7 @@ def test_normalised_is_numpys(rng):
 
 @pytest.mark.parametrize("trial", range(20))
 def test_later_peaks_are_the_python_moves(rng, trial):
-    x = _uneven(rng, 10000)
+    x = uneven_noise(rng, 10000)
     q, delay, rate, width = int(rng.integers(2, 30)), float(rng.uniform(0.0, 40.0)), 2000.0, 4
     times = np.sort(rng.uniform(0.0, len(x) * q, 60))
     tried = np.flatnonzero(rng.random(len(times)) < 0.6)
@@ -118,7 +111,7 @@ def test_later_peaks_are_the_python_moves(rng, trial):
 
 @pytest.mark.parametrize("trial", range(20))
 def test_spiking_is_the_python_test(rng, trial):
-    e = _uneven(rng, 10000)
+    e = uneven_noise(rng, 10000)
     e[rng.integers(0, len(e), 30)] *= 50.0  # spikes
     q, delay = int(rng.integers(2, 30)), float(rng.uniform(0.0, 40.0))
     times = np.sort(rng.uniform(-100.0, len(e) * q + 100.0, 40))
@@ -167,7 +160,7 @@ def _one_attack_each_in_python(d, times, kinds, amplitude, which, width, reach, 
 
 @pytest.mark.parametrize("trial", range(30))
 def test_one_attack_each_is_the_python_loop(rng, trial):
-    d = np.abs(_uneven(rng, 6000))
+    d = np.abs(uneven_noise(rng, 6000))
     times = np.sort(rng.uniform(0.0, len(d) - 1.0, int(rng.integers(2, 80))))
     times[::4] = np.round(times[::4]) + 0.5  # halves: rounded to even
     kinds = rng.integers(0, 4, len(times))

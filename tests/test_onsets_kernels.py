@@ -10,6 +10,7 @@ import pytest
 from numpy.lib.stride_tricks import sliding_window_view
 from scipy.signal import butter, lfilter, sosfilt, upfirdn
 
+from _recordings import uneven_noise
 from drumstroke.analysis import _kernels
 from drumstroke.analysis.onsets import _interpolator, _low_pass
 
@@ -19,24 +20,16 @@ def rng():
     return np.random.default_rng(20261127)
 
 
-def _uneven(rng, n):
-    """Noise whose level wanders over some 60 dB, with a stretch of digital silence."""
-    x = rng.standard_normal(n) * np.exp(3.0 * rng.standard_normal(n))
-    start = int(rng.integers(0, n))
-    x[start:start + n // 5] = 0.0
-    return x
-
-
 @pytest.mark.parametrize("q", [1, 3, 8, 24, 45])
 def test_decimating_low_pass_is_scipys_sosfilt(rng, q):
-    x = _uneven(rng, 20001)
+    x = uneven_noise(rng, 20001)
     sos, _ = _low_pass(0.8 * 48000 / max(q, 2) / 2.0, 48000)
     np.testing.assert_array_equal(_kernels.low_pass_every(sos, x, q), sosfilt(sos, x)[::q])
 
 
 @pytest.mark.parametrize(("q", "q_other"), [(2, 2), (8, 24), (9, 45)])
 def test_two_decimating_low_passes_in_one_pass_are_each_scipys_sosfilt(rng, q, q_other):
-    x = _uneven(rng, 20001)
+    x = uneven_noise(rng, 20001)
     (sos, _), (other, _) = _low_pass(0.8 * 48000 / q / 2.0, 48000), _low_pass(0.8 * 48000 / q_other / 2.0, 48000)
     low, low_other = _kernels.low_pass_every_two(sos, q, other, q_other, x)
     np.testing.assert_array_equal(low, sosfilt(sos, x)[::q])
@@ -44,7 +37,7 @@ def test_two_decimating_low_passes_in_one_pass_are_each_scipys_sosfilt(rng, q, q
 
 
 def test_high_pass_section_is_scipys_sosfilt(rng):
-    x = _uneven(rng, 20001)
+    x = uneven_noise(rng, 20001)
     sos = butter(2, 60.0, btype="highpass", fs=48000, output="sos")
     np.testing.assert_array_equal(_kernels.second_order(sos, x), sosfilt(sos, x))
 
@@ -52,7 +45,7 @@ def test_high_pass_section_is_scipys_sosfilt(rng):
 def test_best_lag_is_the_sliding_correlations_argmax(rng):
     for _ in range(300):
         size, count = int(rng.integers(2, 300)), int(rng.integers(2, 200))
-        x, low = _uneven(rng, count + size + 10), int(rng.integers(0, 10))
+        x, low = uneven_noise(rng, count + size + 10), int(rng.integers(0, 10))
         template = x[low + 3:low + 3 + size].copy() if rng.random() < 0.3 else rng.standard_normal(size)
         windows = sliding_window_view(x[low:low + count + size - 1], size)
         energy = template @ template
@@ -71,13 +64,13 @@ def test_upsampled_peak_is_upfirdns(rng):
 
 @pytest.mark.parametrize(("n", "taps"), [(1, 1), (5, 49), (600, 1), (1500, 2), (1500, 49), (3000, 25)])
 def test_prediction_error_is_scipys_lfilter(rng, n, taps):
-    x, a = _uneven(rng, n), rng.standard_normal(taps)
+    x, a = uneven_noise(rng, n), rng.standard_normal(taps)
     want = lfilter(a, [1.0], x)
     np.testing.assert_allclose(_kernels.prediction_error(a, x), want, rtol=1e-12, atol=1e-12 * np.abs(want).max())
 
 
 def test_frame_energies_are_the_half_spectrums(rng):
-    x, window = _uneven(rng, 9000), np.hanning(1024)
+    x, window = uneven_noise(rng, 9000), np.hanning(1024)
     starts = np.arange(0, 9000 - 1024, 512, dtype=np.int64)
     frames = sliding_window_view(x, 1024)[starts] * window
     power = np.abs(np.fft.rfft(frames, axis=1)) ** 2
@@ -94,7 +87,7 @@ def test_two_by_two_solve_is_numpys(rng):
 
 
 def test_change_points_are_each_peaks_aic(rng):
-    x = _uneven(rng, 5000)
+    x = uneven_noise(rng, 5000)
     peaks = np.array([10, 300, 2500, 4990], dtype=np.int64)
     want = [max(0, p - 48) + _kernels.aic(x[max(0, p - 48):p + 24]) for p in peaks]
     np.testing.assert_array_equal(_kernels.change_points(x, peaks, 12), want)
@@ -104,7 +97,7 @@ def test_change_points_are_each_peaks_aic(rng):
 def test_jump_profile_is_the_windows_rms_jump(rng, n):
     from drumstroke.analysis.onsets import _windows
 
-    x = _uneven(rng, n)
+    x = uneven_noise(rng, n)
     after, before, width = _windows(x, 48000)
     jump = np.sqrt(after / np.maximum(before, 1e-300 + after * 1e-12))
     jump[:4 * width] = 0.0
@@ -114,7 +107,7 @@ def test_jump_profile_is_the_windows_rms_jump(rng, n):
 def test_least_unexplained_is_numpys_argmin(rng):
     for _ in range(300):
         length, count = int(rng.integers(16, 400)), int(rng.integers(1, 30))
-        part = _uneven(rng, length + count - 1)
+        part = uneven_noise(rng, length + count - 1)
         head = part[3:3 + length].copy() if rng.random() < 0.3 and count > 3 else rng.standard_normal(length)
         energy = head @ head
         cross = np.correlate(part, head, "valid")
@@ -147,7 +140,7 @@ def _first_transients_numpy(d, times, reach, horizon, least, over, clear):
 def test_first_transients_are_the_numpy_loops(rng):
     for _ in range(200):
         n = int(rng.integers(200, 5000))
-        d = np.abs(_uneven(rng, n))
+        d = np.abs(uneven_noise(rng, n))
         count = int(rng.integers(1, 12))
         times = np.sort(rng.choice(n, count, replace=False)) + rng.choice([0.0, 0.5, -0.5], count)
         reach, horizon = int(rng.integers(1, 150)), int(rng.integers(1, 240))
@@ -157,7 +150,7 @@ def test_first_transients_are_the_numpy_loops(rng):
 
 
 def test_peaks_around_are_the_slices_maxima(rng):
-    d = np.abs(_uneven(rng, 3000))
+    d = np.abs(uneven_noise(rng, 3000))
     centres = np.concatenate(([0, 1, 5, 2999], rng.integers(0, 3000, 200)))
     for after, before, gap in [(96, 240, 24), (1, 1, 0), (500, 10, 10), (10, 500, 600)]:
         ahead, prior = _kernels.peaks_around(d, centres, after, before, gap)
@@ -166,7 +159,7 @@ def test_peaks_around_are_the_slices_maxima(rng):
 
 
 def test_window_peaks_are_the_slices_largest_magnitudes(rng):
-    x = _uneven(rng, 3000)
+    x = uneven_noise(rng, 3000)
     lows = rng.integers(0, 3000, 200)
     highs = lows + rng.integers(-5, 400, 200)  # some empty, some past the end
     want = [np.abs(x[low:high]).max(initial=0.0) for low, high in zip(lows, highs)]
@@ -174,7 +167,7 @@ def test_window_peaks_are_the_slices_largest_magnitudes(rng):
 
 
 def test_first_at_least_is_the_first_nonzero(rng):
-    d = np.abs(_uneven(rng, 3000))
+    d = np.abs(uneven_noise(rng, 3000))
     lows = rng.integers(0, 3000, 300)
     highs = lows + rng.integers(0, 400, 300)
     levels = rng.uniform(0.0, 3.0, 300) * np.median(d)
