@@ -446,7 +446,7 @@ class OnsetConfig:
     lead_clear_db: float = -20.0
     lead_db: float = 6.0
     template_likeness: float = 0.8
-    template_reach: float = 2.5e-3
+    template_reach: float = 3e-3
     template_fit: float = 10e-3
     template_head: float = 3e-3
     peak_window: float = 10e-3
