@@ -383,6 +383,14 @@ class OnsetConfig:
     new_sound_db : float in [-120, 0]
         dB re the sound at an attack: the least its own sound (the earlier attacks' taken off as in
         step 6, over ``peak_window`` s) may be for it to be an attack (step 5; -120: every one is).
+    reflection_pairs : int in [0, 100]
+        How many pairs of successive onsets, each later one ``reflection_db`` or more under the one before it,
+        at one delay (within ``reflection_spread`` s) make every such later one a room's reflection, no onset
+        (step 6; 0: none is).
+    reflection_db : float in [0, 120]
+        dB: how much quieter than the onset before it a reflection is at least (step 6).
+    reflection_spread : float in [0, 0.005]
+        s: how far apart the delays of one reflection's pairs may be (step 6).
 
     Examples
     --------
@@ -458,6 +466,9 @@ class OnsetConfig:
     soft_contact: float = 3e-3
     bounce_reach: float = 25e-3
     refused_likeness: float = 0.8
+    reflection_pairs: int = 3
+    reflection_db: float = 12.0
+    reflection_spread: float = 0.2e-3
 
     def __post_init__(self):
         for name, (low, high, unit) in _RANGES.items():
@@ -502,6 +513,7 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "peak_clear_db": (-120.0, 0.0, "dB"), "new_sound_db": (-120.0, 0.0, "dB"),
     "soft_jump": (1.0, 100.0, "(RMS ratio)"), "soft_contact": (0.0, 0.02, "s"),
     "bounce_reach": (0.0, 0.5, "s"), "refused_likeness": (0.0, 1.0, "(correlation)"),
+    "reflection_pairs": (0, 100, ""), "reflection_db": (0.0, 120.0, "dB"), "reflection_spread": (0.0, 5e-3, "s"),
 }
 
 
@@ -652,6 +664,9 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        signal itself by :func:`_peak_amplitudes`: the loudest sample over ``peak_window`` s after it (or
        up to the next onset), after the earlier notes' sound is taken off (each fitted by the
        recording's clear notes as templates, ``peak_templates`` of them, followed ``peak_reach`` s).
+       :func:`_without_reflections`: where ``reflection_pairs`` pairs of successive onsets or more, the later
+       ``reflection_db`` under the earlier, share one delay (within ``reflection_spread`` s), each such later one
+       is a room's reflection and is left out.
 
     Parameters
     ----------
@@ -742,6 +757,7 @@ def _detected(signal, rate, config, source, info):
         amplitude[cut] = again[np.searchsorted(kept.times, decided.times[cut])]
     candidates = _learned_lead_ins(d, rate, decided, config)
     onsets = _reported(candidates, amplitude, levels.floor, {**info, "analysis_rate": tonal.rate}, source, rate, config)
+    onsets = _without_reflections(onsets, config)
     return replace(onsets, peak_db=_peak_db(signal, onsets.t * rate, rate, config))
 
 
@@ -1622,6 +1638,30 @@ def _reported(candidates, amplitude, floor, info, source, rate, config):
     info = {**info, "floor_db": floor_db if np.isfinite(floor_db) else None}
     return Onsets(np.maximum(times[keep] / rate, 0.0), level[keep], threshold_db=float(used), source=source,
                   info=info)
+
+
+def _without_reflections(onsets, config):
+    """Step 6: the ``onsets`` less a room's discrete reflections of the louder ones.
+
+    A room (FluidSynth's reverb) returns each note once more a fixed delay later, some 20 dB quieter:
+    where nothing sounds between a note and the next, that return is heard as an attack. Successive
+    onsets, the later ``reflection_db`` or more under the earlier, that ``reflection_pairs`` pairs or more
+    share a delay (within ``reflection_spread`` s) are such: the later is left out. Only successive
+    ones: a stick's bounces, whose sums of intervals do repeat (a drop's, notes starting on a
+    sound card's blocks), have other onsets between.
+    """
+    if config.reflection_pairs == 0 or len(onsets) <= config.reflection_pairs:
+        return onsets
+    pairs = np.flatnonzero(onsets.level_db[:-1] - onsets.level_db[1:] >= config.reflection_db)
+    own = np.diff(onsets.t)[pairs]
+    delays = np.sort(own)
+    alike = (np.searchsorted(delays, own + config.reflection_spread, side="right")
+             - np.searchsorted(delays, own - config.reflection_spread, side="left"))
+    keep = np.ones(len(onsets), dtype=bool)
+    keep[pairs[alike >= config.reflection_pairs] + 1] = False
+    if keep.all():
+        return onsets
+    return replace(onsets, t=onsets.t[keep], level_db=onsets.level_db[keep])
 
 
 def _peak_db(signal, times, rate, config):
