@@ -383,6 +383,10 @@ class OnsetConfig:
     new_sound_db : float in [-120, 0]
         dB re the sound at an attack: the least its own sound (the earlier attacks' taken off as in
         step 6, over ``peak_window`` s) may be for it to be an attack (step 5; -120: every one is).
+    burst_db : float in [-120, 0]
+        dB re what was there: the most that taking off the template's fit of an attack it timed may leave over the
+        1 ms after a detection within ``echo_reach`` s after it for that detection to be the attack's own sound
+        (step 5; -120: none is).
     reflection_pairs : int in [0, 100]
         How many pairs of successive onsets, each later one ``reflection_db`` or more under the one before it,
         at one delay (within ``reflection_spread`` s) make every such later one a room's reflection, no onset
@@ -466,6 +470,7 @@ class OnsetConfig:
     soft_contact: float = 3e-3
     bounce_reach: float = 25e-3
     refused_likeness: float = 0.8
+    burst_db: float = -6.0
     reflection_pairs: int = 3
     reflection_db: float = 12.0
     reflection_spread: float = 0.2e-3
@@ -513,7 +518,8 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "peak_clear_db": (-120.0, 0.0, "dB"), "new_sound_db": (-120.0, 0.0, "dB"),
     "soft_jump": (1.0, 100.0, "(RMS ratio)"), "soft_contact": (0.0, 0.02, "s"),
     "bounce_reach": (0.0, 0.5, "s"), "refused_likeness": (0.0, 1.0, "(correlation)"),
-    "reflection_pairs": (0, 100, ""), "reflection_db": (0.0, 120.0, "dB"), "reflection_spread": (0.0, 5e-3, "s"),
+    "burst_db": (-120.0, 0.0, "dB"), "reflection_pairs": (0, 100, ""), "reflection_db": (0.0, 120.0, "dB"),
+    "reflection_spread": (0.0, 5e-3, "s"),
 }
 
 
@@ -1249,7 +1255,10 @@ def _fit_template(band, d, rate, candidates, config):
     after), scaled ``threshold_db`` or more re the template: a bouncing stick's impacts milliseconds
     apart, a ghost note in an accent's ringing. A detection less than ``min_interval`` after an attack
     so timed (and ``template_reach`` s more after one so found) is that attack again, the later found
-    where the sound rose on (as :func:`_one_attack_each` merges them). The attacks so timed or found are of kind 3
+    where the sound rose on (as :func:`_one_attack_each` merges them); so is a detection within ``echo_reach`` s after
+    an attack so timed where taking that attack off leaves ``burst_db`` or less of the energy over the 1 ms after it
+    (a recorded sample bursts again milliseconds into itself: FluidR3's electric snare 3.4 ms in, a detection there
+    would cut the attack's level window and have it refused). The attacks so timed or found are of kind 3
     (:func:`_learned_lead_ins` leaves them); the candidates are all attacks. ``d`` is the magnitude of ``band``'s
     first difference.
     """
@@ -1281,7 +1290,10 @@ def _fit_template(band, d, rate, candidates, config):
             continue
         start = c + lag - pre
         stop = min(len(remainder), start + len(template))
+        before = _own_bursts(remainder, queue, c + lag, rate, config) if timed else None
         remainder[start:stop] -= scale * template[:stop - start]
+        if before is not None:
+            queue = _without_own_bursts(remainder, queue, before, rate, config)
         # the same attack found twice; a detection after an attack only the template found is its late time
         # up to the reach the template seeks over (as in _one_attack_each), the gap after it
         while timed and queue and queue[0][0] < c + lag + gap + (reach if i < 0 else 0):
@@ -1294,6 +1306,23 @@ def _fit_template(band, d, rate, candidates, config):
     if not np.all(np.diff(times) > 0):
         return candidates
     return _Candidates(times, np.array(kinds, dtype=np.int64), np.ones(len(times), dtype=bool), np.array(likeness))
+
+
+def _own_bursts(remainder, queue, at, rate, config):
+    """The energy of ``remainder`` over 1 ms after each detection of ``queue`` (not one the template found) within
+    ``echo_reach`` s after ``at``, an attack about to be taken off: {sample: energy}, or None for none."""
+    width = round(1e-3 * rate)
+    near = [round(u) for u, i in queue if i >= 0 and at < u <= at + config.echo_reach * rate]
+    return {k: float(remainder[k:k + width] @ remainder[k:k + width]) for k in near} or None
+
+
+def _without_own_bursts(remainder, queue, before, rate, config):
+    """``queue`` less the detections of ``before`` (:func:`_own_bursts`) the attack just taken off explains: over the
+    1 ms after each, what is left is ``burst_db`` or less re what was there (a recorded sample's second burst)."""
+    width = round(1e-3 * rate)
+    least = 10.0 ** (config.burst_db / 10.0)
+    own = {k for k, energy in before.items() if remainder[k:k + width] @ remainder[k:k + width] < energy * least}
+    return [(u, i) for u, i in queue if i < 0 or round(u) not in own]
 
 
 def _template_search(band, d, rate, candidates, refused, config):
