@@ -387,6 +387,11 @@ class OnsetConfig:
         dB re what was there: the most that taking off the template's fit of an attack it timed may leave over the
         1 ms after a detection within ``echo_reach`` s after it for that detection to be the attack's own sound
         (step 5; -120: none is).
+    layer_likeness : float in [0, 1]
+        Correlation: the least of the quietest clear attack's fit (its first ``template_fit`` s and its start) at an
+        onset step 4 refused, as for ``refused_likeness``, for it to be an attack after all (step 5; 1, the default:
+        none is, the pass not run; 0.8 finds 7 more of the corpus's loud notes within 1 ms, in rolls' ghost notes,
+        but a note found moves the other notes' ``peak_db`` by up to 4 dB).
     reflection_pairs : int in [0, 100]
         How many pairs of successive onsets, each later one ``reflection_db`` or more under the one before it,
         at one delay (within ``reflection_spread`` s) make every such later one a room's reflection, no onset
@@ -471,6 +476,7 @@ class OnsetConfig:
     bounce_reach: float = 25e-3
     refused_likeness: float = 0.8
     burst_db: float = -6.0
+    layer_likeness: float = 1.0
     reflection_pairs: int = 3
     reflection_db: float = 12.0
     reflection_spread: float = 0.2e-3
@@ -518,7 +524,7 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "peak_clear_db": (-120.0, 0.0, "dB"), "new_sound_db": (-120.0, 0.0, "dB"),
     "soft_jump": (1.0, 100.0, "(RMS ratio)"), "soft_contact": (0.0, 0.02, "s"),
     "bounce_reach": (0.0, 0.5, "s"), "refused_likeness": (0.0, 1.0, "(correlation)"),
-    "burst_db": (-120.0, 0.0, "dB"), "reflection_pairs": (0, 100, ""), "reflection_db": (0.0, 120.0, "dB"),
+    "burst_db": (-120.0, 0.0, "dB"), "layer_likeness": (0.0, 1.0, "(correlation)"), "reflection_pairs": (0, 100, ""), "reflection_db": (0.0, 120.0, "dB"),
     "reflection_spread": (0.0, 5e-3, "s"),
 }
 
@@ -638,12 +644,15 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
     5. :func:`_fit_template`. The recording's clearest loud attack is a template of its attacks: fitted
        to each in time order (``template_fit``, ``template_reach``) and taken off, it times those over
        earlier sound where it correlates by ``template_likeness``, and finds new ones where its start
-       (``template_head``) correlates so with what is left and that rises ``min_jump`` times.
+       (``template_head``) correlates so with what is left and that rises ``min_jump`` times. A detection
+       within ``echo_reach`` s after an attack the template timed, where taking its fit off leaves ``burst_db``
+       or less, is that attack's own sound (a sample's second burst).
        :func:`_template_search`: up to ``bounce_reach`` s after each attack, a quieter one (a bouncing
        stick's next impact, ``after_ratio_low`` to ``after_ratio_high`` times it) where the template's
        start and its first ``template_fit`` s correlate so with what is left, however little it rises;
        else an onset step 4 refused, ``signature`` s or more after it, where both correlate by
-       ``refused_likeness``.
+       ``refused_likeness``; then, if asked, that second opinion again with the quietest clear attack as
+       the template (another velocity layer of a sample), by ``layer_likeness``.
        :func:`_level_band`. An onset's amplitude is the peak of its own sound in the drum's lowest
        modes (the band up to ``level_ratio`` times its lowest strong mode, ≥ ``level_band`` Hz,
        decimated to 2.5 times that: a stick's speed sets their amplitude in proportion, while the
@@ -751,6 +760,7 @@ def _detected(signal, rate, config, source, info):
     found = candidates.times
     candidates = _fit_template(band, d, rate, candidates, config)
     candidates = _template_search(band, d, rate, candidates, refused, config)
+    candidates = _template_search(band, d, rate, candidates, refused, config, quietest=True)
     levels = _level_band(band, rate, q, first, config)
     amplitude = levels.amplitudes(_measured_at(candidates, found, rate, config), modes.reverberant, config)
     candidates, amplitude = _one_attack_each(d, rate, candidates, amplitude, config)
@@ -1325,7 +1335,7 @@ def _without_own_bursts(remainder, queue, before, rate, config):
     return [(u, i) for u, i in queue if i < 0 or round(u) not in own]
 
 
-def _template_search(band, d, rate, candidates, refused, config):
+def _template_search(band, d, rate, candidates, refused, config, quietest=False):
     """Step 5: attacks the stages before missed, found by fitting the template where they did not look or look enough.
 
     *A quieter attack close after an attack.* A dropped stick's last bounces come 4-17 ms apart, each
@@ -1354,6 +1364,11 @@ def _template_search(band, d, rate, candidates, refused, config):
     earlier note, a room's echo, fits less: FluidSynth's reverb's echoes 84 ms after a note 0.77-0.79 over
     10 ms, 0.6 at the start); it is put at that lag.
 
+    *Another velocity layer.* A sample's notes are recorded at a few velocities: a ghost note may be another
+    layer's than the loudest clear attack. With ``quietest``, the search runs again with the quietest clear attack
+    (:func:`_template`) as the template, for the onsets step 4 refused only (the attacks found so far fitted and taken
+    off in turn), where both fits correlate by ``layer_likeness``; not when that attack is the loudest's.
+
     Each attack found is of kind 3, fitted and sought after in turn (:func:`._attacks.template_search`,
     compiled). ``d`` is the magnitude of ``band``'s first difference; ``refused`` the onsets step 4
     refused (full-rate samples, in time order).
@@ -1362,9 +1377,13 @@ def _template_search(band, d, rate, candidates, refused, config):
 
     if not len(candidates):
         return candidates
-    template, offset = _template(band, d, rate, candidates.times, config)
+    if quietest and config.layer_likeness >= 1.0:
+        return candidates
+    template, offset = _template(band, d, rate, candidates.times, config, quietest=quietest)
     if template is None:
         return candidates
+    if quietest:
+        config = replace(config, bounce_reach=0.0, refused_likeness=config.layer_likeness)
     pre = round(0.5e-3 * rate)
     found, likes = template_search(band.copy(), template, template[:pre + round(config.template_head * rate)],
                                    np.ascontiguousarray(candidates.times, dtype=float),
@@ -1403,22 +1422,29 @@ def _measured_at(candidates, found, rate, config):
     return replace(candidates, times=np.where(near, found[nearer], candidates.times))
 
 
-def _template(band, d, rate, times, config):
+def _template(band, d, rate, times, config, quietest=False):
     """The recording's own attack: ``band`` from 0.5 ms before its loudest clear attack, and that attack's offset.
 
     The loudest attack (its first difference's peak over the 5 ms after it) that is clear by ``lead_clear_db``
     (:func:`_clear`) and 20 ms or more before the next, up to the next (less 0.5 ms) or
-    ``tail`` s (``d``: the magnitude of ``band``'s first difference). Returns the samples and the attack's time less
-    its whole sample, or ``(None, 0.0)`` when there is no such attack.
+    ``tail`` s (``d``: the magnitude of ``band``'s first difference); with ``quietest``, the quietest such attack
+    instead (``threshold_db`` or more re the loudest attack's peak), when it is not the loudest. Returns the samples and the attack's time less its whole sample, or
+    ``(None, 0.0)`` when there is no such attack.
     """
     pre = round(0.5e-3 * rate)
     ends = np.append(times[1:], len(band))
     peaks, (clear,) = _clear(d, times, rate, [config.lead_clear_db])
-    best, chosen = 0.0, None
+    loudest, quiet, chosen, least = 0.0, math.inf, None, None
+    floor = peaks.max(initial=0.0) * 10.0 ** (config.threshold_db / 20.0)  # a quieter one is no onset
     for t, end, c, peak, is_clear in zip(times, ends, np.rint(times).astype(int).tolist(), peaks.tolist(),
                                          clear.tolist()):
-        if c >= pre and end - t >= 20e-3 * rate and peak > best and is_clear:
-            best, chosen = peak, (t, int(end))
+        if c >= pre and end - t >= 20e-3 * rate and is_clear:
+            if peak > loudest:
+                loudest, chosen = peak, (t, int(end))
+            if floor <= peak < quiet:
+                quiet, least = peak, (t, int(end))
+    if quietest:
+        chosen = least if least != chosen else None
     if chosen is None:
         return None, 0.0
     t, end = chosen
