@@ -381,6 +381,23 @@ class OnsetConfig:
     new_sound_db : float in [-120, 0]
         dB re the sound at an attack: the least its own sound (the earlier attacks' taken off as in
         step 6, over ``peak_window`` s) may be for it to be an attack (step 5; -120: every one is).
+    burst_db : float in [-120, 0]
+        dB re what was there: the most that taking off the template's fit of an attack it timed may leave over the
+        1 ms after a detection within ``echo_reach`` s after it for that detection to be the attack's own sound
+        (step 5; -120: none is).
+    layer_likeness : float in [0, 1]
+        Correlation: the least of the quietest clear attack's fit (its first ``template_fit`` s and its start) at an
+        onset step 4 refused, as for ``refused_likeness``, for it to be an attack after all (step 5; 1, the default:
+        none is, the pass not run; 0.8 finds 7 more of the corpus's loud notes within 1 ms, in rolls' ghost notes,
+        but a note found moves the other notes' ``peak_db`` by up to 4 dB).
+    reflection_pairs : int in [0, 100]
+        How many pairs of successive onsets, each later one ``reflection_db`` or more under the one before it,
+        at one delay (within ``reflection_spread`` s) make every such later one a room's reflection, no onset
+        (step 6; 0: none is).
+    reflection_db : float in [0, 120]
+        dB: how much quieter than the onset before it a reflection is at least (step 6).
+    reflection_spread : float in [0, 0.005]
+        s: how far apart the delays of one reflection's pairs may be (step 6).
 
     Examples
     --------
@@ -444,7 +461,7 @@ class OnsetConfig:
     lead_clear_db: float = -20.0
     lead_db: float = 6.0
     template_likeness: float = 0.8
-    template_reach: float = 2.5e-3
+    template_reach: float = 3e-3
     template_fit: float = 10e-3
     template_head: float = 3e-3
     peak_window: float = 10e-3
@@ -456,6 +473,11 @@ class OnsetConfig:
     soft_contact: float = 3e-3
     bounce_reach: float = 25e-3
     refused_likeness: float = 0.8
+    burst_db: float = -6.0
+    layer_likeness: float = 1.0
+    reflection_pairs: int = 3
+    reflection_db: float = 12.0
+    reflection_spread: float = 0.2e-3
 
     def __post_init__(self):
         for name, (low, high, unit) in _RANGES.items():
@@ -500,6 +522,8 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "peak_clear_db": (-120.0, 0.0, "dB"), "new_sound_db": (-120.0, 0.0, "dB"),
     "soft_jump": (1.0, 100.0, "(RMS ratio)"), "soft_contact": (0.0, 0.02, "s"),
     "bounce_reach": (0.0, 0.5, "s"), "refused_likeness": (0.0, 1.0, "(correlation)"),
+    "burst_db": (-120.0, 0.0, "dB"), "layer_likeness": (0.0, 1.0, "(correlation)"), "reflection_pairs": (0, 100, ""), "reflection_db": (0.0, 120.0, "dB"),
+    "reflection_spread": (0.0, 5e-3, "s"),
 }
 
 
@@ -618,12 +642,15 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
     5. :func:`_fit_template`. The recording's clearest loud attack is a template of its attacks: fitted
        to each in time order (``template_fit``, ``template_reach``) and taken off, it times those over
        earlier sound where it correlates by ``template_likeness``, and finds new ones where its start
-       (``template_head``) correlates so with what is left and that rises ``min_jump`` times.
+       (``template_head``) correlates so with what is left and that rises ``min_jump`` times. A detection
+       within ``echo_reach`` s after an attack the template timed, where taking its fit off leaves ``burst_db``
+       or less, is that attack's own sound (a sample's second burst).
        :func:`_template_search`: up to ``bounce_reach`` s after each attack, a quieter one (a bouncing
        stick's next impact, ``after_ratio_low`` to ``after_ratio_high`` times it) where the template's
        start and its first ``template_fit`` s correlate so with what is left, however little it rises;
        else an onset step 4 refused, ``signature`` s or more after it, where both correlate by
-       ``refused_likeness``.
+       ``refused_likeness``; then, if asked, that second opinion again with the quietest clear attack as
+       the template (another velocity layer of a sample), by ``layer_likeness``.
        :func:`_level_band`. An onset's amplitude is the peak of its own sound in the drum's lowest
        modes (the band up to ``level_ratio`` times its lowest strong mode, ≥ ``level_band`` Hz,
        decimated to 2.5 times that: a stick's speed sets their amplitude in proportion, while the
@@ -650,6 +677,9 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        signal itself by :func:`_peak_amplitudes`: the loudest sample over ``peak_window`` s after it (or
        up to the next onset), after the earlier notes' sound is taken off (each fitted by the
        recording's clear notes as templates, ``peak_templates`` of them, followed ``peak_reach`` s).
+       :func:`_without_reflections`: where ``reflection_pairs`` pairs of successive onsets or more, the later
+       ``reflection_db`` under the earlier, share one delay (within ``reflection_spread`` s), each such later one
+       is a room's reflection and is left out.
 
     Parameters
     ----------
@@ -731,6 +761,7 @@ def _detected(signal, rate, config, source, info):
     found = candidates.times
     candidates = _fit_template(band, d, rate, candidates, config)
     candidates = _template_search(band, d, rate, candidates, refused, config)
+    candidates = _template_search(band, d, rate, candidates, refused, config, quietest=True)
     levels = _level_band(band, rate, q, first, config)
     amplitude = levels.amplitudes(_measured_at(candidates, found, rate, config), modes.reverberant, config)
     candidates, amplitude = _one_attack_each(d, rate, candidates, amplitude, config)
@@ -743,6 +774,7 @@ def _detected(signal, rate, config, source, info):
         amplitude[cut] = again[np.searchsorted(kept.times, decided.times[cut])]
     candidates = _learned_lead_ins(d, rate, decided, config)
     onsets = _reported(candidates, amplitude, levels.floor, {**info, "analysis_rate": tonal.rate}, source, rate, config)
+    onsets = _without_reflections(onsets, config)
     return replace(onsets, peak_db=_peak_db(signal, onsets.t * rate, rate, config))
 
 
@@ -1233,7 +1265,11 @@ def _fit_template(band, d, rate, candidates, config):
     after), scaled ``threshold_db`` or more re the template: a bouncing stick's impacts milliseconds
     apart, a ghost note in an accent's ringing. A detection less than ``min_interval`` after an attack
     so timed (and ``template_reach`` s more after one so found) is that attack again, the later found
-    where the sound rose on (as :func:`_one_attack_each` merges them). The attacks so timed or found are of kind 3
+    where the sound rose on (as :func:`_one_attack_each` merges them), and one the modes' band alone found, unfitted,
+    within ``echo_reach`` s before it (:func:`_placed_early`); so is a detection within ``echo_reach`` s after
+    an attack so timed where taking that attack off leaves ``burst_db`` or less of the energy over the 1 ms after it
+    (a recorded sample bursts again milliseconds into itself: FluidR3's electric snare 3.4 ms in, a detection there
+    would cut the attack's level window and have it refused). The attacks so timed or found are of kind 3
     (:func:`_learned_lead_ins` leaves them); the candidates are all attacks. ``d`` is the magnitude of ``band``'s
     first difference.
     """
@@ -1246,7 +1282,7 @@ def _fit_template(band, d, rate, candidates, config):
     remainder = band.copy()
     _, (lead_clear, start_clear) = _clear(d, candidates.times, rate, [config.lead_clear_db, config.start_clear_db])
     queue = [(t, i) for i, t in enumerate(candidates.times)]  # (time, index in candidates or -1 for a new one)
-    times, kinds, likeness = [], [], []
+    times, kinds, likeness, fits = [], [], [], []
     while queue:
         t, i = queue.pop(0)
         c = round(t)
@@ -1261,11 +1297,15 @@ def _fit_template(band, d, rate, candidates, config):
         times.append(c + lag + offset if timed else t)
         kinds.append(3 if timed else candidates.kinds[i])
         likeness.append(like if i < 0 else candidates.likeness[i])
+        fits.append(fitted)
         if not fitted:
             continue
         start = c + lag - pre
         stop = min(len(remainder), start + len(template))
+        before = _own_bursts(remainder, queue, c + lag, rate, config) if timed else None
         remainder[start:stop] -= scale * template[:stop - start]
+        if before is not None:
+            queue = _without_own_bursts(remainder, queue, before, rate, config)
         # the same attack found twice; a detection after an attack only the template found is its late time
         # up to the reach the template seeks over (as in _one_attack_each), the gap after it
         while timed and queue and queue[0][0] < c + lag + gap + (reach if i < 0 else 0):
@@ -1277,10 +1317,41 @@ def _fit_template(band, d, rate, candidates, config):
     times = np.array(times)
     if not np.all(np.diff(times) > 0):
         return candidates
-    return _Candidates(times, np.array(kinds, dtype=np.int64), np.ones(len(times), dtype=bool), np.array(likeness))
+    kinds = np.array(kinds, dtype=np.int64)
+    keep = ~_placed_early(times, kinds, np.array(fits), rate, config)
+    return _Candidates(times[keep], kinds[keep], np.ones(int(keep.sum()), dtype=bool), np.array(likeness)[keep])
 
 
-def _template_search(band, d, rate, candidates, refused, config):
+def _placed_early(times, kinds, fitted, rate, config):
+    """Which of :func:`_fit_template`'s attacks (``times`` in full-rate samples, ``kinds``, whether the template
+    ``fitted`` each) are the next one's attack placed early: found in the modes' band alone (kind 2), unfitted,
+    within ``echo_reach`` s before an attack the template timed (kind 3). A signature fitted in the modes' band
+    puts a recorded sample's attack some milliseconds early (FluidR3's snare 38 in a drop: 3.7-7.9 ms) and the
+    broadband detection of the same attack, which the template times, follows it."""
+    early = np.zeros(len(times), dtype=bool)
+    early[:-1] = ((kinds[:-1] == 2) & ~fitted[:-1] & (kinds[1:] == 3)
+                  & (np.diff(times) <= config.echo_reach * rate))
+    return early
+
+
+def _own_bursts(remainder, queue, at, rate, config):
+    """The energy of ``remainder`` over 1 ms after each detection of ``queue`` (not one the template found) within
+    ``echo_reach`` s after ``at``, an attack about to be taken off: {sample: energy}, or None for none."""
+    width = round(1e-3 * rate)
+    near = [round(u) for u, i in queue if i >= 0 and at < u <= at + config.echo_reach * rate]
+    return {k: float(remainder[k:k + width] @ remainder[k:k + width]) for k in near} or None
+
+
+def _without_own_bursts(remainder, queue, before, rate, config):
+    """``queue`` less the detections of ``before`` (:func:`_own_bursts`) the attack just taken off explains: over the
+    1 ms after each, what is left is ``burst_db`` or less re what was there (a recorded sample's second burst)."""
+    width = round(1e-3 * rate)
+    least = 10.0 ** (config.burst_db / 10.0)
+    own = {k for k, energy in before.items() if remainder[k:k + width] @ remainder[k:k + width] < energy * least}
+    return [(u, i) for u, i in queue if i < 0 or round(u) not in own]
+
+
+def _template_search(band, d, rate, candidates, refused, config, quietest=False):
     """Step 5: attacks the stages before missed, found by fitting the template where they did not look or look enough.
 
     *A quieter attack close after an attack.* A dropped stick's last bounces come 4-17 ms apart, each
@@ -1309,6 +1380,11 @@ def _template_search(band, d, rate, candidates, refused, config):
     earlier note, a room's echo, fits less: FluidSynth's reverb's echoes 84 ms after a note 0.77-0.79 over
     10 ms, 0.6 at the start); it is put at that lag.
 
+    *Another velocity layer.* A sample's notes are recorded at a few velocities: a ghost note may be another
+    layer's than the loudest clear attack. With ``quietest``, the search runs again with the quietest clear attack
+    (:func:`_template`) as the template, for the onsets step 4 refused only (the attacks found so far fitted and taken
+    off in turn), where both fits correlate by ``layer_likeness``; not when that attack is the loudest's.
+
     Each attack found is of kind 3, fitted and sought after in turn (:func:`._attacks.template_search`,
     compiled). ``d`` is the magnitude of ``band``'s first difference; ``refused`` the onsets step 4
     refused (full-rate samples, in time order).
@@ -1317,9 +1393,13 @@ def _template_search(band, d, rate, candidates, refused, config):
 
     if not len(candidates):
         return candidates
-    template, offset = _template(band, d, rate, candidates.times, config)
+    if quietest and config.layer_likeness >= 1.0:
+        return candidates
+    template, offset = _template(band, d, rate, candidates.times, config, quietest=quietest)
     if template is None:
         return candidates
+    if quietest:
+        config = replace(config, bounce_reach=0.0, refused_likeness=config.layer_likeness)
     pre = round(0.5e-3 * rate)
     found, likes = template_search(band.copy(), template, template[:pre + round(config.template_head * rate)],
                                    np.ascontiguousarray(candidates.times, dtype=float),
@@ -1358,22 +1438,29 @@ def _measured_at(candidates, found, rate, config):
     return replace(candidates, times=np.where(near, found[nearer], candidates.times))
 
 
-def _template(band, d, rate, times, config):
+def _template(band, d, rate, times, config, quietest=False):
     """The recording's own attack: ``band`` from 0.5 ms before its loudest clear attack, and that attack's offset.
 
     The loudest attack (its first difference's peak over the 5 ms after it) that is clear by ``lead_clear_db``
     (:func:`_clear`) and 20 ms or more before the next, up to the next (less 0.5 ms) or
-    ``tail`` s (``d``: the magnitude of ``band``'s first difference). Returns the samples and the attack's time less
-    its whole sample, or ``(None, 0.0)`` when there is no such attack.
+    ``tail`` s (``d``: the magnitude of ``band``'s first difference); with ``quietest``, the quietest such attack
+    instead (``threshold_db`` or more re the loudest attack's peak), when it is not the loudest. Returns the samples and the attack's time less its whole sample, or
+    ``(None, 0.0)`` when there is no such attack.
     """
     pre = round(0.5e-3 * rate)
     ends = np.append(times[1:], len(band))
     peaks, (clear,) = _clear(d, times, rate, [config.lead_clear_db])
-    best, chosen = 0.0, None
+    loudest, quiet, chosen, least = 0.0, math.inf, None, None
+    floor = peaks.max(initial=0.0) * 10.0 ** (config.threshold_db / 20.0)  # a quieter one is no onset
     for t, end, c, peak, is_clear in zip(times, ends, np.rint(times).astype(int).tolist(), peaks.tolist(),
                                          clear.tolist()):
-        if c >= pre and end - t >= 20e-3 * rate and peak > best and is_clear:
-            best, chosen = peak, (t, int(end))
+        if c >= pre and end - t >= 20e-3 * rate and is_clear:
+            if peak > loudest:
+                loudest, chosen = peak, (t, int(end))
+            if floor <= peak < quiet:
+                quiet, least = peak, (t, int(end))
+    if quietest:
+        chosen = least if least != chosen else None
     if chosen is None:
         return None, 0.0
     t, end = chosen
@@ -1606,6 +1693,30 @@ def _reported(candidates, amplitude, floor, info, source, rate, config):
     info = {**info, "floor_db": floor_db if np.isfinite(floor_db) else None}
     return Onsets(np.maximum(times[keep] / rate, 0.0), level[keep], threshold_db=float(used), source=source,
                   info=info)
+
+
+def _without_reflections(onsets, config):
+    """Step 6: the ``onsets`` less a room's discrete reflections of the louder ones.
+
+    A room (FluidSynth's reverb) returns each note once more a fixed delay later, some 20 dB quieter:
+    where nothing sounds between a note and the next, that return is heard as an attack. Successive
+    onsets, the later ``reflection_db`` or more under the earlier, that ``reflection_pairs`` pairs or more
+    share a delay (within ``reflection_spread`` s) are such: the later is left out. Only successive
+    ones: a stick's bounces, whose sums of intervals do repeat (a drop's, notes starting on a
+    sound card's blocks), have other onsets between.
+    """
+    if config.reflection_pairs == 0 or len(onsets) <= config.reflection_pairs:
+        return onsets
+    pairs = np.flatnonzero(onsets.level_db[:-1] - onsets.level_db[1:] >= config.reflection_db)
+    own = np.diff(onsets.t)[pairs]
+    delays = np.sort(own)
+    alike = (np.searchsorted(delays, own + config.reflection_spread, side="right")
+             - np.searchsorted(delays, own - config.reflection_spread, side="left"))
+    keep = np.ones(len(onsets), dtype=bool)
+    keep[pairs[alike >= config.reflection_pairs] + 1] = False
+    if keep.all():
+        return onsets
+    return replace(onsets, t=onsets.t[keep], level_db=onsets.level_db[keep])
 
 
 def _peak_db(signal, times, rate, config):
