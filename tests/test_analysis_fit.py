@@ -226,3 +226,20 @@ def test_hostile_onsets_get_one_clear_error():
         fit_stroke(Onsets([0.2, 0.4], [0.0, -2.0]), offset=40.0)
     with pytest.raises(drumstroke.ParameterError, match="model must be one of"):
         fit_stroke(Onsets([0.2, 0.4], [0.0, -2.0]), model="spring")
+
+
+def test_the_smoother_levels_are_played():
+    """choose_levels takes the measure whose bounces' levels change more smoothly: on drumstroke's own drum the
+    modes (they follow the stick's speed); with every other bounce of the modes read 4 dB low, the peak."""
+    from _recordings import RATE, render
+    from drumstroke.analysis import find_onsets
+    from drumstroke.analysis.fit import choose_levels
+
+    drop = drumstroke.simulate(theta0=0.5, cor=0.86, t_end=3.0).impacts
+    signal, _ = render(drop.t + 0.1, 10.0 ** (drop.level_db / 20.0), seed=1)
+    onsets = find_onsets(signal, RATE)
+    assert choose_levels(onsets)[1] == "modes"
+    rough = Onsets(onsets.t, onsets.level_db - 4.0 * (np.arange(len(onsets.t)) % 2), peak_db=onsets.peak_db)
+    chosen, name, why = choose_levels(rough)
+    assert name == "peak" and "smoother" in why and np.array_equal(chosen.level_db, onsets.peak_db)
+    assert choose_levels(onsets, "peak")[1] == "peak" and choose_levels(rough, "modes")[1] == "modes"

@@ -366,14 +366,16 @@ def find_suspects(onsets, *, model="paper", stick=None, time_tolerance=SUSPECT_T
     return tuple(sorted(suspects, key=lambda s: (s.onset, s.t)))
 
 
-def choose_levels(onsets, levels="auto", *, model="paper", stick=None, level_tolerance=SUSPECT_LEVEL):
+def choose_levels(onsets, levels="auto", *, model="paper", stick=None):
     """Which of the onsets' two levels a fit plays (:attr:`Onsets.level_db`, the drum's lowest modes, or
     :attr:`Onsets.peak_db`, the broadband peak), and why.
 
-    ``"auto"`` takes the one whose bounces lie nearer their trend (the median distance from
-    :class:`_LevelTrend` over the bounces :func:`find_suspects` numbers by time): the modes' level follows the
-    stick's speed on a drum like drumstroke's, a sample player's peak follows its velocity curve, and either
-    is read wrong where notes overlap; the one read more consistently is the one to play.
+    ``"auto"`` takes the smoother over the bounces :func:`find_suspects` numbers by time (the median of the
+    levels' second difference over three bounces in a row): a stick's speed changes smoothly from bounce to
+    bounce; the modes' level follows it on a drum like drumstroke's, a sample player's peak follows its
+    velocity curve, and either is read wrong where notes overlap; the one read more consistently is the one to
+    play. (A trend over the whole drop judged this before: a sample player's velocity curve bends the levels
+    more than a quadratic follows, and a few close last bounces read high bent it further.)
 
     Parameters
     ----------
@@ -381,8 +383,6 @@ def choose_levels(onsets, levels="auto", *, model="paper", stick=None, level_tol
     levels : {"auto", "peak", "modes"}
     model, stick
         As :func:`find_suspects`.
-    level_tolerance : float in (0, 48]
-        dB: the scale of the robust trend's fit.
 
     Returns
     -------
@@ -400,7 +400,6 @@ def choose_levels(onsets, levels="auto", *, model="paper", stick=None, level_tol
     """
     stick = _checked_stick(onsets, model, stick)
     check_choice("levels", levels, LEVELS)
-    level_tolerance = check_real("level_tolerance", level_tolerance, low=0.0, high=LEVEL_SPAN, low_open=True, unit="dB")
     peak = onsets.peak_db
     if levels == "peak" and peak is None:
         raise ParameterError("levels 'peak' needs the onsets' peak levels (peak_db): these have none (given as times "
@@ -412,11 +411,13 @@ def choose_levels(onsets, levels="auto", *, model="paper", stick=None, level_tol
     bounces = _Bounces.numbered(onsets, model, stick, SUSPECT_TIME)
     if bounces is None:
         return onsets, "modes", "no trend of bounces to compare the two levels on"
-    off = {name: bounces.level_spread(values, level_tolerance)
-           for name, values in (("modes", onsets.level_db), ("peak", peak))}
+    off = {name: bounces.level_roughness(values) for name, values in (("modes", onsets.level_db), ("peak", peak))}
+    if off["peak"] is None:
+        return onsets, "modes", "no three bounces in a row to compare the two levels on"
     name = "peak" if off["peak"] < off["modes"] else "modes"
-    why = (f"chosen: nearer their trend over the {len(bounces.used)} bounces, {off[name]:.2g} dB (median) against "
-           f"{off['modes' if name == 'peak' else 'peak']:.2g} dB for the {'modes' if name == 'peak' else 'peak'}'")
+    other = "modes" if name == "peak" else "peak"
+    why = (f"chosen: smoother over the {len(bounces.used)} bounces, their level's slope changing {off[name]:.2g} dB "
+           f"(median) from bounce to bounce against {off[other]:.2g} dB for the {other}'")
     return (replace(onsets, level_db=peak) if name == "peak" else onsets), name, why
 
 
@@ -460,10 +461,19 @@ class _Bounces:
     def level_trend(self, levels, tolerance):
         return _LevelTrend.fitted(self.numbers, np.asarray(levels)[self.used], tolerance)
 
-    def level_spread(self, levels, tolerance):
-        """dB: the bounces' median distance from the trend of ``levels``."""
-        trend = self.level_trend(levels, tolerance)
-        return float(np.median(np.abs(np.asarray(levels)[self.used] - trend(self.numbers))))
+    def level_roughness(self, levels):
+        """dB: the median change of slope of ``levels`` over three successive bounces (their second difference),
+        None when no three bounces in a row are numbered.
+
+        A stick's speed changes smoothly from bounce to bounce, so a measure that reads it follows a smooth
+        sequence; a global trend cannot judge this, as a sample player's velocity curve bends it more than a
+        quadratic follows."""
+        levels, numbers = np.asarray(levels)[self.used], self.numbers
+        in_row = (numbers[2:] - numbers[:-2]) == 2
+        if not in_row.any():
+            return None
+        second = levels[2:] - 2.0 * levels[1:-1] + levels[:-2]
+        return float(np.median(np.abs(second[in_row])))
 
 
 @dataclass(frozen=True)
@@ -682,7 +692,7 @@ def fit_stroke(onsets, *, model="paper", cor=DEFAULT_COR, fit_cor=False, offset=
     drop = _indices("drop", drop, len(onsets))
     merge = _indices("merge", merge, len(onsets) - 1)
     check_choice("drop_suspects", drop_suspects, (True, False))
-    onsets, measure, why = choose_levels(onsets, levels, model=model, stick=stick, level_tolerance=suspect_level)
+    onsets, measure, why = choose_levels(onsets, levels, model=model, stick=stick)
     suspects = find_suspects(onsets, model=model, stick=stick, time_tolerance=suspect_time,
                              level_tolerance=suspect_level)
     edits = _Edits.made(onsets, drop, merge, suspects, apply=drop_suspects, measure=(measure, why))

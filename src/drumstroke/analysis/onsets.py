@@ -44,8 +44,8 @@ class Onsets:
     level_db : ndarray [shape=(n,)]
         Each onset's level (dB re the loudest onset: ≤ 0, finite; the loudest is 0): the amplitude of
         the drum's lowest modes, in proportion to the stick's tip speed on drumstroke's drums (what
-        :mod:`.drop` compares with the model; :mod:`.fit` plays it or ``peak_db``, whichever lies
-        nearer its own trend, unless told).
+        :mod:`.drop` compares with the model; :mod:`.fit` plays it or ``peak_db``, whichever changes
+        more smoothly from bounce to bounce, unless told).
     threshold_db : float
         The detection threshold used (dB re the loudest onset; onsets below it are not reported), or
         -inf when the onsets were given rather than detected.
