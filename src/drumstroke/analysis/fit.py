@@ -107,7 +107,7 @@ tolerance): a bounce heard a few ms late is replaced by the trend's, not dropped
 
 LEVELS = ("auto", "peak", "modes")
 """The onsets' levels a fit plays (:func:`choose_levels`): their broadband ``peak`` (:attr:`Onsets.peak_db`), the
-drum's lowest ``modes`` (:attr:`Onsets.level_db`), or ``auto``: the one nearer its trend over the bounces."""
+drum's lowest ``modes`` (:attr:`Onsets.level_db`), or ``auto``: the one smoother over the bounces."""
 
 _MOST_SUSPECT = 1.0 / 3.0
 """The largest share of onsets off the sequence in time: with more, the onsets follow no one constant force's trend."""
@@ -667,7 +667,7 @@ def fit_stroke(onsets, *, model="paper", cor=DEFAULT_COR, fit_cor=False, offset=
         dB: how far from the trend's level a bounce is a suspect.
     levels : {"auto", "peak", "modes"}
         Which of the onsets' levels to play (:func:`choose_levels`): the broadband peak, the drum's lowest modes,
-        or the one nearer its trend over the bounces.
+        or the one smoother over the bounces (the levels' second difference).
     progress : callable, optional
         Called with the fraction done, in [0, 1].
 

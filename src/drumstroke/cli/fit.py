@@ -31,7 +31,7 @@ def add_fit(fit):
                      help="the loudest onset's level, dB re 1 m/s tip speed, when known (default: fitted)")
     fit.add_argument("--levels", choices=LEVELS, default="auto",
                      help="which of the onsets' levels to play: their broadband peak, the drum's lowest modes, or "
-                          "(auto, the default) the one nearer its trend over the bounces; printed")
+                          "(auto, the default) the one smoother over the bounces; printed")
     edits = fit.add_argument_group("onsets to leave out (the indices printed, from 0)")
     edits.add_argument("--drop", type=whole(low=0), nargs="+", default=[], metavar="I",
                        help="leave these onsets out (or edit the onsets' CSV and fit that)")
