@@ -26,9 +26,10 @@ def _note(rng):
 
 
 def _search(signal, template, times, refused, bounce=960):
-    return template_search(signal.copy(), template, template[:PRE + 144], np.asarray(times, dtype=float),
-                           np.zeros(len(times)), np.asarray(refused, dtype=float), 0.0, PRE, 96, 48, 480, bounce, 2400, 120, 0.8, 0.8,
-                           0.35, 1.5, 0.01)
+    found, likes, _ = template_search(signal.copy(), template, template[:PRE + 144], np.asarray(times, dtype=float),
+                                      np.zeros(len(times)), np.asarray(refused, dtype=float), 0.0, -1, 0, PRE, 96, 48,
+                                      480, bounce, 384, 2400, 120, 0.8, 0.8, 0.35, 1.5, 0.01)
+    return found, likes
 
 
 def test_a_close_bounce_and_a_refused_note_are_found_at_their_samples(rng):

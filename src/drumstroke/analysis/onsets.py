@@ -1389,30 +1389,41 @@ def _template_search(band, d, rate, candidates, refused, config, quietest=False)
     compiled). ``d`` is the magnitude of ``band``'s first difference; ``refused`` the onsets step 4
     refused (full-rate samples, in time order).
     """
-    from ._attacks import template_search
+    from ._attacks import continued, template_search
 
     if not len(candidates):
         return candidates
     if quietest and config.layer_likeness >= 1.0:
         return candidates
-    template, offset = _template(band, d, rate, candidates.times, config, quietest=quietest)
-    if template is None:
+    loudest, quiet, longest = _template_attacks(d, rate, candidates.times, config)
+    layer = quiet if quiet != loudest else None
+    chosen = layer if quietest else loudest
+    if chosen is None:
         return candidates
+    template, offset = _attack_sound(band, candidates.times, chosen, rate, config)
+    fit = round(config.template_fit * rate)
+    layer_size = 0
     if quietest:
-        config = replace(config, bounce_reach=0.0, refused_likeness=config.layer_likeness)
+        config, layer = replace(config, bounce_reach=0.0, refused_likeness=config.layer_likeness), None
+    else:
+        template = continued(template, _attack_sound(band, candidates.times, longest, rate, config)[0], fit)
+        layer_size = 0 if layer is None else len(_attack_sound(band, candidates.times, layer, rate, config)[0])
     pre = round(0.5e-3 * rate)
-    found, likes = template_search(band.copy(), template, template[:pre + round(config.template_head * rate)],
-                                   np.ascontiguousarray(candidates.times, dtype=float),
-                                   np.where(candidates.kinds == 3, offset, 0.0),  # the template's timed, at its sample
-                                   np.ascontiguousarray(refused, dtype=float), offset, pre,
-                                   max(1, round(config.min_interval * rate)), round(1e-3 * rate),
-                                   round(config.template_fit * rate), round(config.bounce_reach * rate),
-                                   round(config.signature * rate), round(config.template_reach * rate),
-                                   config.template_likeness, config.refused_likeness, config.after_ratio_low,
-                                   config.after_ratio_high, 10.0 ** (config.threshold_db / 20.0))
+    head = pre + round(config.template_head * rate)
+    found, likes, dropped = template_search(band.copy(), template, template[:head],
+                                            np.ascontiguousarray(candidates.times, dtype=float),
+                                            np.where(candidates.kinds == 3, offset, 0.0),  # timed at its sample
+                                            np.ascontiguousarray(refused, dtype=float), offset,
+                                            -1 if layer is None else layer, layer_size, pre,
+                                            max(1, round(config.min_interval * rate)), round(1e-3 * rate), fit,
+                                            round(config.bounce_reach * rate), round(config.echo_reach * rate),
+                                            round(config.signature * rate), round(config.template_reach * rate),
+                                            config.template_likeness, config.refused_likeness,
+                                            config.after_ratio_low, config.after_ratio_high,
+                                            10.0 ** (config.threshold_db / 20.0))
     if not len(found):
         return candidates
-    merged, fresh = candidates.insert(found, attack=True, likeness=likes)
+    merged, fresh = candidates.take(~dropped).insert(found, attack=True, likeness=likes)
     return replace(merged, kinds=np.where(fresh, 3, merged.kinds))
 
 
@@ -1447,25 +1458,39 @@ def _template(band, d, rate, times, config, quietest=False):
     instead (``threshold_db`` or more re the loudest attack's peak), when it is not the loudest. Returns the samples and the attack's time less its whole sample, or
     ``(None, 0.0)`` when there is no such attack.
     """
-    pre = round(0.5e-3 * rate)
-    ends = np.append(times[1:], len(band))
-    peaks, (clear,) = _clear(d, times, rate, [config.lead_clear_db])
-    loudest, quiet, chosen, least = 0.0, math.inf, None, None
-    floor = peaks.max(initial=0.0) * 10.0 ** (config.threshold_db / 20.0)  # a quieter one is no onset
-    for t, end, c, peak, is_clear in zip(times, ends, np.rint(times).astype(int).tolist(), peaks.tolist(),
-                                         clear.tolist()):
-        if c >= pre and end - t >= 20e-3 * rate and is_clear:
-            if peak > loudest:
-                loudest, chosen = peak, (t, int(end))
-            if floor <= peak < quiet:
-                quiet, least = peak, (t, int(end))
-    if quietest:
-        chosen = least if least != chosen else None
+    loudest, quiet, _ = _template_attacks(d, rate, times, config)
+    chosen = (quiet if quiet != loudest else None) if quietest else loudest
     if chosen is None:
         return None, 0.0
-    t, end = chosen
+    return _attack_sound(band, times, chosen, rate, config)
+
+
+def _template_attacks(d, rate, times, config):
+    """:func:`_template`'s clear attacks: the loudest, the quietest and the one with the most room before the next
+    (up to ``tail`` s; the loudest of those), as indices in ``times`` (None for none)."""
+    pre = round(0.5e-3 * rate)
+    ends = np.append(times[1:], len(d))
+    peaks, (clear,) = _clear(d, times, rate, [config.lead_clear_db])
+    floor = peaks.max(initial=0.0) * 10.0 ** (config.threshold_db / 20.0)  # a quieter one is no onset
+    fit = (np.rint(times) >= pre) & (ends - times >= 20e-3 * rate) & clear
+    loudest, quiet, chosen, least = 0.0, math.inf, None, None
+    for k in np.flatnonzero(fit).tolist():
+        if peaks[k] > loudest:
+            loudest, chosen = peaks[k], k
+        if floor <= peaks[k] < quiet:
+            quiet, least = peaks[k], k
+    room = np.where(fit, np.minimum(ends - times, config.tail * rate), -1.0)
+    longest = max(np.flatnonzero(room == room.max(initial=0.0)).tolist(), key=lambda k: peaks[k], default=None)
+    return chosen, least, longest
+
+
+def _attack_sound(band, times, k, rate, config):
+    """``band`` from 0.5 ms before the attack ``times[k]`` up to the next (less 0.5 ms) or ``tail`` s after, and
+    that attack's time less its whole sample."""
+    pre = round(0.5e-3 * rate)
+    t, end = times[k], (times[k + 1] if k + 1 < len(times) else len(band))
     c = round(t)
-    return band[c - pre:min(end - pre, c + round(config.tail * rate))].copy(), float(t - c)
+    return band[c - pre:min(int(end) - pre, c + round(config.tail * rate))].copy(), float(t - c)
 
 
 def _clear(d, times, rate, dbs):
