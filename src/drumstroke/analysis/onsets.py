@@ -335,7 +335,8 @@ class OnsetConfig:
         its peak over the 5 ms before (step 5).
     echo_reach : float in [0, 0.05]
         s: an attack this close after the one before it must rise out of that one's sound too (a
-        recorded sample's second burst; step 5).
+        recorded sample's second burst; step 5); a detection no template fits, this close before a
+        bounce the search finds past it, is that bounce placed early (step 5).
     echo_rise_db : float in [-60, 60]
         dB: how far such a close attack's first difference must rise over the 2 ms after it above
         its peak over the 5 ms before (step 5).
@@ -373,7 +374,7 @@ class OnsetConfig:
         (step 4; 0: only the signature itself).
     bounce_reach : float in [0, 0.5]
         s: how far after an attack a quieter one is sought where the template's start fits what is
-        left, whatever it rises (step 5; 0: not at all).
+        left, whatever it rises, past a detection no template fits (step 5; 0: not at all).
     refused_likeness : float in [0, 1]
         Correlation: the least of the template's fit (its first ``template_fit`` s and its start) at an
         onset refused in step 4, ``signature`` s or more after the attack before it, for it to be an
@@ -1379,6 +1380,17 @@ def _template_search(band, d, rate, candidates, refused, config, quietest=False)
     ``threshold_db`` or more re the template, and its start there correlates so too (what is left of an
     earlier note, a room's echo, fits less: FluidSynth's reverb's echoes 84 ms after a note 0.77-0.79 over
     10 ms, 0.6 at the start); it is put at that lag.
+
+    *Each attack taken off by its own layer.* A sample's notes are recorded at a few velocities (FluidR3's snare 38:
+    one waveform up to velocity 80, another above), alike after their first 10 ms (the drum's modes) but not in
+    them: the loud template taken off a quiet note leaves a fifth of it, which hides a bounce after. The template
+    is continued past its next attack by the sound of the clear attack with the most room (up to ``tail`` s;
+    :func:`._attacks.continued`), for a note's sound 100 ms on is still as loud as a drop's last bounces; and where
+    the loop reaches the quietest clear attack, what is left there (up to its next attack, continued so too) is a
+    second template, and each attack after is taken off by the one of the two that fits it better. A detection
+    within ``bounce_reach`` s after an attack that neither fits (an attack the modes' band placed early, what is
+    left of the earlier sound) ends neither that attack's fit nor the search: a bounce found up to ``echo_reach``
+    s after it is that attack, and the detection is dropped.
 
     *Another velocity layer.* A sample's notes are recorded at a few velocities: a ghost note may be another
     layer's than the loudest clear attack. With ``quietest``, the search runs again with the quietest clear attack
