@@ -335,7 +335,8 @@ class OnsetConfig:
         its peak over the 5 ms before (step 5).
     echo_reach : float in [0, 0.05]
         s: an attack this close after the one before it must rise out of that one's sound too (a
-        recorded sample's second burst; step 5).
+        recorded sample's second burst; step 5); a detection no template fits, this close before a
+        bounce the search finds past it, is that bounce placed early (step 5).
     echo_rise_db : float in [-60, 60]
         dB: how far such a close attack's first difference must rise over the 2 ms after it above
         its peak over the 5 ms before (step 5).
@@ -373,7 +374,7 @@ class OnsetConfig:
         (step 4; 0: only the signature itself).
     bounce_reach : float in [0, 0.5]
         s: how far after an attack a quieter one is sought where the template's start fits what is
-        left, whatever it rises (step 5; 0: not at all).
+        left, whatever it rises, past a detection no template fits (step 5; 0: not at all).
     refused_likeness : float in [0, 1]
         Correlation: the least of the template's fit (its first ``template_fit`` s and its start) at an
         onset refused in step 4, ``signature`` s or more after the attack before it, for it to be an
@@ -1380,6 +1381,17 @@ def _template_search(band, d, rate, candidates, refused, config, quietest=False)
     earlier note, a room's echo, fits less: FluidSynth's reverb's echoes 84 ms after a note 0.77-0.79 over
     10 ms, 0.6 at the start); it is put at that lag.
 
+    *Each attack taken off by its own layer.* A sample's notes are recorded at a few velocities (FluidR3's snare 38:
+    one waveform up to velocity 80, another above), alike after their first 10 ms (the drum's modes) but not in
+    them: the loud template taken off a quiet note leaves a fifth of it, which hides a bounce after. The template
+    is continued past its next attack by the sound of the clear attack with the most room (up to ``tail`` s;
+    :func:`._attacks.continued`), for a note's sound 100 ms on is still as loud as a drop's last bounces; and where
+    the loop reaches the quietest clear attack, what is left there (up to its next attack, continued so too) is a
+    second template, and each attack after is taken off by the one of the two that fits it better. A detection
+    within ``bounce_reach`` s after an attack that neither fits (an attack the modes' band placed early, what is
+    left of the earlier sound) ends neither that attack's fit nor the search: a bounce found up to ``echo_reach``
+    s after it is that attack, and the detection is dropped.
+
     *Another velocity layer.* A sample's notes are recorded at a few velocities: a ghost note may be another
     layer's than the loudest clear attack. With ``quietest``, the search runs again with the quietest clear attack
     (:func:`_template`) as the template, for the onsets step 4 refused only (the attacks found so far fitted and taken
@@ -1389,30 +1401,41 @@ def _template_search(band, d, rate, candidates, refused, config, quietest=False)
     compiled). ``d`` is the magnitude of ``band``'s first difference; ``refused`` the onsets step 4
     refused (full-rate samples, in time order).
     """
-    from ._attacks import template_search
+    from ._attacks import continued, template_search
 
     if not len(candidates):
         return candidates
     if quietest and config.layer_likeness >= 1.0:
         return candidates
-    template, offset = _template(band, d, rate, candidates.times, config, quietest=quietest)
-    if template is None:
+    loudest, quiet, longest = _template_attacks(d, rate, candidates.times, config)
+    layer = quiet if quiet != loudest else None
+    chosen = layer if quietest else loudest
+    if chosen is None:
         return candidates
+    template, offset = _attack_sound(band, candidates.times, chosen, rate, config)
+    fit = round(config.template_fit * rate)
+    layer_size = 0
     if quietest:
-        config = replace(config, bounce_reach=0.0, refused_likeness=config.layer_likeness)
+        config, layer = replace(config, bounce_reach=0.0, refused_likeness=config.layer_likeness), None
+    else:
+        template = continued(template, _attack_sound(band, candidates.times, longest, rate, config)[0], fit)
+        layer_size = 0 if layer is None else len(_attack_sound(band, candidates.times, layer, rate, config)[0])
     pre = round(0.5e-3 * rate)
-    found, likes = template_search(band.copy(), template, template[:pre + round(config.template_head * rate)],
-                                   np.ascontiguousarray(candidates.times, dtype=float),
-                                   np.where(candidates.kinds == 3, offset, 0.0),  # the template's timed, at its sample
-                                   np.ascontiguousarray(refused, dtype=float), offset, pre,
-                                   max(1, round(config.min_interval * rate)), round(1e-3 * rate),
-                                   round(config.template_fit * rate), round(config.bounce_reach * rate),
-                                   round(config.signature * rate), round(config.template_reach * rate),
-                                   config.template_likeness, config.refused_likeness, config.after_ratio_low,
-                                   config.after_ratio_high, 10.0 ** (config.threshold_db / 20.0))
+    head = pre + round(config.template_head * rate)
+    found, likes, dropped = template_search(band.copy(), template, template[:head],
+                                            np.ascontiguousarray(candidates.times, dtype=float),
+                                            np.where(candidates.kinds == 3, offset, 0.0),  # timed at its sample
+                                            np.ascontiguousarray(refused, dtype=float), offset,
+                                            -1 if layer is None else layer, layer_size, pre,
+                                            max(1, round(config.min_interval * rate)), round(1e-3 * rate), fit,
+                                            round(config.bounce_reach * rate), round(config.echo_reach * rate),
+                                            round(config.signature * rate), round(config.template_reach * rate),
+                                            config.template_likeness, config.refused_likeness,
+                                            config.after_ratio_low, config.after_ratio_high,
+                                            10.0 ** (config.threshold_db / 20.0))
     if not len(found):
         return candidates
-    merged, fresh = candidates.insert(found, attack=True, likeness=likes)
+    merged, fresh = candidates.take(~dropped).insert(found, attack=True, likeness=likes)
     return replace(merged, kinds=np.where(fresh, 3, merged.kinds))
 
 
@@ -1447,25 +1470,39 @@ def _template(band, d, rate, times, config, quietest=False):
     instead (``threshold_db`` or more re the loudest attack's peak), when it is not the loudest. Returns the samples and the attack's time less its whole sample, or
     ``(None, 0.0)`` when there is no such attack.
     """
-    pre = round(0.5e-3 * rate)
-    ends = np.append(times[1:], len(band))
-    peaks, (clear,) = _clear(d, times, rate, [config.lead_clear_db])
-    loudest, quiet, chosen, least = 0.0, math.inf, None, None
-    floor = peaks.max(initial=0.0) * 10.0 ** (config.threshold_db / 20.0)  # a quieter one is no onset
-    for t, end, c, peak, is_clear in zip(times, ends, np.rint(times).astype(int).tolist(), peaks.tolist(),
-                                         clear.tolist()):
-        if c >= pre and end - t >= 20e-3 * rate and is_clear:
-            if peak > loudest:
-                loudest, chosen = peak, (t, int(end))
-            if floor <= peak < quiet:
-                quiet, least = peak, (t, int(end))
-    if quietest:
-        chosen = least if least != chosen else None
+    loudest, quiet, _ = _template_attacks(d, rate, times, config)
+    chosen = (quiet if quiet != loudest else None) if quietest else loudest
     if chosen is None:
         return None, 0.0
-    t, end = chosen
+    return _attack_sound(band, times, chosen, rate, config)
+
+
+def _template_attacks(d, rate, times, config):
+    """:func:`_template`'s clear attacks: the loudest, the quietest and the one with the most room before the next
+    (up to ``tail`` s; the loudest of those), as indices in ``times`` (None for none)."""
+    pre = round(0.5e-3 * rate)
+    ends = np.append(times[1:], len(d))
+    peaks, (clear,) = _clear(d, times, rate, [config.lead_clear_db])
+    floor = peaks.max(initial=0.0) * 10.0 ** (config.threshold_db / 20.0)  # a quieter one is no onset
+    fit = (np.rint(times) >= pre) & (ends - times >= 20e-3 * rate) & clear
+    loudest, quiet, chosen, least = 0.0, math.inf, None, None
+    for k in np.flatnonzero(fit).tolist():
+        if peaks[k] > loudest:
+            loudest, chosen = peaks[k], k
+        if floor <= peaks[k] < quiet:
+            quiet, least = peaks[k], k
+    room = np.where(fit, np.minimum(ends - times, config.tail * rate), -1.0)
+    longest = max(np.flatnonzero(room == room.max(initial=0.0)).tolist(), key=lambda k: peaks[k], default=None)
+    return chosen, least, longest
+
+
+def _attack_sound(band, times, k, rate, config):
+    """``band`` from 0.5 ms before the attack ``times[k]`` up to the next (less 0.5 ms) or ``tail`` s after, and
+    that attack's time less its whole sample."""
+    pre = round(0.5e-3 * rate)
+    t, end = times[k], (times[k + 1] if k + 1 < len(times) else len(band))
     c = round(t)
-    return band[c - pre:min(end - pre, c + round(config.tail * rate))].copy(), float(t - c)
+    return band[c - pre:min(int(end) - pre, c + round(config.tail * rate))].copy(), float(t - c)
 
 
 def _clear(d, times, rate, dbs):
