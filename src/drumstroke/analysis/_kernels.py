@@ -1060,10 +1060,27 @@ def prediction_error(a, x):
 
 
 @jit
-def weighted_lags(x, weight, start, stop, order):
-    """Rows ``x[n], x[n - 1], …, x[n - order]`` times ``weight[n]``, for ``n`` from ``start`` to ``stop`` (a new array)."""
-    rows = np.empty((stop - start, order + 1))
-    for n in range(start, stop):
-        for j in range(order + 1):
+def weighted_lags(x, weight, start, rows):
+    """``rows`` (shape (m, order + 1)) filled with ``x[n], x[n - 1], …, x[n - order]`` times ``weight[n]``, for ``n`` from
+    ``start`` to ``start + m``."""
+    for n in range(start, start + rows.shape[0]):
+        for j in range(rows.shape[1]):
             rows[n - start, j] = x[n - j] * weight[n]
-    return rows
+
+
+@jit
+def impulse_correlations(e, at, amp, length):
+    """The train of impulses ``amp`` at samples ``at`` (``s``, as long as ``e``; repeated samples add up), correlated
+    with itself and with ``e`` at lags 0 to ``length - 1``: ``r_ss[k] = Σ s[n] s[n + k]`` and ``r_se[k] = Σ s[n] e[n +
+    k]`` (what :func:`.onsets._room_tail` took from FFTs, here added impulse by impulse: to rounding the same)."""
+    n = len(e)
+    r_ss, r_se = np.zeros(length), np.zeros(length)
+    for i in range(len(at)):
+        a = at[i] + n if at[i] < 0 else at[i]  # a negative sample counts from the end, as numpy indexes
+        for j in range(len(at)):
+            k = (at[j] + n if at[j] < 0 else at[j]) - a
+            if 0 <= k < length:
+                r_ss[k] += amp[i] * amp[j]
+        for k in range(min(length, n - a)):
+            r_se[k] += amp[i] * e[a + k]
+    return r_ss, r_se
