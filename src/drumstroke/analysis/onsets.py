@@ -1904,9 +1904,9 @@ def _robust_innovation(x, order):
     power = np.maximum(uniform_filter1d(first * first, 9), 0.0)
     weight = 1.0 / np.sqrt(power + 1e-12 * power.mean() + 1e-300)
     gram = np.zeros((order + 1, order + 1))
-    # the normal equations added up over blocks of _LAG_ROWS rows, in one buffer: the lagged rows of a 5-s recording
-    # at once (3.3 MB) were the detector's largest block, which set when glibc gave its heap back to the system (and
-    # the next call faulted its pages in again); BLAS's product over each block takes no longer
+    # the normal equations added up over blocks of _LAG_ROWS rows in one small buffer: all the lagged rows of a 5-s
+    # recording at once were the detector's largest block (3.3 MB at order 40), and BLAS's product over blocks takes
+    # no longer
     buffer = np.empty((_LAG_ROWS, order + 1))
     for start in range(order, len(x), _LAG_ROWS):
         rows = buffer[:min(len(x), start + _LAG_ROWS) - start]
