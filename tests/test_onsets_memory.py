@@ -1,9 +1,11 @@
-"""The modes' band's least squares without their large temporaries, against the numpy and scipy code they replaced.
+"""The detector's stages without their large temporaries, against the numpy, scipy and librosa code they replaced.
 
 :func:`drumstroke.analysis.onsets._robust_innovation` adds its normal equations up over blocks of lagged rows
 in one small buffer (it built all the rows at once), and :func:`drumstroke.analysis.onsets._room_tail`
-correlates the attacks' impulses by sums over them (it used FFTs of the band's length). The sums' order
-changes, so the oracles are held within stated tolerances, relative to the largest entry.
+correlates the attacks' impulses by sums over them (it used FFTs of the band's length): the sums' order
+changes, so those oracles are held within stated tolerances, relative to the largest entry. The full-rate jump
+profile keeps its running power over a block of samples at a time and the peak picker its peaks as found: the
+same bits, over lengths that cross the blocks.
 """
 
 import numpy as np
@@ -89,3 +91,33 @@ def test_room_tail_as_ffts_and_scipys_toeplitz_solve_give_it(rng):
     want = solve_toeplitz(r_ss, r_se)
     np.testing.assert_allclose(_room_tail(e, at, amp, 300, 0.01), want, rtol=0.0, atol=1e-10 * np.max(np.abs(want)))
     assert _room_tail(e, at[:0], amp[:0], 300, 0.01) is None
+
+
+def test_jump_profile_over_blocks_as_numpys_cumulative_sums(rng):
+    def jump(x, width):  # the mean squares over the next window and the 4 before, as cumulative sums in numpy
+        power = np.concatenate(([0.0], np.cumsum(x * x)))
+        n = np.arange(len(x))
+        after = (power[np.minimum(n + width, len(x))] - power[n]) / width
+        before = (power[n] - power[np.maximum(n - 4 * width, 0)]) / (4 * width)
+        out = np.sqrt(after / np.maximum(before, 1e-300 + after * 1e-12))
+        out[:4 * width] = 0.0
+        return out
+
+    for n in (0, 5, 4096 + 4 * 48 - 1, 4096 + 5 * 48, 2 * 4096 + 240, 3 * 4096 + 7, 240_000):
+        x = rng.standard_normal(n) * np.exp(rng.standard_normal(n))
+        x[n // 3:n // 2] = 0.0  # digital silence
+        for width in (4, 12, 48):
+            np.testing.assert_array_equal(_kernels.jump_profile(x, width), jump(x, width)[:n], err_msg=f"n={n}")
+
+
+def test_peaks_of_long_signals_picked_as_librosa_picks_them(rng):
+    import librosa
+
+    for trial in range(12):
+        n, gap = int(rng.integers(5_000, 30_000)), int(rng.choice([1, 2, 96, 480]))
+        x = rng.standard_normal(n) ** 2
+        if trial % 2:
+            x = np.round(x, 1)  # ties
+        x[n // 4:n // 3] = 0.0  # a flat stretch
+        want = librosa.util.peak_pick(x, pre_max=gap, post_max=gap, pre_avg=1, post_avg=1, delta=0.0, wait=gap)
+        np.testing.assert_array_equal(_kernels.peak_pick(x, gap), want, err_msg=f"n={n}, gap={gap}")
