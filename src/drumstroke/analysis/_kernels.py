@@ -287,21 +287,6 @@ def residual_peaks(x, coefficients, starts, stops, h):
 
 
 @jit
-def waited(candidates, gap, first):
-    """The ``candidates`` (sorted) each more than ``gap`` after the last kept, greedily; sample 0 first when ``first``."""
-    kept = np.empty(len(candidates) + 1, dtype=np.int64)
-    count, last = 0, -gap - 1
-    if first:
-        kept[0], count, last = 0, 1, 0
-    for n in candidates:
-        if n > last + gap:
-            kept[count] = n
-            count += 1
-            last = n
-    return kept[:count].copy()
-
-
-@jit
 def jump_at(x, positions, width, floor):
     """:func:`.onsets._jump_at`: :func:`jump_near` each of ``positions`` (int)."""
     out = np.zeros(len(positions))
@@ -933,19 +918,36 @@ def jump_profile(x, width):
     """The RMS jump of ``x`` at each sample (:func:`.onsets._windows`' next ``width`` samples over the 4 ``width``
     before, the power summed in order from ``x[0]``), 0 over the first 4 ``width``."""
     count = len(x)
-    power = np.zeros(count + 1)
-    for j in range(count):
-        power[j + 1] = power[j] + x[j] * x[j]
     out = np.zeros(count)
+    # the running power (the sum of x[:j] squared, added in order) kept over a block of samples and their windows
+    # only, not the recording's length: power[base + i] is p[i]
+    block = 4096
+    p = np.empty(5 * width + block + 1)
+    p[0], base, computed, running = 0.0, 0, 1, 0.0
     # the samples whose windows are within x first, with no bounds to clip: that loop runs in vector instructions
     inner = max(4 * width, count - width)
-    for k in range(4 * width, inner):
-        after = (power[k + width] - power[k]) / width
-        before = (power[k] - power[k - 4 * width]) / (4 * width)
-        out[k] = math.sqrt(after / max(before, 1e-300 + after * 1e-12))
+    k0 = 4 * width
+    while k0 < inner:
+        k1 = min(inner, k0 + block)
+        for j in range(computed, k1 + width):  # power[j] for the block's windows
+            running = running + x[j - 1] * x[j - 1]
+            p[j - base] = running
+        computed = k1 + width
+        for k in range(k0, k1):
+            after = (p[k + width - base] - p[k - base]) / width
+            before = (p[k - base] - p[k - 4 * width - base]) / (4 * width)
+            out[k] = math.sqrt(after / max(before, 1e-300 + after * 1e-12))
+        shift = k1 - k0  # the next block's windows start at its first sample less 4 widths
+        for i in range(computed - base - shift):
+            p[i] = p[i + shift]
+        base += shift
+        k0 = k1
+    for j in range(computed, count + 1):
+        running = running + x[j - 1] * x[j - 1]
+        p[j - base] = running
     for k in range(inner, count):
-        after = (power[min(k + width, count)] - power[k]) / width
-        before = (power[k] - power[max(k - 4 * width, 0)]) / (4 * width)
+        after = (p[min(k + width, count) - base] - p[k - base]) / width
+        before = (p[k - base] - p[max(k - 4 * width, 0) - base]) / (4 * width)
         out[k] = math.sqrt(after / max(before, 1e-300 + after * 1e-12))
     return out
 
@@ -955,8 +957,17 @@ def peak_pick(x, gap):
     """:func:`.onsets._peak_pick`: the samples that are the largest from ``gap`` before to ``gap - 1`` after, at
     least their predecessor's and their mean, more than ``gap`` after the last kept (greedily)."""
     count = len(x)
-    candidates = np.empty(count, dtype=np.int64)
-    found = 0
+    first = True
+    for n in range(min(gap, count)):
+        if x[n] > x[0]:
+            first = False
+    # the candidates come in time order: each kept as found if more than gap after the last kept, in an array as
+    # long as peaks so far apart can be (the candidates' own array, as long as the recording, was the largest block
+    # of a call at full rate)
+    kept = np.empty(count // (gap + 1) + 2, dtype=np.int64)
+    found, last = 0, -gap - 1
+    if first:
+        kept[0], found, last = 0, 1, 0
     # from each sample, the first larger one after it within its window: there is none there (each between is no
     # larger than it, the larger one in its window); else it is the largest after it, and those after it up to its
     # window's end are smaller (it is in their window: none) or equal (tried in turn, what is known of the equal run
@@ -977,18 +988,15 @@ def peak_pick(x, gap):
                 if x[j] > v:
                     bigger = j
                     break
-        if bigger < n - gap and v >= (x[n - 1] + v) / 2.0:
-            candidates[found] = n
+        if bigger < n - gap and v >= (x[n - 1] + v) / 2.0 and n > last + gap:
+            kept[found] = n
             found += 1
+            last = n
         scanned, m = high, n + 1
         while m < high and x[m] != v:
             m += 1
         n, tie = m, m < high
-    first = True
-    for n in range(min(gap, count)):
-        if x[n] > x[0]:
-            first = False
-    return waited(candidates[:found], gap, first)
+    return kept[:found].copy()
 
 
 @jit
@@ -1060,10 +1068,27 @@ def prediction_error(a, x):
 
 
 @jit
-def weighted_lags(x, weight, start, stop, order):
-    """Rows ``x[n], x[n - 1], …, x[n - order]`` times ``weight[n]``, for ``n`` from ``start`` to ``stop`` (a new array)."""
-    rows = np.empty((stop - start, order + 1))
-    for n in range(start, stop):
-        for j in range(order + 1):
+def weighted_lags(x, weight, start, rows):
+    """``rows`` (shape (m, order + 1)) filled with ``x[n], x[n - 1], …, x[n - order]`` times ``weight[n]``, for ``n`` from
+    ``start`` to ``start + m``."""
+    for n in range(start, start + rows.shape[0]):
+        for j in range(rows.shape[1]):
             rows[n - start, j] = x[n - j] * weight[n]
-    return rows
+
+
+@jit
+def impulse_correlations(e, at, amp, length):
+    """The train of impulses ``amp`` at samples ``at`` (``s``, as long as ``e``; repeated samples add up), correlated
+    with itself and with ``e`` at lags 0 to ``length - 1``: ``r_ss[k] = Σ s[n] s[n + k]`` and ``r_se[k] = Σ s[n] e[n +
+    k]`` (what :func:`.onsets._room_tail` took from FFTs, here added impulse by impulse: to rounding the same)."""
+    n = len(e)
+    r_ss, r_se = np.zeros(length), np.zeros(length)
+    for i in range(len(at)):
+        a = at[i] + n if at[i] < 0 else at[i]  # a negative sample counts from the end, as numpy indexes
+        for j in range(len(at)):
+            k = (at[j] + n if at[j] < 0 else at[j]) - a
+            if 0 <= k < length:
+                r_ss[k] += amp[i] * amp[j]
+        for k in range(min(length, n - a)):
+            r_se[k] += amp[i] * e[a + k]
+    return r_ss, r_se

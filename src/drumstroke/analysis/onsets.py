@@ -203,6 +203,7 @@ CLIP_LEVEL = 0.999
 """Samples at or above this magnitude (full scale) count as clipped."""
 
 _BLOCK = 1 << 20  # samples a block when looking for jumps: bounds the memory, not a tuning
+_LAG_ROWS = 256  # rows of the lagged data a block of the normal equations: 84 kB at order 40, not a tuning
 _SPECTRA = 4096  # the most frames whose spectra choose the decimation: bounds the time on a long file
 
 
@@ -1940,9 +1941,13 @@ def _robust_innovation(x, order):
     power = np.maximum(uniform_filter1d(first * first, 9), 0.0)
     weight = 1.0 / np.sqrt(power + 1e-12 * power.mean() + 1e-300)
     gram = np.zeros((order + 1, order + 1))
-    for start in range(order, len(x), _BLOCK // 8):  # the normal equations block by block: memory stays bounded
-        stop = min(len(x), start + _BLOCK // 8)
-        rows = weighted_lags(x, weight, start, stop, order)
+    # the normal equations added up over blocks of _LAG_ROWS rows in one small buffer: all the lagged rows of a 5-s
+    # recording at once were the detector's largest block (3.3 MB at order 40), and BLAS's product over blocks takes
+    # no longer
+    buffer = np.empty((_LAG_ROWS, order + 1))
+    for start in range(order, len(x), _LAG_ROWS):
+        rows = buffer[:min(len(x), start + _LAG_ROWS) - start]
+        weighted_lags(x, weight, start, rows)
         gram += rows.T @ rows
     try:
         c, *_ = np.linalg.lstsq(gram[1:, 1:], -gram[1:, 0], rcond=None)
@@ -2130,16 +2135,16 @@ def _room_tail(e, at, amp, length, ridge):
     """
     from scipy.linalg import solve_toeplitz
 
+    from ._kernels import impulse_correlations
+
     keep = amp != 0.0
     at, amp = at[keep], amp[keep]
     if len(at) == 0:
         return None
-    s = np.zeros(len(e))
-    np.add.at(s, at, amp)
-    size = 1 << int(np.ceil(np.log2(len(e) + length)))
-    S = np.fft.rfft(s, size)
-    r_ss = np.fft.irfft(S * np.conj(S), size)[:length]
-    r_se = np.fft.irfft(np.conj(S) * np.fft.rfft(e, size), size)[:length]
+    # the attacks as impulses, correlated with themselves and with e over the tail's lags: sums over the few impulses
+    # (tens, against FFTs of the whole band's length)
+    r_ss, r_se = impulse_correlations(np.ascontiguousarray(e, dtype=float), np.ascontiguousarray(at, dtype=np.int64),
+                                      np.ascontiguousarray(amp, dtype=float), length)
     r_ss[0] *= 1.0 + ridge
     h = solve_toeplitz(r_ss, r_se)
     return h if np.all(np.isfinite(h)) else None
