@@ -395,9 +395,8 @@ class OnsetConfig:
         (step 5; -120: none is).
     layer_likeness : float in [0, 1]
         Correlation: the least of the quietest clear attack's fit (its first ``template_fit`` s and its start) at an
-        onset step 4 refused, as for ``refused_likeness``, for it to be an attack after all (step 5; 1, the default:
-        none is, the pass not run; 0.8 finds 7 more of the corpus's loud notes within 1 ms, in rolls' ghost notes,
-        but a note found moves the other notes' ``peak_db`` by up to 4 dB).
+        onset step 4 refused, as for ``refused_likeness``, for it to be an attack after all (step 5; 1: none is,
+        the pass not run; 0.8 finds 7 more of the corpus's loud notes within 1 ms, in rolls' ghost notes).
     reflection_pairs : int in [0, 100]
         How many pairs of successive onsets, each later one ``reflection_db`` or more under the one before it,
         at one delay (within ``reflection_spread`` s) make every such later one a room's reflection, no onset
@@ -485,7 +484,7 @@ class OnsetConfig:
     bounce_reach: float = 25e-3
     refused_likeness: float = 0.8
     burst_db: float = -6.0
-    layer_likeness: float = 1.0
+    layer_likeness: float = 0.8
     reflection_pairs: int = 3
     reflection_db: float = 12.0
     reflection_spread: float = 0.2e-3
