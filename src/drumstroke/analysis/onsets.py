@@ -660,7 +660,7 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        stick's next impact, ``after_ratio_low`` to ``after_ratio_high`` times it) where the template's
        start and its first ``template_fit`` s correlate so with what is left, however little it rises;
        else an onset step 4 refused, ``signature`` s or more after it, where both correlate by
-       ``refused_likeness``; then, if asked, that second opinion again with the quietest clear attack as
+       ``refused_likeness``; then that second opinion again with the quietest clear attack as
        the template (another velocity layer of a sample), by ``layer_likeness``.
        :func:`_level_band`. An onset's amplitude is the peak of its own sound in the drum's lowest
        modes (the band up to ``level_ratio`` times its lowest strong mode, ≥ ``level_band`` Hz,
@@ -687,7 +687,8 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        onset's broadband peak (:attr:`Onsets.peak_db`, dB re the loudest onset's) is read on the
        signal itself by :func:`_peak_amplitudes`: the loudest sample over ``peak_window`` s after it (or
        up to the next onset), after the earlier notes' sound is taken off (each fitted by the
-       recording's clear notes as templates, ``peak_templates`` of them, followed ``peak_reach`` s).
+       recording's own templates, one a velocity layer, each the median of its clear notes' waveforms, of the
+       ``peak_templates`` loudest, followed ``peak_reach`` s).
        :func:`_without_reflections`: where ``reflection_pairs`` pairs of successive onsets or more, the later
        ``reflection_db`` under the earlier, share one delay (within ``reflection_spread`` s), each such later one
        is a room's reflection and is left out.
@@ -1746,7 +1747,7 @@ def _peak_amplitudes(signal, times, rate, config):
     loudest sample, but over a later note the earlier ones still sound (a drop's last bounces 4-12 ms
     apart, a ghost note over an accent's ringing): read as it is, the peak is theirs together. So each
     note in time order has its peak read over ``peak_window`` s (or up to the next onset) of the
-    remainder, then its own sound is fitted there by the recording's clear notes as templates
+    remainder, then its own sound is fitted there by the recording's own templates, one a velocity layer
     (:func:`_peak_templates`: the one that fits best, scaled by least squares, a few samples either
     way) and taken off for ``peak_reach`` s. A template is a whole waveform: where a recording repeats
     a sample (a drum machine, a SoundFont) it cancels the earlier note; where each stroke differs, the
