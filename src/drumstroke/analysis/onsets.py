@@ -1854,19 +1854,23 @@ def _layer_template(x, starts, following, free, layer, reach):
     their median, in which another note in one of them (a ghost note, a missed one) is outvoted; elsewhere the
     median of the notes' waveforms up to their next onset (clean), as far as one lasts.
     """
-    whole, clean = np.full((2, len(layer), reach), np.nan)
-    for k, (i, lag, scale) in enumerate(layer):
+    rows, whole, clean = [], [], []
+    for i, lag, scale in layer:
         a = starts[i] + lag
         n = max(0, min(free[i] - starts[i], reach, len(x) - a))
-        whole[k, :n] = x[a:a + n] / scale
-        c = min(n, following[i] - starts[i])
-        clean[k, :c] = whole[k, :c]
-    voted = np.count_nonzero(~np.isnan(whole), axis=0) >= 3  # a prefix: each waveform is one
-    length = np.count_nonzero(voted | (np.count_nonzero(~np.isnan(clean), axis=0) >= 1))
-    template = np.empty(length)
-    template[voted[:length]] = np.nanmedian(whole[:, :length][:, voted[:length]], axis=0)
-    template[~voted[:length]] = np.nanmedian(clean[:, :length][:, ~voted[:length]], axis=0)
-    return template
+        rows.append(x[a:a + n] / scale)
+        whole.append(n)
+        clean.append(min(n, following[i] - starts[i]))
+    whole, clean = np.array(whole), np.array(clean)
+    bounds = np.unique(np.concatenate(([0], whole, clean)))
+    parts = []
+    for low, high in zip(bounds[:-1].tolist(), bounds[1:].tolist()):  # the same waveforms last over each part
+        voted = whole >= high
+        chosen = voted if np.count_nonzero(voted) >= 3 else clean >= high
+        if not chosen.any():
+            break
+        parts.append(np.median([row[low:high] for row, use in zip(rows, chosen) if use], axis=0))
+    return np.concatenate(parts) if parts else np.empty(0)
 
 
 # ------------------------------------------------------------------------------------------ the stages' tools
