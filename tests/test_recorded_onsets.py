@@ -156,8 +156,8 @@ def test_attacks_over_ringing_are_timed_and_found_by_the_recordings_own_attack(n
 
 
 @pytest.mark.parametrize("set_name, condition, most_95, most_median", [
-    ("singles", "dry", 0.1, 0.05), ("singles", "noise60", 0.5, 0.1), ("roll", "dry", 5.0, 0.1),
-    ("roll", "noise60", 2.9, 0.2), ("flams", "dry", 1.5, 0.6), ("flams", "noise60", 1.0, 0.3),
+    ("singles", "dry", 0.1, 0.05), ("singles", "noise60", 0.5, 0.1), ("roll", "dry", 0.8, 0.1),
+    ("roll", "noise60", 1.7, 0.2), ("flams", "dry", 0.6, 0.6), ("flams", "noise60", 1.0, 0.3),
 ])
 def test_peaks_of_loud_notes_found(detected, set_name, condition, most_95, most_median):
     """peak_db (each onset's broadband peak, the earlier notes' sound taken off, dB re the loudest onset's) less the
@@ -172,7 +172,11 @@ def test_peaks_of_loud_notes_found(detected, set_name, condition, most_95, most_
     reached on singles and flams with noise; in rolls a ghost note 100 ms after an accent is 2-26 dB off where a
     template holds a ghost note the detector missed (taken off the later ghost at the same distance), and
     flams' main notes 1-1.6 dB where the grace note is of another velocity layer than the templates
-    (docs/analysis.md).
+    (docs/analysis.md). Since each velocity layer's template is the median of its clear notes' waveforms, followed
+    past the quieter onsets (a ghost note in one of them outvoted), and the quieter layer's second opinion finds more
+    ghost notes (``layer_likeness=0.8``): 0.01, 0.21, 0.60, 1.49, 0.49, 0.83 dB; median 0.00-0.29 dB (with the
+    templates cut at the next onset, that pass's one ghost note more in the rolls at -60 dBFS cut the one long
+    template and read the others' up to 4 dB off: 4.84 dB).
     """
     errors = [onsets.peak_db[j] - recording.level_db[i] for recording, onsets in detected
               if (recording.set, recording.condition) == (set_name, condition)
@@ -270,11 +274,13 @@ def test_ghost_notes_of_a_softer_sample_are_found():
     """TimGM6mb's snare 38 in a roll at -72 dBFS noise: its ghost notes (low-passed by the SoundFont's velocity filter)
     start unlike the accent's signature; 25 of the 30 loud notes within 1 ms, all the detections right, where
     without the softer strokes' likeness (``soft_jump=100``) 23 (and without the template's second opinion on the
-    onsets refused, ``refused_likeness=1``, which finds them too)."""
+    onsets refused, ``refused_likeness=1``, nor its second pass with the quietest clear attack, ``layer_likeness=1``,
+    which find them too)."""
     recording = _corpus_recording("TimGM6mb 38 roll", "noise72")
     figures = score(recording, find_onsets(recording.signal, RATE).t)
     off = score(recording, find_onsets(recording.signal, RATE,
-                                       config=OnsetConfig(soft_jump=100.0, refused_likeness=1.0)).t)
+                                       config=OnsetConfig(soft_jump=100.0, refused_likeness=1.0,
+                                                          layer_likeness=1.0)).t)
     assert figures["within_1ms"] >= 25 and figures["correct_5ms"] == figures["found"]
     assert off["within_1ms"] <= 23
 
@@ -339,10 +345,12 @@ def test_a_drops_close_bounces_are_found_by_the_templates_whole_fit(name, condit
 def test_ghost_notes_step_4_refused_are_attacks_where_the_template_fits(condition, least_1ms, off_1ms):
     """TimGM6mb's snare 38 in a roll: ghost notes 56-120 ms after an accent that step 4 refused (their signature in
     the modes' band unlike the accent's) are found where the recording's own attack fits them at full rate, with no
-    false detection more; without that second opinion (``refused_likeness=1``) as few as measured before it."""
+    false detection more; without that second opinion (``refused_likeness=1``, and its second pass with the quietest
+    clear attack, ``layer_likeness=1``, which finds some of them too) as few as measured before it."""
     recording = _corpus_recording("TimGM6mb 38 roll", condition)
     figures = score(recording, find_onsets(recording.signal, RATE).t)
-    off = score(recording, find_onsets(recording.signal, RATE, config=OnsetConfig(refused_likeness=1.0)).t)
+    off = score(recording, find_onsets(recording.signal, RATE,
+                                       config=OnsetConfig(refused_likeness=1.0, layer_likeness=1.0)).t)
     assert figures["within_1ms"] >= least_1ms and off["within_1ms"] <= off_1ms
     assert figures["found"] - figures["correct_5ms"] <= off["found"] - off["correct_5ms"]
 
@@ -403,13 +411,13 @@ def test_an_electric_snares_second_burst_is_the_attack_the_template_timed():
 def test_a_ghost_note_of_another_velocity_layer_is_found_by_the_quietest_clear_attack():
     """TimGM6mb's snare 38 in a roll (at -72 dBFS noise): the ghost note at 3.1713 s (56 ms after an accent, -20 dB)
     that step 4 refused and the loudest clear attack does not fit is found where the quietest clear attack fits it
-    (``layer_likeness=0.8``), within 1 ms of its truth, with no false detection more; without that pass (the
-    default, ``layer_likeness=1``) there is no onset within 5 ms of it. (The dry roll's ghost note at 2.5019 s, this
-    test's note before, the default finds since the search takes each attack off by its own layer's template.)"""
+    (``layer_likeness=0.8``, the default), within 1 ms of its truth, with no false detection more; without that pass
+    (``layer_likeness=1``) there is no onset within 5 ms of it. (The dry roll's ghost note at 2.5019 s, this test's
+    note before, is found without it too, since the search takes each attack off by its own layer's template.)"""
     recording = _corpus_recording("TimGM6mb 38 roll", "noise72")
     note = recording.t[np.argmin(np.abs(recording.t - 3.1713))]
-    found = find_onsets(recording.signal, RATE, config=OnsetConfig(layer_likeness=0.8)).t
-    without = find_onsets(recording.signal, RATE).t
+    found = find_onsets(recording.signal, RATE).t
+    without = find_onsets(recording.signal, RATE, config=OnsetConfig(layer_likeness=1.0)).t
     assert np.min(np.abs(found - note)) <= 1e-3
     assert np.min(np.abs(without - note)) > 5e-3
     figures, before = score(recording, found), score(recording, without)
@@ -425,3 +433,47 @@ def test_an_attack_placed_early_in_the_modes_band_is_the_one_the_template_timed(
     for t in recording.t[[np.argmin(np.abs(recording.t - t)) for t in (1.8140, 3.9060)]]:
         assert np.min(np.abs(found - t)) <= 1e-3
         assert not np.any((found > t - 8e-3) & (found < t - 2e-3))
+
+
+def test_one_more_true_onset_moves_no_other_notes_peak_db():
+    """TimGM6mb's snare 38 in a roll at -72 dBFS noise: the quieter layer's second opinion finds one more ghost note
+    (within 1 ms of its truth). Every other onset's ``peak_db`` is the same within 0.05 dB with it and without it,
+    but the note right after it, whose earlier sound now includes the ghost's own (taken off): it reads nearer its
+    truth. (With the templates cut at the next onset, such a ghost note cut the one long template and moved the
+    other notes' by up to 4 dB.)"""
+    recording = _corpus_recording("TimGM6mb 38 roll", "noise72")
+    found = find_onsets(recording.signal, RATE)
+    without = find_onsets(recording.signal, RATE, config=OnsetConfig(layer_likeness=1.0))
+    new = np.flatnonzero(~np.isin(found.t, without.t))
+    assert len(new) == 1 and np.all(np.isin(without.t, found.t))
+    assert np.min(np.abs(recording.t - found.t[new[0]])) <= 1e-3
+    kept = np.isin(found.t, without.t)
+    moved = found.peak_db[kept] - without.peak_db
+    after = np.flatnonzero(found.t[kept] > found.t[new[0]])[0]
+    assert np.abs(np.delete(moved, after)).max() <= 0.05
+    truth = recording.level_db[np.argmin(np.abs(recording.t - without.t[after]))]
+    assert abs(found.peak_db[kept][after] - truth) < abs(without.peak_db[after] - truth)
+
+
+def test_a_layers_template_outvotes_a_note_inside_one_of_its_waveforms():
+    """Four notes of one waveform (scaled), a quieter other sound 60 ms into one of them (a ghost note, onset or not):
+    the layer's template is the waveform itself, to rounding, over its whole 0.3 s (the median of four, three alike);
+    with the ghost an onset, each waveform still follows past it (-20 dB re the note: ``peak_apart_db``)."""
+    from drumstroke.analysis.onsets import _peak_templates
+
+    rate, reach = 48000, 14400
+    rng = np.random.default_rng(3)
+    t = np.arange(reach) / rate
+    wave = np.sin(2 * np.pi * 190 * t) * np.exp(-t / 0.05) + 0.3 * rng.standard_normal(reach) * np.exp(-t / 0.01)
+    ghost = 0.08 * np.sin(2 * np.pi * 330 * t[:4800]) * np.exp(-t[:4800] / 0.02)
+    x = np.zeros(4 * rate)
+    starts = np.array([4800, 52800, 100800, 148800])
+    for start, scale in zip(starts, (1.0, 0.8, 0.9, 0.7)):
+        x[start:start + reach] += scale * wave
+    x[starts[2] + 2880:starts[2] + 2880 + 4800] += ghost
+    for onsets in (starts, np.sort(np.append(starts, starts[2] + 2880))):
+        following = np.append(onsets[1:], len(x))
+        ends = np.minimum(onsets + 480, following)
+        templates = _peak_templates(x, onsets, following, ends, rate, OnsetConfig())
+        assert len(templates) == 1 and len(templates[0]) == reach
+        np.testing.assert_allclose(templates[0], wave, rtol=0.0, atol=1e-12)

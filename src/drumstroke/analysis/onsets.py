@@ -363,10 +363,18 @@ class OnsetConfig:
     peak_reach : float in [0.01, 2]
         s: the longest an earlier note's sound is followed and taken off under the later ones (step 6).
     peak_templates : int in [0, 100]
-        How many of the recording's clear notes (the loudest) serve as templates of a note's sound (step 6;
-        0: none taken off).
+        How many of the recording's clear notes (the loudest) make the templates of a note's sound, one a
+        velocity layer (step 6; 0: none taken off).
     peak_clear_db : float in [-120, 0]
-        dB re a note's peak: the loudest the 10 ms before it may be for it to be a template (step 6).
+        dB re a note's peak: the loudest the 10 ms before it may be for it to make a template (step 6).
+    peak_layer_likeness : float in [0, 1]
+        Correlation over ``peak_window`` s: the least for a clear note to share a layer's template (step 6).
+    peak_apart_db : float in [-120, 0]
+        dB re a note's peak: the least rise of a later onset's peak (over the 10 ms before it) that ends the
+        note's waveform in its layer's template; quieter ones are outvoted there (step 6).
+    sound_templates : int in [0, 100]
+        How many of the recording's clear notes (the loudest), each up to the next onset, are templates of the
+        earlier notes' sound where an attack's own sound is weighed (step 5, ``new_sound_db``).
     soft_jump : float in [1, 100]
         RMS ratio: the least jump of the remainder at a refused onset that starts like a softer stroke's
         signature (step 4).
@@ -389,9 +397,8 @@ class OnsetConfig:
         (step 5; -120: none is).
     layer_likeness : float in [0, 1]
         Correlation: the least of the quietest clear attack's fit (its first ``template_fit`` s and its start) at an
-        onset step 4 refused, as for ``refused_likeness``, for it to be an attack after all (step 5; 1, the default:
-        none is, the pass not run; 0.8 finds 7 more of the corpus's loud notes within 1 ms, in rolls' ghost notes,
-        but a note found moves the other notes' ``peak_db`` by up to 4 dB).
+        onset step 4 refused, as for ``refused_likeness``, for it to be an attack after all (step 5; 1: none is,
+        the pass not run; 0.8 finds 7 more of the corpus's loud notes within 1 ms, in rolls' ghost notes).
     reflection_pairs : int in [0, 100]
         How many pairs of successive onsets, each later one ``reflection_db`` or more under the one before it,
         at one delay (within ``reflection_spread`` s) make every such later one a room's reflection, no onset
@@ -468,15 +475,18 @@ class OnsetConfig:
     template_head: float = 3e-3
     peak_window: float = 10e-3
     peak_reach: float = 0.3
-    peak_templates: int = 6
+    peak_templates: int = 12
     peak_clear_db: float = -30.0
+    peak_layer_likeness: float = 0.98
+    peak_apart_db: float = -20.0
+    sound_templates: int = 6
     new_sound_db: float = -20.0
     soft_jump: float = 3.0
     soft_contact: float = 3e-3
     bounce_reach: float = 25e-3
     refused_likeness: float = 0.8
     burst_db: float = -6.0
-    layer_likeness: float = 1.0
+    layer_likeness: float = 0.8
     reflection_pairs: int = 3
     reflection_db: float = 12.0
     reflection_spread: float = 0.2e-3
@@ -521,7 +531,8 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "template_likeness": (0.0, 1.0, "(correlation)"), "template_reach": (0.0, 0.01, "s"),
     "template_fit": (0.5e-3, 0.1, "s"), "template_head": (0.5e-3, 0.05, "s"),
     "peak_window": (1e-3, 0.1, "s"), "peak_reach": (0.01, 2.0, "s"), "peak_templates": (0, 100, ""),
-    "peak_clear_db": (-120.0, 0.0, "dB"), "new_sound_db": (-120.0, 0.0, "dB"),
+    "peak_clear_db": (-120.0, 0.0, "dB"), "peak_layer_likeness": (0.0, 1.0, "(correlation)"),
+    "peak_apart_db": (-120.0, 0.0, "dB"), "sound_templates": (0, 100, ""), "new_sound_db": (-120.0, 0.0, "dB"),
     "soft_jump": (1.0, 100.0, "(RMS ratio)"), "soft_contact": (0.0, 0.02, "s"),
     "bounce_reach": (0.0, 0.5, "s"), "refused_likeness": (0.0, 1.0, "(correlation)"),
     "burst_db": (-120.0, 0.0, "dB"), "layer_likeness": (0.0, 1.0, "(correlation)"), "reflection_pairs": (0, 100, ""), "reflection_db": (0.0, 120.0, "dB"),
@@ -651,7 +662,7 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        stick's next impact, ``after_ratio_low`` to ``after_ratio_high`` times it) where the template's
        start and its first ``template_fit`` s correlate so with what is left, however little it rises;
        else an onset step 4 refused, ``signature`` s or more after it, where both correlate by
-       ``refused_likeness``; then, if asked, that second opinion again with the quietest clear attack as
+       ``refused_likeness``; then that second opinion again with the quietest clear attack as
        the template (another velocity layer of a sample), by ``layer_likeness``.
        :func:`_level_band`. An onset's amplitude is the peak of its own sound in the drum's lowest
        modes (the band up to ``level_ratio`` times its lowest strong mode, ≥ ``level_band`` Hz,
@@ -678,7 +689,8 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        onset's broadband peak (:attr:`Onsets.peak_db`, dB re the loudest onset's) is read on the
        signal itself by :func:`_peak_amplitudes`: the loudest sample over ``peak_window`` s after it (or
        up to the next onset), after the earlier notes' sound is taken off (each fitted by the
-       recording's clear notes as templates, ``peak_templates`` of them, followed ``peak_reach`` s).
+       recording's own templates, one a velocity layer, each the median of its clear notes' waveforms, of the
+       ``peak_templates`` loudest, followed ``peak_reach`` s).
        :func:`_without_reflections`: where ``reflection_pairs`` pairs of successive onsets or more, the later
        ``reflection_db`` under the earlier, share one delay (within ``reflection_spread`` s), each such later one
        is a room's reflection and is left out.
@@ -1595,8 +1607,8 @@ def _new_sound(band, rate, candidates, config):
     A stick's impact adds a sound of its own to whatever rings; a swell of a sample's decay, a
     room's echo or a sample's second burst is the earlier notes' sound going on. Where a recording
     repeats its notes' waveforms (a sample player; a drum struck alike), the earlier attacks' sound,
-    fitted by the recording's clear notes and taken off as for :attr:`Onsets.peak_db`
-    (:func:`_own_peaks`), leaves little of such a swell: over the corpus of recorded drums, its own
+    fitted by the recording's ``sound_templates`` clear notes, each up to the next onset (:func:`_cut_templates`),
+    and taken off as for :attr:`Onsets.peak_db` (:func:`_own_peaks`), leaves little of such a swell: over the corpus of recorded drums, its own
     peak over ``peak_window`` s stood 20-73 dB under the sound's peak there at 20 of the 103 false
     detections, at most 17.5 dB under it at the notes (a ghost note over an accent's ringing). Where
     the earlier sound is not so explained (each stroke's sound its own), little is taken off and
@@ -1605,7 +1617,7 @@ def _new_sound(band, rate, candidates, config):
     which = np.flatnonzero(candidates.attack)
     if len(which) < 2:
         return candidates
-    own, heard = _own_peaks(band, candidates.times[which], rate, config)
+    own, heard = _own_peaks(band, candidates.times[which], rate, config, _cut_templates)
     attack = candidates.attack.copy()
     attack[which] = own >= heard * 10.0 ** (config.new_sound_db / 20.0)
     return replace(candidates, attack=attack)
@@ -1773,7 +1785,7 @@ def _peak_amplitudes(signal, times, rate, config):
     loudest sample, but over a later note the earlier ones still sound (a drop's last bounces 4-12 ms
     apart, a ghost note over an accent's ringing): read as it is, the peak is theirs together. So each
     note in time order has its peak read over ``peak_window`` s (or up to the next onset) of the
-    remainder, then its own sound is fitted there by the recording's clear notes as templates
+    remainder, then its own sound is fitted there by the recording's own templates, one a velocity layer
     (:func:`_peak_templates`: the one that fits best, scaled by least squares, a few samples either
     way) and taken off for ``peak_reach`` s. A template is a whole waveform: where a recording repeats
     a sample (a drum machine, a SoundFont) it cancels the earlier note; where each stroke differs, the
@@ -1787,9 +1799,12 @@ def _peak_amplitudes(signal, times, rate, config):
     return _own_peaks(np.asarray(signal, dtype=float) - float(np.mean(signal)), times, rate, config)[0]
 
 
-def _own_peaks(x, times, rate, config):
+def _own_peaks(x, times, rate, config, templates=None):
     """Each onset's own peak (:func:`_peak_amplitudes`: ``x`` less the earlier notes' sound) and the peak of ``x`` itself
     over the same window (full scale) [each shape=(n,)].
+
+    ``templates`` makes the templates from ``(x, starts, following, ends, rate, config)``: :func:`_peak_templates`
+    by default; :func:`_new_sound` uses :func:`_cut_templates` (its figures were measured with them).
 
     In time order, each onset's peaks are read over its window, then the template that fits the remainder from it
     to the next onset best (placed within 60 µs either way; those that last to the end of the next onset's window
@@ -1802,7 +1817,7 @@ def _own_peaks(x, times, rate, config):
     ends = np.maximum(np.minimum(starts + round(config.peak_window * rate), following), starts + 1)
     window, reach = round(config.peak_window * rate), round(config.peak_reach * rate)
     shift = max(1, round(6e-5 * rate))  # the onsets are placed within a few samples
-    templates = _peak_templates(x, starts, following, ends, rate, config)
+    templates = (templates or _peak_templates)(x, starts, following, ends, rate, config)
     lengths = np.array([len(t) for t in templates], dtype=np.int64)
     bank = np.concatenate(templates) if templates else np.empty(0)
     return own_peaks(np.ascontiguousarray(x, dtype=float), starts, following, ends, bank,
@@ -1810,11 +1825,35 @@ def _own_peaks(x, times, rate, config):
 
 
 def _peak_templates(x, starts, following, ends, rate, config):
-    """The recording's clear notes' waveforms (``config.peak_templates`` of the loudest), each up to the next onset.
+    """The recording's own note waveforms, one a velocity layer: each the median of that layer's clear notes.
 
     A clear note: quiet before (its 10 ms before under ``peak_clear_db`` re its peak), ``peak_window`` s at
-    least before the next onset; its waveform lasts to the next onset, ``peak_reach`` s at most.
+    least before the next onset; ``peak_templates`` of the loudest are sorted into layers by their first
+    ``peak_window`` s (:func:`_layers`), and each layer's waveforms, each scaled to the layer's loudest,
+    make its template (:func:`_layer_template`), ``peak_reach`` s at most. A note's waveform is followed past
+    the quieter onsets after it, up to the first whose peak rises ``peak_apart_db`` or more re its own (a
+    later note that loud is not outvoted): a template cut at the next onset, as it once was, lost its
+    tail wherever one more (true) onset was found in it, and the notes after read up to 4 dB higher.
     """
+    chosen, (peaks, priors) = _clear_notes(x, starts, following, ends, rate, config, config.peak_templates)
+    rises, apart = peaks - priors, 10.0 ** (config.peak_apart_db / 20.0)
+    free = {i: next((starts[j] for j in range(i + 1, len(starts)) if rises[j] >= apart * peaks[i]), len(x))
+            for i in chosen}
+    shift = max(1, round(6e-5 * rate))  # the onsets are placed within a few samples
+    return [_layer_template(x, starts, following, free, layer, round(config.peak_reach * rate))
+            for layer in _layers(x, starts, chosen, round(config.peak_window * rate), shift, config.peak_layer_likeness)]
+
+
+def _cut_templates(x, starts, following, ends, rate, config):
+    """:func:`_new_sound`'s templates: the ``sound_templates`` loudest clear notes' waveforms, each up to the next onset."""
+    chosen, _ = _clear_notes(x, starts, following, ends, rate, config, config.sound_templates)
+    return [x[starts[i]:min(following[i], starts[i] + round(config.peak_reach * rate))] for i in chosen]
+
+
+def _clear_notes(x, starts, following, ends, rate, config, count):
+    """The ``count`` loudest clear notes (indices of ``starts``, loudest first) and every onset's peak and the peak over
+    its 10 ms before (full scale) [each shape=(n,)]: a clear note is quiet before (its 10 ms before under
+    ``peak_clear_db`` re its peak over ``starts`` to ``ends``), ``peak_window`` s at least before the next onset."""
     from ._kernels import window_peaks
 
     window, before = round(config.peak_window * rate), round(10e-3 * rate)
@@ -1822,8 +1861,54 @@ def _peak_templates(x, starts, following, ends, rate, config):
     priors = window_peaks(x, np.maximum(starts - before, 0), starts)
     quiet = 10.0 ** (config.peak_clear_db / 20.0)
     clear = [i for i, a in enumerate(starts) if following[i] - a >= window and priors[i] <= quiet * peaks[i]]
-    chosen = sorted(clear, key=lambda i: -peaks[i])[:config.peak_templates]
-    return [x[starts[i]:min(following[i], starts[i] + round(config.peak_reach * rate))] for i in chosen]
+    return sorted(clear, key=lambda i: -peaks[i])[:count], (peaks, priors)
+
+
+def _layers(x, starts, chosen, head, shift, likeness):
+    """The notes ``chosen`` (indices of ``starts``, loudest first) in velocity layers: lists of (index, lag, scale).
+
+    A note joins the first layer whose loudest note's first ``head`` samples correlate with its own by
+    ``likeness`` or more (placed within ``shift`` samples either way; the lag in samples, and its scale re that
+    note's by least squares), else starts a layer. A SoundFont's snare has one sample a velocity range (TimGM6mb's
+    one for all, FluidR3's some four, correlating 0.96-0.99 with each other over 10 ms).
+    """
+    layers = []
+    for i in chosen:
+        for layer in layers:
+            first = starts[layer[0][0]]
+            lag, scale, like = _best_lag(x, x[first:first + head], starts[i], shift)
+            if like >= likeness and scale > 0.0:
+                layer.append((i, lag, scale))
+                break
+        else:
+            layers.append([(i, 0, 1.0)])
+    return layers
+
+
+def _layer_template(x, starts, following, free, layer, reach):
+    """A layer's template: at each sample the median of its notes' waveforms (each over its scale), up to ``reach``.
+
+    Each note's waveform lasts to ``free[i]`` (the next onset loud enough to count); where three or more last,
+    their median, in which another note in one of them (a ghost note, a missed one) is outvoted; elsewhere the
+    median of the notes' waveforms up to their next onset (clean), as far as one lasts.
+    """
+    rows, whole, clean = [], [], []
+    for i, lag, scale in layer:
+        a = starts[i] + lag
+        n = max(0, min(free[i] - starts[i], reach, len(x) - a))
+        rows.append(x[a:a + n] / scale)
+        whole.append(n)
+        clean.append(min(n, following[i] - starts[i]))
+    whole, clean = np.array(whole), np.array(clean)
+    bounds = np.unique(np.concatenate(([0], whole, clean)))
+    parts = []
+    for low, high in zip(bounds[:-1].tolist(), bounds[1:].tolist()):  # the same waveforms last over each part
+        voted = whole >= high
+        chosen = voted if np.count_nonzero(voted) >= 3 else clean >= high
+        if not chosen.any():
+            break
+        parts.append(np.median([row[low:high] for row, use in zip(rows, chosen) if use], axis=0))
+    return np.concatenate(parts) if parts else np.empty(0)
 
 
 # ------------------------------------------------------------------------------------------ the stages' tools
