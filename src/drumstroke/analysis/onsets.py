@@ -1275,6 +1275,8 @@ def _fit_template(band, d, rate, candidates, config):
     (:func:`_learned_lead_ins` leaves them); the candidates are all attacks. ``d`` is the magnitude of ``band``'s
     first difference.
     """
+    from ._attacks import _add as take_off
+
     template, offset = _template(band, d, rate, candidates.times, config)
     if template is None:
         return candidates
@@ -1303,9 +1305,8 @@ def _fit_template(band, d, rate, candidates, config):
         if not fitted:
             continue
         start = c + lag - pre
-        stop = min(len(remainder), start + len(template))
         before = _own_bursts(remainder, queue, c + lag, rate, config) if timed else None
-        remainder[start:stop] -= scale * template[:stop - start]
+        take_off(remainder, template, c + lag, -scale, pre)  # in place, as remainder[start:] -= scale * template
         if before is not None:
             queue = _without_own_bursts(remainder, queue, before, rate, config)
         # the same attack found twice; a detection after an attack only the template found is its late time
