@@ -1581,12 +1581,12 @@ def _out_of_decay(band, d, rate, candidates, amplitude, config):
     loudest = amplitude[attack].max()
     quiet = amplitude[which] < loudest * 10.0 ** (config.decay_db / 20.0)
     close = np.diff(candidates.times[which], prepend=-np.inf) <= config.echo_reach * rate
-    least = np.where(quiet, config.decay_rise_db, config.echo_rise_db)
+    least = np.where(quiet, 10.0 ** (config.decay_rise_db / 20.0), 10.0 ** (config.echo_rise_db / 20.0))
     tried = which[quiet | close]
     rise, prior = peaks_around(d, np.rint(candidates.times[tried]).astype(np.int64), round(2e-3 * rate),
                                round(5e-3 * rate), round(0.5e-3 * rate))
     keep = attack.copy()
-    keep[tried] = rise > prior * np.array([10.0 ** (rise_db / 20.0) for rise_db in least[quiet | close]])
+    keep[tried] = rise > prior * least[quiet | close]
     return _new_sound(band, rate, replace(candidates, attack=keep), config)
 
 
