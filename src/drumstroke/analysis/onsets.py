@@ -1487,12 +1487,10 @@ def _template_attacks(d, rate, times, config):
     peaks, (clear,) = _clear(d, times, rate, [config.lead_clear_db])
     floor = peaks.max(initial=0.0) * 10.0 ** (config.threshold_db / 20.0)  # a quieter one is no onset
     fit = (np.rint(times) >= pre) & (ends - times >= 20e-3 * rate) & clear
-    loudest, quiet, chosen, least = 0.0, math.inf, None, None
-    for k in np.flatnonzero(fit).tolist():
-        if peaks[k] > loudest:
-            loudest, chosen = peaks[k], k
-        if floor <= peaks[k] < quiet:
-            quiet, least = peaks[k], k
+    which = np.flatnonzero(fit)
+    chosen = int(which[np.argmax(peaks[which])]) if len(which) and peaks[which].max() > 0.0 else None  # first of equals
+    audible = which[peaks[which] >= floor]
+    least = int(audible[np.argmin(peaks[audible])]) if len(audible) and peaks[audible].min() < math.inf else None
     room = np.where(fit, np.minimum(ends - times, config.tail * rate), -1.0)
     longest = max(np.flatnonzero(room == room.max(initial=0.0)).tolist(), key=lambda k: peaks[k], default=None)
     return chosen, least, longest
