@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from drumstroke.analysis._attacks import _correlations, _energies, continued, template_search
+from drumstroke.analysis._attacks import _add, _correlations, _dot, _energies, _sums, continued, template_search
 
 RATE = 48000
 PRE = 24  # the template starts 0.5 ms before its attack
@@ -16,6 +16,28 @@ def test_correlations_and_energies_are_numpys(rng):
                                    atol=1e-12)
         direct = [x[start + k:start + k + len(t)] @ x[start + k:start + k + len(t)] for k in range(count)]
         np.testing.assert_allclose(_energies(x, start, count, len(t)), direct, rtol=1e-9)
+
+
+def test_taking_a_scaled_template_off_is_numpys_to_the_bit(rng):
+    """_add with the scale negated is onsets._fit_template's former ``remainder[start:stop] -= scale * template[...]``
+    (a product and a difference, each rounded once), also where the template runs past the remainder's end."""
+    template = rng.standard_normal(500)
+    for c, scale in [(PRE, 0.37), (1234, -1.9e-3), (2900, 0.5)]:
+        x = rng.standard_normal(3000)
+        expected = x.copy()
+        start = c - PRE
+        stop = min(len(x), start + len(template))
+        expected[start:stop] -= scale * template[:stop - start]
+        _add(x, template, c, -scale, PRE)
+        assert np.array_equal(x.view(np.uint64), expected.view(np.uint64))
+
+
+def test_the_three_sums_side_by_side_are_each_dot_to_the_bit(rng):
+    """_sums is _dot's three sums (the window's product with the template, its energy, the template's), the bits."""
+    x, t = rng.standard_normal(3000) * np.exp(-np.arange(3000) / 500.0), rng.standard_normal(504)
+    for start, count in [(0, 1), (17, 48), (500, 504), (2400, 503)]:
+        assert _sums(x, start, t, count) == (_dot(x, start, t, count), _dot(x, start, x[start:], count),
+                                             _dot(t, 0, t, count))
 
 
 def _note(rng):

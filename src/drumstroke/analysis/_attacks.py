@@ -112,8 +112,9 @@ def _take_off(remainder, template, layer, c, following, pre, shortest, fit):
     there (what a bounce after is compared with) and the fit's correlation."""
     n = len(remainder)
     span = min(max(pre + shortest, min(pre + fit, following - c)), len(template), n - c + pre)
-    fitted = _likeness(remainder, c - pre, template, span)
-    measured = _dot(remainder, c - pre, template, span) / _dot(template, 0, template, span)
+    dot, own_energy, energy = _sums(remainder, c - pre, template, span)
+    fitted = dot / math.sqrt(max(own_energy * energy, 1e-300))  # _likeness's
+    measured = dot / energy
     own, at, scale = template, c, measured
     lag, like = _layer_fit(remainder, layer, c, pre, min(span, len(layer)))
     if like > _likeness(remainder, c - pre, template, min(span, len(layer))):
@@ -150,7 +151,8 @@ def _likeness(x, start, t, count):
     """The correlation of ``t[:count]`` with ``x`` from ``start`` (0 for no samples)."""
     if count <= 0:
         return 0.0
-    return _dot(x, start, t, count) / math.sqrt(max(_dot(x, start, x[start:], count) * _dot(t, 0, t, count), 1e-300))
+    dot, own, energy = _sums(x, start, t, count)
+    return dot / math.sqrt(max(own * energy, 1e-300))
 
 
 @jit(error_model="numpy")
@@ -176,9 +178,8 @@ def _bounce_after(remainder, template, head, head_energy, low, high, following, 
             continue
         at = low + k
         span = min(max(pre + shortest, min(pre + fit, following - at)), len(template), len(remainder) - at + pre)
-        whole = _dot(remainder, at - pre, template, span)
-        if whole < likeness * math.sqrt(max(_dot(remainder, at - pre, remainder[at - pre:], span)
-                                            * _dot(template, 0, template, span), 1e-300)):
+        whole, own_energy, energy = _sums(remainder, at - pre, template, span)
+        if whole < likeness * math.sqrt(max(own_energy * energy, 1e-300)):
             continue  # the start alone is often met in a drum's beating modes
         best = k
         for m in range(k + 1, min(k + reach + 1, count)):
@@ -230,6 +231,19 @@ def _dot(x, start, t, count):
     for j in range(count):
         total += x[start + j] * t[j]
     return total
+
+
+@jit(error_model="numpy")
+def _sums(x, start, t, count):
+    """``x[start:start + count]``'s dot product with ``t[:count]``, its own energy and ``t[:count]``'s, each summed in
+    order as :func:`_dot` sums it: the three side by side, so that one sum's additions wait not for the others'."""
+    dot, own, energy = 0.0, 0.0, 0.0
+    for j in range(count):
+        a, b = x[start + j], t[j]
+        dot += a * b
+        own += a * a
+        energy += b * b
+    return dot, own, energy
 
 
 @jit(error_model="numpy")

@@ -1287,6 +1287,8 @@ def _fit_template(band, d, rate, candidates, config):
     (:func:`_learned_lead_ins` leaves them); the candidates are all attacks. ``d`` is the magnitude of ``band``'s
     first difference.
     """
+    from ._attacks import _add as take_off
+
     template, offset = _template(band, d, rate, candidates.times, config)
     if template is None:
         return candidates
@@ -1315,9 +1317,8 @@ def _fit_template(band, d, rate, candidates, config):
         if not fitted:
             continue
         start = c + lag - pre
-        stop = min(len(remainder), start + len(template))
         before = _own_bursts(remainder, queue, c + lag, rate, config) if timed else None
-        remainder[start:stop] -= scale * template[:stop - start]
+        take_off(remainder, template, c + lag, -scale, pre)  # in place, as remainder[start:] -= scale * template
         if before is not None:
             queue = _without_own_bursts(remainder, queue, before, rate, config)
         # the same attack found twice; a detection after an attack only the template found is its late time
@@ -1498,12 +1499,10 @@ def _template_attacks(d, rate, times, config):
     peaks, (clear,) = _clear(d, times, rate, [config.lead_clear_db])
     floor = peaks.max(initial=0.0) * 10.0 ** (config.threshold_db / 20.0)  # a quieter one is no onset
     fit = (np.rint(times) >= pre) & (ends - times >= 20e-3 * rate) & clear
-    loudest, quiet, chosen, least = 0.0, math.inf, None, None
-    for k in np.flatnonzero(fit).tolist():
-        if peaks[k] > loudest:
-            loudest, chosen = peaks[k], k
-        if floor <= peaks[k] < quiet:
-            quiet, least = peaks[k], k
+    which = np.flatnonzero(fit)
+    chosen = int(which[np.argmax(peaks[which])]) if len(which) and peaks[which].max() > 0.0 else None  # first of equals
+    audible = which[peaks[which] >= floor]
+    least = int(audible[np.argmin(peaks[audible])]) if len(audible) and peaks[audible].min() < math.inf else None
     room = np.where(fit, np.minimum(ends - times, config.tail * rate), -1.0)
     longest = max(np.flatnonzero(room == room.max(initial=0.0)).tolist(), key=lambda k: peaks[k], default=None)
     return chosen, least, longest
@@ -1592,12 +1591,12 @@ def _out_of_decay(band, d, rate, candidates, amplitude, config):
     loudest = amplitude[attack].max()
     quiet = amplitude[which] < loudest * 10.0 ** (config.decay_db / 20.0)
     close = np.diff(candidates.times[which], prepend=-np.inf) <= config.echo_reach * rate
-    least = np.where(quiet, config.decay_rise_db, config.echo_rise_db)
+    least = np.where(quiet, 10.0 ** (config.decay_rise_db / 20.0), 10.0 ** (config.echo_rise_db / 20.0))
     tried = which[quiet | close]
     rise, prior = peaks_around(d, np.rint(candidates.times[tried]).astype(np.int64), round(2e-3 * rate),
                                round(5e-3 * rate), round(0.5e-3 * rate))
     keep = attack.copy()
-    keep[tried] = rise > prior * np.array([10.0 ** (rise_db / 20.0) for rise_db in least[quiet | close]])
+    keep[tried] = rise > prior * least[quiet | close]
     return _new_sound(band, rate, replace(candidates, attack=keep), config)
 
 
