@@ -1,6 +1,7 @@
 """``drumstroke fit`` as a user runs it: onsets in, a recipe out that the other commands take."""
 
 import json
+import re
 
 import matplotlib.image
 import numpy as np
@@ -72,8 +73,19 @@ def test_fit_with_a_given_level_and_c(recorded, tmp_path):
     assert drumstroke.Recipe.from_toml(tmp_path / "g.toml").model == "geometry"
     # the paper's stroke on the 3.9-times faster model at a loud level: only a pull (a < 0) slows its flights enough
     pulled = run("fit", path, "--model", "geometry", "--level", "-3", "--out", tmp_path / "h.toml")
-    assert pulled.returncode == 0 and "beyond the human thumb" in pulled.stdout
+    assert pulled.returncode == 0 and "beyond the human thumb (0-250 m/s^2): it pulls the stick down to -" in pulled.stdout
+    forces = re.search(r"forces (\S+) to (\S+) m/s\^2", pulled.stdout)
+    assert float(forces[1]) < 0.0 and ("presses up to" in pulled.stdout) == (float(forces[2]) > 250.0)
     assert "within 2 ms and 1 dB" in pulled.stdout
+
+
+def test_the_thumbs_range_says_which_way_a_design_leaves_it():
+    from drumstroke.cli._common import thumb_range
+
+    assert thumb_range(0.0, 250.0) == "within the human thumb (0-250 m/s^2)"
+    assert thumb_range(-3.3, 250.0) == "beyond the human thumb (0-250 m/s^2): it pulls the stick down to -3.3 m/s^2"
+    assert thumb_range(12.0, 310.5) == "beyond the human thumb (0-250 m/s^2): it presses up to 310.5 m/s^2"
+    assert thumb_range(-1.0, 251.0).endswith("it pulls the stick down to -1 m/s^2 and presses up to 251 m/s^2")
 
 
 def test_fit_errors_are_one_line_and_write_nothing(recorded, tmp_path):

@@ -86,6 +86,16 @@ def add_sound_options(parser):
                              f"key {FIRST_IMPACT_NOTE}, its bounces on {BOUNCE_NOTE}), .mid or .midi")
 
 
+def thumb_range(min_force, max_force):
+    """How a design's forces (m/s²) stand against the human thumb's 0–HUMAN_FORCE: within, pulling, pressing beyond."""
+    from ..design import HUMAN_FORCE
+
+    human = f"the human thumb (0-{HUMAN_FORCE:g} m/s^2)"
+    beyond = [f"pulls the stick down to {min_force:.4g} m/s^2"] if min_force < 0.0 else []
+    beyond += [f"presses up to {max_force:.4g} m/s^2"] if max_force > HUMAN_FORCE else []
+    return f"within {human}" if not beyond else f"beyond {human}: it {' and '.join(beyond)}"
+
+
 def print_written(paths):
     """``wrote PATH`` for each file; the JSON beside a CSV of the same run says it holds that CSV's metadata."""
     described = {Path(p).with_suffix(".json"): Path(p) for p in paths if Path(p).suffix == ".csv"}

@@ -8,7 +8,7 @@ from .._atomic import Bundle
 from ..errors import ParameterError
 from ..formats import json, toml, trajectory_csv
 from ..render import plot
-from ._common import add_cor, add_model, add_sound_options, print_written, robot_config
+from ._common import add_cor, add_model, add_sound_options, print_written, robot_config, thumb_range
 from ._options import Output, add_mkdir, existing_file, number, whole
 
 
@@ -87,7 +87,7 @@ def _design(args):
         if args.times is None or (args.velocities is None) == (args.levels is None):
             raise ParameterError("give --times with --velocities or --levels (or --buzz T0:T1)")
         made = design(args.times, args.levels, velocities=args.velocities, end=args.end or "catch", setup=setup)
-    human = "beyond the human thumb (0-250 m/s^2)" if made.beyond_human else "within the human thumb (0-250 m/s^2)"
+    human = thumb_range(made.min_force, made.max_force)
     print(f"designed {len(made.times)} notes on the {made.model} model: released at {made.release:.6f} s, forces "
           f"{made.min_force:.4g} to {made.max_force:.4g} m/s^2, {human}; ends {made.end} at {made.t_end:.6f} s")
     print(f"{'#':>4} {'note (s)':>11} {'impact (s)':>11} {'note (dB)':>10} {'impact (dB)':>11}")

@@ -8,7 +8,16 @@ from ..errors import located
 from ..formats import json, toml
 from ..recipe import COR_RANGE
 from ..render import plot
-from ._common import Bar, add_cor, add_model, add_sound_options, print_recording_notes, print_written, recording_name
+from ._common import (
+    Bar,
+    add_cor,
+    add_model,
+    add_sound_options,
+    print_recording_notes,
+    print_written,
+    recording_name,
+    thumb_range,
+)
 from ._options import Output, add_mkdir, existing_file, number, whole
 
 LEVELS = ("auto", "peak", "modes")
@@ -59,7 +68,6 @@ def add_fit(fit):
 def _fit(args):
     from ..analysis import find_recording_onsets, fit_stroke, read_onsets
     from ..analysis.fit import TOLERANCE
-    from ..design import HUMAN_FORCE
     from ..render.outputs import write_stroke_outputs
 
     csv = args.recording.suffix.lower() == ".csv"
@@ -75,7 +83,7 @@ def _fit(args):
           f"c = {fitted.cor:.4f}{' (fitted)' if fitted.fitted_cor else ''}, loudest onset at {fitted.offset:.2f} dB "
           f"re 1 m/s (offset), released at {fitted.release:.6f} s")
     print(f"levels played: the onsets' {fitted.levels} ({fitted.levels_why})")
-    human = f"{'beyond' if fitted.beyond_human else 'within'} the human thumb (0-{HUMAN_FORCE:g} m/s^2)"
+    human = thumb_range(fitted.design.min_force, fitted.design.max_force)
     print(f"forces {fitted.design.min_force:.4g} to {fitted.design.max_force:.4g} m/s^2, {human}; relative change "
           f"{fitted.change:.4g}; ends {fitted.design.end}")
     print(f"{'#':>4} {'onset (s)':>11} {'onset (dB)':>10} {'dt (ms)':>9} {'dlevel (dB)':>11}")
