@@ -1976,13 +1976,14 @@ def _decimate(band, rate, q, corner=None):
 
 
 def _decimate_two(band, rate, q, q2):
-    """``(_decimate(band, rate, q), _decimate(band, rate, q2))``, the two filters run side by side in one pass."""
-    from ._kernels import low_pass_every_two
+    """``(_decimate(band, rate, q), _decimate(band, rate, q2))``, the two filters run side by side in one pass (their
+    eight sections as one vector's lanes)."""
+    from ._front import low_pass_two
 
     if q == 1 or q2 == 1:
         return _decimate(band, rate, q), _decimate(band, rate, q2)
     (sos, delay), (sos2, delay2) = _low_pass(0.8 * rate / q / 2.0, rate), _low_pass(0.8 * rate / q2 / 2.0, rate)
-    low, low2 = low_pass_every_two(sos, q, sos2, q2, np.ascontiguousarray(band, dtype=float))
+    low, low2 = low_pass_two(sos, q, sos2, q2, np.ascontiguousarray(band, dtype=float))
     return (low, rate / q, delay), (low2, rate / q2, delay2)
 
 

@@ -1,0 +1,45 @@
+"""The onset detector's front-end kernels (drumstroke.analysis._front) against scipy and numpy: the same to the bit."""
+
+import numpy as np
+import pytest
+from scipy.signal import butter, sosfilt
+
+from drumstroke.analysis import _front, _kernels
+
+
+@pytest.fixture
+def rng():
+    return np.random.default_rng(20261127)
+
+
+@pytest.mark.parametrize("n", [0, 1, 2, 3, 4, 5, 47, 1000, 48_000])
+@pytest.mark.parametrize(("q", "q_other"), [(8, 24), (2, 3), (5, 5)])
+def test_low_pass_two_is_sosfilt_to_the_bit(rng, n, q, q_other):
+    rate = 48_000
+    sos = butter(8, 0.8 * rate / q / 2.0, fs=rate, output="sos")
+    other = butter(8, 0.8 * rate / q_other / 2.0, fs=rate, output="sos")
+    x = rng.standard_normal(n)
+    low, low_other = _front.low_pass_two(sos, q, other, q_other, x)
+    expected = (sosfilt(sos, x)[::q], sosfilt(other, x)[::q_other]) if n else (np.empty(0), np.empty(0))
+    assert low.tobytes() == expected[0].tobytes()
+    assert low_other.tobytes() == expected[1].tobytes()
+
+
+def test_low_pass_two_any_sections_and_signed_zeros(rng):
+    """Sections of any numerators (negative ones make signed zeros), on a signal that starts with silence."""
+    sos = rng.standard_normal((4, 6)) * 0.3
+    other = rng.standard_normal((4, 6)) * 0.3
+    sos[:, 3] = other[:, 3] = 1.0
+    x = np.concatenate((np.zeros(7), -np.zeros(3), rng.standard_normal(200)))
+    low, low_other = _front.low_pass_two(sos, 3, other, 4, x)
+    assert low.tobytes() == sosfilt(sos, x)[::3].tobytes()
+    assert low_other.tobytes() == sosfilt(other, x)[::4].tobytes()
+
+
+def test_low_pass_two_is_the_scalar_kernel(rng):
+    rate = 44_100
+    sos, other = butter(8, 2000.0, fs=rate, output="sos"), butter(8, 700.0, fs=rate, output="sos")
+    x = rng.standard_normal(10_000)
+    new = _front.low_pass_two(sos, 7, other, 22, x)
+    old = _kernels.low_pass_every_two(sos, 7, other, 22, x)
+    assert all(a.tobytes() == b.tobytes() for a, b in zip(new, old))
