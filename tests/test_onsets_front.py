@@ -43,3 +43,22 @@ def test_low_pass_two_is_the_scalar_kernel(rng):
     new = _front.low_pass_two(sos, 7, other, 22, x)
     old = _kernels.low_pass_every_two(sos, 7, other, 22, x)
     assert all(a.tobytes() == b.tobytes() for a, b in zip(new, old))
+
+
+@pytest.mark.parametrize("n", [2, 3, 5, 6, 9, 10, 11, 12, 13, 101, 4_003])
+@pytest.mark.parametrize("order", [1, 2, 3, 7, 48])
+def test_burg_is_the_scalar_kernel_to_the_bit_and_librosa_to_rounding(rng, n, order):
+    if order >= n:
+        pytest.skip("an order below the signal's length")
+    librosa = pytest.importorskip("librosa")
+    x = np.cumsum(rng.standard_normal(n)) * 0.1 + rng.standard_normal(n)
+    a = _front.burg(x, order)
+    assert a.tobytes() == _kernels.burg(x, order).tobytes()  # the same operations, in the same order
+    np.testing.assert_allclose(a, librosa.lpc(x, order=order), rtol=1e-9, atol=1e-9)
+
+
+def test_burg_leaves_its_input(rng):
+    x = rng.standard_normal(300)
+    kept = x.copy()
+    _front.burg(x, 12)
+    assert x.tobytes() == kept.tobytes()

@@ -96,6 +96,90 @@ def _biquads(typingctx, v, b0, b1, b2, a1, a2, z0, z1):
     return types.UniTuple(_lanes_type, 3)(*([_lanes_type] * 8)), codegen
 
 
+_QUAD = ir.VectorType(ir.DoubleType(), 4)
+
+
+class _Quad(types.Type):
+    """Four doubles held as one LLVM vector: :func:`._kernels.lanes_dot`'s four lanes."""
+
+    def __init__(self):
+        super().__init__(name="Quad")
+
+
+_quad_type = _Quad()
+
+
+@register_model(_Quad)
+class _QuadModel(models.PrimitiveModel):
+    def __init__(self, dmm, fe_type):
+        super().__init__(dmm, fe_type, _QUAD)
+
+
+def _quad_pointer(context, builder, array_type, array, start):
+    data = context.make_array(array_type)(context, builder, array).data
+    return builder.bitcast(builder.gep(data, [start]), _QUAD.as_pointer())
+
+
+@intrinsic
+def _load(typingctx, array, start):
+    """``array[start:start + 4]`` (a contiguous array of doubles) as a quad."""
+    def codegen(context, builder, signature, args):
+        return builder.load(_quad_pointer(context, builder, signature.args[0], args[0], args[1]), align=8)
+    return _quad_type(types.Array(types.float64, 1, "C"), types.intp), codegen
+
+
+@intrinsic
+def _store(typingctx, array, start, quad):
+    """``array[start:start + 4] = quad``."""
+    def codegen(context, builder, signature, args):
+        builder.store(args[2], _quad_pointer(context, builder, signature.args[0], args[0], args[1]), align=8)
+        return context.get_dummy_value()
+    return types.none(types.Array(types.float64, 1, "C"), types.intp, _quad_type), codegen
+
+
+@intrinsic
+def _quad(typingctx, value):
+    """``value`` in each of four lanes."""
+    def codegen(context, builder, signature, args):
+        quad = builder.insert_element(ir.Constant(_QUAD, ir.Undefined), args[0], ir.Constant(_INT, 0))
+        return builder.shuffle_vector(quad, quad, ir.Constant(ir.VectorType(_INT, 4), [0] * 4))
+    return _quad_type(types.float64), codegen
+
+
+@intrinsic
+def _plus_times(typingctx, x, y, z):
+    """``x + y * z`` in each lane (a product, then a sum: no fused multiply-add)."""
+    def codegen(context, builder, signature, args):
+        return builder.fadd(args[0], builder.fmul(args[1], args[2]))
+    return _quad_type(_quad_type, _quad_type, _quad_type), codegen
+
+
+@intrinsic
+def _after(typingctx, last, quad):
+    """``(last[3], quad[0], quad[1], quad[2])``."""
+    def codegen(context, builder, signature, args):
+        return builder.shuffle_vector(args[0], args[1], ir.Constant(ir.VectorType(_INT, 4), [3, 4, 5, 6]))
+    return _quad_type(_quad_type, _quad_type), codegen
+
+
+@intrinsic
+def _sum_of_lanes(typingctx, quad):
+    """``(quad[0] + quad[1]) + (quad[2] + quad[3])``."""
+    def codegen(context, builder, signature, args):
+        lane = [builder.extract_element(args[0], ir.Constant(_INT, k)) for k in range(4)]
+        return builder.fadd(builder.fadd(lane[0], lane[1]), builder.fadd(lane[2], lane[3]))
+    return types.float64(_quad_type), codegen
+
+
+@intrinsic
+def _first_lane_plus(typingctx, quad, value):
+    """``quad`` with ``value`` added to its first lane."""
+    def codegen(context, builder, signature, args):
+        zero = ir.Constant(_INT, 0)
+        return builder.insert_element(args[0], builder.fadd(builder.extract_element(args[0], zero), args[1]), zero)
+    return _quad_type(_quad_type, types.float64), codegen
+
+
 @jit
 def _column(sos, other, k):
     """Column ``k`` of the two filters' sections as lanes (``sos``'s four, then ``other``'s)."""
@@ -127,3 +211,75 @@ def low_pass_two(sos, q, other, q_other, x):
             skip_other = q_other
         skip_other -= 1
     return out, out_other
+
+
+@jit
+def burg(y, order):
+    """:func:`._kernels.burg` (``librosa.lpc(y, order=order)``, its sums of products in four lanes): the same
+    operations, each order's update of the prediction errors and the next order's numerator in one pass."""
+    tiny = np.finfo(np.float64).tiny
+    n = len(y)
+    f = y[1:].copy()  # f[i:] is the forward error at order i, b[:n - 1 - i] the backward one
+    b = y[:-1].copy()
+    a = np.zeros(order + 1)
+    a_prev = np.zeros(order + 1)
+    a[0] = a_prev[0] = 1.0
+    den = _lanes_dot(f, f, n - 1) + _lanes_dot(b, b, n - 1)
+    dot = _lanes_dot(b, f, n - 1)
+    for i in range(order):
+        m = n - 1 - i  # the errors' length at this order
+        reflect = dot * -2
+        reflect /= den + tiny
+        a_prev, a = a, a_prev
+        for j in range(1, i + 2):
+            a[j] = a_prev[j] + reflect * a_prev[i - j + 1]
+        dot = _updated_dot(f, i, b, m, reflect)
+        q = 1.0 - reflect ** 2
+        den = q * den - b[m - 1] ** 2 - f[i] ** 2
+    return a
+
+
+@jit(inline="always")
+def _lanes_dot(x, y, n):
+    """:func:`._kernels.lanes_dot` of ``x[:n]`` and ``y[:n]``."""
+    s0 = s1 = s2 = s3 = 0.0
+    k = 0
+    while k + 4 <= n:
+        s0 += x[k] * y[k]
+        s1 += x[k + 1] * y[k + 1]
+        s2 += x[k + 2] * y[k + 2]
+        s3 += x[k + 3] * y[k + 3]
+        k += 4
+    while k < n:
+        s0 += x[k] * y[k]
+        k += 1
+    return (s0 + s1) + (s2 + s3)
+
+
+@jit(inline="always")
+def _updated_dot(f, i, b, m, reflect):
+    """One order of Burg's method: the errors ``f[i:i + m]`` and ``b[:m]`` updated in place by ``reflect``, and the next
+    order's numerator, ``b[:m - 1] @ f[i + 1:i + m]`` in four lanes (:func:`._kernels.lanes_dot`), each product added as
+    soon as both its errors are updated (four samples at a time, as one vector's lanes)."""
+    old = f[i]
+    f[i] = old + reflect * b[0]
+    b[0] = b[0] + reflect * old
+    r = _quad(reflect)
+    sums = _quad(0.0)
+    last = _quad(b[0])  # its last lane: the updated backward error before the block's
+    j = 0  # the numerator's products: b[j] * f[i + j + 1]
+    while j + 4 <= m - 1:
+        forward, backward = _load(f, i + j + 1), _load(b, j + 1)
+        forward, backward = _plus_times(forward, r, backward), _plus_times(backward, r, forward)
+        _store(f, i + j + 1, forward)
+        _store(b, j + 1, backward)
+        sums = _plus_times(sums, _after(last, backward), forward)
+        last = backward
+        j += 4
+    while j < m - 1:  # the last products (all in the first lane, as lanes_dot adds them)
+        old = f[i + j + 1]
+        f[i + j + 1] = old + reflect * b[j + 1]
+        b[j + 1] = b[j + 1] + reflect * old
+        sums = _first_lane_plus(sums, b[j] * f[i + j + 1])
+        j += 1
+    return _sum_of_lanes(sums)

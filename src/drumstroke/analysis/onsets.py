@@ -2001,7 +2001,8 @@ def _low_pass(corner, rate):
 
 def _innovation(x, order):
     """A linear predictor of ``x`` (Burg's method; its error filter's coefficients) and what it does not predict."""
-    from ._kernels import burg, prediction_error
+    from ._front import burg
+    from ._kernels import prediction_error
 
     x = np.ascontiguousarray(x, dtype=float)
     order = min(order, max(1, len(x) // 8))
