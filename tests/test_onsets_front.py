@@ -62,3 +62,30 @@ def test_burg_leaves_its_input(rng):
     kept = x.copy()
     _front.burg(x, 12)
     assert x.tobytes() == kept.tobytes()
+
+
+def _jump_profile_in_numpy(x, width):
+    """The RMS of ``x`` over the next ``width`` samples over that of the ``4 width`` before (the running power added in
+    order, the windows cut at the end), 0 over the first ``4 width``: the profile as numpy's cumsum builds it."""
+    power = np.concatenate(([0.0], np.cumsum(x * x)))
+    k = np.arange(4 * width, len(x))
+    after = (power[np.minimum(k + width, len(x))] - power[k]) / width
+    before = (power[k] - power[k - 4 * width]) / (4 * width)
+    out = np.zeros(len(x))
+    out[k] = np.sqrt(after / np.maximum(before, 1e-300 + after * 1e-12))
+    return out
+
+
+@pytest.mark.parametrize("width", [12, 13, 48])
+@pytest.mark.parametrize("n", [1, 3, 5, 47, 48, 61, 63, 64, 65, 241, 243, 244, 1_003, 20_000])
+def test_low_pass_two_and_jumps_is_sosfilt_and_the_jump_profile(rng, width, n):
+    rate = 48_000
+    sos = butter(8, 0.8 * rate / 8 / 2.0, fs=rate, output="sos")
+    other = butter(8, 0.8 * rate / 24 / 2.0, fs=rate, output="sos")
+    x = rng.standard_normal(n)
+    rise = np.diff(x, prepend=x[0]) * rng.random(n) ** 4  # loud and quiet stretches
+    low, low_other, jumps = _front.low_pass_two_and_jumps(sos, 8, other, 24, x, rise, width)
+    assert low.tobytes() == sosfilt(sos, x)[::8].tobytes()
+    assert low_other.tobytes() == sosfilt(other, x)[::24].tobytes()
+    assert jumps.tobytes() == _jump_profile_in_numpy(rise, width).tobytes()
+    assert jumps.tobytes() == _kernels.jump_profile(rise, width).tobytes()

@@ -18,6 +18,7 @@ A module of its own (as :mod:`._kernels`) so that importing :mod:`drumstroke.ana
 import numpy as np
 from llvmlite import ir
 from numba import types
+from numba.core import cgutils
 from numba.extending import intrinsic, models, register_model
 
 from .._jit import jit
@@ -97,6 +98,8 @@ def _biquads(typingctx, v, b0, b1, b2, a1, a2, z0, z1):
 
 
 _QUAD = ir.VectorType(ir.DoubleType(), 4)
+_AHEAD = 8  # how far the running power is added ahead of the jumps that read it: a vector read of four values just stored
+# one by one waits for the stores to finish
 
 
 class _Quad(types.Type):
@@ -283,3 +286,91 @@ def _updated_dot(f, i, b, m, reflect):
         sums = _first_lane_plus(sums, b[j] * f[i + j + 1])
         j += 1
     return _sum_of_lanes(sums)
+
+
+@intrinsic
+def _jumps_of(typingctx, ahead, power, behind, width):
+    """:func:`._kernels.jump_profile`'s jump in each lane from the running power ``width`` samples ahead, at the sample and
+    ``4 width`` behind: ``sqrt(after / max(before, 1e-300 + after * 1e-12))``."""
+    def codegen(context, builder, signature, args):
+        ahead, power, behind, width = args
+        def broadcast(value):
+            quad = builder.insert_element(ir.Constant(_QUAD, ir.Undefined), value, ir.Constant(_INT, 0))
+            return builder.shuffle_vector(quad, quad, ir.Constant(ir.VectorType(_INT, 4), [0] * 4))
+        after = builder.fdiv(builder.fsub(ahead, power), broadcast(builder.sitofp(width, ir.DoubleType())))
+        before = builder.fdiv(builder.fsub(power, behind),
+                              broadcast(builder.sitofp(builder.mul(width, ir.Constant(width.type, 4)), ir.DoubleType())))
+        floor = builder.fadd(broadcast(ir.Constant(ir.DoubleType(), 1e-300)),
+                             builder.fmul(after, broadcast(ir.Constant(ir.DoubleType(), 1e-12))))
+        larger = builder.select(builder.fcmp_ordered("<", before, floor), floor, before)
+        sqrt = cgutils.get_or_insert_function(builder.module, ir.FunctionType(_QUAD, [_QUAD]), "llvm.sqrt.v4f64")
+        return builder.call(sqrt, [builder.fdiv(after, larger)])
+    return _quad_type(_quad_type, _quad_type, _quad_type, types.intp), codegen
+
+
+@jit(inline="always")
+def _powers(ring, size, x, running, done, upto):
+    """The running power of ``x`` (its squares added in order) up to ``p[upto]`` in ``ring`` (``p[j]`` at ``j % size``
+    and at ``size`` after: four in a row may be read from any slot); returns the sum and the next ``j`` to add."""
+    while done <= upto:
+        running = running + x[done - 1] * x[done - 1]
+        ring[done & (size - 1)] = ring[(done & (size - 1)) + size] = running
+        done += 1
+    return running, done
+
+
+@jit(error_model="numpy")
+def low_pass_two_and_jumps(sos, q, other, q_other, x, rise, width):
+    """:func:`low_pass_two` of ``x`` and :func:`._kernels.jump_profile` of ``rise`` (as long as ``x``) over ``width``
+    samples, in one loop: the filters wait on their recursions, the jumps on the divider, the running power on its
+    additions; side by side each is done while the others wait. The same operations as each alone, the same bits.
+
+    Returns the two decimated signals and the jump profile."""
+    b0, b1, b2 = _column(sos, other, 0), _column(sos, other, 1), _column(sos, other, 2)
+    a1, a2 = _column(sos, other, 4), _column(sos, other, 5)
+    y = z0 = z1 = _lanes((0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0))
+    n = len(x)
+    out = np.empty((n + q - 1) // q)
+    out_other = np.empty((n + q_other - 1) // q_other)
+    jump = np.zeros(n)  # 0 over the first 4 widths
+    size = 1
+    while size < 5 * width + 4 + _AHEAD:  # the running power from 4 widths before the samples to a width and 4 after
+        size *= 2
+    ring = np.empty(2 * size)
+    ring[0] = ring[size] = 0.0
+    running, done = 0.0, 1
+    for i in range(3):  # sections not yet at the signal's first sample keep their zero states (as sosfilt's do)
+        y, z0, z1 = _biquads(_shifted_in(y, x[i] if i < n else 0.0), b0, b1, b2, a1, a2, z0, z1)
+        y, z0, z1 = _started(y, i), _started(z0, i), _started(z1, i)
+    skip, skip_other, i = 0, 0, 3
+    while i < n + 3:  # the last section's output at step i is sample i - 3's
+        steps = 1
+        # four jumps, and four steps, at a time from the first jump on while the jumps' windows and the power added
+        # ahead are within the signal
+        if i >= 4 * width and i + 4 + _AHEAD <= n - width:
+            if done == 1:
+                running, done = _powers(ring, size, rise, running, done, i + width + _AHEAD - 1)
+            for j in range(i + width + _AHEAD, i + width + _AHEAD + 4):
+                running = running + rise[j - 1] * rise[j - 1]
+                ring[j & (size - 1)] = ring[(j & (size - 1)) + size] = running
+            done = i + width + _AHEAD + 4
+            _store(jump, i, _jumps_of(_load(ring, (i + width) & (size - 1)), _load(ring, i & (size - 1)),
+                                      _load(ring, (i - 4 * width) & (size - 1)), width))
+            steps = 4
+        for k in range(i, i + steps):
+            y, z0, z1 = _biquads(_shifted_in(y, x[k] if k < n else 0.0), b0, b1, b2, a1, a2, z0, z1)
+            if skip == 0:
+                out[(k - 3) // q] = _lane(y, 3)
+                skip = q
+            skip -= 1
+            if skip_other == 0:
+                out_other[(k - 3) // q_other] = _lane(y, 7)
+                skip_other = q_other
+            skip_other -= 1
+        i += steps
+    for k in range(max(done - width - _AHEAD, 4 * width), n):  # windows cut at the signal's end
+        running, done = _powers(ring, size, rise, running, done, min(k + width, n))
+        after = (ring[min(k + width, n) & (size - 1)] - ring[k & (size - 1)]) / width
+        before = (ring[k & (size - 1)] - ring[max(k - 4 * width, 0) & (size - 1)]) / (4 * width)
+        jump[k] = np.sqrt(after / max(before, 1e-300 + after * 1e-12))
+    return out, out_other, jump

@@ -758,9 +758,9 @@ def _detected(signal, rate, config, source, info):
     band, rise, d = normalised(band, peak)
     q = max(_decimation(band, rate), rate // config.analysis_rate)
     q2 = max(q, rate // config.modes_rate)
-    low, modes_low = _decimate_two(band, rate, q, q2)
+    low, modes_low, rise_jumps = _decimate_two(band, rate, q, q2, rise)
     tonal = _tonal_innovation(low, q, config)
-    heard = _heard_jumps(rise, rate, tonal, config)
+    heard = _heard_jumps(rise, rate, tonal, config, rise_jumps)
     first, _ = heard.merge()
     modes, residual = _modes_band(modes_low, q2, first, config)
     deep, residual = _quiet_jumps(modes, first, residual, rate, config)
@@ -979,11 +979,12 @@ def _tonal_innovation(low, q, config):
     return _Innovation(innovation, q, delay, low_rate)
 
 
-def _heard_jumps(rise, rate, tonal, config):
-    """Steps 2 and 3: the jumps of the decimated innovation (``tonal``) and of the first difference at full rate (``rise``)."""
+def _heard_jumps(rise, rate, tonal, config, rise_jumps=None):
+    """Steps 2 and 3: the jumps of the decimated innovation (``tonal``) and of the first difference at full rate (``rise``;
+    its jump profile ``rise_jumps`` when :func:`_decimate_two` found it)."""
     tonal_onsets = tonal.samples(_jumps(tonal.e, tonal.rate, config.min_interval, config.min_jump)).tolist()
-    broadband = (_jumps(rise, rate, config.min_interval,
-                        config.broadband_jump) - 0.5).tolist()  # the difference is centred ½ sample early
+    broadband = (_jumps(rise, rate, config.min_interval, config.broadband_jump,
+                        profile=rise_jumps) - 0.5).tolist()  # the difference is centred ½ sample early
 
     # each tonal onset's rise, once (the merges ask for it again and again): a sharp attack's change point, and a
     # broadband jump of its beating apart
@@ -1975,16 +1976,21 @@ def _decimate(band, rate, q, corner=None):
     return low_pass_every(sos, np.ascontiguousarray(band, dtype=float), q), rate / q, delay
 
 
-def _decimate_two(band, rate, q, q2):
-    """``(_decimate(band, rate, q), _decimate(band, rate, q2))``, the two filters run side by side in one pass (their
-    eight sections as one vector's lanes)."""
-    from ._front import low_pass_two
+def _decimate_two(band, rate, q, q2, rise):
+    """``(_decimate(band, rate, q), _decimate(band, rate, q2))`` and :func:`_jumps`' jump profile of ``rise`` (as long as
+    ``band``; None where :func:`_jumps` is left to find it: a signal of more than one block, or a filter not run).
 
-    if q == 1 or q2 == 1:
-        return _decimate(band, rate, q), _decimate(band, rate, q2)
+    The two filters run side by side in one pass (their eight sections as one vector's lanes), and the jumps with
+    them: the filters wait on their recursions, the jumps on divisions.
+    """
+    from ._front import low_pass_two_and_jumps
+
+    if q == 1 or q2 == 1 or len(rise) > _BLOCK:
+        return _decimate(band, rate, q), _decimate(band, rate, q2), None
     (sos, delay), (sos2, delay2) = _low_pass(0.8 * rate / q / 2.0, rate), _low_pass(0.8 * rate / q2 / 2.0, rate)
-    low, low2 = low_pass_two(sos, q, sos2, q2, np.ascontiguousarray(band, dtype=float))
-    return (low, rate / q, delay), (low2, rate / q2, delay2)
+    low, low2, jumps = low_pass_two_and_jumps(sos, q, sos2, q2, np.ascontiguousarray(band, dtype=float),
+                                              np.ascontiguousarray(rise, dtype=float), _jump_width(rate))
+    return (low, rate / q, delay), (low2, rate / q2, delay2), jumps
 
 
 @cache
@@ -2045,27 +2051,34 @@ def _robust_innovation(x, order):
     return a, prediction_error(a, x)
 
 
-def _jumps(x, rate, min_interval, least, samples=12):
+def _jumps(x, rate, min_interval, least, samples=12, profile=None):
     """Samples of ``x`` where its RMS over the next 1 ms rises ``least`` times over the 4 ms before: the AIC's change points
     [int, shape=(n,)].
 
     A long signal is taken in blocks of :data:`_BLOCK` samples (overlapping by more than the windows
-    and ``min_interval``), so memory does not grow with its length.
+    and ``min_interval``), so memory does not grow with its length. ``profile`` is the jump profile of an ``x`` of one
+    block (the RMS ratio at each sample, ``samples`` = 12), when found already.
     """
     from ._kernels import change_points, jump_profile
 
-    width = max(samples, round(1e-3 * rate))
+    width = _jump_width(rate, samples)
     gap = max(1, round(min_interval * rate))
     margin = 6 * width + 2 * gap
     peaks = []
     for start in range(0, len(x), _BLOCK):
         low, high = max(0, start - margin), min(len(x), start + _BLOCK + margin)
-        jump = jump_profile(np.ascontiguousarray(x[low:high], dtype=float), width)  # 0 over the first 4 windows
+        jump = profile if profile is not None else \
+            jump_profile(np.ascontiguousarray(x[low:high], dtype=float), width)  # 0 over the first 4 windows
         found = _peak_pick(jump, gap)
         found = found[(jump[found] >= least) & (low + found >= start) & (low + found < start + _BLOCK)]
         peaks.append(low + found)
     x = np.ascontiguousarray(x, dtype=float)
     return change_points(x, np.concatenate(peaks).astype(np.int64) if peaks else np.empty(0, dtype=np.int64), width)
+
+
+def _jump_width(rate, least=12):
+    """The windows of :func:`_jumps` and :func:`_windows`: 1 ms, ≥ ``least`` samples."""
+    return max(least, round(1e-3 * rate))
 
 
 def _peak_pick(x, gap):
