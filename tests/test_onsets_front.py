@@ -89,3 +89,17 @@ def test_low_pass_two_and_jumps_is_sosfilt_and_the_jump_profile(rng, width, n):
     assert low_other.tobytes() == sosfilt(other, x)[::24].tobytes()
     assert jumps.tobytes() == _jump_profile_in_numpy(rise, width).tobytes()
     assert jumps.tobytes() == _kernels.jump_profile(rise, width).tobytes()
+
+
+@pytest.mark.parametrize("trial", range(200))
+def test_peak_pick_as_librosa_and_the_scalar_kernel(trial):
+    librosa = pytest.importorskip("librosa")
+    rng = np.random.default_rng(trial)
+    n, gap = int(rng.integers(1, 3000)), int(rng.integers(1, 130))
+    x = [rng.standard_normal(n) ** 2, np.round(rng.standard_normal(n) * 2), np.round(np.cumsum(rng.standard_normal(n))),
+         np.abs(np.sin(np.arange(n) * 0.05)) + np.round(rng.random(n))][trial % 4]
+    if trial % 5 == 0:
+        x[n // 3:2 * n // 3] = 0.0  # a flat stretch
+    want = librosa.util.peak_pick(x, pre_max=gap, post_max=gap, pre_avg=1, post_avg=1, delta=0.0, wait=gap)
+    np.testing.assert_array_equal(_front.peak_pick(x, gap), want)
+    np.testing.assert_array_equal(_front.peak_pick(x, gap), _kernels.peak_pick(x, gap))

@@ -374,3 +374,96 @@ def low_pass_two_and_jumps(sos, q, other, q_other, x, rise, width):
         before = (ring[k & (size - 1)] - ring[max(k - 4 * width, 0) & (size - 1)]) / (4 * width)
         jump[k] = np.sqrt(after / max(before, 1e-300 + after * 1e-12))
     return out, out_other, jump
+
+
+def _lanes_compared(predicate):
+    """An intrinsic: the lanes of ``x[start:start + 4]`` (a contiguous array of doubles) for which ``predicate`` (an LLVM
+    comparison of each with ``v``) holds, as the bits of an integer (lane 0 the lowest)."""
+    ordered, operator = predicate
+
+    @intrinsic
+    def compared(typingctx, x, start, v):
+        def codegen(context, builder, signature, args):
+            quad = builder.load(_quad_pointer(context, builder, signature.args[0], args[0], args[1]), align=8)
+            value = builder.insert_element(ir.Constant(_QUAD, ir.Undefined), args[2], ir.Constant(_INT, 0))
+            value = builder.shuffle_vector(value, value, ir.Constant(ir.VectorType(_INT, 4), [0] * 4))
+            compare = builder.fcmp_ordered if ordered else builder.fcmp_unordered
+            bits = builder.bitcast(compare(operator, quad, value), ir.IntType(4))
+            return builder.zext(bits, ir.IntType(64))
+        return types.int64(types.Array(types.float64, 1, "C"), types.intp, types.float64), codegen
+    return compared
+
+
+_over = _lanes_compared((False, ">"))  # not (x <= v): larger, or NaN
+_larger = _lanes_compared((True, ">"))
+_equal = _lanes_compared((True, "=="))
+
+
+@jit(inline="always")
+def _first_over(x, low, high, v):
+    """The first ``m`` from ``low`` with ``not x[m] <= v`` before ``high``, else ``high`` (four samples a comparison)."""
+    m = low
+    while m + 4 <= high and _over(x, m, v) == 0:
+        m += 4
+    while m < high and x[m] <= v:
+        m += 1
+    return m
+
+
+@jit(inline="always")
+def _first_equal(x, low, high, v):
+    """The first ``m`` from ``low`` with ``x[m] == v`` before ``high``, else ``high``."""
+    m = low
+    while m + 4 <= high and _equal(x, m, v) == 0:
+        m += 4
+    while m < high and x[m] != v:
+        m += 1
+    return m
+
+
+@jit(inline="always")
+def _last_larger(x, low, high, v, none):
+    """The last ``j`` before ``high`` with ``x[j] > v`` from ``low``, else ``none``."""
+    j = high
+    while j - 4 >= low and _larger(x, j - 4, v) == 0:
+        j -= 4
+    while j > low:
+        j -= 1
+        if x[j] > v:
+            return j
+    return none
+
+
+@jit
+def peak_pick(x, gap):
+    """:func:`._kernels.peak_pick` (``librosa.util.peak_pick(x, pre_max=gap, post_max=gap, pre_avg=1, post_avg=1,
+    delta=0, wait=gap)``): the same comparisons, the scans for a larger or an equal sample four samples at a time."""
+    count = len(x)
+    first = True
+    for n in range(min(gap, count)):
+        if x[n] > x[0]:
+            first = False
+    kept = np.empty(count // (gap + 1) + 2, dtype=np.int64)
+    found, last = 0, -gap - 1
+    if first:
+        kept[0], found, last = 0, 1, 0
+    # as _kernels.peak_pick: from each sample, the first larger one after it within its window (none: it is the
+    # largest after it; ties tried in turn, what is known of the equal run kept)
+    n, tie, scanned, bigger = 1, False, 0, -count - gap - 1
+    while n < count:
+        v = x[n]
+        high = min(count, n + gap)
+        m = _first_over(x, max(scanned, n + 1) if tie else n + 1, high, v)
+        if m < high:
+            n, tie = m, False
+            continue
+        if not tie:  # the nearest larger one within the window before it
+            bigger = _last_larger(x, max(0, n - gap), n, v, -count - gap - 1)
+        if bigger < n - gap and v >= (x[n - 1] + v) / 2.0 and n > last + gap:
+            kept[found] = n
+            found += 1
+            last = n
+        scanned = high
+        m = _first_equal(x, n + 1, high, v)
+        n, tie = m, m < high
+    return kept[:found].copy()

@@ -2088,7 +2088,7 @@ def _peak_pick(x, gap):
     least its predecessor, and more than ``gap`` samples after the last peak (greedily, in order; the
     first sample is a peak when it is the largest of the first ``gap``).
     """
-    from ._kernels import peak_pick
+    from ._front import peak_pick
 
     return peak_pick(np.ascontiguousarray(x, dtype=float), gap)
 
