@@ -103,3 +103,15 @@ def test_peak_pick_as_librosa_and_the_scalar_kernel(trial):
     want = librosa.util.peak_pick(x, pre_max=gap, post_max=gap, pre_avg=1, post_avg=1, delta=0.0, wait=gap)
     np.testing.assert_array_equal(_front.peak_pick(x, gap), want)
     np.testing.assert_array_equal(_front.peak_pick(x, gap), _kernels.peak_pick(x, gap))
+
+
+@pytest.mark.parametrize("size", [4, 8, 6, 7, 1024])
+@pytest.mark.parametrize("frames", [1, 2, 3, 10])
+def test_frame_energies_as_the_spectra_and_the_scalar_kernel(rng, size, frames):
+    x, window = rng.standard_normal(5_000), np.hanning(size)
+    starts = np.sort(rng.integers(0, len(x) - size, frames)).astype(np.int64)
+    energies = _front.frame_energies(x, starts, window)
+    assert energies.tobytes() == _kernels.frame_energies(x, starts, window).tobytes()
+    if size % 2 == 0:  # Parseval's over the half spectrum (its last bin Nyquist's)
+        spectra = np.fft.rfft(np.stack([x[s:s + size] * window for s in starts]), axis=1)
+        np.testing.assert_allclose(energies, (np.abs(spectra) ** 2).sum(axis=1), rtol=1e-10)

@@ -467,3 +467,73 @@ def peak_pick(x, gap):
         m = _first_equal(x, n + 1, high, v)
         n, tie = m, m < high
     return kept[:found].copy()
+
+
+@intrinsic
+def _times(typingctx, x, y):
+    """``x * y`` in each lane."""
+    def codegen(context, builder, signature, args):
+        return builder.fmul(args[0], args[1])
+    return _quad_type(_quad_type, _quad_type), codegen
+
+
+@intrinsic
+def _plus(typingctx, x, y):
+    """``x + y`` in each lane."""
+    def codegen(context, builder, signature, args):
+        return builder.fadd(args[0], args[1])
+    return _quad_type(_quad_type, _quad_type), codegen
+
+
+@jit
+def frame_energies(x, starts, window):
+    """:func:`._kernels.frame_energies` (each frame's energy over its ``numpy.fft.rfft``'s bins, its sums in four lanes):
+    the same operations, the four lanes as one vector's, two frames side by side."""
+    out = np.empty(len(starts))
+    for i in range(0, len(starts) - 1, 2):
+        out[i], out[i + 1] = _two_energies(x, starts[i], starts[i + 1], window)
+    if len(starts) % 2:
+        out[-1] = _two_energies(x, starts[-1], starts[-1], window)[0]
+    return out
+
+
+@jit(inline="always")
+def _two_energies(x, first, second, window):
+    """The energies of the frames from ``first`` and ``second`` (:func:`frame_energies`')."""
+    size = len(window)
+    zero = _quad(0.0)
+    power, total, power_other, total_other = zero, zero, zero, zero
+    j = 0
+    while j + 4 <= size:
+        w = _load(window, j)
+        v, u = _times(_load(x, first + j), w), _times(_load(x, second + j), w)
+        power, power_other = _plus_times(power, v, v), _plus_times(power_other, u, u)
+        total, total_other = _plus(total, v), _plus(total_other, u)
+        j += 4
+    return (_energy(x, first, window, j, power, total, size),
+            _energy(x, second, window, j, power_other, total_other, size))
+
+
+@jit(inline="always")
+def _energy(x, start, window, j, power, total, size):
+    """A frame's energy from its lanes' sums up to sample ``j`` (the last samples added as _kernels.frame_energies
+    adds them: even ones in the first lane, odd ones in the second)."""
+    p0, p1, p2, p3 = _lane4(power, 0), _lane4(power, 1), _lane4(power, 2), _lane4(power, 3)
+    t0, t1, t2, t3 = _lane4(total, 0), _lane4(total, 1), _lane4(total, 2), _lane4(total, 3)
+    while j < size:
+        v0 = x[start + j] * window[j]
+        if j % 2 == 0:
+            p0, t0 = p0 + v0 * v0, t0 + v0
+        else:
+            p1, t1 = p1 + v0 * v0, t1 + v0
+        j += 1
+    power, even, odd = (p0 + p2) + (p1 + p3), t0 + t2, t1 + t3
+    return (size * power + (even + odd) ** 2 + (even - odd) ** 2) / 2.0
+
+
+@intrinsic
+def _lane4(typingctx, quad, which):
+    """Lane ``which`` of a quad."""
+    def codegen(context, builder, signature, args):
+        return builder.extract_element(args[0], builder.trunc(args[1], _INT))
+    return types.float64(_quad_type, types.intp), codegen

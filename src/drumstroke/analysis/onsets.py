@@ -1931,7 +1931,7 @@ def _high_pass_sections(corner, rate):
 
 def _decimation(band, rate):
     """How far to decimate: to ≥ 2.5 times the top of the band 20 dB over the noise floor, ≥ 2 kHz."""
-    from ._kernels import frame_energies
+    from ._front import frame_energies
 
     size = 1 << int(np.ceil(np.log2(rate * 0.02)))
     if len(band) < 4 * size:
@@ -1947,8 +1947,9 @@ def _decimation(band, rate):
         frames = _frames(band, 0, len(band) - size + 1, size)[starts[which]] * window
         return np.ascontiguousarray(np.abs(np.fft.rfft(frames, axis=1).T) ** 2).mean(axis=1)
 
-    noise = mean_power(energy <= np.quantile(energy, 0.1))
-    loud = mean_power(energy >= np.quantile(energy, 0.9))
+    quiet, high = np.quantile(energy, [0.1, 0.9])
+    noise = mean_power(energy <= quiet)
+    loud = mean_power(energy >= high)
     good = np.flatnonzero(loud > 100.0 * noise)
     top = frequencies[good[-1]] if len(good) else frequencies[-1]
     return int(max(1, min(rate // (2.5 * max(top, 1.0)), rate // 2000)))
