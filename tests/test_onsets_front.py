@@ -115,3 +115,13 @@ def test_frame_energies_as_the_spectra_and_the_scalar_kernel(rng, size, frames):
     if size % 2 == 0:  # Parseval's over the half spectrum (its last bin Nyquist's)
         spectra = np.fft.rfft(np.stack([x[s:s + size] * window for s in starts]), axis=1)
         np.testing.assert_allclose(energies, (np.abs(spectra) ** 2).sum(axis=1), rtol=1e-10)
+
+
+@pytest.mark.parametrize("n", [0, 1, 7, 48_000])
+def test_high_pass_is_sosfilt_and_its_peak(rng, n):
+    sos = butter(2, 20.0, btype="highpass", fs=48_000, output="sos")
+    x = rng.standard_normal(n) + 0.3
+    band, peak = _front.high_pass(sos, x)
+    want = sosfilt(sos, x) if n else np.empty(0)
+    assert band.tobytes() == want.tobytes()
+    assert peak == np.max(np.abs(want), initial=0.0)

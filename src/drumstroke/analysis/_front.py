@@ -537,3 +537,22 @@ def _lane4(typingctx, quad, which):
     def codegen(context, builder, signature, args):
         return builder.extract_element(args[0], builder.trunc(args[1], _INT))
     return types.float64(_quad_type, types.intp), codegen
+
+
+@jit
+def high_pass(sos, x):
+    """``scipy.signal.sosfilt(sos, x)`` for one second-order section (:func:`._kernels.second_order`'s operations) and
+    its largest magnitude (:func:`._kernels.largest_magnitude`'s), in one pass: the filter waits on its recursion, the
+    largest is found meanwhile."""
+    b0, b1, b2, a1, a2 = sos[0, 0], sos[0, 1], sos[0, 2], sos[0, 4], sos[0, 5]
+    z0 = z1 = 0.0
+    peak = 0.0
+    out = np.empty(len(x))
+    for i in range(len(x)):
+        v = x[i]
+        y = b0 * v + z0
+        z0 = b1 * v - a1 * y + z1
+        z1 = b2 * v - a2 * y
+        out[i] = y
+        peak = max(peak, abs(y))
+    return out, peak

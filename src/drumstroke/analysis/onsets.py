@@ -747,10 +747,8 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
 def _detected(signal, rate, config, source, info):
     """:func:`find_onsets`' pipeline, on a checked ``signal`` of 50 ms or more."""
     from ._detect import normalised
-    from ._kernels import largest_magnitude
 
-    band = _high_pass(signal, rate, config.high_pass)
-    peak = float(largest_magnitude(band))
+    band, peak = _high_pass(signal, rate, config.high_pass)
     if not peak > 1e-9:  # −180 dB full scale: digital silence
         return _no_onsets("the signal is silent", info, source, config)
     # the band over its peak, its first difference (centred ½ sample early: several stages read it) and that
@@ -1915,10 +1913,11 @@ def _layer_template(x, starts, following, free, layer, reach):
 
 
 def _high_pass(signal, rate, corner):
-    """``signal`` less its rumble and DC: a 2nd-order Butterworth high-pass at ``corner`` Hz."""
-    from ._kernels import second_order
+    """``signal`` less its rumble and DC (a 2nd-order Butterworth high-pass at ``corner`` Hz), and its largest magnitude."""
+    from ._front import high_pass
 
-    return second_order(_high_pass_sections(corner, rate), np.ascontiguousarray(signal, dtype=float))
+    band, peak = high_pass(_high_pass_sections(corner, rate), np.ascontiguousarray(signal, dtype=float))
+    return band, float(peak)
 
 
 @cache
