@@ -125,3 +125,12 @@ def test_high_pass_is_sosfilt_and_its_peak(rng, n):
     want = sosfilt(sos, x) if n else np.empty(0)
     assert band.tobytes() == want.tobytes()
     assert peak == np.max(np.abs(want), initial=0.0)
+
+
+@pytest.mark.parametrize("width", [12, 13, 48])
+@pytest.mark.parametrize("n", [0, 1, 47, 48, 60, 64, 65, 241, 244, 245, 1_003, 30_000])
+def test_jump_profile_as_numpy_and_the_scalar_kernel(rng, width, n):
+    x = rng.standard_normal(n) * rng.random(n) ** 4
+    jumps = _front.jump_profile(x, width)
+    assert jumps.tobytes() == _jump_profile_in_numpy(x, width).tobytes()
+    assert jumps.tobytes() == _kernels.jump_profile(x, width).tobytes()

@@ -333,11 +333,7 @@ def low_pass_two_and_jumps(sos, q, other, q_other, x, rise, width):
     out = np.empty((n + q - 1) // q)
     out_other = np.empty((n + q_other - 1) // q_other)
     jump = np.zeros(n)  # 0 over the first 4 widths
-    size = 1
-    while size < 5 * width + 4 + _AHEAD:  # the running power from 4 widths before the samples to a width and 4 after
-        size *= 2
-    ring = np.empty(2 * size)
-    ring[0] = ring[size] = 0.0
+    ring, size = _ring(width)
     running, done = 0.0, 1
     for i in range(3):  # sections not yet at the signal's first sample keep their zero states (as sosfilt's do)
         y, z0, z1 = _biquads(_shifted_in(y, x[i] if i < n else 0.0), b0, b1, b2, a1, a2, z0, z1)
@@ -368,12 +364,55 @@ def low_pass_two_and_jumps(sos, q, other, q_other, x, rise, width):
                 skip_other = q_other
             skip_other -= 1
         i += steps
-    for k in range(max(done - width - _AHEAD, 4 * width), n):  # windows cut at the signal's end
-        running, done = _powers(ring, size, rise, running, done, min(k + width, n))
+    _last_jumps(jump, ring, size, rise, running, done, max(done - width - _AHEAD, 4 * width), width)
+    return out, out_other, jump
+
+
+@jit(inline="always")
+def _ring(width):
+    """A ring of the running power (:func:`_powers`) for jumps over ``width`` samples: ``p[0]`` = 0 in it, its size."""
+    size = 1
+    while size < 5 * width + 4 + _AHEAD:  # the running power from 4 widths before the samples to a width and 4 after
+        size *= 2
+    ring = np.empty(2 * size)
+    ring[0] = ring[size] = 0.0
+    return ring, size
+
+
+@jit(inline="always")
+def _last_jumps(jump, ring, size, x, running, done, first, width):
+    """The jumps of ``x`` from ``first`` to its end, one at a time (their windows cut at the signal's end), from the
+    running power so far in ``ring``."""
+    n = len(x)
+    for k in range(first, n):
+        running, done = _powers(ring, size, x, running, done, min(k + width, n))
         after = (ring[min(k + width, n) & (size - 1)] - ring[k & (size - 1)]) / width
         before = (ring[k & (size - 1)] - ring[max(k - 4 * width, 0) & (size - 1)]) / (4 * width)
         jump[k] = np.sqrt(after / max(before, 1e-300 + after * 1e-12))
-    return out, out_other, jump
+
+
+@jit(error_model="numpy")
+def jump_profile(x, width):
+    """:func:`._kernels.jump_profile` (the RMS jump of ``x`` at each sample: its next ``width`` samples over the ``4 width``
+    before, the power summed in order from ``x[0]``; 0 over the first ``4 width``): the same operations, four jumps as
+    one vector's lanes while the running power is added ahead."""
+    n = len(x)
+    jump = np.zeros(n)
+    ring, size = _ring(width)
+    running, done = 0.0, 1
+    i = 4 * width
+    if i + 4 + _AHEAD <= n - width:
+        running, done = _powers(ring, size, x, running, done, i + width + _AHEAD - 1)
+        while i + 4 + _AHEAD <= n - width:
+            for j in range(i + width + _AHEAD, i + width + _AHEAD + 4):
+                running = running + x[j - 1] * x[j - 1]
+                ring[j & (size - 1)] = ring[(j & (size - 1)) + size] = running
+            _store(jump, i, _jumps_of(_load(ring, (i + width) & (size - 1)), _load(ring, i & (size - 1)),
+                                      _load(ring, (i - 4 * width) & (size - 1)), width))
+            i += 4
+        done = i + width + _AHEAD
+    _last_jumps(jump, ring, size, x, running, done, i, width)
+    return jump
 
 
 def _lanes_compared(predicate):

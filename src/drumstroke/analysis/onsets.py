@@ -2059,7 +2059,8 @@ def _jumps(x, rate, min_interval, least, samples=12, profile=None):
     and ``min_interval``), so memory does not grow with its length. ``profile`` is the jump profile of an ``x`` of one
     block (the RMS ratio at each sample, ``samples`` = 12), when found already.
     """
-    from ._kernels import change_points, jump_profile
+    from ._front import jump_profile
+    from ._kernels import change_points
 
     width = _jump_width(rate, samples)
     gap = max(1, round(min_interval * rate))
