@@ -134,3 +134,15 @@ def test_jump_profile_as_numpy_and_the_scalar_kernel(rng, width, n):
     jumps = _front.jump_profile(x, width)
     assert jumps.tobytes() == _jump_profile_in_numpy(x, width).tobytes()
     assert jumps.tobytes() == _kernels.jump_profile(x, width).tobytes()
+
+
+@pytest.mark.parametrize("gap", [12, 96, 97, 130])
+def test_peak_pick_on_a_jump_profile(rng, gap):
+    """A long profile as the detector picks (a noisy signal's RMS ratios, quiet and loud stretches): the scalar kernel's
+    peaks, and librosa's."""
+    librosa = pytest.importorskip("librosa")
+    x = rng.standard_normal(60_000) * np.repeat(rng.random(60) ** 4, 1_000)
+    profile = _kernels.jump_profile(x, 48)
+    want = librosa.util.peak_pick(profile, pre_max=gap, post_max=gap, pre_avg=1, post_avg=1, delta=0.0, wait=gap)
+    np.testing.assert_array_equal(_front.peak_pick(profile, gap), want)
+    np.testing.assert_array_equal(_front.peak_pick(profile, gap), _kernels.peak_pick(profile, gap))

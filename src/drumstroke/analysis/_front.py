@@ -473,10 +473,44 @@ def _last_larger(x, low, high, v, none):
     return none
 
 
+@intrinsic
+def _larger_lanes(typingctx, a, b):
+    """The larger of ``a`` and ``b`` in each lane (``b`` where neither is larger)."""
+    def codegen(context, builder, signature, args):
+        return builder.select(builder.fcmp_ordered(">", args[0], args[1]), args[0], args[1])
+    return _quad_type(_quad_type, _quad_type), codegen
+
+
+@jit(inline="always")
+def _block_largest(x, size):
+    """The largest sample of each block of ``size`` (a multiple of 4) samples of a finite ``x`` (the last block: what is
+    left)."""
+    count = len(x)
+    blocks = (count + size - 1) // size
+    largest = np.empty(blocks)
+    for b in range(count // size):
+        top = _load(x, b * size)
+        for j in range(b * size + 4, b * size + size, 4):
+            top = _larger_lanes(_load(x, j), top)
+        largest[b] = max(max(_lane4(top, 0), _lane4(top, 1)), max(_lane4(top, 2), _lane4(top, 3)))
+    if count % size:
+        top = x[count - count % size]
+        for j in range(count - count % size, count):
+            top = max(top, x[j])
+        largest[blocks - 1] = top
+    return largest
+
+
 @jit
 def peak_pick(x, gap):
     """:func:`._kernels.peak_pick` (``librosa.util.peak_pick(x, pre_max=gap, post_max=gap, pre_avg=1, post_avg=1,
-    delta=0, wait=gap)``): the same comparisons, the scans for a larger or an equal sample four samples at a time."""
+    delta=0, wait=gap)``) of a finite ``x``: the same peaks, from the same comparisons of the samples that may be one.
+
+    A sample is a peak when none is larger from ``gap`` before it to ``gap - 1`` after, it is at least its
+    predecessor's and their mean, and it is more than ``gap`` after the last peak (greedily). The largest of blocks of
+    about ``gap / 4`` samples rule most samples out at once: none in a block is a peak when a block within every one of
+    its samples' windows has a larger sample, and none smaller than that block's largest. The others are compared
+    with their windows, four samples at a time."""
     count = len(x)
     first = True
     for n in range(min(gap, count)):
@@ -486,25 +520,25 @@ def peak_pick(x, gap):
     found, last = 0, -gap - 1
     if first:
         kept[0], found, last = 0, 1, 0
-    # as _kernels.peak_pick: from each sample, the first larger one after it within its window (none: it is the
-    # largest after it; ties tried in turn, what is known of the equal run kept)
-    n, tie, scanned, bigger = 1, False, 0, -count - gap - 1
-    while n < count:
-        v = x[n]
-        high = min(count, n + gap)
-        m = _first_over(x, max(scanned, n + 1) if tie else n + 1, high, v)
-        if m < high:
-            n, tie = m, False
+    size = 4 * max(1, gap // 16)
+    reach = gap // size - 1  # blocks b - k and b + k, k <= reach, are within the windows of all block b's samples
+    largest = _block_largest(x, size)
+    for b in range(len(largest)):
+        least = -np.inf
+        for c in range(max(0, b - reach), min(len(largest), b + reach + 1)):
+            if c != b:
+                least = max(least, largest[c])
+        if largest[b] < least:
             continue
-        if not tie:  # the nearest larger one within the window before it
-            bigger = _last_larger(x, max(0, n - gap), n, v, -count - gap - 1)
-        if bigger < n - gap and v >= (x[n - 1] + v) / 2.0 and n > last + gap:
-            kept[found] = n
-            found += 1
-            last = n
-        scanned = high
-        m = _first_equal(x, n + 1, high, v)
-        n, tie = m, m < high
+        for n in range(max(1, b * size), min(count, b * size + size)):
+            v = x[n]
+            if v < least or n <= last + gap or not v >= (x[n - 1] + v) / 2.0:
+                continue
+            end = min(count, n + gap)
+            if _first_over(x, n + 1, end, v) == end and _last_larger(x, max(0, n - gap), n, v, -1) < 0:
+                kept[found] = n
+                found += 1
+                last = n
     return kept[:found].copy()
 
 
