@@ -146,3 +146,15 @@ def test_peak_pick_on_a_jump_profile(rng, gap):
     want = librosa.util.peak_pick(profile, pre_max=gap, post_max=gap, pre_avg=1, post_avg=1, delta=0.0, wait=gap)
     np.testing.assert_array_equal(_front.peak_pick(profile, gap), want)
     np.testing.assert_array_equal(_front.peak_pick(profile, gap), _kernels.peak_pick(profile, gap))
+
+
+@pytest.mark.parametrize("taps", [1, 2, 5, 41, 49])
+@pytest.mark.parametrize("n", [1, 3, 31, 32, 48, 49, 80, 81, 1_025, 30_000])
+def test_prediction_error_is_lfilter_and_the_scalar_kernel(rng, taps, n):
+    from scipy.signal import lfilter
+
+    x, a = rng.standard_normal(n), rng.standard_normal(taps)
+    a[0] = 1.0
+    e = _front.prediction_error(a, x)
+    assert e.tobytes() == _kernels.prediction_error(a, x).tobytes()  # each output's taps added in the same order
+    np.testing.assert_allclose(e, lfilter(a, [1.0], x), rtol=1e-12, atol=1e-12 * np.sum(np.abs(a)))

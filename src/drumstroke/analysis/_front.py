@@ -435,7 +435,6 @@ def _lanes_compared(predicate):
 
 _over = _lanes_compared((False, ">"))  # not (x <= v): larger, or NaN
 _larger = _lanes_compared((True, ">"))
-_equal = _lanes_compared((True, "=="))
 
 
 @jit(inline="always")
@@ -445,17 +444,6 @@ def _first_over(x, low, high, v):
     while m + 4 <= high and _over(x, m, v) == 0:
         m += 4
     while m < high and x[m] <= v:
-        m += 1
-    return m
-
-
-@jit(inline="always")
-def _first_equal(x, low, high, v):
-    """The first ``m`` from ``low`` with ``x[m] == v`` before ``high``, else ``high``."""
-    m = low
-    while m + 4 <= high and _equal(x, m, v) == 0:
-        m += 4
-    while m < high and x[m] != v:
         m += 1
     return m
 
@@ -629,3 +617,40 @@ def high_pass(sos, x):
         out[i] = y
         peak = max(peak, abs(y))
     return out, peak
+
+
+@jit
+def prediction_error(a, x):
+    """:func:`._kernels.prediction_error` (``scipy.signal.lfilter(a, [1.0], x)``: ``x`` through the FIR ``a``, each
+    output's taps added from the first): the same operations, 32 outputs at a time as eight vectors held over all
+    the taps."""
+    n, taps = len(x), len(a)
+    out = np.empty(n)
+    head = min(n, taps - 1)  # the outputs with fewer taps than a's (the signal starts from nothing)
+    for j in range(head):
+        total = a[0] * x[j]
+        for k in range(1, j + 1):
+            total += a[k] * x[j - k]
+        out[j] = total
+    j = head
+    while j + 32 <= n:
+        tap = _quad(a[0])
+        s0, s1, s2, s3 = (_times(tap, _load(x, j)), _times(tap, _load(x, j + 4)), _times(tap, _load(x, j + 8)),
+                          _times(tap, _load(x, j + 12)))
+        s4, s5, s6, s7 = (_times(tap, _load(x, j + 16)), _times(tap, _load(x, j + 20)), _times(tap, _load(x, j + 24)),
+                          _times(tap, _load(x, j + 28)))
+        for k in range(1, taps):
+            tap = _quad(a[k])
+            s0, s1 = _plus_times(s0, tap, _load(x, j - k)), _plus_times(s1, tap, _load(x, j + 4 - k))
+            s2, s3 = _plus_times(s2, tap, _load(x, j + 8 - k)), _plus_times(s3, tap, _load(x, j + 12 - k))
+            s4, s5 = _plus_times(s4, tap, _load(x, j + 16 - k)), _plus_times(s5, tap, _load(x, j + 20 - k))
+            s6, s7 = _plus_times(s6, tap, _load(x, j + 24 - k)), _plus_times(s7, tap, _load(x, j + 28 - k))
+        for i, sums in enumerate((s0, s1, s2, s3, s4, s5, s6, s7)):
+            _store(out, j + 4 * i, sums)
+        j += 32
+    for j in range(j, n):
+        total = a[0] * x[j]
+        for k in range(1, taps):
+            total += a[k] * x[j - k]
+        out[j] = total
+    return out

@@ -2007,8 +2007,7 @@ def _low_pass(corner, rate):
 
 def _innovation(x, order):
     """A linear predictor of ``x`` (Burg's method; its error filter's coefficients) and what it does not predict."""
-    from ._front import burg
-    from ._kernels import prediction_error
+    from ._front import burg, prediction_error
 
     x = np.ascontiguousarray(x, dtype=float)
     order = min(order, max(1, len(x) // 8))
