@@ -1935,8 +1935,9 @@ def _decimation(band, rate):
     size = 1 << int(np.ceil(np.log2(rate * 0.02)))
     if len(band) < 4 * size:
         return 1
-    starts = np.unique(np.linspace(0, len(band) - size, min(_SPECTRA, (len(band) - size) // (size // 2) + 1))
-                       .astype(np.int64))  # half-overlapping frames, or as many spread over a long file
+    starts = np.linspace(0, len(band) - size, min(_SPECTRA, (len(band) - size) // (size // 2) + 1)).astype(np.int64)
+    starts = starts[np.concatenate(([True], starts[1:] != starts[:-1]))]  # half-overlapping frames, or as many spread
+    # over a long file (each once: the starts are sorted, the repeated ones next to each other)
     window = _hann(size)
     # each frame's energy over its spectrum's bins (Parseval's): only the quietest and the loudest tenths are transformed
     energy = frame_energies(np.ascontiguousarray(band, dtype=float), starts, window)
