@@ -45,11 +45,9 @@ def test_low_pass_two_is_the_scalar_kernel(rng):
     assert all(a.tobytes() == b.tobytes() for a, b in zip(new, old))
 
 
-@pytest.mark.parametrize("n", [2, 3, 5, 6, 9, 10, 11, 12, 13, 101, 4_003])
-@pytest.mark.parametrize("order", [1, 2, 3, 7, 48])
+@pytest.mark.parametrize(("n", "order"), [(n, order) for n in (2, 3, 5, 6, 9, 10, 11, 12, 13, 101, 4_003)
+                                           for order in (1, 2, 3, 7, 48) if order < n])
 def test_burg_is_the_scalar_kernel_to_the_bit_and_librosa_to_rounding(rng, n, order):
-    if order >= n:
-        pytest.skip("an order below the signal's length")
     librosa = pytest.importorskip("librosa")
     x = np.cumsum(rng.standard_normal(n)) * 0.1 + rng.standard_normal(n)
     a = _front.burg(x, order)
