@@ -1,16 +1,21 @@
-"""The compiled loops of the onset detector's front end (:mod:`.onsets`: the decimation's filters, step 1's predictor):
-each does the same floating-point operations, in the same order, as the code it replaced (scipy's ``sosfilt``,
-librosa's ``lpc`` as :func:`._kernels.burg` sums it), so its results are the same to the bit
-(tests/test_onsets_front.py holds them against scipy and numpy).
+"""The compiled loops of the onset detector's front end (:mod:`.onsets`: the high-pass, the decimation and its filters,
+steps 1-3's predictor, jumps and peaks): each does the same floating-point operations, in the same order, as the code
+it replaced (scipy's ``sosfilt`` and ``lfilter``, librosa's ``lpc`` and ``peak_pick`` as :mod:`._kernels` computes
+them), so its results are the same to the bit (tests/test_onsets_front.py holds them against scipy, numpy, librosa
+and those kernels).
 
 What makes them faster is where the operations run, not what they are:
 
-- :func:`low_pass_two` runs the two decimation filters' eight second-order sections as the eight lanes of one
-  vector: at each step section ``s`` takes the sample ``s`` steps behind the first's (the output its predecessor
-  gave at the step before). Each lane does what one section of ``sosfilt`` does to its sample, with the vector
-  instructions' IEEE arithmetic (no fused multiply-adds), and the loop waits on one section's recursion a
-  sample, not on eight sections' worth of instructions.
-- :func:`burg` updates an order's prediction errors and adds up the next order's numerator in the same pass.
+- Vectors of lanes (LLVM's, through numba's intrinsics: numba does not vectorise these loops itself), each lane
+  doing what one scalar did, with IEEE arithmetic (no fused multiply-adds): :func:`low_pass_two` runs the two
+  decimation filters' eight second-order sections as the eight lanes of one vector, section ``s`` a sample behind
+  section ``s - 1`` (the output it gave at the step before), so the loop waits on one section's recursion a sample,
+  not on eight sections' instructions; a sum added in four lanes (every fourth term) is one vector's four lanes.
+- Work that waits on different units side by side: the filters wait on their recursions, the jump profile on the
+  divider (:func:`low_pass_two_and_jumps`); the high-pass on its recursion, its largest sample on nothing
+  (:func:`high_pass`).
+- Fewer passes and comparisons: Burg's update of an order's errors and the next order's numerator in one pass
+  (:func:`burg`); the peak picker rules most samples out by the largest of blocks (:func:`peak_pick`).
 
 A module of its own (as :mod:`._kernels`) so that importing :mod:`drumstroke.analysis` does not import numba.
 """
@@ -150,11 +155,43 @@ def _quad(typingctx, value):
 
 
 @intrinsic
+def _lane4(typingctx, quad, which):
+    """Lane ``which`` of a quad."""
+    def codegen(context, builder, signature, args):
+        return builder.extract_element(args[0], builder.trunc(args[1], _INT))
+    return types.float64(_quad_type, types.intp), codegen
+
+
+@intrinsic
+def _times(typingctx, x, y):
+    """``x * y`` in each lane."""
+    def codegen(context, builder, signature, args):
+        return builder.fmul(args[0], args[1])
+    return _quad_type(_quad_type, _quad_type), codegen
+
+
+@intrinsic
+def _plus(typingctx, x, y):
+    """``x + y`` in each lane."""
+    def codegen(context, builder, signature, args):
+        return builder.fadd(args[0], args[1])
+    return _quad_type(_quad_type, _quad_type), codegen
+
+
+@intrinsic
 def _plus_times(typingctx, x, y, z):
     """``x + y * z`` in each lane (a product, then a sum: no fused multiply-add)."""
     def codegen(context, builder, signature, args):
         return builder.fadd(args[0], builder.fmul(args[1], args[2]))
     return _quad_type(_quad_type, _quad_type, _quad_type), codegen
+
+
+@intrinsic
+def _larger_lanes(typingctx, a, b):
+    """The larger of ``a`` and ``b`` in each lane (``b`` where neither is larger)."""
+    def codegen(context, builder, signature, args):
+        return builder.select(builder.fcmp_ordered(">", args[0], args[1]), args[0], args[1])
+    return _quad_type(_quad_type, _quad_type), codegen
 
 
 @intrinsic
@@ -181,6 +218,113 @@ def _first_lane_plus(typingctx, quad, value):
         zero = ir.Constant(_INT, 0)
         return builder.insert_element(args[0], builder.fadd(builder.extract_element(args[0], zero), args[1]), zero)
     return _quad_type(_quad_type, types.float64), codegen
+
+
+def _lanes_compared(predicate):
+    """An intrinsic: the lanes of ``x[start:start + 4]`` (a contiguous array of doubles) for which ``predicate`` (an LLVM
+    comparison of each with ``v``) holds, as the bits of an integer (lane 0 the lowest)."""
+    ordered, operator = predicate
+
+    @intrinsic
+    def compared(typingctx, x, start, v):
+        def codegen(context, builder, signature, args):
+            quad = builder.load(_quad_pointer(context, builder, signature.args[0], args[0], args[1]), align=8)
+            value = builder.insert_element(ir.Constant(_QUAD, ir.Undefined), args[2], ir.Constant(_INT, 0))
+            value = builder.shuffle_vector(value, value, ir.Constant(ir.VectorType(_INT, 4), [0] * 4))
+            compare = builder.fcmp_ordered if ordered else builder.fcmp_unordered
+            bits = builder.bitcast(compare(operator, quad, value), ir.IntType(4))
+            return builder.zext(bits, ir.IntType(64))
+        return types.int64(types.Array(types.float64, 1, "C"), types.intp, types.float64), codegen
+    return compared
+
+
+_over = _lanes_compared((False, ">"))  # not (x <= v): larger, or NaN
+_larger = _lanes_compared((True, ">"))
+
+
+@intrinsic
+def _jumps_of(typingctx, ahead, power, behind, width):
+    """:func:`._kernels.jump_profile`'s jump in each lane from the running power ``width`` samples ahead, at the sample and
+    ``4 width`` behind: ``sqrt(after / max(before, 1e-300 + after * 1e-12))``."""
+    def codegen(context, builder, signature, args):
+        ahead, power, behind, width = args
+        def broadcast(value):
+            quad = builder.insert_element(ir.Constant(_QUAD, ir.Undefined), value, ir.Constant(_INT, 0))
+            return builder.shuffle_vector(quad, quad, ir.Constant(ir.VectorType(_INT, 4), [0] * 4))
+        after = builder.fdiv(builder.fsub(ahead, power), broadcast(builder.sitofp(width, ir.DoubleType())))
+        before = builder.fdiv(builder.fsub(power, behind),
+                              broadcast(builder.sitofp(builder.mul(width, ir.Constant(width.type, 4)), ir.DoubleType())))
+        floor = builder.fadd(broadcast(ir.Constant(ir.DoubleType(), 1e-300)),
+                             builder.fmul(after, broadcast(ir.Constant(ir.DoubleType(), 1e-12))))
+        larger = builder.select(builder.fcmp_ordered("<", before, floor), floor, before)
+        sqrt = cgutils.get_or_insert_function(builder.module, ir.FunctionType(_QUAD, [_QUAD]), "llvm.sqrt.v4f64")
+        return builder.call(sqrt, [builder.fdiv(after, larger)])
+    return _quad_type(_quad_type, _quad_type, _quad_type, types.intp), codegen
+
+
+@jit
+def high_pass(sos, x):
+    """``scipy.signal.sosfilt(sos, x)`` for one second-order section (:func:`._kernels.second_order`'s operations) and
+    its largest magnitude (:func:`._kernels.largest_magnitude`'s), in one pass: the filter waits on its recursion, the
+    largest is found meanwhile."""
+    b0, b1, b2, a1, a2 = sos[0, 0], sos[0, 1], sos[0, 2], sos[0, 4], sos[0, 5]
+    z0 = z1 = 0.0
+    peak = 0.0
+    out = np.empty(len(x))
+    for i in range(len(x)):
+        v = x[i]
+        y = b0 * v + z0
+        z0 = b1 * v - a1 * y + z1
+        z1 = b2 * v - a2 * y
+        out[i] = y
+        peak = max(peak, abs(y))
+    return out, peak
+
+
+@jit
+def frame_energies(x, starts, window):
+    """:func:`._kernels.frame_energies` (each frame's energy over its ``numpy.fft.rfft``'s bins, its sums in four lanes):
+    the same operations, the four lanes as one vector's, two frames side by side."""
+    out = np.empty(len(starts))
+    for i in range(0, len(starts) - 1, 2):
+        out[i], out[i + 1] = _two_energies(x, starts[i], starts[i + 1], window)
+    if len(starts) % 2:
+        out[-1] = _two_energies(x, starts[-1], starts[-1], window)[0]
+    return out
+
+
+@jit(inline="always")
+def _two_energies(x, first, second, window):
+    """The energies of the frames from ``first`` and ``second`` (:func:`frame_energies`')."""
+    size = len(window)
+    zero = _quad(0.0)
+    power, total, power_other, total_other = zero, zero, zero, zero
+    j = 0
+    while j + 4 <= size:
+        w = _load(window, j)
+        v, u = _times(_load(x, first + j), w), _times(_load(x, second + j), w)
+        power, power_other = _plus_times(power, v, v), _plus_times(power_other, u, u)
+        total, total_other = _plus(total, v), _plus(total_other, u)
+        j += 4
+    return (_energy(x, first, window, j, power, total, size),
+            _energy(x, second, window, j, power_other, total_other, size))
+
+
+@jit(inline="always")
+def _energy(x, start, window, j, power, total, size):
+    """A frame's energy from its lanes' sums up to sample ``j`` (the last samples added as _kernels.frame_energies
+    adds them: even ones in the first lane, odd ones in the second)."""
+    p0, p1, p2, p3 = _lane4(power, 0), _lane4(power, 1), _lane4(power, 2), _lane4(power, 3)
+    t0, t1, t2, t3 = _lane4(total, 0), _lane4(total, 1), _lane4(total, 2), _lane4(total, 3)
+    while j < size:
+        v0 = x[start + j] * window[j]
+        if j % 2 == 0:
+            p0, t0 = p0 + v0 * v0, t0 + v0
+        else:
+            p1, t1 = p1 + v0 * v0, t1 + v0
+        j += 1
+    power, even, odd = (p0 + p2) + (p1 + p3), t0 + t2, t1 + t3
+    return (size * power + (even + odd) ** 2 + (even - odd) ** 2) / 2.0
 
 
 @jit
@@ -214,6 +358,198 @@ def low_pass_two(sos, q, other, q_other, x):
             skip_other = q_other
         skip_other -= 1
     return out, out_other
+
+
+@jit(error_model="numpy")
+def low_pass_two_and_jumps(sos, q, other, q_other, x, rise, width):
+    """:func:`low_pass_two` of ``x`` and :func:`._kernels.jump_profile` of ``rise`` (as long as ``x``) over ``width``
+    samples, in one loop: the filters wait on their recursions, the jumps on the divider, the running power on its
+    additions; side by side each is done while the others wait. The same operations as each alone, the same bits.
+
+    Returns the two decimated signals and the jump profile."""
+    b0, b1, b2 = _column(sos, other, 0), _column(sos, other, 1), _column(sos, other, 2)
+    a1, a2 = _column(sos, other, 4), _column(sos, other, 5)
+    y = z0 = z1 = _lanes((0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0))
+    n = len(x)
+    out = np.empty((n + q - 1) // q)
+    out_other = np.empty((n + q_other - 1) // q_other)
+    jump = np.zeros(n)  # 0 over the first 4 widths
+    ring, size = _ring(width)
+    running, done = 0.0, 1
+    for i in range(3):  # sections not yet at the signal's first sample keep their zero states (as sosfilt's do)
+        y, z0, z1 = _biquads(_shifted_in(y, x[i] if i < n else 0.0), b0, b1, b2, a1, a2, z0, z1)
+        y, z0, z1 = _started(y, i), _started(z0, i), _started(z1, i)
+    skip, skip_other, i = 0, 0, 3
+    while i < n + 3:  # the last section's output at step i is sample i - 3's
+        steps = 1
+        # four jumps, and four steps, at a time from the first jump on while the jumps' windows and the power added
+        # ahead are within the signal
+        if i >= 4 * width and i + 4 + _AHEAD <= n - width:
+            if done == 1:
+                running, done = _powers(ring, size, rise, running, done, i + width + _AHEAD - 1)
+            for j in range(i + width + _AHEAD, i + width + _AHEAD + 4):
+                running = running + rise[j - 1] * rise[j - 1]
+                ring[j & (size - 1)] = ring[(j & (size - 1)) + size] = running
+            done = i + width + _AHEAD + 4
+            _store(jump, i, _jumps_of(_load(ring, (i + width) & (size - 1)), _load(ring, i & (size - 1)),
+                                      _load(ring, (i - 4 * width) & (size - 1)), width))
+            steps = 4
+        for k in range(i, i + steps):
+            y, z0, z1 = _biquads(_shifted_in(y, x[k] if k < n else 0.0), b0, b1, b2, a1, a2, z0, z1)
+            if skip == 0:
+                out[(k - 3) // q] = _lane(y, 3)
+                skip = q
+            skip -= 1
+            if skip_other == 0:
+                out_other[(k - 3) // q_other] = _lane(y, 7)
+                skip_other = q_other
+            skip_other -= 1
+        i += steps
+    _last_jumps(jump, ring, size, rise, running, done, max(done - width - _AHEAD, 4 * width), width)
+    return out, out_other, jump
+
+
+@jit(inline="always")
+def _powers(ring, size, x, running, done, upto):
+    """The running power of ``x`` (its squares added in order) up to ``p[upto]`` in ``ring`` (``p[j]`` at ``j % size``
+    and at ``size`` after: four in a row may be read from any slot); returns the sum and the next ``j`` to add."""
+    while done <= upto:
+        running = running + x[done - 1] * x[done - 1]
+        ring[done & (size - 1)] = ring[(done & (size - 1)) + size] = running
+        done += 1
+    return running, done
+
+
+@jit(inline="always")
+def _ring(width):
+    """A ring of the running power (:func:`_powers`) for jumps over ``width`` samples: ``p[0]`` = 0 in it, its size."""
+    size = 1
+    while size < 5 * width + 4 + _AHEAD:  # the running power from 4 widths before the samples to a width and 4 after
+        size *= 2
+    ring = np.empty(2 * size)
+    ring[0] = ring[size] = 0.0
+    return ring, size
+
+
+@jit(inline="always")
+def _last_jumps(jump, ring, size, x, running, done, first, width):
+    """The jumps of ``x`` from ``first`` to its end, one at a time (their windows cut at the signal's end), from the
+    running power so far in ``ring``."""
+    n = len(x)
+    for k in range(first, n):
+        running, done = _powers(ring, size, x, running, done, min(k + width, n))
+        after = (ring[min(k + width, n) & (size - 1)] - ring[k & (size - 1)]) / width
+        before = (ring[k & (size - 1)] - ring[max(k - 4 * width, 0) & (size - 1)]) / (4 * width)
+        jump[k] = np.sqrt(after / max(before, 1e-300 + after * 1e-12))
+
+
+@jit(error_model="numpy")
+def jump_profile(x, width):
+    """:func:`._kernels.jump_profile` (the RMS jump of ``x`` at each sample: its next ``width`` samples over the ``4 width``
+    before, the power summed in order from ``x[0]``; 0 over the first ``4 width``): the same operations, four jumps as
+    one vector's lanes while the running power is added ahead."""
+    n = len(x)
+    jump = np.zeros(n)
+    ring, size = _ring(width)
+    running, done = 0.0, 1
+    i = 4 * width
+    if i + 4 + _AHEAD <= n - width:
+        running, done = _powers(ring, size, x, running, done, i + width + _AHEAD - 1)
+        while i + 4 + _AHEAD <= n - width:
+            for j in range(i + width + _AHEAD, i + width + _AHEAD + 4):
+                running = running + x[j - 1] * x[j - 1]
+                ring[j & (size - 1)] = ring[(j & (size - 1)) + size] = running
+            _store(jump, i, _jumps_of(_load(ring, (i + width) & (size - 1)), _load(ring, i & (size - 1)),
+                                      _load(ring, (i - 4 * width) & (size - 1)), width))
+            i += 4
+        done = i + width + _AHEAD
+    _last_jumps(jump, ring, size, x, running, done, i, width)
+    return jump
+
+
+@jit
+def peak_pick(x, gap):
+    """:func:`._kernels.peak_pick` (``librosa.util.peak_pick(x, pre_max=gap, post_max=gap, pre_avg=1, post_avg=1,
+    delta=0, wait=gap)``) of a finite ``x``: the same peaks, from the same comparisons of the samples that may be one.
+
+    A sample is a peak when none is larger from ``gap`` before it to ``gap - 1`` after, it is at least its
+    predecessor's and their mean, and it is more than ``gap`` after the last peak (greedily). The largest of blocks of
+    about ``gap / 4`` samples rule most samples out at once: none in a block is a peak when a block within every one of
+    its samples' windows has a larger sample, and none smaller than that block's largest. The others are compared
+    with their windows, four samples at a time."""
+    count = len(x)
+    first = True
+    for n in range(min(gap, count)):
+        if x[n] > x[0]:
+            first = False
+    kept = np.empty(count // (gap + 1) + 2, dtype=np.int64)
+    found, last = 0, -gap - 1
+    if first:
+        kept[0], found, last = 0, 1, 0
+    size = 4 * max(1, gap // 16)
+    reach = gap // size - 1  # blocks b - k and b + k, k <= reach, are within the windows of all block b's samples
+    largest = _block_largest(x, size)
+    for b in range(len(largest)):
+        least = -np.inf
+        for c in range(max(0, b - reach), min(len(largest), b + reach + 1)):
+            if c != b:
+                least = max(least, largest[c])
+        if largest[b] < least:
+            continue
+        for n in range(max(1, b * size), min(count, b * size + size)):
+            v = x[n]
+            if v < least or n <= last + gap or not v >= (x[n - 1] + v) / 2.0:
+                continue
+            end = min(count, n + gap)
+            if _first_over(x, n + 1, end, v) == end and _last_larger(x, max(0, n - gap), n, v, -1) < 0:
+                kept[found] = n
+                found += 1
+                last = n
+    return kept[:found].copy()
+
+
+@jit(inline="always")
+def _block_largest(x, size):
+    """The largest sample of each block of ``size`` (a multiple of 4) samples of a finite ``x`` (the last block: what is
+    left)."""
+    count = len(x)
+    blocks = (count + size - 1) // size
+    largest = np.empty(blocks)
+    for b in range(count // size):
+        top = _load(x, b * size)
+        for j in range(b * size + 4, b * size + size, 4):
+            top = _larger_lanes(_load(x, j), top)
+        largest[b] = max(max(_lane4(top, 0), _lane4(top, 1)), max(_lane4(top, 2), _lane4(top, 3)))
+    if count % size:
+        top = x[count - count % size]
+        for j in range(count - count % size, count):
+            top = max(top, x[j])
+        largest[blocks - 1] = top
+    return largest
+
+
+@jit(inline="always")
+def _first_over(x, low, high, v):
+    """The first ``m`` from ``low`` with ``not x[m] <= v`` before ``high``, else ``high`` (four samples a comparison)."""
+    m = low
+    while m + 4 <= high and _over(x, m, v) == 0:
+        m += 4
+    while m < high and x[m] <= v:
+        m += 1
+    return m
+
+
+@jit(inline="always")
+def _last_larger(x, low, high, v, none):
+    """The last ``j`` before ``high`` with ``x[j] > v`` from ``low``, else ``none``."""
+    j = high
+    while j - 4 >= low and _larger(x, j - 4, v) == 0:
+        j -= 4
+    while j > low:
+        j -= 1
+        if x[j] > v:
+            return j
+    return none
 
 
 @jit
@@ -288,337 +624,6 @@ def _updated_dot(f, i, b, m, reflect):
     return _sum_of_lanes(sums)
 
 
-@intrinsic
-def _jumps_of(typingctx, ahead, power, behind, width):
-    """:func:`._kernels.jump_profile`'s jump in each lane from the running power ``width`` samples ahead, at the sample and
-    ``4 width`` behind: ``sqrt(after / max(before, 1e-300 + after * 1e-12))``."""
-    def codegen(context, builder, signature, args):
-        ahead, power, behind, width = args
-        def broadcast(value):
-            quad = builder.insert_element(ir.Constant(_QUAD, ir.Undefined), value, ir.Constant(_INT, 0))
-            return builder.shuffle_vector(quad, quad, ir.Constant(ir.VectorType(_INT, 4), [0] * 4))
-        after = builder.fdiv(builder.fsub(ahead, power), broadcast(builder.sitofp(width, ir.DoubleType())))
-        before = builder.fdiv(builder.fsub(power, behind),
-                              broadcast(builder.sitofp(builder.mul(width, ir.Constant(width.type, 4)), ir.DoubleType())))
-        floor = builder.fadd(broadcast(ir.Constant(ir.DoubleType(), 1e-300)),
-                             builder.fmul(after, broadcast(ir.Constant(ir.DoubleType(), 1e-12))))
-        larger = builder.select(builder.fcmp_ordered("<", before, floor), floor, before)
-        sqrt = cgutils.get_or_insert_function(builder.module, ir.FunctionType(_QUAD, [_QUAD]), "llvm.sqrt.v4f64")
-        return builder.call(sqrt, [builder.fdiv(after, larger)])
-    return _quad_type(_quad_type, _quad_type, _quad_type, types.intp), codegen
-
-
-@jit(inline="always")
-def _powers(ring, size, x, running, done, upto):
-    """The running power of ``x`` (its squares added in order) up to ``p[upto]`` in ``ring`` (``p[j]`` at ``j % size``
-    and at ``size`` after: four in a row may be read from any slot); returns the sum and the next ``j`` to add."""
-    while done <= upto:
-        running = running + x[done - 1] * x[done - 1]
-        ring[done & (size - 1)] = ring[(done & (size - 1)) + size] = running
-        done += 1
-    return running, done
-
-
-@jit(error_model="numpy")
-def low_pass_two_and_jumps(sos, q, other, q_other, x, rise, width):
-    """:func:`low_pass_two` of ``x`` and :func:`._kernels.jump_profile` of ``rise`` (as long as ``x``) over ``width``
-    samples, in one loop: the filters wait on their recursions, the jumps on the divider, the running power on its
-    additions; side by side each is done while the others wait. The same operations as each alone, the same bits.
-
-    Returns the two decimated signals and the jump profile."""
-    b0, b1, b2 = _column(sos, other, 0), _column(sos, other, 1), _column(sos, other, 2)
-    a1, a2 = _column(sos, other, 4), _column(sos, other, 5)
-    y = z0 = z1 = _lanes((0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0))
-    n = len(x)
-    out = np.empty((n + q - 1) // q)
-    out_other = np.empty((n + q_other - 1) // q_other)
-    jump = np.zeros(n)  # 0 over the first 4 widths
-    ring, size = _ring(width)
-    running, done = 0.0, 1
-    for i in range(3):  # sections not yet at the signal's first sample keep their zero states (as sosfilt's do)
-        y, z0, z1 = _biquads(_shifted_in(y, x[i] if i < n else 0.0), b0, b1, b2, a1, a2, z0, z1)
-        y, z0, z1 = _started(y, i), _started(z0, i), _started(z1, i)
-    skip, skip_other, i = 0, 0, 3
-    while i < n + 3:  # the last section's output at step i is sample i - 3's
-        steps = 1
-        # four jumps, and four steps, at a time from the first jump on while the jumps' windows and the power added
-        # ahead are within the signal
-        if i >= 4 * width and i + 4 + _AHEAD <= n - width:
-            if done == 1:
-                running, done = _powers(ring, size, rise, running, done, i + width + _AHEAD - 1)
-            for j in range(i + width + _AHEAD, i + width + _AHEAD + 4):
-                running = running + rise[j - 1] * rise[j - 1]
-                ring[j & (size - 1)] = ring[(j & (size - 1)) + size] = running
-            done = i + width + _AHEAD + 4
-            _store(jump, i, _jumps_of(_load(ring, (i + width) & (size - 1)), _load(ring, i & (size - 1)),
-                                      _load(ring, (i - 4 * width) & (size - 1)), width))
-            steps = 4
-        for k in range(i, i + steps):
-            y, z0, z1 = _biquads(_shifted_in(y, x[k] if k < n else 0.0), b0, b1, b2, a1, a2, z0, z1)
-            if skip == 0:
-                out[(k - 3) // q] = _lane(y, 3)
-                skip = q
-            skip -= 1
-            if skip_other == 0:
-                out_other[(k - 3) // q_other] = _lane(y, 7)
-                skip_other = q_other
-            skip_other -= 1
-        i += steps
-    _last_jumps(jump, ring, size, rise, running, done, max(done - width - _AHEAD, 4 * width), width)
-    return out, out_other, jump
-
-
-@jit(inline="always")
-def _ring(width):
-    """A ring of the running power (:func:`_powers`) for jumps over ``width`` samples: ``p[0]`` = 0 in it, its size."""
-    size = 1
-    while size < 5 * width + 4 + _AHEAD:  # the running power from 4 widths before the samples to a width and 4 after
-        size *= 2
-    ring = np.empty(2 * size)
-    ring[0] = ring[size] = 0.0
-    return ring, size
-
-
-@jit(inline="always")
-def _last_jumps(jump, ring, size, x, running, done, first, width):
-    """The jumps of ``x`` from ``first`` to its end, one at a time (their windows cut at the signal's end), from the
-    running power so far in ``ring``."""
-    n = len(x)
-    for k in range(first, n):
-        running, done = _powers(ring, size, x, running, done, min(k + width, n))
-        after = (ring[min(k + width, n) & (size - 1)] - ring[k & (size - 1)]) / width
-        before = (ring[k & (size - 1)] - ring[max(k - 4 * width, 0) & (size - 1)]) / (4 * width)
-        jump[k] = np.sqrt(after / max(before, 1e-300 + after * 1e-12))
-
-
-@jit(error_model="numpy")
-def jump_profile(x, width):
-    """:func:`._kernels.jump_profile` (the RMS jump of ``x`` at each sample: its next ``width`` samples over the ``4 width``
-    before, the power summed in order from ``x[0]``; 0 over the first ``4 width``): the same operations, four jumps as
-    one vector's lanes while the running power is added ahead."""
-    n = len(x)
-    jump = np.zeros(n)
-    ring, size = _ring(width)
-    running, done = 0.0, 1
-    i = 4 * width
-    if i + 4 + _AHEAD <= n - width:
-        running, done = _powers(ring, size, x, running, done, i + width + _AHEAD - 1)
-        while i + 4 + _AHEAD <= n - width:
-            for j in range(i + width + _AHEAD, i + width + _AHEAD + 4):
-                running = running + x[j - 1] * x[j - 1]
-                ring[j & (size - 1)] = ring[(j & (size - 1)) + size] = running
-            _store(jump, i, _jumps_of(_load(ring, (i + width) & (size - 1)), _load(ring, i & (size - 1)),
-                                      _load(ring, (i - 4 * width) & (size - 1)), width))
-            i += 4
-        done = i + width + _AHEAD
-    _last_jumps(jump, ring, size, x, running, done, i, width)
-    return jump
-
-
-def _lanes_compared(predicate):
-    """An intrinsic: the lanes of ``x[start:start + 4]`` (a contiguous array of doubles) for which ``predicate`` (an LLVM
-    comparison of each with ``v``) holds, as the bits of an integer (lane 0 the lowest)."""
-    ordered, operator = predicate
-
-    @intrinsic
-    def compared(typingctx, x, start, v):
-        def codegen(context, builder, signature, args):
-            quad = builder.load(_quad_pointer(context, builder, signature.args[0], args[0], args[1]), align=8)
-            value = builder.insert_element(ir.Constant(_QUAD, ir.Undefined), args[2], ir.Constant(_INT, 0))
-            value = builder.shuffle_vector(value, value, ir.Constant(ir.VectorType(_INT, 4), [0] * 4))
-            compare = builder.fcmp_ordered if ordered else builder.fcmp_unordered
-            bits = builder.bitcast(compare(operator, quad, value), ir.IntType(4))
-            return builder.zext(bits, ir.IntType(64))
-        return types.int64(types.Array(types.float64, 1, "C"), types.intp, types.float64), codegen
-    return compared
-
-
-_over = _lanes_compared((False, ">"))  # not (x <= v): larger, or NaN
-_larger = _lanes_compared((True, ">"))
-
-
-@jit(inline="always")
-def _first_over(x, low, high, v):
-    """The first ``m`` from ``low`` with ``not x[m] <= v`` before ``high``, else ``high`` (four samples a comparison)."""
-    m = low
-    while m + 4 <= high and _over(x, m, v) == 0:
-        m += 4
-    while m < high and x[m] <= v:
-        m += 1
-    return m
-
-
-@jit(inline="always")
-def _last_larger(x, low, high, v, none):
-    """The last ``j`` before ``high`` with ``x[j] > v`` from ``low``, else ``none``."""
-    j = high
-    while j - 4 >= low and _larger(x, j - 4, v) == 0:
-        j -= 4
-    while j > low:
-        j -= 1
-        if x[j] > v:
-            return j
-    return none
-
-
-@intrinsic
-def _larger_lanes(typingctx, a, b):
-    """The larger of ``a`` and ``b`` in each lane (``b`` where neither is larger)."""
-    def codegen(context, builder, signature, args):
-        return builder.select(builder.fcmp_ordered(">", args[0], args[1]), args[0], args[1])
-    return _quad_type(_quad_type, _quad_type), codegen
-
-
-@jit(inline="always")
-def _block_largest(x, size):
-    """The largest sample of each block of ``size`` (a multiple of 4) samples of a finite ``x`` (the last block: what is
-    left)."""
-    count = len(x)
-    blocks = (count + size - 1) // size
-    largest = np.empty(blocks)
-    for b in range(count // size):
-        top = _load(x, b * size)
-        for j in range(b * size + 4, b * size + size, 4):
-            top = _larger_lanes(_load(x, j), top)
-        largest[b] = max(max(_lane4(top, 0), _lane4(top, 1)), max(_lane4(top, 2), _lane4(top, 3)))
-    if count % size:
-        top = x[count - count % size]
-        for j in range(count - count % size, count):
-            top = max(top, x[j])
-        largest[blocks - 1] = top
-    return largest
-
-
-@jit
-def peak_pick(x, gap):
-    """:func:`._kernels.peak_pick` (``librosa.util.peak_pick(x, pre_max=gap, post_max=gap, pre_avg=1, post_avg=1,
-    delta=0, wait=gap)``) of a finite ``x``: the same peaks, from the same comparisons of the samples that may be one.
-
-    A sample is a peak when none is larger from ``gap`` before it to ``gap - 1`` after, it is at least its
-    predecessor's and their mean, and it is more than ``gap`` after the last peak (greedily). The largest of blocks of
-    about ``gap / 4`` samples rule most samples out at once: none in a block is a peak when a block within every one of
-    its samples' windows has a larger sample, and none smaller than that block's largest. The others are compared
-    with their windows, four samples at a time."""
-    count = len(x)
-    first = True
-    for n in range(min(gap, count)):
-        if x[n] > x[0]:
-            first = False
-    kept = np.empty(count // (gap + 1) + 2, dtype=np.int64)
-    found, last = 0, -gap - 1
-    if first:
-        kept[0], found, last = 0, 1, 0
-    size = 4 * max(1, gap // 16)
-    reach = gap // size - 1  # blocks b - k and b + k, k <= reach, are within the windows of all block b's samples
-    largest = _block_largest(x, size)
-    for b in range(len(largest)):
-        least = -np.inf
-        for c in range(max(0, b - reach), min(len(largest), b + reach + 1)):
-            if c != b:
-                least = max(least, largest[c])
-        if largest[b] < least:
-            continue
-        for n in range(max(1, b * size), min(count, b * size + size)):
-            v = x[n]
-            if v < least or n <= last + gap or not v >= (x[n - 1] + v) / 2.0:
-                continue
-            end = min(count, n + gap)
-            if _first_over(x, n + 1, end, v) == end and _last_larger(x, max(0, n - gap), n, v, -1) < 0:
-                kept[found] = n
-                found += 1
-                last = n
-    return kept[:found].copy()
-
-
-@intrinsic
-def _times(typingctx, x, y):
-    """``x * y`` in each lane."""
-    def codegen(context, builder, signature, args):
-        return builder.fmul(args[0], args[1])
-    return _quad_type(_quad_type, _quad_type), codegen
-
-
-@intrinsic
-def _plus(typingctx, x, y):
-    """``x + y`` in each lane."""
-    def codegen(context, builder, signature, args):
-        return builder.fadd(args[0], args[1])
-    return _quad_type(_quad_type, _quad_type), codegen
-
-
-@jit
-def frame_energies(x, starts, window):
-    """:func:`._kernels.frame_energies` (each frame's energy over its ``numpy.fft.rfft``'s bins, its sums in four lanes):
-    the same operations, the four lanes as one vector's, two frames side by side."""
-    out = np.empty(len(starts))
-    for i in range(0, len(starts) - 1, 2):
-        out[i], out[i + 1] = _two_energies(x, starts[i], starts[i + 1], window)
-    if len(starts) % 2:
-        out[-1] = _two_energies(x, starts[-1], starts[-1], window)[0]
-    return out
-
-
-@jit(inline="always")
-def _two_energies(x, first, second, window):
-    """The energies of the frames from ``first`` and ``second`` (:func:`frame_energies`')."""
-    size = len(window)
-    zero = _quad(0.0)
-    power, total, power_other, total_other = zero, zero, zero, zero
-    j = 0
-    while j + 4 <= size:
-        w = _load(window, j)
-        v, u = _times(_load(x, first + j), w), _times(_load(x, second + j), w)
-        power, power_other = _plus_times(power, v, v), _plus_times(power_other, u, u)
-        total, total_other = _plus(total, v), _plus(total_other, u)
-        j += 4
-    return (_energy(x, first, window, j, power, total, size),
-            _energy(x, second, window, j, power_other, total_other, size))
-
-
-@jit(inline="always")
-def _energy(x, start, window, j, power, total, size):
-    """A frame's energy from its lanes' sums up to sample ``j`` (the last samples added as _kernels.frame_energies
-    adds them: even ones in the first lane, odd ones in the second)."""
-    p0, p1, p2, p3 = _lane4(power, 0), _lane4(power, 1), _lane4(power, 2), _lane4(power, 3)
-    t0, t1, t2, t3 = _lane4(total, 0), _lane4(total, 1), _lane4(total, 2), _lane4(total, 3)
-    while j < size:
-        v0 = x[start + j] * window[j]
-        if j % 2 == 0:
-            p0, t0 = p0 + v0 * v0, t0 + v0
-        else:
-            p1, t1 = p1 + v0 * v0, t1 + v0
-        j += 1
-    power, even, odd = (p0 + p2) + (p1 + p3), t0 + t2, t1 + t3
-    return (size * power + (even + odd) ** 2 + (even - odd) ** 2) / 2.0
-
-
-@intrinsic
-def _lane4(typingctx, quad, which):
-    """Lane ``which`` of a quad."""
-    def codegen(context, builder, signature, args):
-        return builder.extract_element(args[0], builder.trunc(args[1], _INT))
-    return types.float64(_quad_type, types.intp), codegen
-
-
-@jit
-def high_pass(sos, x):
-    """``scipy.signal.sosfilt(sos, x)`` for one second-order section (:func:`._kernels.second_order`'s operations) and
-    its largest magnitude (:func:`._kernels.largest_magnitude`'s), in one pass: the filter waits on its recursion, the
-    largest is found meanwhile."""
-    b0, b1, b2, a1, a2 = sos[0, 0], sos[0, 1], sos[0, 2], sos[0, 4], sos[0, 5]
-    z0 = z1 = 0.0
-    peak = 0.0
-    out = np.empty(len(x))
-    for i in range(len(x)):
-        v = x[i]
-        y = b0 * v + z0
-        z0 = b1 * v - a1 * y + z1
-        z1 = b2 * v - a2 * y
-        out[i] = y
-        peak = max(peak, abs(y))
-    return out, peak
-
-
 @jit
 def prediction_error(a, x):
     """:func:`._kernels.prediction_error` (``scipy.signal.lfilter(a, [1.0], x)``: ``x`` through the FIR ``a``, each
@@ -648,9 +653,9 @@ def prediction_error(a, x):
         for i, sums in enumerate((s0, s1, s2, s3, s4, s5, s6, s7)):
             _store(out, j + 4 * i, sums)
         j += 32
-    for j in range(j, n):
-        total = a[0] * x[j]
+    for t in range(j, n):
+        total = a[0] * x[t]
         for k in range(1, taps):
-            total += a[k] * x[j - k]
-        out[j] = total
+            total += a[k] * x[t - k]
+        out[t] = total
     return out
