@@ -1,8 +1,7 @@
 """The compiled loops of the onset detector's front end (:mod:`.onsets`: the high-pass, the decimation and its filters,
 steps 1-3's predictor, jumps and peaks): each does the same floating-point operations, in the same order, as the code
-it replaced (scipy's ``sosfilt`` and ``lfilter``, librosa's ``lpc`` and ``peak_pick`` as :mod:`._kernels` computes
-them), so its results are the same to the bit (tests/test_onsets_front.py holds them against scipy, numpy, librosa
-and those kernels).
+it replaced (scipy's ``sosfilt`` and ``lfilter``, librosa's ``lpc`` with its sums in four lanes, ``peak_pick``), so its
+results are the same to the bit (tests/test_onsets_front.py holds them against scipy, numpy and librosa).
 
 What makes them faster is where the operations run, not what they are:
 
@@ -108,7 +107,7 @@ _AHEAD = 8  # how far the running power is added ahead of the jumps that read it
 
 
 class _Quad(types.Type):
-    """Four doubles held as one LLVM vector: :func:`._kernels.lanes_dot`'s four lanes."""
+    """Four doubles held as one LLVM vector: a sum's four lanes (every fourth term), or four samples."""
 
     def __init__(self):
         super().__init__(name="Quad")
@@ -244,7 +243,7 @@ _larger = _lanes_compared((True, ">"))
 
 @intrinsic
 def _jumps_of(typingctx, ahead, power, behind, width):
-    """:func:`._kernels.jump_profile`'s jump in each lane from the running power ``width`` samples ahead, at the sample and
+    """:func:`jump_profile`'s jump in each lane from the running power ``width`` samples ahead, at the sample and
     ``4 width`` behind: ``sqrt(after / max(before, 1e-300 + after * 1e-12))``."""
     def codegen(context, builder, signature, args):
         ahead, power, behind, width = args
@@ -264,9 +263,9 @@ def _jumps_of(typingctx, ahead, power, behind, width):
 
 @jit
 def high_pass(sos, x):
-    """``scipy.signal.sosfilt(sos, x)`` for one second-order section (:func:`._kernels.second_order`'s operations) and
-    its largest magnitude (:func:`._kernels.largest_magnitude`'s), in one pass: the filter waits on its recursion, the
-    largest is found meanwhile."""
+    """``scipy.signal.sosfilt(sos, x)`` for one second-order section (the same operations) and its largest magnitude
+    (``np.max(np.abs(..), initial=0.0)``), in one pass: the filter waits on its recursion, the largest is found
+    meanwhile."""
     b0, b1, b2, a1, a2 = sos[0, 0], sos[0, 1], sos[0, 2], sos[0, 4], sos[0, 5]
     z0 = z1 = 0.0
     peak = 0.0
@@ -283,8 +282,10 @@ def high_pass(sos, x):
 
 @jit
 def frame_energies(x, starts, window):
-    """:func:`._kernels.frame_energies` (each frame's energy over its ``numpy.fft.rfft``'s bins, its sums in four lanes):
-    the same operations, the four lanes as one vector's, two frames side by side."""
+    """The energy over the bins of ``numpy.fft.rfft`` of each frame ``x[s:s + len(window)] * window`` (``s`` in
+    ``starts``), by Parseval's theorem: the half spectrum counts its first and last bins once. Each sum (of the
+    squares, of the even and of the odd samples) is added in four lanes (every fourth sample; those left over, even or
+    odd, in the first two), the lanes summed at the end; the four lanes as one vector's, two frames side by side."""
     out = np.empty(len(starts))
     for i in range(0, len(starts) - 1, 2):
         out[i], out[i + 1] = _two_energies(x, starts[i], starts[i + 1], window)
@@ -312,8 +313,8 @@ def _two_energies(x, first, second, window):
 
 @jit(inline="always")
 def _energy(x, start, window, j, power, total, size):
-    """A frame's energy from its lanes' sums up to sample ``j`` (the last samples added as _kernels.frame_energies
-    adds them: even ones in the first lane, odd ones in the second)."""
+    """A frame's energy from its lanes' sums up to sample ``j`` (the samples left over: even ones in the first lane, odd
+    ones in the second)."""
     p0, p1, p2, p3 = _lane4(power, 0), _lane4(power, 1), _lane4(power, 2), _lane4(power, 3)
     t0, t1, t2, t3 = _lane4(total, 0), _lane4(total, 1), _lane4(total, 2), _lane4(total, 3)
     while j < size:
@@ -362,7 +363,7 @@ def low_pass_two(sos, q, other, q_other, x):
 
 @jit(error_model="numpy")
 def low_pass_two_and_jumps(sos, q, other, q_other, x, rise, width):
-    """:func:`low_pass_two` of ``x`` and :func:`._kernels.jump_profile` of ``rise`` (as long as ``x``) over ``width``
+    """:func:`low_pass_two` of ``x`` and :func:`jump_profile` of ``rise`` (as long as ``x``) over ``width``
     samples, in one loop: the filters wait on their recursions, the jumps on the divider, the running power on its
     additions; side by side each is done while the others wait. The same operations as each alone, the same bits.
 
@@ -445,9 +446,9 @@ def _last_jumps(jump, ring, size, x, running, done, first, width):
 
 @jit(error_model="numpy")
 def jump_profile(x, width):
-    """:func:`._kernels.jump_profile` (the RMS jump of ``x`` at each sample: its next ``width`` samples over the ``4 width``
-    before, the power summed in order from ``x[0]``; 0 over the first ``4 width``): the same operations, four jumps as
-    one vector's lanes while the running power is added ahead."""
+    """The RMS jump of ``x`` at each sample (:func:`.onsets._windows`' next ``width`` samples over the ``4 width``
+    before, the power summed in order from ``x[0]``), 0 over the first ``4 width``: four jumps as one vector's lanes
+    while the running power is added ahead, in a ring of the samples the windows span (not the recording's length)."""
     n = len(x)
     jump = np.zeros(n)
     ring, size = _ring(width)
@@ -469,8 +470,8 @@ def jump_profile(x, width):
 
 @jit
 def peak_pick(x, gap):
-    """:func:`._kernels.peak_pick` (``librosa.util.peak_pick(x, pre_max=gap, post_max=gap, pre_avg=1, post_avg=1,
-    delta=0, wait=gap)``) of a finite ``x``: the same peaks, from the same comparisons of the samples that may be one.
+    """:func:`.onsets._peak_pick` (``librosa.util.peak_pick(x, pre_max=gap, post_max=gap, pre_avg=1, post_avg=1,
+    delta=0, wait=gap)``) of a finite ``x``.
 
     A sample is a peak when none is larger from ``gap`` before it to ``gap - 1`` after, it is at least its
     predecessor's and their mean, and it is more than ``gap`` after the last peak (greedily). The largest of blocks of
@@ -554,8 +555,11 @@ def _last_larger(x, low, high, v, none):
 
 @jit
 def burg(y, order):
-    """:func:`._kernels.burg` (``librosa.lpc(y, order=order)``, its sums of products in four lanes): the same
-    operations, each order's update of the prediction errors and the next order's numerator in one pass."""
+    """``librosa.lpc(y, order=order)`` for a 1-D ``y`` (Burg's method, as Marple): the same operations, except that
+    each sum of products is added in four lanes (every fourth term; those left over in the first), the lanes summed at
+    the end (the same to rounding: one chain of additions a sample made the method wait on each addition). Each
+    order's update of the prediction errors (in place) and the next order's numerator are one pass, four samples
+    as one vector's lanes."""
     tiny = np.finfo(np.float64).tiny
     n = len(y)
     f = y[1:].copy()  # f[i:] is the forward error at order i, b[:n - 1 - i] the backward one
@@ -580,7 +584,7 @@ def burg(y, order):
 
 @jit(inline="always")
 def _lanes_dot(x, y, n):
-    """:func:`._kernels.lanes_dot` of ``x[:n]`` and ``y[:n]``."""
+    """``x[:n] @ y[:n]`` added in four lanes (every fourth term; those left over in the first), summed at the end."""
     s0 = s1 = s2 = s3 = 0.0
     k = 0
     while k + 4 <= n:
@@ -598,7 +602,7 @@ def _lanes_dot(x, y, n):
 @jit(inline="always")
 def _updated_dot(f, i, b, m, reflect):
     """One order of Burg's method: the errors ``f[i:i + m]`` and ``b[:m]`` updated in place by ``reflect``, and the next
-    order's numerator, ``b[:m - 1] @ f[i + 1:i + m]`` in four lanes (:func:`._kernels.lanes_dot`), each product added as
+    order's numerator, ``b[:m - 1] @ f[i + 1:i + m]`` in four lanes (:func:`_lanes_dot`), each product added as
     soon as both its errors are updated (four samples at a time, as one vector's lanes)."""
     old = f[i]
     f[i] = old + reflect * b[0]

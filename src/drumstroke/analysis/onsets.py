@@ -1984,13 +1984,17 @@ def _decimate_two(band, rate, q, q2, rise):
     The two filters run side by side in one pass (their eight sections as one vector's lanes), and the jumps with
     them: the filters wait on their recursions, the jumps on divisions.
     """
-    from ._front import low_pass_two_and_jumps
+    from ._front import low_pass_two, low_pass_two_and_jumps
 
-    if q == 1 or q2 == 1 or len(rise) > _BLOCK:
+    if q == 1 or q2 == 1:
         return _decimate(band, rate, q), _decimate(band, rate, q2), None
     (sos, delay), (sos2, delay2) = _low_pass(0.8 * rate / q / 2.0, rate), _low_pass(0.8 * rate / q2 / 2.0, rate)
-    low, low2, jumps = low_pass_two_and_jumps(sos, q, sos2, q2, np.ascontiguousarray(band, dtype=float),
-                                              np.ascontiguousarray(rise, dtype=float), _jump_width(rate))
+    band = np.ascontiguousarray(band, dtype=float)
+    if len(rise) > _BLOCK:  # the jumps found block by block
+        low, low2, jumps = *low_pass_two(sos, q, sos2, q2, band), None
+    else:
+        low, low2, jumps = low_pass_two_and_jumps(sos, q, sos2, q2, band, np.ascontiguousarray(rise, dtype=float),
+                                                  _jump_width(rate))
     return (low, rate / q, delay), (low2, rate / q2, delay2), jumps
 
 
