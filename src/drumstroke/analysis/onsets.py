@@ -2082,12 +2082,12 @@ def _jumps(x, rate, min_interval, least, samples=12, profile=None):
 
 
 def _jump_width(rate, least=12):
-    """The windows of :func:`_jumps` and :func:`_windows`: 1 ms, ≥ ``least`` samples."""
+    """The windows of the RMS jumps (:func:`_jumps`, :func:`_windows`, :func:`_jump_at`): 1 ms, ≥ ``least`` samples."""
     return max(least, round(1e-3 * rate))
 
 
 def _peak_pick(x, gap):
-    """``librosa.util.peak_pick(x, pre_max=gap, post_max=gap, pre_avg=1, post_avg=1, delta=0, wait=gap)``, its sliding maximum in linear time.
+    """``librosa.util.peak_pick(x, pre_max=gap, post_max=gap, pre_avg=1, post_avg=1, delta=0, wait=gap)`` of a finite ``x``, in linear time.
 
     A sample is a peak when it is the largest from ``gap`` samples before it to ``gap - 1`` after, at
     least its predecessor, and more than ``gap`` samples after the last peak (greedily, in order; the
@@ -2110,7 +2110,7 @@ def _frames(x, start, count, size):
 
 def _windows(x, rate, least=12):
     """The mean square of ``x`` over the 1 ms (≥ ``least`` samples) from each sample, and over the 4 times that before it."""
-    width = max(least, round(1e-3 * rate))
+    width = _jump_width(rate, least)
     power = np.concatenate(([0.0], np.cumsum(x * x)))
     count = len(x)  # slices, not indices: power[min(n + width, count)] and power[max(n - 4 width, 0)] for each n
     ahead = np.concatenate((power[min(width, count):], np.full(max(min(width, count) - 1, 0), power[-1])))[:count]
@@ -2127,7 +2127,7 @@ def _jump_at(x, positions, rate, samples=12):
     # each position's windows over the slice of x around it: from half a window and 4 windows before it
     # (a full window before, or the signal's start) to half a window and a window after
     x = np.ascontiguousarray(x, dtype=float)
-    return jump_at(x, np.round(np.asarray(positions, dtype=float)).astype(np.int64), max(samples, round(1e-3 * rate)),
+    return jump_at(x, np.round(np.asarray(positions, dtype=float)).astype(np.int64), _jump_width(rate, samples),
                    _rounding_floor(x))
 
 
