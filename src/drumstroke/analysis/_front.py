@@ -13,8 +13,8 @@ What makes them faster is where the operations run, not what they are:
 - Work that waits on different units side by side: the filters wait on their recursions, the jump profile on the
   divider (:func:`low_pass_two_and_jumps`); the high-pass on its recursion, its largest sample on nothing
   (:func:`high_pass`).
-- Fewer passes and comparisons: Burg's update of an order's errors and the next order's numerator in one pass
-  (:func:`burg`); the peak picker rules most samples out by the largest of blocks (:func:`peak_pick`).
+- Fewer passes: Burg's update of an order's errors and the next order's numerator in one pass (:func:`burg`); the
+  peak picker's scans for a larger or an equal sample four samples a comparison (:func:`peak_pick`).
 
 A module of its own (as :mod:`._kernels`) so that importing :mod:`drumstroke.analysis` does not import numba.
 """
@@ -186,14 +186,6 @@ def _plus_times(typingctx, x, y, z):
 
 
 @intrinsic
-def _larger_lanes(typingctx, a, b):
-    """The larger of ``a`` and ``b`` in each lane (``b`` where neither is larger)."""
-    def codegen(context, builder, signature, args):
-        return builder.select(builder.fcmp_ordered(">", args[0], args[1]), args[0], args[1])
-    return _quad_type(_quad_type, _quad_type), codegen
-
-
-@intrinsic
 def _after(typingctx, last, quad):
     """``(last[3], quad[0], quad[1], quad[2])``."""
     def codegen(context, builder, signature, args):
@@ -239,6 +231,7 @@ def _lanes_compared(predicate):
 
 _over = _lanes_compared((False, ">"))  # not (x <= v): larger, or NaN
 _larger = _lanes_compared((True, ">"))
+_equal = _lanes_compared((True, "=="))
 
 
 @intrinsic
@@ -471,13 +464,10 @@ def jump_profile(x, width):
 @jit
 def peak_pick(x, gap):
     """:func:`.onsets._peak_pick` (``librosa.util.peak_pick(x, pre_max=gap, post_max=gap, pre_avg=1, post_avg=1,
-    delta=0, wait=gap)``) of a finite ``x``.
+    delta=0, wait=gap)``) in linear time, the scans for a larger or an equal sample four samples a comparison.
 
-    A sample is a peak when none is larger from ``gap`` before it to ``gap - 1`` after, it is at least its
-    predecessor's and their mean, and it is more than ``gap`` after the last peak (greedily). The largest of blocks of
-    about ``gap / 4`` samples rule most samples out at once: none in a block is a peak when a block within every one of
-    its samples' windows has a larger sample, and none smaller than that block's largest. The others are compared
-    with their windows, four samples at a time."""
+    A sample is a peak when it is the largest from ``gap`` before it to ``gap - 1`` after, at least its predecessor's
+    and their mean, and more than ``gap`` after the last peak (greedily)."""
     count = len(x)
     first = True
     for n in range(min(gap, count)):
@@ -487,46 +477,29 @@ def peak_pick(x, gap):
     found, last = 0, -gap - 1
     if first:
         kept[0], found, last = 0, 1, 0
-    size = 4 * max(1, gap // 16)
-    reach = gap // size - 1  # blocks b - k and b + k, k <= reach, are within the windows of all block b's samples
-    largest = _block_largest(x, size)
-    for b in range(len(largest)):
-        least = -np.inf
-        for c in range(max(0, b - reach), min(len(largest), b + reach + 1)):
-            if c != b:
-                least = max(least, largest[c])
-        if largest[b] < least:
+    # the candidates come in time order: each kept as found if more than gap after the last kept. From each sample,
+    # the first larger one after it within its window: there is none there (each between is no larger than it, the
+    # larger one in its window); else it is the largest after it, and those after it up to its window's end are
+    # smaller (it is in their window: none) or equal (tried in turn, what is known of the equal run kept: how far
+    # after it all are no larger, the nearest larger before it)
+    n, tie, scanned, bigger = 1, False, 0, -count - gap - 1
+    while n < count:
+        v = x[n]
+        high = min(count, n + gap)
+        m = _first_over(x, max(scanned, n + 1) if tie else n + 1, high, v)
+        if m < high:
+            n, tie = m, False
             continue
-        for n in range(max(1, b * size), min(count, b * size + size)):
-            v = x[n]
-            if v < least or n <= last + gap or not v >= (x[n - 1] + v) / 2.0:
-                continue
-            end = min(count, n + gap)
-            if _first_over(x, n + 1, end, v) == end and _last_larger(x, max(0, n - gap), n, v, -1) < 0:
-                kept[found] = n
-                found += 1
-                last = n
+        if not tie:  # the nearest larger one within the window before it
+            bigger = _last_larger(x, max(0, n - gap), n, v, -count - gap - 1)
+        if bigger < n - gap and v >= (x[n - 1] + v) / 2.0 and n > last + gap:
+            kept[found] = n
+            found += 1
+            last = n
+        scanned = high
+        m = _first_equal(x, n + 1, high, v)
+        n, tie = m, m < high
     return kept[:found].copy()
-
-
-@jit(inline="always")
-def _block_largest(x, size):
-    """The largest sample of each block of ``size`` (a multiple of 4) samples of a finite ``x`` (the last block: what is
-    left)."""
-    count = len(x)
-    blocks = (count + size - 1) // size
-    largest = np.empty(blocks)
-    for b in range(count // size):
-        top = _load(x, b * size)
-        for j in range(b * size + 4, b * size + size, 4):
-            top = _larger_lanes(_load(x, j), top)
-        largest[b] = max(max(_lane4(top, 0), _lane4(top, 1)), max(_lane4(top, 2), _lane4(top, 3)))
-    if count % size:
-        top = x[count - count % size]
-        for j in range(count - count % size, count):
-            top = max(top, x[j])
-        largest[blocks - 1] = top
-    return largest
 
 
 @jit(inline="always")
@@ -536,6 +509,17 @@ def _first_over(x, low, high, v):
     while m + 4 <= high and _over(x, m, v) == 0:
         m += 4
     while m < high and x[m] <= v:
+        m += 1
+    return m
+
+
+@jit(inline="always")
+def _first_equal(x, low, high, v):
+    """The first ``m`` from ``low`` with ``x[m] == v`` before ``high``, else ``high``."""
+    m = low
+    while m + 4 <= high and _equal(x, m, v) == 0:
+        m += 4
+    while m < high and x[m] != v:
         m += 1
     return m
 

@@ -2087,7 +2087,7 @@ def _jump_width(rate, least=12):
 
 
 def _peak_pick(x, gap):
-    """``librosa.util.peak_pick(x, pre_max=gap, post_max=gap, pre_avg=1, post_avg=1, delta=0, wait=gap)`` of a finite ``x``, in linear time.
+    """``librosa.util.peak_pick(x, pre_max=gap, post_max=gap, pre_avg=1, post_avg=1, delta=0, wait=gap)``, its sliding maximum in linear time.
 
     A sample is a peak when it is the largest from ``gap`` samples before it to ``gap - 1`` after, at
     least its predecessor, and more than ``gap`` samples after the last peak (greedily, in order; the
