@@ -367,7 +367,8 @@ def low_pass_two_and_jumps(sos, q, other, q_other, x, rise, width):
     n = len(x)
     out = np.empty((n + q - 1) // q)
     out_other = np.empty((n + q_other - 1) // q_other)
-    jump = np.zeros(n)  # 0 over the first 4 widths
+    jump = np.empty(n)
+    jump[:4 * width] = 0.0  # the rest written below
     ring, size = _ring(width)
     running, done = 0.0, 1
     for i in range(3):  # sections not yet at the signal's first sample keep their zero states (as sosfilt's do)
@@ -443,7 +444,8 @@ def jump_profile(x, width):
     before, the power summed in order from ``x[0]``), 0 over the first ``4 width``: four jumps as one vector's lanes
     while the running power is added ahead, in a ring of the samples the windows span (not the recording's length)."""
     n = len(x)
-    jump = np.zeros(n)
+    jump = np.empty(n)
+    jump[:4 * width] = 0.0  # the rest written below
     ring, size = _ring(width)
     running, done = 0.0, 1
     i = 4 * width
