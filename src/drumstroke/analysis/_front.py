@@ -122,6 +122,15 @@ class _QuadModel(models.PrimitiveModel):
         super().__init__(dmm, fe_type, _QUAD)
 
 
+def _doubles(array, writeable=False):
+    """``array``'s type, when it is a contiguous 1-D array of doubles (read only or not; written: not read only): the
+    vectors' loads and stores read and write four in a row."""
+    if not (isinstance(array, types.Array) and array.dtype == types.float64 and array.ndim == 1 and array.layout == "C"
+            and (array.mutable or not writeable)):
+        raise TypeError(f"a contiguous 1-D array of float64{' (writeable)' if writeable else ''}, got {array}")
+    return array
+
+
 def _quad_pointer(context, builder, array_type, array, start):
     data = context.make_array(array_type)(context, builder, array).data
     return builder.bitcast(builder.gep(data, [start]), _QUAD.as_pointer())
@@ -132,7 +141,7 @@ def _load(typingctx, array, start):
     """``array[start:start + 4]`` (a contiguous array of doubles) as a quad."""
     def codegen(context, builder, signature, args):
         return builder.load(_quad_pointer(context, builder, signature.args[0], args[0], args[1]), align=8)
-    return _quad_type(types.Array(types.float64, 1, "C"), types.intp), codegen
+    return _quad_type(_doubles(array), types.intp), codegen
 
 
 @intrinsic
@@ -141,7 +150,7 @@ def _store(typingctx, array, start, quad):
     def codegen(context, builder, signature, args):
         builder.store(args[2], _quad_pointer(context, builder, signature.args[0], args[0], args[1]), align=8)
         return context.get_dummy_value()
-    return types.none(types.Array(types.float64, 1, "C"), types.intp, _quad_type), codegen
+    return types.none(_doubles(array, writeable=True), types.intp, _quad_type), codegen
 
 
 @intrinsic
@@ -225,7 +234,7 @@ def _lanes_compared(predicate):
             compare = builder.fcmp_ordered if ordered else builder.fcmp_unordered
             bits = builder.bitcast(compare(operator, quad, value), ir.IntType(4))
             return builder.zext(bits, ir.IntType(64))
-        return types.int64(types.Array(types.float64, 1, "C"), types.intp, types.float64), codegen
+        return types.int64(_doubles(x), types.intp, types.float64), codegen
     return compared
 
 
