@@ -188,3 +188,14 @@ def test_prediction_error_is_lfilter_and_the_scalar_kernel(rng, taps, n):
     e = _front.prediction_error(a, x)
     assert e.tobytes() == _kernels.prediction_error(a, x).tobytes()  # each output's taps added in the same order
     np.testing.assert_allclose(e, lfilter(a, [1.0], x), rtol=1e-12, atol=1e-12 * np.sum(np.abs(a)))
+
+
+def test_vector_reads_take_read_only_arrays_and_refuse_strided_ones(rng):
+    window = np.hanning(64)
+    window.flags.writeable = False  # as the decimation's cached window
+    x = rng.standard_normal(1_000)
+    starts = np.array([0, 100, 900], dtype=np.int64)
+    np.testing.assert_allclose(_front.frame_energies(x, starts, window),
+                               [np.sum(np.abs(np.fft.rfft(x[s:s + 64] * window)) ** 2) for s in starts], rtol=1e-12)
+    with pytest.raises(Exception, match="contiguous 1-D array of float64"):
+        _front.prediction_error(np.ones(3), x[::2])
