@@ -9,7 +9,8 @@ What makes them faster is where the operations run, not what they are:
   doing what one scalar did, with IEEE arithmetic (no fused multiply-adds): :func:`low_pass_two` runs the two
   decimation filters' eight second-order sections as the eight lanes of one vector, section ``s`` a sample behind
   section ``s - 1`` (the output it gave at the step before), so the loop waits on one section's recursion a sample,
-  not on eight sections' instructions; a sum added in four lanes (every fourth term) is one vector's four lanes.
+  not on eight sections' instructions; a sum added in four lanes (every fourth term) is one vector's four lanes;
+  :func:`prediction_error` holds 32 outputs in eight vectors over all its taps.
 - Work that waits on different units side by side: the filters wait on their recursions, the jump profile on the
   divider (:func:`low_pass_two_and_jumps`); the high-pass on its recursion, its largest sample on nothing
   (:func:`high_pass`).
