@@ -1,4 +1,5 @@
-"""The onset detector's front-end kernels (drumstroke.analysis._front) against scipy and numpy: the same to the bit."""
+"""The onset detector's front-end kernels (drumstroke.analysis._front) against scipy, numpy and librosa: the same to the
+bit where they do the same operations."""
 
 import numpy as np
 import pytest
@@ -141,7 +142,7 @@ def _frame_energy_in_numpy(v):
 
 @pytest.mark.parametrize("size", [4, 8, 6, 7, 1024])
 @pytest.mark.parametrize("frames", [1, 2, 3, 10])
-def test_frame_energies_as_the_spectra_and_the_scalar_kernel(rng, size, frames):
+def test_frame_energies_as_their_lanes_in_numpy_and_the_spectra(rng, size, frames):
     x, window = rng.standard_normal(5_000), np.hanning(size)
     starts = np.sort(rng.integers(0, len(x) - size, frames)).astype(np.int64)
     energies = _front.frame_energies(x, starts, window)
