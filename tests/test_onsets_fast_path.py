@@ -128,7 +128,8 @@ def test_kernels_sum_as_numpy_and_librosa_sum():
     method, whose sums are added in four lanes, to 1e-12 of its largest coefficient)."""
     import librosa
 
-    from drumstroke.analysis._kernels import burg, jump_at, jump_profile, row_dots
+    from drumstroke.analysis._front import burg, jump_profile
+    from drumstroke.analysis._kernels import jump_at, row_dots
 
     def windows(x, width):  # the mean squares over the next window and the 4 before, as cumulative sums in numpy
         power = np.concatenate(([0.0], np.cumsum(x * x)))

@@ -4,8 +4,8 @@
 in one small buffer (it built all the rows at once), and :func:`drumstroke.analysis.onsets._room_tail`
 correlates the attacks' impulses by sums over them (it used FFTs of the band's length): the sums' order
 changes, so those oracles are held within stated tolerances, relative to the largest entry. The full-rate jump
-profile keeps its running power over a block of samples at a time and the peak picker its peaks as found: the
-same bits, over lengths that cross the blocks.
+profile keeps its running power over a ring of its windows' samples and the peak picker its peaks as found: the
+same bits, over lengths that cross the ring.
 """
 
 import numpy as np
@@ -15,7 +15,7 @@ from scipy.linalg import solve_toeplitz
 from scipy.ndimage import uniform_filter1d
 
 from _recordings import uneven_noise
-from drumstroke.analysis import _kernels
+from drumstroke.analysis import _front, _kernels
 from drumstroke.analysis.onsets import _LAG_ROWS, _innovation, _robust_innovation, _room_tail
 
 
@@ -107,7 +107,7 @@ def test_jump_profile_over_blocks_as_numpys_cumulative_sums(rng):
         x = rng.standard_normal(n) * np.exp(rng.standard_normal(n))
         x[n // 3:n // 2] = 0.0  # digital silence
         for width in (4, 12, 48):
-            np.testing.assert_array_equal(_kernels.jump_profile(x, width), jump(x, width)[:n], err_msg=f"n={n}")
+            np.testing.assert_array_equal(_front.jump_profile(x, width), jump(x, width)[:n], err_msg=f"n={n}")
 
 
 def test_peaks_of_long_signals_picked_as_librosa_picks_them(rng):
@@ -120,4 +120,4 @@ def test_peaks_of_long_signals_picked_as_librosa_picks_them(rng):
             x = np.round(x, 1)  # ties
         x[n // 4:n // 3] = 0.0  # a flat stretch
         want = librosa.util.peak_pick(x, pre_max=gap, post_max=gap, pre_avg=1, post_avg=1, delta=0.0, wait=gap)
-        np.testing.assert_array_equal(_kernels.peak_pick(x, gap), want, err_msg=f"n={n}, gap={gap}")
+        np.testing.assert_array_equal(_front.peak_pick(x, gap), want, err_msg=f"n={n}, gap={gap}")

@@ -63,25 +63,10 @@ def unpredicted(x, coefficients, start, stop):
     return out
 
 
-@jit
-def second_order(sos, x):
-    """``scipy.signal.sosfilt(sos, x)`` for one second-order section: the same operations."""
-    b0, b1, b2, a1, a2 = sos[0, 0], sos[0, 1], sos[0, 2], sos[0, 4], sos[0, 5]
-    z0 = z1 = 0.0
-    out = np.empty(len(x))
-    for i in range(len(x)):
-        v = x[i]
-        y = b0 * v + z0
-        z0 = b1 * v - a1 * y + z1
-        z1 = b2 * v - a2 * y
-        out[i] = y
-    return out
-
 
 @jit(inline="always")
 def biquad(v, b0, b1, b2, a1, a2, z0, z1):
-    """``v`` through a second-order section as :func:`second_order` (scipy's ``sosfilt``) runs it: its output and
-    new states."""
+    """``v`` through a second-order section as scipy's ``sosfilt`` runs it: its output and new states."""
     y = b0 * v + z0
     return y, b1 * v - a1 * y + z1, b2 * v - a2 * y
 
@@ -136,50 +121,6 @@ def low_pass_loop(sos, x, q, unit):
     return out
 
 
-@jit
-def low_pass_every_two(sos, q, other, q_other, x):
-    """:func:`low_pass_every` of ``x`` by two filters (``sos`` kept every ``q`` samples, ``other`` every ``q_other``) in
-    one pass: the same operations for each (the two chains side by side keep the processor busier)."""
-    if unit_numerators(sos) and unit_numerators(other):
-        return low_pass_two_loop(sos, q, other, q_other, x, True)
-    return low_pass_two_loop(sos, q, other, q_other, x, False)
-
-
-@jit(inline="always")
-def low_pass_two_loop(sos, q, other, q_other, x, unit):
-    """:func:`low_pass_every_two`'s loop (sections after the first of numerator (1, 2, 1) when ``unit``)."""
-    b00, b01, b02, a01, a02 = sos[0, 0], sos[0, 1], sos[0, 2], sos[0, 4], sos[0, 5]
-    (b10, b11, b12), (b20, b21, b22), (b30, b31, b32) = numerators(sos, 1, unit), numerators(sos, 2, unit), \
-        numerators(sos, 3, unit)
-    a11, a12, a21, a22, a31, a32 = sos[1, 4], sos[1, 5], sos[2, 4], sos[2, 5], sos[3, 4], sos[3, 5]
-    c00, c01, c02, d01, d02 = other[0, 0], other[0, 1], other[0, 2], other[0, 4], other[0, 5]
-    (c10, c11, c12), (c20, c21, c22), (c30, c31, c32) = numerators(other, 1, unit), numerators(other, 2, unit), \
-        numerators(other, 3, unit)
-    d11, d12, d21, d22, d31, d32 = other[1, 4], other[1, 5], other[2, 4], other[2, 5], other[3, 4], other[3, 5]
-    z00 = z01 = z10 = z11 = z20 = z21 = z30 = z31 = 0.0
-    w00 = w01 = w10 = w11 = w20 = w21 = w30 = w31 = 0.0
-    out = np.empty((len(x) + q - 1) // q)
-    out_other = np.empty((len(x) + q_other - 1) // q_other)
-    skip, skip_other = 0, 0
-    for i in range(len(x)):
-        v = x[i]
-        y, z00, z01 = biquad(v, b00, b01, b02, a01, a02, z00, z01)
-        t, w00, w01 = biquad(v, c00, c01, c02, d01, d02, w00, w01)
-        y, z10, z11 = biquad(y, b10, b11, b12, a11, a12, z10, z11)
-        t, w10, w11 = biquad(t, c10, c11, c12, d11, d12, w10, w11)
-        y, z20, z21 = biquad(y, b20, b21, b22, a21, a22, z20, z21)
-        t, w20, w21 = biquad(t, c20, c21, c22, d21, d22, w20, w21)
-        y, z30, z31 = biquad(y, b30, b31, b32, a31, a32, z30, z31)
-        t, w30, w31 = biquad(t, c30, c31, c32, d31, d32, w30, w31)
-        if skip == 0:
-            out[i // q] = y
-            skip = q
-        skip -= 1
-        if skip_other == 0:
-            out_other[i // q_other] = t
-            skip_other = q_other
-        skip_other -= 1
-    return out, out_other
 
 
 @jit
@@ -237,34 +178,6 @@ def tail_free_peaks(e, coefficients, starts, stops, sure, amplitude, h, horizon,
         out[i] = upsampled_peak(interpolator, padded)
     return out
 
-
-@jit
-def frame_energies(x, starts, window):
-    """The energy over the bins of ``numpy.fft.rfft`` of each frame ``x[s:s + len(window)] * window`` (``s`` in
-    ``starts``), by Parseval's theorem: the half spectrum counts its first and last bins once. Each sum is added in
-    four lanes (every fourth sample; two lanes of even samples, two of odd), the lanes summed at the end."""
-    size = len(window)
-    out = np.empty(len(starts))
-    for i in range(len(starts)):
-        frame = x[starts[i]:starts[i] + size]
-        p0, p1, p2, p3, t0, t1, t2, t3 = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
-        j = 0
-        while j + 4 <= size:
-            v0, v1 = frame[j] * window[j], frame[j + 1] * window[j + 1]
-            v2, v3 = frame[j + 2] * window[j + 2], frame[j + 3] * window[j + 3]
-            p0, p1, p2, p3 = p0 + v0 * v0, p1 + v1 * v1, p2 + v2 * v2, p3 + v3 * v3
-            t0, t1, t2, t3 = t0 + v0, t1 + v1, t2 + v2, t3 + v3
-            j += 4
-        while j < size:  # the last samples of a frame whose length is not a multiple of 4
-            v0 = frame[j] * window[j]
-            if j % 2 == 0:
-                p0, t0 = p0 + v0 * v0, t0 + v0
-            else:
-                p1, t1 = p1 + v0 * v0, t1 + v0
-            j += 1
-        power, even, odd = (p0 + p2) + (p1 + p3), t0 + t2, t1 + t3
-        out[i] = (size * power + (even + odd) ** 2 + (even - odd) ** 2) / 2.0
-    return out
 
 
 @jit
@@ -912,124 +825,6 @@ def first_at_least(d, lows, highs, levels):
                 break
     return out
 
-
-@jit(error_model="numpy")
-def jump_profile(x, width):
-    """The RMS jump of ``x`` at each sample (:func:`.onsets._windows`' next ``width`` samples over the 4 ``width``
-    before, the power summed in order from ``x[0]``), 0 over the first 4 ``width``."""
-    count = len(x)
-    out = np.zeros(count)
-    # the running power (the sum of x[:j] squared, added in order) kept over a block of samples and their windows
-    # only, not the recording's length: power[base + i] is p[i]
-    block = 4096
-    p = np.empty(5 * width + block + 1)
-    p[0], base, computed, running = 0.0, 0, 1, 0.0
-    # the samples whose windows are within x first, with no bounds to clip: that loop runs in vector instructions
-    inner = max(4 * width, count - width)
-    k0 = 4 * width
-    while k0 < inner:
-        k1 = min(inner, k0 + block)
-        for j in range(computed, k1 + width):  # power[j] for the block's windows
-            running = running + x[j - 1] * x[j - 1]
-            p[j - base] = running
-        computed = k1 + width
-        for k in range(k0, k1):
-            after = (p[k + width - base] - p[k - base]) / width
-            before = (p[k - base] - p[k - 4 * width - base]) / (4 * width)
-            out[k] = math.sqrt(after / max(before, 1e-300 + after * 1e-12))
-        shift = k1 - k0  # the next block's windows start at its first sample less 4 widths
-        for i in range(computed - base - shift):
-            p[i] = p[i + shift]
-        base += shift
-        k0 = k1
-    for j in range(computed, count + 1):
-        running = running + x[j - 1] * x[j - 1]
-        p[j - base] = running
-    for k in range(inner, count):
-        after = (p[min(k + width, count) - base] - p[k - base]) / width
-        before = (p[k - base] - p[max(k - 4 * width, 0) - base]) / (4 * width)
-        out[k] = math.sqrt(after / max(before, 1e-300 + after * 1e-12))
-    return out
-
-
-@jit
-def peak_pick(x, gap):
-    """:func:`.onsets._peak_pick`: the samples that are the largest from ``gap`` before to ``gap - 1`` after, at
-    least their predecessor's and their mean, more than ``gap`` after the last kept (greedily)."""
-    count = len(x)
-    first = True
-    for n in range(min(gap, count)):
-        if x[n] > x[0]:
-            first = False
-    # the candidates come in time order: each kept as found if more than gap after the last kept, in an array as
-    # long as peaks so far apart can be (the candidates' own array, as long as the recording, was the largest block
-    # of a call at full rate)
-    kept = np.empty(count // (gap + 1) + 2, dtype=np.int64)
-    found, last = 0, -gap - 1
-    if first:
-        kept[0], found, last = 0, 1, 0
-    # from each sample, the first larger one after it within its window: there is none there (each between is no
-    # larger than it, the larger one in its window); else it is the largest after it, and those after it up to its
-    # window's end are smaller (it is in their window: none) or equal (tried in turn, what is known of the equal run
-    # kept: how far after it all are no larger, the nearest larger before it)
-    n, tie, scanned, bigger = 1, False, 0, -count - gap - 1
-    while n < count:
-        v = x[n]
-        high = min(count, n + gap)
-        m = max(scanned, n + 1) if tie else n + 1
-        while m < high and x[m] <= v:
-            m += 1
-        if m < high:
-            n, tie = m, False
-            continue
-        if not tie:  # the nearest larger one within the window before it
-            bigger = -count - gap - 1
-            for j in range(n - 1, max(0, n - gap) - 1, -1):
-                if x[j] > v:
-                    bigger = j
-                    break
-        if bigger < n - gap and v >= (x[n - 1] + v) / 2.0 and n > last + gap:
-            kept[found] = n
-            found += 1
-            last = n
-        scanned, m = high, n + 1
-        while m < high and x[m] != v:
-            m += 1
-        n, tie = m, m < high
-    return kept[:found].copy()
-
-
-@jit
-def burg(y, order):
-    """``librosa.lpc(y, order=order)`` for a 1-D ``y`` (Burg's method, as Marple): the same operations, except that
-    each sum of products is added in four lanes (every fourth term), the lanes summed at the end (the same to rounding:
-    one chain of additions a sample made the method wait on each addition), each order's update of the prediction
-    errors done in place (a loop of independent samples: in vector instructions), then the next order's numerator."""
-    tiny = np.finfo(np.float64).tiny
-    n = len(y)
-    f = y[1:].copy()  # f[i:] is the forward error at order i, b[:n - 1 - i] the backward one
-    b = y[:-1].copy()
-    a = np.zeros(order + 1)
-    a_prev = np.zeros(order + 1)
-    a[0] = a_prev[0] = 1.0
-    den = lanes_dot(f, 0, f, 0, n - 1) + lanes_dot(b, 0, b, 0, n - 1)
-    dot = lanes_dot(b, 0, f, 0, n - 1)
-    for i in range(order):
-        m = n - 1 - i  # the errors' length at this order
-        reflect = dot * -2
-        reflect /= den + tiny
-        a_prev, a = a, a_prev
-        for j in range(1, i + 2):
-            a[j] = a_prev[j] + reflect * a_prev[i - j + 1]
-        forward, backward = f[i:i + m], b[:m]  # slices: indices the compiler sees are ≥ 0
-        for k in range(m):
-            old = forward[k]
-            forward[k] = old + reflect * backward[k]
-            backward[k] = backward[k] + reflect * old
-        dot = lanes_dot(b, 0, f, i + 1, m - 1)  # the next order's numerator: its b[k - 1] times its f[k]
-        q = 1.0 - reflect ** 2
-        den = q * den - b[m - 1] ** 2 - f[i] ** 2
-    return a
 
 
 @jit

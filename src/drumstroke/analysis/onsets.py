@@ -747,10 +747,8 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
 def _detected(signal, rate, config, source, info):
     """:func:`find_onsets`' pipeline, on a checked ``signal`` of 50 ms or more."""
     from ._detect import normalised
-    from ._kernels import largest_magnitude
 
-    band = _high_pass(signal, rate, config.high_pass)
-    peak = float(largest_magnitude(band))
+    band, peak = _high_pass(signal, rate, config.high_pass)
     if not peak > 1e-9:  # −180 dB full scale: digital silence
         return _no_onsets("the signal is silent", info, source, config)
     # the band over its peak, its first difference (centred ½ sample early: several stages read it) and that
@@ -758,9 +756,9 @@ def _detected(signal, rate, config, source, info):
     band, rise, d = normalised(band, peak)
     q = max(_decimation(band, rate), rate // config.analysis_rate)
     q2 = max(q, rate // config.modes_rate)
-    low, modes_low = _decimate_two(band, rate, q, q2)
+    low, modes_low, rise_jumps = _decimate_two(band, rate, q, q2, rise)
     tonal = _tonal_innovation(low, q, config)
-    heard = _heard_jumps(rise, rate, tonal, config)
+    heard = _heard_jumps(rise, rate, tonal, config, rise_jumps)
     first, _ = heard.merge()
     modes, residual = _modes_band(modes_low, q2, first, config)
     deep, residual = _quiet_jumps(modes, first, residual, rate, config)
@@ -979,11 +977,12 @@ def _tonal_innovation(low, q, config):
     return _Innovation(innovation, q, delay, low_rate)
 
 
-def _heard_jumps(rise, rate, tonal, config):
-    """Steps 2 and 3: the jumps of the decimated innovation (``tonal``) and of the first difference at full rate (``rise``)."""
+def _heard_jumps(rise, rate, tonal, config, rise_jumps=None):
+    """Steps 2 and 3: the jumps of the decimated innovation (``tonal``) and of the first difference at full rate (``rise``;
+    its jump profile ``rise_jumps`` when :func:`_decimate_two` found it)."""
     tonal_onsets = tonal.samples(_jumps(tonal.e, tonal.rate, config.min_interval, config.min_jump)).tolist()
-    broadband = (_jumps(rise, rate, config.min_interval,
-                        config.broadband_jump) - 0.5).tolist()  # the difference is centred ½ sample early
+    broadband = (_jumps(rise, rate, config.min_interval, config.broadband_jump,
+                        profile=rise_jumps) - 0.5).tolist()  # the difference is centred ½ sample early
 
     # each tonal onset's rise, once (the merges ask for it again and again): a sharp attack's change point, and a
     # broadband jump of its beating apart
@@ -1914,10 +1913,11 @@ def _layer_template(x, starts, following, free, layer, reach):
 
 
 def _high_pass(signal, rate, corner):
-    """``signal`` less its rumble and DC: a 2nd-order Butterworth high-pass at ``corner`` Hz."""
-    from ._kernels import second_order
+    """``signal`` less its rumble and DC (a 2nd-order Butterworth high-pass at ``corner`` Hz), and its largest magnitude."""
+    from ._front import high_pass
 
-    return second_order(_high_pass_sections(corner, rate), np.ascontiguousarray(signal, dtype=float))
+    band, peak = high_pass(_high_pass_sections(corner, rate), np.ascontiguousarray(signal, dtype=float))
+    return band, float(peak)
 
 
 @cache
@@ -1930,13 +1930,14 @@ def _high_pass_sections(corner, rate):
 
 def _decimation(band, rate):
     """How far to decimate: to ≥ 2.5 times the top of the band 20 dB over the noise floor, ≥ 2 kHz."""
-    from ._kernels import frame_energies
+    from ._front import frame_energies
 
     size = 1 << int(np.ceil(np.log2(rate * 0.02)))
     if len(band) < 4 * size:
         return 1
-    starts = np.unique(np.linspace(0, len(band) - size, min(_SPECTRA, (len(band) - size) // (size // 2) + 1))
-                       .astype(np.int64))  # half-overlapping frames, or as many spread over a long file
+    starts = np.linspace(0, len(band) - size, min(_SPECTRA, (len(band) - size) // (size // 2) + 1)).astype(np.int64)
+    starts = starts[np.concatenate(([True], starts[1:] != starts[:-1]))]  # half-overlapping frames, or as many spread
+    # over a long file (each once: the starts are sorted, the repeated ones next to each other)
     window = _hann(size)
     # each frame's energy over its spectrum's bins (Parseval's): only the quietest and the loudest tenths are transformed
     energy = frame_energies(np.ascontiguousarray(band, dtype=float), starts, window)
@@ -1946,8 +1947,9 @@ def _decimation(band, rate):
         frames = _frames(band, 0, len(band) - size + 1, size)[starts[which]] * window
         return np.ascontiguousarray(np.abs(np.fft.rfft(frames, axis=1).T) ** 2).mean(axis=1)
 
-    noise = mean_power(energy <= np.quantile(energy, 0.1))
-    loud = mean_power(energy >= np.quantile(energy, 0.9))
+    quiet, high = np.quantile(energy, [0.1, 0.9])
+    noise = mean_power(energy <= quiet)
+    loud = mean_power(energy >= high)
     good = np.flatnonzero(loud > 100.0 * noise)
     top = frequencies[good[-1]] if len(good) else frequencies[-1]
     return int(max(1, min(rate // (2.5 * max(top, 1.0)), rate // 2000)))
@@ -1975,15 +1977,25 @@ def _decimate(band, rate, q, corner=None):
     return low_pass_every(sos, np.ascontiguousarray(band, dtype=float), q), rate / q, delay
 
 
-def _decimate_two(band, rate, q, q2):
-    """``(_decimate(band, rate, q), _decimate(band, rate, q2))``, the two filters run side by side in one pass."""
-    from ._kernels import low_pass_every_two
+def _decimate_two(band, rate, q, q2, rise):
+    """``(_decimate(band, rate, q), _decimate(band, rate, q2))`` and :func:`_jumps`' jump profile of ``rise`` (as long as
+    ``band``; None where :func:`_jumps` is left to find it: a signal of more than one block, or a filter not run).
+
+    The two filters run side by side in one pass (their eight sections as one vector's lanes), and the jumps with
+    them: the filters wait on their recursions, the jumps on divisions.
+    """
+    from ._front import low_pass_two, low_pass_two_and_jumps
 
     if q == 1 or q2 == 1:
-        return _decimate(band, rate, q), _decimate(band, rate, q2)
+        return _decimate(band, rate, q), _decimate(band, rate, q2), None
     (sos, delay), (sos2, delay2) = _low_pass(0.8 * rate / q / 2.0, rate), _low_pass(0.8 * rate / q2 / 2.0, rate)
-    low, low2 = low_pass_every_two(sos, q, sos2, q2, np.ascontiguousarray(band, dtype=float))
-    return (low, rate / q, delay), (low2, rate / q2, delay2)
+    band = np.ascontiguousarray(band, dtype=float)
+    if len(rise) > _BLOCK:  # the jumps found block by block
+        low, low2, jumps = *low_pass_two(sos, q, sos2, q2, band), None
+    else:
+        low, low2, jumps = low_pass_two_and_jumps(sos, q, sos2, q2, band, np.ascontiguousarray(rise, dtype=float),
+                                                  _jump_width(rate))
+    return (low, rate / q, delay), (low2, rate / q2, delay2), jumps
 
 
 @cache
@@ -2000,7 +2012,7 @@ def _low_pass(corner, rate):
 
 def _innovation(x, order):
     """A linear predictor of ``x`` (Burg's method; its error filter's coefficients) and what it does not predict."""
-    from ._kernels import burg, prediction_error
+    from ._front import burg, prediction_error
 
     x = np.ascontiguousarray(x, dtype=float)
     order = min(order, max(1, len(x) // 8))
@@ -2043,27 +2055,35 @@ def _robust_innovation(x, order):
     return a, prediction_error(a, x)
 
 
-def _jumps(x, rate, min_interval, least, samples=12):
+def _jumps(x, rate, min_interval, least, samples=12, profile=None):
     """Samples of ``x`` where its RMS over the next 1 ms rises ``least`` times over the 4 ms before: the AIC's change points
     [int, shape=(n,)].
 
     A long signal is taken in blocks of :data:`_BLOCK` samples (overlapping by more than the windows
-    and ``min_interval``), so memory does not grow with its length.
+    and ``min_interval``), so memory does not grow with its length. ``profile`` is the jump profile of an ``x`` of one
+    block (the RMS ratio at each sample, ``samples`` = 12), when found already.
     """
-    from ._kernels import change_points, jump_profile
+    from ._front import jump_profile
+    from ._kernels import change_points
 
-    width = max(samples, round(1e-3 * rate))
+    width = _jump_width(rate, samples)
     gap = max(1, round(min_interval * rate))
     margin = 6 * width + 2 * gap
     peaks = []
     for start in range(0, len(x), _BLOCK):
         low, high = max(0, start - margin), min(len(x), start + _BLOCK + margin)
-        jump = jump_profile(np.ascontiguousarray(x[low:high], dtype=float), width)  # 0 over the first 4 windows
+        jump = profile if profile is not None else \
+            jump_profile(np.ascontiguousarray(x[low:high], dtype=float), width)  # 0 over the first 4 windows
         found = _peak_pick(jump, gap)
         found = found[(jump[found] >= least) & (low + found >= start) & (low + found < start + _BLOCK)]
         peaks.append(low + found)
     x = np.ascontiguousarray(x, dtype=float)
     return change_points(x, np.concatenate(peaks).astype(np.int64) if peaks else np.empty(0, dtype=np.int64), width)
+
+
+def _jump_width(rate, least=12):
+    """The windows of the RMS jumps (:func:`_jumps`, :func:`_windows`, :func:`_jump_at`): 1 ms, ≥ ``least`` samples."""
+    return max(least, round(1e-3 * rate))
 
 
 def _peak_pick(x, gap):
@@ -2073,7 +2093,7 @@ def _peak_pick(x, gap):
     least its predecessor, and more than ``gap`` samples after the last peak (greedily, in order; the
     first sample is a peak when it is the largest of the first ``gap``).
     """
-    from ._kernels import peak_pick
+    from ._front import peak_pick
 
     return peak_pick(np.ascontiguousarray(x, dtype=float), gap)
 
@@ -2090,7 +2110,7 @@ def _frames(x, start, count, size):
 
 def _windows(x, rate, least=12):
     """The mean square of ``x`` over the 1 ms (≥ ``least`` samples) from each sample, and over the 4 times that before it."""
-    width = max(least, round(1e-3 * rate))
+    width = _jump_width(rate, least)
     power = np.concatenate(([0.0], np.cumsum(x * x)))
     count = len(x)  # slices, not indices: power[min(n + width, count)] and power[max(n - 4 width, 0)] for each n
     ahead = np.concatenate((power[min(width, count):], np.full(max(min(width, count) - 1, 0), power[-1])))[:count]
@@ -2107,7 +2127,7 @@ def _jump_at(x, positions, rate, samples=12):
     # each position's windows over the slice of x around it: from half a window and 4 windows before it
     # (a full window before, or the signal's start) to half a window and a window after
     x = np.ascontiguousarray(x, dtype=float)
-    return jump_at(x, np.round(np.asarray(positions, dtype=float)).astype(np.int64), max(samples, round(1e-3 * rate)),
+    return jump_at(x, np.round(np.asarray(positions, dtype=float)).astype(np.int64), _jump_width(rate, samples),
                    _rounding_floor(x))
 
 
