@@ -15,7 +15,7 @@ from .._jit import jit
 @jit(error_model="numpy")
 def template_search(remainder, template, head, times, shifts, refused, offset, layer_at, layer_size, pre, gap,
                     shortest, fit, bounce, echo, signature, reach, likeness, refused_likeness, ratio_low, ratio_high,
-                    least):
+                    least, burst):
     """:func:`.onsets._template_search`'s loop over the attacks at ``times`` (full-rate samples, in order).
 
     ``remainder`` (the band, changed in place) less each attack's fitted ``template`` (``pre`` samples before its
@@ -28,7 +28,10 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
     one of the two that fits it better (:func:`_take_off`); the search after it is the template's still. A
     detection within ``bounce`` after an attack that neither fits (what is left of the earlier sound, or an attack
     the modes' band placed early) ends neither that attack's fit nor the search after it: a bounce found up to
-    ``echo`` after the detection is that attack, and the detection is dropped. Returns the attacks found (their
+    ``echo`` after the detection is that attack, and the detection is dropped; so is a detection that taking off the
+    attack before it (fitted up to it, or up to the one after) leaves less than ``burst`` of the energy over the
+    ``shortest`` samples after it (its own second burst: FluidR3's electric snare bursts again 3.4 ms into a note;
+    0: none is). Returns the attacks found (their
     times, in order), each one's correlation and which of ``times`` are dropped [shape=(len(times),)].
     """
     n, size = len(remainder), len(template)
@@ -49,18 +52,24 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
         detection = following
         if c < pre or min(max(pre + shortest, min(pre + fit, following - c)), size, n - c + pre) <= pre:
             continue
+        close = i < len(times) and following < c + bounce
+        heard = _energy(remainder, following, shortest) if close and burst > 0.0 else 0.0
         own, at_c, scale, measured, fitted = _take_off(remainder, template, layer, c, following, pre, shortest, fit)
         skipped = False
-        if fitted >= likeness and i < len(times) and following < c + bounce:
+        if fitted >= likeness and close:
             # a detection close after that neither template fits is no end to this attack's sound: fitted up to the
-            # one after instead (a FluidR3 drop's fit cut at 3.7 ms left a bounce at -21 dB two-thirds on)
+            # one after instead (a FluidR3 drop's fit cut at 3.7 ms left a bounce at -21 dB two-thirds on); nor is
+            # one that taking this attack off leaves burst or less of (a recorded sample's second burst)
             after = int(np.rint(times[i + 1] - shifts[i + 1])) if i + 1 < len(times) else n
             width = min(max(pre + shortest, min(pre + fit, after - following)), len(own), n - following + pre)
-            if width > pre and _likeness(remainder, following - pre, own, width) < likeness:
+            own_burst = _energy(remainder, detection, shortest) < heard * burst
+            if width > pre and (own_burst or _likeness(remainder, following - pre, own, width) < likeness):
                 _add(remainder, own, at_c, scale, pre)
                 own, at_c, scale, measured, fitted = _take_off(remainder, template, layer, c, after, pre, shortest,
                                                                fit)
                 skipped, following = True, after
+                if own_burst or _energy(remainder, detection, shortest) < heard * burst:
+                    dropped[i], i, skipped = True, i + 1, False  # the detection was this attack's own second burst
         c = at_c
         at, like = -1, 0.0
         if measured > 0.0:
@@ -222,6 +231,15 @@ def _refused_fit(remainder, template, head, head_energy, refused, low, high, pre
         if best_like >= refused_likeness and whole[best] / energy >= least and starts[best] >= refused_likeness:
             return c - reach + best, best_like
     return -1, 0.0
+
+
+@jit(error_model="numpy")
+def _energy(x, start, count):
+    """The energy of ``x`` over ``count`` samples from ``start`` (fewer at its end)."""
+    total = 0.0
+    for j in range(start, min(start + count, len(x))):
+        total += x[j] * x[j]
+    return total
 
 
 @jit(error_model="numpy")

@@ -399,6 +399,13 @@ class OnsetConfig:
         Correlation: the least of the quietest clear attack's fit (its first ``template_fit`` s and its start) at an
         onset step 4 refused, as for ``refused_likeness``, for it to be an attack after all (step 5; 1: none is,
         the pass not run; 0.8 finds 7 more of the corpus's loud notes within 1 ms, in rolls' ghost notes).
+    found_burst_db : float in [-120, 0]
+        dB re what was there: the most that taking off an attack's fit in the template search may leave over the
+        1 ms after the next detection, within ``bounce_reach`` s after it, for that detection to be the attack's own
+        sound, dropped (step 5, :func:`_template_search`; -120: none is, as before this field).
+    found_decay_db : float in [-120, 0]
+        dB re the loudest: as ``decay_db``, for an attack the template timed or found (step 5, :func:`_out_of_decay`;
+        its fit over what is left of the earlier sound is its test; -32, ``decay_db``'s: as before this field).
     reflection_pairs : int in [0, 100]
         How many pairs of successive onsets, each later one ``reflection_db`` or more under the one before it,
         at one delay (within ``reflection_spread`` s) make every such later one a room's reflection, no onset
@@ -487,6 +494,8 @@ class OnsetConfig:
     refused_likeness: float = 0.8
     burst_db: float = -6.0
     layer_likeness: float = 0.8
+    found_burst_db: float = -6.0
+    found_decay_db: float = -120.0
     reflection_pairs: int = 3
     reflection_db: float = 12.0
     reflection_spread: float = 0.2e-3
@@ -536,7 +545,7 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "soft_jump": (1.0, 100.0, "(RMS ratio)"), "soft_contact": (0.0, 0.02, "s"),
     "bounce_reach": (0.0, 0.5, "s"), "refused_likeness": (0.0, 1.0, "(correlation)"),
     "burst_db": (-120.0, 0.0, "dB"), "layer_likeness": (0.0, 1.0, "(correlation)"), "reflection_pairs": (0, 100, ""), "reflection_db": (0.0, 120.0, "dB"),
-    "reflection_spread": (0.0, 5e-3, "s"),
+    "reflection_spread": (0.0, 5e-3, "s"), "found_burst_db": (-120.0, 0.0, "dB"), "found_decay_db": (-120.0, 0.0, "dB"),
 }
 
 
@@ -1446,8 +1455,9 @@ def _template_search(band, d, rate, candidates, refused, config, quietest=False)
                                             round(config.signature * rate), round(config.template_reach * rate),
                                             config.template_likeness, config.refused_likeness,
                                             config.after_ratio_low, config.after_ratio_high,
-                                            10.0 ** (config.threshold_db / 20.0))
-    if not len(found):
+                                            10.0 ** (config.threshold_db / 20.0),
+                                            10.0 ** (config.found_burst_db / 10.0) if config.found_burst_db > -120.0 else 0.0)
+    if not len(found) and not dropped.any():
         return candidates
     merged, fresh = candidates.take(~dropped).insert(found, attack=True, likeness=likes)
     return replace(merged, kinds=np.where(fresh, 3, merged.kinds))
@@ -1589,7 +1599,9 @@ def _out_of_decay(band, d, rate, candidates, amplitude, config):
         return candidates
     which = np.flatnonzero(attack)
     loudest = amplitude[attack].max()
-    quiet = amplitude[which] < loudest * 10.0 ** (config.decay_db / 20.0)
+    # an attack the template timed or found (kind 3) was fitted over what is left of the earlier sound: its test
+    quiet = amplitude[which] < loudest * 10.0 ** (np.where(candidates.kinds[which] == 3, config.found_decay_db,
+                                                           config.decay_db) / 20.0)
     close = np.diff(candidates.times[which], prepend=-np.inf) <= config.echo_reach * rate
     least = np.where(quiet, 10.0 ** (config.decay_rise_db / 20.0), 10.0 ** (config.echo_rise_db / 20.0))
     tried = which[quiet | close]
