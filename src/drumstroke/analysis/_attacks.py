@@ -15,7 +15,7 @@ from .._jit import jit
 @jit(error_model="numpy")
 def template_search(remainder, template, head, times, shifts, refused, offset, layer_at, layer_size, pre, gap,
                     shortest, fit, bounce, echo, signature, reach, likeness, refused_likeness, ratio_low, ratio_high,
-                    least, burst):
+                    least, burst, earlier, unclear, weak):
     """:func:`.onsets._template_search`'s loop over the attacks at ``times`` (full-rate samples, in order).
 
     ``remainder`` (the band, changed in place) less each attack's fitted ``template`` (``pre`` samples before its
@@ -36,9 +36,10 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
     """
     n, size = len(remainder), len(template)
     head_energy, layer = _dot(head, 0, head, len(head)), np.zeros(0)
-    found, likes, count = np.empty(n // max(gap, 1) + 1), np.empty(n // max(gap, 1) + 1), 0  # each new one gap after
+    most = n // max(gap, 1) + 1 + len(times)  # each new one gap after, each moved one of times
+    found, likes, count = np.empty(most), np.empty(most), 0
     dropped = np.zeros(len(times), dtype=np.bool_)
-    i, pending = 0, -1
+    i, pending, last = 0, -1, -n
     while True:
         if pending >= 0:
             c, pending = pending, -1  # where the template's attack fell
@@ -46,8 +47,16 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
             c, i = int(np.rint(times[i] - shifts[i])), i + 1
             if i - 1 == layer_at and c >= pre:
                 layer = continued(remainder[c - pre:c - pre + min(layer_size, n - c + pre)], template, fit)
+            if earlier > 0 and unclear[i - 1]:
+                following = int(np.rint(times[i] - shifts[i])) if i < len(times) else n
+                start, like = _earlier_start(remainder, template, head, head_energy, c, max(last + gap, c - earlier),
+                                             c - gap, following, pre, shortest, fit, reach, likeness, weak)
+                if start >= 0:  # the detection was the attack's own later burst, its start hidden
+                    dropped[i - 1], c = True, start
+                    found[count], likes[count], count = start + offset, like, count + 1
         else:
             break
+        last = c
         following = int(np.rint(times[i] - shifts[i])) if i < len(times) else n
         detection = following
         if c < pre or min(max(pre + shortest, min(pre + fit, following - c)), size, n - c + pre) <= pre:
@@ -197,6 +206,39 @@ def _bounce_after(remainder, template, head, head_energy, low, high, following, 
                 best = m
         return low + best, dots[best] / math.sqrt(max(own[best] * head_energy, 1e-300))
     return -1, 0.0
+
+
+@jit(error_model="numpy")
+def _earlier_start(remainder, template, head, head_energy, c, low, high, following, pre, shortest, fit, reach,
+                   likeness, weak):
+    """Where in ``[low, high)`` the attack detected at ``c`` starts, when it is its sound's later burst: of the samples
+    where ``head`` correlates with ``remainder`` by ``weak`` or more, at a peak of that correlation, the one where the
+    template over ``fit`` samples (up to ``following``) correlates best, by ``likeness`` and better than at ``c``
+    (within ``reach`` samples each way): (sample, correlation), or (-1, 0)."""
+    count = high - low
+    if count < 3 or low < pre or c - pre - reach < 0 or high - pre + len(head) > len(remainder):
+        return -1, 0.0
+    own = _energies(remainder, low - pre, count, len(head))
+    dots = _correlations(remainder, low - pre, head, count)
+    starts = np.empty(count)
+    for k in range(count):
+        starts[k] = dots[k] / math.sqrt(max(own[k] * head_energy, 1e-300))
+    best, best_like = -1, likeness
+    for k in range(1, count - 1):
+        if starts[k] < weak or starts[k] < starts[k - 1] or starts[k] < starts[k + 1]:
+            continue
+        at = low + k
+        span = min(max(pre + shortest, min(pre + fit, following - at)), len(template), len(remainder) - at + pre)
+        whole = _likeness(remainder, at - pre, template, span)
+        if whole >= best_like:
+            best, best_like = at, whole
+    if best < 0:
+        return -1, 0.0
+    here = min(max(pre + shortest, min(pre + fit, following - c)), len(template), len(remainder) - c - reach + pre)
+    for lag in range(-reach, reach + 1):
+        if _likeness(remainder, c + lag - pre, template, here) >= best_like:
+            return -1, 0.0
+    return best, best_like
 
 
 @jit(error_model="numpy")

@@ -399,13 +399,6 @@ class OnsetConfig:
         Correlation: the least of the quietest clear attack's fit (its first ``template_fit`` s and its start) at an
         onset step 4 refused, as for ``refused_likeness``, for it to be an attack after all (step 5; 1: none is,
         the pass not run; 0.8 finds 7 more of the corpus's loud notes within 1 ms, in rolls' ghost notes).
-    found_burst_db : float in [-120, 0]
-        dB re what was there: the most that taking off an attack's fit in the template search may leave over the
-        1 ms after the next detection, within ``bounce_reach`` s after it, for that detection to be the attack's own
-        sound, dropped (step 5, :func:`_template_search`; -120: none is, as before this field).
-    found_decay_db : float in [-120, 0]
-        dB re the loudest: as ``decay_db``, for an attack the template timed or found (step 5, :func:`_out_of_decay`;
-        its fit over what is left of the earlier sound is its test; -32, ``decay_db``'s: as before this field).
     reflection_pairs : int in [0, 100]
         How many pairs of successive onsets, each later one ``reflection_db`` or more under the one before it,
         at one delay (within ``reflection_spread`` s) make every such later one a room's reflection, no onset
@@ -414,6 +407,19 @@ class OnsetConfig:
         dB: how much quieter than the onset before it a reflection is at least (step 6).
     reflection_spread : float in [0, 0.005]
         s: how far apart the delays of one reflection's pairs may be (step 6).
+    found_burst_db : float in [-120, 0]
+        dB re what was there: the most that taking off an attack's fit in the template search may leave over the
+        1 ms after the next detection, within ``bounce_reach`` s after it, for that detection to be the attack's own
+        sound, dropped (step 5, :func:`_template_search`; -120: none is, as before this field).
+    found_decay_db : float in [-120, 0]
+        dB re the loudest: as ``decay_db``, for an attack the template timed or found (step 5, :func:`_out_of_decay`;
+        its fit over what is left of the earlier sound is its test; -32, ``decay_db``'s: as before this field).
+    earlier_reach : float in [0, 0.02]
+        s: how far before a detection over earlier sound (not clear by ``lead_clear_db``) the template search seeks
+        where it starts: where the template fits better than at the detection, its start correlating by
+        ``weak_likeness`` and the whole template by ``template_likeness`` (a sample's second burst detected and its
+        first not: FluidR3's electric snare, 3.4 ms into a note; step 5, :func:`_template_search`; 0: not at all, as
+        before this field).
 
     Examples
     --------
@@ -494,11 +500,12 @@ class OnsetConfig:
     refused_likeness: float = 0.8
     burst_db: float = -6.0
     layer_likeness: float = 0.8
-    found_burst_db: float = -6.0
-    found_decay_db: float = -120.0
     reflection_pairs: int = 3
     reflection_db: float = 12.0
     reflection_spread: float = 0.2e-3
+    found_burst_db: float = -6.0
+    found_decay_db: float = -120.0
+    earlier_reach: float = 5e-3
 
     def __post_init__(self):
         for name, (low, high, unit) in _RANGES.items():
@@ -546,6 +553,7 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "bounce_reach": (0.0, 0.5, "s"), "refused_likeness": (0.0, 1.0, "(correlation)"),
     "burst_db": (-120.0, 0.0, "dB"), "layer_likeness": (0.0, 1.0, "(correlation)"), "reflection_pairs": (0, 100, ""), "reflection_db": (0.0, 120.0, "dB"),
     "reflection_spread": (0.0, 5e-3, "s"), "found_burst_db": (-120.0, 0.0, "dB"), "found_decay_db": (-120.0, 0.0, "dB"),
+    "earlier_reach": (0.0, 0.02, "s"),
 }
 
 
@@ -1445,6 +1453,7 @@ def _template_search(band, d, rate, candidates, refused, config, quietest=False)
         layer_size = 0 if layer is None else len(_attack_sound(band, candidates.times, layer, rate, config)[0])
     pre = round(0.5e-3 * rate)
     head = pre + round(config.template_head * rate)
+    _, (lead_clear,) = _clear(d, candidates.times, rate, [config.lead_clear_db])
     found, likes, dropped = template_search(band.copy(), template, template[:head],
                                             np.ascontiguousarray(candidates.times, dtype=float),
                                             np.where(candidates.kinds == 3, offset, 0.0),  # timed at its sample
@@ -1456,7 +1465,9 @@ def _template_search(band, d, rate, candidates, refused, config, quietest=False)
                                             config.template_likeness, config.refused_likeness,
                                             config.after_ratio_low, config.after_ratio_high,
                                             10.0 ** (config.threshold_db / 20.0),
-                                            10.0 ** (config.found_burst_db / 10.0) if config.found_burst_db > -120.0 else 0.0)
+                                            10.0 ** (config.found_burst_db / 10.0) if config.found_burst_db > -120.0 else 0.0,
+                                            0 if quietest else round(config.earlier_reach * rate), ~lead_clear,
+                                            config.weak_likeness)
     if not len(found) and not dropped.any():
         return candidates
     merged, fresh = candidates.take(~dropped).insert(found, attack=True, likeness=likes)
