@@ -235,8 +235,12 @@ def _earlier_start(remainder, template, head, head_energy, c, low, high, followi
     if best < 0:
         return -1, 0.0
     here = min(max(pre + shortest, min(pre + fit, following - c)), len(template), len(remainder) - c - reach + pre)
-    for lag in range(-reach, reach + 1):
-        if _likeness(remainder, c + lag - pre, template, here) >= best_like:
+    lags = 2 * reach + 1
+    dots = _correlations(remainder, c - reach - pre, template[:here], lags)
+    own = _energies(remainder, c - reach - pre, lags, here)
+    energy = _dot(template, 0, template, here)
+    for k in range(lags):
+        if dots[k] >= best_like * math.sqrt(max(own[k] * energy, 1e-300)):
             return -1, 0.0
     return best, best_like
 
