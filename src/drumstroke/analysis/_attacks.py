@@ -31,7 +31,10 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
     ``echo`` after the detection is that attack, and the detection is dropped; so is a detection that taking off the
     attack before it (fitted up to it, or up to the one after) leaves less than ``burst`` of the energy over the
     ``shortest`` samples after it (its own second burst: FluidR3's electric snare bursts again 3.4 ms into a note;
-    0: none is). Returns the attacks found (their
+    0: none is). A detection of ``times`` flagged ``unclear`` (over earlier sound), not one the template timed, may
+    be its sound's later burst, its start not detected: up to ``earlier`` samples before it (0: not sought), where
+    the template fits better (:func:`_earlier_start`, ``weak`` the least correlation of its start there), the attack
+    is put, the detection dropped. Returns the attacks found (their
     times, in order), each one's correlation and which of ``times`` are dropped [shape=(len(times),)].
     """
     n, size = len(remainder), len(template)
