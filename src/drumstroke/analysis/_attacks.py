@@ -15,7 +15,7 @@ from .._jit import jit
 @jit(error_model="numpy")
 def template_search(remainder, template, head, times, shifts, refused, offset, layer_at, layer_size, pre, gap,
                     shortest, fit, bounce, echo, signature, reach, likeness, refused_likeness, ratio_low, ratio_high,
-                    least, burst, earlier, unclear, weak):
+                    least, burst, earlier, unclear, start_likeness):
     """:func:`.onsets._template_search`'s loop over the attacks at ``times`` (full-rate samples, in order).
 
     ``remainder`` (the band, changed in place) less each attack's fitted ``template`` (``pre`` samples before its
@@ -33,8 +33,9 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
     ``shortest`` samples after it (its own second burst: FluidR3's electric snare bursts again 3.4 ms into a note;
     0: none is). A detection of ``times`` flagged ``unclear`` (over earlier sound), not one the template timed, may
     be its sound's later burst, its start not detected: up to ``earlier`` samples before it (0: not sought), where
-    the template fits better (:func:`_earlier_start`, ``weak`` the least correlation of its start there), the attack
-    is put, the detection dropped. Returns the attacks found (their
+    the template fits better (:func:`_earlier_start`), the attack is put, the detection dropped. Both searches, this
+    and the bounce's after an attack, ask the template's start to correlate by ``start_likeness`` only and the
+    template over ``fit`` samples by ``likeness`` (a quiet velocity layer's start is unlike the loud one's). Returns the attacks found (their
     times, in order), each one's correlation and which of ``times`` are dropped [shape=(len(times),)].
     """
     n, size = len(remainder), len(template)
@@ -53,7 +54,8 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
             if earlier > 0 and unclear[i - 1]:
                 following = int(np.rint(times[i] - shifts[i])) if i < len(times) else n
                 start, like = _earlier_start(remainder, template, head, head_energy, c, max(last + gap, c - earlier),
-                                             c - gap, following, pre, shortest, fit, reach, likeness, weak)
+                                             c - gap, following, pre, shortest, fit, reach, likeness,
+                                             start_likeness)
                 if start >= 0:  # the detection was the attack's own later burst, its start hidden
                     dropped[i - 1], c = True, start
                     found[count], likes[count], count = start + offset, like, count + 1
@@ -65,6 +67,16 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
         if c < pre or min(max(pre + shortest, min(pre + fit, following - c)), size, n - c + pre) <= pre:
             continue
         close = i < len(times) and following < c + bounce
+        if close and earlier > 0 and unclear[i] and following - c <= earlier:
+            # a detection this attack's own later burst: the attack's template fits over it better than one there
+            after = int(np.rint(times[i + 1] - shifts[i + 1])) if i + 1 < len(times) else n
+            span = min(max(pre + shortest, min(pre + fit, after - c)), size, n - c + pre)
+            whole = _likeness(remainder, c - pre, template, span)
+            if (whole >= likeness and following - pre - reach >= 0
+                    and not _fits_near(remainder, template, following, after, pre, shortest, fit, reach, whole)):
+                dropped[i], i, following = True, i + 1, after
+                detection = following
+                close = i < len(times) and following < c + bounce
         heard = _energy(remainder, following, shortest) if close and burst > 0.0 else 0.0
         own, at_c, scale, measured, fitted = _take_off(remainder, template, layer, c, following, pre, shortest, fit)
         skipped = False
@@ -87,7 +99,7 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
         if measured > 0.0:
             high = min(following - gap, c + bounce, n - len(head) + pre)
             at, like = _bounce_after(remainder, template, head, head_energy, c + gap, high, following, pre, shortest,
-                                     fit, reach, measured, likeness, ratio_low, ratio_high)
+                                     fit, reach, measured, likeness, ratio_low, ratio_high, start_likeness)
         if skipped and at > detection:
             if at - detection <= echo:  # the detection was this bounce placed early
                 dropped[i], i = True, i + 1
@@ -178,10 +190,11 @@ def _likeness(x, start, t, count):
 
 @jit(error_model="numpy")
 def _bounce_after(remainder, template, head, head_energy, low, high, following, pre, shortest, fit, reach, scale,
-                  likeness, ratio_low, ratio_high):
-    """The first sample in ``[low, high)`` where ``head`` fits ``remainder`` (by ``likeness``, scaled ``ratio_low`` to
-    ``ratio_high`` times ``scale``) and the template over ``fit`` samples (up to ``following``) does too, moved to
-    the start's best correlation within ``reach`` samples after: (sample, correlation), or (-1, 0)."""
+                  likeness, ratio_low, ratio_high, start_likeness):
+    """The first sample in ``[low, high)`` where ``head`` fits ``remainder`` (by ``start_likeness``, scaled
+    ``ratio_low`` to ``ratio_high`` times ``scale``) and the template over ``fit`` samples (up to ``following``) does
+    too (by ``likeness``), moved to the start's best correlation within ``reach`` samples after: (sample,
+    correlation), or (-1, 0)."""
     if high <= low:
         return -1, 0.0
     count = high - low
@@ -195,7 +208,7 @@ def _bounce_after(remainder, template, head, head_energy, low, high, following, 
             continue
         like = dots[k] / math.sqrt(max(own[k] * head_energy, 1e-300))
         ratio = dots[k] / (head_energy * scale)
-        if like < likeness or ratio < ratio_low or ratio > ratio_high:
+        if like < start_likeness or ratio < ratio_low or ratio > ratio_high:
             continue
         at = low + k
         span = min(max(pre + shortest, min(pre + fit, following - at)), len(template), len(remainder) - at + pre)
@@ -213,9 +226,9 @@ def _bounce_after(remainder, template, head, head_energy, low, high, following, 
 
 @jit(error_model="numpy")
 def _earlier_start(remainder, template, head, head_energy, c, low, high, following, pre, shortest, fit, reach,
-                   likeness, weak):
+                   likeness, start_likeness):
     """Where in ``[low, high)`` the attack detected at ``c`` starts, when it is its sound's later burst: of the samples
-    where ``head`` correlates with ``remainder`` by ``weak`` or more, at a peak of that correlation, the one where the
+    where ``head`` correlates with ``remainder`` by ``start_likeness`` or more, at a peak of that correlation, the one where the
     template over ``fit`` samples (up to ``following``) correlates best, by ``likeness`` and better than at ``c``
     (within ``reach`` samples each way): (sample, correlation), or (-1, 0)."""
     count = high - low
@@ -228,7 +241,7 @@ def _earlier_start(remainder, template, head, head_energy, c, low, high, followi
         starts[k] = dots[k] / math.sqrt(max(own[k] * head_energy, 1e-300))
     best, best_like = -1, likeness
     for k in range(1, count - 1):
-        if starts[k] < weak or starts[k] < starts[k - 1] or starts[k] < starts[k + 1]:
+        if starts[k] < start_likeness or starts[k] < starts[k - 1] or starts[k] < starts[k + 1]:
             continue
         at = low + k
         span = min(max(pre + shortest, min(pre + fit, following - at)), len(template), len(remainder) - at + pre)
@@ -237,15 +250,24 @@ def _earlier_start(remainder, template, head, head_energy, c, low, high, followi
             best, best_like = at, whole
     if best < 0:
         return -1, 0.0
+    if _fits_near(remainder, template, c, following, pre, shortest, fit, reach, best_like):
+        return -1, 0.0
+    return best, best_like
+
+
+@jit(error_model="numpy")
+def _fits_near(remainder, template, c, following, pre, shortest, fit, reach, like):
+    """Whether the template over ``fit`` samples (up to ``following``) correlates by ``like`` or more with
+    ``remainder`` at an attack within ``reach`` samples of ``c``."""
     here = min(max(pre + shortest, min(pre + fit, following - c)), len(template), len(remainder) - c - reach + pre)
     lags = 2 * reach + 1
     dots = _correlations(remainder, c - reach - pre, template[:here], lags)
     own = _energies(remainder, c - reach - pre, lags, here)
     energy = _dot(template, 0, template, here)
     for k in range(lags):
-        if dots[k] >= best_like * math.sqrt(max(own[k] * energy, 1e-300)):
-            return -1, 0.0
-    return best, best_like
+        if dots[k] >= like * math.sqrt(max(own[k] * energy, 1e-300)):
+            return True
+    return False
 
 
 @jit(error_model="numpy")
