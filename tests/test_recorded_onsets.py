@@ -11,9 +11,10 @@ import pytest
 from _recorded_drums import LOUD_DB, RATE, first_above, match, note_block, recordings, render_alone, score
 from drumstroke.analysis import OnsetConfig, find_onsets
 
-# the template search's own-burst, earlier-start and fitted-attack rules off (found_burst_db, earlier_reach,
-# found_decay_db): a control that measures a stage before them (those rules do part of its work since)
-_BEFORE_FOUND = {"found_burst_db": -120.0, "earlier_reach": 0.0, "found_decay_db": -32.0}
+# the template search's own-burst, earlier-start, fitted-attack and bounce-start rules off (found_burst_db,
+# earlier_reach, found_decay_db, bounce_likeness): a control that measures a stage before them (those rules do part
+# of its work since)
+_BEFORE_FOUND = {"found_burst_db": -120.0, "earlier_reach": 0.0, "found_decay_db": -32.0, "bounce_likeness": 0.8}
 
 # FluidSynth and both SoundFonts are needed (scripts/install-system-packages.sh installs them): without them
 # these tests fail with render_soundfont's error, they never skip
@@ -354,11 +355,13 @@ def test_ghost_notes_step_4_refused_are_attacks_where_the_template_fits(conditio
     """TimGM6mb's snare 38 in a roll: ghost notes 56-120 ms after an accent that step 4 refused (their signature in
     the modes' band unlike the accent's) are found where the recording's own attack fits them at full rate, with no
     false detection more; without that second opinion (``refused_likeness=1``, and its second pass with the quietest
-    clear attack, ``layer_likeness=1``, which finds some of them too) as few as measured before it."""
+    clear attack, ``layer_likeness=1``, which finds some of them too; and ``_BEFORE_FOUND``'s rules) as few as
+    measured before it."""
     recording = _corpus_recording("TimGM6mb 38 roll", condition)
     figures = score(recording, find_onsets(recording.signal, RATE).t)
     off = score(recording, find_onsets(recording.signal, RATE,
-                                       config=OnsetConfig(refused_likeness=1.0, layer_likeness=1.0)).t)
+                                       config=OnsetConfig(refused_likeness=1.0, layer_likeness=1.0,
+                                                          **_BEFORE_FOUND)).t)
     assert figures["within_1ms"] >= least_1ms and off["within_1ms"] <= off_1ms
     assert figures["found"] - figures["correct_5ms"] <= off["found"] - off["correct_5ms"]
 
@@ -524,7 +527,7 @@ def test_an_attack_detected_on_its_samples_second_burst_is_moved_to_its_start():
     recording = _corpus_recording("FluidR3 40 drop", "noise60")
     notes = recording.t[[np.argmin(np.abs(recording.t - t)) for t in (1.9190, 4.0204)]]
     moved = find_onsets(recording.signal, RATE).t
-    late = find_onsets(recording.signal, RATE, config=OnsetConfig(earlier_reach=0.0)).t
+    late = find_onsets(recording.signal, RATE, config=OnsetConfig(earlier_reach=0.0, bounce_likeness=0.8)).t
     for t in notes:
         assert np.min(np.abs(moved - t)) <= 0.25e-3
         assert np.min(np.abs(late - t)) > 1e-3 and np.any((late > t + 3e-3) & (late < t + 4e-3))

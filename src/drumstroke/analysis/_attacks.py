@@ -15,7 +15,7 @@ from .._jit import jit
 @jit(error_model="numpy")
 def template_search(remainder, template, head, times, shifts, refused, offset, layer_at, layer_size, pre, gap,
                     shortest, fit, bounce, echo, signature, reach, likeness, refused_likeness, ratio_low, ratio_high,
-                    least, burst, earlier, unclear, start_likeness):
+                    least, burst, earlier, unclear, weak, start_likeness):
     """:func:`.onsets._template_search`'s loop over the attacks at ``times`` (full-rate samples, in order).
 
     ``remainder`` (the band, changed in place) less each attack's fitted ``template`` (``pre`` samples before its
@@ -33,9 +33,10 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
     ``shortest`` samples after it (its own second burst: FluidR3's electric snare bursts again 3.4 ms into a note;
     0: none is). A detection of ``times`` flagged ``unclear`` (over earlier sound), not one the template timed, may
     be its sound's later burst, its start not detected: up to ``earlier`` samples before it (0: not sought), where
-    the template fits better (:func:`_earlier_start`), the attack is put, the detection dropped. Both searches, this
-    and the bounce's after an attack, ask the template's start to correlate by ``start_likeness`` only and the
-    template over ``fit`` samples by ``likeness`` (a quiet velocity layer's start is unlike the loud one's). Returns the attacks found (their
+    the template fits better (:func:`_earlier_start`, its start correlating by ``weak`` there), the attack is put,
+    the detection dropped. The search for a bounce after an attack asks the template's start to correlate by
+    ``start_likeness`` only and the template over ``fit`` samples by ``likeness`` (a quiet velocity layer's start is
+    unlike the loud one's). Returns the attacks found (their
     times, in order), each one's correlation and which of ``times`` are dropped [shape=(len(times),)].
     """
     n, size = len(remainder), len(template)
@@ -54,8 +55,7 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
             if earlier > 0 and unclear[i - 1]:
                 following = int(np.rint(times[i] - shifts[i])) if i < len(times) else n
                 start, like = _earlier_start(remainder, template, head, head_energy, c, max(last + gap, c - earlier),
-                                             c - gap, following, pre, shortest, fit, reach, likeness,
-                                             start_likeness)
+                                             c - gap, following, pre, shortest, fit, reach, likeness, weak)
                 if start >= 0:  # the detection was the attack's own later burst, its start hidden
                     dropped[i - 1], c = True, start
                     found[count], likes[count], count = start + offset, like, count + 1
@@ -226,9 +226,9 @@ def _bounce_after(remainder, template, head, head_energy, low, high, following, 
 
 @jit(error_model="numpy")
 def _earlier_start(remainder, template, head, head_energy, c, low, high, following, pre, shortest, fit, reach,
-                   likeness, start_likeness):
+                   likeness, weak):
     """Where in ``[low, high)`` the attack detected at ``c`` starts, when it is its sound's later burst: of the samples
-    where ``head`` correlates with ``remainder`` by ``start_likeness`` or more, at a peak of that correlation, the one where the
+    where ``head`` correlates with ``remainder`` by ``weak`` or more, at a peak of that correlation, the one where the
     template over ``fit`` samples (up to ``following``) correlates best, by ``likeness`` and better than at ``c``
     (within ``reach`` samples each way): (sample, correlation), or (-1, 0)."""
     count = high - low
@@ -241,7 +241,7 @@ def _earlier_start(remainder, template, head, head_energy, c, low, high, followi
         starts[k] = dots[k] / math.sqrt(max(own[k] * head_energy, 1e-300))
     best, best_like = -1, likeness
     for k in range(1, count - 1):
-        if starts[k] < start_likeness or starts[k] < starts[k - 1] or starts[k] < starts[k + 1]:
+        if starts[k] < weak or starts[k] < starts[k - 1] or starts[k] < starts[k + 1]:
             continue
         at = low + k
         span = min(max(pre + shortest, min(pre + fit, following - at)), len(template), len(remainder) - at + pre)

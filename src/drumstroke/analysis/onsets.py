@@ -417,12 +417,12 @@ class OnsetConfig:
     earlier_reach : float in [0, 0.02]
         s: how far before a detection over earlier sound (not clear by ``lead_clear_db``) the template search seeks
         where it starts: where the template fits better than at the detection, its start correlating by
-        ``bounce_likeness`` and the whole template by ``template_likeness`` (a sample's second burst detected and its
+        ``weak_likeness`` and the whole template by ``template_likeness`` (a sample's second burst detected and its
         first not: FluidR3's electric snare, 3.4 ms into a note; step 5, :func:`_template_search`; 0: not at all, as
         before this field).
     bounce_likeness : float in [0, 1]
         Correlation: the least of the template's start (``template_head`` s) with what is left at a close bounce the
-        template search finds, and at a start ``earlier_reach`` seeks; the template's first ``template_fit`` s must
+        template search finds; the template's first ``template_fit`` s must
         still correlate by ``template_likeness`` (a quiet velocity layer's start is unlike the loud template's; step 5;
         0.8, ``template_likeness``'s: as before this field).
 
@@ -511,7 +511,7 @@ class OnsetConfig:
     found_burst_db: float = -6.0
     found_decay_db: float = -120.0
     earlier_reach: float = 5e-3
-    bounce_likeness: float = 0.5
+    bounce_likeness: float = 0.7
 
     def __post_init__(self):
         for name, (low, high, unit) in _RANGES.items():
@@ -1410,8 +1410,9 @@ def _template_search(band, d, rate, candidates, refused, config, quietest=False)
     beating modes left over often look like its start alone: our synthetic drum without snares), is an attack
     (moved to the best correlation of the start within ``template_reach`` s after). The start asks less than the
     whole: a drop's quiet bounces are another velocity layer's (FluidR3's snares), whose first 3.5 ms correlate
-    0.5-0.8 with the loud template's (``bounce_likeness`` 0.5 instead of ``template_likeness``'s 0.8 finds 14 more of
-    the corpus's loud notes within 5 ms, in drops, none falsely).
+    0.5-0.8 with the loud template's (``bounce_likeness`` 0.7 instead of ``template_likeness``'s 0.8 finds 7 more of
+    the corpus's loud notes within 5 ms, in drops, none falsely; 0.5-0.65 finds 14, but takes 3-4 false bounces in
+    TimGM6mb's rolls on other seeds).
 
     *An onset step 4 refused, a second opinion.* A ghost note 50-120 ms after an accent, on a quieter
     velocity layer of a sample (TimGM6mb's snare: its velocity filter), leaves the modes' band a
@@ -1441,7 +1442,7 @@ def _template_search(band, d, rate, candidates, refused, config, quietest=False)
     (as :func:`_fit_template`'s ``burst_db`` drops one after an attack it timed). Where the burst alone was detected,
     over an earlier bounce's sound (not clear by ``lead_clear_db``), its note's start is sought up to
     ``earlier_reach`` s before it: of the samples where the template's start correlates with what is left by
-    ``bounce_likeness`` or more (at peaks of that correlation; a quiet velocity layer's start fits the loud
+    ``weak_likeness`` or more (at peaks of that correlation; a quiet velocity layer's start fits the loud
     template's less: 0.67 at one such bounce, its whole first 10 ms 0.88), the one where the template's first ``template_fit`` s correlates best, by
     ``template_likeness`` and better than anywhere within ``template_reach`` s of the detection, is the attack (the
     detection dropped): on FluidR3's snare 40 drops and rolls the corpus's bounces detected 3.1-3.9 ms late were
@@ -1491,7 +1492,7 @@ def _template_search(band, d, rate, candidates, refused, config, quietest=False)
                                             10.0 ** (config.threshold_db / 20.0),
                                             10.0 ** (config.found_burst_db / 10.0) if config.found_burst_db > -120.0 else 0.0,
                                             0 if quietest else round(config.earlier_reach * rate), ~lead_clear & (candidates.kinds != 3),
-                                            config.bounce_likeness)
+                                            config.weak_likeness, config.bounce_likeness)
     if not len(found) and not dropped.any():
         return candidates
     merged, fresh = candidates.take(~dropped).insert(found, attack=True, likeness=likes)
