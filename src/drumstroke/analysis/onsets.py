@@ -425,6 +425,10 @@ class OnsetConfig:
         template search finds; the template's first ``template_fit`` s must
         still correlate by ``template_likeness`` (a quiet velocity layer's start is unlike the loud template's; step 5;
         0.8, ``template_likeness``'s: as before this field).
+    bounce_ratio_low : float in [0, 100]
+        Amplitude ratio: the least scale of a close bounce the template search finds re the template's fit of the
+        attack before it, as ``after_ratio_low`` for step 4's search (step 5; 0.35, ``after_ratio_low``'s: as before
+        this field).
 
     Examples
     --------
@@ -512,6 +516,7 @@ class OnsetConfig:
     found_decay_db: float = -120.0
     earlier_reach: float = 5e-3
     bounce_likeness: float = 0.7
+    bounce_ratio_low: float = 0.3
 
     def __post_init__(self):
         for name, (low, high, unit) in _RANGES.items():
@@ -560,6 +565,7 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "burst_db": (-120.0, 0.0, "dB"), "layer_likeness": (0.0, 1.0, "(correlation)"), "reflection_pairs": (0, 100, ""), "reflection_db": (0.0, 120.0, "dB"),
     "reflection_spread": (0.0, 5e-3, "s"), "found_burst_db": (-120.0, 0.0, "dB"), "found_decay_db": (-120.0, 0.0, "dB"),
     "earlier_reach": (0.0, 0.02, "s"), "bounce_likeness": (0.0, 1.0, "(correlation)"),
+    "bounce_ratio_low": (0.0, 100.0, "(amplitude ratio)"),
 }
 
 
@@ -682,7 +688,7 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        within ``echo_reach`` s after an attack the template timed, where taking its fit off leaves ``burst_db``
        or less, is that attack's own sound (a sample's second burst).
        :func:`_template_search`: up to ``bounce_reach`` s after each attack, a quieter one (a bouncing
-       stick's next impact, ``after_ratio_low`` to ``after_ratio_high`` times it) where the template's
+       stick's next impact, ``bounce_ratio_low`` to ``after_ratio_high`` times it) where the template's
        start (by ``bounce_likeness``) and its first ``template_fit`` s correlate so with what is left, however
        little it rises;
        else an onset step 4 refused, ``signature`` s or more after it, where both correlate by
@@ -1404,7 +1410,7 @@ def _template_search(band, d, rate, candidates, refused, config, quietest=False)
     scale by least squares over ``template_fit`` s or up to the next attack, at its time) and taken
     off; between it and ``bounce_reach`` s after it (``min_interval`` from it and from the next
     attack), the first sample where the template's start (``template_head`` s) correlates by
-    ``bounce_likeness`` with what is left, scaled ``after_ratio_low`` to ``after_ratio_high`` times
+    ``bounce_likeness`` with what is left, scaled ``bounce_ratio_low`` to ``after_ratio_high`` times
     that attack (a bouncing stick's next impact, not what is left of the earlier one), and the
     template over ``template_fit`` s (or up to the next attack) correlates by ``template_likeness`` (a drum's
     beating modes left over often look like its start alone: our synthetic drum without snares), is an attack
@@ -1412,7 +1418,9 @@ def _template_search(band, d, rate, candidates, refused, config, quietest=False)
     whole: a drop's quiet bounces are another velocity layer's (FluidR3's snares), whose first 3.5 ms correlate
     0.5-0.8 with the loud template's (``bounce_likeness`` 0.7 instead of ``template_likeness``'s 0.8 finds 7 more of
     the corpus's loud notes within 5 ms, in drops, none falsely; 0.5-0.65 finds 14, but takes 3-4 false bounces in
-    TimGM6mb's rolls on other seeds).
+    TimGM6mb's rolls on other seeds). The fit of a bounce over a reverberant room's sound reads it louder than it is
+    (FluidR3's snare 38 drop with reverb: the next bounce, 1.5 dB quieter, at 0.34 of it), so the scale asked of the
+    next is ``bounce_ratio_low`` (0.3) or more, not ``after_ratio_low`` (0.35).
 
     *An onset step 4 refused, a second opinion.* A ghost note 50-120 ms after an accent, on a quieter
     velocity layer of a sample (TimGM6mb's snare: its velocity filter), leaves the modes' band a
@@ -1488,7 +1496,7 @@ def _template_search(band, d, rate, candidates, refused, config, quietest=False)
                                             round(config.bounce_reach * rate), round(config.echo_reach * rate),
                                             round(config.signature * rate), round(config.template_reach * rate),
                                             config.template_likeness, config.refused_likeness,
-                                            config.after_ratio_low, config.after_ratio_high,
+                                            config.bounce_ratio_low, config.after_ratio_high,
                                             10.0 ** (config.threshold_db / 20.0),
                                             10.0 ** (config.found_burst_db / 10.0) if config.found_burst_db > -120.0 else 0.0,
                                             0 if quietest else round(config.earlier_reach * rate), ~lead_clear & (candidates.kinds != 3),
