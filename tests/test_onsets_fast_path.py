@@ -33,8 +33,9 @@ dropped a detection that taking off the attack before it explains (its own secon
 the start of a detection over earlier sound up to 5 ms before it (``earlier_reach``), took a bounce whose start
 correlates by 0.7 with the template (``bounce_likeness``), and an attack the template timed or found was no longer
 asked to rise out of the earlier sound (``found_decay_db``) (by design: with ``found_burst_db=-120, earlier_reach=0,
-found_decay_db=-32, bounce_likeness=0.8`` every output equals the reference before, ``bounce_ratio_low`` changing
-none of these recordings; with them, our drum's stroke 0
+found_decay_db=-32, bounce_likeness=0.8`` every output equals the reference before, ``bounce_ratio_low`` and
+``found_echo_rise_db`` (an attack the template found not tested by its rise, added after) changing none of these
+recordings; with them, our drum's stroke 0
 without snares has a false onset at 0.8358 s (17 ms after an impact) gone and one at 2.5022 s (7.4 ms after one)
 added, its stroke 2 without snares a false one at 1.0931 s (17 ms after one) gone, FluidR3's snare 40 roll at -72 dBFS
 its notes of 1.0950 and 4.2990 s at their start instead of on their sample's second burst 3.7 ms in, FluidR3's snare

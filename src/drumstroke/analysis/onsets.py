@@ -429,6 +429,9 @@ class OnsetConfig:
         Amplitude ratio: the least scale of a close bounce the template search finds re the template's fit of the
         attack before it, as ``after_ratio_low`` for step 4's search (step 5; 0.35, ``after_ratio_low``'s: as before
         this field).
+    found_echo_rise_db : float in [-60, 60]
+        dB: as ``echo_rise_db``, for an attack the template timed or found (step 5, :func:`_out_of_decay`; its fit is
+        its test; -3.5, ``echo_rise_db``'s: as before this field).
 
     Examples
     --------
@@ -517,6 +520,7 @@ class OnsetConfig:
     earlier_reach: float = 5e-3
     bounce_likeness: float = 0.7
     bounce_ratio_low: float = 0.3
+    found_echo_rise_db: float = -60.0
 
     def __post_init__(self):
         for name, (low, high, unit) in _RANGES.items():
@@ -565,7 +569,7 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "burst_db": (-120.0, 0.0, "dB"), "layer_likeness": (0.0, 1.0, "(correlation)"), "reflection_pairs": (0, 100, ""), "reflection_db": (0.0, 120.0, "dB"),
     "reflection_spread": (0.0, 5e-3, "s"), "found_burst_db": (-120.0, 0.0, "dB"), "found_decay_db": (-120.0, 0.0, "dB"),
     "earlier_reach": (0.0, 0.02, "s"), "bounce_likeness": (0.0, 1.0, "(correlation)"),
-    "bounce_ratio_low": (0.0, 100.0, "(amplitude ratio)"),
+    "bounce_ratio_low": (0.0, 100.0, "(amplitude ratio)"), "found_echo_rise_db": (-60.0, 60.0, "dB"),
 }
 
 
@@ -709,8 +713,9 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        louder, standing out and rising on into it, is that one's first transient (one attack).
        :func:`_out_of_decay`: an attack quieter than ``decay_db`` re the loudest is none when
        its first difference does not rise ``decay_rise_db`` over the sound before it (a sample's
-       own decay, a room's tail; ``found_decay_db`` for an attack the template timed or found), and so is one within ``echo_reach`` s after the attack before it
-       that does not pass ``echo_rise_db`` (a sample's second burst). :func:`_learned_lead_ins`: an
+       own decay, a room's tail), and so is one within ``echo_reach`` s after the attack before it
+       that does not pass ``echo_rise_db`` (a sample's second burst); for an attack the template timed or found,
+       ``found_decay_db`` and ``found_echo_rise_db`` instead (its fit is its test). :func:`_learned_lead_ins`: an
        attack over loud earlier sound (over ``lead_clear_db`` re its peak) is placed its recording's
        lead-in before its main rise (its first difference's first sample over ``lead_rise`` of its
        peak), that lead-in being the median over the clear attacks (≥ 3) of their main rise less
@@ -1634,10 +1639,11 @@ def _out_of_decay(band, d, rate, candidates, amplitude, config):
     drum's lowest modes): an attack within ``echo_reach`` s after the one before it must pass that
     earlier peak by ``echo_rise_db`` (its first difference falls there: the earlier note goes on).
     Last, an attack must bring a sound of its own (:func:`_new_sound`). An attack the template timed or found (kind
-    3), not within ``echo_reach`` s after the one before, is quiet under ``found_decay_db`` instead of ``decay_db``:
-    the template's fit over what is left of the earlier sound is its test, and a ghost note 57 ms after an accent
-    found so does not rise 6 dB in its first difference over the accent's ringing. ``d`` is the magnitude of
-    ``band``'s first difference.
+    3) is quiet under ``found_decay_db`` instead of ``decay_db``, and must pass ``found_echo_rise_db`` instead of
+    ``echo_rise_db`` within ``echo_reach`` s after the one before: the template's fit over what is left of the
+    earlier sound is its test. A ghost note 57 ms after an accent found so does not rise 6 dB in its first difference
+    over the accent's ringing, nor a drop's bounce 8 ms after the one before -3.5 dB over its sound. ``d`` is the
+    magnitude of ``band``'s first difference.
     """
     from ._kernels import peaks_around
 
@@ -1647,10 +1653,11 @@ def _out_of_decay(band, d, rate, candidates, amplitude, config):
     which = np.flatnonzero(attack)
     loudest = amplitude[attack].max()
     # an attack the template timed or found (kind 3) was fitted over what is left of the earlier sound: its test
-    quiet = amplitude[which] < loudest * 10.0 ** (np.where(candidates.kinds[which] == 3, config.found_decay_db,
-                                                           config.decay_db) / 20.0)
+    fitted = candidates.kinds[which] == 3
+    quiet = amplitude[which] < loudest * 10.0 ** (np.where(fitted, config.found_decay_db, config.decay_db) / 20.0)
     close = np.diff(candidates.times[which], prepend=-np.inf) <= config.echo_reach * rate
-    least = np.where(quiet, 10.0 ** (config.decay_rise_db / 20.0), 10.0 ** (config.echo_rise_db / 20.0))
+    echo = np.where(fitted, config.found_echo_rise_db, config.echo_rise_db)
+    least = np.where(quiet, 10.0 ** (config.decay_rise_db / 20.0), 10.0 ** (echo / 20.0))
     tried = which[quiet | close]
     rise, prior = peaks_around(d, np.rint(candidates.times[tried]).astype(np.int64), round(2e-3 * rate),
                                round(5e-3 * rate), round(0.5e-3 * rate))
