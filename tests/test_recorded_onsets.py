@@ -11,6 +11,12 @@ import pytest
 from _recorded_drums import LOUD_DB, RATE, first_above, match, note_block, recordings, render_alone, score
 from drumstroke.analysis import OnsetConfig, find_onsets
 
+# the template search's own-burst, earlier-start, fitted-attack and bounce rules off (found_burst_db, earlier_reach,
+# found_decay_db, bounce_likeness, bounce_ratio_low, found_echo_rise_db): a control that measures a stage before them (those rules do part
+# of its work since)
+_BEFORE_FOUND = {"found_burst_db": -120.0, "earlier_reach": 0.0, "found_decay_db": -32.0, "bounce_likeness": 0.8,
+                 "bounce_ratio_low": 0.35, "found_echo_rise_db": -3.5}
+
 # FluidSynth and both SoundFonts are needed (scripts/install-system-packages.sh installs them): without them
 # these tests fail with render_soundfont's error, they never skip
 
@@ -99,11 +105,13 @@ def test_a_samples_second_burst_is_not_a_note(condition, least_precision, found_
     attacks that do not rise out of the note just before them; no loud note found is lost.
 
     Precision within 5 ms: 0.781 dry, 0.758 with reverb before (6 and 5 such bursts taken for notes), 0.962 and
-    0.893 now; the loud notes found within 1 and 5 ms (18 and 25 dry, 16 and 25 with reverb of 29) as before.
+    0.893 now; the loud notes found within 1 and 5 ms (18 and 25 dry, 16 and 25 with reverb of 29) as before. The
+    control (``echo_reach=0``) has ``_BEFORE_FOUND``'s rules off too: the template search's own-burst rule drops
+    most of those bursts since.
     """
     recording = _corpus_recording("FluidR3 40 roll", condition)
     kept = score(recording, find_onsets(recording.signal, RATE).t)
-    every = score(recording, find_onsets(recording.signal, RATE, config=OnsetConfig(echo_reach=0.0)).t)
+    every = score(recording, find_onsets(recording.signal, RATE, config=OnsetConfig(echo_reach=0.0, **_BEFORE_FOUND)).t)
     assert kept["correct_5ms"] / kept["found"] >= least_precision
     assert kept["within_1ms"] >= found_1ms and kept["within_5ms"] >= found_5ms
     assert every["found"] - every["correct_5ms"] >= kept["found"] - kept["correct_5ms"] + 4
@@ -144,14 +152,15 @@ def test_attacks_over_ringing_are_timed_and_found_by_the_recordings_own_attack(n
                                                                                least_precision, off_1ms):
     """A drop's fast bounces and a roll's ghost notes over the ringing: within 1 ms by fitting the clearest attack.
 
-    Without the stage (``template_likeness=1``: no fit passes) the notes within 1 ms are as few as measured before
+    Without the stage (``template_likeness=1``: no fit passes; and ``_BEFORE_FOUND``'s rules) the notes within 1 ms are as few as measured before
     it (the stage's gain is asserted, not only a floor).
     """
     recording = _corpus_recording(name, condition)
     figures = score(recording, find_onsets(recording.signal, RATE).t)
     assert figures["within_1ms"] / figures["loud"] >= least_1ms
     assert figures["correct_5ms"] / figures["found"] >= least_precision
-    off = score(recording, find_onsets(recording.signal, RATE, config=OnsetConfig(template_likeness=1.0)).t)
+    off = score(recording, find_onsets(recording.signal, RATE,
+                                       config=OnsetConfig(template_likeness=1.0, **_BEFORE_FOUND)).t)
     assert off["within_1ms"] <= off_1ms < figures["within_1ms"]
 
 
@@ -215,14 +224,19 @@ def test_an_attack_without_a_sound_of_its_own_is_none(name, condition, extras):
     notes' fitted by the recording's clear notes and taken off) stands 20 dB or more under the sound there, are
     refused; every detection left is a note within 5 ms, and the loud notes found within 1 and 5 ms are as before.
 
-    Without the rule (``new_sound_db=-120``) those ``extras`` false detections stay (measured: 2, 3 and 2).
+    Without the rule (``new_sound_db=-120``; and ``_BEFORE_FOUND``'s rules, which drop one of them) those ``extras``
+    false detections stay (measured: 2, 3 and 2), and the loud notes found are those found with the rule (both with
+    ``_BEFORE_FOUND``'s rules off); those rules lose none either.
     """
     recording = _corpus_recording(name, condition)
     kept = score(recording, find_onsets(recording.signal, RATE).t)
-    every = score(recording, find_onsets(recording.signal, RATE, config=OnsetConfig(new_sound_db=-120.0)).t)
+    before = score(recording, find_onsets(recording.signal, RATE, config=OnsetConfig(**_BEFORE_FOUND)).t)
+    every = score(recording, find_onsets(recording.signal, RATE,
+                                         config=OnsetConfig(new_sound_db=-120.0, **_BEFORE_FOUND)).t)
     assert kept["correct_5ms"] == kept["found"]
     assert every["found"] - every["correct_5ms"] >= extras
-    assert (kept["within_1ms"], kept["within_5ms"]) == (every["within_1ms"], every["within_5ms"])
+    assert (before["within_1ms"], before["within_5ms"]) == (every["within_1ms"], every["within_5ms"])
+    assert kept["within_1ms"] >= before["within_1ms"] and kept["within_5ms"] >= before["within_5ms"]
 
 
 def test_a_quiet_attack_just_before_a_much_louder_one_is_none():
@@ -346,11 +360,13 @@ def test_ghost_notes_step_4_refused_are_attacks_where_the_template_fits(conditio
     """TimGM6mb's snare 38 in a roll: ghost notes 56-120 ms after an accent that step 4 refused (their signature in
     the modes' band unlike the accent's) are found where the recording's own attack fits them at full rate, with no
     false detection more; without that second opinion (``refused_likeness=1``, and its second pass with the quietest
-    clear attack, ``layer_likeness=1``, which finds some of them too) as few as measured before it."""
+    clear attack, ``layer_likeness=1``, which finds some of them too; and ``_BEFORE_FOUND``'s rules) as few as
+    measured before it."""
     recording = _corpus_recording("TimGM6mb 38 roll", condition)
     figures = score(recording, find_onsets(recording.signal, RATE).t)
     off = score(recording, find_onsets(recording.signal, RATE,
-                                       config=OnsetConfig(refused_likeness=1.0, layer_likeness=1.0)).t)
+                                       config=OnsetConfig(refused_likeness=1.0, layer_likeness=1.0,
+                                                          **_BEFORE_FOUND)).t)
     assert figures["within_1ms"] >= least_1ms and off["within_1ms"] <= off_1ms
     assert figures["found"] - figures["correct_5ms"] <= off["found"] - off["correct_5ms"]
 
@@ -396,12 +412,12 @@ def test_an_electric_snares_second_burst_is_the_attack_the_template_timed():
     template times the attack at its start, and a detection on the second burst that the template's fit takes off
     is that attack again: each bounce within 1 ms of its truth, and no onset 2.5-4.5 ms after the first (after the
     second, one at 1.8958 s stays). Without that
-    (``burst_db=-120``) the second burst cut each attack's level window, the attack was refused and the burst kept
+    (``burst_db=-120``, and ``_BEFORE_FOUND``'s rules, which find the start too) the second burst cut each attack's level window, the attack was refused and the burst kept
     (each onset 3.4 ms late)."""
     recording = _corpus_recording("FluidR3 40 drop", "dry")
     notes = recording.t[[np.argmin(np.abs(recording.t - t)) for t in (1.8764, 1.8924)]]
     kept = find_onsets(recording.signal, RATE).t
-    late = find_onsets(recording.signal, RATE, config=OnsetConfig(burst_db=-120.0)).t
+    late = find_onsets(recording.signal, RATE, config=OnsetConfig(burst_db=-120.0, **_BEFORE_FOUND)).t
     for t in notes:
         assert np.min(np.abs(kept - t)) <= 1e-3
         assert np.min(np.abs(late - t)) > 1e-3 and np.any((late > t + 3e-3) & (late < t + 4e-3))
@@ -477,3 +493,92 @@ def test_a_layers_template_outvotes_a_note_inside_one_of_its_waveforms():
         templates = _peak_templates(x, onsets, following, ends, rate, OnsetConfig())
         assert len(templates) == 1 and len(templates[0]) == reach
         np.testing.assert_allclose(templates[0], wave, rtol=0.0, atol=1e-12)
+
+
+def test_a_detection_the_search_takes_off_with_the_attack_before_is_that_attacks_own_sound():
+    """TimGM6mb's snare 40, singles at -60 dBFS: a detection 14 ms into a note (2.3250 s), that taking off the note's
+    fit (the template search's, up to the detection or past it) leaves under ``found_burst_db`` (-6 dB) of the energy
+    over the 1 ms after it, is the note's own sound: dropped. Every detection is then a note within 5 ms, every loud
+    note found within 1 ms; without the rule (``found_burst_db=-120``) that false detection stays."""
+    recording = _corpus_recording("TimGM6mb 40 singles", "noise60")
+    kept = score(recording, find_onsets(recording.signal, RATE).t)
+    every = score(recording, find_onsets(recording.signal, RATE, config=OnsetConfig(found_burst_db=-120.0)).t)
+    assert kept["correct_5ms"] == kept["found"] and kept["within_1ms"] == kept["loud"]
+    assert every["found"] - every["correct_5ms"] == 1 and every["within_1ms"] == kept["within_1ms"]
+
+
+def test_a_ghost_note_the_template_found_over_an_accents_ringing_is_kept():
+    """FluidR3's snare 38 in a roll (dry): the ghost note of 4.2514 s (-23 dB, 57 ms after an accent) is found by the
+    template search at its start (its fit over what is left of the accent), and kept: its first difference does not
+    rise 6 dB over the accent's ringing (``decay_rise_db``, asked of quiet attacks), nor need it, the template's fit
+    being its test (``found_decay_db``). With ``found_decay_db=-32`` (``decay_db``'s, as before) it is refused."""
+    recording = _corpus_recording("FluidR3 38 roll", "dry")
+    note = recording.t[np.argmin(np.abs(recording.t - 4.2514))]
+    kept = find_onsets(recording.signal, RATE).t
+    refused = find_onsets(recording.signal, RATE, config=OnsetConfig(found_decay_db=-32.0)).t
+    assert np.min(np.abs(kept - note)) <= 0.1e-3
+    assert np.min(np.abs(refused - note)) > 5e-3
+    figures, before = score(recording, kept), score(recording, refused)
+    assert figures["within_1ms"] == before["within_1ms"] + 1 and figures["correct_5ms"] / figures["found"] >= 0.95
+
+
+def test_an_attack_detected_on_its_samples_second_burst_is_moved_to_its_start():
+    """FluidR3's snare 40 in a drop at -60 dBFS: its sample bursts again 3.4 ms in, and over the earlier bounce's sound
+    only that burst was detected at 1.9190 and 4.0204 s (3.4-3.5 ms late). The template search seeks the start up to
+    ``earlier_reach`` (5 ms) before such a detection (not clear of the earlier sound): where its start correlates by
+    ``weak_likeness`` and the whole template by ``template_likeness``, better than at the detection. Both within
+    0.25 ms of their truth now (0.14 ms at most), and the loud notes found within 1 ms 50 of 51 (45 with
+    ``earlier_reach=0``, the search as before)."""
+    recording = _corpus_recording("FluidR3 40 drop", "noise60")
+    notes = recording.t[[np.argmin(np.abs(recording.t - t)) for t in (1.9190, 4.0204)]]
+    moved = find_onsets(recording.signal, RATE).t
+    late = find_onsets(recording.signal, RATE, config=OnsetConfig(earlier_reach=0.0, bounce_likeness=0.8)).t
+    for t in notes:
+        assert np.min(np.abs(moved - t)) <= 0.25e-3
+        assert np.min(np.abs(late - t)) > 1e-3 and np.any((late > t + 3e-3) & (late < t + 4e-3))
+    figures, before = score(recording, moved), score(recording, late)
+    assert figures["within_1ms"] / figures["loud"] >= 0.96 and before["within_1ms"] / before["loud"] <= 0.9
+    assert figures["correct_5ms"] / figures["found"] >= 0.95
+
+
+def test_a_drops_quiet_bounce_is_found_by_the_whole_template_where_its_start_is_another_layers():
+    """FluidR3's snare 38 in a drop (dry): its bounce of 1.9634 s (-27.2 dB, 4 ms after the one before) is another
+    velocity layer's sample than the loud template, whose start (3.5 ms) correlates with it under 0.8; the template
+    search takes a close bounce where its start correlates by ``bounce_likeness`` (0.7) and its first 10 ms by
+    ``template_likeness`` (0.8). Found within 0.25 ms, every detection a note within 5 ms; with
+    ``bounce_likeness=0.8`` (``template_likeness``'s, as before) it is missed."""
+    recording = _corpus_recording("FluidR3 38 drop", "dry")
+    note = recording.t[np.argmin(np.abs(recording.t - 1.9634))]
+    found = find_onsets(recording.signal, RATE).t
+    before = find_onsets(recording.signal, RATE, config=OnsetConfig(bounce_likeness=0.8)).t
+    assert np.min(np.abs(found - note)) <= 0.25e-3 and np.min(np.abs(before - note)) > 5e-3
+    figures, earlier = score(recording, found), score(recording, before)
+    assert figures["correct_5ms"] == figures["found"] and figures["within_1ms"] == earlier["within_1ms"] + 1
+
+
+def test_a_bounce_over_a_rooms_sound_is_found_at_a_lower_scale():
+    """FluidR3's snare 38 drop with FluidSynth's reverb: the fit of its bounce of 1.9114 s over the room's sound reads
+    it louder than it is, and the next (1.9234 s, 1.5 dB quieter) scales 0.34 of it, under ``after_ratio_low`` (0.35).
+    The template search asks ``bounce_ratio_low`` (0.3): that bounce and the next three (to 1.9514 s, -23 dB) are
+    found, each within 0.25 ms; with ``bounce_ratio_low=0.35`` (as before) none of them is within 5 ms."""
+    recording = _corpus_recording("FluidR3 38 drop", "reverb")
+    notes = recording.t[[np.argmin(np.abs(recording.t - t)) for t in (1.9234, 1.9354, 1.9434, 1.9514)]]
+    found = find_onsets(recording.signal, RATE).t
+    before = find_onsets(recording.signal, RATE, config=OnsetConfig(bounce_ratio_low=0.35)).t
+    for t in notes:
+        assert np.min(np.abs(found - t)) <= 0.25e-3 and np.min(np.abs(before - t)) > 5e-3
+
+
+def test_a_bounce_the_template_found_close_after_another_is_not_asked_to_rise_over_it():
+    """FluidR3's snare 38 drop at -60 dBFS: the template search finds its bounce of 1.9514 s (-23 dB) 8.0 ms after the
+    one before, within ``echo_reach`` of it, and its first difference rises -3.7 dB over that one's sound, under
+    ``echo_rise_db`` (-3.5). For an attack the template found its fit is its test (``found_echo_rise_db``, -60): it is
+    kept, within 0.25 ms, every detection a note within 5 ms; with ``found_echo_rise_db=-3.5`` (as before) it is
+    refused."""
+    recording = _corpus_recording("FluidR3 38 drop", "noise60")
+    note = recording.t[np.argmin(np.abs(recording.t - 1.9514))]
+    kept = find_onsets(recording.signal, RATE).t
+    refused = find_onsets(recording.signal, RATE, config=OnsetConfig(found_echo_rise_db=-3.5)).t
+    assert np.min(np.abs(kept - note)) <= 0.25e-3 and np.min(np.abs(refused - note)) > 5e-3
+    figures = score(recording, kept)
+    assert figures["correct_5ms"] == figures["found"]

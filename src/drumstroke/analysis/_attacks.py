@@ -15,7 +15,7 @@ from .._jit import jit
 @jit(error_model="numpy")
 def template_search(remainder, template, head, times, shifts, refused, offset, layer_at, layer_size, pre, gap,
                     shortest, fit, bounce, echo, signature, reach, likeness, refused_likeness, ratio_low, ratio_high,
-                    least):
+                    least, burst, earlier, unclear, weak, start_likeness):
     """:func:`.onsets._template_search`'s loop over the attacks at ``times`` (full-rate samples, in order).
 
     ``remainder`` (the band, changed in place) less each attack's fitted ``template`` (``pre`` samples before its
@@ -28,14 +28,23 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
     one of the two that fits it better (:func:`_take_off`); the search after it is the template's still. A
     detection within ``bounce`` after an attack that neither fits (what is left of the earlier sound, or an attack
     the modes' band placed early) ends neither that attack's fit nor the search after it: a bounce found up to
-    ``echo`` after the detection is that attack, and the detection is dropped. Returns the attacks found (their
+    ``echo`` after the detection is that attack, and the detection is dropped; so is a detection that taking off the
+    attack before it (fitted up to it, or up to the one after) leaves less than ``burst`` of the energy over the
+    ``shortest`` samples after it (its own second burst: FluidR3's electric snare bursts again 3.4 ms into a note;
+    0: none is). A detection of ``times`` flagged ``unclear`` (over earlier sound), not one the template timed, may
+    be its sound's later burst, its start not detected: up to ``earlier`` samples before it (0: not sought), where
+    the template fits better (:func:`_earlier_start`, its start correlating by ``weak`` there), the attack is put,
+    the detection dropped. The search for a bounce after an attack asks the template's start to correlate by
+    ``start_likeness`` only and the template over ``fit`` samples by ``likeness`` (a quiet velocity layer's start is
+    unlike the loud one's). Returns the attacks found (their
     times, in order), each one's correlation and which of ``times`` are dropped [shape=(len(times),)].
     """
     n, size = len(remainder), len(template)
     head_energy, layer = _dot(head, 0, head, len(head)), np.zeros(0)
-    found, likes, count = np.empty(n // max(gap, 1) + 1), np.empty(n // max(gap, 1) + 1), 0  # each new one gap after
+    most = n // max(gap, 1) + 1 + len(times)  # each new one gap after, each moved one of times
+    found, likes, count = np.empty(most), np.empty(most), 0
     dropped = np.zeros(len(times), dtype=np.bool_)
-    i, pending = 0, -1
+    i, pending, last = 0, -1, -n
     while True:
         if pending >= 0:
             c, pending = pending, -1  # where the template's attack fell
@@ -43,30 +52,54 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
             c, i = int(np.rint(times[i] - shifts[i])), i + 1
             if i - 1 == layer_at and c >= pre:
                 layer = continued(remainder[c - pre:c - pre + min(layer_size, n - c + pre)], template, fit)
+            if earlier > 0 and unclear[i - 1]:
+                following = int(np.rint(times[i] - shifts[i])) if i < len(times) else n
+                start, like = _earlier_start(remainder, template, head, head_energy, c, max(last + gap, c - earlier),
+                                             c - gap, following, pre, shortest, fit, reach, likeness, weak)
+                if start >= 0:  # the detection was the attack's own later burst, its start hidden
+                    dropped[i - 1], c = True, start
+                    found[count], likes[count], count = start + offset, like, count + 1
         else:
             break
+        last = c
         following = int(np.rint(times[i] - shifts[i])) if i < len(times) else n
         detection = following
         if c < pre or min(max(pre + shortest, min(pre + fit, following - c)), size, n - c + pre) <= pre:
             continue
+        close = i < len(times) and following < c + bounce
+        if close and earlier > 0 and unclear[i] and following - c <= earlier:
+            # a detection this attack's own later burst: the attack's template fits over it better than one there
+            after = int(np.rint(times[i + 1] - shifts[i + 1])) if i + 1 < len(times) else n
+            span = min(max(pre + shortest, min(pre + fit, after - c)), size, n - c + pre)
+            whole = _likeness(remainder, c - pre, template, span)
+            if (whole >= likeness and following - pre - reach >= 0
+                    and not _fits_near(remainder, template, following, after, pre, shortest, fit, reach, whole)):
+                dropped[i], i, following = True, i + 1, after
+                detection = following
+                close = i < len(times) and following < c + bounce
+        heard = _energy(remainder, following, shortest) if close and burst > 0.0 else 0.0
         own, at_c, scale, measured, fitted = _take_off(remainder, template, layer, c, following, pre, shortest, fit)
         skipped = False
-        if fitted >= likeness and i < len(times) and following < c + bounce:
+        if fitted >= likeness and close:
             # a detection close after that neither template fits is no end to this attack's sound: fitted up to the
-            # one after instead (a FluidR3 drop's fit cut at 3.7 ms left a bounce at -21 dB two-thirds on)
+            # one after instead (a FluidR3 drop's fit cut at 3.7 ms left a bounce at -21 dB two-thirds on); nor is
+            # one that taking this attack off leaves burst or less of (a recorded sample's second burst)
             after = int(np.rint(times[i + 1] - shifts[i + 1])) if i + 1 < len(times) else n
             width = min(max(pre + shortest, min(pre + fit, after - following)), len(own), n - following + pre)
-            if width > pre and _likeness(remainder, following - pre, own, width) < likeness:
+            own_burst = _energy(remainder, detection, shortest) < heard * burst
+            if width > pre and (own_burst or _likeness(remainder, following - pre, own, width) < likeness):
                 _add(remainder, own, at_c, scale, pre)
                 own, at_c, scale, measured, fitted = _take_off(remainder, template, layer, c, after, pre, shortest,
                                                                fit)
                 skipped, following = True, after
+                if own_burst or _energy(remainder, detection, shortest) < heard * burst:
+                    dropped[i], i, skipped = True, i + 1, False  # the detection was this attack's own second burst
         c = at_c
         at, like = -1, 0.0
         if measured > 0.0:
             high = min(following - gap, c + bounce, n - len(head) + pre)
             at, like = _bounce_after(remainder, template, head, head_energy, c + gap, high, following, pre, shortest,
-                                     fit, reach, measured, likeness, ratio_low, ratio_high)
+                                     fit, reach, measured, likeness, ratio_low, ratio_high, start_likeness)
         if skipped and at > detection:
             if at - detection <= echo:  # the detection was this bounce placed early
                 dropped[i], i = True, i + 1
@@ -157,10 +190,11 @@ def _likeness(x, start, t, count):
 
 @jit(error_model="numpy")
 def _bounce_after(remainder, template, head, head_energy, low, high, following, pre, shortest, fit, reach, scale,
-                  likeness, ratio_low, ratio_high):
-    """The first sample in ``[low, high)`` where ``head`` fits ``remainder`` (by ``likeness``, scaled ``ratio_low`` to
-    ``ratio_high`` times ``scale``) and the template over ``fit`` samples (up to ``following``) does too, moved to
-    the start's best correlation within ``reach`` samples after: (sample, correlation), or (-1, 0)."""
+                  likeness, ratio_low, ratio_high, start_likeness):
+    """The first sample in ``[low, high)`` where ``head`` fits ``remainder`` (by ``start_likeness``, scaled
+    ``ratio_low`` to ``ratio_high`` times ``scale``) and the template over ``fit`` samples (up to ``following``) does
+    too (by ``likeness``), moved to the start's best correlation within ``reach`` samples after: (sample,
+    correlation), or (-1, 0)."""
     if high <= low:
         return -1, 0.0
     count = high - low
@@ -174,7 +208,7 @@ def _bounce_after(remainder, template, head, head_energy, low, high, following, 
             continue
         like = dots[k] / math.sqrt(max(own[k] * head_energy, 1e-300))
         ratio = dots[k] / (head_energy * scale)
-        if like < likeness or ratio < ratio_low or ratio > ratio_high:
+        if like < start_likeness or ratio < ratio_low or ratio > ratio_high:
             continue
         at = low + k
         span = min(max(pre + shortest, min(pre + fit, following - at)), len(template), len(remainder) - at + pre)
@@ -188,6 +222,52 @@ def _bounce_after(remainder, template, head, head_energy, low, high, following, 
                 best = m
         return low + best, dots[best] / math.sqrt(max(own[best] * head_energy, 1e-300))
     return -1, 0.0
+
+
+@jit(error_model="numpy")
+def _earlier_start(remainder, template, head, head_energy, c, low, high, following, pre, shortest, fit, reach,
+                   likeness, weak):
+    """Where in ``[low, high)`` the attack detected at ``c`` starts, when it is its sound's later burst: of the samples
+    where ``head`` correlates with ``remainder`` by ``weak`` or more, at a peak of that correlation, the one where the
+    template over ``fit`` samples (up to ``following``) correlates best, by ``likeness`` and better than at ``c``
+    (within ``reach`` samples each way): (sample, correlation), or (-1, 0)."""
+    count = high - low
+    if count < 3 or low < pre or c - pre - reach < 0 or high - pre + len(head) > len(remainder):
+        return -1, 0.0
+    own = _energies(remainder, low - pre, count, len(head))
+    dots = _correlations(remainder, low - pre, head, count)
+    starts = np.empty(count)
+    for k in range(count):
+        starts[k] = dots[k] / math.sqrt(max(own[k] * head_energy, 1e-300))
+    best, best_like = -1, likeness
+    for k in range(1, count - 1):
+        if starts[k] < weak or starts[k] < starts[k - 1] or starts[k] < starts[k + 1]:
+            continue
+        at = low + k
+        span = min(max(pre + shortest, min(pre + fit, following - at)), len(template), len(remainder) - at + pre)
+        whole = _likeness(remainder, at - pre, template, span)
+        if whole >= best_like:
+            best, best_like = at, whole
+    if best < 0:
+        return -1, 0.0
+    if _fits_near(remainder, template, c, following, pre, shortest, fit, reach, best_like):
+        return -1, 0.0
+    return best, best_like
+
+
+@jit(error_model="numpy")
+def _fits_near(remainder, template, c, following, pre, shortest, fit, reach, like):
+    """Whether the template over ``fit`` samples (up to ``following``) correlates by ``like`` or more with
+    ``remainder`` at an attack within ``reach`` samples of ``c``."""
+    here = min(max(pre + shortest, min(pre + fit, following - c)), len(template), len(remainder) - c - reach + pre)
+    lags = 2 * reach + 1
+    dots = _correlations(remainder, c - reach - pre, template[:here], lags)
+    own = _energies(remainder, c - reach - pre, lags, here)
+    energy = _dot(template, 0, template, here)
+    for k in range(lags):
+        if dots[k] >= like * math.sqrt(max(own[k] * energy, 1e-300)):
+            return True
+    return False
 
 
 @jit(error_model="numpy")
@@ -222,6 +302,15 @@ def _refused_fit(remainder, template, head, head_energy, refused, low, high, pre
         if best_like >= refused_likeness and whole[best] / energy >= least and starts[best] >= refused_likeness:
             return c - reach + best, best_like
     return -1, 0.0
+
+
+@jit(error_model="numpy")
+def _energy(x, start, count):
+    """The energy of ``x`` over ``count`` samples from ``start`` (fewer at its end)."""
+    total = 0.0
+    for j in range(start, min(start + count, len(x))):
+        total += x[j] * x[j]
+    return total
 
 
 @jit(error_model="numpy")

@@ -407,6 +407,31 @@ class OnsetConfig:
         dB: how much quieter than the onset before it a reflection is at least (step 6).
     reflection_spread : float in [0, 0.005]
         s: how far apart the delays of one reflection's pairs may be (step 6).
+    found_burst_db : float in [-120, 0]
+        dB re what was there: the most that taking off an attack's fit in the template search may leave over the
+        1 ms after the next detection, within ``bounce_reach`` s after it, for that detection to be the attack's own
+        sound, dropped (step 5, :func:`_template_search`; -120: none is, as before this field).
+    found_decay_db : float in [-120, 0]
+        dB re the loudest: as ``decay_db``, for an attack the template timed or found (step 5, :func:`_out_of_decay`;
+        its fit over what is left of the earlier sound is its test; -32, ``decay_db``'s: as before this field).
+    earlier_reach : float in [0, 0.02]
+        s: how far before a detection over earlier sound (not clear by ``lead_clear_db``) the template search seeks
+        where it starts: where the template fits better than at the detection, its start correlating by
+        ``weak_likeness`` and the whole template by ``template_likeness`` (a sample's second burst detected and its
+        first not: FluidR3's electric snare, 3.4 ms into a note; step 5, :func:`_template_search`; 0: not at all, as
+        before this field).
+    bounce_likeness : float in [0, 1]
+        Correlation: the least of the template's start (``template_head`` s) with what is left at a close bounce the
+        template search finds; the template's first ``template_fit`` s must
+        still correlate by ``template_likeness`` (a quiet velocity layer's start is unlike the loud template's; step 5;
+        0.8, ``template_likeness``'s: as before this field).
+    bounce_ratio_low : float in [0, 100]
+        Amplitude ratio: the least scale of a close bounce the template search finds re the template's fit of the
+        attack before it, as ``after_ratio_low`` for step 4's search (step 5; 0.35, ``after_ratio_low``'s: as before
+        this field).
+    found_echo_rise_db : float in [-60, 60]
+        dB: as ``echo_rise_db``, for an attack the template timed or found (step 5, :func:`_out_of_decay`; its fit is
+        its test; -3.5, ``echo_rise_db``'s: as before this field).
 
     Examples
     --------
@@ -490,6 +515,12 @@ class OnsetConfig:
     reflection_pairs: int = 3
     reflection_db: float = 12.0
     reflection_spread: float = 0.2e-3
+    found_burst_db: float = -6.0
+    found_decay_db: float = -120.0
+    earlier_reach: float = 5e-3
+    bounce_likeness: float = 0.7
+    bounce_ratio_low: float = 0.3
+    found_echo_rise_db: float = -60.0
 
     def __post_init__(self):
         for name, (low, high, unit) in _RANGES.items():
@@ -536,7 +567,9 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "soft_jump": (1.0, 100.0, "(RMS ratio)"), "soft_contact": (0.0, 0.02, "s"),
     "bounce_reach": (0.0, 0.5, "s"), "refused_likeness": (0.0, 1.0, "(correlation)"),
     "burst_db": (-120.0, 0.0, "dB"), "layer_likeness": (0.0, 1.0, "(correlation)"), "reflection_pairs": (0, 100, ""), "reflection_db": (0.0, 120.0, "dB"),
-    "reflection_spread": (0.0, 5e-3, "s"),
+    "reflection_spread": (0.0, 5e-3, "s"), "found_burst_db": (-120.0, 0.0, "dB"), "found_decay_db": (-120.0, 0.0, "dB"),
+    "earlier_reach": (0.0, 0.02, "s"), "bounce_likeness": (0.0, 1.0, "(correlation)"),
+    "bounce_ratio_low": (0.0, 100.0, "(amplitude ratio)"), "found_echo_rise_db": (-60.0, 60.0, "dB"),
 }
 
 
@@ -659,11 +692,14 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        within ``echo_reach`` s after an attack the template timed, where taking its fit off leaves ``burst_db``
        or less, is that attack's own sound (a sample's second burst).
        :func:`_template_search`: up to ``bounce_reach`` s after each attack, a quieter one (a bouncing
-       stick's next impact, ``after_ratio_low`` to ``after_ratio_high`` times it) where the template's
-       start and its first ``template_fit`` s correlate so with what is left, however little it rises;
+       stick's next impact, ``bounce_ratio_low`` to ``after_ratio_high`` times it) where the template's
+       start (by ``bounce_likeness``) and its first ``template_fit`` s correlate so with what is left, however
+       little it rises;
        else an onset step 4 refused, ``signature`` s or more after it, where both correlate by
        ``refused_likeness``; then that second opinion again with the quietest clear attack as
-       the template (another velocity layer of a sample), by ``layer_likeness``.
+       the template (another velocity layer of a sample), by ``layer_likeness``. A detection there that taking off
+       the attack before it explains (``found_burst_db``) is that attack's own sound (a sample's second burst); one
+       over earlier sound whose start the template fits better up to ``earlier_reach`` s before it is put there.
        :func:`_level_band`. An onset's amplitude is the peak of its own sound in the drum's lowest
        modes (the band up to ``level_ratio`` times its lowest strong mode, ≥ ``level_band`` Hz,
        decimated to 2.5 times that: a stick's speed sets their amplitude in proportion, while the
@@ -678,7 +714,8 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        :func:`_out_of_decay`: an attack quieter than ``decay_db`` re the loudest is none when
        its first difference does not rise ``decay_rise_db`` over the sound before it (a sample's
        own decay, a room's tail), and so is one within ``echo_reach`` s after the attack before it
-       that does not pass ``echo_rise_db`` (a sample's second burst). :func:`_learned_lead_ins`: an
+       that does not pass ``echo_rise_db`` (a sample's second burst); for an attack the template timed or found,
+       ``found_decay_db`` and ``found_echo_rise_db`` instead (its fit is its test). :func:`_learned_lead_ins`: an
        attack over loud earlier sound (over ``lead_clear_db`` re its peak) is placed its recording's
        lead-in before its main rise (its first difference's first sample over ``lead_rise`` of its
        peak), that lead-in being the median over the clear attacks (≥ 3) of their main rise less
@@ -1377,11 +1414,17 @@ def _template_search(band, d, rate, candidates, refused, config, quietest=False)
     scale by least squares over ``template_fit`` s or up to the next attack, at its time) and taken
     off; between it and ``bounce_reach`` s after it (``min_interval`` from it and from the next
     attack), the first sample where the template's start (``template_head`` s) correlates by
-    ``template_likeness`` with what is left, scaled ``after_ratio_low`` to ``after_ratio_high`` times
+    ``bounce_likeness`` with what is left, scaled ``bounce_ratio_low`` to ``after_ratio_high`` times
     that attack (a bouncing stick's next impact, not what is left of the earlier one), and the
-    template over ``template_fit`` s (or up to the next attack) correlates so too (a drum's beating
-    modes left over often look like its start alone: our synthetic drum without snares), is an attack
-    (moved to the best correlation of the start within ``template_reach`` s after).
+    template over ``template_fit`` s (or up to the next attack) correlates by ``template_likeness`` (a drum's
+    beating modes left over often look like its start alone: our synthetic drum without snares), is an attack
+    (moved to the best correlation of the start within ``template_reach`` s after). The start asks less than the
+    whole: a drop's quiet bounces are another velocity layer's (FluidR3's snares), whose first 3.5 ms correlate
+    0.5-0.8 with the loud template's (``bounce_likeness`` 0.7 instead of ``template_likeness``'s 0.8 finds 7 more of
+    the corpus's loud notes within 5 ms, in drops, none falsely; 0.5-0.65 finds 14, but takes 3-4 false bounces in
+    TimGM6mb's rolls on other seeds). The fit of a bounce over a reverberant room's sound reads it louder than it is
+    (FluidR3's snare 38 drop with reverb: the next bounce, 1.5 dB quieter, at 0.34 of it), so the scale asked of the
+    next is ``bounce_ratio_low`` (0.3) or more, not ``after_ratio_low`` (0.35).
 
     *An onset step 4 refused, a second opinion.* A ghost note 50-120 ms after an accent, on a quieter
     velocity layer of a sample (TimGM6mb's snare: its velocity filter), leaves the modes' band a
@@ -1404,6 +1447,18 @@ def _template_search(band, d, rate, candidates, refused, config, quietest=False)
     within ``bounce_reach`` s after an attack that neither fits (an attack the modes' band placed early, what is
     left of the earlier sound) ends neither that attack's fit nor the search: a bounce found up to ``echo_reach``
     s after it is that attack, and the detection is dropped.
+
+    *A sample's second burst.* FluidR3's electric snare (40) bursts again 3.4 ms into a note. A detection within
+    ``bounce_reach`` s after an attack, where taking that attack's fit off (up to the detection, or past it to the
+    next) leaves under ``found_burst_db`` of the energy over the 1 ms after it, is the attack's own sound: dropped
+    (as :func:`_fit_template`'s ``burst_db`` drops one after an attack it timed). Where the burst alone was detected,
+    over an earlier bounce's sound (not clear by ``lead_clear_db``), its note's start is sought up to
+    ``earlier_reach`` s before it: of the samples where the template's start correlates with what is left by
+    ``weak_likeness`` or more (at peaks of that correlation; a quiet velocity layer's start fits the loud
+    template's less: 0.67 at one such bounce, its whole first 10 ms 0.88), the one where the template's first ``template_fit`` s correlates best, by
+    ``template_likeness`` and better than anywhere within ``template_reach`` s of the detection, is the attack (the
+    detection dropped): on FluidR3's snare 40 drops and rolls the corpus's bounces detected 3.1-3.9 ms late were
+    put within 0.14 ms of their start.
 
     *Another velocity layer.* A sample's notes are recorded at a few velocities: a ghost note may be another
     layer's than the loudest clear attack. With ``quietest``, the search runs again with the quietest clear attack
@@ -1435,6 +1490,7 @@ def _template_search(band, d, rate, candidates, refused, config, quietest=False)
         layer_size = 0 if layer is None else len(_attack_sound(band, candidates.times, layer, rate, config)[0])
     pre = round(0.5e-3 * rate)
     head = pre + round(config.template_head * rate)
+    _, (lead_clear,) = _clear(d, candidates.times, rate, [config.lead_clear_db])
     found, likes, dropped = template_search(band.copy(), template, template[:head],
                                             np.ascontiguousarray(candidates.times, dtype=float),
                                             np.where(candidates.kinds == 3, offset, 0.0),  # timed at its sample
@@ -1444,9 +1500,12 @@ def _template_search(band, d, rate, candidates, refused, config, quietest=False)
                                             round(config.bounce_reach * rate), round(config.echo_reach * rate),
                                             round(config.signature * rate), round(config.template_reach * rate),
                                             config.template_likeness, config.refused_likeness,
-                                            config.after_ratio_low, config.after_ratio_high,
-                                            10.0 ** (config.threshold_db / 20.0))
-    if not len(found):
+                                            config.bounce_ratio_low, config.after_ratio_high,
+                                            10.0 ** (config.threshold_db / 20.0),
+                                            10.0 ** (config.found_burst_db / 10.0) if config.found_burst_db > -120.0 else 0.0,
+                                            0 if quietest else round(config.earlier_reach * rate), ~lead_clear & (candidates.kinds != 3),
+                                            config.weak_likeness, config.bounce_likeness)
+    if not len(found) and not dropped.any():
         return candidates
     merged, fresh = candidates.take(~dropped).insert(found, attack=True, likeness=likes)
     return replace(merged, kinds=np.where(fresh, 3, merged.kinds))
@@ -1578,8 +1637,12 @@ def _out_of_decay(band, d, rate, candidates, amplitude, config):
     few milliseconds into itself (FluidR3's electric snare, 4-6 ms in, as loud as its note in the
     drum's lowest modes): an attack within ``echo_reach`` s after the one before it must pass that
     earlier peak by ``echo_rise_db`` (its first difference falls there: the earlier note goes on).
-    Last, an attack must bring a sound of its own (:func:`_new_sound`). ``d`` is the magnitude of ``band``'s first
-    difference.
+    Last, an attack must bring a sound of its own (:func:`_new_sound`). An attack the template timed or found (kind
+    3) is quiet under ``found_decay_db`` instead of ``decay_db``, and must pass ``found_echo_rise_db`` instead of
+    ``echo_rise_db`` within ``echo_reach`` s after the one before: the template's fit over what is left of the
+    earlier sound is its test. A ghost note 57 ms after an accent found so does not rise 6 dB in its first difference
+    over the accent's ringing, nor a drop's bounce 8 ms after the one before -3.5 dB over its sound. ``d`` is the
+    magnitude of ``band``'s first difference.
     """
     from ._kernels import peaks_around
 
@@ -1588,9 +1651,12 @@ def _out_of_decay(band, d, rate, candidates, amplitude, config):
         return candidates
     which = np.flatnonzero(attack)
     loudest = amplitude[attack].max()
-    quiet = amplitude[which] < loudest * 10.0 ** (config.decay_db / 20.0)
+    # an attack the template timed or found (kind 3) was fitted over what is left of the earlier sound: its test
+    fitted = candidates.kinds[which] == 3
+    quiet = amplitude[which] < loudest * 10.0 ** (np.where(fitted, config.found_decay_db, config.decay_db) / 20.0)
     close = np.diff(candidates.times[which], prepend=-np.inf) <= config.echo_reach * rate
-    least = np.where(quiet, 10.0 ** (config.decay_rise_db / 20.0), 10.0 ** (config.echo_rise_db / 20.0))
+    echo = np.where(fitted, config.found_echo_rise_db, config.echo_rise_db)
+    least = np.where(quiet, 10.0 ** (config.decay_rise_db / 20.0), 10.0 ** (echo / 20.0))
     tried = which[quiet | close]
     rise, prior = peaks_around(d, np.rint(candidates.times[tried]).astype(np.int64), round(2e-3 * rate),
                                round(5e-3 * rate), round(0.5e-3 * rate))
