@@ -1891,23 +1891,14 @@ def _layer_template(x, starts, following, free, layer, reach):
     their median, in which another note in one of them (a ghost note, a missed one) is outvoted; elsewhere the
     median of the notes' waveforms up to their next onset (clean), as far as one lasts.
     """
-    rows, whole, clean = [], [], []
-    for i, lag, scale in layer:
-        a = starts[i] + lag
-        n = max(0, min(free[i] - starts[i], reach, len(x) - a))
-        rows.append(x[a:a + n] / scale)
-        whole.append(n)
-        clean.append(min(n, following[i] - starts[i]))
-    whole, clean = np.array(whole), np.array(clean)
-    bounds = np.unique(np.concatenate(([0], whole, clean)))
-    parts = []
-    for low, high in zip(bounds[:-1].tolist(), bounds[1:].tolist()):  # the same waveforms last over each part
-        voted = whole >= high
-        chosen = voted if np.count_nonzero(voted) >= 3 else clean >= high
-        if not chosen.any():
-            break
-        parts.append(np.median([row[low:high] for row, use in zip(rows, chosen) if use], axis=0))
-    return np.concatenate(parts) if parts else np.empty(0)
+    from ._templates import layer_median
+
+    notes = np.array([i for i, _, _ in layer], dtype=np.int64)
+    at = starts[notes] + np.array([lag for _, lag, _ in layer], dtype=np.int64)
+    whole = np.maximum(0, np.minimum(np.minimum([free[i] for i in notes.tolist()] - starts[notes], reach),
+                                     len(x) - at))
+    clean = np.minimum(whole, following[notes] - starts[notes])
+    return layer_median(x, at, np.array([scale for _, _, scale in layer]), whole, clean)
 
 
 # ------------------------------------------------------------------------------------------ the stages' tools
