@@ -4,6 +4,7 @@ zero where +0 and -0 tie, which no peak, product or energy after it sees)."""
 
 import numpy as np
 import pytest
+from numpy.lib.stride_tricks import sliding_window_view
 
 from _recordings import uneven_noise
 from drumstroke.analysis import _templates
@@ -43,3 +44,46 @@ def test_layer_median_is_numpys_median_by_parts(rng):
         got = _templates.layer_median(x, at, scales, whole, clean)
         want = _layer_median_numpy(x, at, scales, whole, clean)
         np.testing.assert_array_equal(got, want, strict=True)
+
+
+def _next_attack_numpy(x, head, low, high, pre, reach, base, width, energy, rise, likeness, least):
+    """The first window that rises, is scaled and correlates, moved to the best correlation within ``reach`` after:
+    running sums by np.cumsum (in order), the windows' products and energies as numpy sums sliding windows."""
+    count, size = high - base, len(head)
+    power = np.concatenate(([0.0], np.cumsum(x[base:high] ** 2)))
+    n = np.arange(low, high) - base
+    after = (power[np.minimum(n + width, count)] - power[n]) / width
+    before = (power[n] - power[np.maximum(n - 4 * width, 0)]) / (4 * width)
+    windows = sliding_window_view(x[low - pre:high - pre + size - 1], size)
+    dots = windows @ head
+    like = dots / (np.sqrt(np.einsum("ij,ij->i", windows, windows) * energy) + 1e-300)
+    passing = np.flatnonzero((after >= rise * before) & (dots >= least * energy) & (like >= likeness))
+    if not len(passing):
+        return -1
+    first = passing[0]
+    return low + first + int(np.argmax(like[first:min(first + reach + 1, high - low)]))
+
+
+def test_next_attack_is_the_first_rising_scaled_correlating_window(rng):
+    """Onsets in noise, in silence and in what a fit left of itself (zeros, the windows a quiet bound skips)."""
+    hits = 0
+    for _ in range(400):
+        n, size, pre = int(rng.integers(400, 3000)), int(rng.integers(8, 80)), int(rng.integers(1, 8))
+        width = int(rng.integers(2, 20))
+        x = uneven_noise(rng, n) * 10.0 ** rng.uniform(-4, 1)
+        head = rng.standard_normal(size)
+        if rng.random() < 0.3:
+            x[int(rng.integers(0, n // 2)):][:int(rng.integers(0, n))] = 0.0
+        for _ in range(int(rng.integers(0, 4))):  # the head itself, scaled, over the noise
+            at = int(rng.integers(pre, n - size))
+            x[at - pre:at - pre + size] += head * 10.0 ** rng.uniform(-3, 1)
+        low = int(rng.integers(4 * width + pre, n // 2))
+        high = int(rng.integers(low, n - size + pre + 1))
+        base = max(0, low - 4 * width) if rng.random() < 0.8 else int(rng.integers(0, low - pre + 1))
+        energy = head @ head
+        args = (x, head, low, high, pre, int(rng.integers(0, 20)), base, width, energy, float(rng.choice([1.0, 4.0])),
+                float(rng.choice([0.3, 0.8])), float(rng.choice([1e-3, 0.01, 0.3])))
+        want = _next_attack_numpy(*args)
+        assert _templates.next_attack(*args) == want
+        hits += want >= 0
+    assert 50 < hits < 350  # both answers tried

@@ -418,62 +418,6 @@ def window_dots(x, low, t, count):
 
 
 @jit
-def next_attack(x, head, low, high, pre, reach, base, width, energy, rise, likeness, least):
-    """:func:`.onsets._next_attack` once its bounds are checked: the sample, or -1.
-
-    The window from each sample ``n`` in ``[low, high)`` is ``x[n - pre:n - pre + len(head)]``; its jump is
-    :func:`.onsets._windows`' (``width``) over ``x[base:high]``, the power summed in order from ``x[base]``.
-    Correlations are computed only where the window rises ``rise`` (power ratio) times, in order, until one passes;
-    the products with ``head`` of eight such windows at a time (:func:`eight_dots`).
-    """
-    count = high - base
-    power = np.zeros(count + 1)
-    for j in range(count):
-        power[j + 1] = power[j] + x[base + j] * x[base + j]
-    rising, dots, owns = np.empty(8, dtype=np.int64), np.empty(8), np.empty(8)
-    i = 0
-    while i < high - low:
-        found = 0  # the next eight samples (or fewer) whose windows rise
-        while i < high - low and found < 8:
-            n = i + low - base
-            ahead, behind = power[min(n + width, count)] - power[n], power[n] - power[max(n - 4 * width, 0)]
-            # the divisions below only where the window may rise: the running sums never fall (both sums ≥ 0), so
-            # 4 ahead under (1 - 1e-9) rise behind is under rise behind by far more than the divisions' rounding
-            # (normal numbers: far from underflow)
-            if behind > 1e-280 and 4.0 * ahead < (1.0 - 1e-9) * rise * behind:
-                i += 1
-                continue
-            after = ahead / width
-            before = behind / (4 * width)
-            if after >= rise * before:
-                rising[found] = i
-                found += 1
-            i += 1
-        if found == 0:
-            break
-        rising[found:] = rising[found - 1]
-        eight_dots(x, low - pre + rising, head, dots)
-        scaled = False
-        for f in range(found):
-            scaled = scaled or dots[f] >= least * energy
-        if not scaled:
-            continue
-        eight_squares(x, low - pre + rising, len(head), owns)  # each window's energy, as likeness_at sums it
-        for f in range(found):
-            if not dots[f] >= least * energy:  # (the correlation only where the scale passes)
-                continue
-            like = dots[f] / (math.sqrt(owns[f] * energy) + 1e-300)  # likeness_at's, its sums side by side
-            if like >= likeness:
-                best, at = like, rising[f]
-                for k in range(rising[f] + 1, min(rising[f] + reach + 1, high - low)):
-                    like, _ = likeness_at(x, low - pre + k, head, energy)
-                    if like > best:
-                        best, at = like, k
-                return low + at
-    return -1
-
-
-@jit
 def eight_dots(x, starts, t, out):
     """:func:`window_dot` of the eight windows from ``starts``, into ``out``: eight chains of additions side by side."""
     s0, s1, s2, s3, s4, s5, s6, s7 = starts[0], starts[1], starts[2], starts[3], starts[4], starts[5], starts[6], starts[7]

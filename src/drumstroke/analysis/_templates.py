@@ -5,9 +5,116 @@ A module of its own (as :mod:`._kernels`) so that importing :mod:`drumstroke.ana
 :mod:`.onsets` imports it where it runs it.
 """
 
+import math
+
 import numpy as np
 
 from .._jit import jit
+from ._kernels import eight_dots, eight_squares, likeness_at
+
+
+@jit
+def next_attack(x, head, low, high, pre, reach, base, width, energy, rise, likeness, least):
+    """:func:`.onsets._next_attack` once its bounds are checked (``pre <= low``, ``base <= low - pre``): the sample,
+    or -1.
+
+    The window from each sample ``n`` in ``[low, high)`` is ``x[n - pre:n - pre + len(head)]``; its jump is
+    :func:`.onsets._windows`' (``width``) over ``x[base:high]``, the power summed in order from ``x[base]``.
+    Correlations are computed only where the window rises ``rise`` (power ratio) times, in order, until one passes;
+    the products with ``head`` of eight such windows at a time (:func:`._kernels.eight_dots`). A window too quiet for
+    its product to scale ``least`` (Cauchy-Schwarz: its energy, bounded from the running sums, under ``least²`` times
+    the head's, by a margin far over the sums' rounding) is not scaled whatever its product: none is summed (what the
+    template fitted leaves of its own attack is zeros). Which windows may rise and are loud enough is told in one
+    pass over them all (:func:`_tried`, in vector instructions) before the scan.
+    """
+    count, size = high - base, len(head)
+    total = max(count, high - pre + size - base)  # the heads' windows too
+    power = np.empty(total + 1)
+    power[0] = 0.0
+    for j in range(total):
+        power[j + 1] = power[j] + x[base + j] * x[base + j]
+    # a window's energy is under (power[b] - power[a]) + slack (the squares' underflow too), its product with head
+    # under the geometric mean of its energy and the head's, to rounding far within the 1e-6 margin: a window quieter
+    # than quiet has a product under least × energy (not scaled), whatever it is
+    slack = 4.0 * (total + 2) * 2.220446049250313e-16 * power[total] + 1e-300
+    scaled_at = least * energy
+    quiet = (scaled_at * scaled_at) / (energy * (1.0 + 1e-6)) if scaled_at > 1e-100 else -np.inf
+    tried = _tried(power, low - base, high - low, count, width, (1.0 - 1e-9) * rise, pre, size, slack, quiet)
+    eights = tried.view(np.uint64)  # eight windows' flags a word
+    rising, dots, owns = np.empty(8, dtype=np.int64), np.empty(8), np.empty(8)
+    i = 0
+    while i < high - low:
+        found = 0  # the next eight samples (or fewer) whose windows rise
+        while i < high - low and found < 8:
+            if i % 8 == 0 and eights[i // 8] == 0:  # none of the next eight tried
+                i += 8
+                continue
+            if tried[i]:
+                n = i + low - base
+                ahead, behind = power[min(n + width, count)] - power[n], power[n] - power[max(n - 4 * width, 0)]
+                after = ahead / width
+                before = behind / (4 * width)
+                if after >= rise * before:
+                    rising[found] = i
+                    found += 1
+            i += 1
+        if found == 0:
+            break
+        rising[found:] = rising[found - 1]
+        eight_dots(x, low - pre + rising, head, dots)
+        scaled = False
+        for f in range(found):
+            scaled = scaled or dots[f] >= least * energy
+        if not scaled:
+            continue
+        eight_squares(x, low - pre + rising, len(head), owns)  # each window's energy, as likeness_at sums it
+        for f in range(found):
+            if not dots[f] >= least * energy:  # (the correlation only where the scale passes)
+                continue
+            like = dots[f] / (math.sqrt(owns[f] * energy) + 1e-300)  # likeness_at's, its sums side by side
+            if like >= likeness:
+                best, at = like, rising[f]
+                for k in range(rising[f] + 1, min(rising[f] + reach + 1, high - low)):
+                    like, _ = likeness_at(x, low - pre + k, head, energy)
+                    if like > best:
+                        best, at = like, k
+                return low + at
+    return -1
+
+
+@jit
+def _tried(power, offset, windows, count, width, ratio, pre, size, slack, quiet):
+    """Which of :func:`next_attack`'s ``windows`` (the ``i``-th at ``n = offset + i`` in ``power``, its running sums)
+    may rise and may be scaled: not when the power over the ``width`` ahead (up to ``count``) is surely under
+    ``ratio``/4 times that over the ``4 width`` behind (the running sums never fall, so that test is under the rise's
+    by far more than the divisions' rounding: normal numbers, far from underflow), nor when the ``size`` samples from
+    ``pre`` before ``n`` have under ``quiet`` less ``slack`` of energy. [shape=(windows,), padded with False to a
+    multiple of 8]"""
+    tried = np.zeros(-(-windows // 8) * 8, dtype=np.bool_)  # whole words of eight (the last padded with False)
+    first = min(max(0, 4 * width - offset, pre - offset), windows)  # from here, no bound clamped
+    last = max(first, min(windows, count - width - offset))
+    for i in range(first):
+        tried[i] = _maybe(power, offset + i, count, width, ratio, pre, size, slack, quiet)
+    # the same tests on slices (indices the compiler sees are ≥ 0: in vector instructions)
+    now, ahead_end, behind_start = power[offset + first:], power[offset + first + width:], power[offset + first - 4 * width:]
+    head_start, head_end = power[offset + first - pre:], power[offset + first - pre + size:]
+    out = tried[first:]
+    for i in range(last - first):
+        ahead, behind = ahead_end[i] - now[i], now[i] - behind_start[i]
+        out[i] = (((not behind > 1e-280) | (not 4.0 * ahead < ratio * behind))
+                  & (head_end[i] - head_start[i] + slack >= quiet))
+    for i in range(last, windows):
+        tried[i] = _maybe(power, offset + i, count, width, ratio, pre, size, slack, quiet)
+    return tried
+
+
+@jit(inline="always")
+def _maybe(power, n, count, width, ratio, pre, size, slack, quiet):
+    """:func:`_tried`'s tests of the window at ``n``, its bounds clamped as :func:`next_attack` clamps them."""
+    ahead, behind = power[min(n + width, count)] - power[n], power[n] - power[max(n - 4 * width, 0)]
+    if behind > 1e-280 and 4.0 * ahead < ratio * behind:
+        return False
+    return n < pre or power[n - pre + size] - power[n - pre] + slack >= quiet
 
 
 _BLOCK = 256  # samples a time: a dozen notes' waveforms over them stay in the first-level cache

@@ -1556,7 +1556,7 @@ def _next_attack(x, head, low, high, pre, reach, rate, config):
     attacks, which the template's start may look like too); moved to the best correlation within
     ``reach`` samples after.
     """
-    from ._kernels import next_attack
+    from ._templates import next_attack
 
     high = min(high, len(x) - len(head) + pre)
     if high <= low or low < pre:
