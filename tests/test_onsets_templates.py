@@ -87,3 +87,16 @@ def test_next_attack_is_the_first_rising_scaled_correlating_window(rng):
         assert _templates.next_attack(*args) == want
         hits += want >= 0
     assert 50 < hits < 350  # both answers tried
+
+
+def test_window_dots_sum_each_window_in_order(rng):
+    """The template fit's sliding products, eight terms a pass, are numpy's matmul over the sliding windows (its
+    loop adds each row's products in order): to the bit, for every length's last terms fewer than eight."""
+    from drumstroke.analysis._kernels import window_dots
+
+    for size in list(range(1, 26)) + [504]:
+        count = int(rng.integers(1, 300))
+        x, low = uneven_noise(rng, count + size + 20), int(rng.integers(0, 20))
+        t = rng.standard_normal(size) * 10.0 ** rng.uniform(-3, 3)
+        want = sliding_window_view(x[low:low + count + size - 1], size) @ t
+        np.testing.assert_array_equal(window_dots(x, low, t, count), want, strict=True)

@@ -408,12 +408,23 @@ def best_lag(x, template, low, count, energy):
 @jit
 def window_dots(x, low, t, count):
     """:func:`window_dot` of the ``count`` windows of ``x`` from ``low``: each window's products added in order, all the
-    windows a term at a time (a loop over the windows, in vector instructions)."""
+    windows a term at a time (a loop over the windows, in vector instructions), eight terms a pass (each window's sum
+    loaded and stored once for eight products, not each)."""
     dots = np.zeros(count)
-    for j in range(len(t)):
-        v, shifted = t[j], x[low + j:low + j + count]  # a slice: indices the compiler sees are ≥ 0
+    j = 0
+    while j + 8 <= len(t):
+        v0, v1, v2, v3, v4, v5, v6, v7 = t[j], t[j + 1], t[j + 2], t[j + 3], t[j + 4], t[j + 5], t[j + 6], t[j + 7]
+        shifted = x[low + j:low + j + count + 7]  # a slice: indices the compiler sees are ≥ 0
+        for k in range(count):
+            dots[k] = (((((((dots[k] + shifted[k] * v0) + shifted[k + 1] * v1) + shifted[k + 2] * v2)
+                           + shifted[k + 3] * v3) + shifted[k + 4] * v4) + shifted[k + 5] * v5)
+                       + shifted[k + 6] * v6) + shifted[k + 7] * v7
+        j += 8
+    while j < len(t):
+        v, shifted = t[j], x[low + j:low + j + count]
         for k in range(count):
             dots[k] += shifted[k] * v
+        j += 1
     return dots
 
 
