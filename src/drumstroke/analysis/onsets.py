@@ -1292,27 +1292,28 @@ def _fit_template(band, d, rate, candidates, config):
     template, offset = _template(band, d, rate, candidates.times, config)
     if template is None:
         return candidates
-    pre = round(0.5e-3 * rate)
-    reach, gap = round(config.template_reach * rate), max(1, round(config.min_interval * rate))
-    head = template[:pre + round(config.template_head * rate)]
+    fitting = _Fitting.of(template, rate, config)
+    pre, reach, gap = fitting.pre, fitting.reach, max(1, round(config.min_interval * rate))
+    shortest, longest = pre + round(1e-3 * rate), pre + round(config.template_fit * rate)  # a fit's span
     remainder = band.copy()
-    _, (lead_clear, start_clear) = _clear(d, candidates.times, rate, [config.lead_clear_db, config.start_clear_db])
-    queue = [(t, i) for i, t in enumerate(candidates.times)]  # (time, index in candidates or -1 for a new one)
+    _, clear = _clear(d, candidates.times, rate, [config.lead_clear_db, config.start_clear_db])
+    lead_clear, start_clear = clear[0].tolist(), clear[1].tolist()  # (Python's scalars: read once an attack)
+    known_kinds, known_likeness = candidates.kinds.tolist(), candidates.likeness.tolist()
+    queue = [(t, i) for i, t in enumerate(candidates.times.tolist())]  # (time, index in candidates or -1 for a new one)
     times, kinds, likeness, fits = [], [], [], []
     while queue:
         t, i = queue.pop(0)
         c = round(t)
         following = next((round(u) for u, _ in queue if u > t + gap), len(remainder))
-        span = min(max(pre + round(1e-3 * rate), min(pre + round(config.template_fit * rate), following - c)),
-                   len(template))
-        lag, scale, like = _best_lag(remainder, template[:span], c - pre, reach)
+        span = min(max(shortest, min(longest, following - c)), len(template))
+        lag, scale, like = fitting.best_lag(remainder, c, span)
         fitted = like >= config.template_likeness and scale > 0.0
         # clear by start_clear_db, its first transient was sought; clear by lead_clear_db only, it was not, and the
         # template times it when the fit is precise (noise as loud as that sound before makes fits imprecise)
         timed = fitted and (i < 0 or not lead_clear[i] or (like >= config.precise_likeness and not start_clear[i]))
         times.append(c + lag + offset if timed else t)
-        kinds.append(3 if timed else candidates.kinds[i])
-        likeness.append(like if i < 0 else candidates.likeness[i])
+        kinds.append(3 if timed else known_kinds[i])
+        likeness.append(like if i < 0 else known_likeness[i])
         fits.append(fitted)
         if not fitted:
             continue
@@ -1325,8 +1326,7 @@ def _fit_template(band, d, rate, candidates, config):
         # up to the reach the template seeks over (as in _one_attack_each), the gap after it
         while timed and queue and queue[0][0] < c + lag + gap + (reach if i < 0 else 0):
             queue.pop(0)
-        new = _next_attack(remainder, head, c + lag + gap, min(following - gap, start + len(template)), pre, reach,
-                           rate, config)
+        new = fitting.next_attack(remainder, c + lag + gap, min(following - gap, start + len(template)))
         if new is not None:
             queue.insert(0, (new + offset, -1))
     times = np.array(times)
@@ -1530,11 +1530,11 @@ def _clear(d, times, rate, dbs):
     return peaks, [priors <= peaks * 10.0 ** (db / 20.0) for db in dbs]
 
 
-def _best_lag(x, template, start, reach):
+def _best_lag(x, template, start, reach, energy=None):
     """Where ``template`` correlates best with ``x`` from ``start`` (samples) within ``reach`` samples each way.
 
     Returns the lag (samples), the template's least-squares scale there and the correlation (0 when
-    no window fits in ``x``).
+    no window fits in ``x``). ``energy`` is ``template @ template``, computed when not given.
     """
     from ._kernels import best_lag
 
@@ -1542,30 +1542,61 @@ def _best_lag(x, template, start, reach):
     if high - low < len(template):
         return 0, 0.0, 0.0
     template = np.ascontiguousarray(template, dtype=float)
-    energy = template @ template
+    energy = template @ template if energy is None else energy
     k, dot, like = best_lag(x, template, low, high - low - len(template) + 1, energy)
     return low + k - start, float(dot / energy), float(like)
 
 
-def _next_attack(x, head, low, high, pre, reach, rate, config):
-    """The first sample in ``[low, high)`` where ``x`` rises and looks like the template's start, or None.
+@dataclass(frozen=True)
+class _Fitting:
+    """:func:`_fit_template`'s template and what its fits and searches ask of it (in samples): each fit's
+    :func:`_best_lag` within ``reach`` each way, the ``head`` (its first ``template_head`` s from ``pre`` before its
+    attack) sought after each attack, and their energies (numpy's, once each)."""
 
-    There ``head`` (the template's start, ``pre`` samples before its attack) correlates by
-    ``template_likeness`` with ``x`` and scales ``threshold_db`` or more, and the RMS of ``x`` over
-    the next 1 ms is ``min_jump`` times that over the 4 ms before (not the ringing left of the earlier
-    attacks, which the template's start may look like too); moved to the best correlation within
-    ``reach`` samples after.
-    """
-    from ._templates import next_attack
+    template: np.ndarray
+    head: np.ndarray
+    pre: int
+    reach: int
+    width: int
+    back: int
+    rise: float
+    likeness: float
+    least: float
+    head_energy: float
+    energies: dict = field(default_factory=dict, compare=False)  # the template's first samples' energy, by count
 
-    high = min(high, len(x) - len(head) + pre)
-    if high <= low or low < pre:
-        return None
-    head = np.ascontiguousarray(head, dtype=float)
-    found = next_attack(x, head, low, high, pre, reach, max(0, low - 4 * round(1e-3 * rate)), max(12, round(1e-3 * rate)),
-                        head @ head, config.min_jump ** 2, config.template_likeness,
-                        10.0 ** (config.threshold_db / 20.0))
-    return None if found < 0 else int(found)
+    @classmethod
+    def of(cls, template, rate, config):
+        """The fitting of ``template`` (``band`` from 0.5 ms before its attack: :func:`_template`) at ``rate`` Hz."""
+        pre = round(0.5e-3 * rate)
+        head = template[:pre + round(config.template_head * rate)]
+        return cls(template, head, pre, round(config.template_reach * rate), max(12, round(1e-3 * rate)),
+                   4 * round(1e-3 * rate), config.min_jump ** 2, config.template_likeness,
+                   10.0 ** (config.threshold_db / 20.0), head @ head)
+
+    def best_lag(self, x, c, span):
+        """:func:`_best_lag` of the template's first ``span`` samples with ``x``, its attack at ``c``."""
+        energy = self.energies.get(span)
+        if energy is None:
+            energy = self.energies[span] = self.template[:span] @ self.template[:span]
+        return _best_lag(x, self.template[:span], c - self.pre, self.reach, energy)
+
+    def next_attack(self, x, low, high):
+        """The first sample in ``[low, high)`` where ``x`` rises and looks like the template's start, or None.
+
+        There the head correlates by ``template_likeness`` with ``x`` and scales ``threshold_db`` or more, and the
+        RMS of ``x`` over the next 1 ms is ``min_jump`` times that over the 4 ms before (not the ringing left of the
+        earlier attacks, which the template's start may look like too); moved to the best correlation within
+        ``reach`` samples after (compiled: :func:`._templates.next_attack`).
+        """
+        from ._templates import next_attack
+
+        high = min(high, len(x) - len(self.head) + self.pre)
+        if high <= low or low < self.pre:
+            return None
+        found = next_attack(x, self.head, low, high, self.pre, self.reach, max(0, low - self.back), self.width,
+                            self.head_energy, self.rise, self.likeness, self.least)
+        return None if found < 0 else int(found)
 
 
 def _out_of_decay(band, d, rate, candidates, amplitude, config):
