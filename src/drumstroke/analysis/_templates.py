@@ -10,7 +10,7 @@ import math
 import numpy as np
 
 from .._jit import jit
-from ._kernels import eight_dots, eight_squares, likeness_at
+from ._kernels import eight_dots, eight_squares, least_unexplained_by, likeness_at, running_power
 
 
 @jit
@@ -115,6 +115,159 @@ def _maybe(power, n, count, width, ratio, pre, size, slack, quiet):
     if behind > 1e-280 and 4.0 * ahead < ratio * behind:
         return False
     return n < pre or power[n - pre + size] - power[n - pre] + slack >= quiet
+
+
+@jit
+def own_peaks(x, starts, following, ends, bank, offsets, lengths, window, reach, shift):
+    """:func:`.onsets._own_peaks`' loop: each onset's peak of ``x`` less the earlier notes' fitted templates, and of ``x``.
+
+    The templates are ``bank[offsets[t]:offsets[t] + lengths[t]]``. At each onset the usable ones (those of
+    ``min(following - start + window, reach)`` samples or more, else the last longest) are each fitted from ``shift``
+    samples before the onset to ``shift`` after, over up to the next onset, where it leaves the least unexplained
+    (:func:`._kernels.least_unexplained`: the windows' energies by running sums of the remainder's squares in order;
+    the products with the template, and its energy, numpy's ``np.dot``); the best, scaled by least squares, is taken
+    off the remainder. Where the windows' energies summed in another order (:func:`_surely_least`) leave no doubt
+    which template and lag leave the least, the running sums (a serial chain of additions as long as the fits)
+    are not summed.
+    """
+    rest = x.copy()
+    count, templates = len(starts), len(lengths)
+    peaks, heard = np.empty(count), np.empty(count)
+    longest = -1  # the last of the longest templates
+    for t in range(templates):
+        if longest < 0 or lengths[t] >= lengths[longest]:
+            longest = t
+    crosses, energies = np.empty((templates, 2 * shift + 1)), np.empty(templates)
+    sizes = np.zeros(templates, dtype=np.int64)  # each template's length fitted at this onset (0: not fitted)
+    for i in range(count):
+        start = starts[i]
+        peak, loudest = 0.0, 0.0  # in registers: the largest is the same
+        for j in range(start, ends[i]):
+            peak = max(peak, abs(rest[j]))
+            loudest = max(loudest, abs(x[j]))
+        peaks[i], heard[i] = peak, loudest
+        need = min(following[i] - start + window, reach)
+        any_long = False
+        for t in range(templates):
+            any_long = any_long or lengths[t] >= need
+        low = max(start - shift, 0)
+        windows = start + shift - low + 1
+        reach_most = 0  # the running sums' length: over the longest part a usable template is fitted to
+        for t in range(templates):
+            sizes[t] = 0
+            if (any_long and lengths[t] < need) or (not any_long and t != longest):
+                continue
+            length = min(lengths[t], following[i] - start, len(rest) - start - shift)
+            reach_most = max(reach_most, start + shift + length - low)
+            if length < 16:  # too short to tell a scale
+                continue
+            head = bank[offsets[t]:offsets[t] + length]
+            energy = np.dot(head, head)
+            if not energy > 0.0:
+                continue
+            part = rest[low:start + shift + length]
+            for k in range(windows):
+                crosses[t, k] = np.dot(part[k:k + length], head)
+            sizes[t], energies[t] = length, energy
+        chosen, at = _surely_least(rest, low, windows, crosses, energies, sizes)
+        if chosen < 0 and np.any(sizes > 0):
+            power = running_power(rest[low:], max(reach_most, 0))
+            best = np.inf
+            for t in range(templates):
+                if sizes[t] == 0:
+                    continue
+                k, unexplained = least_unexplained_by(power, crosses[t, :windows], energies[t], sizes[t])
+                if chosen < 0 or unexplained < best:
+                    best, at, chosen = unexplained, k, t
+        if chosen >= 0:
+            scale = crosses[chosen, at] / energies[chosen]
+            at += low
+            size = min(lengths[chosen], len(rest) - at)
+            fitted, template = rest[at:at + size], bank[offsets[chosen]:offsets[chosen] + size]  # slices: indices ≥ 0
+            for j in range(size):
+                fitted[j] -= scale * template[j]
+    return peaks, heard
+
+
+@jit
+def _surely_least(rest, low, windows, crosses, energies, sizes):
+    """The template and lag (from ``low``) :func:`own_peaks`' running sums would choose, when windows' energies summed
+    in another order tell it beyond doubt: ``(t, k)``, else ``(-1, 0)``.
+
+    Template ``t`` (``sizes[t]`` > 0 samples) leaves ``(own - q) / own`` of the window from ``low + k`` unexplained
+    (``q = cross² / energy``; ``own`` its energy), rising with ``own``. The running sums give ``own`` within
+    ``4 n ε`` times the ``n`` samples' energy of its exact sum (sums of squares: every term ≥ 0), and so does any
+    other order; with twice that bound each way and a margin far over the quotients' rounding, each window's
+    fraction has bounds, and where one window's upper bound is under every other's lower bound it is the least
+    whatever the sums' order: the first least of the first template that leaves the least, as the running sums'
+    choice is.
+    """
+    eps, tiny = 2.220446049250313e-16, np.finfo(np.float64).tiny
+    chosen, at, least_high = -1, 0, np.inf
+    lows = np.full((len(sizes), windows), np.inf)
+    for t in range(len(sizes)):
+        length = sizes[t]
+        if length == 0:
+            continue
+        if length < windows:
+            return -1, 0
+        # the windows share the samples from low + windows - 1 to low + length: summed once, in eight lanes
+        middle = _squares(rest, low + windows - 1, low + length)
+        total = middle  # over all the windows' samples
+        for j in range(windows - 1):
+            total += rest[low + j] * rest[low + j] + rest[low + length + j] * rest[low + length + j]
+        slack = 8.0 * (length + windows + 2) * eps * total + 1e-290
+        for k in range(windows):
+            own = _window_energy(rest, low, k, windows, length, middle)
+            q = crosses[t, k] * crosses[t, k] / energies[t]
+            below, above = own - slack, own + slack
+            if not (below > 2.0 * tiny and np.isfinite(above) and np.isfinite(q)):
+                return -1, 0
+            margin = 1e-12 * (1.0 + q / below)
+            low_bound, high_bound = (below - q) / below - margin, (above - q) / above + margin
+            lows[t, k] = low_bound
+            if high_bound < least_high:
+                chosen, at, least_high = t, k, high_bound
+    if chosen < 0:
+        return -1, 0
+    for t in range(len(sizes)):
+        for k in range(windows):
+            if (t != chosen or k != at) and not lows[t, k] > least_high:
+                return -1, 0
+    return chosen, at
+
+
+@jit(inline="always")
+def _window_energy(rest, low, k, windows, length, middle):
+    """The energy of ``rest`` over ``length`` samples from ``low + k``: ``middle`` (its samples from ``low + windows - 1``
+    to ``low + length``) and the few before and after."""
+    own = middle
+    for j in range(low + k, low + windows - 1):
+        own += rest[j] * rest[j]
+    for j in range(low + length, low + length + k):
+        own += rest[j] * rest[j]
+    return own
+
+
+@jit(inline="always")
+def _squares(x, first, last):
+    """The sum of ``x[first:last]``'s squares in eight lanes (an order of its own: independent additions side by side)."""
+    s0 = s1 = s2 = s3 = s4 = s5 = s6 = s7 = 0.0
+    j = first
+    while j + 8 <= last:
+        s0 += x[j] * x[j]
+        s1 += x[j + 1] * x[j + 1]
+        s2 += x[j + 2] * x[j + 2]
+        s3 += x[j + 3] * x[j + 3]
+        s4 += x[j + 4] * x[j + 4]
+        s5 += x[j + 5] * x[j + 5]
+        s6 += x[j + 6] * x[j + 6]
+        s7 += x[j + 7] * x[j + 7]
+        j += 8
+    while j < last:
+        s0 += x[j] * x[j]
+        j += 1
+    return ((s0 + s1) + (s2 + s3)) + ((s4 + s5) + (s6 + s7))
 
 
 _BLOCK = 256  # samples a time: a dozen notes' waveforms over them stay in the first-level cache

@@ -1838,9 +1838,9 @@ def _own_peaks(x, times, rate, config, templates=None):
 
     In time order, each onset's peaks are read over its window, then the template that fits the remainder from it
     to the next onset best (placed within 60 µs either way; those that last to the end of the next onset's window
-    preferred, else the longest) is taken off, scaled by least squares (compiled: :func:`._kernels.own_peaks`).
+    preferred, else the longest) is taken off, scaled by least squares (compiled: :func:`._templates.own_peaks`).
     """
-    from ._kernels import own_peaks
+    from ._templates import own_peaks
 
     starts = np.round(times).astype(np.int64).clip(0, len(x) - 1)
     following = np.append(starts[1:], len(x))
