@@ -200,3 +200,44 @@ def test_a_choice_told_from_bounds_is_the_running_sums(rng):
             assert got == want
             told += 1
     assert told > 500 and undecided > 200
+
+
+def _template_attacks_numpy(d, rate, times, config):
+    """onsets._template_attacks in numpy, as it was before it was compiled."""
+    import math
+
+    span, gap, pre = round(5e-3 * rate), round(0.5e-3 * rate), round(0.5e-3 * rate)
+    centres = np.rint(times).astype(np.int64)
+    peaks = np.array([d[c:c + span].max(initial=0.0) for c in centres])
+    priors = np.array([d[max(0, c - span):max(1, c - gap)].max(initial=0.0) for c in centres])
+    clear = priors <= peaks * 10.0 ** (config.lead_clear_db / 20.0)
+    ends = np.append(times[1:], len(d))
+    floor = peaks.max(initial=0.0) * 10.0 ** (config.threshold_db / 20.0)
+    fit = (np.rint(times) >= pre) & (ends - times >= 20e-3 * rate) & clear
+    which = np.flatnonzero(fit)
+    chosen = int(which[np.argmax(peaks[which])]) if len(which) and peaks[which].max() > 0.0 else None
+    audible = which[peaks[which] >= floor]
+    least = int(audible[np.argmin(peaks[audible])]) if len(audible) and peaks[audible].min() < math.inf else None
+    room = np.where(fit, np.minimum(ends - times, config.tail * rate), -1.0)
+    longest = max(np.flatnonzero(room == room.max(initial=0.0)).tolist(), key=lambda k: peaks[k], default=None)
+    return chosen, least, longest
+
+
+def test_template_attacks_are_numpys_choice(rng):
+    """The loudest, quietest and roomiest clear attacks, ties (equal peaks, equal rooms up to the tail) and none."""
+    from dataclasses import replace
+
+    from drumstroke.analysis.onsets import OnsetConfig, _template_attacks
+
+    rate = 48000
+    for _ in range(300):
+        d = np.abs(uneven_noise(rng, 30000))
+        if rng.random() < 0.3:
+            d = np.round(d, 1)  # equal peaks
+        times = np.sort(rng.choice(np.arange(0, 30000), int(rng.integers(0, 30)), replace=False)).astype(float)
+        times += rng.uniform(-0.5, 0.5, len(times)) * (rng.random() < 0.5)
+        for k in rng.integers(0, len(times), 3) if len(times) else []:
+            d[int(np.rint(times[k])):][:200] = 5.0  # loud, clear attacks
+        config = replace(OnsetConfig(), tail=float(rng.choice([0.001, 0.02, 0.15])),
+                         lead_clear_db=float(rng.choice([-20.0, -3.0, 0.0])))
+        assert _template_attacks(d, rate, times, config) == _template_attacks_numpy(d, rate, times, config)

@@ -10,7 +10,43 @@ import math
 import numpy as np
 
 from .._jit import jit
-from ._kernels import eight_dots, eight_squares, least_unexplained_by, likeness_at, running_power
+from ._kernels import eight_dots, eight_squares, least_unexplained_by, likeness_at, peaks_around, running_power
+
+
+@jit
+def template_attacks(d, times, span, gap, pre, clear, below, least_room, tail):
+    """:func:`.onsets._template_attacks`' choice: the loudest, the quietest and the roomiest clear attacks (indices of
+    ``times``, -1 for none).
+
+    An attack is clear when ``d``'s peak over the ``span`` samples before it (up to ``gap`` before it) is ``clear``
+    times its peak over the ``span`` after or less (:func:`._kernels.peaks_around`, at ``times`` rounded), and it is
+    ``pre`` samples or more into ``d`` and ``least_room`` samples or more before the next (or the end). The loudest
+    (the first of equals; none when no peak is over 0), the quietest of those ``below`` times the loudest peak of all
+    or louder (the first of equals), and of those with the most room (up to ``tail`` samples) the loudest (the first).
+    """
+    centres = np.rint(times).astype(np.int64)
+    peaks, priors = peaks_around(d, centres, span, span, gap)
+    floor = (peaks.max() if len(peaks) else 0.0) * below
+    loudest, quietest, roomiest = -1, -1, -1
+    most = 0.0  # the most room (as room.max(initial=0.0))
+    for i in range(len(times)):
+        end = times[i + 1] if i + 1 < len(times) else float(len(d))
+        if not (centres[i] >= pre and end - times[i] >= least_room and priors[i] <= peaks[i] * clear):
+            continue
+        if loudest < 0 or peaks[i] > peaks[loudest]:
+            loudest = i
+        if peaks[i] >= floor and (quietest < 0 or peaks[i] < peaks[quietest]):
+            quietest = i
+        room = min(end - times[i], tail)
+        if room > most or (room == most and roomiest >= 0 and peaks[i] > peaks[roomiest]):
+            most, roomiest = room, i
+        elif room == most and roomiest < 0:
+            roomiest = i
+    if loudest >= 0 and not peaks[loudest] > 0.0:
+        loudest = -1
+    if quietest >= 0 and not peaks[quietest] < np.inf:
+        quietest = -1
+    return loudest, quietest, roomiest
 
 
 @jit

@@ -1493,19 +1493,14 @@ def _template(band, d, rate, times, config, quietest=False):
 
 def _template_attacks(d, rate, times, config):
     """:func:`_template`'s clear attacks: the loudest, the quietest and the one with the most room before the next
-    (up to ``tail`` s; the loudest of those), as indices in ``times`` (None for none)."""
-    pre = round(0.5e-3 * rate)
-    ends = np.append(times[1:], len(d))
-    peaks, (clear,) = _clear(d, times, rate, [config.lead_clear_db])
-    floor = peaks.max(initial=0.0) * 10.0 ** (config.threshold_db / 20.0)  # a quieter one is no onset
-    fit = (np.rint(times) >= pre) & (ends - times >= 20e-3 * rate) & clear
-    which = np.flatnonzero(fit)
-    chosen = int(which[np.argmax(peaks[which])]) if len(which) and peaks[which].max() > 0.0 else None  # first of equals
-    audible = which[peaks[which] >= floor]
-    least = int(audible[np.argmin(peaks[audible])]) if len(audible) and peaks[audible].min() < math.inf else None
-    room = np.where(fit, np.minimum(ends - times, config.tail * rate), -1.0)
-    longest = max(np.flatnonzero(room == room.max(initial=0.0)).tolist(), key=lambda k: peaks[k], default=None)
-    return chosen, least, longest
+    (up to ``tail`` s; the loudest of those), as indices in ``times`` (None for none): compiled,
+    :func:`._templates.template_attacks`."""
+    from ._templates import template_attacks
+
+    chosen = template_attacks(d, np.ascontiguousarray(times, dtype=float), round(5e-3 * rate), round(0.5e-3 * rate),
+                              round(0.5e-3 * rate), 10.0 ** (config.lead_clear_db / 20.0),
+                              10.0 ** (config.threshold_db / 20.0), 20e-3 * rate, config.tail * rate)
+    return tuple(None if k < 0 else k for k in chosen)
 
 
 def _attack_sound(band, times, k, rate, config):
