@@ -104,7 +104,8 @@ def test_window_dots_sum_each_window_in_order(rng):
 
 def _own_peaks_numpy(x, starts, following, ends, bank, offsets, lengths, window, reach, shift):
     """onsets._own_peaks' loop in numpy: the fits' products and energies by np.dot, the windows' energies by running
-    sums (np.cumsum, in order), the first least unexplained of the first template that leaves the least."""
+    sums (np.cumsum, in order), the first least unexplained of the first template that leaves the least. Returns the
+    peaks, those of ``x`` and what is left."""
     rest, peaks, heard = x.copy(), [], []
     longest = max(range(len(lengths)), key=lambda t: (lengths[t], t))
     for start, follow, end in zip(starts, following, ends):
@@ -131,7 +132,7 @@ def _own_peaks_numpy(x, starts, following, ends, bank, offsets, lengths, window,
             t, at, scale = chosen
             size = min(lengths[t], len(rest) - at)
             rest[at:at + size] -= scale * bank[offsets[t]:offsets[t] + size]
-    return np.array(peaks), np.array(heard)
+    return np.array(peaks), np.array(heard), rest
 
 
 @pytest.mark.parametrize("case", ["notes", "ties"])
@@ -161,9 +162,12 @@ def test_own_peaks_are_numpys_fits_taken_off_in_turn(rng, case):
         ends = np.maximum(np.minimum(starts + 480, following), starts + 1)
         args = (x, starts.astype(np.int64), following.astype(np.int64), ends.astype(np.int64), bank, offsets, lengths,
                 480, int(rng.integers(500, 5000)), shift)
-        got, want = own_peaks(*args), _own_peaks_numpy(*args)
+        want = _own_peaks_numpy(*args)
+        rest = x.copy()
+        got = own_peaks(rest, *args[1:])  # in place
         np.testing.assert_array_equal(got[0], want[0], strict=True)
         np.testing.assert_array_equal(got[1], want[1], strict=True)
+        np.testing.assert_array_equal(rest, want[2], strict=True)
 
 
 def test_a_choice_told_from_bounds_is_the_running_sums(rng):

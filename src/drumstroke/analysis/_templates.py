@@ -154,8 +154,9 @@ def _maybe(power, n, count, width, ratio, pre, size, slack, quiet):
 
 
 @jit
-def own_peaks(x, starts, following, ends, bank, offsets, lengths, window, reach, shift):
-    """:func:`.onsets._own_peaks`' loop: each onset's peak of ``x`` less the earlier notes' fitted templates, and of ``x``.
+def own_peaks(rest, starts, following, ends, bank, offsets, lengths, window, reach, shift):
+    """:func:`.onsets._own_peaks`' loop: each onset's peak of ``rest`` less the earlier notes' fitted templates (taken
+    off ``rest`` in place), and of ``rest`` itself (read first).
 
     The templates are ``bank[offsets[t]:offsets[t] + lengths[t]]``. At each onset the usable ones (those of
     ``min(following - start + window, reach)`` samples or more, else the last longest) are each fitted from ``shift``
@@ -166,9 +167,13 @@ def own_peaks(x, starts, following, ends, bank, offsets, lengths, window, reach,
     which template and lag leave the least, the running sums (a serial chain of additions as long as the fits)
     are not summed.
     """
-    rest = x.copy()
     count, templates = len(starts), len(lengths)
     peaks, heard = np.empty(count), np.empty(count)
+    for i in range(count):
+        loudest = 0.0  # in a register: the largest is the same
+        for j in range(starts[i], ends[i]):
+            loudest = max(loudest, abs(rest[j]))
+        heard[i] = loudest
     longest = -1  # the last of the longest templates
     for t in range(templates):
         if longest < 0 or lengths[t] >= lengths[longest]:
@@ -177,11 +182,10 @@ def own_peaks(x, starts, following, ends, bank, offsets, lengths, window, reach,
     sizes = np.zeros(templates, dtype=np.int64)  # each template's length fitted at this onset (0: not fitted)
     for i in range(count):
         start = starts[i]
-        peak, loudest = 0.0, 0.0  # in registers: the largest is the same
+        peak = 0.0
         for j in range(start, ends[i]):
             peak = max(peak, abs(rest[j]))
-            loudest = max(loudest, abs(x[j]))
-        peaks[i], heard[i] = peak, loudest
+        peaks[i] = peak
         need = min(following[i] - start + window, reach)
         any_long = False
         for t in range(templates):

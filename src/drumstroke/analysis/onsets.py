@@ -1821,15 +1821,18 @@ def _peak_amplitudes(signal, times, rate, config):
     rolls and drops (docs/analysis.md). The signal is not high-passed (a 60 Hz high-pass moves a
     sample's peak by up to 1.8 dB), only its mean taken off.
     """
-    return _own_peaks(np.asarray(signal, dtype=float) - float(np.mean(signal)), times, rate, config)[0]
+    return _own_peaks(np.asarray(signal, dtype=float) - float(np.mean(signal)), times, rate, config,
+                      overwrite=True)[0]
 
 
-def _own_peaks(x, times, rate, config, templates=None):
+def _own_peaks(x, times, rate, config, templates=None, overwrite=False):
     """Each onset's own peak (:func:`_peak_amplitudes`: ``x`` less the earlier notes' sound) and the peak of ``x`` itself
     over the same window (full scale) [each shape=(n,)].
 
     ``templates`` makes the templates from ``(x, starts, following, ends, rate, config)``: :func:`_peak_templates`
-    by default; :func:`_new_sound` uses :func:`_cut_templates` (its figures were measured with them).
+    by default; :func:`_new_sound` uses :func:`_cut_templates` (its figures were measured with them). With
+    ``overwrite`` (``x`` a float array of the caller's, not read after), the notes' sound is taken off ``x`` itself
+    (no copy of the recording's length).
 
     In time order, each onset's peaks are read over its window, then the template that fits the remainder from it
     to the next onset best (placed within 60 µs either way; those that last to the end of the next onset's window
@@ -1845,8 +1848,8 @@ def _own_peaks(x, times, rate, config, templates=None):
     templates = (templates or _peak_templates)(x, starts, following, ends, rate, config)
     lengths = np.array([len(t) for t in templates], dtype=np.int64)
     bank = np.concatenate(templates) if templates else np.empty(0)
-    return own_peaks(np.ascontiguousarray(x, dtype=float), starts, following, ends, bank,
-                     np.cumsum(lengths) - lengths, lengths, window, reach, shift)
+    rest = x if overwrite else np.array(x, dtype=float)
+    return own_peaks(rest, starts, following, ends, bank, np.cumsum(lengths) - lengths, lengths, window, reach, shift)
 
 
 def _peak_templates(x, starts, following, ends, rate, config):
