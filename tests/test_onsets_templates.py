@@ -245,3 +245,15 @@ def test_template_attacks_are_numpys_choice(rng):
         config = replace(OnsetConfig(), tail=float(rng.choice([0.001, 0.02, 0.15])),
                          lead_clear_db=float(rng.choice([-20.0, -3.0, 0.0])))
         assert _template_attacks(d, rate, times, config) == _template_attacks_numpy(d, rate, times, config)
+
+
+def test_eight_windows_in_a_row_sum_each_in_order(rng):
+    """The next attack's products of eight windows in a row are numpy's matmul over the sliding windows: to the bit."""
+    from drumstroke.analysis._templates import _eight_in_a_row
+
+    out = np.empty(8)
+    for size in list(range(1, 20)) + [168]:
+        x, start = uneven_noise(rng, size + 40), int(rng.integers(0, 30))
+        t = rng.standard_normal(size)
+        _eight_in_a_row(x, start, t, out)
+        np.testing.assert_array_equal(out, sliding_window_view(x[start:start + size + 7], size) @ t, strict=True)

@@ -97,7 +97,10 @@ def next_attack(x, head, low, high, pre, reach, base, width, energy, rise, liken
         if found == 0:
             break
         rising[found:] = rising[found - 1]
-        eight_dots(x, low - pre + rising, head, dots)
+        if found == 8 and rising[7] - rising[0] == 7:  # eight windows in a row (as most are)
+            _eight_in_a_row(x, low - pre + rising[0], head, dots)
+        else:
+            eight_dots(x, low - pre + rising, head, dots)
         scaled = False
         for f in range(found):
             scaled = scaled or dots[f] >= least * energy
@@ -116,6 +119,25 @@ def next_attack(x, head, low, high, pre, reach, base, width, energy, rise, liken
                         best, at = like, k
                 return low + at
     return -1
+
+
+@jit
+def _eight_in_a_row(x, start, t, out):
+    """:func:`._kernels.eight_dots` of the eight windows from ``start`` on, into ``out``: each window's products added
+    in order, their eight chains side by side on one slice (in vector instructions)."""
+    d0 = d1 = d2 = d3 = d4 = d5 = d6 = d7 = 0.0
+    w = x[start:start + len(t) + 7]  # a slice: indices the compiler sees are ≥ 0
+    for j in range(len(t)):
+        v = t[j]
+        d0 += w[j] * v
+        d1 += w[j + 1] * v
+        d2 += w[j + 2] * v
+        d3 += w[j + 3] * v
+        d4 += w[j + 4] * v
+        d5 += w[j + 5] * v
+        d6 += w[j + 6] * v
+        d7 += w[j + 7] * v
+    out[0], out[1], out[2], out[3], out[4], out[5], out[6], out[7] = d0, d1, d2, d3, d4, d5, d6, d7
 
 
 @jit
