@@ -1304,7 +1304,11 @@ def _fit_template(band, d, rate, candidates, config):
     while queue:
         t, i = queue.pop(0)
         c = round(t)
-        following = next((round(u) for u, _ in queue if u > t + gap), len(remainder))
+        following = len(remainder)
+        for u, _ in queue:
+            if u > t + gap:
+                following = round(u)
+                break
         span = min(max(shortest, min(longest, following - c)), len(template))
         lag, scale, like = fitting.best_lag(remainder, c, span)
         fitted = like >= config.template_likeness and scale > 0.0
@@ -1525,11 +1529,11 @@ def _clear(d, times, rate, dbs):
     return peaks, [priors <= peaks * 10.0 ** (db / 20.0) for db in dbs]
 
 
-def _best_lag(x, template, start, reach, energy=None):
+def _best_lag(x, template, start, reach):
     """Where ``template`` correlates best with ``x`` from ``start`` (samples) within ``reach`` samples each way.
 
     Returns the lag (samples), the template's least-squares scale there and the correlation (0 when
-    no window fits in ``x``). ``energy`` is ``template @ template``, computed when not given.
+    no window fits in ``x``).
     """
     from ._kernels import best_lag
 
@@ -1537,7 +1541,7 @@ def _best_lag(x, template, start, reach, energy=None):
     if high - low < len(template):
         return 0, 0.0, 0.0
     template = np.ascontiguousarray(template, dtype=float)
-    energy = template @ template if energy is None else energy
+    energy = template @ template
     k, dot, like = best_lag(x, template, low, high - low - len(template) + 1, energy)
     return low + k - start, float(dot / energy), float(like)
 
@@ -1559,22 +1563,33 @@ class _Fitting:
     least: float
     head_energy: float
     energies: dict = field(default_factory=dict, compare=False)  # the template's first samples' energy, by count
+    kernels: tuple = field(default=(), compare=False)  # best_lag's and next_attack's, imported once (not each fit)
 
     @classmethod
     def of(cls, template, rate, config):
         """The fitting of ``template`` (``band`` from 0.5 ms before its attack: :func:`_template`) at ``rate`` Hz."""
+        from ._kernels import best_lag
+        from ._templates import next_attack
+
         pre = round(0.5e-3 * rate)
         head = template[:pre + round(config.template_head * rate)]
         return cls(template, head, pre, round(config.template_reach * rate), max(12, round(1e-3 * rate)),
                    4 * round(1e-3 * rate), config.min_jump ** 2, config.template_likeness,
-                   10.0 ** (config.threshold_db / 20.0), head @ head)
+                   10.0 ** (config.threshold_db / 20.0), head @ head, kernels=(best_lag, next_attack))
 
     def best_lag(self, x, c, span):
-        """:func:`_best_lag` of the template's first ``span`` samples with ``x``, its attack at ``c``."""
+        """:func:`_best_lag` of the template's first ``span`` samples with ``x``, its attack at ``c`` (the same
+        bounds, kernel and scale, the energy once a span: an attack's fit is the template fit's inner loop)."""
+        start = c - self.pre
+        low, high = max(0, start - self.reach), min(len(x), start + self.reach + span)
+        if high - low < span:
+            return 0, 0.0, 0.0
+        template = self.template[:span]
         energy = self.energies.get(span)
         if energy is None:
-            energy = self.energies[span] = self.template[:span] @ self.template[:span]
-        return _best_lag(x, self.template[:span], c - self.pre, self.reach, energy)
+            energy = self.energies[span] = template @ template
+        k, dot, like = self.kernels[0](x, template, low, high - low - span + 1, energy)
+        return low + k - start, float(dot / energy), float(like)
 
     def next_attack(self, x, low, high):
         """The first sample in ``[low, high)`` where ``x`` rises and looks like the template's start, or None.
@@ -1584,12 +1599,10 @@ class _Fitting:
         earlier attacks, which the template's start may look like too); moved to the best correlation within
         ``reach`` samples after (compiled: :func:`._templates.next_attack`).
         """
-        from ._templates import next_attack
-
         high = min(high, len(x) - len(self.head) + self.pre)
         if high <= low or low < self.pre:
             return None
-        found = next_attack(x, self.head, low, high, self.pre, self.reach, max(0, low - self.back), self.width,
+        found = self.kernels[1](x, self.head, low, high, self.pre, self.reach, max(0, low - self.back), self.width,
                             self.head_energy, self.rise, self.likeness, self.least)
         return None if found < 0 else int(found)
 
