@@ -1,5 +1,7 @@
 """The compiled loops of the onset detector's template stages (:mod:`.onsets`: the template fit, ``peak_db``'s
-templates): each computes what the numpy code it replaced did, in the same order, to the bit.
+templates and fits): each gives what the code it replaced gave, to the bit. Where one sums in another order, the
+sums only skip work whose outcome their bounds already tell (its docstring says how); a median's values are the
+same whatever sorts them.
 
 A module of its own (as :mod:`._kernels`) so that importing :mod:`drumstroke.analysis` does not import numba;
 :mod:`.onsets` imports it where it runs it.
@@ -51,8 +53,8 @@ def template_attacks(d, times, span, gap, pre, clear, below, least_room, tail):
 
 @jit
 def next_attack(x, head, low, high, pre, reach, base, width, energy, rise, likeness, least):
-    """:func:`.onsets._next_attack` once its bounds are checked (``pre <= low``, ``base <= low - pre``): the sample,
-    or -1.
+    """:func:`.onsets._next_attack` once its bounds are checked (``pre <= low``, ``base <= low - pre``): the
+    sample, or -1.
 
     The window from each sample ``n`` in ``[low, high)`` is ``x[n - pre:n - pre + len(head)]``; its jump is
     :func:`.onsets._windows`' (``width``) over ``x[base:high]``, the power summed in order from ``x[base]``.
@@ -154,7 +156,8 @@ def _tried(power, offset, windows, count, width, ratio, pre, size, slack, quiet)
     for i in range(first):
         tried[i] = _maybe(power, offset + i, count, width, ratio, pre, size, slack, quiet)
     # the same tests on slices (indices the compiler sees are ≥ 0: in vector instructions)
-    now, ahead_end, behind_start = power[offset + first:], power[offset + first + width:], power[offset + first - 4 * width:]
+    now, ahead_end = power[offset + first:], power[offset + first + width:]
+    behind_start = power[offset + first - 4 * width:]
     head_start, head_end = power[offset + first - pre:], power[offset + first - pre + size:]
     out = tried[first:]
     for i in range(last - first):
@@ -301,8 +304,8 @@ def _surely_least(rest, low, windows, crosses, energies, sizes):
 
 @jit(inline="always")
 def _window_energy(rest, low, k, windows, length, middle):
-    """The energy of ``rest`` over ``length`` samples from ``low + k``: ``middle`` (its samples from ``low + windows - 1``
-    to ``low + length``) and the few before and after."""
+    """The energy of ``rest`` over ``length`` samples from ``low + k``: ``middle`` (its samples from
+    ``low + windows - 1`` to ``low + length``) and the few before and after."""
     own = middle
     for j in range(low + k, low + windows - 1):
         own += rest[j] * rest[j]
@@ -313,7 +316,7 @@ def _window_energy(rest, low, k, windows, length, middle):
 
 @jit(inline="always")
 def _squares(x, first, last):
-    """The sum of ``x[first:last]``'s squares in eight lanes (an order of its own: independent additions side by side)."""
+    """The sum of ``x[first:last]``'s squares in eight lanes (an order of its own: eight chains side by side)."""
     s0 = s1 = s2 = s3 = s4 = s5 = s6 = s7 = 0.0
     j = first
     while j + 8 <= last:

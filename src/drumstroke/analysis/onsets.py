@@ -1330,7 +1330,7 @@ def _fit_template(band, d, rate, candidates, config):
         # up to the reach the template seeks over (as in _one_attack_each), the gap after it
         while timed and queue and queue[0][0] < c + lag + gap + (reach if i < 0 else 0):
             queue.pop(0)
-        new = fitting.next_attack(remainder, c + lag + gap, min(following - gap, start + len(template)))
+        new = _next_attack(fitting, remainder, c + lag + gap, min(following - gap, start + len(template)))
         if new is not None:
             queue.insert(0, (new + offset, -1))
     times = np.array(times)
@@ -1550,7 +1550,7 @@ def _best_lag(x, template, start, reach):
 class _Fitting:
     """:func:`_fit_template`'s template and what its fits and searches ask of it (in samples): each fit's
     :func:`_best_lag` within ``reach`` each way, the ``head`` (its first ``template_head`` s from ``pre`` before its
-    attack) sought after each attack, and their energies (numpy's, once each)."""
+    attack) sought after each attack (:func:`_next_attack`), and their energies (numpy's, once each)."""
 
     template: np.ndarray
     head: np.ndarray
@@ -1591,20 +1591,22 @@ class _Fitting:
         k, dot, like = self.kernels[0](x, template, low, high - low - span + 1, energy)
         return low + k - start, float(dot / energy), float(like)
 
-    def next_attack(self, x, low, high):
-        """The first sample in ``[low, high)`` where ``x`` rises and looks like the template's start, or None.
 
-        There the head correlates by ``template_likeness`` with ``x`` and scales ``threshold_db`` or more, and the
-        RMS of ``x`` over the next 1 ms is ``min_jump`` times that over the 4 ms before (not the ringing left of the
-        earlier attacks, which the template's start may look like too); moved to the best correlation within
-        ``reach`` samples after (compiled: :func:`._templates.next_attack`).
-        """
-        high = min(high, len(x) - len(self.head) + self.pre)
-        if high <= low or low < self.pre:
-            return None
-        found = self.kernels[1](x, self.head, low, high, self.pre, self.reach, max(0, low - self.back), self.width,
-                            self.head_energy, self.rise, self.likeness, self.least)
-        return None if found < 0 else int(found)
+def _next_attack(fitting, x, low, high):
+    """The first sample in ``[low, high)`` where ``x`` rises and looks like the template's start (``fitting``'s
+    head), or None.
+
+    There the head correlates by ``template_likeness`` with ``x`` and scales ``threshold_db`` or more, and the RMS of
+    ``x`` over the next 1 ms is ``min_jump`` times that over the 4 ms before (not the ringing left of the earlier
+    attacks, which the template's start may look like too); moved to the best correlation within ``reach`` samples
+    after (compiled: :func:`._templates.next_attack`).
+    """
+    high = min(high, len(x) - len(fitting.head) + fitting.pre)
+    if high <= low or low < fitting.pre:
+        return None
+    found = fitting.kernels[1](x, fitting.head, low, high, fitting.pre, fitting.reach, max(0, low - fitting.back),
+                               fitting.width, fitting.head_energy, fitting.rise, fitting.likeness, fitting.least)
+    return None if found < 0 else int(found)
 
 
 def _out_of_decay(band, d, rate, candidates, amplitude, config):
