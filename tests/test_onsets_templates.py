@@ -33,7 +33,7 @@ def test_layer_median_is_numpys_median_by_parts(rng):
     x = uneven_noise(rng, 30000)
     x[1000:1400] = np.round(x[1000:1400], 1)  # ties between the waveforms
     for _ in range(300):
-        count = int(rng.integers(1, 13))
+        count = int(rng.integers(1, 24))  # odd and even counts, the transposition network of each
         at = rng.integers(0, 20000, count)
         at[rng.random(count) < 0.3] = 1000  # the same samples, ties in every column
         whole = np.minimum(rng.integers(0, 2000, count), len(x) - at)
