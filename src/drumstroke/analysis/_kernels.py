@@ -321,69 +321,24 @@ def best_lag(x, template, low, count, energy):
 @jit
 def window_dots(x, low, t, count):
     """:func:`window_dot` of the ``count`` windows of ``x`` from ``low``: each window's products added in order, all the
-    windows a term at a time (a loop over the windows, in vector instructions)."""
+    windows a term at a time (a loop over the windows, in vector instructions), eight terms a pass (each window's sum
+    loaded and stored once for eight products, not each)."""
     dots = np.zeros(count)
-    for j in range(len(t)):
-        v, shifted = t[j], x[low + j:low + j + count]  # a slice: indices the compiler sees are ≥ 0
+    j = 0
+    while j + 8 <= len(t):
+        v0, v1, v2, v3, v4, v5, v6, v7 = t[j], t[j + 1], t[j + 2], t[j + 3], t[j + 4], t[j + 5], t[j + 6], t[j + 7]
+        shifted = x[low + j:low + j + count + 7]  # a slice: indices the compiler sees are ≥ 0
+        for k in range(count):
+            dots[k] = (((((((dots[k] + shifted[k] * v0) + shifted[k + 1] * v1) + shifted[k + 2] * v2)
+                           + shifted[k + 3] * v3) + shifted[k + 4] * v4) + shifted[k + 5] * v5)
+                       + shifted[k + 6] * v6) + shifted[k + 7] * v7
+        j += 8
+    while j < len(t):
+        v, shifted = t[j], x[low + j:low + j + count]
         for k in range(count):
             dots[k] += shifted[k] * v
+        j += 1
     return dots
-
-
-@jit
-def next_attack(x, head, low, high, pre, reach, base, width, energy, rise, likeness, least):
-    """:func:`.onsets._next_attack` once its bounds are checked: the sample, or -1.
-
-    The window from each sample ``n`` in ``[low, high)`` is ``x[n - pre:n - pre + len(head)]``; its jump is
-    :func:`.onsets._windows`' (``width``) over ``x[base:high]``, the power summed in order from ``x[base]``.
-    Correlations are computed only where the window rises ``rise`` (power ratio) times, in order, until one passes;
-    the products with ``head`` of eight such windows at a time (:func:`eight_dots`).
-    """
-    count = high - base
-    power = np.zeros(count + 1)
-    for j in range(count):
-        power[j + 1] = power[j] + x[base + j] * x[base + j]
-    rising, dots, owns = np.empty(8, dtype=np.int64), np.empty(8), np.empty(8)
-    i = 0
-    while i < high - low:
-        found = 0  # the next eight samples (or fewer) whose windows rise
-        while i < high - low and found < 8:
-            n = i + low - base
-            ahead, behind = power[min(n + width, count)] - power[n], power[n] - power[max(n - 4 * width, 0)]
-            # the divisions below only where the window may rise: the running sums never fall (both sums ≥ 0), so
-            # 4 ahead under (1 - 1e-9) rise behind is under rise behind by far more than the divisions' rounding
-            # (normal numbers: far from underflow)
-            if behind > 1e-280 and 4.0 * ahead < (1.0 - 1e-9) * rise * behind:
-                i += 1
-                continue
-            after = ahead / width
-            before = behind / (4 * width)
-            if after >= rise * before:
-                rising[found] = i
-                found += 1
-            i += 1
-        if found == 0:
-            break
-        rising[found:] = rising[found - 1]
-        eight_dots(x, low - pre + rising, head, dots)
-        scaled = False
-        for f in range(found):
-            scaled = scaled or dots[f] >= least * energy
-        if not scaled:
-            continue
-        eight_squares(x, low - pre + rising, len(head), owns)  # each window's energy, as likeness_at sums it
-        for f in range(found):
-            if not dots[f] >= least * energy:  # (the correlation only where the scale passes)
-                continue
-            like = dots[f] / (math.sqrt(owns[f] * energy) + 1e-300)  # likeness_at's, its sums side by side
-            if like >= likeness:
-                best, at = like, rising[f]
-                for k in range(rising[f] + 1, min(rising[f] + reach + 1, high - low)):
-                    like, _ = likeness_at(x, low - pre + k, head, energy)
-                    if like > best:
-                        best, at = like, k
-                return low + at
-    return -1
 
 
 @jit
@@ -669,70 +624,6 @@ def least_unexplained_by(power, cross, energy, length):
         if unexplained < best or k == 0:
             best, at = unexplained, k
     return at, best
-
-
-@jit
-def own_peaks(x, starts, following, ends, bank, offsets, lengths, window, reach, shift):
-    """:func:`.onsets._own_peaks`' loop: each onset's peak of ``x`` less the earlier notes' fitted templates, and of ``x``.
-
-    The templates are ``bank[offsets[t]:offsets[t] + lengths[t]]``. At each onset the usable ones (those of
-    ``min(following - start + window, reach)`` samples or more, else the last longest) are each fitted from ``shift``
-    samples before the onset to ``shift`` after, over up to the next onset, where it leaves the least unexplained
-    (:func:`least_unexplained`; the products with the template, and its energy, summed in four lanes by
-    :func:`lanes_dot`, numpy's ``correlate`` and ``@`` the same to rounding); the best, scaled by least squares, is
-    taken off the remainder.
-    """
-    rest = x.copy()
-    count = len(starts)
-    peaks, heard = np.empty(count), np.empty(count)
-    longest = -1  # the last of the longest templates
-    for t in range(len(lengths)):
-        if longest < 0 or lengths[t] >= lengths[longest]:
-            longest = t
-    for i in range(count):
-        start = starts[i]
-        peak, loudest = 0.0, 0.0  # in registers: the largest is the same
-        for j in range(start, ends[i]):
-            peak = max(peak, abs(rest[j]))
-            loudest = max(loudest, abs(x[j]))
-        peaks[i], heard[i] = peak, loudest
-        need = min(following[i] - start + window, reach)
-        any_long = False
-        for t in range(len(lengths)):
-            any_long = any_long or lengths[t] >= need
-        best, at, scale, chosen = np.inf, 0, 0.0, -1
-        low = max(start - shift, 0)
-        # the remainder's running power from low, once an onset over the longest part a usable template is fitted to
-        # (each template's windows' energies are the same sums)
-        reach_most = 0
-        for t in range(len(lengths)):
-            if not ((any_long and lengths[t] < need) or (not any_long and t != longest)):
-                reach_most = max(reach_most, start + shift + min(lengths[t], following[i] - start,
-                                                                  len(rest) - start - shift) - low)
-        power = running_power(rest[low:], max(reach_most, 0))
-        for t in range(len(lengths)):
-            if (any_long and lengths[t] < need) or (not any_long and t != longest):
-                continue
-            length = min(lengths[t], following[i] - start, len(rest) - start - shift)
-            if length < 16:  # too short to tell a scale
-                continue
-            head = bank[offsets[t]:offsets[t] + length]
-            energy = np.dot(head, head)
-            if not energy > 0.0:
-                continue
-            part = rest[low:start + shift + length]
-            cross = np.empty(len(part) - length + 1)
-            for k in range(len(cross)):
-                cross[k] = np.dot(part[k:k + length], head)
-            k, unexplained = least_unexplained_by(power, cross, energy, length)
-            if chosen < 0 or unexplained < best:
-                best, at, scale, chosen = unexplained, low + k, cross[k] / energy, t
-        if chosen >= 0:
-            size = min(lengths[chosen], len(rest) - at)
-            fitted, template = rest[at:at + size], bank[offsets[chosen]:offsets[chosen] + size]  # slices: indices ≥ 0
-            for j in range(size):
-                fitted[j] -= scale * template[j]
-    return peaks, heard
 
 
 @jit

@@ -1328,27 +1328,32 @@ def _fit_template(band, d, rate, candidates, config):
     template, offset = _template(band, d, rate, candidates.times, config)
     if template is None:
         return candidates
-    pre = round(0.5e-3 * rate)
-    reach, gap = round(config.template_reach * rate), max(1, round(config.min_interval * rate))
-    head = template[:pre + round(config.template_head * rate)]
+    fitting = _Fitting.of(template, rate, config)
+    pre, reach, gap = fitting.pre, fitting.reach, max(1, round(config.min_interval * rate))
+    shortest, longest = pre + round(1e-3 * rate), pre + round(config.template_fit * rate)  # a fit's span
     remainder = band.copy()
-    _, (lead_clear, start_clear) = _clear(d, candidates.times, rate, [config.lead_clear_db, config.start_clear_db])
-    queue = [(t, i) for i, t in enumerate(candidates.times)]  # (time, index in candidates or -1 for a new one)
+    _, clear = _clear(d, candidates.times, rate, [config.lead_clear_db, config.start_clear_db])
+    lead_clear, start_clear = clear[0].tolist(), clear[1].tolist()  # (Python's scalars: read once an attack)
+    known_kinds, known_likeness = candidates.kinds.tolist(), candidates.likeness.tolist()
+    queue = [(t, i) for i, t in enumerate(candidates.times.tolist())]  # (time, index in candidates or -1 for a new one)
     times, kinds, likeness, fits = [], [], [], []
     while queue:
         t, i = queue.pop(0)
         c = round(t)
-        following = next((round(u) for u, _ in queue if u > t + gap), len(remainder))
-        span = min(max(pre + round(1e-3 * rate), min(pre + round(config.template_fit * rate), following - c)),
-                   len(template))
-        lag, scale, like = _best_lag(remainder, template[:span], c - pre, reach)
+        following = len(remainder)
+        for u, _ in queue:
+            if u > t + gap:
+                following = round(u)
+                break
+        span = min(max(shortest, min(longest, following - c)), len(template))
+        lag, scale, like = fitting.best_lag(remainder, c, span)
         fitted = like >= config.template_likeness and scale > 0.0
         # clear by start_clear_db, its first transient was sought; clear by lead_clear_db only, it was not, and the
         # template times it when the fit is precise (noise as loud as that sound before makes fits imprecise)
         timed = fitted and (i < 0 or not lead_clear[i] or (like >= config.precise_likeness and not start_clear[i]))
         times.append(c + lag + offset if timed else t)
-        kinds.append(3 if timed else candidates.kinds[i])
-        likeness.append(like if i < 0 else candidates.likeness[i])
+        kinds.append(3 if timed else known_kinds[i])
+        likeness.append(like if i < 0 else known_likeness[i])
         fits.append(fitted)
         if not fitted:
             continue
@@ -1361,8 +1366,7 @@ def _fit_template(band, d, rate, candidates, config):
         # up to the reach the template seeks over (as in _one_attack_each), the gap after it
         while timed and queue and queue[0][0] < c + lag + gap + (reach if i < 0 else 0):
             queue.pop(0)
-        new = _next_attack(remainder, head, c + lag + gap, min(following - gap, start + len(template)), pre, reach,
-                           rate, config)
+        new = _next_attack(fitting, remainder, c + lag + gap, min(following - gap, start + len(template)))
         if new is not None:
             queue.insert(0, (new + offset, -1))
     times = np.array(times)
@@ -1551,19 +1555,14 @@ def _template(band, d, rate, times, config, quietest=False):
 
 def _template_attacks(d, rate, times, config):
     """:func:`_template`'s clear attacks: the loudest, the quietest and the one with the most room before the next
-    (up to ``tail`` s; the loudest of those), as indices in ``times`` (None for none)."""
-    pre = round(0.5e-3 * rate)
-    ends = np.append(times[1:], len(d))
-    peaks, (clear,) = _clear(d, times, rate, [config.lead_clear_db])
-    floor = peaks.max(initial=0.0) * 10.0 ** (config.threshold_db / 20.0)  # a quieter one is no onset
-    fit = (np.rint(times) >= pre) & (ends - times >= 20e-3 * rate) & clear
-    which = np.flatnonzero(fit)
-    chosen = int(which[np.argmax(peaks[which])]) if len(which) and peaks[which].max() > 0.0 else None  # first of equals
-    audible = which[peaks[which] >= floor]
-    least = int(audible[np.argmin(peaks[audible])]) if len(audible) and peaks[audible].min() < math.inf else None
-    room = np.where(fit, np.minimum(ends - times, config.tail * rate), -1.0)
-    longest = max(np.flatnonzero(room == room.max(initial=0.0)).tolist(), key=lambda k: peaks[k], default=None)
-    return chosen, least, longest
+    (up to ``tail`` s; the loudest of those), as indices in ``times`` (None for none): compiled,
+    :func:`._templates.template_attacks`."""
+    from ._templates import template_attacks
+
+    chosen = template_attacks(d, np.ascontiguousarray(times, dtype=float), round(5e-3 * rate), round(0.5e-3 * rate),
+                              round(0.5e-3 * rate), 10.0 ** (config.lead_clear_db / 20.0),
+                              10.0 ** (config.threshold_db / 20.0), 20e-3 * rate, config.tail * rate)
+    return tuple(None if k < 0 else k for k in chosen)
 
 
 def _attack_sound(band, times, k, rate, config):
@@ -1605,24 +1604,66 @@ def _best_lag(x, template, start, reach):
     return low + k - start, float(dot / energy), float(like)
 
 
-def _next_attack(x, head, low, high, pre, reach, rate, config):
-    """The first sample in ``[low, high)`` where ``x`` rises and looks like the template's start, or None.
+@dataclass(frozen=True)
+class _Fitting:
+    """:func:`_fit_template`'s template and what its fits and searches ask of it (in samples): each fit's
+    :func:`_best_lag` within ``reach`` each way, the ``head`` (its first ``template_head`` s from ``pre`` before its
+    attack) sought after each attack (:func:`_next_attack`), and their energies (numpy's, once each)."""
 
-    There ``head`` (the template's start, ``pre`` samples before its attack) correlates by
-    ``template_likeness`` with ``x`` and scales ``threshold_db`` or more, and the RMS of ``x`` over
-    the next 1 ms is ``min_jump`` times that over the 4 ms before (not the ringing left of the earlier
-    attacks, which the template's start may look like too); moved to the best correlation within
-    ``reach`` samples after.
+    template: np.ndarray
+    head: np.ndarray
+    pre: int
+    reach: int
+    width: int
+    back: int
+    rise: float
+    likeness: float
+    least: float
+    head_energy: float
+    energies: dict = field(default_factory=dict, compare=False)  # the template's first samples' energy, by count
+    kernels: tuple = field(default=(), compare=False)  # best_lag's and next_attack's, imported once (not each fit)
+
+    @classmethod
+    def of(cls, template, rate, config):
+        """The fitting of ``template`` (``band`` from 0.5 ms before its attack: :func:`_template`) at ``rate`` Hz."""
+        from ._kernels import best_lag
+        from ._templates import next_attack
+
+        pre = round(0.5e-3 * rate)
+        head = template[:pre + round(config.template_head * rate)]
+        return cls(template, head, pre, round(config.template_reach * rate), max(12, round(1e-3 * rate)),
+                   4 * round(1e-3 * rate), config.min_jump ** 2, config.template_likeness,
+                   10.0 ** (config.threshold_db / 20.0), head @ head, kernels=(best_lag, next_attack))
+
+    def best_lag(self, x, c, span):
+        """:func:`_best_lag` of the template's first ``span`` samples with ``x``, its attack at ``c`` (the same
+        bounds, kernel and scale, the energy once a span: an attack's fit is the template fit's inner loop)."""
+        start = c - self.pre
+        low, high = max(0, start - self.reach), min(len(x), start + self.reach + span)
+        if high - low < span:
+            return 0, 0.0, 0.0
+        template = self.template[:span]
+        energy = self.energies.get(span)
+        if energy is None:
+            energy = self.energies[span] = template @ template
+        k, dot, like = self.kernels[0](x, template, low, high - low - span + 1, energy)
+        return low + k - start, float(dot / energy), float(like)
+
+
+def _next_attack(fitting, x, low, high):
+    """The first sample in ``[low, high)`` where ``x`` rises and looks like the template's start (``fitting``'s
+    head), or None.
+
+    There the head correlates by ``template_likeness`` with ``x`` and scales ``threshold_db`` or more, and the RMS of
+    ``x`` over the next 1 ms is ``min_jump`` times that over the 4 ms before (not the ringing left of the earlier
+    attacks, which the template's start may look like too); moved to the best correlation within ``reach`` samples
+    after (compiled: :func:`._templates.next_attack`).
     """
-    from ._kernels import next_attack
-
-    high = min(high, len(x) - len(head) + pre)
-    if high <= low or low < pre:
+    high = min(high, len(x) - len(fitting.head) + fitting.pre)
+    if high <= low or low < fitting.pre:
         return None
-    head = np.ascontiguousarray(head, dtype=float)
-    found = next_attack(x, head, low, high, pre, reach, max(0, low - 4 * round(1e-3 * rate)), max(12, round(1e-3 * rate)),
-                        head @ head, config.min_jump ** 2, config.template_likeness,
-                        10.0 ** (config.threshold_db / 20.0))
+    found = fitting.kernels[1](x, fitting.head, low, high, fitting.pre, fitting.reach, max(0, low - fitting.back),
+                               fitting.width, fitting.head_energy, fitting.rise, fitting.likeness, fitting.least)
     return None if found < 0 else int(found)
 
 
@@ -1860,21 +1901,24 @@ def _peak_amplitudes(signal, times, rate, config):
     rolls and drops (docs/analysis.md). The signal is not high-passed (a 60 Hz high-pass moves a
     sample's peak by up to 1.8 dB), only its mean taken off.
     """
-    return _own_peaks(np.asarray(signal, dtype=float) - float(np.mean(signal)), times, rate, config)[0]
+    return _own_peaks(np.asarray(signal, dtype=float) - float(np.mean(signal)), times, rate, config,
+                      overwrite=True)[0]
 
 
-def _own_peaks(x, times, rate, config, templates=None):
+def _own_peaks(x, times, rate, config, templates=None, overwrite=False):
     """Each onset's own peak (:func:`_peak_amplitudes`: ``x`` less the earlier notes' sound) and the peak of ``x`` itself
     over the same window (full scale) [each shape=(n,)].
 
     ``templates`` makes the templates from ``(x, starts, following, ends, rate, config)``: :func:`_peak_templates`
-    by default; :func:`_new_sound` uses :func:`_cut_templates` (its figures were measured with them).
+    by default; :func:`_new_sound` uses :func:`_cut_templates` (its figures were measured with them). With
+    ``overwrite`` (``x`` a float array of the caller's, not read after), the notes' sound is taken off ``x`` itself
+    (no copy of the recording's length).
 
     In time order, each onset's peaks are read over its window, then the template that fits the remainder from it
     to the next onset best (placed within 60 µs either way; those that last to the end of the next onset's window
-    preferred, else the longest) is taken off, scaled by least squares (compiled: :func:`._kernels.own_peaks`).
+    preferred, else the longest) is taken off, scaled by least squares (compiled: :func:`._templates.own_peaks`).
     """
-    from ._kernels import own_peaks
+    from ._templates import own_peaks
 
     starts = np.round(times).astype(np.int64).clip(0, len(x) - 1)
     following = np.append(starts[1:], len(x))
@@ -1884,8 +1928,8 @@ def _own_peaks(x, times, rate, config, templates=None):
     templates = (templates or _peak_templates)(x, starts, following, ends, rate, config)
     lengths = np.array([len(t) for t in templates], dtype=np.int64)
     bank = np.concatenate(templates) if templates else np.empty(0)
-    return own_peaks(np.ascontiguousarray(x, dtype=float), starts, following, ends, bank,
-                     np.cumsum(lengths) - lengths, lengths, window, reach, shift)
+    rest = x if overwrite else np.array(x, dtype=float)
+    return own_peaks(rest, starts, following, ends, bank, np.cumsum(lengths) - lengths, lengths, window, reach, shift)
 
 
 def _peak_templates(x, starts, following, ends, rate, config):
@@ -1956,23 +2000,14 @@ def _layer_template(x, starts, following, free, layer, reach):
     their median, in which another note in one of them (a ghost note, a missed one) is outvoted; elsewhere the
     median of the notes' waveforms up to their next onset (clean), as far as one lasts.
     """
-    rows, whole, clean = [], [], []
-    for i, lag, scale in layer:
-        a = starts[i] + lag
-        n = max(0, min(free[i] - starts[i], reach, len(x) - a))
-        rows.append(x[a:a + n] / scale)
-        whole.append(n)
-        clean.append(min(n, following[i] - starts[i]))
-    whole, clean = np.array(whole), np.array(clean)
-    bounds = np.unique(np.concatenate(([0], whole, clean)))
-    parts = []
-    for low, high in zip(bounds[:-1].tolist(), bounds[1:].tolist()):  # the same waveforms last over each part
-        voted = whole >= high
-        chosen = voted if np.count_nonzero(voted) >= 3 else clean >= high
-        if not chosen.any():
-            break
-        parts.append(np.median([row[low:high] for row, use in zip(rows, chosen) if use], axis=0))
-    return np.concatenate(parts) if parts else np.empty(0)
+    from ._templates import layer_median
+
+    notes = np.array([i for i, _, _ in layer], dtype=np.int64)
+    at = starts[notes] + np.array([lag for _, lag, _ in layer], dtype=np.int64)
+    whole = np.maximum(0, np.minimum(np.minimum([free[i] for i in notes.tolist()] - starts[notes], reach),
+                                     len(x) - at))
+    clean = np.minimum(whole, following[notes] - starts[notes])
+    return layer_median(x, at, np.array([scale for _, _, scale in layer]), whole, clean)
 
 
 # ------------------------------------------------------------------------------------------ the stages' tools

@@ -1,0 +1,397 @@
+"""The compiled loops of the onset detector's template stages (:mod:`.onsets`: the template fit, ``peak_db``'s
+templates and fits): each gives what the code it replaced gave, to the bit. Where one sums in another order, the
+sums only skip work whose outcome their bounds already tell (its docstring says how); a median's values are the
+same whatever sorts them.
+
+A module of its own (as :mod:`._kernels`) so that importing :mod:`drumstroke.analysis` does not import numba;
+:mod:`.onsets` imports it where it runs it.
+"""
+
+import math
+
+import numpy as np
+
+from .._jit import jit
+from ._kernels import eight_dots, eight_squares, least_unexplained_by, likeness_at, peaks_around, running_power
+
+
+@jit
+def template_attacks(d, times, span, gap, pre, clear, below, least_room, tail):
+    """:func:`.onsets._template_attacks`' choice: the loudest, the quietest and the roomiest clear attacks (indices of
+    ``times``, -1 for none).
+
+    An attack is clear when ``d``'s peak over the ``span`` samples before it (up to ``gap`` before it) is ``clear``
+    times its peak over the ``span`` after or less (:func:`._kernels.peaks_around`, at ``times`` rounded), and it is
+    ``pre`` samples or more into ``d`` and ``least_room`` samples or more before the next (or the end). The loudest
+    (the first of equals; none when no peak is over 0), the quietest of those ``below`` times the loudest peak of all
+    or louder (the first of equals), and of those with the most room (up to ``tail`` samples) the loudest (the first).
+    """
+    centres = np.rint(times).astype(np.int64)
+    peaks, priors = peaks_around(d, centres, span, span, gap)
+    floor = (peaks.max() if len(peaks) else 0.0) * below
+    loudest, quietest, roomiest = -1, -1, -1
+    most = 0.0  # the most room (as room.max(initial=0.0))
+    for i in range(len(times)):
+        end = times[i + 1] if i + 1 < len(times) else float(len(d))
+        if not (centres[i] >= pre and end - times[i] >= least_room and priors[i] <= peaks[i] * clear):
+            continue
+        if loudest < 0 or peaks[i] > peaks[loudest]:
+            loudest = i
+        if peaks[i] >= floor and (quietest < 0 or peaks[i] < peaks[quietest]):
+            quietest = i
+        room = min(end - times[i], tail)
+        if room > most or (room == most and roomiest >= 0 and peaks[i] > peaks[roomiest]):
+            most, roomiest = room, i
+        elif room == most and roomiest < 0:
+            roomiest = i
+    if loudest >= 0 and not peaks[loudest] > 0.0:
+        loudest = -1
+    if quietest >= 0 and not peaks[quietest] < np.inf:
+        quietest = -1
+    return loudest, quietest, roomiest
+
+
+@jit
+def next_attack(x, head, low, high, pre, reach, base, width, energy, rise, likeness, least):
+    """:func:`.onsets._next_attack` once its bounds are checked (``pre <= low``, ``base <= low - pre``): the
+    sample, or -1.
+
+    The window from each sample ``n`` in ``[low, high)`` is ``x[n - pre:n - pre + len(head)]``; its jump is
+    :func:`.onsets._windows`' (``width``) over ``x[base:high]``, the power summed in order from ``x[base]``.
+    Correlations are computed only where the window rises ``rise`` (power ratio) times, in order, until one passes;
+    the products with ``head`` of eight such windows at a time (:func:`._kernels.eight_dots`). A window too quiet for
+    its product to scale ``least`` (Cauchy-Schwarz: its energy, bounded from the running sums, under ``least²`` times
+    the head's, by a margin far over the sums' rounding) is not scaled whatever its product: none is summed (what the
+    template fitted leaves of its own attack is zeros). Which windows may rise and are loud enough is told in one
+    pass over them all (:func:`_tried`, in vector instructions) before the scan.
+    """
+    count, size = high - base, len(head)
+    total = max(count, high - pre + size - base)  # the heads' windows too
+    power = np.empty(total + 1)
+    power[0] = 0.0
+    for j in range(total):
+        power[j + 1] = power[j] + x[base + j] * x[base + j]
+    # a window's energy is under (power[b] - power[a]) + slack (the squares' underflow too), its product with head
+    # under the geometric mean of its energy and the head's, to rounding far within the 1e-6 margin: a window quieter
+    # than quiet has a product under least × energy (not scaled), whatever it is
+    slack = 4.0 * (total + 2) * 2.220446049250313e-16 * power[total] + 1e-300
+    scaled_at = least * energy
+    quiet = (scaled_at * scaled_at) / (energy * (1.0 + 1e-6)) if scaled_at > 1e-100 else -np.inf
+    tried = _tried(power, low - base, high - low, count, width, (1.0 - 1e-9) * rise, pre, size, slack, quiet)
+    eights = tried.view(np.uint64)  # eight windows' flags a word
+    rising, dots, owns = np.empty(8, dtype=np.int64), np.empty(8), np.empty(8)
+    i = 0
+    while i < high - low:
+        found = 0  # the next eight samples (or fewer) whose windows rise
+        while i < high - low and found < 8:
+            if i % 8 == 0 and eights[i // 8] == 0:  # none of the next eight tried
+                i += 8
+                continue
+            if tried[i]:
+                n = i + low - base
+                ahead, behind = power[min(n + width, count)] - power[n], power[n] - power[max(n - 4 * width, 0)]
+                after = ahead / width
+                before = behind / (4 * width)
+                if after >= rise * before:
+                    rising[found] = i
+                    found += 1
+            i += 1
+        if found == 0:
+            break
+        rising[found:] = rising[found - 1]
+        if found == 8 and rising[7] - rising[0] == 7:  # eight windows in a row (as most are)
+            _eight_in_a_row(x, low - pre + rising[0], head, dots)
+        else:
+            eight_dots(x, low - pre + rising, head, dots)
+        scaled = False
+        for f in range(found):
+            scaled = scaled or dots[f] >= least * energy
+        if not scaled:
+            continue
+        eight_squares(x, low - pre + rising, len(head), owns)  # each window's energy, as likeness_at sums it
+        for f in range(found):
+            if not dots[f] >= least * energy:  # (the correlation only where the scale passes)
+                continue
+            like = dots[f] / (math.sqrt(owns[f] * energy) + 1e-300)  # likeness_at's, its sums side by side
+            if like >= likeness:
+                best, at = like, rising[f]
+                for k in range(rising[f] + 1, min(rising[f] + reach + 1, high - low)):
+                    like, _ = likeness_at(x, low - pre + k, head, energy)
+                    if like > best:
+                        best, at = like, k
+                return low + at
+    return -1
+
+
+@jit
+def _eight_in_a_row(x, start, t, out):
+    """:func:`._kernels.eight_dots` of the eight windows from ``start`` on, into ``out``: each window's products added
+    in order, their eight chains side by side on one slice (in vector instructions)."""
+    d0 = d1 = d2 = d3 = d4 = d5 = d6 = d7 = 0.0
+    w = x[start:start + len(t) + 7]  # a slice: indices the compiler sees are ≥ 0
+    for j in range(len(t)):
+        v = t[j]
+        d0 += w[j] * v
+        d1 += w[j + 1] * v
+        d2 += w[j + 2] * v
+        d3 += w[j + 3] * v
+        d4 += w[j + 4] * v
+        d5 += w[j + 5] * v
+        d6 += w[j + 6] * v
+        d7 += w[j + 7] * v
+    out[0], out[1], out[2], out[3], out[4], out[5], out[6], out[7] = d0, d1, d2, d3, d4, d5, d6, d7
+
+
+@jit
+def _tried(power, offset, windows, count, width, ratio, pre, size, slack, quiet):
+    """Which of :func:`next_attack`'s ``windows`` (the ``i``-th at ``n = offset + i`` in ``power``, its running sums)
+    may rise and may be scaled: not when the power over the ``width`` ahead (up to ``count``) is surely under
+    ``ratio``/4 times that over the ``4 width`` behind (the running sums never fall, so that test is under the rise's
+    by far more than the divisions' rounding: normal numbers, far from underflow), nor when the ``size`` samples from
+    ``pre`` before ``n`` have under ``quiet`` less ``slack`` of energy. [shape=(windows,), padded with False to a
+    multiple of 8]"""
+    tried = np.zeros(-(-windows // 8) * 8, dtype=np.bool_)  # whole words of eight (the last padded with False)
+    first = min(max(0, 4 * width - offset, pre - offset), windows)  # from here, no bound clamped
+    last = max(first, min(windows, count - width - offset))
+    for i in range(first):
+        tried[i] = _maybe(power, offset + i, count, width, ratio, pre, size, slack, quiet)
+    # the same tests on slices (indices the compiler sees are ≥ 0: in vector instructions)
+    now, ahead_end = power[offset + first:], power[offset + first + width:]
+    behind_start = power[offset + first - 4 * width:]
+    head_start, head_end = power[offset + first - pre:], power[offset + first - pre + size:]
+    out = tried[first:]
+    for i in range(last - first):
+        ahead, behind = ahead_end[i] - now[i], now[i] - behind_start[i]
+        out[i] = (((not behind > 1e-280) | (not 4.0 * ahead < ratio * behind))
+                  & (head_end[i] - head_start[i] + slack >= quiet))
+    for i in range(last, windows):
+        tried[i] = _maybe(power, offset + i, count, width, ratio, pre, size, slack, quiet)
+    return tried
+
+
+@jit(inline="always")
+def _maybe(power, n, count, width, ratio, pre, size, slack, quiet):
+    """:func:`_tried`'s tests of the window at ``n``, its bounds clamped as :func:`next_attack` clamps them."""
+    ahead, behind = power[min(n + width, count)] - power[n], power[n] - power[max(n - 4 * width, 0)]
+    if behind > 1e-280 and 4.0 * ahead < ratio * behind:
+        return False
+    return n < pre or power[n - pre + size] - power[n - pre] + slack >= quiet
+
+
+@jit
+def own_peaks(rest, starts, following, ends, bank, offsets, lengths, window, reach, shift):
+    """:func:`.onsets._own_peaks`' loop: each onset's peak of ``rest`` less the earlier notes' fitted templates (taken
+    off ``rest`` in place), and of ``rest`` itself (read first).
+
+    The templates are ``bank[offsets[t]:offsets[t] + lengths[t]]``. At each onset the usable ones (those of
+    ``min(following - start + window, reach)`` samples or more, else the last longest) are each fitted from ``shift``
+    samples before the onset to ``shift`` after, over up to the next onset, where it leaves the least unexplained
+    (:func:`._kernels.least_unexplained`: the windows' energies by running sums of the remainder's squares in order;
+    the products with the template, and its energy, numpy's ``np.dot``); the best, scaled by least squares, is taken
+    off the remainder. Where the windows' energies summed in another order (:func:`_surely_least`) leave no doubt
+    which template and lag leave the least, the running sums (a serial chain of additions as long as the fits)
+    are not summed.
+    """
+    count, templates = len(starts), len(lengths)
+    peaks, heard = np.empty(count), np.empty(count)
+    for i in range(count):
+        loudest = 0.0  # in a register: the largest is the same
+        for j in range(starts[i], ends[i]):
+            loudest = max(loudest, abs(rest[j]))
+        heard[i] = loudest
+    longest = -1  # the last of the longest templates
+    for t in range(templates):
+        if longest < 0 or lengths[t] >= lengths[longest]:
+            longest = t
+    crosses, energies = np.empty((templates, 2 * shift + 1)), np.empty(templates)
+    sizes = np.zeros(templates, dtype=np.int64)  # each template's length fitted at this onset (0: not fitted)
+    for i in range(count):
+        start = starts[i]
+        peak = 0.0
+        for j in range(start, ends[i]):
+            peak = max(peak, abs(rest[j]))
+        peaks[i] = peak
+        need = min(following[i] - start + window, reach)
+        any_long = False
+        for t in range(templates):
+            any_long = any_long or lengths[t] >= need
+        low = max(start - shift, 0)
+        windows = start + shift - low + 1
+        reach_most = 0  # the running sums' length: over the longest part a usable template is fitted to
+        for t in range(templates):
+            sizes[t] = 0
+            if (any_long and lengths[t] < need) or (not any_long and t != longest):
+                continue
+            length = min(lengths[t], following[i] - start, len(rest) - start - shift)
+            reach_most = max(reach_most, start + shift + length - low)
+            if length < 16:  # too short to tell a scale
+                continue
+            head = bank[offsets[t]:offsets[t] + length]
+            energy = np.dot(head, head)
+            if not energy > 0.0:
+                continue
+            part = rest[low:start + shift + length]
+            for k in range(windows):
+                crosses[t, k] = np.dot(part[k:k + length], head)
+            sizes[t], energies[t] = length, energy
+        chosen, at = _surely_least(rest, low, windows, crosses, energies, sizes)
+        if chosen < 0 and np.any(sizes > 0):
+            power = running_power(rest[low:], max(reach_most, 0))
+            best = np.inf
+            for t in range(templates):
+                if sizes[t] == 0:
+                    continue
+                k, unexplained = least_unexplained_by(power, crosses[t, :windows], energies[t], sizes[t])
+                if chosen < 0 or unexplained < best:
+                    best, at, chosen = unexplained, k, t
+        if chosen >= 0:
+            scale = crosses[chosen, at] / energies[chosen]
+            at += low
+            size = min(lengths[chosen], len(rest) - at)
+            fitted, template = rest[at:at + size], bank[offsets[chosen]:offsets[chosen] + size]  # slices: indices ≥ 0
+            for j in range(size):
+                fitted[j] -= scale * template[j]
+    return peaks, heard
+
+
+@jit
+def _surely_least(rest, low, windows, crosses, energies, sizes):
+    """The template and lag (from ``low``) :func:`own_peaks`' running sums would choose, when windows' energies summed
+    in another order tell it beyond doubt: ``(t, k)``, else ``(-1, 0)``.
+
+    Template ``t`` (``sizes[t]`` > 0 samples) leaves ``(own - q) / own`` of the window from ``low + k`` unexplained
+    (``q = cross² / energy``; ``own`` its energy), rising with ``own``. The running sums give ``own`` within
+    ``4 n ε`` times the ``n`` samples' energy of its exact sum (sums of squares: every term ≥ 0), and so does any
+    other order; with twice that bound each way and a margin far over the quotients' rounding, each window's
+    fraction has bounds, and where one window's upper bound is under every other's lower bound it is the least
+    whatever the sums' order: the first least of the first template that leaves the least, as the running sums'
+    choice is.
+    """
+    eps, tiny = 2.220446049250313e-16, np.finfo(np.float64).tiny
+    chosen, at, least_high = -1, 0, np.inf
+    lows = np.full((len(sizes), windows), np.inf)
+    for t in range(len(sizes)):
+        length = sizes[t]
+        if length == 0:
+            continue
+        if length < windows:
+            return -1, 0
+        # the windows share the samples from low + windows - 1 to low + length: summed once, in eight lanes
+        middle = _squares(rest, low + windows - 1, low + length)
+        total = middle  # over all the windows' samples
+        for j in range(windows - 1):
+            total += rest[low + j] * rest[low + j] + rest[low + length + j] * rest[low + length + j]
+        slack = 8.0 * (length + windows + 2) * eps * total + 1e-290
+        for k in range(windows):
+            own = _window_energy(rest, low, k, windows, length, middle)
+            q = crosses[t, k] * crosses[t, k] / energies[t]
+            below, above = own - slack, own + slack
+            if not (below > 2.0 * tiny and np.isfinite(above) and np.isfinite(q)):
+                return -1, 0
+            margin = 1e-12 * (1.0 + q / below)
+            low_bound, high_bound = (below - q) / below - margin, (above - q) / above + margin
+            lows[t, k] = low_bound
+            if high_bound < least_high:
+                chosen, at, least_high = t, k, high_bound
+    if chosen < 0:
+        return -1, 0
+    for t in range(len(sizes)):
+        for k in range(windows):
+            if (t != chosen or k != at) and not lows[t, k] > least_high:
+                return -1, 0
+    return chosen, at
+
+
+@jit(inline="always")
+def _window_energy(rest, low, k, windows, length, middle):
+    """The energy of ``rest`` over ``length`` samples from ``low + k``: ``middle`` (its samples from
+    ``low + windows - 1`` to ``low + length``) and the few before and after."""
+    own = middle
+    for j in range(low + k, low + windows - 1):
+        own += rest[j] * rest[j]
+    for j in range(low + length, low + length + k):
+        own += rest[j] * rest[j]
+    return own
+
+
+@jit(inline="always")
+def _squares(x, first, last):
+    """The sum of ``x[first:last]``'s squares in eight lanes (an order of its own: eight chains side by side)."""
+    s0 = s1 = s2 = s3 = s4 = s5 = s6 = s7 = 0.0
+    j = first
+    while j + 8 <= last:
+        s0 += x[j] * x[j]
+        s1 += x[j + 1] * x[j + 1]
+        s2 += x[j + 2] * x[j + 2]
+        s3 += x[j + 3] * x[j + 3]
+        s4 += x[j + 4] * x[j + 4]
+        s5 += x[j + 5] * x[j + 5]
+        s6 += x[j + 6] * x[j + 6]
+        s7 += x[j + 7] * x[j + 7]
+        j += 8
+    while j < last:
+        s0 += x[j] * x[j]
+        j += 1
+    return ((s0 + s1) + (s2 + s3)) + ((s4 + s5) + (s6 + s7))
+
+
+_BLOCK = 256  # samples a time: a dozen notes' waveforms over them stay in the first-level cache
+
+
+@jit
+def layer_median(x, at, scales, whole, clean):
+    """:func:`.onsets._layer_template`'s median: note ``i``'s waveform is ``x[at[i]:at[i] + whole[i]] / scales[i]``
+    (``at`` ≥ 0, ``at + whole`` ≤ ``len(x)``), clean over its first ``clean[i]`` samples (``clean`` ≤ ``whole``).
+
+    Over each part between the sorted, distinct values of 0, ``whole`` and ``clean``, the waveforms that last past
+    it (three or more), else the clean ones that do, are the part's; at each sample the median of theirs (the
+    middle one, or the mean of the middle two as ``np.median`` takes it); up to the first part none lasts over.
+    """
+    count = len(at)
+    bounds = np.unique(np.concatenate((np.zeros(1, dtype=np.int64), whole, clean)))
+    out = np.empty(bounds[-1])
+    chosen, buffer = np.empty(count, dtype=np.int64), np.empty((count, _BLOCK))
+    size = 0
+    for p in range(len(bounds) - 1):
+        low, high = bounds[p], bounds[p + 1]
+        voted = 0
+        for i in range(count):
+            voted += whole[i] >= high
+        m = 0
+        for i in range(count):
+            if (whole[i] >= high) if voted >= 3 else (clean[i] >= high):
+                chosen[m] = i
+                m += 1
+        if m == 0:
+            break
+        for first in range(low, high, _BLOCK):
+            _block_median(x, at, scales, chosen[:m], first, min(first + _BLOCK, high), buffer, out)
+        size = high
+    return out[:size].copy()
+
+
+@jit
+def _block_median(x, at, scales, chosen, first, last, buffer, out):
+    """``out[first:last]``: at each sample the median of the waveforms ``chosen`` (:func:`layer_median`'s), their values
+    sorted by an odd-even transposition network (each comparator a pass over the block, in vector instructions)."""
+    m, width = len(chosen), last - first
+    for r in range(m):
+        i = chosen[r]
+        row, scale = buffer[r], scales[i]
+        for j in range(width):
+            row[j] = x[at[i] + first + j] / scale
+    for step in range(m):
+        for r in range(step % 2, m - 1, 2):
+            lower, upper = buffer[r], buffer[r + 1]
+            for j in range(width):
+                u, v = lower[j], upper[j]
+                swap = v < u  # swapped only when out of order: the values are kept, the signs of zero too
+                lower[j], upper[j] = (v, u) if swap else (u, v)
+    middle = buffer[m // 2]
+    if m % 2:
+        for j in range(width):
+            out[first + j] = middle[j]
+    else:
+        below = buffer[m // 2 - 1]
+        for j in range(width):
+            out[first + j] = (below[j] + middle[j]) / 2.0
