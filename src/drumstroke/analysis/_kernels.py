@@ -1068,15 +1068,6 @@ def prediction_error(a, x):
 
 
 @jit
-def weighted_lags(x, weight, start, rows):
-    """``rows`` (shape (m, order + 1)) filled with ``x[n], x[n - 1], …, x[n - order]`` times ``weight[n]``, for ``n`` from
-    ``start`` to ``start + m``."""
-    for n in range(start, start + rows.shape[0]):
-        for j in range(rows.shape[1]):
-            rows[n - start, j] = x[n - j] * weight[n]
-
-
-@jit
 def impulse_correlations(e, at, amp, length):
     """The train of impulses ``amp`` at samples ``at`` (``s``, as long as ``e``; repeated samples add up), correlated
     with itself and with ``e`` at lags 0 to ``length - 1``: ``r_ss[k] = Σ s[n] s[n + k]`` and ``r_se[k] = Σ s[n] e[n +

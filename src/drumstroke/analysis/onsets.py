@@ -2017,22 +2017,17 @@ def _robust_innovation(x, order):
     """
     from scipy.ndimage import uniform_filter1d
 
-    from ._kernels import prediction_error, weighted_lags
+    from ._kernels import prediction_error
+    from ._modes import weighted_gram
 
     x = np.ascontiguousarray(x, dtype=float)
     order = min(order, max(1, len(x) // 8))
     burg, first = _innovation(x, order)
     power = np.maximum(uniform_filter1d(first * first, 9), 0.0)
     weight = 1.0 / np.sqrt(power + 1e-12 * power.mean() + 1e-300)
-    gram = np.zeros((order + 1, order + 1))
-    # the normal equations added up over blocks of _LAG_ROWS rows in one small buffer: all the lagged rows of a 5-s
-    # recording at once were the detector's largest block (3.3 MB at order 40), and BLAS's product over blocks takes
-    # no longer
-    buffer = np.empty((_LAG_ROWS, order + 1))
-    for start in range(order, len(x), _LAG_ROWS):
-        rows = buffer[:min(len(x), start + _LAG_ROWS) - start]
-        weighted_lags(x, weight, start, rows)
-        gram += rows.T @ rows
+    # the normal equations added up over blocks of _LAG_ROWS rows, each block's product as BLAS's: all the lagged rows of
+    # a 5-s recording at once were the detector's largest block (3.3 MB at order 40)
+    gram = weighted_gram(x, weight, order, _LAG_ROWS)
     try:
         c, *_ = np.linalg.lstsq(gram[1:, 1:], -gram[1:, 0], rcond=None)
         a = np.concatenate(([1.0], c))

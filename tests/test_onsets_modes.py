@@ -1,0 +1,68 @@
+"""The modes' band's and the level band's compiled loops (drumstroke.analysis._modes) against the numpy code they replaced.
+
+The normal equations of the reweighted predictor must be numpy's to the bit where numpy's BLAS is OpenBLAS's
+fused-multiply-add kernel (its Haswell kernel, on Intel and AMD processors since 2013: the product the detector
+ran), and within rounding of numpy's one product of all the lagged rows anywhere.
+"""
+
+import numpy as np
+import pytest
+from numpy.lib.stride_tricks import sliding_window_view
+
+from _recordings import uneven_noise
+from drumstroke.analysis import _modes
+
+
+@pytest.fixture
+def rng():
+    return np.random.default_rng(20261127)
+
+
+def _lagged(x, order, weight):
+    """Rows (x[n], x[n - 1], …, x[n - order]) weight[n] for n from order on, in numpy."""
+    return sliding_window_view(x, order + 1)[:, ::-1] * weight[order:, None]
+
+
+def _blas_kernel():
+    """numpy's BLAS and the processor kind its kernels are for (threadpoolctl's names), or None without threadpoolctl."""
+    threadpoolctl = pytest.importorskip("threadpoolctl")
+    for library in threadpoolctl.threadpool_info():
+        if library["user_api"] == "blas" and "numpy" in library["filepath"]:
+            return library["internal_api"], library.get("architecture")
+    return None
+
+
+_CASES = [(10_000, 40), (5_000, 24), (2 * 256 + 40 + 1, 40), (300, 40), (64, 3), (50, 1), (700, 2), (900, 8), (600, 47),
+          (2_000, 100)]
+
+
+@pytest.mark.parametrize(("n", "order"), _CASES)
+def test_weighted_gram_is_the_lagged_rows_product(rng, n, order):
+    x, weight = uneven_noise(rng, n), rng.random(n) + 0.1
+    rows = _lagged(x, order, weight)
+    want = rows.T @ rows
+    got = _modes.weighted_gram(x, weight, order, 256)
+    assert got.shape == (order + 1, order + 1)
+    np.testing.assert_array_equal(got, got.T)
+    np.testing.assert_allclose(got, want, rtol=0.0, atol=1e-13 * np.max(np.abs(want)) * np.sqrt(n))
+
+
+@pytest.mark.parametrize(("n", "order"), _CASES)
+@pytest.mark.parametrize("block", [256, 37])
+def test_weighted_gram_is_numpys_block_products_to_the_bit(rng, n, order, block):
+    if _blas_kernel() != ("openblas", "Haswell"):
+        pytest.skip("numpy's BLAS is not OpenBLAS's Haswell kernel: its sums are in another order")
+    x, weight = uneven_noise(rng, n), rng.random(n) + 0.1
+    rows = _lagged(x, order, weight)
+    want = np.zeros((order + 1, order + 1))
+    buffer = np.empty((block, order + 1))  # each block as the detector multiplied it: one buffer, rows.T @ rows
+    for start in range(0, len(rows), block):
+        part = buffer[:min(len(rows), start + block) - start]
+        part[:] = rows[start:start + len(part)]
+        want += part.T @ part
+    np.testing.assert_array_equal(_modes.weighted_gram(x, weight, order, block), want)
+
+
+def test_weighted_gram_of_too_short_a_signal_is_zero(rng):
+    x = rng.standard_normal(5)
+    np.testing.assert_array_equal(_modes.weighted_gram(x, np.ones(5), 5, 256), np.zeros((6, 6)))
