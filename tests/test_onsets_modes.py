@@ -66,3 +66,25 @@ def test_weighted_gram_is_numpys_block_products_to_the_bit(rng, n, order, block)
 def test_weighted_gram_of_too_short_a_signal_is_zero(rng):
     x = rng.standard_normal(5)
     np.testing.assert_array_equal(_modes.weighted_gram(x, np.ones(5), 5, 256), np.zeros((6, 6)))
+
+
+def _in_order(a, b):
+    """Σ a[j] b[j], added one product at a time in Python's floats (IEEE doubles): the order the chains keep."""
+    total = 0.0
+    for u, v in zip(a.tolist(), b.tolist()):
+        total += u * v
+    return total
+
+
+def test_five_window_sums_are_each_windows_sums(rng):
+    for size in list(range(1, 34)) + [101, 102, 103]:
+        x = uneven_noise(rng, size + 60)
+        t0, t1 = rng.standard_normal(size + 2), rng.standard_normal(size)
+        first = int(rng.integers(0, len(x) - size - 4))
+        out = np.full(15, np.nan)
+        _modes.five_window_sums(x, first, t0, t1, size, out)
+        for k in range(5):
+            window = x[first + k:first + k + size]
+            assert out[k] == _in_order(window, t0[:size])
+            assert out[5 + k] == _in_order(window, t1)
+            assert out[10 + k] == np.einsum("i,i->", window, window)  # numpy's pairs of lanes

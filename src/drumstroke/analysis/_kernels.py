@@ -11,6 +11,7 @@ import math
 import numpy as np
 
 from .._jit import jit
+from ._modes import five_window_sums
 
 
 @jit
@@ -533,7 +534,7 @@ def pursue(r, positions, centres, basis, gram, solve, head, head_norm, lead, wid
     where = positions.copy()
     at, amp = np.zeros(count, dtype=np.int64), np.zeros(count)
     weights, fitted = np.empty((5, m)), np.empty(m)  # each alignment's weights, and one's times gram
-    cost, dots, heads, energies = np.empty(5), np.empty(5), np.empty(5), np.empty(5)
+    cost, dots, heads, energies, sums = np.empty(5), np.empty(5), np.empty(5), np.empty(5), np.empty(15)
     for i in range(count):
         c = centres[i]
         low, high = max(0, c - half - 4 * width), min(n, c + half + width + 1)
@@ -545,9 +546,14 @@ def pursue(r, positions, centres, basis, gram, solve, head, head_norm, lead, wid
         # each alignment's sums as window_dot and pair_dot add them, the five alignments' side by side
         five_dots(r, first, last, head, dots)
         five_squares(r, first, last, len(head), heads)
-        five_squares(r, first, last, size, energies)
-        for q in range(m):
-            five_dots(r, first, last, solve[q], weights[:, q])
+        if m == 2 and last == first + 4:  # the five windows in vector lanes (away from the ends)
+            five_window_sums(r, first, solve[0], solve[1], size, sums)
+            for k in range(5):
+                weights[k, 0], weights[k, 1], energies[k] = sums[k], sums[5 + k], sums[10 + k]
+        else:
+            five_squares(r, first, last, size, energies)
+            for q in range(m):
+                five_dots(r, first, last, solve[q], weights[:, q])
         for k in range(last - first + 1):
             like = max(like, abs(dots[k]) / (math.sqrt(heads[k]) * head_norm + 1e-300))
             fitted[:] = 0.0

@@ -18,6 +18,8 @@ def _gram_tile(typingctx, rows, width, count, i, j, gram):
     """``gram[i:i + 4, j:j + 8] += rows[:count, i:i + 4].T @ rows[:count, j:j + 8]`` (both C-contiguous, ``width``
     columns), each entry's products added by fused multiply-adds in row order from 0, as OpenBLAS's kernel adds them;
     the 32 sums in 8 vector registers (numba vectorises no loop whose sums must stay in order)."""
+    if any(not isinstance(array, types.Array) or array.layout != "C" for array in (rows, gram)):
+        return None  # the loads read contiguous rows
     sig = types.none(rows, width, count, i, j, gram)
 
     def codegen(context, builder, signature, args):
@@ -87,3 +89,87 @@ def weighted_gram(x, weight, order, block):
         for j in range(i, size):
             gram[i, j] = gram[j, i] = total[i, j]
     return gram
+
+
+@intrinsic
+def _five_window_sums(typingctx, x, first, t0, t1, size, out):
+    """The five windows of ``size`` samples of ``x`` from ``first`` to ``first + 4``: each one's products with ``t0`` and
+    with ``t1`` summed in order (:func:`._kernels.window_dot`), and its squares summed in
+    :func:`._kernels.pair_dot`'s order, into ``out[0:5]``, ``out[5:10]`` and ``out[10:15]``.
+
+    The windows side by side in vector lanes (the first four, and the last four: the fifth), each lane's
+    operations those of its own chain of additions.
+    """
+    if any(not isinstance(array, types.Array) or array.layout != "C" for array in (x, t0, t1, out)):
+        return None  # the loads read contiguous samples
+    sig = types.none(x, first, t0, t1, size, out)
+
+    def codegen(context, builder, signature, args):
+        x_data, t0_data, t1_data, out_data = (context.make_array(signature.args[n])(context, builder, args[n]).data
+                                              for n in (0, 2, 3, 5))
+        first, size = (context.cast(builder, args[n], signature.args[n], types.intp) for n in (1, 4))
+        index = first.type
+        vector = ir.VectorType(ir.DoubleType(), 4)
+        zero = ir.Constant(vector, [0.0] * 4)
+        dots0, dots1, even, odd = ([cgutils.alloca_once_value(builder, zero) for _ in range(2)] for _ in range(4))
+
+        def constant(n):
+            return ir.Constant(index, n)
+
+        def windows(j):  # x from j in the first four windows and in the last four
+            at = builder.add(first, j)
+            return [builder.load(builder.bitcast(builder.gep(x_data, [builder.add(at, constant(k))]),
+                                                 vector.as_pointer()), align=8) for k in (0, 1)]
+
+        def broadcast(data, j):
+            value = builder.load(builder.gep(data, [j]))
+            lanes = builder.insert_element(ir.Constant(vector, ir.Undefined), value, ir.Constant(ir.IntType(32), 0))
+            return builder.shuffle_vector(lanes, ir.Constant(vector, ir.Undefined),
+                                          ir.Constant(ir.VectorType(ir.IntType(32), 4), [0] * 4))
+
+        def add_to(sums, values, scale=None):
+            for total, value in zip(sums, values):
+                builder.store(builder.fadd(builder.load(total), builder.fmul(value, value if scale is None else scale)),
+                              total)
+
+        def dot_step(j):
+            values = windows(j)
+            add_to(dots0, values, broadcast(t0_data, j))
+            add_to(dots1, values, broadcast(t1_data, j))
+
+        blocks = builder.sdiv(size, constant(8))
+        with cgutils.for_range(builder, blocks) as loop:
+            j = builder.mul(loop.index, constant(8))
+            for step in range(8):
+                dot_step(builder.add(j, constant(step)))
+            for step in (6, 4, 2, 0):  # pair_dot's order: the vector's last pair first, into the lanes
+                add_to(even, windows(builder.add(j, constant(step))))
+                add_to(odd, windows(builder.add(j, constant(step + 1))))
+        start = builder.mul(blocks, constant(8))
+        with cgutils.for_range(builder, builder.sub(size, start)) as loop:
+            dot_step(builder.add(start, loop.index))
+        pairs = builder.sdiv(builder.add(builder.sub(size, start), constant(1)), constant(2))
+        with cgutils.for_range(builder, pairs) as loop:
+            j = builder.add(start, builder.mul(loop.index, constant(2)))
+            add_to(even, windows(j))
+            with builder.if_then(builder.icmp_signed("<", builder.add(j, constant(1)), size)):
+                add_to(odd, windows(builder.add(j, constant(1))))
+
+        def store(offset, sums):  # sums: the four windows' and the last four's values
+            low, high = sums
+            for k in range(5):
+                lane = builder.extract_element(low if k < 4 else high, ir.Constant(ir.IntType(32), min(k, 3)))
+                builder.store(lane, builder.gep(out_data, [constant(offset + k)]))
+
+        store(0, [builder.load(total) for total in dots0])
+        store(5, [builder.load(total) for total in dots1])
+        store(10, [builder.fadd(builder.load(e), builder.load(o)) for e, o in zip(even, odd)])
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
+@jit
+def five_window_sums(x, first, t0, t1, size, out):
+    """:func:`_five_window_sums` (``x[first + 4 + size - 1]`` and ``t0[size - 1]``, ``t1[size - 1]`` must exist)."""
+    _five_window_sums(x, first, t0, t1, size, out)
