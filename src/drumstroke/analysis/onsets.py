@@ -1187,20 +1187,18 @@ def _after_louder(modes, candidates, rate, config):
     sure = np.flatnonzero(candidates.attack)
     if not len(sure):
         return candidates
-    times = candidates.times
+    if modes.signature is None:
+        modes = replace(modes, signature=_signature(modes.e, modes.rate, config))
+    signature, times = modes.signature, candidates.times
     pursuit = modes.pursue(times[sure], config)
-    residual, template = pursuit.residual, pursuit.template
-    basis = np.column_stack([template, np.gradient(template)])
-    grams = np.cumsum(basis[:, :, None] * basis[:, None, :], axis=0)  # the truncated signatures' normal equations
     gap = max(1, round(config.min_interval * modes.rate))
     reach = round(config.after_reach * modes.rate)
-    spike = int(np.argmax(np.abs(template)))
-    head = template[:spike + config.head]
-    head_norm = float(np.sqrt(head @ head))
     positions = np.round(modes.at(times[sure])).astype(np.int64)
-    found, likes = after_louder(residual, basis, grams, pursuit.at, pursuit.amplitude, positions, head, head_norm, gap,
-                                reach, spike, config.modes_width, config.after_f, config.after_weak_f,
-                                config.weak_likeness, config.after_ratio_low, config.after_ratio_high)
+    # the signature's largest spike is its lead's sample (the innovation's first largest), its start its head
+    found, likes = after_louder(pursuit.residual, signature.basis, signature.grams, pursuit.at, pursuit.amplitude,
+                                positions, signature.head, signature.head_norm, gap, reach, signature.lead,
+                                config.modes_width, config.after_f, config.after_weak_f, config.weak_likeness,
+                                config.after_ratio_low, config.after_ratio_high)
     if not len(found):
         return candidates
     new = modes.fitted(found)
@@ -2153,16 +2151,20 @@ def _away(candidates, known, gap):
 @dataclass(frozen=True)
 class _Signature:
     """The signature :func:`_pursue` fits: the loudest attack's innovation from ``lead`` samples before its largest
-    spike, its least-squares ``basis`` (the signature and its derivative, as columns), their normal equations
-    ``gram`` and ``solve`` (the least-squares weights of a window are ``solve @ window``; None when the basis is too
-    ill-conditioned to fit), and its start ``head`` (the spike and ``config.head`` samples)."""
+    spike, its least-squares ``basis`` (the signature and its derivative, as columns), the normal equations of its
+    first rows ``grams`` (cumulated: :func:`_after_louder`'s truncated signatures'), their whole ``gram`` and ``solve`` (the least-squares weights of a window are ``solve @ window``; None when the basis is too
+    ill-conditioned to fit), its start ``head`` (the spike and ``config.head`` samples) and that start's norm
+    ``head_norm``, and the innovation's rounding ``floor`` (:func:`_rounding_floor`): each pursuit reads them."""
 
     template: np.ndarray
     basis: np.ndarray
+    grams: np.ndarray
     gram: np.ndarray
     solve: np.ndarray | None
     head: np.ndarray
     lead: int
+    head_norm: float
+    floor: float
 
 
 def _signature(e, rate, config):
@@ -2176,7 +2178,9 @@ def _signature(e, rate, config):
     solve = None
     if np.all(np.isfinite(gram)) and np.linalg.cond(gram) <= 1e12:
         solve = np.ascontiguousarray(np.linalg.solve(gram, basis.T))
-    return _Signature(template, basis, gram, solve, template[:lead + config.head], lead)
+    head = template[:lead + config.head]
+    return _Signature(template, basis, np.cumsum(basis[:, :, None] * basis[:, None, :], axis=0), gram, solve, head,
+                      lead, float(np.sqrt(head @ head)), _rounding_floor(e))
 
 
 def _pursue(e, positions, rate, config, tail=None, signature=None):
@@ -2198,12 +2202,11 @@ def _pursue(e, positions, rate, config, tail=None, signature=None):
         return _Pursuit(e.copy(), _jump_at(e, positions, rate, config.modes_width), np.ones(len(positions)),
                         positions.copy(), np.round(positions).astype(np.int64), np.zeros(len(positions)),
                         signature.template)
-    head = signature.head
     r = e.copy()
     jumps, likeness, where, at, amp = pursue(
-        r, positions, np.round(positions).astype(np.int64), signature.basis, signature.gram, signature.solve, head,
-        float(np.sqrt(head @ head)), signature.lead, max(config.modes_width, round(1e-3 * rate)),
-        np.empty(0) if tail is None else np.ascontiguousarray(tail, dtype=float), _rounding_floor(e))
+        r, positions, np.round(positions).astype(np.int64), signature.basis, signature.gram, signature.solve,
+        signature.head, signature.head_norm, signature.lead, max(config.modes_width, round(1e-3 * rate)),
+        np.empty(0) if tail is None else np.ascontiguousarray(tail, dtype=float), signature.floor)
     return _Pursuit(r, jumps, likeness, where, at, amp, signature.template)
 
 
