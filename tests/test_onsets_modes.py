@@ -88,3 +88,17 @@ def test_five_window_sums_are_each_windows_sums(rng):
             assert out[k] == _in_order(window, t0[:size])
             assert out[5 + k] == _in_order(window, t1)
             assert out[10 + k] == np.einsum("i,i->", window, window)  # numpy's pairs of lanes
+
+
+def test_trial_dots_are_each_lags_sums_in_order(rng):
+    for size in (1, 2, 5, 9, 40, 102):
+        y = uneven_noise(rng, size)
+        basis = rng.standard_normal((size + 3, 2))
+        for first in range(0, size, max(1, size // 7)):
+            count = int(rng.integers(0, size - first + 1))
+            b0, b1 = np.full(count, np.nan), np.full(count, np.nan)
+            _modes.trial_dots(y, basis, first, count, b0, b1)
+            for k in range(count):
+                window = y[first + k:]
+                assert b0[k] == _in_order(window, basis[:len(window), 0])
+                assert b1[k] == _in_order(window, basis[:len(window), 1])

@@ -11,7 +11,7 @@ import math
 import numpy as np
 
 from .._jit import jit
-from ._modes import five_window_sums
+from ._modes import five_window_sums, trial_dots
 
 
 @jit
@@ -635,8 +635,8 @@ def best_trial(y, basis, grams, lags, total):
     parameters against what is left of ``y`` (``len(y) - 4`` degrees of freedom: the window's own attack's two
     parameters too).
 
-    Each trial is ``basis`` (the signature and its derivative, as columns) starting ``lags`` samples into the window,
-    truncated to it (``grams``: the normal equations of its first rows, cumulated).
+    Each trial is ``basis`` (the signature and its derivative, as columns, C-contiguous) starting ``lags`` samples
+    (consecutive) into the window, truncated to it (``grams``: the normal equations of its first rows, cumulated).
 
     Each trial's 2-by-2 normal equations (ridged by 1e-12 of the first's trace) are solved by Gaussian elimination
     with partial pivoting, as LAPACK's ``gesv`` solves them.
@@ -645,12 +645,11 @@ def best_trial(y, basis, grams, lags, total):
     ridge = 1e-12 * (grams[size - lags[0] - 1, 0, 0] + grams[size - lags[0] - 1, 1, 1])
     best, at = -np.inf, -1
     chosen = np.zeros(2)
+    # the window from each lag on (zeros past) times each column, in order (the lags: consecutive)
+    dots0, dots1 = np.empty(len(lags)), np.empty(len(lags))
+    trial_dots(y, basis, lags[0], len(lags), dots0, dots1)
     for k in range(len(lags)):
-        lag = lags[k]
-        b0, b1 = 0.0, 0.0  # the window from the lag on (zeros past) times each column, in order
-        for j in range(size - lag):
-            b0 += y[lag + j] * basis[j, 0]
-            b1 += y[lag + j] * basis[j, 1]
+        lag, b0, b1 = lags[k], dots0[k], dots1[k]
         g = grams[size - lag - 1]
         w0, w1 = solve_2x2(g[0, 0] + ridge, g[0, 1], g[1, 0], g[1, 1] + ridge, b0, b1)
         if not (np.isfinite(w0) and np.isfinite(w1)):

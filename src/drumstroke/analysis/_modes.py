@@ -173,3 +173,69 @@ def _five_window_sums(typingctx, x, first, t0, t1, size, out):
 def five_window_sums(x, first, t0, t1, size, out):
     """:func:`_five_window_sums` (``x[first + 4 + size - 1]`` and ``t0[size - 1]``, ``t1[size - 1]`` must exist)."""
     _five_window_sums(x, first, t0, t1, size, out)
+
+
+@intrinsic
+def _four_lag_dots(typingctx, y, basis, lag, steps, out):
+    """The first ``steps`` products of ``y`` from ``lag + l`` (for the four lanes ``l``) with each of ``basis``'s two
+    columns (C-contiguous, shape (m, 2)), each lane's added in order from 0, into ``out[0:4]`` and ``out[4:8]``."""
+    if any(not isinstance(array, types.Array) or array.layout != "C" for array in (y, basis, out)):
+        return None  # the loads read contiguous samples
+    sig = types.none(y, basis, lag, steps, out)
+
+    def codegen(context, builder, signature, args):
+        y_data, basis_data, out_data = (context.make_array(signature.args[n])(context, builder, args[n]).data
+                                        for n in (0, 1, 4))
+        lag, steps = (context.cast(builder, args[n], signature.args[n], types.intp) for n in (2, 3))
+        index = lag.type
+        vector = ir.VectorType(ir.DoubleType(), 4)
+        sums = [cgutils.alloca_once_value(builder, ir.Constant(vector, [0.0] * 4)) for _ in range(2)]
+        with cgutils.for_range(builder, steps) as loop:
+            j = loop.index
+            values = builder.load(builder.bitcast(builder.gep(y_data, [builder.add(lag, j)]), vector.as_pointer()),
+                                  align=8)
+            for q in range(2):
+                scale = builder.load(builder.gep(basis_data, [builder.add(builder.mul(j, ir.Constant(index, 2)),
+                                                                          ir.Constant(index, q))]))
+                lanes = builder.insert_element(ir.Constant(vector, ir.Undefined), scale, ir.Constant(ir.IntType(32), 0))
+                scale = builder.shuffle_vector(lanes, ir.Constant(vector, ir.Undefined),
+                                               ir.Constant(ir.VectorType(ir.IntType(32), 4), [0] * 4))
+                builder.store(builder.fadd(builder.load(sums[q]), builder.fmul(values, scale)), sums[q])
+        for q in range(2):
+            total = builder.load(sums[q])
+            for lane in range(4):
+                builder.store(builder.extract_element(total, ir.Constant(ir.IntType(32), lane)),
+                              builder.gep(out_data, [ir.Constant(index, 4 * q + lane)]))
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
+@jit
+def trial_dots(y, basis, first, count, b0, b1):
+    """``b0[k]`` and ``b1[k]``: the window ``y`` from lag ``first + k`` on (zeros past its end) times each column of
+    ``basis`` (C-contiguous, shape (m, 2), ``m`` ≥ ``len(y) - first``), each added in order, for ``k`` below ``count``
+    (lags within ``y``).
+
+    Four lags side by side in vector lanes over the products all four have, each lane's last products after.
+    """
+    size = len(y)
+    sums = np.empty(8)
+    k = 0
+    while k + 4 <= count and size - (first + k) - 3 > 0:
+        lag = first + k
+        _four_lag_dots(y, basis, lag, size - lag - 3, sums)
+        for lane in range(4):
+            s0, s1 = sums[lane], sums[4 + lane]
+            for j in range(size - lag - 3, size - lag - lane):
+                s0 += y[lag + lane + j] * basis[j, 0]
+                s1 += y[lag + lane + j] * basis[j, 1]
+            b0[k + lane], b1[k + lane] = s0, s1
+        k += 4
+    for k in range(k, count):
+        lag = first + k
+        s0, s1 = 0.0, 0.0
+        for j in range(size - lag):
+            s0 += y[lag + j] * basis[j, 0]
+            s1 += y[lag + j] * basis[j, 1]
+        b0[k], b1[k] = s0, s1
