@@ -834,8 +834,9 @@ def first_transients(d, times, reach, horizon, least, over, clear):
     passes ``least`` times its peak over the ``horizon`` after it and ``over`` times its own peak over the ``reach``
     before (scipy's maximum_filter1d there), that earlier peak ``clear`` times the peak at most; less half a sample."""
     out = times.copy()
-    # a window's candidates for its maximum, their values decreasing: at most the 3 reach samples an attack scans
-    queue = np.empty(3 * reach + 1, dtype=np.int64)
+    # the reach before each sample's peak from blocks of reach samples (van Herk's): the largest from a window's start
+    # to its block's end and from the next block's start to the window's end (two passes without branches)
+    ahead, behind = np.empty(3 * reach + 1), np.empty(3 * reach + 1)
     for i in range(len(out)):
         c = int(np.rint(out[i]))
         low = max(reach, c - reach, math.ceil((out[i - 1] + c) / 2) if i else 0)
@@ -845,19 +846,20 @@ def first_transients(d, times, reach, horizon, least, over, clear):
             peak = max(peak, d[j])
         if high - low < 2 or not peak > 0.0:
             continue
-        first, last = 0, 0
-        for j in range(low - reach, high):
-            if j >= low:  # the window of the reach before j: d[j - reach:j]
-                while queue[first] < j - reach:
-                    first += 1
-                prior = d[queue[first]]
-                if d[j] > peak * least and d[j] > over * prior and prior <= peak * clear:
-                    out[i] = j - 0.5
-                    break
-            while last > first and d[queue[last - 1]] <= d[j]:
-                last -= 1
-            queue[last] = j
-            last += 1
+        base = low - reach  # the blocks' start: the first window's
+        for start in range(base, high - 1, reach):
+            stop = min(start + reach, high - 1)
+            largest = ahead[start - base] = d[start]  # from the block's start to each sample
+            for j in range(start + 1, stop):
+                largest = ahead[j - base] = max(largest, d[j])
+            largest = behind[stop - 1 - base] = d[stop - 1]  # from each sample to the block's end
+            for j in range(stop - 2, start - 1, -1):
+                largest = behind[j - base] = max(largest, d[j])
+        for j in range(low, high):  # the window d[j - reach:j]
+            prior = max(behind[j - reach - base], ahead[j - 1 - base])
+            if d[j] > peak * least and d[j] > over * prior and prior <= peak * clear:
+                out[i] = j - 0.5
+                break
     return out
 
 
