@@ -2294,10 +2294,9 @@ def _attack_amplitudes(low, coefficients, positions, rate, *, tail=0, sure=None,
     horizon = max(2, round(5e-3 * rate))
     interpolator = _interpolator()
     starts = np.clip(np.round(positions).astype(np.int64), 0, len(low))
-    stops = [min(len(low), k + horizon, starts[i + 1] if i + 1 < len(starts) else len(low))
-             for i, k in enumerate(starts)]
+    stops = np.minimum(np.minimum(starts + horizon, len(low)), np.append(starts[1:], len(low)))
     amplitude = residual_peaks(np.ascontiguousarray(low, dtype=float), np.ascontiguousarray(coefficients, dtype=float),
-                               starts, np.array(stops, dtype=np.int64), interpolator)
+                               starts, stops, interpolator)
     inside = starts < len(low)
     if tail <= 0 or not np.any(inside):
         return amplitude
@@ -2306,8 +2305,8 @@ def _attack_amplitudes(low, coefficients, positions, rate, *, tail=0, sure=None,
     if h is None:
         return amplitude
     sure = np.ones(len(starts), dtype=bool) if sure is None else np.asarray(sure, dtype=bool)
-    return tail_free_peaks(e, np.ascontiguousarray(coefficients, dtype=float), starts, np.array(stops, dtype=np.int64),
-                           sure, amplitude, np.ascontiguousarray(h, dtype=float), horizon, interpolator)
+    return tail_free_peaks(e, np.ascontiguousarray(coefficients, dtype=float), starts, stops, sure, amplitude,
+                           np.ascontiguousarray(h, dtype=float), horizon, interpolator)
 
 
 @cache
