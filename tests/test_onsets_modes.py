@@ -102,3 +102,23 @@ def test_trial_dots_are_each_lags_sums_in_order(rng):
                 window = y[first + k:]
                 assert b0[k] == _in_order(window, basis[:len(window), 0])
                 assert b1[k] == _in_order(window, basis[:len(window), 1])
+
+
+def _measured_at_in_numpy(times, found, reach):
+    """The numpy code measured_at stands for."""
+    nearest = np.clip(np.searchsorted(found, times), 1, len(found)) - 1
+    nearer = np.where((nearest + 1 < len(found)) & (np.abs(found[np.minimum(nearest + 1, len(found) - 1)] - times)
+                                                    < np.abs(found[nearest] - times)), nearest + 1, nearest)
+    near = (found[nearer] >= times) & (found[nearer] - times <= reach)
+    near &= (found[nearer] == times) | ~np.isin(found[nearer], times)
+    return np.where(near, found[nearer], times)
+
+
+def test_measured_at_is_the_numpy_code(rng):
+    for _ in range(500):
+        found = np.unique(rng.integers(0, 400, int(rng.integers(1, 30))) + rng.choice([0.0, 0.5], 1))
+        count = int(rng.integers(1, 30))
+        times = np.sort(np.concatenate((rng.choice(found, min(count // 3, len(found)), replace=False),
+                                        rng.uniform(-20, 420, count))))  # some of them found ones
+        reach = float(rng.choice([0.0, 3.0, 48.0]))
+        np.testing.assert_array_equal(_modes.measured_at(times, found, reach), _measured_at_in_numpy(times, found, reach))

@@ -239,3 +239,26 @@ def trial_dots(y, basis, first, count, b0, b1):
             s0 += y[lag + j] * basis[j, 0]
             s1 += y[lag + j] * basis[j, 1]
         b0[k], b1[k] = s0, s1
+
+
+@jit
+def measured_at(times, found, reach):
+    """:func:`.onsets._measured_at`'s times: each of ``times`` moved to its nearest of ``found`` (sorted; the earlier of
+    two as near) when that one is at it or up to ``reach`` samples after it and is none of ``times`` but its own."""
+    out = times.copy()
+    last = len(found) - 1
+    for i in range(len(times)):
+        t = times[i]
+        nearest = min(max(np.searchsorted(found, t), 1), len(found)) - 1
+        if nearest + 1 <= last and abs(found[nearest + 1] - t) < abs(found[nearest] - t):
+            nearest += 1
+        at = found[nearest]
+        if not (at >= t and at - t <= reach):
+            continue
+        if at != t:
+            for other in times:
+                if other == at:  # a candidate of its own
+                    break
+            else:
+                out[i] = at
+    return out

@@ -1462,15 +1462,12 @@ def _measured_at(candidates, found, rate, config):
     A detection still a candidate of its own is not another's: the template found a new attack just
     before it (measured there, both would read one window, the earlier's empty: 0, refused as quiet).
     """
+    from ._modes import measured_at
+
     if not len(found) or not len(candidates):
         return candidates
-    nearest = np.clip(np.searchsorted(found, candidates.times), 1, len(found)) - 1
-    nearer = np.where((nearest + 1 < len(found)) & (np.abs(found[np.minimum(nearest + 1, len(found) - 1)]
-                                                           - candidates.times)
-                                                    < np.abs(found[nearest] - candidates.times)), nearest + 1, nearest)
-    near = (found[nearer] >= candidates.times) & (found[nearer] - candidates.times <= config.template_reach * rate)
-    near &= (found[nearer] == candidates.times) | ~np.isin(found[nearer], candidates.times)
-    return replace(candidates, times=np.where(near, found[nearer], candidates.times))
+    return replace(candidates, times=measured_at(np.ascontiguousarray(candidates.times, dtype=float),
+                                                 np.ascontiguousarray(found, dtype=float), config.template_reach * rate))
 
 
 def _template(band, d, rate, times, config, quietest=False):
