@@ -122,3 +122,26 @@ def test_measured_at_is_the_numpy_code(rng):
                                         rng.uniform(-20, 420, count))))  # some of them found ones
         reach = float(rng.choice([0.0, 3.0, 48.0]))
         np.testing.assert_array_equal(_modes.measured_at(times, found, reach), _measured_at_in_numpy(times, found, reach))
+
+
+def test_levinson_is_scipys_solve_toeplitz(rng):
+    from scipy.linalg import solve_toeplitz
+
+    for trial in range(300):
+        n = int(rng.integers(1, 320))
+        # an impulse train's autocorrelation, ridged (as the room's tail's), or a diagonally dominant column
+        train = np.zeros(3 * n)
+        np.add.at(train, rng.integers(0, len(train), int(rng.integers(1, 60))), rng.standard_normal(60)[:1])
+        r = np.array([train[:len(train) - k] @ train[k:] for k in range(n)]) if trial % 2 else rng.standard_normal(n)
+        r[0] = abs(r[0]) * 1.01 + (0.0 if trial % 2 else n)
+        b = rng.standard_normal(n)
+        x, solved = _modes.levinson(r, b)
+        assert solved
+        np.testing.assert_array_equal(x, solve_toeplitz(r, b))
+
+
+def test_levinson_says_when_a_principal_minor_is_singular():
+    x, solved = _modes.levinson(np.array([0.0, 1.0]), np.ones(2))
+    assert not solved
+    _, solved = _modes.levinson(np.array([1.0, 1.0, 0.5]), np.ones(3))  # [[1, 1], [1, 1]] leads
+    assert not solved

@@ -262,3 +262,64 @@ def measured_at(times, found, reach):
             else:
                 out[i] = at
     return out
+
+
+@jit
+def levinson(r, b):
+    """The solution of the symmetric Toeplitz system whose first column is ``r`` (``len(b)`` of it) for ``b``, and
+    whether it was found (False where a principal minor is singular): ``scipy.linalg.solve_toeplitz(r, b)``'s
+    Levinson recursion, the same operations in the same order."""
+    n = len(b)
+    a = np.empty(2 * n - 1)  # scipy's layout: the first row reversed (without the diagonal), then the first column
+    for j in range(n):
+        a[n - 1 + j] = r[j]
+        a[n - 1 - j] = r[j]
+    x, g, h = np.zeros(n), np.zeros(n), np.zeros(n)
+    if a[n - 1] == 0:
+        return x, False
+    x[0] = b[0] / a[n - 1]
+    if n == 1:
+        return x, True
+    g[0] = a[n - 2] / a[n - 1]
+    h[0] = a[n] / a[n - 1]
+    for m in range(1, n):
+        x_num = -b[m]
+        x_den = -a[n - 1]
+        if m < n - 1:  # x's sums and g's and h's read the last step's g and h: their five chains side by side
+            g_num = -a[n - m - 2]
+            h_num = -a[n + m]
+            g_den = -a[n - 1]
+            for j in range(m):
+                nmj = n + m - (j + 1)
+                x_num = x_num + a[nmj] * x[j]
+                x_den = x_den + a[nmj] * g[m - j - 1]
+                g_num = g_num + a[n + j - m - 1] * g[j]
+                h_num = h_num + a[n + m - j - 1] * h[j]
+                g_den = g_den + a[n + j - m - 1] * h[m - j - 1]
+        else:
+            for j in range(m):
+                nmj = n + m - (j + 1)
+                x_num = x_num + a[nmj] * x[j]
+                x_den = x_den + a[nmj] * g[m - j - 1]
+        if x_den == 0:
+            return x, False
+        x[m] = x_num / x_den
+        for j in range(m):
+            x[j] = x[j] - x[m] * g[m - j - 1]
+        if m == n - 1:
+            break
+        if g_den == 0.0:
+            return x, False
+        g[m] = g_num / g_den
+        h[m] = h_num / x_den
+        k = m - 1
+        c1 = g[m]
+        c2 = h[m]
+        for j in range((m + 1) >> 1):
+            gj, gk, hj, hk = g[j], g[k], h[j], h[k]
+            g[j] = gj - (c1 * hk)
+            g[k] = gk - (c1 * hj)
+            h[j] = hj - (c2 * gk)
+            h[k] = hk - (c2 * gj)
+            k -= 1
+    return x, True

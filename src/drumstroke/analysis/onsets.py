@@ -2215,6 +2215,7 @@ def _room_tail(e, at, amp, length, ridge):
     from scipy.linalg import solve_toeplitz
 
     from ._kernels import impulse_correlations
+    from ._modes import levinson
 
     keep = amp != 0.0
     at, amp = at[keep], amp[keep]
@@ -2225,7 +2226,9 @@ def _room_tail(e, at, amp, length, ridge):
     r_ss, r_se = impulse_correlations(np.ascontiguousarray(e, dtype=float), np.ascontiguousarray(at, dtype=np.int64),
                                       np.ascontiguousarray(amp, dtype=float), length)
     r_ss[0] *= 1.0 + ridge
-    h = solve_toeplitz(r_ss, r_se)
+    h, solved = levinson(r_ss, r_se)  # scipy's solve_toeplitz without its checks' time
+    if not solved or not (np.all(np.isfinite(r_ss)) and np.all(np.isfinite(r_se))):
+        h = solve_toeplitz(r_ss, r_se)  # scipy's errors
     return h if np.all(np.isfinite(h)) else None
 
 
