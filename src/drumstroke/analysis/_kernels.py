@@ -556,6 +556,11 @@ def pursue(r, positions, centres, basis, gram, solve, head, head_norm, lead, wid
                 five_dots(r, first, last, solve[q], weights[:, q])
         for k in range(last - first + 1):
             like = max(like, abs(dots[k]) / (math.sqrt(heads[k]) * head_norm + 1e-300))
+            if m == 2:  # the loops below for two columns: the same operations (from 0.0), in registers
+                w0, w1 = weights[k, 0], weights[k, 1]
+                f0, f1 = (0.0 + w0 * gram[0, 0]) + w1 * gram[1, 0], (0.0 + w0 * gram[0, 1]) + w1 * gram[1, 1]
+                cost[k] = energies[k] - ((w0 * f0 + 0.0) + (w1 * f1 + 0.0))
+                continue
             fitted[:] = 0.0
             for q in range(m):
                 for p in range(m):
@@ -567,11 +572,16 @@ def pursue(r, positions, centres, basis, gram, solve, head, head_norm, lead, wid
             if cost[j] < cost[k]:
                 k = j
         s = first + k
-        for j in range(size):
-            fit = 0.0
-            for q in range(m):
-                fit += basis[j, q] * weights[k, q]
-            r[s + j] -= fit
+        if m == 2:
+            w0, w1 = weights[k, 0], weights[k, 1]
+            for j in range(size):
+                r[s + j] -= (0.0 + basis[j, 0] * w0) + basis[j, 1] * w1
+        else:
+            for j in range(size):
+                fit = 0.0
+                for q in range(m):
+                    fit += basis[j, q] * weights[k, q]
+                r[s + j] -= fit
         if len(tail) > size:
             for j in range(s + size, min(n, s + len(tail))):
                 r[j] -= weights[k, 0] * tail[j - s]
