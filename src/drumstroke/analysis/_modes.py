@@ -13,54 +13,71 @@ from numba.extending import intrinsic
 
 from .._jit import jit
 
-@intrinsic
-def _gram_tile(typingctx, rows, width, count, i, j, gram):
-    """``gram[i:i + 4, j:j + 8] += rows[:count, i:i + 4].T @ rows[:count, j:j + 8]`` (both C-contiguous, ``width``
-    columns), each entry's products added by fused multiply-adds in row order from 0, as OpenBLAS's kernel adds them;
-    the 32 sums in 8 vector registers (numba vectorises no loop whose sums must stay in order)."""
-    if any(not isinstance(array, types.Array) or array.layout != "C" for array in (rows, gram)):
-        return None  # the loads read contiguous rows
-    sig = types.none(rows, width, count, i, j, gram)
+_VECTOR = ir.VectorType(ir.DoubleType(), 4)  # four doubles: AVX's registers
 
-    def codegen(context, builder, signature, args):
-        rows_array = context.make_array(signature.args[0])(context, builder, args[0])
-        gram_array = context.make_array(signature.args[5])(context, builder, args[5])
-        width, count, i, j = (context.cast(builder, value, kind, types.intp)
-                              for value, kind in zip(args[1:5], signature.args[1:5]))
-        double = ir.DoubleType()
-        vector = ir.VectorType(double, 4)
-        fma = cgutils.get_or_insert_function(builder.module, ir.FunctionType(vector, [vector] * 3), "llvm.fma.v4f64")
-        zero = ir.Constant(vector, [0.0] * 4)
-        sums = [[cgutils.alloca_once_value(builder, zero) for _ in range(2)] for _ in range(4)]
 
-        def at(data, index):
-            return builder.gep(data, [index])
+def _contiguous(*arrays):
+    """Whether each of the numba types ``arrays`` is a C-contiguous array (the intrinsics' loads read neighbours)."""
+    return all(isinstance(array, types.Array) and array.layout == "C" for array in arrays)
 
-        def load_vector(data, index):
-            return builder.load(builder.bitcast(at(data, index), vector.as_pointer()), align=8)
 
-        with cgutils.for_range(builder, count) as loop:
-            row = builder.mul(loop.index, width)
-            left = builder.add(row, i)
-            right = builder.add(row, j)
-            b = [load_vector(rows_array.data, right),
-                 load_vector(rows_array.data, builder.add(right, ir.Constant(right.type, 4)))]
+def _load_four(builder, data, index):
+    """The four doubles from ``data[index]`` (a pointer to double; no alignment assumed) as a vector."""
+    return builder.load(builder.bitcast(builder.gep(data, [index]), _VECTOR.as_pointer()), align=8)
+
+
+def _broadcast(builder, value):
+    """The double ``value`` in the four lanes of a vector."""
+    lanes = builder.insert_element(ir.Constant(_VECTOR, ir.Undefined), value, ir.Constant(ir.IntType(32), 0))
+    return builder.shuffle_vector(lanes, ir.Constant(_VECTOR, ir.Undefined),
+                                  ir.Constant(ir.VectorType(ir.IntType(32), 4), [0] * 4))
+
+
+def _gram_tile(halves):
+    """An intrinsic ``tile(rows, width, count, i, j, gram)``: ``gram[i:i + 4, j:j + 4 halves] += rows[:count, i:i +
+    4].T @ rows[:count, j:j + 4 halves]`` (both C-contiguous, ``width`` columns), each entry's products added by fused
+    multiply-adds in row order from 0, as OpenBLAS's kernel adds them; the sums in vector registers (numba vectorises
+    no loop whose sums must stay in order)."""
+
+    @intrinsic
+    def tile(typingctx, rows, width, count, i, j, gram):
+        if not _contiguous(rows, gram):
+            return None
+        sig = types.none(rows, width, count, i, j, gram)
+
+        def codegen(context, builder, signature, args):
+            rows_data = context.make_array(signature.args[0])(context, builder, args[0]).data
+            gram_data = context.make_array(signature.args[5])(context, builder, args[5]).data
+            width, count, i, j = (context.cast(builder, value, kind, types.intp)
+                                  for value, kind in zip(args[1:5], signature.args[1:5]))
+            fma = cgutils.get_or_insert_function(builder.module, ir.FunctionType(_VECTOR, [_VECTOR] * 3),
+                                                 "llvm.fma.v4f64")
+            sums = [[cgutils.alloca_once_value(builder, ir.Constant(_VECTOR, [0.0] * 4)) for _ in range(halves)]
+                    for _ in range(4)]
+            step = [ir.Constant(i.type, n) for n in range(8)]
+            with cgutils.for_range(builder, count) as loop:
+                row = builder.mul(loop.index, width)
+                left, right = builder.add(row, i), builder.add(row, j)
+                b = [_load_four(builder, rows_data, builder.add(right, step[4 * h])) for h in range(halves)]
+                for k in range(4):
+                    a = _broadcast(builder, builder.load(builder.gep(rows_data, [builder.add(left, step[k])])))
+                    for h in range(halves):
+                        builder.store(builder.call(fma, [a, b[h], builder.load(sums[k][h])]), sums[k][h])
             for k in range(4):
-                a = builder.load(at(rows_array.data, builder.add(left, ir.Constant(left.type, k))))
-                a = builder.shuffle_vector(builder.insert_element(ir.Constant(vector, ir.Undefined), a,
-                                                                  ir.Constant(ir.IntType(32), 0)),
-                                           ir.Constant(vector, ir.Undefined), ir.Constant(ir.VectorType(ir.IntType(32), 4), [0] * 4))
-                for h in range(2):
-                    builder.store(builder.call(fma, [a, b[h], builder.load(sums[k][h])]), sums[k][h])
-        for k in range(4):
-            row = builder.mul(builder.add(i, ir.Constant(i.type, k)), width)
-            for h in range(2):
-                index = builder.add(builder.add(row, j), ir.Constant(j.type, 4 * h))
-                pointer = builder.bitcast(at(gram_array.data, index), vector.as_pointer())
-                builder.store(builder.fadd(builder.load(pointer, align=8), builder.load(sums[k][h])), pointer, align=8)
-        return context.get_dummy_value()
+                row = builder.add(builder.mul(builder.add(i, step[k]), width), j)
+                for h in range(halves):
+                    pointer = builder.bitcast(builder.gep(gram_data, [builder.add(row, step[4 * h])]),
+                                              _VECTOR.as_pointer())
+                    builder.store(builder.fadd(builder.load(pointer, align=8), builder.load(sums[k][h])), pointer,
+                                  align=8)
+            return context.get_dummy_value()
 
-    return sig, codegen
+        return sig, codegen
+
+    return tile
+
+
+_GRAM_FOUR, _GRAM_EIGHT = _gram_tile(1), _gram_tile(2)
 
 
 @jit
@@ -83,7 +100,10 @@ def weighted_gram(x, weight, order, block):
                 rows[n - start, k] = x[n - k] * weight[n]
         for i in range(0, size, 4):
             for j in range(i, size, 8):
-                _gram_tile(rows, width, count, i, j, total)
+                if size - j > 4:
+                    _GRAM_EIGHT(rows, width, count, i, j, total)
+                else:  # the last four columns or fewer
+                    _GRAM_FOUR(rows, width, count, i, j, total)
     gram = np.empty((size, size))
     for i in range(size):
         for j in range(i, size):
@@ -100,32 +120,24 @@ def _five_window_sums(typingctx, x, first, t0, t1, size, out):
     The windows side by side in vector lanes (the first four, and the last four: the fifth), each lane's
     operations those of its own chain of additions.
     """
-    if any(not isinstance(array, types.Array) or array.layout != "C" for array in (x, t0, t1, out)):
-        return None  # the loads read contiguous samples
+    if not _contiguous(x, t0, t1, out):
+        return None
     sig = types.none(x, first, t0, t1, size, out)
 
     def codegen(context, builder, signature, args):
         x_data, t0_data, t1_data, out_data = (context.make_array(signature.args[n])(context, builder, args[n]).data
                                               for n in (0, 2, 3, 5))
         first, size = (context.cast(builder, args[n], signature.args[n], types.intp) for n in (1, 4))
-        index = first.type
-        vector = ir.VectorType(ir.DoubleType(), 4)
-        zero = ir.Constant(vector, [0.0] * 4)
-        dots0, dots1, even, odd = ([cgutils.alloca_once_value(builder, zero) for _ in range(2)] for _ in range(4))
 
         def constant(n):
-            return ir.Constant(index, n)
+            return ir.Constant(first.type, n)
+
+        zero = ir.Constant(_VECTOR, [0.0] * 4)
+        dots0, dots1, even, odd = ([cgutils.alloca_once_value(builder, zero) for _ in range(2)] for _ in range(4))
 
         def windows(j):  # x from j in the first four windows and in the last four
             at = builder.add(first, j)
-            return [builder.load(builder.bitcast(builder.gep(x_data, [builder.add(at, constant(k))]),
-                                                 vector.as_pointer()), align=8) for k in (0, 1)]
-
-        def broadcast(data, j):
-            value = builder.load(builder.gep(data, [j]))
-            lanes = builder.insert_element(ir.Constant(vector, ir.Undefined), value, ir.Constant(ir.IntType(32), 0))
-            return builder.shuffle_vector(lanes, ir.Constant(vector, ir.Undefined),
-                                          ir.Constant(ir.VectorType(ir.IntType(32), 4), [0] * 4))
+            return [_load_four(builder, x_data, builder.add(at, constant(k))) for k in (0, 1)]
 
         def add_to(sums, values, scale=None):
             for total, value in zip(sums, values):
@@ -134,8 +146,8 @@ def _five_window_sums(typingctx, x, first, t0, t1, size, out):
 
         def dot_step(j):
             values = windows(j)
-            add_to(dots0, values, broadcast(t0_data, j))
-            add_to(dots1, values, broadcast(t1_data, j))
+            add_to(dots0, values, _broadcast(builder, builder.load(builder.gep(t0_data, [j]))))
+            add_to(dots1, values, _broadcast(builder, builder.load(builder.gep(t1_data, [j]))))
 
         blocks = builder.sdiv(size, constant(8))
         with cgutils.for_range(builder, blocks) as loop:
@@ -179,33 +191,27 @@ def five_window_sums(x, first, t0, t1, size, out):
 def _four_lag_dots(typingctx, y, basis, lag, steps, out):
     """The first ``steps`` products of ``y`` from ``lag + l`` (for the four lanes ``l``) with each of ``basis``'s two
     columns (C-contiguous, shape (m, 2)), each lane's added in order from 0, into ``out[0:4]`` and ``out[4:8]``."""
-    if any(not isinstance(array, types.Array) or array.layout != "C" for array in (y, basis, out)):
-        return None  # the loads read contiguous samples
+    if not _contiguous(y, basis, out):
+        return None
     sig = types.none(y, basis, lag, steps, out)
 
     def codegen(context, builder, signature, args):
         y_data, basis_data, out_data = (context.make_array(signature.args[n])(context, builder, args[n]).data
                                         for n in (0, 1, 4))
         lag, steps = (context.cast(builder, args[n], signature.args[n], types.intp) for n in (2, 3))
-        index = lag.type
-        vector = ir.VectorType(ir.DoubleType(), 4)
-        sums = [cgutils.alloca_once_value(builder, ir.Constant(vector, [0.0] * 4)) for _ in range(2)]
+        sums = [cgutils.alloca_once_value(builder, ir.Constant(_VECTOR, [0.0] * 4)) for _ in range(2)]
         with cgutils.for_range(builder, steps) as loop:
-            j = loop.index
-            values = builder.load(builder.bitcast(builder.gep(y_data, [builder.add(lag, j)]), vector.as_pointer()),
-                                  align=8)
+            values = _load_four(builder, y_data, builder.add(lag, loop.index))
+            row = builder.mul(loop.index, ir.Constant(lag.type, 2))
             for q in range(2):
-                scale = builder.load(builder.gep(basis_data, [builder.add(builder.mul(j, ir.Constant(index, 2)),
-                                                                          ir.Constant(index, q))]))
-                lanes = builder.insert_element(ir.Constant(vector, ir.Undefined), scale, ir.Constant(ir.IntType(32), 0))
-                scale = builder.shuffle_vector(lanes, ir.Constant(vector, ir.Undefined),
-                                               ir.Constant(ir.VectorType(ir.IntType(32), 4), [0] * 4))
-                builder.store(builder.fadd(builder.load(sums[q]), builder.fmul(values, scale)), sums[q])
+                scale = builder.load(builder.gep(basis_data, [builder.add(row, ir.Constant(lag.type, q))]))
+                builder.store(builder.fadd(builder.load(sums[q]), builder.fmul(values, _broadcast(builder, scale))),
+                              sums[q])
         for q in range(2):
             total = builder.load(sums[q])
             for lane in range(4):
                 builder.store(builder.extract_element(total, ir.Constant(ir.IntType(32), lane)),
-                              builder.gep(out_data, [ir.Constant(index, 4 * q + lane)]))
+                              builder.gep(out_data, [ir.Constant(lag.type, 4 * q + lane)]))
         return context.get_dummy_value()
 
     return sig, codegen
