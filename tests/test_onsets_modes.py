@@ -145,3 +145,19 @@ def test_levinson_says_when_a_principal_minor_is_singular():
     assert not solved
     _, solved = _modes.levinson(np.array([1.0, 1.0, 0.5]), np.ones(3))  # [[1, 1], [1, 1]] leads
     assert not solved
+
+
+def test_upsampled_peak_sums_each_output_in_order(rng):
+    from scipy.signal import upfirdn
+
+    for trial in range(300):
+        h = rng.standard_normal(81 if trial % 2 else int(rng.integers(1, 30)))
+        x = uneven_noise(rng, int(rng.integers(1, 20)))
+        outputs = []
+        for n in range((len(x) - 1) * 4 + len(h)):  # each output's products in order of x's samples, in Python's floats
+            total = 0.0
+            for m in range(max(0, (n - len(h)) // 4 + 1), min(len(x), n // 4 + 1)):
+                total += float(x[m]) * float(h[n - 4 * m])
+            outputs.append(abs(total))
+        assert _modes.upsampled_peak(h, x) == max(outputs, default=0.0)
+        assert _modes.upsampled_peak(h, x) == pytest.approx(np.abs(upfirdn(h, x, 4)).max(), rel=1e-12, abs=1e-300)

@@ -11,7 +11,7 @@ import math
 import numpy as np
 
 from .._jit import jit
-from ._modes import five_window_sums, trial_dots
+from ._modes import five_window_sums, trial_dots, upsampled_peak
 
 
 @jit
@@ -181,19 +181,6 @@ def low_pass_two_loop(sos, q, other, q_other, x, unit):
             skip_other = q_other
         skip_other -= 1
     return out, out_other
-
-
-@jit
-def upsampled_peak(h, x):
-    """``np.abs(scipy.signal.upfirdn(h, x, 4)).max()``: the largest magnitude of ``x`` upsampled 4 times by the FIR ``h``
-    (summed in another order: the same to rounding)."""
-    best = 0.0
-    for n in range((len(x) - 1) * 4 + len(h)):
-        total = 0.0
-        for m in range(max(0, (n - len(h)) // 4 + 1), min(len(x), n // 4 + 1)):
-            total += x[m] * h[n - 4 * m]
-        best = max(best, abs(total))
-    return best
 
 
 @jit

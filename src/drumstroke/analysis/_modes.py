@@ -329,3 +329,51 @@ def levinson(r, b):
             h[k] = hk - (c2 * gj)
             k -= 1
     return x, True
+
+
+@intrinsic
+def _four_phase_sums(typingctx, x, h, p, low, high, out):
+    """``out[r] += x[m] h[4 (p - m) + r]`` for ``m`` from ``low`` to ``high - 1`` in order, the four phases ``r`` side by
+    side in vector lanes (``h[4 (p - low) + 3]`` must exist)."""
+    if not _contiguous(x, h, out):
+        return None
+    sig = types.none(x, h, p, low, high, out)
+
+    def codegen(context, builder, signature, args):
+        x_data, h_data, out_data = (context.make_array(signature.args[n])(context, builder, args[n]).data
+                                    for n in (0, 1, 5))
+        p, low, high = (context.cast(builder, args[n], signature.args[n], types.intp) for n in (2, 3, 4))
+        total = cgutils.alloca_once_value(builder, _load_four(builder, out_data, ir.Constant(p.type, 0)))
+        with cgutils.for_range(builder, builder.sub(high, low)) as loop:
+            m = builder.add(low, loop.index)
+            taps = _load_four(builder, h_data, builder.mul(builder.sub(p, m), ir.Constant(p.type, 4)))
+            value = _broadcast(builder, builder.load(builder.gep(x_data, [m])))
+            builder.store(builder.fadd(builder.load(total), builder.fmul(value, taps)), total)
+        builder.store(builder.load(total), builder.bitcast(out_data, _VECTOR.as_pointer()), align=8)
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
+@jit
+def upsampled_peak(h, x):
+    """``np.abs(scipy.signal.upfirdn(h, x, 4)).max()``: the largest magnitude of ``x`` upsampled 4 times by the FIR ``h``
+    (each output's products added in order of ``x``'s samples: numpy's to rounding).
+
+    Each four outputs ``4 p + r`` side by side in vector lanes: their taps ``h[4 (p - m) + r]`` are neighbours. With
+    ``len(h) = 4 a + b``, the phases ``r < b`` start a sample earlier (``p - a``): that product first.
+    """
+    a, b = len(h) // 4, len(h) % 4
+    best = 0.0
+    total = np.empty(4)
+    for p in range(((len(x) - 1) * 4 + len(h) - 1) // 4 + 1):  # (outputs past the last: empty sums, 0)
+        low, high = max(0, p - a + 1), min(len(x), p + 1)
+        for r in range(4):
+            total[r] = 0.0
+            if r < b and 0 <= p - a < high:
+                total[r] += x[p - a] * h[4 * a + r]
+        if low < high:
+            _four_phase_sums(x, h, p, low, high, total)
+        for r in range(4):
+            best = max(best, abs(total[r]))
+    return best
