@@ -33,11 +33,12 @@ def _broadcast(builder, value):
                                   ir.Constant(ir.VectorType(ir.IntType(32), 4), [0] * 4))
 
 
-def _gram_tile(halves):
-    """An intrinsic ``tile(rows, width, count, i, j, gram)``: ``gram[i:i + 4, j:j + 4 halves] += rows[:count, i:i +
-    4].T @ rows[:count, j:j + 4 halves]`` (both C-contiguous, ``width`` columns), each entry's products added by fused
-    multiply-adds in row order from 0, as OpenBLAS's kernel adds them; the sums in vector registers (numba vectorises
-    no loop whose sums must stay in order)."""
+def _gram_tile(height, lanes, vectors=1):
+    """An intrinsic ``tile(rows, width, count, i, j, gram)``: ``gram[i:i + height, j:j + columns] += rows[:count, i:i +
+    height].T @ rows[:count, j:j + columns]`` (both C-contiguous, ``width`` columns; ``columns``: ``vectors`` vectors
+    of ``lanes``), each entry's products added by fused multiply-adds in row order from 0, as OpenBLAS's kernel adds
+    them; the sums in vector registers (numba vectorises no loop whose sums must stay in order)."""
+    vector = ir.VectorType(ir.DoubleType(), lanes)
 
     @intrinsic
     def tile(typingctx, rows, width, count, i, j, gram):
@@ -50,24 +51,33 @@ def _gram_tile(halves):
             gram_data = context.make_array(signature.args[5])(context, builder, args[5]).data
             width, count, i, j = (context.cast(builder, value, kind, types.intp)
                                   for value, kind in zip(args[1:5], signature.args[1:5]))
-            fma = cgutils.get_or_insert_function(builder.module, ir.FunctionType(_VECTOR, [_VECTOR] * 3),
-                                                 "llvm.fma.v4f64")
-            sums = [[cgutils.alloca_once_value(builder, ir.Constant(_VECTOR, [0.0] * 4)) for _ in range(halves)]
-                    for _ in range(4)]
-            step = [ir.Constant(i.type, n) for n in range(8)]
+            fma = cgutils.get_or_insert_function(builder.module, ir.FunctionType(vector, [vector] * 3),
+                                                 f"llvm.fma.v{lanes}f64")
+            sums = [[cgutils.alloca_once_value(builder, ir.Constant(vector, [0.0] * lanes)) for _ in range(vectors)]
+                    for _ in range(height)]
+
+            def load(data, index):
+                return builder.load(builder.bitcast(builder.gep(data, [index]), vector.as_pointer()), align=8)
+
+            def broadcast(value):
+                value = builder.insert_element(ir.Constant(vector, ir.Undefined), value, ir.Constant(ir.IntType(32), 0))
+                return builder.shuffle_vector(value, ir.Constant(vector, ir.Undefined),
+                                              ir.Constant(ir.VectorType(ir.IntType(32), lanes), [0] * lanes))
+
             with cgutils.for_range(builder, count) as loop:
                 row = builder.mul(loop.index, width)
-                left, right = builder.add(row, i), builder.add(row, j)
-                b = [_load_four(builder, rows_data, builder.add(right, step[4 * h])) for h in range(halves)]
-                for k in range(4):
-                    a = _broadcast(builder, builder.load(builder.gep(rows_data, [builder.add(left, step[k])])))
-                    for h in range(halves):
+                left = builder.add(row, i)
+                right = builder.add(row, j)
+                b = [load(rows_data, builder.add(right, ir.Constant(j.type, lanes * h))) for h in range(vectors)]
+                for k in range(height):
+                    a = broadcast(builder.load(builder.gep(rows_data, [builder.add(left, ir.Constant(i.type, k))])))
+                    for h in range(vectors):
                         builder.store(builder.call(fma, [a, b[h], builder.load(sums[k][h])]), sums[k][h])
-            for k in range(4):
-                row = builder.add(builder.mul(builder.add(i, step[k]), width), j)
-                for h in range(halves):
-                    pointer = builder.bitcast(builder.gep(gram_data, [builder.add(row, step[4 * h])]),
-                                              _VECTOR.as_pointer())
+            for k in range(height):
+                row = builder.add(builder.mul(builder.add(i, ir.Constant(i.type, k)), width), j)
+                for h in range(vectors):
+                    pointer = builder.bitcast(builder.gep(gram_data, [builder.add(row, ir.Constant(j.type, lanes * h))]),
+                                              vector.as_pointer())
                     builder.store(builder.fadd(builder.load(pointer, align=8), builder.load(sums[k][h])), pointer,
                                   align=8)
             return context.get_dummy_value()
@@ -77,7 +87,18 @@ def _gram_tile(halves):
     return tile
 
 
-_GRAM_FOUR, _GRAM_EIGHT = _gram_tile(1), _gram_tile(2)
+def _wide_vectors():
+    """Whether the compiled code may use AVX-512's 32 registers of 8 doubles (numba's target: this processor, or the
+    one its settings name)."""
+    from llvmlite import binding
+    from numba.core import config
+
+    return "+avx512f" in (config.CPU_FEATURES or binding.get_host_cpu_features().flatten())
+
+
+# the normal equations' tile: 16 sums of 8 lanes with AVX-512, 8 of 4 with AVX (more would spill from the registers)
+_TILE_ROWS, _TILE_COLUMNS = (8, 16) if _wide_vectors() else (4, 8)
+_GRAM_TILE = _gram_tile(_TILE_ROWS, _TILE_COLUMNS // 2, 2)
 
 
 @jit
@@ -90,7 +111,8 @@ def weighted_gram(x, weight, order, block):
     lower's are the same: a fused multiply-add's two factors commute).
     """
     size = order + 1
-    width = size + 7  # whole tiles from the diagonal on: the padding's columns stay 0 and its sums are not read
+    # whole tiles from the diagonal on: the padding's columns stay 0 and their sums are not read
+    width = size + max(_TILE_ROWS, _TILE_COLUMNS) - 1
     rows = np.zeros((block, width))
     total = np.zeros((width, width))
     for start in range(order, len(x), block):
@@ -98,12 +120,9 @@ def weighted_gram(x, weight, order, block):
         for n in range(start, start + count):
             for k in range(size):
                 rows[n - start, k] = x[n - k] * weight[n]
-        for i in range(0, size, 4):
-            for j in range(i, size, 8):
-                if size - j > 4:
-                    _GRAM_EIGHT(rows, width, count, i, j, total)
-                else:  # the last four columns or fewer
-                    _GRAM_FOUR(rows, width, count, i, j, total)
+        for i in range(0, size, _TILE_ROWS):
+            for j in range(i, size, _TILE_COLUMNS):
+                _GRAM_TILE(rows, width, count, i, j, total)
     gram = np.empty((size, size))
     for i in range(size):
         for j in range(i, size):
