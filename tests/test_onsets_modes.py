@@ -121,7 +121,8 @@ def test_measured_at_is_the_numpy_code(rng):
         times = np.sort(np.concatenate((rng.choice(found, min(count // 3, len(found)), replace=False),
                                         rng.uniform(-20, 420, count))))  # some of them found ones
         reach = float(rng.choice([0.0, 3.0, 48.0]))
-        np.testing.assert_array_equal(_modes.measured_at(times, found, reach), _measured_at_in_numpy(times, found, reach))
+        want = _measured_at_in_numpy(times, found, reach)
+        np.testing.assert_array_equal(_modes.measured_at(times, found, reach), want)
 
 
 def test_levinson_is_scipys_solve_toeplitz(rng):
@@ -141,7 +142,7 @@ def test_levinson_is_scipys_solve_toeplitz(rng):
 
 
 def test_levinson_says_when_a_principal_minor_is_singular():
-    x, solved = _modes.levinson(np.array([0.0, 1.0]), np.ones(2))
+    _, solved = _modes.levinson(np.array([0.0, 1.0]), np.ones(2))
     assert not solved
     _, solved = _modes.levinson(np.array([1.0, 1.0, 0.5]), np.ones(3))  # [[1, 1], [1, 1]] leads
     assert not solved

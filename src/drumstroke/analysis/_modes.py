@@ -21,16 +21,16 @@ def _contiguous(*arrays):
     return all(isinstance(array, types.Array) and array.layout == "C" for array in arrays)
 
 
-def _load_four(builder, data, index):
-    """The four doubles from ``data[index]`` (a pointer to double; no alignment assumed) as a vector."""
-    return builder.load(builder.bitcast(builder.gep(data, [index]), _VECTOR.as_pointer()), align=8)
+def _load_vector(builder, data, index, vector=_VECTOR):
+    """The doubles from ``data[index]`` (a pointer to double; no alignment assumed) as a ``vector``."""
+    return builder.load(builder.bitcast(builder.gep(data, [index]), vector.as_pointer()), align=8)
 
 
-def _broadcast(builder, value):
-    """The double ``value`` in the four lanes of a vector."""
-    lanes = builder.insert_element(ir.Constant(_VECTOR, ir.Undefined), value, ir.Constant(ir.IntType(32), 0))
-    return builder.shuffle_vector(lanes, ir.Constant(_VECTOR, ir.Undefined),
-                                  ir.Constant(ir.VectorType(ir.IntType(32), 4), [0] * 4))
+def _broadcast(builder, value, vector=_VECTOR):
+    """The double ``value`` in each lane of a ``vector``."""
+    lanes = builder.insert_element(ir.Constant(vector, ir.Undefined), value, ir.Constant(ir.IntType(32), 0))
+    return builder.shuffle_vector(lanes, ir.Constant(vector, ir.Undefined),
+                                  ir.Constant(ir.VectorType(ir.IntType(32), vector.count), [0] * vector.count))
 
 
 def _gram_tile(height, lanes, vectors=1):
@@ -56,28 +56,22 @@ def _gram_tile(height, lanes, vectors=1):
             sums = [[cgutils.alloca_once_value(builder, ir.Constant(vector, [0.0] * lanes)) for _ in range(vectors)]
                     for _ in range(height)]
 
-            def load(data, index):
-                return builder.load(builder.bitcast(builder.gep(data, [index]), vector.as_pointer()), align=8)
-
-            def broadcast(value):
-                value = builder.insert_element(ir.Constant(vector, ir.Undefined), value, ir.Constant(ir.IntType(32), 0))
-                return builder.shuffle_vector(value, ir.Constant(vector, ir.Undefined),
-                                              ir.Constant(ir.VectorType(ir.IntType(32), lanes), [0] * lanes))
-
             with cgutils.for_range(builder, count) as loop:
                 row = builder.mul(loop.index, width)
                 left = builder.add(row, i)
                 right = builder.add(row, j)
-                b = [load(rows_data, builder.add(right, ir.Constant(j.type, lanes * h))) for h in range(vectors)]
+                b = [_load_vector(builder, rows_data, builder.add(right, ir.Constant(j.type, lanes * h)), vector)
+                     for h in range(vectors)]
                 for k in range(height):
-                    a = broadcast(builder.load(builder.gep(rows_data, [builder.add(left, ir.Constant(i.type, k))])))
+                    a = builder.load(builder.gep(rows_data, [builder.add(left, ir.Constant(i.type, k))]))
+                    a = _broadcast(builder, a, vector)
                     for h in range(vectors):
                         builder.store(builder.call(fma, [a, b[h], builder.load(sums[k][h])]), sums[k][h])
             for k in range(height):
                 row = builder.add(builder.mul(builder.add(i, ir.Constant(i.type, k)), width), j)
                 for h in range(vectors):
-                    pointer = builder.bitcast(builder.gep(gram_data, [builder.add(row, ir.Constant(j.type, lanes * h))]),
-                                              vector.as_pointer())
+                    at = builder.gep(gram_data, [builder.add(row, ir.Constant(j.type, lanes * h))])
+                    pointer = builder.bitcast(at, vector.as_pointer())
                     builder.store(builder.fadd(builder.load(pointer, align=8), builder.load(sums[k][h])), pointer,
                                   align=8)
             return context.get_dummy_value()
@@ -156,7 +150,7 @@ def _five_window_sums(typingctx, x, first, t0, t1, size, out):
 
         def windows(j):  # x from j in the first four windows and in the last four
             at = builder.add(first, j)
-            return [_load_four(builder, x_data, builder.add(at, constant(k))) for k in (0, 1)]
+            return [_load_vector(builder, x_data, builder.add(at, constant(k))) for k in (0, 1)]
 
         def add_to(sums, values, scale=None):
             for total, value in zip(sums, values):
@@ -220,7 +214,7 @@ def _four_lag_dots(typingctx, y, basis, lag, steps, out):
         lag, steps = (context.cast(builder, args[n], signature.args[n], types.intp) for n in (2, 3))
         sums = [cgutils.alloca_once_value(builder, ir.Constant(_VECTOR, [0.0] * 4)) for _ in range(2)]
         with cgutils.for_range(builder, steps) as loop:
-            values = _load_four(builder, y_data, builder.add(lag, loop.index))
+            values = _load_vector(builder, y_data, builder.add(lag, loop.index))
             row = builder.mul(loop.index, ir.Constant(lag.type, 2))
             for q in range(2):
                 scale = builder.load(builder.gep(basis_data, [builder.add(row, ir.Constant(lag.type, q))]))
@@ -257,13 +251,13 @@ def trial_dots(y, basis, first, count, b0, b1):
                 s1 += y[lag + lane + j] * basis[j, 1]
             b0[k + lane], b1[k + lane] = s0, s1
         k += 4
-    for k in range(k, count):
-        lag = first + k
+    for rest in range(k, count):
+        lag = first + rest
         s0, s1 = 0.0, 0.0
         for j in range(size - lag):
             s0 += y[lag + j] * basis[j, 0]
             s1 += y[lag + j] * basis[j, 1]
-        b0[k], b1[k] = s0, s1
+        b0[rest], b1[rest] = s0, s1
 
 
 @jit
@@ -362,10 +356,10 @@ def _four_phase_sums(typingctx, x, h, p, low, high, out):
         x_data, h_data, out_data = (context.make_array(signature.args[n])(context, builder, args[n]).data
                                     for n in (0, 1, 5))
         p, low, high = (context.cast(builder, args[n], signature.args[n], types.intp) for n in (2, 3, 4))
-        total = cgutils.alloca_once_value(builder, _load_four(builder, out_data, ir.Constant(p.type, 0)))
+        total = cgutils.alloca_once_value(builder, _load_vector(builder, out_data, ir.Constant(p.type, 0)))
         with cgutils.for_range(builder, builder.sub(high, low)) as loop:
             m = builder.add(low, loop.index)
-            taps = _load_four(builder, h_data, builder.mul(builder.sub(p, m), ir.Constant(p.type, 4)))
+            taps = _load_vector(builder, h_data, builder.mul(builder.sub(p, m), ir.Constant(p.type, 4)))
             value = _broadcast(builder, builder.load(builder.gep(x_data, [m])))
             builder.store(builder.fadd(builder.load(total), builder.fmul(value, taps)), total)
         builder.store(builder.load(total), builder.bitcast(out_data, _VECTOR.as_pointer()), align=8)
