@@ -93,6 +93,7 @@ def _wide_vectors():
 # the normal equations' tile: 16 sums of 8 lanes with AVX-512, 8 of 4 with AVX (more would spill from the registers)
 _TILE_ROWS, _TILE_COLUMNS = (8, 16) if _wide_vectors() else (4, 8)
 _GRAM_TILE = _gram_tile(_TILE_ROWS, _TILE_COLUMNS // 2, 2)
+_GRAM_HALF_TILE = _gram_tile(_TILE_ROWS, _TILE_COLUMNS // 2)  # a strip's last columns, half a tile's or fewer
 
 
 @jit
@@ -116,7 +117,10 @@ def weighted_gram(x, weight, order, block):
                 rows[n - start, k] = x[n - k] * weight[n]
         for i in range(0, size, _TILE_ROWS):
             for j in range(i, size, _TILE_COLUMNS):
-                _GRAM_TILE(rows, width, count, i, j, total)
+                if size - j > _TILE_COLUMNS // 2:
+                    _GRAM_TILE(rows, width, count, i, j, total)
+                else:
+                    _GRAM_HALF_TILE(rows, width, count, i, j, total)
     gram = np.empty((size, size))
     for i in range(size):
         for j in range(i, size):
