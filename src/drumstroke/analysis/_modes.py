@@ -204,10 +204,15 @@ def five_window_sums(x, first, t0, t1, size, out):
     _five_window_sums(x, first, t0, t1, size, out)
 
 
+_LAGS = 8  # lags side by side: one AVX-512 register, or two AVX ones (two chains of additions in turn)
+_LAG_VECTOR = ir.VectorType(ir.DoubleType(), _LAGS)
+
+
 @intrinsic
-def _four_lag_dots(typingctx, y, basis, lag, steps, out):
-    """The first ``steps`` products of ``y`` from ``lag + l`` (for the four lanes ``l``) with each of ``basis``'s two
-    columns (C-contiguous, shape (m, 2)), each lane's added in order from 0, into ``out[0:4]`` and ``out[4:8]``."""
+def _lag_dots(typingctx, y, basis, lag, steps, out):
+    """The first ``steps`` products of ``y`` from ``lag + l`` (for the :data:`_LAGS` lanes ``l``) with each of
+    ``basis``'s two columns (C-contiguous, shape (m, 2)), each lane's added in order from 0, into ``out[:_LAGS]`` and
+    ``out[_LAGS:]``."""
     if not _contiguous(y, basis, out):
         return None
     sig = types.none(y, basis, lag, steps, out)
@@ -216,19 +221,19 @@ def _four_lag_dots(typingctx, y, basis, lag, steps, out):
         y_data, basis_data, out_data = (context.make_array(signature.args[n])(context, builder, args[n]).data
                                         for n in (0, 1, 4))
         lag, steps = (context.cast(builder, args[n], signature.args[n], types.intp) for n in (2, 3))
-        sums = [cgutils.alloca_once_value(builder, ir.Constant(_VECTOR, [0.0] * 4)) for _ in range(2)]
+        sums = [cgutils.alloca_once_value(builder, ir.Constant(_LAG_VECTOR, [0.0] * _LAGS)) for _ in range(2)]
         with cgutils.for_range(builder, steps) as loop:
-            values = _load_vector(builder, y_data, builder.add(lag, loop.index))
+            values = _load_vector(builder, y_data, builder.add(lag, loop.index), _LAG_VECTOR)
             row = builder.mul(loop.index, ir.Constant(lag.type, 2))
             for q in range(2):
                 scale = builder.load(builder.gep(basis_data, [builder.add(row, ir.Constant(lag.type, q))]))
-                builder.store(builder.fadd(builder.load(sums[q]), builder.fmul(values, _broadcast(builder, scale))),
-                              sums[q])
+                scale = _broadcast(builder, scale, _LAG_VECTOR)
+                builder.store(builder.fadd(builder.load(sums[q]), builder.fmul(values, scale)), sums[q])
         for q in range(2):
             total = builder.load(sums[q])
-            for lane in range(4):
+            for lane in range(_LAGS):
                 builder.store(builder.extract_element(total, ir.Constant(ir.IntType(32), lane)),
-                              builder.gep(out_data, [ir.Constant(lag.type, 4 * q + lane)]))
+                              builder.gep(out_data, [ir.Constant(lag.type, _LAGS * q + lane)]))
         return context.get_dummy_value()
 
     return sig, codegen
@@ -240,21 +245,23 @@ def trial_dots(y, basis, first, count, b0, b1):
     ``basis`` (C-contiguous, shape (m, 2), ``m`` ≥ ``len(y) - first``), each added in order, for ``k`` below ``count``
     (lags within ``y``).
 
-    Four lags side by side in vector lanes over the products all four have, each lane's last products after.
+    :data:`_LAGS` lags side by side in vector lanes over the products all of them have, each lane's last products
+    after.
     """
     size = len(y)
-    sums = np.empty(8)
+    sums = np.empty(2 * _LAGS)
     k = 0
-    while k + 4 <= count and size - (first + k) - 3 > 0:
+    while k + _LAGS <= count and size - (first + k) - (_LAGS - 1) > 0:
         lag = first + k
-        _four_lag_dots(y, basis, lag, size - lag - 3, sums)
-        for lane in range(4):
-            s0, s1 = sums[lane], sums[4 + lane]
-            for j in range(size - lag - 3, size - lag - lane):
+        common = size - lag - (_LAGS - 1)
+        _lag_dots(y, basis, lag, common, sums)
+        for lane in range(_LAGS):
+            s0, s1 = sums[lane], sums[_LAGS + lane]
+            for j in range(common, size - lag - lane):
                 s0 += y[lag + lane + j] * basis[j, 0]
                 s1 += y[lag + lane + j] * basis[j, 1]
             b0[k + lane], b1[k + lane] = s0, s1
-        k += 4
+        k += _LAGS
     for rest in range(k, count):
         lag = first + rest
         s0, s1 = 0.0, 0.0
