@@ -162,3 +162,60 @@ def test_upsampled_peak_sums_each_output_in_order(rng):
             outputs.append(abs(total))
         assert _modes.upsampled_peak(h, x) == max(outputs, default=0.0)
         assert _modes.upsampled_peak(h, x) == pytest.approx(np.abs(upfirdn(h, x, 4)).max(), rel=1e-12, abs=1e-300)
+
+
+def _pursued_in_python(r, centres, basis, gram, solve, head, head_norm, lead):
+    """The pursuit's fits as its loops were written, in Python's floats (each window's products in order, its squares
+    and the cost's last product in numpy's einsum order): likenesses, places, starts, scales; ``r`` less the fits."""
+    size, n = len(basis), len(r)
+    out = []
+    for c in centres:
+        first, last = max(c - lead - 2, 0), min(c - lead + 2, n - size)
+        like, costs, weights = -np.inf, [], []
+        for s in range(first, last + 1):
+            window = r[s:s + size]
+            dot = _in_order(r[s:s + len(head)], head)
+            like = max(like, abs(dot) / (np.sqrt(np.einsum("i,i->", r[s:s + len(head)], r[s:s + len(head)])) * head_norm
+                                         + 1e-300))
+            w = [_in_order(window, solve[q]) for q in range(2)]
+            fitted = [0.0, 0.0]
+            for q in range(2):
+                for p in range(2):
+                    fitted[q] += w[p] * gram[p, q]
+            costs.append(np.einsum("i,i->", window, window) - np.einsum("i,i->", np.array(w), np.array(fitted)))
+            weights.append(w)
+        k = int(np.argmin(costs))  # the first of the least
+        s, (w0, w1) = first + k, weights[k]
+        for j in range(size):
+            fit = 0.0
+            for q, w in enumerate((w0, w1)):
+                fit += basis[j, q] * w
+            r[s + j] -= fit
+        shift = -w1 / w0 if w0 != 0.0 else 0.0
+        out.append((like, s + lead + min(max(shift, -1.0), 1.0), s, w0))
+    return out
+
+
+def test_pursuit_fits_as_its_loops_in_python(rng):
+    from drumstroke.analysis._kernels import pursue
+
+    for trial in range(20):
+        e = uneven_noise(rng, 400)
+        template = rng.standard_normal(30) * np.exp(-np.arange(30) / 8.0)  # a spike and its decay
+        basis = np.column_stack([template, np.gradient(template)])
+        gram = basis.T @ basis
+        solve = np.ascontiguousarray(np.linalg.solve(gram, basis.T))
+        head = template[:8].copy()
+        head_norm = float(np.sqrt(head @ head))
+        # onsets with five alignments, and fewer at the ends
+        centres = rng.choice(np.arange(5, 370), 6, replace=False)
+        centres = np.unique(np.concatenate((centres, [2, 374] if trial % 2 else []))).astype(np.int64)
+        r, want_r = e.copy(), e.copy()
+        _, likeness, where, at, amp = pursue(r, centres.astype(float), centres, basis, gram, solve, head, head_norm, 2,
+                                             4, np.empty(0), 0.0)
+        want = _pursued_in_python(want_r, centres, basis, gram, solve, head, head_norm, 2)
+        np.testing.assert_array_equal(r, want_r)
+        np.testing.assert_array_equal(likeness, [w[0] for w in want])
+        np.testing.assert_array_equal(where, [w[1] for w in want])
+        np.testing.assert_array_equal(at, [w[2] for w in want])
+        np.testing.assert_array_equal(amp, [w[3] for w in want])
