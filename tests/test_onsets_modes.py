@@ -219,3 +219,19 @@ def test_pursuit_fits_as_its_loops_in_python(rng):
         np.testing.assert_array_equal(where, [w[1] for w in want])
         np.testing.assert_array_equal(at, [w[2] for w in want])
         np.testing.assert_array_equal(amp, [w[3] for w in want])
+
+
+def test_reweighting_is_scipys_uniform_filter_and_numpys_mean(rng):
+    from scipy.ndimage import uniform_filter1d
+
+    for n in (1, 2, 3, 4, 5, 8, 9, 17, 128, 129, 1000, 10_000, 12_345):
+        first = uneven_noise(rng, n)
+        power = np.maximum(uniform_filter1d(first * first, 9), 0.0)
+        np.testing.assert_array_equal(_modes.reweighting(first, 9),
+                                      1.0 / np.sqrt(power + 1e-12 * power.mean() + 1e-300))
+
+
+def test_pairwise_sum_is_numpys(rng):
+    for n in [1, 7, 8, 9, 127, 128, 129, 135, 256, 257, 1000, 10_000, 65_537]:
+        x = uneven_noise(rng, n)
+        assert _modes._pairwise_sum(x) == np.add.reduce(x)

@@ -401,3 +401,83 @@ def upsampled_peak(h, x):
         for r in range(4):
             best = max(best, abs(total[r]))
     return best
+
+
+@jit
+def _block_sum(a, low, n):
+    """``np.add.reduce`` of ``a[low:low + n]`` (``n`` ≤ 128) as numpy adds a contiguous block: in 8 lanes."""
+    if n < 8:
+        total = -0.0
+        for i in range(low, low + n):
+            total += a[i]
+        return total
+    r0, r1, r2, r3 = a[low], a[low + 1], a[low + 2], a[low + 3]
+    r4, r5, r6, r7 = a[low + 4], a[low + 5], a[low + 6], a[low + 7]
+    i = 8
+    while i < n - n % 8:
+        r0, r1, r2, r3 = r0 + a[low + i], r1 + a[low + i + 1], r2 + a[low + i + 2], r3 + a[low + i + 3]
+        r4, r5, r6, r7 = r4 + a[low + i + 4], r5 + a[low + i + 5], r6 + a[low + i + 6], r7 + a[low + i + 7]
+        i += 8
+    total = ((r0 + r1) + (r2 + r3)) + ((r4 + r5) + (r6 + r7))
+    for j in range(low + i, low + n):
+        total += a[j]
+    return total
+
+
+@jit
+def _pairwise_sum(a):
+    """``np.add.reduce(a)`` as numpy adds a contiguous array: halves (their split a multiple of 8) down to blocks of 128
+    or fewer (:func:`_block_sum`), each half's sum added to the other's; its recursion walked with a stack (numba's
+    cache does not load a recursive function)."""
+    lows, counts, stages = np.empty(64, dtype=np.int64), np.empty(64, dtype=np.int64), np.zeros(64, dtype=np.int64)
+    lefts = np.empty(64)
+    lows[0], counts[0], depth, total = 0, len(a), 0, 0.0
+    while depth >= 0:
+        low, n = lows[depth], counts[depth]
+        if n <= 128:
+            total = _block_sum(a, low, n)
+            depth -= 1
+            continue
+        half = n // 2 - (n // 2) % 8
+        if stages[depth] == 0:  # the first half next
+            stages[depth] = 1
+            lows[depth + 1], counts[depth + 1], stages[depth + 1] = low, half, 0
+            depth += 1
+        elif stages[depth] == 1:  # the first half's sum kept, the second half next
+            lefts[depth], stages[depth] = total, 2
+            lows[depth + 1], counts[depth + 1], stages[depth + 1] = low + half, n - half, 0
+            depth += 1
+        else:
+            total = lefts[depth] + total
+            depth -= 1
+    return total
+
+
+@jit
+def reweighting(e, size):
+    """The weights of :func:`.onsets._robust_innovation`'s second fit: ``1 / sqrt(p + 1e-12 mean(p) + 1e-300)`` of the
+    local power ``p = max(scipy.ndimage.uniform_filter1d(e * e, size), 0)`` (its running sum, at the ends the
+    samples reflected), the same operations in the same order."""
+    n = len(e)
+    before = size // 2
+    padded = np.empty(n + size - 1)  # e * e, reflected past the ends (as np.pad's "symmetric", again and again)
+    for i in range(n + size - 1):
+        k = i - before
+        while k < 0 or k >= n:
+            k = -k - 1 if k < 0 else 2 * n - k - 1
+        padded[i] = e[k] * e[k]
+    power = np.empty(n)
+    total = 0.0
+    for i in range(size):
+        total += padded[i]
+    power[0] = total / size
+    for i in range(1, n):
+        total += padded[i + size - 1] - padded[i - 1]
+        power[i] = total / size
+    for i in range(n):
+        power[i] = max(power[i], 0.0)  # np.maximum's: a NaN stays (the running sum is never -0)
+    floor = 1e-12 * ((0.0 + _pairwise_sum(power)) / n)  # numpy's mean: the sum from 0, over the count
+    weight = np.empty(n)
+    for i in range(n):
+        weight[i] = 1.0 / np.sqrt(power[i] + floor + 1e-300)
+    return weight

@@ -2010,16 +2010,13 @@ def _robust_innovation(x, order):
 
     Returns its error filter's coefficients and what it does not predict (as :func:`_innovation`).
     """
-    from scipy.ndimage import uniform_filter1d
-
     from ._kernels import prediction_error
-    from ._modes import weighted_gram
+    from ._modes import reweighting, weighted_gram
 
     x = np.ascontiguousarray(x, dtype=float)
     order = min(order, max(1, len(x) // 8))
     burg, first = _innovation(x, order)
-    power = np.maximum(uniform_filter1d(first * first, 9), 0.0)
-    weight = 1.0 / np.sqrt(power + 1e-12 * power.mean() + 1e-300)
+    weight = reweighting(first, 9)  # the inverse RMS over 9 samples (scipy's uniform_filter1d's sums)
     # the normal equations added up over blocks of _LAG_ROWS rows, each block's product as BLAS's: all the lagged rows of
     # a 5-s recording at once were the detector's largest block (3.3 MB at order 40)
     gram = weighted_gram(x, weight, order, _LAG_ROWS)
