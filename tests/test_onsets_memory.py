@@ -40,13 +40,6 @@ def _robust_in_numpy(x, order):
     return np.concatenate(([1.0], c))
 
 
-def test_lagged_rows_as_numpy_builds_them(rng):
-    x, weight = rng.standard_normal(1000), rng.random(1000) + 0.1
-    rows = np.empty((37, 41))
-    _kernels.weighted_lags(x, weight, 500, rows)
-    assert np.array_equal(rows, _lagged(x, 40)[460:497] * weight[500:537, None])
-
-
 @pytest.mark.parametrize("n, order", [(10_000, 40), (5_000, 24), (2 * _LAG_ROWS + 40 + 1, 40), (300, 40), (64, 3)])
 def test_predictor_as_the_whole_lagged_matrix_gives_it(rng, n, order):
     # ringing (two decaying modes) with attacks and uneven noise: a well-posed fit, as the detector meets it

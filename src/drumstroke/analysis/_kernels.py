@@ -11,6 +11,7 @@ import math
 import numpy as np
 
 from .._jit import jit
+from ._modes import five_window_sums, trial_dots, upsampled_peak
 
 
 @jit
@@ -121,19 +122,6 @@ def low_pass_loop(sos, x, q, unit):
     return out
 
 
-
-
-@jit
-def upsampled_peak(h, x):
-    """``np.abs(scipy.signal.upfirdn(h, x, 4)).max()``: the largest magnitude of ``x`` upsampled 4 times by the FIR ``h``
-    (summed in another order: the same to rounding)."""
-    best = 0.0
-    for n in range((len(x) - 1) * 4 + len(h)):
-        total = 0.0
-        for m in range(max(0, (n - len(h)) // 4 + 1), min(len(x), n // 4 + 1)):
-            total += x[m] * h[n - 4 * m]
-        best = max(best, abs(total))
-    return best
 
 
 @jit
@@ -401,7 +389,7 @@ def pursue(r, positions, centres, basis, gram, solve, head, head_norm, lead, wid
     where = positions.copy()
     at, amp = np.zeros(count, dtype=np.int64), np.zeros(count)
     weights, fitted = np.empty((5, m)), np.empty(m)  # each alignment's weights, and one's times gram
-    cost, dots, heads, energies = np.empty(5), np.empty(5), np.empty(5), np.empty(5)
+    cost, dots, heads, energies, sums = np.empty(5), np.empty(5), np.empty(5), np.empty(5), np.empty(15)
     for i in range(count):
         c = centres[i]
         low, high = max(0, c - half - 4 * width), min(n, c + half + width + 1)
@@ -413,11 +401,21 @@ def pursue(r, positions, centres, basis, gram, solve, head, head_norm, lead, wid
         # each alignment's sums as window_dot and pair_dot add them, the five alignments' side by side
         five_dots(r, first, last, head, dots)
         five_squares(r, first, last, len(head), heads)
-        five_squares(r, first, last, size, energies)
-        for q in range(m):
-            five_dots(r, first, last, solve[q], weights[:, q])
+        if m == 2 and last == first + 4:  # the five windows in vector lanes (away from the ends)
+            five_window_sums(r, first, solve[0], solve[1], size, sums)
+            for k in range(5):
+                weights[k, 0], weights[k, 1], energies[k] = sums[k], sums[5 + k], sums[10 + k]
+        else:
+            five_squares(r, first, last, size, energies)
+            for q in range(m):
+                five_dots(r, first, last, solve[q], weights[:, q])
         for k in range(last - first + 1):
             like = max(like, abs(dots[k]) / (math.sqrt(heads[k]) * head_norm + 1e-300))
+            if m == 2:  # the loops below for two columns: the same operations (from 0.0), in registers
+                w0, w1 = weights[k, 0], weights[k, 1]
+                f0, f1 = (0.0 + w0 * gram[0, 0]) + w1 * gram[1, 0], (0.0 + w0 * gram[0, 1]) + w1 * gram[1, 1]
+                cost[k] = energies[k] - ((w0 * f0 + 0.0) + (w1 * f1 + 0.0))
+                continue
             fitted[:] = 0.0
             for q in range(m):
                 for p in range(m):
@@ -429,11 +427,16 @@ def pursue(r, positions, centres, basis, gram, solve, head, head_norm, lead, wid
             if cost[j] < cost[k]:
                 k = j
         s = first + k
-        for j in range(size):
-            fit = 0.0
-            for q in range(m):
-                fit += basis[j, q] * weights[k, q]
-            r[s + j] -= fit
+        if m == 2:
+            w0, w1 = weights[k, 0], weights[k, 1]
+            for j in range(size):
+                r[s + j] -= (0.0 + basis[j, 0] * w0) + basis[j, 1] * w1
+        else:
+            for j in range(size):
+                fit = 0.0
+                for q in range(m):
+                    fit += basis[j, q] * weights[k, q]
+                r[s + j] -= fit
         if len(tail) > size:
             for j in range(s + size, min(n, s + len(tail))):
                 r[j] -= weights[k, 0] * tail[j - s]
@@ -497,8 +500,8 @@ def best_trial(y, basis, grams, lags, total):
     parameters against what is left of ``y`` (``len(y) - 4`` degrees of freedom: the window's own attack's two
     parameters too).
 
-    Each trial is ``basis`` (the signature and its derivative, as columns) starting ``lags`` samples into the window,
-    truncated to it (``grams``: the normal equations of its first rows, cumulated).
+    Each trial is ``basis`` (the signature and its derivative, as columns, C-contiguous) starting ``lags`` samples
+    (consecutive) into the window, truncated to it (``grams``: the normal equations of its first rows, cumulated).
 
     Each trial's 2-by-2 normal equations (ridged by 1e-12 of the first's trace) are solved by Gaussian elimination
     with partial pivoting, as LAPACK's ``gesv`` solves them.
@@ -507,12 +510,11 @@ def best_trial(y, basis, grams, lags, total):
     ridge = 1e-12 * (grams[size - lags[0] - 1, 0, 0] + grams[size - lags[0] - 1, 1, 1])
     best, at = -np.inf, -1
     chosen = np.zeros(2)
+    # the window from each lag on (zeros past) times each column, in order (the lags: consecutive)
+    dots0, dots1 = np.empty(len(lags)), np.empty(len(lags))
+    trial_dots(y, basis, lags[0], len(lags), dots0, dots1)
     for k in range(len(lags)):
-        lag = lags[k]
-        b0, b1 = 0.0, 0.0  # the window from the lag on (zeros past) times each column, in order
-        for j in range(size - lag):
-            b0 += y[lag + j] * basis[j, 0]
-            b1 += y[lag + j] * basis[j, 1]
+        lag, b0, b1 = lags[k], dots0[k], dots1[k]
         g = grams[size - lag - 1]
         w0, w1 = solve_2x2(g[0, 0] + ridge, g[0, 1], g[1, 0], g[1, 1] + ridge, b0, b1)
         if not (np.isfinite(w0) and np.isfinite(w1)):
@@ -633,8 +635,9 @@ def first_transients(d, times, reach, horizon, least, over, clear):
     passes ``least`` times its peak over the ``horizon`` after it and ``over`` times its own peak over the ``reach``
     before (scipy's maximum_filter1d there), that earlier peak ``clear`` times the peak at most; less half a sample."""
     out = times.copy()
-    # a window's candidates for its maximum, their values decreasing: at most the 3 reach samples an attack scans
-    queue = np.empty(3 * reach + 1, dtype=np.int64)
+    # the reach before each sample's peak from blocks of reach samples (van Herk's): the largest from a window's start
+    # to its block's end and from the next block's start to the window's end (two passes without branches)
+    ahead, behind = np.empty(3 * reach + 1), np.empty(3 * reach + 1)
     for i in range(len(out)):
         c = int(np.rint(out[i]))
         low = max(reach, c - reach, math.ceil((out[i - 1] + c) / 2) if i else 0)
@@ -644,19 +647,20 @@ def first_transients(d, times, reach, horizon, least, over, clear):
             peak = max(peak, d[j])
         if high - low < 2 or not peak > 0.0:
             continue
-        first, last = 0, 0
-        for j in range(low - reach, high):
-            if j >= low:  # the window of the reach before j: d[j - reach:j]
-                while queue[first] < j - reach:
-                    first += 1
-                prior = d[queue[first]]
-                if d[j] > peak * least and d[j] > over * prior and prior <= peak * clear:
-                    out[i] = j - 0.5
-                    break
-            while last > first and d[queue[last - 1]] <= d[j]:
-                last -= 1
-            queue[last] = j
-            last += 1
+        base = low - reach  # the blocks' start: the first window's
+        for start in range(base, high - 1, reach):
+            stop = min(start + reach, high - 1)
+            largest = ahead[start - base] = d[start]  # from the block's start to each sample
+            for j in range(start + 1, stop):
+                largest = ahead[j - base] = max(largest, d[j])
+            largest = behind[stop - 1 - base] = d[stop - 1]  # from each sample to the block's end
+            for j in range(stop - 2, start - 1, -1):
+                largest = behind[j - base] = max(largest, d[j])
+        for j in range(low, high):  # the window d[j - reach:j]
+            prior = max(behind[j - reach - base], ahead[j - 1 - base])
+            if d[j] > peak * least and d[j] > over * prior and prior <= peak * clear:
+                out[i] = j - 0.5
+                break
     return out
 
 
@@ -751,15 +755,6 @@ def prediction_error(a, x):
             for j in range(stop - low):
                 block[j] += tap * past[j]
     return out
-
-
-@jit
-def weighted_lags(x, weight, start, rows):
-    """``rows`` (shape (m, order + 1)) filled with ``x[n], x[n - 1], …, x[n - order]`` times ``weight[n]``, for ``n`` from
-    ``start`` to ``start + m``."""
-    for n in range(start, start + rows.shape[0]):
-        for j in range(rows.shape[1]):
-            rows[n - start, j] = x[n - j] * weight[n]
 
 
 @jit

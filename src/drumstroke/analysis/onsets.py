@@ -1223,20 +1223,18 @@ def _after_louder(modes, candidates, rate, config):
     sure = np.flatnonzero(candidates.attack)
     if not len(sure):
         return candidates
-    times = candidates.times
+    if modes.signature is None:
+        modes = replace(modes, signature=_signature(modes.e, modes.rate, config))
+    signature, times = modes.signature, candidates.times
     pursuit = modes.pursue(times[sure], config)
-    residual, template = pursuit.residual, pursuit.template
-    basis = np.column_stack([template, np.gradient(template)])
-    grams = np.cumsum(basis[:, :, None] * basis[:, None, :], axis=0)  # the truncated signatures' normal equations
     gap = max(1, round(config.min_interval * modes.rate))
     reach = round(config.after_reach * modes.rate)
-    spike = int(np.argmax(np.abs(template)))
-    head = template[:spike + config.head]
-    head_norm = float(np.sqrt(head @ head))
     positions = np.round(modes.at(times[sure])).astype(np.int64)
-    found, likes = after_louder(residual, basis, grams, pursuit.at, pursuit.amplitude, positions, head, head_norm, gap,
-                                reach, spike, config.modes_width, config.after_f, config.after_weak_f,
-                                config.weak_likeness, config.after_ratio_low, config.after_ratio_high)
+    # the signature's largest spike is its lead's sample (the innovation's first largest), its start its head
+    found, likes = after_louder(pursuit.residual, signature.basis, signature.grams, pursuit.at, pursuit.amplitude,
+                                positions, signature.head, signature.head_norm, gap, reach, signature.lead,
+                                config.modes_width, config.after_f, config.after_weak_f, config.weak_likeness,
+                                config.after_ratio_low, config.after_ratio_high)
     if not len(found):
         return candidates
     new = modes.fitted(found)
@@ -1526,15 +1524,12 @@ def _measured_at(candidates, found, rate, config):
     A detection still a candidate of its own is not another's: the template found a new attack just
     before it (measured there, both would read one window, the earlier's empty: 0, refused as quiet).
     """
+    from ._modes import measured_at
+
     if not len(found) or not len(candidates):
         return candidates
-    nearest = np.clip(np.searchsorted(found, candidates.times), 1, len(found)) - 1
-    nearer = np.where((nearest + 1 < len(found)) & (np.abs(found[np.minimum(nearest + 1, len(found) - 1)]
-                                                           - candidates.times)
-                                                    < np.abs(found[nearest] - candidates.times)), nearest + 1, nearest)
-    near = (found[nearer] >= candidates.times) & (found[nearer] - candidates.times <= config.template_reach * rate)
-    near &= (found[nearer] == candidates.times) | ~np.isin(found[nearer], candidates.times)
-    return replace(candidates, times=np.where(near, found[nearer], candidates.times))
+    return replace(candidates, times=measured_at(np.ascontiguousarray(candidates.times, dtype=float),
+                                                 np.ascontiguousarray(found, dtype=float), config.template_reach * rate))
 
 
 def _template(band, d, rate, times, config, quietest=False):
@@ -2128,24 +2123,16 @@ def _robust_innovation(x, order):
 
     Returns its error filter's coefficients and what it does not predict (as :func:`_innovation`).
     """
-    from scipy.ndimage import uniform_filter1d
-
-    from ._kernels import prediction_error, weighted_lags
+    from ._kernels import prediction_error
+    from ._modes import reweighting, weighted_gram
 
     x = np.ascontiguousarray(x, dtype=float)
     order = min(order, max(1, len(x) // 8))
     burg, first = _innovation(x, order)
-    power = np.maximum(uniform_filter1d(first * first, 9), 0.0)
-    weight = 1.0 / np.sqrt(power + 1e-12 * power.mean() + 1e-300)
-    gram = np.zeros((order + 1, order + 1))
-    # the normal equations added up over blocks of _LAG_ROWS rows in one small buffer: all the lagged rows of a 5-s
-    # recording at once were the detector's largest block (3.3 MB at order 40), and BLAS's product over blocks takes
-    # no longer
-    buffer = np.empty((_LAG_ROWS, order + 1))
-    for start in range(order, len(x), _LAG_ROWS):
-        rows = buffer[:min(len(x), start + _LAG_ROWS) - start]
-        weighted_lags(x, weight, start, rows)
-        gram += rows.T @ rows
+    weight = reweighting(first, 9)  # the inverse RMS over 9 samples (scipy's uniform_filter1d's sums)
+    # the normal equations added up over blocks of _LAG_ROWS rows, each block's product as BLAS's: all the lagged rows of
+    # a 5-s recording at once were the detector's largest block (3.3 MB at order 40)
+    gram = weighted_gram(x, weight, order, _LAG_ROWS)
     try:
         c, *_ = np.linalg.lstsq(gram[1:, 1:], -gram[1:, 0], rcond=None)
         a = np.concatenate(([1.0], c))
@@ -2279,16 +2266,20 @@ def _away(candidates, known, gap):
 @dataclass(frozen=True)
 class _Signature:
     """The signature :func:`_pursue` fits: the loudest attack's innovation from ``lead`` samples before its largest
-    spike, its least-squares ``basis`` (the signature and its derivative, as columns), their normal equations
-    ``gram`` and ``solve`` (the least-squares weights of a window are ``solve @ window``; None when the basis is too
-    ill-conditioned to fit), and its start ``head`` (the spike and ``config.head`` samples)."""
+    spike, its least-squares ``basis`` (the signature and its derivative, as columns), the normal equations of its
+    first rows ``grams`` (cumulated: :func:`_after_louder`'s truncated signatures'), their whole ``gram`` and ``solve`` (the least-squares weights of a window are ``solve @ window``; None when the basis is too
+    ill-conditioned to fit), its start ``head`` (the spike and ``config.head`` samples) and that start's norm
+    ``head_norm``, and the innovation's rounding ``floor`` (:func:`_rounding_floor`): each pursuit reads them."""
 
     template: np.ndarray
     basis: np.ndarray
+    grams: np.ndarray
     gram: np.ndarray
     solve: np.ndarray | None
     head: np.ndarray
     lead: int
+    head_norm: float
+    floor: float
 
 
 def _signature(e, rate, config):
@@ -2302,7 +2293,9 @@ def _signature(e, rate, config):
     solve = None
     if np.all(np.isfinite(gram)) and np.linalg.cond(gram) <= 1e12:
         solve = np.ascontiguousarray(np.linalg.solve(gram, basis.T))
-    return _Signature(template, basis, gram, solve, template[:lead + config.head], lead)
+    head = template[:lead + config.head]
+    return _Signature(template, basis, np.cumsum(basis[:, :, None] * basis[:, None, :], axis=0), gram, solve, head,
+                      lead, float(np.sqrt(head @ head)), _rounding_floor(e))
 
 
 def _pursue(e, positions, rate, config, tail=None, signature=None):
@@ -2324,12 +2317,11 @@ def _pursue(e, positions, rate, config, tail=None, signature=None):
         return _Pursuit(e.copy(), _jump_at(e, positions, rate, config.modes_width), np.ones(len(positions)),
                         positions.copy(), np.round(positions).astype(np.int64), np.zeros(len(positions)),
                         signature.template)
-    head = signature.head
     r = e.copy()
     jumps, likeness, where, at, amp = pursue(
-        r, positions, np.round(positions).astype(np.int64), signature.basis, signature.gram, signature.solve, head,
-        float(np.sqrt(head @ head)), signature.lead, max(config.modes_width, round(1e-3 * rate)),
-        np.empty(0) if tail is None else np.ascontiguousarray(tail, dtype=float), _rounding_floor(e))
+        r, positions, np.round(positions).astype(np.int64), signature.basis, signature.gram, signature.solve,
+        signature.head, signature.head_norm, signature.lead, max(config.modes_width, round(1e-3 * rate)),
+        np.empty(0) if tail is None else np.ascontiguousarray(tail, dtype=float), signature.floor)
     return _Pursuit(r, jumps, likeness, where, at, amp, signature.template)
 
 
@@ -2341,6 +2333,7 @@ def _room_tail(e, at, amp, length, ridge):
     from scipy.linalg import solve_toeplitz
 
     from ._kernels import impulse_correlations
+    from ._modes import levinson
 
     keep = amp != 0.0
     at, amp = at[keep], amp[keep]
@@ -2351,7 +2344,9 @@ def _room_tail(e, at, amp, length, ridge):
     r_ss, r_se = impulse_correlations(np.ascontiguousarray(e, dtype=float), np.ascontiguousarray(at, dtype=np.int64),
                                       np.ascontiguousarray(amp, dtype=float), length)
     r_ss[0] *= 1.0 + ridge
-    h = solve_toeplitz(r_ss, r_se)
+    h, solved = levinson(r_ss, r_se)  # scipy's solve_toeplitz without its checks' time
+    if not solved or not (np.all(np.isfinite(r_ss)) and np.all(np.isfinite(r_se))):
+        h = solve_toeplitz(r_ss, r_se)  # scipy's errors
     return h if np.all(np.isfinite(h)) else None
 
 
@@ -2417,10 +2412,9 @@ def _attack_amplitudes(low, coefficients, positions, rate, *, tail=0, sure=None,
     horizon = max(2, round(5e-3 * rate))
     interpolator = _interpolator()
     starts = np.clip(np.round(positions).astype(np.int64), 0, len(low))
-    stops = [min(len(low), k + horizon, starts[i + 1] if i + 1 < len(starts) else len(low))
-             for i, k in enumerate(starts)]
+    stops = np.minimum(np.minimum(starts + horizon, len(low)), np.append(starts[1:], len(low)))
     amplitude = residual_peaks(np.ascontiguousarray(low, dtype=float), np.ascontiguousarray(coefficients, dtype=float),
-                               starts, np.array(stops, dtype=np.int64), interpolator)
+                               starts, stops, interpolator)
     inside = starts < len(low)
     if tail <= 0 or not np.any(inside):
         return amplitude
@@ -2429,8 +2423,8 @@ def _attack_amplitudes(low, coefficients, positions, rate, *, tail=0, sure=None,
     if h is None:
         return amplitude
     sure = np.ones(len(starts), dtype=bool) if sure is None else np.asarray(sure, dtype=bool)
-    return tail_free_peaks(e, np.ascontiguousarray(coefficients, dtype=float), starts, np.array(stops, dtype=np.int64),
-                           sure, amplitude, np.ascontiguousarray(h, dtype=float), horizon, interpolator)
+    return tail_free_peaks(e, np.ascontiguousarray(coefficients, dtype=float), starts, stops, sure, amplitude,
+                           np.ascontiguousarray(h, dtype=float), horizon, interpolator)
 
 
 @cache
