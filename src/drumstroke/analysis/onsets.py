@@ -407,6 +407,20 @@ class OnsetConfig:
         dB: how much quieter than the onset before it a reflection is at least (step 6).
     reflection_spread : float in [0, 0.005]
         s: how far apart the delays of one reflection's pairs may be (step 6).
+    room_decay_db : float in [-120, 0]
+        dB re the loudest: in a reverberant recording, an attack found in the modes' band alone (kind 2, no
+        template fitted it), ``spike_clear`` s or more after the attack before it and quieter than this, that does
+        not rise ``room_rise_db`` out of the sound before it and brings nothing new over the sound the recording
+        has at the same delay after another note (``room_echo_db``) is a room's echo, no attack (step 5,
+        :func:`_room_echoes`; -120: none is, as before this field).
+    room_rise_db : float in [-60, 60]
+        dB: how far the first difference over the 2 ms after such an attack must pass its peak over the 5 ms before
+        for it to be an attack whatever it repeats (step 5, :func:`_room_echoes`).
+    room_echo_db : float in [-60, 60]
+        dB: the most that the power left over the 5 ms after such an attack may pass that left over the 5 ms before
+        it, once the band over those 10 ms is fitted (by least squares, within 0.5 ms) by the band at the same
+        delay after another note as loud as one ``reflection_db`` or more louder than it 35 ms to 0.3 s before it
+        (nothing found between), for it to be that note's echo (step 5, :func:`_room_echoes`).
     found_burst_db : float in [-120, 0]
         dB re what was there: the most that taking off an attack's fit in the template search may leave over the
         1 ms after the next detection, within ``bounce_reach`` s after it, for that detection to be the attack's own
@@ -515,6 +529,9 @@ class OnsetConfig:
     reflection_pairs: int = 3
     reflection_db: float = 12.0
     reflection_spread: float = 0.2e-3
+    room_decay_db: float = -20.0
+    room_rise_db: float = 3.0
+    room_echo_db: float = 2.0
     found_burst_db: float = -6.0
     found_decay_db: float = -120.0
     earlier_reach: float = 5e-3
@@ -567,7 +584,9 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "soft_jump": (1.0, 100.0, "(RMS ratio)"), "soft_contact": (0.0, 0.02, "s"),
     "bounce_reach": (0.0, 0.5, "s"), "refused_likeness": (0.0, 1.0, "(correlation)"),
     "burst_db": (-120.0, 0.0, "dB"), "layer_likeness": (0.0, 1.0, "(correlation)"), "reflection_pairs": (0, 100, ""), "reflection_db": (0.0, 120.0, "dB"),
-    "reflection_spread": (0.0, 5e-3, "s"), "found_burst_db": (-120.0, 0.0, "dB"), "found_decay_db": (-120.0, 0.0, "dB"),
+    "reflection_spread": (0.0, 5e-3, "s"), "room_decay_db": (-120.0, 0.0, "dB"), "room_rise_db": (-60.0, 60.0, "dB"),
+    "room_echo_db": (-60.0, 60.0, "dB"),
+    "found_burst_db": (-120.0, 0.0, "dB"), "found_decay_db": (-120.0, 0.0, "dB"),
     "earlier_reach": (0.0, 0.02, "s"), "bounce_likeness": (0.0, 1.0, "(correlation)"),
     "bounce_ratio_low": (0.0, 100.0, "(amplitude ratio)"), "found_echo_rise_db": (-60.0, 60.0, "dB"),
 }
@@ -814,7 +833,7 @@ def _detected(signal, rate, config, source, info):
     levels = _level_band(band, rate, q, first, config)
     amplitude = levels.amplitudes(_measured_at(candidates, found, rate, config), modes.reverberant, config)
     candidates, amplitude = _one_attack_each(d, rate, candidates, amplitude, config)
-    decided = _out_of_decay(band, d, rate, candidates, amplitude, config)
+    decided = _out_of_decay(band, d, rate, candidates, amplitude, config, modes.reverberant)
     # an attack measured on a window cut at the next detection, refused here, is measured again without it
     cut = np.flatnonzero(decided.attack[:-1] & candidates.attack[1:] & ~decided.attack[1:])
     if len(cut):
@@ -1667,7 +1686,7 @@ def _next_attack(fitting, x, low, high):
     return None if found < 0 else int(found)
 
 
-def _out_of_decay(band, d, rate, candidates, amplitude, config):
+def _out_of_decay(band, d, rate, candidates, amplitude, config, reverberant=False):
     """Step 5's last part: a quiet or a close attack that does not rise out of the sound before it is no attack.
 
     A recorded sample's own decay and a room's tail beat and flutter: the stages before take some
@@ -1695,7 +1714,8 @@ def _out_of_decay(band, d, rate, candidates, amplitude, config):
     # an attack the template timed or found (kind 3) was fitted over what is left of the earlier sound: its test
     fitted = candidates.kinds[which] == 3
     quiet = amplitude[which] < loudest * 10.0 ** (np.where(fitted, config.found_decay_db, config.decay_db) / 20.0)
-    close = np.diff(candidates.times[which], prepend=-np.inf) <= config.echo_reach * rate
+    apart = np.diff(candidates.times[which], prepend=-np.inf)
+    close = apart <= config.echo_reach * rate
     echo = np.where(fitted, config.found_echo_rise_db, config.echo_rise_db)
     least = np.where(quiet, 10.0 ** (config.decay_rise_db / 20.0), 10.0 ** (echo / 20.0))
     tried = which[quiet | close]
@@ -1703,7 +1723,54 @@ def _out_of_decay(band, d, rate, candidates, amplitude, config):
                                round(5e-3 * rate), round(0.5e-3 * rate))
     keep = attack.copy()
     keep[tried] = rise > prior * least[quiet | close]
+    if reverberant:
+        keep = _room_echoes(band, d, rate, candidates, amplitude, keep, config)
     return _new_sound(band, rate, replace(candidates, attack=keep), config)
+
+
+def _room_echoes(band, d, rate, candidates, amplitude, attack, config):
+    """Step 5, in a reverberant recording: ``attack`` less the attacks that are a room's echo of an earlier note.
+
+    A room returns each note again and again, each return a smoothed copy of it (FluidSynth's reverb: from 54 ms
+    after the note, 20 dB and more under it); where little else sounds, the stages before take some for attacks,
+    found in the modes' band alone (kind 2: the recording's clear attack, the template, does not fit a smoothed
+    copy), as quiet as a ghost note and rising no more than one out of the sound before it. What tells them apart
+    is the room: it repeats each note's returns after every note alike, at the same delays, while a stick's ghost
+    note is new there. An attack of kind 2, ``spike_clear`` s or more after the attack before it, quieter than
+    ``room_decay_db`` re the loudest (``amplitude``), whose first difference (``d``, magnitudes) over the 2 ms
+    after it does not pass its peak over the 5 ms before by ``room_rise_db``, is an echo when, for some attack
+    ``reflection_db`` or more louder 35 ms to 0.3 s before it, the band at the same delay after another attack as
+    loud (within 6 dB; no attack found from 1 ms after that one to the end of the window) explains the band over
+    the 5 ms before and after it alike: the power its fit leaves after it passes that before it by
+    ``room_echo_db`` at most (:func:`._rooms.echo_novelty`). A ghost note under an accent's tail, as quiet and as
+    flat, leaves 3.6-19 dB more after its start.
+    """
+    from ._kernels import peaks_around
+    from ._rooms import echo_novelty
+
+    which = np.flatnonzero(attack)
+    times, levels = candidates.times[which], 20.0 * np.log10(np.maximum(amplitude[which], 1e-300))
+    apart = np.diff(times, prepend=-np.inf)
+    tried = np.flatnonzero((candidates.kinds[which] == 2) & (apart >= config.spike_clear * rate)
+                           & (levels < levels.max() + config.room_decay_db))
+    if not len(tried):
+        return attack
+    rise, prior = peaks_around(d, np.rint(times[tried]).astype(np.int64), round(2e-3 * rate), round(5e-3 * rate),
+                               round(0.5e-3 * rate))
+    tried = tried[rise <= prior * 10.0 ** (config.room_rise_db / 20.0)]
+    width, reach = round(5e-3 * rate), round(0.5e-3 * rate)
+    attack = attack.copy()
+    for k in tried:
+        sources = np.flatnonzero((times[k] - times >= 35e-3 * rate) & (times[k] - times <= 0.3 * rate)
+                                 & (levels >= levels[k] + config.reflection_db))
+        delays = times[k] - times[sources]
+        centres = [times[j] + delay for i, delay in zip(sources, delays) for j in range(len(times))
+                   if j != i and abs(levels[j] - levels[i]) <= 6.0
+                   and not np.any((times > times[j] + 1e-3 * rate) & (times < times[j] + delay + width + reach))]
+        if centres and echo_novelty(band, round(times[k]), np.rint(centres).astype(np.int64), width, width,
+                                    reach) <= 10.0 ** (config.room_echo_db / 10.0):
+            attack[which[k]] = False
+    return attack
 
 
 def _new_sound(band, rate, candidates, config):
