@@ -1759,16 +1759,22 @@ def _room_echoes(band, d, rate, candidates, amplitude, attack, config):
                                round(0.5e-3 * rate))
     tried = tried[rise <= prior * 10.0 ** (config.room_rise_db / 20.0)]
     width, reach = round(5e-3 * rate), round(0.5e-3 * rate)
+    # how long the sound after each attack stays clear of the next one found (from 1 ms after it)
+    after = np.searchsorted(times, times + 1e-3 * rate, side="right")
+    clear = np.append(times, np.inf)[after] - times
     attack = attack.copy()
     for k in tried:
         sources = np.flatnonzero((times[k] - times >= 35e-3 * rate) & (times[k] - times <= 0.3 * rate)
                                  & (levels >= levels[k] + config.reflection_db))
-        delays = times[k] - times[sources]
-        centres = [times[j] + delay for i, delay in zip(sources, delays) for j in range(len(times))
-                   if j != i and abs(levels[j] - levels[i]) <= 6.0
-                   and not np.any((times > times[j] + 1e-3 * rate) & (times < times[j] + delay + width + reach))]
-        if centres and echo_novelty(band, round(times[k]), np.rint(centres).astype(np.int64), width, width,
-                                    reach) <= 10.0 ** (config.room_echo_db / 10.0):
+        centres = []
+        for i in sources:
+            delay = times[k] - times[i]
+            partners = np.abs(levels - levels[i]) <= 6.0
+            partners[i] = False
+            partners &= clear >= delay + width + reach
+            centres.extend(times[partners] + delay)
+        if centres and echo_novelty(band, round(times[k]), np.rint(centres).astype(np.int64), width, width, reach,
+                                    max(1, round(60e-6 * rate))) <= 10.0 ** (config.room_echo_db / 10.0):
             attack[which[k]] = False
     return attack
 
