@@ -12,12 +12,13 @@ from .._jit import jit
 
 
 @jit
-def echo_novelty(x, at, centres, before, after, reach, step):
+def echo_novelty(x, at, centres, before, after, reach, step, most_left):
     """How much more of ``x`` around ``at`` is new after it than before it, once the sound around another time explains
     it: the window ``x[at - before:at + after]`` is fitted by least squares by the same window around each of
     ``centres`` moved by up to ``reach`` samples either way (every ``step`` samples, then every sample about the
     best); where the fit leaves least, the mean power it leaves over the ``after`` samples over that over the
-    ``before`` samples. ``inf`` where no window lies within ``x``."""
+    ``before`` samples. ``inf`` where no window lies within ``x`` or the best fit leaves more than ``most_left`` of
+    the window's energy (that sound does not explain it)."""
     width = before + after
     start = at - before
     if start < 0 or start + width > len(x):
@@ -54,7 +55,7 @@ def echo_novelty(x, at, centres, before, after, reach, step):
             if coarse == 1 or found < 0:
                 break
             first, last, coarse = max(0, found - step + 1), min(2 * reach, found + step - 1), 1
-    if best < 0:
+    if best < 0 or least > most_left * own:
         return math.inf
     early, late = 0.0, 0.0
     for k in range(width):

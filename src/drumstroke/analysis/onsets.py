@@ -421,6 +421,9 @@ class OnsetConfig:
         it, once the band over those 10 ms is fitted (by least squares, within 0.5 ms) by the band at the same
         delay after another note as loud as one ``reflection_db`` or more louder than it 35 ms to 0.3 s before it
         (nothing found between), for it to be that note's echo (step 5, :func:`_room_echoes`).
+    room_fit_db : float in [-60, 0]
+        dB re its energy: the most that fit may leave of the band over those 10 ms for the other note's sound to
+        explain it at all (step 5, :func:`_room_echoes`).
     found_burst_db : float in [-120, 0]
         dB re what was there: the most that taking off an attack's fit in the template search may leave over the
         1 ms after the next detection, within ``bounce_reach`` s after it, for that detection to be the attack's own
@@ -532,6 +535,7 @@ class OnsetConfig:
     room_decay_db: float = -20.0
     room_rise_db: float = 3.0
     room_echo_db: float = 2.0
+    room_fit_db: float = -6.0
     found_burst_db: float = -6.0
     found_decay_db: float = -120.0
     earlier_reach: float = 5e-3
@@ -585,7 +589,7 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "bounce_reach": (0.0, 0.5, "s"), "refused_likeness": (0.0, 1.0, "(correlation)"),
     "burst_db": (-120.0, 0.0, "dB"), "layer_likeness": (0.0, 1.0, "(correlation)"), "reflection_pairs": (0, 100, ""), "reflection_db": (0.0, 120.0, "dB"),
     "reflection_spread": (0.0, 5e-3, "s"), "room_decay_db": (-120.0, 0.0, "dB"), "room_rise_db": (-60.0, 60.0, "dB"),
-    "room_echo_db": (-60.0, 60.0, "dB"),
+    "room_echo_db": (-60.0, 60.0, "dB"), "room_fit_db": (-60.0, 0.0, "dB"),
     "found_burst_db": (-120.0, 0.0, "dB"), "found_decay_db": (-120.0, 0.0, "dB"),
     "earlier_reach": (0.0, 0.02, "s"), "bounce_likeness": (0.0, 1.0, "(correlation)"),
     "bounce_ratio_low": (0.0, 100.0, "(amplitude ratio)"), "found_echo_rise_db": (-60.0, 60.0, "dB"),
@@ -1741,8 +1745,9 @@ def _room_echoes(band, d, rate, candidates, amplitude, attack, config):
     after it does not pass its peak over the 5 ms before by ``room_rise_db``, is an echo when, for some attack
     ``reflection_db`` or more louder 35 ms to 0.3 s before it, the band at the same delay after another attack as
     loud (within 6 dB; no attack found from 1 ms after that one to the end of the window) explains the band over
-    the 5 ms before and after it alike: the power its fit leaves after it passes that before it by
-    ``room_echo_db`` at most (:func:`._rooms.echo_novelty`). A ghost note under an accent's tail, as quiet and as
+    the 5 ms before and after it, and alike: its fit (least squares) leaves ``room_fit_db`` or less of that
+    band's energy, and the power it leaves after it passes that before it by ``room_echo_db`` at most
+    (:func:`._rooms.echo_novelty`). A ghost note under an accent's tail, as quiet and as
     flat, leaves 3.6-19 dB more after its start.
     """
     from ._kernels import peaks_around
@@ -1758,7 +1763,7 @@ def _room_echoes(band, d, rate, candidates, amplitude, attack, config):
     rise, prior = peaks_around(d, np.rint(times[tried]).astype(np.int64), round(2e-3 * rate), round(5e-3 * rate),
                                round(0.5e-3 * rate))
     tried = tried[rise <= prior * 10.0 ** (config.room_rise_db / 20.0)]
-    width, reach = round(5e-3 * rate), round(0.5e-3 * rate)
+    width, reach, novel = round(5e-3 * rate), round(0.5e-3 * rate), 10.0 ** (config.room_echo_db / 10.0)
     # how long the sound after each attack stays clear of the next one found (from 1 ms after it)
     after = np.searchsorted(times, times + 1e-3 * rate, side="right")
     clear = np.append(times, np.inf)[after] - times
@@ -1774,7 +1779,7 @@ def _room_echoes(band, d, rate, candidates, amplitude, attack, config):
             partners &= clear >= delay + width + reach
             centres.extend(times[partners] + delay)
         if centres and echo_novelty(band, round(times[k]), np.rint(centres).astype(np.int64), width, width, reach,
-                                    max(1, round(60e-6 * rate))) <= 10.0 ** (config.room_echo_db / 10.0):
+                                    max(1, round(60e-6 * rate)), 10.0 ** (config.room_fit_db / 10.0)) <= novel:
             attack[which[k]] = False
     return attack
 
