@@ -738,7 +738,11 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        its first difference does not rise ``decay_rise_db`` over the sound before it (a sample's
        own decay, a room's tail), and so is one within ``echo_reach`` s after the attack before it
        that does not pass ``echo_rise_db`` (a sample's second burst); for an attack the template timed or found,
-       ``found_decay_db`` and ``found_echo_rise_db`` instead (its fit is its test). :func:`_learned_lead_ins`: an
+       ``found_decay_db`` and ``found_echo_rise_db`` instead (its fit is its test). :func:`_room_echoes`, in a
+       reverberant recording: an attack of the modes' band alone, ``spike_clear`` s or more after the attack
+       before it, quieter than ``room_decay_db`` and not rising ``room_rise_db``, is a room's echo where the band at
+       the same delay after another note as loud as a much louder one before it (``reflection_db``) explains its
+       10 ms (``room_fit_db``) alike before and after its time (``room_echo_db``). :func:`_learned_lead_ins`: an
        attack over loud earlier sound (over ``lead_clear_db`` re its peak) is placed its recording's
        lead-in before its main rise (its first difference's first sample over ``lead_rise`` of its
        peak), that lead-in being the median over the clear attacks (≥ 3) of their main rise less
@@ -1701,12 +1705,13 @@ def _out_of_decay(band, d, rate, candidates, amplitude, config, reverberant=Fals
     few milliseconds into itself (FluidR3's electric snare, 4-6 ms in, as loud as its note in the
     drum's lowest modes): an attack within ``echo_reach`` s after the one before it must pass that
     earlier peak by ``echo_rise_db`` (its first difference falls there: the earlier note goes on).
-    Last, an attack must bring a sound of its own (:func:`_new_sound`). An attack the template timed or found (kind
+    In a reverberant recording, a room's echo of an earlier note is none either (:func:`_room_echoes`). Last, an
+    attack must bring a sound of its own (:func:`_new_sound`). An attack the template timed or found (kind
     3) is quiet under ``found_decay_db`` instead of ``decay_db``, and must pass ``found_echo_rise_db`` instead of
     ``echo_rise_db`` within ``echo_reach`` s after the one before: the template's fit over what is left of the
     earlier sound is its test. A ghost note 57 ms after an accent found so does not rise 6 dB in its first difference
     over the accent's ringing, nor a drop's bounce 8 ms after the one before -3.5 dB over its sound. ``d`` is the
-    magnitude of ``band``'s first difference.
+    magnitude of ``band``'s first difference; ``reverberant``: whether step 4 found the recording so.
     """
     from ._kernels import peaks_around
 
@@ -1718,8 +1723,7 @@ def _out_of_decay(band, d, rate, candidates, amplitude, config, reverberant=Fals
     # an attack the template timed or found (kind 3) was fitted over what is left of the earlier sound: its test
     fitted = candidates.kinds[which] == 3
     quiet = amplitude[which] < loudest * 10.0 ** (np.where(fitted, config.found_decay_db, config.decay_db) / 20.0)
-    apart = np.diff(candidates.times[which], prepend=-np.inf)
-    close = apart <= config.echo_reach * rate
+    close = np.diff(candidates.times[which], prepend=-np.inf) <= config.echo_reach * rate
     echo = np.where(fitted, config.found_echo_rise_db, config.echo_rise_db)
     least = np.where(quiet, 10.0 ** (config.decay_rise_db / 20.0), 10.0 ** (echo / 20.0))
     tried = which[quiet | close]
