@@ -407,6 +407,23 @@ class OnsetConfig:
         dB: how much quieter than the onset before it a reflection is at least (step 6).
     reflection_spread : float in [0, 0.005]
         s: how far apart the delays of one reflection's pairs may be (step 6).
+    room_decay_db : float in [-120, 0]
+        dB re the loudest: in a reverberant recording, an attack found in the modes' band alone (kind 2, no
+        template fitted it), ``spike_clear`` s or more after the attack before it and quieter than this, that does
+        not rise ``room_rise_db`` out of the sound before it and brings nothing new over the sound the recording
+        has at the same delay after another note (``room_echo_db``) is a room's echo, no attack (step 5,
+        :func:`_room_echoes`; -120: none is, as before this field).
+    room_rise_db : float in [-60, 60]
+        dB: how far the first difference over the 2 ms after such an attack must pass its peak over the 5 ms before
+        for it to be an attack whatever it repeats (step 5, :func:`_room_echoes`).
+    room_echo_db : float in [-60, 60]
+        dB: the most that the power left over the 5 ms after such an attack may pass that left over the 5 ms before
+        it, once the band over those 10 ms is fitted (by least squares, within 0.5 ms) by the band at the same
+        delay after another note as loud as one ``reflection_db`` or more louder than it 35 ms to 0.3 s before it
+        (nothing found between), for it to be that note's echo (step 5, :func:`_room_echoes`).
+    room_fit_db : float in [-60, 0]
+        dB re its energy: the most that fit may leave of the band over those 10 ms for the other note's sound to
+        explain it at all (step 5, :func:`_room_echoes`).
     found_burst_db : float in [-120, 0]
         dB re what was there: the most that taking off an attack's fit in the template search may leave over the
         1 ms after the next detection, within ``bounce_reach`` s after it, for that detection to be the attack's own
@@ -515,6 +532,10 @@ class OnsetConfig:
     reflection_pairs: int = 3
     reflection_db: float = 12.0
     reflection_spread: float = 0.2e-3
+    room_decay_db: float = -20.0
+    room_rise_db: float = 3.0
+    room_echo_db: float = 2.0
+    room_fit_db: float = -6.0
     found_burst_db: float = -6.0
     found_decay_db: float = -120.0
     earlier_reach: float = 5e-3
@@ -567,7 +588,9 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "soft_jump": (1.0, 100.0, "(RMS ratio)"), "soft_contact": (0.0, 0.02, "s"),
     "bounce_reach": (0.0, 0.5, "s"), "refused_likeness": (0.0, 1.0, "(correlation)"),
     "burst_db": (-120.0, 0.0, "dB"), "layer_likeness": (0.0, 1.0, "(correlation)"), "reflection_pairs": (0, 100, ""), "reflection_db": (0.0, 120.0, "dB"),
-    "reflection_spread": (0.0, 5e-3, "s"), "found_burst_db": (-120.0, 0.0, "dB"), "found_decay_db": (-120.0, 0.0, "dB"),
+    "reflection_spread": (0.0, 5e-3, "s"), "room_decay_db": (-120.0, 0.0, "dB"), "room_rise_db": (-60.0, 60.0, "dB"),
+    "room_echo_db": (-60.0, 60.0, "dB"), "room_fit_db": (-60.0, 0.0, "dB"),
+    "found_burst_db": (-120.0, 0.0, "dB"), "found_decay_db": (-120.0, 0.0, "dB"),
     "earlier_reach": (0.0, 0.02, "s"), "bounce_likeness": (0.0, 1.0, "(correlation)"),
     "bounce_ratio_low": (0.0, 100.0, "(amplitude ratio)"), "found_echo_rise_db": (-60.0, 60.0, "dB"),
 }
@@ -715,7 +738,11 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        its first difference does not rise ``decay_rise_db`` over the sound before it (a sample's
        own decay, a room's tail), and so is one within ``echo_reach`` s after the attack before it
        that does not pass ``echo_rise_db`` (a sample's second burst); for an attack the template timed or found,
-       ``found_decay_db`` and ``found_echo_rise_db`` instead (its fit is its test). :func:`_learned_lead_ins`: an
+       ``found_decay_db`` and ``found_echo_rise_db`` instead (its fit is its test). :func:`_room_echoes`, in a
+       reverberant recording: an attack of the modes' band alone, ``spike_clear`` s or more after the attack
+       before it, quieter than ``room_decay_db`` and not rising ``room_rise_db``, is a room's echo where the band at
+       the same delay after another note as loud as a much louder one before it (``reflection_db``) explains its
+       10 ms (``room_fit_db``) alike before and after its time (``room_echo_db``). :func:`_learned_lead_ins`: an
        attack over loud earlier sound (over ``lead_clear_db`` re its peak) is placed its recording's
        lead-in before its main rise (its first difference's first sample over ``lead_rise`` of its
        peak), that lead-in being the median over the clear attacks (≥ 3) of their main rise less
@@ -814,7 +841,7 @@ def _detected(signal, rate, config, source, info):
     levels = _level_band(band, rate, q, first, config)
     amplitude = levels.amplitudes(_measured_at(candidates, found, rate, config), modes.reverberant, config)
     candidates, amplitude = _one_attack_each(d, rate, candidates, amplitude, config)
-    decided = _out_of_decay(band, d, rate, candidates, amplitude, config)
+    decided = _out_of_decay(band, d, rate, candidates, amplitude, config, modes.reverberant)
     # an attack measured on a window cut at the next detection, refused here, is measured again without it
     cut = np.flatnonzero(decided.attack[:-1] & candidates.attack[1:] & ~decided.attack[1:])
     if len(cut):
@@ -1662,7 +1689,7 @@ def _next_attack(fitting, x, low, high):
     return None if found < 0 else int(found)
 
 
-def _out_of_decay(band, d, rate, candidates, amplitude, config):
+def _out_of_decay(band, d, rate, candidates, amplitude, config, reverberant=False):
     """Step 5's last part: a quiet or a close attack that does not rise out of the sound before it is no attack.
 
     A recorded sample's own decay and a room's tail beat and flutter: the stages before take some
@@ -1673,12 +1700,13 @@ def _out_of_decay(band, d, rate, candidates, amplitude, config):
     few milliseconds into itself (FluidR3's electric snare, 4-6 ms in, as loud as its note in the
     drum's lowest modes): an attack within ``echo_reach`` s after the one before it must pass that
     earlier peak by ``echo_rise_db`` (its first difference falls there: the earlier note goes on).
-    Last, an attack must bring a sound of its own (:func:`_new_sound`). An attack the template timed or found (kind
+    In a reverberant recording, a room's echo of an earlier note is none either (:func:`_room_echoes`). Last, an
+    attack must bring a sound of its own (:func:`_new_sound`). An attack the template timed or found (kind
     3) is quiet under ``found_decay_db`` instead of ``decay_db``, and must pass ``found_echo_rise_db`` instead of
     ``echo_rise_db`` within ``echo_reach`` s after the one before: the template's fit over what is left of the
     earlier sound is its test. A ghost note 57 ms after an accent found so does not rise 6 dB in its first difference
     over the accent's ringing, nor a drop's bounce 8 ms after the one before -3.5 dB over its sound. ``d`` is the
-    magnitude of ``band``'s first difference.
+    magnitude of ``band``'s first difference; ``reverberant``: whether step 4 found the recording so.
     """
     from ._kernels import peaks_around
 
@@ -1698,7 +1726,61 @@ def _out_of_decay(band, d, rate, candidates, amplitude, config):
                                round(5e-3 * rate), round(0.5e-3 * rate))
     keep = attack.copy()
     keep[tried] = rise > prior * least[quiet | close]
+    if reverberant:
+        keep = _room_echoes(band, d, rate, candidates, amplitude, keep, config)
     return _new_sound(band, rate, replace(candidates, attack=keep), config)
+
+
+def _room_echoes(band, d, rate, candidates, amplitude, attack, config):
+    """Step 5, in a reverberant recording: ``attack`` less the attacks that are a room's echo of an earlier note.
+
+    A room returns each note again and again, each return a smoothed copy of it (FluidSynth's reverb: from 54 ms
+    after the note, 20 dB and more under it); where little else sounds, the stages before take some for attacks,
+    found in the modes' band alone (kind 2: the recording's clear attack, the template, does not fit a smoothed
+    copy), as quiet as a ghost note and rising no more than one out of the sound before it. What tells them apart
+    is the room: it repeats each note's returns after every note alike, at the same delays, while a stick's ghost
+    note is new there. An attack of kind 2, ``spike_clear`` s or more after the attack before it, quieter than
+    ``room_decay_db`` re the loudest (``amplitude``), whose first difference (``d``, magnitudes) over the 2 ms
+    after it does not pass its peak over the 5 ms before by ``room_rise_db``, is an echo when, for some attack
+    ``reflection_db`` or more louder 35 ms to 0.3 s before it, the band at the same delay after another attack as
+    loud (within 6 dB; no attack found from 1 ms after that one to the end of the window) explains the band over
+    the 5 ms before and after it, and alike: its fit (least squares) leaves ``room_fit_db`` or less of that
+    band's energy, and the power it leaves after it passes that before it by ``room_echo_db`` at most
+    (:func:`._rooms.echo_novelty`). A ghost note under an accent's tail, as quiet and as
+    flat, leaves 3.6-19 dB more after its start.
+    """
+    from ._kernels import peaks_around
+    from ._rooms import echo_novelty
+
+    which = np.flatnonzero(attack)
+    times, levels = candidates.times[which], 20.0 * np.log10(np.maximum(amplitude[which], 1e-300))
+    apart = np.diff(times, prepend=-np.inf)
+    tried = np.flatnonzero((candidates.kinds[which] == 2) & (apart >= config.spike_clear * rate)
+                           & (levels < levels.max() + config.room_decay_db))
+    if not len(tried):
+        return attack
+    rise, prior = peaks_around(d, np.rint(times[tried]).astype(np.int64), round(2e-3 * rate), round(5e-3 * rate),
+                               round(0.5e-3 * rate))
+    tried = tried[rise <= prior * 10.0 ** (config.room_rise_db / 20.0)]
+    width, reach, novel = round(5e-3 * rate), round(0.5e-3 * rate), 10.0 ** (config.room_echo_db / 10.0)
+    # how long the sound after each attack stays clear of the next one found (from 1 ms after it)
+    after = np.searchsorted(times, times + 1e-3 * rate, side="right")
+    clear = np.append(times, np.inf)[after] - times
+    attack = attack.copy()
+    for k in tried:
+        sources = np.flatnonzero((times[k] - times >= 35e-3 * rate) & (times[k] - times <= 0.3 * rate)
+                                 & (levels >= levels[k] + config.reflection_db))
+        centres = []
+        for i in sources:
+            delay = times[k] - times[i]
+            partners = np.abs(levels - levels[i]) <= 6.0
+            partners[i] = False
+            partners &= clear >= delay + width + reach
+            centres.extend(times[partners] + delay)
+        if centres and echo_novelty(band, round(times[k]), np.rint(centres).astype(np.int64), width, width, reach,
+                                    max(1, round(60e-6 * rate)), 10.0 ** (config.room_fit_db / 10.0)) <= novel:
+            attack[which[k]] = False
+    return attack
 
 
 def _new_sound(band, rate, candidates, config):
