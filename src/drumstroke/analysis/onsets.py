@@ -432,6 +432,14 @@ class OnsetConfig:
     found_echo_rise_db : float in [-60, 60]
         dB: as ``echo_rise_db``, for an attack the template timed or found (step 5, :func:`_out_of_decay`; its fit is
         its test; -3.5, ``echo_rise_db``'s: as before this field).
+    lead_reach : float in [0, 0.002]
+        s: how far before an attack over earlier sound (not clear by ``lead_clear_db``) its main rise is sought
+        (:func:`_learned_lead_ins`; a clear attack's from 2 ms before; 0.002: as before this field).
+    layer_bounce_likeness : float in [0, 1]
+        Correlation: where the template search's loud template finds no close bounce after an attack the quietest
+        clear attack's sound (the second template) took off, the least correlation of that sound's first
+        ``template_fit`` s with what is left at a bounce it finds, its start by ``weak_likeness`` (a drop's quiet
+        bounces are that layer's; step 5; 1: none is sought, as before this field).
 
     Examples
     --------
@@ -521,6 +529,8 @@ class OnsetConfig:
     bounce_likeness: float = 0.7
     bounce_ratio_low: float = 0.3
     found_echo_rise_db: float = -60.0
+    lead_reach: float = 0.3e-3
+    layer_bounce_likeness: float = 0.8
 
     def __post_init__(self):
         for name, (low, high, unit) in _RANGES.items():
@@ -570,6 +580,7 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "reflection_spread": (0.0, 5e-3, "s"), "found_burst_db": (-120.0, 0.0, "dB"), "found_decay_db": (-120.0, 0.0, "dB"),
     "earlier_reach": (0.0, 0.02, "s"), "bounce_likeness": (0.0, 1.0, "(correlation)"),
     "bounce_ratio_low": (0.0, 100.0, "(amplitude ratio)"), "found_echo_rise_db": (-60.0, 60.0, "dB"),
+    "lead_reach": (0.0, 0.002, "s"), "layer_bounce_likeness": (0.0, 1.0, "(correlation)"),
 }
 
 
@@ -1508,7 +1519,8 @@ def _template_search(band, d, rate, candidates, refused, config, quietest=False)
                                             10.0 ** (config.threshold_db / 20.0),
                                             10.0 ** (config.found_burst_db / 10.0) if config.found_burst_db > -120.0 else 0.0,
                                             0 if quietest else round(config.earlier_reach * rate), ~lead_clear & (candidates.kinds != 3),
-                                            config.weak_likeness, config.bounce_likeness)
+                                            config.weak_likeness, config.bounce_likeness,
+                                            1.0 if quietest else config.layer_bounce_likeness)
     if not len(found) and not dropped.any():
         return candidates
     merged, fresh = candidates.take(~dropped).insert(found, attack=True, likeness=likes)
@@ -1785,7 +1797,10 @@ def _learned_lead_ins(d, rate, candidates, config):
     centres = np.rint(candidates.times[which]).astype(np.int64)
     peak, prior = peaks_around(d, centres, round(5e-3 * rate), round(5e-3 * rate), round(0.5e-3 * rate))
     clear, over = prior <= peak * 10.0 ** (config.lead_clear_db / 20.0), prior < peak
-    low = np.maximum(0, centres - round(2e-3 * rate))
+    # a clear attack's main rise is sought from 2 ms before it (its lead-in is learned there); another's only from
+    # lead_reach before it: a rise found earlier could not move it (the move's limit below), and under an accent's
+    # ringing it is that ringing's, found first, where the attack's own rise comes after it
+    low = np.maximum(0, centres - np.where(clear, round(2e-3 * rate), round(config.lead_reach * rate)))
     above = first_at_least(d, low, centres + round(3e-3 * rate), config.lead_rise * peak)
     rise = np.where((above >= 0) & (peak > 0.0), low + above, candidates.times[which])
     if clear.sum() < 3:
