@@ -432,14 +432,16 @@ class OnsetConfig:
     found_echo_rise_db : float in [-60, 60]
         dB: as ``echo_rise_db``, for an attack the template timed or found (step 5, :func:`_out_of_decay`; its fit is
         its test; -3.5, ``echo_rise_db``'s: as before this field).
-    lead_reach : float in [0, 0.002]
-        s: how far before an attack over earlier sound (not clear by ``lead_clear_db``) its main rise is sought
-        (:func:`_learned_lead_ins`; a clear attack's from 2 ms before; 0.002: as before this field).
     layer_bounce_likeness : float in [0, 1]
         Correlation: where the template search's loud template finds no close bounce after an attack the quietest
         clear attack's sound (the second template) took off, the least correlation of that sound's first
         ``template_fit`` s with what is left at a bounce it finds, its start by ``weak_likeness`` (a drop's quiet
-        bounces are that layer's; step 5; 1: none is sought, as before this field).
+        bounces are that layer's; step 5; only where the recording replays a sample, by ``replay_likeness``; 1: none
+        is sought, as before this field).
+    replay_likeness : float in [0, 1]
+        Correlation: a recording replays a sample (a sample player's velocity layers, ``layer_bounce_likeness``) where
+        another clear attack's first ``template_fit`` s correlate so with the loudest clear attack's (step 5; 0: every
+        recording with two clear attacks does).
 
     Examples
     --------
@@ -529,8 +531,8 @@ class OnsetConfig:
     bounce_likeness: float = 0.7
     bounce_ratio_low: float = 0.3
     found_echo_rise_db: float = -60.0
-    lead_reach: float = 0.3e-3
     layer_bounce_likeness: float = 0.8
+    replay_likeness: float = 0.999
 
     def __post_init__(self):
         for name, (low, high, unit) in _RANGES.items():
@@ -580,7 +582,8 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "reflection_spread": (0.0, 5e-3, "s"), "found_burst_db": (-120.0, 0.0, "dB"), "found_decay_db": (-120.0, 0.0, "dB"),
     "earlier_reach": (0.0, 0.02, "s"), "bounce_likeness": (0.0, 1.0, "(correlation)"),
     "bounce_ratio_low": (0.0, 100.0, "(amplitude ratio)"), "found_echo_rise_db": (-60.0, 60.0, "dB"),
-    "lead_reach": (0.0, 0.002, "s"), "layer_bounce_likeness": (0.0, 1.0, "(correlation)"),
+    "layer_bounce_likeness": (0.0, 1.0, "(correlation)"),
+    "replay_likeness": (0.0, 1.0, "(correlation)"),
 }
 
 
@@ -1506,6 +1509,9 @@ def _template_search(band, d, rate, candidates, refused, config, quietest=False)
     pre = round(0.5e-3 * rate)
     head = pre + round(config.template_head * rate)
     _, (lead_clear,) = _clear(d, candidates.times, rate, [config.lead_clear_db])
+    layer_bounce = config.layer_bounce_likeness
+    if quietest or layer is None or not _replays(band, candidates.times, lead_clear, loudest, rate, config):
+        layer_bounce = 1.0  # (none sought)
     found, likes, dropped = template_search(band.copy(), template, template[:head],
                                             np.ascontiguousarray(candidates.times, dtype=float),
                                             np.where(candidates.kinds == 3, offset, 0.0),  # timed at its sample
@@ -1519,12 +1525,30 @@ def _template_search(band, d, rate, candidates, refused, config, quietest=False)
                                             10.0 ** (config.threshold_db / 20.0),
                                             10.0 ** (config.found_burst_db / 10.0) if config.found_burst_db > -120.0 else 0.0,
                                             0 if quietest else round(config.earlier_reach * rate), ~lead_clear & (candidates.kinds != 3),
-                                            config.weak_likeness, config.bounce_likeness,
-                                            1.0 if quietest else config.layer_bounce_likeness)
+                                            config.weak_likeness, config.bounce_likeness, layer_bounce)
     if not len(found) and not dropped.any():
         return candidates
     merged, fresh = candidates.take(~dropped).insert(found, attack=True, likeness=likes)
     return replace(merged, kinds=np.where(fresh, 3, merged.kinds))
+
+
+def _replays(band, times, clear, loudest, rate, config):
+    """Whether the recording replays a sample: another attack clear by ``lead_clear_db`` (``clear``, 20 ms or more
+    before the next) whose first ``template_fit`` s correlate by ``replay_likeness`` with the loudest clear attack's
+    (``times[loudest]``; within 2 samples), as a sample player's notes of one velocity layer do (the corpus's
+    SoundFonts: 0.9998-1.0000), not a struck drum's (drumstroke's synthetic drums: 0.94-0.994)."""
+    pre, lag = round(0.5e-3 * rate), 2
+    size = pre + round(config.template_fit * rate)
+    starts = np.rint(times).astype(np.int64) - pre
+    others = np.flatnonzero(clear & (np.append(np.diff(times), np.inf) >= 20e-3 * rate))
+    others = others[(others != loudest) & (starts[others] >= lag) & (starts[others] + size + lag <= len(band))]
+    own = band[starts[loudest]:starts[loudest] + size]
+    if len(own) < size or not len(others):
+        return False
+    windows = np.lib.stride_tricks.sliding_window_view(band, size)[
+        (starts[others][:, None] + np.arange(-lag, lag + 1)).ravel()]
+    likeness = windows @ own / np.sqrt(np.maximum(np.einsum("ij,ij->i", windows, windows) * (own @ own), 1e-300))
+    return bool(likeness.max() >= config.replay_likeness)
 
 
 def _measured_at(candidates, found, rate, config):
@@ -1797,10 +1821,7 @@ def _learned_lead_ins(d, rate, candidates, config):
     centres = np.rint(candidates.times[which]).astype(np.int64)
     peak, prior = peaks_around(d, centres, round(5e-3 * rate), round(5e-3 * rate), round(0.5e-3 * rate))
     clear, over = prior <= peak * 10.0 ** (config.lead_clear_db / 20.0), prior < peak
-    # a clear attack's main rise is sought from 2 ms before it (its lead-in is learned there); another's only from
-    # lead_reach before it: a rise found earlier could not move it (the move's limit below), and under an accent's
-    # ringing it is that ringing's, found first, where the attack's own rise comes after it
-    low = np.maximum(0, centres - np.where(clear, round(2e-3 * rate), round(config.lead_reach * rate)))
+    low = np.maximum(0, centres - round(2e-3 * rate))
     above = first_at_least(d, low, centres + round(3e-3 * rate), config.lead_rise * peak)
     rise = np.where((above >= 0) & (peak > 0.0), low + above, candidates.times[which])
     if clear.sum() < 3:
