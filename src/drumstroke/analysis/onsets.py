@@ -440,8 +440,8 @@ class OnsetConfig:
         is sought, as before this field).
     replay_likeness : float in [0, 1]
         Correlation: a recording replays a sample (a sample player's velocity layers, ``layer_bounce_likeness``) where
-        another clear attack's first ``template_fit`` s correlate so with the loudest clear attack's (step 5; 0: every
-        recording with two clear attacks does).
+        two clear attacks' first ``template_fit`` s correlate so (step 5; 0: every recording with two clear attacks
+        does).
 
     Examples
     --------
@@ -1510,7 +1510,7 @@ def _template_search(band, d, rate, candidates, refused, config, quietest=False)
     head = pre + round(config.template_head * rate)
     _, (lead_clear,) = _clear(d, candidates.times, rate, [config.lead_clear_db])
     layer_bounce = config.layer_bounce_likeness
-    if quietest or layer is None or not _replays(band, candidates.times, lead_clear, loudest, rate, config):
+    if quietest or layer is None or not _replays(band, candidates.times, lead_clear, rate, config):
         layer_bounce = 1.0  # (none sought)
     found, likes, dropped = template_search(band.copy(), template, template[:head],
                                             np.ascontiguousarray(candidates.times, dtype=float),
@@ -1532,23 +1532,28 @@ def _template_search(band, d, rate, candidates, refused, config, quietest=False)
     return replace(merged, kinds=np.where(fresh, 3, merged.kinds))
 
 
-def _replays(band, times, clear, loudest, rate, config):
-    """Whether the recording replays a sample: another attack clear by ``lead_clear_db`` (``clear``, 20 ms or more
-    before the next) whose first ``template_fit`` s correlate by ``replay_likeness`` with the loudest clear attack's
-    (``times[loudest]``; within 2 samples), as a sample player's notes of one velocity layer do (the corpus's
-    SoundFonts: 0.9998-1.0000), not a struck drum's (drumstroke's synthetic drums: 0.94-0.994)."""
+def _replays(band, times, clear, rate, config):
+    """Whether the recording replays a sample: two attacks clear by ``lead_clear_db`` (``clear``, each 20 ms or more
+    before the next) whose first ``template_fit`` s correlate by ``replay_likeness`` (within 2 samples), as a sample
+    player's notes of one velocity layer do (the corpus's SoundFonts: 0.9998 or more in every drop and roll), not a
+    struck drum's (drumstroke's synthetic drums, 180 strokes: 0.998 at most)."""
     pre, lag = round(0.5e-3 * rate), 2
     size = pre + round(config.template_fit * rate)
     starts = np.rint(times).astype(np.int64) - pre
-    others = np.flatnonzero(clear & (np.append(np.diff(times), np.inf) >= 20e-3 * rate))
-    others = others[(others != loudest) & (starts[others] >= lag) & (starts[others] + size + lag <= len(band))]
-    own = band[starts[loudest]:starts[loudest] + size]
-    if len(own) < size or not len(others):
+    which = np.flatnonzero(clear & (np.append(np.diff(times), np.inf) >= 20e-3 * rate))
+    starts = starts[which[(starts[which] >= lag) & (starts[which] + size + lag <= len(band))]]
+    if len(starts) < 2:
         return False
-    windows = np.lib.stride_tricks.sliding_window_view(band, size)[
-        (starts[others][:, None] + np.arange(-lag, lag + 1)).ravel()]
-    likeness = windows @ own / np.sqrt(np.maximum(np.einsum("ij,ij->i", windows, windows) * (own @ own), 1e-300))
-    return bool(likeness.max() >= config.replay_likeness)
+    views = np.lib.stride_tricks.sliding_window_view(band, size)
+    own = views[starts]
+    own = own / np.maximum(np.linalg.norm(own, axis=1), 1e-300)[:, None]
+    for shift in range(-lag, lag + 1):
+        shifted = views[starts + shift]
+        likeness = shifted @ own.T / np.maximum(np.linalg.norm(shifted, axis=1), 1e-300)[:, None]
+        np.fill_diagonal(likeness, -1.0)  # (an attack with itself)
+        if likeness.max() >= config.replay_likeness:
+            return True
+    return False
 
 
 def _measured_at(candidates, found, rate, config):
