@@ -61,7 +61,7 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
                     found[count], likes[count], count = start + offset, like, count + 1
         else:
             break
-        last = c
+        previous, last = last, c
         following = int(np.rint(times[i] - shifts[i])) if i < len(times) else n
         detection = following
         if c < pre or min(max(pre + shortest, min(pre + fit, following - c)), size, n - c + pre) <= pre:
@@ -101,7 +101,7 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
             high = min(following - gap, c + bounce, n - len(head) + pre)
             at, like = _bounce_after(remainder, template, head, head_energy, c + gap, high, following, pre, shortest,
                                      fit, reach, measured, likeness, ratio_low, ratio_high, start_likeness)
-            if at < 0 and by_layer and layer_likeness < 1.0:
+            if at < 0 and by_layer and layer_likeness < 1.0 and c - previous <= bounce:
                 # a quiet note taken off by the layer's template: the next bounce is likely that layer's too, whose
                 # start the loud template's does not fit (FluidR3's snare 38: 0.62 at a drop's bounce, 6.7 ms on)
                 at, like = _bounce_after(remainder, layer, layer[:len(head)], _dot(layer, 0, layer, len(head)),

@@ -1510,7 +1510,8 @@ def _template_search(band, d, rate, candidates, refused, config, quietest=False)
     head = pre + round(config.template_head * rate)
     _, (lead_clear,) = _clear(d, candidates.times, rate, [config.lead_clear_db])
     layer_bounce = config.layer_bounce_likeness
-    if quietest or layer is None or not _replays(band, candidates.times, lead_clear, rate, config):
+    if quietest or layer is None or layer_bounce >= 1.0 or not _replays(band, candidates.times, lead_clear, rate,
+                                                                         config):
         layer_bounce = 1.0  # (none sought)
     found, likes, dropped = template_search(band.copy(), template, template[:head],
                                             np.ascontiguousarray(candidates.times, dtype=float),
