@@ -40,7 +40,12 @@ without snares has a false onset at 0.8358 s (17 ms after an impact) gone and on
 added, its stroke 2 without snares a false one at 1.0931 s (17 ms after one) gone, FluidR3's snare 40 roll at -72 dBFS
 its notes of 1.0950 and 4.2990 s at their start instead of on their sample's second burst 3.7 ms in, FluidR3's snare
 38 drop with reverb 44 onsets instead of 43 (its bounce of 4.0261 s found, within 0.06 ms) and five of its last
-bounces' levels moved by 0.07-1.15 dB (their windows), every other recording unchanged).
+bounces' levels moved by 0.07-1.15 dB (their windows), every other recording unchanged); and when the search for
+close bounces looked, after an attack the quiet velocity layer's template took off in a train of close attacks, with
+that layer's template too, where the recording replays a sample (by design: with ``layer_bounce_likeness=1`` every
+output equals the reference before; with it, FluidR3's snare 38 drop with reverb has 47 onsets instead of 44, its
+second drop's close last bounces of 4.0353-4.0487 s found, and every other recording, the synthetic ones included
+(they replay no sample, ``replay_likeness``), is unchanged).
 The recordings are rebuilt here (seeded): our synthesis with and without the snare wires, another
 drum's, a room and noise (tests/_recordings.py), the paper's free bounce of benchmarks/analysis.py, and
 some of tests/_recorded_drums.py's SoundFont recordings (dry, noise, FluidSynth's reverb).
