@@ -36,7 +36,9 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
     the template fits better (:func:`_earlier_start`, its start correlating by ``weak`` there), the attack is put,
     the detection dropped. The search for a bounce after an attack asks the template's start to correlate by
     ``start_likeness`` only and the template over ``fit`` samples by ``likeness`` (a quiet velocity layer's start is
-    unlike the loud one's). Returns the attacks found (their
+    unlike the loud one's); after an attack ``layer`` took off, within ``bounce`` after the attack before it, where the
+    template finds none, the search is made with ``layer`` (its first ``fit`` samples by ``layer_likeness``, its start
+    by ``weak``, scaled re that attack's fit by the layer; ``layer_likeness`` 1: not made). Returns the attacks found (their
     times, in order), each one's correlation and which of ``times`` are dropped [shape=(len(times),)].
     """
     n, size = len(remainder), len(template)
