@@ -12,10 +12,10 @@ from _recorded_drums import LOUD_DB, RATE, first_above, match, note_block, recor
 from drumstroke.analysis import OnsetConfig, find_onsets
 
 # the template search's own-burst, earlier-start, fitted-attack and bounce rules off (found_burst_db, earlier_reach,
-# found_decay_db, bounce_likeness, bounce_ratio_low, found_echo_rise_db): a control that measures a stage before them (those rules do part
-# of its work since)
+# found_decay_db, bounce_likeness, bounce_ratio_low, found_echo_rise_db, and the quiet layer's own bounce search,
+# layer_bounce_likeness): a control that measures a stage before them (those rules do part of its work since)
 _BEFORE_FOUND = {"found_burst_db": -120.0, "earlier_reach": 0.0, "found_decay_db": -32.0, "bounce_likeness": 0.8,
-                 "bounce_ratio_low": 0.35, "found_echo_rise_db": -3.5}
+                 "bounce_ratio_low": 0.35, "found_echo_rise_db": -3.5, "layer_bounce_likeness": 1.0}
 
 # FluidSynth and both SoundFonts are needed (scripts/install-system-packages.sh installs them): without them
 # these tests fail with render_soundfont's error, they never skip
@@ -528,11 +528,12 @@ def test_an_attack_detected_on_its_samples_second_burst_is_moved_to_its_start():
     ``earlier_reach`` (5 ms) before such a detection (not clear of the earlier sound): where its start correlates by
     ``weak_likeness`` and the whole template by ``template_likeness``, better than at the detection. Both within
     0.25 ms of their truth now (0.14 ms at most), and the loud notes found within 1 ms 50 of 51 (45 with
-    ``earlier_reach=0``, the search as before)."""
+    ``earlier_reach=0``, the search as before; the quiet layer's own bounce search, which finds them too, off)."""
     recording = _corpus_recording("FluidR3 40 drop", "noise60")
     notes = recording.t[[np.argmin(np.abs(recording.t - t)) for t in (1.9190, 4.0204)]]
     moved = find_onsets(recording.signal, RATE).t
-    late = find_onsets(recording.signal, RATE, config=OnsetConfig(earlier_reach=0.0, bounce_likeness=0.8)).t
+    late = find_onsets(recording.signal, RATE, config=OnsetConfig(earlier_reach=0.0, bounce_likeness=0.8,
+                                                                 layer_bounce_likeness=1.0)).t
     for t in notes:
         assert np.min(np.abs(moved - t)) <= 0.25e-3
         assert np.min(np.abs(late - t)) > 1e-3 and np.any((late > t + 3e-3) & (late < t + 4e-3))
@@ -546,11 +547,12 @@ def test_a_drops_quiet_bounce_is_found_by_the_whole_template_where_its_start_is_
     velocity layer's sample than the loud template, whose start (3.5 ms) correlates with it under 0.8; the template
     search takes a close bounce where its start correlates by ``bounce_likeness`` (0.7) and its first 10 ms by
     ``template_likeness`` (0.8). Found within 0.25 ms, every detection a note within 5 ms; with
-    ``bounce_likeness=0.8`` (``template_likeness``'s, as before) it is missed."""
+    ``bounce_likeness=0.8`` (``template_likeness``'s, as before; the quiet layer's own bounce search, which finds it
+    too, off) it is missed."""
     recording = _corpus_recording("FluidR3 38 drop", "dry")
     note = recording.t[np.argmin(np.abs(recording.t - 1.9634))]
     found = find_onsets(recording.signal, RATE).t
-    before = find_onsets(recording.signal, RATE, config=OnsetConfig(bounce_likeness=0.8)).t
+    before = find_onsets(recording.signal, RATE, config=OnsetConfig(bounce_likeness=0.8, layer_bounce_likeness=1.0)).t
     assert np.min(np.abs(found - note)) <= 0.25e-3 and np.min(np.abs(before - note)) > 5e-3
     figures, earlier = score(recording, found), score(recording, before)
     assert figures["correct_5ms"] == figures["found"] and figures["within_1ms"] == earlier["within_1ms"] + 1
@@ -560,11 +562,12 @@ def test_a_bounce_over_a_rooms_sound_is_found_at_a_lower_scale():
     """FluidR3's snare 38 drop with FluidSynth's reverb: the fit of its bounce of 1.9114 s over the room's sound reads
     it louder than it is, and the next (1.9234 s, 1.5 dB quieter) scales 0.34 of it, under ``after_ratio_low`` (0.35).
     The template search asks ``bounce_ratio_low`` (0.3): that bounce and the next three (to 1.9514 s, -23 dB) are
-    found, each within 0.25 ms; with ``bounce_ratio_low=0.35`` (as before) none of them is within 5 ms."""
+    found, each within 0.25 ms; with ``bounce_ratio_low=0.35`` (as before; the quiet layer's own bounce search, which
+    finds them too, off) none of them is within 5 ms."""
     recording = _corpus_recording("FluidR3 38 drop", "reverb")
     notes = recording.t[[np.argmin(np.abs(recording.t - t)) for t in (1.9234, 1.9354, 1.9434, 1.9514)]]
     found = find_onsets(recording.signal, RATE).t
-    before = find_onsets(recording.signal, RATE, config=OnsetConfig(bounce_ratio_low=0.35)).t
+    before = find_onsets(recording.signal, RATE, config=OnsetConfig(bounce_ratio_low=0.35, layer_bounce_likeness=1.0)).t
     for t in notes:
         assert np.min(np.abs(found - t)) <= 0.25e-3 and np.min(np.abs(before - t)) > 5e-3
 
@@ -622,3 +625,19 @@ def test_a_recording_replays_a_sample_where_two_clear_attacks_are_one_waveform()
     times, speeds = random_strokes(1, seed=28)[0]
     signal, truth = render(times, speeds, seed=0, snares=False)
     assert not replays(signal, SYNTHETIC_RATE, truth)
+
+
+def test_a_drops_bounces_before_its_quietest_clear_attack_are_found_by_that_layers_sound_as_recorded():
+    """FluidR3's snare 40 in a drop at -72 dBFS: its quietest clear attack comes in the second drop, so the first drop's
+    last bounces (1.9190-1.9470 s, -22 to -28 dB, 8-12 ms apart) come before the loop has that layer's template (what
+    is left there once the attacks before it are taken off). Before it the layer's template is its sound as recorded:
+    they are found, each within 0.1 ms; with ``layer_bounce_likeness=1`` (no quiet layer's search, none before it) none
+    is within 5 ms."""
+    recording = _corpus_recording("FluidR3 40 drop", "noise72")
+    notes = recording.t[[np.argmin(np.abs(recording.t - t)) for t in (1.9190, 1.9297, 1.9390, 1.9470)]]
+    found = find_onsets(recording.signal, RATE).t
+    before = find_onsets(recording.signal, RATE, config=OnsetConfig(layer_bounce_likeness=1.0)).t
+    for t in notes:
+        assert np.min(np.abs(found - t)) <= 0.1e-3 and np.min(np.abs(before - t)) > 5e-3
+    figures, earlier = score(recording, found), score(recording, before)
+    assert figures["found"] - figures["correct_5ms"] <= earlier["found"] - earlier["correct_5ms"]

@@ -38,11 +38,19 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
     ``start_likeness`` only and the template over ``fit`` samples by ``likeness`` (a quiet velocity layer's start is
     unlike the loud one's); after an attack ``layer`` took off, within ``bounce`` after the attack before it, where the
     template finds none, the search is made with ``layer`` (its first ``fit`` samples by ``layer_likeness``, its start
-    by ``weak``, scaled re that attack's fit by the layer; ``layer_likeness`` 1: not made). Returns the attacks found (their
+    by ``weak``, scaled re that attack's fit by the layer; ``layer_likeness`` 1: not made), and before the loop reaches
+    ``layer_at`` the layer is its sound as recorded (not yet what is left there; with ``layer_likeness`` 1 there is
+    none before it). Returns the attacks found (their
     times, in order), each one's correlation and which of ``times`` are dropped [shape=(len(times),)].
     """
     n, size = len(remainder), len(template)
     head_energy, layer = _dot(head, 0, head, len(head)), np.zeros(0)
+    if layer_at >= 0 and layer_likeness < 1.0:
+        # the layer's sound as recorded, for the attacks before the loop reaches it (a drop's first train of close
+        # bounces may come before its quietest clear attack)
+        q = int(np.rint(times[layer_at] - shifts[layer_at]))
+        if q >= pre:
+            layer = continued(remainder[q - pre:q - pre + min(layer_size, n - q + pre)].copy(), template, fit)
     most = n // max(gap, 1) + 1 + len(times)  # each new one gap after, each moved one of times
     found, likes, count = np.empty(most), np.empty(most), 0
     dropped = np.zeros(len(times), dtype=np.bool_)
