@@ -531,7 +531,7 @@ class OnsetConfig:
     bounce_likeness: float = 0.7
     bounce_ratio_low: float = 0.3
     found_echo_rise_db: float = -60.0
-    layer_bounce_likeness: float = 0.8
+    layer_bounce_likeness: float = 0.75
     replay_likeness: float = 0.999
 
     def __post_init__(self):
@@ -1478,8 +1478,8 @@ def _template_search(band, d, rate, candidates, refused, config, quietest=False)
     waveform, and on drumstroke's synthetic drums the quietest clear attack is no layer (there this search took the
     modes' beating 7-22 ms after an impact for bounces: 7 false onsets in the fast path's strokes). Before the loop
     reaches the quietest clear attack, the layer's template is that attack's sound as recorded (a drop's first train
-    of close bounces may come before it). On the corpus 22 more loud notes within 1 ms and 20 within 5 ms (FluidR3's
-    drops), 2 false detections fewer; 22 and 13 more within 1 ms on two other seeds, no false detection more.
+    of close bounces may come before it). On the corpus 24 more loud notes within 1 ms and 22 within 5 ms (FluidR3's
+    drops), 2 false detections fewer; 24 and 14 more within 1 ms on two other seeds, no false detection more.
 
     *A sample's second burst.* FluidR3's electric snare (40) bursts again 3.4 ms into a note. A detection within
     ``bounce_reach`` s after an attack, where taking that attack's fit off (up to the detection, or past it to the
