@@ -1476,7 +1476,7 @@ def _template_search(band, d, rate, candidates, refused, config, quietest=False)
     ``layer_bounce_likeness``, its start by ``weak_likeness``, the scale re that attack's by the layer. Only where the
     recording replays a sample (:func:`_replays`, by ``replay_likeness``): a struck drum's strokes are each a new
     waveform, and on drumstroke's synthetic drums the quietest clear attack is no layer (there this search took the
-    modes' beating 7-22 ms after an impact for bounces: 7 false onsets in the fast path's strokes). Before the loop
+    modes' beating 7-23 ms after an impact for bounces: 7 false onsets in the fast path's strokes). Before the loop
     reaches the quietest clear attack, the layer's template is that attack's sound as recorded (a drop's first train
     of close bounces may come before it). On the corpus 24 more loud notes within 1 ms and 22 within 5 ms (FluidR3's
     drops), 2 false detections fewer; 24 and 14 more within 1 ms on two other seeds, no false detection more.
