@@ -47,10 +47,11 @@ def _note(rng):
     return np.concatenate((np.zeros(PRE), burst))
 
 
-def _search(signal, template, times, refused, bounce=960, layer=(-1, 0), dropped=False, burst=0.0):
+def _search(signal, template, times, refused, bounce=960, layer=(-1, 0), dropped=False, burst=0.0, layer_bounce=1.0):
     found, likes, gone = template_search(signal.copy(), template, template[:PRE + 144], np.asarray(times, dtype=float),
                                          np.zeros(len(times)), np.asarray(refused, dtype=float), 0.0, *layer, PRE, 96,
-                                         48, 480, bounce, 384, 2400, 120, 0.8, 0.8, 0.35, 1.5, 0.01, burst, 0, np.zeros(len(times), dtype=bool), 0.5, 0.8)
+                                         48, 480, bounce, 384, 2400, 120, 0.8, 0.8, 0.35, 1.5, 0.01, burst, 0, np.zeros(len(times), dtype=bool), 0.5, 0.8,
+                                         layer_bounce)
     return (found, likes, gone) if dropped else (found, likes)
 
 

@@ -15,7 +15,7 @@ from .._jit import jit
 @jit(error_model="numpy")
 def template_search(remainder, template, head, times, shifts, refused, offset, layer_at, layer_size, pre, gap,
                     shortest, fit, bounce, echo, signature, reach, likeness, refused_likeness, ratio_low, ratio_high,
-                    least, burst, earlier, unclear, weak, start_likeness):
+                    least, burst, earlier, unclear, weak, start_likeness, layer_likeness):
     """:func:`.onsets._template_search`'s loop over the attacks at ``times`` (full-rate samples, in order).
 
     ``remainder`` (the band, changed in place) less each attack's fitted ``template`` (``pre`` samples before its
@@ -36,11 +36,21 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
     the template fits better (:func:`_earlier_start`, its start correlating by ``weak`` there), the attack is put,
     the detection dropped. The search for a bounce after an attack asks the template's start to correlate by
     ``start_likeness`` only and the template over ``fit`` samples by ``likeness`` (a quiet velocity layer's start is
-    unlike the loud one's). Returns the attacks found (their
+    unlike the loud one's); after an attack ``layer`` took off, within ``bounce`` after the attack before it, where the
+    template finds none, the search is made with ``layer`` (its first ``fit`` samples by ``layer_likeness``, its start
+    by ``weak``, scaled re that attack's fit by the layer; ``layer_likeness`` 1: not made), and before the loop reaches
+    ``layer_at`` the layer is its sound as recorded (not yet what is left there; with ``layer_likeness`` 1 there is
+    none before it). Returns the attacks found (their
     times, in order), each one's correlation and which of ``times`` are dropped [shape=(len(times),)].
     """
     n, size = len(remainder), len(template)
     head_energy, layer = _dot(head, 0, head, len(head)), np.zeros(0)
+    if layer_at >= 0 and layer_likeness < 1.0:
+        # the layer's sound as recorded, for the attacks before the loop reaches it (a drop's first train of close
+        # bounces may come before its quietest clear attack)
+        q = int(np.rint(times[layer_at] - shifts[layer_at]))
+        if q >= pre:
+            layer = continued(remainder[q - pre:q - pre + min(layer_size, n - q + pre)].copy(), template, fit)
     most = n // max(gap, 1) + 1 + len(times)  # each new one gap after, each moved one of times
     found, likes, count = np.empty(most), np.empty(most), 0
     dropped = np.zeros(len(times), dtype=np.bool_)
@@ -61,7 +71,7 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
                     found[count], likes[count], count = start + offset, like, count + 1
         else:
             break
-        last = c
+        previous, last = last, c
         following = int(np.rint(times[i] - shifts[i])) if i < len(times) else n
         detection = following
         if c < pre or min(max(pre + shortest, min(pre + fit, following - c)), size, n - c + pre) <= pre:
@@ -78,7 +88,8 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
                 detection = following
                 close = i < len(times) and following < c + bounce
         heard = _energy(remainder, following, shortest) if close and burst > 0.0 else 0.0
-        own, at_c, scale, measured, fitted = _take_off(remainder, template, layer, c, following, pre, shortest, fit)
+        own, at_c, scale, measured, fitted, by_layer = _take_off(remainder, template, layer, c, following, pre, shortest,
+                                                                 fit)
         skipped = False
         if fitted >= likeness and close:
             # a detection close after that neither template fits is no end to this attack's sound: fitted up to the
@@ -89,8 +100,8 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
             own_burst = _energy(remainder, detection, shortest) < heard * burst
             if width > pre and (own_burst or _likeness(remainder, following - pre, own, width) < likeness):
                 _add(remainder, own, at_c, scale, pre)
-                own, at_c, scale, measured, fitted = _take_off(remainder, template, layer, c, after, pre, shortest,
-                                                               fit)
+                own, at_c, scale, measured, fitted, by_layer = _take_off(remainder, template, layer, c, after, pre,
+                                                                         shortest, fit)
                 skipped, following = True, after
                 if own_burst or _energy(remainder, detection, shortest) < heard * burst:
                     dropped[i], i, skipped = True, i + 1, False  # the detection was this attack's own second burst
@@ -100,6 +111,12 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
             high = min(following - gap, c + bounce, n - len(head) + pre)
             at, like = _bounce_after(remainder, template, head, head_energy, c + gap, high, following, pre, shortest,
                                      fit, reach, measured, likeness, ratio_low, ratio_high, start_likeness)
+            if at < 0 and by_layer and layer_likeness < 1.0 and c - previous <= bounce:
+                # a quiet note taken off by the layer's template: the next bounce is likely that layer's too, whose
+                # start the loud template's does not fit (FluidR3's snare 38: 0.62 at a drop's bounce, 6.7 ms on)
+                at, like = _bounce_after(remainder, layer, layer[:len(head)], _dot(layer, 0, layer, len(head)),
+                                         c + gap, high, following, pre, shortest, fit, reach, scale, layer_likeness,
+                                         ratio_low, ratio_high, weak)
         if skipped and at > detection:
             if at - detection <= echo:  # the detection was this bounce placed early
                 dropped[i], i = True, i + 1
@@ -142,20 +159,20 @@ def _take_off(remainder, template, layer, c, following, pre, shortest, fit):
     """The attack at ``c`` fitted (least squares over ``fit`` samples up to ``following``, ``shortest`` or more) and
     taken off ``remainder`` by ``template`` or, where it correlates better, by ``layer`` (within ``_LAYER_LAG``
     samples). Returns what was taken off (the samples, its attack's sample, its scale), the template's own scale
-    there (what a bounce after is compared with) and the fit's correlation."""
+    there (what a bounce after is compared with), the fit's correlation and whether ``layer`` took it off."""
     n = len(remainder)
     span = min(max(pre + shortest, min(pre + fit, following - c)), len(template), n - c + pre)
     dot, own_energy, energy = _sums(remainder, c - pre, template, span)
     fitted = dot / math.sqrt(max(own_energy * energy, 1e-300))  # _likeness's
     measured = dot / energy
-    own, at, scale = template, c, measured
+    own, at, scale, by_layer = template, c, measured, False
     lag, like = _layer_fit(remainder, layer, c, pre, min(span, len(layer)))
     if like > _likeness(remainder, c - pre, template, min(span, len(layer))):
-        own, at, fitted = layer, c + lag, like
+        own, at, fitted, by_layer = layer, c + lag, like, True
         span = min(span, len(layer), n - at + pre)
         scale = _dot(remainder, at - pre, own, span) / _dot(own, 0, own, span)
     _add(remainder, own, at, -scale, pre)
-    return own, at, scale, measured, fitted
+    return own, at, scale, measured, fitted, by_layer
 
 
 @jit(error_model="numpy")
