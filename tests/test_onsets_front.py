@@ -210,3 +210,20 @@ def test_vector_reads_take_read_only_arrays_and_refuse_strided_ones(rng):
                                [np.sum(np.abs(np.fft.rfft(x[s:s + 64] * window)) ** 2) for s in starts], rtol=1e-12)
     with pytest.raises(Exception, match="contiguous 1-D array of float64"):
         _front.prediction_error(np.ones(3), x[::2])
+
+
+def test_level_band_takes_a_guessed_decimation_only_where_it_is_its_own(rng):
+    """Step 5's band from a decimation made beforehand (the right one) or not (a wrong one) is the band it makes alone."""
+    from drumstroke.analysis.onsets import OnsetConfig, _decimate, _level_band, _level_decimation
+
+    rate, config = 48_000, OnsetConfig()
+    band = rng.standard_normal(rate) * np.exp(-np.arange(rate) / 4800.0)
+    first = np.array([100.0])
+    alone = _level_band(band, rate, 8, first, config)
+    q3 = _level_decimation(band, rate, 8, first, config)
+    assert alone.q == q3
+    for guess in (q3, q3 + 1, q3 - 1):
+        guessed = _level_band(band, rate, 8, first, config, _decimate(band, rate, guess))
+        assert (guessed.q, guessed.rate, guessed.delay, guessed.floor) == (alone.q, alone.rate, alone.delay, alone.floor)
+        assert guessed.x.tobytes() == alone.x.tobytes()
+        assert guessed.coefficients.tobytes() == alone.coefficients.tobytes()
