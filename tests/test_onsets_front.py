@@ -14,27 +14,25 @@ def rng():
 
 
 @pytest.mark.parametrize("n", [0, 1, 2, 3, 4, 5, 47, 1000, 48_000])
-@pytest.mark.parametrize(("q", "q_other"), [(8, 24), (2, 3), (5, 5)])
-def test_low_pass_two_is_sosfilt_to_the_bit(rng, n, q, q_other):
+@pytest.mark.parametrize(("q", "q_other", "q_third"), [(8, 24, 48), (2, 3, 2), (5, 5, 7)])
+def test_low_pass_three_is_sosfilt_to_the_bit(rng, n, q, q_other, q_third):
     rate = 48_000
-    sos = butter(8, 0.8 * rate / q / 2.0, fs=rate, output="sos")
-    other = butter(8, 0.8 * rate / q_other / 2.0, fs=rate, output="sos")
+    sos, other, third = (butter(8, 0.8 * rate / each / 2.0, fs=rate, output="sos") for each in (q, q_other, q_third))
     x = rng.standard_normal(n)
-    low, low_other = _front.low_pass_two(sos, q, other, q_other, x)
-    expected = (sosfilt(sos, x)[::q], sosfilt(other, x)[::q_other]) if n else (np.empty(0), np.empty(0))
-    assert low.tobytes() == expected[0].tobytes()
-    assert low_other.tobytes() == expected[1].tobytes()
+    lows = _front.low_pass_three(sos, q, other, q_other, third, q_third, x)
+    for low, f, each in zip(lows, (sos, other, third), (q, q_other, q_third), strict=True):
+        assert low.tobytes() == (sosfilt(f, x)[::each] if n else np.empty(0)).tobytes()
 
 
-def test_low_pass_two_any_sections_and_signed_zeros(rng):
+def test_low_pass_three_any_sections_and_signed_zeros(rng):
     """Sections of any numerators (negative ones make signed zeros), on a signal that starts with silence."""
-    sos = rng.standard_normal((4, 6)) * 0.3
-    other = rng.standard_normal((4, 6)) * 0.3
-    sos[:, 3] = other[:, 3] = 1.0
+    sos, other, third = (rng.standard_normal((4, 6)) * 0.3 for _ in range(3))
+    sos[:, 3] = other[:, 3] = third[:, 3] = 1.0
     x = np.concatenate((np.zeros(7), -np.zeros(3), rng.standard_normal(200)))
-    low, low_other = _front.low_pass_two(sos, 3, other, 4, x)
+    low, low_other, low_third = _front.low_pass_three(sos, 3, other, 4, third, 5, x)
     assert low.tobytes() == sosfilt(sos, x)[::3].tobytes()
     assert low_other.tobytes() == sosfilt(other, x)[::4].tobytes()
+    assert low_third.tobytes() == sosfilt(third, x)[::5].tobytes()
 
 
 def _lanes_dot(x, y):
@@ -99,15 +97,17 @@ def _jump_profile_in_numpy(x, width):
 
 @pytest.mark.parametrize("width", [12, 13, 48])
 @pytest.mark.parametrize("n", [1, 3, 5, 47, 48, 61, 63, 64, 65, 241, 243, 244, 1_003, 20_000])
-def test_low_pass_two_and_jumps_is_sosfilt_and_the_jump_profile(rng, width, n):
+def test_low_pass_three_and_jumps_is_sosfilt_and_the_jump_profile(rng, width, n):
     rate = 48_000
     sos = butter(8, 0.8 * rate / 8 / 2.0, fs=rate, output="sos")
     other = butter(8, 0.8 * rate / 24 / 2.0, fs=rate, output="sos")
+    third = butter(8, 0.8 * rate / 45 / 2.0, fs=rate, output="sos")
     x = rng.standard_normal(n)
     rise = np.diff(x, prepend=x[0]) * rng.random(n) ** 4  # loud and quiet stretches
-    low, low_other, jumps = _front.low_pass_two_and_jumps(sos, 8, other, 24, x, rise, width)
+    low, low_other, low_third, jumps = _front.low_pass_three_and_jumps(sos, 8, other, 24, third, 45, x, rise, width)
     assert low.tobytes() == sosfilt(sos, x)[::8].tobytes()
     assert low_other.tobytes() == sosfilt(other, x)[::24].tobytes()
+    assert low_third.tobytes() == sosfilt(third, x)[::45].tobytes()
     assert jumps.tobytes() == _jump_profile_in_numpy(rise, width).tobytes()
 
 
@@ -156,10 +156,20 @@ def test_frame_energies_as_their_lanes_in_numpy_and_the_spectra(rng, size, frame
 def test_high_pass_is_sosfilt_and_its_peak(rng, n):
     sos = butter(2, 20.0, btype="highpass", fs=48_000, output="sos")
     x = rng.standard_normal(n) + 0.3
-    band, peak = _front.high_pass(sos, x)
+    band, peak, at = _front.high_pass(sos, x)
     want = sosfilt(sos, x) if n else np.empty(0)
     assert band.tobytes() == want.tobytes()
     assert peak == np.max(np.abs(want), initial=0.0)
+    assert at == (np.argmax(np.abs(want)) if n else 0)
+
+
+def test_high_pass_finds_the_first_of_equal_peaks():
+    """A signal whose filtered largest magnitude is reached twice (an impulse, then its negative after the decay):
+    the first, as numpy's argmax."""
+    sos = np.array([[1.0, 0.0, 0.0, 1.0, 0.0, 0.0]])  # the identity
+    x = np.zeros(50)
+    x[10], x[30] = 2.0, -2.0
+    assert _front.high_pass(sos, x)[1:] == (2.0, 10)
 
 
 @pytest.mark.parametrize("width", [12, 13, 48])
@@ -200,3 +210,20 @@ def test_vector_reads_take_read_only_arrays_and_refuse_strided_ones(rng):
                                [np.sum(np.abs(np.fft.rfft(x[s:s + 64] * window)) ** 2) for s in starts], rtol=1e-12)
     with pytest.raises(Exception, match="contiguous 1-D array of float64"):
         _front.prediction_error(np.ones(3), x[::2])
+
+
+def test_level_band_takes_a_guessed_decimation_only_where_it_is_its_own(rng):
+    """Step 5's band from a decimation made beforehand (the right one) or not (a wrong one) is the band it makes alone."""
+    from drumstroke.analysis.onsets import OnsetConfig, _decimate, _level_band, _level_decimation
+
+    rate, config = 48_000, OnsetConfig()
+    band = rng.standard_normal(rate) * np.exp(-np.arange(rate) / 4800.0)
+    first = np.array([100.0])
+    alone = _level_band(band, rate, 8, first, config)
+    q3 = _level_decimation(band, rate, 8, first, config)
+    assert alone.q == q3
+    for guess in (q3, q3 + 1, q3 - 1):
+        guessed = _level_band(band, rate, 8, first, config, _decimate(band, rate, guess))
+        assert (guessed.q, guessed.rate, guessed.delay, guessed.floor) == (alone.q, alone.rate, alone.delay, alone.floor)
+        assert guessed.x.tobytes() == alone.x.tobytes()
+        assert guessed.coefficients.tobytes() == alone.coefficients.tobytes()

@@ -27,13 +27,14 @@ def test_decimating_low_pass_is_scipys_sosfilt(rng, q):
     np.testing.assert_array_equal(_kernels.low_pass_every(sos, x, q), sosfilt(sos, x)[::q])
 
 
-@pytest.mark.parametrize(("q", "q_other"), [(2, 2), (8, 24), (9, 45)])
-def test_two_decimating_low_passes_in_one_pass_are_each_scipys_sosfilt(rng, q, q_other):
+@pytest.mark.parametrize(("q", "q_other", "q_third"), [(2, 2, 2), (8, 24, 48), (9, 45, 12)])
+def test_three_decimating_low_passes_in_one_pass_are_each_scipys_sosfilt(rng, q, q_other, q_third):
     x = uneven_noise(rng, 20001)
-    (sos, _), (other, _) = _low_pass(0.8 * 48000 / q / 2.0, 48000), _low_pass(0.8 * 48000 / q_other / 2.0, 48000)
-    low, low_other = _front.low_pass_two(sos, q, other, q_other, x)
+    (sos, _), (other, _), (third, _) = (_low_pass(0.8 * 48000 / each / 2.0, 48000) for each in (q, q_other, q_third))
+    low, low_other, low_third = _front.low_pass_three(sos, q, other, q_other, third, q_third, x)
     np.testing.assert_array_equal(low, sosfilt(sos, x)[::q])
     np.testing.assert_array_equal(low_other, sosfilt(other, x)[::q_other])
+    np.testing.assert_array_equal(low_third, sosfilt(third, x)[::q_third])
 
 
 def test_high_pass_section_is_scipys_sosfilt(rng):

@@ -6,13 +6,13 @@ results are the same to the bit (tests/test_onsets_front.py holds them against s
 What makes them faster is where the operations run, not what they are:
 
 - Vectors of lanes (LLVM's, through numba's intrinsics: numba does not vectorise these loops itself), each lane
-  doing what one scalar did, with IEEE arithmetic (no fused multiply-adds): :func:`low_pass_two` runs the two
-  decimation filters' eight second-order sections as the eight lanes of one vector, section ``s`` a sample behind
-  section ``s - 1`` (the output it gave at the step before), so the loop waits on one section's recursion a sample,
-  not on eight sections' instructions; a sum added in four lanes (every fourth term) is one vector's four lanes;
+  doing what one scalar did, with IEEE arithmetic (no fused multiply-adds): :func:`low_pass_three` runs the two
+  decimation filters' eight second-order sections as the eight lanes of one vector (the level band's four in
+  another's), section ``s`` a sample behind section ``s - 1`` (the output it gave at the step before), so the loop
+  waits on one section's recursion a sample, not on twelve sections' instructions; a sum added in four lanes (every fourth term) is one vector's four lanes;
   :func:`prediction_error` holds 32 outputs in eight vectors over all its taps.
 - Work that waits on different units side by side: the filters wait on their recursions, the jump profile on the
-  divider (:func:`low_pass_two_and_jumps`); the high-pass on its recursion, its largest sample on nothing
+  divider (:func:`low_pass_three_and_jumps`); the high-pass on its recursion, its largest sample on nothing
   (:func:`high_pass`).
 - Fewer passes: Burg's update of an order's errors and the next order's numerator in one pass (:func:`burg`); the
   peak picker's scans for a larger or an equal sample four samples a comparison (:func:`peak_pick`).
@@ -79,7 +79,7 @@ def _shifted_in(typingctx, y, v):
 
 
 @intrinsic
-def _started(typingctx, vector, step):
+def _zeroed(typingctx, vector, step):
     """``vector`` with the lanes of sections after ``step`` (in each filter) set to 0: those not yet at a sample."""
     def codegen(context, builder, signature, args):
         section = ir.Constant(ir.VectorType(ir.IntType(64), _LANES), [0, 1, 2, 3, 0, 1, 2, 3])
@@ -266,12 +266,13 @@ def _jumps_of(typingctx, ahead, power, behind, width):
 
 @jit
 def high_pass(sos, x):
-    """``scipy.signal.sosfilt(sos, x)`` for one second-order section (the same operations) and its largest magnitude
-    (``np.max(np.abs(..), initial=0.0)``), in one pass: the filter waits on its recursion, the largest is found
-    meanwhile."""
+    """``scipy.signal.sosfilt(sos, x)`` for one second-order section (the same operations), its largest magnitude
+    (``np.max(np.abs(..), initial=0.0)``) and where it first is (0 if none), in one pass: the filter waits on its
+    recursion, the largest is found meanwhile."""
     b0, b1, b2, a1, a2 = sos[0, 0], sos[0, 1], sos[0, 2], sos[0, 4], sos[0, 5]
     z0 = z1 = 0.0
     peak = 0.0
+    at = 0
     out = np.empty(len(x))
     for i in range(len(x)):
         v = x[i]
@@ -279,8 +280,10 @@ def high_pass(sos, x):
         z0 = b1 * v - a1 * y + z1
         z1 = b2 * v - a2 * y
         out[i] = y
+        if abs(y) > peak:
+            at = i
         peak = max(peak, abs(y))
-    return out, peak
+    return out, peak, at
 
 
 @jit
@@ -337,23 +340,52 @@ def _column(sos, other, k):
     return _lanes((sos[0, k], sos[1, k], sos[2, k], sos[3, k], other[0, k], other[1, k], other[2, k], other[3, k]))
 
 
+@jit(inline="always")
+def _sections(sos, other, third):
+    """The numerators and denominators of :func:`low_pass_three`'s filters as lanes: ``sos``'s and ``other``'s
+    sections in one vector's, ``third``'s in another's (twice: its lanes four to seven idle)."""
+    return ((_column(sos, other, 0), _column(sos, other, 1), _column(sos, other, 2), _column(sos, other, 4),
+             _column(sos, other, 5)),
+            (_column(third, third, 0), _column(third, third, 1), _column(third, third, 2), _column(third, third, 4),
+             _column(third, third, 5)))
+
+
+@jit(inline="always")
+def _started(state, step):
+    """The lanes of ``state`` (outputs, states) of the sections after ``step`` set to 0: those not yet at the signal's
+    first sample keep their zero states (as sosfilt's do)."""
+    return _zeroed(state[0], step), _zeroed(state[1], step), _zeroed(state[2], step)
+
+
+@jit(inline="always")
+def _filtered(v, y, z0, z1, sections):
+    """One step of the sections' lanes on input ``v`` (the previous outputs ``y``, states ``z0``, ``z1``): the outputs
+    and states after."""
+    b0, b1, b2, a1, a2 = sections
+    return _biquads(_shifted_in(y, v), b0, b1, b2, a1, a2, z0, z1)
+
+
 @jit
-def low_pass_two(sos, q, other, q_other, x):
-    """``(scipy.signal.sosfilt(sos, x)[::q], scipy.signal.sosfilt(other, x)[::q_other])`` for two filters of 4
-    second-order sections each (8th order): the same operations, the eight sections as one vector's lanes."""
-    b0, b1, b2 = _column(sos, other, 0), _column(sos, other, 1), _column(sos, other, 2)
-    a1, a2 = _column(sos, other, 4), _column(sos, other, 5)
-    y = z0 = z1 = _lanes((0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0))
+def low_pass_three(sos, q, other, q_other, third, q_third, x):
+    """``scipy.signal.sosfilt(f, x)[::q_f]`` for three filters ``f`` of 4 second-order sections each (8th order): the
+    same operations, the first two filters' eight sections as one vector's lanes, the third's as another's (the two
+    vectors' recursions run side by side: the third costs little)."""
+    sections, sections_third = _sections(sos, other, third)
+    y = z0 = z1 = w = u0 = u1 = _lanes((0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0))
     n = len(x)
     out = np.empty((n + q - 1) // q)
     out_other = np.empty((n + q_other - 1) // q_other)
-    for i in range(3):  # sections not yet at the signal's first sample keep their zero states (as sosfilt's do)
-        y, z0, z1 = _biquads(_shifted_in(y, x[i] if i < n else 0.0), b0, b1, b2, a1, a2, z0, z1)
-        y, z0, z1 = _started(y, i), _started(z0, i), _started(z1, i)
-    skip, skip_other = 0, 0
+    out_third = np.empty((n + q_third - 1) // q_third)
+    for i in range(3):
+        v = x[i] if i < n else 0.0
+        y, z0, z1 = _started(_filtered(v, y, z0, z1, sections), i)
+        w, u0, u1 = _started(_filtered(v, w, u0, u1, sections_third), i)
+    skip, skip_other, skip_third = 0, 0, 0
     for i in range(3, n + 3):  # the last section's output at step i is sample i - 3's
-        y, z0, z1 = _biquads(_shifted_in(y, x[i] if i < n else 0.0), b0, b1, b2, a1, a2, z0, z1)
-        if skip == 0:
+        v = x[i] if i < n else 0.0
+        y, z0, z1 = _filtered(v, y, z0, z1, sections)
+        w, u0, u1 = _filtered(v, w, u0, u1, sections_third)
+        if skip == 0:  # the outputs each filter keeps (every q-th): written out (not in a helper: 10 times slower)
             out[(i - 3) // q] = _lane(y, 3)
             skip = q
         skip -= 1
@@ -361,30 +393,35 @@ def low_pass_two(sos, q, other, q_other, x):
             out_other[(i - 3) // q_other] = _lane(y, 7)
             skip_other = q_other
         skip_other -= 1
-    return out, out_other
+        if skip_third == 0:
+            out_third[(i - 3) // q_third] = _lane(w, 3)
+            skip_third = q_third
+        skip_third -= 1
+    return out, out_other, out_third
 
 
 @jit(error_model="numpy")
-def low_pass_two_and_jumps(sos, q, other, q_other, x, rise, width):
-    """:func:`low_pass_two` of ``x`` and :func:`jump_profile` of ``rise`` (as long as ``x``) over ``width``
+def low_pass_three_and_jumps(sos, q, other, q_other, third, q_third, x, rise, width):
+    """:func:`low_pass_three` of ``x`` and :func:`jump_profile` of ``rise`` (as long as ``x``) over ``width``
     samples, in one loop: the filters wait on their recursions, the jumps on the divider, the running power on its
     additions; side by side each is done while the others wait. The same operations as each alone, the same bits.
 
-    Returns the two decimated signals and the jump profile."""
-    b0, b1, b2 = _column(sos, other, 0), _column(sos, other, 1), _column(sos, other, 2)
-    a1, a2 = _column(sos, other, 4), _column(sos, other, 5)
-    y = z0 = z1 = _lanes((0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0))
+    Returns the three decimated signals and the jump profile."""
+    sections, sections_third = _sections(sos, other, third)
+    y = z0 = z1 = w = u0 = u1 = _lanes((0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0))
     n = len(x)
     out = np.empty((n + q - 1) // q)
     out_other = np.empty((n + q_other - 1) // q_other)
+    out_third = np.empty((n + q_third - 1) // q_third)
     jump = np.empty(n)
     jump[:4 * width] = 0.0  # the rest written below
     ring, size = _ring(width)
     running, done = 0.0, 1
-    for i in range(3):  # sections not yet at the signal's first sample keep their zero states (as sosfilt's do)
-        y, z0, z1 = _biquads(_shifted_in(y, x[i] if i < n else 0.0), b0, b1, b2, a1, a2, z0, z1)
-        y, z0, z1 = _started(y, i), _started(z0, i), _started(z1, i)
-    skip, skip_other, i = 0, 0, 3
+    for i in range(3):
+        v = x[i] if i < n else 0.0
+        y, z0, z1 = _started(_filtered(v, y, z0, z1, sections), i)
+        w, u0, u1 = _started(_filtered(v, w, u0, u1, sections_third), i)
+    skip, skip_other, skip_third, i = 0, 0, 0, 3
     while i < n + 3:  # the last section's output at step i is sample i - 3's
         steps = 1
         # four jumps, and four steps, at a time from the first jump on while the jumps' windows and the power added
@@ -400,8 +437,10 @@ def low_pass_two_and_jumps(sos, q, other, q_other, x, rise, width):
                                       _load(ring, (i - 4 * width) & (size - 1)), width))
             steps = 4
         for k in range(i, i + steps):
-            y, z0, z1 = _biquads(_shifted_in(y, x[k] if k < n else 0.0), b0, b1, b2, a1, a2, z0, z1)
-            if skip == 0:
+            v = x[k] if k < n else 0.0
+            y, z0, z1 = _filtered(v, y, z0, z1, sections)
+            w, u0, u1 = _filtered(v, w, u0, u1, sections_third)
+            if skip == 0:  # the outputs each filter keeps (every q-th): written out (not in a helper: 10 times slower)
                 out[(k - 3) // q] = _lane(y, 3)
                 skip = q
             skip -= 1
@@ -409,9 +448,13 @@ def low_pass_two_and_jumps(sos, q, other, q_other, x, rise, width):
                 out_other[(k - 3) // q_other] = _lane(y, 7)
                 skip_other = q_other
             skip_other -= 1
+            if skip_third == 0:
+                out_third[(k - 3) // q_third] = _lane(w, 3)
+                skip_third = q_third
+            skip_third -= 1
         i += steps
     _last_jumps(jump, ring, size, rise, running, done, max(done - width - _AHEAD, 4 * width), width)
-    return out, out_other, jump
+    return out, out_other, out_third, jump
 
 
 @jit(inline="always")
