@@ -779,7 +779,9 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        ``peak_templates`` loudest, followed ``peak_reach`` s).
        :func:`_without_reflections`: where ``reflection_pairs`` pairs of successive onsets or more, the later
        ``reflection_db`` under the earlier, share one delay (within ``reflection_spread`` s), each such later one
-       is a room's reflection and is left out.
+       is a room's reflection and is left out. :func:`_room_returns`, in a reverberant recording: an onset the
+       template timed (kind 3) that :func:`_room_echoes`' test finds a room's echo, its fit leaving
+       ``room_found_fit_db`` or less, is left out too.
 
     Parameters
     ----------
