@@ -427,7 +427,8 @@ class OnsetConfig:
     room_found_fit_db : float in [-120, 0]
         dB re its energy: the same for an attack the template timed (kind 3), tried after the reflections are taken
         off (step 6, :func:`_room_returns`): such an attack is a room's return only where that sound explains
-        nearly all of it (-120: none is, as before this field).
+        nearly all of it; the attacks of the modes' band alone are tried again there (-120: neither, as before
+        this field).
     found_burst_db : float in [-120, 0]
         dB re what was there: the most that taking off an attack's fit in the template search may leave over the
         1 ms after the next detection, within ``bounce_reach`` s after it, for that detection to be the attack's own
@@ -1857,10 +1858,13 @@ def _room_returns(band, d, rate, candidates, amplitude, onsets, config):
 
     A room's return can be clear enough for the template to fit it (kind 3; FluidR3's snare, 83.5 ms after a
     note, -21 dB): :func:`_room_echoes`' test with ``room_found_fit_db``, asking that the other note's sound at the
-    same delay explain nearly all of it (such a return: -18 dB left; a ghost note under an accent's tail: -17 to
-    -2 dB). Tried on what is reported, after :func:`_without_reflections`: an attack taken off before changes the
-    windows and the pairs of the stages after it (a drop's returns, each repeated, are found reflections there).
-    ``candidates`` and ``amplitude`` are the stages' attacks the onsets were reported from.
+    same delay explain nearly all of it (such a return: -18 dB left). Tried on what is reported, after
+    :func:`_without_reflections`: an attack taken off before changes the windows and the pairs of the stages after
+    it (a drop's returns, each repeated, are found reflections there). Then the returns of the modes' band alone
+    (kind 2) are tried again as in step 5: the onsets left out since (refused, reflections, the returns above)
+    leave more notes clear for as long as the delay, whose sound may explain them. ``candidates`` and
+    ``amplitude`` are the stages' attacks the onsets were reported from; ``room_found_fit_db=-120``: nothing is
+    tried.
     """
     if config.room_found_fit_db <= -120.0 or len(onsets.t) < 2:
         return onsets
@@ -1870,6 +1874,9 @@ def _room_returns(band, d, rate, candidates, amplitude, onsets, config):
     reported = candidates.attack & (np.abs(onsets.t[nearest] - at) < 1e-6)
     kept = _room_echoes(band, d, rate, candidates, amplitude, reported, config, kind=3,
                         fit_db=config.room_found_fit_db)
+    # what is left is clear of the onsets left out since step 5: other notes' sound at the same delay may now explain
+    # a return of the modes' band alone that step 5 kept
+    kept = _room_echoes(band, d, rate, candidates, amplitude, kept, config)
     keep = np.ones(len(onsets.t), bool)
     keep[nearest[reported & ~kept]] = False
     return replace(onsets, t=onsets.t[keep], level_db=onsets.level_db[keep])
