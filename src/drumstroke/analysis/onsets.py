@@ -424,6 +424,11 @@ class OnsetConfig:
     room_fit_db : float in [-60, 0]
         dB re its energy: the most that fit may leave of the band over those 10 ms for the other note's sound to
         explain it at all (step 5, :func:`_room_echoes`).
+    room_found_fit_db : float in [-120, 0]
+        dB re its energy: the same for an attack the template timed (kind 3), tried after the reflections are taken
+        off (step 6, :func:`_room_returns`): such an attack is a room's return only where that sound explains
+        nearly all of it; the attacks of the modes' band alone are tried again there (-120: neither, as before
+        this field).
     found_burst_db : float in [-120, 0]
         dB re what was there: the most that taking off an attack's fit in the template search may leave over the
         1 ms after the next detection, within ``bounce_reach`` s after it, for that detection to be the attack's own
@@ -546,6 +551,7 @@ class OnsetConfig:
     room_rise_db: float = 3.0
     room_echo_db: float = 2.0
     room_fit_db: float = -6.0
+    room_found_fit_db: float = -15.0
     found_burst_db: float = -6.0
     found_decay_db: float = -120.0
     earlier_reach: float = 5e-3
@@ -602,6 +608,7 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "burst_db": (-120.0, 0.0, "dB"), "layer_likeness": (0.0, 1.0, "(correlation)"), "reflection_pairs": (0, 100, ""), "reflection_db": (0.0, 120.0, "dB"),
     "reflection_spread": (0.0, 5e-3, "s"), "room_decay_db": (-120.0, 0.0, "dB"), "room_rise_db": (-60.0, 60.0, "dB"),
     "room_echo_db": (-60.0, 60.0, "dB"), "room_fit_db": (-60.0, 0.0, "dB"),
+    "room_found_fit_db": (-120.0, 0.0, "dB"),
     "found_burst_db": (-120.0, 0.0, "dB"), "found_decay_db": (-120.0, 0.0, "dB"),
     "earlier_reach": (0.0, 0.02, "s"), "bounce_likeness": (0.0, 1.0, "(correlation)"),
     "bounce_ratio_low": (0.0, 100.0, "(amplitude ratio)"), "found_echo_rise_db": (-60.0, 60.0, "dB"),
@@ -773,7 +780,9 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        ``peak_templates`` loudest, followed ``peak_reach`` s).
        :func:`_without_reflections`: where ``reflection_pairs`` pairs of successive onsets or more, the later
        ``reflection_db`` under the earlier, share one delay (within ``reflection_spread`` s), each such later one
-       is a room's reflection and is left out.
+       is a room's reflection and is left out. :func:`_room_returns`, in a reverberant recording: an onset the
+       template timed (kind 3) that :func:`_room_echoes`' test finds a room's echo, its fit leaving
+       ``room_found_fit_db`` or less, is left out too.
 
     Parameters
     ----------
@@ -871,6 +880,8 @@ def _detected(signal, rate, config, source, info):
     candidates = _learned_lead_ins(d, rate, decided, config)
     onsets = _reported(candidates, amplitude, levels.floor, {**info, "analysis_rate": tonal.rate}, source, rate, config)
     onsets = _without_reflections(onsets, config)
+    if modes.reverberant and len(onsets.t):
+        onsets = _room_returns(band, d, rate, candidates, amplitude, onsets, config)
     return replace(onsets, peak_db=_peak_db(signal, onsets.t * rate, rate, config))
 
 
@@ -1792,7 +1803,7 @@ def _out_of_decay(band, d, rate, candidates, amplitude, config, reverberant=Fals
     return _new_sound(band, rate, replace(candidates, attack=keep), config)
 
 
-def _room_echoes(band, d, rate, candidates, amplitude, attack, config):
+def _room_echoes(band, d, rate, candidates, amplitude, attack, config, kind=2, fit_db=None):
     """Step 5, in a reverberant recording: ``attack`` less the attacks that are a room's echo of an earlier note.
 
     A room returns each note again and again, each return a smoothed copy of it (FluidSynth's reverb: from 54 ms
@@ -1808,7 +1819,8 @@ def _room_echoes(band, d, rate, candidates, amplitude, attack, config):
     the 5 ms before and after it, and alike: its fit (least squares) leaves ``room_fit_db`` or less of that
     band's energy, and the power it leaves after it passes that before it by ``room_echo_db`` at most
     (:func:`._rooms.echo_novelty`). A ghost note under an accent's tail, as quiet and as
-    flat, leaves 3.6-19 dB more after its start.
+    flat, leaves 3.6-19 dB more after its start. ``kind`` and ``fit_db`` (``room_fit_db`` unless given): the
+    attacks tried and the most their fit may leave (:func:`_room_returns` tries the template's, kind 3).
     """
     from ._kernels import peaks_around
     from ._rooms import echo_novelty
@@ -1816,7 +1828,8 @@ def _room_echoes(band, d, rate, candidates, amplitude, attack, config):
     which = np.flatnonzero(attack)
     times, levels = candidates.times[which], 20.0 * np.log10(np.maximum(amplitude[which], 1e-300))
     apart = np.diff(times, prepend=-np.inf)
-    tried = np.flatnonzero((candidates.kinds[which] == 2) & (apart >= config.spike_clear * rate)
+    fit_db = config.room_fit_db if fit_db is None else fit_db
+    tried = np.flatnonzero((candidates.kinds[which] == kind) & (apart >= config.spike_clear * rate)
                            & (levels < levels.max() + config.room_decay_db))
     if not len(tried):
         return attack
@@ -1839,9 +1852,38 @@ def _room_echoes(band, d, rate, candidates, amplitude, attack, config):
             partners &= clear >= delay + width + reach
             centres.extend(times[partners] + delay)
         if centres and echo_novelty(band, round(times[k]), np.rint(centres).astype(np.int64), width, width, reach,
-                                    max(1, round(60e-6 * rate)), 10.0 ** (config.room_fit_db / 10.0)) <= novel:
+                                    max(1, round(60e-6 * rate)), 10.0 ** (fit_db / 10.0)) <= novel:
             attack[which[k]] = False
     return attack
+
+
+def _room_returns(band, d, rate, candidates, amplitude, onsets, config):
+    """Step 6's last part, in a reverberant recording: ``onsets`` less a room's return that the template timed.
+
+    A room's return can be clear enough for the template to fit it (kind 3; FluidR3's snare, 83.5 ms after a
+    note, -21 dB): :func:`_room_echoes`' test with ``room_found_fit_db``, asking that the other note's sound at the
+    same delay explain nearly all of it (such a return: -18 dB left). Tried on what is reported, after
+    :func:`_without_reflections`: an attack taken off before changes the windows and the pairs of the stages after
+    it (a drop's returns, each repeated, are found reflections there). Then the returns of the modes' band alone
+    (kind 2) are tried again as in step 5: the onsets left out since (refused, reflections, the returns above)
+    leave more notes clear for as long as the delay, whose sound may explain them. ``candidates`` and
+    ``amplitude`` are the stages' attacks the onsets were reported from; ``room_found_fit_db=-120``: nothing is
+    tried.
+    """
+    if config.room_found_fit_db <= -120.0 or len(onsets.t) < 2:
+        return onsets
+    at = candidates.times / rate
+    nearest = np.clip(np.searchsorted(onsets.t, at), 1, len(onsets.t) - 1)
+    nearest -= at - onsets.t[nearest - 1] < onsets.t[nearest] - at
+    reported = candidates.attack & (np.abs(onsets.t[nearest] - at) < 1e-6)
+    kept = _room_echoes(band, d, rate, candidates, amplitude, reported, config, kind=3,
+                        fit_db=config.room_found_fit_db)
+    # what is left is clear of the onsets left out since step 5: other notes' sound at the same delay may now explain
+    # a return of the modes' band alone that step 5 kept
+    kept = _room_echoes(band, d, rate, candidates, amplitude, kept, config)
+    keep = np.ones(len(onsets.t), bool)
+    keep[nearest[reported & ~kept]] = False
+    return replace(onsets, t=onsets.t[keep], level_db=onsets.level_db[keep])
 
 
 def _new_sound(band, rate, candidates, config):
