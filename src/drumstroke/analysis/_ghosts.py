@@ -1,0 +1,96 @@
+"""Ghost notes under a replayed sample's sound: :func:`.onsets._ghost_notes`' search.
+
+A sample player replays a velocity layer's waveform sample for sample; an accent's own sound is then known from
+another note of the same layer, and what is left once it is taken off is the notes that came after it alone.
+"""
+
+import numpy as np
+
+
+def _partners(band, starts, size, lag, likeness):
+    """For each attack (``starts``: the samples its ``size``-sample window starts at), its layer-mates: (index,
+    shift, scale) of each other attack whose window, shifted within ``lag`` samples, correlates by ``likeness``."""
+    views = np.lib.stride_tricks.sliding_window_view(band, size)
+    own = views[starts]
+    norms = np.maximum(np.linalg.norm(own, axis=1), 1e-300)
+    mates = [[] for _ in starts]
+    for shift in range(-lag, lag + 1):
+        shifted = views[np.clip(starts + shift, 0, len(views) - 1)]
+        energy = np.maximum(np.einsum("ij,ij->i", shifted, shifted), 1e-300)
+        cross = own @ shifted.T  # [b, a]: attack b against attack a shifted
+        like = cross / (norms[:, None] * np.sqrt(energy)[None, :])
+        for b, a in zip(*np.nonzero(like >= likeness)):
+            if a != b:
+                mates[b].append((like[b, a], a, shift, cross[b, a] / energy[a]))
+    return [[m[1:] for m in sorted(found, reverse=True)] for found in mates]
+
+
+def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, skip=10e-3, span=0.13, quiet_db=-10.0, below_db=-30.0, quieter_db=-6.0, mates_used=6):
+    """Onsets (full-rate samples) of notes within ``span`` s after an attack at ``times``, found in what is left of
+    ``band`` once that attack's sound is taken off, predicted by two of its layer-mates (attacks whose first ``skip``
+    s correlate by ``likeness``, each scaled by least squares there; of the two remainders, the quieter over each
+    millisecond, for each mate's own later notes are left in its remainder only).
+
+    A note is where that remainder's energy over 1 ms rises ``rise_db`` over its most over the 10 ms before (from
+    ``skip`` s after the attack, up to the next attack within ``quiet_db`` of this one or of either mate, whose
+    sound no longer continues theirs) and its peak amplitude is ``least`` or more; its onset is the first sample
+    whose magnitude passes 1 % of that peak (over the next 10 ms) and four times the remainder's RMS over the 5 ms
+    before.
+    """
+    pre, size, lag = round(0.5e-3 * rate), round(skip * rate), 2
+    width, before, after = round(1e-3 * rate), round(10e-3 * rate), round(10e-3 * rate)
+    times = np.asarray(times, dtype=float)
+    c = np.rint(times).astype(np.int64)
+    starts = c - pre
+    ok = np.asarray(clear, dtype=bool) & (starts >= lag) & (starts + round(span * rate) + lag + after < len(band))
+    which = np.flatnonzero(ok)
+    if len(which) < 3:
+        return np.empty(0)
+    loud = np.array([np.abs(band[k:k + round(5e-3 * rate)]).max() for k in c])
+    # the next attack within quiet_db of each: its sound is no longer one attack's
+    ends = np.empty(len(c), dtype=np.int64)
+    for k in range(len(c)):
+        later = np.flatnonzero(loud[k + 1:] >= loud[k] * 10.0 ** (quiet_db / 20.0))
+        ends[k] = c[k + 1 + later[0]] if len(later) else len(band)
+    mates = _partners(band, starts[which], size + pre, lag, likeness)
+    rise, found = 10.0 ** (rise_db / 10.0), []
+    kernel = np.ones(width)
+    for i, b in enumerate(which):
+        if len(mates[i]) < 2:
+            continue
+        length = min(round(span * rate), ends[b] - c[b])
+        x = band[c[b]:c[b] + length + after]
+        e = np.full((min(len(mates[i]), mates_used), len(x) - width + 1), np.inf)
+        r = np.zeros((len(e), len(x)))
+        for m, (a, shift, scale) in enumerate(mates[i][:mates_used]):
+            a = which[a]
+            r[m] = x - scale * band[c[a] + shift:c[a] + shift + len(x)]
+            # a mate's own later notes are not b's: its remainder counts up to its next attack only
+            valid = (c[a + 1] if a + 1 < len(c) else len(band)) - c[a] - width
+            energy = np.convolve(r[m] * r[m], kernel, "valid")
+            e[m, :max(0, valid)] = energy[:max(0, valid)]
+        # two mates or more at each sample: one mate's missed note would be left in its remainder alone
+        short = np.flatnonzero(np.isfinite(e).sum(axis=0) < 2)
+        length = min(length, short[0] if len(short) else length)
+        pick = np.argmin(e, axis=0)
+        e = e[pick, np.arange(e.shape[1])]
+        if length <= size + before:
+            continue
+        prior = np.lib.stride_tricks.sliding_window_view(e, before - width).max(axis=1)
+        steps = np.arange(size + before, length - width)
+        steps = steps[(e[steps] > 0.0) & (e[steps] >= rise * prior[steps - before])]
+        last = -np.inf
+        for t in steps:
+            if t < last + round(20e-3 * rate):
+                continue
+            v = r[pick[t]]
+            peak = np.abs(v[t:t + width + after]).max()
+            if not max(least, loud[b] * 10.0 ** (below_db / 20.0)) <= peak <= loud[b] * 10.0 ** (quieter_db / 20.0):
+                continue
+            noise = np.sqrt(np.mean(v[t - round(5e-3 * rate):t] ** 2))
+            above = np.flatnonzero(np.abs(v[t:t + width + after]) >= max(0.01 * peak, 4.0 * noise))
+            if not len(above):
+                continue
+            found.append(c[b] + t + above[0])
+            last = t
+    return np.unique(np.asarray(found, dtype=float))
