@@ -300,7 +300,7 @@ def test_ghost_notes_of_a_softer_sample_are_found():
     figures = score(recording, find_onsets(recording.signal, RATE).t)
     off = score(recording, find_onsets(recording.signal, RATE,
                                        config=OnsetConfig(soft_jump=100.0, refused_likeness=1.0,
-                                                          layer_likeness=1.0)).t)
+                                                          layer_likeness=1.0, ghost_rise_db=120.0)).t)
     assert figures["within_1ms"] >= 25 and figures["correct_5ms"] == figures["found"]
     assert off["within_1ms"] <= 23
 
@@ -372,7 +372,7 @@ def test_ghost_notes_step_4_refused_are_attacks_where_the_template_fits(conditio
     figures = score(recording, find_onsets(recording.signal, RATE).t)
     off = score(recording, find_onsets(recording.signal, RATE,
                                        config=OnsetConfig(refused_likeness=1.0, layer_likeness=1.0,
-                                                          **_BEFORE_FOUND)).t)
+                                                          ghost_rise_db=120.0, **_BEFORE_FOUND)).t)
     assert figures["within_1ms"] >= least_1ms and off["within_1ms"] <= off_1ms
     assert figures["found"] - figures["correct_5ms"] <= off["found"] - off["correct_5ms"]
 
@@ -439,7 +439,7 @@ def test_a_ghost_note_of_another_velocity_layer_is_found_by_the_quietest_clear_a
     recording = _corpus_recording("TimGM6mb 38 roll", "noise72")
     note = recording.t[np.argmin(np.abs(recording.t - 3.1713))]
     found = find_onsets(recording.signal, RATE).t
-    without = find_onsets(recording.signal, RATE, config=OnsetConfig(layer_likeness=1.0)).t
+    without = find_onsets(recording.signal, RATE, config=OnsetConfig(layer_likeness=1.0, ghost_rise_db=120.0)).t
     assert np.min(np.abs(found - note)) <= 1e-3
     assert np.min(np.abs(without - note)) > 5e-3
     figures, before = score(recording, found), score(recording, without)
@@ -464,8 +464,8 @@ def test_one_more_true_onset_moves_no_other_notes_peak_db():
     truth. (With the templates cut at the next onset, such a ghost note cut the one long template and moved the
     other notes' by up to 4 dB.)"""
     recording = _corpus_recording("TimGM6mb 38 roll", "noise72")
-    found = find_onsets(recording.signal, RATE)
-    without = find_onsets(recording.signal, RATE, config=OnsetConfig(layer_likeness=1.0))
+    found = find_onsets(recording.signal, RATE, config=OnsetConfig(ghost_rise_db=120.0))
+    without = find_onsets(recording.signal, RATE, config=OnsetConfig(layer_likeness=1.0, ghost_rise_db=120.0))
     new = np.flatnonzero(~np.isin(found.t, without.t))
     assert len(new) == 1 and np.all(np.isin(without.t, found.t))
     assert np.min(np.abs(recording.t - found.t[new[0]])) <= 1e-3

@@ -860,7 +860,8 @@ def _detected(signal, rate, config, source, info):
     candidates = _fit_template(band, d, rate, candidates, config)
     candidates = _template_search(band, d, rate, candidates, refused, config)
     candidates = _template_search(band, d, rate, candidates, refused, config, quietest=True)
-    candidates = _ghost_notes(band, d, rate, candidates, config)
+    if not modes.reverberant:
+        candidates = _ghost_notes(band, d, rate, candidates, config)
     levels = _level_band(band, rate, q, first, config)
     amplitude = levels.amplitudes(_measured_at(candidates, found, rate, config), modes.reverberant, config)
     candidates, amplitude = _one_attack_each(d, rate, candidates, amplitude, config)
@@ -1592,7 +1593,9 @@ def _ghost_notes(band, d, rate, candidates, config):
     are left in its remainder only), and only up to each mate's next attack. A note is where that remainder's
     energy over 1 ms rises ``ghost_rise_db`` over its most over the 10 ms before, 6 dB or more under the accent and
     within 30 dB of it; its onset is the remainder's first sample over 1 % of its peak (and four times its RMS
-    before). A new note (no attack within 5 ms) is an attack of kind 3; an attack 0.5-1.5 ms after it (its main
+    before). Not in a reverberant recording (FluidSynth's reverb: its returns are not one note's sound replayed,
+    and what is left of them swells like a note: a false onset more in each SoundFont's singles). A new note (no
+    attack within 5 ms) is an attack of kind 3; an attack 0.5-1.5 ms after it (its main
     rise: a sample's lead-in late) is moved there. ``ghost_rise_db`` 120: none sought (as before this stage).
     """
     from ._ghosts import ghost_onsets
