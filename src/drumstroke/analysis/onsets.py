@@ -745,6 +745,10 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        the template (another velocity layer of a sample), by ``layer_likeness``. A detection there that taking off
        the attack before it explains (``found_burst_db``) is that attack's own sound (a sample's second burst); one
        over earlier sound whose start the template fits better up to ``earlier_reach`` s before it is put there.
+       :func:`_ghost_notes`: where the recording replays a sample and is not reverberant, the notes after a clear
+       attack (ghost notes under an accent) are sought in what is left once its layer-mates (other clear attacks
+       one waveform with it by ``replay_likeness``) are taken off, where that rises ``ghost_rise_db``; each is put
+       at its first sample there (a new attack, or one found 0.5-1.5 ms late moved).
        :func:`_level_band`. An onset's amplitude is the peak of its own sound in the drum's lowest
        modes (the band up to ``level_ratio`` times its lowest strong mode, ≥ ``level_band`` Hz,
        decimated to 2.5 times that: a stick's speed sets their amplitude in proportion, while the
