@@ -5,6 +5,7 @@ another note of the same layer, and what is left once it is taken off is the not
 """
 
 import numpy as np
+from scipy.ndimage import maximum_filter1d
 
 
 def _partners(band, starts, size, lag, likeness):
@@ -54,21 +55,20 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, skip=10e
         ends[k] = c[k + 1 + later[0]] if len(later) else len(band)
     mates = _partners(band, starts[which], size + pre, lag, likeness)
     rise, found = 10.0 ** (rise_db / 10.0), []
-    kernel = np.ones(width)
     for i, b in enumerate(which):
         if len(mates[i]) < 2:
             continue
         length = min(round(span * rate), ends[b] - c[b])
         x = band[c[b]:c[b] + length + after]
-        e = np.full((min(len(mates[i]), mates_used), len(x) - width + 1), np.inf)
-        r = np.zeros((len(e), len(x)))
-        for m, (a, shift, scale) in enumerate(mates[i][:mates_used]):
-            a = which[a]
-            r[m] = x - scale * band[c[a] + shift:c[a] + shift + len(x)]
+        used = mates[i][:mates_used]
+        r = np.stack([x - scale * band[c[which[a]] + shift:c[which[a]] + shift + len(x)] for a, shift, scale in used])
+        total = np.concatenate((np.zeros((len(r), 1)), np.cumsum(r * r, axis=1)), axis=1)
+        e = total[:, width:] - total[:, :-width]  # over 1 ms from each sample
+        for m, (a, _, _) in enumerate(used):
             # a mate's own later notes are not b's: its remainder counts up to its next attack only
+            a = which[a]
             valid = (c[a + 1] if a + 1 < len(c) else len(band)) - c[a] - width
-            energy = np.convolve(r[m] * r[m], kernel, "valid")
-            e[m, :max(0, valid)] = energy[:max(0, valid)]
+            e[m, max(0, valid):] = np.inf
         # two mates or more at each sample: one mate's missed note would be left in its remainder alone
         short = np.flatnonzero(np.isfinite(e).sum(axis=0) < 2)
         length = min(length, short[0] if len(short) else length)
@@ -76,7 +76,7 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, skip=10e
         e = e[pick, np.arange(e.shape[1])]
         if length <= size + before:
             continue
-        prior = np.lib.stride_tricks.sliding_window_view(e, before - width).max(axis=1)
+        prior = maximum_filter1d(e, before - width, origin=-((before - width) // 2))  # over [t, t + 9 ms)
         steps = np.arange(size + before, length - width)
         steps = steps[(e[steps] > 0.0) & (e[steps] >= rise * prior[steps - before])]
         last = -np.inf
