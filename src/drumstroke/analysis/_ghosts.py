@@ -26,7 +26,7 @@ def _partners(band, starts, size, lag, likeness):
     return [[m[1:] for m in sorted(found, reverse=True)] for found in mates]
 
 
-def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, skip=10e-3, span=0.13, quiet_db=-10.0, below_db=-30.0, quieter_db=-6.0, mates_used=6):
+def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, skip=10e-3, span=0.13, quiet_db=-10.0, below_db=-30.0, quieter_db=-6.0, mates_used=3):
     """Onsets (full-rate samples) of notes within ``span`` s after an attack at ``times``, found in what is left of
     ``band`` once that attack's sound is taken off, predicted by two of its layer-mates (attacks whose first ``skip``
     s correlate by ``likeness``, each scaled by least squares there; of the two remainders, the quieter over each
