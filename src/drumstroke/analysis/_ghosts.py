@@ -62,23 +62,30 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, skip=10e
         x = band[c[b]:c[b] + length + after]
         used = mates[i][:mates_used]
         r = np.stack([x - scale * band[c[which[a]] + shift:c[which[a]] + shift + len(x)] for a, shift, scale in used])
-        total = np.concatenate((np.zeros((len(r), 1)), np.cumsum(r * r, axis=1)), axis=1)
-        e = total[:, width:] - total[:, :-width]  # over 1 ms from each sample
+        # energy over 0.25-ms blocks, over 1 ms from each block (its onset sought at full rate after)
+        block = max(1, width // 4)
+        blocks = (len(x) // block)
+        power = (r[:, :blocks * block] ** 2).reshape(len(r), blocks, block).sum(axis=2)
+        total = np.concatenate((np.zeros((len(r), 1)), np.cumsum(power, axis=1)), axis=1)
+        e = total[:, 4:] - total[:, :-4]
         for m, (a, _, _) in enumerate(used):
             # a mate's own later notes are not b's: its remainder counts up to its next attack only
             a = which[a]
-            valid = (c[a + 1] if a + 1 < len(c) else len(band)) - c[a] - width
+            valid = ((c[a + 1] if a + 1 < len(c) else len(band)) - c[a] - width) // block
             e[m, max(0, valid):] = np.inf
-        # two mates or more at each sample: one mate's missed note would be left in its remainder alone
+        # two mates or more at each block: one mate's missed note would be left in its remainder alone
         short = np.flatnonzero(np.isfinite(e).sum(axis=0) < 2)
-        length = min(length, short[0] if len(short) else length)
+        length = min(length, short[0] * block if len(short) else length)
         pick = np.argmin(e, axis=0)
         e = e[pick, np.arange(e.shape[1])]
         if length <= size + before:
             continue
-        prior = maximum_filter1d(e, before - width, origin=-((before - width) // 2))  # over [t, t + 9 ms)
-        steps = np.arange(size + before, length - width)
-        steps = steps[(e[steps] > 0.0) & (e[steps] >= rise * prior[steps - before])]
+        span_blocks = (before - width) // block
+        prior = maximum_filter1d(e, span_blocks, origin=-(span_blocks // 2))  # over [j, j + 9 ms)
+        steps = np.arange((size + before) // block, (length - width) // block)
+        rising = (e[steps] > 0.0) & (e[steps] >= rise * prior[steps - before // block])
+        pick = np.repeat(pick, block)
+        steps = steps[rising] * block
         last = -np.inf
         for t in steps:
             if t < last + round(20e-3 * rate):
