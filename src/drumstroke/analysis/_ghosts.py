@@ -26,17 +26,20 @@ def _partners(band, starts, size, lag, likeness):
     return [[m[1:] for m in sorted(found, reverse=True)] for found in mates]
 
 
-def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, skip=10e-3, span=0.13, quiet_db=-10.0, below_db=-30.0, quieter_db=-6.0, mates_used=3):
-    """Onsets (full-rate samples) of notes within ``span`` s after an attack at ``times``, found in what is left of
-    ``band`` once that attack's sound is taken off, predicted by two of its layer-mates (attacks whose first ``skip``
-    s correlate by ``likeness``, each scaled by least squares there; of the two remainders, the quieter over each
-    millisecond, for each mate's own later notes are left in its remainder only).
+def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, skip=10e-3, span=0.13, quiet_db=-10.0,
+                 below_db=-30.0, quieter_db=-6.0, mates_used=3):
+    """Onsets (full-rate samples) of notes within ``span`` s after a ``clear`` attack at ``times`` (full-rate samples),
+    found in what is left of ``band`` once that attack's own sound is taken off, predicted by its layer-mates.
 
-    A note is where that remainder's energy over 1 ms rises ``rise_db`` over its most over the 10 ms before (from
-    ``skip`` s after the attack, up to the next attack within ``quiet_db`` of this one or of either mate, whose
-    sound no longer continues theirs) and its peak amplitude is ``least`` or more; its onset is the first sample
-    whose magnitude passes 1 % of that peak (over the next 10 ms) and four times the remainder's RMS over the 5 ms
-    before.
+    A layer-mate is another clear attack whose first ``skip`` s (from 0.5 ms before it) correlate by ``likeness``
+    within 2 samples; each of up to ``mates_used`` is scaled by least squares there and taken off. Of their
+    remainders the quietest over each 1 ms counts (a mate's own later notes are left in its remainder only), each up
+    to its mate's next attack, and only where two of them reach; the search ends at the next attack within
+    ``quiet_db`` of this one. A note is where that energy over 1 ms (read every 0.25 ms) rises ``rise_db`` over its
+    most over the 10 ms before (from ``skip`` s after the attack on), its remainder's peak over the next 11 ms
+    ``least`` or more, within ``below_db`` of the attack's peak and ``quieter_db`` or more under it; its onset is the
+    first sample there whose magnitude passes 1 % of that peak and four times the remainder's RMS over the 5 ms
+    before (one note in 20 ms).
     """
     pre, size, lag = round(0.5e-3 * rate), round(skip * rate), 2
     width, before, after = round(1e-3 * rate), round(10e-3 * rate), round(10e-3 * rate)

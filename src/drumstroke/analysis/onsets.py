@@ -1593,14 +1593,14 @@ def _ghost_notes(band, d, rate, candidates, config):
     its layer: taken off (scaled by least squares over the first ``template_fit`` s), it leaves the notes after the
     accent alone (:func:`._ghosts.ghost_onsets`), where the first difference had the accent's ringing louder than
     a ghost note 50-120 ms after it (FluidR3's rolls: a ghost note's main rise found 1.1-1.3 ms late, or none).
-    Each of up to six mates gives a remainder; over each millisecond the quietest counts (a mate's own later notes
-    are left in its remainder only), and only up to each mate's next attack. A note is where that remainder's
-    energy over 1 ms rises ``ghost_rise_db`` over its most over the 10 ms before, 6 dB or more under the accent and
-    within 30 dB of it; its onset is the remainder's first sample over 1 % of its peak (and four times its RMS
-    before). Not in a reverberant recording (FluidSynth's reverb: its returns are not one note's sound replayed,
-    and what is left of them swells like a note: a false onset more in each SoundFont's singles). A new note (no
-    attack within 5 ms) is an attack of kind 3; an attack 0.5-1.5 ms after it (its main
-    rise: a sample's lead-in late) is moved there. ``ghost_rise_db`` 120: none sought (as before this stage).
+    Each of up to three mates gives a remainder; over each millisecond the quietest counts (a mate's own later
+    notes are left in its remainder only), and only up to each mate's next attack. A note is where that remainder's
+    energy over 1 ms (read every 0.25 ms) rises ``ghost_rise_db`` over its most over the 10 ms before, 6 dB or more
+    under the accent and within 30 dB of it; its onset is the remainder's first sample over 1 % of its peak (and
+    four times its RMS before). Not in a reverberant recording (FluidSynth's reverb: its returns are not one note's
+    sound replayed, and what is left of them swells like a note: a false onset more in each SoundFont's singles). A
+    new note (no attack within 5 ms) is an attack of kind 3; an attack 0.5-1.5 ms after it (on its main rise: a
+    sample's lead-in late) is moved there. ``ghost_rise_db`` 120: none sought (as before this stage).
     """
     from ._ghosts import ghost_onsets
 
