@@ -7,6 +7,41 @@ another note of the same layer, and what is left once it is taken off is the not
 import numpy as np
 from scipy.ndimage import maximum_filter1d
 
+from .._jit import jit
+
+
+@jit(error_model="numpy")
+def remainder_blocks(band, start, mates, scales, valid, blocks, block, window):
+    """What is left of ``band`` from ``start`` once each mate (``band`` from ``mates[m]``, times ``scales[m]``) is
+    taken off: its energy over ``window`` blocks of ``block`` samples from each block, the least over the mates that
+    reach there (block ``j`` under ``valid[m]``), and which mate that is; infinite where fewer than two reach.
+    Returns the energies and the mates [shape=(blocks - window + 1,)]."""
+    count = len(mates)
+    power = np.empty((count, blocks))
+    for m in range(count):
+        for j in range(blocks):
+            total = 0.0
+            for k in range(j * block, (j + 1) * block):
+                v = band[start + k] - scales[m] * band[mates[m] + k]
+                total += v * v
+            power[m, j] = total
+    size = blocks - window + 1
+    least = np.full(size, np.inf)
+    pick = np.zeros(size, dtype=np.int64)
+    for j in range(size):
+        reach = 0
+        for m in range(count):
+            if j < valid[m]:
+                reach += 1
+                energy = 0.0
+                for i in range(j, j + window):
+                    energy += power[m, i]
+                if energy < least[j]:
+                    least[j], pick[j] = energy, m
+        if reach < 2:
+            least[j] = np.inf
+    return least, pick
+
 
 def _partners(band, starts, size, lag, likeness):
     """For each attack (``starts``: the samples its ``size``-sample window starts at), its layer-mates: (index,
@@ -64,23 +99,17 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, skip=10e
         length = min(round(span * rate), ends[b] - c[b])
         x = band[c[b]:c[b] + length + after]
         used = mates[i][:mates_used]
-        r = np.stack([x - scale * band[c[which[a]] + shift:c[which[a]] + shift + len(x)] for a, shift, scale in used])
         # energy over 0.25-ms blocks, over 1 ms from each block (its onset sought at full rate after)
         block = max(1, width // 4)
-        blocks = (len(x) // block)
-        power = (r[:, :blocks * block] ** 2).reshape(len(r), blocks, block).sum(axis=2)
-        total = np.concatenate((np.zeros((len(r), 1)), np.cumsum(power, axis=1)), axis=1)
-        e = total[:, 4:] - total[:, :-4]
-        for m, (a, _, _) in enumerate(used):
-            # a mate's own later notes are not b's: its remainder counts up to its next attack only
-            a = which[a]
-            valid = ((c[a + 1] if a + 1 < len(c) else len(band)) - c[a] - width) // block
-            e[m, max(0, valid):] = np.inf
+        starts_m = np.array([c[which[a]] + shift for a, shift, _ in used], dtype=np.int64)
+        scales = np.array([scale for _, _, scale in used])
+        # a mate's own later notes are not b's: its remainder counts up to its next attack only
+        valid = np.array([((c[which[a] + 1] if which[a] + 1 < len(c) else len(band)) - c[which[a]] - width) // block
+                          for a, _, _ in used], dtype=np.int64)
+        e, pick = remainder_blocks(band, c[b], starts_m, scales, valid, len(x) // block, block, width // block)
         # two mates or more at each block: one mate's missed note would be left in its remainder alone
-        short = np.flatnonzero(np.isfinite(e).sum(axis=0) < 2)
+        short = np.flatnonzero(~np.isfinite(e))
         length = min(length, short[0] * block if len(short) else length)
-        pick = np.argmin(e, axis=0)
-        e = e[pick, np.arange(e.shape[1])]
         if length <= size + before:
             continue
         span_blocks = (before - width) // block
@@ -93,7 +122,8 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, skip=10e
         for t in steps:
             if t < last + round(20e-3 * rate):
                 continue
-            v = r[pick[t]]
+            m = pick[t]
+            v = x - scales[m] * band[starts_m[m]:starts_m[m] + len(x)]
             peak = np.abs(v[t:t + width + after]).max()
             if not max(least, loud[b] * 10.0 ** (below_db / 20.0)) <= peak <= loud[b] * 10.0 ** (quieter_db / 20.0):
                 continue
