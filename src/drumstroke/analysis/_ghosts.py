@@ -85,12 +85,11 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, skip=10e
     which = np.flatnonzero(ok)
     if len(which) < 3:
         return np.empty(0)
-    loud = np.array([np.abs(band[k:k + round(5e-3 * rate)]).max() for k in c])
+    loud = np.lib.stride_tricks.sliding_window_view(band, round(5e-3 * rate))[np.minimum(c, len(band) - round(5e-3 * rate))]
+    loud = np.abs(loud).max(axis=1)
     # the next attack within quiet_db of each: its sound is no longer one attack's
-    ends = np.empty(len(c), dtype=np.int64)
-    for k in range(len(c)):
-        later = np.flatnonzero(loud[k + 1:] >= loud[k] * 10.0 ** (quiet_db / 20.0))
-        ends[k] = c[k + 1 + later[0]] if len(later) else len(band)
+    later = (loud[None, :] >= loud[:, None] * 10.0 ** (quiet_db / 20.0)) & np.triu(np.ones((len(c), len(c)), bool), 1)
+    ends = np.where(later.any(axis=1), c[np.argmax(later, axis=1)], len(band))
     mates = _partners(band, starts[which], size + pre, lag, likeness)
     rise, found = 10.0 ** (rise_db / 10.0), []
     for i, b in enumerate(which):
