@@ -5,7 +5,6 @@ another note of the same layer, and what is left once it is taken off is the not
 """
 
 import numpy as np
-from scipy.ndimage import maximum_filter1d
 
 from .._jit import jit
 
@@ -41,6 +40,20 @@ def remainder_blocks(band, start, mates, scales, valid, blocks, block, window):
         if reach < 2:
             least[j] = np.inf
     return least, pick
+
+
+@jit(error_model="numpy")
+def rising(e, low, high, back, span, rise):
+    """The blocks ``j`` in [``low``, ``high``) where ``e[j]`` is positive and ``rise`` times or more the most of
+    ``e`` over the ``span`` blocks from ``j - back``."""
+    out = []
+    for j in range(low, high):
+        most = 0.0
+        for i in range(j - back, j - back + span):
+            most = max(most, e[i])
+        if e[j] > 0.0 and e[j] >= rise * most:
+            out.append(j)
+    return np.array(out, dtype=np.int64)
 
 
 def _partners(band, starts, size, lag, likeness):
@@ -111,12 +124,10 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, skip=10e
         length = min(length, short[0] * block if len(short) else length)
         if length <= size + before:
             continue
-        span_blocks = (before - width) // block
-        prior = maximum_filter1d(e, span_blocks, origin=-(span_blocks // 2))  # over [j, j + 9 ms)
-        steps = np.arange((size + before) // block, (length - width) // block)
-        rising = (e[steps] > 0.0) & (e[steps] >= rise * prior[steps - before // block])
+        steps = rising(e, (size + before) // block, (length - width) // block, before // block,
+                       (before - width) // block, rise)
         pick = np.repeat(pick, block)
-        steps = steps[rising] * block
+        steps = steps * block
         last = -np.inf
         for t in steps:
             if t < last + round(20e-3 * rate):
