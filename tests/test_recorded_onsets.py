@@ -129,7 +129,7 @@ def test_a_roll_over_its_own_ringing_is_timed_by_the_learned_lead_in():
 
 
 @pytest.mark.parametrize("set_name, condition, most_95, most_median", [
-    ("singles", "dry", 4.5, 0.5), ("singles", "noise60", 2.5, 0.5), ("roll", "dry", 4.0, 1.0),
+    ("singles", "dry", 4.5, 0.5), ("singles", "noise60", 2.5, 0.5), ("roll", "dry", 4.5, 1.0),
     ("roll", "noise60", 3.5, 1.0), ("flams", "dry", 25.0, 1.0), ("flams", "noise60", 25.0, 1.5),
 ])
 def test_levels_of_loud_notes_found(detected, set_name, condition, most_95, most_median):
@@ -137,7 +137,9 @@ def test_levels_of_loud_notes_found(detected, set_name, condition, most_95, most
     loud notes found within 5 ms: its 95th percentile and median (absolute), the figures reached a little over.
 
     Measured (both SoundFonts' snare 38 pooled): 95th percentile 3.9, 1.9, 3.4, 2.9, 22.5, 22.9 dB; median
-    0.11-0.98 dB. The issue's 1 dB is not reached: the levels are the lowest modes' amplitude (in proportion to the
+    0.11-0.98 dB. The rolls dry 4.2 dB since the ghost notes under an accent are sought in what is left once the
+    accent's layer-mate is taken off (``ghost_rise_db``): a ghost note more (TimGM6mb, 1.0113 s, -23 dB) whose lowest
+    modes read 4.5 dB off under the accent's tail (3.6 dB without it). The issue's 1 dB is not reached: the levels are the lowest modes' amplitude (in proportion to the
     tip speed on drumstroke's drums), not the broadband peak (docs/analysis.md says how far apart the two are).
     """
     errors = [onsets.level_db[j] - recording.level_db[i] for recording, onsets in detected
@@ -300,7 +302,7 @@ def test_ghost_notes_of_a_softer_sample_are_found():
     figures = score(recording, find_onsets(recording.signal, RATE).t)
     off = score(recording, find_onsets(recording.signal, RATE,
                                        config=OnsetConfig(soft_jump=100.0, refused_likeness=1.0,
-                                                          layer_likeness=1.0)).t)
+                                                          layer_likeness=1.0, ghost_rise_db=120.0)).t)
     assert figures["within_1ms"] >= 25 and figures["correct_5ms"] == figures["found"]
     assert off["within_1ms"] <= 23
 
@@ -372,7 +374,7 @@ def test_ghost_notes_step_4_refused_are_attacks_where_the_template_fits(conditio
     figures = score(recording, find_onsets(recording.signal, RATE).t)
     off = score(recording, find_onsets(recording.signal, RATE,
                                        config=OnsetConfig(refused_likeness=1.0, layer_likeness=1.0,
-                                                          **_BEFORE_FOUND)).t)
+                                                          ghost_rise_db=120.0, **_BEFORE_FOUND)).t)
     assert figures["within_1ms"] >= least_1ms and off["within_1ms"] <= off_1ms
     assert figures["found"] - figures["correct_5ms"] <= off["found"] - off["correct_5ms"]
 
@@ -439,7 +441,7 @@ def test_a_ghost_note_of_another_velocity_layer_is_found_by_the_quietest_clear_a
     recording = _corpus_recording("TimGM6mb 38 roll", "noise72")
     note = recording.t[np.argmin(np.abs(recording.t - 3.1713))]
     found = find_onsets(recording.signal, RATE).t
-    without = find_onsets(recording.signal, RATE, config=OnsetConfig(layer_likeness=1.0)).t
+    without = find_onsets(recording.signal, RATE, config=OnsetConfig(layer_likeness=1.0, ghost_rise_db=120.0)).t
     assert np.min(np.abs(found - note)) <= 1e-3
     assert np.min(np.abs(without - note)) > 5e-3
     figures, before = score(recording, found), score(recording, without)
@@ -464,8 +466,8 @@ def test_one_more_true_onset_moves_no_other_notes_peak_db():
     truth. (With the templates cut at the next onset, such a ghost note cut the one long template and moved the
     other notes' by up to 4 dB.)"""
     recording = _corpus_recording("TimGM6mb 38 roll", "noise72")
-    found = find_onsets(recording.signal, RATE)
-    without = find_onsets(recording.signal, RATE, config=OnsetConfig(layer_likeness=1.0))
+    found = find_onsets(recording.signal, RATE, config=OnsetConfig(ghost_rise_db=120.0))
+    without = find_onsets(recording.signal, RATE, config=OnsetConfig(layer_likeness=1.0, ghost_rise_db=120.0))
     new = np.flatnonzero(~np.isin(found.t, without.t))
     assert len(new) == 1 and np.all(np.isin(without.t, found.t))
     assert np.min(np.abs(recording.t - found.t[new[0]])) <= 1e-3
@@ -738,3 +740,41 @@ def test_a_rooms_return_is_tried_again_once_the_onsets_around_are_known():
     assert (figures["within_1ms"], figures["within_5ms"], figures["correct_5ms"]) == (
         before["within_1ms"], before["within_5ms"], before["correct_5ms"])
     assert figures["found"] == before["found"] - 1
+
+
+@pytest.mark.parametrize("name, condition, least_1ms, off_1ms", [
+    ("TimGM6mb 38 roll", "noise60", 30, 27), ("FluidR3 38 roll", "dry", 28, 27), ("FluidR3 38 roll", "noise72", 27, 26),
+])
+def test_ghost_notes_under_an_accent_are_found_once_its_layer_mate_is_taken_off(name, condition, least_1ms, off_1ms):
+    """Rolls of the corpus: ghost notes 50-120 ms after an accent, under its ringing (unseen, or found on their main
+    rise 1.1 ms late), are found in what is left once another note of the accent's layer, replayed sample for sample,
+    is taken off, with no false detection more; without that search (``ghost_rise_db=120``) as few as before it."""
+    recording = _corpus_recording(name, condition)
+    figures = score(recording, find_onsets(recording.signal, RATE).t)
+    off = score(recording, find_onsets(recording.signal, RATE, config=OnsetConfig(ghost_rise_db=120.0)).t)
+    assert figures["within_1ms"] >= least_1ms and off["within_1ms"] <= off_1ms
+    assert figures["found"] - figures["correct_5ms"] <= off["found"] - off["correct_5ms"]
+
+
+def test_a_replayed_samples_later_notes_are_its_remainder_less_a_layer_mate():
+    """The ghost search on a sample player's recording made here: one accent waveform (the same samples, scaled)
+    at six times, a ghost waveform 26 dB under it after four of them at known samples, each accent's mates the
+    others. Every ghost note is found at its first sample (1 % of its peak passed there at once), none elsewhere."""
+    from drumstroke.analysis._ghosts import ghost_onsets
+
+    rate = 48000
+    rng = np.random.default_rng(5)
+    n = np.arange(round(0.4 * rate))
+    accent = rng.standard_normal(len(n)) * np.exp(-n / (0.08 * rate)) * 0.5
+    ghost = rng.standard_normal(round(0.1 * rate)) * np.exp(-np.arange(round(0.1 * rate)) / (0.02 * rate)) * 0.025
+    ghost[0] = 0.025
+    band = np.zeros(round(3.0 * rate))
+    accents = [round((0.1 + 0.45 * k) * rate) for k in range(6)]
+    ghosts = {0: 3100, 2: 4500, 3: 2700, 5: 5200}  # samples after the accent
+    for k, at in enumerate(accents):
+        band[at:at + len(accent)] += accent * (1.0 - 0.02 * k)
+        if k in ghosts:
+            band[at + ghosts[k]:at + ghosts[k] + len(ghost)] += ghost
+    found = ghost_onsets(band, np.array(accents, dtype=float), np.ones(6, dtype=bool), rate, likeness=0.999,
+                         rise_db=15.0, least=0.0)
+    np.testing.assert_array_equal(found, sorted(accents[k] + g for k, g in ghosts.items()))

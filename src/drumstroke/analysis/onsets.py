@@ -464,6 +464,10 @@ class OnsetConfig:
         Correlation: a recording replays a sample (a sample player's velocity layers, ``layer_bounce_likeness``) where
         two clear attacks' first ``template_fit`` s correlate so (step 5; 0: every recording with two clear attacks
         does).
+    ghost_rise_db : float in [0, 120]
+        dB: a ghost note under an accent's sound, where the recording replays a sample, rises so much over the
+        10 ms before in what is left once the accent's own sound (another note of its layer) is taken off (step 5,
+        :func:`_ghost_notes`; 120: none sought, as before this field).
 
     Examples
     --------
@@ -560,6 +564,7 @@ class OnsetConfig:
     found_echo_rise_db: float = -60.0
     layer_bounce_likeness: float = 0.75
     replay_likeness: float = 0.999
+    ghost_rise_db: float = 15.0
 
     def __post_init__(self):
         for name, (low, high, unit) in _RANGES.items():
@@ -614,6 +619,7 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "bounce_ratio_low": (0.0, 100.0, "(amplitude ratio)"), "found_echo_rise_db": (-60.0, 60.0, "dB"),
     "layer_bounce_likeness": (0.0, 1.0, "(correlation)"),
     "replay_likeness": (0.0, 1.0, "(correlation)"),
+    "ghost_rise_db": (0.0, 120.0, "dB"),
 }
 
 
@@ -746,6 +752,10 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        the template (another velocity layer of a sample), by ``layer_likeness``. A detection there that taking off
        the attack before it explains (``found_burst_db``) is that attack's own sound (a sample's second burst); one
        over earlier sound whose start the template fits better up to ``earlier_reach`` s before it is put there.
+       :func:`_ghost_notes`: where the recording replays a sample and is not reverberant, the notes after a clear
+       attack (ghost notes under an accent) are sought in what is left once its layer-mates (other clear attacks
+       one waveform with it by ``replay_likeness``) are taken off, where that rises ``ghost_rise_db``; each is put
+       at its first sample there (a new attack, or one found 0.5-1.5 ms late moved).
        :func:`_level_band`. An onset's amplitude is the peak of its own sound in the drum's lowest
        modes (the band up to ``level_ratio`` times its lowest strong mode, ≥ ``level_band`` Hz,
        decimated to 2.5 times that: a stick's speed sets their amplitude in proportion, while the
@@ -867,6 +877,8 @@ def _detected(signal, rate, config, source, info):
     candidates = _fit_template(band, d, rate, candidates, config)
     candidates = _template_search(band, d, rate, candidates, refused, config)
     candidates = _template_search(band, d, rate, candidates, refused, config, quietest=True)
+    if not modes.reverberant:
+        candidates = _ghost_notes(band, d, rate, candidates, config)
     levels = _level_band(band, rate, q, first, config, lowest)
     amplitude = levels.amplitudes(_measured_at(candidates, found, rate, config), modes.reverberant, config)
     candidates, amplitude = _one_attack_each(d, rate, candidates, amplitude, config)
@@ -1585,6 +1597,54 @@ def _template_search(band, d, rate, candidates, refused, config, quietest=False)
     if not len(found) and not dropped.any():
         return candidates
     merged, fresh = candidates.take(~dropped).insert(found, attack=True, likeness=likes)
+    return replace(merged, kinds=np.where(fresh, 3, merged.kinds))
+
+
+def _ghost_notes(band, d, rate, candidates, config):
+    """Step 5: ghost notes under an accent's sound, found where the recording replays a sample (:func:`_replays`).
+
+    A sample player replays a velocity layer's waveform sample for sample (the corpus's SoundFonts: 0.9998 or more
+    over the first 10 ms of two notes of a layer), so an accent's own sound is known from another clear attack of
+    its layer: taken off (scaled by least squares over the first ``template_fit`` s), it leaves the notes after the
+    accent alone (:func:`._ghosts.ghost_onsets`), where the first difference had the accent's ringing louder than
+    a ghost note 50-120 ms after it (FluidR3's rolls: a ghost note's main rise found 1.1-1.3 ms late, or none).
+    Each of up to three mates gives a remainder; over each millisecond the quietest counts (a mate's own later
+    notes are left in its remainder only), and only up to each mate's next attack. A note is where that remainder's
+    energy over 1 ms (read every 0.25 ms) rises ``ghost_rise_db`` over its most over the 10 ms before, 6 dB or more
+    under the accent and within 30 dB of it; its onset is the remainder's first sample over 1 % of its peak (and
+    four times its RMS before). Not in a reverberant recording (FluidSynth's reverb: its returns are not one note's
+    sound replayed, and what is left of them swells like a note: a false onset more in each SoundFont's singles). A
+    new note (no attack within 5 ms) is an attack of kind 3; an attack 0.5-1.5 ms after it (on its main rise: a
+    sample's lead-in late) is moved there. ``ghost_rise_db`` 120: none sought (as before this stage).
+    """
+    from ._ghosts import ghost_onsets
+
+    if config.ghost_rise_db >= 120.0 or len(candidates) < 3:
+        return candidates
+    _, (lead_clear,) = _clear(d, candidates.times, rate, [config.lead_clear_db])
+    if not _replays(band, candidates.times, lead_clear, rate, config):
+        return candidates
+    which = np.flatnonzero(candidates.attack)
+    ghosts = ghost_onsets(band, candidates.times[which], lead_clear[which], rate, likeness=config.replay_likeness,
+                          rise_db=config.ghost_rise_db, least=10.0 ** (config.threshold_db / 20.0))
+    if not len(ghosts):
+        return candidates
+    times, kinds = candidates.times.copy(), candidates.kinds.copy()
+    new = []
+    for g in ghosts:
+        near = which[np.abs(times[which] - g) <= 5e-3 * rate]
+        if not len(near):
+            new.append(g)
+            continue
+        k = near[np.argmin(np.abs(times[near] - g))]
+        if 0.5e-3 * rate < times[k] - g <= 1.5e-3 * rate:  # found late, on the main rise after the lead-in
+            times[k], kinds[k] = g, 3
+    moved = replace(candidates, times=times, kinds=kinds)
+    if not np.all(np.diff(times) > 0):
+        moved = candidates
+    if not new:
+        return moved
+    merged, fresh = moved.insert(np.array(new), attack=True, likeness=np.ones(len(new)))
     return replace(merged, kinds=np.where(fresh, 3, merged.kinds))
 
 

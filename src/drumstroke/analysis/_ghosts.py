@@ -1,0 +1,146 @@
+"""Ghost notes under a replayed sample's sound: :func:`.onsets._ghost_notes`' search.
+
+A sample player replays a velocity layer's waveform sample for sample; an accent's own sound is then known from
+another note of the same layer, and what is left once it is taken off is the notes that came after it alone.
+"""
+
+import numpy as np
+
+from .._jit import jit
+
+
+@jit(error_model="numpy")
+def remainder_blocks(band, start, mates, scales, valid, blocks, block, window):
+    """What is left of ``band`` from ``start`` once each mate (``band`` from ``mates[m]``, times ``scales[m]``) is
+    taken off: its energy over ``window`` blocks of ``block`` samples from each block, the least over the mates that
+    reach there (block ``j`` under ``valid[m]``), and which mate that is; infinite where fewer than two reach.
+    Returns the energies and the mates [shape=(blocks - window + 1,)]."""
+    count = len(mates)
+    power = np.empty((count, blocks))
+    for m in range(count):
+        for j in range(blocks):
+            total = 0.0
+            for k in range(j * block, (j + 1) * block):
+                v = band[start + k] - scales[m] * band[mates[m] + k]
+                total += v * v
+            power[m, j] = total
+    size = blocks - window + 1
+    least = np.full(size, np.inf)
+    pick = np.zeros(size, dtype=np.int64)
+    for j in range(size):
+        reach = 0
+        for m in range(count):
+            if j < valid[m]:
+                reach += 1
+                energy = 0.0
+                for i in range(j, j + window):
+                    energy += power[m, i]
+                if energy < least[j]:
+                    least[j], pick[j] = energy, m
+        if reach < 2:
+            least[j] = np.inf
+    return least, pick
+
+
+@jit(error_model="numpy")
+def rising(e, low, high, back, span, rise):
+    """The blocks ``j`` in [``low``, ``high``) where ``e[j]`` is positive and ``rise`` times or more the most of
+    ``e`` over the ``span`` blocks from ``j - back``."""
+    out = []
+    for j in range(low, high):
+        most = 0.0
+        for i in range(j - back, j - back + span):
+            most = max(most, e[i])
+        if e[j] > 0.0 and e[j] >= rise * most:
+            out.append(j)
+    return np.array(out, dtype=np.int64)
+
+
+def _partners(band, starts, size, lag, likeness):
+    """For each attack (``starts``: the samples its ``size``-sample window starts at), its layer-mates: (index,
+    shift, scale) of each other attack whose window, shifted within ``lag`` samples, correlates by ``likeness``."""
+    views = np.lib.stride_tricks.sliding_window_view(band, size)
+    own = views[starts]
+    norms = np.maximum(np.linalg.norm(own, axis=1), 1e-300)
+    mates = [[] for _ in starts]
+    for shift in range(-lag, lag + 1):
+        shifted = views[np.clip(starts + shift, 0, len(views) - 1)]
+        energy = np.maximum(np.einsum("ij,ij->i", shifted, shifted), 1e-300)
+        cross = own @ shifted.T  # [b, a]: attack b against attack a shifted
+        like = cross / (norms[:, None] * np.sqrt(energy)[None, :])
+        for b, a in zip(*np.nonzero(like >= likeness)):
+            if a != b:
+                mates[b].append((like[b, a], a, shift, cross[b, a] / energy[a]))
+    return [[m[1:] for m in sorted(found, reverse=True)] for found in mates]
+
+
+def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, skip=10e-3, span=0.13, quiet_db=-10.0,
+                 below_db=-30.0, quieter_db=-6.0, mates_used=3):
+    """Onsets (full-rate samples) of notes within ``span`` s after a ``clear`` attack at ``times`` (full-rate samples),
+    found in what is left of ``band`` once that attack's own sound is taken off, predicted by its layer-mates.
+
+    A layer-mate is another clear attack whose first ``skip`` s (from 0.5 ms before it) correlate by ``likeness``
+    within 2 samples; each of up to ``mates_used`` is scaled by least squares there and taken off. Of their
+    remainders the quietest over each 1 ms counts (a mate's own later notes are left in its remainder only), each up
+    to its mate's next attack, and only where two of them reach; the search ends at the next attack within
+    ``quiet_db`` of this one. A note is where that energy over 1 ms (read every 0.25 ms) rises ``rise_db`` over its
+    most over the 10 ms before (from ``skip`` s after the attack on), its remainder's peak over the next 11 ms
+    ``least`` or more, within ``below_db`` of the attack's peak and ``quieter_db`` or more under it; its onset is the
+    first sample there whose magnitude passes 1 % of that peak and four times the remainder's RMS over the 5 ms
+    before (one note in 20 ms).
+    """
+    pre, size, lag = round(0.5e-3 * rate), round(skip * rate), 2
+    width, before, after = round(1e-3 * rate), round(10e-3 * rate), round(10e-3 * rate)
+    times = np.asarray(times, dtype=float)
+    c = np.rint(times).astype(np.int64)
+    starts = c - pre
+    ok = np.asarray(clear, dtype=bool) & (starts >= lag) & (starts + round(span * rate) + lag + after < len(band))
+    which = np.flatnonzero(ok)
+    if len(which) < 3:
+        return np.empty(0)
+    loud = np.lib.stride_tricks.sliding_window_view(band, round(5e-3 * rate))[np.minimum(c, len(band) - round(5e-3 * rate))]
+    loud = np.abs(loud).max(axis=1)
+    # the next attack within quiet_db of each: its sound is no longer one attack's
+    later = (loud[None, :] >= loud[:, None] * 10.0 ** (quiet_db / 20.0)) & np.triu(np.ones((len(c), len(c)), bool), 1)
+    ends = np.where(later.any(axis=1), c[np.argmax(later, axis=1)], len(band))
+    mates = _partners(band, starts[which], size + pre, lag, likeness)
+    rise, found = 10.0 ** (rise_db / 10.0), []
+    for i, b in enumerate(which):
+        if len(mates[i]) < 2:
+            continue
+        length = min(round(span * rate), ends[b] - c[b])
+        x = band[c[b]:c[b] + length + after]
+        used = mates[i][:mates_used]
+        # energy over 0.25-ms blocks, over 1 ms from each block (its onset sought at full rate after)
+        block = max(1, width // 4)
+        starts_m = np.array([c[which[a]] + shift for a, shift, _ in used], dtype=np.int64)
+        scales = np.array([scale for _, _, scale in used])
+        # a mate's own later notes are not b's: its remainder counts up to its next attack only
+        valid = np.array([((c[which[a] + 1] if which[a] + 1 < len(c) else len(band)) - c[which[a]] - width) // block
+                          for a, _, _ in used], dtype=np.int64)
+        e, pick = remainder_blocks(band, c[b], starts_m, scales, valid, len(x) // block, block, width // block)
+        # two mates or more at each block: one mate's missed note would be left in its remainder alone
+        short = np.flatnonzero(~np.isfinite(e))
+        length = min(length, short[0] * block if len(short) else length)
+        if length <= size + before:
+            continue
+        steps = rising(e, (size + before) // block, (length - width) // block, before // block,
+                       (before - width) // block, rise)
+        pick = np.repeat(pick, block)
+        steps = steps * block
+        last = -np.inf
+        for t in steps:
+            if t < last + round(20e-3 * rate):
+                continue
+            m = pick[t]
+            v = x - scales[m] * band[starts_m[m]:starts_m[m] + len(x)]
+            peak = np.abs(v[t:t + width + after]).max()
+            if not max(least, loud[b] * 10.0 ** (below_db / 20.0)) <= peak <= loud[b] * 10.0 ** (quieter_db / 20.0):
+                continue
+            noise = np.sqrt(np.mean(v[t - round(5e-3 * rate):t] ** 2))
+            above = np.flatnonzero(np.abs(v[t:t + width + after]) >= max(0.01 * peak, 4.0 * noise))
+            if not len(above):
+                continue
+            found.append(c[b] + t + above[0])
+            last = t
+    return np.unique(np.asarray(found, dtype=float))
