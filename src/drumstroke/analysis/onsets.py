@@ -1878,12 +1878,12 @@ def _room_echoes(band, d, rate, candidates, amplitude, attack, config, kind=2, f
     loud (within 6 dB; no attack found from 1 ms after that one to the end of the window) explains the band over
     the 5 ms before and after it, and alike: its fit (least squares) leaves ``room_fit_db`` or less of that
     band's energy, and the power it leaves after it passes that before it by ``room_echo_db`` at most
-    (:func:`._rooms.echo_novelty`). A ghost note under an accent's tail, as quiet and as
-    flat, leaves 3.6-19 dB more after its start. ``kind`` and ``fit_db`` (``room_fit_db`` unless given): the
+    (:func:`._rooms.echo_novelty`; the partners and fits compiled: :func:`._rooms.room_echoes`). A ghost note under
+    an accent's tail, as quiet and as flat, leaves 3.6-19 dB more after its start. ``kind`` and ``fit_db`` (``room_fit_db`` unless given): the
     attacks tried and the most their fit may leave (:func:`_room_returns` tries the template's, kind 3).
     """
     from ._kernels import peaks_around
-    from ._rooms import echo_novelty
+    from ._rooms import room_echoes
 
     which = np.flatnonzero(attack)
     times, levels = candidates.times[which], 20.0 * np.log10(np.maximum(amplitude[which], 1e-300))
@@ -1900,21 +1900,10 @@ def _room_echoes(band, d, rate, candidates, amplitude, attack, config, kind=2, f
     # how long the sound after each attack stays clear of the next one found (from 1 ms after it)
     after = np.searchsorted(times, times + 1e-3 * rate, side="right")
     clear = np.append(times, np.inf)[after] - times
-    attack = attack.copy()
-    for k in tried:
-        sources = np.flatnonzero((times[k] - times >= 35e-3 * rate) & (times[k] - times <= 0.3 * rate)
-                                 & (levels >= levels[k] + config.reflection_db))
-        centres = []
-        for i in sources:
-            delay = times[k] - times[i]
-            partners = np.abs(levels - levels[i]) <= 6.0
-            partners[i] = False
-            partners &= clear >= delay + width + reach
-            centres.extend(times[partners] + delay)
-        if centres and echo_novelty(band, round(times[k]), np.rint(centres).astype(np.int64), width, width, reach,
-                                    max(1, round(60e-6 * rate)), 10.0 ** (fit_db / 10.0)) <= novel:
-            attack[which[k]] = False
-    return attack
+    # each tried attack's partners and fits, in one compiled loop
+    return room_echoes(band, times, levels, clear, tried, attack, which, 35e-3 * rate, 0.3 * rate,
+                       config.reflection_db, 6.0, width, width, reach, max(1, round(60e-6 * rate)),
+                       10.0 ** (fit_db / 10.0), novel)
 
 
 def _room_returns(band, d, rate, candidates, amplitude, onsets, config):
