@@ -2020,7 +2020,7 @@ def _learned_lead_ins(d, rate, candidates, config):
     if clear.sum() < 3:
         return candidates
     leads = rise[clear] - candidates.times[which[clear]]
-    lead, spread = np.median(leads), np.subtract(*np.percentile(leads, [75, 25]))
+    lead, spread = _median_and_spread(leads)
     if lead < 0.25e-3 * rate or spread > 0.2e-3 * rate:  # no lead-in to restore, or not a sample's fixed one
         return candidates
     times = candidates.times.copy()
@@ -2032,6 +2032,26 @@ def _learned_lead_ins(d, rate, candidates, config):
     if not np.all(np.diff(times[which]) > 0):
         return candidates
     return replace(candidates, times=times)
+
+
+def _median_and_spread(values):
+    """``np.median(values)`` and ``np.subtract(*np.percentile(values, [75, 25]))`` (the interquartile range), the same
+    to the bit, from one sort (numpy's two calls cost some 0.1 ms on a few values): the two middle values' mean, and
+    numpy's linear interpolation between neighbours, from the nearer one where the weight is a half or more."""
+    ordered = np.sort(values).tolist()
+    count = len(ordered)
+    middle = ordered[count // 2] if count % 2 else (ordered[count // 2 - 1] + ordered[count // 2]) / 2.0
+
+    def quantile(q):
+        at = (count - 1) * q
+        below = math.floor(at)
+        if at >= count - 1:
+            return ordered[-1]
+        weight, low, high = at - below, ordered[below], ordered[below + 1]
+        step = high - low
+        return high - step * (1 - weight) if weight >= 0.5 else low + step * weight
+
+    return middle, quantile(0.75) - quantile(0.25)
 
 
 @dataclass(frozen=True)
