@@ -80,7 +80,7 @@ def test_echo_novelty_is_numpys_coarse_to_fine_least_squares(seed):
 def test_the_crosses_are_each_lags_dot_product_summed_in_order(rng):
     """Four lags at a time or one, each lag's sum is the plain loop's: the same bits."""
     x = rng.standard_normal(3000)
-    for count in range(0, 11):
+    for count in range(11):
         lags = np.sort(rng.choice(100, size=count, replace=False)).astype(np.int64)
         got = _rooms._crosses(x, 1500, 700, lags, 333)
         for lag, value in zip(lags, got):

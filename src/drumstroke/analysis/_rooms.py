@@ -36,8 +36,9 @@ def room_echoes(x, times, levels, clear, tried, attack, which, nearest, farthest
                         centres = grown
                     centres[count] = times[j] + delay
                     count += 1
-        if count and echo_novelty(x, int(np.rint(times[k])), np.rint(centres[:count]).astype(np.int64), before, after, reach,
-                                  step, most_left) <= novel:
+        at = int(np.rint(times[k]))
+        if count and echo_novelty(x, at, np.rint(centres[:count]).astype(np.int64), before, after, reach, step,
+                                  most_left) <= novel:
             attack[which[k]] = False
     return attack
 

@@ -1879,8 +1879,9 @@ def _room_echoes(band, d, rate, candidates, amplitude, attack, config, kind=2, f
     the 5 ms before and after it, and alike: its fit (least squares) leaves ``room_fit_db`` or less of that
     band's energy, and the power it leaves after it passes that before it by ``room_echo_db`` at most
     (:func:`._rooms.echo_novelty`; the partners and fits compiled: :func:`._rooms.room_echoes`). A ghost note under
-    an accent's tail, as quiet and as flat, leaves 3.6-19 dB more after its start. ``kind`` and ``fit_db`` (``room_fit_db`` unless given): the
-    attacks tried and the most their fit may leave (:func:`_room_returns` tries the template's, kind 3).
+    an accent's tail, as quiet and as flat, leaves 3.6-19 dB more after its start. ``kind`` and ``fit_db``
+    (``room_fit_db`` unless given): the attacks tried and the most their fit may leave (:func:`_room_returns` tries
+    the template's, kind 3).
     """
     from ._kernels import peaks_around
     from ._rooms import room_echoes
