@@ -12,6 +12,63 @@ from .._jit import jit
 
 
 @jit
+def room_echoes(x, times, levels, clear, tried, attack, which, nearest, farthest, louder, alike, before, after, reach,
+                step, most_left, novel):
+    """:func:`.onsets._room_echoes`' loop: ``attack`` (a copy) less each of ``tried`` (indices of ``times``, full-rate
+    samples, and ``levels``, dB) whose :func:`echo_novelty` is ``novel`` or less, the centres tried those at the same
+    delay after each attack as loud (within ``alike`` dB; ``clear`` samples or more clear of the next one) as each
+    attack ``louder`` dB or more louder ``nearest`` to ``farthest`` samples before it; ``which`` maps ``times`` to
+    ``attack``."""
+    attack = attack.copy()
+    centres = np.empty(0)
+    for k in tried:
+        count = 0
+        for i in range(len(times)):
+            if not (times[k] - times[i] >= nearest and times[k] - times[i] <= farthest
+                    and levels[i] >= levels[k] + louder):
+                continue
+            delay = times[k] - times[i]
+            for j in range(len(times)):
+                if j != i and abs(levels[j] - levels[i]) <= alike and clear[j] >= delay + before + reach:
+                    if count == len(centres):
+                        grown = np.empty(max(16, 2 * count))
+                        grown[:count] = centres[:count]
+                        centres = grown
+                    centres[count] = times[j] + delay
+                    count += 1
+        at = int(np.rint(times[k]))
+        if count and echo_novelty(x, at, np.rint(centres[:count]).astype(np.int64), before, after, reach, step,
+                                  most_left) <= novel:
+            attack[which[k]] = False
+    return attack
+
+
+@jit
+def _crosses(x, start, low, lags, width):
+    """``x[start:start + width] @ x[low + lag:low + lag + width]`` for each of ``lags``, each summed in order (as the
+    plain loop: the same to the bit), four lags at a time (their sums apart: the adds do not wait on each other)."""
+    out = np.empty(len(lags))
+    n = 0
+    while n + 4 <= len(lags):
+        a, b, c, e = low + lags[n], low + lags[n + 1], low + lags[n + 2], low + lags[n + 3]
+        s0, s1, s2, s3 = 0.0, 0.0, 0.0, 0.0
+        for k in range(width):
+            v = x[start + k]
+            s0 += v * x[a + k]
+            s1 += v * x[b + k]
+            s2 += v * x[c + k]
+            s3 += v * x[e + k]
+        out[n], out[n + 1], out[n + 2], out[n + 3] = s0, s1, s2, s3
+        n += 4
+    for m in range(n, len(lags)):
+        total = 0.0
+        for k in range(width):
+            total += x[start + k] * x[low + lags[m] + k]
+        out[m] = total
+    return out
+
+
+@jit
 def echo_novelty(x, at, centres, before, after, reach, step, most_left):
     """How much more of ``x`` around ``at`` is new after it than before it, once the sound around another time explains
     it: the window ``x[at - before:at + after]`` is fitted by least squares by the same window around each of
@@ -43,12 +100,12 @@ def echo_novelty(x, at, centres, before, after, reach, step, most_left):
         first, last, coarse = 0, 2 * reach, step
         while True:
             found = -1
-            for lag in range(first, last + 1, coarse):
+            lags = np.arange(first, last + 1, coarse)
+            crosses = _crosses(x, start, low, lags, width)
+            for n in range(len(lags)):
+                lag, cross = lags[n], crosses[n]
                 if power[lag] <= 0.0:
                     continue
-                cross = 0.0
-                for k in range(width):
-                    cross += x[start + k] * x[low + lag + k]
                 left = own - cross * cross / power[lag]
                 if left < least:
                     least, best, scale, found = left, low + lag, cross / power[lag], lag
