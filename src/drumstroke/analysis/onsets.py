@@ -1663,7 +1663,7 @@ def _replays(band, times, clear, rate, config):
     views = np.lib.stride_tricks.sliding_window_view(band, size)
     own = views[starts]
     own = own / np.maximum(np.linalg.norm(own, axis=1), 1e-300)[:, None]
-    for shift in range(-lag, lag + 1):
+    for shift in sorted(range(-lag, lag + 1), key=abs):  # the same lag first: where a sample is replayed, it is found
         shifted = views[starts + shift]
         likeness = shifted @ own.T / np.maximum(np.linalg.norm(shifted, axis=1), 1e-300)[:, None]
         np.fill_diagonal(likeness, -1.0)  # (an attack with itself)
