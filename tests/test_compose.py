@@ -457,6 +457,18 @@ def test_a_stroke_not_in_the_library_is_named_with_its_line(library):
         compose(notes, library)
 
 
+def test_a_buzz_too_quiet_to_be_one_stroke_is_refused_with_its_line(library, tmp_path):
+    """Found by the studio's fuzz test: a buzz at velocity 1 is designed as many one-bounce strokes with no note of
+    their own, and compose raised IndexError on them (the command a traceback). It is refused by its line."""
+    notes = parse_pattern("tempo 1\n0 buzz 1 right\n")
+    with pytest.raises(ParameterError, match=r"pattern line 2: a buzz at velocity 1 is played as \d+ strokes"):
+        compose(notes, library)
+    (tmp_path / "quiet.pattern").write_text("tempo 1\n0 buzz 1 right\n")
+    assert_one_line_error(run("compose", tmp_path / "quiet.pattern"), "quiet.pattern line 2: a buzz at velocity 1")
+    (placed,) = compose(parse_pattern("tempo 1\n0 buzz 60 right\n"), library).placements  # louder: one stroke
+    assert placed.played
+
+
 def test_no_notes_is_refused(library):
     with pytest.raises(ParameterError, match="notes must hold at least one note"):
         compose([], library)

@@ -381,6 +381,21 @@ def _check_apart(wanted):
                                  f"stick must be at least {1e3 * MIN_GAP:g} ms apart")
 
 
+def _check_one_span_a_note(plan, wanted):
+    """Refuse a note the planner played as several strokes (a buzz too quiet to press: its bounces each a stroke of
+    their own, with no note of theirs), which a span of the composition cannot hold."""
+    held = None
+    for keys in plan.keys:
+        if keys:
+            held = wanted[keys[-1]]
+            continue
+        note = held or wanted[0]
+        strokes = sum(1 for k in plan.keys if not k) + 1
+        raise ParameterError(f"{note.source or 'note'}: a {note.stroke} at velocity {note.velocity:g} is played as "
+                             f"{strokes} strokes of a bounce each, which a composition cannot place yet: give it a "
+                             "higher velocity (a buzz of velocity 60 is one stroke)")
+
+
 def _spans(notes, variants, setup, rate, step):
     """A stick's candidate spans in time order: library strokes and the planner's designs of its other notes.
 
@@ -399,6 +414,7 @@ def _spans(notes, variants, setup, rate, step):
                    for k, n in enumerate(wanted)]
         plan = plan_stick(targets, setup=setup)
         step(len(wanted))
+        _check_one_span_a_note(plan, wanted)
         for made, keys in zip(plan.designs, plan.keys):
             stroke = Trajectory.from_stroke(made.stroke, rate=rate, name="designed")
             spans.append(_Span([wanted[k] for k in keys], stroke, made.release, cuts=[stroke.t_end], design=made))
