@@ -95,15 +95,18 @@ def check_memory(what, estimate, detail):
 
     Parameters
     ----------
-    what : str
+    what : str or callable
         The input, as the message begins: ``"audio file 'a.wav'"``, ``"--rate"``.
     estimate : float
         Bytes it asks for.
-    detail : str
+    detail : str or callable
         What the estimate counts, for the message (``"225000000 frames of 8 channels"``).
+        A callable (no arguments) gives the text, made only for the message: a check on every
+        call of a hot path then costs no formatting.
     """
     budget = current()
     if estimate > budget.memory_gb * 1e9:
+        what, detail = (what() if callable(what) else what), (detail() if callable(detail) else detail)
         raise ParameterError(f"{what} asks for about {_gb(estimate)} of memory ({detail}), over the budget of "
                              f"{_gb(budget.memory_gb * 1e9)} (raise it with {budget.memory_option})")
 

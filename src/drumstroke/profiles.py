@@ -309,8 +309,8 @@ class Profile:
         in the message (default ``KIND profile``).
         """
         count = self._break_count(t_end)
-        check_memory(what or f"{self.kind} profile", values_bytes(BREAK_VALUES * count),
-                     f"{count:.0f} breakpoints before t_end = {t_end:g} s")
+        check_memory(what or (lambda: f"{self.kind} profile"), values_bytes(BREAK_VALUES * count),
+                     lambda: f"{count:.0f} breakpoints before t_end = {t_end:g} s")
 
     def to_dict(self):
         """The profile as a plain dict, in the form a recipe's table takes: ``kind``, then each parameter."""

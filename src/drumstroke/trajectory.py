@@ -512,8 +512,8 @@ class Trajectory:
             stored = self.stored
             return stored.t[first:stop], self._shaped(stored.theta[first:stop]), self._shaped(stored.omega[first:stop])
         sticks = len(self.motions)
-        check_memory(f"sampling {self.t_end - self.start:g} s of {sticks} stick{'s' * (sticks > 1)} at rate = "
-                     f"{self.rate:g} Hz", samples_bytes(stop - first, sticks), f"{stop - first} samples")
+        check_memory(lambda: f"sampling {self.t_end - self.start:g} s of {sticks} stick{'s' * (sticks > 1)} at rate "
+                     f"= {self.rate:g} Hz", samples_bytes(stop - first, sticks), lambda: f"{stop - first} samples")
         t = _sample_times()(first, stop, self.rate, self.start, self.t_end)
         if len(self.motions) == 1:
             return (t, *self._evaluate(0, t))

@@ -12,6 +12,7 @@ At its start time an arc gives the state it was started from, exactly: the
 recipe's θ₀ and ω₀ at t = 0, θ_max and the launch speed after an impact.
 """
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -68,13 +69,20 @@ class Arcs:
         θ is never below the head. ``spacing`` > 0 (s) promises increasing
         times that far apart (but perhaps the last), which is faster.
         """
-        from .kernel import evaluate, finish  # compiled on first use
-
+        kernel = _kernel()
         t = np.asarray(t, dtype=float)
-        value, omega, theta = evaluate(self.table, self.taylor, self.theta_max, t.ravel(), float(spacing))  # its rows
+        value, omega, theta = kernel.evaluate(self.table, self.taylor, self.theta_max, t.ravel(), float(spacing))
         # In flight the kernel leaves θ's last step, θ = 2·asin(value) − π/2, to numpy's vectorised asin
         # (value is NaN elsewhere, whose asin is NaN without a warning).
-        finish(theta, np.arcsin(value, out=value), self.theta_max)
+        kernel.finish(theta, np.arcsin(value, out=value), self.theta_max)
         if t.ndim == 1:  # already of t's shape
             return theta, omega
         return theta.reshape(t.shape), omega.reshape(t.shape)
+
+
+@functools.cache  # (an import statement costs some 0.5 µs a call, a cached call a tenth of it)
+def _kernel():
+    """The compiled evaluation (:mod:`.kernel`), imported on first use: ``import drumstroke`` stays light."""
+    from . import kernel
+
+    return kernel
