@@ -191,31 +191,17 @@ def _lift_off(ts, te, c0, c1, t):
     return math.nan
 
 
-@jit(inline="always")
-def _arc(arcs, n, start, kind, apex, c, m, theta, omega):
-    """Row ``n`` of the arcs: one starting at ``start`` (s) from the state ``theta``, ``omega`` (rad, rad/s)."""
-    arcs = grow(arcs, n)
-    arcs[n, 0], arcs[n, 1], arcs[n, 2], arcs[n, 3], arcs[n, 4] = start, kind, apex, c, m
-    arcs[n, 5], arcs[n, 6] = theta, omega
-    return arcs, n + 1
-
-
-@jit(inline="always")
-def _impact(impacts, n, t, omega):
-    impacts = grow(impacts, n)
-    impacts[n, 0], impacts[n, 1] = t, omega
-    return impacts, n + 1
-
-
 # how a chain of bounces ends (_bounces)
 _FLOOR, _STEEP, _PAST, _LIMIT, _ROOM, _NONE = range(6)  # (_NONE: no chain)
 _MIN_ROOM = 64
 
 
 @jit(inline="always")
-def _room(array, n):
-    """``array``, or a copy twice as long, so that _MIN_ROOM rows from row ``n`` on exist."""
-    return grow(array, n + _MIN_ROOM - 1)
+def _fit(array, rows):
+    """``array``, or a copy of it doubled as often as it takes to hold ``rows`` rows."""
+    while len(array) < rows:
+        array = grow(array, len(array))
+    return array
 
 
 @jit
@@ -327,21 +313,37 @@ def run(edges, c0, c1, theta_max, table, cor, closed_forms, max_step, max_impact
     rests, n_rests = np.empty((4, 2)), 0
     outcome, extra = DONE, math.nan
 
-    for i in range(len(c0)):
+    # The buffers are grown (reassigned) only here, between passes over a piece: numba counts the references to an
+    # array reassigned within a loop at every pass of it, atomically, which cost a third of a pulsed stroke's solving.
+    # A pass that finds too little room stops before it changes anything, or with a chain of bounces to ``resume``
+    # from its last impact, and the piece goes on once the buffers have grown.
+    i, begun, full, resume = 0, False, False, -1.0
+    taylor_rows, taylor_impacts = 0, 0  # what a Taylor piece found no room for
+    while i < len(c0):
+        if full:
+            arcs = _fit(arcs, n_arcs + max(taylor_rows + 1, _MIN_ROOM + 1))
+            impacts = _fit(impacts, n_impacts + max(taylor_impacts, _MIN_ROOM))
+            steps = _fit(steps, n_steps + taylor_rows)
+            rests = _fit(rests, n_rests + 1)
+            full, taylor_rows, taylor_impacts = False, 0, 0
         ts, te, a, b = edges[i], edges[i + 1], c0[i], c1[i]
-        t = ts
-        if resting and rest_start > ts and a > 0.0:
-            # A Zeno tail summed under the last piece's forcing runs on into this one:
-            # its remaining time scales as 1/C.
-            rest_start = ts + (rest_start - ts) * tail_c / a
-            tail_c = a
+        if not begun:
+            begun = True
+            t = ts
+            if resting and rest_start > ts and a > 0.0:
+                # A Zeno tail summed under the last piece's forcing runs on into this one:
+                # its remaining time scales as 1/C.
+                rest_start = ts + (rest_start - ts) * tail_c / a
+                tail_c = a
         while t < te and outcome == DONE:
+            if len(arcs) - n_arcs < 2 or len(impacts) - n_impacts < 1 or len(rests) - n_rests < 1:
+                full = True  # (a pass writes at most two arcs, an impact and a rest, but for its chain and steps)
+                break
             if resting:
                 lift = _lift_off(ts, te, a, b, t)
                 if math.isnan(lift):
                     break
                 if rest_start < lift:  # (lifting during the Zeno tail: that rest never began)
-                    rests = grow(rests, n_rests)
                     rests[n_rests, 0], rests[n_rests, 1] = rest_start, lift
                     n_rests += 1
                 t, theta, omega = lift, theta_max, 0.0
@@ -353,12 +355,15 @@ def run(edges, c0, c1, theta_max, table, cor, closed_forms, max_step, max_impact
             if closed_forms and b == 0.0 and a > 0.0:
                 floor = zeno_floor(a * cos_head)
                 launch = -1.0  # ≥ 0: a run of bounces starts from the head at t
-                if theta == theta_max and omega <= 0.0:
+                if resume >= 0.0:  # the chain the buffers' room cut, on from its last impact at t
+                    taylor, lifting, launch, resume = False, False, resume, -1.0
+                elif theta == theta_max and omega <= 0.0:
                     taylor, lifting = False, False
                     if omega == 0.0:
                         launch = 0.0
                     else:
-                        impacts, n_impacts = _impact(impacts, n_impacts, t, omega)
+                        impacts[n_impacts, 0], impacts[n_impacts, 1] = t, omega
+                        n_impacts += 1
                         launch = -cor * omega
                 elif theta == theta_max and omega < floor:
                     taylor, lifting = False, False
@@ -371,21 +376,28 @@ def run(edges, c0, c1, theta_max, table, cor, closed_forms, max_step, max_impact
                         to_apex, apex_to_head, speed = elliptic.to_head(sin_theta, omega, a, m, sin_head)
                         apex = t + to_apex
                         hit = apex + apex_to_head
-                        arcs, n_arcs = _arc(arcs, n_arcs, t, ELLIPTIC, apex, a, m, theta, omega)
+                        _put_arc(arcs, n_arcs, t, ELLIPTIC, apex, a, m, theta, omega)
+                        n_arcs += 1
                         if hit > te:
                             theta, omega = elliptic.state_with(te - apex, a, m, agm)
                             t, theta = te, max(theta, theta_max)
                             continue
                         t = hit
-                        impacts, n_impacts = _impact(impacts, n_impacts, t, -speed)
+                        impacts[n_impacts, 0], impacts[n_impacts, 1] = t, -speed
+                        n_impacts += 1
                         launch = cor * speed
                 # After an impact at speed w the launches are c·w, c²·w, …: one closed-form flight each.
                 chain = _ROOM if launch >= 0.0 else _NONE
                 while chain == _ROOM:
-                    arcs, impacts = _room(arcs, n_arcs), _room(impacts, n_impacts)
+                    room = min(len(arcs) - n_arcs - 1, len(impacts) - n_impacts)  # (a row kept for a rest's arc)
+                    if room < _MIN_ROOM:
+                        full, resume = True, launch
+                        break
                     chain, n_arcs, n_impacts, t, launch, flight, m = _bounces(
-                        arcs, n_arcs, impacts, n_impacts, min(len(arcs) - n_arcs, len(impacts) - n_impacts),
-                        max_impacts - n_before, t, te, launch, a, cor, floor, theta_max, table, head, no_cells)
+                        arcs, n_arcs, impacts, n_impacts, room, max_impacts - n_before, t, te, launch, a, cor, floor,
+                        theta_max, table, head, no_cells)
+                if full:
+                    break
                 if chain == _FLOOR:
                     settle = launch
                 elif chain == _STEEP:  # toward the vertical: the Taylor steps take it
@@ -402,17 +414,23 @@ def run(edges, c0, c1, theta_max, table, cor, closed_forms, max_step, max_impact
                 if settle < 0.0 and launch >= 0.0:
                     continue  # the bounces reached te, or left the rest of the piece to the Taylor steps
             if taylor and settle < 0.0:
-                (piece_outcome, t, theta, omega, lifting, piece_extra, piece_steps, piece_t,
-                 piece_omega) = run_piece(t, theta, omega, lifting, ts, te, a, b, theta_max, cor, max_step,
-                                          max_impacts - n_before - n_impacts)
+                (piece_outcome, piece_t_end, piece_theta, piece_omega_end, piece_lifting, piece_extra, piece_steps,
+                 piece_t, piece_omega) = run_piece(t, theta, omega, lifting, ts, te, a, b, theta_max, cor, max_step,
+                                                   max_impacts - n_before - n_impacts)
+                if (len(arcs) - n_arcs < len(piece_steps) + 1 or len(steps) - n_steps < len(piece_steps)
+                        or len(impacts) - n_impacts < len(piece_t)):
+                    full, taylor_rows, taylor_impacts = True, len(piece_steps), len(piece_t)
+                    break  # (taken again once there is room: nothing changed yet)
+                t, theta, omega, lifting = piece_t_end, piece_theta, piece_omega_end, piece_lifting
                 for k in range(len(piece_steps)):
-                    arcs, n_arcs = _arc(arcs, n_arcs, piece_steps[k, 0], TAYLOR, steps_before + n_steps, 0.0, 0.0,
-                                        piece_steps[k, 1], piece_steps[k, 2])
-                    steps = grow(steps, n_steps)
+                    _put_arc(arcs, n_arcs, piece_steps[k, 0], TAYLOR, steps_before + n_steps, 0.0, 0.0,
+                             piece_steps[k, 1], piece_steps[k, 2])
+                    n_arcs += 1
                     steps[n_steps] = piece_steps[k]
                     n_steps += 1
                 for k in range(len(piece_t)):
-                    impacts, n_impacts = _impact(impacts, n_impacts, piece_t[k], piece_omega[k])
+                    impacts[n_impacts, 0], impacts[n_impacts, 1] = piece_t[k], piece_omega[k]
+                    n_impacts += 1
                 if piece_outcome == _TAYLOR_VERTICAL:
                     outcome, extra = VERTICAL, piece_extra
                     break
@@ -429,11 +447,16 @@ def run(edges, c0, c1, theta_max, table, cor, closed_forms, max_step, max_impact
             # Zeno tail, 2L/(A·(1 − c)) after a launch L, with A = C·cos θ_max. With c = 1
             # such a micro-bounce never ends but never rises above ZENO_HEIGHT: rest from now.
             tail = 2.0 * settle / (settle_c * cos_head * (1.0 - cor)) if settle > 0.0 and cor < 1.0 else 0.0
-            arcs, n_arcs = _arc(arcs, n_arcs, t, REST, 0.0, 0.0, 0.0, theta_max, 0.0)
+            _put_arc(arcs, n_arcs, t, REST, 0.0, 0.0, 0.0, theta_max, 0.0)
+            n_arcs += 1
             tail_c, rest_start = settle_c, t + tail
             theta, omega, resting = theta_max, 0.0, True
+        if full:
+            continue
         if outcome != DONE:
             break
+        i += 1
+        begun = False
 
     if finish and resting and rest_start <= edges[-1]:
         # (a rest starting beyond t_end means t_end falls inside the Zeno tail: not at rest yet)
