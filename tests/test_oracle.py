@@ -527,6 +527,19 @@ def test_taylor_method_matches_oracle(case):
     check_against_oracle(stroke, expected, t_end)
 
 
+@pytest.mark.parametrize("method", ["auto", "taylor"])
+def test_a_bounce_that_outgrows_the_solver_buffers_matches_oracle(method):
+    """Some 1,400 impacts in one piece of forcing (c = 0.99): the solver's buffers (256 arcs and impacts at
+    first) grow in the middle of its chain of closed-form flights, which goes on from its last impact, and in
+    the middle of the piece taken by Taylor steps, which is taken again; both still match the oracle."""
+    case = Case("paper", 0.0, 0.99, "0", 0.0)
+    expected = case.expected()
+    t_end = case.t_end(expected)
+    stroke = case.simulate(t_end, method=method)
+    assert len(stroke.impacts) > 1000 and len(stroke.arcs.table) > 1000
+    check_against_oracle(stroke, expected, t_end)
+
+
 # --------------------------------------------------------------------------------------
 # 4. energy between impacts
 
