@@ -313,150 +313,151 @@ def run(edges, c0, c1, theta_max, table, cor, closed_forms, max_step, max_impact
     rests, n_rests = np.empty((4, 2)), 0
     outcome, extra = DONE, math.nan
 
-    # The buffers are grown (reassigned) only here, between passes over a piece: numba counts the references to an
-    # array reassigned within a loop at every pass of it, atomically, which cost a third of a pulsed stroke's solving.
-    # A pass that finds too little room stops before it changes anything, or with a chain of bounces to ``resume``
-    # from its last impact, and the piece goes on once the buffers have grown.
+    # The buffers are grown (reassigned) only in the outer loop, which goes round again only when they are full:
+    # numba counts the references to an array reassigned within a loop at every pass of it, atomically, which cost
+    # a third of a pulsed stroke's solving. A pass that finds too little room stops before it changes anything, or
+    # with a chain of bounces to ``resume`` from its last impact, and the piece goes on once the buffers have grown.
     i, begun, full, resume = 0, False, False, -1.0
     taylor_rows, taylor_impacts = 0, 0  # what a Taylor piece found no room for
-    while i < len(c0):
+    while True:  # (again only after the buffers grew)
         if full:
             arcs = _fit(arcs, n_arcs + max(taylor_rows + 1, _MIN_ROOM + 1))
             impacts = _fit(impacts, n_impacts + max(taylor_impacts, _MIN_ROOM))
             steps = _fit(steps, n_steps + taylor_rows)
             rests = _fit(rests, n_rests + 1)
             full, taylor_rows, taylor_impacts = False, 0, 0
-        ts, te, a, b = edges[i], edges[i + 1], c0[i], c1[i]
-        if not begun:
-            begun = True
-            t = ts
-            if resting and rest_start > ts and a > 0.0:
-                # A Zeno tail summed under the last piece's forcing runs on into this one:
-                # its remaining time scales as 1/C.
-                rest_start = ts + (rest_start - ts) * tail_c / a
-                tail_c = a
-        while t < te and outcome == DONE:
-            if len(arcs) - n_arcs < 2 or len(impacts) - n_impacts < 1 or len(rests) - n_rests < 1:
-                full = True  # (a pass writes at most two arcs, an impact and a rest, but for its chain and steps)
-                break
-            if resting:
-                lift = _lift_off(ts, te, a, b, t)
-                if math.isnan(lift):
+        while i < len(c0):
+            ts, te, a, b = edges[i], edges[i + 1], c0[i], c1[i]
+            if not begun:
+                begun = True
+                t = ts
+                if resting and rest_start > ts and a > 0.0:
+                    # A Zeno tail summed under the last piece's forcing runs on into this one:
+                    # its remaining time scales as 1/C.
+                    rest_start = ts + (rest_start - ts) * tail_c / a
+                    tail_c = a
+            while t < te and outcome == DONE:
+                if len(arcs) - n_arcs < 2 or len(impacts) - n_impacts < 1 or len(rests) - n_rests < 1:
+                    full = True  # (a pass writes at most two arcs, an impact and a rest, but for its chain and steps)
                     break
-                if rest_start < lift:  # (lifting during the Zeno tail: that rest never began)
-                    rests[n_rests, 0], rests[n_rests, 1] = rest_start, lift
-                    n_rests += 1
-                t, theta, omega = lift, theta_max, 0.0
-                resting, lifting = False, True
-                continue
-
-            settle, settle_c = -1.0, a  # settle ≥ 0: the stick rests after a launch this slow at t
-            taylor = True
-            if closed_forms and b == 0.0 and a > 0.0:
-                floor = zeno_floor(a * cos_head)
-                launch = -1.0  # ≥ 0: a run of bounces starts from the head at t
-                if resume >= 0.0:  # the chain the buffers' room cut, on from its last impact at t
-                    taylor, lifting, launch, resume = False, False, resume, -1.0
-                elif theta == theta_max and omega <= 0.0:
-                    taylor, lifting = False, False
-                    if omega == 0.0:
-                        launch = 0.0
-                    else:
-                        impacts[n_impacts, 0], impacts[n_impacts, 1] = t, omega
-                        n_impacts += 1
-                        launch = -cor * omega
-                elif theta == theta_max and omega < floor:
-                    taylor, lifting = False, False
-                    settle = omega  # a launch too small to see: the Zeno tail from the start
-                else:
-                    sin_theta = math.sin(theta)
-                    m = elliptic.parameter(sin_theta, omega, a)
-                    if m < 1.0 - NEARLY_VERTICAL:
-                        taylor, lifting = False, False
-                        to_apex, apex_to_head, speed = elliptic.to_head(sin_theta, omega, a, m, sin_head)
-                        apex = t + to_apex
-                        hit = apex + apex_to_head
-                        _put_arc(arcs, n_arcs, t, ELLIPTIC, apex, a, m, theta, omega)
-                        n_arcs += 1
-                        if hit > te:
-                            theta, omega = elliptic.state_with(te - apex, a, m, agm)
-                            t, theta = te, max(theta, theta_max)
-                            continue
-                        t = hit
-                        impacts[n_impacts, 0], impacts[n_impacts, 1] = t, -speed
-                        n_impacts += 1
-                        launch = cor * speed
-                # After an impact at speed w the launches are c·w, c²·w, …: one closed-form flight each.
-                chain = _ROOM if launch >= 0.0 else _NONE
-                while chain == _ROOM:
-                    room = min(len(arcs) - n_arcs - 1, len(impacts) - n_impacts)  # (a row kept for a rest's arc)
-                    if room < _MIN_ROOM:
-                        full, resume = True, launch
+                if resting:
+                    lift = _lift_off(ts, te, a, b, t)
+                    if math.isnan(lift):
                         break
-                    chain, n_arcs, n_impacts, t, launch, flight, m = _bounces(
-                        arcs, n_arcs, impacts, n_impacts, room, max_impacts - n_before, t, te, launch, a, cor, floor,
-                        theta_max, table, head, no_cells)
-                if full:
-                    break
-                if chain == _FLOOR:
-                    settle = launch
-                elif chain == _STEEP:  # toward the vertical: the Taylor steps take it
-                    theta, omega = theta_max, launch
-                elif chain == _PAST:
-                    if t == te:
-                        theta, omega = theta_max, launch
-                    else:
-                        theta, omega = elliptic.state_with(te - (t + 0.5 * flight), a, m, agm)
-                        t, theta = te, max(theta, theta_max)
-                if n_before + n_impacts > max_impacts:
-                    outcome, extra = TOO_MANY, t
-                    break
-                if settle < 0.0 and launch >= 0.0:
-                    continue  # the bounces reached te, or left the rest of the piece to the Taylor steps
-            if taylor and settle < 0.0:
-                (piece_outcome, piece_t_end, piece_theta, piece_omega_end, piece_lifting, piece_extra, piece_steps,
-                 piece_t, piece_omega) = run_piece(t, theta, omega, lifting, ts, te, a, b, theta_max, cor, max_step,
-                                                   max_impacts - n_before - n_impacts)
-                if (len(arcs) - n_arcs < len(piece_steps) + 1 or len(steps) - n_steps < len(piece_steps)
-                        or len(impacts) - n_impacts < len(piece_t)):
-                    full, taylor_rows, taylor_impacts = True, len(piece_steps), len(piece_t)
-                    break  # (taken again once there is room: nothing changed yet)
-                t, theta, omega, lifting = piece_t_end, piece_theta, piece_omega_end, piece_lifting
-                for k in range(len(piece_steps)):
-                    _put_arc(arcs, n_arcs, piece_steps[k, 0], TAYLOR, steps_before + n_steps, 0.0, 0.0,
-                             piece_steps[k, 1], piece_steps[k, 2])
-                    n_arcs += 1
-                    steps[n_steps] = piece_steps[k]
-                    n_steps += 1
-                for k in range(len(piece_t)):
-                    impacts[n_impacts, 0], impacts[n_impacts, 1] = piece_t[k], piece_omega[k]
-                    n_impacts += 1
-                if piece_outcome == _TAYLOR_VERTICAL:
-                    outcome, extra = VERTICAL, piece_extra
-                    break
-                if piece_outcome == _TAYLOR_TOO_MANY:
-                    outcome, extra = TOO_MANY, t
-                    break
-                if piece_outcome == _TAYLOR_DONE:
+                    if rest_start < lift:  # (lifting during the Zeno tail: that rest never began)
+                        rests[n_rests, 0], rests[n_rests, 1] = rest_start, lift
+                        n_rests += 1
+                    t, theta, omega = lift, theta_max, 0.0
+                    resting, lifting = False, True
                     continue
-                if piece_outcome == _TAYLOR_SETTLE:
-                    settle, settle_c = omega, piece_extra
-                else:
-                    settle = 0.0
-            # Rest: at once after a zero-speed launch, or at the accumulation time of the
-            # Zeno tail, 2L/(A·(1 − c)) after a launch L, with A = C·cos θ_max. With c = 1
-            # such a micro-bounce never ends but never rises above ZENO_HEIGHT: rest from now.
-            tail = 2.0 * settle / (settle_c * cos_head * (1.0 - cor)) if settle > 0.0 and cor < 1.0 else 0.0
-            _put_arc(arcs, n_arcs, t, REST, 0.0, 0.0, 0.0, theta_max, 0.0)
-            n_arcs += 1
-            tail_c, rest_start = settle_c, t + tail
-            theta, omega, resting = theta_max, 0.0, True
-        if full:
-            continue
-        if outcome != DONE:
+
+                settle, settle_c = -1.0, a  # settle ≥ 0: the stick rests after a launch this slow at t
+                taylor = True
+                if closed_forms and b == 0.0 and a > 0.0:
+                    floor = zeno_floor(a * cos_head)
+                    launch = -1.0  # ≥ 0: a run of bounces starts from the head at t
+                    if resume >= 0.0:  # the chain the buffers' room cut, on from its last impact at t
+                        taylor, lifting, launch, resume = False, False, resume, -1.0
+                    elif theta == theta_max and omega <= 0.0:
+                        taylor, lifting = False, False
+                        if omega == 0.0:
+                            launch = 0.0
+                        else:
+                            impacts[n_impacts, 0], impacts[n_impacts, 1] = t, omega
+                            n_impacts += 1
+                            launch = -cor * omega
+                    elif theta == theta_max and omega < floor:
+                        taylor, lifting = False, False
+                        settle = omega  # a launch too small to see: the Zeno tail from the start
+                    else:
+                        sin_theta = math.sin(theta)
+                        m = elliptic.parameter(sin_theta, omega, a)
+                        if m < 1.0 - NEARLY_VERTICAL:
+                            taylor, lifting = False, False
+                            to_apex, apex_to_head, speed = elliptic.to_head(sin_theta, omega, a, m, sin_head)
+                            apex = t + to_apex
+                            hit = apex + apex_to_head
+                            _put_arc(arcs, n_arcs, t, ELLIPTIC, apex, a, m, theta, omega)
+                            n_arcs += 1
+                            if hit > te:
+                                theta, omega = elliptic.state_with(te - apex, a, m, agm)
+                                t, theta = te, max(theta, theta_max)
+                                continue
+                            t = hit
+                            impacts[n_impacts, 0], impacts[n_impacts, 1] = t, -speed
+                            n_impacts += 1
+                            launch = cor * speed
+                    # After an impact at speed w the launches are c·w, c²·w, …: one closed-form flight each.
+                    chain = _ROOM if launch >= 0.0 else _NONE
+                    while chain == _ROOM:
+                        room = min(len(arcs) - n_arcs - 1, len(impacts) - n_impacts)  # (a row kept for a rest's arc)
+                        if room < _MIN_ROOM:
+                            full, resume = True, launch
+                            break
+                        chain, n_arcs, n_impacts, t, launch, flight, m = _bounces(
+                            arcs, n_arcs, impacts, n_impacts, room, max_impacts - n_before, t, te, launch, a, cor,
+                            floor, theta_max, table, head, no_cells)
+                    if full:
+                        break
+                    if chain == _FLOOR:
+                        settle = launch
+                    elif chain == _STEEP:  # toward the vertical: the Taylor steps take it
+                        theta, omega = theta_max, launch
+                    elif chain == _PAST:
+                        if t == te:
+                            theta, omega = theta_max, launch
+                        else:
+                            theta, omega = elliptic.state_with(te - (t + 0.5 * flight), a, m, agm)
+                            t, theta = te, max(theta, theta_max)
+                    if n_before + n_impacts > max_impacts:
+                        outcome, extra = TOO_MANY, t
+                        break
+                    if settle < 0.0 and launch >= 0.0:
+                        continue  # the bounces reached te, or left the rest of the piece to the Taylor steps
+                if taylor and settle < 0.0:
+                    (piece_outcome, piece_t_end, piece_theta, piece_omega_end, piece_lifting, piece_extra, piece_steps,
+                     piece_t, piece_omega) = run_piece(t, theta, omega, lifting, ts, te, a, b, theta_max, cor, max_step,
+                                                       max_impacts - n_before - n_impacts)
+                    if (len(arcs) - n_arcs < len(piece_steps) + 1 or len(steps) - n_steps < len(piece_steps)
+                            or len(impacts) - n_impacts < len(piece_t)):
+                        full, taylor_rows, taylor_impacts = True, len(piece_steps), len(piece_t)
+                        break  # (taken again once there is room: nothing changed yet)
+                    t, theta, omega, lifting = piece_t_end, piece_theta, piece_omega_end, piece_lifting
+                    for k in range(len(piece_steps)):
+                        _put_arc(arcs, n_arcs, piece_steps[k, 0], TAYLOR, steps_before + n_steps, 0.0, 0.0,
+                                 piece_steps[k, 1], piece_steps[k, 2])
+                        n_arcs += 1
+                        steps[n_steps] = piece_steps[k]
+                        n_steps += 1
+                    for k in range(len(piece_t)):
+                        impacts[n_impacts, 0], impacts[n_impacts, 1] = piece_t[k], piece_omega[k]
+                        n_impacts += 1
+                    if piece_outcome == _TAYLOR_VERTICAL:
+                        outcome, extra = VERTICAL, piece_extra
+                        break
+                    if piece_outcome == _TAYLOR_TOO_MANY:
+                        outcome, extra = TOO_MANY, t
+                        break
+                    if piece_outcome == _TAYLOR_DONE:
+                        continue
+                    if piece_outcome == _TAYLOR_SETTLE:
+                        settle, settle_c = omega, piece_extra
+                    else:
+                        settle = 0.0
+                # Rest: at once after a zero-speed launch, or at the accumulation time of the
+                # Zeno tail, 2L/(A·(1 − c)) after a launch L, with A = C·cos θ_max. With c = 1
+                # such a micro-bounce never ends but never rises above ZENO_HEIGHT: rest from now.
+                tail = 2.0 * settle / (settle_c * cos_head * (1.0 - cor)) if settle > 0.0 and cor < 1.0 else 0.0
+                _put_arc(arcs, n_arcs, t, REST, 0.0, 0.0, 0.0, theta_max, 0.0)
+                n_arcs += 1
+                tail_c, rest_start = settle_c, t + tail
+                theta, omega, resting = theta_max, 0.0, True
+            if full or outcome != DONE:
+                break
+            i += 1
+            begun = False
+        if not full:
             break
-        i += 1
-        begun = False
 
     if finish and resting and rest_start <= edges[-1]:
         # (a rest starting beyond t_end means t_end falls inside the Zeno tail: not at rest yet)
