@@ -204,7 +204,7 @@ def _fit(array, rows):
     return array
 
 
-@jit
+@jit(inline="always")  # (a call that passes the buffers on counted references to five arrays, atomically)
 def _bounces(arcs, n_arcs, impacts, n_impacts, room, impacts_left, t, te, launch, c, cor, floor, theta_max, table,
              head, no_cells):
     """Flights from the head at ``t`` (s), launched at ``launch``, c·launch, … (rad/s) under C = ``c`` until ``te``.
