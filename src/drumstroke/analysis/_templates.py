@@ -16,9 +16,17 @@ from numba.core import cgutils
 from numba.extending import intrinsic
 
 from .._jit import jit
-from ._kernels import eight_dots, eight_squares, least_unexplained_by, likeness_at, peaks_around, running_power
 from ._front import _load, _plus_times, _quad, _sum_of_lanes
-from ._modes import _broadcast, _contiguous, _load_vector, _wide_vectors
+from ._kernels import (
+    best_lag,
+    eight_dots,
+    eight_squares,
+    least_unexplained_by,
+    likeness_at,
+    peaks_around,
+    running_power,
+)
+from ._modes import _contiguous, _load_vector, _wide_vectors
 
 
 @jit
@@ -473,3 +481,108 @@ def _block_median(x, at, scales, chosen, first, last, buffer, out):
         below = buffer[m // 2 - 1]
         for j in range(width):
             out[first + j] = (below[j] + middle[j]) / 2.0
+
+
+@jit
+def fitted_attacks(remainder, template, head, times, kinds, likeness, lead_clear, start_clear, pre, reach, gap,
+                   shortest, longest, offset, fit_likeness, precise, burst_width, echo, burst_least, width, back, rise,
+                   least, head_energy):
+    """:func:`.onsets._fit_template`'s loop over the attacks at ``times`` (full-rate samples, increasing; their
+    ``kinds``, ``likeness`` and whether each is clear by ``lead_clear_db`` and ``start_clear_db``), the template fitted
+    and taken off ``remainder`` (the band, in place) in time order: each attack's time, kind, likeness and whether the
+    template fitted it [each shape=(m,)].
+
+    A queue of attacks to fit (its front last here). Each is fitted where :func:`._kernels.best_lag` puts the
+    template's first ``span`` samples (``shortest`` to ``longest``, up to the next detection more than ``gap`` after
+    it) within ``reach`` either way, and timed there (``offset`` on) as :func:`.onsets._fit_template` says; the
+    detections of ``times`` within ``echo`` samples after an attack it timed whose energy over ``burst_width`` samples
+    taking it off leaves under ``burst_least`` of what was there are that attack's own bursts, dropped, and so are the
+    detections within ``gap`` after it (and ``reach`` more after one found here); then the first sample after it
+    where the remainder rises and the ``head`` fits (:func:`next_attack`: ``width``, ``back``, ``rise``,
+    ``fit_likeness``, ``least``, ``head_energy``) is a new attack to fit next. The energies are numpy's ``@``
+    (:func:`blas_lag_dots`); tests/test_onsets_speed_kernels.py holds the loop against it in Python.
+    """
+    count = len(times)
+    # the queue, its front at the end: (time, index in times or -1 for an attack found here)
+    queue_t, queue_i = np.empty(count + 1), np.empty(count + 1, dtype=np.int64)
+    for n in range(count):
+        queue_t[count - 1 - n], queue_i[count - 1 - n] = times[n], n
+    size = count
+    out_t, out_k, out_l = np.empty(2 * count + 1), np.empty(2 * count + 1, dtype=np.int64), np.empty(2 * count + 1)
+    out_f = np.empty(2 * count + 1, dtype=np.bool_)
+    found = 0
+    one = np.empty(1)
+    burst_at, burst_energy = np.empty(count, dtype=np.int64), np.empty(count)
+    while size > 0:
+        size -= 1
+        t, i = queue_t[size], queue_i[size]
+        c = int(np.rint(t))
+        following = len(remainder)
+        for q in range(size - 1, -1, -1):
+            if queue_t[q] > t + gap:
+                following = int(np.rint(queue_t[q]))
+                break
+        span = min(max(shortest, min(longest, following - c)), len(template))
+        # the template's fit (onsets._Fitting.best_lag)
+        lag, scale, like = 0, 0.0, 0.0
+        start = c - pre
+        low, high = max(0, start - reach), min(len(remainder), start + reach + span)
+        if high - low >= span:
+            blas_lag_dots(template, 0, 1, template, span, one)
+            energy = one[0]
+            k, dot, like = best_lag(remainder, template[:span], low, high - low - span + 1, energy)
+            lag, scale = low + k - start, dot / energy
+        fitted = like >= fit_likeness and scale > 0.0
+        timed = fitted and (i < 0 or not lead_clear[i] or (like >= precise and not start_clear[i]))
+        if found == len(out_t):  # more attacks found here than the room made for them
+            out_t, out_k = np.concatenate((out_t, out_t)), np.concatenate((out_k, out_k))
+            out_l, out_f = np.concatenate((out_l, out_l)), np.concatenate((out_f, out_f))
+        out_t[found] = c + lag + offset if timed else t
+        out_k[found] = 3 if timed else kinds[i]  # (kinds[-1] for a new one unfitted, as the list's index took it)
+        out_l[found] = like if i < 0 else likeness[i]
+        out_f[found] = fitted
+        found += 1
+        if not fitted:
+            continue
+        at = c + lag
+        start = at - pre
+        bursts = 0  # onsets._own_bursts: the detections close after it, their energy before it is taken off
+        if timed:
+            for q in range(size - 1, -1, -1):
+                u = queue_t[q]
+                if queue_i[q] >= 0 and at < u <= at + echo:
+                    k = int(np.rint(u))
+                    blas_lag_dots(remainder, k, 1, remainder[k:], max(0, min(burst_width, len(remainder) - k)), one)
+                    burst_at[bursts], burst_energy[bursts] = k, one[0]
+                    bursts += 1
+        fit = remainder[start:start + min(len(template), len(remainder) - start)]  # taken off, in place
+        for j in range(len(fit)):
+            fit[j] += -scale * template[j]
+        if bursts:  # onsets._without_own_bursts
+            kept = 0
+            for q in range(size):
+                own = False
+                if queue_i[q] >= 0:
+                    k = int(np.rint(queue_t[q]))
+                    for b in range(bursts):
+                        if burst_at[b] == k:
+                            blas_lag_dots(remainder, k, 1, remainder[k:], max(0, min(burst_width, len(remainder) - k)),
+                                          one)
+                            own = one[0] < burst_energy[b] * burst_least
+                            break
+                if not own:
+                    queue_t[kept], queue_i[kept] = queue_t[q], queue_i[q]
+                    kept += 1
+            size = kept
+        while timed and size > 0 and queue_t[size - 1] < at + gap + (reach if i < 0 else 0):
+            size -= 1
+        # onsets._next_attack
+        low, high = at + gap, min(following - gap, start + len(template))
+        high = min(high, len(remainder) - len(head) + pre)
+        if high > low >= pre:
+            new = next_attack(remainder, head, low, high, pre, reach, max(0, low - back), width, head_energy, rise,
+                              fit_likeness, least)
+            if new >= 0:
+                queue_t[size], queue_i[size] = new + offset, -1
+                size += 1
+    return out_t[:found].copy(), out_k[:found].copy(), out_l[:found].copy(), out_f[:found].copy()
