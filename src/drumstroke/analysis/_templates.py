@@ -523,7 +523,7 @@ def fitted_attacks(remainder, template, head, times, kinds, likeness, lead_clear
                 following = int(np.rint(queue_t[q]))
                 break
         span = min(max(shortest, min(longest, following - c)), len(template))
-        # the template's fit (onsets._Fitting.best_lag)
+        # the template's fit: its best lag, scale and correlation
         lag, scale, like = 0, 0.0, 0.0
         start = c - pre
         low, high = max(0, start - reach), min(len(remainder), start + reach + span)
@@ -533,6 +533,8 @@ def fitted_attacks(remainder, template, head, times, kinds, likeness, lead_clear
             k, dot, like = best_lag(remainder, template[:span], low, high - low - span + 1, energy)
             lag, scale = low + k - start, dot / energy
         fitted = like >= fit_likeness and scale > 0.0
+        # clear by start_clear_db, its first transient was sought; clear by lead_clear_db only, it was not, and the
+        # template times it when the fit is precise (noise as loud as that sound before makes fits imprecise)
         timed = fitted and (i < 0 or not lead_clear[i] or (like >= precise and not start_clear[i]))
         if found == len(out_t):  # more attacks found here than the room made for them
             out_t, out_k = np.concatenate((out_t, out_t)), np.concatenate((out_k, out_k))
@@ -546,7 +548,7 @@ def fitted_attacks(remainder, template, head, times, kinds, likeness, lead_clear
             continue
         at = c + lag
         start = at - pre
-        bursts = 0  # onsets._own_bursts: the detections close after it, their energy before it is taken off
+        bursts = 0  # the detections close after an attack it timed: their energy before it is taken off
         if timed:
             for q in range(size - 1, -1, -1):
                 u = queue_t[q]
@@ -558,7 +560,7 @@ def fitted_attacks(remainder, template, head, times, kinds, likeness, lead_clear
         fit = remainder[start:start + min(len(template), len(remainder) - start)]  # taken off, in place
         for j in range(len(fit)):
             fit[j] += -scale * template[j]
-        if bursts:  # onsets._without_own_bursts
+        if bursts:  # those whose energy taking it off explains are its own bursts, dropped
             kept = 0
             for q in range(size):
                 own = False
@@ -574,9 +576,11 @@ def fitted_attacks(remainder, template, head, times, kinds, likeness, lead_clear
                     queue_t[kept], queue_i[kept] = queue_t[q], queue_i[q]
                     kept += 1
             size = kept
+        # the same attack found twice; a detection after an attack only the template found is its late time up to the
+        # reach the template seeks over (as in onsets._one_attack_each), the gap after it
         while timed and size > 0 and queue_t[size - 1] < at + gap + (reach if i < 0 else 0):
             size -= 1
-        # onsets._next_attack
+        # a new attack after it, where the remainder rises and the head fits
         low, high = at + gap, min(following - gap, start + len(template))
         high = min(high, len(remainder) - len(head) + pre)
         if high > low >= pre:
