@@ -94,6 +94,8 @@ def _wide_vectors():
 _TILE_ROWS, _TILE_COLUMNS = (8, 16) if _wide_vectors() else (4, 8)
 _GRAM_TILE = _gram_tile(_TILE_ROWS, _TILE_COLUMNS // 2, 2)
 _GRAM_HALF_TILE = _gram_tile(_TILE_ROWS, _TILE_COLUMNS // 2)  # a strip's last columns, half a tile's or fewer
+_STRIP = 3 * _TILE_COLUMNS  # a column past the tiles: its sums with this many rows at a time, six vectors' lanes
+_GRAM_STRIP = _gram_tile(1, _TILE_COLUMNS // 2, 6)
 
 
 @jit
@@ -103,28 +105,37 @@ def weighted_gram(x, weight, order, block):
 
     What numpy gave: each ``block`` of rows' product ``rows.T @ rows`` (OpenBLAS's) added to the sum in turn. The
     rows are formed (each product rounded) a block at a time, and only the upper triangle's products are taken (the
-    lower's are the same: a fused multiply-add's two factors commute).
+    lower's are the same: a fused multiply-add's two factors commute): in tiles over the first whole tiles' rows and
+    columns, and the columns past them (the last of order 40's 41, 24's 25) each a strip of their own, their sums
+    with every row before them, not in a tile's rows (mostly past the triangle).
     """
     size = order + 1
-    # whole tiles from the diagonal on: the padding's columns stay 0 and their sums are not read
-    width = size + max(_TILE_ROWS, _TILE_COLUMNS) - 1
+    square = size - size % _TILE_ROWS  # the columns the tiles cover
+    # whole tiles from the diagonal on, whole strips from column 0: the padding's columns stay 0 and their sums are
+    # not read
+    width = max(size + max(_TILE_ROWS, _TILE_COLUMNS) - 1, -(-size // _STRIP) * _STRIP)
     rows = np.zeros((block, width))
     total = np.zeros((width, width))
+    backwards = x[::-1].copy()  # a row's samples in a row: x[n - k] at len(x) - 1 - n + k
     for start in range(order, len(x), block):
         count = min(len(x), start + block) - start
         for n in range(start, start + count):
+            row, scale, lagged = rows[n - start], weight[n], backwards[len(x) - 1 - n:len(x) - 1 - n + size]
             for k in range(size):
-                rows[n - start, k] = x[n - k] * weight[n]
-        for i in range(0, size, _TILE_ROWS):
-            for j in range(i, size, _TILE_COLUMNS):
-                if size - j > _TILE_COLUMNS // 2:
+                row[k] = lagged[k] * scale
+        for i in range(0, square, _TILE_ROWS):
+            for j in range(i, square, _TILE_COLUMNS):
+                if square - j > _TILE_COLUMNS // 2:
                     _GRAM_TILE(rows, width, count, i, j, total)
                 else:
                     _GRAM_HALF_TILE(rows, width, count, i, j, total)
+        for k in range(square, size):  # column k's sums with rows 0 to k, in total's row k
+            for j in range(0, k + 1, _STRIP):
+                _GRAM_STRIP(rows, width, count, k, j, total)
     gram = np.empty((size, size))
     for i in range(size):
         for j in range(i, size):
-            gram[i, j] = gram[j, i] = total[i, j]
+            gram[i, j] = gram[j, i] = total[i, j] if j < square else total[j, i]
     return gram
 
 

@@ -10,9 +10,23 @@ A module of its own (as :mod:`._kernels`) so that importing :mod:`drumstroke.ana
 import math
 
 import numpy as np
+from llvmlite import ir
+from numba import types
+from numba.core import cgutils
+from numba.extending import intrinsic
 
 from .._jit import jit
-from ._kernels import eight_dots, eight_squares, least_unexplained_by, likeness_at, peaks_around, running_power
+from ._front import _load, _plus_times, _quad, _sum_of_lanes
+from ._kernels import (
+    best_lag,
+    eight_dots,
+    eight_squares,
+    least_unexplained_by,
+    likeness_at,
+    peaks_around,
+    running_power,
+)
+from ._modes import _contiguous, _load_vector, _wide_vectors
 
 
 @jit
@@ -187,7 +201,8 @@ def own_peaks(rest, starts, following, ends, bank, offsets, lengths, window, rea
     ``min(following - start + window, reach)`` samples or more, else the last longest) are each fitted from ``shift``
     samples before the onset to ``shift`` after, over up to the next onset, where it leaves the least unexplained
     (:func:`._kernels.least_unexplained`: the windows' energies by running sums of the remainder's squares in order;
-    the products with the template, and its energy, numpy's ``np.dot``); the best, scaled by least squares, is taken
+    the products with the template, and its energy, numpy's ``np.dot``: the windows' side by side,
+    :func:`blas_lag_dots`); the best, scaled by least squares, is taken
     off the remainder. Where the windows' energies summed in another order (:func:`_surely_least`) leave no doubt
     which template and lag leave the least, the running sums (a serial chain of additions as long as the fits)
     are not summed.
@@ -230,9 +245,7 @@ def own_peaks(rest, starts, following, ends, bank, offsets, lengths, window, rea
             energy = np.dot(head, head)
             if not energy > 0.0:
                 continue
-            part = rest[low:start + shift + length]
-            for k in range(windows):
-                crosses[t, k] = np.dot(part[k:k + length], head)
+            blas_lag_dots(rest, low, windows, head, length, crosses[t])  # np.dot's of each window, side by side
             sizes[t], energies[t] = length, energy
         chosen, at = _surely_least(rest, low, windows, crosses, energies, sizes)
         if chosen < 0 and np.any(sizes > 0):
@@ -254,6 +267,76 @@ def own_peaks(rest, starts, following, ends, bank, offsets, lengths, window, rea
     return peaks, heard
 
 
+_DOT_LAGS = 8 if _wide_vectors() else 2  # lags side by side: 16 AVX-512 registers of sums, or 8 AVX ones (more spill)
+_EIGHT = ir.VectorType(ir.DoubleType(), 8)
+
+
+@intrinsic
+def _sixteen_lanes(typingctx, x, starts, y, whole, out):
+    """OpenBLAS's ``ddot`` kernel for x86-64 with AVX2 (its "Haswell" one, what numpy's and scipy's wheels run on such
+    processors) over the first ``whole`` (a multiple of 16) products of ``x`` from each of the :data:`_DOT_LAGS`
+    ``starts`` with ``y``: each of its 16 lanes (four vectors of four) adds every 16th product by fused multiply-adds
+    in order from 0, into ``out[16 g:16 g + 16]`` for start ``g``. Two of the kernel's vectors are one of eight
+    lanes here (each lane's operations its own), ``y`` loaded once for all the starts."""
+    if not _contiguous(x, starts, y, out):
+        return None
+    sig = types.none(x, starts, y, whole, out)
+
+    def codegen(context, builder, signature, args):
+        x_data, starts_data, y_data, out_data = (context.make_array(signature.args[n])(context, builder, args[n]).data
+                                                 for n in (0, 1, 2, 4))
+        whole = context.cast(builder, args[3], signature.args[3], types.intp)
+
+        def constant(n):
+            return ir.Constant(whole.type, n)
+
+        fma = cgutils.get_or_insert_function(builder.module, ir.FunctionType(_EIGHT, [_EIGHT] * 3), "llvm.fma.v8f64")
+        firsts = [builder.load(builder.gep(starts_data, [constant(g)])) for g in range(_DOT_LAGS)]
+        sums = [[cgutils.alloca_once_value(builder, ir.Constant(_EIGHT, [0.0] * 8)) for _ in range(2)]
+                for _ in range(_DOT_LAGS)]
+        with cgutils.for_range(builder, builder.sdiv(whole, constant(16))) as loop:
+            j = builder.mul(loop.index, constant(16))
+            heads = [_load_vector(builder, y_data, builder.add(j, constant(8 * h)), _EIGHT) for h in (0, 1)]
+            for g in range(_DOT_LAGS):
+                at = builder.add(firsts[g], j)
+                for h in (0, 1):
+                    values = _load_vector(builder, x_data, builder.add(at, constant(8 * h)), _EIGHT)
+                    builder.store(builder.call(fma, [values, heads[h], builder.load(sums[g][h])]), sums[g][h])
+        for g in range(_DOT_LAGS):
+            for h in (0, 1):
+                pointer = builder.bitcast(builder.gep(out_data, [constant(16 * g + 8 * h)]), _EIGHT.as_pointer())
+                builder.store(builder.load(sums[g][h]), pointer, align=8)
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
+@jit
+def blas_lag_dots(x, first, count, y, length, out):
+    """``out[k] = np.dot(x[first + k:first + k + length], y[:length])`` for ``k`` below ``count``, as OpenBLAS's
+    Haswell ``ddot`` (on one thread) sums it: its kernel's 16 lanes over the first multiple of 16 products
+    (:func:`_sixteen_lanes`), the lanes added as its vectors' halves, then its pairs, then the two; the products
+    left over added one by one. :data:`_DOT_LAGS` windows a pass over ``y`` (numba's ``np.dot`` calls OpenBLAS's
+    ``ddot``; tests/test_onsets_speed_kernels.py holds these against it)."""
+    whole = length - length % 16
+    sums, starts = np.empty(16 * _DOT_LAGS), np.empty(_DOT_LAGS, dtype=np.int64)
+    for k in range(0, count, _DOT_LAGS):
+        for g in range(_DOT_LAGS):  # past the last window: the last again (its sums not read)
+            starts[g] = first + min(k + g, count - 1)
+        if whole:
+            _sixteen_lanes(x, starts, y, whole, sums)
+        for g in range(min(_DOT_LAGS, count - k)):
+            dot = 0.0
+            if whole:
+                s = sums[16 * g:16 * g + 16]
+                even = ((s[0] + s[2]) + (s[4] + s[6])) + ((s[8] + s[10]) + (s[12] + s[14]))
+                odd = ((s[1] + s[3]) + (s[5] + s[7])) + ((s[9] + s[11]) + (s[13] + s[15]))
+                dot = even + odd
+            for j in range(whole, length):
+                dot += y[j] * x[starts[g] + j]
+            out[k + g] = dot
+
+
 @jit
 def _surely_least(rest, low, windows, crosses, energies, sizes):
     """The template and lag (from ``low``) :func:`own_peaks`' running sums would choose, when windows' energies summed
@@ -270,14 +353,16 @@ def _surely_least(rest, low, windows, crosses, energies, sizes):
     eps, tiny = 2.220446049250313e-16, np.finfo(np.float64).tiny
     chosen, at, least_high = -1, 0, np.inf
     lows = np.full((len(sizes), windows), np.inf)
+    summed, middle = -1, 0.0  # the length the middle was summed over (templates cut at the next onset share it)
     for t in range(len(sizes)):
         length = sizes[t]
         if length == 0:
             continue
         if length < windows:
             return -1, 0
-        # the windows share the samples from low + windows - 1 to low + length: summed once, in eight lanes
-        middle = _squares(rest, low + windows - 1, low + length)
+        # the windows share the samples from low + windows - 1 to low + length: summed once, in vector lanes
+        if length != summed:
+            summed, middle = length, _squares(rest, low + windows - 1, low + length)
         total = middle  # over all the windows' samples
         for j in range(windows - 1):
             total += rest[low + j] * rest[low + j] + rest[low + length + j] * rest[low + length + j]
@@ -316,23 +401,24 @@ def _window_energy(rest, low, k, windows, length, middle):
 
 @jit(inline="always")
 def _squares(x, first, last):
-    """The sum of ``x[first:last]``'s squares in eight lanes (an order of its own: eight chains side by side)."""
-    s0 = s1 = s2 = s3 = s4 = s5 = s6 = s7 = 0.0
+    """The sum of ``x[first:last]``'s squares in 32 lanes (an order of its own: eight vectors of four side by side, the
+    samples left over in a chain of their own)."""
+    s0 = s1 = s2 = s3 = s4 = s5 = s6 = s7 = _quad(0.0)
     j = first
-    while j + 8 <= last:
-        s0 += x[j] * x[j]
-        s1 += x[j + 1] * x[j + 1]
-        s2 += x[j + 2] * x[j + 2]
-        s3 += x[j + 3] * x[j + 3]
-        s4 += x[j + 4] * x[j + 4]
-        s5 += x[j + 5] * x[j + 5]
-        s6 += x[j + 6] * x[j + 6]
-        s7 += x[j + 7] * x[j + 7]
-        j += 8
+    while j + 32 <= last:
+        v0, v1, v2, v3 = _load(x, j), _load(x, j + 4), _load(x, j + 8), _load(x, j + 12)
+        v4, v5, v6, v7 = _load(x, j + 16), _load(x, j + 20), _load(x, j + 24), _load(x, j + 28)
+        s0, s1 = _plus_times(s0, v0, v0), _plus_times(s1, v1, v1)
+        s2, s3 = _plus_times(s2, v2, v2), _plus_times(s3, v3, v3)
+        s4, s5 = _plus_times(s4, v4, v4), _plus_times(s5, v5, v5)
+        s6, s7 = _plus_times(s6, v6, v6), _plus_times(s7, v7, v7)
+        j += 32
+    rest = 0.0
     while j < last:
-        s0 += x[j] * x[j]
+        rest += x[j] * x[j]
         j += 1
-    return ((s0 + s1) + (s2 + s3)) + ((s4 + s5) + (s6 + s7))
+    return (((_sum_of_lanes(s0) + _sum_of_lanes(s1)) + (_sum_of_lanes(s2) + _sum_of_lanes(s3)))
+            + ((_sum_of_lanes(s4) + _sum_of_lanes(s5)) + (_sum_of_lanes(s6) + _sum_of_lanes(s7)))) + rest
 
 
 _BLOCK = 256  # samples a time: a dozen notes' waveforms over them stay in the first-level cache
@@ -395,3 +481,112 @@ def _block_median(x, at, scales, chosen, first, last, buffer, out):
         below = buffer[m // 2 - 1]
         for j in range(width):
             out[first + j] = (below[j] + middle[j]) / 2.0
+
+
+@jit
+def fitted_attacks(remainder, template, head, times, kinds, likeness, lead_clear, start_clear, pre, reach, gap,
+                   shortest, longest, offset, fit_likeness, precise, burst_width, echo, burst_least, width, back, rise,
+                   least, head_energy):
+    """:func:`.onsets._fit_template`'s loop over the attacks at ``times`` (full-rate samples, increasing; their
+    ``kinds``, ``likeness`` and whether each is clear by ``lead_clear_db`` and ``start_clear_db``), the template fitted
+    and taken off ``remainder`` (the band, in place) in time order: each attack's time, kind, likeness and whether the
+    template fitted it [each shape=(m,)].
+
+    A queue of attacks to fit (its front last here). Each is fitted where :func:`._kernels.best_lag` puts the
+    template's first ``span`` samples (``shortest`` to ``longest``, up to the next detection more than ``gap`` after
+    it) within ``reach`` either way, and timed there (``offset`` on) as :func:`.onsets._fit_template` says; the
+    detections of ``times`` within ``echo`` samples after an attack it timed whose energy over ``burst_width`` samples
+    taking it off leaves under ``burst_least`` of what was there are that attack's own bursts, dropped, and so are the
+    detections within ``gap`` after it (and ``reach`` more after one found here); then the first sample after it
+    where the remainder rises and the ``head`` fits (:func:`next_attack`: ``width``, ``back``, ``rise``,
+    ``fit_likeness``, ``least``, ``head_energy``) is a new attack to fit next. The energies are numpy's ``@``
+    (:func:`blas_lag_dots`); tests/test_onsets_speed_kernels.py holds the loop against it in Python.
+    """
+    count = len(times)
+    # the queue, its front at the end: (time, index in times or -1 for an attack found here)
+    queue_t, queue_i = np.empty(count + 1), np.empty(count + 1, dtype=np.int64)
+    for n in range(count):
+        queue_t[count - 1 - n], queue_i[count - 1 - n] = times[n], n
+    size = count
+    out_t, out_k, out_l = np.empty(2 * count + 1), np.empty(2 * count + 1, dtype=np.int64), np.empty(2 * count + 1)
+    out_f = np.empty(2 * count + 1, dtype=np.bool_)
+    found = 0
+    one = np.empty(1)
+    burst_at, burst_energy = np.empty(count, dtype=np.int64), np.empty(count)
+    while size > 0:
+        size -= 1
+        t, i = queue_t[size], queue_i[size]
+        c = int(np.rint(t))
+        following = len(remainder)
+        for q in range(size - 1, -1, -1):
+            if queue_t[q] > t + gap:
+                following = int(np.rint(queue_t[q]))
+                break
+        span = min(max(shortest, min(longest, following - c)), len(template))
+        # the template's fit: its best lag, scale and correlation
+        lag, scale, like = 0, 0.0, 0.0
+        start = c - pre
+        low, high = max(0, start - reach), min(len(remainder), start + reach + span)
+        if high - low >= span:
+            blas_lag_dots(template, 0, 1, template, span, one)
+            energy = one[0]
+            k, dot, like = best_lag(remainder, template[:span], low, high - low - span + 1, energy)
+            lag, scale = low + k - start, dot / energy
+        fitted = like >= fit_likeness and scale > 0.0
+        # clear by start_clear_db, its first transient was sought; clear by lead_clear_db only, it was not, and the
+        # template times it when the fit is precise (noise as loud as that sound before makes fits imprecise)
+        timed = fitted and (i < 0 or not lead_clear[i] or (like >= precise and not start_clear[i]))
+        if found == len(out_t):  # more attacks found here than the room made for them
+            out_t, out_k = np.concatenate((out_t, out_t)), np.concatenate((out_k, out_k))
+            out_l, out_f = np.concatenate((out_l, out_l)), np.concatenate((out_f, out_f))
+        out_t[found] = c + lag + offset if timed else t
+        out_k[found] = 3 if timed else kinds[i]  # (kinds[-1] for a new one unfitted, as the list's index took it)
+        out_l[found] = like if i < 0 else likeness[i]
+        out_f[found] = fitted
+        found += 1
+        if not fitted:
+            continue
+        at = c + lag
+        start = at - pre
+        bursts = 0  # the detections close after an attack it timed: their energy before it is taken off
+        if timed:
+            for q in range(size - 1, -1, -1):
+                u = queue_t[q]
+                if queue_i[q] >= 0 and at < u <= at + echo:
+                    k = int(np.rint(u))
+                    blas_lag_dots(remainder, k, 1, remainder[k:], max(0, min(burst_width, len(remainder) - k)), one)
+                    burst_at[bursts], burst_energy[bursts] = k, one[0]
+                    bursts += 1
+        fit = remainder[start:start + min(len(template), len(remainder) - start)]  # taken off, in place
+        for j in range(len(fit)):
+            fit[j] += -scale * template[j]
+        if bursts:  # those whose energy taking it off explains are its own bursts, dropped
+            kept = 0
+            for q in range(size):
+                own = False
+                if queue_i[q] >= 0:
+                    k = int(np.rint(queue_t[q]))
+                    for b in range(bursts):
+                        if burst_at[b] == k:
+                            blas_lag_dots(remainder, k, 1, remainder[k:], max(0, min(burst_width, len(remainder) - k)),
+                                          one)
+                            own = one[0] < burst_energy[b] * burst_least
+                            break
+                if not own:
+                    queue_t[kept], queue_i[kept] = queue_t[q], queue_i[q]
+                    kept += 1
+            size = kept
+        # the same attack found twice; a detection after an attack only the template found is its late time up to the
+        # reach the template seeks over (as in onsets._one_attack_each), the gap after it
+        while timed and size > 0 and queue_t[size - 1] < at + gap + (reach if i < 0 else 0):
+            size -= 1
+        # a new attack after it, where the remainder rises and the head fits
+        low, high = at + gap, min(following - gap, start + len(template))
+        high = min(high, len(remainder) - len(head) + pre)
+        if high > low >= pre:
+            new = next_attack(remainder, head, low, high, pre, reach, max(0, low - back), width, head_energy, rise,
+                              fit_likeness, least)
+            if new >= 0:
+                queue_t[size], queue_i[size] = new + offset, -1
+                size += 1
+    return out_t[:found].copy(), out_k[:found].copy(), out_l[:found].copy(), out_f[:found].copy()

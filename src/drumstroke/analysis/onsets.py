@@ -1391,7 +1391,7 @@ def _fit_template(band, d, rate, candidates, config):
     (:func:`_learned_lead_ins` leaves them); the candidates are all attacks. ``d`` is the magnitude of ``band``'s
     first difference.
     """
-    from ._attacks import _add as take_off
+    from ._templates import fitted_attacks
 
     template, offset = _template(band, d, rate, candidates.times, config)
     if template is None:
@@ -1399,50 +1399,18 @@ def _fit_template(band, d, rate, candidates, config):
     fitting = _Fitting.of(template, rate, config)
     pre, reach, gap = fitting.pre, fitting.reach, max(1, round(config.min_interval * rate))
     shortest, longest = pre + round(1e-3 * rate), pre + round(config.template_fit * rate)  # a fit's span
-    remainder = band.copy()
     _, clear = _clear(d, candidates.times, rate, [config.lead_clear_db, config.start_clear_db])
-    lead_clear, start_clear = clear[0].tolist(), clear[1].tolist()  # (Python's scalars: read once an attack)
-    known_kinds, known_likeness = candidates.kinds.tolist(), candidates.likeness.tolist()
-    queue = [(t, i) for i, t in enumerate(candidates.times.tolist())]  # (time, index in candidates or -1 for a new one)
-    times, kinds, likeness, fits = [], [], [], []
-    while queue:
-        t, i = queue.pop(0)
-        c = round(t)
-        following = len(remainder)
-        for u, _ in queue:
-            if u > t + gap:
-                following = round(u)
-                break
-        span = min(max(shortest, min(longest, following - c)), len(template))
-        lag, scale, like = fitting.best_lag(remainder, c, span)
-        fitted = like >= config.template_likeness and scale > 0.0
-        # clear by start_clear_db, its first transient was sought; clear by lead_clear_db only, it was not, and the
-        # template times it when the fit is precise (noise as loud as that sound before makes fits imprecise)
-        timed = fitted and (i < 0 or not lead_clear[i] or (like >= config.precise_likeness and not start_clear[i]))
-        times.append(c + lag + offset if timed else t)
-        kinds.append(3 if timed else known_kinds[i])
-        likeness.append(like if i < 0 else known_likeness[i])
-        fits.append(fitted)
-        if not fitted:
-            continue
-        start = c + lag - pre
-        before = _own_bursts(remainder, queue, c + lag, rate, config) if timed else None
-        take_off(remainder, template, c + lag, -scale, pre)  # in place, as remainder[start:] -= scale * template
-        if before is not None:
-            queue = _without_own_bursts(remainder, queue, before, rate, config)
-        # the same attack found twice; a detection after an attack only the template found is its late time
-        # up to the reach the template seeks over (as in _one_attack_each), the gap after it
-        while timed and queue and queue[0][0] < c + lag + gap + (reach if i < 0 else 0):
-            queue.pop(0)
-        new = _next_attack(fitting, remainder, c + lag + gap, min(following - gap, start + len(template)))
-        if new is not None:
-            queue.insert(0, (new + offset, -1))
-    times = np.array(times)
+    # the attacks fitted in time order and taken off a copy of the band (compiled: _templates.fitted_attacks)
+    times, kinds, likeness, fits = fitted_attacks(
+        band.copy(), template, fitting.head, np.ascontiguousarray(candidates.times, dtype=float),
+        np.ascontiguousarray(candidates.kinds, dtype=np.int64), np.ascontiguousarray(candidates.likeness, dtype=float),
+        clear[0], clear[1], pre, reach, gap, shortest, longest, offset, fitting.likeness,
+        config.precise_likeness, round(1e-3 * rate), config.echo_reach * rate, 10.0 ** (config.burst_db / 10.0),
+        fitting.width, fitting.back, fitting.rise, fitting.least, fitting.head_energy)
     if not np.all(np.diff(times) > 0):
         return candidates
-    kinds = np.array(kinds, dtype=np.int64)
-    keep = ~_placed_early(times, kinds, np.array(fits), rate, config)
-    return _Candidates(times[keep], kinds[keep], np.ones(int(keep.sum()), dtype=bool), np.array(likeness)[keep])
+    keep = ~_placed_early(times, kinds, fits, rate, config)
+    return _Candidates(times[keep], kinds[keep], np.ones(int(keep.sum()), dtype=bool), likeness[keep])
 
 
 def _placed_early(times, kinds, fitted, rate, config):
@@ -1455,23 +1423,6 @@ def _placed_early(times, kinds, fitted, rate, config):
     early[:-1] = ((kinds[:-1] == 2) & ~fitted[:-1] & (kinds[1:] == 3)
                   & (np.diff(times) <= config.echo_reach * rate))
     return early
-
-
-def _own_bursts(remainder, queue, at, rate, config):
-    """The energy of ``remainder`` over 1 ms after each detection of ``queue`` (not one the template found) within
-    ``echo_reach`` s after ``at``, an attack about to be taken off: {sample: energy}, or None for none."""
-    width = round(1e-3 * rate)
-    near = [round(u) for u, i in queue if i >= 0 and at < u <= at + config.echo_reach * rate]
-    return {k: float(remainder[k:k + width] @ remainder[k:k + width]) for k in near} or None
-
-
-def _without_own_bursts(remainder, queue, before, rate, config):
-    """``queue`` less the detections of ``before`` (:func:`_own_bursts`) the attack just taken off explains: over the
-    1 ms after each, what is left is ``burst_db`` or less re what was there (a recorded sample's second burst)."""
-    width = round(1e-3 * rate)
-    least = 10.0 ** (config.burst_db / 10.0)
-    own = {k for k, energy in before.items() if remainder[k:k + width] @ remainder[k:k + width] < energy * least}
-    return [(u, i) for u, i in queue if i < 0 or round(u) not in own]
 
 
 def _template_search(band, d, rate, candidates, refused, config, quietest=False):
@@ -1760,9 +1711,10 @@ def _best_lag(x, template, start, reach):
 
 @dataclass(frozen=True)
 class _Fitting:
-    """:func:`_fit_template`'s template and what its fits and searches ask of it (in samples): each fit's
-    :func:`_best_lag` within ``reach`` each way, the ``head`` (its first ``template_head`` s from ``pre`` before its
-    attack) sought after each attack (:func:`_next_attack`), and their energies (numpy's, once each)."""
+    """:func:`_fit_template`'s template and what its fits and searches ask of it (in samples): each fit's best lag
+    within ``reach`` each way, the ``head`` (its first ``template_head`` s from ``pre`` before its attack) sought after
+    each attack where the remainder rises (over ``width`` samples, from ``back`` before, ``rise`` times in power) and
+    the head correlates by ``likeness`` and scales ``least`` or more, and the head's energy (numpy's, once)."""
 
     template: np.ndarray
     head: np.ndarray
@@ -1774,51 +1726,15 @@ class _Fitting:
     likeness: float
     least: float
     head_energy: float
-    energies: dict = field(default_factory=dict, compare=False)  # the template's first samples' energy, by count
-    kernels: tuple = field(default=(), compare=False)  # best_lag's and next_attack's, imported once (not each fit)
 
     @classmethod
     def of(cls, template, rate, config):
         """The fitting of ``template`` (``band`` from 0.5 ms before its attack: :func:`_template`) at ``rate`` Hz."""
-        from ._kernels import best_lag
-        from ._templates import next_attack
-
         pre = round(0.5e-3 * rate)
         head = template[:pre + round(config.template_head * rate)]
         return cls(template, head, pre, round(config.template_reach * rate), max(12, round(1e-3 * rate)),
                    4 * round(1e-3 * rate), config.min_jump ** 2, config.template_likeness,
-                   10.0 ** (config.threshold_db / 20.0), head @ head, kernels=(best_lag, next_attack))
-
-    def best_lag(self, x, c, span):
-        """:func:`_best_lag` of the template's first ``span`` samples with ``x``, its attack at ``c`` (the same
-        bounds, kernel and scale, the energy once a span: an attack's fit is the template fit's inner loop)."""
-        start = c - self.pre
-        low, high = max(0, start - self.reach), min(len(x), start + self.reach + span)
-        if high - low < span:
-            return 0, 0.0, 0.0
-        template = self.template[:span]
-        energy = self.energies.get(span)
-        if energy is None:
-            energy = self.energies[span] = template @ template
-        k, dot, like = self.kernels[0](x, template, low, high - low - span + 1, energy)
-        return low + k - start, float(dot / energy), float(like)
-
-
-def _next_attack(fitting, x, low, high):
-    """The first sample in ``[low, high)`` where ``x`` rises and looks like the template's start (``fitting``'s
-    head), or None.
-
-    There the head correlates by ``template_likeness`` with ``x`` and scales ``threshold_db`` or more, and the RMS of
-    ``x`` over the next 1 ms is ``min_jump`` times that over the 4 ms before (not the ringing left of the earlier
-    attacks, which the template's start may look like too); moved to the best correlation within ``reach`` samples
-    after (compiled: :func:`._templates.next_attack`).
-    """
-    high = min(high, len(x) - len(fitting.head) + fitting.pre)
-    if high <= low or low < fitting.pre:
-        return None
-    found = fitting.kernels[1](x, fitting.head, low, high, fitting.pre, fitting.reach, max(0, low - fitting.back),
-                               fitting.width, fitting.head_energy, fitting.rise, fitting.likeness, fitting.least)
-    return None if found < 0 else int(found)
+                   10.0 ** (config.threshold_db / 20.0), head @ head)
 
 
 def _out_of_decay(band, d, rate, candidates, amplitude, config, reverberant=False):

@@ -1,0 +1,160 @@
+"""Compiled loops written to make the onset detector faster (drumstroke.analysis._templates and its neighbours) against
+the numpy code they stand for: to the bit, each computing what that code computed in the same operations.
+
+np.dot's sums are OpenBLAS's ddot kernel's where numpy's BLAS is OpenBLAS for x86-64 with AVX2 (its Haswell kernel,
+on Intel and AMD processors since 2013: what the detector ran); with another BLAS they are in another order, and the
+compiled sums are held to them within rounding (and the loop that decides on them is not compared)."""
+
+import numpy as np
+import pytest
+
+from drumstroke.analysis import _templates
+
+
+@pytest.fixture
+def rng():
+    return np.random.default_rng(20261127)
+
+
+def _haswell_dot():
+    """Whether numpy's BLAS is OpenBLAS's Haswell kernels (threadpoolctl's names)."""
+    threadpoolctl = pytest.importorskip("threadpoolctl")
+    return any(library["user_api"] == "blas" and "numpy" in library["filepath"]
+               and (library["internal_api"], library.get("architecture")) == ("openblas", "Haswell")
+               for library in threadpoolctl.threadpool_info())
+
+
+def test_lag_dots_are_numpys_dots_of_each_window(rng):
+    """blas_lag_dots gives np.dot's bits (OpenBLAS's ddot, on one thread as the detector runs it) for every length: the
+    16 lanes, the products left over, a window count that is no multiple of the lags side by side."""
+    from threadpoolctl import threadpool_limits
+
+    exact = _haswell_dot()
+    with threadpool_limits(1, user_api="blas"):
+        for _ in range(600):
+            length = int(rng.integers(1, 3000))
+            count, first = int(rng.integers(1, 20)), int(rng.integers(0, 9))
+            x = rng.standard_normal(first + count + length + 3) * 10.0 ** rng.uniform(-30, 30)
+            x[rng.random(len(x)) < 0.05] = 0.0
+            y = rng.standard_normal(length + int(rng.integers(0, 5))) * 10.0 ** rng.uniform(-3, 3, 1)
+            got = np.full(count + 1, np.nan)
+            _templates.blas_lag_dots(x, first, count, y, length, got)
+            want = [np.dot(x[first + k:first + k + length], y[:length]) for k in range(count)]
+            if exact:
+                np.testing.assert_array_equal(got[:count], want)
+            else:
+                scale = [np.abs(x[first + k:first + k + length]) @ np.abs(y[:length]) for k in range(count)]
+                assert np.all(np.abs(got[:count] - want) <= 4 * length * np.finfo(float).eps * np.array(scale))
+            assert np.isnan(got[count])  # nothing written past the windows asked for
+
+
+def test_squares_bound_the_running_sums(rng):
+    """_squares sums in its own order: within the few ulps of the exact sum that _surely_least's bounds allow."""
+    from numba import njit
+
+    squares = njit(lambda x, first, last: _templates._squares(x, first, last))
+    for _ in range(300):
+        x = rng.standard_normal(int(rng.integers(1, 2000))) * 10.0 ** rng.uniform(-100, 100)
+        first = int(rng.integers(0, len(x)))
+        last = int(rng.integers(first, len(x) + 1))
+        exact = float(np.sum(np.asarray(x[first:last], dtype=np.longdouble) ** 2))
+        assert abs(squares(x, first, last) - exact) <= 4.0 * (last - first + 1) * np.finfo(float).eps * exact
+
+
+def _fitted_attacks_python(remainder, template, head, times, kinds, likeness, lead_clear, start_clear, pre, reach, gap,
+                           shortest, longest, offset, fit_likeness, precise, burst_width, echo, burst_least, width,
+                           back, rise, least, head_energy):
+    """onsets._fit_template's loop as it was in Python (its queue a list, its fits by numpy and the kernels)."""
+    from drumstroke.analysis._kernels import best_lag
+    from drumstroke.analysis._templates import next_attack
+
+    energies = {}
+    queue = [(t, i) for i, t in enumerate(times.tolist())]
+    known_kinds, known_likeness = kinds.tolist(), likeness.tolist()
+    out_t, out_k, out_l, out_f = [], [], [], []
+    while queue:
+        t, i = queue.pop(0)
+        c = round(t)
+        following = len(remainder)
+        for u, _ in queue:
+            if u > t + gap:
+                following = round(u)
+                break
+        span = min(max(shortest, min(longest, following - c)), len(template))
+        start = c - pre
+        low, high = max(0, start - reach), min(len(remainder), start + reach + span)
+        lag, scale, like = 0, 0.0, 0.0
+        if high - low >= span:
+            part = template[:span]
+            energy = energies.setdefault(span, part @ part)
+            k, dot, like = best_lag(remainder, part, low, high - low - span + 1, energy)
+            lag, scale, like = low + k - start, float(dot / energy), float(like)
+        fitted = like >= fit_likeness and scale > 0.0
+        timed = fitted and (i < 0 or not lead_clear[i] or (like >= precise and not start_clear[i]))
+        out_t.append(c + lag + offset if timed else t)
+        out_k.append(3 if timed else known_kinds[i])
+        out_l.append(like if i < 0 else known_likeness[i])
+        out_f.append(fitted)
+        if not fitted:
+            continue
+        start = c + lag - pre
+        near = [round(u) for u, j in queue if j >= 0 and c + lag < u <= c + lag + echo] if timed else []
+        before = {k: float(remainder[k:k + burst_width] @ remainder[k:k + burst_width]) for k in near}
+        n = min(len(template), len(remainder) - start)
+        remainder[start:start + n] += -scale * template[:n]
+        if before:
+            own = {k for k, e in before.items()
+                   if remainder[k:k + burst_width] @ remainder[k:k + burst_width] < e * burst_least}
+            queue = [(u, j) for u, j in queue if j < 0 or round(u) not in own]
+        while timed and queue and queue[0][0] < c + lag + gap + (reach if i < 0 else 0):
+            queue.pop(0)
+        low, high = c + lag + gap, min(following - gap, start + len(template))
+        high = min(high, len(remainder) - len(head) + pre)
+        if high > low >= pre:
+            new = next_attack(remainder, head, low, high, pre, reach, max(0, low - back), width, head_energy, rise,
+                              fit_likeness, least)
+            if new >= 0:
+                queue.insert(0, (new + offset, -1))
+    return np.array(out_t), np.array(out_k, dtype=np.int64), np.array(out_l), np.array(out_f)
+
+
+@pytest.mark.parametrize("trial", range(40))
+def test_fitted_attacks_are_the_python_loops(trial):
+    """The compiled template fit of onsets._fit_template against its Python loop: a recorded sample's notes (one
+    waveform, bursting again 3 ms in) at random levels and spacings, half with a bounce 8-45 ms after, detections at
+    most notes (the others for the template to find), at their second bursts and at random; kinds, likeness and
+    clearness at random."""
+    if not _haswell_dot():
+        pytest.skip("numpy's BLAS sums its dot products in another order than OpenBLAS's Haswell kernel")
+    rng = np.random.default_rng(trial)
+    rate, n = 48_000, 48_000
+    t = np.arange(int(0.1 * rate)) / rate
+    sound = np.exp(-t / 0.03) * (np.sin(2 * np.pi * 190 * t) + 0.5 * np.sin(2 * np.pi * 330 * t + 1.0))
+    sound += 0.8 * np.exp(-t / 0.01) * rng.standard_normal(len(t))
+    burst = int(3e-3 * rate)
+    sound[burst:] += 0.6 * sound[:len(sound) - burst]  # a second burst
+    band = 1e-4 * rng.standard_normal(n)
+    notes = np.sort(rng.choice(np.arange(2000, n - 6000), size=int(rng.integers(3, 10)), replace=False))
+    bounces = notes[rng.random(len(notes)) < 0.5] + rng.integers(int(8e-3 * rate), int(45e-3 * rate), 1)
+    notes = np.unique(np.concatenate((notes, bounces)))
+    for at, level in zip(notes, 10.0 ** rng.uniform(-1.5, 0, len(notes))):
+        m = min(len(sound), n - at)
+        band[at:at + m] += level * sound[:m]
+    heard = notes[(rng.random(len(notes)) < 0.7) | (notes == notes[0])]  # some notes found by the template only
+    detections = np.concatenate((heard + rng.integers(-20, 20, len(heard)), heard[rng.random(len(heard)) < 0.5] + burst,
+                                 rng.integers(2000, n - 2000, int(rng.integers(0, 5)))))
+    times = np.unique(detections).astype(float) + rng.choice([0.0, 0.25, 0.5], len(np.unique(detections)))
+    count = len(times)
+    pre = round(0.5e-3 * rate)
+    template = band[notes[0] - pre:notes[0] + int(0.05 * rate)].copy()
+    head = template[:pre + round(3e-3 * rate)]
+    args = (template, head, times, rng.integers(0, 3, count), rng.random(count), rng.random(count) < 0.5,
+            rng.random(count) < 0.5, pre, round(3e-3 * rate), round(2e-3 * rate), pre + round(1e-3 * rate),
+            pre + round(10e-3 * rate), float(rng.choice([0.0, 0.3])), 0.8, 0.9, round(1e-3 * rate), 8e-3 * rate,
+            10.0 ** (-6.0 / 10.0), round(1e-3 * rate), 4 * round(1e-3 * rate), 4.0, 1e-2, float(head @ head))
+    want_band, got_band = band.copy(), band.copy()
+    want = _fitted_attacks_python(want_band, *args)
+    got = _templates.fitted_attacks(got_band, *args)
+    for g, w in zip(got, want):
+        np.testing.assert_array_equal(g, w)
+    np.testing.assert_array_equal(got_band, want_band)
