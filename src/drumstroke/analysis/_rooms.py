@@ -126,12 +126,12 @@ def echo_novelty(x, at, centres, before, after, reach, step, most_left):
 
 @jit
 def layer_echoes(x, times, levels, clear, tried, attack, which, nearest, farthest, before, after, reach, most_left,
-                 novel):
+                 novel, partners):
     """:func:`.onsets._layer_echoes`' loop: ``attack`` (a copy) less each of ``tried`` (indices of ``times``, full-rate
     samples, and ``levels``, dB) whose :func:`joint_novelty` is ``novel`` or less: for each attack as loud or louder
-    ``nearest`` to ``farthest`` samples before it, the window at the same delay after another attack (``clear``
-    samples or more clear of the next one) that fits it best alone (:func:`_best_window`);
-    ``which`` maps ``times`` to ``attack``."""
+    ``nearest`` to ``farthest`` samples before it, the window at the same delay after one of the ``partners`` other
+    attacks nearest it in level (``clear`` samples or more clear of the next one) that fits it best alone
+    (:func:`_best_window`); ``which`` maps ``times`` to ``attack``."""
     attack = attack.copy()
     for k in tried:
         at = int(np.rint(times[k]))
@@ -141,13 +141,14 @@ def layer_echoes(x, times, levels, clear, tried, attack, which, nearest, farthes
             delay = times[k] - times[i]
             if not (nearest <= delay <= farthest and levels[i] >= levels[k]):
                 continue
-            centres = np.empty(len(times), np.int64)
+            others = np.empty(len(times), np.int64)
             n = 0
             for j in range(len(times)):
                 if j != i and j != k and clear[j] >= delay + after + reach:
-                    centres[n] = int(np.rint(times[j] + delay))
+                    others[n] = j
                     n += 1
-            best = _best_window(x, at, centres[:n], before, after, reach)
+            others = others[:n][np.argsort(np.abs(levels[others[:n]] - levels[i]), kind="mergesort")[:partners]]
+            best = _best_window(x, at, np.rint(times[others] + delay).astype(np.int64), before, after, reach)
             if best >= 0:
                 starts[count] = best
                 count += 1
@@ -164,20 +165,18 @@ def _best_window(x, at, centres, before, after, reach):
     start = at - before
     if start < 0 or start + width > len(x):
         return -1
-    own = 0.0
-    for k in range(width):
-        own += x[start + k] * x[start + k]
+    own = x[start:start + width]
+    energy = np.dot(own, own)
     least, best = math.inf, -1
     for i in range(len(centres)):
-        for low in range(centres[i] - reach - before, centres[i] + reach - before + 1):
-            if low < 0 or low + width > len(x):
-                continue
-            cross, power = 0.0, 0.0
-            for k in range(width):
-                cross += x[start + k] * x[low + k]
-                power += x[low + k] * x[low + k]
-            if power > 0.0 and own - cross * cross / power < least:
-                least, best = own - cross * cross / power, low
+        low = centres[i] - reach - before
+        if low < 0 or low + width + 2 * reach > len(x):
+            continue
+        for lag in range(2 * reach + 1):
+            other = x[low + lag:low + lag + width]
+            cross, power = np.dot(own, other), np.dot(other, other)
+            if power > 0.0 and energy - cross * cross / power < least:
+                least, best = energy - cross * cross / power, low + lag
     return best
 
 
@@ -192,12 +191,18 @@ def joint_novelty(x, at, starts, before, after, most_left):
     if start < 0 or start + width > len(x):
         return math.inf
     m = len(starts)
-    basis = np.empty((width, m))
+    own = x[start:start + width]
+    # the normal equations (each product one dot of two windows of x), solved by least squares: the same windows
+    # chosen for two notes make them singular
+    gram, cross = np.empty((m, m)), np.empty(m)
+    for i in range(m):
+        cross[i] = np.dot(x[starts[i]:starts[i] + width], own)
+        for j in range(i + 1):
+            gram[i, j] = gram[j, i] = np.dot(x[starts[i]:starts[i] + width], x[starts[j]:starts[j] + width])
+    scales = np.linalg.lstsq(gram, cross)[0]
+    left = own.copy()
     for j in range(m):
-        basis[:, j] = x[starts[j]:starts[j] + width]
-    own = x[start:start + width].copy()
-    scales = np.linalg.lstsq(basis, own)[0]
-    left = own - basis @ scales
+        left -= scales[j] * x[starts[j]:starts[j] + width]
     early, late = 0.0, 0.0
     for k in range(width):
         if k < before:

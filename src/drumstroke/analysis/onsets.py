@@ -1949,15 +1949,12 @@ def _layer_echoes(band, d, rate, candidates, amplitude, attack, config):
     tried = np.flatnonzero((candidates.kinds[which] == 2) & (levels < levels.max() + config.layer_decay_db))
     if not len(tried):
         return attack
-    _, (lead_clear,) = _clear(d, times, rate, [config.lead_clear_db])
-    if not _replays(band, times, lead_clear, rate, config):
-        return attack
     width, reach = round(5e-3 * rate), max(1, round(60e-6 * rate))
     # how long the sound after each attack stays clear of the next one found (from 1 ms after it)
     after = np.searchsorted(times, times + 1e-3 * rate, side="right")
     clear = np.append(times, np.inf)[after] - times
     return layer_echoes(band, times, levels, clear, tried, attack, which, 2e-3 * rate, 0.3 * rate, width, width, reach,
-                        10.0 ** (config.room_fit_db / 10.0), 10.0 ** (config.layer_echo_db / 10.0))
+                        10.0 ** (config.room_fit_db / 10.0), 10.0 ** (config.layer_echo_db / 10.0), 4)
 
 
 def _room_returns(band, d, rate, candidates, amplitude, onsets, config):
