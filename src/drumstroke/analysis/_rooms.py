@@ -122,3 +122,93 @@ def echo_novelty(x, at, centres, before, after, reach, step, most_left):
         else:
             late += r * r
     return (late / after) / max(early / before, 1e-300)
+
+
+@jit
+def layer_echoes(x, times, levels, clear, tried, attack, which, nearest, farthest, before, after, reach, most_left,
+                 novel, partners):
+    """:func:`.onsets._layer_echoes`' loop: ``attack`` (a copy) less each of ``tried`` (indices of ``times``, full-rate
+    samples, and ``levels``, dB) whose :func:`joint_novelty` is ``novel`` or less: for each attack as loud or louder
+    ``nearest`` to ``farthest`` samples before it, the window at the same delay after one of the ``partners`` other
+    attacks nearest it in level (``clear`` samples or more clear of the next one) that fits it best alone
+    (:func:`_best_window`); ``which`` maps ``times`` to ``attack``."""
+    attack = attack.copy()
+    for k in tried:
+        at = int(np.rint(times[k]))
+        starts = np.empty(len(times), np.int64)
+        count = 0
+        for i in range(len(times)):
+            delay = times[k] - times[i]
+            if not (nearest <= delay <= farthest and levels[i] >= levels[k]):
+                continue
+            others = np.empty(len(times), np.int64)
+            n = 0
+            for j in range(len(times)):
+                if j != i and j != k and clear[j] >= delay + after + reach:
+                    others[n] = j
+                    n += 1
+            others = others[:n][np.argsort(np.abs(levels[others[:n]] - levels[i]), kind="mergesort")[:partners]]
+            best = _best_window(x, at, np.rint(times[others] + delay).astype(np.int64), before, after, reach)
+            if best >= 0:
+                starts[count] = best
+                count += 1
+        if count and joint_novelty(x, at, starts[:count], before, after, most_left) <= novel:
+            attack[which[k]] = False
+    return attack
+
+
+@jit
+def _best_window(x, at, centres, before, after, reach):
+    """The start of the window (``before + after`` samples) about one of ``centres``, moved by up to ``reach`` samples
+    either way, that fits ``x[at - before:at + after]`` best alone (least squares); -1 where none lies within ``x``."""
+    width = before + after
+    start = at - before
+    if start < 0 or start + width > len(x):
+        return -1
+    own = x[start:start + width]
+    energy = np.dot(own, own)
+    least, best = math.inf, -1
+    for i in range(len(centres)):
+        low = centres[i] - reach - before
+        if low < 0 or low + width + 2 * reach > len(x):
+            continue
+        for lag in range(2 * reach + 1):
+            other = x[low + lag:low + lag + width]
+            cross, power = np.dot(own, other), np.dot(other, other)
+            if power > 0.0 and energy - cross * cross / power < least:
+                least, best = energy - cross * cross / power, low + lag
+    return best
+
+
+@jit
+def joint_novelty(x, at, starts, before, after, most_left):
+    """How much more of ``x`` around ``at`` is new after it than before it once the windows at ``starts`` explain it
+    together: ``x[at - before:at + after]`` fitted by least squares by the sum of the same-length windows of ``x`` from
+    each of ``starts``; the mean power the fit leaves over the ``after`` samples over that over the ``before`` samples.
+    ``inf`` where the window does not lie within ``x`` or the fit leaves more than ``most_left`` of its energy."""
+    width = before + after
+    start = at - before
+    if start < 0 or start + width > len(x):
+        return math.inf
+    m = len(starts)
+    own = x[start:start + width]
+    # the normal equations (each product one dot of two windows of x), solved by least squares: the same windows
+    # chosen for two notes make them singular
+    gram, cross = np.empty((m, m)), np.empty(m)
+    for i in range(m):
+        cross[i] = np.dot(x[starts[i]:starts[i] + width], own)
+        for j in range(i + 1):
+            gram[i, j] = gram[j, i] = np.dot(x[starts[i]:starts[i] + width], x[starts[j]:starts[j] + width])
+    scales = np.linalg.lstsq(gram, cross)[0]
+    left = own.copy()
+    for j in range(m):
+        left -= scales[j] * x[starts[j]:starts[j] + width]
+    early, late = 0.0, 0.0
+    for k in range(width):
+        if k < before:
+            early += left[k] * left[k]
+        else:
+            late += left[k] * left[k]
+    if early + late > most_left * (own @ own):
+        return math.inf
+    return (late / after) / max(early / before, 1e-300)
