@@ -10,10 +10,10 @@ from .._jit import jit
 
 
 @jit(error_model="numpy")
-def remainder_blocks(band, start, mates, scales, valid, blocks, block, window):
+def remainder_blocks(band, start, mates, scales, valid, blocks, block, window, fewest=2):
     """What is left of ``band`` from ``start`` once each mate (``band`` from ``mates[m]``, times ``scales[m]``) is
     taken off: its energy over ``window`` blocks of ``block`` samples from each block, the least over the mates that
-    reach there (block ``j`` under ``valid[m]``), and which mate that is; infinite where fewer than two reach.
+    reach there (block ``j`` under ``valid[m]``), and which mate that is; infinite where fewer than ``fewest`` reach.
     Returns the energies and the mates [shape=(blocks - window + 1,)]."""
     count = len(mates)
     power = np.empty((count, blocks))
@@ -37,7 +37,7 @@ def remainder_blocks(band, start, mates, scales, valid, blocks, block, window):
                     energy += power[m, i]
                 if energy < least[j]:
                     least[j], pick[j] = energy, m
-        if reach < 2:
+        if reach < fewest:
             least[j] = np.inf
     return least, pick
 
@@ -74,8 +74,16 @@ def _partners(band, starts, size, lag, likeness):
     return [[m[1:] for m in sorted(found, reverse=True)] for found in mates]
 
 
-def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, skip=10e-3, span=0.13, quiet_db=-10.0,
-                 below_db=-30.0, quieter_db=-6.0, mates_used=3):
+def _own(x, band, mate, scale, t, size, own_db):
+    """Whether ``x``'s sound over ``size`` samples from ``t`` is ``own_db`` or more louder than the mate's (``band``
+    from ``mate``, times ``scale``) there: a note left in their difference is ``x``'s, not the mate's negated."""
+    mine = np.dot(x[t:t + size], x[t:t + size])
+    theirs = scale * scale * np.dot(band[mate + t:mate + t + size], band[mate + t:mate + t + size])
+    return mine >= theirs * 10.0 ** (own_db / 10.0)
+
+
+def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=120.0, own_everywhere=False,
+                 skip=10e-3, span=0.13, quiet_db=-10.0, below_db=-30.0, quieter_db=-6.0, mates_used=3):
     """Onsets (full-rate samples) of notes within ``span`` s after a ``clear`` attack at ``times`` (full-rate samples),
     found in what is left of ``band`` once that attack's own sound is taken off, predicted by its layer-mates.
 
@@ -83,11 +91,15 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, skip=10e
     within 2 samples; each of up to ``mates_used`` is scaled by least squares there and taken off. Of their
     remainders the quietest over each 1 ms counts (a mate's own later notes are left in its remainder only), each up
     to its mate's next attack, and only where two of them reach; the search ends at the next attack within
-    ``quiet_db`` of this one. A note is where that energy over 1 ms (read every 0.25 ms) rises ``rise_db`` over its
-    most over the 10 ms before (from ``skip`` s after the attack on), its remainder's peak over the next 11 ms
-    ``least`` or more, within ``below_db`` of the attack's peak and ``quieter_db`` or more under it; its onset is the
-    first sample there whose magnitude passes 1 % of that peak and four times the remainder's RMS over the 5 ms
-    before (one note in 20 ms).
+    ``quiet_db`` of this one. Where one mate alone reaches (the others' next notes came first: a ghost note late
+    after its accent), its remainder counts where the note is the accent's own, not the mate's left negated: its
+    sound over the 11 ms from the rise ``own_db`` or more louder in the accent than in the mate scaled (120: never,
+    as two mates were needed before); with ``own_everywhere``, wherever it is (in a room: what is left of the
+    returns of the notes before the accent and before its mate is in both alike). A note is where that energy over 1 ms (read every 0.25 ms) rises ``rise_db``
+    over its most over the 10 ms before (from ``skip`` s after the attack on), its remainder's peak over the next
+    11 ms ``least`` or more, within ``below_db`` of the attack's peak and ``quieter_db`` or more under it; its onset
+    is the first sample there whose magnitude passes 1 % of that peak and four times the remainder's RMS over the
+    5 ms before (one note in 20 ms).
     """
     pre, size, lag = round(0.5e-3 * rate), round(skip * rate), 2
     width, before, after = round(1e-3 * rate), round(10e-3 * rate), round(10e-3 * rate)
@@ -118,8 +130,10 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, skip=10e
         # a mate's own later notes are not b's: its remainder counts up to its next attack only
         valid = np.array([((c[which[a] + 1] if which[a] + 1 < len(c) else len(band)) - c[which[a]] - width) // block
                           for a, _, _ in used], dtype=np.int64)
-        e, pick = remainder_blocks(band, c[b], starts_m, scales, valid, len(x) // block, block, width // block)
-        # two mates or more at each block: one mate's missed note would be left in its remainder alone
+        e, pick = remainder_blocks(band, c[b], starts_m, scales, valid, len(x) // block, block, width // block,
+                                   1 if own_db < 120.0 else 2)
+        # two mates or more at each block: one mate's missed note would be left in its remainder alone (where one
+        # reaches, whose the note is says: the accent's, louder in it than in the mate)
         short = np.flatnonzero(~np.isfinite(e))
         length = min(length, short[0] * block if len(short) else length)
         if length <= size + before:
@@ -135,6 +149,10 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, skip=10e
             m = pick[t]
             v = x - scales[m] * band[starts_m[m]:starts_m[m] + len(x)]
             peak = np.abs(v[t:t + width + after]).max()
+            # past where two mates reach over its 1 ms, the note must be the accent's own
+            alone = own_everywhere or np.sum((t + width) // block < valid) < 2
+            if alone and not _own(x, band, starts_m[m], scales[m], t, width + after, own_db):
+                continue
             if not max(least, loud[b] * 10.0 ** (below_db / 20.0)) <= peak <= loud[b] * 10.0 ** (quieter_db / 20.0):
                 continue
             noise = np.sqrt(np.mean(v[t - round(5e-3 * rate):t] ** 2))
