@@ -18,7 +18,7 @@ def remainder_blocks(band, start, mates, scales, valid, blocks, block, window, f
     count = len(mates)
     power = np.empty((count, blocks))
     for m in range(count):
-        for j in range(blocks):
+        for j in range(min(blocks, max(0, valid[m] + window - 1))):  # past a mate's reach its power is not read
             total = 0.0
             for k in range(j * block, (j + 1) * block):
                 v = band[start + k] - scales[m] * band[mates[m] + k]
@@ -140,13 +140,11 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
             continue
         steps = rising(e, (size + before) // block, (length - width) // block, before // block,
                        (before - width) // block, rise)
-        pick = np.repeat(pick, block)
-        steps = steps * block
         last = -np.inf
-        for t in steps:
+        for t in steps * block:
             if t < last + round(20e-3 * rate):
                 continue
-            m = pick[t]
+            m = pick[t // block]
             v = x - scales[m] * band[starts_m[m]:starts_m[m] + len(x)]
             peak = np.abs(v[t:t + width + after]).max()
             # past where two mates reach over its 1 ms, the note must be the accent's own
