@@ -134,3 +134,26 @@ def test_remainder_blocks_is_the_least_energy_over_the_mates_that_reach():
         np.testing.assert_allclose(least, want, rtol=1e-12)
         ok = np.isfinite(want)
         np.testing.assert_array_equal(pick[ok], masked.argmin(axis=0)[ok])
+
+
+def test_rising_is_where_the_energy_rises_over_its_most_before():
+    """The compiled rise test (its window's most kept by a queue) against numpy: the blocks in [low, high) whose
+    energy is positive and ``rise`` times or more the most over the ``span`` blocks from ``back`` blocks before
+    (zeros and infinities among them)."""
+    from drumstroke.analysis._ghosts import rising
+
+    rng = np.random.default_rng(1)
+    for k in range(200):
+        n = int(rng.integers(60, 400))
+        e = rng.exponential(1.0, n) ** rng.uniform(1.0, 8.0)
+        if k % 3 == 0:
+            e[rng.integers(0, n, 5)] = 0.0
+        if k % 5 == 0:
+            e[-10:] = np.inf
+        back = int(rng.integers(2, 50))
+        span = int(rng.integers(1, back + 1))
+        low = back + int(rng.integers(0, 10))
+        high = int(rng.integers(low, n - 10))
+        rise = float(rng.uniform(1.0, 30.0))
+        want = [j for j in range(low, high) if e[j] > 0.0 and e[j] >= rise * max(0.0, e[j - back:j - back + span].max())]
+        np.testing.assert_array_equal(rising(e, low, high, back, span, rise), want)

@@ -47,10 +47,20 @@ def rising(e, low, high, back, span, rise):
     """The blocks ``j`` in [``low``, ``high``) where ``e[j]`` is positive and ``rise`` times or more the most of
     ``e`` over the ``span`` blocks from ``j - back``."""
     out = []
+    # the window's most kept by a queue of the blocks that may still be its most (values falling): each block in and
+    # out once, instead of ``span`` reads a block
+    queue = np.empty(max(high - low + span, 1), dtype=np.int64)
+    first, last, top = 0, 0, low - back  # the queue's span [first, last); the next block to take in
     for j in range(low, high):
-        most = 0.0
-        for i in range(j - back, j - back + span):
-            most = max(most, e[i])
+        while top < j - back + span:
+            while last > first and e[queue[last - 1]] <= e[top]:
+                last -= 1
+            queue[last] = top
+            last += 1
+            top += 1
+        while queue[first] < j - back:
+            first += 1
+        most = max(0.0, e[queue[first]])
         if e[j] > 0.0 and e[j] >= rise * most:
             out.append(j)
     return np.array(out, dtype=np.int64)
@@ -121,6 +131,8 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
         if len(mates[i]) < 2:
             continue
         length = min(round(span * rate), ends[b] - c[b])
+        if length <= size + before:  # no room for a note's rise before the next attack (a drop's later bounces)
+            continue
         x = band[c[b]:c[b] + length + after]
         used = mates[i][:mates_used]
         # energy over 0.25-ms blocks, over 1 ms from each block (its onset sought at full rate after)
