@@ -64,7 +64,9 @@ And when a room's return the template timed, and then the returns of the modes' 
 on the reported onsets (`_room_returns`, by design: with ``room_found_fit_db=-120`` every output equals the reference
 before; with it, FluidR3's snare 38 roll with reverb has 24 onsets instead of 25, a false one at 4.286 s (13.4 ms from
 a note) gone; every other recording unchanged). The ghost notes sought under an accent once its layer-mates are taken off (``ghost_rise_db``; 120
-gives the outputs before it) change none of these recordings: the reference stands.
+gives the outputs before it) change none of these recordings: the reference stands; nor do the ghost notes one
+layer-mate alone reaches (``ghost_own_db``; 120 gives the outputs before it), nor those sought in a recording
+step 4 finds reverberant (``ghost_room_own_db``; 120 gives the outputs before it).
 And when a quiet attack of the modes' band alone that the sound at the same delays after other notes explains
 together became the earlier notes' own sound (`_layer_echoes`, by design: with ``layer_echo_db=-120`` every output
 equals the reference before; with it, FluidR3's snare 38 roll with reverb has 23 onsets instead of 24, a false one at

@@ -10,15 +10,15 @@ from .._jit import jit
 
 
 @jit(error_model="numpy")
-def remainder_blocks(band, start, mates, scales, valid, blocks, block, window):
+def remainder_blocks(band, start, mates, scales, valid, blocks, block, window, fewest=2):
     """What is left of ``band`` from ``start`` once each mate (``band`` from ``mates[m]``, times ``scales[m]``) is
     taken off: its energy over ``window`` blocks of ``block`` samples from each block, the least over the mates that
-    reach there (block ``j`` under ``valid[m]``), and which mate that is; infinite where fewer than two reach.
+    reach there (block ``j`` under ``valid[m]``), and which mate that is; infinite where fewer than ``fewest`` reach.
     Returns the energies and the mates [shape=(blocks - window + 1,)]."""
     count = len(mates)
     power = np.empty((count, blocks))
     for m in range(count):
-        for j in range(blocks):
+        for j in range(min(blocks, max(0, valid[m] + window - 1))):  # past a mate's reach its power is not read
             total = 0.0
             for k in range(j * block, (j + 1) * block):
                 v = band[start + k] - scales[m] * band[mates[m] + k]
@@ -37,7 +37,7 @@ def remainder_blocks(band, start, mates, scales, valid, blocks, block, window):
                     energy += power[m, i]
                 if energy < least[j]:
                     least[j], pick[j] = energy, m
-        if reach < 2:
+        if reach < fewest:
             least[j] = np.inf
     return least, pick
 
@@ -47,10 +47,20 @@ def rising(e, low, high, back, span, rise):
     """The blocks ``j`` in [``low``, ``high``) where ``e[j]`` is positive and ``rise`` times or more the most of
     ``e`` over the ``span`` blocks from ``j - back``."""
     out = []
+    # the window's most kept by a queue of the blocks that may still be its most (values falling): each block in and
+    # out once, instead of ``span`` reads a block
+    queue = np.empty(max(high - low + span, 1), dtype=np.int64)
+    first, last, top = 0, 0, low - back  # the queue's span [first, last); the next block to take in
     for j in range(low, high):
-        most = 0.0
-        for i in range(j - back, j - back + span):
-            most = max(most, e[i])
+        while top < j - back + span:
+            while last > first and e[queue[last - 1]] <= e[top]:
+                last -= 1
+            queue[last] = top
+            last += 1
+            top += 1
+        while queue[first] < j - back:
+            first += 1
+        most = max(0.0, e[queue[first]])
         if e[j] > 0.0 and e[j] >= rise * most:
             out.append(j)
     return np.array(out, dtype=np.int64)
@@ -74,8 +84,16 @@ def _partners(band, starts, size, lag, likeness):
     return [[m[1:] for m in sorted(found, reverse=True)] for found in mates]
 
 
-def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, skip=10e-3, span=0.13, quiet_db=-10.0,
-                 below_db=-30.0, quieter_db=-6.0, mates_used=3):
+def _own(x, band, mate, scale, t, size, own_db):
+    """Whether ``x``'s sound over ``size`` samples from ``t`` is ``own_db`` or more louder than the mate's (``band``
+    from ``mate``, times ``scale``) there: a note left in their difference is ``x``'s, not the mate's negated."""
+    mine = np.dot(x[t:t + size], x[t:t + size])
+    theirs = scale * scale * np.dot(band[mate + t:mate + t + size], band[mate + t:mate + t + size])
+    return mine >= theirs * 10.0 ** (own_db / 10.0)
+
+
+def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=120.0, own_everywhere=False,
+                 skip=10e-3, span=0.13, quiet_db=-10.0, below_db=-30.0, quieter_db=-6.0, mates_used=3):
     """Onsets (full-rate samples) of notes within ``span`` s after a ``clear`` attack at ``times`` (full-rate samples),
     found in what is left of ``band`` once that attack's own sound is taken off, predicted by its layer-mates.
 
@@ -83,11 +101,15 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, skip=10e
     within 2 samples; each of up to ``mates_used`` is scaled by least squares there and taken off. Of their
     remainders the quietest over each 1 ms counts (a mate's own later notes are left in its remainder only), each up
     to its mate's next attack, and only where two of them reach; the search ends at the next attack within
-    ``quiet_db`` of this one. A note is where that energy over 1 ms (read every 0.25 ms) rises ``rise_db`` over its
-    most over the 10 ms before (from ``skip`` s after the attack on), its remainder's peak over the next 11 ms
-    ``least`` or more, within ``below_db`` of the attack's peak and ``quieter_db`` or more under it; its onset is the
-    first sample there whose magnitude passes 1 % of that peak and four times the remainder's RMS over the 5 ms
-    before (one note in 20 ms).
+    ``quiet_db`` of this one. Where one mate alone reaches (the others' next notes came first: a ghost note late
+    after its accent), its remainder counts where the note is the accent's own, not the mate's left negated: its
+    sound over the 11 ms from the rise ``own_db`` or more louder in the accent than in the mate scaled (120: never,
+    as two mates were needed before); with ``own_everywhere``, wherever it is (in a room: what is left of the
+    returns of the notes before the accent and before its mate is in both alike). A note is where that energy over 1 ms (read every 0.25 ms) rises ``rise_db``
+    over its most over the 10 ms before (from ``skip`` s after the attack on), its remainder's peak over the next
+    11 ms ``least`` or more, within ``below_db`` of the attack's peak and ``quieter_db`` or more under it; its onset
+    is the first sample there whose magnitude passes 1 % of that peak and four times the remainder's RMS over the
+    5 ms before (one note in 20 ms).
     """
     pre, size, lag = round(0.5e-3 * rate), round(skip * rate), 2
     width, before, after = round(1e-3 * rate), round(10e-3 * rate), round(10e-3 * rate)
@@ -109,6 +131,8 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, skip=10e
         if len(mates[i]) < 2:
             continue
         length = min(round(span * rate), ends[b] - c[b])
+        if length <= size + before:  # no room for a note's rise before the next attack (a drop's later bounces)
+            continue
         x = band[c[b]:c[b] + length + after]
         used = mates[i][:mates_used]
         # energy over 0.25-ms blocks, over 1 ms from each block (its onset sought at full rate after)
@@ -118,23 +142,27 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, skip=10e
         # a mate's own later notes are not b's: its remainder counts up to its next attack only
         valid = np.array([((c[which[a] + 1] if which[a] + 1 < len(c) else len(band)) - c[which[a]] - width) // block
                           for a, _, _ in used], dtype=np.int64)
-        e, pick = remainder_blocks(band, c[b], starts_m, scales, valid, len(x) // block, block, width // block)
-        # two mates or more at each block: one mate's missed note would be left in its remainder alone
+        e, pick = remainder_blocks(band, c[b], starts_m, scales, valid, len(x) // block, block, width // block,
+                                   1 if own_db < 120.0 else 2)
+        # two mates or more at each block: one mate's missed note would be left in its remainder alone (where one
+        # reaches, whose the note is says: the accent's, louder in it than in the mate)
         short = np.flatnonzero(~np.isfinite(e))
         length = min(length, short[0] * block if len(short) else length)
         if length <= size + before:
             continue
         steps = rising(e, (size + before) // block, (length - width) // block, before // block,
                        (before - width) // block, rise)
-        pick = np.repeat(pick, block)
-        steps = steps * block
         last = -np.inf
-        for t in steps:
+        for t in steps * block:
             if t < last + round(20e-3 * rate):
                 continue
-            m = pick[t]
+            m = pick[t // block]
             v = x - scales[m] * band[starts_m[m]:starts_m[m] + len(x)]
             peak = np.abs(v[t:t + width + after]).max()
+            # past where two mates reach over its 1 ms, the note must be the accent's own
+            alone = own_everywhere or np.sum((t + width) // block < valid) < 2
+            if alone and not _own(x, band, starts_m[m], scales[m], t, width + after, own_db):
+                continue
             if not max(least, loud[b] * 10.0 ** (below_db / 20.0)) <= peak <= loud[b] * 10.0 ** (quieter_db / 20.0):
                 continue
             noise = np.sqrt(np.mean(v[t - round(5e-3 * rate):t] ** 2))

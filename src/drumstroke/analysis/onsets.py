@@ -476,6 +476,16 @@ class OnsetConfig:
         :func:`_layer_echoes`; -120: none is, as before this field).
     layer_decay_db : float in [-120, 0]
         dB re the loudest: the attacks so tried are quieter than this (step 5, :func:`_layer_echoes`).
+    ghost_own_db : float in [-60, 120]
+        dB: where one layer-mate alone reaches a ghost note (the others' own next notes came first), a rise in what
+        is left once it is taken off counts when the note's sound over the 11 ms from it is so much louder in the
+        accent than in that mate (scaled), the accent's own note, not the mate's left negated (step 5,
+        :func:`_ghost_notes`; 120: two mates needed, as before this field).
+    ghost_room_own_db : float in [-60, 120]
+        dB: in a recording step 4 finds reverberant, a ghost note's rise in what is left once a layer-mate is taken
+        off counts when the note's sound over the 11 ms from it is so much louder in the accent than in that mate:
+        what is left of the room's returns of earlier notes is alike in both (step 5, :func:`_ghost_notes`; 120: none
+        sought in a reverberant recording, as before this field).
 
     Examples
     --------
@@ -575,6 +585,8 @@ class OnsetConfig:
     ghost_rise_db: float = 15.0
     layer_echo_db: float = 0.0
     layer_decay_db: float = -12.0
+    ghost_own_db: float = 1.0
+    ghost_room_own_db: float = 2.0
 
     def __post_init__(self):
         for name, (low, high, unit) in _RANGES.items():
@@ -631,6 +643,8 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "replay_likeness": (0.0, 1.0, "(correlation)"),
     "ghost_rise_db": (0.0, 120.0, "dB"),
     "layer_echo_db": (-120.0, 60.0, "dB"), "layer_decay_db": (-120.0, 0.0, "dB"),
+    "ghost_own_db": (-60.0, 120.0, "dB"),
+    "ghost_room_own_db": (-60.0, 120.0, "dB"),
 }
 
 
@@ -763,10 +777,12 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        the template (another velocity layer of a sample), by ``layer_likeness``. A detection there that taking off
        the attack before it explains (``found_burst_db``) is that attack's own sound (a sample's second burst); one
        over earlier sound whose start the template fits better up to ``earlier_reach`` s before it is put there.
-       :func:`_ghost_notes`: where the recording replays a sample and is not reverberant, the notes after a clear
+       :func:`_ghost_notes`: where the recording replays a sample, the notes after a clear
        attack (ghost notes under an accent) are sought in what is left once its layer-mates (other clear attacks
-       one waveform with it by ``replay_likeness``) are taken off, where that rises ``ghost_rise_db``; each is put
-       at its first sample there (a new attack, or one found 0.5-1.5 ms late moved).
+       one waveform with it by ``replay_likeness``) are taken off, where that rises ``ghost_rise_db`` (where one mate
+       alone reaches, or the recording is reverberant, and the note is louder in the accent than in the mate by
+       ``ghost_own_db``, ``ghost_room_own_db``); each is put at its first sample there (a new attack, or one found
+       0.5-1.5 ms late moved).
        :func:`_level_band`. An onset's amplitude is the peak of its own sound in the drum's lowest
        modes (the band up to ``level_ratio`` times its lowest strong mode, ≥ ``level_band`` Hz,
        decimated to 2.5 times that: a stick's speed sets their amplitude in proportion, while the
@@ -888,8 +904,7 @@ def _detected(signal, rate, config, source, info):
     candidates = _fit_template(band, d, rate, candidates, config)
     candidates = _template_search(band, d, rate, candidates, refused, config)
     candidates = _template_search(band, d, rate, candidates, refused, config, quietest=True)
-    if not modes.reverberant:
-        candidates = _ghost_notes(band, d, rate, candidates, config)
+    candidates = _ghost_notes(band, d, rate, candidates, config, modes.reverberant)
     levels = _level_band(band, rate, q, first, config, lowest)
     amplitude = levels.amplitudes(_measured_at(candidates, found, rate, config), modes.reverberant, config)
     candidates, amplitude = _one_attack_each(d, rate, candidates, amplitude, config)
@@ -1562,7 +1577,7 @@ def _template_search(band, d, rate, candidates, refused, config, quietest=False)
     return replace(merged, kinds=np.where(fresh, 3, merged.kinds))
 
 
-def _ghost_notes(band, d, rate, candidates, config):
+def _ghost_notes(band, d, rate, candidates, config, reverberant=False):
     """Step 5: ghost notes under an accent's sound, found where the recording replays a sample (:func:`_replays`).
 
     A sample player replays a velocity layer's waveform sample for sample (the corpus's SoundFonts: 0.9998 or more
@@ -1571,24 +1586,36 @@ def _ghost_notes(band, d, rate, candidates, config):
     accent alone (:func:`._ghosts.ghost_onsets`), where the first difference had the accent's ringing louder than
     a ghost note 50-120 ms after it (FluidR3's rolls: a ghost note's main rise found 1.1-1.3 ms late, or none).
     Each of up to three mates gives a remainder; over each millisecond the quietest counts (a mate's own later
-    notes are left in its remainder only), and only up to each mate's next attack. A note is where that remainder's
+    notes are left in its remainder only), and only up to each mate's next attack. Where one mate alone reaches (a
+    ghost note late after its accent, the other mates' own next notes first: FluidR3's 0.3204 s, 117 ms after its
+    accent), its remainder counts where the note is the accent's own: its sound over the 11 ms from the rise
+    ``ghost_own_db`` louder in the accent than in the mate (scaled); a note the mate's (missed) is left there negated,
+    louder in the mate (on the corpus's rolls the notes found so read -6.0 to +12.4 dB, the rises on no note of the
+    accent's -4.3 to -0.0 dB; ``ghost_own_db`` 120: two mates needed, as before). A note is where that remainder's
     energy over 1 ms (read every 0.25 ms) rises ``ghost_rise_db`` over its most over the 10 ms before, 6 dB or more
     under the accent and within 30 dB of it; its onset is the remainder's first sample over 1 % of its peak (and
-    four times its RMS before). Not in a reverberant recording (FluidSynth's reverb: its returns are not one note's
-    sound replayed, and what is left of them swells like a note: a false onset more in each SoundFont's singles). A
-    new note (no attack within 5 ms) is an attack of kind 3; an attack 0.5-1.5 ms after it (on its main rise: a
-    sample's lead-in late) is moved there. ``ghost_rise_db`` 120: none sought (as before this stage).
+    four times its RMS before). In a recording step 4 finds reverberant every rise must be the accent's own so,
+    by ``ghost_room_own_db``: FluidSynth's reverb is linear and time-invariant, so a mate's sound takes the accent's
+    own returns off with it, but what is left of the returns of the notes before each swells like a note (the
+    corpus's recordings step 4 finds reverberant, seeds 0-4: 55 such rises, most 54-85 ms after a note, the
+    reverb's delays) and is alike in both sounds (-4.2 to +0.6 dB the accent's over the mate's but two, 1.6 and 3.6;
+    the 144 rises on a note, dry rolls step 4 took for reverberant among them, median 2.9 dB): 2 dB asked (120:
+    none sought there, as before). A new note (no attack within 5 ms) is an attack of kind 3; an attack 0.5-1.5 ms
+    after it (on its main rise: a sample's lead-in late) is moved there. ``ghost_rise_db`` 120: none sought (as
+    before this stage).
     """
     from ._ghosts import ghost_onsets
 
-    if config.ghost_rise_db >= 120.0 or len(candidates) < 3:
+    own_db = config.ghost_room_own_db if reverberant else config.ghost_own_db
+    if config.ghost_rise_db >= 120.0 or len(candidates) < 3 or (reverberant and own_db >= 120.0):
         return candidates
     _, (lead_clear,) = _clear(d, candidates.times, rate, [config.lead_clear_db])
     if not _replays(band, candidates.times, lead_clear, rate, config):
         return candidates
     which = np.flatnonzero(candidates.attack)
     ghosts = ghost_onsets(band, candidates.times[which], lead_clear[which], rate, likeness=config.replay_likeness,
-                          rise_db=config.ghost_rise_db, least=10.0 ** (config.threshold_db / 20.0))
+                          rise_db=config.ghost_rise_db, least=10.0 ** (config.threshold_db / 20.0),
+                          own_db=own_db, own_everywhere=reverberant)
     if not len(ghosts):
         return candidates
     times, kinds = candidates.times.copy(), candidates.kinds.copy()
