@@ -15,7 +15,7 @@ from .._jit import jit
 @jit(error_model="numpy")
 def template_search(remainder, template, head, times, shifts, refused, offset, layer_at, layer_size, pre, gap,
                     shortest, fit, bounce, echo, signature, reach, likeness, refused_likeness, ratio_low, ratio_high,
-                    least, burst, earlier, unclear, weak, start_likeness, layer_likeness, bursts):
+                    least, burst, earlier, unclear, weak, start_likeness, layer_likeness, bursts=1):
     """:func:`.onsets._template_search`'s loop over the attacks at ``times`` (full-rate samples, in order).
 
     ``remainder`` (the band, changed in place) less each attack's fitted ``template`` (``pre`` samples before its
@@ -32,7 +32,8 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
     attack before it (fitted up to it, or up to the one after) leaves less than ``burst`` of the energy over the
     ``shortest`` samples after it (its own second burst: FluidR3's electric snare bursts again 3.4 ms into a note;
     0: none is), and after it up to ``bursts`` in a row within ``earlier`` samples of the attack (:func:`_later_bursts`;
-    where the attack's fit cut at the first correlates under ``likeness``, by the template alone, fitted past them). A detection of ``times`` flagged ``unclear`` (over earlier sound), not one the template timed, may
+    where the attack's fit cut at the first correlates under ``likeness``, by the template alone, fitted past them;
+    ``bursts`` 1, its default: the first only). A detection of ``times`` flagged ``unclear`` (over earlier sound), not one the template timed, may
     be its sound's later burst, its start not detected: up to ``earlier`` samples before it (0: not sought), where
     the template fits better (:func:`_earlier_start`, its start correlating by ``weak`` there), the attack is put,
     the detection dropped. The search for a bounce after an attack asks the template's start to correlate by
