@@ -65,7 +65,8 @@ on the reported onsets (`_room_returns`, by design: with ``room_found_fit_db=-12
 before; with it, FluidR3's snare 38 roll with reverb has 24 onsets instead of 25, a false one at 4.286 s (13.4 ms from
 a note) gone; every other recording unchanged). The ghost notes sought under an accent once its layer-mates are taken off (``ghost_rise_db``; 120
 gives the outputs before it) change none of these recordings: the reference stands. Nor do an attack's own
-detections dropped in a row by the template search (``found_bursts``; 1 gives the outputs before it).
+detections dropped in a row by the template search (``found_bursts``; 1 gives the outputs before it), nor the
+detection no template fits after a dropped one (``burst_unfitted_likeness``; 0 gives the outputs before it).
 The recordings are rebuilt here (seeded): our synthesis with and without the snare wires, another
 drum's, a room and noise (tests/_recordings.py), the paper's free bounce of benchmarks/analysis.py, and
 some of tests/_recorded_drums.py's SoundFont recordings (dry, noise, FluidSynth's reverb).

@@ -15,7 +15,7 @@ from .._jit import jit
 @jit(error_model="numpy")
 def template_search(remainder, template, head, times, shifts, refused, offset, layer_at, layer_size, pre, gap,
                     shortest, fit, bounce, echo, signature, reach, likeness, refused_likeness, ratio_low, ratio_high,
-                    least, burst, earlier, unclear, weak, start_likeness, layer_likeness, bursts=1):
+                    least, burst, earlier, unclear, weak, start_likeness, layer_likeness, bursts=1, unfitted=0.0):
     """:func:`.onsets._template_search`'s loop over the attacks at ``times`` (full-rate samples, in order).
 
     ``remainder`` (the band, changed in place) less each attack's fitted ``template`` (``pre`` samples before its
@@ -33,7 +33,9 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
     ``shortest`` samples after it (its own second burst: FluidR3's electric snare bursts again 3.4 ms into a note;
     0: none is), and after it up to ``bursts`` in a row within ``earlier`` samples of the attack (:func:`_later_bursts`;
     where the attack's fit cut at the first correlates under ``likeness``, by the template alone, fitted past them;
-    ``bursts`` 1, its default: the first only). A detection of ``times`` flagged ``unclear`` (over earlier sound), not one the template timed, may
+    ``bursts`` 1, its default: the first only); after those, the next detection, ``unclear`` and within ``bounce``,
+    where the attack's sound correlates under ``unfitted`` (0, its default: not tested), ends not its fit either (fitted
+    up to the one after, as for the first). A detection of ``times`` flagged ``unclear`` (over earlier sound), not one the template timed, may
     be its sound's later burst, its start not detected: up to ``earlier`` samples before it (0: not sought), where
     the template fits better (:func:`_earlier_start`, its start correlating by ``weak`` there), the attack is put,
     the detection dropped. The search for a bounce after an attack asks the template's start to correlate by
@@ -122,6 +124,17 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
                         remainder, template, layer, times, shifts, i, c, following, own, at_c, scale, measured,
                         fitted, by_layer, pre, shortest, fit, min(bounce - 1, earlier), likeness, burst, bursts - 1)
                     dropped[i:i + more], i = True, i + more
+                    if unfitted > 0.0 and i < len(times) and following < c + bounce and unclear[i]:
+                        # the next detection, over earlier sound and not timed by the template, tested as the first
+                        # was: one the attack's sound does not fit ends not its fit (FluidR3's snare 40 with reverb:
+                        # the next bounce's detection in the modes' band, 1.3 ms late, fits by 0.0)
+                        after = int(np.rint(times[i + 1] - shifts[i + 1])) if i + 1 < len(times) else n
+                        width = min(max(pre + shortest, min(pre + fit, after - following)), len(own), n - following + pre)
+                        if width > pre and _likeness(remainder, following - pre, own, width) < unfitted:
+                            _add(remainder, own, at_c, scale, pre)
+                            own, at_c, scale, measured, fitted, by_layer = _take_off(remainder, template, layer, c,
+                                                                                     after, pre, shortest, fit)
+                            skipped, detection, following = True, following, after
         c = at_c
         at, like = -1, 0.0
         if measured > 0.0:
