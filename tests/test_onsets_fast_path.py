@@ -72,6 +72,9 @@ together became the earlier notes' own sound (`_layer_echoes`, by design: with `
 equals the reference before; with it, FluidR3's snare 38 roll with reverb has 23 onsets instead of 24, a false one at
 2.5833 s (27.9 ms from a note) gone, the levels of three onsets moved by 0.0001-0.096 dB (their windows); every other
 recording unchanged).
+Nor do an attack's own detections dropped in a row by the template search (``found_bursts``; 1 gives the outputs
+before it), nor the detection no template fits after a dropped one (``burst_unfitted_likeness``; 0 gives the outputs
+before it).
 The recordings are rebuilt here (seeded): our synthesis with and without the snare wires, another
 drum's, a room and noise (tests/_recordings.py), the paper's free bounce of benchmarks/analysis.py, and
 some of tests/_recorded_drums.py's SoundFont recordings (dry, noise, FluidSynth's reverb).
