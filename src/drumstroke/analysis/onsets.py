@@ -916,13 +916,14 @@ def _detected(signal, rate, config, source, info):
     candidates = _first_transients(d, rate, candidates.take(candidates.attack), config)
     found = candidates.times
     candidates = _fit_template(band, d, rate, candidates, config)
-    candidates = _template_search(band, d, rate, candidates, refused, config)
-    candidates = _template_search(band, d, rate, candidates, refused, config, quietest=True)
-    candidates = _ghost_notes(band, d, rate, candidates, config, modes.reverberant)
+    replays = _replaying(band, d, candidates.times, rate, config)
+    candidates = _template_search(band, d, rate, candidates, refused, config, replays)
+    candidates = _template_search(band, d, rate, candidates, refused, config, replays, quietest=True)
+    candidates = _ghost_notes(band, d, rate, candidates, config, replays, modes.reverberant)
     levels = _level_band(band, rate, q, first, config, lowest)
     amplitude = levels.amplitudes(_measured_at(candidates, found, rate, config), modes.reverberant, config)
     candidates, amplitude = _one_attack_each(d, rate, candidates, amplitude, config)
-    decided = _out_of_decay(band, d, rate, candidates, amplitude, config, modes.reverberant)
+    decided = _out_of_decay(band, d, rate, candidates, amplitude, config, replays, modes.reverberant)
     # an attack measured on a window cut at the next detection, refused here, is measured again without it
     cut = np.flatnonzero(decided.attack[:-1] & candidates.attack[1:] & ~decided.attack[1:])
     if len(cut):
@@ -1465,7 +1466,7 @@ def _placed_early(times, kinds, fitted, rate, config):
     return early
 
 
-def _template_search(band, d, rate, candidates, refused, config, quietest=False):
+def _template_search(band, d, rate, candidates, refused, config, replays, quietest=False):
     """Step 5: attacks the stages before missed, found by fitting the template where they did not look or look enough.
 
     *A quieter attack close after an attack.* A dropped stick's last bounces come 4-17 ms apart, each
@@ -1584,8 +1585,7 @@ def _template_search(band, d, rate, candidates, refused, config, quietest=False)
     head = pre + round(config.template_head * rate)
     _, (lead_clear,) = _clear(d, candidates.times, rate, [config.lead_clear_db])
     layer_bounce = config.layer_bounce_likeness
-    if quietest or layer is None or layer_bounce >= 1.0 or not _replays(band, candidates.times, lead_clear, rate,
-                                                                         config):
+    if quietest or layer is None or layer_bounce >= 1.0 or not replays():
         layer_bounce = 1.0  # (none sought)
     found, likes, dropped = template_search(band.copy(), template, template[:head],
                                             np.ascontiguousarray(candidates.times, dtype=float),
@@ -1608,7 +1608,7 @@ def _template_search(band, d, rate, candidates, refused, config, quietest=False)
     return replace(merged, kinds=np.where(fresh, 3, merged.kinds))
 
 
-def _ghost_notes(band, d, rate, candidates, config, reverberant=False):
+def _ghost_notes(band, d, rate, candidates, config, replays, reverberant=False):
     """Step 5: ghost notes under an accent's sound, found where the recording replays a sample (:func:`_replays`).
 
     A sample player replays a velocity layer's waveform sample for sample (the corpus's SoundFonts: 0.9998 or more
@@ -1640,9 +1640,9 @@ def _ghost_notes(band, d, rate, candidates, config, reverberant=False):
     own_db = config.ghost_room_own_db if reverberant else config.ghost_own_db
     if config.ghost_rise_db >= 120.0 or len(candidates) < 3 or (reverberant and own_db >= 120.0):
         return candidates
-    _, (lead_clear,) = _clear(d, candidates.times, rate, [config.lead_clear_db])
-    if not _replays(band, candidates.times, lead_clear, rate, config):
+    if not replays():
         return candidates
+    _, (lead_clear,) = _clear(d, candidates.times, rate, [config.lead_clear_db])
     which = np.flatnonzero(candidates.attack)
     ghosts = ghost_onsets(band, candidates.times[which], lead_clear[which], rate, likeness=config.replay_likeness,
                           rise_db=config.ghost_rise_db, least=10.0 ** (config.threshold_db / 20.0),
@@ -1666,6 +1666,19 @@ def _ghost_notes(band, d, rate, candidates, config, reverberant=False):
         return moved
     merged, fresh = moved.insert(np.array(new), attack=True, likeness=np.ones(len(new)))
     return replace(merged, kinds=np.where(fresh, 3, merged.kinds))
+
+
+def _replaying(band, d, times, rate, config):
+    """Whether the recording replays a sample (:func:`_replays`), judged once, when first asked, on the attacks at
+    ``times`` (full-rate samples: those the template fitted, step 5) clear by ``lead_clear_db``: a function of no
+    argument. Three stages ask; a property of the recording, judged alike by each on its own attacks over the corpus
+    (five seeds) and our synthetic drums."""
+    @cache
+    def replays():
+        _, (lead_clear,) = _clear(d, times, rate, [config.lead_clear_db])
+        return _replays(band, times, lead_clear, rate, config)
+
+    return replays
 
 
 def _replays(band, times, clear, rate, config):
@@ -1806,7 +1819,7 @@ class _Fitting:
                    10.0 ** (config.threshold_db / 20.0), head @ head)
 
 
-def _out_of_decay(band, d, rate, candidates, amplitude, config, reverberant=False):
+def _out_of_decay(band, d, rate, candidates, amplitude, config, replays, reverberant=False):
     """Step 5's last part: a quiet or a close attack that does not rise out of the sound before it is no attack.
 
     A recorded sample's own decay and a room's tail beat and flutter: the stages before take some
@@ -1846,7 +1859,7 @@ def _out_of_decay(band, d, rate, candidates, amplitude, config, reverberant=Fals
     keep[tried] = rise > prior * least[quiet | close]
     if reverberant:
         keep = _room_echoes(band, d, rate, candidates, amplitude, keep, config)
-    keep = _layer_echoes(band, d, rate, candidates, amplitude, keep, config)
+    keep = _layer_echoes(band, d, rate, candidates, amplitude, keep, config, replays)
     return _new_sound(band, rate, replace(candidates, attack=keep), config)
 
 
@@ -1894,7 +1907,7 @@ def _room_echoes(band, d, rate, candidates, amplitude, attack, config, kind=2, f
                        10.0 ** (fit_db / 10.0), novel)
 
 
-def _layer_echoes(band, d, rate, candidates, amplitude, attack, config):
+def _layer_echoes(band, d, rate, candidates, amplitude, attack, config, replays):
     """Step 5: ``attack`` less the attacks that are the earlier notes' own sound going on.
 
     A sample player replays a velocity layer's waveform sample for sample, and a room returns it alike each time:
@@ -1940,8 +1953,7 @@ def _layer_echoes(band, d, rate, candidates, amplitude, attack, config):
     if np.array_equal(kept, attack):
         return attack
     # only where the recording replays a sample (asked last: most recordings refuse nothing here)
-    _, (lead_clear,) = _clear(d, times, rate, [config.lead_clear_db])
-    return kept if _replays(band, times, lead_clear, rate, config) else attack
+    return kept if replays() else attack
 
 
 def _room_returns(band, d, rate, candidates, amplitude, onsets, config):
