@@ -120,3 +120,21 @@ def uneven_noise(rng, n):
     start = int(rng.integers(0, n))
     x[start:start + n // 5] = 0.0
     return x
+
+
+def sample_player(ghosts, *, accents=4, ringing=0.03, seed=5, rate=RATE):
+    """A sample player's recording: one accent waveform (the same samples, scaled by 1 - 0.02 k; noise ringing down
+    with time constant ``ringing`` s) at ``accents`` times 0.45 s apart from 0.1 s, and one ghost waveform 26 dB
+    under it ``ghosts[k]`` samples after accent ``k``. Returns the signal, the accents' samples and the ghosts'."""
+    rng = np.random.default_rng(seed)
+    n = np.arange(round(0.4 * rate))
+    accent = rng.standard_normal(len(n)) * np.exp(-n / (ringing * rate)) * 0.5
+    ghost = rng.standard_normal(round(0.1 * rate)) * np.exp(-np.arange(round(0.1 * rate)) / (0.02 * rate)) * 0.025
+    ghost[0] = 0.025
+    band = np.zeros(round((0.1 + 0.45 * accents + 0.4) * rate))
+    starts = [round((0.1 + 0.45 * k) * rate) for k in range(accents)]
+    for k, at in enumerate(starts):
+        band[at:at + len(accent)] += accent * (1.0 - 0.02 * k)
+        if k in ghosts:
+            band[at + ghosts[k]:at + ghosts[k] + len(ghost)] += ghost
+    return band, starts, sorted(starts[k] + g for k, g in ghosts.items())

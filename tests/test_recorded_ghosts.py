@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from _recorded_drums import FONTS, KEYS, NOISE_DBFS, RATE, SETS, Leads, match, note_block, notes, score, speed_of
+from _recordings import sample_player
 from drumstroke.analysis import OnsetConfig, find_onsets
 from drumstroke.analysis._ghosts import ghost_onsets, remainder_blocks
 
@@ -78,24 +79,6 @@ def test_a_ghost_note_in_a_reverberant_recording_is_found_where_it_is_the_accent
         assert np.min(np.abs(found - t[i])) <= abs(before[j] - t[i])
 
 
-def _player(ghosts, rate=48000, seed=5):
-    """A sample player's recording: one accent waveform (the same samples, scaled; its ringing 17 dB down in 58 ms,
-    as a snare's) at four times, a ghost waveform 26 dB under it ``ghosts[k]`` samples after accent ``k``. Returns
-    the signal, the accents' and the ghosts' samples."""
-    rng = np.random.default_rng(seed)
-    n = np.arange(round(0.4 * rate))
-    accent = rng.standard_normal(len(n)) * np.exp(-n / (0.03 * rate)) * 0.5
-    ghost = rng.standard_normal(round(0.1 * rate)) * np.exp(-np.arange(round(0.1 * rate)) / (0.02 * rate)) * 0.025
-    ghost[0] = 0.025
-    band = np.zeros(round(2.2 * rate))
-    accents = [round((0.1 + 0.45 * k) * rate) for k in range(4)]
-    for k, at in enumerate(accents):
-        band[at:at + len(accent)] += accent * (1.0 - 0.02 * k)
-        if k in ghosts:
-            band[at + ghosts[k]:at + ghosts[k] + len(ghost)] += ghost
-    return band, accents, sorted(accents[k] + g for k, g in ghosts.items())
-
-
 @pytest.mark.parametrize("own_db, found", [(1.0, "all"), (120.0, "early"), (-60.0, "and a false one")])
 def test_a_note_one_mate_alone_reaches_counts_where_it_is_the_accents_own(own_db, found):
     """Four accents of one waveform; ghost notes 2800 and 3100 samples after the first two (attacks already: a mate's
@@ -104,7 +87,7 @@ def test_a_note_one_mate_alone_reaches_counts_where_it_is_the_accents_own(own_db
     negated): the third's ghost is its own (louder in it than in the mate) and is found at its first sample; the
     fourth's mate's ghost is not the fourth's and is not found (``own_db`` 1 dB). With ``own_db`` 120 one mate never
     counts: the late ghost is not found; with -60 dB (any), the mate's ghost is found after the fourth accent."""
-    band, accents, ghosts = _player({0: 2800, 1: 3100, 2: 5400})
+    band, accents, ghosts = sample_player({0: 2800, 1: 3100, 2: 5400})
     times = np.array(sorted(accents + ghosts[:2]), dtype=float)
     clear = np.isin(times, accents)
     got = ghost_onsets(band, times, clear, 48000, likeness=0.999, rise_db=15.0, least=0.0, own_db=own_db)

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from _recorded_drums import LOUD_DB, RATE, first_above, match, note_block, recordings, render_alone, score
+from _recordings import sample_player
 from drumstroke.analysis import OnsetConfig, find_onsets
 
 # the template search's own-burst, earlier-start, fitted-attack and bounce rules off (found_burst_db, earlier_reach,
@@ -765,18 +766,7 @@ def test_a_replayed_samples_later_notes_are_its_remainder_less_a_layer_mate():
     from drumstroke.analysis._ghosts import ghost_onsets
 
     rate = 48000
-    rng = np.random.default_rng(5)
-    n = np.arange(round(0.4 * rate))
-    accent = rng.standard_normal(len(n)) * np.exp(-n / (0.08 * rate)) * 0.5
-    ghost = rng.standard_normal(round(0.1 * rate)) * np.exp(-np.arange(round(0.1 * rate)) / (0.02 * rate)) * 0.025
-    ghost[0] = 0.025
-    band = np.zeros(round(3.0 * rate))
-    accents = [round((0.1 + 0.45 * k) * rate) for k in range(6)]
-    ghosts = {0: 3100, 2: 4500, 3: 2700, 5: 5200}  # samples after the accent
-    for k, at in enumerate(accents):
-        band[at:at + len(accent)] += accent * (1.0 - 0.02 * k)
-        if k in ghosts:
-            band[at + ghosts[k]:at + ghosts[k] + len(ghost)] += ghost
+    band, accents, ghosts = sample_player({0: 3100, 2: 4500, 3: 2700, 5: 5200}, accents=6, ringing=0.08, rate=rate)
     found = ghost_onsets(band, np.array(accents, dtype=float), np.ones(6, dtype=bool), rate, likeness=0.999,
                          rise_db=15.0, least=0.0)
-    np.testing.assert_array_equal(found, sorted(accents[k] + g for k, g in ghosts.items()))
+    np.testing.assert_array_equal(found, ghosts)
