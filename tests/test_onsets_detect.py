@@ -133,7 +133,7 @@ def test_spiking_is_the_python_test(rng, trial):
 
 
 def _one_attack_each_in_python(d, times, kinds, amplitude, which, width, reach, template_reach, lead, over, start,
-                               clear):
+                               clear, fitted_lead):
     keep, amplitude = np.ones(len(times), dtype=bool), amplitude.copy()
     for i, j in itertools.pairwise(which):
         a, b = round(times[i]), round(times[j])
@@ -141,7 +141,8 @@ def _one_attack_each_in_python(d, times, kinds, amplitude, which, width, reach, 
             keep[j] = False
             amplitude[i] = amplitude[j]
             continue
-        if not keep[i] or b - a > reach or amplitude[j] < amplitude[i] * lead:
+        asked = fitted_lead if kinds[i] == 3 == kinds[j] else lead
+        if not keep[i] or b - a > reach or amplitude[j] < amplitude[i] * asked:
             continue
         click = d[a:a + width].max(initial=0.0)
         prior = d[max(0, a - reach):max(1, a - width)].max(initial=0.0)
@@ -166,7 +167,9 @@ def test_one_attack_each_is_the_python_loop(rng, trial):
     kinds = rng.integers(0, 4, len(times))
     amplitude = np.exp(2.0 * rng.standard_normal(len(times)))
     which = np.flatnonzero(rng.random(len(times)) < 0.8)
-    args = (which, 12, 240, 120.0, 10.0 ** (6.0 / 20.0), 2.0, 10.0 ** (-40.0 / 20.0), 10.0 ** (-30.0 / 20.0))
+    fitted_lead = 10.0 ** ((6.0, 3.0, 120.0)[trial % 3] / 20.0)
+    args = (which, 12, 240, 120.0, 10.0 ** (6.0 / 20.0), 2.0, 10.0 ** (-40.0 / 20.0), 10.0 ** (-30.0 / 20.0),
+            fitted_lead)
     got = _detect.one_attack_each(d, times, kinds, amplitude, *args)
     want = _one_attack_each_in_python(d, times, kinds, amplitude, *args)
     np.testing.assert_array_equal(got[0], want[0])

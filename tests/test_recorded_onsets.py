@@ -565,12 +565,13 @@ def test_a_drops_quiet_bounce_is_found_by_the_whole_template_where_its_start_is_
     search takes a close bounce where its start correlates by ``bounce_likeness`` (0.7) and its first 10 ms by
     ``template_likeness`` (0.8). Found within 0.25 ms, every detection a note within 5 ms; with
     ``bounce_likeness=0.8`` (``template_likeness``'s, as before; the quiet layer's own bounce search, which finds it
-    too, off) it is missed; that rule alone (the quiet layer's search off in both) finds that one note more within
-    1 ms."""
+    too, off) it is missed; that rule alone (the quiet layer's search off in both, and two bounces the template fitted
+    made one attack as before ``fitted_lead_db``) finds that one note more within 1 ms."""
     recording = _corpus_recording("FluidR3 38 drop", "dry")
     note = recording.t[np.argmin(np.abs(recording.t - 1.9634))]
-    found = find_onsets(recording.signal, RATE, config=OnsetConfig(layer_bounce_likeness=1.0)).t
-    before = find_onsets(recording.signal, RATE, config=OnsetConfig(bounce_likeness=0.8, layer_bounce_likeness=1.0)).t
+    found = find_onsets(recording.signal, RATE, config=OnsetConfig(layer_bounce_likeness=1.0, fitted_lead_db=6.0)).t
+    before = find_onsets(recording.signal, RATE, config=OnsetConfig(bounce_likeness=0.8, layer_bounce_likeness=1.0,
+                                                                   fitted_lead_db=6.0)).t
     assert np.min(np.abs(found - note)) <= 0.25e-3 and np.min(np.abs(before - note)) > 5e-3
     figures, earlier = score(recording, found), score(recording, before)
     assert figures["correct_5ms"] == figures["found"] and figures["within_1ms"] == earlier["within_1ms"] + 1

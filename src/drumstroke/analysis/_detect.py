@@ -126,10 +126,12 @@ def _peak(d, low, high):
 
 
 @jit
-def one_attack_each(d, times, kinds, amplitude, which, width, reach, template_reach, lead, over, start, clear):
+def one_attack_each(d, times, kinds, amplitude, which, width, reach, template_reach, lead, over, start, clear,
+                    fitted_lead):
     """:func:`.onsets._one_attack_each`'s pairs of consecutive attacks ``which`` (indices of ``times``, full-rate
     samples): ``width`` and ``reach`` samples, ``template_reach`` samples (a float), ``lead``, ``start`` and ``clear``
-    the ratios ``lead_db``, ``start_db`` and ``start_clear_db`` stand for, ``over`` the ``start_over``.
+    the ratios ``lead_db``, ``start_db``, ``start_clear_db`` and ``fitted_lead_db`` stand for, ``over`` the
+    ``start_over``.
 
     Returns which candidates are kept and their amplitudes (all, a copy)."""
     keep, amplitude = np.ones(len(times), dtype=np.bool_), amplitude.copy()
@@ -140,7 +142,8 @@ def one_attack_each(d, times, kinds, amplitude, which, width, reach, template_re
             keep[j] = False  # the template's fit of the detection just after it: one attack, the detection's level
             amplitude[i] = amplitude[j]
             continue
-        if not keep[i] or b - a > reach or amplitude[j] < amplitude[i] * lead:
+        both_fitted = kinds[i] == 3 and kinds[j] == 3
+        if not keep[i] or b - a > reach or amplitude[j] < amplitude[i] * (fitted_lead if both_fitted else lead):
             continue
         click = _peak(d, a, a + width)
         prior = _peak(d, max(0, a - reach), max(1, a - width))
