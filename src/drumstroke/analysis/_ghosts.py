@@ -7,6 +7,7 @@ another note of the same layer, and what is left once it is taken off is the not
 import numpy as np
 
 from .._jit import jit
+from ._kernels import window_peaks
 
 
 @jit(error_model="numpy")
@@ -69,7 +70,7 @@ def rising(e, low, high, back, span, rise):
 def _partners(band, starts, size, lag, likeness):
     """For each attack (``starts``: the samples its ``size``-sample window starts at), its layer-mates: (index,
     shift, scale) of each other attack whose window, shifted within ``lag`` samples, correlates by ``likeness``."""
-    views = np.lib.stride_tricks.sliding_window_view(band, size)
+    views = windows(band, size)
     own = views[starts]
     norms = np.maximum(np.linalg.norm(own, axis=1), 1e-300)
     mates = [[] for _ in starts]
@@ -78,10 +79,19 @@ def _partners(band, starts, size, lag, likeness):
         energy = np.maximum(np.einsum("ij,ij->i", shifted, shifted), 1e-300)
         cross = own @ shifted.T  # [b, a]: attack b against attack a shifted
         like = cross / (norms[:, None] * np.sqrt(energy)[None, :])
-        for b, a in zip(*np.nonzero(like >= likeness)):
-            if a != b:
-                mates[b].append((like[b, a], a, shift, cross[b, a] / energy[a]))
+        bs, as_ = np.nonzero(like >= likeness)
+        bs, as_ = bs[bs != as_], as_[bs != as_]
+        for b, found, a, scale in zip(bs.tolist(), like[bs, as_].tolist(), as_.tolist(),
+                                      (cross[bs, as_] / energy[as_]).tolist()):
+            mates[b].append((found, a, shift, scale))
     return [[m[1:] for m in sorted(found, reverse=True)] for found in mates]
+
+
+def windows(x, size):
+    """``sliding_window_view(x, size)`` (the same strides), without its checks' time where ``x`` is contiguous."""
+    if not x.flags.c_contiguous:
+        return np.lib.stride_tricks.sliding_window_view(x, size)
+    return np.ndarray((len(x) - size + 1, size), dtype=x.dtype, buffer=x, strides=(x.itemsize, x.itemsize))
 
 
 def _own(x, band, mate, scale, t, size, own_db):
@@ -120,8 +130,12 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
     which = np.flatnonzero(ok)
     if len(which) < 3:
         return np.empty(0)
-    loud = np.lib.stride_tricks.sliding_window_view(band, round(5e-3 * rate))[np.minimum(c, len(band) - round(5e-3 * rate))]
-    loud = np.abs(loud).max(axis=1)
+    # each attack's peak over the 5 ms from it (the last 5 ms of ``band`` from past its end; from before its start,
+    # as a negative index reads the windows, counted from the end)
+    windows_count = len(band) - round(5e-3 * rate) + 1
+    lows = np.minimum(c, windows_count - 1)
+    lows = np.where(lows < 0, lows + windows_count, lows)
+    loud = window_peaks(band, lows, lows + round(5e-3 * rate))
     # the next attack within quiet_db of each: its sound is no longer one attack's
     later = (loud[None, :] >= loud[:, None] * 10.0 ** (quiet_db / 20.0)) & np.triu(np.ones((len(c), len(c)), bool), 1)
     ends = np.where(later.any(axis=1), c[np.argmax(later, axis=1)], len(band))

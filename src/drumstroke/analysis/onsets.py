@@ -1686,6 +1686,8 @@ def _replays(band, times, clear, rate, config):
     before the next) whose first ``template_fit`` s correlate by ``replay_likeness`` (within 2 samples), as a sample
     player's notes of one velocity layer do (the corpus's SoundFonts: 0.9998 or more in every drop and roll), not a
     struck drum's (drumstroke's synthetic drums, 180 strokes: 0.998 at most)."""
+    from ._ghosts import windows
+
     pre, lag = round(0.5e-3 * rate), 2
     size = pre + round(config.template_fit * rate)
     starts = np.rint(times).astype(np.int64) - pre
@@ -1693,7 +1695,7 @@ def _replays(band, times, clear, rate, config):
     starts = starts[which[(starts[which] >= lag) & (starts[which] + size + lag <= len(band))]]
     if len(starts) < 2:
         return False
-    views = np.lib.stride_tricks.sliding_window_view(band, size)
+    views = windows(band, size)
     own = views[starts]
     own = own / np.maximum(np.linalg.norm(own, axis=1), 1e-300)[:, None]
     for shift in sorted(range(-lag, lag + 1), key=abs):  # the same lag first: where a sample is replayed, it is found
