@@ -47,7 +47,8 @@ def remainder_blocks(band, start, mates, scales, valid, blocks, block, window, f
 def rising(e, low, high, back, span, rise):
     """The blocks ``j`` in [``low``, ``high``) where ``e[j]`` is positive and ``rise`` times or more the most of
     ``e`` over the ``span`` blocks from ``j - back``."""
-    out = []
+    out = np.empty(max(high - low, 0), dtype=np.int64)
+    found = 0
     # the window's most kept by a queue of the blocks that may still be its most (values falling): each block in and
     # out once, instead of ``span`` reads a block
     queue = np.empty(max(high - low + span, 1), dtype=np.int64)
@@ -63,8 +64,9 @@ def rising(e, low, high, back, span, rise):
             first += 1
         most = max(0.0, e[queue[first]])
         if e[j] > 0.0 and e[j] >= rise * most:
-            out.append(j)
-    return np.array(out, dtype=np.int64)
+            out[found] = j
+            found += 1
+    return out[:found].copy()
 
 
 def _partners(band, starts, size, lag, likeness):

@@ -2469,7 +2469,7 @@ def _jumps(x, rate, min_interval, least, samples=12, profile=None):
     and ``min_interval``), so memory does not grow with its length. ``profile`` is the jump profile of an ``x`` of one
     block (the RMS ratio at each sample, ``samples`` = 12), when found already.
     """
-    from ._front import jump_profile
+    from ._front import jump_profile, peak_pick_over
     from ._kernels import change_points
 
     width = _jump_width(rate, samples)
@@ -2480,7 +2480,7 @@ def _jumps(x, rate, min_interval, least, samples=12, profile=None):
         low, high = max(0, start - margin), min(len(x), start + _BLOCK + margin)
         jump = profile if profile is not None else \
             jump_profile(np.ascontiguousarray(x[low:high], dtype=float), width)  # 0 over the first 4 windows
-        found = _peak_pick(jump, gap)
+        found = peak_pick_over(jump, gap, np.nextafter(least, -np.inf))  # _peak_pick's at least ``least``
         found = found[(jump[found] >= least) & (low + found >= start) & (low + found < start + _BLOCK)]
         peaks.append(low + found)
     x = np.ascontiguousarray(x, dtype=float)
