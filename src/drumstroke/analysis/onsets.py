@@ -2109,20 +2109,22 @@ def _median_and_spread(values):
 @dataclass(frozen=True)
 class _LevelBand:
     """Step 5's band of the drum's lowest modes: ``x`` decimated ``q`` times (at ``rate`` Hz, its filter's delay
-    ``delay`` full-rate samples), its predictor's error filter ``coefficients`` and its noise ``floor`` (full scale)."""
+    ``delay`` full-rate samples), its predictor's error filter ``coefficients``, what that does not predict ``e``, and
+    its noise ``floor`` (full scale)."""
 
     x: np.ndarray
     q: int
     delay: float
     rate: float
     coefficients: np.ndarray
+    e: np.ndarray
     floor: float
 
     def amplitudes(self, candidates, reverberant, config):
         """Each candidate's amplitude in the band (full scale): :func:`_attack_amplitudes`."""
         return _attack_amplitudes(self.x, self.coefficients, (candidates.times + self.delay) / self.q, self.rate,
                                   tail=round(config.tail * self.rate) if reverberant else 0,
-                                  sure=candidates.likeness >= config.likeness, ridge=config.tail_ridge)
+                                  sure=candidates.likeness >= config.likeness, ridge=config.tail_ridge, e=self.e)
 
 
 def _level_band(band, rate, q, first, config, guessed=None):
@@ -2134,8 +2136,8 @@ def _level_band(band, rate, q, first, config, guessed=None):
         lowest, lowest_rate, lowest_delay = guessed
     else:
         lowest, lowest_rate, lowest_delay = _decimate(band, rate, q3)
-    coefficients, _ = _robust_innovation(lowest, config.level_order)
-    return _LevelBand(lowest, q3, lowest_delay, lowest_rate, coefficients,
+    coefficients, e = _robust_innovation(lowest, config.level_order)
+    return _LevelBand(lowest, q3, lowest_delay, lowest_rate, coefficients, e,
                       _noise_floor(lowest, lowest_rate, config.floor_quantile))
 
 
@@ -2712,7 +2714,7 @@ def _level_corner(band, rate, onsets, config):
     return float(max(config.level_band, config.level_ratio * lowest))
 
 
-def _attack_amplitudes(low, coefficients, positions, rate, *, tail=0, sure=None, ridge=0.01):
+def _attack_amplitudes(low, coefficients, positions, rate, *, tail=0, sure=None, ridge=0.01, e=None):
     """Each attack's own peak (full scale): the signal less the earlier sound predicted on past the onset.
 
     The earlier sound (the drum's and the room's ringing) is extrapolated past the onset from the
@@ -2723,7 +2725,7 @@ def _attack_amplitudes(low, coefficients, positions, rate, *, tail=0, sure=None,
     amplitude) is what the predictor cannot foresee of the earlier sound; an onset's own sound is
     then the predictor's response to its innovation less the tails (past the 5 ms) of the earlier
     onsets. ``sure`` (booleans, one per onset): the onsets so measured and whose tails are taken off;
-    ``ridge``: the tail's fit's (:func:`_room_tail`).
+    ``ridge``: the tail's fit's (:func:`_room_tail`); ``e``: ``low``'s prediction error by ``coefficients``, where known.
     """
     from ._kernels import prediction_error, residual_peaks, tail_free_peaks
 
@@ -2736,7 +2738,8 @@ def _attack_amplitudes(low, coefficients, positions, rate, *, tail=0, sure=None,
     inside = starts < len(low)
     if tail <= 0 or not np.any(inside):
         return amplitude
-    e = prediction_error(np.ascontiguousarray(coefficients, dtype=float), np.ascontiguousarray(low, dtype=float))
+    if e is None:
+        e = prediction_error(np.ascontiguousarray(coefficients, dtype=float), np.ascontiguousarray(low, dtype=float))
     h = _room_tail(e, starts[inside], amplitude[inside], tail, ridge)
     if h is None:
         return amplitude
