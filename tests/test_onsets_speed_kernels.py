@@ -204,3 +204,49 @@ def test_rising_blocks_are_the_python_loop(rng):
         rise = float(rng.uniform(0.5, 4.0))
         want = [j for j in range(low, high) if e[j] > 0.0 and e[j] >= rise * max(0.0, e[j - back:j - back + span].max())]
         np.testing.assert_array_equal(rising(e, low, high, back, span, rise), np.array(want, dtype=np.int64))
+
+
+def test_accent_rises_are_the_python_loop(rng):
+    """_ghosts.accent_rises against the loop it replaced, read plainly (each accent's mates' remainders by
+    remainder_blocks, cut where fewer than the mates asked reach, the rises by rising): the same rises, mates and
+    windows, over random bands, onsets and mates (windows cut by the next attack, by the remainders, none left)."""
+    from drumstroke.analysis._ghosts import accent_rises, remainder_blocks, rising
+
+    for _ in range(200):
+        size, before, after, width, block = 40, 40, 40, 16, 4
+        span = int(rng.integers(60, 400))
+        c = np.sort(rng.choice(np.arange(50, 3000), int(rng.integers(3, 12)), replace=False)).astype(np.int64)
+        band = rng.standard_normal(4000) * np.exp(-np.arange(4000) % 300 / 60.0)
+        which = np.sort(rng.choice(len(c), int(rng.integers(2, len(c) + 1)), replace=False)).astype(np.int64)
+        ends = c + rng.integers(1, 500, len(c))
+        accents = np.flatnonzero(rng.random(len(which)) < 0.7).astype(np.int64)
+        count = rng.integers(1, 4, len(accents)).astype(np.int64)
+        mate = rng.integers(0, len(which), int(count.sum())).astype(np.int64)
+        shifts = rng.integers(-2, 3, len(mate)).astype(np.int64)
+        scales = rng.uniform(0.5, 1.5, len(mate))
+        fewest, rise = int(rng.integers(1, 3)), float(rng.uniform(1.0, 3.0))
+        first = np.cumsum(count) - count
+        got = accent_rises(band, c, which, ends, accents, first, count, mate, shifts, scales, span, size, before,
+                           after, width, block, fewest, rise)
+        want = ([], [], [], np.zeros(len(accents), dtype=np.int64))
+        for k, i in enumerate(accents):
+            b = which[i]
+            length = min(span, ends[b] - c[b])
+            if length <= size + before:
+                continue
+            want[3][k] = length + after
+            used = range(first[k], first[k] + count[k])
+            starts = np.array([c[which[mate[u]]] + shifts[u] for u in used], dtype=np.int64)
+            valid = np.array([((c[which[mate[u]] + 1] if which[mate[u]] + 1 < len(c) else len(band))
+                               - c[which[mate[u]]] - width) // block for u in used], dtype=np.int64)
+            e, pick = remainder_blocks(band, c[b], starts, scales[first[k]:first[k] + count[k]], valid,
+                                       (length + after) // block, block, width // block, fewest)
+            short = np.flatnonzero(~np.isfinite(e))
+            length = min(length, short[0] * block if len(short) else length)
+            if length <= size + before:
+                continue
+            for j in rising(e, (size + before) // block, (length - width) // block, before // block,
+                            (before - width) // block, rise):
+                want[0].append(k), want[1].append(j), want[2].append(pick[j])
+        for g, w in zip(got, want):
+            np.testing.assert_array_equal(g, np.array(w, dtype=np.int64))

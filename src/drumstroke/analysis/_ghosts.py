@@ -69,6 +69,49 @@ def rising(e, low, high, back, span, rise):
     return out[:found].copy()
 
 
+@jit(error_model="numpy")
+def accent_rises(band, c, which, ends, accents, first, count, mate, shifts, scales, span, size, before, after, width,
+                 block, fewest, rise):
+    """:func:`ghost_onsets`' search of each accent's remainders for the blocks where a note rises (:func:`rising`), in
+    one loop: for each of ``accents`` (indices of ``which``, the clear attacks; the onsets ``c``, full-rate samples,
+    the search's ``ends``) its mates ``mate[first:first + count]`` (indices of ``which``), each placed ``shifts``
+    samples off and scaled by ``scales``. Returns for each rise its accent (index of ``accents``), its block, the
+    mate whose remainder is the least there [each shape=(n,)], and each accent's window's length (samples of ``band``
+    from its onset) [shape=(len(accents),)]."""
+    found, blocks, mates = [], [], []
+    lengths = np.zeros(len(accents), dtype=np.int64)
+    for k in range(len(accents)):
+        b = which[accents[k]]
+        length = min(span, ends[b] - c[b])
+        if length <= size + before:  # no room for a note's rise before the next attack (a drop's later bounces)
+            continue
+        lengths[k] = length + after
+        starts = np.empty(count[k], dtype=np.int64)
+        valid = np.empty(count[k], dtype=np.int64)
+        for n in range(count[k]):
+            a = which[mate[first[k] + n]]
+            starts[n] = c[a] + shifts[first[k] + n]
+            # a mate's own later notes are not b's: its remainder counts up to its next attack only
+            valid[n] = ((c[a + 1] if a + 1 < len(c) else len(band)) - c[a] - width) // block
+        e, pick = remainder_blocks(band, c[b], starts, scales[first[k]:first[k] + count[k]], valid,
+                                   lengths[k] // block, block, width // block, fewest)
+        # two mates or more at each block: one mate's missed note would be left in its remainder alone (where one
+        # reaches, whose the note is says: the accent's, louder in it than in the mate)
+        for j in range(len(e)):
+            if not np.isfinite(e[j]):
+                length = min(length, j * block)
+                break
+        if length <= size + before:
+            continue
+        for j in rising(e, (size + before) // block, (length - width) // block, before // block,
+                        (before - width) // block, rise):
+            found.append(k)
+            blocks.append(j)
+            mates.append(pick[j])
+    return (np.array(found, dtype=np.int64), np.array(blocks, dtype=np.int64), np.array(mates, dtype=np.int64),
+            lengths)
+
+
 def _partners(band, starts, size, lag, likeness):
     """For each attack (``starts``: the samples its ``size``-sample window starts at), its layer-mates: (index,
     shift, scale) of each other attack whose window, shifted within ``lag`` samples, correlates by ``likeness``."""
@@ -143,36 +186,29 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
     ends = np.where(later.any(axis=1), c[np.argmax(later, axis=1)], len(band))
     mates = _partners(band, starts[which], size + pre, lag, likeness)
     rise, found = 10.0 ** (rise_db / 10.0), []
-    for i, b in enumerate(which):
-        if len(mates[i]) < 2:
-            continue
-        length = min(round(span * rate), ends[b] - c[b])
-        if length <= size + before:  # no room for a note's rise before the next attack (a drop's later bounces)
-            continue
-        x = band[c[b]:c[b] + length + after]
-        used = mates[i][:mates_used]
-        # energy over 0.25-ms blocks, over 1 ms from each block (its onset sought at full rate after)
-        block = max(1, width // 4)
-        starts_m = np.array([c[which[a]] + shift for a, shift, _ in used], dtype=np.int64)
-        scales = np.array([scale for _, _, scale in used])
+    # energy over 0.25-ms blocks, over 1 ms from each block (its onset sought at full rate after)
+    block = max(1, width // 4)
+    accents = [i for i in range(len(which)) if len(mates[i]) >= 2]
+    used = [mates[i][:mates_used] for i in accents]
+    count = np.array([len(u) for u in used], dtype=np.int64)
+    mate = np.array([a for u in used for a, _, _ in u], dtype=np.int64)
+    shifts = np.array([shift for u in used for _, shift, _ in u], dtype=np.int64)
+    scales_all = np.array([scale for u in used for _, _, scale in u], dtype=float)
+    which_accent, rises, picks, lengths = accent_rises(
+        band, c, which, ends, np.array(accents, dtype=np.int64), np.cumsum(count) - count, count, mate, shifts,
+        scales_all, round(span * rate), size, before, after, width, block, 1 if own_db < 120.0 else 2, rise)
+    for k in np.unique(which_accent).tolist():
+        b = which[accents[k]]
+        x = band[c[b]:c[b] + lengths[k]]
+        starts_m = np.array([c[which[a]] + shift for a, shift, _ in used[k]], dtype=np.int64)
+        scales = np.array([scale for _, _, scale in used[k]])
         # a mate's own later notes are not b's: its remainder counts up to its next attack only
         valid = np.array([((c[which[a] + 1] if which[a] + 1 < len(c) else len(band)) - c[which[a]] - width) // block
-                          for a, _, _ in used], dtype=np.int64)
-        e, pick = remainder_blocks(band, c[b], starts_m, scales, valid, len(x) // block, block, width // block,
-                                   1 if own_db < 120.0 else 2)
-        # two mates or more at each block: one mate's missed note would be left in its remainder alone (where one
-        # reaches, whose the note is says: the accent's, louder in it than in the mate)
-        short = np.flatnonzero(~np.isfinite(e))
-        length = min(length, short[0] * block if len(short) else length)
-        if length <= size + before:
-            continue
-        steps = rising(e, (size + before) // block, (length - width) // block, before // block,
-                       (before - width) // block, rise)
+                          for a, _, _ in used[k]], dtype=np.int64)
         last = -np.inf
-        for t in steps * block:
+        for t, m in zip((rises[which_accent == k] * block).tolist(), picks[which_accent == k].tolist()):
             if t < last + round(20e-3 * rate):
                 continue
-            m = pick[t // block]
             v = x - scales[m] * band[starts_m[m]:starts_m[m] + len(x)]
             peak = np.abs(v[t:t + width + after]).max()
             # past where two mates reach over its 1 ms, the note must be the accent's own
