@@ -2280,8 +2280,8 @@ def _clear_notes(x, starts, following, ends, rate, config, count):
     peaks = window_peaks(x, starts, ends)
     priors = window_peaks(x, np.maximum(starts - before, 0), starts)
     quiet = 10.0 ** (config.peak_clear_db / 20.0)
-    clear = [i for i, a in enumerate(starts) if following[i] - a >= window and priors[i] <= quiet * peaks[i]]
-    return sorted(clear, key=lambda i: -peaks[i])[:count], (peaks, priors)
+    clear = np.flatnonzero((following - starts >= window) & (priors <= quiet * peaks))
+    return clear[np.argsort(-peaks[clear], kind="stable")][:count].tolist(), (peaks, priors)  # ties in time order
 
 
 def _layers(x, starts, chosen, head, shift, likeness):
