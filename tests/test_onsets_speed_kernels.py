@@ -158,3 +158,95 @@ def test_fitted_attacks_are_the_python_loops(trial):
     for g, w in zip(got, want):
         np.testing.assert_array_equal(g, w)
     np.testing.assert_array_equal(got_band, want_band)
+
+
+@pytest.mark.parametrize("trial", range(6))
+def test_peaks_over_a_level_are_librosas(trial):
+    """_front.peak_pick_over gives librosa.util.peak_pick's peaks at least the level asked, where the stretches under
+    it are skipped: ties, flat stretches, peaks a window apart in a chain (a saw rising), short signals, levels none
+    and all pass."""
+    librosa = pytest.importorskip("librosa")
+    from drumstroke.analysis._front import peak_pick_over
+
+    rng = np.random.default_rng(trial)
+    for case in range(400):
+        n = int(rng.integers(1, 500))
+        kind = case % 5
+        if kind == 0:
+            x = rng.standard_normal(n)
+        elif kind == 1:
+            x = rng.integers(0, 4, n).astype(float)
+        elif kind == 2:
+            x = np.repeat(rng.integers(0, 5, n), rng.integers(1, 8))[:n].astype(float)
+        elif kind == 3:
+            x = np.abs(rng.standard_normal(n)) * (rng.random(n) < 0.05) * 10.0
+        else:
+            x = np.arange(n) % int(rng.integers(1, 12)) + 0.1 * np.arange(n)
+        gap = int(rng.integers(1, 25))
+        least = float(rng.choice([np.quantile(x, rng.random()), -np.inf, np.inf, 0.0, 1.0]))
+        want = librosa.util.peak_pick(x, pre_max=gap, post_max=gap, pre_avg=1, post_avg=1, delta=0.0, wait=gap)
+        want = want[x[want] >= least]
+        np.testing.assert_array_equal(peak_pick_over(x, gap, np.nextafter(least, -np.inf)), want,
+                                      err_msg=f"kind={kind}, n={n}, gap={gap}, least={least}")
+
+
+def test_rising_blocks_are_the_python_loop(rng):
+    """_ghosts.rising against its definition read plainly: each block's value against the most over its span before."""
+    from drumstroke.analysis._ghosts import rising
+
+    for _ in range(300):
+        e = rng.standard_normal(int(rng.integers(40, 200))) * (rng.random() < 0.5 or 1.0)
+        e[rng.random(len(e)) < 0.2] = 0.0
+        back = int(rng.integers(1, 20))
+        span = int(rng.integers(1, back + 1))
+        low = int(rng.integers(back, len(e) - 1))
+        high = int(rng.integers(low, len(e)))
+        rise = float(rng.uniform(0.5, 4.0))
+        want = [j for j in range(low, high) if e[j] > 0.0 and e[j] >= rise * max(0.0, e[j - back:j - back + span].max())]
+        np.testing.assert_array_equal(rising(e, low, high, back, span, rise), np.array(want, dtype=np.int64))
+
+
+def test_accent_rises_are_the_python_loop(rng):
+    """_ghosts.accent_rises against the loop it replaced, read plainly (each accent's mates' remainders by
+    remainder_blocks, cut where fewer than the mates asked reach, the rises by rising): the same rises, mates and
+    windows, over random bands, onsets and mates (windows cut by the next attack, by the remainders, none left)."""
+    from drumstroke.analysis._ghosts import accent_rises, remainder_blocks, rising
+
+    for _ in range(200):
+        size, before, after, width, block = 40, 40, 40, 16, 4
+        span = int(rng.integers(60, 400))
+        c = np.sort(rng.choice(np.arange(50, 3000), int(rng.integers(3, 12)), replace=False)).astype(np.int64)
+        band = rng.standard_normal(4000) * np.exp(-np.arange(4000) % 300 / 60.0)
+        which = np.sort(rng.choice(len(c), int(rng.integers(2, len(c) + 1)), replace=False)).astype(np.int64)
+        ends = c + rng.integers(1, 500, len(c))
+        accents = np.flatnonzero(rng.random(len(which)) < 0.7).astype(np.int64)
+        count = rng.integers(1, 4, len(accents)).astype(np.int64)
+        mate = rng.integers(0, len(which), int(count.sum())).astype(np.int64)
+        shifts = rng.integers(-2, 3, len(mate)).astype(np.int64)
+        scales = rng.uniform(0.5, 1.5, len(mate))
+        fewest, rise = int(rng.integers(1, 3)), float(rng.uniform(1.0, 3.0))
+        first = np.cumsum(count) - count
+        got = accent_rises(band, c, which, ends, accents, first, count, mate, shifts, scales, span, size, before,
+                           after, width, block, fewest, rise)
+        want = ([], [], [], np.zeros(len(accents), dtype=np.int64))
+        for k, i in enumerate(accents):
+            b = which[i]
+            length = min(span, ends[b] - c[b])
+            if length <= size + before:
+                continue
+            want[3][k] = length + after
+            used = range(first[k], first[k] + count[k])
+            starts = np.array([c[which[mate[u]]] + shifts[u] for u in used], dtype=np.int64)
+            valid = np.array([((c[which[mate[u]] + 1] if which[mate[u]] + 1 < len(c) else len(band))
+                               - c[which[mate[u]]] - width) // block for u in used], dtype=np.int64)
+            e, pick = remainder_blocks(band, c[b], starts, scales[first[k]:first[k] + count[k]], valid,
+                                       (length + after) // block, block, width // block, fewest)
+            short = np.flatnonzero(~np.isfinite(e))
+            length = min(length, short[0] * block if len(short) else length)
+            if length <= size + before:
+                continue
+            for j in rising(e, (size + before) // block, (length - width) // block, before // block,
+                            (before - width) // block, rise):
+                want[0].append(k), want[1].append(j), want[2].append(pick[j])
+        for g, w in zip(got, want):
+            np.testing.assert_array_equal(g, np.array(w, dtype=np.int64))

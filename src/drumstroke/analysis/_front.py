@@ -557,6 +557,86 @@ def peak_pick(x, gap):
     return kept[:found].copy()
 
 
+@jit
+def peak_pick_over(x, gap, below):
+    """:func:`peak_pick`'s peaks over ``below`` (the largest float under the least asked: those at least that, and NaN),
+    the stretches under it skipped where what is picked after them does not depend on what is picked in them.
+
+    A peak keeps those after it from being picked for ``gap`` samples only: where no sample from ``q - gap`` to
+    ``q`` is a peak (the largest of its window, at least its predecessor's and their mean), those from ``q`` on are
+    picked as though the signal began there (the last picked before is more than ``gap`` samples before each).
+    Before the next sample over ``below``, ``q`` is sought ``gap`` samples back at a time, the picking started there;
+    where none is found after where it stands, it goes on through the stretch."""
+    count = len(x)
+    none = -count - gap - 1
+    first = True
+    for n in range(min(gap, count)):
+        if x[n] > x[0]:
+            first = False
+    kept = np.empty(count // (gap + 1) + 2, dtype=np.int64)
+    found, last = 0, -gap - 1
+    if first:
+        last = 0
+        if not x[0] <= below:
+            kept[0], found = 0, 1
+    n, tie, scanned, bigger = 1, False, 0, none
+    while n < count:
+        if not tie and x[n] <= below:
+            h = _first_over_far(x, n, count, below)
+            if h == count:
+                break
+            q = h - gap
+            while q - gap > n and _any_peak(x, q - gap, q, gap):
+                q -= gap
+            if q - gap > n:  # no peak from q - gap to q: what was picked before does not matter from q on
+                n, last = q, -gap - 1
+        v = x[n]
+        high = min(count, n + gap)
+        m = _first_over(x, max(scanned, n + 1) if tie else n + 1, high, v)
+        if m < high:
+            n, tie = m, False
+            continue
+        if not tie:
+            bigger = _last_larger(x, max(0, n - gap), n, v, none)
+        if bigger < n - gap and v >= (x[n - 1] + v) / 2.0 and n > last + gap:
+            if not v <= below:
+                kept[found] = n
+                found += 1
+            last = n
+        scanned = high
+        m = _first_equal(x, n + 1, high, v)
+        n, tie = m, m < high
+    return kept[:found].copy()
+
+
+@jit(inline="always")
+def _first_over_far(x, low, high, v):
+    """:func:`_first_over` for a long way: sixteen samples a step (four comparisons of four), then four."""
+    m = low
+    while m + 16 <= high and (_over(x, m, v) | _over(x, m + 4, v) | _over(x, m + 8, v) | _over(x, m + 12, v)) == 0:
+        m += 16
+    return _first_over(x, m, high, v)
+
+
+@jit(inline="always")
+def _any_peak(x, low, high, gap):
+    """Whether a sample from ``low`` (≥ 1) to ``high`` is the largest of its window (from ``gap`` samples before it to
+    ``gap - 1`` after) and at least its predecessor's and their mean: :func:`peak_pick`'s test but the last peak's."""
+    count = len(x)
+    n = low
+    while n < high:
+        v = x[n]
+        end = min(count, n + gap)
+        m = _first_over(x, n + 1, end, v)
+        if m < end:  # those before m are under it, or as large with m after them
+            n = m
+            continue
+        if _last_larger(x, max(0, n - gap), n, v, -count - gap - 1) < n - gap and v >= (x[n - 1] + v) / 2.0:
+            return True
+        n = _first_equal(x, n + 1, end, v)  # those before it are under v, n in their window
+    return False
+
+
 @jit(inline="always")
 def _first_over(x, low, high, v):
     """The first ``m`` from ``low`` with ``not x[m] <= v`` before ``high``, else ``high`` (four samples a comparison)."""

@@ -7,6 +7,7 @@ another note of the same layer, and what is left once it is taken off is the not
 import numpy as np
 
 from .._jit import jit
+from ._kernels import window_peaks
 
 
 @jit(error_model="numpy")
@@ -46,7 +47,8 @@ def remainder_blocks(band, start, mates, scales, valid, blocks, block, window, f
 def rising(e, low, high, back, span, rise):
     """The blocks ``j`` in [``low``, ``high``) where ``e[j]`` is positive and ``rise`` times or more the most of
     ``e`` over the ``span`` blocks from ``j - back``."""
-    out = []
+    out = np.empty(max(high - low, 0), dtype=np.int64)
+    found = 0
     # the window's most kept by a queue of the blocks that may still be its most (values falling): each block in and
     # out once, instead of ``span`` reads a block
     queue = np.empty(max(high - low + span, 1), dtype=np.int64)
@@ -62,14 +64,58 @@ def rising(e, low, high, back, span, rise):
             first += 1
         most = max(0.0, e[queue[first]])
         if e[j] > 0.0 and e[j] >= rise * most:
-            out.append(j)
-    return np.array(out, dtype=np.int64)
+            out[found] = j
+            found += 1
+    return out[:found].copy()
+
+
+@jit(error_model="numpy")
+def accent_rises(band, c, which, ends, accents, first, count, mate, shifts, scales, span, size, before, after, width,
+                 block, fewest, rise):
+    """:func:`ghost_onsets`' search of each accent's remainders for the blocks where a note rises (:func:`rising`), in
+    one loop: for each of ``accents`` (indices of ``which``, the clear attacks; the onsets ``c``, full-rate samples,
+    the search's ``ends``) its mates ``mate[first:first + count]`` (indices of ``which``), each placed ``shifts``
+    samples off and scaled by ``scales``. Returns for each rise its accent (index of ``accents``), its block, the
+    mate whose remainder is the least there [each shape=(n,)], and each accent's window's length (samples of ``band``
+    from its onset) [shape=(len(accents),)]."""
+    found, blocks, mates = [], [], []
+    lengths = np.zeros(len(accents), dtype=np.int64)
+    for k in range(len(accents)):
+        b = which[accents[k]]
+        length = min(span, ends[b] - c[b])
+        if length <= size + before:  # no room for a note's rise before the next attack (a drop's later bounces)
+            continue
+        lengths[k] = length + after
+        starts = np.empty(count[k], dtype=np.int64)
+        valid = np.empty(count[k], dtype=np.int64)
+        for n in range(count[k]):
+            a = which[mate[first[k] + n]]
+            starts[n] = c[a] + shifts[first[k] + n]
+            # a mate's own later notes are not b's: its remainder counts up to its next attack only
+            valid[n] = ((c[a + 1] if a + 1 < len(c) else len(band)) - c[a] - width) // block
+        e, pick = remainder_blocks(band, c[b], starts, scales[first[k]:first[k] + count[k]], valid,
+                                   lengths[k] // block, block, width // block, fewest)
+        # two mates or more at each block: one mate's missed note would be left in its remainder alone (where one
+        # reaches, whose the note is says: the accent's, louder in it than in the mate)
+        for j in range(len(e)):
+            if not np.isfinite(e[j]):
+                length = min(length, j * block)
+                break
+        if length <= size + before:
+            continue
+        for j in rising(e, (size + before) // block, (length - width) // block, before // block,
+                        (before - width) // block, rise):
+            found.append(k)
+            blocks.append(j)
+            mates.append(pick[j])
+    return (np.array(found, dtype=np.int64), np.array(blocks, dtype=np.int64), np.array(mates, dtype=np.int64),
+            lengths)
 
 
 def _partners(band, starts, size, lag, likeness):
     """For each attack (``starts``: the samples its ``size``-sample window starts at), its layer-mates: (index,
     shift, scale) of each other attack whose window, shifted within ``lag`` samples, correlates by ``likeness``."""
-    views = np.lib.stride_tricks.sliding_window_view(band, size)
+    views = windows(band, size)
     own = views[starts]
     norms = np.maximum(np.linalg.norm(own, axis=1), 1e-300)
     mates = [[] for _ in starts]
@@ -78,10 +124,19 @@ def _partners(band, starts, size, lag, likeness):
         energy = np.maximum(np.einsum("ij,ij->i", shifted, shifted), 1e-300)
         cross = own @ shifted.T  # [b, a]: attack b against attack a shifted
         like = cross / (norms[:, None] * np.sqrt(energy)[None, :])
-        for b, a in zip(*np.nonzero(like >= likeness)):
-            if a != b:
-                mates[b].append((like[b, a], a, shift, cross[b, a] / energy[a]))
+        bs, as_ = np.nonzero(like >= likeness)
+        bs, as_ = bs[bs != as_], as_[bs != as_]
+        for b, found, a, scale in zip(bs.tolist(), like[bs, as_].tolist(), as_.tolist(),
+                                      (cross[bs, as_] / energy[as_]).tolist()):
+            mates[b].append((found, a, shift, scale))
     return [[m[1:] for m in sorted(found, reverse=True)] for found in mates]
+
+
+def windows(x, size):
+    """``sliding_window_view(x, size)`` (the same strides), without its checks' time where ``x`` is contiguous."""
+    if not x.flags.c_contiguous:
+        return np.lib.stride_tricks.sliding_window_view(x, size)
+    return np.ndarray((len(x) - size + 1, size), dtype=x.dtype, buffer=x, strides=(x.itemsize, x.itemsize))
 
 
 def _own(x, band, mate, scale, t, size, own_db):
@@ -120,43 +175,40 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
     which = np.flatnonzero(ok)
     if len(which) < 3:
         return np.empty(0)
-    loud = np.lib.stride_tricks.sliding_window_view(band, round(5e-3 * rate))[np.minimum(c, len(band) - round(5e-3 * rate))]
-    loud = np.abs(loud).max(axis=1)
+    # each attack's peak over the 5 ms from it (the last 5 ms of ``band`` from past its end; from before its start,
+    # as a negative index reads the windows, counted from the end)
+    windows_count = len(band) - round(5e-3 * rate) + 1
+    lows = np.minimum(c, windows_count - 1)
+    lows = np.where(lows < 0, lows + windows_count, lows)
+    loud = window_peaks(band, lows, lows + round(5e-3 * rate))
     # the next attack within quiet_db of each: its sound is no longer one attack's
     later = (loud[None, :] >= loud[:, None] * 10.0 ** (quiet_db / 20.0)) & np.triu(np.ones((len(c), len(c)), bool), 1)
     ends = np.where(later.any(axis=1), c[np.argmax(later, axis=1)], len(band))
     mates = _partners(band, starts[which], size + pre, lag, likeness)
     rise, found = 10.0 ** (rise_db / 10.0), []
-    for i, b in enumerate(which):
-        if len(mates[i]) < 2:
-            continue
-        length = min(round(span * rate), ends[b] - c[b])
-        if length <= size + before:  # no room for a note's rise before the next attack (a drop's later bounces)
-            continue
-        x = band[c[b]:c[b] + length + after]
-        used = mates[i][:mates_used]
-        # energy over 0.25-ms blocks, over 1 ms from each block (its onset sought at full rate after)
-        block = max(1, width // 4)
-        starts_m = np.array([c[which[a]] + shift for a, shift, _ in used], dtype=np.int64)
-        scales = np.array([scale for _, _, scale in used])
+    # energy over 0.25-ms blocks, over 1 ms from each block (its onset sought at full rate after)
+    block = max(1, width // 4)
+    accents = [i for i in range(len(which)) if len(mates[i]) >= 2]
+    used = [mates[i][:mates_used] for i in accents]
+    count = np.array([len(u) for u in used], dtype=np.int64)
+    mate = np.array([a for u in used for a, _, _ in u], dtype=np.int64)
+    shifts = np.array([shift for u in used for _, shift, _ in u], dtype=np.int64)
+    scales_all = np.array([scale for u in used for _, _, scale in u], dtype=float)
+    which_accent, rises, picks, lengths = accent_rises(
+        band, c, which, ends, np.array(accents, dtype=np.int64), np.cumsum(count) - count, count, mate, shifts,
+        scales_all, round(span * rate), size, before, after, width, block, 1 if own_db < 120.0 else 2, rise)
+    for k in np.unique(which_accent).tolist():
+        b = which[accents[k]]
+        x = band[c[b]:c[b] + lengths[k]]
+        starts_m = np.array([c[which[a]] + shift for a, shift, _ in used[k]], dtype=np.int64)
+        scales = np.array([scale for _, _, scale in used[k]])
         # a mate's own later notes are not b's: its remainder counts up to its next attack only
         valid = np.array([((c[which[a] + 1] if which[a] + 1 < len(c) else len(band)) - c[which[a]] - width) // block
-                          for a, _, _ in used], dtype=np.int64)
-        e, pick = remainder_blocks(band, c[b], starts_m, scales, valid, len(x) // block, block, width // block,
-                                   1 if own_db < 120.0 else 2)
-        # two mates or more at each block: one mate's missed note would be left in its remainder alone (where one
-        # reaches, whose the note is says: the accent's, louder in it than in the mate)
-        short = np.flatnonzero(~np.isfinite(e))
-        length = min(length, short[0] * block if len(short) else length)
-        if length <= size + before:
-            continue
-        steps = rising(e, (size + before) // block, (length - width) // block, before // block,
-                       (before - width) // block, rise)
+                          for a, _, _ in used[k]], dtype=np.int64)
         last = -np.inf
-        for t in steps * block:
+        for t, m in zip((rises[which_accent == k] * block).tolist(), picks[which_accent == k].tolist()):
             if t < last + round(20e-3 * rate):
                 continue
-            m = pick[t // block]
             v = x - scales[m] * band[starts_m[m]:starts_m[m] + len(x)]
             peak = np.abs(v[t:t + width + after]).max()
             # past where two mates reach over its 1 ms, the note must be the accent's own

@@ -1692,6 +1692,8 @@ def _replays(band, times, clear, rate, config):
     before the next) whose first ``template_fit`` s correlate by ``replay_likeness`` (within 2 samples), as a sample
     player's notes of one velocity layer do (the corpus's SoundFonts: 0.9998 or more in every drop and roll), not a
     struck drum's (drumstroke's synthetic drums, 180 strokes: 0.998 at most)."""
+    from ._ghosts import windows
+
     pre, lag = round(0.5e-3 * rate), 2
     size = pre + round(config.template_fit * rate)
     starts = np.rint(times).astype(np.int64) - pre
@@ -1699,7 +1701,7 @@ def _replays(band, times, clear, rate, config):
     starts = starts[which[(starts[which] >= lag) & (starts[which] + size + lag <= len(band))]]
     if len(starts) < 2:
         return False
-    views = np.lib.stride_tricks.sliding_window_view(band, size)
+    views = windows(band, size)
     own = views[starts]
     own = own / np.maximum(np.linalg.norm(own, axis=1), 1e-300)[:, None]
     for shift in sorted(range(-lag, lag + 1), key=abs):  # the same lag first: where a sample is replayed, it is found
@@ -2121,20 +2123,22 @@ def _median_and_spread(values):
 @dataclass(frozen=True)
 class _LevelBand:
     """Step 5's band of the drum's lowest modes: ``x`` decimated ``q`` times (at ``rate`` Hz, its filter's delay
-    ``delay`` full-rate samples), its predictor's error filter ``coefficients`` and its noise ``floor`` (full scale)."""
+    ``delay`` full-rate samples), its predictor's error filter ``coefficients``, what that does not predict ``e``, and
+    its noise ``floor`` (full scale)."""
 
     x: np.ndarray
     q: int
     delay: float
     rate: float
     coefficients: np.ndarray
+    e: np.ndarray
     floor: float
 
     def amplitudes(self, candidates, reverberant, config):
         """Each candidate's amplitude in the band (full scale): :func:`_attack_amplitudes`."""
         return _attack_amplitudes(self.x, self.coefficients, (candidates.times + self.delay) / self.q, self.rate,
                                   tail=round(config.tail * self.rate) if reverberant else 0,
-                                  sure=candidates.likeness >= config.likeness, ridge=config.tail_ridge)
+                                  sure=candidates.likeness >= config.likeness, ridge=config.tail_ridge, e=self.e)
 
 
 def _level_band(band, rate, q, first, config, guessed=None):
@@ -2146,8 +2150,8 @@ def _level_band(band, rate, q, first, config, guessed=None):
         lowest, lowest_rate, lowest_delay = guessed
     else:
         lowest, lowest_rate, lowest_delay = _decimate(band, rate, q3)
-    coefficients, _ = _robust_innovation(lowest, config.level_order)
-    return _LevelBand(lowest, q3, lowest_delay, lowest_rate, coefficients,
+    coefficients, e = _robust_innovation(lowest, config.level_order)
+    return _LevelBand(lowest, q3, lowest_delay, lowest_rate, coefficients, e,
                       _noise_floor(lowest, lowest_rate, config.floor_quantile))
 
 
@@ -2290,8 +2294,8 @@ def _clear_notes(x, starts, following, ends, rate, config, count):
     peaks = window_peaks(x, starts, ends)
     priors = window_peaks(x, np.maximum(starts - before, 0), starts)
     quiet = 10.0 ** (config.peak_clear_db / 20.0)
-    clear = [i for i, a in enumerate(starts) if following[i] - a >= window and priors[i] <= quiet * peaks[i]]
-    return sorted(clear, key=lambda i: -peaks[i])[:count], (peaks, priors)
+    clear = np.flatnonzero((following - starts >= window) & (priors <= quiet * peaks))
+    return clear[np.argsort(-peaks[clear], kind="stable")][:count].tolist(), (peaks, priors)  # ties in time order
 
 
 def _layers(x, starts, chosen, head, shift, likeness):
@@ -2481,7 +2485,7 @@ def _jumps(x, rate, min_interval, least, samples=12, profile=None):
     and ``min_interval``), so memory does not grow with its length. ``profile`` is the jump profile of an ``x`` of one
     block (the RMS ratio at each sample, ``samples`` = 12), when found already.
     """
-    from ._front import jump_profile
+    from ._front import jump_profile, peak_pick_over
     from ._kernels import change_points
 
     width = _jump_width(rate, samples)
@@ -2492,7 +2496,7 @@ def _jumps(x, rate, min_interval, least, samples=12, profile=None):
         low, high = max(0, start - margin), min(len(x), start + _BLOCK + margin)
         jump = profile if profile is not None else \
             jump_profile(np.ascontiguousarray(x[low:high], dtype=float), width)  # 0 over the first 4 windows
-        found = _peak_pick(jump, gap)
+        found = peak_pick_over(jump, gap, np.nextafter(least, -np.inf))  # _peak_pick's at least ``least``
         found = found[(jump[found] >= least) & (low + found >= start) & (low + found < start + _BLOCK)]
         peaks.append(low + found)
     x = np.ascontiguousarray(x, dtype=float)
@@ -2724,7 +2728,7 @@ def _level_corner(band, rate, onsets, config):
     return float(max(config.level_band, config.level_ratio * lowest))
 
 
-def _attack_amplitudes(low, coefficients, positions, rate, *, tail=0, sure=None, ridge=0.01):
+def _attack_amplitudes(low, coefficients, positions, rate, *, tail=0, sure=None, ridge=0.01, e=None):
     """Each attack's own peak (full scale): the signal less the earlier sound predicted on past the onset.
 
     The earlier sound (the drum's and the room's ringing) is extrapolated past the onset from the
@@ -2735,7 +2739,7 @@ def _attack_amplitudes(low, coefficients, positions, rate, *, tail=0, sure=None,
     amplitude) is what the predictor cannot foresee of the earlier sound; an onset's own sound is
     then the predictor's response to its innovation less the tails (past the 5 ms) of the earlier
     onsets. ``sure`` (booleans, one per onset): the onsets so measured and whose tails are taken off;
-    ``ridge``: the tail's fit's (:func:`_room_tail`).
+    ``ridge``: the tail's fit's (:func:`_room_tail`); ``e``: ``low``'s prediction error by ``coefficients``, where known.
     """
     from ._kernels import prediction_error, residual_peaks, tail_free_peaks
 
@@ -2748,7 +2752,8 @@ def _attack_amplitudes(low, coefficients, positions, rate, *, tail=0, sure=None,
     inside = starts < len(low)
     if tail <= 0 or not np.any(inside):
         return amplitude
-    e = prediction_error(np.ascontiguousarray(coefficients, dtype=float), np.ascontiguousarray(low, dtype=float))
+    if e is None:
+        e = prediction_error(np.ascontiguousarray(coefficients, dtype=float), np.ascontiguousarray(low, dtype=float))
     h = _room_tail(e, starts[inside], amplitude[inside], tail, ridge)
     if h is None:
         return amplitude
