@@ -67,8 +67,9 @@ def template_attacks(d, times, span, gap, pre, clear, below, least_room, tail):
 
 @jit
 def next_attack(x, head, low, high, pre, reach, base, width, energy, rise, likeness, least):
-    """:func:`.onsets._next_attack` once its bounds are checked (``pre <= low``, ``base <= low - pre``): the
-    sample, or -1.
+    """The next attack :func:`fitted_attacks` takes: the first sample in ``[low, high)`` where ``head`` (the template's
+    start) correlates by ``likeness`` with what is left, rising out of the sound before it, or -1 (its bounds checked
+    by the caller: ``pre <= low``, ``base <= low - pre``).
 
     The window from each sample ``n`` in ``[low, high)`` is ``x[n - pre:n - pre + len(head)]``; its jump is
     :func:`.onsets._windows`' (``width``) over ``x[base:high]``, the power summed in order from ``x[base]``.

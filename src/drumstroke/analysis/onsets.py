@@ -1479,7 +1479,7 @@ def _template_search(band, d, rate, candidates, refused, config, replays, quiete
     a dB or two quieter than the one before, while a recorded snare's sound peaks 1-9 ms after its
     start: a bounce starts under the earlier one's sound still at its loudest, and what is left of
     that sound once the template is taken off (:func:`_fit_template`) is as loud over a millisecond
-    as the new bounce's lead-in. The remainder does not rise there (:func:`_next_attack` asks it to),
+    as the new bounce's lead-in. The remainder does not rise there (:func:`._templates.next_attack` asks it to),
     but its shape is the template's start. In time order, each attack is fitted by the template (its
     scale by least squares over ``template_fit`` s or up to the next attack, at its time) and taken
     off; between it and ``bounce_reach`` s after it (``min_interval`` from it and from the next
