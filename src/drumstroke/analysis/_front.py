@@ -15,7 +15,8 @@ What makes them faster is where the operations run, not what they are:
   divider (:func:`low_pass_three_and_jumps`); the high-pass on its recursion, its largest sample on nothing
   (:func:`high_pass`).
 - Fewer passes: Burg's update of an order's errors and the next order's numerator in one pass (:func:`burg`); the
-  peak picker's scans for a larger or an equal sample four samples a comparison (:func:`peak_pick`).
+  peak picker's scans for a larger or an equal sample four samples a comparison, a stretch under the least asked
+  sixteen (:func:`peak_pick_over`).
 
 A module of its own (as :mod:`._kernels`) so that importing :mod:`drumstroke.analysis` does not import numba.
 """
@@ -517,50 +518,18 @@ def jump_profile(x, width):
 
 
 @jit
-def peak_pick(x, gap):
-    """:func:`.onsets._peak_pick` (``librosa.util.peak_pick(x, pre_max=gap, post_max=gap, pre_avg=1, post_avg=1,
-    delta=0, wait=gap)``) in linear time, the scans for a larger or an equal sample four samples a comparison.
+def peak_pick_over(x, gap, below):
+    """:func:`.onsets._peak_pick`'s peaks (``librosa.util.peak_pick(x, pre_max=gap, post_max=gap, pre_avg=1,
+    post_avg=1, delta=0, wait=gap)``, in linear time) over ``below`` (the largest float under the least asked: those at
+    least that, and NaN; ``-inf``: every peak), the stretches under it skipped where what is picked after them does not
+    depend on what is picked in them.
 
     A sample is a peak when it is the largest from ``gap`` before it to ``gap - 1`` after, at least its predecessor's
-    and their mean, and more than ``gap`` after the last peak (greedily)."""
-    count = len(x)
-    first = True
-    for n in range(min(gap, count)):
-        if x[n] > x[0]:
-            first = False
-    kept = np.empty(count // (gap + 1) + 2, dtype=np.int64)
-    found, last = 0, -gap - 1
-    if first:
-        kept[0], found, last = 0, 1, 0
-    # the candidates come in time order: each kept as found if more than gap after the last kept. From each sample,
-    # the first larger one after it within its window: there is none there (each between is no larger than it, the
-    # larger one in its window); else it is the largest after it, and those after it up to its window's end are
-    # smaller (it is in their window: none) or equal (tried in turn, what is known of the equal run kept: how far
-    # after it all are no larger, the nearest larger before it)
-    n, tie, scanned, bigger = 1, False, 0, -count - gap - 1
-    while n < count:
-        v = x[n]
-        high = min(count, n + gap)
-        m = _first_over(x, max(scanned, n + 1) if tie else n + 1, high, v)
-        if m < high:
-            n, tie = m, False
-            continue
-        if not tie:  # the nearest larger one within the window before it
-            bigger = _last_larger(x, max(0, n - gap), n, v, -count - gap - 1)
-        if bigger < n - gap and v >= (x[n - 1] + v) / 2.0 and n > last + gap:
-            kept[found] = n
-            found += 1
-            last = n
-        scanned = high
-        m = _first_equal(x, n + 1, high, v)
-        n, tie = m, m < high
-    return kept[:found].copy()
-
-
-@jit
-def peak_pick_over(x, gap, below):
-    """:func:`peak_pick`'s peaks over ``below`` (the largest float under the least asked: those at least that, and NaN),
-    the stretches under it skipped where what is picked after them does not depend on what is picked in them.
+    and their mean, and more than ``gap`` after the last peak (greedily). From each sample, the first larger one after
+    it within its window is sought four samples a comparison: there is none there (each between is no larger than it,
+    the larger one in its window); else it is the largest after it, and those after it up to its window's end are
+    smaller (it is in their window: none) or equal (tried in turn, what is known of the equal run kept: how far after
+    it all are no larger, the nearest larger before it).
 
     A peak keeps those after it from being picked for ``gap`` samples only: where no sample from ``q - gap`` to
     ``q`` is a peak (the largest of its window, at least its predecessor's and their mean), those from ``q`` on are
@@ -621,7 +590,7 @@ def _first_over_far(x, low, high, v):
 @jit(inline="always")
 def _any_peak(x, low, high, gap):
     """Whether a sample from ``low`` (≥ 1) to ``high`` is the largest of its window (from ``gap`` samples before it to
-    ``gap - 1`` after) and at least its predecessor's and their mean: :func:`peak_pick`'s test but the last peak's."""
+    ``gap - 1`` after) and at least its predecessor's and their mean: :func:`.onsets._peak_pick`'s test but the last peak's."""
     count = len(x)
     n = low
     while n < high:

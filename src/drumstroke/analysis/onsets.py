@@ -2515,9 +2515,9 @@ def _peak_pick(x, gap):
     least its predecessor, and more than ``gap`` samples after the last peak (greedily, in order; the
     first sample is a peak when it is the largest of the first ``gap``).
     """
-    from ._front import peak_pick
+    from ._front import peak_pick_over
 
-    return peak_pick(np.ascontiguousarray(x, dtype=float), gap)
+    return peak_pick_over(np.ascontiguousarray(x, dtype=float), gap, -np.inf)
 
 
 def _frames(x, start, count, size):
