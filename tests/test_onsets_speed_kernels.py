@@ -250,3 +250,30 @@ def test_accent_rises_are_the_python_loop(rng):
                 want[0].append(k), want[1].append(j), want[2].append(pick[j])
         for g, w in zip(got, want):
             np.testing.assert_array_equal(g, np.array(w, dtype=np.int64))
+
+
+def test_template_search_correlations_are_the_loop_they_replaced(rng):
+    """_attacks._correlations (now _kernels.window_dots, eight terms a pass) against the loop it replaced: each window's
+    products added in order of the template's samples, one product to every window's sum at a time (to the bit)."""
+    from numba import njit
+
+    from drumstroke.analysis._attacks import _correlations
+
+    @njit
+    def replaced(x, start, t, count):
+        samples = x[start:start + count + len(t) - 1].copy()
+        out = np.zeros(count)
+        for j in range(len(t)):
+            v = t[j]
+            window = samples[j:j + count]
+            for k in range(count):
+                out[k] += window[k] * v
+        return out
+
+    for size in list(range(1, 20)) + [168, 504]:
+        count = int(rng.integers(1, 1200))
+        x = rng.standard_normal(count + size + 30) * 10.0 ** rng.uniform(-30, 30)
+        x[rng.random(len(x)) < 0.05] = 0.0
+        start = int(rng.integers(0, 30))
+        t = rng.standard_normal(size) * 10.0 ** rng.uniform(-3, 3)
+        np.testing.assert_array_equal(_correlations(x, start, t, count), replaced(x, start, t, count), strict=True)
