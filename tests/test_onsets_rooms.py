@@ -77,19 +77,6 @@ def test_echo_novelty_is_numpys_coarse_to_fine_least_squares(seed):
             assert got == pytest.approx(want, rel=1e-9) or got == want == math.inf
 
 
-def test_the_crosses_are_each_lags_dot_product_summed_in_order(rng):
-    """Four lags at a time or one, each lag's sum is the plain loop's: the same bits."""
-    x = rng.standard_normal(3000)
-    for count in range(11):
-        lags = np.sort(rng.choice(100, size=count, replace=False)).astype(np.int64)
-        got = _rooms._crosses(x, 1500, 700, lags, 333)
-        for lag, value in zip(lags, got):
-            total = 0.0
-            for k in range(333):
-                total += float(x[1500 + k]) * float(x[700 + lag + k])
-            assert value == total
-
-
 def _room_echoes_in_numpy(x, times, levels, clear, tried, attack, which, nearest, farthest, louder, alike, before,
                           after, reach, step, most_left, novel):
     attack = attack.copy()

@@ -277,3 +277,104 @@ def test_template_search_correlations_are_the_loop_they_replaced(rng):
         start = int(rng.integers(0, 30))
         t = rng.standard_normal(size) * 10.0 ** rng.uniform(-3, 3)
         np.testing.assert_array_equal(_correlations(x, start, t, count), replaced(x, start, t, count), strict=True)
+
+
+def _replaced_echo_novelty():
+    """_rooms.echo_novelty as it stood before its products came from _kernels.window_dots: the lags tried each time
+    (coarse, then fine about the best) summed four at a time, each in order."""
+    import math
+
+    from numba import njit
+
+    @njit
+    def crosses_of(x, start, low, lags, width):
+        out = np.empty(len(lags))
+        n = 0
+        while n + 4 <= len(lags):
+            a, b, c, e = low + lags[n], low + lags[n + 1], low + lags[n + 2], low + lags[n + 3]
+            s0, s1, s2, s3 = 0.0, 0.0, 0.0, 0.0
+            for k in range(width):
+                v = x[start + k]
+                s0 += v * x[a + k]
+                s1 += v * x[b + k]
+                s2 += v * x[c + k]
+                s3 += v * x[e + k]
+            out[n], out[n + 1], out[n + 2], out[n + 3] = s0, s1, s2, s3
+            n += 4
+        for m in range(n, len(lags)):
+            total = 0.0
+            for k in range(width):
+                total += x[start + k] * x[low + lags[m] + k]
+            out[m] = total
+        return out
+
+    @njit
+    def echo_novelty(x, at, centres, before, after, reach, step, most_left):
+        width = before + after
+        start = at - before
+        if start < 0 or start + width > len(x):
+            return math.inf
+        own = 0.0
+        for k in range(width):
+            own += x[start + k] * x[start + k]
+        least, best, scale = math.inf, -1, 0.0
+        for i in range(len(centres)):
+            low = centres[i] - reach - before
+            if low < 0 or low + width + 2 * reach > len(x):
+                continue
+            power = np.empty(2 * reach + 1)
+            total = 0.0
+            for k in range(width):
+                total += x[low + k] * x[low + k]
+            power[0] = total
+            for lag in range(1, 2 * reach + 1):
+                total += x[low + lag + width - 1] * x[low + lag + width - 1] - x[low + lag - 1] * x[low + lag - 1]
+                power[lag] = total
+            first, last, coarse = 0, 2 * reach, step
+            while True:
+                found = -1
+                lags = np.arange(first, last + 1, coarse)
+                crosses = crosses_of(x, start, low, lags, width)
+                for n in range(len(lags)):
+                    lag, cross = lags[n], crosses[n]
+                    if power[lag] <= 0.0:
+                        continue
+                    left = own - cross * cross / power[lag]
+                    if left < least:
+                        least, best, scale, found = left, low + lag, cross / power[lag], lag
+                if coarse == 1 or found < 0:
+                    break
+                first, last, coarse = max(0, found - step + 1), min(2 * reach, found + step - 1), 1
+        if best < 0 or least > most_left * own:
+            return math.inf
+        early, late = 0.0, 0.0
+        for k in range(width):
+            r = x[start + k] - scale * x[best + k]
+            if k < before:
+                early += r * r
+            else:
+                late += r * r
+        return (late / after) / max(early / before, 1e-300)
+
+    return echo_novelty
+
+
+def test_echo_novelty_is_the_loop_it_replaced(rng):
+    """_rooms.echo_novelty, its products with the window at every lag from _kernels.window_dots, against the loop that
+    summed only the lags tried: the same bits (repeated notes, centres near the ends, digital silence, steps 1-5)."""
+    from drumstroke.analysis._rooms import echo_novelty
+
+    replaced = _replaced_echo_novelty()
+    note = rng.standard_normal(600) * np.exp(-np.arange(600) / 120.0)
+    for _ in range(200):
+        x = 1e-3 * rng.standard_normal(6000) * 10.0 ** rng.uniform(-20, 20)
+        for at in rng.integers(0, 5400, 4):
+            x[at:at + 600] += note * rng.uniform(0.1, 1.0) * np.abs(x).max() * 100
+        x[rng.integers(0, 6000):][:int(rng.integers(0, 700))] = 0.0
+        before, after, reach = int(rng.integers(1, 300)), int(rng.integers(1, 300)), int(rng.integers(0, 30))
+        at = int(rng.integers(-10, 6010))
+        centres = rng.integers(-50, 6050, int(rng.integers(0, 6))).astype(np.int64)
+        step, most_left = int(rng.integers(1, 6)), float(rng.choice([0.01, 0.5, 1.0, np.inf]))
+        got = echo_novelty(x, at, centres, before, after, reach, step, most_left)
+        want = replaced(x, at, centres, before, after, reach, step, most_left)
+        assert got == want or (np.isnan(got) and np.isnan(want))

@@ -9,6 +9,7 @@ import math
 import numpy as np
 
 from .._jit import jit
+from ._kernels import window_dots
 
 
 @jit
@@ -44,31 +45,6 @@ def room_echoes(x, times, levels, clear, tried, attack, which, nearest, farthest
 
 
 @jit
-def _crosses(x, start, low, lags, width):
-    """``x[start:start + width] @ x[low + lag:low + lag + width]`` for each of ``lags``, each summed in order (as the
-    plain loop: the same to the bit), four lags at a time (their sums apart: the adds do not wait on each other)."""
-    out = np.empty(len(lags))
-    n = 0
-    while n + 4 <= len(lags):
-        a, b, c, e = low + lags[n], low + lags[n + 1], low + lags[n + 2], low + lags[n + 3]
-        s0, s1, s2, s3 = 0.0, 0.0, 0.0, 0.0
-        for k in range(width):
-            v = x[start + k]
-            s0 += v * x[a + k]
-            s1 += v * x[b + k]
-            s2 += v * x[c + k]
-            s3 += v * x[e + k]
-        out[n], out[n + 1], out[n + 2], out[n + 3] = s0, s1, s2, s3
-        n += 4
-    for m in range(n, len(lags)):
-        total = 0.0
-        for k in range(width):
-            total += x[start + k] * x[low + lags[m] + k]
-        out[m] = total
-    return out
-
-
-@jit
 def echo_novelty(x, at, centres, before, after, reach, step, most_left):
     """How much more of ``x`` around ``at`` is new after it than before it, once the sound around another time explains
     it: the window ``x[at - before:at + after]`` is fitted by least squares by the same window around each of
@@ -97,13 +73,14 @@ def echo_novelty(x, at, centres, before, after, reach, step, most_left):
         for lag in range(1, 2 * reach + 1):
             total += x[low + lag + width - 1] * x[low + lag + width - 1] - x[low + lag - 1] * x[low + lag - 1]
             power[lag] = total
+        # the window's products with those at every lag, each summed in order (as a loop over the lags tried: the
+        # same to the bit), all lags a term at a time: the lags tried are read from them
+        crosses = window_dots(x, low, x[start:start + width], 2 * reach + 1)
         first, last, coarse = 0, 2 * reach, step
         while True:
             found = -1
-            lags = np.arange(first, last + 1, coarse)
-            crosses = _crosses(x, start, low, lags, width)
-            for n in range(len(lags)):
-                lag, cross = lags[n], crosses[n]
+            for lag in range(first, last + 1, coarse):
+                cross = crosses[lag]
                 if power[lag] <= 0.0:
                     continue
                 left = own - cross * cross / power[lag]
