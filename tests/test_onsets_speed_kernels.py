@@ -378,3 +378,83 @@ def test_echo_novelty_is_the_loop_it_replaced(rng):
         got = echo_novelty(x, at, centres, before, after, reach, step, most_left)
         want = replaced(x, at, centres, before, after, reach, step, most_left)
         assert got == want or (np.isnan(got) and np.isnan(want))
+
+
+def _replaced_bounce_after():
+    """_attacks._bounce_after as it stood before: every window's products with the head summed before the scan."""
+    import math
+
+    from numba import njit
+
+    from drumstroke.analysis._attacks import _correlations, _energies, _sums
+
+    @njit
+    def bounce_after(remainder, template, head, head_energy, low, high, following, pre, shortest, fit, reach, scale,
+                     likeness, ratio_low, ratio_high, start_likeness):
+        if high <= low:
+            return -1, 0.0
+        count = high - low
+        own = _energies(remainder, low - pre, count, len(head))
+        floor = (ratio_low * scale) ** 2 * head_energy
+        if not own.max() >= floor:
+            return -1, 0.0
+        dots = _correlations(remainder, low - pre, head, count)
+        for k in range(count):
+            if own[k] < floor:
+                continue
+            like = dots[k] / math.sqrt(max(own[k] * head_energy, 1e-300))
+            ratio = dots[k] / (head_energy * scale)
+            if like < start_likeness or ratio < ratio_low or ratio > ratio_high:
+                continue
+            at = low + k
+            span = min(max(pre + shortest, min(pre + fit, following - at)), len(template), len(remainder) - at + pre)
+            whole, own_energy, energy = _sums(remainder, at - pre, template, span)
+            if whole < likeness * math.sqrt(max(own_energy * energy, 1e-300)):
+                continue
+            best = k
+            for m in range(k + 1, min(k + reach + 1, count)):
+                if dots[m] / math.sqrt(max(own[m] * head_energy, 1e-300)) > dots[best] / math.sqrt(
+                        max(own[best] * head_energy, 1e-300)):
+                    best = m
+            return low + best, dots[best] / math.sqrt(max(own[best] * head_energy, 1e-300))
+        return -1, 0.0
+
+    return bounce_after
+
+
+def _notes_sound(rng, template, n=6000):
+    """Noise (its level from -300 to +300 dB, stretches of digital silence) with copies of ``template`` (scaled, some
+    changed a little), as a band the template searches run over; the copies' starts."""
+    scale = 10.0 ** rng.uniform(-15, 15)
+    x = rng.standard_normal(n) * scale * 10.0 ** rng.uniform(-6, 0)
+    starts = np.sort(rng.choice(np.arange(50, n - len(template) - 50), int(rng.integers(0, 6)), replace=False))
+    for at in starts:
+        note = template * scale * rng.uniform(0.2, 1.0) * rng.choice([1.0, -1.0, 1.0])
+        x[at:at + len(template)] += note + rng.standard_normal(len(template)) * scale * rng.choice([0.0, 0.05, 0.5])
+    if rng.random() < 0.3:
+        x[int(rng.integers(0, n)):][:int(rng.integers(0, 2000))] = 0.0
+    return x, starts
+
+
+def test_bounce_search_is_the_loop_it_replaced(rng):
+    """_bounce_after (the head's products summed as its scan reaches them, a chunk at a time) against the loop that
+    summed every window first: the same answers to the bit, over bands of notes (copies of the template, some
+    changed) and noise at every level, thresholds such that both answers occur."""
+    from drumstroke.analysis._attacks import _bounce_after
+
+    bounce_after = _replaced_bounce_after()
+    template = rng.standard_normal(500) * np.exp(-np.arange(500) / 80.0)
+    found = 0
+    for _ in range(400):
+        head = template[:int(rng.choice([40, 130, 168]))].copy()
+        x, _ = _notes_sound(rng, template)
+        pre, reach = 24, int(rng.integers(1, 100))
+        low = int(rng.integers(pre, 3000))
+        high = int(rng.integers(low - 5, 5400))
+        args = (x, template, head, float(head @ head), low, high, int(rng.integers(high, 6000)), pre, 48, 480, reach,
+                float(np.abs(x).max() * rng.uniform(0.01, 3.0)), float(rng.choice([0.3, 0.7, 0.8, 0.95])), 0.3, 1.5,
+                float(rng.choice([0.5, 0.7])))
+        want = bounce_after(*args)
+        assert _bounce_after(*args) == want
+        found += want[0] >= 0
+    assert 20 < found < 380  # both answers tried

@@ -208,6 +208,8 @@ def continued(own, template, settle):
     return out
 
 
+_BOUNCE_CHUNK = 64  # windows summed at a time by _bounce_after's scan
+
 _LAYER_LAG = 2  # samples: two velocity layers' attacks, each at its template's sample, may differ by a sample or two
 
 
@@ -276,10 +278,16 @@ def _bounce_after(remainder, template, head, head_energy, low, high, following, 
     floor = (ratio_low * scale) ** 2 * head_energy  # the energy a fit so scaled needs (Cauchy-Schwarz)
     if not own.max() >= floor:
         return -1, 0.0
-    dots = _correlations(remainder, low - pre, head, count)
+    # the head's products with the windows, summed as the scan reaches them (_BOUNCE_CHUNK windows at a time from the
+    # first over the floor not summed yet; past the first that fits, as far as the best start is sought): the windows
+    # under the floor (most of a quiet stretch) and past the bounce found are not summed
+    dots, done = np.empty(count), 0
     for k in range(count):
         if own[k] < floor:
             continue
+        if k >= done:
+            done = min(count, k + _BOUNCE_CHUNK)
+            dots[k:done] = _correlations(remainder, low - pre + k, head, done - k)
         like = dots[k] / math.sqrt(max(own[k] * head_energy, 1e-300))
         ratio = dots[k] / (head_energy * scale)
         if like < start_likeness or ratio < ratio_low or ratio > ratio_high:
@@ -289,6 +297,9 @@ def _bounce_after(remainder, template, head, head_energy, low, high, following, 
         whole, own_energy, energy = _sums(remainder, at - pre, template, span)
         if whole < likeness * math.sqrt(max(own_energy * energy, 1e-300)):
             continue  # the start alone is often met in a drum's beating modes
+        if min(k + reach + 1, count) > done:
+            dots[done:min(k + reach + 1, count)] = _correlations(remainder, low - pre + done, head,
+                                                                 min(k + reach + 1, count) - done)
         best = k
         for m in range(k + 1, min(k + reach + 1, count)):
             if dots[m] / math.sqrt(max(own[m] * head_energy, 1e-300)) > dots[best] / math.sqrt(
