@@ -458,3 +458,34 @@ def test_bounce_search_is_the_loop_it_replaced(rng):
         assert _bounce_after(*args) == want
         found += want[0] >= 0
     assert 20 < found < 380  # both answers tried
+
+
+def test_layer_fit_is_the_loop_it_replaced(rng):
+    """_layer_fit (the five lags' sums side by side in one pass) against the loop it replaced (each lag's
+    _likeness in turn): the same lag and correlation to the bit, at every level, near the band's ends and with no
+    room (-1)."""
+    from numba import njit
+
+    from drumstroke.analysis._attacks import _LAYER_LAG, _layer_fit, _likeness
+
+    @njit
+    def replaced(remainder, layer, c, pre, span):
+        if span <= pre or c - pre - _LAYER_LAG < 0 or c - pre + _LAYER_LAG + span > len(remainder):
+            return 0, -1.0
+        best, best_like = 0, -1.0
+        for lag in range(-_LAYER_LAG, _LAYER_LAG + 1):
+            like = _likeness(remainder, c - pre + lag, layer, span)
+            if like > best_like:
+                best, best_like = lag, like
+        return best, best_like
+
+    layer = rng.standard_normal(600) * np.exp(-np.arange(600) / 100.0)
+    for _ in range(500):
+        x = rng.standard_normal(3000) * 10.0 ** rng.uniform(-150, 150)
+        c = int(rng.integers(0, 3000))
+        if rng.random() < 0.5 and 30 <= c < 2400:
+            x[c - 24 + int(rng.integers(-2, 3)):][:600] += layer * np.abs(x).max() * rng.uniform(0.1, 10.0)
+        if rng.random() < 0.2:
+            x[:] = 0.0
+        span = int(rng.integers(0, 600))
+        assert _layer_fit(x, layer, c, 24, span) == replaced(x, layer, c, 24, span)

@@ -226,7 +226,8 @@ def _take_off(remainder, template, layer, c, following, pre, shortest, fit):
     measured = dot / energy
     own, at, scale, by_layer = template, c, measured, False
     lag, like = _layer_fit(remainder, layer, c, pre, min(span, len(layer)))
-    if like > _likeness(remainder, c - pre, template, min(span, len(layer))):
+    # the template's correlation over as many samples (the fit's, summed already, where the layer is as long)
+    if like > (fitted if len(layer) >= span else _likeness(remainder, c - pre, template, min(span, len(layer)))):
         own, at, fitted, by_layer = layer, c + lag, like, True
         span = min(span, len(layer), n - at + pre)
         scale = _dot(remainder, at - pre, own, span) / _dot(own, 0, own, span)
@@ -244,12 +245,35 @@ def _add(remainder, own, c, scale, pre):
 @jit(error_model="numpy")
 def _layer_fit(remainder, layer, c, pre, span):
     """``layer``'s best correlation with ``remainder`` at ``c`` (its attack ``pre`` samples in) within ``_LAYER_LAG``
-    samples over ``span`` samples: (lag, correlation), or (0, -1) for no layer."""
+    samples over ``span`` samples: (lag, correlation), or (0, -1) for no layer.
+
+    Each lag's correlation is :func:`_likeness`'s (its sums each in order), the five lags' sums side by side in one
+    pass (their additions do not wait on each other; the layer's energy, the same at each lag, summed once)."""
     if span <= pre or c - pre - _LAYER_LAG < 0 or c - pre + _LAYER_LAG + span > len(remainder):
         return 0, -1.0
+    start = c - pre - _LAYER_LAG  # lag -2 (_LAYER_LAG: 2)
+    d0, d1, d2, d3, d4 = 0.0, 0.0, 0.0, 0.0, 0.0
+    o0, o1, o2, o3, o4 = 0.0, 0.0, 0.0, 0.0, 0.0
+    energy = 0.0
+    for j in range(span):
+        b = layer[j]
+        a0, a1, a2, a3, a4 = (remainder[start + j], remainder[start + j + 1], remainder[start + j + 2],
+                              remainder[start + j + 3], remainder[start + j + 4])
+        d0 += a0 * b
+        d1 += a1 * b
+        d2 += a2 * b
+        d3 += a3 * b
+        d4 += a4 * b
+        o0 += a0 * a0
+        o1 += a1 * a1
+        o2 += a2 * a2
+        o3 += a3 * a3
+        o4 += a4 * a4
+        energy += b * b
+    dots, owns = np.array((d0, d1, d2, d3, d4)), np.array((o0, o1, o2, o3, o4))
     best, best_like = 0, -1.0
     for lag in range(-_LAYER_LAG, _LAYER_LAG + 1):
-        like = _likeness(remainder, c - pre + lag, layer, span)
+        like = dots[lag + _LAYER_LAG] / math.sqrt(max(owns[lag + _LAYER_LAG] * energy, 1e-300))
         if like > best_like:
             best, best_like = lag, like
     return best, best_like
