@@ -489,3 +489,17 @@ def test_layer_fit_is_the_loop_it_replaced(rng):
             x[:] = 0.0
         span = int(rng.integers(0, 600))
         assert _layer_fit(x, layer, c, 24, span) == replaced(x, layer, c, 24, span)
+
+
+def test_frame_peaks_are_numpys(rng):
+    """frame_peaks against the numpy it replaced (each frame's largest magnitude), to the bit: zeros, infinities and
+    NaNs (numpy's maximum propagates them) in some frames, one sample a frame, the samples past the last frame."""
+    from drumstroke.analysis._kernels import frame_peaks
+
+    for _ in range(300):
+        frame, count = int(rng.integers(1, 12)), int(rng.integers(1, 200))
+        x = rng.standard_normal(count * frame + int(rng.integers(0, frame))) * 10.0 ** rng.uniform(-300, 300)
+        for value in (0.0, -0.0, np.inf, -np.inf, np.nan):
+            x[rng.random(len(x)) < 0.02] = value
+        want = np.abs(x[:count * frame]).reshape(count, frame).max(axis=1)
+        np.testing.assert_array_equal(frame_peaks(x, frame, count), want, strict=True)

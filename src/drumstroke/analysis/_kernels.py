@@ -710,6 +710,22 @@ def window_peaks(x, lows, highs):
 
 
 @jit
+def frame_peaks(x, frame, count):
+    """``np.abs(x[:count * frame]).reshape(count, frame).max(axis=1)``: each frame's largest magnitude (NaN where it
+    holds a NaN, as numpy's maximum gives), without numpy's reduction over short rows' time (1000 frames of 5 samples:
+    33 against a few us)."""
+    out = np.empty(count)
+    for i in range(count):
+        peak = abs(x[i * frame])
+        for j in range(i * frame + 1, (i + 1) * frame):
+            if math.isnan(peak):
+                break
+            peak = max(peak, abs(x[j])) if not math.isnan(x[j]) else abs(x[j])
+        out[i] = peak
+    return out
+
+
+@jit
 def first_at_least(d, lows, highs, levels):
     """For each ``i``, the first sample of ``d[lows[i]:highs[i]]`` at least ``levels[i]`` (from ``lows[i]``), or -1."""
     out = np.full(len(lows), -1, dtype=np.int64)

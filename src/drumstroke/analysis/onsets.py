@@ -2772,9 +2772,10 @@ def _interpolator():
 
 def _noise_floor(x, rate, quantile):
     """The ``quantile`` of the peaks of ``x`` over 5-ms frames (full scale)."""
+    from ._kernels import frame_peaks
+
     frame = max(1, round(5e-3 * rate))
     count = len(x) // frame
     if count < 1:
         return 0.0
-    peaks = np.abs(x[:count * frame]).reshape(count, frame).max(axis=1)
-    return float(np.quantile(peaks, quantile))
+    return float(np.quantile(frame_peaks(np.ascontiguousarray(x, dtype=float), frame, count), quantile))
