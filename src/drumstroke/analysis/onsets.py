@@ -372,6 +372,9 @@ class OnsetConfig:
     peak_apart_db : float in [-120, 0]
         dB re a note's peak: the least rise of a later onset's peak (over the 10 ms before it) that ends the
         note's waveform in its layer's template; quieter ones are outvoted there (step 6).
+    peak_realign : float in [0, 0.005]
+        s: how far either way of an onset its template's fit is sought again where the fit within 60 µs leaves
+        more than 30 % of the note unexplained (step 6; 0: never, as before issue 28's levels round).
     sound_templates : int in [0, 100]
         How many of the recording's clear notes (the loudest), each up to the next onset, are templates of the
         earlier notes' sound where an attack's own sound is weighed (step 5, ``new_sound_db``).
@@ -573,6 +576,7 @@ class OnsetConfig:
     peak_clear_db: float = -30.0
     peak_layer_likeness: float = 0.98
     peak_apart_db: float = -20.0
+    peak_realign: float = 1e-3
     sound_templates: int = 6
     new_sound_db: float = -20.0
     soft_jump: float = 3.0
@@ -647,7 +651,7 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "template_fit": (0.5e-3, 0.1, "s"), "template_head": (0.5e-3, 0.05, "s"),
     "peak_window": (1e-3, 0.1, "s"), "peak_reach": (0.01, 2.0, "s"), "peak_templates": (0, 100, ""),
     "peak_clear_db": (-120.0, 0.0, "dB"), "peak_layer_likeness": (0.0, 1.0, "(correlation)"),
-    "peak_apart_db": (-120.0, 0.0, "dB"), "sound_templates": (0, 100, ""), "new_sound_db": (-120.0, 0.0, "dB"),
+    "peak_apart_db": (-120.0, 0.0, "dB"), "peak_realign": (0.0, 5e-3, "s"), "sound_templates": (0, 100, ""), "new_sound_db": (-120.0, 0.0, "dB"),
     "soft_jump": (1.0, 100.0, "(RMS ratio)"), "soft_contact": (0.0, 0.02, "s"),
     "bounce_reach": (0.0, 0.5, "s"), "refused_likeness": (0.0, 1.0, "(correlation)"),
     "burst_db": (-120.0, 0.0, "dB"), "layer_likeness": (0.0, 1.0, "(correlation)"), "reflection_pairs": (0, 100, ""), "reflection_db": (0.0, 120.0, "dB"),
@@ -2228,10 +2232,10 @@ def _peak_amplitudes(signal, times, rate, config):
     sample's peak by up to 1.8 dB), only its mean taken off.
     """
     return _own_peaks(np.asarray(signal, dtype=float) - float(np.mean(signal)), times, rate, config,
-                      overwrite=True)[0]
+                      overwrite=True, realign=round(config.peak_realign * rate))[0]
 
 
-def _own_peaks(x, times, rate, config, templates=None, overwrite=False):
+def _own_peaks(x, times, rate, config, templates=None, overwrite=False, realign=0):
     """Each onset's own peak (:func:`_peak_amplitudes`: ``x`` less the earlier notes' sound) and the peak of ``x`` itself
     over the same window (full scale) [each shape=(n,)].
 
@@ -2243,6 +2247,9 @@ def _own_peaks(x, times, rate, config, templates=None, overwrite=False):
     In time order, each onset's peaks are read over its window, then the template that fits the remainder from it
     to the next onset best (placed within 60 µs either way; those that last to the end of the next onset's window
     preferred, else the longest) is taken off, scaled by least squares (compiled: :func:`._templates.own_peaks`).
+    With ``realign`` (samples; ``peak_realign``'s, for :attr:`Onsets.peak_db` only), a fit that leaves more than
+    :data:`_POOR_FIT` of its window unexplained is sought again that far either way (a template misplaced by an onset
+    0.1-1 ms late leaves its note's sound under the next notes' peaks: up to 12 dB over a ghost note's).
     """
     from ._templates import own_peaks
 
@@ -2255,7 +2262,11 @@ def _own_peaks(x, times, rate, config, templates=None, overwrite=False):
     lengths = np.array([len(t) for t in templates], dtype=np.int64)
     bank = np.concatenate(templates) if templates else np.empty(0)
     rest = x if overwrite else np.array(x, dtype=float)
-    return own_peaks(rest, starts, following, ends, bank, np.cumsum(lengths) - lengths, lengths, window, reach, shift)
+    return own_peaks(rest, starts, following, ends, bank, np.cumsum(lengths) - lengths, lengths, window, reach, shift,
+                     realign, _POOR_FIT)
+
+
+_POOR_FIT = 0.3  # the fraction of a note a fit leaves unexplained over which it is sought again (``peak_realign``)
 
 
 def _peak_templates(x, starts, following, ends, rate, config):
