@@ -2285,6 +2285,10 @@ def _peak_templates(x, starts, following, ends, rate, config):
     free = {i: next((starts[j] for j in range(i + 1, len(starts)) if rises[j] >= apart * peaks[i]), len(x))
             for i in chosen}
     shift = max(1, round(6e-5 * rate))  # the onsets are placed within a few samples
+    guard = round(config.peak_realign * rate)  # a next onset placed late: its attack not in the waveform
+    if guard:
+        following = np.maximum(following - guard, starts + 1)
+        free = {i: max(end - guard, starts[i] + 1) for i, end in free.items()}
     return [_layer_template(x, starts, following, free, layer, round(config.peak_reach * rate))
             for layer in _layers(x, starts, chosen, round(config.peak_window * rate), shift, config.peak_layer_likeness)]
 
