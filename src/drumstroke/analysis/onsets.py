@@ -2287,10 +2287,23 @@ def _peak_templates(x, starts, following, ends, rate, config):
     shift = max(1, round(6e-5 * rate))  # the onsets are placed within a few samples
     guard = round(config.peak_realign * rate)  # a next onset placed late: its attack not in the waveform
     if guard:
-        following = np.maximum(following - guard, starts + 1)
-        free = {i: max(end - guard, starts[i] + 1) for i, end in free.items()}
+        following = following.copy()
+        for i in chosen:
+            following[i] = _before_rise(x, starts[i], following[i], guard)
+        free = {i: _before_rise(x, starts[i], end, guard) for i, end in free.items()}
     return [_layer_template(x, starts, following, free, layer, round(config.peak_reach * rate))
             for layer in _layers(x, starts, chosen, round(config.peak_window * rate), shift, config.peak_layer_likeness)]
+
+
+def _before_rise(x, start, end, guard):
+    """``end`` (samples), or earlier where the next note's attack is already under way before it: the first of the
+    ``guard`` samples before ``end`` where ``|x|`` passes twice its peak over the ``guard`` before them (an onset
+    placed up to ``peak_realign`` late), no earlier than ``start + 1``."""
+    low = max(end - guard, start + 1)
+    if end - low < 1 or low - guard < start:
+        return end
+    rise = np.flatnonzero(np.abs(x[low:end]) > 2.0 * np.abs(x[low - guard:low]).max())
+    return low + int(rise[0]) if len(rise) else end
 
 
 def _cut_templates(x, starts, following, ends, rate, config):
