@@ -2222,7 +2222,7 @@ def _peak_amplitudes(signal, times, rate, config):
     note in time order has its peak read over ``peak_window`` s (or up to the next onset) of the
     remainder, then its own sound is fitted there by the recording's own templates, one a velocity layer
     (:func:`_peak_templates`: the one that fits best, scaled by least squares, a few samples either
-    way) and taken off for ``peak_reach`` s. A template is a whole waveform: where a recording repeats
+    way, or within ``peak_realign`` s where that leaves over 30 % unexplained) and taken off for ``peak_reach`` s. A template is a whole waveform: where a recording repeats
     a sample (a drum machine, a SoundFont) it cancels the earlier note; where each stroke differs, the
     least-squares scale falls with the likeness, and less is taken off (never more than it explains).
     A decay extrapolated from before the note (its envelope, or a linear predictor's free response)
@@ -2278,7 +2278,9 @@ def _peak_templates(x, starts, following, ends, rate, config):
     make its template (:func:`_layer_template`), ``peak_reach`` s at most. A note's waveform is followed past
     the quieter onsets after it, up to the first whose peak rises ``peak_apart_db`` or more re its own (a
     later note that loud is not outvoted): a template cut at the next onset, as it once was, lost its
-    tail wherever one more (true) onset was found in it, and the notes after read up to 4 dB higher.
+    tail wherever one more (true) onset was found in it, and the notes after read up to 4 dB higher. With
+    ``peak_realign``, a waveform ends where the next note's attack already rises before its onset
+    (:func:`_before_rise`: an onset placed late left that attack in the template, taken off the next notes).
     """
     chosen, (peaks, priors) = _clear_notes(x, starts, following, ends, rate, config, config.peak_templates)
     rises, apart = peaks - priors, 10.0 ** (config.peak_apart_db / 20.0)
