@@ -209,7 +209,8 @@ def own_peaks(rest, starts, following, ends, bank, offsets, lengths, window, rea
     are not summed.
 
     With ``realign`` (samples, > 0), a fit that leaves more than ``poor`` of its window unexplained is sought again
-    ``realign`` samples either way of the onset (:func:`_realigned`): an onset placed a little off its note (0.1-1 ms
+    ``realign`` samples either way of the onset by the template's first ``window // 2`` samples (:func:`_realigned`;
+    5 ms at 10 ms windows, as good on the recorded corpus as the whole window, at half the cost): an onset placed a little off its note (0.1-1 ms
     late, as in noise) leaves its template misplaced by more than ``shift``, its note's sound not taken off.
     """
     count, templates = len(starts), len(lengths)
@@ -267,7 +268,7 @@ def own_peaks(rest, starts, following, ends, bank, offsets, lengths, window, rea
             at += low
             if realign > 0:
                 at, scale = _realigned(rest, start, at, scale, bank[offsets[chosen]:offsets[chosen] + lengths[chosen]],
-                                       sizes[chosen], energies[chosen], window, realign, poor)
+                                       sizes[chosen], energies[chosen], window // 2, realign, poor)
             size = min(lengths[chosen], len(rest) - at)
             fitted, template = rest[at:at + size], bank[offsets[chosen]:offsets[chosen] + size]  # slices: indices ≥ 0
             for j in range(size):
