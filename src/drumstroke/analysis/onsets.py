@@ -372,6 +372,9 @@ class OnsetConfig:
     peak_apart_db : float in [-120, 0]
         dB re a note's peak: the least rise of a later onset's peak (over the 10 ms before it) that ends the
         note's waveform in its layer's template; quieter ones are outvoted there (step 6).
+    peak_realign : float in [0, 0.005]
+        s: how far either way of an onset its template's fit is sought again where the fit within 60 µs leaves
+        more than 30 % of the note unexplained (step 6; 0: never, as before issue 28's levels round).
     sound_templates : int in [0, 100]
         How many of the recording's clear notes (the loudest), each up to the next onset, are templates of the
         earlier notes' sound where an attack's own sound is weighed (step 5, ``new_sound_db``).
@@ -573,6 +576,7 @@ class OnsetConfig:
     peak_clear_db: float = -30.0
     peak_layer_likeness: float = 0.98
     peak_apart_db: float = -20.0
+    peak_realign: float = 1e-3
     sound_templates: int = 6
     new_sound_db: float = -20.0
     soft_jump: float = 3.0
@@ -647,7 +651,7 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "template_fit": (0.5e-3, 0.1, "s"), "template_head": (0.5e-3, 0.05, "s"),
     "peak_window": (1e-3, 0.1, "s"), "peak_reach": (0.01, 2.0, "s"), "peak_templates": (0, 100, ""),
     "peak_clear_db": (-120.0, 0.0, "dB"), "peak_layer_likeness": (0.0, 1.0, "(correlation)"),
-    "peak_apart_db": (-120.0, 0.0, "dB"), "sound_templates": (0, 100, ""), "new_sound_db": (-120.0, 0.0, "dB"),
+    "peak_apart_db": (-120.0, 0.0, "dB"), "peak_realign": (0.0, 5e-3, "s"), "sound_templates": (0, 100, ""), "new_sound_db": (-120.0, 0.0, "dB"),
     "soft_jump": (1.0, 100.0, "(RMS ratio)"), "soft_contact": (0.0, 0.02, "s"),
     "bounce_reach": (0.0, 0.5, "s"), "refused_likeness": (0.0, 1.0, "(correlation)"),
     "burst_db": (-120.0, 0.0, "dB"), "layer_likeness": (0.0, 1.0, "(correlation)"), "reflection_pairs": (0, 100, ""), "reflection_db": (0.0, 120.0, "dB"),
@@ -2218,7 +2222,7 @@ def _peak_amplitudes(signal, times, rate, config):
     note in time order has its peak read over ``peak_window`` s (or up to the next onset) of the
     remainder, then its own sound is fitted there by the recording's own templates, one a velocity layer
     (:func:`_peak_templates`: the one that fits best, scaled by least squares, a few samples either
-    way) and taken off for ``peak_reach`` s. A template is a whole waveform: where a recording repeats
+    way, or within ``peak_realign`` s where that leaves over 30 % unexplained) and taken off for ``peak_reach`` s. A template is a whole waveform: where a recording repeats
     a sample (a drum machine, a SoundFont) it cancels the earlier note; where each stroke differs, the
     least-squares scale falls with the likeness, and less is taken off (never more than it explains).
     A decay extrapolated from before the note (its envelope, or a linear predictor's free response)
@@ -2228,10 +2232,10 @@ def _peak_amplitudes(signal, times, rate, config):
     sample's peak by up to 1.8 dB), only its mean taken off.
     """
     return _own_peaks(np.asarray(signal, dtype=float) - float(np.mean(signal)), times, rate, config,
-                      overwrite=True)[0]
+                      overwrite=True, realign=round(config.peak_realign * rate))[0]
 
 
-def _own_peaks(x, times, rate, config, templates=None, overwrite=False):
+def _own_peaks(x, times, rate, config, templates=None, overwrite=False, realign=0):
     """Each onset's own peak (:func:`_peak_amplitudes`: ``x`` less the earlier notes' sound) and the peak of ``x`` itself
     over the same window (full scale) [each shape=(n,)].
 
@@ -2243,6 +2247,9 @@ def _own_peaks(x, times, rate, config, templates=None, overwrite=False):
     In time order, each onset's peaks are read over its window, then the template that fits the remainder from it
     to the next onset best (placed within 60 µs either way; those that last to the end of the next onset's window
     preferred, else the longest) is taken off, scaled by least squares (compiled: :func:`._templates.own_peaks`).
+    With ``realign`` (samples; ``peak_realign``'s, for :attr:`Onsets.peak_db` only), a fit that leaves more than
+    :data:`_POOR_FIT` of its window unexplained is sought again that far either way (a template misplaced by an onset
+    0.1-1 ms late leaves its note's sound under the next notes' peaks: up to 12 dB over a ghost note's).
     """
     from ._templates import own_peaks
 
@@ -2255,7 +2262,11 @@ def _own_peaks(x, times, rate, config, templates=None, overwrite=False):
     lengths = np.array([len(t) for t in templates], dtype=np.int64)
     bank = np.concatenate(templates) if templates else np.empty(0)
     rest = x if overwrite else np.array(x, dtype=float)
-    return own_peaks(rest, starts, following, ends, bank, np.cumsum(lengths) - lengths, lengths, window, reach, shift)
+    return own_peaks(rest, starts, following, ends, bank, np.cumsum(lengths) - lengths, lengths, window, reach, shift,
+                     realign, _POOR_FIT)
+
+
+_POOR_FIT = 0.3  # the fraction of a note a fit leaves unexplained over which it is sought again (``peak_realign``)
 
 
 def _peak_templates(x, starts, following, ends, rate, config):
@@ -2267,15 +2278,34 @@ def _peak_templates(x, starts, following, ends, rate, config):
     make its template (:func:`_layer_template`), ``peak_reach`` s at most. A note's waveform is followed past
     the quieter onsets after it, up to the first whose peak rises ``peak_apart_db`` or more re its own (a
     later note that loud is not outvoted): a template cut at the next onset, as it once was, lost its
-    tail wherever one more (true) onset was found in it, and the notes after read up to 4 dB higher.
+    tail wherever one more (true) onset was found in it, and the notes after read up to 4 dB higher. With
+    ``peak_realign``, a waveform ends where the next note's attack already rises before its onset
+    (:func:`_before_rise`: an onset placed late left that attack in the template, taken off the next notes).
     """
     chosen, (peaks, priors) = _clear_notes(x, starts, following, ends, rate, config, config.peak_templates)
     rises, apart = peaks - priors, 10.0 ** (config.peak_apart_db / 20.0)
     free = {i: next((starts[j] for j in range(i + 1, len(starts)) if rises[j] >= apart * peaks[i]), len(x))
             for i in chosen}
     shift = max(1, round(6e-5 * rate))  # the onsets are placed within a few samples
+    guard = round(config.peak_realign * rate)  # a next onset placed late: its attack not in the waveform
+    if guard:
+        following = following.copy()
+        for i in chosen:
+            following[i] = _before_rise(x, starts[i], following[i], guard)
+        free = {i: _before_rise(x, starts[i], end, guard) for i, end in free.items()}
     return [_layer_template(x, starts, following, free, layer, round(config.peak_reach * rate))
             for layer in _layers(x, starts, chosen, round(config.peak_window * rate), shift, config.peak_layer_likeness)]
+
+
+def _before_rise(x, start, end, guard):
+    """``end`` (samples), or earlier where the next note's attack is already under way before it: the first of the
+    ``guard`` samples before ``end`` where ``|x|`` passes twice its peak over the ``guard`` before them (an onset
+    placed up to ``peak_realign`` late), no earlier than ``start + 1``."""
+    low = max(end - guard, start + 1)
+    if end - low < 1 or low - guard < start:
+        return end
+    rise = np.flatnonzero(np.abs(x[low:end]) > 2.0 * np.abs(x[low - guard:low]).max())
+    return low + int(rise[0]) if len(rise) else end
 
 
 def _cut_templates(x, starts, following, ends, rate, config):
