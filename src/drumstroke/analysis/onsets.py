@@ -1690,14 +1690,14 @@ def _room_ghost_notes(band, d, rate, candidates, config, replays):
     What is left once a layer-mate takes an accent's own sound off holds what is left of the room's returns of the
     earlier notes (each mate's and the accent's, unlike), 6-10 dB under a ghost note's first milliseconds: FluidR3's
     snare 38 roll with reverb, seed 0, leaves -41 to -39 dB (re the band's peak) over the 5 ms before its ghost notes
-    of 1.1021, 1.7621 and 3.2034 s and -31 dB after, so their energy over 1 ms rises 6 dB or less, and the test of
+    of 1.1021, 1.7621 and 3.2034 s and -31 dB after, so their energy over 1 ms rises under 4 dB, and the test of
     whose the note is (``ghost_room_own_db``) reads -1.4 to +3.4 dB at them, the accent's ringing most of both. A
-    ghost note is its layer's waveform, the returns a smoothed sound: where that remainder's energy over 1 ms rises
+    ghost note is its layer's waveform, the returns a smoothed sound: where that remainder's energy over 5 ms rises
     4 dB over its most over the 10 ms before (a mate or more reaching; no test of whose), the quietest clear
     attack's first 5 ms (from 0.5 ms before it: :func:`_template`, ``quietest``) must correlate with the remainder
-    by ``ghost_room_fit`` or more, placed within 1 ms before to 1 ms after the rise's block
-    (:func:`._ghosts.room_ghost_onsets`). On the corpus's reverberant recordings (seeds 0-4, every set) the rises on
-    no note fit 0.76 at most, those on a note missed before 0.84-1.00. A new note (no attack within 5 ms) is an
+    by ``ghost_room_fit`` or more, placed within 1 ms before to 5 ms after the rise's block
+    (:func:`._ghosts.room_ghost_onsets`). On the corpus's recordings step 4 finds reverberant (seeds 0-4, every set
+    and condition) the rises on no note fit 0.77 at most, those on a note missed before 0.82-1.00. A new note (no attack within 5 ms) is an
     attack of kind 3; an attack 0.5-2 ms after it is moved there (a ghost note found late on its main rise:
     FluidR3's rolls, 1.0-1.8 ms; moved 2.1 ms, FluidR3's snare 38 roll with reverb's note of 3.4234 s, seed 2, a
     return 24.6 ms after it, -32 dB, that :func:`_layer_echoes` refused by 0.5 dB, passes by 0.3).
