@@ -271,27 +271,51 @@ def room_ghost_onsets(band, times, clear, rate, head, *, likeness, rise_db, leas
         scales, round(span * rate), window, before, after, wide, block, 1, 10.0 ** (rise_db / 10.0))
     unit = head / norm
     found = []
-    for k in np.unique(which_accent).tolist():
-        b = which[accents[k]]
-        x = band[c[b]:c[b] + lengths[k]]
-        last = -np.inf
-        for t, m in zip((rises[which_accent == k] * block).tolist(), picks[which_accent == k].tolist()):
-            if t < last + round(20e-3 * rate) or t - back - pre < 0 or t + wide - pre + n > len(x):
-                continue
-            a, shift, scale = used[k][m]
-            v = x - scale * band[c[which[a]] + shift:c[which[a]] + shift + len(x)]
-            # the head's correlation with the remainder at each start from ``reach`` before the block to ``energy`` after
-            views = windows(v[t - back - pre:t + wide - pre + n], n)
-            power = np.einsum("ij,ij->i", views, views)
-            cross = views @ unit
-            like = np.where(power > 0.0, cross / np.sqrt(np.maximum(power, 1e-300)), -1.0)
-            best = int(np.argmax(like))
-            if like[best] < fit:
-                continue
-            at = t - back + best
-            peak = np.abs(v[at:at + width + after]).max()
-            if not max(least, loud[b] * 10.0 ** (below_db / 20.0)) <= peak <= loud[b] * 10.0 ** (quieter_db / 20.0):
-                continue
-            found.append(c[b] + at)
-            last = t
+    # the rises tried: a rise's window spans ``energy`` s, so the rises in the window of one tried are its own
+    chosen = spaced(which_accent, rises * block, wide, back + pre,
+                    lengths[which_accent] - max(wide - pre + n, wide + width + after))
+    accent, last = -1, -np.inf
+    for k, t, m in zip(which_accent[chosen].tolist(), (rises[chosen] * block).tolist(), picks[chosen].tolist()):
+        if k != accent:
+            accent, last = k, -np.inf
+            b = which[accents[k]]
+            x = band[c[b]:c[b] + lengths[k]]
+        if t < last + round(20e-3 * rate):
+            continue
+        a, shift, scale = used[k][m]
+        other = c[which[a]] + shift
+        # the remainder from ``reach`` before the block (less the head's lead) to where the last start's head ends
+        low, high = t - back - pre, max(t + wide - pre + n, t + wide + width + after)
+        v = x[low:high] - scale * band[other + low:other + high]
+        # the head's correlation with it at each start from ``reach`` before the block to ``energy`` after
+        cross = np.correlate(v[:back + wide + n], unit, "valid")
+        sums = np.concatenate((np.zeros(1), np.cumsum(v[:back + wide + n] ** 2)))
+        power = sums[n:] - sums[:-n]
+        like = np.where(power > 0.0, cross / np.sqrt(np.maximum(power, 1e-300)), -1.0)
+        best = int(np.argmax(like))
+        if like[best] < fit:
+            continue
+        at = t - back + best
+        peak = np.abs(v[at - low:at - low + width + after]).max()
+        if not max(least, loud[b] * 10.0 ** (below_db / 20.0)) <= peak <= loud[b] * 10.0 ** (quieter_db / 20.0):
+            continue
+        found.append(c[b] + at)
+        last = t
     return np.unique(np.asarray(found, dtype=float))
+
+
+@jit
+def spaced(accent, at, apart, first, end):
+    """The rises tried (indices of ``at``, samples from each one's accent ``accent``, in order): each from
+    ``first`` to ``end`` (per rise), ``apart`` or more after the one tried before in the same accent's window."""
+    out = np.empty(len(at), dtype=np.int64)
+    count, previous, tried = 0, -1, -np.inf
+    for i in range(len(at)):
+        if accent[i] != previous:
+            previous, tried = accent[i], -np.inf
+        if at[i] < first or at[i] > end[i] or at[i] < tried + apart:
+            continue
+        tried = at[i]
+        out[count] = i
+        count += 1
+    return out[:count].copy()
