@@ -501,6 +501,12 @@ class OnsetConfig:
         dB: ``lead_db`` for two attacks both timed or found by the template (step 5, :func:`_one_attack_each`): a
         dropped stick's close bounces, each fitted apart, whose quiet velocity layer reads louder than the bounce
         before (120: never one attack; 6, ``lead_db``'s, as before this field).
+    layer_whole_likeness : float in [0, 1]
+        Correlation: where neither template's search with its start finds a close bounce after an attack the
+        quietest clear attack's sound took off (``layer_bounce_likeness``), the least correlation of that sound's
+        first ``template_fit`` s alone with what is left at a bounce (its scale ``bounce_ratio_low`` to
+        ``after_ratio_high`` times that attack's; no start asked: the quiet layer peaks 9.4 ms in and its first
+        3 ms lie under the room's sound or the bounce before's; step 5; 1: not sought, as before this field).
 
     Examples
     --------
@@ -605,6 +611,7 @@ class OnsetConfig:
     found_bursts: int = 2
     burst_unfitted_likeness: float = 0.8
     fitted_lead_db: float = 120.0
+    layer_whole_likeness: float = 0.8
 
     def __post_init__(self):
         for name, (low, high, unit) in _RANGES.items():
@@ -665,6 +672,7 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "ghost_room_own_db": (-60.0, 120.0, "dB"),
     "found_bursts": (1, 10, ""), "burst_unfitted_likeness": (0.0, 1.0, "(correlation)"),
     "fitted_lead_db": (0.0, 120.0, "dB"),
+    "layer_whole_likeness": (0.0, 1.0, "(correlation)"),
 }
 
 
@@ -1607,11 +1615,17 @@ def _template_search(band, d, rate, candidates, refused, config, replays, quiete
                                             10.0 ** (config.found_burst_db / 10.0) if config.found_burst_db > -120.0 else 0.0,
                                             0 if quietest else round(config.earlier_reach * rate), ~lead_clear & (candidates.kinds != 3),
                                             config.weak_likeness, config.bounce_likeness, layer_bounce,
-                                            config.found_bursts, config.burst_unfitted_likeness)
+                                            config.found_bursts, config.burst_unfitted_likeness,
+                                            config.layer_whole_likeness if layer_bounce < 1.0 else 1.0,
+                                            round(_TRAIN_FLIGHT * rate))
     if not len(found) and not dropped.any():
         return candidates
     merged, fresh = candidates.take(~dropped).insert(found, attack=True, likeness=likes)
     return replace(merged, kinds=np.where(fresh, 3, merged.kinds))
+
+
+_TRAIN_FLIGHT = 10e-3  # s: the longest flight before a drop's last bounce that ``layer_whole_likeness`` seeks after
+# (FluidR3's snares: 3.9-9.3 ms; a room's detections 18 ms apart took the room's sound for a train of bounces)
 
 
 def _ghost_notes(band, d, rate, candidates, config, replays, reverberant=False):
