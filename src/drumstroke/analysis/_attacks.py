@@ -16,7 +16,7 @@ from .._jit import jit
 def template_search(remainder, template, head, times, shifts, refused, offset, layer_at, layer_size, pre, gap,
                     shortest, fit, bounce, echo, signature, reach, likeness, refused_likeness, ratio_low, ratio_high,
                     least, burst, earlier, unclear, weak, start_likeness, layer_likeness, bursts=1, unfitted=0.0,
-                    whole=1.0, flight=0):
+                    layer_whole=1.0, flight=0):
     """:func:`.onsets._template_search`'s loop over the attacks at ``times`` (full-rate samples, in order).
 
     ``remainder`` (the band, changed in place) less each attack's fitted ``template`` (``pre`` samples before its
@@ -44,8 +44,8 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
     unlike the loud one's); after an attack ``layer`` took off, within ``bounce`` after the attack before it, where the
     template finds none, the search is made with ``layer`` (its first ``fit`` samples by ``layer_likeness``, its start
     by ``weak``, scaled re that attack's fit by the layer; ``layer_likeness`` 1: not made; where that finds none either,
-    the layer's first ``fit`` samples alone by ``whole``, :func:`_whole_after`, after a flight of ``flight`` samples or
-    less, a half to one and a half times that flight on; ``whole`` 1, its default: not sought), and before the loop
+    the layer's first ``fit`` samples alone by ``layer_whole``, :func:`_whole_after`, after a flight of ``flight`` samples or
+    less, a half to one and a half times that flight on; ``layer_whole`` 1, its default: not sought), and before the loop
     reaches
     ``layer_at`` the layer is its sound as recorded (not yet what is left there; with ``layer_likeness`` 1 there is
     none before it). Returns the attacks found (their
@@ -151,12 +151,16 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
                 at, like = _bounce_after(remainder, layer, layer[:len(head)], _dot(layer, 0, layer, len(head)),
                                          c + gap, high, following, pre, shortest, fit, reach, scale, layer_likeness,
                                          ratio_low, ratio_high, weak)
-                if at < 0 and whole < 1.0 and c - previous <= flight:
-                    # its start under the room's sound or the earlier bounce's (the quiet layer peaks 9.4 ms in), a
-                    # half to one and a half times the flight before on (a drop's flights shrink, by a block's jitter)
-                    at, like = _whole_after(remainder, layer, max(c + gap, c + (c - previous) // 2),
-                                            min(high, c + (3 * (c - previous)) // 2 + 1), following, pre, fit, reach,
-                                            scale, whole, ratio_low, ratio_high)
+            if (layer_whole < 1.0 and by_layer and layer_likeness < 1.0 and c - previous <= flight
+                    and (at < 0 or at > c + (3 * (c - previous)) // 2)):
+                # none found, or one past the next bounce's time: the next one's start under the room's sound or the
+                # earlier bounce's (the quiet layer peaks 9.4 ms in), a half to one and a half times the flight
+                # before on (a drop's flights shrink, FluidSynth's blocks jitter them by 1.3 ms)
+                early, early_like = _whole_after(remainder, layer, max(c + gap, c + (c - previous) // 2),
+                                                 min(high, c + (3 * (c - previous)) // 2 + 1), following, pre, fit,
+                                                 reach, scale, layer_whole, ratio_low, ratio_high)
+                if early >= 0:
+                    at, like = early, early_like
         if skipped and at > detection:
             if at - detection <= echo:  # the detection was this bounce placed early
                 dropped[i], i = True, i + 1
