@@ -44,9 +44,9 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
     unlike the loud one's); after an attack ``layer`` took off, within ``bounce`` after the attack before it, where the
     template finds none, the search is made with ``layer`` (its first ``fit`` samples by ``layer_likeness``, its start
     by ``weak``, scaled re that attack's fit by the layer; ``layer_likeness`` 1: not made; where that finds none either,
-    the layer's first ``fit`` samples alone by ``layer_whole``, :func:`_whole_after`, after a flight of ``flight`` samples or
-    less, a half to one and a half times that flight on; ``layer_whole`` 1, its default: not sought), and before the loop
-    reaches
+    or one past the next bounce's time, after a flight of ``flight`` samples or less, the layer's first ``fit`` samples
+    alone by ``layer_whole`` a half to one and a half times that flight on, :func:`_whole_after`; ``layer_whole`` 1,
+    its default: not sought), and before the loop reaches
     ``layer_at`` the layer is its sound as recorded (not yet what is left there; with ``layer_likeness`` 1 there is
     none before it). Returns the attacks found (their
     times, in order), each one's correlation and which of ``times`` are dropped [shape=(len(times),)].

@@ -804,7 +804,8 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        start (by ``bounce_likeness``) and its first ``template_fit`` s correlate so with what is left, however
        little it rises; after an attack the quiet layer's template took off, in a train of close attacks, where the
        recording replays a sample (two clear attacks one waveform by ``replay_likeness``), that layer's template
-       may find it too (its first ``template_fit`` s by ``layer_bounce_likeness``, its start by ``weak_likeness``);
+       may find it too (its first ``template_fit`` s by ``layer_bounce_likeness``, its start by ``weak_likeness``; where
+       that finds none after a flight of 10 ms or less, its first ``template_fit`` s alone by ``layer_whole_likeness``);
        else an onset step 4 refused, ``signature`` s or more after it, where both correlate by
        ``refused_likeness``; then that second opinion again with the quietest clear attack as
        the template (another velocity layer of a sample), by ``layer_likeness``. A detection there that taking off
@@ -1543,6 +1544,12 @@ def _template_search(band, d, rate, candidates, refused, config, replays, quiete
     reaches the quietest clear attack, the layer's template is that attack's sound as recorded (a drop's first train
     of close bounces may come before it). On the corpus 24 more loud notes within 1 ms and 22 within 5 ms (FluidR3's
     drops), 2 false detections fewer; 24 and 14 more within 1 ms on two other seeds, no false detection more.
+    Under a reverberant room's sound a drop's last bounces (5-7 ms apart) keep the layer's first 10 ms (0.81-0.84) but
+    not its start (0.2-0.3: the layer peaks 9.4 ms in, its first 3 ms carry a tenth of the energy): where neither
+    template's search finds the next bounce (or finds one past its time), after a flight of 10 ms or less, the layer's
+    first ``template_fit`` s alone by ``layer_whole_likeness`` (:func:`._attacks._whole_after`), scaled
+    ``bounce_ratio_low`` to ``after_ratio_high`` times that attack, a half to one and a half times the flight before
+    on (a drop's flights shrink; FluidSynth's blocks jitter them by 1.3 ms), find it.
 
     *A sample's second burst.* FluidR3's electric snare (40) bursts again 3.4 ms into a note. A detection within
     ``bounce_reach`` s after an attack, where taking that attack's fit off (up to the detection, or past it to the
@@ -1906,7 +1913,9 @@ def _room_echoes(band, d, rate, candidates, amplitude, attack, config, kind=2, f
     the 5 ms before and after it, and alike: its fit (least squares) leaves ``room_fit_db`` or less of that
     band's energy, and the power it leaves after it passes that before it by ``room_echo_db`` at most
     (:func:`._rooms.echo_novelty`; the partners and fits compiled: :func:`._rooms.room_echoes`). A ghost note under
-    an accent's tail, as quiet and as flat, leaves 3.6-19 dB more after its start. ``kind`` and ``fit_db``
+    an accent's tail, as quiet and as flat, leaves 3.6-19 dB more after its start. With ``room_echo_partners`` a
+    partner's window need be clear only of the attacks not tried here themselves (two returns 67 ms after a drop's
+    two trains' last bounces each lie in the window the other's partner needs). ``kind`` and ``fit_db``
     (``room_fit_db`` unless given): the attacks tried and the most their fit may leave (:func:`_room_returns` tries
     the template's, kind 3).
     """
