@@ -507,9 +507,6 @@ class OnsetConfig:
         first ``template_fit`` s alone with what is left at a bounce (its scale ``bounce_ratio_low`` to
         ``after_ratio_high`` times that attack's; no start asked: the quiet layer peaks 9.4 ms in and its first
         3 ms lie under the room's sound or the bounce before's; step 5; 1: not sought, as before this field).
-    room_echo_partners : int in [0, 1]
-        1: the notes whose room returns explain a room's echo (:func:`_room_echoes`) need their window clear only of
-        the attacks not themselves tried as echoes (0: of every attack, as before this field).
 
     Examples
     --------
@@ -615,7 +612,6 @@ class OnsetConfig:
     burst_unfitted_likeness: float = 0.8
     fitted_lead_db: float = 120.0
     layer_whole_likeness: float = 0.8
-    room_echo_partners: int = 1
 
     def __post_init__(self):
         for name, (low, high, unit) in _RANGES.items():
@@ -677,7 +673,6 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "found_bursts": (1, 10, ""), "burst_unfitted_likeness": (0.0, 1.0, "(correlation)"),
     "fitted_lead_db": (0.0, 120.0, "dB"),
     "layer_whole_likeness": (0.0, 1.0, "(correlation)"),
-    "room_echo_partners": (0, 1, ""),
 }
 
 
@@ -1913,9 +1908,7 @@ def _room_echoes(band, d, rate, candidates, amplitude, attack, config, kind=2, f
     the 5 ms before and after it, and alike: its fit (least squares) leaves ``room_fit_db`` or less of that
     band's energy, and the power it leaves after it passes that before it by ``room_echo_db`` at most
     (:func:`._rooms.echo_novelty`; the partners and fits compiled: :func:`._rooms.room_echoes`). A ghost note under
-    an accent's tail, as quiet and as flat, leaves 3.6-19 dB more after its start. With ``room_echo_partners`` a
-    partner's window need be clear only of the attacks not tried here themselves (two returns 67 ms after a drop's
-    two trains' last bounces each lie in the window the other's partner needs). ``kind`` and ``fit_db``
+    an accent's tail, as quiet and as flat, leaves 3.6-19 dB more after its start. ``kind`` and ``fit_db``
     (``room_fit_db`` unless given): the attacks tried and the most their fit may leave (:func:`_room_returns` tries
     the template's, kind 3).
     """
@@ -1934,12 +1927,9 @@ def _room_echoes(band, d, rate, candidates, amplitude, attack, config, kind=2, f
                                round(0.5e-3 * rate))
     tried = tried[rise <= prior * 10.0 ** (config.room_rise_db / 20.0)]
     width, reach, novel = round(5e-3 * rate), round(0.5e-3 * rate), 10.0 ** (config.room_echo_db / 10.0)
-    # how long the sound after each attack stays clear of the next one found (from 1 ms after it); with
-    # room_echo_partners, of the next one not itself tried as an echo (two echoes of a drop's two trains, 67 ms after
-    # each train's last bounce, would otherwise each cut the window the other's partner needs)
-    others = times if config.room_echo_partners == 0 else np.delete(times, tried)
-    after = np.searchsorted(others, times + 1e-3 * rate, side="right")
-    clear = np.append(others, np.inf)[after] - times
+    # how long the sound after each attack stays clear of the next one found (from 1 ms after it)
+    after = np.searchsorted(times, times + 1e-3 * rate, side="right")
+    clear = np.append(times, np.inf)[after] - times
     # each tried attack's partners and fits, in one compiled loop
     return room_echoes(band, times, levels, clear, tried, attack, which, 35e-3 * rate, 0.3 * rate,
                        config.reflection_db, 6.0, width, width, reach, max(1, round(60e-6 * rate)),
@@ -1984,12 +1974,9 @@ def _layer_echoes(band, d, rate, candidates, amplitude, attack, config, replays)
     if not len(tried):
         return attack
     width, reach = round(5e-3 * rate), max(1, round(60e-6 * rate))
-    # how long the sound after each attack stays clear of the next one found (from 1 ms after it); with
-    # room_echo_partners, of the next one not itself tried as an echo (two echoes of a drop's two trains, 67 ms after
-    # each train's last bounce, would otherwise each cut the window the other's partner needs)
-    others = times if config.room_echo_partners == 0 else np.delete(times, tried)
-    after = np.searchsorted(others, times + 1e-3 * rate, side="right")
-    clear = np.append(others, np.inf)[after] - times
+    # how long the sound after each attack stays clear of the next one found (from 1 ms after it)
+    after = np.searchsorted(times, times + 1e-3 * rate, side="right")
+    clear = np.append(times, np.inf)[after] - times
     kept = layer_echoes(band, times, levels, clear, tried, attack, which, 2e-3 * rate, 0.3 * rate, width, width, reach,
                         10.0 ** (config.room_fit_db / 10.0), 10.0 ** (config.layer_echo_db / 10.0), 4)
     if np.array_equal(kept, attack):
