@@ -507,6 +507,11 @@ class OnsetConfig:
         first ``template_fit`` s alone with what is left at a bounce (its scale ``bounce_ratio_low`` to
         ``after_ratio_high`` times that attack's; no start asked: the quiet layer peaks 9.4 ms in and its first
         3 ms lie under the room's sound or the bounce before's; step 5; 1: not sought, as before this field).
+    layer_echo_partners : int in [0, 1]
+        1: a note whose sound at a delay explains a quiet attack (:func:`_layer_echoes`) may have its own return at
+        that delay (within 1.5 ms), an attack tried so too, in the window it needs clear (two returns of the room
+        67 ms after a drop's two trains' last bounces each lie in the other's partner's window; 0: no attack may, as
+        before this field).
 
     Examples
     --------
@@ -612,6 +617,7 @@ class OnsetConfig:
     burst_unfitted_likeness: float = 0.8
     fitted_lead_db: float = 120.0
     layer_whole_likeness: float = 0.8
+    layer_echo_partners: int = 1
 
     def __post_init__(self):
         for name, (low, high, unit) in _RANGES.items():
@@ -673,6 +679,7 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "found_bursts": (1, 10, ""), "burst_unfitted_likeness": (0.0, 1.0, "(correlation)"),
     "fitted_lead_db": (0.0, 120.0, "dB"),
     "layer_whole_likeness": (0.0, 1.0, "(correlation)"),
+    "layer_echo_partners": (0, 1, ""),
 }
 
 
@@ -1974,15 +1981,27 @@ def _layer_echoes(band, d, rate, candidates, amplitude, attack, config, replays)
     if not len(tried):
         return attack
     width, reach = round(5e-3 * rate), max(1, round(60e-6 * rate))
-    # how long the sound after each attack stays clear of the next one found (from 1 ms after it)
+    # how long the sound after each attack stays clear of the next one found (from 1 ms after it), and of the one
+    # after that where the next is tried here (``layer_echo_partners``: the partner's own return at the delay tried)
     after = np.searchsorted(times, times + 1e-3 * rate, side="right")
     clear = np.append(times, np.inf)[after] - times
+    beyond, same = clear, -1.0
+    if config.layer_echo_partners:
+        echo = np.zeros(len(times) + 1, dtype=bool)
+        echo[tried] = True
+        beyond = np.where(echo[after], np.append(times, [np.inf, np.inf])[np.minimum(after + 1, len(times))] - times,
+                          clear)
+        same = _ECHO_SAME * rate
     kept = layer_echoes(band, times, levels, clear, tried, attack, which, 2e-3 * rate, 0.3 * rate, width, width, reach,
-                        10.0 ** (config.room_fit_db / 10.0), 10.0 ** (config.layer_echo_db / 10.0), 4)
+                        10.0 ** (config.room_fit_db / 10.0), 10.0 ** (config.layer_echo_db / 10.0), 4, beyond, same)
     if np.array_equal(kept, attack):
         return attack
     # only where the recording replays a sample (asked last: most recordings refuse nothing here)
     return kept if replays() else attack
+
+
+_ECHO_SAME = 1.5e-3  # s: how near a partner's next attack must lie to the delay tried to be its own return there
+# (``layer_echo_partners``; FluidSynth's blocks jitter a note by 1.33 ms)
 
 
 def _room_returns(band, d, rate, candidates, amplitude, onsets, config):
