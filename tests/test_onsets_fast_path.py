@@ -75,6 +75,10 @@ recording unchanged).
 Nor do an attack's own detections dropped in a row by the template search (``found_bursts``; 1 gives the outputs
 before it), nor the detection no template fits after a dropped one (``burst_unfitted_likeness``; 0 gives the outputs
 before it).
+Nor do a drop's last bounces sought by the quiet layer's first 10 ms alone (``layer_whole_likeness``; 1 gives the
+outputs before it) and a partner's own return at the delay tried let lie in its window (``layer_echo_partners``; 0
+gives the outputs before it): the reference stands (on the corpus, seed 0, FluidR3's drops with reverb gain two
+last bounces; tests/test_recorded_drop_rooms.py).
 The recordings are rebuilt here (seeded): our synthesis with and without the snare wires, another
 drum's, a room and noise (tests/_recordings.py), the paper's free bounce of benchmarks/analysis.py, and
 some of tests/_recorded_drums.py's SoundFont recordings (dry, noise, FluidSynth's reverb).
