@@ -84,6 +84,10 @@ by design: with ``ghost_room_fit=1`` every output equals the reference before; w
 reverb has 26 onsets instead of 23, its ghost notes of 0.2727, 1.0954 and 3.5541 s found within 0.07 ms and its
 onset 1.2 ms late on the one of 3.8714 s moved to within 0.07 ms, the levels of its other onsets within 0.03 dB; every
 other recording unchanged).
+Nor do a drop's last bounces sought by the quiet layer's first 10 ms alone (``layer_whole_likeness``; 1 gives the
+outputs before it) and a partner's own return at the delay tried let lie in its window (``layer_echo_partners``; 0
+gives the outputs before it): the reference stands (on the corpus, seed 0, FluidR3's drops with reverb gain two
+last bounces; tests/test_recorded_drop_rooms.py).
 The recordings are rebuilt here (seeded): our synthesis with and without the snare wires, another
 drum's, a room and noise (tests/_recordings.py), the paper's free bounce of benchmarks/analysis.py, and
 some of tests/_recorded_drums.py's SoundFont recordings (dry, noise, FluidSynth's reverb).

@@ -103,13 +103,18 @@ def echo_novelty(x, at, centres, before, after, reach, step, most_left):
 
 @jit
 def layer_echoes(x, times, levels, clear, tried, attack, which, nearest, farthest, before, after, reach, most_left,
-                 novel, partners):
+                 novel, partners, beyond=None, same=-1.0):
     """:func:`.onsets._layer_echoes`' loop: ``attack`` (a copy) less each of ``tried`` (indices of ``times``, full-rate
     samples, and ``levels``, dB) whose :func:`joint_novelty` is ``novel`` or less: for each attack as loud or louder
     ``nearest`` to ``farthest`` samples before it, the window at the same delay after one of the ``partners`` other
-    attacks nearest it in level (``clear`` samples or more clear of the next one) that fits it best alone
-    (:func:`_best_window`); ``which`` maps ``times`` to ``attack``."""
+    attacks nearest it in level (``clear`` samples or more clear of the next one, or ``beyond`` samples clear of the
+    one after where the next one lies within ``same`` samples of that delay: its own return there; -1, the default:
+    none may) that fits it best alone (:func:`_best_window`); ``which`` maps ``times`` to ``attack``."""
     attack = attack.copy()
+    if beyond is None:
+        far = clear
+    else:
+        far = beyond
     for k in tried:
         at = int(np.rint(times[k]))
         starts = np.empty(len(times), np.int64)
@@ -121,7 +126,9 @@ def layer_echoes(x, times, levels, clear, tried, attack, which, nearest, farthes
             others = np.empty(len(times), np.int64)
             n = 0
             for j in range(len(times)):
-                if j != i and j != k and clear[j] >= delay + after + reach:
+                need = delay + after + reach
+                if j != i and j != k and (clear[j] >= need or (
+                        same >= 0.0 and abs(clear[j] - delay) <= same and far[j] >= need)):
                     others[n] = j
                     n += 1
             others = others[:n][np.argsort(np.abs(levels[others[:n]] - levels[i]), kind="mergesort")[:partners]]

@@ -509,6 +509,17 @@ class OnsetConfig:
         dB: ``lead_db`` for two attacks both timed or found by the template (step 5, :func:`_one_attack_each`): a
         dropped stick's close bounces, each fitted apart, whose quiet velocity layer reads louder than the bounce
         before (120: never one attack; 6, ``lead_db``'s, as before this field).
+    layer_whole_likeness : float in [0, 1]
+        Correlation: where neither template's search with its start finds a close bounce after an attack the
+        quietest clear attack's sound took off (``layer_bounce_likeness``), the least correlation of that sound's
+        first ``template_fit`` s alone with what is left at a bounce (its scale ``bounce_ratio_low`` to
+        ``after_ratio_high`` times that attack's; no start asked: the quiet layer peaks 9.4 ms in and its first
+        3 ms lie under the room's sound or the bounce before's; step 5; 1: not sought, as before this field).
+    layer_echo_partners : int in [0, 1]
+        1: a note whose sound at a delay explains a quiet attack (:func:`_layer_echoes`) may have its own return at
+        that delay (within 1.5 ms), an attack tried so too, in the window it needs clear (two returns of the room
+        67 ms after a drop's two trains' last bounces each lie in the other's partner's window; 0: no attack may, as
+        before this field).
 
     Examples
     --------
@@ -615,6 +626,8 @@ class OnsetConfig:
     burst_unfitted_likeness: float = 0.8
     fitted_lead_db: float = 120.0
     ghost_room_fit: float = 0.8
+    layer_whole_likeness: float = 0.8
+    layer_echo_partners: int = 1
 
     def __post_init__(self):
         for name, (low, high, unit) in _RANGES.items():
@@ -676,6 +689,8 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "found_bursts": (1, 10, ""), "burst_unfitted_likeness": (0.0, 1.0, "(correlation)"),
     "fitted_lead_db": (0.0, 120.0, "dB"),
     "ghost_room_fit": (0.0, 1.0, "(correlation)"),
+    "layer_whole_likeness": (0.0, 1.0, "(correlation)"),
+    "layer_echo_partners": (0, 1, ""),
 }
 
 
@@ -802,7 +817,8 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        start (by ``bounce_likeness``) and its first ``template_fit`` s correlate so with what is left, however
        little it rises; after an attack the quiet layer's template took off, in a train of close attacks, where the
        recording replays a sample (two clear attacks one waveform by ``replay_likeness``), that layer's template
-       may find it too (its first ``template_fit`` s by ``layer_bounce_likeness``, its start by ``weak_likeness``);
+       may find it too (its first ``template_fit`` s by ``layer_bounce_likeness``, its start by ``weak_likeness``; where
+       that finds none after a flight of 10 ms or less, its first ``template_fit`` s alone by ``layer_whole_likeness``);
        else an onset step 4 refused, ``signature`` s or more after it, where both correlate by
        ``refused_likeness``; then that second opinion again with the quietest clear attack as
        the template (another velocity layer of a sample), by ``layer_likeness``. A detection there that taking off
@@ -1543,6 +1559,12 @@ def _template_search(band, d, rate, candidates, refused, config, replays, quiete
     reaches the quietest clear attack, the layer's template is that attack's sound as recorded (a drop's first train
     of close bounces may come before it). On the corpus 24 more loud notes within 1 ms and 22 within 5 ms (FluidR3's
     drops), 2 false detections fewer; 24 and 14 more within 1 ms on two other seeds, no false detection more.
+    Under a reverberant room's sound a drop's last bounces (5-7 ms apart) keep the layer's first 10 ms (0.81-0.84) but
+    not its start (0.2-0.3: the layer peaks 9.4 ms in, its first 3 ms carry a tenth of the energy): where neither
+    template's search finds the next bounce (or finds one past its time), after a flight of 10 ms or less, the layer's
+    first ``template_fit`` s alone by ``layer_whole_likeness`` (:func:`._attacks._whole_after`), scaled
+    ``bounce_ratio_low`` to ``after_ratio_high`` times that attack, a half to one and a half times the flight before
+    on (a drop's flights shrink; FluidSynth's blocks jitter them by 1.3 ms), find it.
 
     *A sample's second burst.* FluidR3's electric snare (40) bursts again 3.4 ms into a note. A detection within
     ``bounce_reach`` s after an attack, where taking that attack's fit off (up to the detection, or past it to the
@@ -1620,11 +1642,17 @@ def _template_search(band, d, rate, candidates, refused, config, replays, quiete
                                             10.0 ** (config.found_burst_db / 10.0) if config.found_burst_db > -120.0 else 0.0,
                                             0 if quietest else round(config.earlier_reach * rate), ~lead_clear & (candidates.kinds != 3),
                                             config.weak_likeness, config.bounce_likeness, layer_bounce,
-                                            config.found_bursts, config.burst_unfitted_likeness)
+                                            config.found_bursts, config.burst_unfitted_likeness,
+                                            config.layer_whole_likeness if layer_bounce < 1.0 else 1.0,
+                                            round(_TRAIN_FLIGHT * rate))
     if not len(found) and not dropped.any():
         return candidates
     merged, fresh = candidates.take(~dropped).insert(found, attack=True, likeness=likes)
     return replace(merged, kinds=np.where(fresh, 3, merged.kinds))
+
+
+_TRAIN_FLIGHT = 10e-3  # s: the longest flight before a drop's last bounce that ``layer_whole_likeness`` seeks after
+# (FluidR3's snares: 3.9-9.3 ms; a room's detections 18 ms apart took the room's sound for a train of bounces)
 
 
 def _ghost_notes(band, d, rate, candidates, config, replays, reverberant=False):
@@ -2029,15 +2057,27 @@ def _layer_echoes(band, d, rate, candidates, amplitude, attack, config, replays)
     if not len(tried):
         return attack
     width, reach = round(5e-3 * rate), max(1, round(60e-6 * rate))
-    # how long the sound after each attack stays clear of the next one found (from 1 ms after it)
+    # how long the sound after each attack stays clear of the next one found (from 1 ms after it), and of the one
+    # after that where the next is tried here (``layer_echo_partners``: the partner's own return at the delay tried)
     after = np.searchsorted(times, times + 1e-3 * rate, side="right")
     clear = np.append(times, np.inf)[after] - times
+    beyond, same = clear, -1.0
+    if config.layer_echo_partners:
+        echo = np.zeros(len(times) + 1, dtype=bool)
+        echo[tried] = True
+        beyond = np.where(echo[after], np.append(times, [np.inf, np.inf])[np.minimum(after + 1, len(times))] - times,
+                          clear)
+        same = _ECHO_SAME * rate
     kept = layer_echoes(band, times, levels, clear, tried, attack, which, 2e-3 * rate, 0.3 * rate, width, width, reach,
-                        10.0 ** (config.room_fit_db / 10.0), 10.0 ** (config.layer_echo_db / 10.0), 4)
+                        10.0 ** (config.room_fit_db / 10.0), 10.0 ** (config.layer_echo_db / 10.0), 4, beyond, same)
     if np.array_equal(kept, attack):
         return attack
     # only where the recording replays a sample (asked last: most recordings refuse nothing here)
     return kept if replays() else attack
+
+
+_ECHO_SAME = 1.5e-3  # s: how near a partner's next attack must lie to the delay tried to be its own return there
+# (``layer_echo_partners``; FluidSynth's blocks jitter a note by 1.33 ms)
 
 
 def _room_returns(band, d, rate, candidates, amplitude, onsets, config):
