@@ -75,6 +75,10 @@ recording unchanged).
 Nor do an attack's own detections dropped in a row by the template search (``found_bursts``; 1 gives the outputs
 before it), nor the detection no template fits after a dropped one (``burst_unfitted_likeness``; 0 gives the outputs
 before it).
+Nor do the ghost notes' rules under white noise (``ghost_rise_gap``: a rise read also against the 10 ms before a
+1-ms gap; ``ghost_noise_start``: a new note's onset where the noise's power changes; each 0 gives the outputs before
+it): the reference stands (its recordings' rises in what is left are over the drum's or a room's sound, not white
+noise, or found as before).
 The recordings are rebuilt here (seeded): our synthesis with and without the snare wires, another
 drum's, a room and noise (tests/_recordings.py), the paper's free bounce of benchmarks/analysis.py, and
 some of tests/_recorded_drums.py's SoundFont recordings (dry, noise, FluidSynth's reverb).
