@@ -77,7 +77,8 @@ def accent_rises(band, c, which, ends, accents, first, count, mate, shifts, scal
     the search's ``ends``) its mates ``mate[first:first + count]`` (indices of ``which``), each placed ``shifts``
     samples off and scaled by ``scales``. Returns for each rise its accent (index of ``accents``), its block, the
     mate whose remainder is the least there [each shape=(n,)], and each accent's window's length (samples of ``band``
-    from its onset) [shape=(len(accents),)]."""
+    from its onset) [shape=(len(accents),)]. With ``gap`` (samples), the rises over the 10 ms before a gap so long
+    follow, each accent's index plus ``len(accents)``."""
     found, blocks, mates = [], [], []
     lengths = np.zeros(len(accents), dtype=np.int64)
     for k in range(len(accents)):
@@ -103,11 +104,17 @@ def accent_rises(band, c, which, ends, accents, first, count, mate, shifts, scal
                 break
         if length <= size + before:
             continue
-        for j in rising(e, (size + before) // block, (length - width) // block, (before + gap) // block,
+        for j in rising(e, (size + before) // block, (length - width) // block, before // block,
                         (before - width) // block, rise):
             found.append(k)
             blocks.append(j)
             mates.append(pick[j])
+        if gap > 0:  # and over the 10 ms before a gap, on the same remainders (their accents counted on)
+            for j in rising(e, (size + before) // block, (length - width) // block, (before + gap) // block,
+                            (before - width) // block, rise):
+                found.append(k + len(accents))
+                blocks.append(j)
+                mates.append(pick[j])
     return (np.array(found, dtype=np.int64), np.array(blocks, dtype=np.int64), np.array(mates, dtype=np.int64),
             lengths)
 
@@ -201,14 +208,11 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
     scales_all = np.array([scale for u in used for _, _, scale in u], dtype=float)
     args = (band, c, which, ends, np.array(accents, dtype=np.int64), np.cumsum(count) - count, count, mate, shifts,
             scales_all, round(span * rate), size, before, after, width, block, 1 if own_db < 120.0 else 2, rise)
-    which_accent, rises, picks, lengths = accent_rises(*args)
-    gapped = np.zeros(len(rises), dtype=bool)
     gap = round(rise_gap * rate)
+    which_accent, rises, picks, lengths = accent_rises(*args, gap)
+    gapped = which_accent >= len(accents)
     if gap > 0:  # the rises over the 10 ms before a gap: kept below where what is left before them is white noise
-        more_accent, more, more_picks, _ = accent_rises(*args, gap)
-        which_accent = np.concatenate((which_accent, more_accent))
-        rises, picks = np.concatenate((rises, more)), np.concatenate((picks, more_picks))
-        gapped = np.concatenate((gapped, np.ones(len(more), dtype=bool)))
+        which_accent = np.where(gapped, which_accent - len(accents), which_accent)
         order = np.lexsort((gapped, rises, which_accent))
         which_accent, rises, picks, gapped = which_accent[order], rises[order], picks[order], gapped[order]
     quiet = round(5e-3 * rate)
@@ -226,10 +230,10 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
         for t, m, over_gap in zip((rises[mine] * block).tolist(), picks[mine].tolist(), gapped[mine].tolist()):
             if t < last + round(20e-3 * rate):
                 continue
-            v = x - scales[m] * band[starts_m[m]:starts_m[m] + len(x)]
             low = t - gap if over_gap else t  # the note's lead-in may be in the gap
-            if over_gap and not _white(v[low - quiet:low]):
+            if over_gap and not _white(x[low - quiet:low] - scales[m] * band[starts_m[m] + low - quiet:starts_m[m] + low]):
                 continue
+            v = x - scales[m] * band[starts_m[m]:starts_m[m] + len(x)]
             peak = np.abs(v[t:t + width + after]).max()
             # past where two mates reach over its 1 ms, the note must be the accent's own
             alone = own_everywhere or np.sum((t + width) // block < valid) < 2
