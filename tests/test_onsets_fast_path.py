@@ -88,6 +88,10 @@ Nor do a drop's last bounces sought by the quiet layer's first 10 ms alone (``la
 outputs before it) and a partner's own return at the delay tried let lie in its window (``layer_echo_partners``; 0
 gives the outputs before it): the reference stands (on the corpus, seed 0, FluidR3's drops with reverb gain two
 last bounces; tests/test_recorded_drop_rooms.py).
+Nor do the ghost notes' rules under white noise (``ghost_rise_gap``: a rise read also against the 10 ms before a
+1-ms gap; ``ghost_noise_start``: a new note's onset where the noise's power changes; each 0 gives the outputs before
+it): the reference stands (its recordings' rises in what is left are over the drum's or a room's sound, not white
+noise, or found as before).
 The recordings are rebuilt here (seeded): our synthesis with and without the snare wires, another
 drum's, a room and noise (tests/_recordings.py), the paper's free bounce of benchmarks/analysis.py, and
 some of tests/_recorded_drums.py's SoundFont recordings (dry, noise, FluidSynth's reverb).

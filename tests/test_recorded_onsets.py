@@ -16,7 +16,9 @@ from drumstroke.analysis import OnsetConfig, find_onsets
 # found_decay_db, bounce_likeness, bounce_ratio_low, found_echo_rise_db, and the quiet layer's own bounce search,
 # layer_bounce_likeness): a control that measures a stage before them (those rules do part of its work since)
 _BEFORE_FOUND = {"found_burst_db": -120.0, "earlier_reach": 0.0, "found_decay_db": -32.0, "bounce_likeness": 0.8,
-                 "bounce_ratio_low": 0.35, "found_echo_rise_db": -3.5, "layer_bounce_likeness": 1.0}
+                 "bounce_ratio_low": 0.35, "found_echo_rise_db": -3.5, "layer_bounce_likeness": 1.0,
+                 # the ghost notes' rules under white noise (tests/test_recorded_noise_ghosts.py), after these
+                 "ghost_rise_gap": 0.0, "ghost_noise_start": 0.0}
 
 # a room's echoes not refused (room_decay_db): a control that measures a rule before it in a recording step 4 finds
 # reverberant (that rule does part of its work since)

@@ -71,13 +71,14 @@ def rising(e, low, high, back, span, rise):
 
 @jit(error_model="numpy")
 def accent_rises(band, c, which, ends, accents, first, count, mate, shifts, scales, span, size, before, after, width,
-                 block, fewest, rise):
-    """:func:`ghost_onsets`' search of each accent's remainders for the blocks where a note rises (:func:`rising`), in
-    one loop: for each of ``accents`` (indices of ``which``, the clear attacks; the onsets ``c``, full-rate samples,
+                 block, fewest, rise, gap=0):
+    """:func:`ghost_onsets`' search of each accent's remainders for the blocks where a note rises (:func:`rising`; over
+    the 10 ms before a ``gap`` of samples), in one loop: for each of ``accents`` (indices of ``which``, the clear attacks; the onsets ``c``, full-rate samples,
     the search's ``ends``) its mates ``mate[first:first + count]`` (indices of ``which``), each placed ``shifts``
     samples off and scaled by ``scales``. Returns for each rise its accent (index of ``accents``), its block, the
     mate whose remainder is the least there [each shape=(n,)], and each accent's window's length (samples of ``band``
-    from its onset) [shape=(len(accents),)]."""
+    from its onset) [shape=(len(accents),)]. With ``gap`` (samples), the rises over the 10 ms before a gap so long
+    follow, each accent's index plus ``len(accents)``."""
     found, blocks, mates = [], [], []
     lengths = np.zeros(len(accents), dtype=np.int64)
     for k in range(len(accents)):
@@ -108,6 +109,12 @@ def accent_rises(band, c, which, ends, accents, first, count, mate, shifts, scal
             found.append(k)
             blocks.append(j)
             mates.append(pick[j])
+        if gap > 0:  # and over the 10 ms before a gap, on the same remainders (their accents counted on)
+            for j in rising(e, (size + before) // block, (length - width) // block, (before + gap) // block,
+                            (before - width) // block, rise):
+                found.append(k + len(accents))
+                blocks.append(j)
+                mates.append(pick[j])
     return (np.array(found, dtype=np.int64), np.array(blocks, dtype=np.int64), np.array(mates, dtype=np.int64),
             lengths)
 
@@ -148,7 +155,8 @@ def _own(x, band, mate, scale, t, size, own_db):
 
 
 def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=120.0, own_everywhere=False,
-                 skip=10e-3, span=0.13, quiet_db=-10.0, below_db=-30.0, quieter_db=-6.0, mates_used=3):
+                 skip=10e-3, span=0.13, quiet_db=-10.0, below_db=-30.0, quieter_db=-6.0, mates_used=3, noise_start=0.0,
+                 rise_gap=0.0):
     """Onsets (full-rate samples) of notes within ``span`` s after a ``clear`` attack at ``times`` (full-rate samples),
     found in what is left of ``band`` once that attack's own sound is taken off, predicted by its layer-mates.
 
@@ -164,7 +172,11 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
     over its most over the 10 ms before (from ``skip`` s after the attack on), its remainder's peak over the next
     11 ms ``least`` or more, within ``below_db`` of the attack's peak and ``quieter_db`` or more under it; its onset
     is the first sample there whose magnitude passes 1 % of that peak and four times the remainder's RMS over the
-    5 ms before (one note in 20 ms).
+    5 ms before (one note in 20 ms). With ``rise_gap`` (s), where what is left over the 5 ms before a rise is white
+    noise (:func:`_white`), a rise over the 10 ms before a gap so long counts too, its onset sought from the gap's
+    start; with ``noise_start`` (s), where that noise, not 1 % of the peak, sets the onset's level and it is white, the
+    onset is where the power changes (:func:`noise_change`) up to so long before the rise, returned beside the
+    onsets (each as found, or so moved) [each shape=(n,)].
     """
     pre, size, lag = round(0.5e-3 * rate), round(skip * rate), 2
     width, before, after = round(1e-3 * rate), round(10e-3 * rate), round(10e-3 * rate)
@@ -174,7 +186,7 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
     ok = np.asarray(clear, dtype=bool) & (starts >= lag) & (starts + round(span * rate) + lag + after < len(band))
     which = np.flatnonzero(ok)
     if len(which) < 3:
-        return np.empty(0)
+        return (np.empty(0), np.empty(0)) if noise_start > 0.0 else np.empty(0)
     # each attack's peak over the 5 ms from it (the last 5 ms of ``band`` from past its end; from before its start,
     # as a negative index reads the windows, counted from the end)
     windows_count = len(band) - round(5e-3 * rate) + 1
@@ -194,9 +206,17 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
     mate = np.array([a for u in used for a, _, _ in u], dtype=np.int64)
     shifts = np.array([shift for u in used for _, shift, _ in u], dtype=np.int64)
     scales_all = np.array([scale for u in used for _, _, scale in u], dtype=float)
-    which_accent, rises, picks, lengths = accent_rises(
-        band, c, which, ends, np.array(accents, dtype=np.int64), np.cumsum(count) - count, count, mate, shifts,
-        scales_all, round(span * rate), size, before, after, width, block, 1 if own_db < 120.0 else 2, rise)
+    args = (band, c, which, ends, np.array(accents, dtype=np.int64), np.cumsum(count) - count, count, mate, shifts,
+            scales_all, round(span * rate), size, before, after, width, block, 1 if own_db < 120.0 else 2, rise)
+    gap = round(rise_gap * rate)
+    which_accent, rises, picks, lengths = accent_rises(*args, gap)
+    gapped = which_accent >= len(accents)
+    if gap > 0:  # the rises over the 10 ms before a gap: kept below where what is left before them is white noise
+        which_accent = np.where(gapped, which_accent - len(accents), which_accent)
+        order = np.lexsort((gapped, rises, which_accent))
+        which_accent, rises, picks, gapped = which_accent[order], rises[order], picks[order], gapped[order]
+    quiet = round(5e-3 * rate)
+    starts_at = {}  # the onsets moved to where white noise's power changes (noise_start)
     for k in np.unique(which_accent).tolist():
         b = which[accents[k]]
         x = band[c[b]:c[b] + lengths[k]]
@@ -206,8 +226,12 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
         valid = np.array([((c[which[a] + 1] if which[a] + 1 < len(c) else len(band)) - c[which[a]] - width) // block
                           for a, _, _ in used[k]], dtype=np.int64)
         last = -np.inf
-        for t, m in zip((rises[which_accent == k] * block).tolist(), picks[which_accent == k].tolist()):
+        mine = which_accent == k
+        for t, m, over_gap in zip((rises[mine] * block).tolist(), picks[mine].tolist(), gapped[mine].tolist()):
             if t < last + round(20e-3 * rate):
+                continue
+            low = t - gap if over_gap else t  # the note's lead-in may be in the gap
+            if over_gap and not _white(x[low - quiet:low] - scales[m] * band[starts_m[m] + low - quiet:starts_m[m] + low]):
                 continue
             v = x - scales[m] * band[starts_m[m]:starts_m[m] + len(x)]
             peak = np.abs(v[t:t + width + after]).max()
@@ -217,13 +241,42 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
                 continue
             if not max(least, loud[b] * 10.0 ** (below_db / 20.0)) <= peak <= loud[b] * 10.0 ** (quieter_db / 20.0):
                 continue
-            noise = np.sqrt(np.mean(v[t - round(5e-3 * rate):t] ** 2))
-            above = np.flatnonzero(np.abs(v[t:t + width + after]) >= max(0.01 * peak, 4.0 * noise))
+            noise = np.sqrt(np.mean(v[low - quiet:low] ** 2))
+            above = np.flatnonzero(np.abs(v[low:t + width + after]) >= max(0.01 * peak, 4.0 * noise))
             if not len(above):
                 continue
-            found.append(c[b] + t + above[0])
+            onset = low + above[0]
+            if noise_start > 0.0 and 4.0 * noise > 0.01 * peak and _white(v[low - quiet:low]):
+                starts_at[c[b] + onset] = c[b] + noise_change(v, low - quiet, low - round(noise_start * rate), onset)
+            found.append(c[b] + onset)
             last = t
-    return np.unique(np.asarray(found, dtype=float))
+    found = np.unique(np.asarray(found, dtype=float))
+    if noise_start > 0.0:
+        return found, np.array([starts_at.get(int(g), g) for g in found.tolist()], dtype=float)
+    return found
+
+
+def noise_change(v, low, first, onset):
+    """Where ``v``'s power changes, between ``first`` and ``onset`` (samples): the split of ``v[low:onset + 1]`` into
+    two stretches, the first ``first - low`` samples or more long and the second four or more, of the most likelihood
+    as two white noises (the least ``n1 log p1 + n2 log p2``, ``p`` each stretch's mean power). A note's start under
+    white noise, read as the first sample four times its RMS, is late by the note's lead-in under that level."""
+    energy = np.concatenate(([0.0], np.cumsum(v[low:onset + 1] ** 2)))
+    n = len(energy) - 1
+    k = np.arange(max(1, first - low), n - 3)
+    if not len(k):
+        return onset
+    p1 = np.maximum(energy[k] / k, 1e-300)
+    p2 = np.maximum((energy[n] - energy[k]) / (n - k), 1e-300)
+    cost = k * np.log(p1) + (n - k) * np.log(p2)
+    return low + int(k[np.argmin(cost)])
+
+
+def _white(v, most=0.6):
+    """Whether ``v`` looks like white noise: its correlation with itself one sample on within ``most`` of 0 (white
+    noise over 5 ms at 48 kHz: 0 +- 0.065; a drum's or a room's sound left over, its low modes: near 1)."""
+    energy = np.dot(v, v)
+    return energy > 0.0 and abs(np.dot(v[:-1], v[1:])) <= most * energy
 
 
 

@@ -520,6 +520,15 @@ class OnsetConfig:
         that delay (within 1.5 ms), an attack tried so too, in the window it needs clear (two returns of the room
         67 ms after a drop's two trains' last bounces each lie in the other's partner's window; 0: no attack may, as
         before this field).
+    ghost_noise_start : float in [0, 0.005]
+        s: where what is left before a ghost note is white noise (its correlation one sample on within 0.6 of 0),
+        the note's onset, read as its first sample four times that noise's RMS (late by a slow lead-in under it), is
+        moved to where the power changes (the split into two white noises of the most likelihood) up to so long
+        before its rise, where it is a new note (step 5, :func:`_ghost_notes`; 0: not moved, as before this field).
+    ghost_rise_gap : float in [0, 0.005]
+        s: where what is left before a ghost note is white noise, its rise by ``ghost_rise_db`` is read also against
+        the 10 ms before a gap so long, and its onset sought from the gap's start: a quiet note's lead-in under the
+        noise is in the 10 ms before its main rise (step 5, :func:`_ghost_notes`; 0: not, as before this field).
 
     Examples
     --------
@@ -628,6 +637,8 @@ class OnsetConfig:
     ghost_room_fit: float = 0.8
     layer_whole_likeness: float = 0.8
     layer_echo_partners: int = 1
+    ghost_noise_start: float = 1e-3
+    ghost_rise_gap: float = 1e-3
 
     def __post_init__(self):
         for name, (low, high, unit) in _RANGES.items():
@@ -691,6 +702,8 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "ghost_room_fit": (0.0, 1.0, "(correlation)"),
     "layer_whole_likeness": (0.0, 1.0, "(correlation)"),
     "layer_echo_partners": (0, 1, ""),
+    "ghost_noise_start": (0.0, 5e-3, "s"),
+    "ghost_rise_gap": (0.0, 5e-3, "s"),
 }
 
 
@@ -1681,6 +1694,17 @@ def _ghost_notes(band, d, rate, candidates, config, replays, reverberant=False):
     none sought there, as before). A new note (no attack within 5 ms) is an attack of kind 3; an attack 0.5-1.5 ms
     after it (on its main rise: a sample's lead-in late) is moved there. ``ghost_rise_db`` 120: none sought (as
     before this stage).
+
+    *Under white noise.* Where what is left before a rise is white noise (its correlation one sample on within 0.6
+    of 0: the noise of both recordings, with what the mates leave of the accent; the drum's or a room's sound left
+    over, 0.84-0.98), a quiet note's lead-in rises slowly out of it and its first millisecond is in the 10 ms its rise
+    is read against (FluidR3's snare 38 at -72 dBFS: 0.7874 s, 14.4 dB): with ``ghost_rise_gap`` the rise is read also
+    against the 10 ms before a gap so long (19.4 dB), the onset sought from the gap's start. And the first sample four
+    times the noise's RMS is late by the lead-in under it (FluidR3's snare 40 at -72 dBFS: 0.3204 s, its first 1.2 ms
+    1.5-4 times that RMS, found 1.19 ms late): with ``ghost_noise_start`` the onset is where the power changes (the
+    split of the 5 ms before and up to that sample into two white noises of the most likelihood), up to so long
+    before the rise, where it is a new note (an attack found after it is moved to it as before: moved earlier so,
+    TimGM6mb's snare 40 at -60 dBFS on seed 4 lost a note to the later stages).
     """
     from ._ghosts import ghost_onsets
 
@@ -1693,15 +1717,17 @@ def _ghost_notes(band, d, rate, candidates, config, replays, reverberant=False):
     which = np.flatnonzero(candidates.attack)
     ghosts = ghost_onsets(band, candidates.times[which], lead_clear[which], rate, likeness=config.replay_likeness,
                           rise_db=config.ghost_rise_db, least=10.0 ** (config.threshold_db / 20.0),
-                          own_db=own_db, own_everywhere=reverberant)
+                          own_db=own_db, own_everywhere=reverberant, noise_start=config.ghost_noise_start,
+                          rise_gap=config.ghost_rise_gap)
+    ghosts, starts = ghosts if config.ghost_noise_start > 0.0 else (ghosts, ghosts)
     if not len(ghosts):
         return candidates
     times, kinds = candidates.times.copy(), candidates.kinds.copy()
     new = []
-    for g in ghosts:
+    for g, start in zip(ghosts, starts):
         near = which[np.abs(times[which] - g) <= 5e-3 * rate]
         if not len(near):
-            new.append(g)
+            new.append(start)  # (under white noise, where its power changes: ghost_noise_start)
             continue
         k = near[np.argmin(np.abs(times[near] - g))]
         if 0.5e-3 * rate < times[k] - g <= 1.5e-3 * rate:  # found late, on the main rise after the lead-in
