@@ -503,3 +503,19 @@ def test_frame_peaks_are_numpys(rng):
             x[rng.random(len(x)) < 0.02] = value
         want = np.abs(x[:count * frame]).reshape(count, frame).max(axis=1)
         np.testing.assert_array_equal(frame_peaks(x, frame, count), want, strict=True)
+
+
+def test_room_remainders_are_numpys(rng):
+    """_ghosts.remainders gives, for each rise, room_ghost_onsets' remainder ``x - scale * y`` and its squares' sums
+    ``concatenate((0, cumsum(v ** 2)))`` to the bit."""
+    from drumstroke.analysis._ghosts import remainders
+
+    band = rng.standard_normal(5000) * np.geomspace(1.0, 1e-4, 5000)
+    starts = rng.integers(0, 4000, 20)
+    others = rng.integers(0, 4000, 20)
+    scales = rng.uniform(0.1, 3.0, 20)
+    v, sums = remainders(band, starts, others, scales, 900, 552)
+    for r in range(20):
+        want = band[starts[r]:starts[r] + 900] - scales[r] * band[others[r]:others[r] + 900]
+        assert np.array_equal(v[r], want)
+        assert np.array_equal(sums[r], np.concatenate((np.zeros(1), np.cumsum(want[:552] ** 2))))

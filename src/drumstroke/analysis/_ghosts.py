@@ -274,34 +274,57 @@ def room_ghost_onsets(band, times, clear, rate, head, *, likeness, rise_db, leas
     # the rises tried: a rise's window spans ``energy`` s, so the rises in the window of one tried are its own
     chosen = spaced(which_accent, rises * block, wide, back + pre,
                     lengths[which_accent] - max(wide - pre + n, wide + width + after))
+    if not len(chosen):
+        return np.empty(0)
+    k_of, t_of = which_accent[chosen], rises[chosen] * block
+    # each rise's remainder from ``reach`` before its block (less the head's lead) to where the last start's head
+    # ends, and its energy summed from there (compiled, elementwise as numpy's difference and cumulative sum)
+    accent_at = c[which[np.array(accents, dtype=np.int64)]]
+    mate_of = (np.cumsum(count) - count)[k_of] + picks[chosen]
+    low = t_of - back - pre
+    v, sums = remainders(band, accent_at[k_of] + low, c[which[mate[mate_of]]] + shifts[mate_of] + low,
+                         scales[mate_of], back + pre + max(wide - pre + n, wide + width + after), back + wide + n)
+    # the head's correlation with each at each start from ``reach`` before the block to ``energy`` after
+    cross = np.empty((len(chosen), back + wide + 1))
+    for i in range(len(chosen)):
+        cross[i] = np.correlate(v[i, :back + wide + n], unit, "valid")
+    power = sums[:, n:] - sums[:, :-n]
+    like = np.where(power > 0.0, cross / np.sqrt(np.maximum(power, 1e-300)), -1.0)
+    best = np.argmax(like, axis=1)
+    fits = like[np.arange(len(chosen)), best] >= fit
     accent, last = -1, -np.inf
-    for k, t, m in zip(which_accent[chosen].tolist(), (rises[chosen] * block).tolist(), picks[chosen].tolist()):
+    for i in np.flatnonzero(fits).tolist():
+        k, t = int(k_of[i]), int(t_of[i])
         if k != accent:
             accent, last = k, -np.inf
             b = which[accents[k]]
-            x = band[c[b]:c[b] + lengths[k]]
         if t < last + round(20e-3 * rate):
             continue
-        a, shift, scale = used[k][m]
-        other = c[which[a]] + shift
-        # the remainder from ``reach`` before the block (less the head's lead) to where the last start's head ends
-        low, high = t - back - pre, max(t + wide - pre + n, t + wide + width + after)
-        v = x[low:high] - scale * band[other + low:other + high]
-        # the head's correlation with it at each start from ``reach`` before the block to ``energy`` after
-        cross = np.correlate(v[:back + wide + n], unit, "valid")
-        sums = np.concatenate((np.zeros(1), np.cumsum(v[:back + wide + n] ** 2)))
-        power = sums[n:] - sums[:-n]
-        like = np.where(power > 0.0, cross / np.sqrt(np.maximum(power, 1e-300)), -1.0)
-        best = int(np.argmax(like))
-        if like[best] < fit:
-            continue
-        at = t - back + best
-        peak = np.abs(v[at - low:at - low + width + after]).max()
+        at = t - back + int(best[i])
+        peak = np.abs(v[i, at - low[i]:at - low[i] + width + after]).max()
         if not max(least, loud[b] * 10.0 ** (below_db / 20.0)) <= peak <= loud[b] * 10.0 ** (quieter_db / 20.0):
             continue
         found.append(c[b] + at)
         last = t
     return np.unique(np.asarray(found, dtype=float))
+
+
+@jit(error_model="numpy")
+def remainders(band, starts, others, scales, size, summed):
+    """``band`` over ``size`` samples from each of ``starts`` less ``scales`` times it from ``others`` [shape=(n,
+    size)], as numpy's ``x - scale * y``, and each row's squares summed cumulatively over its first ``summed``
+    samples from 0 (as ``concatenate((0, cumsum(v ** 2)))``) [shape=(n, summed + 1)]."""
+    v = np.empty((len(starts), size))
+    sums = np.empty((len(starts), summed + 1))
+    for r in range(len(starts)):
+        for i in range(size):
+            v[r, i] = band[starts[r] + i] - scales[r] * band[others[r] + i]
+        total = 0.0
+        sums[r, 0] = 0.0
+        for i in range(summed):
+            total += v[r, i] * v[r, i]
+            sums[r, i + 1] = total
+    return v, sums
 
 
 @jit
