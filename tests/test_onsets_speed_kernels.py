@@ -519,3 +519,24 @@ def test_room_remainders_are_numpys(rng):
         want = band[starts[r]:starts[r] + 900] - scales[r] * band[others[r]:others[r] + 900]
         assert np.array_equal(v[r], want)
         assert np.array_equal(sums[r], np.concatenate((np.zeros(1), np.cumsum(want[:552] ** 2))))
+
+
+def test_room_rise_crosses_are_numpys_correlate(rng):
+    """_ghosts.rise_crosses gives np.correlate's "valid" sums of each row with the head (numpy's correlate sums each
+    lag with OpenBLAS's ddot): to the bit on OpenBLAS's Haswell kernel, within rounding on another BLAS."""
+    from threadpoolctl import threadpool_limits
+
+    from drumstroke.analysis._ghosts import rise_crosses
+
+    exact = _haswell_dot()
+    with threadpool_limits(1, user_api="blas"):
+        for size in (264, 263, 17, 5):
+            v = rng.standard_normal((7, 900)) * np.geomspace(1.0, 1e-3, 900)
+            unit = rng.standard_normal(size)
+            unit /= np.linalg.norm(unit)
+            got = rise_crosses(v, unit, 289)
+            want = np.array([np.correlate(row[:289 + size - 1], unit, "valid") for row in v])
+            if exact:
+                np.testing.assert_array_equal(got, want)
+            else:
+                np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-12 * np.abs(v).max())

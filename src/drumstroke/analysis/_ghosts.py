@@ -8,6 +8,7 @@ import numpy as np
 
 from .._jit import jit
 from ._kernels import window_peaks
+from ._templates import blas_lag_dots
 
 
 @jit(error_model="numpy")
@@ -285,9 +286,7 @@ def room_ghost_onsets(band, times, clear, rate, head, *, likeness, rise_db, leas
     v, sums = remainders(band, accent_at[k_of] + low, c[which[mate[mate_of]]] + shifts[mate_of] + low,
                          scales[mate_of], back + pre + max(wide - pre + n, wide + width + after), back + wide + n)
     # the head's correlation with each at each start from ``reach`` before the block to ``energy`` after
-    cross = np.empty((len(chosen), back + wide + 1))
-    for i in range(len(chosen)):
-        cross[i] = np.correlate(v[i, :back + wide + n], unit, "valid")
+    cross = rise_crosses(v, unit, back + wide + 1)
     power = sums[:, n:] - sums[:, :-n]
     like = np.where(power > 0.0, cross / np.sqrt(np.maximum(power, 1e-300)), -1.0)
     best = np.argmax(like, axis=1)
@@ -325,6 +324,17 @@ def remainders(band, starts, others, scales, size, summed):
             total += v[r, i] * v[r, i]
             sums[r, i + 1] = total
     return v, sums
+
+
+@jit
+def rise_crosses(v, unit, count):
+    """``np.correlate(v[r, :count + len(unit) - 1], unit, "valid")`` for each row ``r`` of ``v`` [shape=(rows,
+    count)]: each lag's sum as np.dot's (:func:`._templates.blas_lag_dots`, OpenBLAS's ``ddot``, which numpy's
+    correlate calls for each lag)."""
+    out = np.empty((v.shape[0], count))
+    for r in range(v.shape[0]):
+        blas_lag_dots(v[r], 0, count, unit, len(unit), out[r])
+    return out
 
 
 @jit
