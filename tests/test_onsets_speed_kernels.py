@@ -540,3 +540,25 @@ def test_room_rise_crosses_are_numpys_correlate(rng):
                 np.testing.assert_array_equal(got, want)
             else:
                 np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-12 * np.abs(v).max())
+
+
+def test_layer_mates_shared_only_on_the_same_attacks(rng):
+    """_ghosts._partners with ``shared`` gives the search's answer: kept from the last call on the same band (the
+    same object) and arguments, searched again on other attacks or another band."""
+    from drumstroke.analysis._ghosts import _layer_mates, _partners
+
+    sound = rng.standard_normal(600) * np.geomspace(1.0, 1e-3, 600)
+    band = np.zeros(8000)
+    for at, scale in ((500, 1.0), (2000, 0.5), (3500, 0.8), (5000, 0.3)):
+        band[at:at + 600] += scale * sound
+    band += 1e-4 * rng.standard_normal(len(band))
+    starts = np.array([500, 2000, 3500, 5000])
+    shared = {}
+    first = _partners(band, starts, 500, 2, 0.9, shared)
+    assert first == _layer_mates(band, starts, 500, 2, 0.9) and len(first[0]) == 3
+    assert _partners(band, starts, 500, 2, 0.9, shared) is first
+    assert _partners(band, starts[:3], 500, 2, 0.9, shared) == _layer_mates(band, starts[:3], 500, 2, 0.9)
+    other = band.copy()
+    other[3500:4100] = rng.standard_normal(600)
+    assert _partners(other, starts, 500, 2, 0.9, shared) == _layer_mates(other, starts, 500, 2, 0.9)
+    assert len(_partners(other, starts, 500, 2, 0.9, shared)[0]) == 2

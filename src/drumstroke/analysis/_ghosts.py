@@ -113,9 +113,22 @@ def accent_rises(band, c, which, ends, accents, first, count, mate, shifts, scal
             lengths)
 
 
-def _partners(band, starts, size, lag, likeness):
+def _partners(band, starts, size, lag, likeness, shared=None):
     """For each attack (``starts``: the samples its ``size``-sample window starts at), its layer-mates: (index,
-    shift, scale) of each other attack whose window, shifted within ``lag`` samples, correlates by ``likeness``."""
+    shift, scale) of each other attack whose window, shifted within ``lag`` samples, correlates by ``likeness``.
+    ``shared`` (a dict, or None): the last answer kept there, and given again for the same ``band`` (the same
+    object) and arguments (:func:`ghost_onsets` and :func:`room_ghost_onsets` on the same attacks)."""
+    key = (starts.tobytes(), size, lag, likeness)
+    if shared is not None and shared.get("band") is band and shared.get("key") == key:
+        return shared["mates"]
+    mates = _layer_mates(band, starts, size, lag, likeness)
+    if shared is not None:
+        shared.update(band=band, key=key, mates=mates)
+    return mates
+
+
+def _layer_mates(band, starts, size, lag, likeness):
+    """:func:`_partners`' search."""
     views = windows(band, size)
     own = views[starts]
     norms = np.maximum(np.linalg.norm(own, axis=1), 1e-300)
@@ -149,7 +162,7 @@ def _own(x, band, mate, scale, t, size, own_db):
 
 
 def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=120.0, own_everywhere=False,
-                 skip=10e-3, span=0.13, quiet_db=-10.0, below_db=-30.0, quieter_db=-6.0, mates_used=3):
+                 skip=10e-3, span=0.13, quiet_db=-10.0, below_db=-30.0, quieter_db=-6.0, mates_used=3, shared=None):
     """Onsets (full-rate samples) of notes within ``span`` s after a ``clear`` attack at ``times`` (full-rate samples),
     found in what is left of ``band`` once that attack's own sound is taken off, predicted by its layer-mates.
 
@@ -165,7 +178,8 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
     over its most over the 10 ms before (from ``skip`` s after the attack on), its remainder's peak over the next
     11 ms ``least`` or more, within ``below_db`` of the attack's peak and ``quieter_db`` or more under it; its onset
     is the first sample there whose magnitude passes 1 % of that peak and four times the remainder's RMS over the
-    5 ms before (one note in 20 ms).
+    5 ms before (one note in 20 ms). ``shared`` (a dict, or None): the layer-mates kept for
+    :func:`room_ghost_onsets` (:func:`_partners`).
     """
     pre, size, lag = round(0.5e-3 * rate), round(skip * rate), 2
     width, before, after = round(1e-3 * rate), round(10e-3 * rate), round(10e-3 * rate)
@@ -185,7 +199,7 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
     # the next attack within quiet_db of each: its sound is no longer one attack's
     later = (loud[None, :] >= loud[:, None] * 10.0 ** (quiet_db / 20.0)) & np.triu(np.ones((len(c), len(c)), bool), 1)
     ends = np.where(later.any(axis=1), c[np.argmax(later, axis=1)], len(band))
-    mates = _partners(band, starts[which], size + pre, lag, likeness)
+    mates = _partners(band, starts[which], size + pre, lag, likeness, shared)
     rise, found = 10.0 ** (rise_db / 10.0), []
     # energy over 0.25-ms blocks, over 1 ms from each block (its onset sought at full rate after)
     block = max(1, width // 4)
@@ -229,7 +243,8 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
 
 
 def room_ghost_onsets(band, times, clear, rate, head, *, likeness, rise_db, least, fit, skip=10e-3, span=0.13,
-                      quiet_db=-10.0, below_db=-30.0, quieter_db=-6.0, mates_used=3, reach=1e-3, energy=5e-3):
+                      quiet_db=-10.0, below_db=-30.0, quieter_db=-6.0, mates_used=3, reach=1e-3, energy=5e-3,
+                      shared=None):
     """Onsets (full-rate samples) of ghost notes after a ``clear`` attack at ``times`` (full-rate samples) in a
     reverberant recording, each where what is left once a layer-mate is taken off (as :func:`ghost_onsets`: up to
     ``mates_used`` mates, the quietest remainder over each ``energy`` s; here where one mate or more reaches, and with
@@ -241,7 +256,8 @@ def room_ghost_onsets(band, times, clear, rate, head, *, likeness, rise_db, leas
     reverberant, seeds 0-4: 0.77 at most), a ghost note's is its layer's (0.82 or more on the notes missed before).
     Over 5 ms a ghost note's first milliseconds rise 7-10 dB where over 1 ms they rise under 4 dB (FluidR3's snare
     38 roll with reverb, seed 0: its notes of 1.1021 and 3.2034 s). Its peak over the 11 ms from it as
-    :func:`ghost_onsets` asks; its onset where the head's starts (one in 20 ms)."""
+    :func:`ghost_onsets` asks; its onset where the head's starts (one in 20 ms). ``shared``: as
+    :func:`ghost_onsets`' (the layer-mates it found, given again on the same attacks)."""
     pre, window, lag = round(0.5e-3 * rate), round(skip * rate), 2
     width, before, after = round(1e-3 * rate), round(10e-3 * rate), round(10e-3 * rate)
     n, back, wide = len(head), round(reach * rate), round(energy * rate)
@@ -259,7 +275,7 @@ def room_ghost_onsets(band, times, clear, rate, head, *, likeness, rise_db, leas
     loud = window_peaks(band, lows, lows + round(5e-3 * rate))
     later = (loud[None, :] >= loud[:, None] * 10.0 ** (quiet_db / 20.0)) & np.triu(np.ones((len(c), len(c)), bool), 1)
     ends = np.where(later.any(axis=1), c[np.argmax(later, axis=1)], len(band))
-    mates = _partners(band, starts[which], window + pre, lag, likeness)
+    mates = _partners(band, starts[which], window + pre, lag, likeness, shared)
     block = max(1, width // 4)
     accents = [i for i in range(len(which)) if len(mates[i]) >= 2]
     used = [mates[i][:mates_used] for i in accents]
