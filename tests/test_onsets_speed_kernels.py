@@ -503,3 +503,62 @@ def test_frame_peaks_are_numpys(rng):
             x[rng.random(len(x)) < 0.02] = value
         want = np.abs(x[:count * frame]).reshape(count, frame).max(axis=1)
         np.testing.assert_array_equal(frame_peaks(x, frame, count), want, strict=True)
+
+
+def test_room_remainders_are_numpys(rng):
+    """_ghosts.remainders gives, for each rise, room_ghost_onsets' remainder ``x - scale * y`` and its squares' sums
+    ``concatenate((0, cumsum(v ** 2)))`` to the bit."""
+    from drumstroke.analysis._ghosts import remainders
+
+    band = rng.standard_normal(5000) * np.geomspace(1.0, 1e-4, 5000)
+    starts = rng.integers(0, 4000, 20)
+    others = rng.integers(0, 4000, 20)
+    scales = rng.uniform(0.1, 3.0, 20)
+    v, sums = remainders(band, starts, others, scales, 900, 552)
+    for r in range(20):
+        want = band[starts[r]:starts[r] + 900] - scales[r] * band[others[r]:others[r] + 900]
+        assert np.array_equal(v[r], want)
+        assert np.array_equal(sums[r], np.concatenate((np.zeros(1), np.cumsum(want[:552] ** 2))))
+
+
+def test_room_rise_crosses_are_numpys_correlate(rng):
+    """_ghosts.rise_crosses gives np.correlate's "valid" sums of each row with the head (numpy's correlate sums each
+    lag with OpenBLAS's ddot): to the bit on OpenBLAS's Haswell kernel, within rounding on another BLAS."""
+    from threadpoolctl import threadpool_limits
+
+    from drumstroke.analysis._ghosts import rise_crosses
+
+    exact = _haswell_dot()
+    with threadpool_limits(1, user_api="blas"):
+        for size in (264, 263, 17, 5):
+            v = rng.standard_normal((7, 900)) * np.geomspace(1.0, 1e-3, 900)
+            unit = rng.standard_normal(size)
+            unit /= np.linalg.norm(unit)
+            got = rise_crosses(v, unit, 289)
+            want = np.array([np.correlate(row[:289 + size - 1], unit, "valid") for row in v])
+            if exact:
+                np.testing.assert_array_equal(got, want)
+            else:
+                np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-12 * np.abs(v).max())
+
+
+def test_layer_mates_shared_only_on_the_same_attacks(rng):
+    """_ghosts._partners with ``shared`` gives the search's answer: kept from the last call on the same band (the
+    same object) and arguments, searched again on other attacks or another band."""
+    from drumstroke.analysis._ghosts import _layer_mates, _partners
+
+    sound = rng.standard_normal(600) * np.geomspace(1.0, 1e-3, 600)
+    band = np.zeros(8000)
+    for at, scale in ((500, 1.0), (2000, 0.5), (3500, 0.8), (5000, 0.3)):
+        band[at:at + 600] += scale * sound
+    band += 1e-4 * rng.standard_normal(len(band))
+    starts = np.array([500, 2000, 3500, 5000])
+    shared = {}
+    first = _partners(band, starts, 500, 2, 0.9, shared)
+    assert first == _layer_mates(band, starts, 500, 2, 0.9) and len(first[0]) == 3
+    assert _partners(band, starts, 500, 2, 0.9, shared) is first
+    assert _partners(band, starts[:3], 500, 2, 0.9, shared) == _layer_mates(band, starts[:3], 500, 2, 0.9)
+    other = band.copy()
+    other[3500:4100] = rng.standard_normal(600)
+    assert _partners(other, starts, 500, 2, 0.9, shared) == _layer_mates(other, starts, 500, 2, 0.9)
+    assert len(_partners(other, starts, 500, 2, 0.9, shared)[0]) == 2

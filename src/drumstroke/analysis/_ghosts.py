@@ -8,6 +8,7 @@ import numpy as np
 
 from .._jit import jit
 from ._kernels import window_peaks
+from ._templates import blas_lag_dots
 
 
 @jit(error_model="numpy")
@@ -119,9 +120,22 @@ def accent_rises(band, c, which, ends, accents, first, count, mate, shifts, scal
             lengths)
 
 
-def _partners(band, starts, size, lag, likeness):
+def _partners(band, starts, size, lag, likeness, shared=None):
     """For each attack (``starts``: the samples its ``size``-sample window starts at), its layer-mates: (index,
-    shift, scale) of each other attack whose window, shifted within ``lag`` samples, correlates by ``likeness``."""
+    shift, scale) of each other attack whose window, shifted within ``lag`` samples, correlates by ``likeness``.
+    ``shared`` (a dict, or None): the last answer kept there, and given again for the same ``band`` (the same
+    object) and arguments (:func:`ghost_onsets` and :func:`room_ghost_onsets` on the same attacks)."""
+    key = (starts.tobytes(), size, lag, likeness)
+    if shared is not None and shared.get("band") is band and shared.get("key") == key:
+        return shared["mates"]
+    mates = _layer_mates(band, starts, size, lag, likeness)
+    if shared is not None:
+        shared.update(band=band, key=key, mates=mates)
+    return mates
+
+
+def _layer_mates(band, starts, size, lag, likeness):
+    """:func:`_partners`' search."""
     views = windows(band, size)
     own = views[starts]
     norms = np.maximum(np.linalg.norm(own, axis=1), 1e-300)
@@ -156,7 +170,7 @@ def _own(x, band, mate, scale, t, size, own_db):
 
 def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=120.0, own_everywhere=False,
                  skip=10e-3, span=0.13, quiet_db=-10.0, below_db=-30.0, quieter_db=-6.0, mates_used=3, noise_start=0.0,
-                 rise_gap=0.0):
+                 rise_gap=0.0, shared=None):
     """Onsets (full-rate samples) of notes within ``span`` s after a ``clear`` attack at ``times`` (full-rate samples),
     found in what is left of ``band`` once that attack's own sound is taken off, predicted by its layer-mates.
 
@@ -176,7 +190,8 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
     noise (:func:`_white`), a rise over the 10 ms before a gap so long counts too, its onset sought from the gap's
     start; with ``noise_start`` (s), where that noise, not 1 % of the peak, sets the onset's level and it is white, the
     onset is where the power changes (:func:`noise_change`) up to so long before the rise, returned beside the
-    onsets (each as found, or so moved) [each shape=(n,)].
+    onsets (each as found, or so moved) [each shape=(n,)]. ``shared`` (a dict, or None): the layer-mates kept for
+    :func:`room_ghost_onsets` (:func:`_partners`).
     """
     pre, size, lag = round(0.5e-3 * rate), round(skip * rate), 2
     width, before, after = round(1e-3 * rate), round(10e-3 * rate), round(10e-3 * rate)
@@ -196,7 +211,7 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
     # the next attack within quiet_db of each: its sound is no longer one attack's
     later = (loud[None, :] >= loud[:, None] * 10.0 ** (quiet_db / 20.0)) & np.triu(np.ones((len(c), len(c)), bool), 1)
     ends = np.where(later.any(axis=1), c[np.argmax(later, axis=1)], len(band))
-    mates = _partners(band, starts[which], size + pre, lag, likeness)
+    mates = _partners(band, starts[which], size + pre, lag, likeness, shared)
     rise, found = 10.0 ** (rise_db / 10.0), []
     # energy over 0.25-ms blocks, over 1 ms from each block (its onset sought at full rate after)
     block = max(1, width // 4)
@@ -281,7 +296,8 @@ def _white(v, most=0.6):
 
 
 def room_ghost_onsets(band, times, clear, rate, head, *, likeness, rise_db, least, fit, skip=10e-3, span=0.13,
-                      quiet_db=-10.0, below_db=-30.0, quieter_db=-6.0, mates_used=3, reach=1e-3, energy=5e-3):
+                      quiet_db=-10.0, below_db=-30.0, quieter_db=-6.0, mates_used=3, reach=1e-3, energy=5e-3,
+                      shared=None):
     """Onsets (full-rate samples) of ghost notes after a ``clear`` attack at ``times`` (full-rate samples) in a
     reverberant recording, each where what is left once a layer-mate is taken off (as :func:`ghost_onsets`: up to
     ``mates_used`` mates, the quietest remainder over each ``energy`` s; here where one mate or more reaches, and with
@@ -293,7 +309,8 @@ def room_ghost_onsets(band, times, clear, rate, head, *, likeness, rise_db, leas
     reverberant, seeds 0-4: 0.77 at most), a ghost note's is its layer's (0.82 or more on the notes missed before).
     Over 5 ms a ghost note's first milliseconds rise 7-10 dB where over 1 ms they rise under 4 dB (FluidR3's snare
     38 roll with reverb, seed 0: its notes of 1.1021 and 3.2034 s). Its peak over the 11 ms from it as
-    :func:`ghost_onsets` asks; its onset where the head's starts (one in 20 ms)."""
+    :func:`ghost_onsets` asks; its onset where the head's starts (one in 20 ms). ``shared``: as
+    :func:`ghost_onsets`' (the layer-mates it found, given again on the same attacks)."""
     pre, window, lag = round(0.5e-3 * rate), round(skip * rate), 2
     width, before, after = round(1e-3 * rate), round(10e-3 * rate), round(10e-3 * rate)
     n, back, wide = len(head), round(reach * rate), round(energy * rate)
@@ -311,7 +328,7 @@ def room_ghost_onsets(band, times, clear, rate, head, *, likeness, rise_db, leas
     loud = window_peaks(band, lows, lows + round(5e-3 * rate))
     later = (loud[None, :] >= loud[:, None] * 10.0 ** (quiet_db / 20.0)) & np.triu(np.ones((len(c), len(c)), bool), 1)
     ends = np.where(later.any(axis=1), c[np.argmax(later, axis=1)], len(band))
-    mates = _partners(band, starts[which], window + pre, lag, likeness)
+    mates = _partners(band, starts[which], window + pre, lag, likeness, shared)
     block = max(1, width // 4)
     accents = [i for i in range(len(which)) if len(mates[i]) >= 2]
     used = [mates[i][:mates_used] for i in accents]
@@ -327,34 +344,66 @@ def room_ghost_onsets(band, times, clear, rate, head, *, likeness, rise_db, leas
     # the rises tried: a rise's window spans ``energy`` s, so the rises in the window of one tried are its own
     chosen = spaced(which_accent, rises * block, wide, back + pre,
                     lengths[which_accent] - max(wide - pre + n, wide + width + after))
+    if not len(chosen):
+        return np.empty(0)
+    k_of, t_of = which_accent[chosen], rises[chosen] * block
+    # each rise's remainder from ``reach`` before its block (less the head's lead) to where the last start's head
+    # ends, and its energy summed from there (compiled, elementwise as numpy's difference and cumulative sum)
+    accent_at = c[which[np.array(accents, dtype=np.int64)]]
+    mate_of = (np.cumsum(count) - count)[k_of] + picks[chosen]
+    low = t_of - back - pre
+    v, sums = remainders(band, accent_at[k_of] + low, c[which[mate[mate_of]]] + shifts[mate_of] + low,
+                         scales[mate_of], back + pre + max(wide - pre + n, wide + width + after), back + wide + n)
+    # the head's correlation with each at each start from ``reach`` before the block to ``energy`` after
+    cross = rise_crosses(v, unit, back + wide + 1)
+    power = sums[:, n:] - sums[:, :-n]
+    like = np.where(power > 0.0, cross / np.sqrt(np.maximum(power, 1e-300)), -1.0)
+    best = np.argmax(like, axis=1)
+    fits = like[np.arange(len(chosen)), best] >= fit
     accent, last = -1, -np.inf
-    for k, t, m in zip(which_accent[chosen].tolist(), (rises[chosen] * block).tolist(), picks[chosen].tolist()):
+    for i in np.flatnonzero(fits).tolist():
+        k, t = int(k_of[i]), int(t_of[i])
         if k != accent:
             accent, last = k, -np.inf
             b = which[accents[k]]
-            x = band[c[b]:c[b] + lengths[k]]
         if t < last + round(20e-3 * rate):
             continue
-        a, shift, scale = used[k][m]
-        other = c[which[a]] + shift
-        # the remainder from ``reach`` before the block (less the head's lead) to where the last start's head ends
-        low, high = t - back - pre, max(t + wide - pre + n, t + wide + width + after)
-        v = x[low:high] - scale * band[other + low:other + high]
-        # the head's correlation with it at each start from ``reach`` before the block to ``energy`` after
-        cross = np.correlate(v[:back + wide + n], unit, "valid")
-        sums = np.concatenate((np.zeros(1), np.cumsum(v[:back + wide + n] ** 2)))
-        power = sums[n:] - sums[:-n]
-        like = np.where(power > 0.0, cross / np.sqrt(np.maximum(power, 1e-300)), -1.0)
-        best = int(np.argmax(like))
-        if like[best] < fit:
-            continue
-        at = t - back + best
-        peak = np.abs(v[at - low:at - low + width + after]).max()
+        at = t - back + int(best[i])
+        peak = np.abs(v[i, at - low[i]:at - low[i] + width + after]).max()
         if not max(least, loud[b] * 10.0 ** (below_db / 20.0)) <= peak <= loud[b] * 10.0 ** (quieter_db / 20.0):
             continue
         found.append(c[b] + at)
         last = t
     return np.unique(np.asarray(found, dtype=float))
+
+
+@jit(error_model="numpy")
+def remainders(band, starts, others, scales, size, summed):
+    """``band`` over ``size`` samples from each of ``starts`` less ``scales`` times it from ``others`` [shape=(n,
+    size)], as numpy's ``x - scale * y``, and each row's squares summed cumulatively over its first ``summed``
+    samples from 0 (as ``concatenate((0, cumsum(v ** 2)))``) [shape=(n, summed + 1)]."""
+    v = np.empty((len(starts), size))
+    sums = np.empty((len(starts), summed + 1))
+    for r in range(len(starts)):
+        for i in range(size):
+            v[r, i] = band[starts[r] + i] - scales[r] * band[others[r] + i]
+        total = 0.0
+        sums[r, 0] = 0.0
+        for i in range(summed):
+            total += v[r, i] * v[r, i]
+            sums[r, i + 1] = total
+    return v, sums
+
+
+@jit
+def rise_crosses(v, unit, count):
+    """``np.correlate(v[r, :count + len(unit) - 1], unit, "valid")`` for each row ``r`` of ``v`` [shape=(rows,
+    count)]: each lag's sum as np.dot's (:func:`._templates.blas_lag_dots`, OpenBLAS's ``ddot``, which numpy's
+    correlate calls for each lag)."""
+    out = np.empty((v.shape[0], count))
+    for r in range(v.shape[0]):
+        blas_lag_dots(v[r], 0, count, unit, len(unit), out[r])
+    return out
 
 
 @jit

@@ -965,9 +965,10 @@ def _detected(signal, rate, config, source, info):
     replays = _replaying(band, d, candidates.times, rate, config)
     candidates = _template_search(band, d, rate, candidates, refused, config, replays)
     candidates = _template_search(band, d, rate, candidates, refused, config, replays, quietest=True)
-    candidates = _ghost_notes(band, d, rate, candidates, config, replays, modes.reverberant)
+    shared = {}  # the layer-mates step 5's ghost search found, its room search's again on the same attacks
+    candidates = _ghost_notes(band, d, rate, candidates, config, replays, modes.reverberant, shared)
     if modes.reverberant:
-        candidates = _room_ghost_notes(band, d, rate, candidates, config, replays)
+        candidates = _room_ghost_notes(band, d, rate, candidates, config, replays, shared)
     levels = _level_band(band, rate, q, first, config, lowest)
     amplitude = levels.amplitudes(_measured_at(candidates, found, rate, config), modes.reverberant, config)
     candidates, amplitude = _one_attack_each(d, rate, candidates, amplitude, config)
@@ -1668,7 +1669,7 @@ _TRAIN_FLIGHT = 10e-3  # s: the longest flight before a drop's last bounce that 
 # (FluidR3's snares: 3.9-9.3 ms; a room's detections 18 ms apart took the room's sound for a train of bounces)
 
 
-def _ghost_notes(band, d, rate, candidates, config, replays, reverberant=False):
+def _ghost_notes(band, d, rate, candidates, config, replays, reverberant=False, shared=None):
     """Step 5: ghost notes under an accent's sound, found where the recording replays a sample (:func:`_replays`).
 
     A sample player replays a velocity layer's waveform sample for sample (the corpus's SoundFonts: 0.9998 or more
@@ -1718,7 +1719,7 @@ def _ghost_notes(band, d, rate, candidates, config, replays, reverberant=False):
     ghosts = ghost_onsets(band, candidates.times[which], lead_clear[which], rate, likeness=config.replay_likeness,
                           rise_db=config.ghost_rise_db, least=10.0 ** (config.threshold_db / 20.0),
                           own_db=own_db, own_everywhere=reverberant, noise_start=config.ghost_noise_start,
-                          rise_gap=config.ghost_rise_gap)
+                          rise_gap=config.ghost_rise_gap, shared=shared)
     ghosts, starts = ghosts if config.ghost_noise_start > 0.0 else (ghosts, ghosts)
     if not len(ghosts):
         return candidates
@@ -1741,7 +1742,7 @@ def _ghost_notes(band, d, rate, candidates, config, replays, reverberant=False):
     return replace(merged, kinds=np.where(fresh, 3, merged.kinds))
 
 
-def _room_ghost_notes(band, d, rate, candidates, config, replays):
+def _room_ghost_notes(band, d, rate, candidates, config, replays, shared=None):
     """Step 5, in a recording step 4 finds reverberant and that replays a sample: the ghost notes under an accent's
     sound that rise too little for :func:`_ghost_notes`, found by their own attack's waveform.
 
@@ -1776,7 +1777,7 @@ def _room_ghost_notes(band, d, rate, candidates, config, replays):
     which = np.flatnonzero(candidates.attack)
     ghosts = room_ghost_onsets(band, candidates.times[which], lead_clear[which], rate, template[:size],
                                likeness=config.replay_likeness, rise_db=4.0,
-                               least=10.0 ** (config.threshold_db / 20.0), fit=config.ghost_room_fit)
+                               least=10.0 ** (config.threshold_db / 20.0), fit=config.ghost_room_fit, shared=shared)
     return _placed_ghosts(candidates, ghosts, which, rate)
 
 
