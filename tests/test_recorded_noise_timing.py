@@ -8,6 +8,8 @@ largest samples over 5 ms at -40 dB) the stages before step 5 detect the note on
 corpus's seed 2 (0.47 ms on seed 0), and the drop's bounces, all template-timed, were all 1.0-1.2 ms late. The
 template's start is now found on the template's own samples: the first sample up to 2 ms before the detection over
 -40 dB re its peak (the truth's own rule) and 1.5 times the largest magnitude over the 5 ms before (the noise).
+Not on by default yet (``template_start_db=0``): at -40 it moves onsets other tests pin (a flam's main notes, placed
+0.9 ms late, and a second-burst case of tests/test_recorded_onsets.py).
 """
 
 import numpy as np
@@ -42,11 +44,11 @@ class _Truth:
 def test_a_drops_template_timed_bounces_are_not_late_in_noise():
     """TimGM6mb's snare 40 drop at -60 dBFS noise, seed 2: 56 loud notes, 4 within 1 ms before (every bounce
     the template timed 1.02-1.20 ms late), 55 now, all 56 within 5 ms either way and no false detection more;
-    ``template_start_db=0`` (the start where it was detected) gives the earlier onsets."""
+    ``template_start_db=0`` (the default, the start where it was detected) gives the earlier onsets."""
     signal, t, level = _recording("TimGM6mb", 40, "drop", "noise60", 2)
     truth = _Truth(t, level)
-    now = score(truth, find_onsets(signal, RATE).t)
-    then = score(truth, find_onsets(signal, RATE, config=OnsetConfig(template_start_db=0.0)).t)
+    now = score(truth, find_onsets(signal, RATE, config=OnsetConfig(template_start_db=-40.0)).t)
+    then = score(truth, find_onsets(signal, RATE).t)
     assert then["within_1ms"] <= 10 and now["within_1ms"] >= then["within_1ms"] + 45
     assert now["correct_5ms"] >= then["correct_5ms"]
     assert now["found"] - now["correct_5ms"] <= then["found"] - then["correct_5ms"]
