@@ -547,12 +547,13 @@ def test_an_attack_detected_on_its_samples_second_burst_is_moved_to_its_start():
     ``earlier_reach`` (5 ms) before such a detection (not clear of the earlier sound): where its start correlates by
     ``weak_likeness`` and the whole template by ``template_likeness``, better than at the detection. Both within
     0.25 ms of their truth now (0.14 ms at most), and the loud notes found within 1 ms 50 of 51 (45 with
-    ``earlier_reach=0``, the search as before; the quiet layer's own bounce search, which finds them too, off)."""
+    ``earlier_reach=0``, the search as before; the quiet layer's own bounce search, which finds them too, off, and the
+    template's start where it was detected, ``template_start_db=0``)."""
     recording = _corpus_recording("FluidR3 40 drop", "noise60")
     notes = recording.t[[np.argmin(np.abs(recording.t - t)) for t in (1.9190, 4.0204)]]
     moved = find_onsets(recording.signal, RATE).t
     late = find_onsets(recording.signal, RATE, config=OnsetConfig(earlier_reach=0.0, bounce_likeness=0.8,
-                                                                 layer_bounce_likeness=1.0)).t
+                                                                 layer_bounce_likeness=1.0, template_start_db=0.0)).t
     for t in notes:
         assert np.min(np.abs(moved - t)) <= 0.25e-3
         assert np.min(np.abs(late - t)) > 1e-3 and np.any((late > t + 3e-3) & (late < t + 4e-3))
