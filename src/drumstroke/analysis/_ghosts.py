@@ -168,6 +168,31 @@ def _own(x, band, mate, scale, t, size, own_db):
     return mine >= theirs * 10.0 ** (own_db / 10.0)
 
 
+def _loud_and_ends(band, c, rate, quiet_db):
+    """Each attack's peak over the 5 ms from it (``c``, full-rate samples; the last 5 ms of ``band`` from past its
+    end; from before its start, as a negative index reads the windows, counted from the end), and where its sound is
+    no longer one attack's: the next attack within ``quiet_db`` dB of it (``len(band)`` for none)."""
+    windows_count = len(band) - round(5e-3 * rate) + 1
+    lows = np.minimum(c, windows_count - 1)
+    lows = np.where(lows < 0, lows + windows_count, lows)
+    loud = window_peaks(band, lows, lows + round(5e-3 * rate))
+    later = (loud[None, :] >= loud[:, None] * 10.0 ** (quiet_db / 20.0)) & np.triu(np.ones((len(c), len(c)), bool), 1)
+    return loud, np.where(later.any(axis=1), c[np.argmax(later, axis=1)], len(band))
+
+
+def _accents_mates(mates, mates_used):
+    """The accents (indices into ``mates``, :func:`_partners`' lists) with two layer-mates or more, each one's first
+    ``mates_used`` mates, and those flat for the compiled search: how many each, the mates' indices, shifts
+    (samples) and scales."""
+    accents = [i for i in range(len(mates)) if len(mates[i]) >= 2]
+    used = [mates[i][:mates_used] for i in accents]
+    count = np.array([len(u) for u in used], dtype=np.int64)
+    mate = np.array([a for u in used for a, _, _ in u], dtype=np.int64)
+    shifts = np.array([shift for u in used for _, shift, _ in u], dtype=np.int64)
+    scales = np.array([scale for u in used for _, _, scale in u], dtype=float)
+    return accents, used, count, mate, shifts, scales
+
+
 def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=120.0, own_everywhere=False,
                  skip=10e-3, span=0.13, quiet_db=-10.0, below_db=-30.0, quieter_db=-6.0, mates_used=3, noise_start=0.0,
                  rise_gap=0.0, shared=None):
@@ -202,25 +227,12 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
     which = np.flatnonzero(ok)
     if len(which) < 3:
         return (np.empty(0), np.empty(0)) if noise_start > 0.0 else np.empty(0)
-    # each attack's peak over the 5 ms from it (the last 5 ms of ``band`` from past its end; from before its start,
-    # as a negative index reads the windows, counted from the end)
-    windows_count = len(band) - round(5e-3 * rate) + 1
-    lows = np.minimum(c, windows_count - 1)
-    lows = np.where(lows < 0, lows + windows_count, lows)
-    loud = window_peaks(band, lows, lows + round(5e-3 * rate))
-    # the next attack within quiet_db of each: its sound is no longer one attack's
-    later = (loud[None, :] >= loud[:, None] * 10.0 ** (quiet_db / 20.0)) & np.triu(np.ones((len(c), len(c)), bool), 1)
-    ends = np.where(later.any(axis=1), c[np.argmax(later, axis=1)], len(band))
+    loud, ends = _loud_and_ends(band, c, rate, quiet_db)
     mates = _partners(band, starts[which], size + pre, lag, likeness, shared)
     rise, found = 10.0 ** (rise_db / 10.0), []
     # energy over 0.25-ms blocks, over 1 ms from each block (its onset sought at full rate after)
     block = max(1, width // 4)
-    accents = [i for i in range(len(which)) if len(mates[i]) >= 2]
-    used = [mates[i][:mates_used] for i in accents]
-    count = np.array([len(u) for u in used], dtype=np.int64)
-    mate = np.array([a for u in used for a, _, _ in u], dtype=np.int64)
-    shifts = np.array([shift for u in used for _, shift, _ in u], dtype=np.int64)
-    scales_all = np.array([scale for u in used for _, _, scale in u], dtype=float)
+    accents, used, count, mate, shifts, scales_all = _accents_mates(mates, mates_used)
     args = (band, c, which, ends, np.array(accents, dtype=np.int64), np.cumsum(count) - count, count, mate, shifts,
             scales_all, round(span * rate), size, before, after, width, block, 1 if own_db < 120.0 else 2, rise)
     gap = round(rise_gap * rate)
@@ -322,20 +334,10 @@ def room_ghost_onsets(band, times, clear, rate, head, *, likeness, rise_db, leas
     norm = np.linalg.norm(head)
     if len(which) < 3 or not norm > 0.0:
         return np.empty(0)
-    windows_count = len(band) - round(5e-3 * rate) + 1
-    lows = np.minimum(c, windows_count - 1)
-    lows = np.where(lows < 0, lows + windows_count, lows)
-    loud = window_peaks(band, lows, lows + round(5e-3 * rate))
-    later = (loud[None, :] >= loud[:, None] * 10.0 ** (quiet_db / 20.0)) & np.triu(np.ones((len(c), len(c)), bool), 1)
-    ends = np.where(later.any(axis=1), c[np.argmax(later, axis=1)], len(band))
+    loud, ends = _loud_and_ends(band, c, rate, quiet_db)
     mates = _partners(band, starts[which], window + pre, lag, likeness, shared)
     block = max(1, width // 4)
-    accents = [i for i in range(len(which)) if len(mates[i]) >= 2]
-    used = [mates[i][:mates_used] for i in accents]
-    count = np.array([len(u) for u in used], dtype=np.int64)
-    mate = np.array([a for u in used for a, _, _ in u], dtype=np.int64)
-    shifts = np.array([shift for u in used for _, shift, _ in u], dtype=np.int64)
-    scales = np.array([scale for u in used for _, _, scale in u], dtype=float)
+    accents, _, count, mate, shifts, scales = _accents_mates(mates, mates_used)
     which_accent, rises, picks, lengths = accent_rises(
         band, c, which, ends, np.array(accents, dtype=np.int64), np.cumsum(count) - count, count, mate, shifts,
         scales, round(span * rate), window, before, after, wide, block, 1, 10.0 ** (rise_db / 10.0))

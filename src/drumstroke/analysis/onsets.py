@@ -1730,25 +1730,9 @@ def _ghost_notes(band, d, rate, candidates, config, replays, reverberant=False, 
                           own_db=own_db, own_everywhere=reverberant, noise_start=config.ghost_noise_start,
                           rise_gap=config.ghost_rise_gap, shared=shared)
     ghosts, starts = ghosts if config.ghost_noise_start > 0.0 else (ghosts, ghosts)
-    if not len(ghosts):
-        return candidates
-    times, kinds = candidates.times.copy(), candidates.kinds.copy()
-    new = []
-    for g, start in zip(ghosts, starts):
-        near = which[np.abs(times[which] - g) <= 5e-3 * rate]
-        if not len(near):
-            new.append(start)  # (under white noise, where its power changes: ghost_noise_start)
-            continue
-        k = near[np.argmin(np.abs(times[near] - g))]
-        if 0.5e-3 * rate < times[k] - g <= 1.5e-3 * rate:  # found late, on the main rise after the lead-in
-            times[k], kinds[k] = g, 3
-    moved = replace(candidates, times=times, kinds=kinds)
-    if not np.all(np.diff(times) > 0):
-        moved = candidates
-    if not new:
-        return moved
-    merged, fresh = moved.insert(np.array(new), attack=True, likeness=np.ones(len(new)))
-    return replace(merged, kinds=np.where(fresh, 3, merged.kinds))
+    # an attack found late is one on the main rise after the note's lead-in; a new note under white noise starts
+    # where its power changes (ghost_noise_start)
+    return _placed_ghosts(candidates, ghosts, which, rate, starts, late=1.5e-3)
 
 
 def _room_ghost_notes(band, d, rate, candidates, config, replays, shared=None):
@@ -1790,20 +1774,22 @@ def _room_ghost_notes(band, d, rate, candidates, config, replays, shared=None):
     return _placed_ghosts(candidates, ghosts, which, rate)
 
 
-def _placed_ghosts(candidates, ghosts, which, rate):
+def _placed_ghosts(candidates, ghosts, which, rate, starts=None, late=2e-3):
     """``candidates`` with each of ``ghosts`` (full-rate samples) an attack of kind 3: new where no attack of
-    ``which`` lies within 5 ms, else the attack 0.5-2 ms after it moved there (found late)."""
+    ``which`` lies within 5 ms (at its ``starts``, the same samples, or ``ghosts`` for None), else the attack 0.5 ms
+    to ``late`` s after it moved there (found late). The times are kept where moving would unorder them."""
     if not len(ghosts):
         return candidates
+    starts = ghosts if starts is None else starts
     times, kinds = candidates.times.copy(), candidates.kinds.copy()
     new = []
-    for g in ghosts:
+    for g, start in zip(ghosts, starts):
         near = which[np.abs(times[which] - g) <= 5e-3 * rate]
         if not len(near):
-            new.append(g)
+            new.append(start)
             continue
         k = near[np.argmin(np.abs(times[near] - g))]
-        if 0.5e-3 * rate < times[k] - g <= 2e-3 * rate:
+        if 0.5e-3 * rate < times[k] - g <= late * rate:
             times[k], kinds[k] = g, 3
     moved = replace(candidates, times=times, kinds=kinds)
     if not np.all(np.diff(times) > 0):
