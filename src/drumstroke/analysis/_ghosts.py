@@ -88,7 +88,9 @@ def mates_notes(band, c, which, ends, accents, first, count, mate, shifts, scale
     size`` samples: where they correlate by ``likeness`` or more, negated (the mate's note is taken off with the
     mate), the least-squares gain and the lag (samples after the accent's onset) where the accent's sound, so
     scaled, is added back [each shape=(len(mate),); gain 0 where none]. The mate's next note must lie past its
-    first ``size + before`` samples and its fit within the accent's window."""
+    first ``size + before`` samples and its fit within the accent's window, be no louder than the mate (its gain
+    at most 1: a louder one, a flam's main note after its grace note as mate, would add back what is left under
+    the mate many times over) and not be the accent itself."""
     gains = np.zeros(len(mate))
     lags = np.zeros(len(mate), dtype=np.int64)
     if likeness >= 1.0:
@@ -104,7 +106,7 @@ def mates_notes(band, c, which, ends, accents, first, count, mate, shifts, scale
             continue
         for q in range(first[k], first[k] + count[k]):
             a = which[mate[q]]
-            if a + 1 >= len(c):
+            if a + 1 >= len(c) or a + 1 == b:  # (a mate just before the accent: its next note is the accent)
                 continue
             start = c[a] + shifts[q]
             nominal = c[a + 1] - start
@@ -126,7 +128,7 @@ def mates_notes(band, c, which, ends, accents, first, count, mate, shifts, scale
                 v = band[c[b] + at - pre + i] - scales[q] * band[start + at - pre + i]
                 dot -= v * band[c[b] - pre + i]
                 energy += v * v
-            if energy > 0.0 and dot / np.sqrt(energy * own) >= likeness:
+            if energy > 0.0 and dot / np.sqrt(energy * own) >= likeness and dot <= own:
                 gains[q], lags[q] = dot / own, at
     return gains, lags
 
@@ -248,7 +250,18 @@ def _own(x, band, mate, scale, t, size, own_db):
     return mine >= theirs * 10.0 ** (own_db / 10.0)
 
 
-def _own_notes_off(v, band, c, b, end, pre, size, likeness, reach=24, head=96):
+def _mates_notes(shared, mates, *args):
+    """:func:`mates_notes` (``args``), its answer kept in ``shared`` (a dict, or None) for the same layer-mates
+    (``mates``: :func:`_partners`' list, the same object) and likeness, as :func:`_partners` keeps its own."""
+    if shared is not None and shared.get("notes_of") is mates and shared.get("notes_likeness") == args[-1]:
+        return shared["notes"]
+    notes = mates_notes(*args)
+    if shared is not None:
+        shared.update(notes_of=mates, notes_likeness=args[-1], notes=notes)
+    return notes
+
+
+def _own_notes_off(v, band, c, b, end, pre, size, likeness, reach, head):
     """``v`` (what is left from the accent ``b``'s onset ``c[b]``) less each later attack's sound before ``end``
     (samples from the onset) that is the accent's own waveform: its first ``pre + size`` samples correlating with
     the accent's by ``likeness`` or more (placed within ``reach`` samples by its first ``head``), taken off with the
@@ -362,9 +375,9 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
             scales_all, round(span * rate), size, before, after, width, block, 1 if own_db < 120.0 else 2, rise)
     gap = round(rise_gap * rate)
     if mate_notes < 1.0:  # the mates' next notes of the accent's waveform, taken off them
-        gains, lags = mates_notes(band, c, which, ends, args[4], args[5], count, mate, shifts, scales_all,
-                                  round(span * rate), size, before, pre, round(0.5e-3 * rate), round(2e-3 * rate),
-                                  mate_notes)
+        gains, lags = _mates_notes(shared, mates, band, c, which, ends, args[4], args[5], count, mate, shifts,
+                                   scales_all, round(span * rate), size, before, pre, round(0.5e-3 * rate),
+                                   round(1e-3 * rate), mate_notes)
         which_accent, rises, picks, lengths = accent_rises(*args, gap, gains, lags, pre)
     else:
         gains, lags = np.zeros(len(mate)), np.zeros(len(mate), dtype=np.int64)
@@ -374,7 +387,7 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
         which_accent = np.where(gapped, which_accent - len(accents), which_accent)
         order = np.lexsort((gapped, rises, which_accent))
         which_accent, rises, picks, gapped = which_accent[order], rises[order], picks[order], gapped[order]
-    quiet = round(5e-3 * rate)
+    quiet, reach = round(5e-3 * rate), round(0.5e-3 * rate)
     starts_at = {}  # the onsets moved to where white noise's power changes (noise_start)
     for k in np.unique(which_accent).tolist():
         b = which[accents[k]]
@@ -387,8 +400,9 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
         q = args[5][k]  # the accent's mates' first index in the flat arrays
         added = gains[q:q + count[k]] != 0.0  # the mates whose next note is taken off (mate_notes)
         for m in np.flatnonzero(added).tolist():
-            valid[m] = mate_reach(c, len(band), which[used[k][m][0]], b, lags[q + m], width, block)
+            valid[m] = mate_reach.py_func(c, len(band), which[used[k][m][0]], b, int(lags[q + m]), width, block)
         found_at = np.inf  # the first note found in the accent's window (samples from its onset)
+        cleared = {}  # what is left with the accent's own later notes taken off: for each mate and notes so taken
         last = -np.inf
         mine = which_accent == k
         for t, m, over_gap in zip((rises[mine] * block).tolist(), picks[mine].tolist(), gapped[mine].tolist()):
@@ -403,9 +417,15 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
                 if t + width > found_at + lag - pre:  # a note found before is added back here
                     continue
                 v[lag - pre:] += gains[q + m] * band[c[b] - pre:c[b] - pre + len(x) - lag + pre]
+                peak = np.abs(v[t:t + width + after]).max()  # (as below: the cheaper test first)
+                if not max(least, loud[b] * 10.0 ** (below_db / 20.0)) <= peak <= loud[b] * 10.0 ** (quieter_db / 20.0):
+                    continue
                 # the accent's own later notes of its waveform taken off too: a rise in their sound is none
-                if not _still_rising(_own_notes_off(v, band, c, b, t - before, pre, size, mate_notes), t, width,
-                                     before, block, rise):
+                later = int(np.searchsorted(c, c[b] + t - before - size - reach, side="right")) - b - 1
+                if (m, later) not in cleared:  # (``v`` is the mate's, whatever the rise)
+                    cleared[m, later] = _own_notes_off(v, band, c, b, t - before, pre, size, mate_notes, reach,
+                                                       round(1e-3 * rate))
+                if not _still_rising(cleared[m, later], t, width, before, block, rise):
                     continue
             peak = np.abs(v[t:t + width + after]).max()
             # past where two mates reach over its 1 ms, the note must be the accent's own
@@ -491,8 +511,8 @@ def room_ghost_onsets(band, times, clear, rate, head, *, likeness, rise_db, leas
             scales, round(span * rate), window, before, after, wide, block, 1, 10.0 ** (rise_db / 10.0))
     gains = None
     if mate_notes < 1.0:  # the mates' next notes of the accent's waveform, taken off them
-        gains, lags = mates_notes(*args[:11], window, before, pre, round(0.5e-3 * rate), round(2e-3 * rate),
-                                  mate_notes)
+        gains, lags = _mates_notes(shared, mates, *args[:11], window, before, pre, round(0.5e-3 * rate),
+                                   round(1e-3 * rate), mate_notes)
         which_accent, rises, picks, lengths = accent_rises(*args, 0, gains, lags, pre)
     else:
         which_accent, rises, picks, lengths = accent_rises(*args)
