@@ -1730,8 +1730,8 @@ def _ghost_notes(band, d, rate, candidates, config, replays, reverberant=False, 
     waveform too: with ``ghost_mate_notes`` it is taken off the mate's remainder (the accent's own sound placed at
     it, within 0.5 ms by its first 2 ms, scaled by least squares), which reaches on to the mate's note after it.
     TimGM6mb's snare 38 roll, seed 0: the ghost note 120 ms after its accent (0.9739 s), whose mates were all cut
-    by their own ghost notes 57-115 ms in, leaves -150 dB (dry) or -40 to -53 dB (with reverb) before it and -31 dB
-    on it. A rise so read must still rise once the accent's own later notes of its waveform are taken off as well
+    by their own ghost notes 57-115 ms in, leaves -150 dB (dry: found here) or -40 to -53 dB (with reverb: a rise of
+    9-12 dB over 1 ms, found by :func:`_room_ghost_notes`' 5 ms) before it and -31 dB on it. A rise so read must still rise once the accent's own later notes of its waveform are taken off as well
     (a rise in such a note's own sound is none), and one past a note found in the accent's window, a mate's lag on,
     is not sought (that note, in the accent's sound added back, is left there).
     """
