@@ -96,6 +96,7 @@ def mates_notes(band, c, which, ends, accents, first, count, mate, shifts, scale
     if likeness >= 1.0:
         return gains, lags
     n = pre + size
+    left = np.empty(2 * reach + pre + head)
     for k in range(len(accents)):
         b = which[accents[k]]
         length = min(span, ends[b] - c[b])
@@ -113,10 +114,13 @@ def mates_notes(band, c, which, ends, accents, first, count, mate, shifts, scale
             if nominal - reach < size + before or nominal + reach + size > length:
                 continue
             best, at = -2.0, -1
+            low = nominal - reach - pre  # what is left over the lags' heads, once
+            for i in range(2 * reach + pre + head):
+                left[i] = band[c[b] + low + i] - scales[q] * band[start + low + i]
             for lag in range(nominal - reach, nominal + reach + 1):  # the lag, on the note's first samples
                 dot, energy = 0.0, 0.0
                 for i in range(pre + head):
-                    v = band[c[b] + lag - pre + i] - scales[q] * band[start + lag - pre + i]
+                    v = left[lag - pre - low + i]
                     dot -= v * band[c[b] - pre + i]
                     energy += v * v
                 if energy > 0.0 and dot / np.sqrt(energy) > best:
