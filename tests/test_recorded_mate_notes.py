@@ -28,15 +28,15 @@ def test_a_ghost_note_past_every_mates_own_ghost_note_is_found():
         note = t[np.argmin(np.abs(t - _NOTE))]
         found = find_onsets(signal, RATE).t
         before = find_onsets(signal, RATE, config=OnsetConfig(ghost_mate_notes=1.0)).t
-        assert np.min(np.abs(found - note)) <= 1e-3 < 5e-3 < np.min(np.abs(before - note)), condition
+        assert np.min(np.abs(found - note)) <= 1e-3 and np.min(np.abs(before - note)) > 5e-3, condition
         now, then = score(truth, found), score(truth, before)
         assert now["within_1ms"] == then["within_1ms"] + 1 == now["loud"], condition
         assert now["found"] - now["correct_5ms"] <= then["found"] - then["correct_5ms"], condition
 
 
-def _one_sample_roll(late=round(0.12 * RATE), seed=3):
+def _one_sample_roll(late=0.12, seed=3):
     """A sample player's roll made here: one waveform (noise ringing down, 30 ms time constant) at four accents 0.45
-    s apart, scaled 1 - 0.05 k, and at a ghost note 20 dB under each: accent 0's ``late`` samples after it, the
+    s apart, scaled 1 - 0.05 k, and at a ghost note 20 dB under each: accent 0's ``late`` s after it, the
     others' 57-95 ms after theirs (each mate cut before ``late``). Returns the signal, the accents' and the ghosts'
     samples."""
     rng = np.random.default_rng(seed)
@@ -45,7 +45,7 @@ def _one_sample_roll(late=round(0.12 * RATE), seed=3):
     wave[:48] *= np.linspace(0.0, 1.0, 48)
     band = np.zeros(round(2.4 * RATE))
     accents = [round((0.1 + 0.45 * k) * RATE) for k in range(4)]
-    ghosts = [accents[0] + late] + [a + round(d * RATE) for a, d in zip(accents[1:], (0.057, 0.08, 0.095))]
+    ghosts = [accents[0] + round(late * RATE)] + [a + round(d * RATE) for a, d in zip(accents[1:], (0.057, 0.08, 0.095))]
     for k, at in enumerate(accents):
         band[at:at + len(n)] += wave * (1.0 - 0.05 * k)
     for g in ghosts:
@@ -61,7 +61,7 @@ def test_a_mates_next_note_of_the_accents_waveform_is_taken_off():
     band, accents, ghosts = _one_sample_roll()
     times = np.array(sorted(accents + ghosts), dtype=float)
     clear = np.isin(times, accents)
-    kw = dict(likeness=0.999, rise_db=15.0, least=1e-2)
+    kw = {"likeness": 0.999, "rise_db": 15.0, "least": 1e-2}
     found = ghost_onsets(band, times, clear, RATE, mate_notes=0.99, **kw)
     before = ghost_onsets(band, times, clear, RATE, **kw)
     assert len(found) == len(ghosts) and np.all(np.abs(found - np.sort(ghosts)) <= 1)
