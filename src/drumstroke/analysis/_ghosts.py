@@ -309,7 +309,7 @@ def _white(v, most=0.6):
 
 def room_ghost_onsets(band, times, clear, rate, head, *, likeness, rise_db, least, fit, skip=10e-3, span=0.13,
                       quiet_db=-10.0, below_db=-30.0, quieter_db=-6.0, mates_used=3, reach=1e-3, energy=5e-3,
-                      shared=None):
+                      spare_likeness=1.0, shared=None):
     """Onsets (full-rate samples) of ghost notes after a ``clear`` attack at ``times`` (full-rate samples) in a
     reverberant recording, each where what is left once a layer-mate is taken off (as :func:`ghost_onsets`: up to
     ``mates_used`` mates, the quietest remainder over each ``energy`` s; here where one mate or more reaches, and with
@@ -321,8 +321,10 @@ def room_ghost_onsets(band, times, clear, rate, head, *, likeness, rise_db, leas
     reverberant, seeds 0-4: 0.77 at most), a ghost note's is its layer's (0.82 or more on the notes missed before).
     Over 5 ms a ghost note's first milliseconds rise 7-10 dB where over 1 ms they rise under 4 dB (FluidR3's snare
     38 roll with reverb, seed 0: its notes of 1.1021 and 3.2034 s). Its peak over the 11 ms from it as
-    :func:`ghost_onsets` asks; its onset where the head's starts (one in 20 ms). ``shared``: as
-    :func:`ghost_onsets`' (the layer-mates it found, given again on the same attacks)."""
+    :func:`ghost_onsets` asks; its onset where the head's starts (one in 20 ms). An accent with fewer than two
+    layer-mates takes as its mates the attacks that correlate with it by ``spare_likeness`` (under ``likeness``: a
+    velocity between two layers' mixes, nearest in level; 1: none). ``shared``: as :func:`ghost_onsets`' (the
+    layer-mates it found, given again on the same attacks)."""
     pre, window, lag = round(0.5e-3 * rate), round(skip * rate), 2
     width, before, after = round(1e-3 * rate), round(10e-3 * rate), round(10e-3 * rate)
     n, back, wide = len(head), round(reach * rate), round(energy * rate)
@@ -336,6 +338,9 @@ def room_ghost_onsets(band, times, clear, rate, head, *, likeness, rise_db, leas
         return np.empty(0)
     loud, ends = _loud_and_ends(band, c, rate, quiet_db)
     mates = _partners(band, starts[which], window + pre, lag, likeness, shared)
+    if spare_likeness < likeness and any(len(m) < 2 for m in mates):
+        spare = _layer_mates(band, starts[which], window + pre, lag, spare_likeness)
+        mates = [m if len(m) >= 2 else spare[i] for i, m in enumerate(mates)]
     block = max(1, width // 4)
     accents, _, count, mate, shifts, scales = _accents_mates(mates, mates_used)
     which_accent, rises, picks, lengths = accent_rises(
