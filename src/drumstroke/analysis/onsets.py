@@ -2096,8 +2096,9 @@ def _room_echoes(band, d, rate, candidates, amplitude, attack, config, kind=2, f
     kept = room_echoes(band, times, levels, clear, *args)
     if under_db < 120.0:  # and those kept, again with the partners clear of the next attack less than so much under
         louder = _clear_of_louder(times, levels, after, under_db)
-        if np.any(louder > clear):
-            kept = room_echoes(band, times, levels, louder, *args[:1], kept, *args[2:])
+        again = tried[kept[which[tried]]]
+        if len(again) and np.any(louder > clear):
+            kept = room_echoes(band, times, levels, louder, again, kept, *args[2:])
     return kept
 
 
