@@ -81,7 +81,8 @@ def test_a_partner_clear_of_louder_attacks_tells_a_rooms_echo_once_its_ghost_not
 def test_an_accent_with_no_layer_mate_takes_the_attacks_nearest_it_as_mates():
     """FluidR3's snare 40 roll with reverb (seed 0): the ghost note of 3.6004 s (-25.2 dB, 92.1 ms after its accent
     of 3.5083 s). That accent (velocity 95, its two layers' mix its own) correlates with no other attack by 0.999
-    over its first 10 ms, so no mate takes its sound off; the accents of velocity 97-110 correlate with it 0.99,
+    over its first 10 ms, so no mate takes its sound off; the accents of velocity 97-110 correlate with it 0.99
+    (it is a roll's accent: within 10 dB of the loudest, none as loud for 0.2 s after it),
     and one of them scaled leaves -46 dB over the 5 ms before the note and -36 dB after, where the quiet attack fits
     0.965. With ``ghost_room_spare_likeness`` 0.99 it is found within 1 ms; with 1 (none, as before) not within
     5 ms."""

@@ -547,9 +547,10 @@ class OnsetConfig:
         ends no partner's window for a return of another accent 149 ms on: FluidR3's snare 38 roll with reverb,
         seed 0, 4.3427 s); 120: the next attack ends it, as before this field.
     ghost_room_spare_likeness : float in [0, 1]
-        Correlation: in :func:`_room_ghost_notes`, an accent with fewer than two layer-mates (by ``replay_likeness``)
-        takes as its mates the clear attacks whose first 10 ms correlate with it so (FluidR3's snare 40, velocity 95
-        among accents of 97-120: 0.993 with one of 97); 1: none, as before this field.
+        Correlation: in :func:`_room_ghost_notes`, a roll's accent (within 10 dB of the loudest clear attack, none
+        as loud for 0.2 s after it) with fewer than two layer-mates (by ``replay_likeness``) takes as its mates the
+        clear attacks whose first 10 ms correlate with it so (FluidR3's snare 40, velocity 95 among accents of
+        97-120: 0.993 with one of 97); 1: none, as before this field.
 
     Examples
     --------
@@ -1767,8 +1768,8 @@ def _room_ghost_notes(band, d, rate, candidates, config, replays, shared=None):
     ghost note is its layer's waveform, the returns a smoothed sound: where that remainder's energy over 5 ms rises
     4 dB over its most over the 10 ms before (a mate or more reaching; no test of whose), the quietest clear
     attack's first 5 ms (from 0.5 ms before it: :func:`_template`, ``quietest``) must correlate with the remainder
-    by ``ghost_room_fit`` or more, placed within ``ghost_room_reach`` s before to 5 ms after the rise's block, one rise tried in 5 ms
-    (:func:`._ghosts.room_ghost_onsets`). On the corpus's recordings step 4 finds reverberant (seeds 0-4, every set
+    by ``ghost_room_fit`` or more, placed within ``ghost_room_reach`` s before to 5 ms after the rise's block, one
+    rise tried in 5 ms (:func:`._ghosts.room_ghost_onsets`). On the corpus's recordings step 4 finds reverberant (seeds 0-4, every set
     and condition) the rises on no note fit 0.77 at most, those on a note missed before 0.82-1.00. The quietest
     clear attack of a roll is an accent (FluidR3's: velocity 95-98, its two layers' mix), whose first 5 ms correlate
     0.86-0.98 with a ghost note's alone. A swell of what the mates leave 10 ms before a ghost note lifts the level
@@ -1776,10 +1777,10 @@ def _room_ghost_notes(band, d, rate, candidates, config, replays, shared=None):
     the attack's window's start, where it fits 0.91-0.96 (each mate) and from 1 ms before the rise 0.56: the fit is
     read from ``ghost_room_reach`` (2 ms) before. An accent whose velocity mixes its two layers its own way has no
     layer-mate (FluidR3's snare 40 accent of 3.5083 s, velocity 95, seed 0: none by 0.999, its ghost note of 3.6004
-    s missed): it takes as its mates the attacks that correlate with it by ``ghost_room_spare_likeness`` (0.99;
-    an accent of velocity 97 scaled leaves -46 dB over the 5 ms before that note, -36 dB after, where the attack
-    fits 0.965). A new note (no attack within 5 ms) is an
-    attack of kind 3; an attack 0.5-2 ms after it is moved there (a ghost note found late on its main rise:
+    s missed): a roll's accent so (none as loud for 0.2 s after it: not a drop's bounce) takes as its mates the
+    attacks that correlate with it by ``ghost_room_spare_likeness`` (0.99; an accent of velocity 97 scaled leaves
+    -46 dB over the 5 ms before that note, -36 dB after, where the attack fits 0.965). A new note (no attack within
+    5 ms) is an attack of kind 3; an attack 0.5-2 ms after it is moved there (a ghost note found late on its main rise:
     FluidR3's rolls, 1.0-1.8 ms; moved 2.1 ms, FluidR3's snare 38 roll with reverb's note of 3.4234 s, seed 2, a
     return 24.6 ms after it, -32 dB, that :func:`_layer_echoes` refused by 0.5 dB, passes by 0.3).
     ``ghost_room_fit`` 1: none sought (as before this field).
