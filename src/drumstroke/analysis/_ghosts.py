@@ -130,7 +130,7 @@ def _partners(band, starts, size, lag, likeness, shared=None):
     if shared is not None and shared.get("band") is band and shared.get("key") == key:
         return shared["mates"]
     likes = _mate_likes(band, starts, size, lag)
-    mates = _layer_mates(likes, lag, likeness)
+    mates = _mates_from(likes, lag, likeness)
     if shared is not None:
         shared.update(band=band, key=key, mates=mates, likes=likes)
     return mates
@@ -141,8 +141,8 @@ def _spare_partners(band, starts, size, lag, likeness, rows, shared=None):
     kept for the same attacks (read again where it holds none)."""
     key = (starts.tobytes(), size, lag)
     if shared is not None and shared.get("band") is band and shared.get("key", ())[:3] == key:
-        return _layer_mates(shared["likes"], lag, likeness, rows)
-    return _layer_mates(_mate_likes(band, starts, size, lag), lag, likeness, rows)
+        return _mates_from(shared["likes"], lag, likeness, rows)
+    return _mates_from(_mate_likes(band, starts, size, lag), lag, likeness, rows)
 
 
 def _mate_likes(band, starts, size, lag):
@@ -161,7 +161,12 @@ def _mate_likes(band, starts, size, lag):
     return np.array(likes), np.array(scales)
 
 
-def _layer_mates(likes, lag, likeness, rows=None):
+def _layer_mates(band, starts, size, lag, likeness):
+    """:func:`_partners`' search."""
+    return _mates_from(_mate_likes(band, starts, size, lag), lag, likeness)
+
+
+def _mates_from(likes, lag, likeness, rows=None):
     """:func:`_partners`' lists from :func:`_mate_likes`' correlations: each attack's others by ``likeness``, the
     best first (only those of ``rows``, booleans, where given: the others' lists empty)."""
     like_all, scale_all = likes
