@@ -70,8 +70,11 @@ def test_a_ghost_note_in_a_reverberant_recording_is_found_where_it_is_the_accent
     quiet attack's fit there, ``ghost_room_fit``, turned off too: it finds them as well)."""
     signal, t, level = _roll(font, key, condition, seed)
     truth = _Truth(t, level)
-    found = find_onsets(signal, RATE).t
-    before = find_onsets(signal, RATE, config=OnsetConfig(ghost_room_own_db=120.0, ghost_room_fit=1.0)).t
+    # ghost_room_spare_likeness (a later rule) finds TimGM6mb's note of 0.2842 s again at its sample, 10 us off the
+    # time found before: off in both here
+    found = find_onsets(signal, RATE, config=OnsetConfig(ghost_room_spare_likeness=1.0)).t
+    before = find_onsets(signal, RATE, config=OnsetConfig(ghost_room_own_db=120.0, ghost_room_fit=1.0,
+                                                          ghost_room_spare_likeness=1.0)).t
     assert np.min(np.abs(found - note)) < within and np.min(np.abs(before - note)) > 5e-3
     now, then = score(truth, found), score(truth, before)
     assert now["within_5ms"] == then["within_5ms"] + 1

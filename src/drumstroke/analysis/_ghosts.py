@@ -210,31 +210,59 @@ def _partners(band, starts, size, lag, likeness, shared=None):
     """For each attack (``starts``: the samples its ``size``-sample window starts at), its layer-mates: (index,
     shift, scale) of each other attack whose window, shifted within ``lag`` samples, correlates by ``likeness``.
     ``shared`` (a dict, or None): the last answer kept there, and given again for the same ``band`` (the same
-    object) and arguments (:func:`ghost_onsets` and :func:`room_ghost_onsets` on the same attacks)."""
+    object) and arguments (:func:`ghost_onsets` and :func:`room_ghost_onsets` on the same attacks), with the
+    correlations it was read from (:func:`_spare_partners`)."""
     key = (starts.tobytes(), size, lag, likeness)
     if shared is not None and shared.get("band") is band and shared.get("key") == key:
         return shared["mates"]
-    mates = _layer_mates(band, starts, size, lag, likeness)
+    likes = _mate_likes(band, starts, size, lag)
+    mates = _mates_from(likes, lag, likeness)
     if shared is not None:
-        shared.update(band=band, key=key, mates=mates)
+        shared.update(band=band, key=key, mates=mates, likes=likes)
     return mates
 
 
-def _layer_mates(band, starts, size, lag, likeness):
-    """:func:`_partners`' search."""
+def _spare_partners(band, starts, size, lag, likeness, rows, shared=None):
+    """:func:`_partners` by ``likeness`` of the attacks of ``rows`` (booleans), from the correlations ``shared``
+    kept for the same attacks (read again where it holds none)."""
+    key = (starts.tobytes(), size, lag)
+    if shared is not None and shared.get("band") is band and shared.get("key", ())[:3] == key:
+        return _mates_from(shared["likes"], lag, likeness, rows)
+    return _mates_from(_mate_likes(band, starts, size, lag), lag, likeness, rows)
+
+
+def _mate_likes(band, starts, size, lag):
+    """Each attack's window (``starts``, ``size`` samples) against each other's shifted by -``lag`` to ``lag``
+    samples: the correlations and the least-squares scales [each shape=(2 lag + 1, n, n): shift, attack, other]."""
     views = windows(band, size)
     own = views[starts]
     norms = np.maximum(np.linalg.norm(own, axis=1), 1e-300)
-    mates = [[] for _ in starts]
+    likes, scales = [], []
     for shift in range(-lag, lag + 1):
         shifted = views[np.clip(starts + shift, 0, len(views) - 1)]
         energy = np.maximum(np.einsum("ij,ij->i", shifted, shifted), 1e-300)
         cross = own @ shifted.T  # [b, a]: attack b against attack a shifted
-        like = cross / (norms[:, None] * np.sqrt(energy)[None, :])
-        bs, as_ = np.nonzero(like >= likeness)
+        likes.append(cross / (norms[:, None] * np.sqrt(energy)[None, :]))
+        scales.append(cross / energy[None, :])
+    return np.array(likes), np.array(scales)
+
+
+def _layer_mates(band, starts, size, lag, likeness):
+    """:func:`_partners`' search."""
+    return _mates_from(_mate_likes(band, starts, size, lag), lag, likeness)
+
+
+def _mates_from(likes, lag, likeness, rows=None):
+    """:func:`_partners`' lists from :func:`_mate_likes`' correlations: each attack's others by ``likeness``, the
+    best first (only those of ``rows``, booleans, where given: the others' lists empty)."""
+    like_all, scale_all = likes
+    mates = [[] for _ in range(like_all.shape[1])]
+    for i, shift in enumerate(range(-lag, lag + 1)):
+        like = like_all[i]
+        bs, as_ = np.nonzero((like >= likeness) if rows is None else (like >= likeness) & rows[:, None])
         bs, as_ = bs[bs != as_], as_[bs != as_]
         for b, found, a, scale in zip(bs.tolist(), like[bs, as_].tolist(), as_.tolist(),
-                                      (cross[bs, as_] / energy[as_]).tolist()):
+                                      scale_all[i][bs, as_].tolist()):
             mates[b].append((found, a, shift, scale))
     return [[m[1:] for m in sorted(found, reverse=True)] for found in mates]
 
@@ -481,7 +509,7 @@ def _white(v, most=0.6):
 
 def room_ghost_onsets(band, times, clear, rate, head, *, likeness, rise_db, least, fit, skip=10e-3, span=0.13,
                       quiet_db=-10.0, below_db=-30.0, quieter_db=-6.0, mates_used=3, reach=1e-3, energy=5e-3,
-                      mate_notes=1.0, shared=None):
+                      mate_notes=1.0, spare_likeness=1.0, shared=None):
     """Onsets (full-rate samples) of ghost notes after a ``clear`` attack at ``times`` (full-rate samples) in a
     reverberant recording, each where what is left once a layer-mate is taken off (as :func:`ghost_onsets`: up to
     ``mates_used`` mates, the quietest remainder over each ``energy`` s; here where one mate or more reaches, and with
@@ -493,9 +521,13 @@ def room_ghost_onsets(band, times, clear, rate, head, *, likeness, rise_db, leas
     reverberant, seeds 0-4: 0.77 at most), a ghost note's is its layer's (0.82 or more on the notes missed before).
     Over 5 ms a ghost note's first milliseconds rise 7-10 dB where over 1 ms they rise under 4 dB (FluidR3's snare
     38 roll with reverb, seed 0: its notes of 1.1021 and 3.2034 s). Its peak over the 11 ms from it as
-    :func:`ghost_onsets` asks; its onset where the head's starts (one in 20 ms). ``mate_notes``: as
-    :func:`ghost_onsets`' (a mate's next note of the accent's waveform taken off). ``shared``: as
-    :func:`ghost_onsets`' (the layer-mates it found, given again on the same attacks)."""
+    :func:`ghost_onsets` asks; its onset where the head's starts (one in 20 ms). An accent (a clear attack within
+    10 dB of the loudest, no attack within ``quiet_db`` of it for 0.2 s after it: a roll's accents, 0.23-0.47 s
+    apart in the corpus, not a drop's bounces, 0.16 s or less) with fewer than two layer-mates takes as its mates
+    the attacks that correlate with it by ``spare_likeness`` (under ``likeness``: a velocity between two layers'
+    mixes, nearest in level; 1: none). ``mate_notes``: as :func:`ghost_onsets`' (a mate's next note of the
+    accent's waveform taken off). ``shared``: as :func:`ghost_onsets`' (the layer-mates it found, given again on
+    the same attacks)."""
     pre, window, lag = round(0.5e-3 * rate), round(skip * rate), 2
     width, before, after = round(1e-3 * rate), round(10e-3 * rate), round(10e-3 * rate)
     n, back, wide = len(head), round(reach * rate), round(energy * rate)
@@ -509,6 +541,14 @@ def room_ghost_onsets(band, times, clear, rate, head, *, likeness, rise_db, leas
         return np.empty(0)
     loud, ends = _loud_and_ends(band, c, rate, quiet_db)
     mates = _partners(band, starts[which], window + pre, lag, likeness, shared)
+    # an accent (within 10 dB of the loudest clear attack, none as loud for 0.2 s after it) with no layer-mates: the
+    # attacks nearest it in level
+    lacking = (np.array([len(m) < 2 for m in mates]) & (loud[which] >= loud[which].max() * 10.0 ** (-10.0 / 20.0))
+               & (ends[which] - c[which] >= round(0.2 * rate)) if spare_likeness < likeness
+               else np.zeros(0, dtype=bool))
+    if np.any(lacking):
+        spare = _spare_partners(band, starts[which], window + pre, lag, spare_likeness, lacking, shared)
+        mates = [spare[i] if lacking[i] else m for i, m in enumerate(mates)]
     block = max(1, width // 4)
     accents, _, count, mate, shifts, scales = _accents_mates(mates, mates_used)
     args = (band, c, which, ends, np.array(accents, dtype=np.int64), np.cumsum(count) - count, count, mate, shifts,

@@ -543,6 +543,21 @@ class OnsetConfig:
         attacks it times inherit its time (TimGM6mb's snare 40 rises to 2-4 % of its peak a millisecond before its main
         rise, which at -60 dBFS noise is what is detected: every template-timed bounce was 0.5-1.2 ms late); 0: the
         start stays where it was detected, as before this field.
+    ghost_room_reach : float in [0, 0.005]
+        s: in a recording step 4 finds reverberant, the quiet attack is fitted to what the layer-mates leave from so
+        long before the rise's block (to 5 ms after it; :func:`_room_ghost_notes`): a swell of what they leave before
+        a ghost note lifts the level its rise is read against, and the rise comes up to 1.7 ms after the attack's
+        window's start (FluidR3's snare 38 roll with reverb, seed 0: 1.7621 s); 1e-3: as before this field.
+    room_partner_under_db : float in [0, 120]
+        dB: in step 5's test of a room's echo (:func:`_room_echoes`), an attack kept there is tried again with each
+        partner's sound clear up to its next attack less than so much under it (a ghost note found after an accent
+        ends no partner's window for a return of another accent 149 ms on: FluidR3's snare 38 roll with reverb,
+        seed 0, 4.3427 s); 120: the next attack ends it, as before this field.
+    ghost_room_spare_likeness : float in [0, 1]
+        Correlation: in :func:`_room_ghost_notes`, a roll's accent (within 10 dB of the loudest clear attack, none
+        as loud for 0.2 s after it) with fewer than two layer-mates (by ``replay_likeness``) takes as its mates the
+        clear attacks whose first 10 ms correlate with it so (FluidR3's snare 40, velocity 95 among accents of
+        97-120: 0.993 with one of 97); 1: none, as before this field.
 
     Examples
     --------
@@ -655,6 +670,9 @@ class OnsetConfig:
     ghost_rise_gap: float = 1e-3
     ghost_mate_notes: float = 0.99
     template_start_db: float = -40.0
+    ghost_room_reach: float = 2e-3
+    room_partner_under_db: float = 15.0
+    ghost_room_spare_likeness: float = 0.99
 
     def __post_init__(self):
         for name, (low, high, unit) in _RANGES.items():
@@ -722,6 +740,9 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "ghost_rise_gap": (0.0, 5e-3, "s"),
     "ghost_mate_notes": (0.0, 1.0, "(correlation)"),
     "template_start_db": (-120.0, 0.0, "dB"),
+    "ghost_room_reach": (0.0, 5e-3, "s"),
+    "room_partner_under_db": (0.0, 120.0, "dB"),
+    "ghost_room_spare_likeness": (0.0, 1.0, "(correlation)"),
 }
 
 
@@ -1766,13 +1787,19 @@ def _room_ghost_notes(band, d, rate, candidates, config, replays, shared=None):
     ghost note is its layer's waveform, the returns a smoothed sound: where that remainder's energy over 5 ms rises
     4 dB over its most over the 10 ms before (a mate or more reaching; no test of whose), the quietest clear
     attack's first 5 ms (from 0.5 ms before it: :func:`_template`, ``quietest``) must correlate with the remainder
-    by ``ghost_room_fit`` or more, placed within 1 ms before to 5 ms after the rise's block, one rise tried in 5 ms
-    (:func:`._ghosts.room_ghost_onsets`). On the corpus's recordings step 4 finds reverberant (seeds 0-4, every set
+    by ``ghost_room_fit`` or more, placed within ``ghost_room_reach`` s before to 5 ms after the rise's block, one
+    rise tried in 5 ms (:func:`._ghosts.room_ghost_onsets`). On the corpus's recordings step 4 finds reverberant (seeds 0-4, every set
     and condition) the rises on no note fit 0.77 at most, those on a note missed before 0.82-1.00. The quietest
     clear attack of a roll is an accent (FluidR3's: velocity 95-98, its two layers' mix), whose first 5 ms correlate
-    0.86-0.98 with a ghost note's alone; where what is left is more than the note (FluidR3's snare 38 note of
-    1.7621 s, seed 0: 0.56) it stays missed. A new note (no attack within 5 ms) is an
-    attack of kind 3; an attack 0.5-2 ms after it is moved there (a ghost note found late on its main rise:
+    0.86-0.98 with a ghost note's alone. A swell of what the mates leave 10 ms before a ghost note lifts the level
+    its rise is read against: FluidR3's snare 38 note of 1.7621 s (seed 0) first rises at 1.7633 s, 1.7 ms after
+    the attack's window's start, where it fits 0.91-0.96 (each mate) and from 1 ms before the rise 0.56: the fit is
+    read from ``ghost_room_reach`` (2 ms) before. An accent whose velocity mixes its two layers its own way has no
+    layer-mate (FluidR3's snare 40 accent of 3.5083 s, velocity 95, seed 0: none by 0.999, its ghost note of 3.6004
+    s missed): a roll's accent so (none as loud for 0.2 s after it: not a drop's bounce) takes as its mates the
+    attacks that correlate with it by ``ghost_room_spare_likeness`` (0.99; an accent of velocity 97 scaled leaves
+    -46 dB over the 5 ms before that note, -36 dB after, where the attack fits 0.965). A new note (no attack within
+    5 ms) is an attack of kind 3; an attack 0.5-2 ms after it is moved there (a ghost note found late on its main rise:
     FluidR3's rolls, 1.0-1.8 ms; moved 2.1 ms, FluidR3's snare 38 roll with reverb's note of 3.4234 s, seed 2, a
     return 24.6 ms after it, -32 dB, that :func:`_layer_echoes` refused by 0.5 dB, passes by 0.3).
     ``ghost_room_fit`` 1: none sought (as before this field). A mate's next note of the accent's waveform is taken
@@ -1791,6 +1818,7 @@ def _room_ghost_notes(band, d, rate, candidates, config, replays, shared=None):
     ghosts = room_ghost_onsets(band, candidates.times[which], lead_clear[which], rate, template[:size],
                                likeness=config.replay_likeness, rise_db=4.0,
                                least=10.0 ** (config.threshold_db / 20.0), fit=config.ghost_room_fit,
+                               reach=config.ghost_room_reach, spare_likeness=config.ghost_room_spare_likeness,
                                mate_notes=config.ghost_mate_notes, shared=shared)
     return _placed_ghosts(candidates, ghosts, which, rate)
 
@@ -2036,12 +2064,12 @@ def _out_of_decay(band, d, rate, candidates, amplitude, config, replays, reverbe
     keep = attack.copy()
     keep[tried] = rise > prior * least[quiet | close]
     if reverberant:
-        keep = _room_echoes(band, d, rate, candidates, amplitude, keep, config)
+        keep = _room_echoes(band, d, rate, candidates, amplitude, keep, config, under_db=config.room_partner_under_db)
     keep = _layer_echoes(band, d, rate, candidates, amplitude, keep, config, replays)
     return _new_sound(band, rate, replace(candidates, attack=keep), config)
 
 
-def _room_echoes(band, d, rate, candidates, amplitude, attack, config, kind=2, fit_db=None):
+def _room_echoes(band, d, rate, candidates, amplitude, attack, config, kind=2, fit_db=None, under_db=120.0):
     """Step 5, in a reverberant recording: ``attack`` less the attacks that are a room's echo of an earlier note.
 
     A room returns each note again and again, each return a smoothed copy of it (FluidSynth's reverb: from 54 ms
@@ -2057,9 +2085,13 @@ def _room_echoes(band, d, rate, candidates, amplitude, attack, config, kind=2, f
     the 5 ms before and after it, and alike: its fit (least squares) leaves ``room_fit_db`` or less of that
     band's energy, and the power it leaves after it passes that before it by ``room_echo_db`` at most
     (:func:`._rooms.echo_novelty`; the partners and fits compiled: :func:`._rooms.room_echoes`). A ghost note under
-    an accent's tail, as quiet and as flat, leaves 3.6-19 dB more after its start. ``kind`` and ``fit_db``
+    an accent's tail, as quiet and as flat, leaves 3.6-19 dB more after its start. In a roll every accent's ghost
+    note lies within a return's delay, so no accent is a partner at it but one whose ghost note was missed: with
+    ``under_db`` (step 5: ``room_partner_under_db``) an attack kept is tried again with each partner's sound clear
+    up to its next attack less than so much under it (a second pass, so no echo refused before is kept: its best
+    fit may be another partner's, which leaves more after). ``kind`` and ``fit_db``
     (``room_fit_db`` unless given): the attacks tried and the most their fit may leave (:func:`_room_returns` tries
-    the template's, kind 3).
+    the template's, kind 3); ``under_db``: 120, no second pass.
     """
     from ._kernels import peaks_around
     from ._rooms import room_echoes
@@ -2080,9 +2112,23 @@ def _room_echoes(band, d, rate, candidates, amplitude, attack, config, kind=2, f
     after = np.searchsorted(times, times + 1e-3 * rate, side="right")
     clear = np.append(times, np.inf)[after] - times
     # each tried attack's partners and fits, in one compiled loop
-    return room_echoes(band, times, levels, clear, tried, attack, which, 35e-3 * rate, 0.3 * rate,
-                       config.reflection_db, 6.0, width, width, reach, max(1, round(60e-6 * rate)),
-                       10.0 ** (fit_db / 10.0), novel)
+    args = (tried, attack, which, 35e-3 * rate, 0.3 * rate, config.reflection_db, 6.0, width, width, reach,
+            max(1, round(60e-6 * rate)), 10.0 ** (fit_db / 10.0), novel)
+    kept = room_echoes(band, times, levels, clear, *args)
+    if under_db < 120.0:  # and those kept, again with the partners clear of the next attack less than so much under
+        louder = _clear_of_louder(times, levels, after, under_db)
+        again = tried[kept[which[tried]]]
+        if len(again) and np.any(louder > clear):
+            kept = room_echoes(band, times, levels, louder, again, kept, *args[2:])
+    return kept
+
+
+def _clear_of_louder(times, levels, after, under_db):
+    """How long the sound after each attack (``times``, samples; ``levels``, dB) stays clear of the next one from
+    ``after`` on (indices: the first 1 ms or more after each) less than ``under_db`` dB under it."""
+    index = np.arange(len(times))
+    ends = (index[None, :] >= after[:, None]) & (levels[None, :] > levels[:, None] - under_db)
+    return np.where(ends.any(axis=1), times[np.argmax(ends, axis=1)], np.inf) - times
 
 
 def _layer_echoes(band, d, rate, candidates, amplitude, attack, config, replays):
