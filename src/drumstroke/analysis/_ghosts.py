@@ -425,131 +425,210 @@ def spaced(accent, at, apart, first, end):
     return out[:count].copy()
 
 
-def ghost_template(band, times, clear, rate, *, likeness, fit, skip=10e-3, span=0.13, mates_used=3, head=5e-3,
-                   lag=0.25e-3, fewest=3, shared=None):
-    """A ghost layer's own attack, learned from the ghost notes found: ``band``'s remainder from 0.5 ms before each
-    attack at ``times`` (full-rate samples) that lies ``skip`` to ``span`` s after a ``clear`` attack with two
-    layer-mates or more (as :func:`ghost_onsets`' mates: :func:`_partners`), the mean of what each mate that reaches
-    ``head`` s past it (its own next attack later) leaves of the accent, over 0.5 ms plus ``head`` s. A sample player
-    replays a ghost layer's waveform sample for sample and the notes after an accent add to it exactly, so these
-    remainders are one waveform (FluidR3's snare 38 roll at -60 dBFS, seed 0: 11 of 13 correlate 0.94-0.99 over the
-    5.5 ms) and the noise of the recording in each. Each is aligned (within ``lag`` s) to the one of the most energy
-    and kept where it correlates so by ``fit`` or more; their mean (each of unit norm), its onset the median of
-    theirs, ``fewest`` or more kept. Returns the template (0.5 ms before its onset, then ``head`` s; unit norm), or
-    None."""
+
+@jit(error_model="numpy")
+def matched_search(band, at, low, length, mates, scales, ends, alphas, starts, long, head, block, width, before,
+                   rise, back, pre, fewest, after):
+    """:func:`matched_ghost_onsets`' search of one accent's window (``band`` from ``at``, samples ``low`` to
+    ``length`` after it): what is left once each mate (``band`` from ``mates[m]``, times ``scales[m]``, less its own
+    ghost note found: ``alphas[m]`` times ``long`` from ``starts[m]`` samples after it, where ``alphas[m]`` is not 0)
+    is taken off, the mean of the mates reaching each sample (up to ``ends[m]``, ``fewest`` or more; the window cut
+    at the first sample with fewer); where its energy over ``width`` samples (every ``block``) rises ``rise`` times
+    over its most over the ``before`` samples before, the head's best fit (normalized correlation) with it placed
+    from ``back`` samples before that block to ``width`` after. Returns each rise's best onset (samples from ``at``,
+    the head's start plus ``pre``), fit and the mean's peak magnitude over ``width + after`` samples from that onset
+    [each shape=(n,)]."""
+    count = len(mates)
+    size = max(0, length - low)
+    v = np.zeros(size)
+    for i in range(size):
+        t = low + i
+        total, reach = 0.0, 0
+        for m in range(count):
+            if t < ends[m]:
+                y = band[mates[m] + t]
+                if alphas[m] != 0.0 and 0 <= t - starts[m] < len(long):
+                    y -= alphas[m] * long[t - starts[m]]
+                total += band[at + t] - scales[m] * y
+                reach += 1
+        if reach < fewest:
+            size = i
+            break
+        v[i] = total / reach
+    n = len(head)
+    blocks = size // block
+    energy = np.zeros(max(blocks, 1))
+    for j in range(blocks):
+        total = 0.0
+        for k in range(j * block, (j + 1) * block):
+            total += v[k] * v[k]
+        energy[j] = total
+    window, span = width // block, before // block
+    onsets, fits, peaks = [], [], []
+    j = span
+    while j + window <= blocks:
+        e = 0.0
+        for i in range(j, j + window):
+            e += energy[i]
+        most = 0.0
+        for i in range(j - span, j - window + 1):
+            total = 0.0
+            for q in range(i, i + window):
+                total += energy[q]
+            most = max(most, total)
+        if e > 0.0 and e >= rise * most:
+            best, where = -2.0, -1
+            for h in range(j * block - back - pre, j * block + width - pre + 1):
+                if h < 0 or h + n > size:
+                    continue
+                cross, power = 0.0, 0.0
+                for q in range(n):
+                    cross += v[h + q] * head[q]
+                    power += v[h + q] * v[h + q]
+                if power > 0.0 and cross / np.sqrt(power) > best:
+                    best, where = cross / np.sqrt(power), h
+            if where >= 0:
+                onsets.append(low + where + pre)
+                fits.append(best)
+                peak = 0.0
+                for q in range(where + pre, min(size, where + pre + width + after)):
+                    peak = max(peak, abs(v[q]))
+                peaks.append(peak)
+            j += window + width // block  # the rise's own blocks (its 1 ms and the head's placements)
+        else:
+            j += 1
+    return np.array(onsets, dtype=np.int64), np.array(fits), np.array(peaks)
+
+
+def _remainder(band, b, a, shift, scale, low, high):
+    """``band`` from ``b`` less ``scale`` times it from ``a + shift``, samples ``low`` to ``high`` after each."""
+    return band[b + low:b + high] - scale * band[a + shift + low:a + shift + high]
+
+
+def matched_ghost_onsets(band, times, clear, rate, *, likeness, least, fit, rise_db=6.0, skip=10e-3, span=0.13,
+                         quiet_db=-10.0, below_db=-30.0, quieter_db=-6.0, mates_used=3, head=5e-3, lag=0.25e-3,
+                         fewest=3, reach=0.5e-3, shared=None):
+    """Onsets (full-rate samples) of ghost notes after a ``clear`` attack at ``times`` (full-rate samples), found by a
+    matched filter of their layer's own attack, learned from the ghost notes already found.
+
+    A sample player replays a ghost layer's waveform sample for sample and the notes after an accent add to it
+    exactly, so what an accent's layer-mates (as :func:`ghost_onsets`': :func:`_partners`, up to ``mates_used``)
+    leave of it after each attack ``skip`` to ``span`` s after it (and before the next within ``quiet_db``) is that
+    note alone and the noise of the recordings: their mean over the mates that reach 0.5 ms plus ``head`` s past it
+    (two or more), aligned within ``lag`` s to the one of the most energy and kept where they correlate so by ``fit``
+    or more (FluidR3's snare 38 roll at -60 dBFS, seed 0: 11 of 13 at 0.94-0.99), averaged: the head, its onset the
+    median of theirs (``fewest`` or more kept). Each kept note's amplitude is its remainder's projection on the head,
+    and its remainders past the head (each mate up to its own next attack), so scaled, averaged where two or more
+    reach, are the layer's longer sound: a mate whose own next attack is such a note is taken off less it, reaching
+    on to that note's next attack or the longer sound's end (a ghost note late after its accent, every mate's own next
+    note first: FluidR3's 2.8007 s, fits 0.96-0.97 so). In each accent's window (up to its next attack within
+    ``quiet_db``) the mean of the reaching mates' remainders (two or more) is read where its energy over 1 ms rises
+    ``rise_db`` over its most over the 10 ms before, the head fitted from ``reach`` s before that block to 1 ms after
+    (:func:`matched_search`): where it fits by ``fit`` or more, its peak over the 11 ms from it as
+    :func:`ghost_onsets` asks, a note at the head's onset (one in 20 ms). Under white noise the head's 5.5 ms gather a
+    quiet note's energy where a 1-ms rise reads its first millisecond alone (0.7874 s there: 10.3 dB over 1 ms, fits
+    0.98)."""
     pre, size, shift = round(0.5e-3 * rate), round(skip * rate), round(lag * rate)
+    width, before, after = round(1e-3 * rate), round(10e-3 * rate), round(10e-3 * rate)
     n = pre + round(head * rate)
     c = np.rint(np.asarray(times, dtype=float)).astype(np.int64)
     starts = c - pre
-    ok = np.asarray(clear, dtype=bool) & (starts >= 2) & (starts + round(span * rate) + 2 + n < len(band))
+    ok = np.asarray(clear, dtype=bool) & (starts >= 2) & (starts + round(span * rate) + 2 + after < len(band))
     which = np.flatnonzero(ok)
     if len(which) < 3:
-        return None
+        return np.empty(0)
+    loud, ends = _loud_and_ends(band, c, rate, quiet_db)
     mates = _partners(band, starts[which], size + pre, 2, likeness, shared)
+    accents, used, _, _, _, _ = _accents_mates(mates, mates_used)
     nexts = np.append(c[1:], len(band))
-    segments = []
-    for k, found in enumerate(mates):
-        if len(found) < 2:
-            continue
-        b = which[k]
+    used = [[(which[a], s, scale) for a, s, scale in u] for u in used]
+    # the notes after each accent, each mate's remainder up to its own next attack
+    notes = []  # (note, accent, [(mate, shift, scale, reach)]) with two or more mates reaching its head
+    for k, u in enumerate(used):
+        b = which[accents[k]]
         for g in range(b + 1, len(c)):
             off = c[g] - c[b]
-            if off > span * rate or (g in set(which.tolist()) and len(mates[int(np.searchsorted(which, g))]) >= 2):
+            if c[g] >= ends[b] or off > span * rate:
                 break
             if off < size:
                 continue
-            used = [(which[a], s, scale) for a, s, scale in found[:mates_used]
-                    if nexts[which[a]] - c[which[a]] >= off + n + shift]
-            if len(used) < 2:
-                continue
-            low, high = off - pre - shift, off - pre + n + shift
-            v = np.mean([band[c[b] + low:c[b] + high] - scale * band[c[a] + s + low:c[a] + s + high]
-                         for a, s, scale in used], axis=0)
-            segments.append(v)
-    if len(segments) < fewest:
-        return None
-    middle = [v[shift:shift + n] for v in segments]
-    reference = middle[int(np.argmax([np.dot(v, v) for v in middle]))]
+            reaching = [(a, s, scale, nexts[a] - c[a] - off) for a, s, scale in u if nexts[a] - c[a] >= off + n + shift]
+            if reaching:
+                notes.append((g, b, reaching))
+    if sum(len(reaching) >= 2 for _, _, reaching in notes) < fewest:
+        return np.empty(0)
+    heads = [np.mean([_remainder(band, c[b], c[a], s, scale, c[g] - c[b] - pre - shift, c[g] - c[b] - pre + n + shift)
+                      for a, s, scale, _ in reaching], axis=0) for g, b, reaching in notes]
+    # the reference and the head from the notes two mates or more reach (one mate's remainder may hold its own note)
+    twice = [len(reaching) >= 2 for _, _, reaching in notes]
+    middle = [v[shift:shift + n] for v in heads]
+    reference = middle[int(np.argmax([np.dot(v, v) if two else -1.0 for v, two in zip(middle, twice)]))]
     reference = reference / max(np.linalg.norm(reference), 1e-300)
-    kept, lags = [], []
-    for v in segments:
+    kept, lags, kept_notes = [], [], []
+    for note, v, two in zip(notes, heads, twice):
         views = windows(v, n)
         norms = np.maximum(np.linalg.norm(views, axis=1), 1e-300)
         like = views @ reference / norms
         best = int(np.argmax(like))
         if like[best] >= fit:
-            kept.append(views[best] / norms[best])
+            kept.append(views[best] / norms[best] if two else None)
             lags.append(best - shift)
-    if len(kept) < fewest:
-        return None
-    # each kept is its note's remainder from ``pre - lag`` before its found onset: the template's onset is the
-    # median of those
-    template = np.mean(kept, axis=0)
-    onset = pre - int(np.median(lags))
-    out = np.zeros(n)
-    if onset >= pre:
-        out[:n - (onset - pre)] = template[onset - pre:]
-    else:
-        out[pre - onset:] = template[:n - (pre - onset)]
-    return out / max(np.linalg.norm(out), 1e-300)
-
-
-def matched_ghost_onsets(band, times, clear, rate, head, *, likeness, rise_db, least, fit, skip=10e-3, span=0.13,
-                         quiet_db=-10.0, below_db=-30.0, quieter_db=-6.0, mates_used=3, reach=1e-3, energy=5e-3,
-                         shared=None):
-    """Onsets (full-rate samples) of ghost notes after a ``clear`` attack at ``times`` (full-rate samples), found by
-    a ghost layer's own attack (``head``: :func:`ghost_template`, 0.5 ms before its onset, unit norm) in what is left
-    once the accent's layer-mates are taken off: a matched filter. The rises tried are :func:`room_ghost_onsets`'
-    (the energy over ``energy`` s of the quietest remainder, a mate or more reaching, rising ``rise_db`` over its
-    most over the 10 ms before; one tried in ``energy`` s); at each, the mean of the remainders of the mates (up to
-    ``mates_used``) that reach past the head placed ``energy`` s after the rise's block (two or more) must correlate
-    with ``head`` by ``fit`` or more, placed the best from ``reach`` s before that block to ``energy`` s after. Under
-    white noise the head's 5.5 ms gather a quiet note's energy where a 1-ms rise reads its first millisecond alone
-    (FluidR3's snare 38 roll at -60 dBFS, seed 0: 0.7874 s rises 10.3 dB over 1 ms, fits 0.98; the rises on no
-    note 0.64 at most). Its peak over the 11 ms from it as :func:`ghost_onsets` asks; its onset where the head's is
-    (one in 20 ms). ``shared``: as :func:`ghost_onsets`'."""
-    pre, window, lag = round(0.5e-3 * rate), round(skip * rate), 2
-    width, before, after = round(1e-3 * rate), round(10e-3 * rate), round(10e-3 * rate)
-    n, back, wide = len(head), round(reach * rate), round(energy * rate)
-    times = np.asarray(times, dtype=float)
-    c = np.rint(times).astype(np.int64)
-    starts = c - pre
-    ok = np.asarray(clear, dtype=bool) & (starts >= lag) & (starts + round(span * rate) + lag + after < len(band))
-    which = np.flatnonzero(ok)
-    if len(which) < 3:
+            kept_notes.append(note)
+    if sum(v is not None for v in kept) < fewest:
         return np.empty(0)
-    loud, ends = _loud_and_ends(band, c, rate, quiet_db)
-    mates = _partners(band, starts[which], window + pre, lag, likeness, shared)
-    block = max(1, width // 4)
-    accents, used, count, mate, shifts, scales = _accents_mates(mates, mates_used)
-    which_accent, rises, _, lengths = accent_rises(
-        band, c, which, ends, np.array(accents, dtype=np.int64), np.cumsum(count) - count, count, mate, shifts,
-        scales, round(span * rate), window, before, after, wide, block, 1, 10.0 ** (rise_db / 10.0))
-    extent = max(wide - pre + n, wide + width + after)  # the samples read past a rise's block, at most
-    chosen = spaced(which_accent, rises * block, wide, back + pre, lengths[which_accent] - extent)
-    nexts = np.append(c[1:], len(band))
-    found, accent, last = [], -1, -np.inf
-    for i in chosen.tolist():
-        k, t = int(which_accent[i]), int(rises[i]) * block
-        if k != accent:
-            accent, last = k, -np.inf
+    middle_lag = int(np.median([lag_g for lag_g, v in zip(lags, kept) if v is not None]))
+    template = np.mean([v for v in kept if v is not None], axis=0)
+    unit = np.zeros(n)  # the head: its onset ``pre`` samples in
+    if middle_lag <= 0:
+        unit[:n + middle_lag] = template[-middle_lag:]
+    else:
+        unit[middle_lag:] = template[:n - middle_lag]
+    unit /= max(np.linalg.norm(unit), 1e-300)
+    # each kept note's onset (its found onset moved by its lag less the median's), amplitude and longer sound
+    longest = round(span * rate)
+    total, counted = np.zeros(longest), np.zeros(longest)
+    amplitude, onset_of = {}, {}
+    for (g, b, reaching), lag_g in zip(kept_notes, lags):
+        at = c[g] + lag_g - middle_lag
+        off = at - c[b]
+        mean = np.mean([_remainder(band, c[b], c[a], s, scale, off - pre, off - pre + n) for a, s, scale, _ in reaching],
+                       axis=0)
+        alpha = float(np.dot(mean, unit))
+        if not alpha > 0.0:
+            continue
+        amplitude[g], onset_of[g] = alpha, at
+        for a, s, scale, _ in reaching:
+            m = min(longest, nexts[a] - c[a] - off + pre, len(band) - (c[a] + s + off - pre), len(band) - (c[b] + off - pre))
+            total[:m] += _remainder(band, c[b], c[a], s, scale, off - pre, off - pre + m) / alpha
+            counted[:m] += 1
+    known = int(np.argmax(counted < 2)) if np.any(counted < 2) else longest
+    long = total[:known] / np.maximum(counted[:known], 1)
+    rise = 10.0 ** (rise_db / 10.0)
+    found = []
+    for k, u in enumerate(used):
         b = which[accents[k]]
-        if t < last + round(20e-3 * rate):
-            continue
-        low, high = t - back - pre, t + extent
-        reaching = [(c[which[a]] + s, scale) for a, s, scale in used[k] if nexts[which[a]] - c[which[a]] >= high]
-        if len(reaching) < 2:
-            continue
-        v = np.mean([band[c[b] + low:c[b] + high] - scale * band[m + low:m + high] for m, scale in reaching], axis=0)
-        views = windows(v[:back + wide + n], n)
-        like = views @ head / np.maximum(np.linalg.norm(views, axis=1), 1e-300)
-        best = int(np.argmax(like))
-        if like[best] < fit:
-            continue
-        at = best + pre  # the onset, samples from ``low``
-        peak = np.abs(v[at:at + width + after]).max()
-        if not max(least, loud[b] * 10.0 ** (below_db / 20.0)) <= peak <= loud[b] * 10.0 ** (quieter_db / 20.0):
-            continue
-        found.append(c[b] + low + at)
-        last = t
+        length = min(round(span * rate), ends[b] - c[b], len(band) - c[b])
+        mates_at, scales, mate_ends, alphas, long_at = [], [], [], [], []
+        for a, s, scale in u:
+            g, end, alpha, at = a + 1, nexts[a] - c[a], 0.0, 0
+            if g in amplitude and g < len(c):  # its own next attack a ghost note found: taken off the mate
+                alpha, at = amplitude[g], onset_of[g] - c[a] - pre
+                end = min(nexts[g] - c[a], at + known)
+            mates_at.append(c[a] + s)
+            scales.append(scale)
+            mate_ends.append(min(end - pre, len(band) - c[a] - s))
+            alphas.append(alpha)
+            long_at.append(at)
+        onsets, fits, peaks = matched_search(band, c[b], size - before, length, np.array(mates_at, dtype=np.int64),
+                                      np.array(scales), np.array(mate_ends, dtype=np.int64), np.array(alphas),
+                                      np.array(long_at, dtype=np.int64), long, unit, max(1, width // 4), width,
+                                      before, rise, round(reach * rate), pre, 2, after)
+        last = -np.inf
+        for t, like, peak in zip(onsets.tolist(), fits.tolist(), peaks.tolist()):
+            if like < fit or t < size or t < last + round(20e-3 * rate):
+                continue
+            if not max(least, loud[b] * 10.0 ** (below_db / 20.0)) <= peak <= loud[b] * 10.0 ** (quieter_db / 20.0):
+                continue
+            found.append(c[b] + t)
+            last = t
     return np.unique(np.asarray(found, dtype=float))

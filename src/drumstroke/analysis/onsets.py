@@ -1791,20 +1791,15 @@ def _matched_ghost_notes(band, d, rate, candidates, config, replays, shared=None
     new note (no attack within 5 ms) is an attack of kind 3 at the head's onset; an attack 0.5-2 ms after it is
     moved there. ``ghost_matched_fit`` 1: none sought (as before this field).
     """
-    from ._ghosts import ghost_template, matched_ghost_onsets
+    from ._ghosts import matched_ghost_onsets
 
     if config.ghost_matched_fit >= 1.0 or len(candidates) < 3 or not replays():
         return candidates
     _, (lead_clear,) = _clear(d, candidates.times, rate, [config.lead_clear_db])
     which = np.flatnonzero(candidates.attack)
-    head = ghost_template(band, candidates.times[which], lead_clear[which], rate, likeness=config.replay_likeness,
-                          fit=config.ghost_matched_fit, shared=shared)
-    if head is None:
-        return candidates
-    ghosts = matched_ghost_onsets(band, candidates.times[which], lead_clear[which], rate, head,
-                                  likeness=config.replay_likeness, rise_db=4.0,
-                                  least=10.0 ** (config.threshold_db / 20.0), fit=config.ghost_matched_fit,
-                                  shared=shared)
+    ghosts = matched_ghost_onsets(band, candidates.times[which], lead_clear[which], rate,
+                                  likeness=config.replay_likeness, least=10.0 ** (config.threshold_db / 20.0),
+                                  fit=config.ghost_matched_fit, shared=shared)
     return _placed_ghosts(candidates, ghosts, which, rate)
 
 
