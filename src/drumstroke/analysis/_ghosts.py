@@ -438,65 +438,62 @@ def matched_search(band, at, low, length, mates, scales, ends, alphas, starts, l
     from ``back`` samples before that block to ``width`` after. Returns each rise's best onset (samples from ``at``,
     the head's start plus ``pre``), fit and the mean's peak magnitude over ``width + after`` samples from that onset
     [each shape=(n,)]."""
-    count = len(mates)
     size = max(0, length - low)
-    v = np.zeros(size)
+    total = np.zeros(size)
+    reach = np.zeros(size, dtype=np.int64)
+    for m in range(len(mates)):  # each mate over its reach, branch-free loops
+        top = min(size, ends[m] - low)
+        for i in range(top):
+            total[i] += band[at + low + i] - scales[m] * band[mates[m] + low + i]
+            reach[i] += 1
+        if alphas[m] != 0.0:  # its own ghost note found, taken off it
+            first, last = max(0, starts[m] - low), min(top, starts[m] + len(long) - low)
+            for i in range(first, last):
+                total[i] += scales[m] * alphas[m] * long[low + i - starts[m]]
     for i in range(size):
-        t = low + i
-        total, reach = 0.0, 0
-        for m in range(count):
-            if t < ends[m]:
-                y = band[mates[m] + t]
-                if alphas[m] != 0.0 and 0 <= t - starts[m] < len(long):
-                    y -= alphas[m] * long[t - starts[m]]
-                total += band[at + t] - scales[m] * y
-                reach += 1
-        if reach < fewest:
+        if reach[i] < fewest:
             size = i
             break
-        v[i] = total / reach
+    v = np.empty(size)
+    for i in range(size):
+        v[i] = total[i] / reach[i]
     n = len(head)
+    sums = np.zeros(size + 1)  # v's squares summed from 0
+    for i in range(size):
+        sums[i + 1] = sums[i] + v[i] * v[i]
     blocks = size // block
     energy = np.zeros(max(blocks, 1))
     for j in range(blocks):
-        total = 0.0
-        for k in range(j * block, (j + 1) * block):
-            total += v[k] * v[k]
-        energy[j] = total
-    window, span = width // block, before // block
+        energy[j] = sums[(j + 1) * block] - sums[j * block]
+    window = width // block
+    e = np.zeros(max(blocks - window + 1, 1))  # the energy over ``width`` samples from each block
+    total = 0.0
+    for j in range(min(window, blocks)):
+        total += energy[j]
+    for j in range(blocks - window + 1):
+        e[j] = total
+        if j + window < blocks:
+            total += energy[j + window] - energy[j]
     onsets, fits, peaks = [], [], []
-    j = span
-    while j + window <= blocks:
-        e = 0.0
-        for i in range(j, j + window):
-            e += energy[i]
-        most = 0.0
-        for i in range(j - span, j - window + 1):
-            total = 0.0
-            for q in range(i, i + window):
-                total += energy[q]
-            most = max(most, total)
-        if e > 0.0 and e >= rise * most:
-            best, where = -2.0, -1
-            for h in range(j * block - back - pre, j * block + width - pre + 1):
-                if h < 0 or h + n > size:
-                    continue
-                cross, power = 0.0, 0.0
-                for q in range(n):
-                    cross += v[h + q] * head[q]
-                    power += v[h + q] * v[h + q]
-                if power > 0.0 and cross / np.sqrt(power) > best:
-                    best, where = cross / np.sqrt(power), h
-            if where >= 0:
-                onsets.append(low + where + pre)
-                fits.append(best)
-                peak = 0.0
-                for q in range(where + pre, min(size, where + pre + width + after)):
-                    peak = max(peak, abs(v[q]))
-                peaks.append(peak)
-            j += window + width // block  # the rise's own blocks (its 1 ms and the head's placements)
-        else:
-            j += 1
+    last = -1
+    for j in rising(e, before // block, blocks - window + 1, before // block, (before - width) // block, rise):
+        if j <= last:  # the rise's own blocks (its 1 ms and the head's placements)
+            continue
+        last = j + window + width // block - 1
+        best, where = -2.0, -1
+        for h in range(j * block - back - pre, j * block + width - pre + 1):
+            if h < 0 or h + n > size:
+                continue
+            cross, power = np.dot(v[h:h + n], head), sums[h + n] - sums[h]
+            if power > 0.0 and cross / np.sqrt(power) > best:
+                best, where = cross / np.sqrt(power), h
+        if where >= 0:
+            onsets.append(low + where + pre)
+            fits.append(best)
+            peak = 0.0
+            for q in range(where + pre, min(size, where + pre + width + after)):
+                peak = max(peak, abs(v[q]))
+            peaks.append(peak)
     return np.array(onsets, dtype=np.int64), np.array(fits), np.array(peaks)
 
 
