@@ -442,10 +442,10 @@ def matched_search(band, at, low, length, mates, scales, ends, alphas, starts, l
     total = np.zeros(size)
     reach = np.zeros(size, dtype=np.int64)
     for m in range(len(mates)):  # each mate over its reach, branch-free loops
-        top = min(size, ends[m] - low)
+        top, scale, here, there = max(0, min(size, ends[m] - low)), scales[m], at + low, mates[m] + low
         for i in range(top):
-            total[i] += band[at + low + i] - scales[m] * band[mates[m] + low + i]
-            reach[i] += 1
+            total[i] += band[here + i] - scale * band[there + i]
+        reach[:top] += 1
         if alphas[m] != 0.0:  # its own ghost note found, taken off it
             first, last = max(0, starts[m] - low), min(top, starts[m] + len(long) - low)
             for i in range(first, last):
@@ -497,14 +497,37 @@ def matched_search(band, at, low, length, mates, scales, ends, alphas, starts, l
     return np.array(onsets, dtype=np.int64), np.array(fits), np.array(peaks)
 
 
-def _remainder(band, b, a, shift, scale, low, high):
-    """``band`` from ``b`` less ``scale`` times it from ``a + shift``, samples ``low`` to ``high`` after each."""
-    return band[b + low:b + high] - scale * band[a + shift + low:a + shift + high]
+@jit(error_model="numpy")
+def note_remainders(band, accents, mates, scales, first, count, lows, size):
+    """For each note ``i``: the mean over its mates ``first[i]`` to ``first[i] + count[i]`` of ``band`` from
+    ``accents[p] + lows[i]`` less ``scales[p]`` times it from ``mates[p] + lows[i]``, over ``size`` samples [shape=(
+    notes, size)]."""
+    out = np.zeros((len(first), size))
+    for i in range(len(first)):
+        for p in range(first[i], first[i] + count[i]):
+            for q in range(size):
+                out[i, q] += band[accents[p] + lows[i] + q] - scales[p] * band[mates[p] + lows[i] + q]
+        for q in range(size):
+            out[i, q] /= count[i]
+    return out
+
+
+@jit(error_model="numpy")
+def long_sound(band, accents, mates, scales, lows, lengths, weights, longest):
+    """The sum over pairs ``p`` of ``weights[p]`` times (``band`` from ``accents[p] + lows[p]`` less ``scales[p]``
+    times it from ``mates[p] + lows[p]``) over ``lengths[p]`` samples (up to ``longest``), and how many pairs reach
+    each sample [each shape=(longest,)]."""
+    total, counted = np.zeros(longest), np.zeros(longest, dtype=np.int64)
+    for p in range(len(accents)):
+        for q in range(min(lengths[p], longest)):
+            total[q] += weights[p] * (band[accents[p] + lows[p] + q] - scales[p] * band[mates[p] + lows[p] + q])
+            counted[q] += 1
+    return total, counted
 
 
 def matched_ghost_onsets(band, times, clear, rate, *, likeness, least, fit, rise_db=6.0, skip=10e-3, span=0.13,
                          quiet_db=-10.0, below_db=-30.0, quieter_db=-6.0, mates_used=3, head=5e-3, lag=0.25e-3,
-                         fewest=3, reach=0.5e-3, shared=None):
+                         fewest=3, reach=0.5e-3, longest=60e-3, shared=None):
     """Onsets (full-rate samples) of ghost notes after a ``clear`` attack at ``times`` (full-rate samples), found by a
     matched filter of their layer's own attack, learned from the ghost notes already found.
 
@@ -539,67 +562,66 @@ def matched_ghost_onsets(band, times, clear, rate, *, likeness, least, fit, rise
     accents, used, _, _, _, _ = _accents_mates(mates, mates_used)
     nexts = np.append(c[1:], len(band))
     used = [[(which[a], s, scale) for a, s, scale in u] for u in used]
-    # the notes after each accent, each mate's remainder up to its own next attack
-    notes = []  # (note, accent, [(mate, shift, scale, reach)]) with two or more mates reaching its head
+    # the notes after each accent (before its next within ``quiet_db``), each mate that reaches its head (its own
+    # next attack later), as pairs: the accent's onset, the mate's (shifted), its scale and how far it reaches
+    notes, pairs = [], []  # (note, accent, first pair, pairs); (accent, mate, scale, reach: samples from the note)
     for k, u in enumerate(used):
         b = which[accents[k]]
         for g in range(b + 1, len(c)):
             off = c[g] - c[b]
             if c[g] >= ends[b] or off > span * rate:
                 break
-            if off < size:
-                continue
-            reaching = [(a, s, scale, nexts[a] - c[a] - off) for a, s, scale in u if nexts[a] - c[a] >= off + n + shift]
-            if reaching:
-                notes.append((g, b, reaching))
-    if sum(len(reaching) >= 2 for _, _, reaching in notes) < fewest:
+            reaching = [(c[b], c[a] + s, scale, nexts[a] - c[a] - s - off) for a, s, scale in u
+                        if nexts[a] - c[a] - s >= off + n + shift]
+            if off >= size and reaching:
+                notes.append((g, b, len(pairs), len(reaching)))
+                pairs.extend(reaching)
+    twice = np.array([count >= 2 for *_, count in notes], dtype=bool)
+    if twice.sum() < fewest:
         return np.empty(0)
-    heads = [np.mean([_remainder(band, c[b], c[a], s, scale, c[g] - c[b] - pre - shift, c[g] - c[b] - pre + n + shift)
-                      for a, s, scale, _ in reaching], axis=0) for g, b, reaching in notes]
+    accent_at, mate_at, scale_of, reach_of = (np.array(x) for x in zip(*pairs))
+    first = np.array([f for _, _, f, _ in notes], dtype=np.int64)
+    count = np.array([k for *_, k in notes], dtype=np.int64)
+    offsets = np.array([c[g] - c[b] for g, b, _, _ in notes], dtype=np.int64)
+    heads = note_remainders(band, accent_at, mate_at, scale_of, first, count, offsets - pre - shift, n + 2 * shift)
     # the reference and the head from the notes two mates or more reach (one mate's remainder may hold its own note)
-    twice = [len(reaching) >= 2 for _, _, reaching in notes]
-    middle = [v[shift:shift + n] for v in heads]
-    reference = middle[int(np.argmax([np.dot(v, v) if two else -1.0 for v, two in zip(middle, twice)]))]
+    energies = np.einsum("ij,ij->i", heads[:, shift:shift + n], heads[:, shift:shift + n])
+    reference = heads[int(np.argmax(np.where(twice, energies, -1.0))), shift:shift + n]
     reference = reference / max(np.linalg.norm(reference), 1e-300)
-    kept, lags, kept_notes = [], [], []
-    for note, v, two in zip(notes, heads, twice):
-        views = windows(v, n)
-        norms = np.maximum(np.linalg.norm(views, axis=1), 1e-300)
-        like = views @ reference / norms
-        best = int(np.argmax(like))
-        if like[best] >= fit:
-            kept.append(views[best] / norms[best] if two else None)
-            lags.append(best - shift)
-            kept_notes.append(note)
-    if sum(v is not None for v in kept) < fewest:
+    views = np.lib.stride_tricks.sliding_window_view(heads, n, axis=1)  # [note, lag, sample]
+    norms = np.maximum(np.sqrt(np.einsum("ijk,ijk->ij", views, views)), 1e-300)
+    like = np.einsum("ijk,k->ij", views, reference) / norms
+    best = np.argmax(like, axis=1)
+    kept = like[np.arange(len(notes)), best] >= fit
+    if np.sum(kept & twice) < fewest:
         return np.empty(0)
-    middle_lag = int(np.median([lag_g for lag_g, v in zip(lags, kept) if v is not None]))
-    template = np.mean([v for v in kept if v is not None], axis=0)
+    lags = best - shift
+    middle_lag = int(np.median(lags[kept & twice]))
+    chosen = np.flatnonzero(kept & twice)
+    template = np.mean(views[chosen, best[chosen]] / norms[chosen, best[chosen], None], axis=0)
     unit = np.zeros(n)  # the head: its onset ``pre`` samples in
     if middle_lag <= 0:
         unit[:n + middle_lag] = template[-middle_lag:]
     else:
         unit[middle_lag:] = template[:n - middle_lag]
     unit /= max(np.linalg.norm(unit), 1e-300)
-    # each kept note's onset (its found onset moved by its lag less the median's), amplitude and longer sound
-    longest = round(span * rate)
-    total, counted = np.zeros(longest), np.zeros(longest)
-    amplitude, onset_of = {}, {}
-    for (g, b, reaching), lag_g in zip(kept_notes, lags):
-        at = c[g] + lag_g - middle_lag
-        off = at - c[b]
-        mean = np.mean([_remainder(band, c[b], c[a], s, scale, off - pre, off - pre + n) for a, s, scale, _ in reaching],
-                       axis=0)
-        alpha = float(np.dot(mean, unit))
-        if not alpha > 0.0:
-            continue
-        amplitude[g], onset_of[g] = alpha, at
-        for a, s, scale, _ in reaching:
-            m = min(longest, nexts[a] - c[a] - off + pre, len(band) - (c[a] + s + off - pre), len(band) - (c[b] + off - pre))
-            total[:m] += _remainder(band, c[b], c[a], s, scale, off - pre, off - pre + m) / alpha
-            counted[:m] += 1
+    # each kept note's onset (its found onset moved by its lag less the median's), amplitude (its mean remainder's
+    # projection on the head) and longer sound (each mate's remainder up to its own next attack, so scaled)
+    kept = np.flatnonzero(kept)
+    lows = offsets[kept] + lags[kept] - middle_lag - pre
+    alphas = note_remainders(band, accent_at, mate_at, scale_of, first[kept], count[kept], lows, n) @ unit
+    positive = alphas > 0.0
+    kept, lows, alphas = kept[positive], lows[positive], alphas[positive]
+    each = np.concatenate([np.arange(first[i], first[i] + count[i]) for i in kept]) if len(kept) else np.empty(0, int)
+    note_of = np.repeat(np.arange(len(kept)), count[kept])
+    longest = round(longest * rate)
+    total, counted = long_sound(band, accent_at[each], mate_at[each], scale_of[each], lows[note_of],
+                                reach_of[each] + pre - (lows[note_of] + pre - offsets[kept][note_of]),
+                                1.0 / alphas[note_of], longest)
     known = int(np.argmax(counted < 2)) if np.any(counted < 2) else longest
     long = total[:known] / np.maximum(counted[:known], 1)
+    amplitude = {int(notes[i][0]): float(alpha) for i, alpha in zip(kept.tolist(), alphas.tolist())}
+    onset_of = {int(notes[i][0]): int(c[notes[i][1]] + low + pre) for i, low in zip(kept.tolist(), lows.tolist())}
     rise = 10.0 ** (rise_db / 10.0)
     found = []
     for k, u in enumerate(used):
@@ -613,9 +635,9 @@ def matched_ghost_onsets(band, times, clear, rate, *, likeness, least, fit, rise
                 end = min(nexts[g] - c[a], at + known)
             mates_at.append(c[a] + s)
             scales.append(scale)
-            mate_ends.append(min(end - pre, len(band) - c[a] - s))
+            mate_ends.append(min(end - s - pre, len(band) - c[a] - s))
             alphas.append(alpha)
-            long_at.append(at)
+            long_at.append(at - s)
         onsets, fits, peaks = matched_search(band, c[b], size - before, length, np.array(mates_at, dtype=np.int64),
                                       np.array(scales), np.array(mate_ends, dtype=np.int64), np.array(alphas),
                                       np.array(long_at, dtype=np.int64), long, unit, max(1, width // 4), width,
