@@ -529,6 +529,12 @@ class OnsetConfig:
         s: where what is left before a ghost note is white noise, its rise by ``ghost_rise_db`` is read also against
         the 10 ms before a gap so long, and its onset sought from the gap's start: a quiet note's lead-in under the
         noise is in the 10 ms before its main rise (step 5, :func:`_ghost_notes`; 0: not, as before this field).
+    ghost_matched_fit : float in [0, 1]
+        Correlation: where the recording replays a sample, a ghost note is also sought by a matched filter of its
+        layer's own first 5.5 ms, learned from the ghost notes found (their remainders once the accents' mates are
+        taken off, aligned and averaged, kept where they correlate so): where the mean of what the mates leave (a
+        mate whose own next attack is such a note taken off less it) rises 6 dB over 1 ms and fits that head by this
+        or more, a note (step 5, :func:`_matched_ghost_notes`; 1: none sought, as before this field).
     template_start_db : float in [-120, 0]
         dB re the template's attack's peak (its band's largest magnitude over the 5 ms after it): the template's
         start (:func:`_attack_sound`) is moved back to the first sample up to 2 ms before
@@ -853,7 +859,8 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        one waveform with it by ``replay_likeness``) are taken off, where that rises ``ghost_rise_db`` (where one mate
        alone reaches, or the recording is reverberant, and the note is louder in the accent than in the mate by
        ``ghost_own_db``, ``ghost_room_own_db``); each is put at its first sample there (a new attack, or one found
-       0.5-1.5 ms late moved).
+       0.5-1.5 ms late moved). :func:`_matched_ghost_notes`: and where what the mates leave fits the ghost layer's
+       own head, learned from the ghost notes found, by ``ghost_matched_fit`` (a matched filter).
        :func:`_level_band`. An onset's amplitude is the peak of its own sound in the drum's lowest
        modes (the band up to ``level_ratio`` times its lowest strong mode, ≥ ``level_band`` Hz,
        decimated to 2.5 times that: a stick's speed sets their amplitude in proportion, while the
