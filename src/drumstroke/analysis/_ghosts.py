@@ -442,14 +442,17 @@ def matched_search(band, at, low, length, mates, scales, ends, alphas, starts, l
     total = np.zeros(size)
     reach = np.zeros(size, dtype=np.int64)
     for m in range(len(mates)):  # each mate over its reach, branch-free loops
-        top, scale, here, there = max(0, min(size, ends[m] - low)), scales[m], at + low, mates[m] + low
+        top, scale = max(0, min(size, ends[m] - low)), scales[m]
+        here, there = band[at + low:at + low + top], band[mates[m] + low:mates[m] + low + top]  # slices: vectorized
         for i in range(top):
-            total[i] += band[here + i] - scale * band[there + i]
+            total[i] += here[i] - scale * there[i]
         reach[:top] += 1
         if alphas[m] != 0.0:  # its own ghost note found, taken off it
             first, last = max(0, starts[m] - low), min(top, starts[m] + len(long) - low)
-            for i in range(first, last):
-                total[i] += scales[m] * alphas[m] * long[low + i - starts[m]]
+            if last > first:
+                part, gain = long[low + first - starts[m]:low + last - starts[m]], scales[m] * alphas[m]
+                for i in range(last - first):
+                    total[first + i] += gain * part[i]
     for i in range(size):
         if reach[i] < fewest:
             size = i
@@ -495,6 +498,28 @@ def matched_search(band, at, low, length, mates, scales, ends, alphas, starts, l
                 peak = max(peak, abs(v[q]))
             peaks.append(peak)
     return np.array(onsets, dtype=np.int64), np.array(fits), np.array(peaks)
+
+
+@jit(error_model="numpy")
+def matched_searches(band, at, low, lengths, first, count, mates, scales, ends, alphas, starts, long, head, block,
+                     width, before, rise, back, pre, fewest, after):
+    """:func:`matched_search` on each accent ``k`` (``band`` from ``at[k]``, samples ``low`` to ``lengths[k]`` after
+    it; its mates ``first[k]`` to ``first[k] + count[k]`` of the flat ``mates``, ``scales``, ``ends``, ``alphas``,
+    ``starts``), in one call. Returns each rise's accent, onset, fit and peak [each shape=(n,)]."""
+    accent = [np.int64(0) for _ in range(0)]
+    onsets = [np.int64(0) for _ in range(0)]
+    fits = [0.0 for _ in range(0)]
+    peaks = [0.0 for _ in range(0)]
+    for k in range(len(at)):
+        f, c = first[k], first[k] + count[k]
+        o, fit, peak = matched_search(band, at[k], low, lengths[k], mates[f:c], scales[f:c], ends[f:c], alphas[f:c],
+                                      starts[f:c], long, head, block, width, before, rise, back, pre, fewest, after)
+        for i in range(len(o)):
+            accent.append(k)
+            onsets.append(o[i])
+            fits.append(fit[i])
+            peaks.append(peak[i])
+    return np.array(accent, dtype=np.int64), np.array(onsets, dtype=np.int64), np.array(fits), np.array(peaks)
 
 
 @jit(error_model="numpy")
@@ -588,7 +613,8 @@ def matched_ghost_onsets(band, times, clear, rate, *, likeness, least, fit, rise
     energies = np.einsum("ij,ij->i", heads[:, shift:shift + n], heads[:, shift:shift + n])
     reference = heads[int(np.argmax(np.where(twice, energies, -1.0))), shift:shift + n]
     reference = reference / max(np.linalg.norm(reference), 1e-300)
-    views = np.lib.stride_tricks.sliding_window_view(heads, n, axis=1)  # [note, lag, sample]
+    views = np.lib.stride_tricks.as_strided(heads, (len(heads), 2 * shift + 1, n), (heads.strides[0],) + heads.strides[1:] * 2,
+                                            writeable=False)  # [note, lag, sample]: sliding_window_view's, less its checks
     norms = np.maximum(np.sqrt(np.einsum("ijk,ijk->ij", views, views)), 1e-300)
     like = np.einsum("ijk,k->ij", views, reference) / norms
     best = np.argmax(like, axis=1)
@@ -622,15 +648,13 @@ def matched_ghost_onsets(band, times, clear, rate, *, likeness, least, fit, rise
     long = total[:known] / np.maximum(counted[:known], 1)
     amplitude = {int(notes[i][0]): float(alpha) for i, alpha in zip(kept.tolist(), alphas.tolist())}
     onset_of = {int(notes[i][0]): int(c[notes[i][1]] + low + pre) for i, low in zip(kept.tolist(), lows.tolist())}
-    rise = 10.0 ** (rise_db / 10.0)
-    found = []
-    for k, u in enumerate(used):
-        b = which[accents[k]]
-        length = min(round(span * rate), ends[b] - c[b], len(band) - c[b])
-        mates_at, scales, mate_ends, alphas, long_at = [], [], [], [], []
+    # each accent's mates (a mate whose own next attack is a kept note: less it, on to that note's next attack or
+    # the longer sound's end), flat for one compiled search
+    mates_at, scales, mate_ends, alphas, long_at = [], [], [], [], []
+    for u in used:
         for a, s, scale in u:
             g, end, alpha, at = a + 1, nexts[a] - c[a], 0.0, 0
-            if g in amplitude and g < len(c):  # its own next attack a ghost note found: taken off the mate
+            if g in amplitude:  # its own next attack a ghost note found: taken off the mate
                 alpha, at = amplitude[g], onset_of[g] - c[a] - pre
                 end = min(nexts[g] - c[a], at + known)
             mates_at.append(c[a] + s)
@@ -638,16 +662,22 @@ def matched_ghost_onsets(band, times, clear, rate, *, likeness, least, fit, rise
             mate_ends.append(min(end - s - pre, len(band) - c[a] - s))
             alphas.append(alpha)
             long_at.append(at - s)
-        onsets, fits, peaks = matched_search(band, c[b], size - before, length, np.array(mates_at, dtype=np.int64),
-                                      np.array(scales), np.array(mate_ends, dtype=np.int64), np.array(alphas),
-                                      np.array(long_at, dtype=np.int64), long, unit, max(1, width // 4), width,
-                                      before, rise, round(reach * rate), pre, 2, after)
-        last = -np.inf
-        for t, like, peak in zip(onsets.tolist(), fits.tolist(), peaks.tolist()):
-            if like < fit or t < size or t < last + round(20e-3 * rate):
-                continue
-            if not max(least, loud[b] * 10.0 ** (below_db / 20.0)) <= peak <= loud[b] * 10.0 ** (quieter_db / 20.0):
-                continue
-            found.append(c[b] + t)
-            last = t
+    b = which[np.array(accents, dtype=np.int64)]
+    lengths = np.minimum(np.minimum(round(span * rate), ends[b] - c[b]), len(band) - c[b])
+    count = np.array([len(u) for u in used], dtype=np.int64)
+    accent_of, onsets, fits, peaks = matched_searches(
+        band, c[b], size - before, lengths, np.cumsum(count) - count, count, np.array(mates_at, dtype=np.int64),
+        np.array(scales, dtype=float), np.array(mate_ends, dtype=np.int64), np.array(alphas, dtype=float),
+        np.array(long_at, dtype=np.int64), long, unit, max(1, width // 4), width, before,
+        10.0 ** (rise_db / 10.0), round(reach * rate), pre, 2, after)
+    found, accent, last = [], -1, -np.inf
+    for k, t, like, peak in zip(accent_of.tolist(), onsets.tolist(), fits.tolist(), peaks.tolist()):
+        if k != accent:
+            accent, last = k, -np.inf
+        if like < fit or t < size or t < last + round(20e-3 * rate):
+            continue
+        if not max(least, loud[b[k]] * 10.0 ** (below_db / 20.0)) <= peak <= loud[b[k]] * 10.0 ** (quieter_db / 20.0):
+            continue
+        found.append(c[b[k]] + t)
+        last = t
     return np.unique(np.asarray(found, dtype=float))
