@@ -98,9 +98,9 @@ none of these cases moves; on the corpus TimGM6mb's snare 40 drop at -60 dBFS ha
 late instead of 0.49 (seed 2: 55 loud notes within 1 ms instead of 4; tests/test_recorded_noise_timing.py).
 Nor do the ghost notes sought by a matched filter of their layer's own head, learned from the ghost notes found
 (``ghost_matched_fit``; 1 gives the outputs before it): the reference stands (in none of these cases does it find a
-note); on the corpus, seed 0, FluidR3's snare 38 roll at -60 dBFS gains its ghost
-notes of 0.7874 and 2.8007 s and has 3.9647 s within 1 ms (tests/test_recorded_matched_ghosts.py), and TimGM6mb's
-snare 40 roll at -72 dBFS has its note of 1.5256 s 0.04 ms early instead of 0.01 late.
+note); on the corpus, seed 0, FluidR3's snare 38 roll at -60 dBFS gains its ghost notes of 0.7874 and 2.8007 s and
+has 3.9647 s within 1 ms (tests/test_recorded_matched_ghosts.py), and TimGM6mb's snare 40 roll at -72 dBFS has its
+note of 1.5256 s 0.04 ms early instead of 0.01 late.
 The recordings are rebuilt here (seeded): our synthesis with and without the snare wires, another
 drum's, a room and noise (tests/_recordings.py), the paper's free bounce of benchmarks/analysis.py, and
 some of tests/_recorded_drums.py's SoundFont recordings (dry, noise, FluidSynth's reverb).
