@@ -109,9 +109,10 @@ reference before; with them, FluidR3's snare 38 drop with reverb has 44 onsets i
 and 2.4655 s) gone (``room_partner_under_db``); its roll with reverb 27 instead of 26, a ghost note of 1.5154 s
 found within 0.04 ms (``ghost_room_reach``); every other recording unchanged; tests/test_recorded_room_rolls.py).
 The ghost notes sought by a matched filter of their layer's own head, learned from the ghost notes found
-(``ghost_matched_fit``; 1 gives the outputs before it), move none of these cases (in none does it find a note); on the corpus, seed 0, FluidR3's snare 38 roll at -60 dBFS gains its ghost notes of 0.7874 and 2.8007 s and
-has 3.9647 s within 1 ms (tests/test_recorded_matched_ghosts.py), and TimGM6mb's snare 40 roll at -72 dBFS has its
-note of 1.5256 s 0.04 ms early instead of 0.01 late.
+(``ghost_matched_fit``; 1 gives the outputs before it), move none of these cases (in none does it find a note); on
+the corpus, seed 0, FluidR3's snare 38 roll at -60 dBFS gains its ghost notes of 0.7874 and 2.8007 s and has 3.9647
+s within 1 ms (tests/test_recorded_matched_ghosts.py), and TimGM6mb's snare 40 roll at -72 dBFS has its note of
+1.5256 s 0.04 ms early instead of 0.01 late.
 The recordings are rebuilt here (seeded): our synthesis with and without the snare wires, another
 drum's, a room and noise (tests/_recordings.py), the paper's free bounce of benchmarks/analysis.py, and
 some of tests/_recorded_drums.py's SoundFont recordings (dry, noise, FluidSynth's reverb).
