@@ -17,7 +17,7 @@ from ._kernels import window_dots
 def template_search(remainder, template, head, times, shifts, refused, offset, layer_at, layer_size, pre, gap,
                     shortest, fit, bounce, echo, signature, reach, likeness, refused_likeness, ratio_low, ratio_high,
                     least, burst, earlier, unclear, weak, start_likeness, layer_likeness, bursts=1, unfitted=0.0,
-                    layer_whole=1.0, flight=0):
+                    layer_whole=1.0, flight=0, layer_start=0, layer_joint=1.0, joint_flight=0, joint_train=0):
     """:func:`.onsets._template_search`'s loop over the attacks at ``times`` (full-rate samples, in order).
 
     ``remainder`` (the band, changed in place) less each attack's fitted ``template`` (``pre`` samples before its
@@ -47,9 +47,14 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
     by ``weak``, scaled re that attack's fit by the layer; ``layer_likeness`` 1: not made; where that finds none either,
     or one past the next bounce's time, after a flight of ``flight`` samples or less, the layer's first ``fit`` samples
     alone by ``layer_whole`` a half to one and a half times that flight on, :func:`_whole_after`; ``layer_whole`` 1,
-    its default: not sought), and before the loop reaches
+    its default: not sought; where that finds none, after a flight of ``joint_train`` samples or less, the attack
+    fitted again with ``layer`` at each sample, ``joint_flight`` samples on or more, by ``layer_joint``,
+    :func:`_joint_after`, not after an attack so found; ``layer_joint`` 1, its default: not sought), and before the
+    loop reaches
     ``layer_at`` the layer is its sound as recorded (not yet what is left there; with ``layer_likeness`` 1 there is
-    none before it). Returns the attacks found (their
+    none before it). A detection flagged ``unclear``, not one the template timed, within ``bounce`` after the attack
+    before it, is put where ``layer`` fits best up to ``layer_start`` samples before it (:func:`_layer_start`; 0, its
+    default: not sought), and one up to ``layer_start`` samples after a bounce found is that bounce (dropped). Returns the attacks found (their
     times, in order), each one's correlation and which of ``times`` are dropped [shape=(len(times),)].
     """
     n, size = len(remainder), len(template)
@@ -63,8 +68,9 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
     most = n // max(gap, 1) + 1 + len(times)  # each new one gap after, each moved one of times
     found, likes, count = np.empty(most), np.empty(most), 0
     dropped = np.zeros(len(times), dtype=np.bool_)
-    i, pending, last = 0, -1, -n
+    i, pending, last, joined, by_joint = 0, -1, -n, False, False
     while True:
+        joined, by_joint = by_joint, False  # whether this attack is one the joint fit found
         if pending >= 0:
             c, pending = pending, -1  # where the template's attack fell
         elif i < len(times):
@@ -78,6 +84,14 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
                 if start >= 0:  # the detection was the attack's own later burst, its start hidden
                     dropped[i - 1], c = True, start
                     found[count], likes[count], count = start + offset, like, count + 1
+                elif layer_start > 0 and len(layer) > 0 and shifts[i - 1] == 0.0 and c - last <= bounce:
+                    # a train's quiet bounce detected on its main rise (FluidR3's snare 40: 0.9 ms late): the layer's
+                    # sound, not the loud template's, fits it best where it starts
+                    start, like = _layer_start(remainder, layer, c, max(last + gap, c - layer_start), following, pre,
+                                               shortest, fit, likeness)
+                    if start >= 0:
+                        dropped[i - 1], c = True, start
+                        found[count], likes[count], count = start + offset, like, count + 1
         else:
             break
         previous, last = last, c
@@ -162,6 +176,15 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
                                                  reach, scale, layer_whole, ratio_low, ratio_high)
                 if early >= 0:
                     at, like = early, early_like
+                elif layer_joint < 1.0 and not joined and c - previous <= joint_train:
+                    # the bounce before's sound fitted again with the next one's, least squares (its own fit, over
+                    # the layer's first fit samples, took in some of the next bounce's)
+                    early, early_like = _joint_after(remainder, own, at_c, scale, layer,
+                                                     max(c + gap, c + (c - previous) // 2, c + joint_flight),
+                                                     min(high, c + (3 * (c - previous)) // 2 + 1), following, pre,
+                                                     fit, reach, layer_joint, ratio_low, ratio_high)
+                    if early >= 0:
+                        at, like, by_joint = early, early_like, True
         if skipped and at > detection:
             if at - detection <= echo:  # the detection was this bounce placed early
                 dropped[i], i = True, i + 1
@@ -171,6 +194,9 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
             at, like = _refused_fit(remainder, template, head, head_energy, refused, c + signature,
                                     min(detection - gap, n - len(head) + pre), pre, fit, reach, refused_likeness,
                                     least)
+        if (layer_start > 0 and at >= 0 and i < len(times) and unclear[i] and shifts[i] == 0.0
+                and 0 < int(np.rint(times[i])) - at <= layer_start):
+            dropped[i], i = True, i + 1  # the next detection is this bounce on its main rise: no attack of its own
         if at >= 0:
             pending = at
             found[count], likes[count], count = at + offset, like, count + 1
@@ -412,6 +438,84 @@ def _earlier_start(remainder, template, head, head_energy, c, low, high, followi
     if _fits_near(remainder, template, c, following, pre, shortest, fit, reach, best_like):
         return -1, 0.0
     return best, best_like
+
+
+@jit(error_model="numpy")
+def _joint_at(remainder, own, at_c, scale, layer, p, pre, span):
+    """The correlation of ``layer``'s first ``span`` samples at ``p`` (its attack ``pre`` samples in) with what
+    ``remainder`` less the attack at ``at_c`` (``own`` times ``scale``, taken off it) leaves when that attack and one
+    of ``layer`` at ``p`` are fitted together (least squares from ``at_c``'s window to ``p``'s end), and the latter's
+    scale re ``scale``."""
+    a0, b0, w0 = at_c - pre, p - pre + span, p - pre
+    aa = ay = ab = by = bb = yy = ayw = aaw = 0.0
+    for j in range(a0, b0):
+        a = own[j - a0] if j - a0 < len(own) else 0.0
+        y = remainder[j] + scale * a
+        aa += a * a
+        ay += a * y
+        if j >= w0:
+            b = layer[j - w0]
+            ab += a * b
+            by += b * y
+            bb += b * b
+            yy += y * y
+            ayw += a * y
+            aaw += a * a
+    det = aa * bb - ab * ab
+    if det <= 0.0 or bb <= 0.0:
+        return -1.0, 0.0
+    x = (ay * bb - by * ab) / det
+    z = (aa * by - ab * ay) / det
+    left = max(yy - 2.0 * x * ayw + x * x * aaw, 1e-300)
+    return (by - x * ab) / math.sqrt(left * bb), z / scale if scale > 0.0 else 0.0
+
+
+@jit(error_model="numpy")
+def _joint_after(remainder, own, at_c, scale, layer, low, high, following, pre, fit, reach, likeness, ratio_low,
+                 ratio_high):
+    """:func:`_whole_after`'s search with the attack at ``at_c`` (``own`` times ``scale``, taken off ``remainder``)
+    fitted again together with ``layer`` at each sample (:func:`_joint_at`): the first sample in ``[low, high)``
+    where ``layer``'s correlation so is ``likeness`` or more, scaled ``ratio_low`` to ``ratio_high`` times ``scale``,
+    moved to the best within ``reach`` samples after: (sample, correlation), or (-1, 0)."""
+    n = len(remainder)
+    span = min(pre + fit, len(layer))
+    high = min(high, following - fit, n - span + pre)
+    if high <= low or low < pre or at_c < pre:
+        return -1, 0.0
+    for p in range(low, high):
+        like, ratio = _joint_at(remainder, own, at_c, scale, layer, p, pre, span)
+        if like < likeness or ratio < ratio_low or ratio > ratio_high:
+            continue
+        best, best_like = p, like
+        for q in range(p + 1, min(p + reach + 1, high)):
+            other = _joint_at(remainder, own, at_c, scale, layer, q, pre, span)[0]
+            if other > best_like:
+                best, best_like = q, other
+        return best, best_like
+    return -1, 0.0
+
+
+@jit(error_model="numpy")
+def _layer_start(remainder, layer, c, low, following, pre, shortest, fit, likeness):
+    """Where in ``[low, c)`` the attack detected at ``c`` starts by ``layer``: the sample where ``layer``'s first
+    ``fit`` samples (up to ``following``, ``shortest`` or more) correlate best with ``remainder`` within ``low`` to
+    ``c``, when that is ``likeness`` or more, better than at ``c`` and more than ``_LAYER_LAG`` samples before it
+    (nearer, :func:`_take_off` finds it): (sample, correlation), or (-1, 0)."""
+    span = min(max(pre + shortest, min(pre + fit, following - c)), len(layer), len(remainder) - c + pre)
+    count = c - low + 1
+    if count <= _LAYER_LAG + 1 or low < pre or span <= pre:
+        return -1, 0.0
+    energy = _dot(layer, 0, layer, span)
+    own = _energies(remainder, low - pre, count, span)
+    dots = _correlations(remainder, low - pre, layer[:span], count)
+    best, best_like = -1, likeness
+    for k in range(count):
+        like = dots[k] / math.sqrt(max(own[k] * energy, 1e-300))
+        if like >= best_like:
+            best, best_like = k, like
+    if best < 0 or best >= count - 1 - _LAYER_LAG:
+        return -1, 0.0
+    return low + best, best_like
 
 
 @jit(error_model="numpy")
