@@ -441,57 +441,54 @@ def _earlier_start(remainder, template, head, head_energy, c, low, high, followi
 
 
 @jit(error_model="numpy")
-def _joint_at(remainder, own, at_c, scale, layer, p, pre, span):
-    """The correlation of ``layer``'s first ``span`` samples at ``p`` (its attack ``pre`` samples in) with what
-    ``remainder`` less the attack at ``at_c`` (``own`` times ``scale``, taken off it) leaves when that attack and one
-    of ``layer`` at ``p`` are fitted together (least squares from ``at_c``'s window to ``p``'s end), and the latter's
-    scale re ``scale``."""
-    a0, b0, w0 = at_c - pre, p - pre + span, p - pre
-    aa = ay = ab = by = bb = yy = ayw = aaw = 0.0
-    for j in range(a0, b0):
-        a = own[j - a0] if j - a0 < len(own) else 0.0
-        y = remainder[j] + scale * a
-        aa += a * a
-        ay += a * y
-        if j >= w0:
-            b = layer[j - w0]
-            ab += a * b
-            by += b * y
-            bb += b * b
-            yy += y * y
-            ayw += a * y
-            aaw += a * a
-    det = aa * bb - ab * ab
-    if det <= 0.0 or bb <= 0.0:
-        return -1.0, 0.0
-    x = (ay * bb - by * ab) / det
-    z = (aa * by - ab * ay) / det
-    left = max(yy - 2.0 * x * ayw + x * x * aaw, 1e-300)
-    return (by - x * ab) / math.sqrt(left * bb), z / scale if scale > 0.0 else 0.0
-
-
-@jit(error_model="numpy")
 def _joint_after(remainder, own, at_c, scale, layer, low, high, following, pre, fit, reach, likeness, ratio_low,
                  ratio_high):
     """:func:`_whole_after`'s search with the attack at ``at_c`` (``own`` times ``scale``, taken off ``remainder``)
-    fitted again together with ``layer`` at each sample (:func:`_joint_at`): the first sample in ``[low, high)``
-    where ``layer``'s correlation so is ``likeness`` or more, scaled ``ratio_low`` to ``ratio_high`` times ``scale``,
-    moved to the best within ``reach`` samples after: (sample, correlation), or (-1, 0)."""
+    fitted again together with ``layer`` at each sample: the first sample in ``[low, high)`` where ``layer``'s first
+    ``fit`` samples (from ``pre`` before its attack) correlate by ``likeness`` or more with what ``remainder``, the
+    attack put back, less the attack so fitted leaves there (two scales, least squares from the attack's window to the
+    end of ``layer``'s), ``layer``'s scale ``ratio_low`` to ``ratio_high`` times ``scale``, moved to the best within
+    ``reach`` samples after: (sample, correlation), or (-1, 0). Each sample's sums from the running sums of the
+    attack's sound and of its products, and two sliding dot products with ``layer``."""
     n = len(remainder)
     span = min(pre + fit, len(layer))
     high = min(high, following - fit, n - span + pre)
     if high <= low or low < pre or at_c < pre:
         return -1, 0.0
-    for p in range(low, high):
-        like, ratio = _joint_at(remainder, own, at_c, scale, layer, p, pre, span)
-        if like < likeness or ratio < ratio_low or ratio > ratio_high:
+    start, count = low - at_c, high - low  # the first window's start in the samples from at_c - pre
+    size = start + count - 1 + span
+    a, y = np.zeros(size), np.empty(size)
+    for j in range(size):
+        if j < len(own):
+            a[j] = own[j]
+        y[j] = remainder[at_c - pre + j] + scale * a[j]  # the attack put back
+    aa, ay = np.zeros(size + 1), np.zeros(size + 1)  # running sums from the attack's window on
+    for j in range(size):
+        aa[j + 1] = aa[j] + a[j] * a[j]
+        ay[j + 1] = ay[j] + a[j] * y[j]
+    ab = _correlations(a, start, layer[:span], count)
+    by = _correlations(y, start, layer[:span], count)
+    yy = _energies(y, start, count, span)
+    bb = _dot(layer, 0, layer, span)
+    likes, ratios = np.empty(count), np.empty(count)
+    for k in range(count):
+        w, end = start + k, start + k + span
+        det = aa[end] * bb - ab[k] * ab[k]
+        if det <= 0.0 or bb <= 0.0 or scale <= 0.0:
+            likes[k], ratios[k] = -1.0, 0.0
             continue
-        best, best_like = p, like
-        for q in range(p + 1, min(p + reach + 1, high)):
-            other = _joint_at(remainder, own, at_c, scale, layer, q, pre, span)[0]
-            if other > best_like:
-                best, best_like = q, other
-        return best, best_like
+        x = (ay[end] * bb - by[k] * ab[k]) / det  # the attack's scale so fitted
+        z = (aa[end] * by[k] - ab[k] * ay[end]) / det  # layer's
+        left = max(yy[k] - 2.0 * x * (ay[end] - ay[w]) + x * x * (aa[end] - aa[w]), 1e-300)
+        likes[k], ratios[k] = (by[k] - x * ab[k]) / math.sqrt(left * bb), z / scale
+    for k in range(count):
+        if likes[k] < likeness or ratios[k] < ratio_low or ratios[k] > ratio_high:
+            continue
+        best = k
+        for m in range(k + 1, min(k + reach + 1, count)):
+            if likes[m] > likes[best]:
+                best = m
+        return low + best, likes[best]
     return -1, 0.0
 
 
