@@ -223,9 +223,9 @@ def own_peaks(rest, starts, following, ends, bank, offsets, lengths, window, rea
     next onset, the bank's fit after) and taken off whole. So a layer a recording has no clear note of (a drop's
     quiet bounces, each over the last one's ringing) gets the template of its quietest note with room, the earlier
     notes' fits taken off. Returns a third array [shape=(n,)]: with ``learn``, at each onset whose window the next
-    onset cuts short of ``window``, the peak over the window of the template fitted there (its scale times its
-    largest magnitude: the note's own peak, which may come after the next onset: up to 9.4 ms after its start on
-    FluidR3's snare); NaN elsewhere.
+    onset cuts short of ``window``, where the fit leaves ``poor`` or less of it unexplained, the peak over the window
+    of the template fitted there (its scale times its largest magnitude: the note's own peak, which may come after
+    the next onset: up to 9.4 ms after its start on FluidR3's snare); NaN elsewhere.
     """
     count, templates = len(starts), len(lengths)
     peaks, heard = np.empty(count), np.empty(count)

@@ -378,7 +378,8 @@ class OnsetConfig:
     peak_learn : float in [0, 1]
         The fraction of a note's first ``peak_window`` s its best template leaves unexplained over which the
         layers no clear note makes a template of are learned from the quietest notes with 40 ms or more of room,
-        and a note closer than ``peak_window`` s to the next has its peak read from its fitted template (step 6;
+        and a note closer than ``peak_window`` s to the next has its peak read from its fitted template where that
+        explains 70 % or more of its window (step 6;
         0: never, every peak its window's largest sample, as before issue 28's peak-levels round).
     sound_templates : int in [0, 100]
         How many of the recording's clear notes (the loudest), each up to the next onset, are templates of the
@@ -2397,8 +2398,8 @@ def _peak_amplitudes(signal, times, rate, config):
 
     With ``peak_learn`` (over 0), the layers no clear note has a template of are learned from their quietest notes
     with room, the earlier notes' fits taken off (:func:`._templates.own_peaks`), and a note whose window the next
-    onset cuts short of ``peak_window`` has its peak read from its fit (the fitted template's scale times its peak
-    over the window): a drop's close bounces (4-8 ms apart) on FluidR3's snare, whose quiet layer peaks 9.4 ms
+    onset cuts short of ``peak_window`` has its peak read from its fit where that explains 70 % or more of the window
+    (the fitted template's scale times its peak over the window): a drop's close bounces (4-8 ms apart) on FluidR3's snare, whose quiet layer peaks 9.4 ms
     into the note, read 1-2.7 dB low over their windows cut short and (fitted by the loud layer's template) left
     their sound under the next bounces' peaks, up to 4.6 dB high.
     """
