@@ -891,7 +891,9 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        signal itself by :func:`_peak_amplitudes`: the loudest sample over ``peak_window`` s after it (or
        up to the next onset), after the earlier notes' sound is taken off (each fitted by the
        recording's own templates, one a velocity layer, each the median of its clear notes' waveforms, of the
-       ``peak_templates`` loudest, followed ``peak_reach`` s).
+       ``peak_templates`` loudest, followed ``peak_reach`` s; with ``peak_learn``, the layers no clear note has
+       learned on the way from their quietest notes with room, and a window the next onset cuts short read from
+       its note's fit).
        :func:`_without_reflections`: where ``reflection_pairs`` pairs of successive onsets or more, the later
        ``reflection_db`` under the earlier, share one delay (within ``reflection_spread`` s), each such later one
        is a room's reflection and is left out. :func:`_room_returns`, in a reverberant recording: an onset the
