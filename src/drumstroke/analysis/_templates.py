@@ -219,8 +219,9 @@ def own_peaks(rest, starts, following, ends, bank, offsets, lengths, window, rea
     ``window`` samples, or up to the next onset) unexplained, the learned templates are fitted there too
     (:func:`_learned_fit`) and the best taken off instead; where none leaves ``learn`` or less, or the best learned is
     a louder note's, a note with ``room`` samples or more before the next onset, whose remainder over the ``window``
-    before it is ``clear`` times its peak or less, is learned as it is (:func:`_learn`: its own remainder up to the
-    next onset, the bank's fit after) and taken off whole. So a layer a recording has no clear note of (a drop's
+    before it is ``clear`` times its peak or less, is learned as it is (:func:`_learn`: its own remainder over its
+    first ``room`` samples, the bank's fit after: a note missed in a longer room, as a roll's ghost note 64 ms after
+    another, would be taken off wherever the template is, 12 dB off a true ghost note's peak) and taken off whole. So a layer a recording has no clear note of (a drop's
     quiet bounces, each over the last one's ringing) gets the template of its quietest note with room, the earlier
     notes' fits taken off. Returns a third array [shape=(n,)]: with ``learn``, at each onset whose window the next
     onset cuts short of ``window``, where the fit leaves ``poor`` or less of it unexplained, the peak over the window
@@ -309,7 +310,7 @@ def own_peaks(rest, starts, following, ends, bank, offsets, lengths, window, rea
                         if prior <= clear * peak:  # clear of what the earlier notes' fits left: its own waveform
                             if new:
                                 mine, known = known, known + 1
-                            learned_lengths[mine] = _learn(rest, start, following[i], at, scale, template,
+                            learned_lengths[mine] = _learn(rest, start, start + room, at, scale, template,
                                                            learned[mine])
                             learned_peaks[mine] = peak
                             mine_at, mine_scale = start, 1.0
@@ -367,7 +368,7 @@ def _learned_fit(rest, low, windows, template):
 
 @jit
 def _learn(rest, start, end, at, scale, template, out):
-    """A note's own waveform into ``out``: ``rest`` from ``start`` up to ``end`` (the next onset), then the tail of
+    """A note's own waveform into ``out``: ``rest`` from ``start`` up to ``end`` (``room`` samples on), then the tail of
     ``scale`` times ``template`` placed at ``at`` (the bank's fit of it), up to ``len(out)`` or the recording's end
     (returned: the samples written)."""
     n = min(len(out), len(rest) - start)

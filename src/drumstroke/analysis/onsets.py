@@ -2445,7 +2445,7 @@ def _own_peaks(x, times, rate, config, templates=None, overwrite=False, realign=
 
 
 _LEARN_CLEAR_DB = -20.0  # (peak_learn) a note learned: what the earlier notes' fits leave over its window before, re its peak
-_LEARN_ROOM = 40e-3  # s (peak_learn) a note learned: its room before the next onset (the template its own up to there)
+_LEARN_ROOM = 40e-3  # s (peak_learn) a note learned: its room before the next onset, and how much of the template is its own
 _POOR_FIT = 0.3  # the fraction of a note a fit leaves unexplained over which it is sought again (``peak_realign``)
 
 
