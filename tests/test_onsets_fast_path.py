@@ -98,7 +98,7 @@ none of these cases moves; on the corpus TimGM6mb's snare 40 drop at -60 dBFS ha
 late instead of 0.49 (seed 2: 55 loud notes within 1 ms instead of 4; tests/test_recorded_noise_timing.py).
 Nor does ``peak_learn`` (issue 28's peak levels: the layers no clear note makes a template of learned from their
 quietest notes with room, and a window the next onset cuts short read from its fit; 0 gives the outputs before it):
-it moves ``peak_db`` alone (35 of the 78 recordings of the corpus's seed 0 and :func:`cases`, the times, ``level_db``
+it moves ``peak_db`` alone (34 of the 78 recordings of the corpus's seed 0 and :func:`cases`, the times, ``level_db``
 and thresholds the same to the bit), which this reference does not hold; tests/test_recorded_peak_levels.py holds it
 against the corpus's truth.
 The recordings are rebuilt here (seeded): our synthesis with and without the snare wires, another
