@@ -375,6 +375,12 @@ class OnsetConfig:
     peak_realign : float in [0, 0.005]
         s: how far either way of an onset its template's fit is sought again where the fit within 60 µs leaves
         more than 30 % of the note unexplained (step 6; 0: never, as before issue 28's levels round).
+    peak_learn : float in [0, 1]
+        The fraction of a note's first ``peak_window`` s its best template leaves unexplained over which the
+        layers no clear note makes a template of are learned from the quietest notes with 40 ms or more of room,
+        and a note closer than ``peak_window`` s to the next has its peak read from its fitted template where that
+        explains 70 % or more of its window (step 6;
+        0: never, every peak its window's largest sample, as before issue 28's peak-levels round).
     sound_templates : int in [0, 100]
         How many of the recording's clear notes (the loudest), each up to the next onset, are templates of the
         earlier notes' sound where an attack's own sound is weighed (step 5, ``new_sound_db``).
@@ -651,6 +657,7 @@ class OnsetConfig:
     peak_layer_likeness: float = 0.98
     peak_apart_db: float = -20.0
     peak_realign: float = 1e-3
+    peak_learn: float = 0.035
     sound_templates: int = 6
     new_sound_db: float = -20.0
     soft_jump: float = 3.0
@@ -738,7 +745,8 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "template_fit": (0.5e-3, 0.1, "s"), "template_head": (0.5e-3, 0.05, "s"),
     "peak_window": (1e-3, 0.1, "s"), "peak_reach": (0.01, 2.0, "s"), "peak_templates": (0, 100, ""),
     "peak_clear_db": (-120.0, 0.0, "dB"), "peak_layer_likeness": (0.0, 1.0, "(correlation)"),
-    "peak_apart_db": (-120.0, 0.0, "dB"), "peak_realign": (0.0, 5e-3, "s"), "sound_templates": (0, 100, ""), "new_sound_db": (-120.0, 0.0, "dB"),
+    "peak_apart_db": (-120.0, 0.0, "dB"), "peak_realign": (0.0, 5e-3, "s"), "peak_learn": (0.0, 1.0, "(fraction)"),
+    "sound_templates": (0, 100, ""), "new_sound_db": (-120.0, 0.0, "dB"),
     "soft_jump": (1.0, 100.0, "(RMS ratio)"), "soft_contact": (0.0, 0.02, "s"),
     "bounce_reach": (0.0, 0.5, "s"), "refused_likeness": (0.0, 1.0, "(correlation)"),
     "burst_db": (-120.0, 0.0, "dB"), "layer_likeness": (0.0, 1.0, "(correlation)"), "reflection_pairs": (0, 100, ""), "reflection_db": (0.0, 120.0, "dB"),
@@ -942,7 +950,9 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        signal itself by :func:`_peak_amplitudes`: the loudest sample over ``peak_window`` s after it (or
        up to the next onset), after the earlier notes' sound is taken off (each fitted by the
        recording's own templates, one a velocity layer, each the median of its clear notes' waveforms, of the
-       ``peak_templates`` loudest, followed ``peak_reach`` s).
+       ``peak_templates`` loudest, followed ``peak_reach`` s; with ``peak_learn``, the layers no clear note has
+       learned on the way from their quietest notes with room, and a window the next onset cuts short read from
+       its note's fit).
        :func:`_without_reflections`: where ``reflection_pairs`` pairs of successive onsets or more, the later
        ``reflection_db`` under the earlier, share one delay (within ``reflection_spread`` s), each such later one
        is a room's reflection and is left out. :func:`_room_returns`, in a reverberant recording: an onset the
@@ -2318,7 +2328,7 @@ def _new_sound(band, rate, candidates, config):
     which = np.flatnonzero(candidates.attack)
     if len(which) < 2:
         return candidates
-    own, heard = _own_peaks(band, candidates.times[which], rate, config, _cut_templates)
+    own, heard = _own_peaks(band, candidates.times[which], rate, config, _cut_templates)[:2]
     attack = candidates.attack.copy()
     attack[which] = own >= heard * 10.0 ** (config.new_sound_db / 20.0)
     return replace(candidates, attack=attack)
@@ -2535,12 +2545,20 @@ def _peak_amplitudes(signal, times, rate, config):
     subtracting envelopes in power leaves the two waveforms' beating: both measured 2-10 dB worse on
     rolls and drops (docs/analysis.md). The signal is not high-passed (a 60 Hz high-pass moves a
     sample's peak by up to 1.8 dB), only its mean taken off.
+
+    With ``peak_learn`` (over 0), the layers no clear note has a template of are learned from their quietest notes
+    with room, the earlier notes' fits taken off (:func:`._templates.own_peaks`), and a note whose window the next
+    onset cuts short of ``peak_window`` has its peak read from its fit where that explains 70 % or more of the window
+    (the fitted template's scale times its peak over the window): a drop's close bounces (4-8 ms apart) on FluidR3's snare, whose quiet layer peaks 9.4 ms
+    into the note, read 1-2.7 dB low over their windows cut short and (fitted by the loud layer's template) left
+    their sound under the next bounces' peaks, up to 4.6 dB high.
     """
-    return _own_peaks(np.asarray(signal, dtype=float) - float(np.mean(signal)), times, rate, config,
-                      overwrite=True, realign=round(config.peak_realign * rate))[0]
+    peaks, _, fitted = _own_peaks(np.asarray(signal, dtype=float) - float(np.mean(signal)), times, rate, config,
+                                  overwrite=True, realign=round(config.peak_realign * rate), learn=config.peak_learn)
+    return np.where(np.isnan(fitted), peaks, fitted)
 
 
-def _own_peaks(x, times, rate, config, templates=None, overwrite=False, realign=0):
+def _own_peaks(x, times, rate, config, templates=None, overwrite=False, realign=0, learn=0.0):
     """Each onset's own peak (:func:`_peak_amplitudes`: ``x`` less the earlier notes' sound) and the peak of ``x`` itself
     over the same window (full scale) [each shape=(n,)].
 
@@ -2554,7 +2572,10 @@ def _own_peaks(x, times, rate, config, templates=None, overwrite=False, realign=
     preferred, else the longest) is taken off, scaled by least squares (compiled: :func:`._templates.own_peaks`).
     With ``realign`` (samples; ``peak_realign``'s, for :attr:`Onsets.peak_db` only), a fit that leaves more than
     :data:`_POOR_FIT` of its window unexplained is sought again that far either way (a template misplaced by an onset
-    0.1-1 ms late leaves its note's sound under the next notes' peaks: up to 12 dB over a ghost note's).
+    0.1-1 ms late leaves its note's sound under the next notes' peaks: up to 12 dB over a ghost note's). With
+    ``learn`` (``peak_learn``'s, for :attr:`Onsets.peak_db` only), the layers the templates lack are learned on the
+    way, and a third array [shape=(n,)] is each fit's peak where the next onset cuts a window short (NaN elsewhere;
+    :func:`._templates.own_peaks`).
     """
     from ._templates import own_peaks
 
@@ -2568,9 +2589,11 @@ def _own_peaks(x, times, rate, config, templates=None, overwrite=False, realign=
     bank = np.concatenate(templates) if templates else np.empty(0)
     rest = x if overwrite else np.array(x, dtype=float)
     return own_peaks(rest, starts, following, ends, bank, np.cumsum(lengths) - lengths, lengths, window, reach, shift,
-                     realign, _POOR_FIT)
+                     realign, _POOR_FIT, learn, round(_LEARN_ROOM * rate), 10.0 ** (_LEARN_CLEAR_DB / 20.0))
 
 
+_LEARN_CLEAR_DB = -20.0  # (peak_learn) a note learned: what the earlier notes' fits leave over its window before, re its peak
+_LEARN_ROOM = 40e-3  # s (peak_learn) a note learned: its room before the next onset, and how much of the template is its own
 _POOR_FIT = 0.3  # the fraction of a note a fit leaves unexplained over which it is sought again (``peak_realign``)
 
 
