@@ -120,6 +120,10 @@ the reference before; with them, FluidR3's snare 38 drop with reverb has 45 onse
 rules above wrote), a bounce of 4.0554 s at -25.9 dB found within 0.05 ms, the levels of its other onsets within
 0.02 dB; every other recording unchanged; on the corpus, seed 0, FluidR3's drops with reverb gain two last bounces;
 tests/test_recorded_drop_joint.py).
+The room test's second pass (``room_partner_under_db``) only refuses: step 5's layer test sees the attacks its first
+pass left, its refusals taken off after (a bug fix of that rule, no switch): the reference stands, none of these cases
+moves; on the corpus, seeds 0-4, only FluidR3's snare 38 drop with reverb, seed 0, moves, its false 4.1281 s gone
+(tests/test_recorded_room_passes.py).
 The recordings are rebuilt here (seeded): our synthesis with and without the snare wires, another
 drum's, a room and noise (tests/_recordings.py), the paper's free bounce of benchmarks/analysis.py, and
 some of tests/_recorded_drums.py's SoundFont recordings (dry, noise, FluidSynth's reverb).

@@ -572,7 +572,8 @@ class OnsetConfig:
         dB: in step 5's test of a room's echo (:func:`_room_echoes`), an attack kept there is tried again with each
         partner's sound clear up to its next attack less than so much under it (a ghost note found after an accent
         ends no partner's window for a return of another accent 149 ms on: FluidR3's snare 38 roll with reverb,
-        seed 0, 4.3427 s); 120: the next attack ends it, as before this field.
+        seed 0, 4.3427 s; that pass only refuses: :func:`_layer_echoes` sees the attacks the first one left);
+        120: the next attack ends it, as before this field.
     ghost_room_spare_likeness : float in [0, 1]
         Correlation: in :func:`_room_ghost_notes`, a roll's accent (within 10 dB of the loudest clear attack, none
         as loud for 0.2 s after it) with fewer than two layer-mates (by ``replay_likeness``) takes as its mates the
