@@ -125,6 +125,10 @@ notes with room, and a window the next onset cuts short read from its fit; 0 giv
 ``peak_db`` alone (34 of the 78 recordings of the corpus's seed 0 and :func:`cases`, the times, ``level_db`` and
 thresholds the same to the bit), which this reference does not hold; tests/test_recorded_peak_levels.py holds it
 against the corpus's truth.
+The room test's second pass (``room_partner_under_db``) only refuses: step 5's layer test sees the attacks its first
+pass left, its refusals taken off after (a bug fix of that rule, no switch): the reference stands, none of these cases
+moves; on the corpus, seeds 0-4, only FluidR3's snare 38 drop with reverb, seed 0, moves, its false 4.1281 s gone
+(tests/test_recorded_room_passes.py).
 The recordings are rebuilt here (seeded): our synthesis with and without the snare wires, another
 drum's, a room and noise (tests/_recordings.py), the paper's free bounce of benchmarks/analysis.py, and
 some of tests/_recorded_drums.py's SoundFont recordings (dry, noise, FluidSynth's reverb).
