@@ -29,17 +29,22 @@ def remainder_blocks(band, start, mates, scales, valid, blocks, block, window, f
     size = blocks - window + 1
     least = np.full(size, np.inf)
     pick = np.zeros(size, dtype=np.int64)
+    reach = np.zeros(size, dtype=np.int64)
+    energy = np.empty(size)
+    for m in range(count):
+        reached = min(size, max(0, valid[m]))
+        # each block's window summed from its first block on, as one running sum would, but a window's block at a
+        # time over all the blocks: the additions side by side (vector instructions), the same bits
+        energy[:reached] = 0.0
+        for i in range(window):
+            for j in range(reached):
+                energy[j] += power[m, j + i]
+        for j in range(reached):
+            reach[j] += 1
+            if energy[j] < least[j]:
+                least[j], pick[j] = energy[j], m
     for j in range(size):
-        reach = 0
-        for m in range(count):
-            if j < valid[m]:
-                reach += 1
-                energy = 0.0
-                for i in range(j, j + window):
-                    energy += power[m, i]
-                if energy < least[j]:
-                    least[j], pick[j] = energy, m
-        if reach < fewest:
+        if reach[j] < fewest:
             least[j] = np.inf
     return least, pick
 
