@@ -226,8 +226,9 @@ def test_accent_rises_are_the_python_loop(rng):
         scales = rng.uniform(0.5, 1.5, len(mate))
         fewest, rise = int(rng.integers(1, 3)), float(rng.uniform(1.0, 3.0))
         first = np.cumsum(count) - count
+        power, done = np.empty((len(mate), (span + after) // block)), np.zeros(len(mate), dtype=np.int64)
         got = accent_rises(band, c, which, ends, accents, first, count, mate, shifts, scales, span, size, before,
-                           after, width, block, fewest, rise)
+                           after, width, block, fewest, rise, power, done)
         want = ([], [], [], np.zeros(len(accents), dtype=np.int64))
         for k, i in enumerate(accents):
             b = which[i]
@@ -521,25 +522,91 @@ def test_room_remainders_are_numpys(rng):
         assert np.array_equal(sums[r], np.concatenate((np.zeros(1), np.cumsum(want[:552] ** 2))))
 
 
-def test_room_rise_crosses_are_numpys_correlate(rng):
-    """_ghosts.rise_crosses gives np.correlate's "valid" sums of each row with the head (numpy's correlate sums each
-    lag with OpenBLAS's ddot): to the bit on OpenBLAS's Haswell kernel, within rounding on another BLAS."""
+def test_room_rise_fits_are_the_numpy_code_they_replaced(rng):
+    """_ghosts.fitting_rises gives the rises and starts room_ghost_onsets' numpy code found: each row's correlations
+    with the head as np.correlate's (OpenBLAS's ddot for each lag) over the energy's square root (-1 where none), the
+    first most, fit or more, the peak from there within the row's bounds, each 20 ms or more after the last found in
+    its accent's window. To the bit on OpenBLAS's Haswell kernel (else the correlations round otherwise, and the
+    comparisons are not held to them)."""
     from threadpoolctl import threadpool_limits
 
-    from drumstroke.analysis._ghosts import rise_crosses
+    from drumstroke.analysis._ghosts import fitting_rises, remainders
 
-    exact = _haswell_dot()
+    if not _haswell_dot():
+        pytest.skip("np.correlate's sums are another BLAS's")
+    pre, count, span, apart = 24, 289, 528, 960
     with threadpool_limits(1, user_api="blas"):
-        for size in (264, 263, 17, 5):
-            v = rng.standard_normal((7, 900)) * np.geomspace(1.0, 1e-3, 900)
-            unit = rng.standard_normal(size)
-            unit /= np.linalg.norm(unit)
-            got = rise_crosses(v, unit, 289)
-            want = np.array([np.correlate(row[:289 + size - 1], unit, "valid") for row in v])
-            if exact:
-                np.testing.assert_array_equal(got, want)
-            else:
-                np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-12 * np.abs(v).max())
+        for size in (264, 263, 17):
+            for _ in range(20):
+                rows = int(rng.integers(1, 30))
+                head = rng.standard_normal(size) * np.geomspace(1.0, 1e-2, size)
+                band = rng.standard_normal(20000) * 1e-3
+                starts = rng.integers(0, 15000, rows)
+                for at in starts[rng.random(rows) < 0.5]:  # the head in some rows, scaled, over the rest
+                    band[at + int(rng.integers(0, 300)):][:size] += rng.uniform(0.05, 1.0) * head
+                band[rng.integers(0, 20000, 50)] = 0.0
+                v, sums = remainders(band, starts, rng.integers(0, 15000, rows), rng.uniform(0.0, 0.5, rows),
+                                     pre + count + span, count + size - 1)
+                v[rng.random(rows) < 0.1, :] = 0.0  # rows of no energy
+                sums = np.array([np.concatenate(([0.0], np.cumsum(row[:count + size - 1] ** 2))) for row in v])
+                accent = np.sort(rng.integers(0, 4, rows))
+                at = np.zeros(rows, dtype=np.int64)
+                for a in np.unique(accent):
+                    at[accent == a] = np.cumsum(rng.integers(240, 1200, np.sum(accent == a)))
+                peaks = np.abs(v).max(axis=1)
+                lows, highs = peaks * rng.uniform(0.0, 0.5, rows), peaks * rng.uniform(0.3, 1.2, rows)
+                unit = head / np.linalg.norm(head)
+                fit = float(rng.uniform(0.3, 0.9))
+                got = fitting_rises(v, sums, unit, count, accent, at, apart, pre, span, lows, highs, fit)
+                # the numpy code
+                cross = np.array([np.correlate(row[:count + size - 1], unit, "valid") for row in v])
+                power = sums[:, size:] - sums[:, :-size]
+                like = np.where(power > 0.0, cross / np.sqrt(np.maximum(power, 1e-300)), -1.0)
+                best = np.argmax(like, axis=1)
+                fits = like[np.arange(rows), best] >= fit
+                want, previous, last = ([], []), -1, -np.inf
+                for i in np.flatnonzero(fits).tolist():
+                    if accent[i] != previous:
+                        previous, last = accent[i], -np.inf
+                    if at[i] < last + apart:
+                        continue
+                    peak = np.abs(v[i, pre + best[i]:pre + best[i] + span]).max()
+                    if not lows[i] <= peak <= highs[i]:
+                        continue
+                    want[0].append(i), want[1].append(best[i])
+                    last = at[i]
+                for g, w in zip(got, want):
+                    np.testing.assert_array_equal(g, np.array(w, dtype=np.int64))
+
+
+def test_block_powers_shared_over_two_windows_are_fresh_ones(rng):
+    """_ghosts.accent_rises on the energies over each block another search left (its windows over 1 ms, these over
+    5 ms: block_powers sums only the blocks not yet there) finds what it finds on fresh ones, at 48 and 22.05 kHz's
+    sizes (where the two windows' reach differs by a block)."""
+    from drumstroke.analysis._ghosts import accent_rises
+
+    for _ in range(100):
+        block, width, wide = ((12, 48, 240), (5, 22, 110))[int(rng.integers(0, 2))]
+        size, before, after = 4 * wide, 4 * wide, 4 * wide
+        span = int(rng.integers(size + before, 12 * wide))
+        c = np.sort(rng.choice(np.arange(50, 30000), int(rng.integers(3, 12)), replace=False)).astype(np.int64)
+        band = rng.standard_normal(40000) * np.exp(-np.arange(40000) % 3000 / 600.0)
+        which = np.arange(len(c), dtype=np.int64)
+        ends = c + rng.integers(1, 4 * span, len(c))
+        accents = np.flatnonzero(rng.random(len(which)) < 0.7).astype(np.int64)
+        count = rng.integers(1, 4, len(accents)).astype(np.int64)
+        mate = rng.integers(0, len(which), int(count.sum())).astype(np.int64)
+        shifts = rng.integers(-2, 3, len(mate)).astype(np.int64)
+        scales = rng.uniform(0.5, 1.5, len(mate))
+        first = np.cumsum(count) - count
+        shared = (np.empty((len(mate), (span + after) // block)), np.zeros(len(mate), dtype=np.int64))
+        for window in (width, wide):
+            args = (band, c, which, ends, accents, first, count, mate, shifts, scales, span, size, before, after,
+                    window, block, 1, 1.5)
+            fresh = accent_rises(*args, np.empty((len(mate), (span + after) // block)),
+                                 np.zeros(len(mate), dtype=np.int64))
+            for g, w in zip(accent_rises(*args, *shared), fresh):
+                np.testing.assert_array_equal(g, w)
 
 
 def test_layer_mates_shared_only_on_the_same_attacks(rng):

@@ -17,15 +17,32 @@ def remainder_blocks(band, start, mates, scales, valid, blocks, block, window, f
     taken off: its energy over ``window`` blocks of ``block`` samples from each block, the least over the mates that
     reach there (block ``j`` under ``valid[m]``), and which mate that is; infinite where fewer than ``fewest`` reach.
     Returns the energies and the mates [shape=(blocks - window + 1,)]."""
-    count = len(mates)
-    power = np.empty((count, blocks))
-    for m in range(count):
-        for j in range(min(blocks, max(0, valid[m] + window - 1))):  # past a mate's reach its power is not read
+    power = np.empty((len(mates), blocks))
+    block_powers(band, start, mates, scales, valid, blocks, block, window, power, np.zeros(len(mates), np.int64))
+    return least_remainders(power, valid, blocks, window, fewest)
+
+
+@jit(error_model="numpy")
+def block_powers(band, start, mates, scales, valid, blocks, block, window, power, done):
+    """:func:`remainder_blocks`' energy of each mate's remainder over each block, ``power[m, j]``, for the blocks it
+    reads (under ``valid[m] + window - 1``) from ``done[m]`` on (those before in ``power`` already: the same remainder
+    read over other windows, :func:`_shared_powers`); ``done`` moved past them."""
+    for m in range(len(mates)):
+        need = min(blocks, max(0, valid[m] + window - 1))  # past a mate's reach its power is not read
+        for j in range(done[m], need):
             total = 0.0
             for k in range(j * block, (j + 1) * block):
                 v = band[start + k] - scales[m] * band[mates[m] + k]
                 total += v * v
             power[m, j] = total
+        done[m] = max(done[m], need)
+
+
+@jit(error_model="numpy")
+def least_remainders(power, valid, blocks, window, fewest):
+    """:func:`remainder_blocks`' least energy over ``window`` blocks from each block, and whose, from the mates'
+    ``power`` over each block."""
+    count = len(valid)
     size = blocks - window + 1
     least = np.full(size, np.inf)
     pick = np.zeros(size, dtype=np.int64)
@@ -77,14 +94,16 @@ def rising(e, low, high, back, span, rise):
 
 @jit(error_model="numpy")
 def accent_rises(band, c, which, ends, accents, first, count, mate, shifts, scales, span, size, before, after, width,
-                 block, fewest, rise, gap=0):
+                 block, fewest, rise, power, done, gap=0):
     """:func:`ghost_onsets`' search of each accent's remainders for the blocks where a note rises (:func:`rising`; over
     the 10 ms before a ``gap`` of samples), in one loop: for each of ``accents`` (indices of ``which``, the clear attacks; the onsets ``c``, full-rate samples,
     the search's ``ends``) its mates ``mate[first:first + count]`` (indices of ``which``), each placed ``shifts``
     samples off and scaled by ``scales``. Returns for each rise its accent (index of ``accents``), its block, the
     mate whose remainder is the least there [each shape=(n,)], and each accent's window's length (samples of ``band``
     from its onset) [shape=(len(accents),)]. With ``gap`` (samples), the rises over the 10 ms before a gap so long
-    follow, each accent's index plus ``len(accents)``."""
+    follow, each accent's index plus ``len(accents)``. ``power`` and ``done``: each mate's remainder's energy over
+    each block (rows as ``mate``'s; ``(span + after) // block`` columns or more) and how many blocks of it are there,
+    :func:`block_powers`' (given again on the same remainders, :func:`_shared_powers`)."""
     found, blocks, mates = [], [], []
     lengths = np.zeros(len(accents), dtype=np.int64)
     for k in range(len(accents)):
@@ -100,8 +119,10 @@ def accent_rises(band, c, which, ends, accents, first, count, mate, shifts, scal
             starts[n] = c[a] + shifts[first[k] + n]
             # a mate's own later notes are not b's: its remainder counts up to its next attack only
             valid[n] = ((c[a + 1] if a + 1 < len(c) else len(band)) - c[a] - width) // block
-        e, pick = remainder_blocks(band, c[b], starts, scales[first[k]:first[k] + count[k]], valid,
-                                   lengths[k] // block, block, width // block, fewest)
+        rows = slice(first[k], first[k] + count[k])
+        block_powers(band, c[b], starts, scales[rows], valid, lengths[k] // block, block, width // block, power[rows],
+                     done[rows])
+        e, pick = least_remainders(power[rows], valid, lengths[k] // block, width // block, fewest)
         # two mates or more at each block: one mate's missed note would be left in its remainder alone (where one
         # reaches, whose the note is says: the accent's, louder in it than in the mate)
         for j in range(len(e)):
@@ -137,6 +158,23 @@ def _partners(band, starts, size, lag, likeness, shared=None):
     if shared is not None:
         shared.update(band=band, key=key, mates=mates)
     return mates
+
+
+def _shared_powers(shared, band, c, which, accents, count, mate, shifts, scales, blocks, block):
+    """The arrays :func:`accent_rises` keeps each mate's remainder's energy over each block in (``power``, ``blocks``
+    columns, and ``done``: how many are there), for the accents (indices of ``which``, ``count`` mates each:
+    ``mate``, ``shifts``, ``scales``, :func:`_accents_mates`'). ``shared`` (a dict, or None): the last ones kept there,
+    and given again, with the blocks summed so far, for the same ``band`` (the same object) and remainders
+    (:func:`ghost_onsets`' and :func:`room_ghost_onsets`' on the same attacks read them over 1 and 5 ms)."""
+    accent_starts = np.repeat(c[which[np.array(accents, dtype=np.int64)]], count)
+    key = (block, accent_starts.tobytes(), (c[which[mate]] + shifts).tobytes(), scales.tobytes())
+    if (shared is not None and shared.get("powers_band") is band and shared.get("powers_key") == key
+            and shared["power"].shape[1] >= blocks):
+        return shared["power"], shared["done"]
+    power, done = np.empty((len(mate), blocks)), np.zeros(len(mate), dtype=np.int64)
+    if shared is not None:
+        shared.update(powers_band=band, powers_key=key, power=power, done=done)
+    return power, done
 
 
 def _layer_mates(band, starts, size, lag, likeness):
@@ -238,8 +276,11 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
     # energy over 0.25-ms blocks, over 1 ms from each block (its onset sought at full rate after)
     block = max(1, width // 4)
     accents, used, count, mate, shifts, scales_all = _accents_mates(mates, mates_used)
+    power, done = _shared_powers(shared, band, c, which, accents, count, mate, shifts, scales_all,
+                                 (round(span * rate) + after) // block, block)
     args = (band, c, which, ends, np.array(accents, dtype=np.int64), np.cumsum(count) - count, count, mate, shifts,
-            scales_all, round(span * rate), size, before, after, width, block, 1 if own_db < 120.0 else 2, rise)
+            scales_all, round(span * rate), size, before, after, width, block, 1 if own_db < 120.0 else 2, rise,
+            power, done)
     gap = round(rise_gap * rate)
     which_accent, rises, picks, lengths = accent_rises(*args, gap)
     gapped = which_accent >= len(accents)
@@ -263,23 +304,27 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
             if t < last + round(20e-3 * rate):
                 continue
             low = t - gap if over_gap else t  # the note's lead-in may be in the gap
-            if over_gap and not _white(x[low - quiet:low] - scales[m] * band[starts_m[m] + low - quiet:starts_m[m] + low]):
+            # the remainder where it is read, from the 5 ms before the lead-in to the end of the peak's window (each
+            # sample as over the whole window: no remainder of the window's length a rise)
+            lo, hi = low - quiet, min(t + width + after, len(x))
+            v = x[lo:hi] - scales[m] * band[starts_m[m] + lo:starts_m[m] + hi]
+            if over_gap and not _white(v[:quiet]):
                 continue
-            v = x - scales[m] * band[starts_m[m]:starts_m[m] + len(x)]
-            peak = np.abs(v[t:t + width + after]).max()
+            peak = np.abs(v[t - lo:]).max()
             # past where two mates reach over its 1 ms, the note must be the accent's own
             alone = own_everywhere or np.sum((t + width) // block < valid) < 2
             if alone and not _own(x, band, starts_m[m], scales[m], t, width + after, own_db):
                 continue
             if not max(least, loud[b] * 10.0 ** (below_db / 20.0)) <= peak <= loud[b] * 10.0 ** (quieter_db / 20.0):
                 continue
-            noise = np.sqrt(np.mean(v[low - quiet:low] ** 2))
-            above = np.flatnonzero(np.abs(v[low:t + width + after]) >= max(0.01 * peak, 4.0 * noise))
+            noise = np.sqrt(np.mean(v[:quiet] ** 2))
+            above = np.flatnonzero(np.abs(v[quiet:]) >= max(0.01 * peak, 4.0 * noise))
             if not len(above):
                 continue
             onset = low + above[0]
-            if noise_start > 0.0 and 4.0 * noise > 0.01 * peak and _white(v[low - quiet:low]):
-                starts_at[c[b] + onset] = c[b] + noise_change(v, low - quiet, low - round(noise_start * rate), onset)
+            if noise_start > 0.0 and 4.0 * noise > 0.01 * peak and _white(v[:quiet]):
+                starts_at[c[b] + onset] = c[b] + lo + noise_change(v, 0, low - round(noise_start * rate) - lo,
+                                                                   onset - lo)
             found.append(c[b] + onset)
             last = t
     found = np.unique(np.asarray(found, dtype=float))
@@ -343,11 +388,12 @@ def room_ghost_onsets(band, times, clear, rate, head, *, likeness, rise_db, leas
     mates = _partners(band, starts[which], window + pre, lag, likeness, shared)
     block = max(1, width // 4)
     accents, _, count, mate, shifts, scales = _accents_mates(mates, mates_used)
+    power, done = _shared_powers(shared, band, c, which, accents, count, mate, shifts, scales,
+                                 (round(span * rate) + after) // block, block)
     which_accent, rises, picks, lengths = accent_rises(
         band, c, which, ends, np.array(accents, dtype=np.int64), np.cumsum(count) - count, count, mate, shifts,
-        scales, round(span * rate), window, before, after, wide, block, 1, 10.0 ** (rise_db / 10.0))
+        scales, round(span * rate), window, before, after, wide, block, 1, 10.0 ** (rise_db / 10.0), power, done)
     unit = head / norm
-    found = []
     # the rises tried: a rise's window spans ``energy`` s, so the rises in the window of one tried are its own
     chosen = spaced(which_accent, rises * block, wide, back + pre,
                     lengths[which_accent] - max(wide - pre + n, wide + width + after))
@@ -356,32 +402,18 @@ def room_ghost_onsets(band, times, clear, rate, head, *, likeness, rise_db, leas
     k_of, t_of = which_accent[chosen], rises[chosen] * block
     # each rise's remainder from ``reach`` before its block (less the head's lead) to where the last start's head
     # ends, and its energy summed from there (compiled, elementwise as numpy's difference and cumulative sum)
-    accent_at = c[which[np.array(accents, dtype=np.int64)]]
+    b_of = which[np.array(accents, dtype=np.int64)[k_of]]  # each rise's accent (an index of c)
     mate_of = (np.cumsum(count) - count)[k_of] + picks[chosen]
     low = t_of - back - pre
-    v, sums = remainders(band, accent_at[k_of] + low, c[which[mate[mate_of]]] + shifts[mate_of] + low,
+    v, sums = remainders(band, c[b_of] + low, c[which[mate[mate_of]]] + shifts[mate_of] + low,
                          scales[mate_of], back + pre + max(wide - pre + n, wide + width + after), back + wide + n)
-    # the head's correlation with each at each start from ``reach`` before the block to ``energy`` after
-    cross = rise_crosses(v, unit, back + wide + 1)
-    power = sums[:, n:] - sums[:, :-n]
-    like = np.where(power > 0.0, cross / np.sqrt(np.maximum(power, 1e-300)), -1.0)
-    best = np.argmax(like, axis=1)
-    fits = like[np.arange(len(chosen)), best] >= fit
-    accent, last = -1, -np.inf
-    for i in np.flatnonzero(fits).tolist():
-        k, t = int(k_of[i]), int(t_of[i])
-        if k != accent:
-            accent, last = k, -np.inf
-            b = which[accents[k]]
-        if t < last + round(20e-3 * rate):
-            continue
-        at = t - back + int(best[i])
-        peak = np.abs(v[i, at - low[i]:at - low[i] + width + after]).max()
-        if not max(least, loud[b] * 10.0 ** (below_db / 20.0)) <= peak <= loud[b] * 10.0 ** (quieter_db / 20.0):
-            continue
-        found.append(c[b] + at)
-        last = t
-    return np.unique(np.asarray(found, dtype=float))
+    # the head's correlation with each remainder from ``reach`` before the block to ``energy`` after, the best start's
+    # peak between the accent's bounds (compiled: a rise within 20 ms after a note found in its accent's window is
+    # not correlated)
+    rows, best = fitting_rises(v, sums, unit, back + wide + 1, k_of, t_of, round(20e-3 * rate), pre, width + after,
+                               np.maximum(least, loud[b_of] * 10.0 ** (below_db / 20.0)),
+                               loud[b_of] * 10.0 ** (quieter_db / 20.0), fit)
+    return np.unique((c[b_of[rows]] + t_of[rows] - back + best).astype(float))
 
 
 @jit(error_model="numpy")
@@ -402,15 +434,43 @@ def remainders(band, starts, others, scales, size, summed):
     return v, sums
 
 
-@jit
-def rise_crosses(v, unit, count):
-    """``np.correlate(v[r, :count + len(unit) - 1], unit, "valid")`` for each row ``r`` of ``v`` [shape=(rows,
-    count)]: each lag's sum as np.dot's (:func:`._templates.blas_lag_dots`, OpenBLAS's ``ddot``, which numpy's
-    correlate calls for each lag)."""
-    out = np.empty((v.shape[0], count))
-    for r in range(v.shape[0]):
-        blas_lag_dots(v[r], 0, count, unit, len(unit), out[r])
-    return out
+@jit(error_model="numpy")
+def fitting_rises(v, sums, unit, count, accent, at, apart, pre, span, lows, highs, fit):
+    """:func:`room_ghost_onsets`' test of each rise (rows of ``v``, its remainders from ``pre`` before ``count``
+    starts; ``sums``, their squares' running sums; ``accent`` and ``at``, its accent and its block's sample, in
+    order): the head ``unit``'s correlation with each start's window (``np.correlate``'s sums, :func:`._templates.
+    blas_lag_dots`, over the sums' energy: -1 where none), at the best (the first most) ``fit`` or more, and the
+    remainder's peak over ``span`` samples from there within ``[lows, highs]`` of the row; each rise tried ``apart``
+    or more after the last one found in its accent's window (its correlations not summed otherwise). Returns the rises
+    found and their best starts (from the first) [each shape=(n,)]."""
+    n = len(unit)
+    cross = np.empty(count)
+    rows = np.empty(len(at), dtype=np.int64)
+    best = np.empty(len(at), dtype=np.int64)
+    found, previous, last = 0, -1, -1  # last: the row of the last found in this accent's window (-1: none yet)
+    for i in range(len(at)):
+        if accent[i] != previous:
+            previous, last = accent[i], -1
+        if last >= 0 and at[i] < at[last] + apart:
+            continue
+        blas_lag_dots(v[i], 0, count, unit, n, cross)
+        start, most = 0, -np.inf
+        for s in range(count):
+            power = sums[i, s + n] - sums[i, s]
+            like = cross[s] / np.sqrt(max(power, 1e-300)) if power > 0.0 else -1.0
+            if like > most:
+                start, most = s, like
+        if not most >= fit:
+            continue
+        peak = 0.0
+        for j in range(pre + start, pre + start + span):
+            peak = max(peak, abs(v[i, j]))
+        if not lows[i] <= peak <= highs[i]:
+            continue
+        rows[found], best[found] = i, start
+        found += 1
+        last = i
+    return rows[:found].copy(), best[:found].copy()
 
 
 @jit
