@@ -146,35 +146,36 @@ def accent_rises(band, c, which, ends, accents, first, count, mate, shifts, scal
             lengths)
 
 
+def _kept(shared, name, band, key, make):
+    """``make()``, kept in ``shared`` (a dict, or None) as ``name`` and given again for the same ``band`` (the same
+    object) and ``key``: what :func:`ghost_onsets` found that :func:`room_ghost_onsets` asks again on the same
+    attacks."""
+    if shared is not None and name in shared and shared[name][0] is band and shared[name][1] == key:
+        return shared[name][2]
+    answer = make()
+    if shared is not None:
+        shared[name] = (band, key, answer)
+    return answer
+
+
 def _partners(band, starts, size, lag, likeness, shared=None):
     """For each attack (``starts``: the samples its ``size``-sample window starts at), its layer-mates: (index,
     shift, scale) of each other attack whose window, shifted within ``lag`` samples, correlates by ``likeness``.
-    ``shared`` (a dict, or None): the last answer kept there, and given again for the same ``band`` (the same
-    object) and arguments (:func:`ghost_onsets` and :func:`room_ghost_onsets` on the same attacks)."""
-    key = (starts.tobytes(), size, lag, likeness)
-    if shared is not None and shared.get("band") is band and shared.get("key") == key:
-        return shared["mates"]
-    mates = _layer_mates(band, starts, size, lag, likeness)
-    if shared is not None:
-        shared.update(band=band, key=key, mates=mates)
-    return mates
+    ``shared``: :func:`_kept`'s (the last answer given again for the same ``band`` and arguments)."""
+    return _kept(shared, "mates", band, (starts.tobytes(), size, lag, likeness),
+                 lambda: _layer_mates(band, starts, size, lag, likeness))
 
 
 def _shared_powers(shared, band, c, which, accents, count, mate, shifts, scales, blocks, block):
     """The arrays :func:`accent_rises` keeps each mate's remainder's energy over each block in (``power``, ``blocks``
     columns, and ``done``: how many are there), for the accents (indices of ``which``, ``count`` mates each:
-    ``mate``, ``shifts``, ``scales``, :func:`_accents_mates`'). ``shared`` (a dict, or None): the last ones kept there,
-    and given again, with the blocks summed so far, for the same ``band`` (the same object) and remainders
-    (:func:`ghost_onsets`' and :func:`room_ghost_onsets`' on the same attacks read them over 1 and 5 ms)."""
+    ``mate``, ``shifts``, ``scales``, :func:`_accents_mates`'). ``shared``: :func:`_kept`'s (the arrays given again,
+    with the blocks summed so far, for the same remainders: :func:`ghost_onsets` reads them over 1 ms,
+    :func:`room_ghost_onsets` over 5)."""
     accent_starts = np.repeat(c[which[np.array(accents, dtype=np.int64)]], count)
-    key = (block, accent_starts.tobytes(), (c[which[mate]] + shifts).tobytes(), scales.tobytes())
-    if (shared is not None and shared.get("powers_band") is band and shared.get("powers_key") == key
-            and shared["power"].shape[1] >= blocks):
-        return shared["power"], shared["done"]
-    power, done = np.empty((len(mate), blocks)), np.zeros(len(mate), dtype=np.int64)
-    if shared is not None:
-        shared.update(powers_band=band, powers_key=key, power=power, done=done)
-    return power, done
+    key = (block, blocks, accent_starts.tobytes(), (c[which[mate]] + shifts).tobytes(), scales.tobytes())
+    return _kept(shared, "powers", band, key,
+                 lambda: (np.empty((len(mate), blocks)), np.zeros(len(mate), dtype=np.int64)))
 
 
 def _layer_mates(band, starts, size, lag, likeness):
@@ -211,10 +212,16 @@ def _own(x, band, mate, scale, t, size, own_db):
     return mine >= theirs * 10.0 ** (own_db / 10.0)
 
 
-def _loud_and_ends(band, c, rate, quiet_db):
+def _loud_and_ends(band, c, rate, quiet_db, shared=None):
     """Each attack's peak over the 5 ms from it (``c``, full-rate samples; the last 5 ms of ``band`` from past its
     end; from before its start, as a negative index reads the windows, counted from the end), and where its sound is
-    no longer one attack's: the next attack within ``quiet_db`` dB of it (``len(band)`` for none)."""
+    no longer one attack's: the next attack within ``quiet_db`` dB of it (``len(band)`` for none). ``shared``:
+    :func:`_kept`'s."""
+    return _kept(shared, "loud", band, (c.tobytes(), rate, quiet_db), lambda: _loud_and_next(band, c, rate, quiet_db))
+
+
+def _loud_and_next(band, c, rate, quiet_db):
+    """:func:`_loud_and_ends`' answer."""
     windows_count = len(band) - round(5e-3 * rate) + 1
     lows = np.minimum(c, windows_count - 1)
     lows = np.where(lows < 0, lows + windows_count, lows)
@@ -258,8 +265,9 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
     noise (:func:`_white`), a rise over the 10 ms before a gap so long counts too, its onset sought from the gap's
     start; with ``noise_start`` (s), where that noise, not 1 % of the peak, sets the onset's level and it is white, the
     onset is where the power changes (:func:`noise_change`) up to so long before the rise, returned beside the
-    onsets (each as found, or so moved) [each shape=(n,)]. ``shared`` (a dict, or None): the layer-mates kept for
-    :func:`room_ghost_onsets` (:func:`_partners`).
+    onsets (each as found, or so moved) [each shape=(n,)]. ``shared`` (a dict, or None): what
+    :func:`room_ghost_onsets` asks again on the same attacks kept there (:func:`_kept`: the attacks' peaks and ends,
+    their layer-mates, the remainders' energies over each block).
     """
     pre, size, lag = round(0.5e-3 * rate), round(skip * rate), 2
     width, before, after = round(1e-3 * rate), round(10e-3 * rate), round(10e-3 * rate)
@@ -270,7 +278,7 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
     which = np.flatnonzero(ok)
     if len(which) < 3:
         return (np.empty(0), np.empty(0)) if noise_start > 0.0 else np.empty(0)
-    loud, ends = _loud_and_ends(band, c, rate, quiet_db)
+    loud, ends = _loud_and_ends(band, c, rate, quiet_db, shared)
     mates = _partners(band, starts[which], size + pre, lag, likeness, shared)
     rise, found = 10.0 ** (rise_db / 10.0), []
     # energy over 0.25-ms blocks, over 1 ms from each block (its onset sought at full rate after)
@@ -372,7 +380,7 @@ def room_ghost_onsets(band, times, clear, rate, head, *, likeness, rise_db, leas
     Over 5 ms a ghost note's first milliseconds rise 7-10 dB where over 1 ms they rise under 4 dB (FluidR3's snare
     38 roll with reverb, seed 0: its notes of 1.1021 and 3.2034 s). Its peak over the 11 ms from it as
     :func:`ghost_onsets` asks; its onset where the head's starts (one in 20 ms). ``shared``: as
-    :func:`ghost_onsets`' (the layer-mates it found, given again on the same attacks)."""
+    :func:`ghost_onsets`' (what it found, given again on the same attacks)."""
     pre, window, lag = round(0.5e-3 * rate), round(skip * rate), 2
     width, before, after = round(1e-3 * rate), round(10e-3 * rate), round(10e-3 * rate)
     n, back, wide = len(head), round(reach * rate), round(energy * rate)
@@ -384,7 +392,7 @@ def room_ghost_onsets(band, times, clear, rate, head, *, likeness, rise_db, leas
     norm = np.linalg.norm(head)
     if len(which) < 3 or not norm > 0.0:
         return np.empty(0)
-    loud, ends = _loud_and_ends(band, c, rate, quiet_db)
+    loud, ends = _loud_and_ends(band, c, rate, quiet_db, shared)
     mates = _partners(band, starts[which], window + pre, lag, likeness, shared)
     block = max(1, width // 4)
     accents, _, count, mate, shifts, scales = _accents_mates(mates, mates_used)

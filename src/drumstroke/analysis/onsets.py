@@ -974,7 +974,7 @@ def _detected(signal, rate, config, source, info):
     replays = _replaying(band, d, candidates.times, rate, config)
     candidates = _template_search(band, d, rate, candidates, refused, config, replays)
     candidates = _template_search(band, d, rate, candidates, refused, config, replays, quietest=True)
-    shared = {}  # the layer-mates step 5's ghost search found, its room search's again on the same attacks
+    shared = {}  # what step 5's ghost search found (layer-mates, levels) that its room search asks again
     candidates = _ghost_notes(band, d, rate, candidates, config, replays, modes.reverberant, shared)
     if modes.reverberant:
         candidates = _room_ghost_notes(band, d, rate, candidates, config, replays, shared)
