@@ -312,8 +312,8 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
             if t < last + round(20e-3 * rate):
                 continue
             low = t - gap if over_gap else t  # the note's lead-in may be in the gap
-            # the remainder where it is read, from the 5 ms before the lead-in to the end of the peak's window (each
-            # sample as over the whole window: no remainder of the window's length a rise)
+            # the remainder only where it is read, from the 5 ms before the lead-in to the end of the peak's window
+            # (elementwise: the same samples as the whole window's remainder, not made anew at each rise)
             lo, hi = low - quiet, min(t + width + after, len(x))
             v = x[lo:hi] - scales[m] * band[starts_m[m] + lo:starts_m[m] + hi]
             if over_gap and not _white(v[:quiet]):
