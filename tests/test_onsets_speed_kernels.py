@@ -253,6 +253,50 @@ def test_accent_rises_are_the_python_loop(rng):
             np.testing.assert_array_equal(g, np.array(w, dtype=np.int64))
 
 
+def test_remainder_blocks_with_mates_notes_are_the_loop_they_replaced(rng):
+    """_ghosts.remainder_blocks (block_powers, least_remainders) with the mates' next notes taken off (gains and lags,
+    ghost_mate_notes) against the loop it replaced, read plainly (each block's squares summed in order, each window's
+    blocks summed in order, the least over the mates that reach): to the bit."""
+    from drumstroke.analysis._ghosts import remainder_blocks
+
+    for _ in range(100):
+        count, block, window, lead = int(rng.integers(1, 4)), int(rng.integers(1, 13)), int(rng.integers(1, 6)), 6
+        blocks = int(rng.integers(window, 60))
+        band = rng.standard_normal(5000)
+        start = int(rng.integers(1000, 2000))
+        mates = rng.integers(2000, 4000, count).astype(np.int64)
+        scales = rng.uniform(0.5, 1.5, count)
+        valid = rng.integers(-2, blocks + 3, count).astype(np.int64)
+        gains = np.where(rng.random(count) < 0.6, rng.uniform(0.1, 1.0, count), 0.0)
+        lags = rng.integers(lead, blocks * block + lead + 1, count).astype(np.int64)
+        fewest = int(rng.integers(1, 3))
+        least, pick = remainder_blocks(band, start, mates, scales, valid, blocks, block, window, fewest, gains, lags,
+                                       lead)
+        size = blocks - window + 1
+        want, whose = np.full(size, np.inf), np.zeros(size, dtype=np.int64)
+        for j in range(size):
+            reach = 0
+            for m in range(count):
+                if j >= valid[m]:
+                    continue
+                reach += 1
+                energy = 0.0
+                for i in range(j, j + window):
+                    total = 0.0
+                    for k in range(i * block, (i + 1) * block):
+                        v = band[start + k] - scales[m] * band[mates[m] + k]
+                        if gains[m] != 0.0 and k >= lags[m] - lead:
+                            v += gains[m] * band[start + k - lags[m]]
+                        total += v * v
+                    energy += total
+                if energy < want[j]:
+                    want[j], whose[j] = energy, m
+            if reach < fewest:
+                want[j] = np.inf
+        np.testing.assert_array_equal(least, want)
+        np.testing.assert_array_equal(pick[np.isfinite(want)], whose[np.isfinite(want)])
+
+
 def test_template_search_correlations_are_the_loop_they_replaced(rng):
     """_attacks._correlations (now _kernels.window_dots, eight terms a pass) against the loop it replaced: each window's
     products added in order of the template's samples, one product to every window's sum at a time (to the bit)."""
@@ -526,8 +570,9 @@ def test_room_rise_fits_are_the_numpy_code_they_replaced(rng):
     """_ghosts.fitting_rises gives the rises and starts room_ghost_onsets' numpy code found: each row's correlations
     with the head as np.correlate's (OpenBLAS's ddot for each lag) over the energy's square root (-1 where none), the
     first most, fit or more, the peak from there within the row's bounds, each 20 ms or more after the last found in
-    its accent's window. To the bit on OpenBLAS's Haswell kernel (else the correlations round otherwise, and the
-    comparisons are not held to them)."""
+    its accent's window, and where the row's mate's next note is taken off (``added``), its note no more than ``past``
+    samples after the first found in its accent's window (ghost_mate_notes). To the bit on OpenBLAS's Haswell kernel
+    (else the correlations round otherwise, and the comparisons are not held to them)."""
     from threadpoolctl import threadpool_limits
 
     from drumstroke.analysis._ghosts import fitting_rises, remainders
@@ -557,7 +602,11 @@ def test_room_rise_fits_are_the_numpy_code_they_replaced(rng):
                 lows, highs = peaks * rng.uniform(0.0, 0.5, rows), peaks * rng.uniform(0.3, 1.2, rows)
                 unit = head / np.linalg.norm(head)
                 fit = float(rng.uniform(0.3, 0.9))
-                got = fitting_rises(v, sums, unit, count, accent, at, apart, pre, span, lows, highs, fit)
+                back = int(rng.integers(0, 100))
+                added = rng.random(rows) < 0.5
+                past = rng.integers(-1000, 1000, rows)
+                got = fitting_rises(v, sums, unit, count, accent, at, apart, pre, span, lows, highs, fit, back, added,
+                                    past)
                 # the numpy code
                 cross = np.array([np.correlate(row[:count + size - 1], unit, "valid") for row in v])
                 power = sums[:, size:] - sums[:, :-size]
@@ -567,14 +616,17 @@ def test_room_rise_fits_are_the_numpy_code_they_replaced(rng):
                 want, previous, last = ([], []), -1, -np.inf
                 for i in np.flatnonzero(fits).tolist():
                     if accent[i] != previous:
-                        previous, last = accent[i], -np.inf
+                        previous, last, found_at = accent[i], -np.inf, np.inf
                     if at[i] < last + apart:
+                        continue
+                    if added[i] and at[i] - back + best[i] > found_at + past[i]:
                         continue
                     peak = np.abs(v[i, pre + best[i]:pre + best[i] + span]).max()
                     if not lows[i] <= peak <= highs[i]:
                         continue
                     want[0].append(i), want[1].append(best[i])
                     last = at[i]
+                    found_at = min(found_at, at[i] - back + best[i])
                 for g, w in zip(got, want):
                     np.testing.assert_array_equal(g, np.array(w, dtype=np.int64))
 
@@ -600,12 +652,17 @@ def test_block_powers_shared_over_two_windows_are_fresh_ones(rng):
         scales = rng.uniform(0.5, 1.5, len(mate))
         first = np.cumsum(count) - count
         shared = (np.empty((len(mate), (span + after) // block)), np.zeros(len(mate), dtype=np.int64))
+        # the mates' next notes taken off (ghost_mate_notes) on some draws, on some mates
+        notes = ()
+        if rng.random() < 0.5:
+            gains = np.where(rng.random(len(mate)) < 0.5, rng.uniform(0.1, 1.0, len(mate)), 0.0)
+            notes = (0, gains, rng.integers(size + before, span, len(mate)).astype(np.int64), 24)
         for window in (width, wide):
             args = (band, c, which, ends, accents, first, count, mate, shifts, scales, span, size, before, after,
                     window, block, 1, 1.5)
             fresh = accent_rises(*args, np.empty((len(mate), (span + after) // block)),
-                                 np.zeros(len(mate), dtype=np.int64))
-            for g, w in zip(accent_rises(*args, *shared), fresh):
+                                 np.zeros(len(mate), dtype=np.int64), *notes)
+            for g, w in zip(accent_rises(*args, *shared, *notes), fresh):
                 np.testing.assert_array_equal(g, w)
 
 

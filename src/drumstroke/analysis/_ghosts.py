@@ -12,27 +12,37 @@ from ._templates import blas_lag_dots
 
 
 @jit(error_model="numpy")
-def remainder_blocks(band, start, mates, scales, valid, blocks, block, window, fewest=2):
+def remainder_blocks(band, start, mates, scales, valid, blocks, block, window, fewest=2, gains=None, lags=None,
+                     lead=0):
     """What is left of ``band`` from ``start`` once each mate (``band`` from ``mates[m]``, times ``scales[m]``) is
     taken off: its energy over ``window`` blocks of ``block`` samples from each block, the least over the mates that
     reach there (block ``j`` under ``valid[m]``), and which mate that is; infinite where fewer than ``fewest`` reach.
+    With ``gains`` and ``lags`` (per mate; a gain 0 for none), the mate's next note taken off too: ``band`` from
+    ``start`` ``lags[m]`` samples on, times ``gains[m]``, added from ``lead`` samples before that lag
+    (:func:`mates_notes`).
     Returns the energies and the mates [shape=(blocks - window + 1,)]."""
     power = np.empty((len(mates), blocks))
-    block_powers(band, start, mates, scales, valid, blocks, block, window, power, np.zeros(len(mates), np.int64))
+    block_powers(band, start, mates, scales, valid, blocks, block, window, power, np.zeros(len(mates), np.int64),
+                 gains, lags, lead)
     return least_remainders(power, valid, blocks, window, fewest)
 
 
 @jit(error_model="numpy")
-def block_powers(band, start, mates, scales, valid, blocks, block, window, power, done):
+def block_powers(band, start, mates, scales, valid, blocks, block, window, power, done, gains=None, lags=None,
+                 lead=0):
     """:func:`remainder_blocks`' energy of each mate's remainder over each block, ``power[m, j]``, for the blocks it
     reads (under ``valid[m] + window - 1``) from ``done[m]`` on (those before in ``power`` already: the same remainder
-    read over other windows, :func:`_shared_powers`); ``done`` moved past them."""
+    read over other windows, :func:`_shared_powers`); ``done`` moved past them. ``gains``, ``lags``, ``lead``: as
+    :func:`remainder_blocks`' (a mate's next note taken off)."""
     for m in range(len(mates)):
+        gain, lag = (gains[m], lags[m]) if gains is not None else (0.0, 0)
         need = min(blocks, max(0, valid[m] + window - 1))  # past a mate's reach its power is not read
         for j in range(done[m], need):
             total = 0.0
             for k in range(j * block, (j + 1) * block):
                 v = band[start + k] - scales[m] * band[mates[m] + k]
+                if gain != 0.0 and k >= lag - lead:
+                    v += gain * band[start + k - lag]
                 total += v * v
             power[m, j] = total
         done[m] = max(done[m], need)
@@ -93,8 +103,68 @@ def rising(e, low, high, back, span, rise):
 
 
 @jit(error_model="numpy")
+def mates_notes(band, c, which, ends, accents, first, count, mate, shifts, scales, span, size, before, pre, reach,
+                head, likeness):
+    """Each layer-mate's next note, where it is the accent's own waveform (another note of the one sample, as
+    TimGM6mb's snare 38 replays at every velocity), fitted so as to be taken off the mate's remainder beyond it: for
+    each of ``accents`` (as :func:`accent_rises`') and each of its mates, what is left once the mate is taken off,
+    over ``pre + size`` samples from ``pre`` before the mate's next attack (placed within ``reach`` samples, the best
+    lag by correlation over its first ``head`` samples), against the accent's own sound over its first ``pre +
+    size`` samples: where they correlate by ``likeness`` or more, negated (the mate's note is taken off with the
+    mate), the least-squares gain and the lag (samples after the accent's onset) where the accent's sound, so
+    scaled, is added back [each shape=(len(mate),); gain 0 where none]. The mate's next note must lie past its
+    first ``size + before`` samples and its fit within the accent's window, be no louder than the mate (its gain
+    at most 1: a louder one, a flam's main note after its grace note as mate, would add back what is left under
+    the mate many times over) and not be the accent itself."""
+    gains = np.zeros(len(mate))
+    lags = np.zeros(len(mate), dtype=np.int64)
+    if likeness >= 1.0:
+        return gains, lags
+    n = pre + size
+    left = np.empty(2 * reach + pre + head)
+    for k in range(len(accents)):
+        b = which[accents[k]]
+        length = min(span, ends[b] - c[b])
+        own = 0.0  # the accent's own sound over its first ``n`` samples (from ``pre`` before it): its energy
+        for i in range(n):
+            own += band[c[b] - pre + i] * band[c[b] - pre + i]
+        if not own > 0.0:
+            continue
+        for q in range(first[k], first[k] + count[k]):
+            a = which[mate[q]]
+            if a + 1 >= len(c) or a + 1 == b:  # (a mate just before the accent: its next note is the accent)
+                continue
+            start = c[a] + shifts[q]
+            nominal = c[a + 1] - start
+            if nominal - reach < size + before or nominal + reach + size > length:
+                continue
+            best, at = -2.0, -1
+            low = nominal - reach - pre  # what is left over the lags' heads, once
+            for i in range(2 * reach + pre + head):
+                left[i] = band[c[b] + low + i] - scales[q] * band[start + low + i]
+            for lag in range(nominal - reach, nominal + reach + 1):  # the lag, on the note's first samples
+                dot, energy = 0.0, 0.0
+                for i in range(pre + head):
+                    v = left[lag - pre - low + i]
+                    dot -= v * band[c[b] - pre + i]
+                    energy += v * v
+                if energy > 0.0 and dot / np.sqrt(energy) > best:
+                    best, at = dot / np.sqrt(energy), lag
+            if at < 0:
+                continue
+            dot, energy = 0.0, 0.0
+            for i in range(n):
+                v = band[c[b] + at - pre + i] - scales[q] * band[start + at - pre + i]
+                dot -= v * band[c[b] - pre + i]
+                energy += v * v
+            if energy > 0.0 and dot / np.sqrt(energy * own) >= likeness and dot <= own:
+                gains[q], lags[q] = dot / own, at
+    return gains, lags
+
+
+@jit(error_model="numpy")
 def accent_rises(band, c, which, ends, accents, first, count, mate, shifts, scales, span, size, before, after, width,
-                 block, fewest, rise, power, done, gap=0):
+                 block, fewest, rise, power, done, gap=0, gains=None, lags=None, pre=0):
     """:func:`ghost_onsets`' search of each accent's remainders for the blocks where a note rises (:func:`rising`; over
     the 10 ms before a ``gap`` of samples), in one loop: for each of ``accents`` (indices of ``which``, the clear attacks; the onsets ``c``, full-rate samples,
     the search's ``ends``) its mates ``mate[first:first + count]`` (indices of ``which``), each placed ``shifts``
@@ -103,7 +173,9 @@ def accent_rises(band, c, which, ends, accents, first, count, mate, shifts, scal
     from its onset) [shape=(len(accents),)]. With ``gap`` (samples), the rises over the 10 ms before a gap so long
     follow, each accent's index plus ``len(accents)``. ``power`` and ``done``: each mate's remainder's energy over
     each block (rows as ``mate``'s; ``(span + after) // block`` columns or more) and how many blocks of it are there,
-    :func:`block_powers`' (given again on the same remainders, :func:`_shared_powers`)."""
+    :func:`block_powers`' (given again on the same remainders, :func:`_shared_powers`). With ``gains`` and ``lags``
+    (:func:`mates_notes`, their ``pre``), a mate's next note of the accent's waveform is taken off its remainder,
+    which then reaches on (:func:`mate_reach`)."""
     found, blocks, mates = [], [], []
     lengths = np.zeros(len(accents), dtype=np.int64)
     for k in range(len(accents)):
@@ -119,9 +191,15 @@ def accent_rises(band, c, which, ends, accents, first, count, mate, shifts, scal
             starts[n] = c[a] + shifts[first[k] + n]
             # a mate's own later notes are not b's: its remainder counts up to its next attack only
             valid[n] = ((c[a + 1] if a + 1 < len(c) else len(band)) - c[a] - width) // block
+            if gains is not None and gains[first[k] + n] != 0.0:
+                valid[n] = mate_reach(c, len(band), a, b, lags[first[k] + n], width, block)
         rows = slice(first[k], first[k] + count[k])
-        block_powers(band, c[b], starts, scales[rows], valid, lengths[k] // block, block, width // block, power[rows],
-                     done[rows])
+        if gains is None:
+            block_powers(band, c[b], starts, scales[rows], valid, lengths[k] // block, block, width // block,
+                         power[rows], done[rows])
+        else:
+            block_powers(band, c[b], starts, scales[rows], valid, lengths[k] // block, block, width // block,
+                         power[rows], done[rows], gains[rows], lags[rows], pre)
         e, pick = least_remainders(power[rows], valid, lengths[k] // block, width // block, fewest)
         # two mates or more at each block: one mate's missed note would be left in its remainder alone (where one
         # reaches, whose the note is says: the accent's, louder in it than in the mate)
@@ -146,6 +224,16 @@ def accent_rises(band, c, which, ends, accents, first, count, mate, shifts, scal
             lengths)
 
 
+@jit
+def mate_reach(c, end, a, b, lag, width, block):
+    """How far (blocks) mate ``a``'s remainder reaches once its next note is taken off with the accent ``b``'s own
+    sound placed ``lag`` samples on (:func:`mates_notes`): up to the mate's note after that one (``end`` for none),
+    and while the accent's sound so placed is its own (up to its next attack, so far on)."""
+    later = (c[a + 2] if a + 2 < len(c) else end) - c[a]
+    own = (c[b + 1] if b + 1 < len(c) else end) - c[b] + lag
+    return (min(later, own) - width) // block
+
+
 def _kept(shared, name, band, key, make):
     """``make()``, kept in ``shared`` (a dict, or None) as ``name`` and given again for the same ``band`` (the same
     object) and ``key``: what :func:`ghost_onsets` found that :func:`room_ghost_onsets` asks again on the same
@@ -166,14 +254,16 @@ def _partners(band, starts, size, lag, likeness, shared=None):
                  lambda: _layer_mates(band, starts, size, lag, likeness))
 
 
-def _shared_powers(shared, band, c, which, accents, count, mate, shifts, scales, blocks, block):
+def _shared_powers(shared, band, c, which, accents, count, mate, shifts, scales, blocks, block, notes=None):
     """The arrays :func:`accent_rises` keeps each mate's remainder's energy over each block in (``power``, ``blocks``
     columns, and ``done``: how many are there), for the accents (indices of ``which``, ``count`` mates each:
-    ``mate``, ``shifts``, ``scales``, :func:`_accents_mates`'). ``shared``: :func:`_kept`'s (the arrays given again,
-    with the blocks summed so far, for the same remainders: :func:`ghost_onsets` reads them over 1 ms,
-    :func:`room_ghost_onsets` over 5)."""
+    ``mate``, ``shifts``, ``scales``, :func:`_accents_mates`'; ``notes``: the gains and lags of the mates' next notes
+    taken off, :func:`mates_notes`', or None). ``shared``: :func:`_kept`'s (the arrays given again, with the blocks
+    summed so far, for the same remainders: :func:`ghost_onsets` reads them over 1 ms, :func:`room_ghost_onsets`
+    over 5)."""
     accent_starts = np.repeat(c[which[np.array(accents, dtype=np.int64)]], count)
-    key = (block, blocks, accent_starts.tobytes(), (c[which[mate]] + shifts).tobytes(), scales.tobytes())
+    key = (block, blocks, accent_starts.tobytes(), (c[which[mate]] + shifts).tobytes(), scales.tobytes(),
+           None if notes is None else (notes[0].tobytes(), notes[1].tobytes()))
     return _kept(shared, "powers", band, key,
                  lambda: (np.empty((len(mate), blocks)), np.zeros(len(mate), dtype=np.int64)))
 
@@ -212,6 +302,59 @@ def _own(x, band, mate, scale, t, size, own_db):
     return mine >= theirs * 10.0 ** (own_db / 10.0)
 
 
+def _mates_notes(shared, mates, *args):
+    """:func:`mates_notes` (``args``), its answer kept in ``shared`` (a dict, or None) for the same layer-mates
+    (``mates``: :func:`_partners`' list, the same object) and likeness, as :func:`_partners` keeps its own."""
+    if shared is not None and shared.get("notes_of") is mates and shared.get("notes_likeness") == args[-1]:
+        return shared["notes"]
+    notes = mates_notes(*args)
+    if shared is not None:
+        shared.update(notes_of=mates, notes_likeness=args[-1], notes=notes)
+    return notes
+
+
+def _own_notes_off(v, band, c, b, end, pre, size, likeness, reach, head):
+    """``v`` (what is left from the accent ``b``'s onset ``c[b]``) less each later attack's sound before ``end``
+    (samples from the onset) that is the accent's own waveform: its first ``pre + size`` samples correlating with
+    the accent's by ``likeness`` or more (placed within ``reach`` samples by its first ``head``), taken off with the
+    accent's own sound there scaled by least squares (as :func:`mates_notes`)."""
+    own = band[c[b] - pre:c[b] + size]
+    energy = np.dot(own, own)
+    out = v
+    for a in range(b + 1, len(c)):
+        nominal = c[a] - c[b]
+        if nominal + reach + size > end or not energy > 0.0:
+            break
+        if nominal - reach - pre < 0:
+            continue
+        low = nominal - reach - pre
+        dots = np.correlate(out[low:low + 2 * reach + pre + head], own[:pre + head], "valid")
+        sums = np.concatenate(([0.0], np.cumsum(out[low:low + 2 * reach + pre + head] ** 2)))
+        norms = np.sqrt(np.maximum(sums[pre + head:] - sums[:-(pre + head)], 1e-300))
+        at = nominal - reach + int(np.argmax(dots / norms))
+        seg = out[at - pre:at + size]
+        dot = np.dot(seg, own)
+        if dot / np.sqrt(max(np.dot(seg, seg) * energy, 1e-300)) >= likeness:
+            out = out.copy()
+            out[at - pre:] -= dot / energy * band[c[b] - pre:c[b] - pre + len(out) - at + pre]
+    return out
+
+
+def _still_rising(v, t, width, before, block, rise):
+    """Whether ``v``'s energy over ``width`` samples from ``t`` is ``rise`` times or more its most over the same
+    windows every ``block`` samples from ``before`` earlier up to ``width`` before (:func:`rising`'s test)."""
+    power = np.concatenate(([0.0], np.cumsum(v[t - before:t + width] ** 2)))
+    e = power[width:] - power[:-width]
+    most = max(0.0, e[:before - width:block].max()) if before > width else 0.0
+    return e[before] > 0.0 and e[before] >= rise * most
+
+
+def _own_of(x, theirs, t, size, own_db):
+    """:func:`_own` with the mate's sound given (``theirs``, as ``x``: the mate scaled, its next note taken off)."""
+    mine = np.dot(x[t:t + size], x[t:t + size])
+    return mine >= np.dot(theirs[t:t + size], theirs[t:t + size]) * 10.0 ** (own_db / 10.0)
+
+
 def _loud_and_ends(band, c, rate, quiet_db, shared=None):
     """Each attack's peak over the 5 ms from it (``c``, full-rate samples; the last 5 ms of ``band`` from past its
     end; from before its start, as a negative index reads the windows, counted from the end), and where its sound is
@@ -245,7 +388,7 @@ def _accents_mates(mates, mates_used):
 
 def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=120.0, own_everywhere=False,
                  skip=10e-3, span=0.13, quiet_db=-10.0, below_db=-30.0, quieter_db=-6.0, mates_used=3, noise_start=0.0,
-                 rise_gap=0.0, shared=None):
+                 rise_gap=0.0, mate_notes=1.0, shared=None):
     """Onsets (full-rate samples) of notes within ``span`` s after a ``clear`` attack at ``times`` (full-rate samples),
     found in what is left of ``band`` once that attack's own sound is taken off, predicted by its layer-mates.
 
@@ -265,9 +408,13 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
     noise (:func:`_white`), a rise over the 10 ms before a gap so long counts too, its onset sought from the gap's
     start; with ``noise_start`` (s), where that noise, not 1 % of the peak, sets the onset's level and it is white, the
     onset is where the power changes (:func:`noise_change`) up to so long before the rise, returned beside the
-    onsets (each as found, or so moved) [each shape=(n,)]. ``shared`` (a dict, or None): what
-    :func:`room_ghost_onsets` asks again on the same attacks kept there (:func:`_kept`: the attacks' peaks and ends,
-    their layer-mates, the remainders' energies over each block).
+    onsets (each as found, or so moved) [each shape=(n,)]. With ``mate_notes`` under 1, a mate's next note that is
+    the accent's own waveform by so much (:func:`mates_notes`: placed within 0.5 ms by its first 2 ms) is taken off
+    its remainder, which reaches on up to the mate's note after it (:func:`mate_reach`); a rise so read past a note
+    found in the accent's window that lag on is not sought (that note, in the accent's sound added back, is left
+    there). ``shared`` (a dict, or None): what :func:`room_ghost_onsets` asks again on the same attacks kept there
+    (:func:`_kept`: the attacks' peaks and ends, their layer-mates, the remainders' energies over each block; and
+    :func:`_mates_notes`).
     """
     pre, size, lag = round(0.5e-3 * rate), round(skip * rate), 2
     width, before, after = round(1e-3 * rate), round(10e-3 * rate), round(10e-3 * rate)
@@ -284,19 +431,30 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
     # energy over 0.25-ms blocks, over 1 ms from each block (its onset sought at full rate after)
     block = max(1, width // 4)
     accents, used, count, mate, shifts, scales_all = _accents_mates(mates, mates_used)
+    first = np.cumsum(count) - count
+    notes = None
+    if mate_notes < 1.0:  # the mates' next notes of the accent's waveform, taken off them
+        notes = _mates_notes(shared, mates, band, c, which, ends, np.array(accents, dtype=np.int64), first, count, mate,
+                             shifts, scales_all, round(span * rate), size, before, pre, round(0.5e-3 * rate),
+                             round(1e-3 * rate), mate_notes)
     power, done = _shared_powers(shared, band, c, which, accents, count, mate, shifts, scales_all,
-                                 (round(span * rate) + after) // block, block)
-    args = (band, c, which, ends, np.array(accents, dtype=np.int64), np.cumsum(count) - count, count, mate, shifts,
+                                 (round(span * rate) + after) // block, block, notes)
+    args = (band, c, which, ends, np.array(accents, dtype=np.int64), first, count, mate, shifts,
             scales_all, round(span * rate), size, before, after, width, block, 1 if own_db < 120.0 else 2, rise,
             power, done)
     gap = round(rise_gap * rate)
-    which_accent, rises, picks, lengths = accent_rises(*args, gap)
+    if notes is not None:
+        gains, lags = notes
+        which_accent, rises, picks, lengths = accent_rises(*args, gap, gains, lags, pre)
+    else:
+        gains, lags = np.zeros(len(mate)), np.zeros(len(mate), dtype=np.int64)
+        which_accent, rises, picks, lengths = accent_rises(*args, gap)
     gapped = which_accent >= len(accents)
     if gap > 0:  # the rises over the 10 ms before a gap: kept below where what is left before them is white noise
         which_accent = np.where(gapped, which_accent - len(accents), which_accent)
         order = np.lexsort((gapped, rises, which_accent))
         which_accent, rises, picks, gapped = which_accent[order], rises[order], picks[order], gapped[order]
-    quiet = round(5e-3 * rate)
+    quiet, reach = round(5e-3 * rate), round(0.5e-3 * rate)
     starts_at = {}  # the onsets moved to where white noise's power changes (noise_start)
     for k in np.unique(which_accent).tolist():
         b = which[accents[k]]
@@ -306,6 +464,12 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
         # a mate's own later notes are not b's: its remainder counts up to its next attack only
         valid = np.array([((c[which[a] + 1] if which[a] + 1 < len(c) else len(band)) - c[which[a]] - width) // block
                           for a, _, _ in used[k]], dtype=np.int64)
+        q = first[k]  # the accent's mates' first index in the flat arrays
+        added = gains[q:q + count[k]] != 0.0  # the mates whose next note is taken off (mate_notes)
+        for m in np.flatnonzero(added).tolist():
+            valid[m] = mate_reach.py_func(c, len(band), which[used[k][m][0]], b, int(lags[q + m]), width, block)
+        found_at = np.inf  # the first note found in the accent's window (samples from its onset)
+        cleared = {}  # what is left with the accent's own later notes taken off: for each mate and notes so taken
         last = -np.inf
         mine = which_accent == k
         for t, m, over_gap in zip((rises[mine] * block).tolist(), picks[mine].tolist(), gapped[mine].tolist()):
@@ -318,10 +482,28 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
             v = x[lo:hi] - scales[m] * band[starts_m[m] + lo:starts_m[m] + hi]
             if over_gap and not _white(v[:quiet]):
                 continue
+            if added[m]:  # the mate's next note taken off, from the start of its fit on
+                lag = int(lags[q + m])
+                if t + width > found_at + lag - pre:  # a note found before is added back here
+                    continue
+                whole = x - scales[m] * band[starts_m[m]:starts_m[m] + len(x)]  # (read over the whole window)
+                whole[lag - pre:] += gains[q + m] * band[c[b] - pre:c[b] - pre + len(x) - lag + pre]
+                v = whole[lo:hi]
+                peak = np.abs(v[t - lo:]).max()  # (as below: the cheaper test first)
+                if not max(least, loud[b] * 10.0 ** (below_db / 20.0)) <= peak <= loud[b] * 10.0 ** (quieter_db / 20.0):
+                    continue
+                # the accent's own later notes of its waveform taken off too: a rise in their sound is none
+                later = int(np.searchsorted(c, c[b] + t - before - size - reach, side="right")) - b - 1
+                if (m, later) not in cleared:  # (``whole`` is the mate's, whatever the rise)
+                    cleared[m, later] = _own_notes_off(whole, band, c, b, t - before, pre, size, mate_notes, reach,
+                                                       round(1e-3 * rate))
+                if not _still_rising(cleared[m, later], t, width, before, block, rise):
+                    continue
             peak = np.abs(v[t - lo:]).max()
             # past where two mates reach over its 1 ms, the note must be the accent's own
             alone = own_everywhere or np.sum((t + width) // block < valid) < 2
-            if alone and not _own(x, band, starts_m[m], scales[m], t, width + after, own_db):
+            if alone and not (_own_of(x, x - whole, t, width + after, own_db) if added[m]
+                              else _own(x, band, starts_m[m], scales[m], t, width + after, own_db)):
                 continue
             if not max(least, loud[b] * 10.0 ** (below_db / 20.0)) <= peak <= loud[b] * 10.0 ** (quieter_db / 20.0):
                 continue
@@ -334,6 +516,7 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
                 starts_at[c[b] + onset] = c[b] + lo + noise_change(v, 0, low - round(noise_start * rate) - lo,
                                                                    onset - lo)
             found.append(c[b] + onset)
+            found_at = min(found_at, onset)
             last = t
     found = np.unique(np.asarray(found, dtype=float))
     if noise_start > 0.0:
@@ -367,7 +550,7 @@ def _white(v, most=0.6):
 
 def room_ghost_onsets(band, times, clear, rate, head, *, likeness, rise_db, least, fit, skip=10e-3, span=0.13,
                       quiet_db=-10.0, below_db=-30.0, quieter_db=-6.0, mates_used=3, reach=1e-3, energy=5e-3,
-                      shared=None):
+                      mate_notes=1.0, shared=None):
     """Onsets (full-rate samples) of ghost notes after a ``clear`` attack at ``times`` (full-rate samples) in a
     reverberant recording, each where what is left once a layer-mate is taken off (as :func:`ghost_onsets`: up to
     ``mates_used`` mates, the quietest remainder over each ``energy`` s; here where one mate or more reaches, and with
@@ -379,7 +562,8 @@ def room_ghost_onsets(band, times, clear, rate, head, *, likeness, rise_db, leas
     reverberant, seeds 0-4: 0.77 at most), a ghost note's is its layer's (0.82 or more on the notes missed before).
     Over 5 ms a ghost note's first milliseconds rise 7-10 dB where over 1 ms they rise under 4 dB (FluidR3's snare
     38 roll with reverb, seed 0: its notes of 1.1021 and 3.2034 s). Its peak over the 11 ms from it as
-    :func:`ghost_onsets` asks; its onset where the head's starts (one in 20 ms). ``shared``: as
+    :func:`ghost_onsets` asks; its onset where the head's starts (one in 20 ms). ``mate_notes``: as
+    :func:`ghost_onsets`' (a mate's next note of the accent's waveform taken off). ``shared``: as
     :func:`ghost_onsets`' (what it found, given again on the same attacks)."""
     pre, window, lag = round(0.5e-3 * rate), round(skip * rate), 2
     width, before, after = round(1e-3 * rate), round(10e-3 * rate), round(10e-3 * rate)
@@ -396,11 +580,18 @@ def room_ghost_onsets(band, times, clear, rate, head, *, likeness, rise_db, leas
     mates = _partners(band, starts[which], window + pre, lag, likeness, shared)
     block = max(1, width // 4)
     accents, _, count, mate, shifts, scales = _accents_mates(mates, mates_used)
+    args = (band, c, which, ends, np.array(accents, dtype=np.int64), np.cumsum(count) - count, count, mate, shifts,
+            scales, round(span * rate), window, before, after, wide, block, 1, 10.0 ** (rise_db / 10.0))
+    notes = None
+    if mate_notes < 1.0:  # the mates' next notes of the accent's waveform, taken off them
+        notes = _mates_notes(shared, mates, *args[:11], window, before, pre, round(0.5e-3 * rate),
+                             round(1e-3 * rate), mate_notes)
     power, done = _shared_powers(shared, band, c, which, accents, count, mate, shifts, scales,
-                                 (round(span * rate) + after) // block, block)
-    which_accent, rises, picks, lengths = accent_rises(
-        band, c, which, ends, np.array(accents, dtype=np.int64), np.cumsum(count) - count, count, mate, shifts,
-        scales, round(span * rate), window, before, after, wide, block, 1, 10.0 ** (rise_db / 10.0), power, done)
+                                 (round(span * rate) + after) // block, block, notes)
+    if notes is not None:
+        which_accent, rises, picks, lengths = accent_rises(*args, power, done, 0, notes[0], notes[1], pre)
+    else:
+        which_accent, rises, picks, lengths = accent_rises(*args, power, done)
     unit = head / norm
     # the rises tried: a rise's window spans ``energy`` s, so the rises in the window of one tried are its own
     chosen = spaced(which_accent, rises * block, wide, back + pre,
@@ -413,27 +604,39 @@ def room_ghost_onsets(band, times, clear, rate, head, *, likeness, rise_db, leas
     b_of = which[np.array(accents, dtype=np.int64)[k_of]]  # each rise's accent (an index of c)
     mate_of = (np.cumsum(count) - count)[k_of] + picks[chosen]
     low = t_of - back - pre
-    v, sums = remainders(band, c[b_of] + low, c[which[mate[mate_of]]] + shifts[mate_of] + low,
-                         scales[mate_of], back + pre + max(wide - pre + n, wide + width + after), back + wide + n)
+    size = back + pre + max(wide - pre + n, wide + width + after)
+    if notes is None:
+        v, sums = remainders(band, c[b_of] + low, c[which[mate[mate_of]]] + shifts[mate_of] + low,
+                             scales[mate_of], size, back + wide + n)
+        added, lags = np.zeros(len(chosen), dtype=np.bool_), np.zeros(len(chosen), dtype=np.int64)
+    else:  # with each mate's next note taken off from ``pre`` before its lag (:func:`mates_notes`)
+        gains, lags = notes[0][mate_of], notes[1][mate_of]
+        v, sums = remainders(band, c[b_of] + low, c[which[mate[mate_of]]] + shifts[mate_of] + low,
+                             scales[mate_of], size, back + wide + n, gains, c[b_of] + low - lags, lags - pre - low)
+        added = gains != 0.0
     # the head's correlation with each remainder from ``reach`` before the block to ``energy`` after, the best start's
     # peak between the accent's bounds (compiled: a rise within 20 ms after a note found in its accent's window is
-    # not correlated)
+    # not correlated; one whose mate's next note is taken off, past a note found in the accent's window that lag on
+    # less 1 ms, is not sought: that note is added back there with the accent's sound)
     rows, best = fitting_rises(v, sums, unit, back + wide + 1, k_of, t_of, round(20e-3 * rate), pre, width + after,
                                np.maximum(least, loud[b_of] * 10.0 ** (below_db / 20.0)),
-                               loud[b_of] * 10.0 ** (quieter_db / 20.0), fit)
+                               loud[b_of] * 10.0 ** (quieter_db / 20.0), fit, back, added, lags - pre - width)
     return np.unique((c[b_of[rows]] + t_of[rows] - back + best).astype(float))
 
 
 @jit(error_model="numpy")
-def remainders(band, starts, others, scales, size, summed):
+def remainders(band, starts, others, scales, size, summed, gains=None, adds=None, froms=None):
     """``band`` over ``size`` samples from each of ``starts`` less ``scales`` times it from ``others`` [shape=(n,
     size)], as numpy's ``x - scale * y``, and each row's squares summed cumulatively over its first ``summed``
-    samples from 0 (as ``concatenate((0, cumsum(v ** 2)))``) [shape=(n, summed + 1)]."""
+    samples from 0 (as ``concatenate((0, cumsum(v ** 2)))``) [shape=(n, summed + 1)]. With ``gains``, ``band``
+    from ``adds`` times it added from the row's sample ``froms`` on (a mate's next note taken off)."""
     v = np.empty((len(starts), size))
     sums = np.empty((len(starts), summed + 1))
     for r in range(len(starts)):
         for i in range(size):
             v[r, i] = band[starts[r] + i] - scales[r] * band[others[r] + i]
+            if gains is not None and gains[r] != 0.0 and i >= froms[r]:
+                v[r, i] += gains[r] * band[adds[r] + i]
         total = 0.0
         sums[r, 0] = 0.0
         for i in range(summed):
@@ -443,22 +646,25 @@ def remainders(band, starts, others, scales, size, summed):
 
 
 @jit(error_model="numpy")
-def fitting_rises(v, sums, unit, count, accent, at, apart, pre, span, lows, highs, fit):
+def fitting_rises(v, sums, unit, count, accent, at, apart, pre, span, lows, highs, fit, back, added, past):
     """:func:`room_ghost_onsets`' test of each rise (rows of ``v``, its remainders from ``pre`` before ``count``
     starts; ``sums``, their squares' running sums; ``accent`` and ``at``, its accent and its block's sample, in
     order): the head ``unit``'s correlation with each start's window (``np.correlate``'s sums, :func:`._templates.
     blas_lag_dots`, over the sums' energy: -1 where none), at the best (the first most) ``fit`` or more, and the
     remainder's peak over ``span`` samples from there within ``[lows, highs]`` of the row; each rise tried ``apart``
-    or more after the last one found in its accent's window (its correlations not summed otherwise). Returns the rises
-    found and their best starts (from the first) [each shape=(n,)]."""
+    or more after the last one found in its accent's window (its correlations not summed otherwise); where ``added``
+    (the row's mate's next note taken off), its note (``at - back`` plus the best start) no more than ``past``
+    samples after the first found in its accent's window. Returns the rises found and their best starts (from the
+    first) [each shape=(n,)]."""
     n = len(unit)
     cross = np.empty(count)
     rows = np.empty(len(at), dtype=np.int64)
     best = np.empty(len(at), dtype=np.int64)
     found, previous, last = 0, -1, -1  # last: the row of the last found in this accent's window (-1: none yet)
+    first = np.inf  # the first note found in the accent's window (samples from its onset)
     for i in range(len(at)):
         if accent[i] != previous:
-            previous, last = accent[i], -1
+            previous, last, first = accent[i], -1, np.inf
         if last >= 0 and at[i] < at[last] + apart:
             continue
         blas_lag_dots(v[i], 0, count, unit, n, cross)
@@ -470,6 +676,8 @@ def fitting_rises(v, sums, unit, count, accent, at, apart, pre, span, lows, high
                 start, most = s, like
         if not most >= fit:
             continue
+        if added[i] and at[i] - back + start > first + past[i]:
+            continue
         peak = 0.0
         for j in range(pre + start, pre + start + span):
             peak = max(peak, abs(v[i, j]))
@@ -478,6 +686,7 @@ def fitting_rises(v, sums, unit, count, accent, at, apart, pre, span, lows, high
         rows[found], best[found] = i, start
         found += 1
         last = i
+        first = min(first, at[i] - back + start)
     return rows[:found].copy(), best[:found].copy()
 
 
