@@ -686,3 +686,67 @@ def test_layer_mates_shared_only_on_the_same_attacks(rng):
     other[3500:4100] = rng.standard_normal(600)
     assert _partners(other, starts, 500, 2, 0.9, shared) == _layer_mates(other, starts, 500, 2, 0.9)
     assert len(_partners(other, starts, 500, 2, 0.9, shared)[0]) == 2
+
+
+def test_mates_notes_lags_side_by_side_are_the_loop_they_replaced(rng):
+    """_ghosts.mates_notes sums each lag's correlation over the note's first samples with the lags side by side (vector
+    lanes); the gains and lags are the loop's that summed one lag at a time (to the bit), on a one-sample roll (whose
+    mates' next notes are taken off) and on it with noise added."""
+    from drumstroke.analysis._ghosts import _accents_mates, _partners, mates_notes
+    from test_recorded_mate_notes import _one_sample_roll
+
+    def plain(band, c, which, ends, accents, first, count, mate, shifts, scales, span, size, before, pre, reach,
+              head, likeness):
+        gains, lags = np.zeros(len(mate)), np.zeros(len(mate), dtype=np.int64)
+        n = pre + size
+        for k in range(len(accents)):
+            b = which[accents[k]]
+            length = min(span, ends[b] - c[b])
+            own = 0.0
+            for i in range(n):
+                own += band[c[b] - pre + i] * band[c[b] - pre + i]
+            if not own > 0.0:
+                continue
+            for q in range(first[k], first[k] + count[k]):
+                a = which[mate[q]]
+                if a + 1 >= len(c) or a + 1 == b:
+                    continue
+                start = c[a] + shifts[q]
+                nominal = c[a + 1] - start
+                if nominal - reach < size + before or nominal + reach + size > length:
+                    continue
+                best, at = -2.0, -1
+                for lag in range(nominal - reach, nominal + reach + 1):
+                    dot, energy = 0.0, 0.0
+                    for i in range(pre + head):
+                        v = band[c[b] + lag - pre + i] - scales[q] * band[start + lag - pre + i]
+                        dot -= v * band[c[b] - pre + i]
+                        energy += v * v
+                    if energy > 0.0 and dot / np.sqrt(energy) > best:
+                        best, at = dot / np.sqrt(energy), lag
+                if at < 0:
+                    continue
+                dot, energy = 0.0, 0.0
+                for i in range(n):
+                    v = band[c[b] + at - pre + i] - scales[q] * band[start + at - pre + i]
+                    dot -= v * band[c[b] - pre + i]
+                    energy += v * v
+                if energy > 0.0 and dot / np.sqrt(energy * own) >= likeness and dot <= own:
+                    gains[q], lags[q] = dot / own, at
+        return gains, lags
+
+    band, accents, ghosts = _one_sample_roll()
+    c = np.array(sorted(accents + ghosts), dtype=np.int64)
+    which = np.flatnonzero(np.isin(c, accents))
+    pre, size, before, reach, head = 24, 480, 480, 24, 48
+    for noise in (0.0, 1e-3):
+        noisy = band + noise * rng.standard_normal(len(band))
+        mates = _partners(noisy, c[which] - pre, size + pre, 2, 0.99)
+        chosen, _, count, mate, shifts, scales = _accents_mates(mates, 3)
+        ends = np.full(len(c), len(band), dtype=np.int64)
+        args = (noisy, c, which, ends, np.array(chosen, dtype=np.int64), np.cumsum(count) - count, count, mate, shifts,
+                scales, round(0.13 * 48000), size, before, pre, reach, head, 0.99)
+        got, want = mates_notes(*args), plain(*args)
+        assert noise > 0.0 or np.count_nonzero(want[0]) > 0  # the roll's mates' notes are taken off
+        for g, w in zip(got, want):
+            np.testing.assert_array_equal(g, w)

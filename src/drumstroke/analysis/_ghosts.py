@@ -122,6 +122,7 @@ def mates_notes(band, c, which, ends, accents, first, count, mate, shifts, scale
         return gains, lags
     n = pre + size
     left = np.empty(2 * reach + pre + head)
+    dots, energies = np.empty(2 * reach + 1), np.empty(2 * reach + 1)
     for k in range(len(accents)):
         b = which[accents[k]]
         length = min(span, ends[b] - c[b])
@@ -142,14 +143,18 @@ def mates_notes(band, c, which, ends, accents, first, count, mate, shifts, scale
             low = nominal - reach - pre  # what is left over the lags' heads, once
             for i in range(2 * reach + pre + head):
                 left[i] = band[c[b] + low + i] - scales[q] * band[start + low + i]
-            for lag in range(nominal - reach, nominal + reach + 1):  # the lag, on the note's first samples
-                dot, energy = 0.0, 0.0
-                for i in range(pre + head):
-                    v = left[lag - pre - low + i]
-                    dot -= v * band[c[b] - pre + i]
-                    energy += v * v
-                if energy > 0.0 and dot / np.sqrt(energy) > best:
-                    best, at = dot / np.sqrt(energy), lag
+            # the lag, on the note's first samples: each lag's sums in the order of its samples, the lags side by
+            # side (vector instructions; the same additions per lag, the same bits)
+            dots[:], energies[:] = 0.0, 0.0
+            for i in range(pre + head):
+                w = band[c[b] - pre + i]
+                for j in range(2 * reach + 1):
+                    v = left[j + i]
+                    dots[j] -= v * w
+                    energies[j] += v * v
+            for j in range(2 * reach + 1):
+                if energies[j] > 0.0 and dots[j] / np.sqrt(energies[j]) > best:
+                    best, at = dots[j] / np.sqrt(energies[j]), nominal - reach + j
             if at < 0:
                 continue
             dot, energy = 0.0, 0.0
@@ -454,7 +459,7 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
         which_accent = np.where(gapped, which_accent - len(accents), which_accent)
         order = np.lexsort((gapped, rises, which_accent))
         which_accent, rises, picks, gapped = which_accent[order], rises[order], picks[order], gapped[order]
-    quiet, reach = round(5e-3 * rate), round(0.5e-3 * rate)
+    quiet, reach, apart = round(5e-3 * rate), round(0.5e-3 * rate), round(20e-3 * rate)
     starts_at = {}  # the onsets moved to where white noise's power changes (noise_start)
     for k in np.unique(which_accent).tolist():
         b = which[accents[k]]
@@ -468,12 +473,15 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
         added = gains[q:q + count[k]] != 0.0  # the mates whose next note is taken off (mate_notes)
         for m in np.flatnonzero(added).tolist():
             valid[m] = mate_reach.py_func(c, len(band), which[used[k][m][0]], b, int(lags[q + m]), width, block)
+        reaches = valid.tolist()
+        # the bounds of a note's peak, under the accent's (once an accent: the same values at each rise)
+        lowest, highest = max(least, loud[b] * 10.0 ** (below_db / 20.0)), loud[b] * 10.0 ** (quieter_db / 20.0)
         found_at = np.inf  # the first note found in the accent's window (samples from its onset)
         cleared = {}  # what is left with the accent's own later notes taken off: for each mate and notes so taken
         last = -np.inf
         mine = which_accent == k
         for t, m, over_gap in zip((rises[mine] * block).tolist(), picks[mine].tolist(), gapped[mine].tolist()):
-            if t < last + round(20e-3 * rate):
+            if t < last + apart:
                 continue
             low = t - gap if over_gap else t  # the note's lead-in may be in the gap
             # the remainder only where it is read, from the 5 ms before the lead-in to the end of the peak's window
@@ -490,7 +498,7 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
                 whole[lag - pre:] += gains[q + m] * band[c[b] - pre:c[b] - pre + len(x) - lag + pre]
                 v = whole[lo:hi]
                 peak = np.abs(v[t - lo:]).max()  # (as below: the cheaper test first)
-                if not max(least, loud[b] * 10.0 ** (below_db / 20.0)) <= peak <= loud[b] * 10.0 ** (quieter_db / 20.0):
+                if not lowest <= peak <= highest:
                     continue
                 # the accent's own later notes of its waveform taken off too: a rise in their sound is none
                 later = int(np.searchsorted(c, c[b] + t - before - size - reach, side="right")) - b - 1
@@ -500,12 +508,12 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
                 if not _still_rising(cleared[m, later], t, width, before, block, rise):
                     continue
             peak = np.abs(v[t - lo:]).max()
+            if not lowest <= peak <= highest:  # (the cheaper test first: both only refuse)
+                continue
             # past where two mates reach over its 1 ms, the note must be the accent's own
-            alone = own_everywhere or np.sum((t + width) // block < valid) < 2
+            alone = own_everywhere or sum((t + width) // block < reach_m for reach_m in reaches) < 2
             if alone and not (_own_of(x, x - whole, t, width + after, own_db) if added[m]
                               else _own(x, band, starts_m[m], scales[m], t, width + after, own_db)):
-                continue
-            if not max(least, loud[b] * 10.0 ** (below_db / 20.0)) <= peak <= loud[b] * 10.0 ** (quieter_db / 20.0):
                 continue
             noise = np.sqrt(np.mean(v[:quiet] ** 2))
             above = np.flatnonzero(np.abs(v[quiet:]) >= max(0.01 * peak, 4.0 * noise))
