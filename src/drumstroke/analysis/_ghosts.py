@@ -435,7 +435,7 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
     rise, found = 10.0 ** (rise_db / 10.0), []
     # energy over 0.25-ms blocks, over 1 ms from each block (its onset sought at full rate after)
     block = max(1, width // 4)
-    accents, used, count, mate, shifts, scales_all = _accents_mates(mates, mates_used)
+    accents, _, count, mate, shifts, scales_all = _accents_mates(mates, mates_used)
     first = np.cumsum(count) - count
     notes = None
     if mate_notes < 1.0:  # the mates' next notes of the accent's waveform, taken off them
@@ -461,71 +461,77 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
         which_accent, rises, picks, gapped = which_accent[order], rises[order], picks[order], gapped[order]
     quiet, reach, apart = round(5e-3 * rate), round(0.5e-3 * rate), round(20e-3 * rate)
     starts_at = {}  # the onsets moved to where white noise's power changes (noise_start)
-    for k in np.unique(which_accent).tolist():
-        b = which[accents[k]]
-        x = band[c[b]:c[b] + lengths[k]]
-        starts_m = np.array([c[which[a]] + shift for a, shift, _ in used[k]], dtype=np.int64)
-        scales = np.array([scale for _, _, scale in used[k]])
-        # a mate's own later notes are not b's: its remainder counts up to its next attack only
-        valid = np.array([((c[which[a] + 1] if which[a] + 1 < len(c) else len(band)) - c[which[a]] - width) // block
-                          for a, _, _ in used[k]], dtype=np.int64)
-        q = first[k]  # the accent's mates' first index in the flat arrays
-        added = gains[q:q + count[k]] != 0.0  # the mates whose next note is taken off (mate_notes)
-        for m in np.flatnonzero(added).tolist():
-            valid[m] = mate_reach.py_func(c, len(band), which[used[k][m][0]], b, int(lags[q + m]), width, block)
-        reaches = valid.tolist()
-        # the bounds of a note's peak, under the accent's (once an accent: the same values at each rise)
-        lowest, highest = max(least, loud[b] * 10.0 ** (below_db / 20.0)), loud[b] * 10.0 ** (quieter_db / 20.0)
-        found_at = np.inf  # the first note found in the accent's window (samples from its onset)
-        cleared = {}  # what is left with the accent's own later notes taken off: for each mate and notes so taken
-        last = -np.inf
-        mine = which_accent == k
-        for t, m, over_gap in zip((rises[mine] * block).tolist(), picks[mine].tolist(), gapped[mine].tolist()):
-            if t < last + apart:
+    # each mate's place and reach, for all the accents at once (a mate's own later notes are not the accent's: its
+    # remainder counts up to its next attack only)
+    mate_at, after_mate = c[which[mate]] + shifts, which[mate] + 1
+    reach_all = (np.where(after_mate < len(c), c[np.minimum(after_mate, len(c) - 1)], len(band)) - c[which[mate]]
+                 - width) // block
+    k = -1
+    # the rises in their accents' order (accent_rises' order, or sorted so above)
+    for t, m, over_gap, accent in zip((rises * block).tolist(), picks.tolist(), gapped.tolist(),
+                                      which_accent.tolist()):
+        if accent != k:  # the next accent's mates
+            k = accent
+            b = which[accents[k]]
+            x = band[c[b]:c[b] + lengths[k]]
+            q = first[k]  # the accent's mates' first index in the flat arrays
+            starts_m, scales = mate_at[q:q + count[k]], scales_all[q:q + count[k]]
+            reaches = reach_all[q:q + count[k]].tolist()
+            added = (gains[q:q + count[k]] != 0.0).tolist()  # the mates whose next note is taken off (mate_notes)
+            for n_m in range(count[k]):
+                if added[n_m]:
+                    reaches[n_m] = mate_reach.py_func(c, len(band), which[mate[q + n_m]], b, int(lags[q + n_m]),
+                                                      width, block)
+            # the bounds of a note's peak, under the accent's (once an accent: the same values at each rise)
+            lowest, highest = max(least, loud[b] * 10.0 ** (below_db / 20.0)), loud[b] * 10.0 ** (quieter_db / 20.0)
+            found_at = np.inf  # the first note found in the accent's window (samples from its onset)
+            cleared = {}  # what is left with the accent's own later notes taken off: for each mate and notes so taken
+            last = -np.inf
+        if t < last + apart:
+            continue
+        low = t - gap if over_gap else t  # the note's lead-in may be in the gap
+        # the remainder only where it is read, from the 5 ms before the lead-in to the end of the peak's window
+        # (elementwise: the same samples as the whole window's remainder, not made anew at each rise)
+        lo, hi = low - quiet, min(t + width + after, len(x))
+        v = x[lo:hi] - scales[m] * band[starts_m[m] + lo:starts_m[m] + hi]
+        if over_gap and not _white(v[:quiet]):
+            continue
+        if added[m]:  # the mate's next note taken off, from the start of its fit on
+            lag = int(lags[q + m])
+            if t + width > found_at + lag - pre:  # a note found before is added back here
                 continue
-            low = t - gap if over_gap else t  # the note's lead-in may be in the gap
-            # the remainder only where it is read, from the 5 ms before the lead-in to the end of the peak's window
-            # (elementwise: the same samples as the whole window's remainder, not made anew at each rise)
-            lo, hi = low - quiet, min(t + width + after, len(x))
-            v = x[lo:hi] - scales[m] * band[starts_m[m] + lo:starts_m[m] + hi]
-            if over_gap and not _white(v[:quiet]):
+            whole = x - scales[m] * band[starts_m[m]:starts_m[m] + len(x)]  # (read over the whole window)
+            whole[lag - pre:] += gains[q + m] * band[c[b] - pre:c[b] - pre + len(x) - lag + pre]
+            v = whole[lo:hi]
+            peak = np.abs(v[t - lo:]).max()  # (as below: the cheaper test first)
+            if not lowest <= peak <= highest:
                 continue
-            if added[m]:  # the mate's next note taken off, from the start of its fit on
-                lag = int(lags[q + m])
-                if t + width > found_at + lag - pre:  # a note found before is added back here
-                    continue
-                whole = x - scales[m] * band[starts_m[m]:starts_m[m] + len(x)]  # (read over the whole window)
-                whole[lag - pre:] += gains[q + m] * band[c[b] - pre:c[b] - pre + len(x) - lag + pre]
-                v = whole[lo:hi]
-                peak = np.abs(v[t - lo:]).max()  # (as below: the cheaper test first)
-                if not lowest <= peak <= highest:
-                    continue
-                # the accent's own later notes of its waveform taken off too: a rise in their sound is none
-                later = int(np.searchsorted(c, c[b] + t - before - size - reach, side="right")) - b - 1
-                if (m, later) not in cleared:  # (``whole`` is the mate's, whatever the rise)
-                    cleared[m, later] = _own_notes_off(whole, band, c, b, t - before, pre, size, mate_notes, reach,
-                                                       round(1e-3 * rate))
-                if not _still_rising(cleared[m, later], t, width, before, block, rise):
-                    continue
-            peak = np.abs(v[t - lo:]).max()
-            if not lowest <= peak <= highest:  # (the cheaper test first: both only refuse)
+            # the accent's own later notes of its waveform taken off too: a rise in their sound is none
+            later = int(np.searchsorted(c, c[b] + t - before - size - reach, side="right")) - b - 1
+            if (m, later) not in cleared:  # (``whole`` is the mate's, whatever the rise)
+                cleared[m, later] = _own_notes_off(whole, band, c, b, t - before, pre, size, mate_notes, reach,
+                                                   round(1e-3 * rate))
+            if not _still_rising(cleared[m, later], t, width, before, block, rise):
                 continue
-            # past where two mates reach over its 1 ms, the note must be the accent's own
-            alone = own_everywhere or sum((t + width) // block < reach_m for reach_m in reaches) < 2
-            if alone and not (_own_of(x, x - whole, t, width + after, own_db) if added[m]
-                              else _own(x, band, starts_m[m], scales[m], t, width + after, own_db)):
-                continue
-            noise = np.sqrt(np.mean(v[:quiet] ** 2))
-            above = np.flatnonzero(np.abs(v[quiet:]) >= max(0.01 * peak, 4.0 * noise))
-            if not len(above):
-                continue
-            onset = low + above[0]
-            if noise_start > 0.0 and 4.0 * noise > 0.01 * peak and _white(v[:quiet]):
-                starts_at[c[b] + onset] = c[b] + lo + noise_change(v, 0, low - round(noise_start * rate) - lo,
-                                                                   onset - lo)
-            found.append(c[b] + onset)
-            found_at = min(found_at, onset)
-            last = t
+        peak = np.abs(v[t - lo:]).max()
+        if not lowest <= peak <= highest:  # (the cheaper test first: both only refuse)
+            continue
+        # past where two mates reach over its 1 ms, the note must be the accent's own
+        alone = own_everywhere or sum((t + width) // block < reach_m for reach_m in reaches) < 2
+        if alone and not (_own_of(x, x - whole, t, width + after, own_db) if added[m]
+                          else _own(x, band, starts_m[m], scales[m], t, width + after, own_db)):
+            continue
+        noise = np.sqrt(np.mean(v[:quiet] ** 2))
+        above = np.flatnonzero(np.abs(v[quiet:]) >= max(0.01 * peak, 4.0 * noise))
+        if not len(above):
+            continue
+        onset = low + above[0]
+        if noise_start > 0.0 and 4.0 * noise > 0.01 * peak and _white(v[:quiet]):
+            starts_at[c[b] + onset] = c[b] + lo + noise_change(v, 0, low - round(noise_start * rate) - lo,
+                                                               onset - lo)
+        found.append(c[b] + onset)
+        found_at = min(found_at, onset)
+        last = t
     found = np.unique(np.asarray(found, dtype=float))
     if noise_start > 0.0:
         return found, np.array([starts_at.get(int(g), g) for g in found.tolist()], dtype=float)
