@@ -24,11 +24,12 @@ def test_a_ghost_note_the_rooms_returns_hide_is_found_by_its_own_attack(font, ke
     the first accent), its snare 40 note of 0.5630 s (-22.4 dB, 65 ms after its accent) and TimGM6mb's snare 38 note
     of 3.1713 s (-20.5 dB, 56 ms after its accent), none found before within 5 ms: the quiet layer's attack fits what
     a layer-mate leaves there by 0.97-1.00. Each is found within 1 ms, with no false detection more and every note
-    found before found as close; with ``ghost_room_fit=1`` (none sought, as before) not within 5 ms."""
+    found before found as close; with ``ghost_room_fit=1`` (none sought, as before) not within 5 ms. Both with
+    ``ghost_matched_fit=1``: the ghost layer's head finds FluidR3's snare 40 note too."""
     signal, t, level = _roll(font, key, "reverb")
     truth = _Truth(t, level)
-    found = find_onsets(signal, RATE).t
-    before = find_onsets(signal, RATE, config=OnsetConfig(ghost_room_fit=1.0)).t
+    found = find_onsets(signal, RATE, config=OnsetConfig(ghost_matched_fit=1.0)).t
+    before = find_onsets(signal, RATE, config=OnsetConfig(ghost_room_fit=1.0, ghost_matched_fit=1.0)).t
     assert np.min(np.abs(found - note)) < 1e-3 and np.min(np.abs(before - note)) > 5e-3
     now, then = score(truth, found), score(truth, before)
     assert now["within_1ms"] >= then["within_1ms"] + 1

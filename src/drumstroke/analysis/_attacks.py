@@ -17,7 +17,7 @@ from ._kernels import window_dots
 def template_search(remainder, template, head, times, shifts, refused, offset, layer_at, layer_size, pre, gap,
                     shortest, fit, bounce, echo, signature, reach, likeness, refused_likeness, ratio_low, ratio_high,
                     least, burst, earlier, unclear, weak, start_likeness, layer_likeness, bursts=1, unfitted=0.0,
-                    layer_whole=1.0, flight=0):
+                    layer_whole=1.0, flight=0, layer_start=0, layer_joint=1.0, joint_flight=0, joint_train=0):
     """:func:`.onsets._template_search`'s loop over the attacks at ``times`` (full-rate samples, in order).
 
     ``remainder`` (the band, changed in place) less each attack's fitted ``template`` (``pre`` samples before its
@@ -47,9 +47,14 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
     by ``weak``, scaled re that attack's fit by the layer; ``layer_likeness`` 1: not made; where that finds none either,
     or one past the next bounce's time, after a flight of ``flight`` samples or less, the layer's first ``fit`` samples
     alone by ``layer_whole`` a half to one and a half times that flight on, :func:`_whole_after`; ``layer_whole`` 1,
-    its default: not sought), and before the loop reaches
+    its default: not sought; where that finds none, after a flight of ``joint_train`` samples or less, the attack
+    fitted again with ``layer`` at each sample, ``joint_flight`` samples on or more, by ``layer_joint``,
+    :func:`_joint_after`, not after an attack so found; ``layer_joint`` 1, its default: not sought), and before the
+    loop reaches
     ``layer_at`` the layer is its sound as recorded (not yet what is left there; with ``layer_likeness`` 1 there is
-    none before it). Returns the attacks found (their
+    none before it). A detection flagged ``unclear``, not one the template timed, within ``bounce`` after the attack
+    before it, is put where ``layer`` fits best up to ``layer_start`` samples before it (:func:`_layer_start`; 0, its
+    default: not sought), and one up to ``layer_start`` samples after a bounce found is that bounce (dropped). Returns the attacks found (their
     times, in order), each one's correlation and which of ``times`` are dropped [shape=(len(times),)].
     """
     n, size = len(remainder), len(template)
@@ -63,8 +68,9 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
     most = n // max(gap, 1) + 1 + len(times)  # each new one gap after, each moved one of times
     found, likes, count = np.empty(most), np.empty(most), 0
     dropped = np.zeros(len(times), dtype=np.bool_)
-    i, pending, last = 0, -1, -n
+    i, pending, last, joined, by_joint = 0, -1, -n, False, False
     while True:
+        joined, by_joint = by_joint, False  # whether this attack is one the joint fit found
         if pending >= 0:
             c, pending = pending, -1  # where the template's attack fell
         elif i < len(times):
@@ -78,6 +84,14 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
                 if start >= 0:  # the detection was the attack's own later burst, its start hidden
                     dropped[i - 1], c = True, start
                     found[count], likes[count], count = start + offset, like, count + 1
+                elif layer_start > 0 and len(layer) > 0 and shifts[i - 1] == 0.0 and c - last <= bounce:
+                    # a train's quiet bounce detected on its main rise (FluidR3's snare 40: 0.9 ms late): the layer's
+                    # sound, not the loud template's, fits it best where it starts
+                    start, like = _layer_start(remainder, layer, c, max(last + gap, c - layer_start), following, pre,
+                                               shortest, fit, likeness)
+                    if start >= 0:
+                        dropped[i - 1], c = True, start
+                        found[count], likes[count], count = start + offset, like, count + 1
         else:
             break
         previous, last = last, c
@@ -162,6 +176,15 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
                                                  reach, scale, layer_whole, ratio_low, ratio_high)
                 if early >= 0:
                     at, like = early, early_like
+                elif layer_joint < 1.0 and not joined and c - previous <= joint_train:
+                    # the bounce before's sound fitted again with the next one's, least squares (its own fit, over
+                    # the layer's first fit samples, took in some of the next bounce's)
+                    early, early_like = _joint_after(remainder, own, at_c, scale, layer,
+                                                     max(c + gap, c + (c - previous) // 2, c + joint_flight),
+                                                     min(high, c + (3 * (c - previous)) // 2 + 1), following, pre,
+                                                     fit, reach, layer_joint, ratio_low, ratio_high)
+                    if early >= 0:
+                        at, like, by_joint = early, early_like, True
         if skipped and at > detection:
             if at - detection <= echo:  # the detection was this bounce placed early
                 dropped[i], i = True, i + 1
@@ -171,6 +194,9 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
             at, like = _refused_fit(remainder, template, head, head_energy, refused, c + signature,
                                     min(detection - gap, n - len(head) + pre), pre, fit, reach, refused_likeness,
                                     least)
+        if (layer_start > 0 and at >= 0 and i < len(times) and unclear[i] and shifts[i] == 0.0
+                and 0 < int(np.rint(times[i])) - at <= layer_start):
+            dropped[i], i = True, i + 1  # the next detection is this bounce on its main rise: no attack of its own
         if at >= 0:
             pending = at
             found[count], likes[count], count = at + offset, like, count + 1
@@ -412,6 +438,81 @@ def _earlier_start(remainder, template, head, head_energy, c, low, high, followi
     if _fits_near(remainder, template, c, following, pre, shortest, fit, reach, best_like):
         return -1, 0.0
     return best, best_like
+
+
+@jit(error_model="numpy")
+def _joint_after(remainder, own, at_c, scale, layer, low, high, following, pre, fit, reach, likeness, ratio_low,
+                 ratio_high):
+    """:func:`_whole_after`'s search with the attack at ``at_c`` (``own`` times ``scale``, taken off ``remainder``)
+    fitted again together with ``layer`` at each sample: the first sample in ``[low, high)`` where ``layer``'s first
+    ``fit`` samples (from ``pre`` before its attack) correlate by ``likeness`` or more with what ``remainder``, the
+    attack put back, less the attack so fitted leaves there (two scales, least squares from the attack's window to the
+    end of ``layer``'s), ``layer``'s scale ``ratio_low`` to ``ratio_high`` times ``scale``, moved to the best within
+    ``reach`` samples after: (sample, correlation), or (-1, 0). Each sample's sums from the running sums of the
+    attack's sound and of its products, and two sliding dot products with ``layer``."""
+    n = len(remainder)
+    span = min(pre + fit, len(layer))
+    high = min(high, following - fit, n - span + pre)
+    if high <= low or low < pre or at_c < pre:
+        return -1, 0.0
+    start, count = low - at_c, high - low  # the first window's start in the samples from at_c - pre
+    size = start + count - 1 + span
+    a, y = np.zeros(size), np.empty(size)
+    for j in range(size):
+        if j < len(own):
+            a[j] = own[j]
+        y[j] = remainder[at_c - pre + j] + scale * a[j]  # the attack put back
+    aa, ay = np.zeros(size + 1), np.zeros(size + 1)  # running sums from the attack's window on
+    for j in range(size):
+        aa[j + 1] = aa[j] + a[j] * a[j]
+        ay[j + 1] = ay[j] + a[j] * y[j]
+    ab = _correlations(a, start, layer[:span], count)
+    by = _correlations(y, start, layer[:span], count)
+    yy = _energies(y, start, count, span)
+    bb = _dot(layer, 0, layer, span)
+    likes, ratios = np.empty(count), np.empty(count)
+    for k in range(count):
+        w, end = start + k, start + k + span
+        det = aa[end] * bb - ab[k] * ab[k]
+        if det <= 0.0 or bb <= 0.0 or scale <= 0.0:
+            likes[k], ratios[k] = -1.0, 0.0
+            continue
+        x = (ay[end] * bb - by[k] * ab[k]) / det  # the attack's scale so fitted
+        z = (aa[end] * by[k] - ab[k] * ay[end]) / det  # layer's
+        left = max(yy[k] - 2.0 * x * (ay[end] - ay[w]) + x * x * (aa[end] - aa[w]), 1e-300)
+        likes[k], ratios[k] = (by[k] - x * ab[k]) / math.sqrt(left * bb), z / scale
+    for k in range(count):
+        if likes[k] < likeness or ratios[k] < ratio_low or ratios[k] > ratio_high:
+            continue
+        best = k
+        for m in range(k + 1, min(k + reach + 1, count)):
+            if likes[m] > likes[best]:
+                best = m
+        return low + best, likes[best]
+    return -1, 0.0
+
+
+@jit(error_model="numpy")
+def _layer_start(remainder, layer, c, low, following, pre, shortest, fit, likeness):
+    """Where in ``[low, c)`` the attack detected at ``c`` starts by ``layer``: the sample where ``layer``'s first
+    ``fit`` samples (up to ``following``, ``shortest`` or more) correlate best with ``remainder`` within ``low`` to
+    ``c``, when that is ``likeness`` or more, better than at ``c`` and more than ``_LAYER_LAG`` samples before it
+    (nearer, :func:`_take_off` finds it): (sample, correlation), or (-1, 0)."""
+    span = min(max(pre + shortest, min(pre + fit, following - c)), len(layer), len(remainder) - c + pre)
+    count = c - low + 1
+    if count <= _LAYER_LAG + 1 or low < pre or span <= pre:
+        return -1, 0.0
+    energy = _dot(layer, 0, layer, span)
+    own = _energies(remainder, low - pre, count, span)
+    dots = _correlations(remainder, low - pre, layer[:span], count)
+    best, best_like = -1, likeness
+    for k in range(count):
+        like = dots[k] / math.sqrt(max(own[k] * energy, 1e-300))
+        if like >= best_like:
+            best, best_like = k, like
+    if best < 0 or best >= count - 1 - _LAYER_LAG:
+        return -1, 0.0
+    return low + best, best_like
 
 
 @jit(error_model="numpy")

@@ -375,6 +375,12 @@ class OnsetConfig:
     peak_realign : float in [0, 0.005]
         s: how far either way of an onset its template's fit is sought again where the fit within 60 µs leaves
         more than 30 % of the note unexplained (step 6; 0: never, as before issue 28's levels round).
+    peak_learn : float in [0, 1]
+        The fraction of a note's first ``peak_window`` s its best template leaves unexplained over which the
+        layers no clear note makes a template of are learned from the quietest notes with 40 ms or more of room,
+        and a note closer than ``peak_window`` s to the next has its peak read from its fitted template where that
+        explains 70 % or more of its window (step 6;
+        0: never, every peak its window's largest sample, as before issue 28's peak-levels round).
     sound_templates : int in [0, 100]
         How many of the recording's clear notes (the loudest), each up to the next onset, are templates of the
         earlier notes' sound where an attack's own sound is weighed (step 5, ``new_sound_db``).
@@ -520,6 +526,20 @@ class OnsetConfig:
         that delay (within 1.5 ms), an attack tried so too, in the window it needs clear (two returns of the room
         67 ms after a drop's two trains' last bounces each lie in the other's partner's window; 0: no attack may, as
         before this field).
+    layer_start_reach : float in [0, 0.005]
+        s: a detection over earlier sound, not timed by the template, within ``bounce_reach`` s after an attack
+        (a train's bounce), is put where the quietest clear attack's sound (its first ``template_fit`` s) correlates
+        best within this before it, by ``template_likeness`` and more than two samples before it, and a detection
+        within this after a bounce the search found is that bounce (FluidR3's snare 40: bounces detected on their
+        main rise 0.94 ms late, their sound taken off there hid the next; step 5; 0: not sought, as before this
+        field).
+    layer_joint_likeness : float in [0, 1]
+        Correlation: where ``layer_whole_likeness`` finds no close bounce after a flight of 9 ms or less, the
+        bounce before fitted again together with the quietest clear attack's sound at each sample (two scales,
+        least squares), from 3.5 ms on: the least correlation of that sound's first ``template_fit`` s with what
+        the bounce before so fitted leaves (its fit alone took in some of the next bounce's sound: FluidR3's snare
+        38 with reverb, 0.70 alone, 0.73 so); not after a bounce so found (step 5; 1: not sought, as before this
+        field).
     ghost_noise_start : float in [0, 0.005]
         s: where what is left before a ghost note is white noise (its correlation one sample on within 0.6 of 0),
         the note's onset, read as its first sample four times that noise's RMS (late by a slow lead-in under it), is
@@ -536,6 +556,12 @@ class OnsetConfig:
         scaled by least squares, and that remainder reaches on to the mate's note after it: a ghost note late after
         its accent, past every mate's own ghost note (steps 5, :func:`_ghost_notes` and :func:`_room_ghost_notes`;
         1: none taken off, each mate's remainder up to its next attack, as before this field).
+    ghost_matched_fit : float in [0, 1]
+        Correlation: where the recording replays a sample, a ghost note is also sought by a matched filter of its
+        layer's own first 5.5 ms, learned from the ghost notes found (their remainders once the accents' mates are
+        taken off, aligned and averaged, kept where they correlate so): where the mean of what the mates leave (a
+        mate whose own next attack is such a note taken off less it) rises 6 dB over 1 ms and fits that head by this
+        or more, a note (step 5, :func:`_matched_ghost_notes`; 1: none sought, as before this field).
     template_start_db : float in [-120, 0]
         dB re the template's attack's peak (its band's largest magnitude over the 5 ms after it): the template's
         start (:func:`_attack_sound`) is moved back to the first sample up to 2 ms before
@@ -543,6 +569,21 @@ class OnsetConfig:
         attacks it times inherit its time (TimGM6mb's snare 40 rises to 2-4 % of its peak a millisecond before its main
         rise, which at -60 dBFS noise is what is detected: every template-timed bounce was 0.5-1.2 ms late); 0: the
         start stays where it was detected, as before this field.
+    ghost_room_reach : float in [0, 0.005]
+        s: in a recording step 4 finds reverberant, the quiet attack is fitted to what the layer-mates leave from so
+        long before the rise's block (to 5 ms after it; :func:`_room_ghost_notes`): a swell of what they leave before
+        a ghost note lifts the level its rise is read against, and the rise comes up to 1.7 ms after the attack's
+        window's start (FluidR3's snare 38 roll with reverb, seed 0: 1.7621 s); 1e-3: as before this field.
+    room_partner_under_db : float in [0, 120]
+        dB: in step 5's test of a room's echo (:func:`_room_echoes`), an attack kept there is tried again with each
+        partner's sound clear up to its next attack less than so much under it (a ghost note found after an accent
+        ends no partner's window for a return of another accent 149 ms on: FluidR3's snare 38 roll with reverb,
+        seed 0, 4.3427 s); 120: the next attack ends it, as before this field.
+    ghost_room_spare_likeness : float in [0, 1]
+        Correlation: in :func:`_room_ghost_notes`, a roll's accent (within 10 dB of the loudest clear attack, none
+        as loud for 0.2 s after it) with fewer than two layer-mates (by ``replay_likeness``) takes as its mates the
+        clear attacks whose first 10 ms correlate with it so (FluidR3's snare 40, velocity 95 among accents of
+        97-120: 0.993 with one of 97); 1: none, as before this field.
 
     Examples
     --------
@@ -616,6 +657,7 @@ class OnsetConfig:
     peak_layer_likeness: float = 0.98
     peak_apart_db: float = -20.0
     peak_realign: float = 1e-3
+    peak_learn: float = 0.035
     sound_templates: int = 6
     new_sound_db: float = -20.0
     soft_jump: float = 3.0
@@ -651,10 +693,16 @@ class OnsetConfig:
     ghost_room_fit: float = 0.8
     layer_whole_likeness: float = 0.8
     layer_echo_partners: int = 1
+    layer_start_reach: float = 1.5e-3
+    layer_joint_likeness: float = 0.7
     ghost_noise_start: float = 1e-3
     ghost_rise_gap: float = 1e-3
     ghost_mate_notes: float = 0.99
+    ghost_matched_fit: float = 0.9
     template_start_db: float = -40.0
+    ghost_room_reach: float = 2e-3
+    room_partner_under_db: float = 15.0
+    ghost_room_spare_likeness: float = 0.99
 
     def __post_init__(self):
         for name, (low, high, unit) in _RANGES.items():
@@ -697,7 +745,8 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "template_fit": (0.5e-3, 0.1, "s"), "template_head": (0.5e-3, 0.05, "s"),
     "peak_window": (1e-3, 0.1, "s"), "peak_reach": (0.01, 2.0, "s"), "peak_templates": (0, 100, ""),
     "peak_clear_db": (-120.0, 0.0, "dB"), "peak_layer_likeness": (0.0, 1.0, "(correlation)"),
-    "peak_apart_db": (-120.0, 0.0, "dB"), "peak_realign": (0.0, 5e-3, "s"), "sound_templates": (0, 100, ""), "new_sound_db": (-120.0, 0.0, "dB"),
+    "peak_apart_db": (-120.0, 0.0, "dB"), "peak_realign": (0.0, 5e-3, "s"), "peak_learn": (0.0, 1.0, "(fraction)"),
+    "sound_templates": (0, 100, ""), "new_sound_db": (-120.0, 0.0, "dB"),
     "soft_jump": (1.0, 100.0, "(RMS ratio)"), "soft_contact": (0.0, 0.02, "s"),
     "bounce_reach": (0.0, 0.5, "s"), "refused_likeness": (0.0, 1.0, "(correlation)"),
     "burst_db": (-120.0, 0.0, "dB"), "layer_likeness": (0.0, 1.0, "(correlation)"), "reflection_pairs": (0, 100, ""), "reflection_db": (0.0, 120.0, "dB"),
@@ -718,10 +767,16 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "ghost_room_fit": (0.0, 1.0, "(correlation)"),
     "layer_whole_likeness": (0.0, 1.0, "(correlation)"),
     "layer_echo_partners": (0, 1, ""),
+    "layer_start_reach": (0.0, 5e-3, "s"),
+    "layer_joint_likeness": (0.0, 1.0, "(correlation)"),
     "ghost_noise_start": (0.0, 5e-3, "s"),
     "ghost_rise_gap": (0.0, 5e-3, "s"),
     "ghost_mate_notes": (0.0, 1.0, "(correlation)"),
+    "ghost_matched_fit": (0.0, 1.0, "(correlation)"),
     "template_start_db": (-120.0, 0.0, "dB"),
+    "ghost_room_reach": (0.0, 5e-3, "s"),
+    "room_partner_under_db": (0.0, 120.0, "dB"),
+    "ghost_room_spare_likeness": (0.0, 1.0, "(correlation)"),
 }
 
 
@@ -849,7 +904,9 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        little it rises; after an attack the quiet layer's template took off, in a train of close attacks, where the
        recording replays a sample (two clear attacks one waveform by ``replay_likeness``), that layer's template
        may find it too (its first ``template_fit`` s by ``layer_bounce_likeness``, its start by ``weak_likeness``; where
-       that finds none after a flight of 10 ms or less, its first ``template_fit`` s alone by ``layer_whole_likeness``);
+       that finds none after a flight of 10 ms or less, its first ``template_fit`` s alone by ``layer_whole_likeness``,
+       and after one of 9 ms or less, fitted together with the bounce before, by ``layer_joint_likeness``; a detection
+       of such a train over earlier sound is put where the layer fits best up to ``layer_start_reach`` s before it);
        else an onset step 4 refused, ``signature`` s or more after it, where both correlate by
        ``refused_likeness``; then that second opinion again with the quietest clear attack as
        the template (another velocity layer of a sample), by ``layer_likeness``. A detection there that taking off
@@ -860,7 +917,8 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        one waveform with it by ``replay_likeness``) are taken off, where that rises ``ghost_rise_db`` (where one mate
        alone reaches, or the recording is reverberant, and the note is louder in the accent than in the mate by
        ``ghost_own_db``, ``ghost_room_own_db``); each is put at its first sample there (a new attack, or one found
-       0.5-1.5 ms late moved).
+       0.5-1.5 ms late moved). :func:`_matched_ghost_notes`: and where what the mates leave fits the ghost layer's
+       own head, learned from the ghost notes found, by ``ghost_matched_fit`` (a matched filter).
        :func:`_level_band`. An onset's amplitude is the peak of its own sound in the drum's lowest
        modes (the band up to ``level_ratio`` times its lowest strong mode, ≥ ``level_band`` Hz,
        decimated to 2.5 times that: a stick's speed sets their amplitude in proportion, while the
@@ -892,7 +950,9 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        signal itself by :func:`_peak_amplitudes`: the loudest sample over ``peak_window`` s after it (or
        up to the next onset), after the earlier notes' sound is taken off (each fitted by the
        recording's own templates, one a velocity layer, each the median of its clear notes' waveforms, of the
-       ``peak_templates`` loudest, followed ``peak_reach`` s).
+       ``peak_templates`` loudest, followed ``peak_reach`` s; with ``peak_learn``, the layers no clear note has
+       learned on the way from their quietest notes with room, and a window the next onset cuts short read from
+       its note's fit).
        :func:`_without_reflections`: where ``reflection_pairs`` pairs of successive onsets or more, the later
        ``reflection_db`` under the earlier, share one delay (within ``reflection_spread`` s), each such later one
        is a room's reflection and is left out. :func:`_room_returns`, in a reverberant recording: an onset the
@@ -987,6 +1047,7 @@ def _detected(signal, rate, config, source, info):
     candidates = _ghost_notes(band, d, rate, candidates, config, replays, modes.reverberant, shared)
     if modes.reverberant:
         candidates = _room_ghost_notes(band, d, rate, candidates, config, replays, shared)
+    candidates = _matched_ghost_notes(band, d, rate, candidates, config, replays, shared)
     levels = _level_band(band, rate, q, first, config, lowest)
     amplitude = levels.amplitudes(_measured_at(candidates, found, rate, config), modes.reverberant, config)
     candidates, amplitude = _one_attack_each(d, rate, candidates, amplitude, config)
@@ -1596,7 +1657,21 @@ def _template_search(band, d, rate, candidates, refused, config, replays, quiete
     template's search finds the next bounce (or finds one past its time), after a flight of 10 ms or less, the layer's
     first ``template_fit`` s alone by ``layer_whole_likeness`` (:func:`._attacks._whole_after`), scaled
     ``bounce_ratio_low`` to ``after_ratio_high`` times that attack, a half to one and a half times the flight before
-    on (a drop's flights shrink; FluidSynth's blocks jitter them by 1.3 ms), find it.
+    on (a drop's flights shrink; FluidSynth's blocks jitter them by 1.3 ms), find it. The bounce before's own fit
+    over the layer's first 10 ms takes in some of the next bounce's sound: where that finds none either, after a
+    flight of 9 ms or less, the bounce before is fitted again together with the layer at each sample from 3.5 ms on
+    (two scales, least squares from the bounce before to the next one's 10 ms; :func:`._attacks._joint_after`), and
+    the layer's first ``template_fit`` s correlating by ``layer_joint_likeness`` with what the bounce before so
+    fitted leaves (scaled as above) is the next bounce (FluidR3's snare 38 with reverb: 0.70 alone, 0.73 so); not
+    after a bounce so found (the train's end on: TimGM6mb's snare 38 drops, bounces at -32 and -35 dB whose own sound
+    the fit took for a bounce 2.2-2.9 ms on, or after which step 5 kept a detection 15 ms on). And a detection of
+    such a train over earlier sound, not timed by the template (FluidR3's snare 40: on its main rise, 0.94 ms late),
+    is put where the layer's first ``template_fit`` s correlate best, by ``template_likeness``, up to
+    ``layer_start_reach`` s before it, and a detection that close after a bounce found is that bounce: taken off
+    there, the bounce's sound hid the next (0.65 there, 0.72 once put at its start). On the corpus, seed 0: 3 more
+    loud notes within 1 and 5 ms (FluidR3's drops with reverb: snare 38's 1.9687 s, snare 40's 1.9537 s); seeds 1-4:
+    8, 11, 10 and 3 more within 1 and 5 ms, 3 false detections fewer (seed 3); no recording of seeds 0-4 loses a
+    note or gains a false detection.
 
     *A sample's second burst.* FluidR3's electric snare (40) bursts again 3.4 ms into a note. A detection within
     ``bounce_reach`` s after an attack, where taking that attack's fit off (up to the detection, or past it to the
@@ -1679,13 +1754,19 @@ def _template_search(band, d, rate, candidates, refused, config, replays, quiete
                                             config.weak_likeness, config.bounce_likeness, layer_bounce,
                                             config.found_bursts, config.burst_unfitted_likeness,
                                             config.layer_whole_likeness if layer_bounce < 1.0 else 1.0,
-                                            round(_TRAIN_FLIGHT * rate))
+                                            round(_TRAIN_FLIGHT * rate),
+                                            round(config.layer_start_reach * rate) if layer_bounce < 1.0 else 0,
+                                            config.layer_joint_likeness if layer_bounce < 1.0 else 1.0,
+                                            round(_JOINT_FLIGHT * rate), round(_JOINT_TRAIN * rate))
     if not len(found) and not dropped.any():
         return candidates
     merged, fresh = candidates.take(~dropped).insert(found, attack=True, likeness=likes)
     return replace(merged, kinds=np.where(fresh, 3, merged.kinds))
 
 
+_JOINT_FLIGHT = 3.5e-3  # s: the shortest flight ``layer_joint_likeness`` takes (the corpus's drops' last flights: 3.9 ms
+# or more; what the joint fit finds 2.2-2.9 ms after a TimGM6mb snare 38 train's last bounce is that bounce's own sound)
+_JOINT_TRAIN = 9e-3  # s: the longest flight before a bounce that ``layer_joint_likeness`` seeks after
 _TRAIN_FLIGHT = 10e-3  # s: the longest flight before a drop's last bounce that ``layer_whole_likeness`` seeks after
 # (FluidR3's snares: 3.9-9.3 ms; a room's detections 18 ms apart took the room's sound for a train of bounces)
 
@@ -1769,13 +1850,19 @@ def _room_ghost_notes(band, d, rate, candidates, config, replays, shared=None):
     ghost note is its layer's waveform, the returns a smoothed sound: where that remainder's energy over 5 ms rises
     4 dB over its most over the 10 ms before (a mate or more reaching; no test of whose), the quietest clear
     attack's first 5 ms (from 0.5 ms before it: :func:`_template`, ``quietest``) must correlate with the remainder
-    by ``ghost_room_fit`` or more, placed within 1 ms before to 5 ms after the rise's block, one rise tried in 5 ms
-    (:func:`._ghosts.room_ghost_onsets`). On the corpus's recordings step 4 finds reverberant (seeds 0-4, every set
+    by ``ghost_room_fit`` or more, placed within ``ghost_room_reach`` s before to 5 ms after the rise's block, one
+    rise tried in 5 ms (:func:`._ghosts.room_ghost_onsets`). On the corpus's recordings step 4 finds reverberant (seeds 0-4, every set
     and condition) the rises on no note fit 0.77 at most, those on a note missed before 0.82-1.00. The quietest
     clear attack of a roll is an accent (FluidR3's: velocity 95-98, its two layers' mix), whose first 5 ms correlate
-    0.86-0.98 with a ghost note's alone; where what is left is more than the note (FluidR3's snare 38 note of
-    1.7621 s, seed 0: 0.56) it stays missed. A new note (no attack within 5 ms) is an
-    attack of kind 3; an attack 0.5-2 ms after it is moved there (a ghost note found late on its main rise:
+    0.86-0.98 with a ghost note's alone. A swell of what the mates leave 10 ms before a ghost note lifts the level
+    its rise is read against: FluidR3's snare 38 note of 1.7621 s (seed 0) first rises at 1.7633 s, 1.7 ms after
+    the attack's window's start, where it fits 0.91-0.96 (each mate) and from 1 ms before the rise 0.56: the fit is
+    read from ``ghost_room_reach`` (2 ms) before. An accent whose velocity mixes its two layers its own way has no
+    layer-mate (FluidR3's snare 40 accent of 3.5083 s, velocity 95, seed 0: none by 0.999, its ghost note of 3.6004
+    s missed): a roll's accent so (none as loud for 0.2 s after it: not a drop's bounce) takes as its mates the
+    attacks that correlate with it by ``ghost_room_spare_likeness`` (0.99; an accent of velocity 97 scaled leaves
+    -46 dB over the 5 ms before that note, -36 dB after, where the attack fits 0.965). A new note (no attack within
+    5 ms) is an attack of kind 3; an attack 0.5-2 ms after it is moved there (a ghost note found late on its main rise:
     FluidR3's rolls, 1.0-1.8 ms; moved 2.1 ms, FluidR3's snare 38 roll with reverb's note of 3.4234 s, seed 2, a
     return 24.6 ms after it, -32 dB, that :func:`_layer_echoes` refused by 0.5 dB, passes by 0.3).
     ``ghost_room_fit`` 1: none sought (as before this field). A mate's next note of the accent's waveform is taken
@@ -1794,7 +1881,39 @@ def _room_ghost_notes(band, d, rate, candidates, config, replays, shared=None):
     ghosts = room_ghost_onsets(band, candidates.times[which], lead_clear[which], rate, template[:size],
                                likeness=config.replay_likeness, rise_db=4.0,
                                least=10.0 ** (config.threshold_db / 20.0), fit=config.ghost_room_fit,
+                               reach=config.ghost_room_reach, spare_likeness=config.ghost_room_spare_likeness,
                                mate_notes=config.ghost_mate_notes, shared=shared)
+    return _placed_ghosts(candidates, ghosts, which, rate)
+
+
+def _matched_ghost_notes(band, d, rate, candidates, config, replays, shared=None):
+    """Step 5, where the recording replays a sample: the ghost notes under an accent's sound found by a matched
+    filter of their layer's own attack, learned from the ghost notes already found.
+
+    A ghost layer's notes are one waveform replayed, and what the accent's layer-mates leave of it after a ghost
+    note found is that note alone with the noise of the recordings: those remainders' first 5.5 ms, aligned and
+    averaged (three or more, two mates or more reaching each, correlating by ``ghost_matched_fit``), are the head;
+    each note's projection on it its amplitude, and its remainders past the head so scaled and averaged the layer's
+    longer sound, so a mate whose own next attack is such a note is taken off less it and reaches on past that note
+    (:func:`._ghosts.matched_ghost_onsets`). Under white noise a quiet ghost note's first millisecond rises too
+    little over the noise of the two recordings taken one from the other (FluidR3's snare 38 roll at -60 dBFS, seed
+    0: 0.7874 s, 10.3 dB where ``ghost_rise_db`` asks 15), while the head's 5.5 ms gather its energy: the mean of
+    the reaching mates' remainders fits it 0.98 there; that roll's notes of 2.8007 s (every mate's own next note
+    first) and 3.9647 s (found 1.25 ms late) fit 0.97 and 0.99 once the mates' own ghost notes are taken off them.
+    Where what the mates leave rises 6 dB over 1 ms (over its most over the 10 ms before) and the head fits by
+    ``ghost_matched_fit`` or more (on the corpus's seed 0 the rises 5 ms or more from every note fit 0.61 at most),
+    a new note (no attack within 5 ms) is an attack of kind 3 at the head's onset; an attack 0.5-2 ms after it is
+    moved there. ``ghost_matched_fit`` 1: none sought (as before this field).
+    """
+    from ._ghosts import matched_ghost_onsets
+
+    if config.ghost_matched_fit >= 1.0 or len(candidates) < 3 or not replays():
+        return candidates
+    _, (lead_clear,) = _clear(d, candidates.times, rate, [config.lead_clear_db])
+    which = np.flatnonzero(candidates.attack)
+    ghosts = matched_ghost_onsets(band, candidates.times[which], lead_clear[which], rate,
+                                  likeness=config.replay_likeness, least=10.0 ** (config.threshold_db / 20.0),
+                                  fit=config.ghost_matched_fit, shared=shared)
     return _placed_ghosts(candidates, ghosts, which, rate)
 
 
@@ -2039,12 +2158,12 @@ def _out_of_decay(band, d, rate, candidates, amplitude, config, replays, reverbe
     keep = attack.copy()
     keep[tried] = rise > prior * least[quiet | close]
     if reverberant:
-        keep = _room_echoes(band, d, rate, candidates, amplitude, keep, config)
+        keep = _room_echoes(band, d, rate, candidates, amplitude, keep, config, under_db=config.room_partner_under_db)
     keep = _layer_echoes(band, d, rate, candidates, amplitude, keep, config, replays)
     return _new_sound(band, rate, replace(candidates, attack=keep), config)
 
 
-def _room_echoes(band, d, rate, candidates, amplitude, attack, config, kind=2, fit_db=None):
+def _room_echoes(band, d, rate, candidates, amplitude, attack, config, kind=2, fit_db=None, under_db=120.0):
     """Step 5, in a reverberant recording: ``attack`` less the attacks that are a room's echo of an earlier note.
 
     A room returns each note again and again, each return a smoothed copy of it (FluidSynth's reverb: from 54 ms
@@ -2060,9 +2179,13 @@ def _room_echoes(band, d, rate, candidates, amplitude, attack, config, kind=2, f
     the 5 ms before and after it, and alike: its fit (least squares) leaves ``room_fit_db`` or less of that
     band's energy, and the power it leaves after it passes that before it by ``room_echo_db`` at most
     (:func:`._rooms.echo_novelty`; the partners and fits compiled: :func:`._rooms.room_echoes`). A ghost note under
-    an accent's tail, as quiet and as flat, leaves 3.6-19 dB more after its start. ``kind`` and ``fit_db``
+    an accent's tail, as quiet and as flat, leaves 3.6-19 dB more after its start. In a roll every accent's ghost
+    note lies within a return's delay, so no accent is a partner at it but one whose ghost note was missed: with
+    ``under_db`` (step 5: ``room_partner_under_db``) an attack kept is tried again with each partner's sound clear
+    up to its next attack less than so much under it (a second pass, so no echo refused before is kept: its best
+    fit may be another partner's, which leaves more after). ``kind`` and ``fit_db``
     (``room_fit_db`` unless given): the attacks tried and the most their fit may leave (:func:`_room_returns` tries
-    the template's, kind 3).
+    the template's, kind 3); ``under_db``: 120, no second pass.
     """
     from ._kernels import peaks_around
     from ._rooms import room_echoes
@@ -2083,9 +2206,23 @@ def _room_echoes(band, d, rate, candidates, amplitude, attack, config, kind=2, f
     after = np.searchsorted(times, times + 1e-3 * rate, side="right")
     clear = np.append(times, np.inf)[after] - times
     # each tried attack's partners and fits, in one compiled loop
-    return room_echoes(band, times, levels, clear, tried, attack, which, 35e-3 * rate, 0.3 * rate,
-                       config.reflection_db, 6.0, width, width, reach, max(1, round(60e-6 * rate)),
-                       10.0 ** (fit_db / 10.0), novel)
+    args = (tried, attack, which, 35e-3 * rate, 0.3 * rate, config.reflection_db, 6.0, width, width, reach,
+            max(1, round(60e-6 * rate)), 10.0 ** (fit_db / 10.0), novel)
+    kept = room_echoes(band, times, levels, clear, *args)
+    if under_db < 120.0:  # and those kept, again with the partners clear of the next attack less than so much under
+        louder = _clear_of_louder(times, levels, after, under_db)
+        again = tried[kept[which[tried]]]
+        if len(again) and np.any(louder > clear):
+            kept = room_echoes(band, times, levels, louder, again, kept, *args[2:])
+    return kept
+
+
+def _clear_of_louder(times, levels, after, under_db):
+    """How long the sound after each attack (``times``, samples; ``levels``, dB) stays clear of the next one from
+    ``after`` on (indices: the first 1 ms or more after each) less than ``under_db`` dB under it."""
+    index = np.arange(len(times))
+    ends = (index[None, :] >= after[:, None]) & (levels[None, :] > levels[:, None] - under_db)
+    return np.where(ends.any(axis=1), times[np.argmax(ends, axis=1)], np.inf) - times
 
 
 def _layer_echoes(band, d, rate, candidates, amplitude, attack, config, replays):
@@ -2194,7 +2331,7 @@ def _new_sound(band, rate, candidates, config):
     which = np.flatnonzero(candidates.attack)
     if len(which) < 2:
         return candidates
-    own, heard = _own_peaks(band, candidates.times[which], rate, config, _cut_templates)
+    own, heard = _own_peaks(band, candidates.times[which], rate, config, _cut_templates)[:2]
     attack = candidates.attack.copy()
     attack[which] = own >= heard * 10.0 ** (config.new_sound_db / 20.0)
     return replace(candidates, attack=attack)
@@ -2411,12 +2548,20 @@ def _peak_amplitudes(signal, times, rate, config):
     subtracting envelopes in power leaves the two waveforms' beating: both measured 2-10 dB worse on
     rolls and drops (docs/analysis.md). The signal is not high-passed (a 60 Hz high-pass moves a
     sample's peak by up to 1.8 dB), only its mean taken off.
+
+    With ``peak_learn`` (over 0), the layers no clear note has a template of are learned from their quietest notes
+    with room, the earlier notes' fits taken off (:func:`._templates.own_peaks`), and a note whose window the next
+    onset cuts short of ``peak_window`` has its peak read from its fit where that explains 70 % or more of the window
+    (the fitted template's scale times its peak over the window): a drop's close bounces (4-8 ms apart) on FluidR3's snare, whose quiet layer peaks 9.4 ms
+    into the note, read 1-2.7 dB low over their windows cut short and (fitted by the loud layer's template) left
+    their sound under the next bounces' peaks, up to 4.6 dB high.
     """
-    return _own_peaks(np.asarray(signal, dtype=float) - float(np.mean(signal)), times, rate, config,
-                      overwrite=True, realign=round(config.peak_realign * rate))[0]
+    peaks, _, fitted = _own_peaks(np.asarray(signal, dtype=float) - float(np.mean(signal)), times, rate, config,
+                                  overwrite=True, realign=round(config.peak_realign * rate), learn=config.peak_learn)
+    return np.where(np.isnan(fitted), peaks, fitted)
 
 
-def _own_peaks(x, times, rate, config, templates=None, overwrite=False, realign=0):
+def _own_peaks(x, times, rate, config, templates=None, overwrite=False, realign=0, learn=0.0):
     """Each onset's own peak (:func:`_peak_amplitudes`: ``x`` less the earlier notes' sound) and the peak of ``x`` itself
     over the same window (full scale) [each shape=(n,)].
 
@@ -2430,7 +2575,10 @@ def _own_peaks(x, times, rate, config, templates=None, overwrite=False, realign=
     preferred, else the longest) is taken off, scaled by least squares (compiled: :func:`._templates.own_peaks`).
     With ``realign`` (samples; ``peak_realign``'s, for :attr:`Onsets.peak_db` only), a fit that leaves more than
     :data:`_POOR_FIT` of its window unexplained is sought again that far either way (a template misplaced by an onset
-    0.1-1 ms late leaves its note's sound under the next notes' peaks: up to 12 dB over a ghost note's).
+    0.1-1 ms late leaves its note's sound under the next notes' peaks: up to 12 dB over a ghost note's). With
+    ``learn`` (``peak_learn``'s, for :attr:`Onsets.peak_db` only), the layers the templates lack are learned on the
+    way, and a third array [shape=(n,)] is each fit's peak where the next onset cuts a window short (NaN elsewhere;
+    :func:`._templates.own_peaks`).
     """
     from ._templates import own_peaks
 
@@ -2444,9 +2592,11 @@ def _own_peaks(x, times, rate, config, templates=None, overwrite=False, realign=
     bank = np.concatenate(templates) if templates else np.empty(0)
     rest = x if overwrite else np.array(x, dtype=float)
     return own_peaks(rest, starts, following, ends, bank, np.cumsum(lengths) - lengths, lengths, window, reach, shift,
-                     realign, _POOR_FIT)
+                     realign, _POOR_FIT, learn, round(_LEARN_ROOM * rate), 10.0 ** (_LEARN_CLEAR_DB / 20.0))
 
 
+_LEARN_CLEAR_DB = -20.0  # (peak_learn) a note learned: what the earlier notes' fits leave over its window before, re its peak
+_LEARN_ROOM = 40e-3  # s (peak_learn) a note learned: its room before the next onset, and how much of the template is its own
 _POOR_FIT = 0.3  # the fraction of a note a fit leaves unexplained over which it is sought again (``peak_realign``)
 
 
