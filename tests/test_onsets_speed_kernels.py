@@ -750,3 +750,56 @@ def test_mates_notes_lags_side_by_side_are_the_loop_they_replaced(rng):
         assert noise > 0.0 or np.count_nonzero(want[0]) > 0  # the roll's mates' notes are taken off
         for g, w in zip(got, want):
             np.testing.assert_array_equal(g, w)
+
+
+def test_spare_partners_from_shared_correlations_are_fresh_ones(rng):
+    """_ghosts._spare_partners reads the correlations _partners kept (``shared``, the same band and attacks, another
+    likeness) and gives the lists the search by that likeness gives (for its rows only), leaving _partners' kept
+    answer as it was."""
+    from drumstroke.analysis._ghosts import _layer_mates, _mate_likes, _mates_from, _partners, _spare_partners
+
+    sound = rng.standard_normal(600) * np.geomspace(1.0, 1e-3, 600)
+    band = np.zeros(8000)
+    for at, scale in ((500, 1.0), (2000, 0.5), (3500, 0.8), (5000, 0.3)):
+        band[at:at + 600] += scale * sound
+    band[3500:4100] += 0.3 * rng.standard_normal(600) * np.geomspace(1.0, 1e-3, 600)  # one attack less like
+    band += 1e-4 * rng.standard_normal(len(band))
+    starts = np.array([500, 2000, 3500, 5000])
+    shared = {}
+    first = _partners(band, starts, 500, 2, 0.999, shared)
+    rows = np.array([False, False, True, False])
+    spare = _spare_partners(band, starts, 500, 2, 0.5, rows, shared)
+    assert spare == _mates_from(_mate_likes(band, starts, 500, 2), 2, 0.5, rows)
+    assert len(spare[2]) == 3 and len(first[2]) == 0 and spare[0] == []
+    assert _partners(band, starts, 500, 2, 0.999, shared) is first == _layer_mates(band, starts, 500, 2, 0.999)
+
+
+def test_room_ghost_search_with_spare_mates_and_shared_is_a_fresh_one(monkeypatch):
+    """FluidR3's snare 40 roll with reverb (seed 0), whose accent of 3.5083 s takes spare mates in the room's ghost
+    search: room_ghost_onsets given what ghost_onsets kept (``shared``: layer-mates, their correlations, mates'
+    notes, remainders' energies over each block) finds what it finds with nothing kept (a spare-mates list reads
+    its own notes and energies)."""
+    from _recorded_drums import RATE
+    from drumstroke.analysis import _ghosts, find_onsets
+    from drumstroke.analysis._ghosts import room_ghost_onsets
+    from test_recorded_room_rolls import _roll
+
+    calls, spares = [], []
+    spare_partners = _ghosts._spare_partners
+
+    def spy(*args, **kwargs):
+        spares.append(1)
+        return spare_partners(*args, **kwargs)
+
+    def room(*args, shared=None, **kwargs):
+        kept = room_ghost_onsets(*args, shared=shared, **kwargs)
+        calls.append((kept, room_ghost_onsets(*args, shared=None, **kwargs), shared))
+        return kept
+
+    monkeypatch.setattr(_ghosts, "_spare_partners", spy)
+    monkeypatch.setattr(_ghosts, "room_ghost_onsets", room)
+    signal, _, _ = _roll(40)
+    find_onsets(signal, RATE)
+    assert len(calls) == 1 and spares and calls[0][2]
+    kept, fresh, _ = calls[0]
+    assert len(kept) and np.array_equal(kept, fresh)
