@@ -21,11 +21,23 @@ def remainder_blocks(band, start, mates, scales, valid, blocks, block, window, f
     ``start`` ``lags[m]`` samples on, times ``gains[m]``, added from ``lead`` samples before that lag
     (:func:`mates_notes`).
     Returns the energies and the mates [shape=(blocks - window + 1,)]."""
-    count = len(mates)
-    power = np.empty((count, blocks))
-    for m in range(count):
+    power = np.empty((len(mates), blocks))
+    block_powers(band, start, mates, scales, valid, blocks, block, window, power, np.zeros(len(mates), np.int64),
+                 gains, lags, lead)
+    return least_remainders(power, valid, blocks, window, fewest)
+
+
+@jit(error_model="numpy")
+def block_powers(band, start, mates, scales, valid, blocks, block, window, power, done, gains=None, lags=None,
+                 lead=0):
+    """:func:`remainder_blocks`' energy of each mate's remainder over each block, ``power[m, j]``, for the blocks it
+    reads (under ``valid[m] + window - 1``) from ``done[m]`` on (those before in ``power`` already: the same remainder
+    read over other windows, :func:`_shared_powers`); ``done`` moved past them. ``gains``, ``lags``, ``lead``: as
+    :func:`remainder_blocks`' (a mate's next note taken off)."""
+    for m in range(len(mates)):
         gain, lag = (gains[m], lags[m]) if gains is not None else (0.0, 0)
-        for j in range(min(blocks, max(0, valid[m] + window - 1))):  # past a mate's reach its power is not read
+        need = min(blocks, max(0, valid[m] + window - 1))  # past a mate's reach its power is not read
+        for j in range(done[m], need):
             total = 0.0
             for k in range(j * block, (j + 1) * block):
                 v = band[start + k] - scales[m] * band[mates[m] + k]
@@ -33,20 +45,33 @@ def remainder_blocks(band, start, mates, scales, valid, blocks, block, window, f
                     v += gain * band[start + k - lag]
                 total += v * v
             power[m, j] = total
+        done[m] = max(done[m], need)
+
+
+@jit(error_model="numpy")
+def least_remainders(power, valid, blocks, window, fewest):
+    """:func:`remainder_blocks`' least energy over ``window`` blocks from each block, and whose, from the mates'
+    ``power`` over each block."""
+    count = len(valid)
     size = blocks - window + 1
     least = np.full(size, np.inf)
     pick = np.zeros(size, dtype=np.int64)
+    reach = np.zeros(size, dtype=np.int64)
+    energy = np.empty(size)
+    for m in range(count):
+        reached = min(size, max(0, valid[m]))
+        # each block's window summed from its first block on, as one running sum would, but a window's block at a
+        # time over all the blocks: the additions side by side (vector instructions), the same bits
+        energy[:reached] = 0.0
+        for i in range(window):
+            for j in range(reached):
+                energy[j] += power[m, j + i]
+        for j in range(reached):
+            reach[j] += 1
+            if energy[j] < least[j]:
+                least[j], pick[j] = energy[j], m
     for j in range(size):
-        reach = 0
-        for m in range(count):
-            if j < valid[m]:
-                reach += 1
-                energy = 0.0
-                for i in range(j, j + window):
-                    energy += power[m, i]
-                if energy < least[j]:
-                    least[j], pick[j] = energy, m
-        if reach < fewest:
+        if reach[j] < fewest:
             least[j] = np.inf
     return least, pick
 
@@ -97,6 +122,7 @@ def mates_notes(band, c, which, ends, accents, first, count, mate, shifts, scale
         return gains, lags
     n = pre + size
     left = np.empty(2 * reach + pre + head)
+    dots, energies = np.empty(2 * reach + 1), np.empty(2 * reach + 1)
     for k in range(len(accents)):
         b = which[accents[k]]
         length = min(span, ends[b] - c[b])
@@ -117,14 +143,18 @@ def mates_notes(band, c, which, ends, accents, first, count, mate, shifts, scale
             low = nominal - reach - pre  # what is left over the lags' heads, once
             for i in range(2 * reach + pre + head):
                 left[i] = band[c[b] + low + i] - scales[q] * band[start + low + i]
-            for lag in range(nominal - reach, nominal + reach + 1):  # the lag, on the note's first samples
-                dot, energy = 0.0, 0.0
-                for i in range(pre + head):
-                    v = left[lag - pre - low + i]
-                    dot -= v * band[c[b] - pre + i]
-                    energy += v * v
-                if energy > 0.0 and dot / np.sqrt(energy) > best:
-                    best, at = dot / np.sqrt(energy), lag
+            # the lag, on the note's first samples: each lag's sums in the order of its samples, the lags side by
+            # side (vector instructions; the same additions per lag, the same bits)
+            dots[:], energies[:] = 0.0, 0.0
+            for i in range(pre + head):
+                w = band[c[b] - pre + i]
+                for j in range(2 * reach + 1):
+                    v = left[j + i]
+                    dots[j] -= v * w
+                    energies[j] += v * v
+            for j in range(2 * reach + 1):
+                if energies[j] > 0.0 and dots[j] / np.sqrt(energies[j]) > best:
+                    best, at = dots[j] / np.sqrt(energies[j]), nominal - reach + j
             if at < 0:
                 continue
             dot, energy = 0.0, 0.0
@@ -139,16 +169,18 @@ def mates_notes(band, c, which, ends, accents, first, count, mate, shifts, scale
 
 @jit(error_model="numpy")
 def accent_rises(band, c, which, ends, accents, first, count, mate, shifts, scales, span, size, before, after, width,
-                 block, fewest, rise, gap=0, gains=None, lags=None, pre=0):
+                 block, fewest, rise, power, done, gap=0, gains=None, lags=None, pre=0):
     """:func:`ghost_onsets`' search of each accent's remainders for the blocks where a note rises (:func:`rising`; over
     the 10 ms before a ``gap`` of samples), in one loop: for each of ``accents`` (indices of ``which``, the clear attacks; the onsets ``c``, full-rate samples,
     the search's ``ends``) its mates ``mate[first:first + count]`` (indices of ``which``), each placed ``shifts``
     samples off and scaled by ``scales``. Returns for each rise its accent (index of ``accents``), its block, the
     mate whose remainder is the least there [each shape=(n,)], and each accent's window's length (samples of ``band``
     from its onset) [shape=(len(accents),)]. With ``gap`` (samples), the rises over the 10 ms before a gap so long
-    follow, each accent's index plus ``len(accents)``. With ``gains`` and ``lags`` (:func:`mates_notes`, their
-    ``pre``), a mate's next note of the accent's waveform is taken off its remainder, which then reaches on
-    (:func:`mate_reach`)."""
+    follow, each accent's index plus ``len(accents)``. ``power`` and ``done``: each mate's remainder's energy over
+    each block (rows as ``mate``'s; ``(span + after) // block`` columns or more) and how many blocks of it are there,
+    :func:`block_powers`' (given again on the same remainders, :func:`_shared_powers`). With ``gains`` and ``lags``
+    (:func:`mates_notes`, their ``pre``), a mate's next note of the accent's waveform is taken off its remainder,
+    which then reaches on (:func:`mate_reach`)."""
     found, blocks, mates = [], [], []
     lengths = np.zeros(len(accents), dtype=np.int64)
     for k in range(len(accents)):
@@ -166,13 +198,14 @@ def accent_rises(band, c, which, ends, accents, first, count, mate, shifts, scal
             valid[n] = ((c[a + 1] if a + 1 < len(c) else len(band)) - c[a] - width) // block
             if gains is not None and gains[first[k] + n] != 0.0:
                 valid[n] = mate_reach(c, len(band), a, b, lags[first[k] + n], width, block)
+        rows = slice(first[k], first[k] + count[k])
         if gains is None:
-            e, pick = remainder_blocks(band, c[b], starts, scales[first[k]:first[k] + count[k]], valid,
-                                       lengths[k] // block, block, width // block, fewest)
+            block_powers(band, c[b], starts, scales[rows], valid, lengths[k] // block, block, width // block,
+                         power[rows], done[rows])
         else:
-            e, pick = remainder_blocks(band, c[b], starts, scales[first[k]:first[k] + count[k]], valid,
-                                       lengths[k] // block, block, width // block, fewest,
-                                       gains[first[k]:first[k] + count[k]], lags[first[k]:first[k] + count[k]], pre)
+            block_powers(band, c[b], starts, scales[rows], valid, lengths[k] // block, block, width // block,
+                         power[rows], done[rows], gains[rows], lags[rows], pre)
+        e, pick = least_remainders(power[rows], valid, lengths[k] // block, width // block, fewest)
         # two mates or more at each block: one mate's missed note would be left in its remainder alone (where one
         # reaches, whose the note is says: the accent's, louder in it than in the mate)
         for j in range(len(e)):
@@ -206,29 +239,51 @@ def mate_reach(c, end, a, b, lag, width, block):
     return (min(later, own) - width) // block
 
 
+def _kept(shared, name, band, key, make):
+    """``make()``, kept in ``shared`` (a dict, or None) as ``name`` and given again for the same ``band`` (the same
+    object) and ``key``: what :func:`ghost_onsets` found that :func:`room_ghost_onsets` asks again on the same
+    attacks."""
+    if shared is not None and name in shared and shared[name][0] is band and shared[name][1] == key:
+        return shared[name][2]
+    answer = make()
+    if shared is not None:
+        shared[name] = (band, key, answer)
+    return answer
+
+
 def _partners(band, starts, size, lag, likeness, shared=None):
     """For each attack (``starts``: the samples its ``size``-sample window starts at), its layer-mates: (index,
     shift, scale) of each other attack whose window, shifted within ``lag`` samples, correlates by ``likeness``.
-    ``shared`` (a dict, or None): the last answer kept there, and given again for the same ``band`` (the same
-    object) and arguments (:func:`ghost_onsets` and :func:`room_ghost_onsets` on the same attacks), with the
-    correlations it was read from (:func:`_spare_partners`)."""
-    key = (starts.tobytes(), size, lag, likeness)
-    if shared is not None and shared.get("band") is band and shared.get("key") == key:
-        return shared["mates"]
-    likes = _mate_likes(band, starts, size, lag)
-    mates = _mates_from(likes, lag, likeness)
-    if shared is not None:
-        shared.update(band=band, key=key, mates=mates, likes=likes)
-    return mates
+    ``shared``: :func:`_kept`'s (the last answer given again for the same ``band`` and arguments; the correlations
+    it was read from kept too, for :func:`_spare_partners`)."""
+    return _kept(shared, "mates", band, (starts.tobytes(), size, lag, likeness),
+                 lambda: _mates_from(_shared_likes(band, starts, size, lag, shared), lag, likeness))
+
+
+def _shared_likes(band, starts, size, lag, shared=None):
+    """:func:`_mate_likes`, kept in ``shared`` (:func:`_kept`'s) for the same ``band`` and arguments."""
+    return _kept(shared, "likes", band, (starts.tobytes(), size, lag), lambda: _mate_likes(band, starts, size, lag))
+
+
+def _shared_powers(shared, band, c, which, accents, count, mate, shifts, scales, blocks, block, notes=None):
+    """The arrays :func:`accent_rises` keeps each mate's remainder's energy over each block in (``power``, ``blocks``
+    columns, and ``done``: how many are there), for the accents (indices of ``which``, ``count`` mates each:
+    ``mate``, ``shifts``, ``scales``, :func:`_accents_mates`'; ``notes``: the gains and lags of the mates' next notes
+    taken off, :func:`mates_notes`', or None). ``shared``: :func:`_kept`'s (the arrays given again, with the blocks
+    summed so far, for the same remainders: :func:`ghost_onsets` reads them over 1 ms, :func:`room_ghost_onsets`
+    over 5; keyed by each row's accent and mate samples and scale, so other mates, as its spare mates, are new
+    arrays)."""
+    accent_starts = np.repeat(c[which[np.array(accents, dtype=np.int64)]], count)
+    key = (block, blocks, accent_starts.tobytes(), (c[which[mate]] + shifts).tobytes(), scales.tobytes(),
+           None if notes is None else (notes[0].tobytes(), notes[1].tobytes()))
+    return _kept(shared, "powers", band, key,
+                 lambda: (np.empty((len(mate), blocks)), np.zeros(len(mate), dtype=np.int64)))
 
 
 def _spare_partners(band, starts, size, lag, likeness, rows, shared=None):
     """:func:`_partners` by ``likeness`` of the attacks of ``rows`` (booleans), from the correlations ``shared``
     kept for the same attacks (read again where it holds none)."""
-    key = (starts.tobytes(), size, lag)
-    if shared is not None and shared.get("band") is band and shared.get("key", ())[:3] == key:
-        return _mates_from(shared["likes"], lag, likeness, rows)
-    return _mates_from(_mate_likes(band, starts, size, lag), lag, likeness, rows)
+    return _mates_from(_shared_likes(band, starts, size, lag, shared), lag, likeness, rows)
 
 
 def _mate_likes(band, starts, size, lag):
@@ -335,10 +390,16 @@ def _own_of(x, theirs, t, size, own_db):
     return mine >= np.dot(theirs[t:t + size], theirs[t:t + size]) * 10.0 ** (own_db / 10.0)
 
 
-def _loud_and_ends(band, c, rate, quiet_db):
+def _loud_and_ends(band, c, rate, quiet_db, shared=None):
     """Each attack's peak over the 5 ms from it (``c``, full-rate samples; the last 5 ms of ``band`` from past its
     end; from before its start, as a negative index reads the windows, counted from the end), and where its sound is
-    no longer one attack's: the next attack within ``quiet_db`` dB of it (``len(band)`` for none)."""
+    no longer one attack's: the next attack within ``quiet_db`` dB of it (``len(band)`` for none). ``shared``:
+    :func:`_kept`'s."""
+    return _kept(shared, "loud", band, (c.tobytes(), rate, quiet_db), lambda: _loud_and_next(band, c, rate, quiet_db))
+
+
+def _loud_and_next(band, c, rate, quiet_db):
+    """:func:`_loud_and_ends`' answer."""
     windows_count = len(band) - round(5e-3 * rate) + 1
     lows = np.minimum(c, windows_count - 1)
     lows = np.where(lows < 0, lows + windows_count, lows)
@@ -386,7 +447,9 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
     the accent's own waveform by so much (:func:`mates_notes`: placed within 0.5 ms by its first 2 ms) is taken off
     its remainder, which reaches on up to the mate's note after it (:func:`mate_reach`); a rise so read past a note
     found in the accent's window that lag on is not sought (that note, in the accent's sound added back, is left
-    there). ``shared`` (a dict, or None): the layer-mates kept for :func:`room_ghost_onsets` (:func:`_partners`).
+    there). ``shared`` (a dict, or None): what :func:`room_ghost_onsets` asks again on the same attacks kept there
+    (:func:`_kept`: the attacks' peaks and ends, their layer-mates, the remainders' energies over each block; and
+    :func:`_mates_notes`).
     """
     pre, size, lag = round(0.5e-3 * rate), round(skip * rate), 2
     width, before, after = round(1e-3 * rate), round(10e-3 * rate), round(10e-3 * rate)
@@ -397,19 +460,26 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
     which = np.flatnonzero(ok)
     if len(which) < 3:
         return (np.empty(0), np.empty(0)) if noise_start > 0.0 else np.empty(0)
-    loud, ends = _loud_and_ends(band, c, rate, quiet_db)
+    loud, ends = _loud_and_ends(band, c, rate, quiet_db, shared)
     mates = _partners(band, starts[which], size + pre, lag, likeness, shared)
     rise, found = 10.0 ** (rise_db / 10.0), []
     # energy over 0.25-ms blocks, over 1 ms from each block (its onset sought at full rate after)
     block = max(1, width // 4)
-    accents, used, count, mate, shifts, scales_all = _accents_mates(mates, mates_used)
-    args = (band, c, which, ends, np.array(accents, dtype=np.int64), np.cumsum(count) - count, count, mate, shifts,
-            scales_all, round(span * rate), size, before, after, width, block, 1 if own_db < 120.0 else 2, rise)
-    gap = round(rise_gap * rate)
+    accents, _, count, mate, shifts, scales_all = _accents_mates(mates, mates_used)
+    first = np.cumsum(count) - count
+    notes = None
     if mate_notes < 1.0:  # the mates' next notes of the accent's waveform, taken off them
-        gains, lags = _mates_notes(shared, mates, band, c, which, ends, args[4], args[5], count, mate, shifts,
-                                   scales_all, round(span * rate), size, before, pre, round(0.5e-3 * rate),
-                                   round(1e-3 * rate), mate_notes)
+        notes = _mates_notes(shared, mates, band, c, which, ends, np.array(accents, dtype=np.int64), first, count, mate,
+                             shifts, scales_all, round(span * rate), size, before, pre, round(0.5e-3 * rate),
+                             round(1e-3 * rate), mate_notes)
+    power, done = _shared_powers(shared, band, c, which, accents, count, mate, shifts, scales_all,
+                                 (round(span * rate) + after) // block, block, notes)
+    args = (band, c, which, ends, np.array(accents, dtype=np.int64), first, count, mate, shifts,
+            scales_all, round(span * rate), size, before, after, width, block, 1 if own_db < 120.0 else 2, rise,
+            power, done)
+    gap = round(rise_gap * rate)
+    if notes is not None:
+        gains, lags = notes
         which_accent, rises, picks, lengths = accent_rises(*args, gap, gains, lags, pre)
     else:
         gains, lags = np.zeros(len(mate)), np.zeros(len(mate), dtype=np.int64)
@@ -419,64 +489,79 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
         which_accent = np.where(gapped, which_accent - len(accents), which_accent)
         order = np.lexsort((gapped, rises, which_accent))
         which_accent, rises, picks, gapped = which_accent[order], rises[order], picks[order], gapped[order]
-    quiet, reach = round(5e-3 * rate), round(0.5e-3 * rate)
+    quiet, reach, apart = round(5e-3 * rate), round(0.5e-3 * rate), round(20e-3 * rate)
     starts_at = {}  # the onsets moved to where white noise's power changes (noise_start)
-    for k in np.unique(which_accent).tolist():
-        b = which[accents[k]]
-        x = band[c[b]:c[b] + lengths[k]]
-        starts_m = np.array([c[which[a]] + shift for a, shift, _ in used[k]], dtype=np.int64)
-        scales = np.array([scale for _, _, scale in used[k]])
-        # a mate's own later notes are not b's: its remainder counts up to its next attack only
-        valid = np.array([((c[which[a] + 1] if which[a] + 1 < len(c) else len(band)) - c[which[a]] - width) // block
-                          for a, _, _ in used[k]], dtype=np.int64)
-        q = args[5][k]  # the accent's mates' first index in the flat arrays
-        added = gains[q:q + count[k]] != 0.0  # the mates whose next note is taken off (mate_notes)
-        for m in np.flatnonzero(added).tolist():
-            valid[m] = mate_reach.py_func(c, len(band), which[used[k][m][0]], b, int(lags[q + m]), width, block)
-        found_at = np.inf  # the first note found in the accent's window (samples from its onset)
-        cleared = {}  # what is left with the accent's own later notes taken off: for each mate and notes so taken
-        last = -np.inf
-        mine = which_accent == k
-        for t, m, over_gap in zip((rises[mine] * block).tolist(), picks[mine].tolist(), gapped[mine].tolist()):
-            if t < last + round(20e-3 * rate):
+    # each mate's place and reach, for all the accents at once (a mate's own later notes are not the accent's: its
+    # remainder counts up to its next attack only)
+    mate_at, after_mate = c[which[mate]] + shifts, which[mate] + 1
+    reach_all = (np.where(after_mate < len(c), c[np.minimum(after_mate, len(c) - 1)], len(band)) - c[which[mate]]
+                 - width) // block
+    k = -1
+    # the rises in their accents' order (accent_rises' order, or sorted so above)
+    for t, m, over_gap, accent in zip((rises * block).tolist(), picks.tolist(), gapped.tolist(),
+                                      which_accent.tolist()):
+        if accent != k:  # the next accent's mates
+            k = accent
+            b = which[accents[k]]
+            x = band[c[b]:c[b] + lengths[k]]
+            q = first[k]  # the accent's mates' first index in the flat arrays
+            starts_m, scales = mate_at[q:q + count[k]], scales_all[q:q + count[k]]
+            reaches = reach_all[q:q + count[k]].tolist()
+            added = (gains[q:q + count[k]] != 0.0).tolist()  # the mates whose next note is taken off (mate_notes)
+            for n_m in range(count[k]):
+                if added[n_m]:
+                    reaches[n_m] = mate_reach.py_func(c, len(band), which[mate[q + n_m]], b, int(lags[q + n_m]),
+                                                      width, block)
+            # the bounds of a note's peak, under the accent's (once an accent: the same values at each rise)
+            lowest, highest = max(least, loud[b] * 10.0 ** (below_db / 20.0)), loud[b] * 10.0 ** (quieter_db / 20.0)
+            found_at = np.inf  # the first note found in the accent's window (samples from its onset)
+            cleared = {}  # what is left with the accent's own later notes taken off: for each mate and notes so taken
+            last = -np.inf
+        if t < last + apart:
+            continue
+        low = t - gap if over_gap else t  # the note's lead-in may be in the gap
+        # the remainder only where it is read, from the 5 ms before the lead-in to the end of the peak's window
+        # (elementwise: the same samples as the whole window's remainder, not made anew at each rise)
+        lo, hi = low - quiet, min(t + width + after, len(x))
+        v = x[lo:hi] - scales[m] * band[starts_m[m] + lo:starts_m[m] + hi]
+        if over_gap and not _white(v[:quiet]):
+            continue
+        if added[m]:  # the mate's next note taken off, from the start of its fit on
+            lag = int(lags[q + m])
+            if t + width > found_at + lag - pre:  # a note found before is added back here
                 continue
-            low = t - gap if over_gap else t  # the note's lead-in may be in the gap
-            if over_gap and not _white(x[low - quiet:low] - scales[m] * band[starts_m[m] + low - quiet:starts_m[m] + low]):
+            whole = x - scales[m] * band[starts_m[m]:starts_m[m] + len(x)]  # (read over the whole window)
+            whole[lag - pre:] += gains[q + m] * band[c[b] - pre:c[b] - pre + len(x) - lag + pre]
+            v = whole[lo:hi]
+            peak = np.abs(v[t - lo:]).max()  # (as below: the cheaper test first)
+            if not lowest <= peak <= highest:
                 continue
-            v = x - scales[m] * band[starts_m[m]:starts_m[m] + len(x)]
-            if added[m]:  # the mate's next note taken off, from the start of its fit on
-                lag = int(lags[q + m])
-                if t + width > found_at + lag - pre:  # a note found before is added back here
-                    continue
-                v[lag - pre:] += gains[q + m] * band[c[b] - pre:c[b] - pre + len(x) - lag + pre]
-                peak = np.abs(v[t:t + width + after]).max()  # (as below: the cheaper test first)
-                if not max(least, loud[b] * 10.0 ** (below_db / 20.0)) <= peak <= loud[b] * 10.0 ** (quieter_db / 20.0):
-                    continue
-                # the accent's own later notes of its waveform taken off too: a rise in their sound is none
-                later = int(np.searchsorted(c, c[b] + t - before - size - reach, side="right")) - b - 1
-                if (m, later) not in cleared:  # (``v`` is the mate's, whatever the rise)
-                    cleared[m, later] = _own_notes_off(v, band, c, b, t - before, pre, size, mate_notes, reach,
-                                                       round(1e-3 * rate))
-                if not _still_rising(cleared[m, later], t, width, before, block, rise):
-                    continue
-            peak = np.abs(v[t:t + width + after]).max()
-            # past where two mates reach over its 1 ms, the note must be the accent's own
-            alone = own_everywhere or np.sum((t + width) // block < valid) < 2
-            if alone and not (_own_of(x, x - v, t, width + after, own_db) if added[m]
-                              else _own(x, band, starts_m[m], scales[m], t, width + after, own_db)):
+            # the accent's own later notes of its waveform taken off too: a rise in their sound is none
+            later = int(np.searchsorted(c, c[b] + t - before - size - reach, side="right")) - b - 1
+            if (m, later) not in cleared:  # (``whole`` is the mate's, whatever the rise)
+                cleared[m, later] = _own_notes_off(whole, band, c, b, t - before, pre, size, mate_notes, reach,
+                                                   round(1e-3 * rate))
+            if not _still_rising(cleared[m, later], t, width, before, block, rise):
                 continue
-            if not max(least, loud[b] * 10.0 ** (below_db / 20.0)) <= peak <= loud[b] * 10.0 ** (quieter_db / 20.0):
-                continue
-            noise = np.sqrt(np.mean(v[low - quiet:low] ** 2))
-            above = np.flatnonzero(np.abs(v[low:t + width + after]) >= max(0.01 * peak, 4.0 * noise))
-            if not len(above):
-                continue
-            onset = low + above[0]
-            if noise_start > 0.0 and 4.0 * noise > 0.01 * peak and _white(v[low - quiet:low]):
-                starts_at[c[b] + onset] = c[b] + noise_change(v, low - quiet, low - round(noise_start * rate), onset)
-            found.append(c[b] + onset)
-            found_at = min(found_at, onset)
-            last = t
+        peak = np.abs(v[t - lo:]).max()
+        if not lowest <= peak <= highest:  # (the cheaper test first: both only refuse)
+            continue
+        # past where two mates reach over its 1 ms, the note must be the accent's own
+        alone = own_everywhere or sum((t + width) // block < reach_m for reach_m in reaches) < 2
+        if alone and not (_own_of(x, x - whole, t, width + after, own_db) if added[m]
+                          else _own(x, band, starts_m[m], scales[m], t, width + after, own_db)):
+            continue
+        noise = np.sqrt(np.mean(v[:quiet] ** 2))
+        above = np.flatnonzero(np.abs(v[quiet:]) >= max(0.01 * peak, 4.0 * noise))
+        if not len(above):
+            continue
+        onset = low + above[0]
+        if noise_start > 0.0 and 4.0 * noise > 0.01 * peak and _white(v[:quiet]):
+            starts_at[c[b] + onset] = c[b] + lo + noise_change(v, 0, low - round(noise_start * rate) - lo,
+                                                               onset - lo)
+        found.append(c[b] + onset)
+        found_at = min(found_at, onset)
+        last = t
     found = np.unique(np.asarray(found, dtype=float))
     if noise_start > 0.0:
         return found, np.array([starts_at.get(int(g), g) for g in found.tolist()], dtype=float)
@@ -526,8 +611,8 @@ def room_ghost_onsets(band, times, clear, rate, head, *, likeness, rise_db, leas
     apart in the corpus, not a drop's bounces, 0.16 s or less) with fewer than two layer-mates takes as its mates
     the attacks that correlate with it by ``spare_likeness`` (under ``likeness``: a velocity between two layers'
     mixes, nearest in level; 1: none). ``mate_notes``: as :func:`ghost_onsets`' (a mate's next note of the
-    accent's waveform taken off). ``shared``: as :func:`ghost_onsets`' (the layer-mates it found, given again on
-    the same attacks)."""
+    accent's waveform taken off). ``shared``: as :func:`ghost_onsets`' (what it found, given again on the same
+    attacks and mates; a list with spare mates is another list, its mates' notes and energies read anew)."""
     pre, window, lag = round(0.5e-3 * rate), round(skip * rate), 2
     width, before, after = round(1e-3 * rate), round(10e-3 * rate), round(10e-3 * rate)
     n, back, wide = len(head), round(reach * rate), round(energy * rate)
@@ -539,7 +624,7 @@ def room_ghost_onsets(band, times, clear, rate, head, *, likeness, rise_db, leas
     norm = np.linalg.norm(head)
     if len(which) < 3 or not norm > 0.0:
         return np.empty(0)
-    loud, ends = _loud_and_ends(band, c, rate, quiet_db)
+    loud, ends = _loud_and_ends(band, c, rate, quiet_db, shared)
     mates = _partners(band, starts[which], window + pre, lag, likeness, shared)
     # an accent (within 10 dB of the loudest clear attack, none as loud for 0.2 s after it) with no layer-mates: the
     # attacks nearest it in level
@@ -553,15 +638,17 @@ def room_ghost_onsets(band, times, clear, rate, head, *, likeness, rise_db, leas
     accents, _, count, mate, shifts, scales = _accents_mates(mates, mates_used)
     args = (band, c, which, ends, np.array(accents, dtype=np.int64), np.cumsum(count) - count, count, mate, shifts,
             scales, round(span * rate), window, before, after, wide, block, 1, 10.0 ** (rise_db / 10.0))
-    gains = None
+    notes = None
     if mate_notes < 1.0:  # the mates' next notes of the accent's waveform, taken off them
-        gains, lags = _mates_notes(shared, mates, *args[:11], window, before, pre, round(0.5e-3 * rate),
-                                   round(1e-3 * rate), mate_notes)
-        which_accent, rises, picks, lengths = accent_rises(*args, 0, gains, lags, pre)
+        notes = _mates_notes(shared, mates, *args[:11], window, before, pre, round(0.5e-3 * rate),
+                             round(1e-3 * rate), mate_notes)
+    power, done = _shared_powers(shared, band, c, which, accents, count, mate, shifts, scales,
+                                 (round(span * rate) + after) // block, block, notes)
+    if notes is not None:
+        which_accent, rises, picks, lengths = accent_rises(*args, power, done, 0, notes[0], notes[1], pre)
     else:
-        which_accent, rises, picks, lengths = accent_rises(*args)
+        which_accent, rises, picks, lengths = accent_rises(*args, power, done)
     unit = head / norm
-    found = []
     # the rises tried: a rise's window spans ``energy`` s, so the rises in the window of one tried are its own
     chosen = spaced(which_accent, rises * block, wide, back + pre,
                     lengths[which_accent] - max(wide - pre + n, wide + width + after))
@@ -570,41 +657,27 @@ def room_ghost_onsets(band, times, clear, rate, head, *, likeness, rise_db, leas
     k_of, t_of = which_accent[chosen], rises[chosen] * block
     # each rise's remainder from ``reach`` before its block (less the head's lead) to where the last start's head
     # ends, and its energy summed from there (compiled, elementwise as numpy's difference and cumulative sum)
-    accent_at = c[which[np.array(accents, dtype=np.int64)]]
+    b_of = which[np.array(accents, dtype=np.int64)[k_of]]  # each rise's accent (an index of c)
     mate_of = (np.cumsum(count) - count)[k_of] + picks[chosen]
     low = t_of - back - pre
     size = back + pre + max(wide - pre + n, wide + width + after)
-    if gains is None:
-        v, sums = remainders(band, accent_at[k_of] + low, c[which[mate[mate_of]]] + shifts[mate_of] + low,
+    if notes is None:
+        v, sums = remainders(band, c[b_of] + low, c[which[mate[mate_of]]] + shifts[mate_of] + low,
                              scales[mate_of], size, back + wide + n)
+        added, lags = np.zeros(len(chosen), dtype=np.bool_), np.zeros(len(chosen), dtype=np.int64)
     else:  # with each mate's next note taken off from ``pre`` before its lag (:func:`mates_notes`)
-        v, sums = remainders(band, accent_at[k_of] + low, c[which[mate[mate_of]]] + shifts[mate_of] + low,
-                             scales[mate_of], size, back + wide + n, gains[mate_of],
-                             accent_at[k_of] + low - lags[mate_of], lags[mate_of] - pre - low)
-    # the head's correlation with each at each start from ``reach`` before the block to ``energy`` after
-    cross = rise_crosses(v, unit, back + wide + 1)
-    power = sums[:, n:] - sums[:, :-n]
-    like = np.where(power > 0.0, cross / np.sqrt(np.maximum(power, 1e-300)), -1.0)
-    best = np.argmax(like, axis=1)
-    fits = like[np.arange(len(chosen)), best] >= fit
-    accent, last = -1, -np.inf
-    for i in np.flatnonzero(fits).tolist():
-        k, t = int(k_of[i]), int(t_of[i])
-        if k != accent:
-            accent, last, found_at = k, -np.inf, np.inf
-            b = which[accents[k]]
-        if t < last + round(20e-3 * rate):
-            continue
-        at = t - back + int(best[i])
-        if gains is not None and gains[mate_of[i]] != 0.0 and at + width > found_at + lags[mate_of[i]] - pre:
-            continue  # a note found before is added back here with the accent's sound
-        peak = np.abs(v[i, at - low[i]:at - low[i] + width + after]).max()
-        if not max(least, loud[b] * 10.0 ** (below_db / 20.0)) <= peak <= loud[b] * 10.0 ** (quieter_db / 20.0):
-            continue
-        found.append(c[b] + at)
-        found_at = min(found_at, at)
-        last = t
-    return np.unique(np.asarray(found, dtype=float))
+        gains, lags = notes[0][mate_of], notes[1][mate_of]
+        v, sums = remainders(band, c[b_of] + low, c[which[mate[mate_of]]] + shifts[mate_of] + low,
+                             scales[mate_of], size, back + wide + n, gains, c[b_of] + low - lags, lags - pre - low)
+        added = gains != 0.0
+    # the head's correlation with each remainder from ``reach`` before the block to ``energy`` after, the best start's
+    # peak between the accent's bounds (compiled: a rise within 20 ms after a note found in its accent's window is
+    # not correlated; one whose mate's next note is taken off, past a note found in the accent's window that lag on
+    # less 1 ms, is not sought: that note is added back there with the accent's sound)
+    rows, best = fitting_rises(v, sums, unit, back + wide + 1, k_of, t_of, round(20e-3 * rate), pre, width + after,
+                               np.maximum(least, loud[b_of] * 10.0 ** (below_db / 20.0)),
+                               loud[b_of] * 10.0 ** (quieter_db / 20.0), fit, back, added, lags - pre - width)
+    return np.unique((c[b_of[rows]] + t_of[rows] - back + best).astype(float))
 
 
 @jit(error_model="numpy")
@@ -628,15 +701,49 @@ def remainders(band, starts, others, scales, size, summed, gains=None, adds=None
     return v, sums
 
 
-@jit
-def rise_crosses(v, unit, count):
-    """``np.correlate(v[r, :count + len(unit) - 1], unit, "valid")`` for each row ``r`` of ``v`` [shape=(rows,
-    count)]: each lag's sum as np.dot's (:func:`._templates.blas_lag_dots`, OpenBLAS's ``ddot``, which numpy's
-    correlate calls for each lag)."""
-    out = np.empty((v.shape[0], count))
-    for r in range(v.shape[0]):
-        blas_lag_dots(v[r], 0, count, unit, len(unit), out[r])
-    return out
+@jit(error_model="numpy")
+def fitting_rises(v, sums, unit, count, accent, at, apart, pre, span, lows, highs, fit, back, added, past):
+    """:func:`room_ghost_onsets`' test of each rise (rows of ``v``, its remainders from ``pre`` before ``count``
+    starts; ``sums``, their squares' running sums; ``accent`` and ``at``, its accent and its block's sample, in
+    order): the head ``unit``'s correlation with each start's window (``np.correlate``'s sums, :func:`._templates.
+    blas_lag_dots`, over the sums' energy: -1 where none), at the best (the first most) ``fit`` or more, and the
+    remainder's peak over ``span`` samples from there within ``[lows, highs]`` of the row; each rise tried ``apart``
+    or more after the last one found in its accent's window (its correlations not summed otherwise); where ``added``
+    (the row's mate's next note taken off), its note (``at - back`` plus the best start) no more than ``past``
+    samples after the first found in its accent's window. Returns the rises found and their best starts (from the
+    first) [each shape=(n,)]."""
+    n = len(unit)
+    cross = np.empty(count)
+    rows = np.empty(len(at), dtype=np.int64)
+    best = np.empty(len(at), dtype=np.int64)
+    found, previous, last = 0, -1, -1  # last: the row of the last found in this accent's window (-1: none yet)
+    first = np.inf  # the first note found in the accent's window (samples from its onset)
+    for i in range(len(at)):
+        if accent[i] != previous:
+            previous, last, first = accent[i], -1, np.inf
+        if last >= 0 and at[i] < at[last] + apart:
+            continue
+        blas_lag_dots(v[i], 0, count, unit, n, cross)
+        start, most = 0, -np.inf
+        for s in range(count):
+            power = sums[i, s + n] - sums[i, s]
+            like = cross[s] / np.sqrt(max(power, 1e-300)) if power > 0.0 else -1.0
+            if like > most:
+                start, most = s, like
+        if not most >= fit:
+            continue
+        if added[i] and at[i] - back + start > first + past[i]:
+            continue
+        peak = 0.0
+        for j in range(pre + start, pre + start + span):
+            peak = max(peak, abs(v[i, j]))
+        if not lows[i] <= peak <= highs[i]:
+            continue
+        rows[found], best[found] = i, start
+        found += 1
+        last = i
+        first = min(first, at[i] - back + start)
+    return rows[:found].copy(), best[:found].copy()
 
 
 @jit
