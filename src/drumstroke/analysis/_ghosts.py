@@ -764,9 +764,11 @@ def note_remainders(band, accents, mates, scales, first, count, lows, size):
     notes, size)]."""
     out = np.zeros((len(first), size))
     for i in range(len(first)):
-        for p in range(first[i], first[i] + count[i]):
+        for p in range(first[i], first[i] + count[i]):  # slices: no negative-index branch a read, vectorized
+            row, scale = out[i], scales[p]
+            here, there = band[accents[p] + lows[i]:accents[p] + lows[i] + size], band[mates[p] + lows[i]:]
             for q in range(size):
-                out[i, q] += band[accents[p] + lows[i] + q] - scales[p] * band[mates[p] + lows[i] + q]
+                row[q] += here[q] - scale * there[q]
         for q in range(size):
             out[i, q] /= count[i]
     return out
@@ -778,9 +780,12 @@ def long_sound(band, accents, mates, scales, lows, lengths, weights, longest):
     times it from ``mates[p] + lows[p]``) over ``lengths[p]`` samples (up to ``longest``), and how many pairs reach
     each sample [each shape=(longest,)]."""
     total, counted = np.zeros(longest), np.zeros(longest, dtype=np.int64)
-    for p in range(len(accents)):
-        for q in range(min(lengths[p], longest)):
-            total[q] += weights[p] * (band[accents[p] + lows[p] + q] - scales[p] * band[mates[p] + lows[p] + q])
+    for p in range(len(accents)):  # slices: no negative-index branch a read, vectorized
+        top, weight, scale = min(lengths[p], longest), weights[p], scales[p]
+        here, there = band[accents[p] + lows[p]:], band[mates[p] + lows[p]:]
+        for q in range(top):
+            total[q] += weight * (here[q] - scale * there[q])
+        for q in range(top):
             counted[q] += 1
     return total, counted
 
