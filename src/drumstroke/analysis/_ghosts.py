@@ -335,10 +335,23 @@ def _own_of(x, theirs, t, size, own_db):
     return mine >= np.dot(theirs[t:t + size], theirs[t:t + size]) * 10.0 ** (own_db / 10.0)
 
 
-def _loud_and_ends(band, c, rate, quiet_db):
+def _loud_and_ends(band, c, rate, quiet_db, shared=None):
     """Each attack's peak over the 5 ms from it (``c``, full-rate samples; the last 5 ms of ``band`` from past its
     end; from before its start, as a negative index reads the windows, counted from the end), and where its sound is
-    no longer one attack's: the next attack within ``quiet_db`` dB of it (``len(band)`` for none)."""
+    no longer one attack's: the next attack within ``quiet_db`` dB of it (``len(band)`` for none). ``shared`` (a
+    dict, or None): the last answer kept there, and given again for the same ``band`` (the same object) and
+    arguments (the ghost searches on the same attacks)."""
+    key = (c.tobytes(), rate, quiet_db)
+    if shared is not None and shared.get("loud_band") is band and shared.get("loud_key") == key:
+        return shared["loud"]
+    answer = _loud_and_ends_of(band, c, rate, quiet_db)
+    if shared is not None:
+        shared.update(loud_band=band, loud_key=key, loud=answer)
+    return answer
+
+
+def _loud_and_ends_of(band, c, rate, quiet_db):
+    """:func:`_loud_and_ends`' reading."""
     windows_count = len(band) - round(5e-3 * rate) + 1
     lows = np.minimum(c, windows_count - 1)
     lows = np.where(lows < 0, lows + windows_count, lows)
@@ -397,7 +410,7 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
     which = np.flatnonzero(ok)
     if len(which) < 3:
         return (np.empty(0), np.empty(0)) if noise_start > 0.0 else np.empty(0)
-    loud, ends = _loud_and_ends(band, c, rate, quiet_db)
+    loud, ends = _loud_and_ends(band, c, rate, quiet_db, shared)
     mates = _partners(band, starts[which], size + pre, lag, likeness, shared)
     rise, found = 10.0 ** (rise_db / 10.0), []
     # energy over 0.25-ms blocks, over 1 ms from each block (its onset sought at full rate after)
@@ -539,7 +552,7 @@ def room_ghost_onsets(band, times, clear, rate, head, *, likeness, rise_db, leas
     norm = np.linalg.norm(head)
     if len(which) < 3 or not norm > 0.0:
         return np.empty(0)
-    loud, ends = _loud_and_ends(band, c, rate, quiet_db)
+    loud, ends = _loud_and_ends(band, c, rate, quiet_db, shared)
     mates = _partners(band, starts[which], window + pre, lag, likeness, shared)
     # an accent (within 10 dB of the loudest clear attack, none as loud for 0.2 s after it) with no layer-mates: the
     # attacks nearest it in level
@@ -822,7 +835,7 @@ def matched_ghost_onsets(band, times, clear, rate, *, likeness, least, fit, rise
     which = np.flatnonzero(ok)
     if len(which) < 3:
         return np.empty(0)
-    loud, ends = _loud_and_ends(band, c, rate, quiet_db)
+    loud, ends = _loud_and_ends(band, c, rate, quiet_db, shared)
     mates = _partners(band, starts[which], size + pre, 2, likeness, shared)
     accents, used, _, _, _, _ = _accents_mates(mates, mates_used)
     nexts = np.append(c[1:], len(band))
