@@ -803,6 +803,66 @@ def long_sound(band, accents, mates, scales, lows, lengths, weights, longest):
     return total, counted
 
 
+@jit
+def ghost_notes_pairs(c, ends, nexts, accents, count, mate, shifts, scales, span, size, reach):
+    """:func:`matched_ghost_onsets`' notes after each accent ``c[accents[k]]`` (``count[k]`` mates of the flat
+    ``mate``, ``shifts``, ``scales``, all indices into ``c``): each later attack before the accent's ``ends`` and
+    ``span`` samples (a float, compared as such) after it, ``size`` or more after it, with a mate whose own next
+    attack (``nexts``) lies ``reach`` or more past that note's offset. Returns the notes (attack, accent, first pair,
+    pairs) and the pairs (the accent's onset, the mate's shifted, its scale, how far it reaches past the note)
+    [each shape=(n,)]."""
+    notes = [(np.int64(0), np.int64(0), np.int64(0), np.int64(0)) for _ in range(0)]
+    pairs = [(np.int64(0), np.int64(0), 0.0, np.int64(0)) for _ in range(0)]
+    first = 0
+    for k in range(len(accents)):
+        b = accents[k]
+        for g in range(b + 1, len(c)):
+            off = c[g] - c[b]
+            if c[g] >= ends[b] or off > span:
+                break
+            if off < size:
+                continue
+            start = len(pairs)
+            for m in range(first, first + count[k]):
+                a, s = mate[m], shifts[m]
+                if nexts[a] - c[a] - s >= off + reach:
+                    pairs.append((c[b], c[a] + s, scales[m], nexts[a] - c[a] - s - off))
+            if len(pairs) > start:
+                notes.append((np.int64(g), b, np.int64(start), np.int64(len(pairs) - start)))
+        first += count[k]
+    note, accent = np.empty(len(notes), dtype=np.int64), np.empty(len(notes), dtype=np.int64)
+    firsts, counts = np.empty(len(notes), dtype=np.int64), np.empty(len(notes), dtype=np.int64)
+    for i in range(len(notes)):
+        note[i], accent[i], firsts[i], counts[i] = notes[i]
+    accent_at, mate_at, scale_of, reach_of = (np.empty(len(pairs), dtype=np.int64), np.empty(len(pairs), dtype=np.int64),
+                                              np.empty(len(pairs)), np.empty(len(pairs), dtype=np.int64))
+    for p in range(len(pairs)):
+        accent_at[p], mate_at[p], scale_of[p], reach_of[p] = pairs[p]
+    return note, accent, firsts, counts, accent_at, mate_at, scale_of, reach_of
+
+
+@jit
+def matched_mates(c, nexts, mate, shifts, scales, noted, amplitude, onset, known, pre, length):
+    """:func:`matched_ghost_onsets`' mates (``mate``, indices into ``c``; ``shifts``, ``scales``), flat for its
+    compiled search: each one's onset (shifted), how far it reaches (samples, to its own next attack, or where that
+    is a ghost note found, ``noted``: on to that note's next attack or the longer sound's end, ``known`` samples
+    past its onset ``onset``), the gain its note is taken off with (``amplitude``, 0 for none) and where that note
+    starts (samples from the mate's onset). ``length``: the band's."""
+    n = len(mate)
+    at, ends, alphas, starts = (np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64), np.zeros(n),
+                                np.zeros(n, dtype=np.int64))
+    for m in range(n):
+        a, s = mate[m], shifts[m]
+        g, end, there = a + 1, nexts[a] - c[a], 0
+        if g < len(c) and noted[g]:
+            alphas[m], there = amplitude[g], onset[g] - c[a] - pre
+            end = min(nexts[g] - c[a], there + known)
+        at[m] = c[a] + s
+        ends[m] = min(end - s - pre, length - c[a] - s)
+        starts[m] = there - s
+    return at, ends, alphas, starts
+
+
 def matched_ghost_onsets(band, times, clear, rate, *, likeness, least, fit, rise_db=6.0, skip=10e-3, span=0.13,
                          quiet_db=-10.0, below_db=-30.0, quieter_db=-6.0, mates_used=3, head=5e-3, lag=0.25e-3,
                          fewest=3, reach=0.5e-3, longest=60e-3, shared=None):
@@ -837,30 +897,18 @@ def matched_ghost_onsets(band, times, clear, rate, *, likeness, least, fit, rise
         return np.empty(0)
     loud, ends = _loud_and_ends(band, c, rate, quiet_db, shared)
     mates = _partners(band, starts[which], size + pre, 2, likeness, shared)
-    accents, used, _, _, _, _ = _accents_mates(mates, mates_used)
+    accents, _, mates_count, mate, shifts, scales = _accents_mates(mates, mates_used)
     nexts = np.append(c[1:], len(band))
-    used = [[(which[a], s, scale) for a, s, scale in u] for u in used]
+    mate = which[mate]
     # the notes after each accent (before its next within ``quiet_db``), each mate that reaches its head (its own
     # next attack later), as pairs: the accent's onset, the mate's (shifted), its scale and how far it reaches
-    notes, pairs = [], []  # (note, accent, first pair, pairs); (accent, mate, scale, reach: samples from the note)
-    for k, u in enumerate(used):
-        b = which[accents[k]]
-        for g in range(b + 1, len(c)):
-            off = c[g] - c[b]
-            if c[g] >= ends[b] or off > span * rate:
-                break
-            reaching = [(c[b], c[a] + s, scale, nexts[a] - c[a] - s - off) for a, s, scale in u
-                        if nexts[a] - c[a] - s >= off + n + shift]
-            if off >= size and reaching:
-                notes.append((g, b, len(pairs), len(reaching)))
-                pairs.extend(reaching)
-    twice = np.array([count >= 2 for *_, count in notes], dtype=bool)
+    note, note_accent, first, count, accent_at, mate_at, scale_of, reach_of = ghost_notes_pairs(
+        c, ends, nexts, which[np.array(accents, dtype=np.int64)], mates_count, mate, shifts, scales, span * rate, size,
+        n + shift)
+    twice = count >= 2
     if twice.sum() < fewest:
         return np.empty(0)
-    accent_at, mate_at, scale_of, reach_of = (np.array(x) for x in zip(*pairs))
-    first = np.array([f for _, _, f, _ in notes], dtype=np.int64)
-    count = np.array([k for *_, k in notes], dtype=np.int64)
-    offsets = np.array([c[g] - c[b] for g, b, _, _ in notes], dtype=np.int64)
+    offsets = c[note] - c[note_accent]
     heads = note_remainders(band, accent_at, mate_at, scale_of, first, count, offsets - pre - shift, n + 2 * shift)
     # the reference and the head from the notes two mates or more reach (one mate's remainder may hold its own note)
     energies = np.einsum("ij,ij->i", heads[:, shift:shift + n], heads[:, shift:shift + n])
@@ -871,7 +919,7 @@ def matched_ghost_onsets(band, times, clear, rate, *, likeness, least, fit, rise
     norms = np.maximum(np.sqrt(np.einsum("ijk,ijk->ij", views, views)), 1e-300)
     like = np.einsum("ijk,k->ij", views, reference) / norms
     best = np.argmax(like, axis=1)
-    kept = like[np.arange(len(notes)), best] >= fit
+    kept = like[np.arange(len(note)), best] >= fit
     if np.sum(kept & twice) < fewest:
         return np.empty(0)
     lags = best - shift
@@ -899,29 +947,20 @@ def matched_ghost_onsets(band, times, clear, rate, *, likeness, least, fit, rise
                                 1.0 / alphas[note_of], longest)
     known = int(np.argmax(counted < 2)) if np.any(counted < 2) else longest
     long = total[:known] / np.maximum(counted[:known], 1)
-    amplitude = {int(notes[i][0]): float(alpha) for i, alpha in zip(kept.tolist(), alphas.tolist())}
-    onset_of = {int(notes[i][0]): int(c[notes[i][1]] + low + pre) for i, low in zip(kept.tolist(), lows.tolist())}
     # each accent's mates (a mate whose own next attack is a kept note: less it, on to that note's next attack or
-    # the longer sound's end), flat for one compiled search
-    mates_at, scales, mate_ends, alphas, long_at = [], [], [], [], []
-    for u in used:
-        for a, s, scale in u:
-            g, end, alpha, at = a + 1, nexts[a] - c[a], 0.0, 0
-            if g in amplitude:  # its own next attack a ghost note found: taken off the mate
-                alpha, at = amplitude[g], onset_of[g] - c[a] - pre
-                end = min(nexts[g] - c[a], at + known)
-            mates_at.append(c[a] + s)
-            scales.append(scale)
-            mate_ends.append(min(end - s - pre, len(band) - c[a] - s))
-            alphas.append(alpha)
-            long_at.append(at - s)
+    # the longer sound's end), flat for one compiled search (a note kept twice: its last, as a dict keeps it)
+    noted, amplitude, onset = np.zeros(len(c), dtype=bool), np.zeros(len(c)), np.zeros(len(c), dtype=np.int64)
+    for i, alpha, low in zip(kept.tolist(), alphas.tolist(), lows.tolist()):
+        g = note[i]
+        noted[g], amplitude[g], onset[g] = True, alpha, c[note_accent[i]] + low + pre
+    mates_at, mate_ends, alphas, long_at = matched_mates(c, nexts, mate, shifts, scales, noted, amplitude, onset,
+                                                         known, pre, len(band))
     b = which[np.array(accents, dtype=np.int64)]
     lengths = np.minimum(np.minimum(round(span * rate), ends[b] - c[b]), len(band) - c[b])
-    count = np.array([len(u) for u in used], dtype=np.int64)
     accent_of, onsets, fits, peaks = matched_searches(
-        band, c[b], size - before, lengths, np.cumsum(count) - count, count, np.array(mates_at, dtype=np.int64),
-        np.array(scales, dtype=float), np.array(mate_ends, dtype=np.int64), np.array(alphas, dtype=float),
-        np.array(long_at, dtype=np.int64), long, unit, max(1, width // 4), width, before,
+        band, c[b], size - before, lengths, np.cumsum(mates_count) - mates_count, mates_count, mates_at, scales,
+        mate_ends, alphas,
+        long_at, long, unit, max(1, width // 4), width, before,
         10.0 ** (rise_db / 10.0), round(reach * rate), pre, 2, after)
     found, accent, last = [], -1, -np.inf
     for k, t, like, peak in zip(accent_of.tolist(), onsets.tolist(), fits.tolist(), peaks.tolist()):
