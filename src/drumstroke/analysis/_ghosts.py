@@ -923,7 +923,8 @@ def matched_ghost_onsets(band, times, clear, rate, *, likeness, least, fit, rise
     if np.sum(kept & twice) < fewest:
         return np.empty(0)
     lags = best - shift
-    middle_lag = int(np.median(lags[kept & twice]))
+    middle = sorted(lags[kept & twice].tolist())  # their median (np.median's: the two middle ones' mean), truncated
+    middle_lag = int(middle[len(middle) // 2] if len(middle) % 2 else (middle[len(middle) // 2 - 1] + middle[len(middle) // 2]) / 2)
     chosen = np.flatnonzero(kept & twice)
     template = np.mean(views[chosen, best[chosen]] / norms[chosen, best[chosen], None], axis=0)
     unit = np.zeros(n)  # the head: its onset ``pre`` samples in
@@ -939,8 +940,8 @@ def matched_ghost_onsets(band, times, clear, rate, *, likeness, least, fit, rise
     alphas = note_remainders(band, accent_at, mate_at, scale_of, first[kept], count[kept], lows, n) @ unit
     positive = alphas > 0.0
     kept, lows, alphas = kept[positive], lows[positive], alphas[positive]
-    each = np.concatenate([np.arange(first[i], first[i] + count[i]) for i in kept]) if len(kept) else np.empty(0, int)
-    note_of = np.repeat(np.arange(len(kept)), count[kept])
+    note_of = np.repeat(np.arange(len(kept)), count[kept])  # each kept note's pairs, in turn
+    each = np.arange(len(note_of)) - (np.cumsum(count[kept]) - count[kept])[note_of] + first[kept][note_of]
     longest = round(longest * rate)
     total, counted = long_sound(band, accent_at[each], mate_at[each], scale_of[each], lows[note_of],
                                 reach_of[each] + pre - (lows[note_of] + pre - offsets[kept][note_of]),
