@@ -924,7 +924,8 @@ def matched_ghost_onsets(band, times, clear, rate, *, likeness, least, fit, rise
         return np.empty(0)
     lags = best - shift
     middle = sorted(lags[kept & twice].tolist())  # their median (np.median's: the two middle ones' mean), truncated
-    middle_lag = int(middle[len(middle) // 2] if len(middle) % 2 else (middle[len(middle) // 2 - 1] + middle[len(middle) // 2]) / 2)
+    half = len(middle) // 2
+    middle_lag = int(middle[half] if len(middle) % 2 else (middle[half - 1] + middle[half]) / 2)
     chosen = np.flatnonzero(kept & twice)
     template = np.mean(views[chosen, best[chosen]] / norms[chosen, best[chosen], None], axis=0)
     unit = np.zeros(n)  # the head: its onset ``pre`` samples in
