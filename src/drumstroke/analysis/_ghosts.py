@@ -698,10 +698,11 @@ def matched_search(band, at, low, length, mates, scales, ends, alphas, starts, l
                 part, gain = long[low + first - starts[m]:low + last - starts[m]], scales[m] * alphas[m]
                 for i in range(last - first):
                     total[first + i] += gain * part[i]
-    for i in range(size):
-        if reach[i] < fewest:
-            size = i
-            break
+    if fewest > 0 and size > 0:  # cut at the first sample fewer than ``fewest`` mates reach (their reach falls)
+        tops = np.empty(len(mates), dtype=np.int64)
+        for m in range(len(mates)):
+            tops[m] = max(0, min(size, ends[m] - low))
+        size = np.sort(tops)[len(tops) - fewest] if len(tops) >= fewest else 0
     v = np.empty(size)
     for i in range(size):
         v[i] = total[i] / reach[i]
