@@ -915,8 +915,8 @@ def matched_ghost_onsets(band, times, clear, rate, *, likeness, least, fit, rise
     energies = np.einsum("ij,ij->i", heads[:, shift:shift + n], heads[:, shift:shift + n])
     reference = heads[int(np.argmax(np.where(twice, energies, -1.0))), shift:shift + n]
     reference = reference / max(np.linalg.norm(reference), 1e-300)
-    views = np.lib.stride_tricks.as_strided(heads, (len(heads), 2 * shift + 1, n), (heads.strides[0],) + heads.strides[1:] * 2,
-                                            writeable=False)  # [note, lag, sample]: sliding_window_view's, less its checks
+    views = np.ndarray((len(heads), 2 * shift + 1, n), dtype=heads.dtype, buffer=heads,
+                       strides=(heads.strides[0],) + heads.strides[1:] * 2)  # [note, lag, sample]: as_strided's, less its checks
     norms = np.maximum(np.sqrt(np.einsum("ijk,ijk->ij", views, views)), 1e-300)
     like = np.einsum("ijk,k->ij", views, reference) / norms
     best = np.argmax(like, axis=1)
