@@ -914,7 +914,7 @@ def matched_ghost_onsets(band, times, clear, rate, *, likeness, least, fit, rise
     # the reference and the head from the notes two mates or more reach (one mate's remainder may hold its own note)
     energies = np.einsum("ij,ij->i", heads[:, shift:shift + n], heads[:, shift:shift + n])
     reference = heads[int(np.argmax(np.where(twice, energies, -1.0))), shift:shift + n]
-    reference = reference / max(np.linalg.norm(reference), 1e-300)
+    reference = reference / max(np.sqrt(reference.dot(reference)), 1e-300)  # np.linalg.norm's, less its checks
     views = np.ndarray((len(heads), 2 * shift + 1, n), dtype=heads.dtype, buffer=heads,
                        strides=(heads.strides[0],) + heads.strides[1:] * 2)  # [note, lag, sample]: as_strided's, less its checks
     norms = np.maximum(np.sqrt(np.einsum("ijk,ijk->ij", views, views)), 1e-300)
@@ -934,7 +934,7 @@ def matched_ghost_onsets(band, times, clear, rate, *, likeness, least, fit, rise
         unit[:n + middle_lag] = template[-middle_lag:]
     else:
         unit[middle_lag:] = template[:n - middle_lag]
-    unit /= max(np.linalg.norm(unit), 1e-300)
+    unit /= max(np.sqrt(unit.dot(unit)), 1e-300)
     # each kept note's onset (its found onset moved by its lag less the median's), amplitude (its mean remainder's
     # projection on the head) and longer sound (each mate's remainder up to its own next attack, so scaled)
     kept = np.flatnonzero(kept)
@@ -965,14 +965,14 @@ def matched_ghost_onsets(band, times, clear, rate, *, likeness, least, fit, rise
         mate_ends, alphas,
         long_at, long, unit, max(1, width // 4), width, before,
         10.0 ** (rise_db / 10.0), round(reach * rate), pre, 2, after)
-    found, accent, last = [], -1, -np.inf
+    found, accent, last, apart = [], -1, -np.inf, round(20e-3 * rate)
+    lowest = np.maximum(least, loud[b] * 10.0 ** (below_db / 20.0)).tolist()  # each accent's peaks allowed
+    highest, onset_of = (loud[b] * 10.0 ** (quieter_db / 20.0)).tolist(), c[b].tolist()
     for k, t, like, peak in zip(accent_of.tolist(), onsets.tolist(), fits.tolist(), peaks.tolist()):
         if k != accent:
             accent, last = k, -np.inf
-        if like < fit or t < size or t < last + round(20e-3 * rate):
+        if like < fit or t < size or t < last + apart or not lowest[k] <= peak <= highest[k]:
             continue
-        if not max(least, loud[b[k]] * 10.0 ** (below_db / 20.0)) <= peak <= loud[b[k]] * 10.0 ** (quieter_db / 20.0):
-            continue
-        found.append(c[b[k]] + t)
+        found.append(onset_of[k] + t)
         last = t
     return np.unique(np.asarray(found, dtype=float))
