@@ -606,8 +606,8 @@ def test_matched_notes_and_mates_are_the_python_loops(rng):
         amplitude = {int(g): float(rng.uniform(0.1, 1)) for g in rng.choice(40, 6)}
         onset_of = {g: int(c[g] + rng.integers(-50, 50)) for g in amplitude}
         noted, gains, onsets = np.zeros(40, bool), np.zeros(40), np.zeros(40, dtype=np.int64)
-        for g in amplitude:
-            noted[g], gains[g], onsets[g] = True, amplitude[g], onset_of[g]
+        for g, gain in amplitude.items():
+            noted[g], gains[g], onsets[g] = True, gain, onset_of[g]
         want = [], [], [], []
         for a, s, _ in (m for u in used for m in u):
             g, end, alpha, at = a + 1, nexts[a] - c[a], 0.0, 0
