@@ -805,6 +805,24 @@ def long_sound(band, accents, mates, scales, lows, lengths, weights, longest):
 
 
 @jit
+def placed_ghosts(times, kinds, which, ghosts, near, low, high):
+    """:func:`.onsets._placed_ghosts`' loop: for each of ``ghosts`` in turn, the attack of ``which`` nearest it within
+    ``near`` samples (in ``times``, as moved so far; the first of equals) moved onto it (``kinds`` 3) where it lies
+    more than ``low`` and up to ``high`` samples after it. Returns whether each ghost had no attack so near (new)."""
+    new = np.empty(len(ghosts), dtype=np.bool_)
+    for i in range(len(ghosts)):
+        g, best, k = ghosts[i], np.inf, -1
+        for j in range(len(which)):
+            off = abs(times[which[j]] - g)
+            if off <= near and off < best:
+                best, k = off, which[j]
+        new[i] = k < 0
+        if k >= 0 and low < times[k] - g <= high:
+            times[k], kinds[k] = g, 3
+    return new
+
+
+@jit
 def ghost_notes_pairs(c, ends, nexts, accents, count, mate, shifts, scales, span, size, reach):
     """:func:`matched_ghost_onsets`' notes after each accent ``c[accents[k]]`` (``count[k]`` mates of the flat
     ``mate``, ``shifts``, ``scales``, all indices into ``c``): each later attack before the accent's ``ends`` and

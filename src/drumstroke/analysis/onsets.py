@@ -1870,17 +1870,12 @@ def _placed_ghosts(candidates, ghosts, which, rate, starts=None, late=2e-3):
     to ``late`` s after it moved there (found late). The times are kept where moving would unorder them."""
     if not len(ghosts):
         return candidates
+    from ._ghosts import placed_ghosts
+
     starts = ghosts if starts is None else starts
     times, kinds = candidates.times.copy(), candidates.kinds.copy()
-    new = []
-    for g, start in zip(ghosts, starts):
-        near = which[np.abs(times[which] - g) <= 5e-3 * rate]
-        if not len(near):
-            new.append(start)
-            continue
-        k = near[np.argmin(np.abs(times[near] - g))]
-        if 0.5e-3 * rate < times[k] - g <= late * rate:
-            times[k], kinds[k] = g, 3
+    fresh = placed_ghosts(times, kinds, which, np.asarray(ghosts, dtype=float), 5e-3 * rate, 0.5e-3 * rate, late * rate)
+    new = [start for start, is_new in zip(starts, fresh.tolist()) if is_new]
     moved = replace(candidates, times=times, kinds=kinds)
     if not np.all(np.diff(times) > 0):
         moved = candidates
