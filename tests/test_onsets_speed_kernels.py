@@ -742,3 +742,29 @@ def test_loud_and_ends_shared_only_on_the_same_attacks(rng):
     assert other is not first and len(other[0]) == 3
     again = _loud_and_ends(band.copy(), c[:3], 48000, -10.0, shared)
     assert again is not other and all(np.array_equal(x, y) for x, y in zip(again, other))
+
+
+def test_placed_ghosts_is_the_loop_it_replaced(rng):
+    """_ghosts.placed_ghosts moves and marks the attacks as onsets._placed_ghosts' numpy loop did (the nearest within
+    5 ms, the first of equals, each ghost in turn on the times moved so far) and finds the same new ghosts."""
+    from drumstroke.analysis._ghosts import placed_ghosts
+
+    rate = 48000
+    for trial in range(30):
+        times = np.sort(rng.choice(np.arange(0, 200000, 48), 30, replace=False)).astype(float)
+        kinds = rng.integers(0, 3, 30)
+        which = np.flatnonzero(rng.random(30) < 0.7)
+        ghosts = np.unique(np.concatenate((times[which][rng.integers(0, len(which), 6)] - rng.integers(-300, 300, 6),
+                                           rng.uniform(0, 200000, 4).round())))
+        want_times, want_kinds, want_new = times.copy(), kinds.copy(), []
+        for g in ghosts:
+            near = which[np.abs(want_times[which] - g) <= 5e-3 * rate]
+            want_new.append(not len(near))
+            if len(near):
+                k = near[np.argmin(np.abs(want_times[near] - g))]
+                if 0.5e-3 * rate < want_times[k] - g <= 2e-3 * rate:
+                    want_times[k], want_kinds[k] = g, 3
+        got_times, got_kinds = times.copy(), kinds.copy()
+        new = placed_ghosts(got_times, got_kinds, which, ghosts, 5e-3 * rate, 0.5e-3 * rate, 2e-3 * rate)
+        assert new.tolist() == want_new
+        assert np.array_equal(got_times, want_times) and np.array_equal(got_kinds, want_kinds)
