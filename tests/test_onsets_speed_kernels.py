@@ -768,3 +768,20 @@ def test_placed_ghosts_is_the_loop_it_replaced(rng):
         new = placed_ghosts(got_times, got_kinds, which, ghosts, 5e-3 * rate, 0.5e-3 * rate, 2e-3 * rate)
         assert new.tolist() == want_new
         assert np.array_equal(got_times, want_times) and np.array_equal(got_kinds, want_kinds)
+
+
+def test_lead_clear_shared_only_on_the_same_attacks(rng):
+    """onsets._lead_clear with ``shared`` gives _clear's booleans: kept for the same ``d`` (the same object), times and
+    level, read again on other times or another ``d``."""
+    from drumstroke.analysis.onsets import _clear, _lead_clear
+
+    d = np.abs(rng.standard_normal(48000)) * np.repeat(rng.uniform(0.01, 1.0, 48), 1000)
+    times = np.array([1500.0, 9000.0, 20000.0, 33000.0])
+    shared = {}
+    first = _lead_clear(d, times, 48000, -20.0, shared)
+    assert np.array_equal(first, _clear(d, times, 48000, [-20.0])[1][0])
+    assert _lead_clear(d, times, 48000, -20.0, shared) is first
+    assert np.array_equal(_lead_clear(d, times[:3], 48000, -20.0, shared), _clear(d, times[:3], 48000, [-20.0])[1][0])
+    assert np.array_equal(_lead_clear(d, times, 48000, -6.0, shared), _clear(d, times, 48000, [-6.0])[1][0])
+    other = d[::-1].copy()
+    assert np.array_equal(_lead_clear(other, times, 48000, -6.0, shared), _clear(other, times, 48000, [-6.0])[1][0])
