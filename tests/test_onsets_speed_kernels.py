@@ -803,3 +803,226 @@ def test_room_ghost_search_with_spare_mates_and_shared_is_a_fresh_one(monkeypatc
     assert len(calls) == 1 and spares and calls[0][2]
     kept, fresh, _ = calls[0]
     assert len(kept) and np.array_equal(kept, fresh)
+
+
+def _old_matched_notes(c, ends, nexts, accents, used, span, size, reach):
+    """matched_ghost_onsets' notes loop as it was written in Python (``used``: each accent's (mate, shift, scale))."""
+    notes, pairs = [], []
+    for b, u in zip(accents, used):
+        for g in range(b + 1, len(c)):
+            off = c[g] - c[b]
+            if c[g] >= ends[b] or off > span:
+                break
+            reaching = [(c[b], c[a] + s, scale, nexts[a] - c[a] - s - off) for a, s, scale in u
+                        if nexts[a] - c[a] - s >= off + reach]
+            if off >= size and reaching:
+                notes.append((g, b, len(pairs), len(reaching)))
+                pairs.extend(reaching)
+    return notes, pairs
+
+
+def test_matched_notes_and_mates_are_the_python_loops(rng):
+    """_ghosts.ghost_notes_pairs and matched_mates give matched_ghost_onsets' Python loops' notes, pairs and mates
+    (a note kept twice: its last amplitude, as the dict kept it)."""
+    from drumstroke.analysis._ghosts import ghost_notes_pairs, matched_mates
+
+    for trial in range(20):
+        c = np.cumsum(rng.integers(100, 3000, 40))
+        nexts = np.append(c[1:], c[-1] + 5000)
+        ends = np.minimum(c + rng.integers(0, 9000, 40), nexts[-1])
+        accents = np.sort(rng.choice(40, 8, replace=False))
+        used = [[(int(a), int(s), float(rng.uniform(0.5, 2))) for a, s in zip(rng.choice(40, k, replace=False),
+                                                                           rng.integers(-2, 3, k))]
+                for k in rng.integers(0, 4, 8)]
+        count = np.array([len(u) for u in used], dtype=np.int64)
+        mate = np.array([a for u in used for a, _, _ in u], dtype=np.int64)
+        shifts = np.array([s for u in used for _, s, _ in u], dtype=np.int64)
+        scales = np.array([x for u in used for _, _, x in u], dtype=float)
+        got = ghost_notes_pairs(c, ends, nexts, accents, count, mate, shifts, scales, 6240.000000000001, 480, 300)
+        notes, pairs = _old_matched_notes(c, ends, nexts, accents, used, 6240.000000000001, 480, 300)
+        assert [got[0].tolist(), got[1].tolist(), got[2].tolist(), got[3].tolist()] == [list(x) for x in zip(*notes)] \
+            or (not notes and not len(got[0]))
+        assert [got[4].tolist(), got[5].tolist(), got[6].tolist(), got[7].tolist()] == [list(x) for x in zip(*pairs)] \
+            or (not pairs and not len(got[4]))
+        amplitude = {int(g): float(rng.uniform(0.1, 1)) for g in rng.choice(40, 6)}
+        onset_of = {g: int(c[g] + rng.integers(-50, 50)) for g in amplitude}
+        noted, gains, onsets = np.zeros(40, bool), np.zeros(40), np.zeros(40, dtype=np.int64)
+        for g, gain in amplitude.items():
+            noted[g], gains[g], onsets[g] = True, gain, onset_of[g]
+        want = [], [], [], []
+        for a, s, _ in (m for u in used for m in u):
+            g, end, alpha, at = a + 1, nexts[a] - c[a], 0.0, 0
+            if g in amplitude:
+                alpha, at = amplitude[g], onset_of[g] - c[a] - 24
+                end = min(nexts[g] - c[a], at + 2000)
+            for column, x in zip(want, (c[a] + s, min(end - s - 24, 90000 - c[a] - s), alpha, at - s)):
+                column.append(x)
+        got = matched_mates(c, nexts, mate, shifts, scales, noted, gains, onsets, 2000, 24, 90000)
+        for column, x in zip(got, want):
+            assert column.tolist() == list(x)
+
+
+def _old_matched_search(band, at, low, length, mates, scales, ends, alphas, starts, long, head, block, width, before,
+                        rise, back, pre, fewest, after):
+    """_ghosts.matched_search as first written: the mates' count per sample scanned, each placement's np.dot."""
+    from drumstroke.analysis._ghosts import rising
+
+    size = max(0, length - low)
+    total, reach = np.zeros(size), np.zeros(size, dtype=np.int64)
+    for m in range(len(mates)):
+        top = max(0, min(size, ends[m] - low))
+        total[:top] += band[at + low:at + low + top] - scales[m] * band[mates[m] + low:mates[m] + low + top]
+        reach[:top] += 1
+        if alphas[m] != 0.0:
+            first, last = max(0, starts[m] - low), min(top, starts[m] + len(long) - low)
+            if last > first:
+                total[first:last] += scales[m] * alphas[m] * long[low + first - starts[m]:low + last - starts[m]]
+    short = np.flatnonzero(reach < fewest)
+    size = int(short[0]) if len(short) else size
+    v = total[:size] / reach[:size]
+    n = len(head)
+    sums = np.concatenate((np.zeros(1), np.cumsum(v * v)))
+    blocks = size // block
+    energy = sums[block:blocks * block + 1:block] - sums[:blocks * block:block]
+    window = width // block
+    e = np.zeros(max(blocks - window + 1, 1))
+    acc = 0.0
+    for j in range(min(window, blocks)):
+        acc += energy[j]
+    for j in range(blocks - window + 1):
+        e[j] = acc
+        if j + window < blocks:
+            acc += energy[j + window] - energy[j]
+    onsets, fits, peaks, last = [], [], [], -1
+    for j in rising(e, before // block, blocks - window + 1, before // block, (before - width) // block, rise):
+        if j <= last:
+            continue
+        last = j + window + width // block - 1
+        best, where = -2.0, -1
+        for h in range(j * block - back - pre, j * block + width - pre + 1):
+            if h < 0 or h + n > size:
+                continue
+            cross, power = np.dot(v[h:h + n], head), sums[h + n] - sums[h]
+            if power > 0.0 and cross / np.sqrt(power) > best:
+                best, where = cross / np.sqrt(power), h
+        if where >= 0:
+            onsets.append(low + where + pre)
+            fits.append(best)
+            peaks.append(np.abs(v[where + pre:min(size, where + pre + width + after)]).max(initial=0.0))
+    return np.array(onsets, dtype=np.int64), np.array(fits), np.array(peaks)
+
+
+def test_matched_search_is_the_loop_it_replaced(rng):
+    """_ghosts.matched_search (its placements' dots in one pass, its window cut at the fewest-th furthest reach) gives
+    the search as first written: the same onsets, the fits and peaks to the bit on OpenBLAS's Haswell kernel (np.dot's
+    sums), within rounding on another BLAS."""
+    from threadpoolctl import threadpool_limits
+
+    from drumstroke.analysis._ghosts import matched_search
+
+    exact = _haswell_dot()
+    head = rng.standard_normal(264)
+    head /= np.linalg.norm(head)
+    sound = rng.standard_normal(3000) * np.geomspace(1.0, 1e-3, 3000)
+    with threadpool_limits(1, user_api="blas"):
+        for trial in range(12):
+            band = 1e-3 * rng.standard_normal(40000)
+            for t in rng.integers(2000, 36000, 12):
+                band[t:t + 264] += rng.uniform(0.01, 0.1) * head * 10
+            mates = rng.integers(9000, 30000, 3)
+            ends = rng.integers(3000, 7000, 3) if trial % 3 else np.full(3, 9000)
+            alphas = np.where(rng.random(3) < 0.5, rng.uniform(0.1, 1.0, 3), 0.0)
+            starts = rng.integers(0, 5000, 3)
+            args = (band, 1000, 240, 6240, mates, rng.uniform(0.3, 2.0, 3), ends, alphas, starts, sound, head, 12,
+                    48, 480, 10.0 ** 0.6, 24, 24, 2 + trial % 2, 480)
+            got, want = matched_search(*args), _old_matched_search(*args)
+            assert len(want[0]) and np.array_equal(got[0], want[0])
+            if exact:
+                np.testing.assert_array_equal(got[1], want[1])
+                np.testing.assert_array_equal(got[2], want[2])
+            else:
+                np.testing.assert_allclose(got[1], want[1], rtol=1e-12)
+
+
+def test_note_remainders_and_long_sound_are_numpys(rng):
+    """_ghosts.note_remainders and long_sound (band read by slices) give their numpy sums to the bit."""
+    from drumstroke.analysis._ghosts import long_sound, note_remainders
+
+    band = rng.standard_normal(20000)
+    accents, mates = rng.integers(0, 9000, 12), rng.integers(0, 9000, 12)
+    scales, lows = rng.uniform(0.3, 2, 12), rng.integers(0, 3000, 12)
+    first, count = np.array([0, 3, 4, 9]), np.array([3, 1, 5, 3])
+    got = note_remainders(band, accents, mates, scales, first, count, lows[:4], 300)
+    for i in range(4):
+        want = np.zeros(300)
+        for p in range(first[i], first[i] + count[i]):
+            want += band[accents[p] + lows[i]:][:300] - scales[p] * band[mates[p] + lows[i]:][:300]
+        assert np.array_equal(got[i], want / count[i])
+    lengths, weights = rng.integers(0, 3000, 12), rng.uniform(0.5, 5, 12)
+    total, counted = long_sound(band, accents, mates, scales, lows, lengths, weights, 2880)
+    want, reach = np.zeros(2880), np.zeros(2880, dtype=np.int64)
+    for p in range(12):
+        top = min(lengths[p], 2880)
+        want[:top] += weights[p] * (band[accents[p] + lows[p]:][:top] - scales[p] * band[mates[p] + lows[p]:][:top])
+        reach[:top] += 1
+    assert np.array_equal(total, want) and np.array_equal(counted, reach)
+
+
+def test_loud_and_ends_shared_only_on_the_same_attacks(rng):
+    """_ghosts._loud_and_ends with ``shared`` gives its reading: kept for the same band (the same object) and attacks,
+    read again on other attacks or another band."""
+    from drumstroke.analysis._ghosts import _loud_and_ends, _loud_and_next
+
+    band = rng.standard_normal(48000)
+    c = np.array([100, 4000, 9000, 20000], dtype=np.int64)
+    shared = {}
+    first = _loud_and_ends(band, c, 48000, -10.0, shared)
+    assert all(np.array_equal(x, y) for x, y in zip(first, _loud_and_next(band, c, 48000, -10.0)))
+    assert _loud_and_ends(band, c, 48000, -10.0, shared) is first
+    other = _loud_and_ends(band, c[:3], 48000, -10.0, shared)
+    assert other is not first and len(other[0]) == 3
+    again = _loud_and_ends(band.copy(), c[:3], 48000, -10.0, shared)
+    assert again is not other and all(np.array_equal(x, y) for x, y in zip(again, other))
+
+
+def test_placed_ghosts_is_the_loop_it_replaced(rng):
+    """_ghosts.placed_ghosts moves and marks the attacks as onsets._placed_ghosts' numpy loop did (the nearest within
+    5 ms, the first of equals, each ghost in turn on the times moved so far) and finds the same new ghosts."""
+    from drumstroke.analysis._ghosts import placed_ghosts
+
+    rate = 48000
+    for trial in range(30):
+        times = np.sort(rng.choice(np.arange(0, 200000, 48), 30, replace=False)).astype(float)
+        kinds = rng.integers(0, 3, 30)
+        which = np.flatnonzero(rng.random(30) < 0.7)
+        ghosts = np.unique(np.concatenate((times[which][rng.integers(0, len(which), 6)] - rng.integers(-300, 300, 6),
+                                           rng.uniform(0, 200000, 4).round())))
+        want_times, want_kinds, want_new = times.copy(), kinds.copy(), []
+        for g in ghosts:
+            near = which[np.abs(want_times[which] - g) <= 5e-3 * rate]
+            want_new.append(not len(near))
+            if len(near):
+                k = near[np.argmin(np.abs(want_times[near] - g))]
+                if 0.5e-3 * rate < want_times[k] - g <= 2e-3 * rate:
+                    want_times[k], want_kinds[k] = g, 3
+        got_times, got_kinds = times.copy(), kinds.copy()
+        new = placed_ghosts(got_times, got_kinds, which, ghosts, 5e-3 * rate, 0.5e-3 * rate, 2e-3 * rate)
+        assert new.tolist() == want_new
+        assert np.array_equal(got_times, want_times) and np.array_equal(got_kinds, want_kinds)
+
+
+def test_lead_clear_shared_only_on_the_same_attacks(rng):
+    """onsets._lead_clear with ``shared`` gives _clear's booleans: kept for the same ``d`` (the same object), times and
+    level, read again on other times or another ``d``."""
+    from drumstroke.analysis.onsets import _clear, _lead_clear
+
+    d = np.abs(rng.standard_normal(48000)) * np.repeat(rng.uniform(0.01, 1.0, 48), 1000)
+    times = np.array([1500.0, 9000.0, 20000.0, 33000.0])
+    shared = {}
+    first = _lead_clear(d, times, 48000, -20.0, shared)
+    assert np.array_equal(first, _clear(d, times, 48000, [-20.0])[1][0])
+    assert _lead_clear(d, times, 48000, -20.0, shared) is first
+    assert np.array_equal(_lead_clear(d, times[:3], 48000, -20.0, shared), _clear(d, times[:3], 48000, [-20.0])[1][0])
+    assert np.array_equal(_lead_clear(d, times, 48000, -6.0, shared), _clear(d, times, 48000, [-6.0])[1][0])
+    other = d[::-1].copy()
+    assert np.array_equal(_lead_clear(other, times, 48000, -6.0, shared), _clear(other, times, 48000, [-6.0])[1][0])

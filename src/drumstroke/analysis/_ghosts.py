@@ -784,17 +784,19 @@ def matched_search(band, at, low, length, mates, scales, ends, alphas, starts, l
         here, there = band[at + low:at + low + top], band[mates[m] + low:mates[m] + low + top]  # slices: vectorized
         for i in range(top):
             total[i] += here[i] - scale * there[i]
-        reach[:top] += 1
+        for i in range(top):  # a loop: numba's ``reach[:top] += 1`` cost ~2 us a mate
+            reach[i] += 1
         if alphas[m] != 0.0:  # its own ghost note found, taken off it
             first, last = max(0, starts[m] - low), min(top, starts[m] + len(long) - low)
             if last > first:
                 part, gain = long[low + first - starts[m]:low + last - starts[m]], scales[m] * alphas[m]
                 for i in range(last - first):
                     total[first + i] += gain * part[i]
-    for i in range(size):
-        if reach[i] < fewest:
-            size = i
-            break
+    if fewest > 0 and size > 0:  # cut at the first sample fewer than ``fewest`` mates reach (their reach falls)
+        tops = np.empty(len(mates), dtype=np.int64)
+        for m in range(len(mates)):
+            tops[m] = max(0, min(size, ends[m] - low))
+        size = np.sort(tops)[len(tops) - fewest] if len(tops) >= fewest else 0
     v = np.empty(size)
     for i in range(size):
         v[i] = total[i] / reach[i]
@@ -817,15 +819,18 @@ def matched_search(band, at, low, length, mates, scales, ends, alphas, starts, l
             total += energy[j + window] - energy[j]
     onsets, fits, peaks = [], [], []
     last = -1
+    crosses = np.empty(back + width + 1)
     for j in rising(e, before // block, blocks - window + 1, before // block, (before - width) // block, rise):
         if j <= last:  # the rise's own blocks (its 1 ms and the head's placements)
             continue
         last = j + window + width // block - 1
         best, where = -2.0, -1
-        for h in range(j * block - back - pre, j * block + width - pre + 1):
-            if h < 0 or h + n > size:
-                continue
-            cross, power = np.dot(v[h:h + n], head), sums[h + n] - sums[h]
+        # the placements that fit in the window, their dots in one pass (np.dot's, :func:`blas_lag_dots`)
+        low_h, high_h = max(0, j * block - back - pre), min(j * block + width - pre, size - n)
+        if high_h >= low_h:
+            blas_lag_dots(v, low_h, high_h - low_h + 1, head, n, crosses)
+        for h in range(low_h, high_h + 1):
+            cross, power = crosses[h - low_h], sums[h + n] - sums[h]
             if power > 0.0 and cross / np.sqrt(power) > best:
                 best, where = cross / np.sqrt(power), h
         if where >= 0:
@@ -867,9 +872,11 @@ def note_remainders(band, accents, mates, scales, first, count, lows, size):
     notes, size)]."""
     out = np.zeros((len(first), size))
     for i in range(len(first)):
-        for p in range(first[i], first[i] + count[i]):
+        for p in range(first[i], first[i] + count[i]):  # slices: no negative-index branch a read, vectorized
+            row, scale = out[i], scales[p]
+            here, there = band[accents[p] + lows[i]:accents[p] + lows[i] + size], band[mates[p] + lows[i]:]
             for q in range(size):
-                out[i, q] += band[accents[p] + lows[i] + q] - scales[p] * band[mates[p] + lows[i] + q]
+                row[q] += here[q] - scale * there[q]
         for q in range(size):
             out[i, q] /= count[i]
     return out
@@ -881,11 +888,92 @@ def long_sound(band, accents, mates, scales, lows, lengths, weights, longest):
     times it from ``mates[p] + lows[p]``) over ``lengths[p]`` samples (up to ``longest``), and how many pairs reach
     each sample [each shape=(longest,)]."""
     total, counted = np.zeros(longest), np.zeros(longest, dtype=np.int64)
-    for p in range(len(accents)):
-        for q in range(min(lengths[p], longest)):
-            total[q] += weights[p] * (band[accents[p] + lows[p] + q] - scales[p] * band[mates[p] + lows[p] + q])
+    for p in range(len(accents)):  # slices: no negative-index branch a read, vectorized
+        top, weight, scale = min(lengths[p], longest), weights[p], scales[p]
+        here, there = band[accents[p] + lows[p]:], band[mates[p] + lows[p]:]
+        for q in range(top):
+            total[q] += weight * (here[q] - scale * there[q])
+        for q in range(top):
             counted[q] += 1
     return total, counted
+
+
+@jit
+def placed_ghosts(times, kinds, which, ghosts, near, low, high):
+    """:func:`.onsets._placed_ghosts`' loop: for each of ``ghosts`` in turn, the attack of ``which`` nearest it within
+    ``near`` samples (in ``times``, as moved so far; the first of equals) moved onto it (``kinds`` 3) where it lies
+    more than ``low`` and up to ``high`` samples after it. Returns whether each ghost had no attack so near (new)."""
+    new = np.empty(len(ghosts), dtype=np.bool_)
+    for i in range(len(ghosts)):
+        g, best, k = ghosts[i], np.inf, -1
+        for j in range(len(which)):
+            off = abs(times[which[j]] - g)
+            if off <= near and off < best:
+                best, k = off, which[j]
+        new[i] = k < 0
+        if k >= 0 and low < times[k] - g <= high:
+            times[k], kinds[k] = g, 3
+    return new
+
+
+@jit
+def ghost_notes_pairs(c, ends, nexts, accents, count, mate, shifts, scales, span, size, reach):
+    """:func:`matched_ghost_onsets`' notes after each accent ``c[accents[k]]`` (``count[k]`` mates of the flat
+    ``mate``, ``shifts``, ``scales``, all indices into ``c``): each later attack before the accent's ``ends`` and
+    ``span`` samples (a float, compared as such) after it, ``size`` or more after it, with a mate whose own next
+    attack (``nexts``) lies ``reach`` or more past that note's offset. Returns the notes (attack, accent, first pair,
+    pairs) and the pairs (the accent's onset, the mate's shifted, its scale, how far it reaches past the note)
+    [each shape=(n,)]."""
+    notes = [(np.int64(0), np.int64(0), np.int64(0), np.int64(0)) for _ in range(0)]
+    pairs = [(np.int64(0), np.int64(0), 0.0, np.int64(0)) for _ in range(0)]
+    first = 0
+    for k in range(len(accents)):
+        b = accents[k]
+        for g in range(b + 1, len(c)):
+            off = c[g] - c[b]
+            if c[g] >= ends[b] or off > span:
+                break
+            if off < size:
+                continue
+            start = len(pairs)
+            for m in range(first, first + count[k]):
+                a, s = mate[m], shifts[m]
+                if nexts[a] - c[a] - s >= off + reach:
+                    pairs.append((c[b], c[a] + s, scales[m], nexts[a] - c[a] - s - off))
+            if len(pairs) > start:
+                notes.append((np.int64(g), b, np.int64(start), np.int64(len(pairs) - start)))
+        first += count[k]
+    note, accent = np.empty(len(notes), dtype=np.int64), np.empty(len(notes), dtype=np.int64)
+    firsts, counts = np.empty(len(notes), dtype=np.int64), np.empty(len(notes), dtype=np.int64)
+    for i in range(len(notes)):
+        note[i], accent[i], firsts[i], counts[i] = notes[i]
+    accent_at, mate_at, scale_of, reach_of = (np.empty(len(pairs), dtype=np.int64), np.empty(len(pairs), dtype=np.int64),
+                                              np.empty(len(pairs)), np.empty(len(pairs), dtype=np.int64))
+    for p in range(len(pairs)):
+        accent_at[p], mate_at[p], scale_of[p], reach_of[p] = pairs[p]
+    return note, accent, firsts, counts, accent_at, mate_at, scale_of, reach_of
+
+
+@jit
+def matched_mates(c, nexts, mate, shifts, scales, noted, amplitude, onset, known, pre, length):
+    """:func:`matched_ghost_onsets`' mates (``mate``, indices into ``c``; ``shifts``, ``scales``), flat for its
+    compiled search: each one's onset (shifted), how far it reaches (samples, to its own next attack, or where that
+    is a ghost note found, ``noted``: on to that note's next attack or the longer sound's end, ``known`` samples
+    past its onset ``onset``), the gain its note is taken off with (``amplitude``, 0 for none) and where that note
+    starts (samples from the mate's onset). ``length``: the band's."""
+    n = len(mate)
+    at, ends, alphas, starts = (np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64), np.zeros(n),
+                                np.zeros(n, dtype=np.int64))
+    for m in range(n):
+        a, s = mate[m], shifts[m]
+        g, end, there = a + 1, nexts[a] - c[a], 0
+        if g < len(c) and noted[g]:
+            alphas[m], there = amplitude[g], onset[g] - c[a] - pre
+            end = min(nexts[g] - c[a], there + known)
+        at[m] = c[a] + s
+        ends[m] = min(end - s - pre, length - c[a] - s)
+        starts[m] = there - s
+    return at, ends, alphas, starts
 
 
 def matched_ghost_onsets(band, times, clear, rate, *, likeness, least, fit, rise_db=6.0, skip=10e-3, span=0.13,
@@ -920,47 +1008,37 @@ def matched_ghost_onsets(band, times, clear, rate, *, likeness, least, fit, rise
     which = np.flatnonzero(ok)
     if len(which) < 3:
         return np.empty(0)
-    loud, ends = _loud_and_ends(band, c, rate, quiet_db)
+    loud, ends = _loud_and_ends(band, c, rate, quiet_db, shared)
     mates = _partners(band, starts[which], size + pre, 2, likeness, shared)
-    accents, used, _, _, _, _ = _accents_mates(mates, mates_used)
+    accents, _, mates_count, mate, shifts, scales = _accents_mates(mates, mates_used)
     nexts = np.append(c[1:], len(band))
-    used = [[(which[a], s, scale) for a, s, scale in u] for u in used]
+    mate = which[mate]
     # the notes after each accent (before its next within ``quiet_db``), each mate that reaches its head (its own
     # next attack later), as pairs: the accent's onset, the mate's (shifted), its scale and how far it reaches
-    notes, pairs = [], []  # (note, accent, first pair, pairs); (accent, mate, scale, reach: samples from the note)
-    for k, u in enumerate(used):
-        b = which[accents[k]]
-        for g in range(b + 1, len(c)):
-            off = c[g] - c[b]
-            if c[g] >= ends[b] or off > span * rate:
-                break
-            reaching = [(c[b], c[a] + s, scale, nexts[a] - c[a] - s - off) for a, s, scale in u
-                        if nexts[a] - c[a] - s >= off + n + shift]
-            if off >= size and reaching:
-                notes.append((g, b, len(pairs), len(reaching)))
-                pairs.extend(reaching)
-    twice = np.array([count >= 2 for *_, count in notes], dtype=bool)
+    note, note_accent, first, count, accent_at, mate_at, scale_of, reach_of = ghost_notes_pairs(
+        c, ends, nexts, which[np.array(accents, dtype=np.int64)], mates_count, mate, shifts, scales, span * rate, size,
+        n + shift)
+    twice = count >= 2
     if twice.sum() < fewest:
         return np.empty(0)
-    accent_at, mate_at, scale_of, reach_of = (np.array(x) for x in zip(*pairs))
-    first = np.array([f for _, _, f, _ in notes], dtype=np.int64)
-    count = np.array([k for *_, k in notes], dtype=np.int64)
-    offsets = np.array([c[g] - c[b] for g, b, _, _ in notes], dtype=np.int64)
+    offsets = c[note] - c[note_accent]
     heads = note_remainders(band, accent_at, mate_at, scale_of, first, count, offsets - pre - shift, n + 2 * shift)
     # the reference and the head from the notes two mates or more reach (one mate's remainder may hold its own note)
     energies = np.einsum("ij,ij->i", heads[:, shift:shift + n], heads[:, shift:shift + n])
     reference = heads[int(np.argmax(np.where(twice, energies, -1.0))), shift:shift + n]
-    reference = reference / max(np.linalg.norm(reference), 1e-300)
-    views = np.lib.stride_tricks.as_strided(heads, (len(heads), 2 * shift + 1, n), (heads.strides[0],) + heads.strides[1:] * 2,
-                                            writeable=False)  # [note, lag, sample]: sliding_window_view's, less its checks
+    reference = reference / max(np.sqrt(reference.dot(reference)), 1e-300)  # np.linalg.norm's, less its checks
+    views = np.ndarray((len(heads), 2 * shift + 1, n), dtype=heads.dtype, buffer=heads,
+                       strides=(heads.strides[0],) + heads.strides[1:] * 2)  # [note, lag, sample]: as_strided's, less its checks
     norms = np.maximum(np.sqrt(np.einsum("ijk,ijk->ij", views, views)), 1e-300)
     like = np.einsum("ijk,k->ij", views, reference) / norms
     best = np.argmax(like, axis=1)
-    kept = like[np.arange(len(notes)), best] >= fit
+    kept = like[np.arange(len(note)), best] >= fit
     if np.sum(kept & twice) < fewest:
         return np.empty(0)
     lags = best - shift
-    middle_lag = int(np.median(lags[kept & twice]))
+    middle = sorted(lags[kept & twice].tolist())  # their median (np.median's: the two middle ones' mean), truncated
+    half = len(middle) // 2
+    middle_lag = int(middle[half] if len(middle) % 2 else (middle[half - 1] + middle[half]) / 2)
     chosen = np.flatnonzero(kept & twice)
     template = np.mean(views[chosen, best[chosen]] / norms[chosen, best[chosen], None], axis=0)
     unit = np.zeros(n)  # the head: its onset ``pre`` samples in
@@ -968,7 +1046,7 @@ def matched_ghost_onsets(band, times, clear, rate, *, likeness, least, fit, rise
         unit[:n + middle_lag] = template[-middle_lag:]
     else:
         unit[middle_lag:] = template[:n - middle_lag]
-    unit /= max(np.linalg.norm(unit), 1e-300)
+    unit /= max(np.sqrt(unit.dot(unit)), 1e-300)
     # each kept note's onset (its found onset moved by its lag less the median's), amplitude (its mean remainder's
     # projection on the head) and longer sound (each mate's remainder up to its own next attack, so scaled)
     kept = np.flatnonzero(kept)
@@ -976,46 +1054,37 @@ def matched_ghost_onsets(band, times, clear, rate, *, likeness, least, fit, rise
     alphas = note_remainders(band, accent_at, mate_at, scale_of, first[kept], count[kept], lows, n) @ unit
     positive = alphas > 0.0
     kept, lows, alphas = kept[positive], lows[positive], alphas[positive]
-    each = np.concatenate([np.arange(first[i], first[i] + count[i]) for i in kept]) if len(kept) else np.empty(0, int)
-    note_of = np.repeat(np.arange(len(kept)), count[kept])
+    note_of = np.repeat(np.arange(len(kept)), count[kept])  # each kept note's pairs, in turn
+    each = np.arange(len(note_of)) - (np.cumsum(count[kept]) - count[kept])[note_of] + first[kept][note_of]
     longest = round(longest * rate)
     total, counted = long_sound(band, accent_at[each], mate_at[each], scale_of[each], lows[note_of],
                                 reach_of[each] + pre - (lows[note_of] + pre - offsets[kept][note_of]),
                                 1.0 / alphas[note_of], longest)
     known = int(np.argmax(counted < 2)) if np.any(counted < 2) else longest
     long = total[:known] / np.maximum(counted[:known], 1)
-    amplitude = {int(notes[i][0]): float(alpha) for i, alpha in zip(kept.tolist(), alphas.tolist())}
-    onset_of = {int(notes[i][0]): int(c[notes[i][1]] + low + pre) for i, low in zip(kept.tolist(), lows.tolist())}
     # each accent's mates (a mate whose own next attack is a kept note: less it, on to that note's next attack or
-    # the longer sound's end), flat for one compiled search
-    mates_at, scales, mate_ends, alphas, long_at = [], [], [], [], []
-    for u in used:
-        for a, s, scale in u:
-            g, end, alpha, at = a + 1, nexts[a] - c[a], 0.0, 0
-            if g in amplitude:  # its own next attack a ghost note found: taken off the mate
-                alpha, at = amplitude[g], onset_of[g] - c[a] - pre
-                end = min(nexts[g] - c[a], at + known)
-            mates_at.append(c[a] + s)
-            scales.append(scale)
-            mate_ends.append(min(end - s - pre, len(band) - c[a] - s))
-            alphas.append(alpha)
-            long_at.append(at - s)
+    # the longer sound's end), flat for one compiled search (a note kept twice: its last, as a dict keeps it)
+    noted, amplitude, onset = np.zeros(len(c), dtype=bool), np.zeros(len(c)), np.zeros(len(c), dtype=np.int64)
+    for i, alpha, low in zip(kept.tolist(), alphas.tolist(), lows.tolist()):
+        g = note[i]
+        noted[g], amplitude[g], onset[g] = True, alpha, c[note_accent[i]] + low + pre
+    mates_at, mate_ends, alphas, long_at = matched_mates(c, nexts, mate, shifts, scales, noted, amplitude, onset,
+                                                         known, pre, len(band))
     b = which[np.array(accents, dtype=np.int64)]
     lengths = np.minimum(np.minimum(round(span * rate), ends[b] - c[b]), len(band) - c[b])
-    count = np.array([len(u) for u in used], dtype=np.int64)
     accent_of, onsets, fits, peaks = matched_searches(
-        band, c[b], size - before, lengths, np.cumsum(count) - count, count, np.array(mates_at, dtype=np.int64),
-        np.array(scales, dtype=float), np.array(mate_ends, dtype=np.int64), np.array(alphas, dtype=float),
-        np.array(long_at, dtype=np.int64), long, unit, max(1, width // 4), width, before,
+        band, c[b], size - before, lengths, np.cumsum(mates_count) - mates_count, mates_count, mates_at, scales,
+        mate_ends, alphas,
+        long_at, long, unit, max(1, width // 4), width, before,
         10.0 ** (rise_db / 10.0), round(reach * rate), pre, 2, after)
-    found, accent, last = [], -1, -np.inf
+    found, accent, last, apart = [], -1, -np.inf, round(20e-3 * rate)
+    lowest = np.maximum(least, loud[b] * 10.0 ** (below_db / 20.0)).tolist()  # each accent's peaks allowed
+    highest, onset_of = (loud[b] * 10.0 ** (quieter_db / 20.0)).tolist(), c[b].tolist()
     for k, t, like, peak in zip(accent_of.tolist(), onsets.tolist(), fits.tolist(), peaks.tolist()):
         if k != accent:
             accent, last = k, -np.inf
-        if like < fit or t < size or t < last + round(20e-3 * rate):
+        if like < fit or t < size or t < last + apart or not lowest[k] <= peak <= highest[k]:
             continue
-        if not max(least, loud[b[k]] * 10.0 ** (below_db / 20.0)) <= peak <= loud[b[k]] * 10.0 ** (quieter_db / 20.0):
-            continue
-        found.append(c[b[k]] + t)
+        found.append(onset_of[k] + t)
         last = t
     return np.unique(np.asarray(found, dtype=float))

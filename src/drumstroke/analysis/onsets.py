@@ -1827,7 +1827,7 @@ def _ghost_notes(band, d, rate, candidates, config, replays, reverberant=False, 
         return candidates
     if not replays():
         return candidates
-    _, (lead_clear,) = _clear(d, candidates.times, rate, [config.lead_clear_db])
+    lead_clear = _lead_clear(d, candidates.times, rate, config.lead_clear_db, shared)
     which = np.flatnonzero(candidates.attack)
     ghosts = ghost_onsets(band, candidates.times[which], lead_clear[which], rate, likeness=config.replay_likeness,
                           rise_db=config.ghost_rise_db, least=10.0 ** (config.threshold_db / 20.0),
@@ -1873,7 +1873,7 @@ def _room_ghost_notes(band, d, rate, candidates, config, replays, shared=None):
 
     if config.ghost_room_fit >= 1.0 or len(candidates) < 3 or not replays():
         return candidates
-    _, (lead_clear,) = _clear(d, candidates.times, rate, [config.lead_clear_db])
+    lead_clear = _lead_clear(d, candidates.times, rate, config.lead_clear_db, shared)
     template, _ = _template(band, d, rate, candidates.times, config, quietest=True)
     size = round(0.5e-3 * rate) + round(5e-3 * rate)
     if template is None or len(template) < size:
@@ -1910,7 +1910,7 @@ def _matched_ghost_notes(band, d, rate, candidates, config, replays, shared=None
 
     if config.ghost_matched_fit >= 1.0 or len(candidates) < 3 or not replays():
         return candidates
-    _, (lead_clear,) = _clear(d, candidates.times, rate, [config.lead_clear_db])
+    lead_clear = _lead_clear(d, candidates.times, rate, config.lead_clear_db, shared)
     which = np.flatnonzero(candidates.attack)
     ghosts = matched_ghost_onsets(band, candidates.times[which], lead_clear[which], rate,
                                   likeness=config.replay_likeness, least=10.0 ** (config.threshold_db / 20.0),
@@ -1924,17 +1924,12 @@ def _placed_ghosts(candidates, ghosts, which, rate, starts=None, late=2e-3):
     to ``late`` s after it moved there (found late). The times are kept where moving would unorder them."""
     if not len(ghosts):
         return candidates
+    from ._ghosts import placed_ghosts
+
     starts = ghosts if starts is None else starts
     times, kinds = candidates.times.copy(), candidates.kinds.copy()
-    new = []
-    for g, start in zip(ghosts, starts):
-        near = which[np.abs(times[which] - g) <= 5e-3 * rate]
-        if not len(near):
-            new.append(start)
-            continue
-        k = near[np.argmin(np.abs(times[near] - g))]
-        if 0.5e-3 * rate < times[k] - g <= late * rate:
-            times[k], kinds[k] = g, 3
+    fresh = placed_ghosts(times, kinds, which, np.asarray(ghosts, dtype=float), 5e-3 * rate, 0.5e-3 * rate, late * rate)
+    new = [start for start, is_new in zip(starts, fresh.tolist()) if is_new]
     moved = replace(candidates, times=times, kinds=kinds)
     if not np.all(np.diff(times) > 0):
         moved = candidates
@@ -2073,6 +2068,18 @@ def _clear(d, times, rate, dbs):
     span, gap = round(5e-3 * rate), round(0.5e-3 * rate)
     peaks, priors = peaks_around(d, np.rint(times).astype(np.int64), span, span, gap)
     return peaks, [priors <= peaks * 10.0 ** (db / 20.0) for db in dbs]
+
+
+def _lead_clear(d, times, rate, db, shared=None):
+    """:func:`_clear`'s booleans by ``db``, kept in ``shared`` (a dict, or None) and given again for the same ``d`` (the
+    same object), times and level (the ghost searches on the same attacks)."""
+    key = (times.tobytes(), rate, db)
+    if shared is not None and shared.get("clear_d") is d and shared.get("clear_key") == key:
+        return shared["clear"]
+    _, (clear,) = _clear(d, times, rate, [db])
+    if shared is not None:
+        shared.update(clear_d=d, clear_key=key, clear=clear)
+    return clear
 
 
 def _best_lag(x, template, start, reach):
