@@ -12,30 +12,17 @@ which left what hid the next: the layer's first 10 ms fit each best 1.0 ms earli
 detection), where ``layer_start_reach`` puts them.
 """
 
-from functools import cache
 
-import numpy as np
 import pytest
 
-from _recorded_drums import RATE, recordings, score
+from _recorded_drums import RATE, score
 from drumstroke.analysis import OnsetConfig, find_onsets
+from test_recorded_drop_rooms import _drop, _near  # FluidR3's drops with reverb, the corpus's seeds
 
 # FluidSynth and both SoundFonts are needed (scripts/install-system-packages.sh installs them): without them
 # these tests fail with render_soundfont's error, they never skip
 
 _OFF = OnsetConfig(layer_start_reach=0.0, layer_joint_likeness=1.0)  # both rules off: the outputs before them
-
-
-@cache
-def _drop(key):
-    """FluidR3's snare ``key`` drop with reverb, with the corpus's seeds (``recordings`` seeds each by its indices
-    in the tuples it is given: those of the whole corpus's)."""
-    return next(r for r in recordings(fonts=("FluidR3",), keys=(38, 40), sets=("singles", "drop"),
-                                      conditions=("reverb",)) if r.key == key and r.set == "drop")
-
-
-def _near(times, t, window):
-    return bool(np.any(np.abs(np.asarray(times) - t) <= window))
 
 
 @pytest.mark.parametrize("key, missed", [
