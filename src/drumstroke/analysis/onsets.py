@@ -569,6 +569,14 @@ class OnsetConfig:
         attacks it times inherit its time (TimGM6mb's snare 40 rises to 2-4 % of its peak a millisecond before its main
         rise, which at -60 dBFS noise is what is detected: every template-timed bounce was 0.5-1.2 ms late); 0: the
         start stays where it was detected, as before this field.
+    template_start_past_db : float in [0, 120]
+        dB: a detection less than 7 ms before the template's attack stops its start being sought (the 5 ms of noise
+        it is read against must come after that detection) only when its own peak (the band's largest magnitude over
+        the 0.5 ms after it) is less than this under the attack's (over 5 ms): a detection in the noise before a clear attack is not an
+        attack, and the noise's level the start is asked to pass covers its sound (TimGM6mb's snare 40 at -72 dBFS:
+        a detection 1.4 ms before the note, and every template-timed bounce was 1.13 ms late; a detection 0.5 ms
+        before the main rise, on the note's own lead-in); 0: only one as loud as the attack, which a clear attack
+        never has before it; 120: every detection stops it, as before this field.
     ghost_room_reach : float in [0, 0.005]
         s: in a recording step 4 finds reverberant, the quiet attack is fitted to what the layer-mates leave from so
         long before the rise's block (to 5 ms after it; :func:`_room_ghost_notes`): a swell of what they leave before
@@ -701,6 +709,7 @@ class OnsetConfig:
     ghost_mate_notes: float = 0.99
     ghost_matched_fit: float = 0.9
     template_start_db: float = -40.0
+    template_start_past_db: float = 0.0
     ghost_room_reach: float = 2e-3
     room_partner_under_db: float = 15.0
     ghost_room_spare_likeness: float = 0.99
@@ -775,6 +784,7 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "ghost_mate_notes": (0.0, 1.0, "(correlation)"),
     "ghost_matched_fit": (0.0, 1.0, "(correlation)"),
     "template_start_db": (-120.0, 0.0, "dB"),
+    "template_start_past_db": (0.0, 120.0, "dB"),
     "ghost_room_reach": (0.0, 5e-3, "s"),
     "room_partner_under_db": (0.0, 120.0, "dB"),
     "ghost_room_spare_likeness": (0.0, 1.0, "(correlation)"),
@@ -2036,9 +2046,24 @@ def _attack_sound(band, times, k, rate, config, own=False):
     c = round(t)
     if own and config.template_start_db < 0.0:
         # the same samples (the fits, their scales and remainders unchanged), the attack's time moved back to its start
-        start = _own_start(band, c, times[k - 1] if k else -np.inf, rate, config.template_start_db)
+        start = _own_start(band, c, _attack_before(band, times, k, rate, config.template_start_past_db), rate,
+                           config.template_start_db)
         t = float(start) if start < c else t
     return band[c - pre:min(int(end) - pre, c + round(config.tail * rate))].copy(), float(t - c)
+
+
+def _attack_before(band, times, k, rate, past_db):
+    """The detection before ``times[k]`` (full-rate samples) as an attack its start is sought after: ``-inf`` (none)
+    where it is first or where its own peak (``band``'s largest magnitude over the 0.5 ms after it, before the next
+    note's sound) is ``past_db`` or more under the peak of ``times[k]`` (over the 5 ms after it): a detection in the
+    noise or on the note's own lead-in, not an attack before it."""
+    if not k:
+        return -np.inf
+    before, c = round(times[k - 1]), round(times[k])
+    own = np.max(np.abs(band[before:max(before + 1, min(c, before + round(0.5e-3 * rate)))]))
+    if own < np.max(np.abs(band[c:c + round(5e-3 * rate)])) * 10.0 ** (-past_db / 20.0):
+        return -np.inf
+    return times[k - 1]
 
 
 def _own_start(band, c, before, rate, db):
