@@ -2059,7 +2059,7 @@ def _attack_before(band, times, k, rate, past_db):
     noise or on the note's own lead-in, not an attack before it."""
     if not k:
         return -np.inf
-    before, c = round(times[k - 1]), round(times[k])
+    before, c = max(0, round(times[k - 1])), round(times[k])  # (a detection may be placed before the recording's start)
     own = np.max(np.abs(band[before:max(before + 1, min(c, before + round(0.5e-3 * rate)))]))
     if own < np.max(np.abs(band[c:c + round(5e-3 * rate)])) * 10.0 ** (-past_db / 20.0):
         return -np.inf
