@@ -156,33 +156,48 @@ def notes(set_name, seed):
 
 
 def recordings(*, fonts=tuple(FONTS), keys=KEYS, sets=SETS, conditions=CONDITIONS, seed=0, leads=None):
-    """Yield the corpus's :class:`Recording` s: each font × key × set, each in every condition asked for."""
-    from drumstroke.render.soundfont import render_soundfont
-
+    """Yield the corpus's :class:`Recording` s: each font × key × set, each in every condition asked for (seeded by
+    their indices in the tuples given: the full corpus's with the defaults)."""
     leads = Leads() if leads is None else leads
     for f, font in enumerate(fonts):
         for k, key in enumerate(keys):
             for s, set_name in enumerate(sets):
-                base = seed * 1000 + 100 * f + 10 * k + s
-                played = notes(set_name, base)
-                hits = [(t, "snare", key, speed_of(v)) for t, v in played]
-                measured = [leads(font, key, v) for _, v in played]
-                t = np.array([note_block(t) + lead for (t, _), (lead, _) in zip(played, measured)]) / RATE
-                peak = np.array([p for _, p in measured])
-                level = 20.0 * np.log10(peak / peak.max())
-                dry = None
-                for condition in conditions:
-                    if condition == "reverb":
-                        signal = render_soundfont(hits, FONTS[font], duration=SECONDS, rate=RATE, reverb=True)
-                    else:
-                        if dry is None:
-                            dry = render_soundfont(hits, FONTS[font], duration=SECONDS, rate=RATE)
-                        signal = dry
-                        if condition in NOISE_DBFS:
-                            noise = np.random.default_rng(base + 7).standard_normal(len(dry))
-                            signal = dry + noise * 10.0 ** (NOISE_DBFS[condition] / 20.0)
-                    yield Recording(font, key, set_name, condition, signal, t, level)
+                yield from _played(font, key, set_name, conditions, seed * 1000 + 100 * f + 10 * k + s, leads)
     leads.save()
+
+
+def recording(font, key, set_name, condition, *, seed=0):
+    """One :class:`Recording` exactly as :func:`recordings` renders it in the full corpus on ``seed``."""
+    leads = Leads()
+    base = seed * 1000 + 100 * tuple(FONTS).index(font) + 10 * KEYS.index(key) + SETS.index(set_name)
+    (out,) = _played(font, key, set_name, (condition,), base, leads)
+    leads.save()
+    return out
+
+
+def _played(font, key, set_name, conditions, base, leads):
+    """The recordings of one font, key and set (notes seeded by ``base``, noise by ``base`` + 7), one a condition."""
+    from drumstroke.render.soundfont import render_soundfont
+
+    played = notes(set_name, base)
+    hits = [(t, "snare", key, speed_of(v)) for t, v in played]
+    measured = [leads(font, key, v) for _, v in played]
+    t = np.array([note_block(t) + lead for (t, _), (lead, _) in zip(played, measured)]) / RATE
+    peak = np.array([p for _, p in measured])
+    level = 20.0 * np.log10(peak / peak.max())
+    dry, out = None, []
+    for condition in conditions:
+        if condition == "reverb":
+            signal = render_soundfont(hits, FONTS[font], duration=SECONDS, rate=RATE, reverb=True)
+        else:
+            if dry is None:
+                dry = render_soundfont(hits, FONTS[font], duration=SECONDS, rate=RATE)
+            signal = dry
+            if condition in NOISE_DBFS:
+                noise = np.random.default_rng(base + 7).standard_normal(len(dry))
+                signal = dry + noise * 10.0 ** (NOISE_DBFS[condition] / 20.0)
+        out.append(Recording(font, key, set_name, condition, signal, t, level))
+    return out
 
 
 def match(truth, found, window):

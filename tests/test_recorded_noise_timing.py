@@ -12,43 +12,17 @@ template's start is now found on the template's own samples: the first sample up
 ``template_start_db=0`` gives the start where it was detected, as before.
 """
 
-import numpy as np
-
-import _recorded_drums as rd
-from _recorded_drums import RATE, score
+from _recorded_drums import RATE, recording, score
 from drumstroke.analysis import OnsetConfig, find_onsets
-
-
-def _recording(font, key, set_name, condition, seed):
-    """One recording of the corpus as the full corpus renders it on ``seed`` (its noise seeded by its indices in
-    the corpus's fonts, keys and sets, as :func:`_recorded_drums.recordings` seeds it over the whole corpus)."""
-    from drumstroke.render.soundfont import render_soundfont
-
-    base = seed * 1000 + 100 * tuple(rd.FONTS).index(font) + 10 * rd.KEYS.index(key) + rd.SETS.index(set_name)
-    leads = rd.Leads()
-    played = rd.notes(set_name, base)
-    hits = [(t, "snare", key, rd.speed_of(v)) for t, v in played]
-    measured = [leads(font, key, v) for _, v in played]
-    t = np.array([rd.note_block(t) + lead for (t, _), (lead, _) in zip(played, measured)]) / RATE
-    peak = np.array([p for _, p in measured])
-    dry = render_soundfont(hits, rd.FONTS[font], duration=rd.SECONDS, rate=RATE)
-    noise = np.random.default_rng(base + 7).standard_normal(len(dry))
-    return dry + noise * 10.0 ** (rd.NOISE_DBFS[condition] / 20.0), t, 20.0 * np.log10(peak / peak.max())
-
-
-class _Truth:
-    def __init__(self, t, level_db):
-        self.t, self.level_db = t, level_db
 
 
 def test_a_drops_template_timed_bounces_are_not_late_in_noise():
     """TimGM6mb's snare 40 drop at -60 dBFS noise, seed 2: 56 loud notes, 4 within 1 ms before (every bounce
     the template timed 1.02-1.20 ms late), 55 now, all 56 within 5 ms either way and no false detection more;
     ``template_start_db=0`` (the start where it was detected, as before) gives the earlier onsets."""
-    signal, t, level = _recording("TimGM6mb", 40, "drop", "noise60", 2)
-    truth = _Truth(t, level)
-    now = score(truth, find_onsets(signal, RATE).t)
-    then = score(truth, find_onsets(signal, RATE, config=OnsetConfig(template_start_db=0.0)).t)
+    truth = recording("TimGM6mb", 40, "drop", "noise60", seed=2)
+    now = score(truth, find_onsets(truth.signal, RATE).t)
+    then = score(truth, find_onsets(truth.signal, RATE, config=OnsetConfig(template_start_db=0.0)).t)
     assert then["within_1ms"] <= 10 and now["within_1ms"] >= then["within_1ms"] + 45
     assert now["correct_5ms"] >= then["correct_5ms"]
     assert now["found"] - now["correct_5ms"] <= then["found"] - then["correct_5ms"]
@@ -59,10 +33,9 @@ def test_a_detection_in_the_noise_before_the_template_does_not_stop_its_start():
     note stopped its start being sought (``template_start_past_db=120``, as before), and 7 of its 53 loud notes were
     within 1 ms (the others 1.13 ms late), 52 within 5 ms; now 52 are within 1 ms and all 53 within 5 ms, and no
     false detection more."""
-    signal, t, level = _recording("TimGM6mb", 40, "drop", "noise72", 5)
-    truth = _Truth(t, level)
-    now = score(truth, find_onsets(signal, RATE).t)
-    then = score(truth, find_onsets(signal, RATE, config=OnsetConfig(template_start_past_db=120.0)).t)
+    truth = recording("TimGM6mb", 40, "drop", "noise72", seed=5)
+    now = score(truth, find_onsets(truth.signal, RATE).t)
+    then = score(truth, find_onsets(truth.signal, RATE, config=OnsetConfig(template_start_past_db=120.0)).t)
     assert then["within_1ms"] <= 10 and now["within_1ms"] >= 50
     assert now["correct_5ms"] >= then["correct_5ms"] and now["within_5ms"] == now["loud"]
     assert now["found"] - now["correct_5ms"] <= then["found"] - then["correct_5ms"]

@@ -17,7 +17,8 @@ from ._kernels import window_dots
 def template_search(remainder, template, head, times, shifts, refused, offset, layer_at, layer_size, pre, gap,
                     shortest, fit, bounce, echo, signature, reach, likeness, refused_likeness, ratio_low, ratio_high,
                     least, burst, earlier, unclear, weak, start_likeness, layer_likeness, bursts=1, unfitted=0.0,
-                    layer_whole=1.0, flight=0, layer_start=0, layer_joint=1.0, joint_flight=0, joint_train=0):
+                    layer_whole=1.0, flight=0, layer_start=0, layer_joint=1.0, joint_flight=0, joint_train=0,
+                    past=0, train=0, jitter=0):
     """:func:`.onsets._template_search`'s loop over the attacks at ``times`` (full-rate samples, in order).
 
     ``remainder`` (the band, changed in place) less each attack's fitted ``template`` (``pre`` samples before its
@@ -54,7 +55,12 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
     ``layer_at`` the layer is its sound as recorded (not yet what is left there; with ``layer_likeness`` 1 there is
     none before it). A detection flagged ``unclear``, not one the template timed, within ``bounce`` after the attack
     before it, is put where ``layer`` fits best up to ``layer_start`` samples before it (:func:`_layer_start`; 0, its
-    default: not sought), and one up to ``layer_start`` samples after a bounce found is that bounce (dropped). Returns the attacks found (their
+    default: not sought), and one up to ``layer_start`` samples after a bounce found is that bounce (dropped). A bounce
+    is sought past ``bounce`` after an attack (``past`` 0 and ``train`` 0, their defaults: not): up to ``past`` after a
+    detection the attack's fit looked past or dropped as its own sound; and where none is found, after a bounce of a
+    train (the flight before ``train`` samples or less, no longer than the flight before it nor shorter than two
+    thirds of it, the bounce's fitted scale at most 1 dB over the one before), from 0.7 times that flight on to the
+    flight plus ``jitter`` samples on (a drop's flights shrink). Returns the attacks found (their
     times, in order), each one's correlation and which of ``times`` are dropped [shape=(len(times),)].
     """
     n, size = len(remainder), len(template)
@@ -68,7 +74,8 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
     most = n // max(gap, 1) + 1 + len(times)  # each new one gap after, each moved one of times
     found, likes, count = np.empty(most), np.empty(most), 0
     dropped = np.zeros(len(times), dtype=np.bool_)
-    i, pending, last, joined, by_joint = 0, -1, -n, False, False
+    i, pending, last, previous, joined, by_joint = 0, -1, -n, -n, False, False
+    loudness = 0.0  # the attack before's fitted scale
     while True:
         joined, by_joint = by_joint, False  # whether this attack is one the joint fit found
         if pending >= 0:
@@ -94,7 +101,7 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
                         found[count], likes[count], count = start + offset, like, count + 1
         else:
             break
-        previous, last = last, c
+        prior, previous, last = previous, last, c
         following = int(np.rint(times[i] - shifts[i])) if i < len(times) else n
         detection = following
         if c < pre or min(max(pre + shortest, min(pre + fit, following - c)), size, n - c + pre) <= pre:
@@ -158,6 +165,10 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
         at, like = -1, 0.0
         if measured > 0.0:
             high = min(following - gap, c + bounce, n - len(head) + pre)
+            if past > 0 and detection < following:
+                # the detection looked past or dropped was this attack's sound, or the next bounce placed early
+                # (FluidR3's snare 38 with reverb: 6 ms early, 23 ms after the attack; the bounce 29 ms after it)
+                high = min(following - gap, max(c + bounce, detection + past), n - len(head) + pre)
             at, like = _bounce_after(remainder, template, head, head_energy, c + gap, high, following, pre, shortest,
                                      fit, reach, measured, likeness, ratio_low, ratio_high, start_likeness)
             if at < 0 and by_layer and layer_likeness < 1.0 and c - previous <= bounce:
@@ -185,6 +196,17 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
                                                      fit, reach, layer_joint, ratio_low, ratio_high)
                     if early >= 0:
                         at, like, by_joint = early, early_like, True
+        if (at < 0 and measured > 0.0 and c - previous <= train and c - previous <= previous - prior
+                and 2 * (previous - prior) <= 3 * (c - previous) and measured <= 1.12 * loudness):
+            # a train's next bounce past the usual reach, where the flight before says it is (a drop's flights
+            # shrink, its bounces fade: a flam's main note is louder than its grace note, and a room's returns
+            # are not so spaced); step 4 found none there (FluidR3's snare 38 with reverb: 26-30 ms flights)
+            low = max(c + gap, c + bounce, c + (7 * (c - previous)) // 10)
+            high = min(following - gap, c + (c - previous) + jitter, n - len(head) + pre)
+            if high > low:
+                at, like = _bounce_after(remainder, template, head, head_energy, low, high, following, pre, shortest,
+                                         fit, reach, measured, likeness, ratio_low, ratio_high, start_likeness)
+        loudness = measured
         if skipped and at > detection:
             if at - detection <= echo:  # the detection was this bounce placed early
                 dropped[i], i = True, i + 1

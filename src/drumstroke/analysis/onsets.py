@@ -577,6 +577,15 @@ class OnsetConfig:
         a detection 1.4 ms before the note, and every template-timed bounce was 1.13 ms late; a detection 0.5 ms
         before the main rise, on the note's own lead-in); 0: only one as loud as the attack, which a clear attack
         never has before it; 120: every detection stops it, as before this field.
+    train_reach : float in [0, 0.1]
+        s: step 5's search for a close bounce reaches past ``bounce_reach`` (:func:`_template_search`): up to
+        ``echo_reach`` after a detection the attack's fit looked past or dropped as its own sound (the next bounce,
+        placed early by the modes' band); and where none is found, after a bounce of a train whose flight before is
+        this or less (no longer than the flight before it, nor shorter than two thirds of it, the bounce no more than
+        1 dB louder by its fit than the one before: a drop's flights shrink, its bounces fade), from 0.7 times that
+        flight on to 1.5 ms past it. Where step 4 finds none of a drop's bounces 26-30 ms apart (FluidR3's snare 38
+        with reverb), the search, 25 ms long, ended the train there, its last 12 bounces lost; 0: neither, as
+        before this field.
     ghost_room_reach : float in [0, 0.005]
         s: in a recording step 4 finds reverberant, the quiet attack is fitted to what the layer-mates leave from so
         long before the rise's block (to 5 ms after it; :func:`_room_ghost_notes`): a swell of what they leave before
@@ -710,6 +719,7 @@ class OnsetConfig:
     ghost_matched_fit: float = 0.9
     template_start_db: float = -40.0
     template_start_past_db: float = 0.0
+    train_reach: float = 35e-3
     ghost_room_reach: float = 2e-3
     room_partner_under_db: float = 15.0
     ghost_room_spare_likeness: float = 0.99
@@ -785,6 +795,7 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "ghost_matched_fit": (0.0, 1.0, "(correlation)"),
     "template_start_db": (-120.0, 0.0, "dB"),
     "template_start_past_db": (0.0, 120.0, "dB"),
+    "train_reach": (0.0, 0.1, "s"),
     "ghost_room_reach": (0.0, 5e-3, "s"),
     "room_partner_under_db": (0.0, 120.0, "dB"),
     "ghost_room_spare_likeness": (0.0, 1.0, "(correlation)"),
@@ -1768,7 +1779,9 @@ def _template_search(band, d, rate, candidates, refused, config, replays, quiete
                                             round(_TRAIN_FLIGHT * rate),
                                             round(config.layer_start_reach * rate) if layer_bounce < 1.0 else 0,
                                             config.layer_joint_likeness if layer_bounce < 1.0 else 1.0,
-                                            round(_JOINT_FLIGHT * rate), round(_JOINT_TRAIN * rate))
+                                            round(_JOINT_FLIGHT * rate), round(_JOINT_TRAIN * rate),
+                                            round(config.echo_reach * rate) if config.train_reach > 0.0 else 0,
+                                            round(config.train_reach * rate), round(_TRAIN_JITTER * rate))
     if not len(found) and not dropped.any():
         return candidates
     merged, fresh = candidates.take(~dropped).insert(found, attack=True, likeness=likes)
@@ -1778,6 +1791,8 @@ def _template_search(band, d, rate, candidates, refused, config, replays, quiete
 _JOINT_FLIGHT = 3.5e-3  # s: the shortest flight ``layer_joint_likeness`` takes (the corpus's drops' last flights: 3.9 ms
 # or more; what the joint fit finds 2.2-2.9 ms after a TimGM6mb snare 38 train's last bounce is that bounce's own sound)
 _JOINT_TRAIN = 9e-3  # s: the longest flight before a bounce that ``layer_joint_likeness`` seeks after
+_TRAIN_JITTER = 1.5e-3  # s: how much longer than the flight before a train's next flight may be (FluidSynth starts
+# a note at a 64-sample block boundary: 1.3 ms at 48 kHz)
 _TRAIN_FLIGHT = 10e-3  # s: the longest flight before a drop's last bounce that ``layer_whole_likeness`` seeks after
 # (FluidR3's snares: 3.9-9.3 ms; a room's detections 18 ms apart took the room's sound for a train of bounces)
 
