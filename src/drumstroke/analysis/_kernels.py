@@ -271,7 +271,7 @@ def likeness_at(x, start, t, energy):
     return dot / (math.sqrt(own * energy) + 1e-300), dot
 
 
-@jit
+@jit(error_model="numpy")  # (every divisor is 1e-300 or more: numpy's model only lets the bounds' loop be vectorised)
 def best_lag(x, template, low, count, energy):
     """:func:`.onsets._best_lag` over the ``count`` windows of ``x`` from ``low``: the best window, its dot product
     with ``template`` and its correlation (the first of the largest), each as :func:`likeness_at` computes it.
@@ -288,14 +288,15 @@ def best_lag(x, template, low, count, energy):
         power[j + 1] = power[j] + x[low + j] * x[low + j]
     slack = 4.0 * (span + 2) * 2.220446049250313e-16 * power[span]  # more than either sum's rounding
     dots = window_dots(x, low, template, count)
-    upper = np.empty(count)
-    floor = -np.inf  # the best lower bound
-    for k in range(count):
+    upper, lower = np.empty(count), np.empty(count)
+    for k in range(count):  # each window's bounds (in vector instructions), then the best lower bound
         own = power[k + size] - power[k]
         a = dots[k] / (math.sqrt(max(own - slack, 0.0) * energy) + 1e-300)
         b = dots[k] / (math.sqrt((own + slack) * energy) + 1e-300)
-        upper[k] = max(a, b)
-        floor = max(floor, min(a, b))
+        upper[k], lower[k] = max(a, b), min(a, b)
+    floor = -np.inf
+    for k in range(count):
+        floor = max(floor, lower[k])
     best, at = -np.inf, 0
     for k in range(count):
         if upper[k] >= floor:
