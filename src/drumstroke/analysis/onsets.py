@@ -2747,18 +2747,13 @@ def _decimation(band, rate):
     energy = frame_energies(np.ascontiguousarray(band, dtype=float), starts, window)
     frequencies = np.fft.rfftfreq(size, 1.0 / rate)
 
-    def mean_power(spectra):
-        power = np.empty(spectra.shape[::-1])  # bins by frames: each bin's mean summed over a row
-        np.square(np.abs(spectra.T, out=power), out=power)
-        return power.mean(axis=1)
+    def mean_power(which):
+        frames = _frames(band, 0, len(band) - size + 1, size)[starts[which]] * window
+        return np.ascontiguousarray(np.abs(np.fft.rfft(frames, axis=1).T) ** 2).mean(axis=1)
 
     quiet, high = np.quantile(energy, [0.1, 0.9])
-    # both tenths' frames windowed and transformed in one call (each frame's spectrum its own: the same bits)
-    quietest, loudest = np.flatnonzero(energy <= quiet), np.flatnonzero(energy >= high)
-    frames = _frames(band, 0, len(band) - size + 1, size)[starts[np.concatenate((quietest, loudest))]]
-    frames *= window
-    spectra = np.fft.rfft(frames, axis=1)
-    noise, loud = mean_power(spectra[:len(quietest)]), mean_power(spectra[len(quietest):])
+    noise = mean_power(energy <= quiet)
+    loud = mean_power(energy >= high)
     good = np.flatnonzero(loud > 100.0 * noise)
     top = frequencies[good[-1]] if len(good) else frequencies[-1]
     return int(max(1, min(rate // (2.5 * max(top, 1.0)), rate // 2000)))
