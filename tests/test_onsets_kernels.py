@@ -167,6 +167,23 @@ def test_window_peaks_are_the_slices_largest_magnitudes(rng):
     np.testing.assert_array_equal(_kernels.window_peaks(x, lows, highs), want)
 
 
+def test_window_largest_is_the_serial_max_in_any_lanes(rng):
+    # sixteen samples at a time in vector lanes: the same value as max(peak, v) in order (a NaN passed over, as there)
+    x = uneven_noise(rng, 3000)
+    x[rng.integers(0, 3000, 30)] = np.nan
+
+    def serial(low, high, magnitude):
+        peak = 0.0
+        for v in x[low:high]:
+            peak = max(peak, abs(v) if magnitude else v)
+        return peak
+
+    for low, size in zip(rng.integers(0, 2500, 300), rng.integers(0, 500, 300)):
+        for magnitude in (False, True):
+            got = _kernels.window_largest(x, low, low + size, magnitude)
+            assert got == serial(low, low + size, magnitude) and not np.isnan(got)
+
+
 def test_first_at_least_is_the_first_nonzero(rng):
     d = np.abs(uneven_noise(rng, 3000))
     lows = rng.integers(0, 3000, 300)

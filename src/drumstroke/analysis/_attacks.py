@@ -364,12 +364,16 @@ def _bounce_after(remainder, template, head, head_energy, low, high, following, 
     floor = (ratio_low * scale) ** 2 * head_energy  # the energy a fit so scaled needs (Cauchy-Schwarz)
     if not own.max() >= floor:
         return -1, 0.0
+    # and the most a window may hold: its product reaches start_likeness times its norm and the head's only where
+    # that is under ratio_high times the head's energy scaled (a margin far over the rounding of either test)
+    ceiling = (ratio_high / start_likeness) ** 2 * scale * scale * head_energy * (1.0 + 1e-6) if (
+        scale > 0.0 and start_likeness > 0.0) else np.inf
     # the head's products with the windows, summed as the scan reaches them (_BOUNCE_CHUNK windows at a time from the
     # first over the floor not summed yet; past the first that fits, as far as the best start is sought): the windows
     # under the floor (most of a quiet stretch) and past the bounce found are not summed
     dots, done = np.empty(count), 0
     for k in range(count):
-        if own[k] < floor:
+        if own[k] < floor or own[k] > ceiling:
             continue
         if k >= done:
             done = min(count, k + _BOUNCE_CHUNK)

@@ -11,7 +11,7 @@ import math
 import numpy as np
 
 from .._jit import jit
-from ._modes import five_window_sums, trial_dots, upsampled_peak
+from ._modes import five_window_sums, largest_magnitude_of, largest_of, trial_dots, upsampled_peak
 
 
 @jit
@@ -271,7 +271,7 @@ def likeness_at(x, start, t, energy):
     return dot / (math.sqrt(own * energy) + 1e-300), dot
 
 
-@jit
+@jit(error_model="numpy")  # (every divisor is 1e-300 or more: numpy's model only lets the bounds' loop be vectorised)
 def best_lag(x, template, low, count, energy):
     """:func:`.onsets._best_lag` over the ``count`` windows of ``x`` from ``low``: the best window, its dot product
     with ``template`` and its correlation (the first of the largest), each as :func:`likeness_at` computes it.
@@ -288,14 +288,15 @@ def best_lag(x, template, low, count, energy):
         power[j + 1] = power[j] + x[low + j] * x[low + j]
     slack = 4.0 * (span + 2) * 2.220446049250313e-16 * power[span]  # more than either sum's rounding
     dots = window_dots(x, low, template, count)
-    upper = np.empty(count)
-    floor = -np.inf  # the best lower bound
-    for k in range(count):
+    upper, lower = np.empty(count), np.empty(count)
+    for k in range(count):  # each window's bounds (in vector instructions), then the best lower bound
         own = power[k + size] - power[k]
         a = dots[k] / (math.sqrt(max(own - slack, 0.0) * energy) + 1e-300)
         b = dots[k] / (math.sqrt((own + slack) * energy) + 1e-300)
-        upper[k] = max(a, b)
-        floor = max(floor, min(a, b))
+        upper[k], lower[k] = max(a, b), min(a, b)
+    floor = -np.inf
+    for k in range(count):
+        floor = max(floor, lower[k])
     best, at = -np.inf, 0
     for k in range(count):
         if upper[k] >= floor:
@@ -642,9 +643,7 @@ def first_transients(d, times, reach, horizon, least, over, clear):
         c = int(np.rint(out[i]))
         low = max(reach, c - reach, math.ceil((out[i - 1] + c) / 2) if i else 0)
         high = min(len(d), c + reach, int((out[i + 1] + c) / 2) if i + 1 < len(out) else len(d))
-        peak = 0.0
-        for j in range(c, min(len(d), c + horizon)):
-            peak = max(peak, d[j])
+        peak = window_largest(d, c, min(len(d), c + horizon), False)
         if high - low < 2 or not peak > 0.0:
             continue
         base = low - reach  # the blocks' start: the first window's
@@ -672,29 +671,29 @@ def peaks_around(d, centres, after, before, gap):
     ahead, prior = np.zeros(len(centres)), np.zeros(len(centres))
     for i in range(len(centres)):
         c = centres[i]
-        peak = 0.0  # in registers: the largest is the same
-        for j in range(c, min(len(d), c + after)):
-            peak = max(peak, d[j])
-        ahead[i], peak = peak, 0.0
-        for j in range(max(0, c - before), min(len(d), max(1, c - gap))):
-            peak = max(peak, d[j])
-        prior[i] = peak
+        ahead[i] = window_largest(d, c, min(len(d), c + after), False)
+        prior[i] = window_largest(d, max(0, c - before), min(len(d), max(1, c - gap)), False)
     return ahead, prior
+
+
+@jit(inline="always")
+def window_largest(x, low, high, magnitude):
+    """The largest of 0.0 and ``x[low:high]`` (their magnitudes, with ``magnitude``) as ``peak = max(peak, v)`` in
+    order gives it: sixteen samples at a time in vector lanes (:func:`._modes.largest_of`) from ``low`` ≥ 0."""
+    peak, j = 0.0, low
+    if low >= 0 and high - low >= 16:
+        blocks = (high - low) // 16
+        peak = largest_magnitude_of(x, low, blocks) if magnitude else largest_of(x, low, blocks)
+        j = low + 16 * blocks
+    for k in range(j, high):
+        peak = max(peak, abs(x[k]) if magnitude else x[k])
+    return peak
 
 
 @jit
 def largest_magnitude(x):
-    """``np.max(np.abs(x), initial=0.0)``, without the array of magnitudes (in four lanes: the largest is the same)."""
-    m0 = m1 = m2 = m3 = 0.0
-    j = 0
-    while j + 4 <= len(x):
-        m0, m1 = max(m0, abs(x[j])), max(m1, abs(x[j + 1]))
-        m2, m3 = max(m2, abs(x[j + 2])), max(m3, abs(x[j + 3]))
-        j += 4
-    while j < len(x):
-        m0 = max(m0, abs(x[j]))
-        j += 1
-    return max(max(m0, m1), max(m2, m3))
+    """``np.max(np.abs(x), initial=0.0)``, without the array of magnitudes (in vector lanes: the largest is the same)."""
+    return window_largest(x, 0, len(x), True)
 
 
 @jit
@@ -702,10 +701,7 @@ def window_peaks(x, lows, highs):
     """``np.abs(x[lows[i]:highs[i]]).max(initial=0.0)`` for each ``i`` (``lows`` ≥ 0)."""
     out = np.zeros(len(lows))
     for i in range(len(lows)):
-        peak = 0.0  # in registers: the largest is the same
-        for j in range(lows[i], min(len(x), highs[i])):
-            peak = max(peak, abs(x[j]))
-        out[i] = peak
+        out[i] = window_largest(x, lows[i], min(len(x), highs[i]), True)
     return out
 
 

@@ -33,6 +33,47 @@ def _broadcast(builder, value, vector=_VECTOR):
                                   ir.Constant(ir.VectorType(ir.IntType(32), vector.count), [0] * vector.count))
 
 
+def _largest_in(magnitude):
+    """An intrinsic ``(x, low, blocks)``: the largest of 0.0 and ``x[low:low + 16 * blocks]`` (their magnitudes, with
+    ``magnitude``), as ``peak = max(peak, v)`` from ``peak = 0.0`` gives it: each of 16 lanes (four vectors) keeps its
+    own ``max`` (numba's: ``v`` where ``v > peak``, NaN never taken), the lanes' largest taken at the end; the largest
+    of a set is the same in any order (the magnitudes hold no -0.0 to tie with 0.0)."""
+
+    @intrinsic
+    def largest(typingctx, x, low, blocks):
+        if not _contiguous(x):
+            return None
+        sig = types.float64(x, low, blocks)
+
+        def codegen(context, builder, signature, args):
+            data = context.make_array(signature.args[0])(context, builder, args[0]).data
+            low, blocks = (context.cast(builder, args[n], signature.args[n], types.intp) for n in (1, 2))
+            fabs = cgutils.get_or_insert_function(builder.module, ir.FunctionType(_VECTOR, [_VECTOR]), "llvm.fabs.v4f64")
+            peaks = [cgutils.alloca_once_value(builder, ir.Constant(_VECTOR, [0.0] * 4)) for _ in range(4)]
+            with cgutils.for_range(builder, blocks) as loop:
+                first = builder.add(low, builder.mul(loop.index, ir.Constant(low.type, 16)))
+                for g, peak in enumerate(peaks):
+                    v = _load_vector(builder, data, builder.add(first, ir.Constant(low.type, 4 * g)))
+                    v = builder.call(fabs, [v]) if magnitude else v
+                    so_far = builder.load(peak)
+                    builder.store(builder.select(builder.fcmp_ordered(">", v, so_far), v, so_far), peak)
+            best = ir.Constant(ir.DoubleType(), 0.0)
+            for peak in peaks:
+                lanes = builder.load(peak)
+                for k in range(4):
+                    v = builder.extract_element(lanes, ir.Constant(ir.IntType(32), k))
+                    best = builder.select(builder.fcmp_ordered(">", v, best), v, best)
+            return best
+
+        return sig, codegen
+
+    return largest
+
+
+largest_of = _largest_in(False)
+largest_magnitude_of = _largest_in(True)
+
+
 def _gram_tile(height, lanes, vectors=1):
     """An intrinsic ``tile(rows, width, count, i, j, gram)``: ``gram[i:i + height, j:j + columns] += rows[:count, i:i +
     height].T @ rows[:count, j:j + columns]`` (both C-contiguous, ``width`` columns; ``columns``: ``vectors`` vectors

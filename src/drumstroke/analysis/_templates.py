@@ -25,6 +25,7 @@ from ._kernels import (
     likeness_at,
     peaks_around,
     running_power,
+    window_largest,
 )
 from ._modes import _contiguous, _load_vector, _wide_vectors
 
@@ -236,10 +237,7 @@ def own_peaks(rest, starts, following, ends, bank, offsets, lengths, window, rea
     learned_peaks = np.zeros(len(learned))  # the peak of the note each was learned from
     known = 0  # templates learned so far
     for i in range(count):
-        loudest = 0.0  # in a register: the largest is the same
-        for j in range(starts[i], ends[i]):
-            loudest = max(loudest, abs(rest[j]))
-        heard[i] = loudest
+        heard[i] = window_largest(rest, starts[i], ends[i], True)
     longest = -1  # the last of the longest templates
     for t in range(templates):
         if longest < 0 or lengths[t] >= lengths[longest]:
@@ -248,9 +246,7 @@ def own_peaks(rest, starts, following, ends, bank, offsets, lengths, window, rea
     sizes = np.zeros(templates, dtype=np.int64)  # each template's length fitted at this onset (0: not fitted)
     for i in range(count):
         start = starts[i]
-        peak = 0.0
-        for j in range(start, ends[i]):
-            peak = max(peak, abs(rest[j]))
+        peak = window_largest(rest, start, ends[i], True)
         peaks[i] = peak
         need = min(following[i] - start + window, reach)
         any_long = False
@@ -304,9 +300,7 @@ def own_peaks(rest, starts, following, ends, bank, offsets, lengths, window, rea
                             mine, mine_at, mine_scale, unexplained = k, at_k, scale_k, left_k
                     new = unexplained > learn and known < len(learned_lengths)
                     if (new or (mine >= 0 and peak < learned_peaks[mine])) and following[i] - start >= room:
-                        prior = 0.0
-                        for j in range(max(start - window, 0), start):
-                            prior = max(prior, abs(rest[j]))
+                        prior = window_largest(rest, max(start - window, 0), start, True)
                         if prior <= clear * peak:  # clear of what the earlier notes' fits left: its own waveform
                             if new:
                                 mine, known = known, known + 1
