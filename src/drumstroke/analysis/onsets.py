@@ -704,6 +704,9 @@ class OnsetConfig:
     ghost_room_reach: float = 2e-3
     room_partner_under_db: float = 15.0
     ghost_room_spare_likeness: float = 0.99
+    ghost_late_reach: float = 4.5e-3
+    ghost_matched_back: float = 4.5e-3
+    reflection_drop_spread: float = 6.0
 
     def __post_init__(self):
         for name, (low, high, unit) in _RANGES.items():
@@ -778,6 +781,9 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "ghost_room_reach": (0.0, 5e-3, "s"),
     "room_partner_under_db": (0.0, 120.0, "dB"),
     "ghost_room_spare_likeness": (0.0, 1.0, "(correlation)"),
+    "ghost_late_reach": (0.0, 5e-3, "s"),
+    "ghost_matched_back": (0.0, 5e-3, "s"),
+    "reflection_drop_spread": (0.0, 120.0, "dB"),
 }
 
 
@@ -1061,7 +1067,7 @@ def _detected(signal, rate, config, source, info):
         amplitude[cut] = again[np.searchsorted(kept.times, decided.times[cut])]
     candidates = _learned_lead_ins(d, rate, decided, config)
     onsets = _reported(candidates, amplitude, levels.floor, {**info, "analysis_rate": tonal.rate}, source, rate, config)
-    onsets = _without_reflections(onsets, config)
+    onsets = _without_reflections(onsets, config, modes.reverberant)
     if modes.reverberant and len(onsets.t):
         onsets = _room_returns(band, d, rate, candidates, amplitude, onsets, config)
     return replace(onsets, peak_db=_peak_db(signal, onsets.t * rate, rate, config))
@@ -1836,7 +1842,7 @@ def _ghost_notes(band, d, rate, candidates, config, replays, reverberant=False, 
     ghosts, starts = ghosts if config.ghost_noise_start > 0.0 else (ghosts, ghosts)
     # an attack found late is one on the main rise after the note's lead-in; a new note under white noise starts
     # where its power changes (ghost_noise_start)
-    return _placed_ghosts(candidates, ghosts, which, rate, starts, late=1.5e-3)
+    return _placed_ghosts(candidates, ghosts, which, rate, starts, late=max(1.5e-3, config.ghost_late_reach))
 
 
 def _room_ghost_notes(band, d, rate, candidates, config, replays, shared=None):
@@ -1914,7 +1920,7 @@ def _matched_ghost_notes(band, d, rate, candidates, config, replays, shared=None
     which = np.flatnonzero(candidates.attack)
     ghosts = matched_ghost_onsets(band, candidates.times[which], lead_clear[which], rate,
                                   likeness=config.replay_likeness, least=10.0 ** (config.threshold_db / 20.0),
-                                  fit=config.ghost_matched_fit, shared=shared)
+                                  fit=config.ghost_matched_fit, back=config.ghost_matched_back, shared=shared)
     return _placed_ghosts(candidates, ghosts, which, rate)
 
 
@@ -2513,7 +2519,7 @@ def _reported(candidates, amplitude, floor, info, source, rate, config):
                   info=info)
 
 
-def _without_reflections(onsets, config):
+def _without_reflections(onsets, config, reverberant=True):
     """Step 6: the ``onsets`` less a room's discrete reflections of the louder ones.
 
     A room (FluidSynth's reverb) returns each note once more a fixed delay later, some 20 dB quieter:
@@ -2525,11 +2531,17 @@ def _without_reflections(onsets, config):
     """
     if config.reflection_pairs == 0 or len(onsets) <= config.reflection_pairs:
         return onsets
-    pairs = np.flatnonzero(onsets.level_db[:-1] - onsets.level_db[1:] >= config.reflection_db)
+    drops = onsets.level_db[:-1] - onsets.level_db[1:]
+    pairs = np.flatnonzero(drops >= config.reflection_db)
     own = np.diff(onsets.t)[pairs]
-    delays = np.sort(own)
-    alike = (np.searchsorted(delays, own + config.reflection_spread, side="right")
-             - np.searchsorted(delays, own - config.reflection_spread, side="left"))
+    if config.reflection_drop_spread < 120.0 and not reverberant:  # as much under its note each time as well
+        drop = drops[pairs]
+        alike = np.sum((np.abs(own[:, None] - own[None, :]) <= config.reflection_spread)
+                       & (np.abs(drop[:, None] - drop[None, :]) <= config.reflection_drop_spread), axis=1)
+    else:
+        delays = np.sort(own)
+        alike = (np.searchsorted(delays, own + config.reflection_spread, side="right")
+                 - np.searchsorted(delays, own - config.reflection_spread, side="left"))
     keep = np.ones(len(onsets), dtype=bool)
     keep[pairs[alike >= config.reflection_pairs] + 1] = False
     if keep.all():
