@@ -998,7 +998,10 @@ def matched_ghost_onsets(band, times, clear, rate, *, likeness, least, fit, rise
     (:func:`matched_search`): where it fits by ``fit`` or more, its peak over the 11 ms from it as
     :func:`ghost_onsets` asks, a note at the head's onset (one in 20 ms). Under white noise the head's 5.5 ms gather a
     quiet note's energy where a 1-ms rise reads its first millisecond alone (0.7874 s there: 10.3 dB over 1 ms, fits
-    0.98; on the corpus's seed 0 the rises 5 ms or more from every note fit 0.61 at most)."""
+    0.98; on the corpus's seed 0 the rises 5 ms or more from every note fit 0.61 at most). With ``back`` (s) over
+    ``lag``, the notes are aligned from so long earlier (to ``lag`` later): a note found late on its sample's own
+    later rise fits there, and one its lag moves more than 0.5 ms earlier than the median's is returned at the
+    head's onset too (``back`` ``lag`` or less: ±``lag``, none so returned)."""
     pre, size, shift = round(0.5e-3 * rate), round(skip * rate), round(lag * rate)
     lead = max(shift, round(back * rate))  # the alignment's reach earlier (samples)
     width, before, after = round(1e-3 * rate), round(10e-3 * rate), round(10e-3 * rate)
