@@ -916,6 +916,27 @@ def placed_ghosts(times, kinds, which, ghosts, near, low, high):
     return new
 
 
+@jit(error_model="numpy")
+def lag_fits(heads, reference, n, count):
+    """Each row of ``heads`` against ``reference`` (``n`` samples) from each of its first ``count`` samples: the
+    normalized correlations and the windows' norms (at least 1e-300) [each shape=(rows, count)]; the norms by a
+    sliding sum of squares, the dots by :func:`._templates.blas_lag_dots`."""
+    like, norms = np.empty((heads.shape[0], count)), np.empty((heads.shape[0], count))
+    dots = np.empty(count)
+    for i in range(heads.shape[0]):
+        x = heads[i]
+        blas_lag_dots(x, 0, count, reference, n, dots)
+        power = 0.0
+        for j in range(n):
+            power += x[j] * x[j]
+        for lag in range(count):
+            if lag:
+                power += x[lag + n - 1] * x[lag + n - 1] - x[lag - 1] * x[lag - 1]
+            norm = max(np.sqrt(max(power, 0.0)), 1e-300)
+            norms[i, lag], like[i, lag] = norm, dots[lag] / norm
+    return like, norms
+
+
 @jit
 def ghost_notes_pairs(c, ends, nexts, accents, count, mate, shifts, scales, span, size, reach):
     """:func:`matched_ghost_onsets`' notes after each accent ``c[accents[k]]`` (``count[k]`` mates of the flat
@@ -1033,8 +1054,11 @@ def matched_ghost_onsets(band, times, clear, rate, *, likeness, least, fit, rise
     reference = reference / max(np.sqrt(reference.dot(reference)), 1e-300)  # np.linalg.norm's, less its checks
     views = np.ndarray((len(heads), lead + shift + 1, n), dtype=heads.dtype, buffer=heads,
                        strides=(heads.strides[0],) + heads.strides[1:] * 2)  # [note, lag, sample]: as_strided's, less its checks
-    norms = np.maximum(np.sqrt(np.einsum("ijk,ijk->ij", views, views)), 1e-300)
-    like = np.einsum("ijk,k->ij", views, reference) / norms
+    if lead > shift:  # many lags: sliding sums (compiled)
+        like, norms = lag_fits(np.ascontiguousarray(heads), reference, n, lead + shift + 1)
+    else:
+        norms = np.maximum(np.sqrt(np.einsum("ijk,ijk->ij", views, views)), 1e-300)
+        like = np.einsum("ijk,k->ij", views, reference) / norms
     best = np.argmax(like, axis=1)
     kept = like[np.arange(len(note)), best] >= fit
     if np.sum(kept & twice) < fewest:
