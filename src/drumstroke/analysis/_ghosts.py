@@ -916,6 +916,27 @@ def placed_ghosts(times, kinds, which, ghosts, near, low, high):
     return new
 
 
+@jit(error_model="numpy")
+def lag_fits(heads, reference, n, count):
+    """Each row of ``heads`` against ``reference`` (``n`` samples) from each of its first ``count`` samples: the
+    normalized correlations and the windows' norms (at least 1e-300) [each shape=(rows, count)]; the norms by a
+    sliding sum of squares, the dots by :func:`._templates.blas_lag_dots`."""
+    like, norms = np.empty((heads.shape[0], count)), np.empty((heads.shape[0], count))
+    dots = np.empty(count)
+    for i in range(heads.shape[0]):
+        x = heads[i]
+        blas_lag_dots(x, 0, count, reference, n, dots)
+        power = 0.0
+        for j in range(n):
+            power += x[j] * x[j]
+        for lag in range(count):
+            if lag:
+                power += x[lag + n - 1] * x[lag + n - 1] - x[lag - 1] * x[lag - 1]
+            norm = max(np.sqrt(max(power, 0.0)), 1e-300)
+            norms[i, lag], like[i, lag] = norm, dots[lag] / norm
+    return like, norms
+
+
 @jit
 def ghost_notes_pairs(c, ends, nexts, accents, count, mate, shifts, scales, span, size, reach):
     """:func:`matched_ghost_onsets`' notes after each accent ``c[accents[k]]`` (``count[k]`` mates of the flat
@@ -978,7 +999,7 @@ def matched_mates(c, nexts, mate, shifts, scales, noted, amplitude, onset, known
 
 def matched_ghost_onsets(band, times, clear, rate, *, likeness, least, fit, rise_db=6.0, skip=10e-3, span=0.13,
                          quiet_db=-10.0, below_db=-30.0, quieter_db=-6.0, mates_used=3, head=5e-3, lag=0.25e-3,
-                         fewest=3, reach=0.5e-3, longest=60e-3, shared=None):
+                         fewest=3, reach=0.5e-3, longest=60e-3, back=0.0, shared=None):
     """Onsets (full-rate samples) of ghost notes after a ``clear`` attack at ``times`` (full-rate samples), found by a
     matched filter of their layer's own attack, learned from the ghost notes already found.
 
@@ -998,8 +1019,12 @@ def matched_ghost_onsets(band, times, clear, rate, *, likeness, least, fit, rise
     (:func:`matched_search`): where it fits by ``fit`` or more, its peak over the 11 ms from it as
     :func:`ghost_onsets` asks, a note at the head's onset (one in 20 ms). Under white noise the head's 5.5 ms gather a
     quiet note's energy where a 1-ms rise reads its first millisecond alone (0.7874 s there: 10.3 dB over 1 ms, fits
-    0.98; on the corpus's seed 0 the rises 5 ms or more from every note fit 0.61 at most)."""
+    0.98; on the corpus's seed 0 the rises 5 ms or more from every note fit 0.61 at most). With ``back`` (s) over
+    ``lag``, the notes are aligned from so long earlier (to ``lag`` later): a note found late on its sample's own
+    later rise fits there, and one its lag moves more than 0.5 ms earlier than the median's is returned at the
+    head's onset too (``back`` ``lag`` or less: ±``lag``, none so returned)."""
     pre, size, shift = round(0.5e-3 * rate), round(skip * rate), round(lag * rate)
+    lead = max(shift, round(back * rate))  # the alignment's reach earlier (samples)
     width, before, after = round(1e-3 * rate), round(10e-3 * rate), round(10e-3 * rate)
     n = pre + round(head * rate)
     c = np.rint(np.asarray(times, dtype=float)).astype(np.int64)
@@ -1022,20 +1047,23 @@ def matched_ghost_onsets(band, times, clear, rate, *, likeness, least, fit, rise
     if twice.sum() < fewest:
         return np.empty(0)
     offsets = c[note] - c[note_accent]
-    heads = note_remainders(band, accent_at, mate_at, scale_of, first, count, offsets - pre - shift, n + 2 * shift)
+    heads = note_remainders(band, accent_at, mate_at, scale_of, first, count, offsets - pre - lead, n + lead + shift)
     # the reference and the head from the notes two mates or more reach (one mate's remainder may hold its own note)
-    energies = np.einsum("ij,ij->i", heads[:, shift:shift + n], heads[:, shift:shift + n])
-    reference = heads[int(np.argmax(np.where(twice, energies, -1.0))), shift:shift + n]
+    energies = np.einsum("ij,ij->i", heads[:, lead:lead + n], heads[:, lead:lead + n])
+    reference = heads[int(np.argmax(np.where(twice, energies, -1.0))), lead:lead + n]
     reference = reference / max(np.sqrt(reference.dot(reference)), 1e-300)  # np.linalg.norm's, less its checks
-    views = np.ndarray((len(heads), 2 * shift + 1, n), dtype=heads.dtype, buffer=heads,
+    views = np.ndarray((len(heads), lead + shift + 1, n), dtype=heads.dtype, buffer=heads,
                        strides=(heads.strides[0],) + heads.strides[1:] * 2)  # [note, lag, sample]: as_strided's, less its checks
-    norms = np.maximum(np.sqrt(np.einsum("ijk,ijk->ij", views, views)), 1e-300)
-    like = np.einsum("ijk,k->ij", views, reference) / norms
+    if lead > shift:  # many lags: sliding sums (compiled)
+        like, norms = lag_fits(np.ascontiguousarray(heads), reference, n, lead + shift + 1)
+    else:
+        norms = np.maximum(np.sqrt(np.einsum("ijk,ijk->ij", views, views)), 1e-300)
+        like = np.einsum("ijk,k->ij", views, reference) / norms
     best = np.argmax(like, axis=1)
     kept = like[np.arange(len(note)), best] >= fit
     if np.sum(kept & twice) < fewest:
         return np.empty(0)
-    lags = best - shift
+    lags = best - lead
     middle = sorted(lags[kept & twice].tolist())  # their median (np.median's: the two middle ones' mean), truncated
     half = len(middle) // 2
     middle_lag = int(middle[half] if len(middle) % 2 else (middle[half - 1] + middle[half]) / 2)
@@ -1054,6 +1082,10 @@ def matched_ghost_onsets(band, times, clear, rate, *, likeness, least, fit, rise
     alphas = note_remainders(band, accent_at, mate_at, scale_of, first[kept], count[kept], lows, n) @ unit
     positive = alphas > 0.0
     kept, lows, alphas = kept[positive], lows[positive], alphas[positive]
+    # a kept note its lag moves earlier by more than 0.5 ms (found late, on its sample's own later rise: the alignment
+    # reaching so far with ``lag`` over 0.25 ms) is a note at that onset too
+    early = (lags[kept] - middle_lag < -pre)
+    moved = (c[note_accent[kept[early]]] + lows[early] + pre).tolist()
     note_of = np.repeat(np.arange(len(kept)), count[kept])  # each kept note's pairs, in turn
     each = np.arange(len(note_of)) - (np.cumsum(count[kept]) - count[kept])[note_of] + first[kept][note_of]
     longest = round(longest * rate)
@@ -1087,4 +1119,5 @@ def matched_ghost_onsets(band, times, clear, rate, *, likeness, least, fit, rise
             continue
         found.append(onset_of[k] + t)
         last = t
+    found += moved
     return np.unique(np.asarray(found, dtype=float))

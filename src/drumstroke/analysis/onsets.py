@@ -602,6 +602,28 @@ class OnsetConfig:
         as loud for 0.2 s after it) with fewer than two layer-mates (by ``replay_likeness``) takes as its mates the
         clear attacks whose first 10 ms correlate with it so (FluidR3's snare 40, velocity 95 among accents of
         97-120: 0.993 with one of 97); 1: none, as before this field.
+    ghost_late_reach : float in [0, 0.005]
+        s: in :func:`_ghost_notes`, an attack found more than 0.5 ms and up to so long after a ghost note's onset is
+        moved onto it (one within 5 ms of it makes it no new note). FluidR3's ghost layer rises in steps (its first
+        millisecond 14-22 dB under its peak, 11 dB under at +1.0 ms, 6 dB under at +1.75 ms, its peak at +4.0-4.5 ms),
+        and under an accent's ringing step 4 puts such a note on a later step, 1.8-3.6 ms late (FluidR3's snare 40
+        roll, dry, seed 4: 0.2790 s at +3.54 ms, where the ghost search finds +0.15 ms); 1.5e-3 or less (the
+        default): 1.5 ms, as before this field. 4.5e-3 gains 5 notes within 1 ms on seeds 0-4 and none lost, but on
+        the held-out seeds 5-9 loses in four recordings (FluidR3's snare 38 roll, dry, seed 6: 1.3501 s missed; seed
+        8: a false detection 23.9 ms after a note so moved; TimGM6mb's snare 40 roll with reverb, seeds 8 and 9): off.
+        The room and matched searches keep their 2 ms: a note of FluidR3's snare 38 roll with reverb (seed 2, 3.4234
+        s, +2.08 ms) moved right lets a return 24.6 ms after it pass :func:`_layer_echoes`.
+    ghost_matched_back : float in [0, 0.005]
+        s: :func:`_matched_ghost_notes` aligns the ghost notes it learns the layer's head from up to so long earlier
+        (0.25 ms later) where ±0.25 ms reached both ways; one so moved more than 0.5 ms (a note found late on its
+        sample's own +1 ms step: FluidR3's snare 40 roll, dry, seed 2, 3.5350 s at +1.19 ms, whose alignment ±0.25
+        ms fitted the head 0.41 and taught none) is a note at the head's onset there; 0.25e-3 or less: as before this
+        field.
+    reflection_drop_spread : float in [0, 120]
+        dB: where step 4 finds no room, the pairs of one reflection (:func:`_without_reflections`) must also lie as
+        much under their notes within so much (a room returns each note with one gain; a roll's ghost notes on the
+        sound card's blocks share a delay after their accents by chance: TimGM6mb's snare 38 roll, dry, seed 4,
+        three at 104.00 ms, 13.3-20.1 dB under); 120: the delay alone, as before this field.
 
     Examples
     --------
@@ -723,6 +745,9 @@ class OnsetConfig:
     ghost_room_reach: float = 2e-3
     room_partner_under_db: float = 15.0
     ghost_room_spare_likeness: float = 0.99
+    ghost_late_reach: float = 0.0
+    ghost_matched_back: float = 4.5e-3
+    reflection_drop_spread: float = 6.0
 
     def __post_init__(self):
         for name, (low, high, unit) in _RANGES.items():
@@ -799,6 +824,9 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "ghost_room_reach": (0.0, 5e-3, "s"),
     "room_partner_under_db": (0.0, 120.0, "dB"),
     "ghost_room_spare_likeness": (0.0, 1.0, "(correlation)"),
+    "ghost_late_reach": (0.0, 5e-3, "s"),
+    "ghost_matched_back": (0.0, 5e-3, "s"),
+    "reflection_drop_spread": (0.0, 120.0, "dB"),
 }
 
 
@@ -939,8 +967,9 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        one waveform with it by ``replay_likeness``) are taken off, where that rises ``ghost_rise_db`` (where one mate
        alone reaches, or the recording is reverberant, and the note is louder in the accent than in the mate by
        ``ghost_own_db``, ``ghost_room_own_db``); each is put at its first sample there (a new attack, or one found
-       0.5-1.5 ms late moved). :func:`_matched_ghost_notes`: and where what the mates leave fits the ghost layer's
-       own head, learned from the ghost notes found, by ``ghost_matched_fit`` (a matched filter).
+       0.5-1.5 ms late moved, or up to ``ghost_late_reach`` s). :func:`_matched_ghost_notes`: and where what the
+       mates leave fits the ghost layer's own head, learned from the ghost notes found (aligned up to
+       ``ghost_matched_back`` s earlier: a note so moved is one there), by ``ghost_matched_fit`` (a matched filter).
        :func:`_level_band`. An onset's amplitude is the peak of its own sound in the drum's lowest
        modes (the band up to ``level_ratio`` times its lowest strong mode, ≥ ``level_band`` Hz,
        decimated to 2.5 times that: a stick's speed sets their amplitude in proportion, while the
@@ -976,8 +1005,9 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        learned on the way from their quietest notes with room, and a window the next onset cuts short read from
        its note's fit).
        :func:`_without_reflections`: where ``reflection_pairs`` pairs of successive onsets or more, the later
-       ``reflection_db`` under the earlier, share one delay (within ``reflection_spread`` s), each such later one
-       is a room's reflection and is left out. :func:`_room_returns`, in a reverberant recording: an onset the
+       ``reflection_db`` under the earlier, share one delay (within ``reflection_spread`` s; where step 4 finds no
+       room, and their drop within ``reflection_drop_spread`` dB), each such later one is a room's reflection and is
+       left out. :func:`_room_returns`, in a reverberant recording: an onset the
        template timed (kind 3) that :func:`_room_echoes`' test finds a room's echo, its fit leaving
        ``room_found_fit_db`` or less, is left out too.
 
@@ -1082,7 +1112,7 @@ def _detected(signal, rate, config, source, info):
         amplitude[cut] = again[np.searchsorted(kept.times, decided.times[cut])]
     candidates = _learned_lead_ins(d, rate, decided, config)
     onsets = _reported(candidates, amplitude, levels.floor, {**info, "analysis_rate": tonal.rate}, source, rate, config)
-    onsets = _without_reflections(onsets, config)
+    onsets = _without_reflections(onsets, config, modes.reverberant)
     if modes.reverberant and len(onsets.t):
         onsets = _room_returns(band, d, rate, candidates, amplitude, onsets, config)
     return replace(onsets, peak_db=_peak_db(signal, onsets.t * rate, rate, config))
@@ -1821,8 +1851,9 @@ def _ghost_notes(band, d, rate, candidates, config, replays, reverberant=False, 
     reverb's delays) and is alike in both sounds (-4.2 to +0.6 dB the accent's over the mate's but two, 1.6 and 3.6;
     the 144 rises on a note, dry rolls step 4 took for reverberant among them, median 2.9 dB): 2 dB asked (120:
     none sought there, as before). A new note (no attack within 5 ms) is an attack of kind 3; an attack 0.5-1.5 ms
-    after it (on its main rise: a sample's lead-in late) is moved there. ``ghost_rise_db`` 120: none sought (as
-    before this stage).
+    after it (on its main rise: a sample's lead-in late), or up to ``ghost_late_reach`` s (0, off; 4.5 ms: one step 4
+    put on the sample's later steps, FluidR3's ghost layer's +1.75 ms and +4 ms ones), is moved there. ``ghost_rise_db``
+    120: none sought (as before this stage).
 
     *Under white noise.* Where what is left before a rise is white noise (its correlation one sample on within 0.6
     of 0: the noise of both recordings, with what the mates leave of the accent; the drum's or a room's sound left
@@ -1861,7 +1892,7 @@ def _ghost_notes(band, d, rate, candidates, config, replays, reverberant=False, 
     ghosts, starts = ghosts if config.ghost_noise_start > 0.0 else (ghosts, ghosts)
     # an attack found late is one on the main rise after the note's lead-in; a new note under white noise starts
     # where its power changes (ghost_noise_start)
-    return _placed_ghosts(candidates, ghosts, which, rate, starts, late=1.5e-3)
+    return _placed_ghosts(candidates, ghosts, which, rate, starts, late=max(1.5e-3, config.ghost_late_reach))
 
 
 def _room_ghost_notes(band, d, rate, candidates, config, replays, shared=None):
@@ -1930,6 +1961,14 @@ def _matched_ghost_notes(band, d, rate, candidates, config, replays, shared=None
     ``ghost_matched_fit`` or more (on the corpus's seed 0 the rises 5 ms or more from every note fit 0.61 at most),
     a new note (no attack within 5 ms) is an attack of kind 3 at the head's onset; an attack 0.5-2 ms after it is
     moved there. ``ghost_matched_fit`` 1: none sought (as before this field).
+
+    *Notes found late.* FluidR3's ghost layer rises in steps (its first millisecond 14-22 dB under its peak, 11 dB
+    under at +1.0 ms, 6 dB under at +1.75 ms, its peak at +4.0-4.5 ms), and the ghost search's first sample four
+    times the RMS before may come on the +1 ms step (FluidR3's snare 40 roll, dry, seed 2: 3.5350 s, +1.19 ms; seed
+    4: 2.7110 and 3.3284 s). Notes so found 1.2 ms apart align with the reference by 0.41 at most within ±0.25 ms,
+    and no head is learned; with ``ghost_matched_back`` the alignment reaches so far earlier (0.25 ms later: the
+    reference is the clearest note), they fit 0.995-1.000, and a note its lag moves more than 0.5 ms earlier than
+    the median's is a note at the head's onset there (the attack 0.5-2 ms after it moved to it).
     """
     from ._ghosts import matched_ghost_onsets
 
@@ -1939,7 +1978,7 @@ def _matched_ghost_notes(band, d, rate, candidates, config, replays, shared=None
     which = np.flatnonzero(candidates.attack)
     ghosts = matched_ghost_onsets(band, candidates.times[which], lead_clear[which], rate,
                                   likeness=config.replay_likeness, least=10.0 ** (config.threshold_db / 20.0),
-                                  fit=config.ghost_matched_fit, shared=shared)
+                                  fit=config.ghost_matched_fit, back=config.ghost_matched_back, shared=shared)
     return _placed_ghosts(candidates, ghosts, which, rate)
 
 
@@ -2553,7 +2592,7 @@ def _reported(candidates, amplitude, floor, info, source, rate, config):
                   info=info)
 
 
-def _without_reflections(onsets, config):
+def _without_reflections(onsets, config, reverberant=True):
     """Step 6: the ``onsets`` less a room's discrete reflections of the louder ones.
 
     A room (FluidSynth's reverb) returns each note once more a fixed delay later, some 20 dB quieter:
@@ -2561,15 +2600,26 @@ def _without_reflections(onsets, config):
     onsets, the later ``reflection_db`` or more under the earlier, that ``reflection_pairs`` pairs or more
     share a delay (within ``reflection_spread`` s) are such: the later is left out. Only successive
     ones: a stick's bounces, whose sums of intervals do repeat (a drop's, notes starting on a
-    sound card's blocks), have other onsets between.
+    sound card's blocks), have other onsets between. Where step 4 finds no room (``reverberant`` False), the pairs
+    must also lie as much under their notes within ``reflection_drop_spread`` dB: a room returns each note with one
+    gain, while a roll's ghost notes on the sound card's blocks share a delay after their accents by chance
+    (TimGM6mb's snare 38 roll, dry, seed 4: three at 104.00 ms, 13.3, 13.8 and 20.1 dB under; the reflections of
+    FluidR3's snare 38 drop with reverb, seed 2, four at 83.4-83.5 ms, lie 15.9-23.1 dB under: a room's tail adds
+    to a return, and that recording step 4 finds reverberant).
     """
     if config.reflection_pairs == 0 or len(onsets) <= config.reflection_pairs:
         return onsets
-    pairs = np.flatnonzero(onsets.level_db[:-1] - onsets.level_db[1:] >= config.reflection_db)
+    drops = onsets.level_db[:-1] - onsets.level_db[1:]
+    pairs = np.flatnonzero(drops >= config.reflection_db)
     own = np.diff(onsets.t)[pairs]
-    delays = np.sort(own)
-    alike = (np.searchsorted(delays, own + config.reflection_spread, side="right")
-             - np.searchsorted(delays, own - config.reflection_spread, side="left"))
+    if config.reflection_drop_spread < 120.0 and not reverberant:  # as much under its note each time as well
+        drop = drops[pairs]
+        alike = np.sum((np.abs(own[:, None] - own[None, :]) <= config.reflection_spread)
+                       & (np.abs(drop[:, None] - drop[None, :]) <= config.reflection_drop_spread), axis=1)
+    else:
+        delays = np.sort(own)
+        alike = (np.searchsorted(delays, own + config.reflection_spread, side="right")
+                 - np.searchsorted(delays, own - config.reflection_spread, side="left"))
     keep = np.ones(len(onsets), dtype=bool)
     keep[pairs[alike >= config.reflection_pairs] + 1] = False
     if keep.all():
