@@ -704,6 +704,9 @@ class OnsetConfig:
     ghost_room_reach: float = 2e-3
     room_partner_under_db: float = 15.0
     ghost_room_spare_likeness: float = 0.99
+    ghost_span: float = 0.13
+    ghost_white_rise_db: float = 120.0
+    reflection_ghost_reach: float = 0.0
 
     def __post_init__(self):
         for name, (low, high, unit) in _RANGES.items():
@@ -778,6 +781,9 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "ghost_room_reach": (0.0, 5e-3, "s"),
     "room_partner_under_db": (0.0, 120.0, "dB"),
     "ghost_room_spare_likeness": (0.0, 1.0, "(correlation)"),
+    "ghost_span": (0.03, 0.5, "s"),
+    "ghost_white_rise_db": (0.0, 120.0, "dB"),
+    "reflection_ghost_reach": (0.0, 5e-3, "s"),
 }
 
 
@@ -1045,10 +1051,11 @@ def _detected(signal, rate, config, source, info):
     candidates = _template_search(band, d, rate, candidates, refused, config, replays)
     candidates = _template_search(band, d, rate, candidates, refused, config, replays, quietest=True)
     shared = {}  # what step 5's ghost search found (layer-mates, levels) that its room search asks again
-    candidates = _ghost_notes(band, d, rate, candidates, config, replays, modes.reverberant, shared)
+    ghosts = []  # the notes step 5's ghost searches found (full-rate samples): no room's reflections (step 6)
+    candidates = _ghost_notes(band, d, rate, candidates, config, replays, modes.reverberant, shared, ghosts)
     if modes.reverberant:
-        candidates = _room_ghost_notes(band, d, rate, candidates, config, replays, shared)
-    candidates = _matched_ghost_notes(band, d, rate, candidates, config, replays, shared)
+        candidates = _room_ghost_notes(band, d, rate, candidates, config, replays, shared, ghosts)
+    candidates = _matched_ghost_notes(band, d, rate, candidates, config, replays, shared, ghosts)
     levels = _level_band(band, rate, q, first, config, lowest)
     amplitude = levels.amplitudes(_measured_at(candidates, found, rate, config), modes.reverberant, config)
     candidates, amplitude = _one_attack_each(d, rate, candidates, amplitude, config)
@@ -1061,7 +1068,8 @@ def _detected(signal, rate, config, source, info):
         amplitude[cut] = again[np.searchsorted(kept.times, decided.times[cut])]
     candidates = _learned_lead_ins(d, rate, decided, config)
     onsets = _reported(candidates, amplitude, levels.floor, {**info, "analysis_rate": tonal.rate}, source, rate, config)
-    onsets = _without_reflections(onsets, config)
+    # (in a reverberant recording what the mates leave holds the room's returns of the notes before the accent)
+    onsets = _without_reflections(onsets, config, None if modes.reverberant else np.asarray(ghosts, dtype=float) / rate)
     if modes.reverberant and len(onsets.t):
         onsets = _room_returns(band, d, rate, candidates, amplitude, onsets, config)
     return replace(onsets, peak_db=_peak_db(signal, onsets.t * rate, rate, config))
@@ -1772,7 +1780,7 @@ _TRAIN_FLIGHT = 10e-3  # s: the longest flight before a drop's last bounce that 
 # (FluidR3's snares: 3.9-9.3 ms; a room's detections 18 ms apart took the room's sound for a train of bounces)
 
 
-def _ghost_notes(band, d, rate, candidates, config, replays, reverberant=False, shared=None):
+def _ghost_notes(band, d, rate, candidates, config, replays, reverberant=False, shared=None, found=None):
     """Step 5: ghost notes under an accent's sound, found where the recording replays a sample (:func:`_replays`).
 
     A sample player replays a velocity layer's waveform sample for sample (the corpus's SoundFonts: 0.9998 or more
@@ -1832,14 +1840,17 @@ def _ghost_notes(band, d, rate, candidates, config, replays, reverberant=False, 
     ghosts = ghost_onsets(band, candidates.times[which], lead_clear[which], rate, likeness=config.replay_likeness,
                           rise_db=config.ghost_rise_db, least=10.0 ** (config.threshold_db / 20.0),
                           own_db=own_db, own_everywhere=reverberant, noise_start=config.ghost_noise_start,
-                          rise_gap=config.ghost_rise_gap, mate_notes=config.ghost_mate_notes, shared=shared)
+                          rise_gap=config.ghost_rise_gap, mate_notes=config.ghost_mate_notes,
+                          span=config.ghost_span, white_rise_db=config.ghost_white_rise_db, shared=shared)
     ghosts, starts = ghosts if config.ghost_noise_start > 0.0 else (ghosts, ghosts)
+    if found is not None:
+        found.extend(np.asarray(starts, dtype=float).tolist())
     # an attack found late is one on the main rise after the note's lead-in; a new note under white noise starts
     # where its power changes (ghost_noise_start)
     return _placed_ghosts(candidates, ghosts, which, rate, starts, late=1.5e-3)
 
 
-def _room_ghost_notes(band, d, rate, candidates, config, replays, shared=None):
+def _room_ghost_notes(band, d, rate, candidates, config, replays, shared=None, found=None):
     """Step 5, in a recording step 4 finds reverberant and that replays a sample: the ghost notes under an accent's
     sound that rise too little for :func:`_ghost_notes`, found by their own attack's waveform.
 
@@ -1883,11 +1894,13 @@ def _room_ghost_notes(band, d, rate, candidates, config, replays, shared=None):
                                likeness=config.replay_likeness, rise_db=4.0,
                                least=10.0 ** (config.threshold_db / 20.0), fit=config.ghost_room_fit,
                                reach=config.ghost_room_reach, spare_likeness=config.ghost_room_spare_likeness,
-                               mate_notes=config.ghost_mate_notes, shared=shared)
+                               mate_notes=config.ghost_mate_notes, span=config.ghost_span, shared=shared)
+    if found is not None:
+        found.extend(ghosts.tolist())
     return _placed_ghosts(candidates, ghosts, which, rate)
 
 
-def _matched_ghost_notes(band, d, rate, candidates, config, replays, shared=None):
+def _matched_ghost_notes(band, d, rate, candidates, config, replays, shared=None, found=None):
     """Step 5, where the recording replays a sample: the ghost notes under an accent's sound found by a matched
     filter of their layer's own attack, learned from the ghost notes already found.
 
@@ -1914,7 +1927,9 @@ def _matched_ghost_notes(band, d, rate, candidates, config, replays, shared=None
     which = np.flatnonzero(candidates.attack)
     ghosts = matched_ghost_onsets(band, candidates.times[which], lead_clear[which], rate,
                                   likeness=config.replay_likeness, least=10.0 ** (config.threshold_db / 20.0),
-                                  fit=config.ghost_matched_fit, shared=shared)
+                                  fit=config.ghost_matched_fit, span=config.ghost_span, shared=shared)
+    if found is not None:
+        found.extend(ghosts.tolist())
     return _placed_ghosts(candidates, ghosts, which, rate)
 
 
@@ -2513,7 +2528,7 @@ def _reported(candidates, amplitude, floor, info, source, rate, config):
                   info=info)
 
 
-def _without_reflections(onsets, config):
+def _without_reflections(onsets, config, ghosts=None):
     """Step 6: the ``onsets`` less a room's discrete reflections of the louder ones.
 
     A room (FluidSynth's reverb) returns each note once more a fixed delay later, some 20 dB quieter:
@@ -2531,7 +2546,15 @@ def _without_reflections(onsets, config):
     alike = (np.searchsorted(delays, own + config.reflection_spread, side="right")
              - np.searchsorted(delays, own - config.reflection_spread, side="left"))
     keep = np.ones(len(onsets), dtype=bool)
-    keep[pairs[alike >= config.reflection_pairs] + 1] = False
+    later = pairs[alike >= config.reflection_pairs] + 1
+    if config.reflection_ghost_reach > 0.0 and ghosts is not None and len(ghosts) and len(later):
+        # a note step 5's ghost search found is what is left once the accent's layer-mates, each with the room's
+        # returns at the same delays, are taken off: no reflection
+        found = np.sort(ghosts)
+        at = np.clip(np.searchsorted(found, onsets.t[later]), 1, len(found) - 1) if len(found) > 1 else 0
+        near = np.minimum(np.abs(found[at] - onsets.t[later]), np.abs(found[np.maximum(at - 1, 0)] - onsets.t[later]))
+        later = later[near > config.reflection_ghost_reach]
+    keep[later] = False
     if keep.all():
         return onsets
     return replace(onsets, t=onsets.t[keep], level_db=onsets.level_db[keep])
