@@ -452,7 +452,9 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
     noise (:func:`_white`), a rise over the 10 ms before a gap so long counts too, its onset sought from the gap's
     start; with ``noise_start`` (s), where that noise, not 1 % of the peak, sets the onset's level and it is white, the
     onset is where the power changes (:func:`noise_change`) up to so long before the rise, returned beside the
-    onsets (each as found, or so moved) [each shape=(n,)]. With ``mate_notes`` under 1, a mate's next note that is
+    onsets (each as found, or so moved) [each shape=(n,)]. With ``white_rise_db`` under ``rise_db``, a rise so much
+    over the 10 ms before that gap counts too where what is left over the 5 ms before is white and the note is the
+    accent's own (as ``own_db`` asks where one mate reaches: a mate's missed note left negated rises so). With ``mate_notes`` under 1, a mate's next note that is
     the accent's own waveform by so much (:func:`mates_notes`: placed within 0.5 ms by its first 2 ms) is taken off
     its remainder, which reaches on up to the mate's note after it (:func:`mate_reach`); a rise so read past a note
     found in the accent's window that lag on is not sought (that note, in the accent's sound added back, is left

