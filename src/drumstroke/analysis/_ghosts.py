@@ -169,7 +169,7 @@ def mates_notes(band, c, which, ends, accents, first, count, mate, shifts, scale
 
 @jit(error_model="numpy")
 def accent_rises(band, c, which, ends, accents, first, count, mate, shifts, scales, span, size, before, after, width,
-                 block, fewest, rise, power, done, gap=0, gains=None, lags=None, pre=0, white_rise=0.0):
+                 block, fewest, rise, power, done, gap=0, gains=None, lags=None, pre=0, white_rise=0.0, quiet=0):
     """:func:`ghost_onsets`' search of each accent's remainders for the blocks where a note rises (:func:`rising`; over
     the 10 ms before a ``gap`` of samples), in one loop: for each of ``accents`` (indices of ``which``, the clear attacks; the onsets ``c``, full-rate samples,
     the search's ``ends``) its mates ``mate[first:first + count]`` (indices of ``which``), each placed ``shifts``
@@ -181,8 +181,8 @@ def accent_rises(band, c, which, ends, accents, first, count, mate, shifts, scal
     :func:`block_powers`' (given again on the same remainders, :func:`_shared_powers`). With ``gains`` and ``lags``
     (:func:`mates_notes`, their ``pre``), a mate's next note of the accent's waveform is taken off its remainder,
     which then reaches on (:func:`mate_reach`). With ``white_rise`` (a ratio, over 0), the rises by so much over the
-    10 ms before a ``gap`` follow too, each accent's index plus ``2 len(accents)`` (kept by the caller where what is left
-    before them is white noise)."""
+    10 ms before a ``gap`` follow too, each accent's index plus ``2 len(accents)``, where what the mate picked there
+    leaves over the ``quiet`` samples before the gap is white (:func:`_white`'s test, which the caller makes again)."""
     found, blocks, mates = [], [], []
     lengths = np.zeros(len(accents), dtype=np.int64)
     for k in range(len(accents)):
@@ -229,8 +229,24 @@ def accent_rises(band, c, which, ends, accents, first, count, mate, shifts, scal
                 mates.append(pick[j])
         if white_rise > 0.0:  # and by ``white_rise`` over the 10 ms before a ``gap`` (where what is left before is
             # white noise, the caller's test)
+            previous = -2
             for j in rising(e, (size + before) // block, (length - width) // block, (before + gap) // block,
                             (before - width) // block, white_rise):
+                # a run of rising blocks is one rise: its first tried alone
+                run, previous = j == previous + 1, j
+                if run:
+                    continue
+                # what the mate leaves over the ``quiet`` samples before the gap: its correlation one sample on
+                start, scale, low = starts[pick[j]], scales[first[k] + pick[j]], j * block - gap - quiet
+                last = band[c[b] + low] - scale * band[start + low]
+                energy, lagged = last * last, 0.0
+                for i in range(low + 1, low + quiet):
+                    v = band[c[b] + i] - scale * band[start + i]
+                    energy += v * v
+                    lagged += last * v
+                    last = v
+                if not (energy > 0.0 and abs(lagged) <= 0.6 * energy):
+                    continue
                 found.append(k + 2 * len(accents))
                 blocks.append(j)
                 mates.append(pick[j])
@@ -492,10 +508,10 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
     white = 10.0 ** (white_rise_db / 10.0) if white_rise_db < rise_db else 0.0
     if notes is not None:
         gains, lags = notes
-        which_accent, rises, picks, lengths = accent_rises(*args, gap, gains, lags, pre, white)
+        which_accent, rises, picks, lengths = accent_rises(*args, gap, gains, lags, pre, white, round(5e-3 * rate))
     else:
         gains, lags = np.zeros(len(mate)), np.zeros(len(mate), dtype=np.int64)
-        which_accent, rises, picks, lengths = accent_rises(*args, gap, None, None, 0, white)
+        which_accent, rises, picks, lengths = accent_rises(*args, gap, None, None, 0, white, round(5e-3 * rate))
     # each rise's kind: 0 by ``rise_db``, 1 over the 10 ms before a gap, 2 by ``white_rise_db`` (both kept below
     # where what is left before them is white noise)
     kind = which_accent // max(len(accents), 1)
