@@ -471,10 +471,10 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
     onsets (each as found, or so moved) [each shape=(n,)]. With ``white_rise_db`` under ``rise_db``, a rise so much
     over the 10 ms before that gap counts too where what is left over the 5 ms before is white and the note is the
     accent's own (as ``own_db`` asks where one mate reaches: a mate's missed note left negated rises so). With
-    ``mate_notes`` under 1, a mate's next note that is the accent's own waveform by so much (:func:`mates_notes`: placed within 0.5 ms by its first 2 ms) is taken off
-    its remainder, which reaches on up to the mate's note after it (:func:`mate_reach`); a rise so read past a note
-    found in the accent's window that lag on is not sought (that note, in the accent's sound added back, is left
-    there). ``shared`` (a dict, or None): what :func:`room_ghost_onsets` asks again on the same attacks kept there
+    ``mate_notes`` under 1, a mate's next note that is the accent's own waveform by so much (:func:`mates_notes`:
+    placed within 0.5 ms by its first 2 ms) is taken off its remainder, which reaches on up to the mate's note after
+    it (:func:`mate_reach`); a rise so read past a note found in the accent's window that lag on is not sought (that
+    note, in the accent's sound added back, is left there). ``shared`` (a dict, or None): what :func:`room_ghost_onsets` asks again on the same attacks kept there
     (:func:`_kept`: the attacks' peaks and ends, their layer-mates, the remainders' energies over each block; and
     :func:`_mates_notes`).
     """
