@@ -39,9 +39,10 @@ def test_a_ghost_note_whose_lead_in_is_in_the_10_ms_before_is_found_over_a_gap()
     rises slowly out of the noise, its first millisecond in the 10 ms its rise is read against: 14.4 dB over them
     where 15 are asked. Read against the 10 ms before a 1-ms gap, where what is left before it is white noise, it rises
     19.4 dB: found within 1 ms, no false detection more; with ``ghost_rise_gap=0`` (as before) missed. Both with
-    ``ghost_matched_fit=1``: the ghost layer's head finds it too."""
+    ``ghost_matched_fit=1``: the ghost layer's head finds it too; and with ``ghost_white_rise_db=120``: a rise of 6 dB
+    over the white noise before that gap finds it too."""
     truth, found, before = _compare("FluidR3", 38, "noise72", 0.7874, {"ghost_rise_gap": 0.0},
-                                    {"ghost_matched_fit": 1.0})
+                                    {"ghost_matched_fit": 1.0, "ghost_white_rise_db": 120.0})
     assert np.min(np.abs(found - 0.7874)) < 1e-3 and np.min(np.abs(before - 0.7874)) > 5e-3
     now, then = _no_worse(truth, found, before)
     assert now["within_1ms"] == then["within_1ms"] + 1
@@ -53,9 +54,10 @@ def test_a_ghost_note_under_white_noise_starts_where_the_noise_changes():
     1.19 ms late. Where what is left before is white, the onset is where the power changes (two white noises of the
     most likelihood) within 1 ms before that: found within 0.1 ms; with ``ghost_noise_start=0`` (as before) over 1 ms
     late. Both with ``ghost_room_fit=1``: the quiet layer's fit in a recording step 4 finds reverberant (this one, by
-    its noise) also places this note within 0.1 ms, and so does the ghost layer's head (``ghost_matched_fit=1``)."""
+    its noise) also places this note within 0.1 ms, and so does the ghost layer's head (``ghost_matched_fit=1``) and
+    a rise of 6 dB over the white noise, read from its gap's start (``ghost_white_rise_db=120``)."""
     truth, found, before = _compare("FluidR3", 40, "noise72", 0.3204, {"ghost_noise_start": 0.0},
-                                    {"ghost_room_fit": 1.0, "ghost_matched_fit": 1.0})
+                                    {"ghost_room_fit": 1.0, "ghost_matched_fit": 1.0, "ghost_white_rise_db": 120.0})
     assert np.min(np.abs(found - 0.3204)) < 0.1e-3 and np.min(np.abs(before - 0.3204)) > 1e-3
     now, then = _no_worse(truth, found, before)
     assert now["within_1ms"] == then["within_1ms"] + 1

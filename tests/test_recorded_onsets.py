@@ -18,7 +18,10 @@ from drumstroke.analysis import OnsetConfig, find_onsets
 _BEFORE_FOUND = {"found_burst_db": -120.0, "earlier_reach": 0.0, "found_decay_db": -32.0, "bounce_likeness": 0.8,
                  "bounce_ratio_low": 0.35, "found_echo_rise_db": -3.5, "layer_bounce_likeness": 1.0,
                  # the ghost notes' rules under white noise (tests/test_recorded_noise_ghosts.py), after these
-                 "ghost_rise_gap": 0.0, "ghost_noise_start": 0.0}
+                 "ghost_rise_gap": 0.0, "ghost_noise_start": 0.0,
+                 # and the ghost searches' span and rise over white noise (tests/test_recorded_ghost_span.py,
+                 # tests/test_recorded_white_rise.py), after these too
+                 "ghost_span": 0.13, "ghost_white_rise_db": 120.0}
 
 # a room's echoes not refused (room_decay_db): a control that measures a rule before it in a recording step 4 finds
 # reverberant (that rule does part of its work since)
@@ -308,12 +311,14 @@ def test_ghost_notes_of_a_softer_sample_are_found():
     start unlike the accent's signature; 25 of the 30 loud notes within 1 ms, all the detections right, where
     without the softer strokes' likeness (``soft_jump=100``) 23 (and without the template's second opinion on the
     onsets refused, ``refused_likeness=1``, nor its second pass with the quietest clear attack, ``layer_likeness=1``,
-    which find them too)."""
+    which find them too; nor the ghost searches' later span and rise over white noise, ``ghost_span=0.13``,
+    ``ghost_white_rise_db=120``)."""
     recording = _corpus_recording("TimGM6mb 38 roll", "noise72")
     figures = score(recording, find_onsets(recording.signal, RATE).t)
     off = score(recording, find_onsets(recording.signal, RATE,
                                        config=OnsetConfig(soft_jump=100.0, refused_likeness=1.0,
-                                                          layer_likeness=1.0, ghost_rise_db=120.0)).t)
+                                                          layer_likeness=1.0, ghost_rise_db=120.0, ghost_span=0.13,
+                                                          ghost_white_rise_db=120.0)).t)
     assert figures["within_1ms"] >= 25 and figures["correct_5ms"] == figures["found"]
     assert off["within_1ms"] <= 23
 

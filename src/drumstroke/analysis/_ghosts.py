@@ -169,7 +169,7 @@ def mates_notes(band, c, which, ends, accents, first, count, mate, shifts, scale
 
 @jit(error_model="numpy")
 def accent_rises(band, c, which, ends, accents, first, count, mate, shifts, scales, span, size, before, after, width,
-                 block, fewest, rise, power, done, gap=0, gains=None, lags=None, pre=0):
+                 block, fewest, rise, power, done, gap=0, gains=None, lags=None, pre=0, white_rise=0.0, quiet=0):
     """:func:`ghost_onsets`' search of each accent's remainders for the blocks where a note rises (:func:`rising`; over
     the 10 ms before a ``gap`` of samples), in one loop: for each of ``accents`` (indices of ``which``, the clear attacks; the onsets ``c``, full-rate samples,
     the search's ``ends``) its mates ``mate[first:first + count]`` (indices of ``which``), each placed ``shifts``
@@ -180,7 +180,9 @@ def accent_rises(band, c, which, ends, accents, first, count, mate, shifts, scal
     each block (rows as ``mate``'s; ``(span + after) // block`` columns or more) and how many blocks of it are there,
     :func:`block_powers`' (given again on the same remainders, :func:`_shared_powers`). With ``gains`` and ``lags``
     (:func:`mates_notes`, their ``pre``), a mate's next note of the accent's waveform is taken off its remainder,
-    which then reaches on (:func:`mate_reach`)."""
+    which then reaches on (:func:`mate_reach`). With ``white_rise`` (a ratio, over 0), the rises by so much over the
+    10 ms before a ``gap`` follow too, each accent's index plus ``2 len(accents)``, where what the mate picked there
+    leaves over the ``quiet`` samples before the gap is white (:func:`_white`'s test, which the caller makes again)."""
     found, blocks, mates = [], [], []
     lengths = np.zeros(len(accents), dtype=np.int64)
     for k in range(len(accents)):
@@ -223,6 +225,29 @@ def accent_rises(band, c, which, ends, accents, first, count, mate, shifts, scal
             for j in rising(e, (size + before) // block, (length - width) // block, (before + gap) // block,
                             (before - width) // block, rise):
                 found.append(k + len(accents))
+                blocks.append(j)
+                mates.append(pick[j])
+        if white_rise > 0.0:  # and by ``white_rise`` over the 10 ms before a ``gap`` (where what is left before is
+            # white noise, the caller's test)
+            previous = -2
+            for j in rising(e, (size + before) // block, (length - width) // block, (before + gap) // block,
+                            (before - width) // block, white_rise):
+                # a run of rising blocks is one rise: its first tried alone
+                run, previous = j == previous + 1, j
+                if run:
+                    continue
+                # what the mate leaves over the ``quiet`` samples before the gap: its correlation one sample on
+                start, scale, low = starts[pick[j]], scales[first[k] + pick[j]], j * block - gap - quiet
+                last = band[c[b] + low] - scale * band[start + low]
+                energy, lagged = last * last, 0.0
+                for i in range(low + 1, low + quiet):
+                    v = band[c[b] + i] - scale * band[start + i]
+                    energy += v * v
+                    lagged += last * v
+                    last = v
+                if not (energy > 0.0 and abs(lagged) <= 0.6 * energy):
+                    continue
+                found.append(k + 2 * len(accents))
                 blocks.append(j)
                 mates.append(pick[j])
     return (np.array(found, dtype=np.int64), np.array(blocks, dtype=np.int64), np.array(mates, dtype=np.int64),
@@ -423,7 +448,7 @@ def _accents_mates(mates, mates_used):
 
 def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=120.0, own_everywhere=False,
                  skip=10e-3, span=0.13, quiet_db=-10.0, below_db=-30.0, quieter_db=-6.0, mates_used=3, noise_start=0.0,
-                 rise_gap=0.0, mate_notes=1.0, shared=None):
+                 rise_gap=0.0, mate_notes=1.0, white_rise_db=120.0, shared=None):
     """Onsets (full-rate samples) of notes within ``span`` s after a ``clear`` attack at ``times`` (full-rate samples),
     found in what is left of ``band`` once that attack's own sound is taken off, predicted by its layer-mates.
 
@@ -443,11 +468,13 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
     noise (:func:`_white`), a rise over the 10 ms before a gap so long counts too, its onset sought from the gap's
     start; with ``noise_start`` (s), where that noise, not 1 % of the peak, sets the onset's level and it is white, the
     onset is where the power changes (:func:`noise_change`) up to so long before the rise, returned beside the
-    onsets (each as found, or so moved) [each shape=(n,)]. With ``mate_notes`` under 1, a mate's next note that is
-    the accent's own waveform by so much (:func:`mates_notes`: placed within 0.5 ms by its first 2 ms) is taken off
-    its remainder, which reaches on up to the mate's note after it (:func:`mate_reach`); a rise so read past a note
-    found in the accent's window that lag on is not sought (that note, in the accent's sound added back, is left
-    there). ``shared`` (a dict, or None): what :func:`room_ghost_onsets` asks again on the same attacks kept there
+    onsets (each as found, or so moved) [each shape=(n,)]. With ``white_rise_db`` under ``rise_db``, a rise so much
+    over the 10 ms before that gap counts too where what is left over the 5 ms before is white and the note is the
+    accent's own (as ``own_db`` asks where one mate reaches: a mate's missed note left negated rises so). With
+    ``mate_notes`` under 1, a mate's next note that is the accent's own waveform by so much (:func:`mates_notes`:
+    placed within 0.5 ms by its first 2 ms) is taken off its remainder, which reaches on up to the mate's note after
+    it (:func:`mate_reach`); a rise so read past a note found in the accent's window that lag on is not sought (that
+    note, in the accent's sound added back, is left there). ``shared`` (a dict, or None): what :func:`room_ghost_onsets` asks again on the same attacks kept there
     (:func:`_kept`: the attacks' peaks and ends, their layer-mates, the remainders' energies over each block; and
     :func:`_mates_notes`).
     """
@@ -478,17 +505,22 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
             scales_all, round(span * rate), size, before, after, width, block, 1 if own_db < 120.0 else 2, rise,
             power, done)
     gap = round(rise_gap * rate)
+    white = 10.0 ** (white_rise_db / 10.0) if white_rise_db < rise_db else 0.0
     if notes is not None:
         gains, lags = notes
-        which_accent, rises, picks, lengths = accent_rises(*args, gap, gains, lags, pre)
+        which_accent, rises, picks, lengths = accent_rises(*args, gap, gains, lags, pre, white, round(5e-3 * rate))
     else:
         gains, lags = np.zeros(len(mate)), np.zeros(len(mate), dtype=np.int64)
-        which_accent, rises, picks, lengths = accent_rises(*args, gap)
-    gapped = which_accent >= len(accents)
-    if gap > 0:  # the rises over the 10 ms before a gap: kept below where what is left before them is white noise
-        which_accent = np.where(gapped, which_accent - len(accents), which_accent)
-        order = np.lexsort((gapped, rises, which_accent))
-        which_accent, rises, picks, gapped = which_accent[order], rises[order], picks[order], gapped[order]
+        which_accent, rises, picks, lengths = accent_rises(*args, gap, None, None, 0, white, round(5e-3 * rate))
+    # each rise's kind: 0 by ``rise_db``, 1 over the 10 ms before a gap, 2 by ``white_rise_db`` (both kept below
+    # where what is left before them is white noise)
+    kind = which_accent // max(len(accents), 1)
+    gapped = kind == 1
+    if gap > 0 or white > 0.0:
+        which_accent = which_accent - kind * len(accents)
+        order = np.lexsort((kind, rises, which_accent))
+        which_accent, rises, picks, kind = which_accent[order], rises[order], picks[order], kind[order]
+        gapped = kind == 1
     quiet, reach, apart = round(5e-3 * rate), round(0.5e-3 * rate), round(20e-3 * rate)
     starts_at = {}  # the onsets moved to where white noise's power changes (noise_start)
     # each mate's place and reach, for all the accents at once (a mate's own later notes are not the accent's: its
@@ -498,8 +530,8 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
                  - width) // block
     k = -1
     # the rises in their accents' order (accent_rises' order, or sorted so above)
-    for t, m, over_gap, accent in zip((rises * block).tolist(), picks.tolist(), gapped.tolist(),
-                                      which_accent.tolist()):
+    for t, m, over_gap, accent, by_white in zip((rises * block).tolist(), picks.tolist(), gapped.tolist(),
+                                                which_accent.tolist(), (kind == 2).tolist()):
         if accent != k:  # the next accent's mates
             k = accent
             b = which[accents[k]]
@@ -519,12 +551,12 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
             last = -np.inf
         if t < last + apart:
             continue
-        low = t - gap if over_gap else t  # the note's lead-in may be in the gap
+        low = t - gap if over_gap or by_white else t  # the note's lead-in may be in the gap
         # the remainder only where it is read, from the 5 ms before the lead-in to the end of the peak's window
         # (elementwise: the same samples as the whole window's remainder, not made anew at each rise)
         lo, hi = low - quiet, min(t + width + after, len(x))
         v = x[lo:hi] - scales[m] * band[starts_m[m] + lo:starts_m[m] + hi]
-        if over_gap and not _white(v[:quiet]):
+        if (over_gap or by_white) and not _white(v[:quiet]):
             continue
         if added[m]:  # the mate's next note taken off, from the start of its fit on
             lag = int(lags[q + m])
@@ -541,13 +573,14 @@ def ghost_onsets(band, times, clear, rate, *, likeness, rise_db, least, own_db=1
             if (m, later) not in cleared:  # (``whole`` is the mate's, whatever the rise)
                 cleared[m, later] = _own_notes_off(whole, band, c, b, t - before, pre, size, mate_notes, reach,
                                                    round(1e-3 * rate))
-            if not _still_rising(cleared[m, later], t, width, before, block, rise):
+            if not _still_rising(cleared[m, later], t, width, before, block, white if by_white else rise):
                 continue
         peak = np.abs(v[t - lo:]).max()
         if not lowest <= peak <= highest:  # (the cheaper test first: both only refuse)
             continue
         # past where two mates reach over its 1 ms, the note must be the accent's own
-        alone = own_everywhere or sum((t + width) // block < reach_m for reach_m in reaches) < 2
+        # (a rise by ``white_rise_db`` too: a mate's own note missed, left negated in its remainder alone, rises so)
+        alone = own_everywhere or by_white or sum((t + width) // block < reach_m for reach_m in reaches) < 2
         if alone and not (_own_of(x, x - whole, t, width + after, own_db) if added[m]
                           else _own(x, band, starts_m[m], scales[m], t, width + after, own_db)):
             continue

@@ -624,6 +624,18 @@ class OnsetConfig:
         much under their notes within so much (a room returns each note with one gain; a roll's ghost notes on the
         sound card's blocks share a delay after their accents by chance: TimGM6mb's snare 38 roll, dry, seed 4,
         three at 104.00 ms, 13.3-20.1 dB under); 120: the delay alone, as before this field.
+    ghost_span : float in [0.03, 0.5]
+        s: how long after an accent its ghost notes are sought and learned from (step 5, :func:`_ghost_notes`,
+        :func:`_room_ghost_notes`, :func:`_matched_ghost_notes`; each accent's window ends at its next attack within
+        10 dB sooner): the corpus's rolls put ghost notes up to 0.17 s after their accents (held-out seeds 1-4: 8
+        missed more than 0.13 s after; 0.3 loses a note found within 1 ms at 0.18); 0.13: as before this field.
+    ghost_white_rise_db : float in [0, 120]
+        dB: where what is left before a ghost note is white noise (:func:`_ghost_notes`, ``ghost_rise_gap``'s test),
+        a rise so much over the 10 ms before ``ghost_rise_gap`` is a note too, where the note is the accent's own
+        (``ghost_own_db``: a mate's missed note, left negated in its remainder, rises so): that noise's energy over
+        1 ms spreads +-20 %, and ``ghost_rise_db`` was set for what the mates leave of the accent's own sound (its
+        low modes). FluidR3's ghost notes at -60 dBFS rise 9-12 dB over it (held-out seeds 1-4: 14 missed);
+        ``ghost_rise_db`` or more: none, as before this field.
 
     Examples
     --------
@@ -748,6 +760,8 @@ class OnsetConfig:
     ghost_late_reach: float = 0.0
     ghost_matched_back: float = 4.5e-3
     reflection_drop_spread: float = 6.0
+    ghost_span: float = 0.18
+    ghost_white_rise_db: float = 6.0
 
     def __post_init__(self):
         for name, (low, high, unit) in _RANGES.items():
@@ -827,6 +841,8 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "ghost_late_reach": (0.0, 5e-3, "s"),
     "ghost_matched_back": (0.0, 5e-3, "s"),
     "reflection_drop_spread": (0.0, 120.0, "dB"),
+    "ghost_span": (0.03, 0.5, "s"),
+    "ghost_white_rise_db": (0.0, 120.0, "dB"),
 }
 
 
@@ -1864,7 +1880,12 @@ def _ghost_notes(band, d, rate, candidates, config, replays, reverberant=False, 
     1.5-4 times that RMS, found 1.19 ms late): with ``ghost_noise_start`` the onset is where the power changes (the
     split of the 5 ms before and up to that sample into two white noises of the most likelihood), up to so long
     before the rise, where it is a new note (an attack found after it is moved to it as before: moved earlier so,
-    TimGM6mb's snare 40 at -60 dBFS on seed 4 lost a note to the later stages).
+    TimGM6mb's snare 40 at -60 dBFS on seed 4 lost a note to the later stages). That noise's energy over 1 ms spreads
+    +-20 % (48 samples), where ``ghost_rise_db`` was set for the accent's own sound left over: a rise of
+    ``ghost_white_rise_db`` over the 10 ms before that gap is a note too, where it is the accent's own (as where one
+    mate reaches: a mate's own ghost note missed, left negated in its remainder, rises so; FluidR3's snare 40 at -60
+    dBFS, seed 4, 4.1398 s, 9 dB) and the 5 ms before are white (FluidR3's ghost notes at -60 dBFS, held-out seeds
+    1-4: 14 missed rising 9-12 dB; 8 more found within 5 ms, no false detection more).
 
     *Past the mates' own ghost notes.* Where a sample player replays one sample at every velocity (TimGM6mb's snare
     38: every velocity the one waveform, correlation 1.000 over 0-200 ms), a mate's next note is the accent's own
@@ -1888,7 +1909,8 @@ def _ghost_notes(band, d, rate, candidates, config, replays, reverberant=False, 
     ghosts = ghost_onsets(band, candidates.times[which], lead_clear[which], rate, likeness=config.replay_likeness,
                           rise_db=config.ghost_rise_db, least=10.0 ** (config.threshold_db / 20.0),
                           own_db=own_db, own_everywhere=reverberant, noise_start=config.ghost_noise_start,
-                          rise_gap=config.ghost_rise_gap, mate_notes=config.ghost_mate_notes, shared=shared)
+                          rise_gap=config.ghost_rise_gap, mate_notes=config.ghost_mate_notes,
+                          span=config.ghost_span, white_rise_db=config.ghost_white_rise_db, shared=shared)
     ghosts, starts = ghosts if config.ghost_noise_start > 0.0 else (ghosts, ghosts)
     # an attack found late is one on the main rise after the note's lead-in; a new note under white noise starts
     # where its power changes (ghost_noise_start)
@@ -1939,7 +1961,7 @@ def _room_ghost_notes(band, d, rate, candidates, config, replays, shared=None):
                                likeness=config.replay_likeness, rise_db=4.0,
                                least=10.0 ** (config.threshold_db / 20.0), fit=config.ghost_room_fit,
                                reach=config.ghost_room_reach, spare_likeness=config.ghost_room_spare_likeness,
-                               mate_notes=config.ghost_mate_notes, shared=shared)
+                               mate_notes=config.ghost_mate_notes, span=config.ghost_span, shared=shared)
     return _placed_ghosts(candidates, ghosts, which, rate)
 
 
@@ -1978,7 +2000,8 @@ def _matched_ghost_notes(band, d, rate, candidates, config, replays, shared=None
     which = np.flatnonzero(candidates.attack)
     ghosts = matched_ghost_onsets(band, candidates.times[which], lead_clear[which], rate,
                                   likeness=config.replay_likeness, least=10.0 ** (config.threshold_db / 20.0),
-                                  fit=config.ghost_matched_fit, back=config.ghost_matched_back, shared=shared)
+                                  fit=config.ghost_matched_fit, back=config.ghost_matched_back,
+                                  span=config.ghost_span, shared=shared)
     return _placed_ghosts(candidates, ghosts, which, rate)
 
 
