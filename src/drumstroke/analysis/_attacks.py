@@ -17,7 +17,8 @@ from ._kernels import window_dots
 def template_search(remainder, template, head, times, shifts, refused, offset, layer_at, layer_size, pre, gap,
                     shortest, fit, bounce, echo, signature, reach, likeness, refused_likeness, ratio_low, ratio_high,
                     least, burst, earlier, unclear, weak, start_likeness, layer_likeness, bursts=1, unfitted=0.0,
-                    layer_whole=1.0, flight=0, layer_start=0, layer_joint=1.0, joint_flight=0, joint_train=0):
+                    layer_whole=1.0, flight=0, layer_start=0, layer_joint=1.0, joint_flight=0, joint_train=0,
+                    train_found=0, found_bursts=0, train_refit=0):
     """:func:`.onsets._template_search`'s loop over the attacks at ``times`` (full-rate samples, in order).
 
     ``remainder`` (the band, changed in place) less each attack's fitted ``template`` (``pre`` samples before its
@@ -54,7 +55,14 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
     ``layer_at`` the layer is its sound as recorded (not yet what is left there; with ``layer_likeness`` 1 there is
     none before it). A detection flagged ``unclear``, not one the template timed, within ``bounce`` after the attack
     before it, is put where ``layer`` fits best up to ``layer_start`` samples before it (:func:`_layer_start`; 0, its
-    default: not sought), and one up to ``layer_start`` samples after a bounce found is that bounce (dropped). Returns the attacks found (their
+    default: not sought), and one up to ``layer_start`` samples after a bounce found is that bounce (dropped). With
+    ``train_refit`` (0, its default: none), once the next bounce is found the last ``train_refit`` bounces ``layer``
+    took off, each ``flight`` samples or less after the one before, are fitted again together with it
+    (:func:`_refit`); with ``train_found`` (0, its default: not), a bounce ``layer``'s searches found is taken off by
+    ``layer`` and the next one's window reads the mean of the two flights before where that is longer; with
+    ``found_bursts`` (0, its default: not), a detection ``unclear``, not timed, within ``earlier`` after a bounce the
+    search found after one ``layer`` took off, where the cut fit correlates under ``likeness``, is dropped where
+    ``layer`` fitted past it correlates by ``likeness`` and at the detection does not. Returns the attacks found (their
     times, in order), each one's correlation and which of ``times`` are dropped [shape=(len(times),)].
     """
     n, size = len(remainder), len(template)
@@ -69,8 +77,13 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
     found, likes, count = np.empty(most), np.empty(most), 0
     dropped = np.zeros(len(times), dtype=np.bool_)
     i, pending, last, joined, by_joint = 0, -1, -n, False, False
+    previous = -n
+    kept, train_at, train_scale = 0, np.zeros(max(train_refit, 1), dtype=np.int64), np.zeros(max(train_refit, 1))
+    layered, by_layer_search, searched, was_layer, by_layer = False, False, False, False, False
     while True:
         joined, by_joint = by_joint, False  # whether this attack is one the joint fit found
+        layered, by_layer_search = by_layer_search, False  # whether this attack is one the layer's searches found
+        was_layer, searched = by_layer, pending >= 0
         if pending >= 0:
             c, pending = pending, -1  # where the template's attack fell
         elif i < len(times):
@@ -94,7 +107,7 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
                         found[count], likes[count], count = start + offset, like, count + 1
         else:
             break
-        previous, last = last, c
+        earlier_c, previous, last = previous, last, c
         following = int(np.rint(times[i] - shifts[i])) if i < len(times) else n
         detection = following
         if c < pre or min(max(pre + shortest, min(pre + fit, following - c)), size, n - c + pre) <= pre:
@@ -125,6 +138,22 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
             if more > 0:
                 dropped[i:i + more], i, detection, heard = True, i + more, following, 0.0
                 close = i < len(times) and following < c + bounce
+        if (found_bursts and searched and was_layer and fitted < likeness and close and len(layer) > 0
+                and unclear[i] and shifts[i] == 0.0 and following - c <= earlier):
+            # a train's bounce the search found, a detection on its rise: the layer fitted past it
+            after = int(np.rint(times[i + 1] - shifts[i + 1])) if i + 1 < len(times) else n
+            _add(remainder, own, at_c, scale, pre)
+            tried = _take_off(remainder, template, layer, c, after, pre, shortest, fit)
+            _add(remainder, tried[0], tried[1], tried[2], pre)
+            here = min(max(pre + shortest, min(pre + fit, after - following)), len(layer))
+            if tried[4] >= likeness and _layer_fit(remainder, layer, following, pre, here)[1] < likeness:
+                _add(remainder, tried[0], tried[1], -tried[2], pre)
+                own, at_c, scale, measured, fitted, by_layer = tried
+                dropped[i], i, following = True, i + 1, after
+                detection = following
+                close = i < len(times) and following < c + bounce
+            else:
+                _add(remainder, own, at_c, -scale, pre)
         if fitted >= likeness and close:
             # a detection close after that neither template fits is no end to this attack's sound: fitted up to the
             # one after instead (a FluidR3 drop's fit cut at 3.7 ms left a bounce at -21 dB two-thirds on); nor is
@@ -154,6 +183,15 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
                             own, at_c, scale, measured, fitted, by_layer = _take_off(remainder, template, layer, c,
                                                                                      after, pre, shortest, fit)
                             skipped, detection, following = True, following, after
+        if train_found and layered and not by_layer and len(layer) > 0 and c >= pre:
+            # a bounce the layer's search found is the layer's: taken off by it, the train's search goes on with it
+            _add(remainder, own, at_c, scale, pre)
+            lspan = min(max(pre + shortest, min(pre + fit, following - c)), len(layer), n - c + pre)
+            lag, _ = _layer_fit(remainder, layer, c, pre, lspan)
+            lspan = min(lspan, n - c - lag + pre)
+            own, at_c, by_layer = layer, c + lag, True
+            scale = _dot(remainder, at_c - pre, own, lspan) / _dot(own, 0, own, lspan)
+            _add(remainder, own, at_c, -scale, pre)
         c = at_c
         at, like = -1, 0.0
         if measured > 0.0:
@@ -166,25 +204,29 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
                 at, like = _bounce_after(remainder, layer, layer[:len(head)], _dot(layer, 0, layer, len(head)),
                                          c + gap, high, following, pre, shortest, fit, reach, scale, layer_likeness,
                                          ratio_low, ratio_high, weak)
+                by_layer_search = at >= 0
+            longest = c - previous  # the flight the next one's is read against
+            if train_found and earlier_c > -n and c - earlier_c <= 2 * flight:
+                longest = max(longest, (c - earlier_c) // 2)  # two flights: one's block jitter undone by the next
             if (layer_whole < 1.0 and by_layer and layer_likeness < 1.0 and c - previous <= flight
-                    and (at < 0 or at > c + (3 * (c - previous)) // 2)):
+                    and (at < 0 or at > c + (3 * longest) // 2)):
                 # none found, or one past the next bounce's time: the next one's start under the room's sound or the
                 # earlier bounce's (the quiet layer peaks 9.4 ms in), a half to one and a half times the flight
                 # before on (a drop's flights shrink, FluidSynth's blocks jitter them by 1.3 ms)
                 early, early_like = _whole_after(remainder, layer, max(c + gap, c + (c - previous) // 2),
-                                                 min(high, c + (3 * (c - previous)) // 2 + 1), following, pre, fit,
+                                                 min(high, c + (3 * longest) // 2 + 1), following, pre, fit,
                                                  reach, scale, layer_whole, ratio_low, ratio_high)
                 if early >= 0:
-                    at, like = early, early_like
+                    at, like, by_layer_search = early, early_like, True
                 elif layer_joint < 1.0 and not joined and c - previous <= joint_train:
                     # the bounce before's sound fitted again with the next one's, least squares (its own fit, over
                     # the layer's first fit samples, took in some of the next bounce's)
                     early, early_like = _joint_after(remainder, own, at_c, scale, layer,
                                                      max(c + gap, c + (c - previous) // 2, c + joint_flight),
-                                                     min(high, c + (3 * (c - previous)) // 2 + 1), following, pre,
+                                                     min(high, c + (3 * longest) // 2 + 1), following, pre,
                                                      fit, reach, layer_joint, ratio_low, ratio_high)
                     if early >= 0:
-                        at, like, by_joint = early, early_like, True
+                        at, like, by_joint, by_layer_search = early, early_like, True, True
         if skipped and at > detection:
             if at - detection <= echo:  # the detection was this bounce placed early
                 dropped[i], i = True, i + 1
@@ -197,10 +239,57 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
         if (layer_start > 0 and at >= 0 and i < len(times) and unclear[i] and shifts[i] == 0.0
                 and 0 < int(np.rint(times[i])) - at <= layer_start):
             dropped[i], i = True, i + 1  # the next detection is this bounce on its main rise: no attack of its own
+        if train_refit:
+            # the train of close bounces the layer took off, this one last
+            if not (by_layer and at_c >= pre):
+                kept = 0
+            else:
+                if not (kept > 0 and at_c - train_at[kept - 1] <= flight):
+                    kept = 0
+                if kept == len(train_at):
+                    train_at[:-1], train_scale[:-1], kept = train_at[1:].copy(), train_scale[1:].copy(), kept - 1
+                train_at[kept], train_scale[kept], kept = at_c, scale, kept + 1
+            if at >= 0 and kept > 0 and at - at_c <= flight:
+                # the next bounce found: the train's scales fitted again together with it (least squares from the
+                # first one's window to the end of the next one's first fit samples; each one's own fit took in
+                # some of the next one's sound)
+                _refit(remainder, layer, train_at[:kept], train_scale[:kept], at, following, pre, fit)
         if at >= 0:
             pending = at
             found[count], likes[count], count = at + offset, like, count + 1
     return found[:count].copy(), likes[:count].copy(), dropped
+
+
+@jit(error_model="numpy")
+def _refit(remainder, layer, at, scales, after, following, pre, fit):
+    """The attacks at ``at`` (``layer`` times ``scales``, taken off ``remainder``) taken off again with their scales
+    fitted together with ``layer`` at ``after`` (least squares from ``pre`` before the first to the end of
+    ``layer``'s first ``fit`` samples at ``after``, up to ``following``), in place, ``scales`` updated; kept as they
+    were where a scale so fitted is not positive."""
+    n, m = len(remainder), len(at) + 1
+    start = at[0] - pre
+    end = min(after - pre + min(pre + fit, len(layer)), following, n)
+    if end - start <= 0 or end - start > len(layer) or start < 0:
+        return
+    y = remainder[start:end].copy()
+    for i in range(m - 1):
+        for j in range(at[i] - pre - start, end - start):
+            y[j] += scales[i] * layer[j - (at[i] - pre - start)]
+    basis = np.zeros((m, end - start))
+    for i in range(m):
+        first = (at[i] if i < m - 1 else after) - pre - start
+        for j in range(first, end - start):
+            basis[i, j] = layer[j - first]
+    gram = basis @ basis.T
+    if np.linalg.det(gram) <= 0.0:
+        return
+    x = np.linalg.solve(gram, basis @ y)
+    for i in range(m - 1):
+        if not x[i] > 0.0:
+            return
+    for i in range(m - 1):
+        _add(remainder, layer, at[i], scales[i] - x[i], pre)
+        scales[i] = x[i]
 
 
 @jit(error_model="numpy")
