@@ -129,6 +129,10 @@ The room test's second pass (``room_partner_under_db``) only refuses: step 5's l
 pass left, its refusals taken off after (a bug fix of that rule, no switch): the reference stands, none of these cases
 moves; on the corpus, seeds 0-4, only FluidR3's snare 38 drop with reverb, seed 0, moves, its false 4.1281 s gone
 (tests/test_recorded_room_passes.py).
+A drop's last bounces sought as one train of the quiet layer (``layer_train_found``, ``layer_found_bursts``,
+``layer_skipped_search``; 0 each gives the outputs before them, to the bit): the reference stands, none of these
+cases moves; on the corpus, seed 0, only FluidR3's snare 40 drop at -72 dBFS moves (an onset a sample earlier, a peak
+level by 0.001 dB); seeds 1-2 gain 6 loud notes of FluidR3's drops (tests/test_recorded_drop_train.py).
 The recordings are rebuilt here (seeded): our synthesis with and without the snare wires, another
 drum's, a room and noise (tests/_recordings.py), the paper's free bounce of benchmarks/analysis.py, and
 some of tests/_recorded_drums.py's SoundFont recordings (dry, noise, FluidSynth's reverb).

@@ -18,7 +18,7 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
                     shortest, fit, bounce, echo, signature, reach, likeness, refused_likeness, ratio_low, ratio_high,
                     least, burst, earlier, unclear, weak, start_likeness, layer_likeness, bursts=1, unfitted=0.0,
                     layer_whole=1.0, flight=0, layer_start=0, layer_joint=1.0, joint_flight=0, joint_train=0,
-                    train_found=0, found_bursts=0, train_refit=0):
+                    train_found=0, found_bursts=0, train_refit=0, skipped_search=0):
     """:func:`.onsets._template_search`'s loop over the attacks at ``times`` (full-rate samples, in order).
 
     ``remainder`` (the band, changed in place) less each attack's fitted ``template`` (``pre`` samples before its
@@ -57,9 +57,11 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
     before it, is put where ``layer`` fits best up to ``layer_start`` samples before it (:func:`_layer_start`; 0, its
     default: not sought), and one up to ``layer_start`` samples after a bounce found is that bounce (dropped). With
     ``train_refit`` (0, its default: none), once the next bounce is found the last ``train_refit`` bounces ``layer``
-    took off, each ``flight`` samples or less after the one before, are fitted again together with it
-    (:func:`_refit`); with ``train_found`` (0, its default: not), a bounce ``layer``'s searches found is taken off by
+    took off, each ``flight`` samples or less after the one before, are fitted again together with it up to
+    one flight after it (:func:`_refit`); with ``train_found`` (0, its default: not), a bounce ``layer``'s searches found is taken off by
     ``layer`` and the next one's window reads the mean of the two flights before where that is longer; with
+    ``skipped_search`` (0, its default: not), where the template's search finds a bounce past a detection this
+    attack's fit skipped, after an attack ``layer`` took off, ``layer``'s search is made first up to that detection; with
     ``found_bursts`` (0, its default: not), a detection ``unclear``, not timed, within ``earlier`` after a bounce the
     search found after one ``layer`` took off, where the cut fit correlates under ``likeness``, is dropped where
     ``layer`` fitted past it correlates by ``likeness`` and at the detection does not. Returns the attacks found (their
@@ -205,6 +207,17 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
                                          c + gap, high, following, pre, shortest, fit, reach, scale, layer_likeness,
                                          ratio_low, ratio_high, weak)
                 by_layer_search = at >= 0
+            elif (skipped_search and skipped and at > detection and by_layer and layer_likeness < 1.0
+                    and c - previous <= bounce):
+                # the template's bounce past a detection this attack's fit skipped (which would be dropped as that
+                # bounce placed early): the layer's own search up to the detection first, the detection a quiet
+                # bounce's later burst whose start the template's does not fit (FluidR3's snare 40 with reverb:
+                # a detection 3.8 ms into a bounce, the template's next 9.3 ms on)
+                early, early_like = _bounce_after(remainder, layer, layer[:len(head)], _dot(layer, 0, layer, len(head)),
+                                                  c + gap, min(high, detection - gap), following, pre, shortest, fit,
+                                                  reach, scale, layer_likeness, ratio_low, ratio_high, weak)
+                if early >= 0:
+                    at, like, by_layer_search = early, early_like, True
             longest = c - previous  # the flight the next one's is read against
             if train_found and earlier_c > -n and c - earlier_c <= 2 * flight:
                 longest = max(longest, (c - earlier_c) // 2)  # two flights: one's block jitter undone by the next
@@ -251,9 +264,10 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
                 train_at[kept], train_scale[kept], kept = at_c, scale, kept + 1
             if at >= 0 and kept > 0 and at - at_c <= flight:
                 # the next bounce found: the train's scales fitted again together with it (least squares from the
-                # first one's window to the end of the next one's first fit samples; each one's own fit took in
-                # some of the next one's sound)
-                _refit(remainder, layer, train_at[:kept], train_scale[:kept], at, following, pre, fit)
+                # first one's window to the end of the next one's first fit samples, up to one flight after it, where
+                # the bounce after it may sound: each one's own fit took in some of the next one's sound)
+                _refit(remainder, layer, train_at[:kept], train_scale[:kept], at, min(following, at + (at - at_c)),
+                       pre, fit)
         if at >= 0:
             pending = at
             found[count], likes[count], count = at + offset, like, count + 1
