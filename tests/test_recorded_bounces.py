@@ -52,9 +52,11 @@ def test_a_reverberant_bounces_burst_is_dropped_by_its_fit_past_it():
     detection on its main rise (0.9 ms late), 0.96 over 10 ms: fitted past that detection and the next (its second
     burst, 3.4 ms in), the two are its own sound and dropped; with ``found_bursts=1`` the burst is a false onset.
     The rule's own gain, measured with the drop's last bounces not sought by the quiet layer's whole fit (as before:
-    ``layer_whole_likeness``, which with ``found_bursts=1`` finds a last bounce more, 4.0470 s)."""
+    ``layer_whole_likeness``, which with ``found_bursts=1`` finds a last bounce more, 4.0470 s), nor as one train
+    (tests/test_recorded_drop_layer_train.py's rules, which with ``found_bursts=1`` drop the burst as well)."""
     recording = _drop(40, "reverb")
-    off = {"layer_whole_likeness": 1.0, "layer_echo_partners": 0}
+    off = {"layer_whole_likeness": 1.0, "layer_echo_partners": 0, "layer_train_found": 0, "layer_found_bursts": 0,
+           "layer_skipped_search": 0}  # and the drop train's rules, which drop that burst too
     found = find_onsets(recording.signal, RATE, config=OnsetConfig(burst_unfitted_likeness=0.0, **off)).t
     before = find_onsets(recording.signal, RATE, config=OnsetConfig(**_BEFORE, **off)).t
     assert np.min(np.abs(found - 1.8958)) > 1e-3 and np.min(np.abs(before - 1.8958)) < 0.1e-3

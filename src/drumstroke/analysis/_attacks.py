@@ -18,7 +18,7 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
                     shortest, fit, bounce, echo, signature, reach, likeness, refused_likeness, ratio_low, ratio_high,
                     least, burst, earlier, unclear, weak, start_likeness, layer_likeness, bursts=1, unfitted=0.0,
                     layer_whole=1.0, flight=0, layer_start=0, layer_joint=1.0, joint_flight=0, joint_train=0,
-                    past=0, train=0, jitter=0):
+                    past=0, train=0, jitter=0, train_found=0, found_bursts=0, train_refit=0, skipped_search=0):
     """:func:`.onsets._template_search`'s loop over the attacks at ``times`` (full-rate samples, in order).
 
     ``remainder`` (the band, changed in place) less each attack's fitted ``template`` (``pre`` samples before its
@@ -60,7 +60,15 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
     detection the attack's fit looked past or dropped as its own sound; and where none is found, after a bounce of a
     train (the flight before ``train`` samples or less, no longer than the flight before it nor shorter than two
     thirds of it, the bounce's fitted scale at most 1 dB over the one before), from 0.7 times that flight on to the
-    flight plus ``jitter`` samples on (a drop's flights shrink). Returns the attacks found (their
+    flight plus ``jitter`` samples on (a drop's flights shrink). With ``train_refit`` (0, its default: none), once the next bounce is found the last ``train_refit`` bounces ``layer``
+    took off, each ``flight`` samples or less after the one before, are fitted again together with it up to
+    one flight after it (:func:`_refit`); with ``train_found`` (0, its default: not), a bounce ``layer``'s searches found is taken off by
+    ``layer`` and the next one's window reads the mean of the two flights before where that is longer; with
+    ``skipped_search`` (0, its default: not), where the template's search finds a bounce past a detection this
+    attack's fit skipped, after an attack ``layer`` took off, ``layer``'s search is made first up to that detection; with
+    ``found_bursts`` (0, its default: not), a detection ``unclear``, not timed, within ``earlier`` after a bounce the
+    search found after one ``layer`` took off, where the cut fit correlates under ``likeness``, is dropped where
+    ``layer`` fitted past it correlates by ``likeness`` and at the detection does not. Returns the attacks found (their
     times, in order), each one's correlation and which of ``times`` are dropped [shape=(len(times),)].
     """
     n, size = len(remainder), len(template)
@@ -74,10 +82,15 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
     most = n // max(gap, 1) + 1 + len(times)  # each new one gap after, each moved one of times
     found, likes, count = np.empty(most), np.empty(most), 0
     dropped = np.zeros(len(times), dtype=np.bool_)
-    i, pending, last, previous, joined, by_joint = 0, -1, -n, -n, False, False
+    i, pending, last, joined, by_joint = 0, -1, -n, False, False
+    previous = -n
     loudness = 0.0  # the attack before's fitted scale
+    kept, train_at, train_scale = 0, np.zeros(max(train_refit, 1), dtype=np.int64), np.zeros(max(train_refit, 1))
+    layered, by_layer_search, searched, was_layer, by_layer = False, False, False, False, False
     while True:
         joined, by_joint = by_joint, False  # whether this attack is one the joint fit found
+        layered, by_layer_search = by_layer_search, False  # whether this attack is one the layer's searches found
+        was_layer, searched = by_layer, pending >= 0
         if pending >= 0:
             c, pending = pending, -1  # where the template's attack fell
         elif i < len(times):
@@ -101,7 +114,7 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
                         found[count], likes[count], count = start + offset, like, count + 1
         else:
             break
-        prior, previous, last = previous, last, c
+        earlier_c, previous, last = previous, last, c
         following = int(np.rint(times[i] - shifts[i])) if i < len(times) else n
         detection = following
         if c < pre or min(max(pre + shortest, min(pre + fit, following - c)), size, n - c + pre) <= pre:
@@ -132,6 +145,22 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
             if more > 0:
                 dropped[i:i + more], i, detection, heard = True, i + more, following, 0.0
                 close = i < len(times) and following < c + bounce
+        if (found_bursts and searched and was_layer and fitted < likeness and close and len(layer) > 0
+                and unclear[i] and shifts[i] == 0.0 and following - c <= earlier):
+            # a train's bounce the search found, a detection on its rise: the layer fitted past it
+            after = int(np.rint(times[i + 1] - shifts[i + 1])) if i + 1 < len(times) else n
+            _add(remainder, own, at_c, scale, pre)
+            tried = _take_off(remainder, template, layer, c, after, pre, shortest, fit)
+            _add(remainder, tried[0], tried[1], tried[2], pre)
+            here = min(max(pre + shortest, min(pre + fit, after - following)), len(layer))
+            if tried[4] >= likeness and _layer_fit(remainder, layer, following, pre, here)[1] < likeness:
+                _add(remainder, tried[0], tried[1], -tried[2], pre)
+                own, at_c, scale, measured, fitted, by_layer = tried
+                dropped[i], i, following = True, i + 1, after
+                detection = following
+                close = i < len(times) and following < c + bounce
+            else:
+                _add(remainder, own, at_c, -scale, pre)
         if fitted >= likeness and close:
             # a detection close after that neither template fits is no end to this attack's sound: fitted up to the
             # one after instead (a FluidR3 drop's fit cut at 3.7 ms left a bounce at -21 dB two-thirds on); nor is
@@ -161,6 +190,15 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
                             own, at_c, scale, measured, fitted, by_layer = _take_off(remainder, template, layer, c,
                                                                                      after, pre, shortest, fit)
                             skipped, detection, following = True, following, after
+        if train_found and layered and not by_layer and len(layer) > 0 and c >= pre:
+            # a bounce the layer's search found is the layer's: taken off by it, the train's search goes on with it
+            _add(remainder, own, at_c, scale, pre)
+            lspan = min(max(pre + shortest, min(pre + fit, following - c)), len(layer), n - c + pre)
+            lag, _ = _layer_fit(remainder, layer, c, pre, lspan)
+            lspan = min(lspan, n - c - lag + pre)
+            own, at_c, by_layer = layer, c + lag, True
+            scale = _dot(remainder, at_c - pre, own, lspan) / _dot(own, 0, own, lspan)
+            _add(remainder, own, at_c, -scale, pre)
         c = at_c
         at, like = -1, 0.0
         if measured > 0.0:
@@ -177,27 +215,42 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
                 at, like = _bounce_after(remainder, layer, layer[:len(head)], _dot(layer, 0, layer, len(head)),
                                          c + gap, high, following, pre, shortest, fit, reach, scale, layer_likeness,
                                          ratio_low, ratio_high, weak)
+                by_layer_search = at >= 0
+            elif (skipped_search and skipped and at > detection and by_layer and layer_likeness < 1.0
+                    and c - previous <= bounce):
+                # the template's bounce past a detection this attack's fit skipped (which would be dropped as that
+                # bounce placed early): the layer's own search up to the detection first, the detection a quiet
+                # bounce's later burst whose start the template's does not fit (FluidR3's snare 40 with reverb:
+                # a detection 3.8 ms into a bounce, the template's next 9.3 ms on)
+                early, early_like = _bounce_after(remainder, layer, layer[:len(head)], _dot(layer, 0, layer, len(head)),
+                                                  c + gap, min(high, detection - gap), following, pre, shortest, fit,
+                                                  reach, scale, layer_likeness, ratio_low, ratio_high, weak)
+                if early >= 0:
+                    at, like, by_layer_search = early, early_like, True
+            longest = c - previous  # the flight the next one's is read against
+            if train_found and earlier_c > -n and c - earlier_c <= 2 * flight:
+                longest = max(longest, (c - earlier_c) // 2)  # two flights: one's block jitter undone by the next
             if (layer_whole < 1.0 and by_layer and layer_likeness < 1.0 and c - previous <= flight
-                    and (at < 0 or at > c + (3 * (c - previous)) // 2)):
+                    and (at < 0 or at > c + (3 * longest) // 2)):
                 # none found, or one past the next bounce's time: the next one's start under the room's sound or the
                 # earlier bounce's (the quiet layer peaks 9.4 ms in), a half to one and a half times the flight
                 # before on (a drop's flights shrink, FluidSynth's blocks jitter them by 1.3 ms)
                 early, early_like = _whole_after(remainder, layer, max(c + gap, c + (c - previous) // 2),
-                                                 min(high, c + (3 * (c - previous)) // 2 + 1), following, pre, fit,
+                                                 min(high, c + (3 * longest) // 2 + 1), following, pre, fit,
                                                  reach, scale, layer_whole, ratio_low, ratio_high)
                 if early >= 0:
-                    at, like = early, early_like
+                    at, like, by_layer_search = early, early_like, True
                 elif layer_joint < 1.0 and not joined and c - previous <= joint_train:
                     # the bounce before's sound fitted again with the next one's, least squares (its own fit, over
                     # the layer's first fit samples, took in some of the next bounce's)
                     early, early_like = _joint_after(remainder, own, at_c, scale, layer,
                                                      max(c + gap, c + (c - previous) // 2, c + joint_flight),
-                                                     min(high, c + (3 * (c - previous)) // 2 + 1), following, pre,
+                                                     min(high, c + (3 * longest) // 2 + 1), following, pre,
                                                      fit, reach, layer_joint, ratio_low, ratio_high)
                     if early >= 0:
-                        at, like, by_joint = early, early_like, True
-        if (at < 0 and measured > 0.0 and c - previous <= train and c - previous <= previous - prior
-                and 2 * (previous - prior) <= 3 * (c - previous) and measured <= 1.12 * loudness):
+                        at, like, by_joint, by_layer_search = early, early_like, True, True
+        if (at < 0 and measured > 0.0 and c - previous <= train and c - previous <= previous - earlier_c
+                and 2 * (previous - earlier_c) <= 3 * (c - previous) and measured <= 1.12 * loudness):
             # a train's next bounce past the usual reach, where the flight before says it is (a drop's flights
             # shrink, its bounces fade: a flam's main note is louder than its grace note, and a room's returns
             # are not so spaced); step 4 found none there (FluidR3's snare 38 with reverb: 26-30 ms flights)
@@ -219,10 +272,58 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
         if (layer_start > 0 and at >= 0 and i < len(times) and unclear[i] and shifts[i] == 0.0
                 and 0 < int(np.rint(times[i])) - at <= layer_start):
             dropped[i], i = True, i + 1  # the next detection is this bounce on its main rise: no attack of its own
+        if train_refit:
+            # the train of close bounces the layer took off, this one last
+            if not (by_layer and at_c >= pre):
+                kept = 0
+            else:
+                if not (kept > 0 and at_c - train_at[kept - 1] <= flight):
+                    kept = 0
+                if kept == len(train_at):
+                    train_at[:-1], train_scale[:-1], kept = train_at[1:].copy(), train_scale[1:].copy(), kept - 1
+                train_at[kept], train_scale[kept], kept = at_c, scale, kept + 1
+            if at >= 0 and kept > 0 and at - at_c <= flight:
+                # the next bounce found: the train's scales fitted again together with it (least squares from the
+                # first one's window to the end of the next one's first fit samples, up to one flight after it, where
+                # the bounce after it may sound: each one's own fit took in some of the next one's sound)
+                _refit(remainder, layer, train_at[:kept], train_scale[:kept], at, min(following, at + (at - at_c)),
+                       pre, fit)
         if at >= 0:
             pending = at
             found[count], likes[count], count = at + offset, like, count + 1
     return found[:count].copy(), likes[:count].copy(), dropped
+
+
+@jit(error_model="numpy")
+def _refit(remainder, layer, at, scales, after, following, pre, fit):
+    """The attacks at ``at`` (``layer`` times ``scales``, taken off ``remainder``) taken off again with their scales
+    fitted together with ``layer`` at ``after`` (least squares from ``pre`` before the first to the end of
+    ``layer``'s first ``fit`` samples at ``after``, up to ``following``), in place, ``scales`` updated; kept as they
+    were where a scale so fitted is not positive."""
+    n, m = len(remainder), len(at) + 1
+    start = at[0] - pre
+    end = min(after - pre + min(pre + fit, len(layer)), following, n)
+    if end - start <= 0 or end - start > len(layer) or start < 0:
+        return
+    y = remainder[start:end].copy()
+    for i in range(m - 1):
+        for j in range(at[i] - pre - start, end - start):
+            y[j] += scales[i] * layer[j - (at[i] - pre - start)]
+    basis = np.zeros((m, end - start))
+    for i in range(m):
+        first = (at[i] if i < m - 1 else after) - pre - start
+        for j in range(first, end - start):
+            basis[i, j] = layer[j - first]
+    gram = basis @ basis.T
+    if np.linalg.det(gram) <= 0.0:
+        return
+    x = np.linalg.solve(gram, basis @ y)
+    for i in range(m - 1):
+        if not x[i] > 0.0:
+            return
+    for i in range(m - 1):
+        _add(remainder, layer, at[i], scales[i] - x[i], pre)
+        scales[i] = x[i]
 
 
 @jit(error_model="numpy")

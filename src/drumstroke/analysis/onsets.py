@@ -540,6 +540,37 @@ class OnsetConfig:
         the bounce before so fitted leaves (its fit alone took in some of the next bounce's sound: FluidR3's snare
         38 with reverb, 0.70 alone, 0.73 so); not after a bounce so found (step 5; 1: not sought, as before this
         field).
+    layer_train_found : int in [0, 1]
+        1: a bounce the quiet layer's searches found (``layer_bounce_likeness``, ``layer_whole_likeness``,
+        ``layer_joint_likeness``) is taken off by the layer where the loud template fitted it better (the layer's
+        train goes on: FluidR3's snare 38, seed 1, 4.0554 s), and the next bounce is sought up to one and a half
+        times the longer of the flight before and the mean of the two flights before (FluidSynth's 1.3-ms blocks
+        jitter each onset: a flight of 4.0 ms then one of 6.7; step 5; 0: neither, as before this field).
+    layer_found_bursts : int in [0, 1]
+        1: a detection over earlier sound, not timed by the template, within ``earlier_reach`` s after a bounce the
+        search found after one the quiet layer took off, where the bounce's fit cut there correlates under
+        ``template_likeness``, is that bounce's own rise (dropped, the bounce fitted past it) where the layer fitted
+        past it correlates by ``template_likeness`` and the layer fitted at the detection does not (FluidR3's snare
+        40 dry, seed 2: 4.0404 s detected again 1.6 ms in, 0.42 cut there, 0.93 past it, -0.4 at it; step 5; 0: not
+        sought, as before this field).
+    layer_train_refit : int in [0, 4]
+        How many of a train's bounces the quiet layer took off (each within 10 ms after the one before) are
+        fitted again together with the next bounce once the search finds it: their scales by least squares with
+        the layer's at the new one, from the first one's window to the end of the new one's first
+        ``template_fit`` s or one flight after it (where the bounce after it may sound), each taken off again so (kept as they were where a scale so fitted is not positive).
+        Each bounce's own fit takes in the next one's start, and what it leaves adds up along the train (FluidR3's
+        drops' last bounces are another velocity layer than the template's, 0.96 alike: at the snare 40 dry drop's
+        last bounce, seed 2, what the earlier ones leave is -2.4 dB re the bounce, even so; step 5; 0: none, as
+        before this field, its default: with 2, FluidR3's snare 38 drop with reverb of tests/test_onsets_fast_path.py
+        lost a bounce at 4.0554 s, -25.9 dB, that ``layer_joint_likeness`` found: the bounce before's own fit, over a
+        remainder the refit changed, took in more of it, 0.711 there, 0.649 so; on seeds 1-2 of the corpus it found
+        3 loud notes more, FluidR3's snare 38 drop with reverb, seed 1, and snare 40 drop at -60 dBFS, seed 2).
+    layer_skipped_search : int in [0, 1]
+        1: where the template's search after a bounce the quiet layer took off finds the next past a detection that
+        bounce's fit skipped (which is then dropped as that bounce placed early, up to ``echo_reach`` s before it),
+        the layer's search (``layer_bounce_likeness``) is made first up to the detection: a quiet bounce detected on
+        its later burst alone, whose start the loud template does not fit (FluidR3's snare 40 drop with reverb, seed
+        2: 4.0217 s, detected 3.8 ms in, the template's bounce 9.3 ms on; step 5; 0: not, as before this field).
     ghost_noise_start : float in [0, 0.005]
         s: where what is left before a ghost note is white noise (its correlation one sample on within 0.6 of 0),
         the note's onset, read as its first sample four times that noise's RMS (late by a slow lead-in under it), is
@@ -747,6 +778,10 @@ class OnsetConfig:
     layer_echo_partners: int = 1
     layer_start_reach: float = 1.5e-3
     layer_joint_likeness: float = 0.7
+    layer_train_found: int = 1
+    layer_found_bursts: int = 1
+    layer_train_refit: int = 0
+    layer_skipped_search: int = 1
     ghost_noise_start: float = 1e-3
     ghost_rise_gap: float = 1e-3
     ghost_mate_notes: float = 0.99
@@ -828,6 +863,8 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "layer_echo_partners": (0, 1, ""),
     "layer_start_reach": (0.0, 5e-3, "s"),
     "layer_joint_likeness": (0.0, 1.0, "(correlation)"),
+    "layer_train_found": (0, 1, ""), "layer_found_bursts": (0, 1, ""), "layer_train_refit": (0, 4, ""),
+    "layer_skipped_search": (0, 1, ""),
     "ghost_noise_start": (0.0, 5e-3, "s"),
     "ghost_rise_gap": (0.0, 5e-3, "s"),
     "ghost_mate_notes": (0.0, 1.0, "(correlation)"),
@@ -972,7 +1009,10 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        may find it too (its first ``template_fit`` s by ``layer_bounce_likeness``, its start by ``weak_likeness``; where
        that finds none after a flight of 10 ms or less, its first ``template_fit`` s alone by ``layer_whole_likeness``,
        and after one of 9 ms or less, fitted together with the bounce before, by ``layer_joint_likeness``; a detection
-       of such a train over earlier sound is put where the layer fits best up to ``layer_start_reach`` s before it);
+       of such a train over earlier sound is put where the layer fits best up to ``layer_start_reach`` s before it;
+       a bounce the layer found is the layer's, ``layer_train_found``, and a detection on a found bounce's rise is dropped,
+       ``layer_found_bursts``, and one past a detection its fit skipped sought first up to it by the layer,
+       ``layer_skipped_search``);
        else an onset step 4 refused, ``signature`` s or more after it, where both correlate by
        ``refused_likeness``; then that second opinion again with the quietest clear attack as
        the template (another velocity layer of a sample), by ``layer_likeness``. A detection there that taking off
@@ -1740,6 +1780,30 @@ def _template_search(band, d, rate, candidates, refused, config, replays, quiete
     loud notes within 1 and 5 ms (FluidR3's drops with reverb: snare 38's 1.9687 s, snare 40's 1.9537 s); seeds 1-4:
     8, 11, 10 and 3 more within 1 and 5 ms, 3 false detections fewer (seed 3); no recording of seeds 0-4 loses a
     note or gains a false detection.
+    Along such a train each bounce's fit over the layer's first 10 ms takes in the next bounce's start, and what
+    it leaves adds up (FluidR3's drops end in a lower velocity layer than the quietest clear attack's, 0.96 alike
+    there: at the snare 40 dry drop's last bounce, seed 2, what the earlier ones leave is -2.4 dB re the bounce even
+    with the rules below, which leave it missed).
+    (``layer_train_refit``, off by default: once the search finds the next bounce, the last bounces the layer took
+    off are fitted again together with the layer there, :func:`._attacks._refit`, up to one flight after it, where
+    the bounce after it may sound; it found 3 loud notes more on seeds 1-2 but lost one the joint fit found on
+    tests/test_onsets_fast_path.py's FluidR3 snare 38 drop with reverb: the newest bounce's own fit still takes in
+    the next one's start.) A bounce the layer's searches found is taken off by the layer even where the loud
+    template fits it better, so that
+    the search after it is the layer's again, and the next bounce is sought up to one and a half times the longer
+    of the flight before and the mean of the two before (``layer_train_found``: FluidSynth's blocks jitter each
+    onset by 1.3 ms, a flight of 4.0 ms then one of 6.7). And a detection over earlier sound within
+    ``earlier_reach`` s after a bounce the search found after one the layer took off, where the bounce's fit cut
+    there correlates under ``template_likeness`` (the layer's first 1.6 ms carry little of it), is that bounce's
+    own rise where the layer fitted past it correlates by ``template_likeness`` and the layer fitted at the
+    detection does not: dropped, the bounce fitted past it (``layer_found_bursts``: FluidR3's snare 40 dry, seed 2,
+    0.42 cut, 0.93 past, -0.4 at the detection). Where the template's search after a bounce the layer took off finds
+    the next past a detection that bounce's fit skipped (the detection then dropped as the bounce placed early), the
+    layer's search is made first up to the detection (``layer_skipped_search``: FluidR3's snare 40 with reverb, seed
+    2, a bounce at 4.0217 s detected on its burst 3.8 ms in alone, the template's bounce 9.3 ms on). On the corpus,
+    seed 0: no loud note moves (FluidR3's snare 40 drop at -72 dBFS: an onset a sample earlier); seeds 1-4: 2, 4, 0
+    and 0 more loud notes within 1 and 5 ms (FluidR3's drops), no false detection more; no recording of seeds 0-4
+    loses a note or gains a false detection.
 
     *A sample's second burst.* FluidR3's electric snare (40) bursts again 3.4 ms into a note. A detection within
     ``bounce_reach`` s after an attack, where taking that attack's fit off (up to the detection, or past it to the
@@ -1827,7 +1891,11 @@ def _template_search(band, d, rate, candidates, refused, config, replays, quiete
                                             config.layer_joint_likeness if layer_bounce < 1.0 else 1.0,
                                             round(_JOINT_FLIGHT * rate), round(_JOINT_TRAIN * rate),
                                             round(config.echo_reach * rate) if config.train_reach > 0.0 else 0,
-                                            round(config.train_reach * rate), round(_TRAIN_JITTER * rate))
+                                            round(config.train_reach * rate), round(_TRAIN_JITTER * rate),
+                                            config.layer_train_found if layer_bounce < 1.0 else 0,
+                                            config.layer_found_bursts if layer_bounce < 1.0 else 0,
+                                            config.layer_train_refit if layer_bounce < 1.0 else 0,
+                                            config.layer_skipped_search if layer_bounce < 1.0 else 0)
     if not len(found) and not dropped.any():
         return candidates
     merged, fresh = candidates.take(~dropped).insert(found, attack=True, likeness=likes)
