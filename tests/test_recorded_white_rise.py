@@ -21,18 +21,19 @@ from test_recorded_ghosts import _roll, _Truth
 def test_ghost_notes_rising_under_15_db_over_white_noise_are_found():
     """FluidR3's snare 40 roll at -60 dBFS (seed 2): the ghost notes of 0.2590, 1.4337 and 2.5777 s (-26.4, -28.1,
     -27.0 dB) rise under 15 dB over what the mates leave before them, white noise: with ``ghost_white_rise_db`` 6 (the
-    default) all three are found within 5 ms (0.2590 and 2.5777 s within 1 ms), with no false detection more and
-    every note found before as close; with 120 (as before) none is found within 5 ms."""
+    default) all three are found within 1 ms (1.4337 s 1.17 ms late with ``ghost_matched_back=0``, its head moved
+    back to 0.44 ms), with no false detection more and every note found before as close; with 120 (as before) none is
+    found within 5 ms."""
     signal, t, level = _roll("FluidR3", 40, "noise60", seed=2)
     truth = _Truth(t, level)
     found = find_onsets(signal, RATE).t
     before = find_onsets(signal, RATE, config=OnsetConfig(ghost_white_rise_db=120.0)).t
-    for note, within in ((0.2590, 1e-3), (1.4337, 5e-3), (2.5777, 1e-3)):
+    for note, within in ((0.2590, 1e-3), (1.4337, 1e-3), (2.5777, 1e-3)):
         note = t[np.argmin(np.abs(t - note))]
         assert np.min(np.abs(found - note)) <= within and np.min(np.abs(before - note)) > 5e-3
     now, then = score(truth, found), score(truth, before)
     assert now["correct_5ms"] == then["correct_5ms"] + 3
-    assert now["within_1ms"] == then["within_1ms"] + 2
+    assert now["within_1ms"] == then["within_1ms"] + 3
     assert now["found"] - now["correct_5ms"] <= then["found"] - then["correct_5ms"]
     for i, j in match(t, before, 1e-3):
         assert np.min(np.abs(found - t[i])) <= abs(before[j] - t[i]) + 1e-9

@@ -55,20 +55,22 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
     ``layer_at`` the layer is its sound as recorded (not yet what is left there; with ``layer_likeness`` 1 there is
     none before it). A detection flagged ``unclear``, not one the template timed, within ``bounce`` after the attack
     before it, is put where ``layer`` fits best up to ``layer_start`` samples before it (:func:`_layer_start`; 0, its
-    default: not sought), and one up to ``layer_start`` samples after a bounce found is that bounce (dropped). A bounce
-    is sought past ``bounce`` after an attack (``past`` 0 and ``train`` 0, their defaults: not): up to ``past`` after a
-    detection the attack's fit looked past or dropped as its own sound; and where none is found, after a bounce of a
-    train (the flight before ``train`` samples or less, no longer than the flight before it nor shorter than two
-    thirds of it, the bounce's fitted scale at most 1 dB over the one before), from 0.7 times that flight on to the
-    flight plus ``jitter`` samples on (a drop's flights shrink). With ``train_refit`` (0, its default: none), once the next bounce is found the last ``train_refit`` bounces ``layer``
-    took off, each ``flight`` samples or less after the one before, are fitted again together with it up to
-    one flight after it (:func:`_refit`); with ``train_found`` (0, its default: not), a bounce ``layer``'s searches found is taken off by
-    ``layer`` and the next one's window reads the mean of the two flights before where that is longer; with
-    ``skipped_search`` (0, its default: not), where the template's search finds a bounce past a detection this
-    attack's fit skipped, after an attack ``layer`` took off, ``layer``'s search is made first up to that detection; with
-    ``found_bursts`` (0, its default: not), a detection ``unclear``, not timed, within ``earlier`` after a bounce the
-    search found after one ``layer`` took off, where the cut fit correlates under ``likeness``, is dropped where
-    ``layer`` fitted past it correlates by ``likeness`` and at the detection does not. Returns the attacks found (their
+    default: not sought), and one up to ``layer_start`` samples after a bounce found is that bounce (dropped). A
+    bounce is sought past ``bounce`` after an attack (``past`` 0 and ``train`` 0, their defaults, or ``bounce`` 0:
+    not): up to ``past`` after a detection the attack's fit looked past or dropped as its own sound; and where none
+    is found, after a bounce of a train (the flight before ``train`` samples or less, no longer than the flight
+    before it nor shorter than two thirds of it, the bounce's fitted scale at most 1 dB over the one before), from
+    0.7 times that flight on to the flight plus ``jitter`` samples on (a drop's flights shrink). With
+    ``train_refit`` (0, its default: none), once the next bounce is found the last ``train_refit`` bounces ``layer``
+    took off, each ``flight`` samples or less after the one before, are fitted again together with it up to one
+    flight after it (:func:`_refit`); with ``train_found`` (0, its default: not), a bounce ``layer``'s searches
+    found is taken off by ``layer`` and the next one's window reads the mean of the two flights before where that is
+    longer; with ``skipped_search`` (0, its default: not), where the template's search finds a bounce past a
+    detection this attack's fit skipped, after an attack ``layer`` took off, ``layer``'s search is made first up to
+    that detection; with ``found_bursts`` (0, its default: not), a detection ``unclear``, not timed, within
+    ``earlier`` after a bounce the search found after one ``layer`` took off, where the cut fit correlates under
+    ``likeness``, is dropped where ``layer`` fitted past it correlates by ``likeness`` and at the detection does
+    not. Returns the attacks found (their
     times, in order), each one's correlation and which of ``times`` are dropped [shape=(len(times),)].
     """
     n, size = len(remainder), len(template)
@@ -203,7 +205,7 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
         at, like = -1, 0.0
         if measured > 0.0:
             high = min(following - gap, c + bounce, n - len(head) + pre)
-            if past > 0 and detection < following:
+            if past > 0 and bounce > 0 and detection < following:
                 # the detection looked past or dropped was this attack's sound, or the next bounce placed early
                 # (FluidR3's snare 38 with reverb: 6 ms early, 23 ms after the attack; the bounce 29 ms after it)
                 high = min(following - gap, max(c + bounce, detection + past), n - len(head) + pre)
@@ -249,7 +251,7 @@ def template_search(remainder, template, head, times, shifts, refused, offset, l
                                                      fit, reach, layer_joint, ratio_low, ratio_high)
                     if early >= 0:
                         at, like, by_joint, by_layer_search = early, early_like, True, True
-        if (at < 0 and measured > 0.0 and c - previous <= train and c - previous <= previous - earlier_c
+        if (at < 0 and measured > 0.0 and bounce > 0 and c - previous <= train and c - previous <= previous - earlier_c
                 and 2 * (previous - earlier_c) <= 3 * (c - previous) and measured <= 1.12 * loudness):
             # a train's next bounce past the usual reach, where the flight before says it is (a drop's flights
             # shrink, its bounces fade: a flam's main note is louder than its grace note, and a room's returns

@@ -615,8 +615,8 @@ class OnsetConfig:
         this or less (no longer than the flight before it, nor shorter than two thirds of it, the bounce no more than
         1 dB louder by its fit than the one before: a drop's flights shrink, its bounces fade), from 0.7 times that
         flight on to 1.5 ms past it. Where step 4 finds none of a drop's bounces 26-30 ms apart (FluidR3's snare 38
-        with reverb), the search, 25 ms long, ended the train there, its last 12 bounces lost; 0: neither, as
-        before this field.
+        with reverb), the search, 25 ms long, ended the train there, its last 12 bounces lost; 0 (or
+        ``bounce_reach`` 0, no close bounce sought): neither, as before this field.
     ghost_room_reach : float in [0, 0.005]
         s: in a recording step 4 finds reverberant, the quiet attack is fitted to what the layer-mates leave from so
         long before the rise's block (to 5 ms after it; :func:`_room_ghost_notes`): a swell of what they leave before
