@@ -9,18 +9,10 @@ put ghost notes up to 0.17 s after their accents: on the held-out seeds 1-4, 8 g
 
 import numpy as np
 
-from _recorded_drums import RATE, match, score
+from _recorded_drums import RATE
 from drumstroke.analysis import OnsetConfig, find_onsets
 from test_recorded_ghosts import _roll, _Truth
-
-
-def _no_worse(truth, found, before):
-    """No false detection more, and every note found before within 1 ms found now as close."""
-    now, then = score(truth, found), score(truth, before)
-    assert now["found"] - now["correct_5ms"] <= then["found"] - then["correct_5ms"]
-    for i, j in match(truth.t, before, 1e-3):
-        assert np.min(np.abs(found - truth.t[i])) <= abs(before[j] - truth.t[i]) + 1e-9
-    return now, then
+from test_recorded_noise_ghosts import _no_worse
 
 
 def test_ghost_notes_more_than_130_ms_after_their_accent_are_found():
