@@ -1163,7 +1163,7 @@ def _detected(signal, rate, config, source, info):
     candidates = _template_search(band, d, rate, candidates, refused, config, replays)
     candidates = _template_search(band, d, rate, candidates, refused, config, replays, quietest=True)
     shared = {}  # what step 5's ghost search found (layer-mates, levels) that its room search asks again
-    steps = [] if config.ghost_step_reach > 0.0 else None  # attacks found on a ghost note's later step (s, s)
+    steps = [] if config.ghost_step_reach > 0.0 else None  # attacks found on a ghost note's later step
     candidates = _ghost_notes(band, d, rate, candidates, config, replays, modes.reverberant, shared)
     if modes.reverberant:
         candidates = _room_ghost_notes(band, d, rate, candidates, config, replays, shared, steps)
@@ -2091,9 +2091,9 @@ def _placed_ghosts(candidates, ghosts, which, rate, starts=None, late=2e-3, step
     """``candidates`` with each of ``ghosts`` (full-rate samples) an attack of kind 3: new where no attack of
     ``which`` lies within 5 ms (at its ``starts``, the same samples, or ``ghosts`` for None), else the attack 0.5 ms
     to ``late`` s after it moved there (found late). The times are kept where moving would unorder them. An attack
-    more than ``late`` and up to ``reach`` s after a ghost (the nearest within 5 ms, as moved) is left where it is,
-    its time and the ghost's appended to ``steps`` (full-rate samples: moved only once every stage is done,
-    :func:`_on_first_steps`)."""
+    more than ``late`` and up to ``reach`` s after a ghost (the nearest, as moved) is left where it is, its times and
+    the ghosts' appended to ``steps`` as one array [shape=(2, n)] (full-rate samples: moved only once every stage is
+    done, :func:`_on_first_steps`)."""
     if not len(ghosts):
         return candidates
     from ._ghosts import placed_ghosts
@@ -2102,11 +2102,10 @@ def _placed_ghosts(candidates, ghosts, which, rate, starts=None, late=2e-3, step
     times, kinds = candidates.times.copy(), candidates.kinds.copy()
     fresh = placed_ghosts(times, kinds, which, np.asarray(ghosts, dtype=float), 5e-3 * rate, 0.5e-3 * rate, late * rate)
     if steps is not None and reach > late and len(which):
-        at = times[which]
-        for g in np.asarray(ghosts, dtype=float):
-            j = int(np.argmin(np.abs(at - g)))
-            if late * rate < at[j] - g <= min(reach, 5e-3) * rate:
-                steps.append((float(at[j]), float(g)))
+        at, g = times[which], np.asarray(ghosts, dtype=float)
+        off = at[np.argmin(np.abs(at[None, :] - g[:, None]), axis=1)] - g
+        later = (off > late * rate) & (off <= min(reach, 5e-3) * rate)
+        steps.append(np.stack((g[later] + off[later], g[later])))
     new = [start for start, is_new in zip(starts, fresh.tolist()) if is_new]
     moved = replace(candidates, times=times, kinds=kinds)
     if not np.all(np.diff(times) > 0):
@@ -2118,9 +2117,10 @@ def _placed_ghosts(candidates, ghosts, which, rate, starts=None, late=2e-3, step
 
 
 def _on_first_steps(onsets, steps, rate):
-    """``onsets`` with each onset at an attack of ``steps`` (full-rate samples: the attack's time when a ghost search
-    found it, and that ghost note's onset, :func:`_placed_ghosts`) moved onto the ghost note's onset, where no other
-    onset lies between them and the attack's time is unchanged (within 1 sample) by the later stages.
+    """``onsets`` with each onset at an attack of ``steps`` (arrays [shape=(2, n)] of full-rate samples: the attacks'
+    times when a ghost search found them, and those ghost notes' onsets, :func:`_placed_ghosts`) moved onto the ghost
+    note's onset, where the onset before lies before it and the attack's time is unchanged (within 1 sample) by the
+    later stages; none moved where that would unorder them.
 
     FluidR3's ghost layer rises in steps (its first millisecond 14-22 dB under its peak, 11 dB under at +1.0 ms, 6 dB
     under at +1.75 ms, its peak at +4.0-4.5 ms), and under an accent's ringing the first difference finds such a note
@@ -2129,12 +2129,13 @@ def _on_first_steps(onsets, steps, rate):
     moves what the later stages learn from it (the templates, the echoes' and lead-ins' tests) and on the held-out
     seeds it lost notes; moved here, once every stage has judged the attack where it was found, nothing else moves
     (``ghost_step_reach``: the room's and the matched searches' notes alone)."""
+    at, ghost = np.concatenate(steps, axis=1)
+    if not len(at):
+        return onsets
     t = onsets.t.copy()
-    for at, ghost in sorted(steps):
-        k = int(np.argmin(np.abs(t * rate - at)))
-        if abs(t[k] * rate - at) > 1.0 or (k > 0 and t[k - 1] * rate >= ghost):
-            continue
-        t[k] = max(ghost / rate, 0.0)
+    k = np.argmin(np.abs(t[None, :] * rate - at[:, None]), axis=1)
+    ok = (np.abs(t[k] * rate - at) <= 1.0) & ((k == 0) | (t[np.maximum(k - 1, 0)] * rate < ghost))
+    t[k[ok]] = np.maximum(ghost[ok] / rate, 0.0)
     if not np.all(np.diff(t) > 0):
         return onsets
     return replace(onsets, t=t)
