@@ -162,6 +162,8 @@ The entries of this round (``template_start_past_db``, ``train_reach``, the late
 ``ghost_white_rise_db``, the drop's layer train) were made side by side and the reference written again on the merged
 code: it differs from each one's only where another changed it (FluidR3's snare 38 drop with reverb 57 onsets, its
 snare 40 roll at -72 dBFS 29).
+The matched ghost search's spare layer-mates (``ghost_spare_mates``, tests/test_recorded_spare_mates.py) count only
+past where the first three stop reaching: no output here moves (the reference stands; seeds 1-9 gain 3 notes).
 The recordings are rebuilt here (seeded): our synthesis with and without the snare wires, another
 drum's, a room and noise (tests/_recordings.py), the paper's free bounce of benchmarks/analysis.py, and
 some of tests/_recorded_drums.py's SoundFont recordings (dry, noise, FluidSynth's reverb).
