@@ -886,9 +886,9 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "ghost_late_reach": (0.0, 5e-3, "s"),
     "ghost_matched_back": (0.0, 5e-3, "s"),
     "reflection_drop_spread": (0.0, 120.0, "dB"),
-    "ghost_spare_mates": (0, 20, ""),
     "ghost_span": (0.03, 0.5, "s"),
     "ghost_white_rise_db": (0.0, 120.0, "dB"),
+    "ghost_spare_mates": (0, 20, ""),
 }
 
 
