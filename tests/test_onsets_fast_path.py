@@ -167,6 +167,8 @@ the room or matched search finds, moved onto it once every stage is done (0 give
 the reference stands, none of these cases moves; on the corpus, seed 0, only FluidR3's snare 40 roll at -72 dBFS
 moves, its note of 3.6004 s found 3.6 ms earlier (within 1 ms); seeds 0-9 gain 14 notes within 1 ms, no recording
 losing a note or gaining a false detection (tests/test_recorded_ghost_steps.py).
+The matched ghost search's spare layer-mates (``ghost_spare_mates``, tests/test_recorded_spare_mates.py) count only
+past where the first three stop reaching: no output here moves (the reference stands; seeds 1-9 gain 3 notes).
 The recordings are rebuilt here (seeded): our synthesis with and without the snare wires, another
 drum's, a room and noise (tests/_recordings.py), the paper's free bounce of benchmarks/analysis.py, and
 some of tests/_recorded_drums.py's SoundFont recordings (dry, noise, FluidSynth's reverb).

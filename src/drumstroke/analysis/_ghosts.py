@@ -799,7 +799,7 @@ def spaced(accent, at, apart, first, end):
 
 @jit(error_model="numpy")
 def matched_search(band, at, low, length, mates, scales, ends, alphas, starts, long, head, block, width, before,
-                   rise, back, pre, fewest, after):
+                   rise, back, pre, fewest, after, primary=-1):
     """:func:`matched_ghost_onsets`' search of one accent's window (``band`` from ``at``, samples ``low`` to
     ``length`` after it): what is left once each mate (``band`` from ``mates[m]``, times ``scales[m]``, less its own
     ghost note found: ``alphas[m]`` times ``long`` from ``starts[m]`` samples after it, where ``alphas[m]`` is not 0)
@@ -808,19 +808,30 @@ def matched_search(band, at, low, length, mates, scales, ends, alphas, starts, l
     over its most over the ``before`` samples before, the head's best fit (normalized correlation) with it placed
     from ``back`` samples before that block to ``width`` after. Returns each rise's best onset (samples from ``at``,
     the head's start plus ``pre``), fit and the mean's peak magnitude over ``width + after`` samples from that onset
-    [each shape=(n,)]."""
+    [each shape=(n,)]. With ``primary`` (0 or more; -1: none), the mates past the first ``primary`` count
+    only from where fewer than ``fewest`` of the first reach (the window's cut without them), each to its own
+    ``ends``."""
     size = max(0, length - low)
     total = np.zeros(size)
     reach = np.zeros(size, dtype=np.int64)
+    # with ``primary`` (0 or more), the mates past the first ``primary`` (spares) count only from where fewer than
+    # ``fewest`` of the first reach (the window cut there before), each from that sample to its own reach
+    cut, ends = 0, ends.copy()
+    if 0 <= primary < len(mates) and primary >= fewest:
+        cut = np.sort(ends[:primary])[primary - fewest]
+        for m in range(primary, len(mates)):
+            if ends[m] <= cut:
+                ends[m] = 0
     for m in range(len(mates)):  # each mate over its reach, branch-free loops
         top, scale = max(0, min(size, ends[m] - low)), scales[m]
+        begin = min(top, max(0, cut - low)) if 0 <= primary <= m else 0
         here, there = band[at + low:at + low + top], band[mates[m] + low:mates[m] + low + top]  # slices: vectorized
-        for i in range(top):
+        for i in range(begin, top):
             total[i] += here[i] - scale * there[i]
-        for i in range(top):  # a loop: numba's ``reach[:top] += 1`` cost ~2 us a mate
+        for i in range(begin, top):  # a loop: numba's ``reach[:top] += 1`` cost ~2 us a mate
             reach[i] += 1
         if alphas[m] != 0.0:  # its own ghost note found, taken off it
-            first, last = max(0, starts[m] - low), min(top, starts[m] + len(long) - low)
+            first, last = max(begin, starts[m] - low), min(top, starts[m] + len(long) - low)
             if last > first:
                 part, gain = long[low + first - starts[m]:low + last - starts[m]], scales[m] * alphas[m]
                 for i in range(last - first):
@@ -878,7 +889,7 @@ def matched_search(band, at, low, length, mates, scales, ends, alphas, starts, l
 
 @jit(error_model="numpy")
 def matched_searches(band, at, low, lengths, first, count, mates, scales, ends, alphas, starts, long, head, block,
-                     width, before, rise, back, pre, fewest, after):
+                     width, before, rise, back, pre, fewest, after, primary=-1):
     """:func:`matched_search` on each accent ``k`` (``band`` from ``at[k]``, samples ``low`` to ``lengths[k]`` after
     it; its mates ``first[k]`` to ``first[k] + count[k]`` of the flat ``mates``, ``scales``, ``ends``, ``alphas``,
     ``starts``), in one call. Returns each rise's accent, onset, fit and peak [each shape=(n,)]."""
@@ -889,7 +900,8 @@ def matched_searches(band, at, low, lengths, first, count, mates, scales, ends, 
     for k in range(len(at)):
         f, c = first[k], first[k] + count[k]
         o, fit, peak = matched_search(band, at[k], low, lengths[k], mates[f:c], scales[f:c], ends[f:c], alphas[f:c],
-                                      starts[f:c], long, head, block, width, before, rise, back, pre, fewest, after)
+                                      starts[f:c], long, head, block, width, before, rise, back, pre, fewest, after,
+                                      primary)
         for i in range(len(o)):
             accent.append(k)
             onsets.append(o[i])
@@ -1032,7 +1044,7 @@ def matched_mates(c, nexts, mate, shifts, scales, noted, amplitude, onset, known
 
 def matched_ghost_onsets(band, times, clear, rate, *, likeness, least, fit, rise_db=6.0, skip=10e-3, span=0.13,
                          quiet_db=-10.0, below_db=-30.0, quieter_db=-6.0, mates_used=3, head=5e-3, lag=0.25e-3,
-                         fewest=3, reach=0.5e-3, longest=60e-3, back=0.0, shared=None):
+                         fewest=3, reach=0.5e-3, longest=60e-3, back=0.0, spare_mates=0, shared=None):
     """Onsets (full-rate samples) of ghost notes after a ``clear`` attack at ``times`` (full-rate samples), found by a
     matched filter of their layer's own attack, learned from the ghost notes already found.
 
@@ -1055,7 +1067,9 @@ def matched_ghost_onsets(band, times, clear, rate, *, likeness, least, fit, rise
     0.98; on the corpus's seed 0 the rises 5 ms or more from every note fit 0.61 at most). With ``back`` (s) over
     ``lag``, the notes are aligned from so long earlier (to ``lag`` later): a note found late on its sample's own
     later rise fits there, and one its lag moves more than 0.5 ms earlier than the median's is returned at the
-    head's onset too (``back`` ``lag`` or less: ±``lag``, none so returned)."""
+    head's onset too (``back`` ``lag`` or less: ±``lag``, none so returned). With ``spare_mates``, the search (not
+    the learning) takes up to so many more mates, each counting from where fewer than two of the first reach
+    (:func:`matched_search`'s ``primary``): a roll's accents' own ghost notes cut the first mates' reach."""
     pre, size, shift = round(0.5e-3 * rate), round(skip * rate), round(lag * rate)
     lead = max(shift, round(back * rate))  # the alignment's reach earlier (samples)
     width, before, after = round(1e-3 * rate), round(10e-3 * rate), round(10e-3 * rate)
@@ -1135,13 +1149,19 @@ def matched_ghost_onsets(band, times, clear, rate, *, likeness, least, fit, rise
         noted[g], amplitude[g], onset[g] = True, alpha, c[note_accent[i]] + low + pre
     mates_at, mate_ends, alphas, long_at = matched_mates(c, nexts, mate, shifts, scales, noted, amplitude, onset,
                                                          known, pre, len(band))
+    primary = -1
+    if spare_mates > 0:  # more mates, each counting only past where fewer than two of the first reach
+        _, _, mates_count, mate, shifts, scales = _accents_mates(mates, mates_used + spare_mates)
+        mates_at, mate_ends, alphas, long_at = matched_mates(c, nexts, which[mate], shifts, scales, noted, amplitude,
+                                                             onset, known, pre, len(band))
+        primary = mates_used
     b = which[np.array(accents, dtype=np.int64)]
     lengths = np.minimum(np.minimum(round(span * rate), ends[b] - c[b]), len(band) - c[b])
     accent_of, onsets, fits, peaks = matched_searches(
         band, c[b], size - before, lengths, np.cumsum(mates_count) - mates_count, mates_count, mates_at, scales,
         mate_ends, alphas,
         long_at, long, unit, max(1, width // 4), width, before,
-        10.0 ** (rise_db / 10.0), round(reach * rate), pre, 2, after)
+        10.0 ** (rise_db / 10.0), round(reach * rate), pre, 2, after, primary)
     found, accent, last, apart = [], -1, -np.inf, round(20e-3 * rate)
     lowest = np.maximum(least, loud[b] * 10.0 ** (below_db / 20.0)).tolist()  # each accent's peaks allowed
     highest, onset_of = (loud[b] * 10.0 ** (quieter_db / 20.0)).tolist(), c[b].tolist()
