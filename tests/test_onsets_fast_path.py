@@ -142,7 +142,8 @@ corpus's seed 0; on seed 8 its drop with reverb has all 54 loud notes within 1 m
 (tests/test_recorded_drop_trains.py).
 Ghost notes found late on their sample's own later rises (``ghost_matched_back``: the matched search aligns its
 notes up to 4.5 ms earlier; ``reflection_drop_spread``: where step 4 finds no room, a reflection's pairs alike in
-drop too; ``ghost_late_reach``, off: the ghost search moving an attack up to so long after its onset): the
+drop too; ``ghost_late_reach``, off, and removed a round later: the ghost search moving an attack up to so long after its
+onset): the
 reference stands, none of these cases moves, nor any output on the corpus's seed 0; on seeds 1-4 9 notes more
 within 1 ms and on seeds 5-9 8 (FluidR3's and TimGM6mb's rolls), none lost, no false detection more
 (tests/test_recorded_late_ghosts.py).

@@ -633,17 +633,6 @@ class OnsetConfig:
         as loud for 0.2 s after it) with fewer than two layer-mates (by ``replay_likeness``) takes as its mates the
         clear attacks whose first 10 ms correlate with it so (FluidR3's snare 40, velocity 95 among accents of
         97-120: 0.993 with one of 97); 1: none, as before this field.
-    ghost_late_reach : float in [0, 0.005]
-        s: in :func:`_ghost_notes`, an attack found more than 0.5 ms and up to so long after a ghost note's onset is
-        moved onto it (one within 5 ms of it makes it no new note). FluidR3's ghost layer rises in steps (its first
-        millisecond 14-22 dB under its peak, 11 dB under at +1.0 ms, 6 dB under at +1.75 ms, its peak at +4.0-4.5 ms),
-        and under an accent's ringing step 4 puts such a note on a later step, 1.8-3.6 ms late (FluidR3's snare 40
-        roll, dry, seed 4: 0.2790 s at +3.54 ms, where the ghost search finds +0.15 ms); 1.5e-3 or less (the
-        default): 1.5 ms, as before this field. 4.5e-3 gains 5 notes within 1 ms on seeds 0-4 and none lost, but on
-        the held-out seeds 5-9 loses in four recordings (FluidR3's snare 38 roll, dry, seed 6: 1.3501 s missed; seed
-        8: a false detection 23.9 ms after a note so moved; TimGM6mb's snare 40 roll with reverb, seeds 8 and 9): off.
-        The room and matched searches keep their 2 ms: a note of FluidR3's snare 38 roll with reverb (seed 2, 3.4234
-        s, +2.08 ms) moved right lets a return 24.6 ms after it pass :func:`_layer_echoes`.
     ghost_matched_back : float in [0, 0.005]
         s: :func:`_matched_ghost_notes` aligns the ghost notes it learns the layer's head from up to so long earlier
         (0.25 ms later) where ±0.25 ms reached both ways; one so moved more than 0.5 ms (a note found late on its
@@ -817,7 +806,6 @@ class OnsetConfig:
     ghost_room_reach: float = 2e-3
     room_partner_under_db: float = 15.0
     ghost_room_spare_likeness: float = 0.99
-    ghost_late_reach: float = 0.0
     ghost_matched_back: float = 4.5e-3
     ghost_step_reach: float = 4.6e-3
     reflection_drop_spread: float = 6.0
@@ -903,7 +891,6 @@ _RANGES = {  # each OnsetConfig field: its least and largest value (ints for a c
     "ghost_room_reach": (0.0, 5e-3, "s"),
     "room_partner_under_db": (0.0, 120.0, "dB"),
     "ghost_room_spare_likeness": (0.0, 1.0, "(correlation)"),
-    "ghost_late_reach": (0.0, 5e-3, "s"),
     "ghost_matched_back": (0.0, 5e-3, "s"),
     "ghost_step_reach": (0.0, 5e-3, "s"),
     "reflection_drop_spread": (0.0, 120.0, "dB"), "reflection_excess": (0.0, 1.0, "(correlation)"),
@@ -1053,7 +1040,7 @@ def find_onsets(signal, rate, *, config=OnsetConfig(), source="", notes=None):
        one waveform with it by ``replay_likeness``) are taken off, where that rises ``ghost_rise_db`` (where one mate
        alone reaches, or the recording is reverberant, and the note is louder in the accent than in the mate by
        ``ghost_own_db``, ``ghost_room_own_db``); each is put at its first sample there (a new attack, or one found
-       0.5-1.5 ms late moved, or up to ``ghost_late_reach`` s). :func:`_matched_ghost_notes`: and where what the
+       0.5-1.5 ms late moved). :func:`_matched_ghost_notes`: and where what the
        mates leave fits the ghost layer's own head, learned from the ghost notes found (aligned up to
        ``ghost_matched_back`` s earlier: a note so moved is one there), by ``ghost_matched_fit`` (a matched filter;
        past where its first mates reach, ``ghost_spare_mates`` more).
@@ -1971,9 +1958,8 @@ def _ghost_notes(band, d, rate, candidates, config, replays, reverberant=False, 
     reverb's delays) and is alike in both sounds (-4.2 to +0.6 dB the accent's over the mate's but two, 1.6 and 3.6;
     the 144 rises on a note, dry rolls step 4 took for reverberant among them, median 2.9 dB): 2 dB asked (120:
     none sought there, as before). A new note (no attack within 5 ms) is an attack of kind 3; an attack 0.5-1.5 ms
-    after it (on its main rise: a sample's lead-in late), or up to ``ghost_late_reach`` s (0, off; 4.5 ms: one step 4
-    put on the sample's later steps, FluidR3's ghost layer's +1.75 ms and +4 ms ones), is moved there. ``ghost_rise_db``
-    120: none sought (as before this stage).
+    after it (on its main rise: a sample's lead-in late) is moved there; one later (on the sample's later steps) is
+    left where it is. ``ghost_rise_db`` 120: none sought (as before this stage).
 
     *Under white noise.* Where what is left before a rise is white noise (its correlation one sample on within 0.6
     of 0: the noise of both recordings, with what the mates leave of the accent; the drum's or a room's sound left
@@ -2018,7 +2004,7 @@ def _ghost_notes(band, d, rate, candidates, config, replays, reverberant=False, 
     ghosts, starts = ghosts if config.ghost_noise_start > 0.0 else (ghosts, ghosts)
     # an attack found late is one on the main rise after the note's lead-in; a new note under white noise starts
     # where its power changes (ghost_noise_start)
-    return _placed_ghosts(candidates, ghosts, which, rate, starts, late=max(1.5e-3, config.ghost_late_reach))
+    return _placed_ghosts(candidates, ghosts, which, rate, starts, late=1.5e-3)
 
 
 def _room_ghost_notes(band, d, rate, candidates, config, replays, shared=None, steps=None):
@@ -2153,9 +2139,10 @@ def _on_first_steps(onsets, steps, rate):
     FluidR3's ghost layer rises in steps (its first millisecond 14-22 dB under its peak, 11 dB under at +1.0 ms, 6 dB
     under at +1.75 ms, its peak at +4.0-4.5 ms), and under an accent's ringing the first difference finds such a note
     on a later step, 2-4.6 ms late, where the ghost searches (each mate's remainder, the room's fit, the matched
-    filter) find it within 0.5 ms of its onset (seeds 1-9: 24 notes). Moved in step 5 (``ghost_late_reach``) it
+    filter) find it within 0.5 ms of its onset (seeds 1-9: 24 notes). Moved in step 5 it
     moves what the later stages learn from it (the templates, the echoes' and lead-ins' tests) and on the held-out
-    seeds it lost notes; moved here, once every stage has judged the attack where it was found, nothing else moves
+    seeds it lost notes (up to 4.5 ms after the ghost search's onsets: 11 gained, but in four recordings of seeds 5-9
+    a note lost or a false detection more); moved here, once every stage has judged the attack where it was found, nothing else moves
     (``ghost_step_reach``: the room's and the matched searches' notes alone)."""
     at, ghost = np.concatenate(steps, axis=1)
     if not len(at):
