@@ -25,6 +25,7 @@ are measured once by rendering the note alone and cached in ``tests/data/soundfo
 import json
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
@@ -175,27 +176,34 @@ def recording(font, key, set_name, condition, *, seed=0):
     return out
 
 
-def _played(font, key, set_name, conditions, base, leads):
-    """The recordings of one font, key and set (notes seeded by ``base``, noise by ``base`` + 7), one a condition."""
+@lru_cache(maxsize=64)
+def _rendered(font, key, set_name, base, reverb):
+    """FluidSynth's recording of the notes of a set seeded by ``base`` (read-only: shared by every test that asks).
+
+    A pure function of its arguments, so it is rendered once a process: many tests read the same recordings, and
+    :func:`recordings` renders those before the one a test looks for (64 recordings of 5 s: some 120 MB).
+    """
     from drumstroke.render.soundfont import render_soundfont
 
+    hits = [(t, "snare", key, speed_of(v)) for t, v in notes(set_name, base)]
+    signal = render_soundfont(hits, FONTS[font], duration=SECONDS, rate=RATE, reverb=reverb)
+    signal.flags.writeable = False
+    return signal
+
+
+def _played(font, key, set_name, conditions, base, leads):
+    """The recordings of one font, key and set (notes seeded by ``base``, noise by ``base`` + 7), one a condition."""
     played = notes(set_name, base)
-    hits = [(t, "snare", key, speed_of(v)) for t, v in played]
     measured = [leads(font, key, v) for _, v in played]
     t = np.array([note_block(t) + lead for (t, _), (lead, _) in zip(played, measured)]) / RATE
     peak = np.array([p for _, p in measured])
     level = 20.0 * np.log10(peak / peak.max())
-    dry, out = None, []
+    out = []
     for condition in conditions:
-        if condition == "reverb":
-            signal = render_soundfont(hits, FONTS[font], duration=SECONDS, rate=RATE, reverb=True)
-        else:
-            if dry is None:
-                dry = render_soundfont(hits, FONTS[font], duration=SECONDS, rate=RATE)
-            signal = dry
-            if condition in NOISE_DBFS:
-                noise = np.random.default_rng(base + 7).standard_normal(len(dry))
-                signal = dry + noise * 10.0 ** (NOISE_DBFS[condition] / 20.0)
+        signal = _rendered(font, key, set_name, base, condition == "reverb")
+        if condition in NOISE_DBFS:
+            noise = np.random.default_rng(base + 7).standard_normal(len(signal))
+            signal = signal + noise * 10.0 ** (NOISE_DBFS[condition] / 20.0)
         out.append(Recording(font, key, set_name, condition, signal, t, level))
     return out
 
