@@ -34,6 +34,16 @@ def _no_worse(truth, found, before):
     return now, then
 
 
+def _gains(truth, found, before, notes):
+    """Each of ``notes`` (s, the truth's nearest) within 1 ms now and not within 5 ms before, nothing else worse:
+    exactly so many more notes within 1 ms."""
+    for note in notes:
+        note = truth.t[np.argmin(np.abs(truth.t - note))]
+        assert np.min(np.abs(found - note)) <= 1e-3 and np.min(np.abs(before - note)) > 5e-3
+    now, then = _no_worse(truth, found, before)
+    assert now["within_1ms"] == then["within_1ms"] + len(notes)
+
+
 def test_a_ghost_note_whose_lead_in_is_in_the_10_ms_before_is_found_over_a_gap():
     """FluidR3's snare 38 roll at -72 dBFS (seed 0): the ghost note of 0.7874 s (-23 dB, 69.4 ms after its accent)
     rises slowly out of the noise, its first millisecond in the 10 ms its rise is read against: 14.4 dB over them
